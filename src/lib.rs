@@ -1,0 +1,19 @@
+//! mocapseg — motion-capture segmentation that runs in the browser.
+//!
+//! The core (`bvh`, `motion`, `image`, `segment`) is pure Rust: it compiles natively and to
+//! `wasm32-unknown-unknown` and never touches the DOM. The leptos page (`app`) and the worker
+//! entry points (`worker`) sit on top of it behind the `web` feature.
+//!
+//! Data flow: BVH text → [`bvh::Bvh`] (hierarchy + channel values) → [`motion::Motion`]
+//! (skeleton + world joint positions per frame) → motion image / segmentations.
+
+pub mod bvh;
+pub mod image;
+pub mod load;
+pub mod motion;
+pub mod segment;
+
+#[cfg(feature = "web")]
+pub mod app;
+#[cfg(feature = "web")]
+pub mod worker;

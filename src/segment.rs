@@ -1,0 +1,134 @@
+//! The segmentation JSON schema shared by every method, the page's exports and the CLI.
+//!
+//! ```json
+//! {"file": "86_01.bvh", "fps": 120.0, "frames": 4579, "method": "sssm", "params": {},
+//!  "segments": [{"start": 0, "end": 549, "label": "walk", "level": "action",
+//!                "cluster": 0, "score": null}]}
+//! ```
+//! Frame indices are 0-based and inclusive, at the file's own frame rate.
+
+use serde::{Deserialize, Serialize};
+
+/// The granularity a segment describes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Level {
+    Action,
+    Transition,
+    Primitive,
+}
+
+/// One segment: frames `start..=end` (0-based, inclusive).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Segment {
+    pub start: usize,
+    pub end: usize,
+    pub label: String,
+    pub level: Level,
+    pub cluster: Option<usize>,
+    pub score: Option<f64>,
+}
+
+/// A method's output for one file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Segmentation {
+    pub file: String,
+    pub fps: f64,
+    pub frames: usize,
+    pub method: String,
+    pub params: serde_json::Value,
+    pub segments: Vec<Segment>,
+}
+
+/// Why a segmentation does not fit the schema's rules.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SchemaError {
+    #[error("segment {index}: start {start} is after end {end}")]
+    Reversed { index: usize, start: usize, end: usize },
+    #[error("segment {index}: end {end} is past the last frame {last}")]
+    PastEnd { index: usize, end: usize, last: usize },
+    #[error("fps must be a positive finite number, got {0}")]
+    BadFps(f64),
+    #[error("invalid segmentation JSON: {0}")]
+    Json(String),
+}
+
+impl Segmentation {
+    /// Checks the invariants every producer must keep: positive fps, ordered in-range indices.
+    pub fn validate(&self) -> Result<(), SchemaError> {
+        if !(self.fps.is_finite() && self.fps > 0.0) {
+            return Err(SchemaError::BadFps(self.fps));
+        }
+        for (index, s) in self.segments.iter().enumerate() {
+            if s.start > s.end {
+                return Err(SchemaError::Reversed { index, start: s.start, end: s.end });
+            }
+            if self.frames == 0 || s.end >= self.frames {
+                return Err(SchemaError::PastEnd { index, end: s.end, last: self.frames.saturating_sub(1) });
+            }
+        }
+        Ok(())
+    }
+
+    /// Pretty JSON text of this segmentation.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a Segmentation always serialises")
+    }
+
+    /// Parses and validates segmentation JSON.
+    pub fn from_json(text: &str) -> Result<Self, SchemaError> {
+        let s: Segmentation = serde_json::from_str(text).map_err(|e| SchemaError::Json(e.to_string()))?;
+        s.validate()?;
+        Ok(s)
+    }
+
+    /// The segments of one level, in order of their start frame.
+    pub fn level(&self, level: Level) -> impl Iterator<Item = &Segment> + '_ {
+        self.segments.iter().filter(move |s| s.level == level)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> Segmentation {
+        Segmentation {
+            file: "a.bvh".into(),
+            fps: 120.0,
+            frames: 100,
+            method: "test".into(),
+            params: serde_json::json!({"radius": 19.0}),
+            segments: vec![
+                Segment { start: 0, end: 49, label: "walk".into(), level: Level::Action, cluster: Some(0), score: None },
+                Segment { start: 50, end: 99, label: "t".into(), level: Level::Transition, cluster: None, score: Some(0.5) },
+            ],
+        }
+    }
+
+    #[test]
+    fn json_round_trip_uses_the_documented_field_names() {
+        let s = sample();
+        let text = s.to_json();
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(v["segments"][0]["level"], "action");
+        assert_eq!(v["segments"][1]["level"], "transition");
+        assert!(v["segments"][0]["score"].is_null());
+        assert_eq!(v["params"]["radius"], 19.0);
+        assert_eq!(Segmentation::from_json(&text).unwrap(), s);
+    }
+
+    #[test]
+    fn validation_rejects_bad_segments() {
+        let mut s = sample();
+        s.segments[1].end = 100;
+        assert!(matches!(s.validate(), Err(SchemaError::PastEnd { index: 1, .. })));
+        let mut s = sample();
+        s.segments[0].start = 60;
+        assert!(matches!(s.validate(), Err(SchemaError::Reversed { index: 0, .. })));
+        let mut s = sample();
+        s.fps = 0.0;
+        assert!(matches!(s.validate(), Err(SchemaError::BadFps(_))));
+        assert!(matches!(Segmentation::from_json("{"), Err(SchemaError::Json(_))));
+    }
+}

@@ -1,0 +1,429 @@
+//! Scores of a [`Segmentation`] against a [`Truth`].
+//!
+//! - **Boundary precision / recall / F1** at a tolerance in seconds, with one-to-one matching (a maximum matching
+//!   between predicted and true boundaries closer than the tolerance).
+//! - **Covering** as in the ClaSP / TSSB papers: Σ over true segments of |g|·max Jaccard(g, p), divided by the length.
+//! - **Hungarian frame accuracy**: the action clusters are matched one-to-one to the true labels so that the most
+//!   frames agree (Kuhn–Munkres), then the fraction of agreeing frames.
+//! - **Strict / tolerant accuracy** of Krüger et al. 2017 §VII-A (after Vögele et al. 2014): every primitive cluster is
+//!   assigned the true class it overlaps most (many clusters may map to one class — left and right steps both map to
+//!   `walk`); a frame is *strictly* correct when its primitive's class is its true class (frames in transitions or
+//!   outside every primitive are wrong); *tolerantly* correct also when it lies in an uncertainty window of the truth
+//!   (the annotators' `end_window_lo..hi`, or ± [`Tolerances::uncertain_s`] around a boundary where none is given).
+//!
+//! Action-level scores see the action and transition segments with every transition split at its middle between its
+//! neighbours (a leading transition goes to the first action, a trailing one to the last).
+
+use std::collections::BTreeMap;
+
+use pathfinding::prelude::{kuhn_munkres, Matrix};
+use serde::Serialize;
+
+use super::truth::Truth;
+use super::{Level, Segment, Segmentation};
+
+/// Tolerances of the scores, in seconds.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Tolerances {
+    /// Boundary tolerances for the F1 scores.
+    pub boundary_s: [f64; 2],
+    /// Half-width of the uncertainty window around a true boundary when the truth gives none.
+    pub uncertain_s: f64,
+}
+
+impl Default for Tolerances {
+    fn default() -> Self {
+        Tolerances { boundary_s: [0.5, 1.0], uncertain_s: 0.5 }
+    }
+}
+
+/// Precision, recall and F1 of boundaries at one tolerance.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct BoundaryScore {
+    pub tolerance_s: f64,
+    pub precision: f64,
+    pub recall: f64,
+    pub f1: f64,
+    pub matched: usize,
+}
+
+/// Every score of one segmentation against one truth.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Scores {
+    pub trial: String,
+    pub true_boundaries: usize,
+    pub predicted_boundaries: usize,
+    pub boundaries: Vec<BoundaryScore>,
+    pub covering: f64,
+    pub hungarian_accuracy: f64,
+    pub strict_accuracy: f64,
+    pub tolerant_accuracy: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MetricsError {
+    #[error("the segmentation has {seg} frames but the truth has {truth}: is it the same take at the same frame rate?")]
+    LengthMismatch { seg: usize, truth: usize },
+    #[error("the segmentation has no action, transition or primitive segments")]
+    Empty,
+}
+
+/// A labelled interval `start..=end` used internally.
+#[derive(Debug, Clone, PartialEq)]
+struct Span {
+    start: usize,
+    end: usize,
+    key: String,
+}
+
+fn cluster_key(s: &Segment) -> String {
+    match s.cluster {
+        Some(c) => format!("#{c}"),
+        None => s.label.clone(),
+    }
+}
+
+/// Action-level spans covering the take: actions in order, each transition split at its middle.
+fn action_spans(seg: &Segmentation) -> Vec<Span> {
+    let mut parts: Vec<&Segment> =
+        seg.segments.iter().filter(|s| matches!(s.level, Level::Action | Level::Transition)).collect();
+    parts.sort_by_key(|s| (s.start, s.end));
+    let actions: Vec<usize> = (0..parts.len()).filter(|&i| parts[i].level == Level::Action).collect();
+    if actions.is_empty() {
+        return Vec::new();
+    }
+    let mut spans: Vec<Span> =
+        actions.iter().map(|&i| Span { start: parts[i].start, end: parts[i].end, key: cluster_key(parts[i]) }).collect();
+    // Stretch neighbouring actions over the gaps between them (transitions or unlabelled frames), meeting in the middle.
+    for k in 0..spans.len().saturating_sub(1) {
+        let (a_end, b_start) = (spans[k].end, spans[k + 1].start);
+        if b_start > a_end + 1 {
+            let gap = b_start - a_end - 1;
+            let split = a_end + 1 + gap / 2; // first frame of the next action
+            spans[k].end = split - 1;
+            spans[k + 1].start = split;
+        }
+    }
+    spans[0].start = 0;
+    let last = spans.len() - 1;
+    spans[last].end = seg.frames.saturating_sub(1);
+    spans
+}
+
+/// Frame indices where a new segment starts (all but the first segment's start).
+fn boundaries(starts: impl Iterator<Item = usize>) -> Vec<usize> {
+    let mut b: Vec<usize> = starts.filter(|&s| s > 0).collect();
+    b.sort_unstable();
+    b.dedup();
+    b
+}
+
+/// Maximum one-to-one matching of sorted boundaries closer than `tol` frames (greedy is optimal on a line).
+fn matched_boundaries(pred: &[usize], truth: &[usize], tol: f64) -> usize {
+    let (mut i, mut j, mut matched) = (0, 0, 0);
+    while i < pred.len() && j < truth.len() {
+        let (p, t) = (pred[i] as f64, truth[j] as f64);
+        if (p - t).abs() <= tol {
+            matched += 1;
+            i += 1;
+            j += 1;
+        } else if p < t {
+            i += 1;
+        } else {
+            j += 1;
+        }
+    }
+    matched
+}
+
+fn boundary_score(pred: &[usize], truth: &[usize], tolerance_s: f64, fps: f64) -> BoundaryScore {
+    let matched = matched_boundaries(pred, truth, tolerance_s * fps);
+    let ratio = |m: usize, n: usize| if n == 0 { if m == 0 { 1.0 } else { 0.0 } } else { m as f64 / n as f64 };
+    let precision = if pred.is_empty() { if truth.is_empty() { 1.0 } else { 0.0 } } else { ratio(matched, pred.len()) };
+    let recall = if truth.is_empty() { if pred.is_empty() { 1.0 } else { 0.0 } } else { ratio(matched, truth.len()) };
+    let f1 = if precision + recall > 0.0 { 2.0 * precision * recall / (precision + recall) } else { 0.0 };
+    BoundaryScore { tolerance_s, precision, recall, f1, matched }
+}
+
+fn jaccard(a: (usize, usize), b: (usize, usize)) -> f64 {
+    let inter = (a.1.min(b.1) + 1).saturating_sub(a.0.max(b.0));
+    let union = (a.1.max(b.1) + 1) - a.0.min(b.0);
+    inter as f64 / union as f64
+}
+
+/// Covering of the truth by the prediction (ClaSP / TSSB definition).
+fn covering(truth: &[(usize, usize)], pred: &[(usize, usize)], frames: usize) -> f64 {
+    let total: f64 = truth
+        .iter()
+        .map(|&g| {
+            let best = pred.iter().map(|&p| jaccard(g, p)).fold(0.0, f64::max);
+            (g.1 - g.0 + 1) as f64 * best
+        })
+        .sum();
+    total / frames.max(1) as f64
+}
+
+/// Per-frame keys of spans (None where no span covers the frame).
+fn per_frame(spans: &[Span], frames: usize) -> Vec<Option<usize>> {
+    let mut keys: BTreeMap<&str, usize> = BTreeMap::new();
+    for s in spans {
+        let n = keys.len();
+        keys.entry(s.key.as_str()).or_insert(n);
+    }
+    let mut out = vec![None; frames];
+    for s in spans {
+        let k = keys[s.key.as_str()];
+        for slot in out.iter_mut().take(s.end.min(frames.saturating_sub(1)) + 1).skip(s.start) {
+            *slot = Some(k);
+        }
+    }
+    out
+}
+
+fn truth_frames(truth: &Truth) -> (Vec<Option<usize>>, Vec<String>) {
+    let mut labels: Vec<String> = Vec::new();
+    let spans: Vec<Span> = truth
+        .segments
+        .iter()
+        .map(|s| {
+            if !labels.contains(&s.label) {
+                labels.push(s.label.clone());
+            }
+            Span { start: s.start, end: s.end, key: s.label.clone() }
+        })
+        .collect();
+    // Index keys by first appearance so that `labels[k]` names key k.
+    let mut out = vec![None; truth.frames];
+    for s in &spans {
+        let k = labels.iter().position(|l| *l == s.key).unwrap_or(0);
+        for slot in out.iter_mut().take(s.end.min(truth.frames.saturating_sub(1)) + 1).skip(s.start) {
+            *slot = Some(k);
+        }
+    }
+    (out, labels)
+}
+
+/// Contingency table rows = predicted keys, columns = true labels.
+fn contingency(pred: &[Option<usize>], truth: &[Option<usize>], n_pred: usize, n_true: usize) -> Vec<Vec<i64>> {
+    let mut table = vec![vec![0i64; n_true]; n_pred];
+    for (p, t) in pred.iter().zip(truth) {
+        if let (Some(p), Some(t)) = (p, t) {
+            table[*p][*t] += 1;
+        }
+    }
+    table
+}
+
+/// One-to-one matching of predicted clusters to labels maximising agreeing frames; returns the agreeing frames.
+fn hungarian_agreement(table: &[Vec<i64>]) -> i64 {
+    let (rows, cols) = (table.len(), table.first().map_or(0, Vec::len));
+    if rows == 0 || cols == 0 {
+        return 0;
+    }
+    // kuhn_munkres needs rows <= columns: transpose when there are more clusters than labels.
+    let (r, c, get): (usize, usize, Box<dyn Fn(usize, usize) -> i64>) = if rows <= cols {
+        (rows, cols, Box::new(|i, j| table[i][j]))
+    } else {
+        (cols, rows, Box::new(|i, j| table[j][i]))
+    };
+    let weights = Matrix::from_fn(r, c, |(i, j)| get(i, j));
+    kuhn_munkres(&weights).0
+}
+
+/// Whether each frame lies in an uncertainty window of the truth.
+fn uncertain_frames(truth: &Truth, fps: f64, half_width_s: f64) -> Vec<bool> {
+    let mut out = vec![false; truth.frames];
+    let last = truth.frames.saturating_sub(1);
+    let half = (half_width_s * fps).round() as usize;
+    for (i, s) in truth.segments.iter().enumerate() {
+        if i + 1 == truth.segments.len() {
+            break; // the last segment's end is the end of the take, not a boundary
+        }
+        let (lo, hi) = s.end_window.unwrap_or((s.end.saturating_sub(half), s.end + half));
+        for slot in out.iter_mut().take(hi.min(last) + 1).skip(lo) {
+            *slot = true;
+        }
+    }
+    out
+}
+
+/// Strict and tolerant accuracy (see the module documentation).
+fn strict_tolerant(seg: &Segmentation, truth: &Truth, truth_keys: &[Option<usize>], n_labels: usize, tol: &Tolerances) -> (f64, f64) {
+    let mut prims: Vec<Span> = seg.level(Level::Primitive).map(|s| Span { start: s.start, end: s.end, key: cluster_key(s) }).collect();
+    if prims.is_empty() {
+        prims = seg.level(Level::Action).map(|s| Span { start: s.start, end: s.end, key: cluster_key(s) }).collect();
+    }
+    let frames = truth.frames;
+    let pred = per_frame(&prims, frames);
+    let n_pred = pred.iter().flatten().max().map_or(0, |m| m + 1);
+    let table = contingency(&pred, truth_keys, n_pred, n_labels);
+    // Many-to-one: each cluster takes the class it overlaps most.
+    let class_of: Vec<Option<usize>> = table
+        .iter()
+        .map(|row| row.iter().enumerate().max_by_key(|(_, &v)| v).filter(|(_, &v)| v > 0).map(|(j, _)| j))
+        .collect();
+    let uncertain = uncertain_frames(truth, seg.fps, tol.uncertain_s);
+    let (mut strict, mut tolerant) = (0usize, 0usize);
+    for f in 0..frames {
+        let ok = match (pred[f], truth_keys[f]) {
+            (Some(p), Some(t)) => class_of[p] == Some(t),
+            _ => false,
+        };
+        strict += ok as usize;
+        tolerant += (ok || uncertain[f]) as usize;
+    }
+    (strict as f64 / frames.max(1) as f64, tolerant as f64 / frames.max(1) as f64)
+}
+
+/// Scores `seg` against `truth` (both at the file's frame rate, 0-based rows).
+pub fn evaluate(seg: &Segmentation, truth: &Truth, tol: &Tolerances) -> Result<Scores, MetricsError> {
+    if seg.frames != truth.frames {
+        return Err(MetricsError::LengthMismatch { seg: seg.frames, truth: truth.frames });
+    }
+    let spans = action_spans(seg);
+    if spans.is_empty() && seg.level(Level::Primitive).next().is_none() {
+        return Err(MetricsError::Empty);
+    }
+    let pred_b = boundaries(spans.iter().map(|s| s.start));
+    let true_b = boundaries(truth.segments.iter().map(|s| s.start));
+    let boundaries = tol.boundary_s.iter().map(|&t| boundary_score(&pred_b, &true_b, t, seg.fps)).collect();
+
+    let true_iv: Vec<(usize, usize)> = truth.segments.iter().map(|s| (s.start, s.end)).collect();
+    let pred_iv: Vec<(usize, usize)> = spans.iter().map(|s| (s.start, s.end)).collect();
+    let covering = covering(&true_iv, &pred_iv, truth.frames);
+
+    let (truth_keys, labels) = truth_frames(truth);
+    let pred_keys = per_frame(&spans, truth.frames);
+    let n_pred = pred_keys.iter().flatten().max().map_or(0, |m| m + 1);
+    let table = contingency(&pred_keys, &truth_keys, n_pred, labels.len());
+    let hungarian_accuracy = hungarian_agreement(&table) as f64 / truth.frames.max(1) as f64;
+    let (strict_accuracy, tolerant_accuracy) = strict_tolerant(seg, truth, &truth_keys, labels.len(), tol);
+
+    Ok(Scores {
+        trial: truth.trial.clone(),
+        true_boundaries: true_b.len(),
+        predicted_boundaries: pred_b.len(),
+        boundaries,
+        covering,
+        hungarian_accuracy,
+        strict_accuracy,
+        tolerant_accuracy,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::truth::TruthSegment;
+    use super::*;
+
+    fn seg(frames: usize, parts: &[(usize, usize, Level, Option<usize>)]) -> Segmentation {
+        Segmentation {
+            file: "t.bvh".into(),
+            fps: 10.0,
+            frames,
+            method: "test".into(),
+            params: serde_json::Value::Null,
+            segments: parts
+                .iter()
+                .map(|&(start, end, level, cluster)| Segment { start, end, label: String::new(), level, cluster, score: None })
+                .collect(),
+        }
+    }
+
+    fn truth(frames: usize, parts: &[(usize, usize, &str)]) -> Truth {
+        Truth {
+            trial: "t".into(),
+            frames,
+            segments: parts
+                .iter()
+                .map(|&(start, end, l)| TruthSegment { start, end, label: l.into(), end_window: None })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn perfect_segmentation_scores_one_everywhere() {
+        let t = truth(100, &[(0, 39, "walk"), (40, 69, "jump"), (70, 99, "walk")]);
+        let s = seg(100, &[(0, 39, Level::Action, Some(0)), (40, 69, Level::Action, Some(1)), (70, 99, Level::Action, Some(0))]);
+        let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
+        assert_eq!((sc.true_boundaries, sc.predicted_boundaries), (2, 2));
+        for b in &sc.boundaries {
+            assert_eq!((b.precision, b.recall, b.f1), (1.0, 1.0, 1.0));
+        }
+        assert_eq!(sc.covering, 1.0);
+        assert_eq!(sc.hungarian_accuracy, 1.0);
+        assert_eq!(sc.strict_accuracy, 1.0);
+        assert_eq!(sc.tolerant_accuracy, 1.0);
+    }
+
+    #[test]
+    fn transitions_split_at_their_middle() {
+        // Transition 30..=49 between two actions: the boundary lands at 40.
+        let s = seg(100, &[(0, 29, Level::Action, Some(0)), (30, 49, Level::Transition, None), (50, 99, Level::Action, Some(1))]);
+        let spans = action_spans(&s);
+        assert_eq!(spans.iter().map(|s| (s.start, s.end)).collect::<Vec<_>>(), vec![(0, 39), (40, 99)]);
+        let t = truth(100, &[(0, 39, "a"), (40, 99, "b")]);
+        let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
+        assert_eq!(sc.boundaries[0].f1, 1.0);
+        assert_eq!(sc.covering, 1.0);
+        // Strict accuracy falls back to actions (no primitives); transition frames are unlabelled → wrong.
+        assert!((sc.strict_accuracy - 0.8).abs() < 1e-12, "{}", sc.strict_accuracy);
+    }
+
+    #[test]
+    fn boundary_matching_is_one_to_one_within_tolerance() {
+        // fps 10: tolerance 0.5 s = 5 frames. Two predictions near one true boundary count once.
+        assert_eq!(matched_boundaries(&[38, 42], &[40], 5.0), 1);
+        assert_eq!(matched_boundaries(&[30], &[40], 5.0), 0);
+        assert_eq!(matched_boundaries(&[10, 36, 44], &[12, 40], 5.0), 2);
+        let b = boundary_score(&[38, 42, 90], &[40, 60], 0.5, 10.0);
+        assert_eq!(b.matched, 1);
+        assert!((b.precision - 1.0 / 3.0).abs() < 1e-12);
+        assert!((b.recall - 0.5).abs() < 1e-12);
+        assert!((b.f1 - 0.4).abs() < 1e-12);
+    }
+
+    #[test]
+    fn one_segment_covering_matches_hand_computation() {
+        // Truth 0..=39, 40..=99; prediction one segment 0..=99.
+        // Covering = (40·0.4 + 60·0.6) / 100 = 0.52.
+        let t = truth(100, &[(0, 39, "a"), (40, 99, "b")]);
+        let s = seg(100, &[(0, 99, Level::Action, Some(0))]);
+        let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
+        assert!((sc.covering - 0.52).abs() < 1e-12);
+        assert_eq!(sc.boundaries[1].f1, 0.0);
+        assert!((sc.hungarian_accuracy - 0.6).abs() < 1e-12);
+    }
+
+    #[test]
+    fn hungarian_is_one_to_one_but_strict_is_many_to_one() {
+        // Three predicted clusters over two labels: Hungarian can use only two of them,
+        // strict accuracy maps clusters 0 and 2 both to "walk".
+        let t = truth(90, &[(0, 59, "walk"), (60, 89, "jump")]);
+        let s = seg(90, &[
+            (0, 29, Level::Action, Some(0)), (30, 59, Level::Action, Some(2)), (60, 89, Level::Action, Some(1)),
+            (0, 29, Level::Primitive, Some(0)), (30, 59, Level::Primitive, Some(2)), (60, 89, Level::Primitive, Some(1)),
+        ]);
+        let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
+        assert!((sc.hungarian_accuracy - 60.0 / 90.0).abs() < 1e-12);
+        assert_eq!(sc.strict_accuracy, 1.0);
+    }
+
+    #[test]
+    fn tolerant_accepts_uncertainty_windows() {
+        let mut t = truth(100, &[(0, 49, "a"), (50, 99, "b")]);
+        t.segments[0].end_window = Some((45, 54));
+        // Prediction cuts 5 frames late: frames 50..=54 wrong strictly, inside the window tolerantly.
+        let s = seg(100, &[(0, 54, Level::Primitive, Some(0)), (55, 99, Level::Primitive, Some(1))]);
+        let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
+        assert!((sc.strict_accuracy - 0.95).abs() < 1e-12);
+        assert_eq!(sc.tolerant_accuracy, 1.0);
+    }
+
+    #[test]
+    fn length_mismatch_is_an_error_not_a_score() {
+        let t = truth(100, &[(0, 99, "a")]);
+        let s = seg(25, &[(0, 24, Level::Action, None)]);
+        assert_eq!(evaluate(&s, &t, &Tolerances::default()), Err(MetricsError::LengthMismatch { seg: 25, truth: 100 }));
+    }
+}
