@@ -1,0 +1,27 @@
+//! `#error-banner`: the last load's error (the parser's message with file, line and column).
+//! Hidden when there is none; dismissable; the rest of the page — and the take already on
+//! screen — stays usable.
+
+use super::AppState;
+use leptos::prelude::*;
+
+#[component]
+pub fn ErrorBanner(state: AppState) -> impl IntoView {
+    let message = move || state.error.get().unwrap_or_default();
+    view! {
+        <div id="error-banner" class="ms-error-banner" role="alert" hidden=move || state.error.with(Option::is_none)>
+            <strong class="ms-error-title">"Could not load the file."</strong>
+            <span id="error-message" class="ms-error-message">{message}</span>
+            <button
+                id="error-dismiss"
+                class="ms-error-dismiss"
+                type="button"
+                aria-label="Dismiss"
+                title="Dismiss"
+                on:click=move |_| state.error.set(None)
+            >
+                "×"
+            </button>
+        </div>
+    }
+}

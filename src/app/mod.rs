@@ -1,0 +1,150 @@
+//! The page (issue 2, "The page"): a leptos 0.8 client-side app.
+//!
+//! A user drops a BVH file (or the bundled sample loads by itself); the file goes to a web
+//! worker ([`crate::worker`]) that parses it, runs forward kinematics and builds the motion
+//! image, reporting progress; the page shows a summary, a skeleton player and the motion image
+//! under a shared timeline. A bad file shows the parser's message in a banner and the previous
+//! take stays on screen.
+//!
+//! State lives in [`AppState`], created once in [`App`] and passed down; each component (one
+//! per file) renders it and computes nothing — the worker does the work, [`camera`] and
+//! [`playback`] hold the little math the player needs. `document.body.dataset.state` says
+//! where loading stands: `loading`, `ready` or `error` (the outcome of the last load).
+
+mod camera;
+mod drop_zone;
+mod error_banner;
+mod loader;
+mod motion_image;
+mod playback;
+mod player;
+mod progress;
+mod summary;
+mod timeline;
+
+use crate::worker::LoadedMotion;
+use leptos::prelude::*;
+use std::sync::Arc;
+use wasm_bindgen::prelude::*;
+use wasm_bindgen::JsCast;
+
+use drop_zone::DropZone;
+use error_banner::ErrorBanner;
+use loader::{Loader, Urls};
+use player::Player;
+use progress::Progress;
+use summary::Summary;
+use timeline::Timeline;
+
+/// Where loading stands.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LoadState {
+    /// A file is being read or worked on; `fraction` is `None` when the stage cannot say.
+    Loading {
+        name: String,
+        stage: String,
+        fraction: Option<f64>,
+    },
+    /// The last load succeeded.
+    Ready,
+    /// The last load failed (the error banner says why).
+    Failed,
+}
+
+impl LoadState {
+    /// The value of `document.body.dataset.state`.
+    pub fn body_state(&self) -> &'static str {
+        match self {
+            LoadState::Loading { .. } => "loading",
+            LoadState::Ready => "ready",
+            LoadState::Failed => "error",
+        }
+    }
+}
+
+/// Everything the page shows, as signals (created once, passed to every component).
+#[derive(Debug, Clone, Copy)]
+pub struct AppState {
+    /// The take on screen (kept when a later load fails).
+    pub motion: RwSignal<Option<Arc<LoadedMotion>>>,
+    pub load: RwSignal<LoadState>,
+    /// The error banner's message, `None` when hidden.
+    pub error: RwSignal<Option<String>>,
+    /// Current frame, 0-based.
+    pub frame: RwSignal<usize>,
+    pub playing: RwSignal<bool>,
+    /// Playback speed (1 = the file's own frame rate).
+    pub speed: RwSignal<f64>,
+}
+
+impl AppState {
+    fn new() -> AppState {
+        AppState {
+            motion: RwSignal::new(None),
+            load: RwSignal::new(LoadState::Loading {
+                name: String::new(),
+                stage: "starting".into(),
+                fraction: None,
+            }),
+            error: RwSignal::new(None),
+            frame: RwSignal::new(0),
+            playing: RwSignal::new(false),
+            speed: RwSignal::new(1.0),
+        }
+    }
+
+    /// Number of frames of the take on screen (0 when none).
+    pub fn frames(&self) -> usize {
+        self.motion.with(|m| m.as_ref().map_or(0, |m| m.summary.frames))
+    }
+}
+
+/// Id of the element the page mounts into (falls back to `<body>`).
+const ROOT_ID: &str = "mocapseg-app";
+
+/// Mounts the page. Called by `index.html` after `init()`; the worker loads the same module
+/// and never calls it. The root element may override the asset locations with
+/// `data-worker-url` and `data-sample-url` (default `./www/worker.js`, `./www/sample.bvh`).
+#[wasm_bindgen]
+pub fn mount_app() -> Result<(), JsValue> {
+    console_error_panic_hook::set_once();
+    let document = web_sys::window().and_then(|w| w.document()).ok_or("no document")?;
+    let root = match document.get_element_by_id(ROOT_ID) {
+        Some(el) => el.dyn_into::<web_sys::HtmlElement>()?,
+        None => document.body().ok_or("no <body>")?,
+    };
+    let urls = Urls::from_root(&root);
+    leptos::mount::mount_to(root, move || view! { <App urls=urls/> }).forget();
+    Ok(())
+}
+
+#[component]
+fn App(urls: Urls) -> impl IntoView {
+    let state = AppState::new();
+    let loader = Loader::new(state, urls);
+
+    Effect::new(move |_| {
+        let value = state.load.with(LoadState::body_state);
+        if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
+            let _ = body.set_attribute("data-state", value);
+        }
+    });
+    loader.load_sample();
+
+    view! {
+        <header class="ms-header">
+            <h1>"mocapseg"</h1>
+            <p class="ms-tagline">"Motion-capture segmentation in the browser — BVH in, motion out."</p>
+        </header>
+        <ErrorBanner state=state/>
+        <section class="ms-input">
+            <DropZone state=state loader=loader/>
+            <Progress state=state/>
+        </section>
+        <Summary state=state/>
+        <main class="ms-workspace">
+            <Player state=state/>
+            <Timeline state=state/>
+        </main>
+    }
+}
