@@ -1,0 +1,121 @@
+# mocapseg — build, serve, test and benchmark (plain make; no trunk).
+#
+#   make demo    set up, build the page and serve it on http://localhost:8080
+#   make test    set up, then every test: native (cargo test), wasm core tests in headless
+#                Chromium, the release page bundle, and the Playwright end-to-end test
+#   make bench   parse + FK throughput, native CLI and in headless Chromium
+#   make setup   install the toolchain (scripts/setup.sh; idempotent, seconds when done)
+#   make web     build the page into dist/ (release wasm + wasm-bindgen + wasm-opt + assets)
+#
+# scripts/setup.sh writes .toolchain.env, which says how to drive cargo (Route S: rustup;
+# Route D: Debian rustc-web with -Zbuild-std). The top-level targets run setup first and then
+# re-invoke make so that the freshly written file is read.
+
+SHELL := /bin/bash
+.SHELLFLAGS := -eu -o pipefail -c
+.DEFAULT_GOAL := help
+MAKEFLAGS += --no-print-directory
+
+HOME ?= $(shell getent passwd $$(id -u) | cut -d: -f6)
+export PATH := $(HOME)/.cargo/bin:$(PATH)
+export PLAYWRIGHT_SKIP_BROWSER_DOWNLOAD := 1
+
+-include .toolchain.env
+CARGO ?= cargo
+WASM_CARGO_FLAGS ?=
+
+WASM_TARGET := wasm32-unknown-unknown
+CRATE       := mocapseg
+DIST        := dist
+WASM_OPT    := tests/e2e/node_modules/.bin/wasm-opt
+DEMO_PORT   ?= 8080
+# Seconds a headless wasm-bindgen-test run may take (the runner's default is 20).
+WASM_TEST_TIMEOUT ?= 300
+
+# Benchmark input: the long CMU take 86_01 from shared data if present, else the bundled
+# sample (CMU 13_30), else the largest fixture.
+BENCH_BVH ?= $(firstword $(wildcard $(abspath $(CURDIR)/../shared/data/cmu/86/86_01.bvh) \
+                /work/shared/data/cmu/86/86_01.bvh $(CURDIR)/www/sample.bvh) \
+                $(abspath $(shell ls -S tests/fixtures/*.bvh 2>/dev/null | head -n 1)))
+
+.PHONY: help setup demo test bench web serve check-toolchain \
+        test-native test-wasm test-e2e bench-native bench-wasm
+
+help:
+	@sed -n '3,9p' Makefile | sed 's/^# \{0,1\}//'
+
+setup:
+	scripts/setup.sh
+
+demo: setup
+	$(MAKE) web
+	$(MAKE) serve
+
+test: setup
+	$(MAKE) test-native
+	$(MAKE) test-wasm
+	$(MAKE) web
+	$(MAKE) test-e2e
+	@echo "make test: all steps passed (native, wasm core in headless Chromium, web bundle, e2e)"
+
+bench: setup
+	$(MAKE) bench-native
+	$(MAKE) bench-wasm
+
+check-toolchain:
+	@test -f .toolchain.env || { echo "No .toolchain.env: run 'make setup' first." >&2; exit 1; }
+
+# --- build ------------------------------------------------------------------------------
+
+# The page: release wasm of the lib with the `web` feature → wasm-bindgen → wasm-opt → dist/.
+web: check-toolchain
+	$(CARGO) build $(WASM_CARGO_FLAGS) --lib --release --target $(WASM_TARGET) --features web
+	@tdir=$$($(CARGO) metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])'); \
+	wasm="$$tdir/$(WASM_TARGET)/release/$(CRATE).wasm"; \
+	rm -rf $(DIST) && mkdir -p $(DIST); \
+	echo "wasm-bindgen --target web --no-typescript --out-dir $(DIST)/pkg $$wasm"; \
+	wasm-bindgen --target web --no-typescript --out-dir $(DIST)/pkg "$$wasm"; \
+	if [ -x $(WASM_OPT) ]; then \
+		echo "$(WASM_OPT) -O2 $(DIST)/pkg/$(CRATE)_bg.wasm"; \
+		$(WASM_OPT) -O2 $(DIST)/pkg/$(CRATE)_bg.wasm -o $(DIST)/pkg/$(CRATE)_bg.wasm; \
+	else \
+		echo "note: $(WASM_OPT) (npm binaryen@132) not installed: wasm left unoptimised (run 'make setup')"; \
+	fi; \
+	cp index.html $(DIST)/; \
+	cp -r www $(DIST)/www; \
+	echo "built $(DIST)/: $$(du -h $(DIST)/pkg/$(CRATE)_bg.wasm | cut -f1) wasm"
+
+serve:
+	@test -f $(DIST)/index.html || { echo "No $(DIST)/index.html: run 'make web' first." >&2; exit 1; }
+	@echo "Serving $(DIST)/ on http://localhost:$(DEMO_PORT)/ (Ctrl-C to stop)"
+	cd $(DIST) && python3 -m http.server $(DEMO_PORT) --bind 127.0.0.1
+
+# --- tests ------------------------------------------------------------------------------
+
+# Every native test: unit tests, integration tests (incl. the CLI), doc tests.
+test-native: check-toolchain
+	$(CARGO) test
+
+# The core (parser, FK, motion image) compiled to wasm32, run in headless Chromium; then the
+# page's own unit tests (camera, playback clock, worker message round trip) in wasm.
+test-wasm: check-toolchain
+	WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
+	$(CARGO) test $(WASM_CARGO_FLAGS) --target $(WASM_TARGET) --test wasm_core
+	WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
+	$(CARGO) test $(WASM_CARGO_FLAGS) --target $(WASM_TARGET) --lib --features web
+
+# Playwright against dist/ served on a free loopback port (needs `make web` first).
+test-e2e:
+	scripts/e2e.sh $(DIST)
+
+# --- benchmarks -------------------------------------------------------------------------
+
+bench-native: check-toolchain
+	@echo "bench input: $(BENCH_BVH)"
+	$(CARGO) run --release --bin $(CRATE) -- bench "$(BENCH_BVH)"
+
+# --nocapture makes the runner print the test's console output (the numbers).
+bench-wasm: check-toolchain
+	@echo "bench input: $(BENCH_BVH)"
+	MOCAPSEG_BENCH_BVH="$(BENCH_BVH)" WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
+	$(CARGO) test $(WASM_CARGO_FLAGS) --release --target $(WASM_TARGET) --test wasm_bench -- --nocapture

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# scripts/e2e.sh [DIST] — serve the built page (default: dist/) on a free loopback port, run the
+# Playwright end-to-end test (tests/e2e/page.test.mjs) against it, and always stop the server.
+# Screenshots and the server log go to test-output/.
+set -euo pipefail
+
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+DIST=$(cd "${1:-$ROOT/dist}" && pwd)
+OUT="$ROOT/test-output"
+mkdir -p "$OUT"
+
+[ -f "$DIST/index.html" ] || { echo "e2e: $DIST/index.html missing: run 'make web' first" >&2; exit 1; }
+[ -d "$ROOT/tests/e2e/node_modules/playwright-core" ] || { echo "e2e: playwright-core missing: run 'make setup'" >&2; exit 1; }
+
+# Port 0: the kernel picks a free port; http.server prints it (-u: unbuffered).
+LOG="$OUT/e2e-server.log"
+python3 -u -m http.server 0 --bind 127.0.0.1 --directory "$DIST" >"$LOG" 2>&1 &
+SERVER_PID=$!
+cleanup() {
+    kill "$SERVER_PID" 2>/dev/null || true
+    wait "$SERVER_PID" 2>/dev/null || true
+}
+trap cleanup EXIT INT TERM
+
+PORT=""
+for _ in $(seq 1 100); do
+    PORT=$(sed -n 's/.* port \([0-9][0-9]*\).*/\1/p' "$LOG" | head -n 1)
+    [ -n "$PORT" ] && break
+    kill -0 "$SERVER_PID" 2>/dev/null || { cat "$LOG" >&2; echo "e2e: static server died" >&2; exit 1; }
+    sleep 0.1
+done
+[ -n "$PORT" ] || { cat "$LOG" >&2; echo "e2e: static server did not start" >&2; exit 1; }
+
+echo "e2e: serving $DIST on http://127.0.0.1:$PORT/"
+cd "$ROOT/tests/e2e"
+BASE_URL="http://127.0.0.1:$PORT/" OUT_DIR="$OUT" FIXTURES="$ROOT/tests/fixtures" SAMPLE_BVH="$DIST/www/sample.bvh" \
+    node page.test.mjs

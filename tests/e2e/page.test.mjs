@@ -1,0 +1,320 @@
+// End-to-end test of the mocapseg page: Playwright (playwright-core) drives Debian's headless
+// Chromium against the built page served on loopback (scripts/e2e.sh starts the server and sets
+// BASE_URL). Checks the page contract: the bundled sample loads on start, a fixture loaded
+// through the file input (and by drag-and-drop) shows the right summary, the motion image and
+// the player canvases are drawn, play/pause/scrub move the frame counter and the playhead, the
+// PNG download is a PNG, and a malformed file shows the parser's error (with its line) while
+// the page keeps working. Screenshots go to OUT_DIR (default <repo>/test-output).
+//
+// Run: node page.test.mjs   (env: BASE_URL, OUT_DIR, FIXTURES, SAMPLE_BVH, E2E_TIMEOUT_MS)
+
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import { mkdirSync, readFileSync, writeFileSync } from "node:fs";
+import path from "node:path";
+import { fileURLToPath } from "node:url";
+import { chromium } from "playwright-core";
+
+const HERE = path.dirname(fileURLToPath(import.meta.url));
+const ROOT = path.resolve(HERE, "../..");
+const BASE_URL = process.env.BASE_URL ?? "http://127.0.0.1:8080/";
+const OUT = process.env.OUT_DIR ?? path.join(ROOT, "test-output");
+const FIXTURES = process.env.FIXTURES ?? path.join(ROOT, "tests/fixtures");
+const SAMPLE = process.env.SAMPLE_BVH ?? path.join(ROOT, "www/sample.bvh");
+const TIMEOUT = Number(process.env.E2E_TIMEOUT_MS ?? 60_000);
+
+mkdirSync(OUT, { recursive: true });
+
+/**
+ * What the BVH header says, read independently of the app: joint count (ROOT + JOINT),
+ * End Site count, declared frames and frame time.
+ */
+function bvhHeader(file) {
+  const text = readFileSync(file, "utf8");
+  const motion = text.search(/^\s*MOTION\b/m);
+  assert.ok(motion > 0, `${file}: no MOTION section`);
+  const hierarchy = text.slice(0, motion);
+  const joints = (hierarchy.match(/^\s*(ROOT|JOINT)\s/gm) ?? []).length;
+  const endSites = (hierarchy.match(/^\s*End\s+Site\b/gm) ?? []).length;
+  const frames = Number(/^\s*Frames:\s*(\d+)/m.exec(text)?.[1]);
+  const frameTime = Number(/^\s*Frame Time:\s*([0-9.eE+-]+)/m.exec(text)?.[1]);
+  return { name: path.basename(file), text, joints, endSites, frames, frameTime };
+}
+
+const WALK = bvhHeader(path.join(FIXTURES, "02_01.bvh"));
+const DROPPED = bvhHeader(path.join(FIXTURES, "35_01.bvh"));
+const SAMPLE_HDR = bvhHeader(SAMPLE);
+const BAD = path.join(FIXTURES, "bad.bvh");
+
+let browser;
+let page;
+const pageErrors = []; // uncaught exceptions: never allowed
+const consoleErrors = []; // console.error: not allowed outside the bad-file step
+let allowConsoleErrors = false;
+
+before(async () => {
+  browser = await chromium.launch({
+    executablePath: "/usr/bin/chromium",
+    headless: true,
+    args: [
+      "--no-sandbox",
+      "--disable-gpu",
+      "--disable-dev-shm-usage",
+      "--disable-background-networking",
+      "--disable-component-update",
+      "--disable-sync",
+      "--no-first-run",
+    ],
+  });
+  const context = await browser.newContext({ viewport: { width: 1280, height: 900 }, acceptDownloads: true });
+  // Record every value body[data-state] takes, so a quick "loading" is not missed.
+  await context.addInitScript(() => {
+    window.__states = [];
+    const watch = () => {
+      window.__states.push(document.body.dataset.state ?? "");
+      new MutationObserver((records) => {
+        for (const r of records) window.__states.push(document.body.dataset.state ?? "");
+      }).observe(document.body, { attributes: true, attributeFilter: ["data-state"] });
+    };
+    if (document.body) watch();
+    else document.addEventListener("DOMContentLoaded", watch);
+  });
+  page = await context.newPage();
+  page.setDefaultTimeout(TIMEOUT);
+  page.on("pageerror", (e) => pageErrors.push(String(e)));
+  page.on("console", (m) => {
+    if (m.type() !== "error") return;
+    const text = m.text();
+    if (allowConsoleErrors && !/panicked|RuntimeError|unreachable/i.test(text)) {
+      console.log(`  (console error during the bad-file step, allowed: ${text})`);
+    } else {
+      consoleErrors.push(text);
+    }
+  });
+});
+
+after(async () => {
+  if (page) await page.screenshot({ path: path.join(OUT, "e2e-final.png"), fullPage: true }).catch(() => {});
+  await browser?.close();
+});
+
+// ---- helpers ---------------------------------------------------------------------------------
+
+const shot = (name) => page.screenshot({ path: path.join(OUT, name), fullPage: true });
+const text = async (sel) => ((await page.locator(sel).textContent()) ?? "").trim();
+const state = () => page.evaluate(() => document.body.dataset.state ?? "");
+
+async function clearStates() {
+  await page.evaluate(() => { window.__states = []; });
+}
+
+/** Waits until the page is "ready" with `name` in the summary, or fails with what it shows. */
+async function waitReady(name) {
+  try {
+    await page.waitForFunction(
+      (n) => document.body.dataset.state === "ready"
+        && (document.querySelector("#summary-name")?.textContent ?? "").includes(n),
+      name,
+      { timeout: TIMEOUT },
+    );
+  } catch (e) {
+    await shot(`e2e-timeout-${name}.png`).catch(() => {});
+    throw new Error(`page did not become ready with ${name}: state=${await state()}, `
+      + `summary="${await text("#summary").catch(() => "?")}", `
+      + `error-banner="${await text("#error-banner").catch(() => "?")}", page errors=${JSON.stringify(pageErrors)}`);
+  }
+}
+
+/** Asserts the summary fields against the file's own header. */
+async function assertSummary(h) {
+  const summary = await text("#summary");
+  for (const word of [h.name, "joints", "frames", "fps"]) {
+    assert.ok(summary.includes(word), `#summary "${summary}" should include "${word}"`);
+  }
+  assert.match(await text("#summary-name"), new RegExp(h.name.replace(".", "\\.")));
+  assert.match(await text("#summary-joints"), new RegExp(`\\b${h.joints}\\b`),
+    `#summary-joints should show ${h.joints} joints`);
+  assert.match(await text("#summary-frames"), new RegExp(`\\b${h.frames}\\b`),
+    `#summary-frames should show ${h.frames}`);
+  const fps = Math.round(1 / h.frameTime);
+  assert.match(await text("#summary-fps"), new RegExp(`\\b${fps}\\b`), `#summary-fps should show ${fps}`);
+  const duration = (h.frames * h.frameTime).toFixed(2);
+  assert.ok((await text("#summary-duration")).includes(duration),
+    `#summary-duration "${await text("#summary-duration")}" should include ${duration}`);
+  assert.ok((await text("#summary-units")).length > 0, "#summary-units is empty");
+}
+
+/** Colour statistics of a canvas (any context), read back through a 2D copy. */
+function canvasStats(sel) {
+  return page.evaluate((sel) => {
+    const c = document.querySelector(sel);
+    if (!(c instanceof HTMLCanvasElement)) return { error: `${sel} is not a canvas` };
+    const { width: w, height: h } = c;
+    if (!w || !h) return { width: w, height: h, distinct: 0 };
+    const copy = document.createElement("canvas");
+    copy.width = w;
+    copy.height = h;
+    const ctx = copy.getContext("2d");
+    ctx.drawImage(c, 0, 0);
+    const d = ctx.getImageData(0, 0, w, h).data;
+    const colours = new Set();
+    const step = Math.max(1, Math.floor((w * h) / 250_000));
+    for (let i = 0; i < w * h && colours.size < 5000; i += step) {
+      const o = 4 * i;
+      colours.add(`${d[o]},${d[o + 1]},${d[o + 2]},${d[o + 3]}`);
+    }
+    return { width: w, height: h, distinct: colours.size };
+  }, sel);
+}
+
+async function frameCounter() {
+  const t = await text("#frame-counter");
+  const m = /frame\s+(\d+)\s*\/\s*(\d+)/i.exec(t);
+  assert.ok(m, `#frame-counter "${t}" is not "frame N / M"`);
+  return { n: Number(m[1]), total: Number(m[2]) };
+}
+
+/** Sets a range input the way a user drag does: value + input + change events. */
+function setRange(sel, value) {
+  return page.evaluate(([sel, value]) => {
+    const el = document.querySelector(sel);
+    el.value = String(value);
+    el.dispatchEvent(new Event("input", { bubbles: true }));
+    el.dispatchEvent(new Event("change", { bubbles: true }));
+  }, [sel, value]);
+}
+
+// ---- the tests (run in order, on one page) ---------------------------------------------------
+
+test("fixtures are what the test expects", () => {
+  // Facts of tests/fixtures/02_01.bvh (CMU 02_01, see /work/shared/data/manifest.json).
+  assert.deepEqual(
+    { joints: WALK.joints, endSites: WALK.endSites, frames: WALK.frames, frameTime: WALK.frameTime },
+    { joints: 31, endSites: 7, frames: 343, frameTime: 0.0083333 },
+  );
+  assert.ok(SAMPLE_HDR.frames > 0 && DROPPED.frames > 0);
+});
+
+test("page loads and auto-loads the bundled sample", async () => {
+  const resp = await page.goto(BASE_URL);
+  assert.equal(resp?.status(), 200, `GET ${BASE_URL}`);
+  await page.waitForFunction(() => document.body.dataset.state === "ready", null, { timeout: TIMEOUT })
+    .catch(async () => {
+      await shot("e2e-start-timeout.png").catch(() => {});
+      throw new Error(`sample not loaded on start: state=${await state()}, page errors=${JSON.stringify(pageErrors)}`);
+    });
+  assert.match(await text("#summary-frames"), new RegExp(`\\b${SAMPLE_HDR.frames}\\b`),
+    "the auto-loaded sample's frame count");
+  assert.ok((await text("#summary-name")).length > 0, "#summary-name is empty after the sample loaded");
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "error banner visible on start");
+  await shot("e2e-sample.png");
+});
+
+test("file input loads 02_01.bvh: summary, motion image, player", async () => {
+  await clearStates();
+  await page.setInputFiles("#file-input", path.join(FIXTURES, "02_01.bvh"));
+  await waitReady("02_01.bvh");
+  const states = await page.evaluate(() => window.__states);
+  assert.ok(states.includes("loading"), `body[data-state] never was "loading": ${JSON.stringify(states)}`);
+  await assertSummary(WALK);
+  assert.match(await text("#summary-units"), /CMU/, "02_01 is in CMU units");
+
+  const image = await canvasStats("#motion-image");
+  assert.ok(!image.error, image.error);
+  assert.ok(image.distinct >= 16, `#motion-image looks blank: ${JSON.stringify(image)}`);
+  const player = await canvasStats("#player-canvas");
+  assert.ok(!player.error, player.error);
+  assert.ok(player.distinct >= 3, `#player-canvas looks blank: ${JSON.stringify(player)}`);
+  assert.equal((await frameCounter()).total, WALK.frames, "#frame-counter total");
+  await shot("e2e-02_01.png");
+});
+
+test("play/pause advances the frame counter; scrub moves the playhead", async () => {
+  const advancing = async () => {
+    const a = await frameCounter();
+    await page.waitForTimeout(600);
+    const b = await frameCounter();
+    return a.n !== b.n;
+  };
+  const wasPlaying = await advancing();
+  await page.click("#play-pause");
+  assert.equal(await advancing(), !wasPlaying, `#play-pause should ${wasPlaying ? "pause" : "start"} playback`);
+  if (wasPlaying) {
+    await page.click("#play-pause");
+    assert.equal(await advancing(), true, "#play-pause should restart playback");
+  }
+  await page.click("#play-pause"); // pause for a deterministic scrub
+  assert.equal(await advancing(), false, "#play-pause should pause playback");
+
+  const max = Number(await page.locator("#scrub").getAttribute("max"));
+  assert.ok(max > 0, "#scrub has no max");
+  await setRange("#scrub", 0);
+  const start = await frameCounter();
+  const x0 = (await page.locator("#playhead").boundingBox())?.x;
+  await setRange("#scrub", max);
+  const end = await frameCounter();
+  const x1 = (await page.locator("#playhead").boundingBox())?.x;
+  assert.ok(end.n > start.n && end.n >= WALK.frames - 1,
+    `scrubbing to the end should show the last frame: ${start.n} → ${end.n} of ${end.total}`);
+  assert.ok(x0 !== undefined && x1 !== undefined, "#playhead has no box");
+  assert.ok(x1 > x0 + 10, `#playhead should move right when scrubbing to the end: x ${x0} → ${x1}`);
+  assert.ok((await page.locator("#speed option").count()) >= 2, "#speed offers fewer than 2 speeds");
+  await shot("e2e-scrubbed.png");
+});
+
+test("download the motion image as PNG", async () => {
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#download-png")]);
+  const file = path.join(OUT, "e2e-motion-image.png");
+  await download.saveAs(file);
+  const bytes = readFileSync(file);
+  assert.deepEqual([...bytes.subarray(0, 8)], [0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a],
+    "downloaded file does not start with the PNG signature");
+  // IHDR: width = frames (one column per frame).
+  assert.equal(bytes.readUInt32BE(16), WALK.frames, "PNG width should be one column per frame");
+});
+
+test("a malformed file shows the parser's error with its line; the page stays usable", async () => {
+  allowConsoleErrors = true;
+  try {
+    await page.setInputFiles("#file-input", BAD);
+    await page.locator("#error-banner").waitFor({ state: "visible", timeout: TIMEOUT });
+    const banner = await text("#error-banner");
+    assert.match(banner, /line\s*\d+/i, `#error-banner "${banner}" should name the line`);
+    await page.waitForFunction(() => document.body.dataset.state === "error", null, { timeout: TIMEOUT });
+    await shot("e2e-error.png");
+  } finally {
+    allowConsoleErrors = false;
+  }
+  await page.setInputFiles("#file-input", path.join(FIXTURES, "02_01.bvh"));
+  await waitReady("02_01.bvh");
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "error banner still visible after a good file");
+  await assertSummary(WALK);
+});
+
+test("drag-and-drop a file onto the drop zone", async () => {
+  const dataTransfer = await page.evaluateHandle(([name, body]) => {
+    const dt = new DataTransfer();
+    dt.items.add(new File([body], name, { type: "" }));
+    return dt;
+  }, [DROPPED.name, DROPPED.text]);
+  await page.dispatchEvent("#drop-zone", "dragover", { dataTransfer });
+  await page.dispatchEvent("#drop-zone", "drop", { dataTransfer });
+  await waitReady(DROPPED.name);
+  await assertSummary(DROPPED);
+});
+
+test("load sample button", async () => {
+  await page.click("#load-sample");
+  await page.waitForFunction(
+    (n) => document.body.dataset.state === "ready"
+      && new RegExp(`\\b${n}\\b`).test(document.querySelector("#summary-frames")?.textContent ?? ""),
+    SAMPLE_HDR.frames,
+    { timeout: TIMEOUT },
+  );
+});
+
+test("no page errors or console errors", () => {
+  writeFileSync(path.join(OUT, "e2e-errors.json"), JSON.stringify({ pageErrors, consoleErrors }, null, 2));
+  assert.deepEqual(pageErrors, [], "uncaught page errors");
+  assert.deepEqual(consoleErrors, [], "console errors");
+});

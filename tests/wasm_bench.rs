@@ -1,0 +1,99 @@
+//! Benchmark (issue 2, "Benchmark"): parse + forward-kinematics throughput of the core compiled
+//! to wasm32, measured in headless Chromium. Not a timed test: it asserts only that the work
+//! succeeded, and prints MB/s and frames/s.
+//!
+//! Run through `make bench-wasm` (or `make bench`), which sets `MOCAPSEG_BENCH_BVH` to the take
+//! to embed (CMU 86_01 when the shared data is there) and passes `--nocapture` so that the
+//! runner shows the printed numbers:
+//!
+//! ```sh
+//! MOCAPSEG_BENCH_BVH=/abs/path/take.bvh cargo test --release --target wasm32-unknown-unknown \
+//!     --test wasm_bench -- --nocapture
+//! ```
+//!
+//! Compiled only for wasm32 (natively this file is empty).
+#![cfg(target_arch = "wasm32")]
+
+use mocapseg::bvh;
+use mocapseg::motion::{fk, Motion};
+use wasm_bindgen::prelude::*;
+use wasm_bindgen_test::*;
+
+wasm_bindgen_test_configure!(run_in_browser);
+
+/// Absolute path of the benchmarked take, fixed at compile time.
+const PATH: &str = env!(
+    "MOCAPSEG_BENCH_BVH",
+    "set MOCAPSEG_BENCH_BVH to the absolute path of a .bvh file (make bench-wasm does)"
+);
+const TEXT: &str = include_str!(env!("MOCAPSEG_BENCH_BVH"));
+
+/// Minimum measuring time per benchmark, and the run-count bounds.
+const MIN_TOTAL_MS: f64 = 3000.0;
+const MIN_RUNS: usize = 3;
+const MAX_RUNS: usize = 50;
+
+#[wasm_bindgen]
+extern "C" {
+    /// `performance.now()`: milliseconds with sub-millisecond resolution (window or worker).
+    #[wasm_bindgen(js_namespace = performance, js_name = now)]
+    fn performance_now() -> f64;
+}
+
+/// Runs `work` once to warm up, then repeatedly (at least `MIN_RUNS` times and `MIN_TOTAL_MS`
+/// in total, at most `MAX_RUNS`); returns the median duration of one run in milliseconds.
+fn median_ms(mut work: impl FnMut()) -> (f64, usize) {
+    work();
+    let mut times = Vec::new();
+    let started = performance_now();
+    while times.len() < MAX_RUNS
+        && (times.len() < MIN_RUNS || performance_now() - started < MIN_TOTAL_MS)
+    {
+        let t0 = performance_now();
+        work();
+        times.push(performance_now() - t0);
+    }
+    times.sort_by(|a, b| a.total_cmp(b));
+    (times[times.len() / 2], times.len())
+}
+
+fn report(what: &str, ms: f64, runs: usize, mb: f64, frames: usize) {
+    let s = ms / 1000.0;
+    console_log!(
+        "wasm bench | {what:<28} | {ms:9.1} ms | {:8.1} MB/s | {:10.0} frames/s | median of {runs} runs",
+        mb / s,
+        frames as f64 / s
+    );
+}
+
+#[wasm_bindgen_test]
+fn parse_and_fk_throughput() {
+    let mb = TEXT.len() as f64 / 1e6;
+    let bvh = bvh::parse(TEXT).unwrap_or_else(|e| panic!("{PATH}: {e}"));
+    let frames = bvh.frames();
+    assert!(frames > 0, "{PATH}: no frames");
+    console_log!(
+        "wasm bench | input {PATH}: {mb:.2} MB, {frames} frames, {} nodes, {:.3} fps",
+        bvh.joints.len(),
+        bvh.fps()
+    );
+
+    let (ms, runs) = median_ms(|| {
+        let b = bvh::parse(TEXT).expect("parse");
+        assert_eq!(b.frames(), frames);
+    });
+    report("parse", ms, runs, mb, frames);
+
+    let (ms, runs) = median_ms(|| {
+        let positions = fk::forward_kinematics(&bvh).expect("fk");
+        assert_eq!(positions.len(), frames * bvh.joints.len());
+    });
+    report("forward kinematics", ms, runs, mb, frames);
+
+    let (ms, runs) = median_ms(|| {
+        let b = bvh::parse(TEXT).expect("parse");
+        let m = Motion::from_bvh("bench", &b).expect("motion");
+        assert_eq!(m.frames(), frames);
+    });
+    report("parse + Motion::from_bvh", ms, runs, mb, frames);
+}

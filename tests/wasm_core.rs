@@ -1,0 +1,256 @@
+//! The core (BVH parser, forward kinematics, motion image) compiled to wasm32 and run in headless
+//! Chromium (issue 2, "Tests": wasm-bindgen-test tests of the core as part of `make test`).
+//!
+//! Run: `make test-wasm`, i.e. `cargo test --target wasm32-unknown-unknown --test wasm_core`
+//! with `wasm-bindgen-test-runner` as the runner (.cargo/config.toml). The fixtures are embedded
+//! with `include_str!`: the browser has no file system.
+//!
+//! Compiled only for wasm32 (natively this file is empty; the native tests cover the same core).
+#![cfg(target_arch = "wasm32")]
+
+use mocapseg::bvh::{self, Channel, JointKind};
+use mocapseg::image::MotionImage;
+use mocapseg::motion::{Motion, Units, UpAxis};
+use wasm_bindgen_test::*;
+
+wasm_bindgen_test_configure!(run_in_browser);
+
+const WALK_02_01: &str = include_str!("fixtures/02_01.bvh");
+const CGSPEED_12_01: &str = include_str!("fixtures/12_01.bvh");
+const FULL_PRECISION: &str = include_str!("fixtures/pybvh_full_precision_frame_time.bvh");
+const SIMPLE: &str = include_str!("fixtures/bvh_anim_test_simple.bvh");
+const BAD: &str = include_str!("fixtures/bad.bvh");
+
+// ---- small independent rotation maths (degrees, right-handed, column vectors) -----------------
+
+type M3 = [[f64; 3]; 3];
+
+fn axis_matrix(axis: usize, degrees: f64) -> M3 {
+    let (s, c) = degrees.to_radians().sin_cos();
+    match axis {
+        0 => [[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]],
+        1 => [[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]],
+        _ => [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]],
+    }
+}
+
+fn mul(a: &M3, b: &M3) -> M3 {
+    let mut m = [[0.0; 3]; 3];
+    for (i, row) in m.iter_mut().enumerate() {
+        for (j, v) in row.iter_mut().enumerate() {
+            *v = (0..3).map(|k| a[i][k] * b[k][j]).sum();
+        }
+    }
+    m
+}
+
+fn apply(m: &M3, v: [f64; 3]) -> [f64; 3] {
+    [0, 1, 2].map(|i| (0..3).map(|k| m[i][k] * v[k]).sum())
+}
+
+/// Rotation of rotation channels applied in the order they are listed (M = R1·R2·R3).
+fn euler(order: [usize; 3], degrees: [f64; 3]) -> M3 {
+    let m = mul(&axis_matrix(order[0], degrees[0]), &axis_matrix(order[1], degrees[1]));
+    mul(&m, &axis_matrix(order[2], degrees[2]))
+}
+
+fn close(a: [f32; 3], b: [f64; 3], tol: f64) -> bool {
+    (0..3).all(|i| (a[i] as f64 - b[i]).abs() <= tol)
+}
+
+fn walk() -> (bvh::Bvh, Motion) {
+    let b = bvh::parse(WALK_02_01).expect("02_01.bvh parses");
+    let m = Motion::from_bvh("02_01.bvh", &b).expect("02_01.bvh gives a Motion");
+    (b, m)
+}
+
+// ---- parser --------------------------------------------------------------------------------
+
+#[wasm_bindgen_test]
+fn parses_cmu_walk_hierarchy_and_motion() {
+    let b = bvh::parse(WALK_02_01).expect("02_01.bvh parses");
+    assert_eq!(b.frames(), 343);
+    assert_eq!(b.declared_frames, 343);
+    assert_eq!(b.frame_time, 0.0083333, "Frame Time kept exactly as written");
+    assert_eq!(b.joints.len(), 38, "31 joints + 7 End Sites");
+    assert_eq!(b.joint_indices().count(), 31);
+    assert_eq!(b.joints.iter().filter(|j| j.kind == JointKind::EndSite).count(), 7);
+    assert_eq!(b.channels_per_frame, 96);
+    assert_eq!(b.values.len(), 343 * 96);
+    assert!(b.warnings.is_empty(), "unexpected warnings: {:?}", b.warnings);
+
+    let root = &b.joints[0];
+    assert_eq!((root.name.as_str(), root.kind, root.parent), ("Hips", JointKind::Root, None));
+    use Channel::*;
+    assert_eq!(root.channels, vec![Xposition, Yposition, Zposition, Zrotation, Yrotation, Xrotation]);
+    let upleg = b.joints.iter().find(|j| j.name == "LeftUpLeg").expect("LeftUpLeg");
+    assert_eq!(upleg.offset, [1.65674, -1.80282, 0.62477], "line 12 of 02_01.bvh");
+    assert_eq!(b.joints[upleg.parent.unwrap()].name, "LHipJoint");
+    // First value of the first frame row, as printed in the file.
+    let first_row = WALK_02_01.lines().skip_while(|l| !l.starts_with("Frame Time")).nth(1).unwrap();
+    let x0: f64 = first_row.split_whitespace().next().unwrap().parse().unwrap();
+    assert_eq!(b.frame(0)[0], x0);
+    assert!(b.values.iter().all(|v| v.is_finite()));
+}
+
+#[wasm_bindgen_test]
+fn crlf_and_leading_dot_frame_time() {
+    // cgspeed file: mixed CRLF/LF line ends, `Frame Time: .0083333`, T-pose row 0.
+    let b = bvh::parse(CGSPEED_12_01).expect("12_01.bvh parses");
+    assert_eq!(b.frames(), 524);
+    assert_eq!(b.frame_time, 0.0083333);
+    assert_eq!(b.joint_indices().count(), 31);
+}
+
+#[wasm_bindgen_test]
+fn frame_time_keeps_full_precision() {
+    let b = bvh::parse(FULL_PRECISION).expect("parses");
+    assert_eq!(b.frame_time, 0.0417083750417);
+    assert!((b.fps() - 23.976).abs() < 1e-3, "fps {} is not 23.976", b.fps());
+    assert_ne!(b.fps().round(), b.fps(), "23.976 fps must not become 24");
+}
+
+#[wasm_bindgen_test]
+fn frames_count_mismatch_is_a_warning() {
+    let text = SIMPLE.replace("Frames: 2", "Frames: 5");
+    let b = bvh::parse(&text).expect("a wrong Frames: count is not fatal");
+    assert_eq!(b.frames(), 2, "the data rows win");
+    assert_eq!(b.declared_frames, 5);
+    assert!(!b.warnings.is_empty(), "a Frames: count that disagrees with the data must warn");
+}
+
+#[wasm_bindgen_test]
+fn error_names_line_and_column() {
+    // tests/fixtures/bad.bvh line 9: `\t\tCHANNELS 3 Zrotation Yrotation Wrotation`.
+    let err = bvh::parse(BAD).expect_err("Wrotation is not a channel");
+    assert_eq!(err.line, 9, "{err}");
+    assert_eq!(err.column, 34, "{err}");
+    let shown = err.to_string();
+    assert!(shown.contains("line 9") && shown.contains("Wrotation"), "{shown}");
+}
+
+#[wasm_bindgen_test]
+fn bad_inputs_are_errors_not_panics() {
+    let cut = &WALK_02_01[..WALK_02_01.find("MOTION").unwrap() - 20];
+    let inputs = [
+        "",
+        "HIERARCHY",
+        "MOTION\nFrames: 1\nFrame Time: 0.1\n",
+        "HIERARCHY\nROOT a\n{\nOFFSET 1 2\n}\n",
+        "\u{0}\u{1}garbage",
+        cut,
+        &SIMPLE.replace("Frame Time: 0.033333333", "Frame Time: fast"),
+    ];
+    for input in inputs {
+        let err = bvh::parse(input).expect_err("malformed input must be an error");
+        assert!(err.line >= 1 && err.column >= 1, "{err:?}");
+        assert!(!err.message.is_empty());
+    }
+}
+
+#[wasm_bindgen_test]
+fn write_then_parse_round_trips() {
+    let b = bvh::parse(WALK_02_01).unwrap();
+    let again = bvh::parse(&bvh::write(&b)).expect("written file parses");
+    assert_eq!(again.joints.len(), b.joints.len());
+    assert_eq!(again.frames(), b.frames());
+    assert_eq!(again.frame_time, b.frame_time);
+    for (x, y) in b.values.iter().zip(&again.values) {
+        assert!((x - y).abs() <= 1e-6 * x.abs().max(1.0), "{x} vs {y}");
+    }
+}
+
+// ---- forward kinematics --------------------------------------------------------------------
+
+#[wasm_bindgen_test]
+fn fk_matches_hand_computed_positions() {
+    // Hips at (0, 90, 0) rotated ZYX (1°, 2°, 3°); Head +12 Y rotated ZYX (4°, 5°, 6°); End +3 Y.
+    let b = bvh::parse(FULL_PRECISION).unwrap();
+    let m = Motion::from_bvh("fp", &b).unwrap();
+    assert_eq!((m.frames(), m.joints()), (3, 3));
+    let zyx = [2, 1, 0];
+    let r_hips = euler(zyx, [1.0, 2.0, 3.0]);
+    let hips = [0.0, 90.0, 0.0];
+    let head_off = apply(&r_hips, [0.0, 12.0, 0.0]);
+    let head = [0, 1, 2].map(|i| hips[i] + head_off[i]);
+    let r_head = mul(&r_hips, &euler(zyx, [4.0, 5.0, 6.0]));
+    let end_off = apply(&r_head, [0.0, 3.0, 0.0]);
+    let end = [0, 1, 2].map(|i| head[i] + end_off[i]);
+    let got = m.frame(0);
+    assert!(close(got[0].to_array(), hips, 1e-4), "hips {:?}", got[0]);
+    assert!(close(got[1].to_array(), head, 1e-4), "head {:?} vs {head:?}", got[1]);
+    assert!(close(got[2].to_array(), end, 1e-4), "end site {:?} vs {end:?}", got[2]);
+}
+
+#[wasm_bindgen_test]
+fn fk_keeps_bone_lengths() {
+    let (_, m) = walk();
+    for f in [0, 100, 342] {
+        let p = m.frame(f);
+        for (i, parent) in m.skeleton.parents.iter().enumerate() {
+            if let Some(parent) = *parent {
+                let len = p[i].distance(p[parent]) as f64;
+                let want = m.skeleton.bone_length(i);
+                assert!((len - want).abs() < 1e-3 * want.max(1.0), "frame {f} node {i}: {len} vs {want}");
+            }
+        }
+    }
+}
+
+#[wasm_bindgen_test]
+fn fk_cmu_walk_stands_on_the_floor() {
+    let (b, m) = walk();
+    assert_eq!((m.frames(), m.joints()), (343, b.joints.len()));
+    assert_eq!(m.positions.len(), 343 * 38);
+    assert!(m.positions.iter().all(|p| p.is_finite()));
+    assert_eq!(m.units, Units::CmuAsf);
+    assert_eq!(m.up_axis, UpAxis::Y);
+    assert!((m.fps - 1.0 / 0.0083333).abs() < 1e-9);
+
+    // Root (hip) height of a standing/walking adult: 16–18 CMU units (≈ 0.9–1.0 m).
+    let root = m.root();
+    let mean_root_y = (0..m.frames()).map(|f| m.position(f, root).y as f64).sum::<f64>() / m.frames() as f64;
+    assert!((16.0..=18.0).contains(&mean_root_y), "mean root height {mean_root_y}");
+
+    // Each frame's lowest point (a foot or toe) is on the floor, y ≈ 0 (1 unit ≈ 5.6 cm).
+    let mut lowest: Vec<f64> = (0..m.frames())
+        .map(|f| m.frame(f).iter().map(|p| p.y as f64).fold(f64::INFINITY, f64::min))
+        .collect();
+    lowest.sort_by(|a, b| a.total_cmp(b));
+    let median = lowest[lowest.len() / 2];
+    assert!(median.abs() < 1.0, "median lowest point {median}");
+    assert!(lowest[0] > -2.0 && lowest[lowest.len() - 1] < 3.0, "lowest point range {lowest:?}");
+
+    // The walk goes somewhere: the root travels 50+ units (≈ 3 m) in the horizontal plane.
+    let (a, z) = (m.position(0, root), m.position(m.frames() - 1, root));
+    let travelled = ((z.x - a.x).powi(2) + (z.z - a.z).powi(2)).sqrt();
+    assert!(travelled > 50.0, "root travelled only {travelled}");
+}
+
+// ---- motion image ----------------------------------------------------------------------------
+
+#[wasm_bindgen_test]
+fn motion_image_size_values_and_png() {
+    let (_, m) = walk();
+    let img = MotionImage::from_motion(&m);
+    assert_eq!(img.width, m.frames(), "one column per frame");
+    assert_eq!(img.height, 31, "one row per joint (End Sites excluded)");
+    assert_eq!(img.rows.len(), 31);
+    assert_eq!(img.rows[0], "Hips");
+    assert_eq!(img.rgba.len(), img.width * img.height * 4);
+    // RGB = root-relative X/Y/Z scaled 0–255 per axis over the take: each axis uses the full range.
+    for axis in 0..3 {
+        let values = img.rgba.iter().skip(axis).step_by(4);
+        let (lo, hi) = values.fold((u8::MAX, u8::MIN), |(lo, hi), &v| (lo.min(v), hi.max(v)));
+        assert_eq!((lo, hi), (0, 255), "axis {axis} not scaled over the full 0–255 range");
+    }
+    assert!(img.rgba.iter().skip(3).step_by(4).all(|&a| a == 255), "alpha must be opaque");
+    let distinct: std::collections::HashSet<&[u8]> = img.rgba.chunks(4).collect();
+    assert!(distinct.len() > 100, "only {} distinct colours", distinct.len());
+
+    let png = img.to_png();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    assert_eq!(&png[12..16], b"IHDR");
+    let be = |o: usize| u32::from_be_bytes(png[o..o + 4].try_into().unwrap()) as usize;
+    assert_eq!((be(16), be(20)), (img.width, img.height));
+}
