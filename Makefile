@@ -113,6 +113,7 @@ test-e2e:
 bench-native: check-toolchain
 	@echo "bench input: $(BENCH_BVH)"
 	$(CARGO) run --release --bin $(CRATE) -- bench "$(BENCH_BVH)"
+	$(CARGO) run --release --bin $(CRATE) -- bench-sssm "$(BENCH_BVH)"
 
 # --nocapture makes the runner print the test's console output (the numbers).
 bench-wasm: check-toolchain

@@ -12,6 +12,8 @@ pub mod image;
 pub mod load;
 pub mod motion;
 pub mod segment;
+pub mod sssm;
+pub mod sssm_image;
 
 #[cfg(feature = "web")]
 pub mod app;

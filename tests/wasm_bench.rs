@@ -97,3 +97,27 @@ fn parse_and_fk_throughput() {
     });
     report("parse + Motion::from_bvh", ms, runs, mb, frames);
 }
+
+/// SSSM end to end (features → clusters) on 1×, 2× and 4× a 3000-frame sequence at 30 Hz, made by
+/// resampling the benchmarked take to 30 Hz and repeating it (issue 3, "Speed"; the same sequence
+/// construction as `mocapseg bench-sssm`).
+#[wasm_bindgen_test]
+fn sssm_end_to_end() {
+    use mocapseg::sssm::{segment, SssmParams};
+    let bvh = bvh::parse(TEXT).unwrap_or_else(|e| panic!("{PATH}: {e}"));
+    let take = Motion::from_bvh("bench", &bvh).expect("motion").resample(30.0).expect("resample");
+    let params = SssmParams::default();
+    let mut base = None;
+    for factor in [1usize, 2, 4] {
+        let n = 3000 * factor;
+        let seq = Motion::concatenate(std::slice::from_ref(&take), n).expect("sequence");
+        let mut primitives = 0;
+        let (ms, runs) = median_ms(|| {
+            let r = segment(&seq, &params).expect("sssm");
+            primitives = r.outcome.primitives.len();
+        });
+        let growth = base.map(|b: f64| format!(" ({:.2}× the 1× time)", ms / b)).unwrap_or_default();
+        base.get_or_insert(ms);
+        console_log!("wasm bench | sssm {factor}× {n:6} frames @30 Hz | {ms:9.1} ms{growth} | {primitives} primitives | median of {runs} runs");
+    }
+}

@@ -4,6 +4,9 @@
 //! mocapseg info FILE.bvh                      JSON summary of a take
 //! mocapseg image FILE.bvh -o out.png          the motion image (DT-FCN §2) as PNG
 //! mocapseg positions FILE.bvh [--fps F] -o out.csv   world joint positions per frame
+//! mocapseg segment --method sssm FILE.bvh [--radius R] [--param NAME=VALUE]…   segmentation JSON
+//! mocapseg eval-data [--data ../shared/data]  segment and score the labelled CMU takes
+//! mocapseg bench-sssm                         SSSM time on 1×, 2×, 4× a 3000-frame take
 //! mocapseg eval SEG.json --truth GT.csv [--trial ID]   scores against ground truth
 //! mocapseg bench [FILE.bvh] [--reps N]        parse + forward-kinematics throughput
 //! ```
@@ -31,7 +34,8 @@ mod cli {
     use mocapseg::motion::Motion;
     use mocapseg::segment::metrics::{evaluate, Tolerances};
     use mocapseg::segment::truth::{load_csv, TruthOptions};
-    use mocapseg::segment::Segmentation;
+    use mocapseg::segment::{Level, Segmentation};
+    use mocapseg::sssm::{self, SssmParams};
 
     #[derive(Parser)]
     #[command(name = "mocapseg", version, about = "Motion-capture segmentation: BVH tools and segmenters")]
@@ -61,6 +65,52 @@ mod cli {
             end_sites: bool,
             #[arg(short, long)]
             output: PathBuf,
+        },
+        /// Segment a take and print the segmentation JSON (parameters echoed in `params`).
+        Segment {
+            file: PathBuf,
+            /// The method: `sssm` (Krüger et al. 2017).
+            #[arg(long, default_value = "sssm")]
+            method: String,
+            /// Generalized radius R in inches.
+            #[arg(long, allow_negative_numbers = true)]
+            radius: Option<f64>,
+            /// Stacked frame offsets at 30 Hz, e.g. `-10,-5,0,5,10`.
+            #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+            offsets: Option<Vec<i32>>,
+            /// Feature bundling (§III) on or off.
+            #[arg(long)]
+            bundling: Option<bool>,
+            /// Mirrored features (§V) on or off.
+            #[arg(long)]
+            mirror: Option<bool>,
+            /// Any other parameter as NAME=VALUE (JSON value), e.g. `--param stop_window=8`; repeatable.
+            #[arg(long = "param", value_name = "NAME=VALUE")]
+            params: Vec<String>,
+        },
+        /// Segment the labelled CMU takes in a data folder and print the scores per take and their mean.
+        EvalData {
+            /// The shared data folder (with cmu/ and labels/).
+            #[arg(long, default_value = "../shared/data")]
+            data: PathBuf,
+            #[arg(long, default_value = "sssm")]
+            method: String,
+            /// Parameter overrides as NAME=VALUE (JSON value); repeatable.
+            #[arg(long = "param", value_name = "NAME=VALUE")]
+            params: Vec<String>,
+            /// Print JSON instead of a markdown table.
+            #[arg(long)]
+            json: bool,
+        },
+        /// Time SSSM end to end on 1×, 2× and 4× a 3000-frame (30 Hz) sequence built from CMU takes.
+        BenchSssm {
+            /// Takes to build the sequence from (default: the bundled sample and fixtures).
+            files: Vec<PathBuf>,
+            /// Frames at 30 Hz of the 1× sequence.
+            #[arg(long, default_value_t = 3000)]
+            frames: usize,
+            #[arg(long, default_value_t = 5)]
+            reps: usize,
         },
         /// Score a segmentation JSON against ground truth CSV (boundary P/R/F1 at 0.5 s and 1 s, covering,
         /// Hungarian frame accuracy, strict/tolerant accuracy); prints JSON.
@@ -107,6 +157,19 @@ mod cli {
             Command::Image { file, output } => image(&file, &output),
             Command::Positions { file, fps, end_sites, output } => positions(&file, fps, end_sites, &output),
             Command::Bench { file, reps } => bench(file, reps),
+            Command::Segment { file, method, radius, offsets, bundling, mirror, params } => {
+                let mut overrides = params;
+                let named = [
+                    ("radius", radius.map(|v| v.to_string())),
+                    ("offsets", offsets.map(|v| format!("{v:?}"))),
+                    ("bundling", bundling.map(|v| v.to_string())),
+                    ("mirror", mirror.map(|v| v.to_string())),
+                ];
+                overrides.extend(named.into_iter().filter_map(|(k, v)| v.map(|v| format!("{k}={v}"))));
+                segment(&file, &method, &overrides)
+            }
+            Command::EvalData { data, method, params, json } => eval_data(&data, &method, &params, json),
+            Command::BenchSssm { files, frames, reps } => bench_sssm(files, frames, reps),
             Command::Eval { segmentation, truth, trial, first_frame, row_offset } => {
                 eval(&segmentation, &truth, trial, TruthOptions { first_frame, bvh_row_offset: row_offset })
             }
@@ -204,6 +267,148 @@ mod cli {
         let scores = evaluate(&seg, &truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", seg_path.display()))?;
         println!("{}", serde_json::to_string_pretty(&scores).map_err(|e| e.to_string())?);
         Ok(())
+    }
+
+    /// The method's parameters: its defaults with `NAME=VALUE` overrides applied (values are JSON).
+    fn sssm_params(overrides: &[String]) -> Result<SssmParams, String> {
+        let mut json = serde_json::to_value(SssmParams::default()).map_err(|e| e.to_string())?;
+        let map = json.as_object_mut().ok_or("parameters are not a JSON object")?;
+        for o in overrides {
+            let (name, raw) = o.split_once('=').ok_or_else(|| format!("`{o}`: expected NAME=VALUE"))?;
+            let name = name.trim().replace('-', "_");
+            if !map.contains_key(&name) {
+                let known: Vec<&str> = map.keys().map(String::as_str).collect();
+                return Err(format!("unknown SSSM parameter `{name}`; known: {}", known.join(", ")));
+            }
+            let value = serde_json::from_str(raw.trim())
+                .unwrap_or_else(|_| serde_json::Value::String(raw.trim().to_string()));
+            map.insert(name, value);
+        }
+        serde_json::from_value(json).map_err(|e| format!("invalid SSSM parameters: {e}"))
+    }
+
+    fn run_method(motion: &Motion, method: &str, overrides: &[String]) -> Result<Segmentation, String> {
+        match method {
+            "sssm" => {
+                let params = sssm_params(overrides)?;
+                let result = sssm::segment(motion, &params).map_err(|e| format!("{}: {e}", motion.name))?;
+                Ok(result.segmentation)
+            }
+            other => Err(format!("unknown method `{other}`; available: sssm")),
+        }
+    }
+
+    fn segment(file: &Path, method: &str, overrides: &[String]) -> Result<(), String> {
+        let loaded = load(file)?;
+        let seg = run_method(&loaded.motion, method, overrides)?;
+        println!("{}", seg.to_json());
+        Ok(())
+    }
+
+    /// The labelled takes of the shared data: (BVH path, ground-truth CSV, trial id).
+    fn labelled_takes(data: &Path) -> Vec<(PathBuf, PathBuf, &'static str)> {
+        let cmu86 = data.join("labels/cmu86_zhou_gt.csv");
+        let mocap6 = data.join("labels/mocap6_gt.csv");
+        let mut takes = vec![(data.join("cmu/86/86_01.bvh"), cmu86, "86_01")];
+        for t in ["13_29", "13_30", "13_31", "14_14"] {
+            takes.push((data.join(format!("cmu/mocap6/{t}.bvh")), mocap6.clone(), t));
+        }
+        takes
+    }
+
+    fn eval_data(data: &Path, method: &str, overrides: &[String], json: bool) -> Result<(), String> {
+        if !data.join("labels").is_dir() {
+            return Err(format!(
+                "{}: no shared data here (expected labels/ and cmu/ as in ../shared/data); pass --data DIR",
+                data.display()
+            ));
+        }
+        let mut rows = Vec::new();
+        for (bvh_path, truth_path, trial) in labelled_takes(data) {
+            if !bvh_path.exists() {
+                eprintln!("skipping {trial}: {} is absent", bvh_path.display());
+                continue;
+            }
+            let loaded = load(&bvh_path)?;
+            let started = Instant::now();
+            let seg = run_method(&loaded.motion, method, overrides)?;
+            let seconds = started.elapsed().as_secs_f64();
+            let truth = load_csv(&read_text(&truth_path)?, trial, TruthOptions::default())
+                .map_err(|e| format!("{}: {e}", truth_path.display()))?;
+            let scores = evaluate(&seg, &truth, &Tolerances::default()).map_err(|e| format!("{trial}: {e}"))?;
+            rows.push((scores, seg.level(Level::Action).count(), seconds));
+        }
+        if rows.is_empty() {
+            return Err(format!("{}: none of the labelled takes is present", data.display()));
+        }
+        if json {
+            let list: Vec<_> = rows.iter().map(|(s, _, _)| s).collect();
+            println!("{}", serde_json::to_string_pretty(&list).map_err(|e| e.to_string())?);
+            return Ok(());
+        }
+        println!("| take | true / found actions | F1@0.5s | F1@1s | covering | Hungarian acc. | strict | tolerant | time |");
+        println!("|---|---|---|---|---|---|---|---|---|");
+        let n = rows.len() as f64;
+        let mut mean = [0.0f64; 6];
+        for (s, actions, secs) in &rows {
+            let v = [s.boundaries[0].f1, s.boundaries[1].f1, s.covering, s.hungarian_accuracy, s.strict_accuracy, s.tolerant_accuracy];
+            for (m, x) in mean.iter_mut().zip(v) {
+                *m += x / n;
+            }
+            println!(
+                "| {} | {} / {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.0} ms |",
+                s.trial, s.true_boundaries + 1, actions, v[0], v[1], v[2], v[3], v[4], v[5], secs * 1e3
+            );
+        }
+        println!(
+            "| **mean** | | **{:.2}** | **{:.2}** | **{:.2}** | **{:.2}** | **{:.2}** | **{:.2}** | |",
+            mean[0], mean[1], mean[2], mean[3], mean[4], mean[5]
+        );
+        Ok(())
+    }
+
+    fn bench_sssm(files: Vec<PathBuf>, frames: usize, reps: usize) -> Result<(), String> {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let files = if files.is_empty() {
+            ["www/sample.bvh", "tests/fixtures/02_01.bvh", "tests/fixtures/35_01.bvh", "tests/fixtures/12_01.bvh"]
+                .iter()
+                .map(|f| root.join(f))
+                .collect()
+        } else {
+            files
+        };
+        let takes: Vec<Motion> = files.iter().map(|f| load(f).map(|l| l.motion)).collect::<Result<_, _>>()?;
+        let params = SssmParams::default();
+        let names: Vec<String> = takes.iter().map(|m| m.name.clone()).collect();
+        println!("bench sssm native: sequences cut from {} (cycled), default parameters, median of {reps}", names.join(", "));
+        let mut base_ms = None;
+        for factor in [1usize, 2, 4] {
+            let n = frames * factor;
+            let seq = sequence_at_30hz(&takes, n)?;
+            let mut times = Vec::new();
+            let mut summary = (0, 0, 0);
+            for _ in 0..reps.max(1) {
+                let t0 = Instant::now();
+                let r = sssm::segment(&seq, &params).map_err(|e| e.to_string())?;
+                times.push(t0.elapsed().as_secs_f64() * 1e3);
+                let seg = &r.segmentation;
+                summary = (seg.level(Level::Action).count(), seg.level(Level::Primitive).count(), r.outcome.clusters.len());
+            }
+            let ms = median(times);
+            let growth = base_ms.map(|b: f64| format!("  ({:.2}× the 1× time)", ms / b)).unwrap_or_default();
+            base_ms.get_or_insert(ms);
+            println!(
+                "  {factor}× {n:6} frames  {ms:8.1} ms{growth}   actions {} primitives {} clusters {}",
+                summary.0, summary.1, summary.2
+            );
+        }
+        Ok(())
+    }
+
+    /// A sequence of `frames` frames at 30 Hz made by resampling the takes to 30 Hz and cycling through them.
+    fn sequence_at_30hz(takes: &[Motion], frames: usize) -> Result<Motion, String> {
+        let at30: Vec<Motion> = takes.iter().map(|m| m.resample(30.0).map_err(|e| e.to_string())).collect::<Result<_, _>>()?;
+        Motion::concatenate(&at30, frames).map_err(|e| e.to_string())
     }
 
     fn default_bench_file() -> Result<PathBuf, String> {

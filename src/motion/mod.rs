@@ -49,6 +49,8 @@ pub enum MotionError {
         "motion too large: {frames} frames × {joints} joints = {total} joint positions exceeds the limit of {limit}"
     )]
     TooLarge { frames: usize, joints: usize, total: usize, limit: usize },
+    #[error("cannot join takes: {0}")]
+    Incompatible(String),
 }
 
 /// The skeleton of a take: one entry per BVH node (End Sites included) in file order; a parent
@@ -216,8 +218,80 @@ impl Motion {
         0
     }
 
+    /// A take of exactly `frames` frames made of `takes` one after another, cycling through them
+    /// again from the first when they run out (long synthetic sequences for benchmarks and
+    /// tests). The takes must share skeleton names and frame rate; the first one's metadata is kept.
+    pub fn concatenate(takes: &[Motion], frames: usize) -> Result<Motion, MotionError> {
+        let first = takes.first().ok_or(MotionError::NoFrames)?;
+        for t in takes {
+            if t.skeleton.names != first.skeleton.names {
+                return Err(MotionError::Incompatible(format!("`{}` and `{}` have different skeletons", first.name, t.name)));
+            }
+            if (t.fps - first.fps).abs() > 1e-6 * first.fps {
+                return Err(MotionError::Incompatible(format!("`{}` is at {} fps, `{}` at {} fps", first.name, first.fps, t.name, t.fps)));
+            }
+            if t.frames() == 0 {
+                return Err(MotionError::NoFrames);
+            }
+        }
+        let joints = first.joints();
+        let limit = 1usize << 25;
+        if frames.saturating_mul(joints) > limit {
+            return Err(MotionError::TooLarge { frames, joints, total: frames.saturating_mul(joints), limit });
+        }
+        let mut positions = Vec::with_capacity(frames * joints);
+        for t in takes.iter().cycle() {
+            let need = frames * joints - positions.len();
+            if need == 0 {
+                break;
+            }
+            positions.extend_from_slice(&t.positions[..need.min(t.positions.len())]);
+        }
+        let names: Vec<&str> = takes.iter().map(|t| t.name.as_str()).collect();
+        Ok(Motion { name: names.join("+"), positions, warnings: Vec::new(), ..first.clone() })
+    }
+
     /// Map the skeleton onto the canonical joints (see [`joints::map_joints`]).
     pub fn joint_map(&self) -> Result<JointMap, MissingJoints> {
         map_joints(&self.skeleton)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn take(name: &str, frames: usize, x0: f32) -> Motion {
+        Motion {
+            name: name.into(),
+            skeleton: Skeleton {
+                names: vec!["Hips".into()],
+                parents: vec![None],
+                offsets: vec![[0.0; 3]],
+                is_end_site: vec![false],
+            },
+            fps: 30.0,
+            positions: (0..frames).map(|i| Vec3::new(x0 + i as f32, 0.0, 0.0)).collect(),
+            units: Units::CmuAsf,
+            up_axis: UpAxis::Y,
+            warnings: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn concatenate_cycles_through_the_takes_to_the_requested_length() {
+        let (a, b) = (take("a", 3, 0.0), take("b", 2, 100.0));
+        let m = Motion::concatenate(&[a, b], 7).unwrap();
+        let xs: Vec<f32> = m.positions.iter().map(|p| p.x).collect();
+        assert_eq!(xs, vec![0.0, 1.0, 2.0, 100.0, 101.0, 0.0, 1.0]);
+        assert_eq!(m.name, "a+b");
+    }
+
+    #[test]
+    fn concatenate_refuses_different_frame_rates() {
+        let mut b = take("b", 2, 0.0);
+        b.fps = 120.0;
+        let e = Motion::concatenate(&[take("a", 2, 0.0), b], 4).unwrap_err();
+        assert!(e.to_string().contains("120 fps"), "{e}");
     }
 }

@@ -1,0 +1,360 @@
+//! SSSM segmentation: Krüger, Vögele, Willig, Yao, Klein, Weber, "Efficient Unsupervised
+//! Temporal Segmentation of Motion Data", IEEE Trans. Multimedia 19(4), 2017.
+//!
+//! A take is cut into actions (repetitive activities) and the transitions between them, each
+//! action into motion primitives (its repetitions), and the primitives are clustered — without
+//! being told how many of anything there are. One module per section of the paper:
+//!
+//! | step | paper | module |
+//! |---|---|---|
+//! | end-effector features, stacked over frame offsets | §IV-A | [`features`] |
+//! | feature bundling (optional) | §III | [`bundling`] |
+//! | radius search → sparse self-similarity matrix | §IV-A | [`neighbours`] |
+//! | forward/backward region growing → actions, transitions | §IV-B | [`activities`] |
+//! | neighbourhood graph, warping paths → primitives | §IV-C | [`primitives`] |
+//! | mirrored features → phase-shifted primitives | §V | [`symmetry`] |
+//! | cluster graph, strongly connected components | §VI | [`clustering`] |
+//!
+//! [`segment`] runs everything on a [`Motion`]; [`segment_features`] on a plain feature matrix
+//! at the working frame rate. Parameters: [`SssmParams`].
+
+pub mod activities;
+pub mod bundling;
+pub mod clustering;
+pub mod features;
+pub mod neighbours;
+pub mod params;
+pub mod primitives;
+pub mod symmetry;
+
+use serde::{Deserialize, Serialize};
+
+use crate::motion::{Motion, MotionError};
+use crate::segment::{Level, Segment, Segmentation};
+
+pub use activities::{Activities, Span};
+pub use clustering::Cluster;
+pub use features::{FeatureMatrix, MirrorMap, MotionFeatures};
+pub use neighbours::Sssm;
+pub use params::{BoundaryRule, BundlingOptimum, SssmParams, ValidParams};
+pub use symmetry::SymmetryKind;
+
+use activities::RegionGrowing;
+use bundling::Bundling;
+use clustering::ClusterSearch;
+use neighbours::NeighbourSearch;
+use primitives::{NeighbourhoodGraph, PrimitiveSearch};
+
+/// Everything that can go wrong in the SSSM method.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SssmError {
+    #[error("invalid SSSM parameter {name} = {value}: expected {expected}")]
+    InvalidParam { name: &'static str, value: String, expected: &'static str },
+    #[error("the take has no frames")]
+    NoFrames,
+    #[error("invalid features: {0}")]
+    BadFeatures(String),
+    #[error("invalid neighbour lists: {0}")]
+    BadNeighbours(String),
+    #[error("the SSSM features need hands, feet, head and hips: {0}")]
+    MissingJoints(String),
+    #[error("cannot prepare the take: {0}")]
+    Motion(#[from] MotionError),
+    #[error(
+        "the take is too long for the SSSM: {frames} frames × {max_neighbours} neighbours exceeds {limit} \
+         neighbour entries; cut the take or lower max_neighbours"
+    )]
+    TooLarge { frames: usize, max_neighbours: usize, limit: usize },
+}
+
+/// Upper bound on `frames × max_neighbours`: the SSSMs and graphs hold about 40 bytes per
+/// entry, so this keeps a run below about 800 MB even when every frame has the most
+/// neighbours (18 minutes at 30 Hz with the default 600).
+pub const MAX_ENTRIES: usize = 20_000_000;
+
+/// A motion primitive: frames `span` of action `action`, in cluster `cluster`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Primitive {
+    pub span: Span,
+    pub action: usize,
+    pub cluster: usize,
+}
+
+/// An action with the kind of action it is (actions whose frames repeat each other's, see
+/// [`activities::RegionGrowing::kinds`]) and its symmetry (§V).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Action {
+    pub span: Span,
+    pub cluster: usize,
+    pub symmetry: SymmetryKind,
+}
+
+/// The method's full output at the working frame rate: the segments and what the page needs
+/// to draw the SSSM (the neighbour lists, the regions, the cuts).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SssmOutcome {
+    /// Working frame rate and number of working frames.
+    pub fps: f64,
+    pub frames: usize,
+    /// The search radius `r` in feature units (inches for motion features).
+    pub search_radius: f64,
+    /// The SSSM (neighbours of every frame, main diagonal included).
+    pub sssm: Sssm,
+    /// The SSSM of the mirrored features against the original ones (§V), if used.
+    pub mirror_sssm: Option<Sssm>,
+    /// Region growing: forward regions, backward starts, actions, transitions.
+    pub activities: Activities,
+    pub actions: Vec<Action>,
+    /// Cuts from the original features (first frames of primitives), ascending.
+    pub cuts: Vec<usize>,
+    /// Cuts from the mirrored features, ascending (those added to `cuts` and those not).
+    pub mirror_cuts: Vec<usize>,
+    pub primitives: Vec<Primitive>,
+    pub clusters: Vec<Cluster>,
+}
+
+/// [`segment`]'s result: the segmentation at the file's frame rate plus the working-rate
+/// details.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SssmResult {
+    pub segmentation: Segmentation,
+    pub outcome: SssmOutcome,
+    /// Fractional file frame of every working frame (to map working frames to the file).
+    pub source_frames: Vec<f64>,
+    /// Feature units per file unit: inches per file unit times the body-size scale.
+    pub feature_scale: f64,
+}
+
+/// Segments `motion` with `params` (see the module documentation).
+pub fn segment(motion: &Motion, params: &SssmParams) -> Result<SssmResult, SssmError> {
+    segment_with_progress(motion, params, &mut |_, _| {})
+}
+
+/// [`segment`], reporting `(stage, fraction done)` as it goes.
+pub fn segment_with_progress(
+    motion: &Motion,
+    params: &SssmParams,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<SssmResult, SssmError> {
+    let valid = params.clone().check()?;
+    progress("features", 0.0);
+    let features = features::from_motion(motion, &valid)?;
+    let outcome = segment_features(&features.base, Some(&features.mirror), &valid, progress)?;
+    let segmentation = to_segmentation(motion, &valid, &outcome, &features.source_frames);
+    Ok(SssmResult { segmentation, outcome, source_frames: features.source_frames, feature_scale: features.scale })
+}
+
+/// Runs the method on per-frame features `base` at the working rate `params.fps` (stacked
+/// here over `params.offsets`). The mirror step (§V) runs if `params.mirror` is on and a
+/// `mirror` map for `base` is given.
+pub fn segment_features(
+    base: &FeatureMatrix,
+    mirror: Option<&MirrorMap>,
+    params: &ValidParams,
+    progress: &mut dyn FnMut(&str, f64),
+) -> Result<SssmOutcome, SssmError> {
+    let mirror = checked_mirror(base, mirror, params)?;
+    if base.frames().saturating_mul(params.max_neighbours) > MAX_ENTRIES {
+        return Err(SssmError::TooLarge {
+            frames: base.frames(),
+            max_neighbours: params.max_neighbours,
+            limit: MAX_ENTRIES,
+        });
+    }
+    let mut stacked = features::stack(base, &params.offsets);
+    if params.bundling {
+        progress("bundling", 0.05);
+        let b = Bundling { k: params.bundling_k, variance: params.bundling_variance, optimum: params.bundling_optimum };
+        stacked = b.bundle(&stacked);
+    }
+
+    progress("neighbours", 0.3);
+    let radius = params.search_radius();
+    let search = NeighbourSearch::new(&stacked);
+    let sssm = search.self_similarity(radius as f32, params.max_neighbours);
+    let mirror_sssm = match mirror {
+        Some(m) => Some(search.mirror_similarity(&m.apply(&stacked)?, radius as f32, params.max_neighbours)?),
+        None => None,
+    };
+
+    progress("activities", 0.5);
+    let grow = RegionGrowing {
+        sssm: &sssm,
+        mirror: mirror_sssm.as_ref().filter(|_| params.mirror_activities),
+        band: params.band_frames(),
+        stop_window: params.stop_window,
+        min_entries: params.min_action_entries(),
+        relative: (params.relative_gate > 0.0).then_some(params.relative_gate as f32),
+    };
+    let activities = grow.activities(params.boundary_rule);
+    let spans = activities.actions.clone();
+    let kinds = grow.kinds(&spans, grow.relative);
+
+    // the primitive and cluster graphs use the nearer neighbours only (see `primitive_radius`)
+    progress("primitives", 0.6);
+    let near_radius = params.primitive_search_radius() as f32;
+    let near = sssm.within(near_radius);
+    let graph = NeighbourhoodGraph::new(&near);
+    let mirror_near = mirror_sssm.as_ref().map(|m| m.within(near_radius));
+    let mirror_graph = mirror_near.as_ref().map(NeighbourhoodGraph::new);
+    let prim_search = PrimitiveSearch {
+        nu: params.nu,
+        min_path_frames: params.min_path_frames,
+        min_cut_distance: params.min_cut_distance,
+    };
+    let main_cuts = cut_frames(&prim_search, Some(&graph), &spans);
+    let mirror_cuts = cut_frames(&prim_search, mirror_graph.as_ref(), &spans);
+    let (primitive_spans, primitive_action, symmetry) =
+        split_actions(&spans, &main_cuts, &mirror_cuts, mirror.is_some(), params.min_cut_distance);
+
+    progress("clusters", 0.85);
+    let cluster_search =
+        ClusterSearch { nu: params.nu, min_path_frames: params.min_path_frames, coverage: params.cluster_coverage };
+    let cluster_of = ClusterSearch::clusters(primitive_spans.len(), &cluster_search.links(&graph, &primitive_spans));
+    let mirror_links = mirror_graph.as_ref().map_or(Vec::new(), |g| cluster_search.links(g, &primitive_spans));
+    let clusters = ClusterSearch::describe(&cluster_of, &mirror_links);
+
+    progress("done", 1.0);
+    Ok(SssmOutcome {
+        fps: params.fps,
+        frames: base.frames(),
+        search_radius: radius,
+        actions: (0..spans.len())
+            .map(|a| Action { span: spans[a], cluster: kinds[a], symmetry: symmetry[a] })
+            .collect(),
+        primitives: (0..primitive_spans.len())
+            .map(|p| Primitive { span: primitive_spans[p], action: primitive_action[p], cluster: cluster_of[p] })
+            .collect(),
+        cuts: sorted_flat(main_cuts),
+        mirror_cuts: sorted_flat(mirror_cuts),
+        sssm,
+        mirror_sssm,
+        activities,
+        clusters,
+    })
+}
+
+/// The mirror map to use: `None` if mirroring is off or no map is given; an error if it does
+/// not fit the features.
+fn checked_mirror<'m>(
+    base: &FeatureMatrix,
+    mirror: Option<&'m MirrorMap>,
+    params: &ValidParams,
+) -> Result<Option<&'m MirrorMap>, SssmError> {
+    match mirror {
+        Some(m) if params.mirror && m.dim() != base.dim() => Err(SssmError::BadFeatures(format!(
+            "the mirror map is for {} values per frame, the features have {}",
+            m.dim(),
+            base.dim()
+        ))),
+        Some(m) if params.mirror => Ok(Some(m)),
+        _ => Ok(None),
+    }
+}
+
+/// The cut frames of each action on `graph` (no cuts without a graph).
+fn cut_frames(search: &PrimitiveSearch, graph: Option<&NeighbourhoodGraph>, spans: &[Span]) -> Vec<Vec<usize>> {
+    match graph {
+        Some(g) => search.cuts(g, spans).into_iter().map(|c| c.into_iter().map(|c| c.frame).collect()).collect(),
+        None => vec![Vec::new(); spans.len()],
+    }
+}
+
+/// Splits every action at its cuts (original and mirror, §V): the primitive spans, the action
+/// of each, and the symmetry of each action.
+fn split_actions(
+    spans: &[Span],
+    main_cuts: &[Vec<usize>],
+    mirror_cuts: &[Vec<usize>],
+    mirrored: bool,
+    min_cut_distance: usize,
+) -> (Vec<Span>, Vec<usize>, Vec<SymmetryKind>) {
+    let mut primitive_spans = Vec::new();
+    let mut primitive_action = Vec::new();
+    let mut kinds = Vec::with_capacity(spans.len());
+    for (a, span) in spans.iter().enumerate() {
+        let (main, mirror) = (&main_cuts[a], &mirror_cuts[a]);
+        kinds.push(if mirrored { symmetry::classify(main, mirror, min_cut_distance) } else { SymmetryKind::Unchecked });
+        for p in primitives::split(*span, &symmetry::merge_cuts(main, mirror, min_cut_distance)) {
+            primitive_spans.push(p);
+            primitive_action.push(a);
+        }
+    }
+    (primitive_spans, primitive_action, kinds)
+}
+
+fn sorted_flat(cuts: Vec<Vec<usize>>) -> Vec<usize> {
+    let mut all: Vec<usize> = cuts.into_iter().flatten().collect();
+    all.sort_unstable();
+    all
+}
+
+/// The first file frame of working frame `k` (frames are split half-way between the file
+/// positions of consecutive working frames).
+fn file_start(source: &[f64], k: usize) -> usize {
+    if k == 0 {
+        0
+    } else {
+        ((source[k - 1] + source[k]) / 2.0).ceil() as usize
+    }
+}
+
+/// The working-rate `span` in file frames (`None` if it maps to no file frame).
+fn file_span(source: &[f64], file_frames: usize, span: Span) -> Option<(usize, usize)> {
+    let start = file_start(source, span.start);
+    let end =
+        if span.end + 1 < source.len() { file_start(source, span.end + 1).checked_sub(1)? } else { file_frames - 1 };
+    (start <= end && end < file_frames).then_some((start, end))
+}
+
+fn to_segmentation(motion: &Motion, params: &ValidParams, o: &SssmOutcome, source: &[f64]) -> Segmentation {
+    let n = motion.frames();
+    let mut segments = Vec::new();
+    let mut push = |span: Span, label: String, level: Level, cluster: Option<usize>| {
+        if let Some((start, end)) = file_span(source, n, span) {
+            segments.push(Segment { start, end, label, level, cluster, score: None });
+        }
+    };
+    for a in &o.actions {
+        push(a.span, format!("A{}", a.cluster), Level::Action, Some(a.cluster));
+    }
+    for t in &o.activities.transitions {
+        push(*t, "transition".into(), Level::Transition, None);
+    }
+    for p in &o.primitives {
+        let label = match o.clusters[p.cluster].mirror_of {
+            Some(m) => format!("P{} mirrors P{m}", p.cluster),
+            None => format!("P{}", p.cluster),
+        };
+        push(p.span, label, Level::Primitive, Some(p.cluster));
+    }
+    segments.sort_by_key(|s| (s.start, s.level != Level::Primitive, s.end));
+    Segmentation {
+        file: motion.name.clone(),
+        fps: motion.fps,
+        frames: n,
+        method: "sssm".into(),
+        params: params.to_json(),
+        segments,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn working_spans_map_to_contiguous_file_frames() {
+        // 120 Hz file of 41 frames → 30 Hz working frames at file frames 0, 4, …, 40
+        let source: Vec<f64> = (0..11).map(|k| 4.0 * k as f64).collect();
+        assert_eq!(file_span(&source, 41, Span { start: 0, end: 2 }), Some((0, 9)));
+        assert_eq!(file_span(&source, 41, Span { start: 3, end: 10 }), Some((10, 40)));
+        // a file with a trailing partial frame: the last span runs to the end
+        assert_eq!(file_span(&source, 43, Span { start: 3, end: 10 }), Some((10, 42)));
+        // upsampled 20 Hz → 30 Hz: a working frame may fall inside one file frame
+        let source: Vec<f64> = (0..7).map(|k| k as f64 * 2.0 / 3.0).collect();
+        assert_eq!(file_span(&source, 5, Span { start: 0, end: 0 }), Some((0, 0)));
+        assert_eq!(file_span(&source, 5, Span { start: 1, end: 1 }), None);
+        assert_eq!(file_span(&source, 5, Span { start: 2, end: 6 }), Some((1, 4)));
+    }
+}

@@ -1,0 +1,624 @@
+//! Local neighbours and the sparse self-similarity matrix (Krüger et al. 2017, §IV-A).
+//!
+//! For every frame `i` a kd-tree radius search gives the set `S_i` of pairs `(j, d_ij)` with
+//! `d_ij ≤ r`; together they are the sparse self-similarity matrix (SSSM), stored in
+//! compressed rows ([`Sssm`]) and never as a dense `n × n` matrix.
+//!
+//! The stacked features have 75 dimensions, too many for a kd-tree to prune on directly (a tree
+//! over a few thousand points only ever splits on its first few axes). So the features are
+//! first rotated onto their principal axes (a rotation keeps every Euclidean distance), the
+//! kiddo tree is built over the leading [`TREE_DIMS`] coordinates, and each candidate it
+//! returns — the distance over those coordinates is a lower bound of the full distance — is
+//! checked over the remaining coordinates with an early exit. The result is exact.
+
+use kiddo::immutable::float::kdtree::ImmutableKdTree;
+use kiddo::SquaredEuclidean;
+use nalgebra::{DMatrix, SymmetricEigen};
+use serde::{Deserialize, Serialize};
+
+use super::features::FeatureMatrix;
+use super::SssmError;
+
+/// Number of leading principal coordinates the kd-tree indexes.
+pub const TREE_DIMS: usize = 4;
+/// At most this many frames are used to estimate the principal axes (a subsample is enough:
+/// any rotation gives exact distances, the axes only make the tree prune better).
+const PCA_SAMPLE: usize = 1024;
+
+/// A sparse self-similarity matrix: for each frame `i`, its neighbours `j` (ascending) and the
+/// distances `d_ij`, in compressed-row form.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Sssm {
+    n: usize,
+    starts: Vec<u32>,
+    cols: Vec<u32>,
+    dists: Vec<f32>,
+}
+
+impl Sssm {
+    /// Builds an SSSM from per-frame lists `(j, d_ij)` (any order). Indices must be `< n` and
+    /// distinct within a list, distances finite and ≥ 0.
+    pub fn from_lists(lists: &[Vec<(u32, f32)>]) -> Result<Sssm, SssmError> {
+        let n = lists.len();
+        let mut b = SssmBuilder::new(n);
+        let mut row = Vec::new();
+        for (i, list) in lists.iter().enumerate() {
+            row.clear();
+            row.extend_from_slice(list);
+            if let Some(&(j, d)) = row.iter().find(|&&(j, d)| j as usize >= n || !(d.is_finite() && d >= 0.0)) {
+                return Err(SssmError::BadNeighbours(format!(
+                    "frame {i}: neighbour ({j}, {d}) is out of range or has an invalid distance"
+                )));
+            }
+            row.sort_unstable_by_key(|&(j, _)| j);
+            if let Some(w) = row.windows(2).find(|w| w[0].0 == w[1].0) {
+                return Err(SssmError::BadNeighbours(format!("frame {i}: neighbour {} is listed twice", w[0].0)));
+            }
+            b.push_sorted_row(&row);
+        }
+        Ok(b.finish())
+    }
+
+    /// Number of frames (rows).
+    pub fn frames(&self) -> usize {
+        self.n
+    }
+
+    /// Total number of neighbour entries.
+    pub fn entries(&self) -> usize {
+        self.cols.len()
+    }
+
+    /// Entry indices of row `i`.
+    pub fn row_range(&self, i: usize) -> std::ops::Range<usize> {
+        self.starts[i] as usize..self.starts[i + 1] as usize
+    }
+
+    /// Neighbour frames (ascending) and distances of frame `i`.
+    pub fn row(&self, i: usize) -> (&[u32], &[f32]) {
+        let r = self.row_range(i);
+        (&self.cols[r.clone()], &self.dists[r])
+    }
+
+    /// Neighbour frame of entry `e`.
+    pub fn col(&self, e: usize) -> u32 {
+        self.cols[e]
+    }
+
+    /// Distance of entry `e`.
+    pub fn dist(&self, e: usize) -> f32 {
+        self.dists[e]
+    }
+
+    /// All neighbour frames, entry by entry (row after row).
+    pub fn cols(&self) -> &[u32] {
+        &self.cols
+    }
+
+    /// All distances, entry by entry.
+    pub fn dists(&self) -> &[f32] {
+        &self.dists
+    }
+
+    /// Row starts: row `i` holds entries `starts[i]..starts[i+1]`.
+    pub fn starts(&self) -> &[u32] {
+        &self.starts
+    }
+
+    /// The distance `d_ij` if `j` is a neighbour of `i`.
+    pub fn get(&self, i: usize, j: usize) -> Option<f32> {
+        let (cols, dists) = self.row(i);
+        cols.binary_search(&(j as u32)).ok().map(|k| dists[k])
+    }
+
+    /// The entries within `radius` (a sparser SSSM over the same frames).
+    pub fn within(&self, radius: f32) -> Sssm {
+        let mut b = SssmBuilder::new(self.n);
+        b.cols.reserve(self.entries());
+        for i in 0..self.n {
+            for e in self.row_range(i) {
+                if self.dists[e] <= radius {
+                    b.cols.push(self.cols[e]);
+                    b.dists.push(self.dists[e]);
+                }
+            }
+            b.starts.push(b.cols.len() as u32);
+        }
+        b.finish()
+    }
+
+    /// Row by row union of two SSSMs over the same frames (the smaller distance where both
+    /// hold an entry).
+    pub fn union(&self, other: &Sssm) -> Sssm {
+        assert_eq!(self.n, other.n, "SSSMs over different takes");
+        let mut b = SssmBuilder::new(self.n);
+        let mut row = Vec::new();
+        for i in 0..self.n {
+            row.clear();
+            let (ca, da) = self.row(i);
+            let (cb, db) = other.row(i);
+            let (mut x, mut y) = (0, 0);
+            while x < ca.len() || y < cb.len() {
+                let take_a = y == cb.len() || (x < ca.len() && ca[x] <= cb[y]);
+                let take_b = x == ca.len() || (y < cb.len() && cb[y] <= ca[x]);
+                match (take_a, take_b) {
+                    (true, true) => {
+                        row.push((ca[x], da[x].min(db[y])));
+                        x += 1;
+                        y += 1;
+                    }
+                    (true, false) => {
+                        row.push((ca[x], da[x]));
+                        x += 1;
+                    }
+                    _ => {
+                        row.push((cb[y], db[y]));
+                        y += 1;
+                    }
+                }
+            }
+            b.push_sorted_row(&row);
+        }
+        b.finish()
+    }
+
+    /// The lists as `(j, d_ij)` pairs (for export; the method itself works on the rows).
+    pub fn to_lists(&self) -> Vec<Vec<(u32, f32)>> {
+        (0..self.n).map(|i| self.row_range(i).map(|e| (self.cols[e], self.dists[e])).collect()).collect()
+    }
+}
+
+/// Appends sorted rows into an [`Sssm`].
+struct SssmBuilder {
+    n: usize,
+    starts: Vec<u32>,
+    cols: Vec<u32>,
+    dists: Vec<f32>,
+}
+
+impl SssmBuilder {
+    fn new(n: usize) -> Self {
+        let mut starts = Vec::with_capacity(n + 1);
+        starts.push(0);
+        SssmBuilder { n, starts, cols: Vec::new(), dists: Vec::new() }
+    }
+
+    fn push_sorted_row(&mut self, row: &[(u32, f32)]) {
+        for &(j, d) in row {
+            self.cols.push(j);
+            self.dists.push(d);
+        }
+        self.starts.push(self.cols.len() as u32);
+    }
+
+    fn finish(self) -> Sssm {
+        debug_assert_eq!(self.starts.len(), self.n + 1);
+        Sssm { n: self.n, starts: self.starts, cols: self.cols, dists: self.dists }
+    }
+}
+
+/// The searchable form of a feature matrix: its frames rotated onto their principal axes and
+/// a kd-tree over the leading coordinates.
+pub struct NeighbourSearch {
+    dim: usize,
+    mean: Vec<f32>,
+    /// `dim × dim` rotation, row `k` = principal axis `k` (by decreasing variance).
+    axes: Vec<f32>,
+    /// The rotated frames, frame-major.
+    rotated: Vec<f32>,
+    tree: ImmutableKdTree<f32, u32, TREE_DIMS, 32>,
+}
+
+impl NeighbourSearch {
+    /// Indexes the frames of `features`.
+    pub fn new(features: &FeatureMatrix) -> Self {
+        let dim = features.dim();
+        let (mean, axes) = principal_axes(features);
+        let rotated = rotate(features, &mean, &axes);
+        let leading: Vec<[f32; TREE_DIMS]> = rotated.chunks_exact(dim).map(leading_coords).collect();
+        let tree = ImmutableKdTree::new_from_slice(&leading);
+        NeighbourSearch { dim, mean, axes, rotated, tree }
+    }
+
+    /// The SSSM of the indexed frames: for every frame its neighbours within `radius` (the
+    /// frame itself included, at distance 0), at most `max_neighbours` of them (the nearest).
+    pub fn self_similarity(&self, radius: f32, max_neighbours: usize) -> Sssm {
+        self.search_symmetric(&self.rotated, radius, max_neighbours)
+    }
+
+    /// The mirror SSSM (§V): for every frame `i`, the frames `j` with `|M·F_i − F_j| ≤ radius`,
+    /// `M` the mirror map. `M` is an isometry and its own inverse, so
+    /// `|M·F_i − F_j| = |M·F_j − F_i|` and, like the SSSM, the matrix is symmetric.
+    pub fn mirror_similarity(
+        &self,
+        mirrored: &FeatureMatrix,
+        radius: f32,
+        max_neighbours: usize,
+    ) -> Result<Sssm, SssmError> {
+        self.check_dim(mirrored)?;
+        Ok(self.search_symmetric(&rotate(mirrored, &self.mean, &self.axes), radius, max_neighbours))
+    }
+
+    /// For every row of `queries`, its neighbours among the indexed frames (no symmetry
+    /// assumed).
+    pub fn cross_similarity(
+        &self,
+        queries: &FeatureMatrix,
+        radius: f32,
+        max_neighbours: usize,
+    ) -> Result<Sssm, SssmError> {
+        self.check_dim(queries)?;
+        Ok(self.search(&rotate(queries, &self.mean, &self.axes), radius, max_neighbours))
+    }
+
+    fn check_dim(&self, queries: &FeatureMatrix) -> Result<(), SssmError> {
+        if queries.dim() != self.dim {
+            return Err(SssmError::BadFeatures(format!(
+                "query features have {} values per frame, the indexed ones {}",
+                queries.dim(),
+                self.dim
+            )));
+        }
+        Ok(())
+    }
+
+    /// The (at most `max`) nearest neighbours `j` of query `q` within `limit` (squared) whose
+    /// index is at least `from`, ascending, appended to `out` as `(j, distance)`.
+    fn query(&self, q: &[f32], limit: f32, from: usize, max: usize, out: &mut Vec<(u32, f32)>) {
+        let d = self.dim;
+        let first = out.len();
+        for c in self.tree.within_unsorted::<SquaredEuclidean>(&leading_coords(q), limit) {
+            let j = c.item as usize;
+            if j >= from {
+                if let Some(d2) = finish_distance(q, &self.rotated[j * d..(j + 1) * d], c.distance, limit) {
+                    out.push((c.item, d2.sqrt()));
+                }
+            }
+        }
+        out[first..].sort_unstable_by_key(|c| c.0);
+        if out.len() - first > max {
+            let mut row = out.split_off(first);
+            cap_row(&mut row, max);
+            out.extend_from_slice(&row);
+        }
+    }
+
+    fn search(&self, rotated_queries: &[f32], radius: f32, max_neighbours: usize) -> Sssm {
+        let limit = radius * radius;
+        let mut b = SssmBuilder::new(rotated_queries.len() / self.dim);
+        let mut row = Vec::new();
+        for q in rotated_queries.chunks_exact(self.dim) {
+            row.clear();
+            self.query(q, limit, 0, max_neighbours, &mut row);
+            b.push_sorted_row(&row);
+        }
+        b.finish()
+    }
+
+    /// Search for a symmetric matrix: each query `i` only looks for `j ≥ i` (half the distance
+    /// computations) and entry `(i, j)` also gives `(j, i)`. The cap applies to each query's
+    /// `j ≥ i` and again to the finished rows, so at most `2 · max_neighbours` entries per frame
+    /// are ever held (a still take, where every frame is everyone's neighbour, stays small).
+    fn search_symmetric(&self, rotated_queries: &[f32], radius: f32, max_neighbours: usize) -> Sssm {
+        let n = rotated_queries.len() / self.dim;
+        let limit = radius * radius;
+        // the upper triangle, row by row
+        let mut upper: Vec<(u32, f32)> = Vec::new();
+        let mut upper_starts = Vec::with_capacity(n + 1);
+        upper_starts.push(0usize);
+        for (i, q) in rotated_queries.chunks_exact(self.dim).enumerate() {
+            self.query(q, limit, i, max_neighbours, &mut upper);
+            upper_starts.push(upper.len());
+        }
+        // row i = its lower entries (from earlier rows, ascending) then its upper entries
+        let mut lower = vec![0u32; n];
+        for &(j, _) in &upper {
+            lower[j as usize] += 1;
+        }
+        for i in 0..n {
+            // the diagonal entry (i, i) was counted as "lower" of row i; it belongs to upper
+            if upper[upper_starts[i]..upper_starts[i + 1]].first().is_some_and(|&(j, _)| j as usize == i) {
+                lower[i] -= 1;
+            }
+        }
+        let mut starts = Vec::with_capacity(n + 1);
+        starts.push(0u32);
+        for i in 0..n {
+            let len = lower[i] as usize + upper_starts[i + 1] - upper_starts[i];
+            starts.push(starts[i] + len as u32);
+        }
+        let total = starts[n] as usize;
+        let mut cols = vec![0u32; total];
+        let mut dists = vec![0f32; total];
+        let mut fill: Vec<u32> = starts[..n].to_vec();
+        for i in 0..n {
+            for &(j, d) in &upper[upper_starts[i]..upper_starts[i + 1]] {
+                if j as usize != i {
+                    let k = fill[j as usize] as usize;
+                    cols[k] = i as u32;
+                    dists[k] = d;
+                    fill[j as usize] += 1;
+                }
+            }
+        }
+        for i in 0..n {
+            let (from, to) = (upper_starts[i], upper_starts[i + 1]);
+            let at = fill[i] as usize;
+            for (k, &(j, d)) in (at..).zip(&upper[from..to]) {
+                cols[k] = j;
+                dists[k] = d;
+            }
+        }
+        let sssm = Sssm { n, starts, cols, dists };
+        if (0..n).all(|i| sssm.row_range(i).len() <= max_neighbours) {
+            return sssm;
+        }
+        let mut b = SssmBuilder::new(n);
+        let mut row = Vec::new();
+        for i in 0..n {
+            row.clear();
+            row.extend(sssm.row_range(i).map(|e| (sssm.cols[e], sssm.dists[e])));
+            cap_row(&mut row, max_neighbours);
+            b.push_sorted_row(&row);
+        }
+        b.finish()
+    }
+}
+
+/// Keeps the `max` nearest entries of a row sorted by index (still sorted by index after).
+fn cap_row(row: &mut Vec<(u32, f32)>, max: usize) {
+    if row.len() > max {
+        row.select_nth_unstable_by(max, |a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+        row.truncate(max);
+        row.sort_unstable_by_key(|&(j, _)| j);
+    }
+}
+
+/// Rotates `features` onto `axes` (rows) about `mean`.
+pub(crate) fn rotate(features: &FeatureMatrix, mean: &[f32], axes: &[f32]) -> Vec<f32> {
+    let d = features.dim();
+    let mut out = vec![0f32; features.frames() * d];
+    let mut centred = vec![0f32; d];
+    for (i, o) in out.chunks_exact_mut(d).enumerate() {
+        for ((c, &x), &m) in centred.iter_mut().zip(features.row(i)).zip(mean) {
+            *c = x - m;
+        }
+        for (k, ok) in o.iter_mut().enumerate() {
+            *ok = dot(&axes[k * d..(k + 1) * d], &centred);
+        }
+    }
+    out
+}
+
+/// The leading [`TREE_DIMS`] coordinates of a rotated frame (zero-padded).
+fn leading_coords(x: &[f32]) -> [f32; TREE_DIMS] {
+    let mut p = [0f32; TREE_DIMS];
+    let k = x.len().min(TREE_DIMS);
+    p[..k].copy_from_slice(&x[..k]);
+    p
+}
+
+/// Adds the squared differences beyond the tree's coordinates to `partial`; `None` as soon as
+/// the sum exceeds `limit` (checked every 16 values; 8 independent sums let the compiler
+/// vectorise).
+fn finish_distance(a: &[f32], b: &[f32], partial: f32, limit: f32) -> Option<f32> {
+    if partial > limit {
+        return None;
+    }
+    let (a, b) = (&a[TREE_DIMS.min(a.len())..], &b[TREE_DIMS.min(b.len())..]);
+    let mut sum = partial;
+    for (ca, cb) in a.chunks(16).zip(b.chunks(16)) {
+        let mut acc = [0f32; 8];
+        let (ea, eb) = (ca.chunks_exact(8), cb.chunks_exact(8));
+        let (ra, rb) = (ea.remainder(), eb.remainder());
+        for (x, y) in ea.zip(eb) {
+            for k in 0..8 {
+                let t = x[k] - y[k];
+                acc[k] += t * t;
+            }
+        }
+        for (x, y) in ra.iter().zip(rb) {
+            acc[0] += (x - y) * (x - y);
+        }
+        sum += acc.iter().sum::<f32>();
+        if sum > limit {
+            return None;
+        }
+    }
+    Some(sum)
+}
+
+fn dot(a: &[f32], b: &[f32]) -> f32 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Mean and principal axes (rows, by decreasing variance) of the frames of `features`,
+/// estimated on an even subsample of at most [`PCA_SAMPLE`] frames.
+pub(crate) fn principal_axes(features: &FeatureMatrix) -> (Vec<f32>, Vec<f32>) {
+    let n = features.frames();
+    let d = features.dim();
+    let step = n.div_ceil(PCA_SAMPLE).max(1);
+    let sample: Vec<usize> = (0..n).step_by(step).collect();
+    let mut mean = vec![0f64; d];
+    for &i in &sample {
+        for (m, &x) in mean.iter_mut().zip(features.row(i)) {
+            *m += x as f64;
+        }
+    }
+    mean.iter_mut().for_each(|m| *m /= sample.len() as f64);
+    let mut cov = DMatrix::<f64>::zeros(d, d);
+    let mut c = vec![0f64; d];
+    for &i in &sample {
+        for ((ck, &x), &m) in c.iter_mut().zip(features.row(i)).zip(&mean) {
+            *ck = x as f64 - m;
+        }
+        for a in 0..d {
+            let ca = c[a];
+            if ca == 0.0 {
+                continue;
+            }
+            for b in a..d {
+                cov[(a, b)] += ca * c[b];
+            }
+        }
+    }
+    for a in 0..d {
+        for b in 0..a {
+            cov[(a, b)] = cov[(b, a)];
+        }
+    }
+    let eig = SymmetricEigen::new(cov);
+    let mut order: Vec<usize> = (0..d).collect();
+    order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));
+    let mut axes = Vec::with_capacity(d * d);
+    for &k in &order {
+        axes.extend(eig.eigenvectors.column(k).iter().map(|&v| v as f32));
+    }
+    (mean.iter().map(|&m| m as f32).collect(), axes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A deterministic pseudo-random walk: neighbours are frames close in time.
+    fn noisy(n: usize, d: usize, seed: u64) -> FeatureMatrix {
+        let mut s = seed;
+        let mut x = vec![0f32; d];
+        let mut data = Vec::with_capacity(n * d);
+        for _ in 0..n {
+            for v in x.iter_mut() {
+                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                *v += 2.0 * ((s >> 40) as f32 / (1u64 << 24) as f32) - 1.0;
+            }
+            data.extend_from_slice(&x);
+        }
+        FeatureMatrix::new(n, d, data).unwrap()
+    }
+
+    fn brute_force(f: &FeatureMatrix, q: &FeatureMatrix, r: f32) -> Vec<Vec<(u32, f32)>> {
+        (0..q.frames())
+            .map(|i| {
+                (0..f.frames())
+                    .filter_map(|j| {
+                        let d2: f32 = q.row(i).iter().zip(f.row(j)).map(|(a, b)| (a - b) * (a - b)).sum();
+                        (d2 <= r * r).then(|| (j as u32, d2.sqrt()))
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    fn same_lists(a: &Sssm, b: &[Vec<(u32, f32)>]) {
+        let la = a.to_lists();
+        assert_eq!(la.len(), b.len());
+        for (i, (x, y)) in la.iter().zip(b).enumerate() {
+            let xi: Vec<u32> = x.iter().map(|p| p.0).collect();
+            let yi: Vec<u32> = y.iter().map(|p| p.0).collect();
+            assert_eq!(xi, yi, "row {i}");
+            for (p, q) in x.iter().zip(y) {
+                assert!((p.1 - q.1).abs() < 1e-3, "row {i}: {p:?} vs {q:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn radius_search_matches_brute_force_in_high_dimension() {
+        let f = noisy(400, 30, 7);
+        let s = NeighbourSearch::new(&f);
+        let sssm = s.self_similarity(14.0, 10_000);
+        let truth = brute_force(&f, &f, 14.0);
+        assert!(sssm.entries() > 2000, "the test needs real neighbours, got {}", sssm.entries());
+        same_lists(&sssm, &truth);
+        // every frame is its own neighbour at distance 0
+        assert_eq!(sssm.get(17, 17), Some(0.0));
+    }
+
+    #[test]
+    fn radius_search_matches_brute_force_in_low_dimension() {
+        let f = noisy(300, 3, 3);
+        let s = NeighbourSearch::new(&f);
+        same_lists(&s.self_similarity(2.0, 10_000), &brute_force(&f, &f, 2.0));
+    }
+
+    #[test]
+    fn cross_search_finds_the_query_frames_among_the_indexed_ones() {
+        let f = noisy(200, 12, 11);
+        let q = noisy(50, 12, 12);
+        let s = NeighbourSearch::new(&f);
+        let cross = s.cross_similarity(&q, 12.0, 10_000).unwrap();
+        assert_eq!(cross.frames(), 50);
+        same_lists(&cross, &brute_force(&f, &q, 12.0));
+        assert!(s.cross_similarity(&noisy(5, 3, 1), 1.0, 10).is_err());
+    }
+
+    #[test]
+    fn mirror_search_matches_brute_force_and_is_symmetric() {
+        let f = noisy(300, 15, 5);
+        let map = crate::sssm::features::MirrorMap::end_effectors();
+        let m = map.apply(&f).unwrap();
+        let s = NeighbourSearch::new(&f);
+        let mirror = s.mirror_similarity(&m, 14.0, 10_000).unwrap();
+        let truth = brute_force(&f, &m, 14.0);
+        assert!(mirror.entries() > 300, "the test needs real neighbours, got {}", mirror.entries());
+        same_lists(&mirror, &truth);
+        same_lists(&s.cross_similarity(&m, 14.0, 10_000).unwrap(), &truth);
+        for i in 0..300 {
+            for (&j, &d) in mirror.row(i).0.iter().zip(mirror.row(i).1) {
+                assert_eq!(mirror.get(j as usize, i), Some(d), "({i}, {j})");
+            }
+        }
+    }
+
+    #[test]
+    fn the_cap_keeps_the_nearest_neighbours() {
+        let rows: Vec<[f32; 1]> = (0..50).map(|i| [i as f32]).collect();
+        let f = FeatureMatrix::from_rows(&rows).unwrap();
+        let sssm = NeighbourSearch::new(&f).self_similarity(100.0, 5);
+        let (cols, dists) = sssm.row(20);
+        assert_eq!(cols, &[18, 19, 20, 21, 22]);
+        assert_eq!(dists, &[2.0, 1.0, 0.0, 1.0, 2.0]);
+        let (cols, _) = sssm.row(0);
+        assert_eq!(cols, &[0, 1, 2, 3, 4]);
+    }
+
+    #[test]
+    fn identical_frames_do_not_break_the_tree() {
+        let f = FeatureMatrix::new(500, 4, vec![1.5; 2000]).unwrap();
+        let sssm = NeighbourSearch::new(&f).self_similarity(0.1, 600);
+        assert_eq!(sssm.row(0).0.len(), 500);
+        assert_eq!(sssm.entries(), 500 * 500);
+        // a still take longer than the cap: every row keeps exactly the cap
+        let f = FeatureMatrix::new(2000, 4, vec![1.5; 8000]).unwrap();
+        let sssm = NeighbourSearch::new(&f).self_similarity(0.1, 50);
+        assert!((0..2000).all(|i| sssm.row(i).0.len() == 50));
+        // row 1000 gathers 1000..=1049 (its own query) and 951..=999 (rows whose queries
+        // reached it); of these ties at distance 0 the lowest indices stay
+        assert_eq!(sssm.row(1000).0, (951..=1000).collect::<Vec<u32>>().as_slice());
+    }
+
+    #[test]
+    fn within_keeps_the_near_entries() {
+        let a = Sssm::from_lists(&[vec![(0, 0.0), (2, 3.0)], vec![(0, 4.0)], vec![(1, 1.0)]]).unwrap();
+        assert_eq!(a.within(3.0).to_lists(), vec![vec![(0, 0.0), (2, 3.0)], vec![], vec![(1, 1.0)]]);
+    }
+
+    #[test]
+    fn union_merges_rows_keeping_the_smaller_distance() {
+        let a = Sssm::from_lists(&[vec![(0, 0.0), (2, 3.0)], vec![], vec![(1, 1.0)]]).unwrap();
+        let b = Sssm::from_lists(&[vec![(1, 0.5), (2, 2.0)], vec![(0, 4.0)], vec![]]).unwrap();
+        assert_eq!(a.union(&b).to_lists(), vec![vec![(0, 0.0), (1, 0.5), (2, 2.0)], vec![(0, 4.0)], vec![(1, 1.0)]]);
+    }
+
+    #[test]
+    fn lists_are_validated() {
+        assert!(Sssm::from_lists(&[vec![(1, 0.5)], vec![(0, 0.5)]]).is_ok());
+        assert!(Sssm::from_lists(&[vec![(2, 0.5)], vec![]]).is_err());
+        assert!(Sssm::from_lists(&[vec![(1, -0.5)], vec![]]).is_err());
+        assert!(Sssm::from_lists(&[vec![(1, 0.5), (1, 0.7)], vec![]]).is_err());
+        let s = Sssm::from_lists(&[vec![(1, 0.5), (0, 0.0)], vec![]]).unwrap();
+        assert_eq!(s.row(0).0, &[0, 1]);
+        assert_eq!(s.get(0, 1), Some(0.5));
+        assert_eq!(s.get(1, 0), None);
+    }
+}

@@ -1,0 +1,409 @@
+//! Parameters of the SSSM method (Krüger et al. 2017, §III–§VI) with the defaults of the paper
+//! and of the authors' published code, checked once into [`ValidParams`].
+//!
+//! Where the paper and the authors' code disagree, the default follows issue 3 and the
+//! difference is noted on the field:
+//!
+//! * **Radius.** The paper (§IV-A) defines a *generalized* radius `R` for one stacked pose and
+//!   rescales it as `r = R·√(|w|·N)`. The authors' code uses `r = R·√|w|` (`|w|` = number of
+//!   stacked frame offsets) with `R = 19` in inches: `R` is the radius for one whole
+//!   end-effector pose (15 values), so the pose dimension `N` is already inside `R` and only the
+//!   number of stacked poses enters. If every stacked pose is off by the same distance `d`, the
+//!   stacked distance is `d·√|w|`, so `r = R·√|w|` accepts exactly the frames whose poses are on
+//!   average within `R` of each other. [`ValidParams::search_radius`] is that `r`. The inches
+//!   are those of a body of the reference size (`body_scale`, see `features`).
+//! * **Stop window.** The paper says `w = 8`; the code uses `fps/6` = 5 frames at 30 Hz.
+//! * **Minimum primitive length / cut distance.** The paper says 5 frames for both; the code
+//!   uses `fps/2` and `fps/4`. The paper's values are the defaults.
+//! * **Minimum action size.** Not in the paper; the code only accepts an activity region holding
+//!   more than `4·fps` = 120 neighbour entries (`nn_min_blob_size`), which keeps a handful of
+//!   chance similarities from making an action.
+//!
+//! Not in the paper, each measured on the five shared CMU takes (see `activities`):
+//! `mirror_activities` (region growing counts mirror neighbours), `relative_gate` (a scan line
+//! must repeat the region about as closely as the region repeats itself) and
+//! `primitive_radius` (the primitive and cluster graphs use the nearer neighbours, `R_p = 13`,
+//! so the diagonals of one action stay apart). Setting `mirror_activities: false`,
+//! `relative_gate: 0`, `primitive_radius: 19` gives the paper's method (bundling, §III, is a switch
+//! of its own and off by default: it did not help on the shared takes).
+
+use serde::{Deserialize, Serialize};
+
+use super::SssmError;
+
+/// How the action boundaries are placed from the two region-growing passes (§IV-B).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BoundaryRule {
+    /// As in the paper and the authors' code: the backward pass restarts at every forward cut,
+    /// so an action start is only found when at least `w` empty scan lines separate it from the
+    /// previous action's end (the default: it measured best).
+    Paper,
+    /// The backward pass for each action may run past the previous action's end (it only
+    /// counts neighbours inside its own action), and where the start of one action precedes
+    /// the end of the previous one the boundary is put at the middle of that overlap. The
+    /// stacked window and transition poses smear every end late and every start early by the
+    /// same amount, so the middle should cancel that bias (see `activities`). It measured
+    /// worse than `Paper` on the shared takes (F1@1s 0.82 against 0.87): where a transition
+    /// resembles the action after it, that action's start runs far back.
+    Midpoint,
+}
+
+/// Which optimum the feature bundling moves a point to (§III, eq. 4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BundlingOptimum {
+    /// The mode of the Gaussian kernel density with Scott's-rule bandwidth (the paper).
+    Density,
+    /// The geometric median of the neighbours (Weiszfeld iterations): what the authors' code
+    /// converges to, because its kernel width `1/mean(d)` makes the Gaussian term vanish and
+    /// leaves `k·mean(d)/√(2π)` as the objective.
+    GeometricMedian,
+}
+
+/// Every parameter of the method; build with the setters, then [`SssmParams::check`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SssmParams {
+    /// Frame rate the method works at; takes are resampled to it (the authors: 30 Hz).
+    pub fps: f64,
+    /// Frame offsets stacked into one feature vector (§IV-A), in frames at `fps`.
+    pub offsets: Vec<i32>,
+    /// Generalized radius `R` in inches (for a body of the reference size, see `body_scale`).
+    pub radius: f64,
+    /// Scale every take to the reference body size before searching (makes `R` work for
+    /// children, giants and mislabelled units alike).
+    pub body_scale: bool,
+    /// Region growing stops after this many scan lines without new neighbours (§IV-B, `w`).
+    pub stop_window: usize,
+    /// At most this many neighbours per frame are kept (the nearest ones).
+    pub max_neighbours: usize,
+    /// Width in seconds of the band around the main diagonal removed before region growing.
+    pub diagonal_band_s: f64,
+    /// An activity region must hold more than this many neighbour entries per second of
+    /// `fps` (the code's `nn_min_blob_size = 4·fps`).
+    pub min_action_entries_per_fps: f64,
+    /// How action boundaries are placed from the forward and backward passes.
+    pub boundary_rule: BoundaryRule,
+    /// Region growing also counts the neighbours from the mirrored features (§V), so an
+    /// action that alternates sides (left kick, right kick) is repetitive from its first
+    /// mirrored half-cycle on. Needs `mirror`.
+    pub mirror_activities: bool,
+    /// Relative gate of the region growing (not in the paper): after a few scan lines, a scan
+    /// line only keeps a region growing if its nearest neighbour is within this factor of the
+    /// region's median nearest-neighbour distance; the same factor decides when two actions
+    /// repeat each other (merging neighbours, grouping kinds). 0 = off: every neighbour within
+    /// `r` counts, as in the paper. See `activities` for why and how much it helps.
+    pub relative_gate: f64,
+    /// Generalized radius (inches) of the neighbourhoods the primitives and clusters are built
+    /// from (§IV-C, §VI); the SSSM itself is searched at `radius`. At `radius` the diagonals of
+    /// one action touch and merge into one component of the neighbourhood graph, so its cycles
+    /// are not found (the authors' code gets thinner diagonals from its always-on feature
+    /// bundling). Must not exceed `radius`.
+    pub primitive_radius: f64,
+    /// Warping paths must have a slope within `[1/ν, ν]` (§IV-C).
+    pub nu: f64,
+    /// Warping paths covering fewer frames than this are discarded (§IV-C).
+    pub min_path_frames: usize,
+    /// Candidate cuts closer than this many frames are merged, keeping the cheaper path; cuts
+    /// this close to an action's border are dropped (§IV-C).
+    pub min_cut_distance: usize,
+    /// Feature bundling (§III) before the neighbour search.
+    pub bundling: bool,
+    /// Number of nearest neighbours used by the bundling (the authors' code: 32).
+    pub bundling_k: usize,
+    /// Fraction of the neighbours' variance the bundling's local PCA keeps (§III: 97.5 %).
+    pub bundling_variance: f64,
+    /// Optimum the bundling moves each point to.
+    pub bundling_optimum: BundlingOptimum,
+    /// Use the mirrored features to split phase-shifted primitives and pair clusters (§V).
+    pub mirror: bool,
+    /// A warping path links two primitives in the cluster graph only if it covers at least
+    /// this fraction of both (§VI; the code's `coverage_clustering = 0.66`).
+    pub cluster_coverage: f64,
+}
+
+impl Default for SssmParams {
+    fn default() -> Self {
+        SssmParams {
+            fps: 30.0,
+            offsets: vec![-10, -5, 0, 5, 10],
+            radius: 19.0,
+            body_scale: true,
+            stop_window: 5,
+            max_neighbours: 600,
+            diagonal_band_s: 1.0,
+            min_action_entries_per_fps: 4.0,
+            boundary_rule: BoundaryRule::Paper,
+            mirror_activities: true,
+            relative_gate: 1.5,
+            primitive_radius: 13.0,
+            nu: 2.0,
+            min_path_frames: 5,
+            min_cut_distance: 5,
+            bundling: false,
+            bundling_k: 32,
+            bundling_variance: 0.975,
+            bundling_optimum: BundlingOptimum::Density,
+            mirror: true,
+            cluster_coverage: 0.66,
+        }
+    }
+}
+
+macro_rules! setter {
+    ($(#[$doc:meta] $name:ident: $ty:ty),* $(,)?) => {
+        $(
+            #[$doc]
+            pub fn $name(mut self, value: $ty) -> Self {
+                self.$name = value;
+                self
+            }
+        )*
+    };
+}
+
+impl SssmParams {
+    /// The defaults (same as `SssmParams::default()`).
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    setter! {
+        /// Sets the working frame rate.
+        fps: f64,
+        /// Sets the generalized radius `R` (inches).
+        radius: f64,
+        /// Turns body-size scaling on or off.
+        body_scale: bool,
+        /// Sets the region-growing stop window `w` (frames).
+        stop_window: usize,
+        /// Sets the neighbour cap per frame.
+        max_neighbours: usize,
+        /// Sets the width of the removed diagonal band (seconds).
+        diagonal_band_s: f64,
+        /// Sets the minimum activity size (neighbour entries per frame of `fps`).
+        min_action_entries_per_fps: f64,
+        /// Sets the boundary rule.
+        boundary_rule: BoundaryRule,
+        /// Lets region growing count mirror neighbours too.
+        mirror_activities: bool,
+        /// Sets the relative gate of the region growing (0 = off).
+        relative_gate: f64,
+        /// Sets the generalized radius of the primitive and cluster graphs (inches).
+        primitive_radius: f64,
+        /// Sets the slope limit ν.
+        nu: f64,
+        /// Sets the minimum warping-path length (frames).
+        min_path_frames: usize,
+        /// Sets the minimum distance between cuts (frames).
+        min_cut_distance: usize,
+        /// Turns feature bundling on or off.
+        bundling: bool,
+        /// Sets the bundling's number of neighbours.
+        bundling_k: usize,
+        /// Sets the variance fraction kept by the bundling's local PCA.
+        bundling_variance: f64,
+        /// Sets the bundling optimum.
+        bundling_optimum: BundlingOptimum,
+        /// Turns the mirrored features (§V) on or off.
+        mirror: bool,
+        /// Sets the coverage a linking path needs in the cluster graph.
+        cluster_coverage: f64,
+    }
+
+    /// Sets the stacked frame offsets.
+    pub fn offsets(mut self, offsets: impl Into<Vec<i32>>) -> Self {
+        self.offsets = offsets.into();
+        self
+    }
+
+    /// Validates every parameter; the method only ever runs on the result.
+    pub fn check(self) -> Result<ValidParams, SssmError> {
+        let p = self;
+        let bad = |name: &'static str, value: f64, expected: &'static str| {
+            Err(SssmError::InvalidParam { name, value: value.to_string(), expected })
+        };
+        if !(p.fps.is_finite() && p.fps >= 1.0 && p.fps <= 1000.0) {
+            return bad("fps", p.fps, "a frame rate between 1 and 1000");
+        }
+        if p.offsets.is_empty() {
+            return Err(SssmError::InvalidParam {
+                name: "offsets",
+                value: "[]".into(),
+                expected: "at least one frame offset",
+            });
+        }
+        if p.offsets.len() > MAX_OFFSETS {
+            return Err(SssmError::InvalidParam {
+                name: "offsets",
+                value: format!("{} offsets", p.offsets.len()),
+                expected: "at most 32 frame offsets",
+            });
+        }
+        if let Some(&o) = p.offsets.iter().find(|o| o.unsigned_abs() > MAX_OFFSET) {
+            return bad("offsets", o as f64, "offsets between -300 and 300 frames");
+        }
+        let mut sorted = p.offsets.clone();
+        sorted.sort_unstable();
+        if sorted.windows(2).any(|w| w[0] == w[1]) {
+            return Err(SssmError::InvalidParam {
+                name: "offsets",
+                value: format!("{:?}", p.offsets),
+                expected: "distinct frame offsets",
+            });
+        }
+        if !(p.radius.is_finite() && p.radius > 0.0) {
+            return bad("radius", p.radius, "a positive radius in inches");
+        }
+        if p.stop_window == 0 {
+            return bad("stop_window", 0.0, "a stop window of at least 1 frame");
+        }
+        if p.max_neighbours == 0 {
+            return bad("max_neighbours", 0.0, "at least 1 neighbour per frame");
+        }
+        if !(p.diagonal_band_s.is_finite() && p.diagonal_band_s >= 0.0 && p.diagonal_band_s <= 60.0) {
+            return bad("diagonal_band_s", p.diagonal_band_s, "a band between 0 and 60 seconds");
+        }
+        if !(p.min_action_entries_per_fps.is_finite() && p.min_action_entries_per_fps >= 0.0) {
+            return bad("min_action_entries_per_fps", p.min_action_entries_per_fps, "a number ≥ 0");
+        }
+        if !(p.relative_gate == 0.0 || p.relative_gate.is_finite() && p.relative_gate >= 1.0) {
+            return bad("relative_gate", p.relative_gate, "0 (off) or a factor ≥ 1");
+        }
+        if !(p.primitive_radius.is_finite() && p.primitive_radius > 0.0 && p.primitive_radius <= p.radius) {
+            return bad("primitive_radius", p.primitive_radius, "a positive radius in inches, at most `radius`");
+        }
+        if !(p.nu.is_finite() && p.nu >= 1.0) {
+            return bad("nu", p.nu, "a slope limit ν ≥ 1");
+        }
+        if p.min_path_frames < 2 {
+            return bad("min_path_frames", p.min_path_frames as f64, "a minimum path length of at least 2 frames");
+        }
+        if p.bundling_k < 2 {
+            return bad("bundling_k", p.bundling_k as f64, "at least 2 neighbours for the bundling");
+        }
+        if !(p.bundling_variance > 0.0 && p.bundling_variance <= 1.0) {
+            return bad("bundling_variance", p.bundling_variance, "a fraction in (0, 1]");
+        }
+        if !(p.cluster_coverage > 0.0 && p.cluster_coverage <= 1.0) {
+            return bad("cluster_coverage", p.cluster_coverage, "a fraction in (0, 1]");
+        }
+        Ok(ValidParams(p))
+    }
+}
+
+/// Largest accepted |offset| in frames.
+pub const MAX_OFFSET: u32 = 300;
+/// Largest accepted number of stacked offsets.
+pub const MAX_OFFSETS: usize = 32;
+
+/// Parameters that passed [`SssmParams::check`], with the derived quantities in frames.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ValidParams(SssmParams);
+
+impl std::ops::Deref for ValidParams {
+    type Target = SssmParams;
+    fn deref(&self) -> &SssmParams {
+        &self.0
+    }
+}
+
+impl ValidParams {
+    /// The checked parameters.
+    pub fn params(&self) -> &SssmParams {
+        &self.0
+    }
+
+    /// The search radius `r = R·√|w|` in the stacked feature space (see the module docs).
+    pub fn search_radius(&self) -> f64 {
+        self.0.radius * (self.0.offsets.len() as f64).sqrt()
+    }
+
+    /// The search radius of the primitive and cluster graphs, `R_p·√|w|`.
+    pub fn primitive_search_radius(&self) -> f64 {
+        self.0.primitive_radius * (self.0.offsets.len() as f64).sqrt()
+    }
+
+    /// Half-width of the removed main-diagonal band in frames: entries with `|i − j| < band`
+    /// are ignored by the region growing (`floor(fps · diagonal_band_s)`, 30 at the defaults).
+    pub fn band_frames(&self) -> usize {
+        (self.0.fps * self.0.diagonal_band_s).floor() as usize
+    }
+
+    /// Minimum number of neighbour entries an activity region must exceed.
+    pub fn min_action_entries(&self) -> usize {
+        (self.0.fps * self.0.min_action_entries_per_fps).floor() as usize
+    }
+
+    /// The parameters as JSON, as echoed in a segmentation's `params`.
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::to_value(&self.0).unwrap_or(serde_json::Value::Null)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn err_of(p: SssmParams) -> String {
+        p.check().expect_err("must be rejected").to_string()
+    }
+
+    #[test]
+    fn defaults_are_the_issue_values() {
+        let v = SssmParams::default().check().unwrap();
+        assert_eq!(v.offsets, vec![-10, -5, 0, 5, 10]);
+        assert!((v.search_radius() - 19.0 * 5f64.sqrt()).abs() < 1e-12);
+        assert_eq!(v.band_frames(), 30);
+        assert_eq!(v.stop_window, 5);
+        assert_eq!(v.max_neighbours, 600);
+        assert_eq!(v.min_action_entries(), 120);
+        assert_eq!(v.nu, 2.0);
+        assert_eq!(v.min_path_frames, 5);
+        assert_eq!(v.min_cut_distance, 5);
+    }
+
+    #[test]
+    fn each_bad_value_is_named_in_the_message() {
+        assert!(err_of(SssmParams::new().radius(0.0)).contains("radius"));
+        assert!(err_of(SssmParams::new().radius(f64::NAN)).contains("radius"));
+        assert!(err_of(SssmParams::new().offsets(vec![])).contains("at least one frame offset"));
+        assert!(err_of(SssmParams::new().offsets(vec![0, 5, 5])).contains("distinct"));
+        assert!(err_of(SssmParams::new().offsets(vec![0, 1000])).contains("-300 and 300"));
+        assert!(err_of(SssmParams::new().stop_window(0)).contains("stop_window"));
+        assert!(err_of(SssmParams::new().max_neighbours(0)).contains("max_neighbours"));
+        assert!(err_of(SssmParams::new().nu(0.5)).contains("ν ≥ 1"));
+        assert!(err_of(SssmParams::new().fps(0.0)).contains("fps"));
+        assert!(err_of(SssmParams::new().diagonal_band_s(-1.0)).contains("diagonal_band_s"));
+        assert!(err_of(SssmParams::new().min_path_frames(1)).contains("min_path_frames"));
+        assert!(err_of(SssmParams::new().bundling_k(1)).contains("bundling_k"));
+        assert!(err_of(SssmParams::new().bundling_variance(1.5)).contains("bundling_variance"));
+        assert!(err_of(SssmParams::new().cluster_coverage(0.0)).contains("cluster_coverage"));
+        assert!(err_of(SssmParams::new().relative_gate(0.5)).contains("relative_gate"));
+        assert!(err_of(SssmParams::new().primitive_radius(25.0)).contains("at most `radius`"));
+        assert!(SssmParams::new().relative_gate(0.0).check().is_ok());
+    }
+
+    #[test]
+    fn params_round_trip_through_json_and_reject_unknown_fields() {
+        let p = SssmParams::new().radius(15.0).mirror(false).offsets(vec![-5, 0, 5]);
+        let v = p.clone().check().unwrap().to_json();
+        assert_eq!(v["radius"], 15.0);
+        assert_eq!(v["boundary_rule"], "paper");
+        assert_eq!(v["relative_gate"], 1.5);
+        let back: SssmParams = serde_json::from_value(v).unwrap();
+        assert_eq!(back, p);
+        let partial: SssmParams = serde_json::from_str(r#"{"radius": 11}"#).unwrap();
+        assert_eq!(partial.radius, 11.0);
+        assert_eq!(partial.offsets, vec![-10, -5, 0, 5, 10]);
+        assert!(serde_json::from_str::<SssmParams>(r#"{"radius_": 11}"#).is_err());
+    }
+
+    #[test]
+    fn band_scales_with_the_frame_rate() {
+        let v = SssmParams::new().fps(60.0).check().unwrap();
+        assert_eq!(v.band_frames(), 60);
+        assert_eq!(v.min_action_entries(), 240);
+    }
+}

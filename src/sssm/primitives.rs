@@ -1,0 +1,410 @@
+//! Subdividing actions into motion primitives (Krüger et al. 2017, §IV-C).
+//!
+//! The entries of the SSSM are the nodes of a *neighbourhood graph*: entry `(i, j)` (frame `j`
+//! is a neighbour of frame `i`) can be reached from `(i−1, j−1)`, `(i−1, j)` and `(i, j−1)` —
+//! the dynamic-time-warping steps (1,1), (1,0), (0,1). Inside an action each diagonal of the
+//! SSSM is one connected component of that graph (found with a union-find). A
+//! start node joined to the component's first column and an end node joined to its last column
+//! turn the best warping path along the diagonal into a shortest path; the graph is a DAG whose
+//! topological order is the row order of the SSSM, so one sweep finds the shortest paths of all
+//! components at once (the cost of a path is the sum of its entries' distances).
+//!
+//! A diagonal of a repeated action starts where a repetition starts: the start `(i₀, j₀)` of
+//! every valid path gives a candidate cut at `j₀`. Paths covering fewer than
+//! `min_path_frames` frames or with a slope outside `[1/ν, ν]` are discarded; of candidate cuts
+//! closer than `min_cut_distance` the one whose path is cheaper (lower mean distance per entry)
+//! is kept; cuts that close to the action's border are dropped. An action without repetitions
+//! stays one primitive.
+
+use serde::{Deserialize, Serialize};
+
+use super::activities::Span;
+use super::neighbours::Sssm;
+
+const NONE: u32 = u32::MAX;
+
+/// The neighbourhood graph `G` of an SSSM: the predecessors of every entry under the steps
+/// (1,1), (1,0), (0,1).
+pub struct NeighbourhoodGraph<'a> {
+    sssm: &'a Sssm,
+    /// Row (frame `i`) of each entry.
+    rows: Vec<u32>,
+    /// Predecessor entries `[(i−1, j−1), (i−1, j), (i, j−1)]`, `NONE` where absent.
+    preds: Vec<[u32; 3]>,
+}
+
+impl<'a> NeighbourhoodGraph<'a> {
+    /// Links every entry of `sssm` to its predecessors (rows are sorted, so a merge per row).
+    pub fn new(sssm: &'a Sssm) -> Self {
+        let m = sssm.entries();
+        let mut rows = vec![0u32; m];
+        let mut preds = vec![[NONE; 3]; m];
+        let cols = sssm.cols();
+        for i in 0..sssm.frames() {
+            let here = sssm.row_range(i);
+            rows[here.clone()].iter_mut().for_each(|r| *r = i as u32);
+            let above = if i > 0 { sssm.row_range(i - 1) } else { 0..0 };
+            let mut p = above.start;
+            for e in here.clone() {
+                let j = cols[e];
+                while p < above.end && cols[p].saturating_add(1) < j {
+                    p += 1;
+                }
+                let mut q = p;
+                if j > 0 && q < above.end && cols[q] + 1 == j {
+                    preds[e][0] = q as u32;
+                    q += 1;
+                }
+                if q < above.end && cols[q] == j {
+                    preds[e][1] = q as u32;
+                }
+                if e > here.start && cols[e - 1] + 1 == j {
+                    preds[e][2] = (e - 1) as u32;
+                }
+            }
+        }
+        NeighbourhoodGraph { sssm, rows, preds }
+    }
+
+    /// The SSSM this graph is built on.
+    pub fn sssm(&self) -> &Sssm {
+        self.sssm
+    }
+
+    /// Frame `i` of entry `e`.
+    pub fn row_of(&self, e: usize) -> usize {
+        self.rows[e] as usize
+    }
+
+    /// The shortest warping path of every connected component of the subgraph whose entries
+    /// `(i, j)` have the same `region(i, j)` (entries with `None` are left out; edges only join
+    /// entries of one region). Components that span a single frame, or whose last column
+    /// cannot be reached from their first, have no path.
+    ///
+    /// Two sweeps in row order. The first joins each entry with its predecessors in a
+    /// union-find whose root is always the component's earliest entry, so the root's row is
+    /// the component's first column, and records each root's last row. The second is the
+    /// shortest-path recursion of the DAG, started at the first column.
+    pub fn warping_paths(&self, region: impl Fn(usize, usize) -> Option<u64>) -> Vec<WarpingPath> {
+        let m = self.sssm.entries();
+        let cols = self.sssm.cols();
+        let regions: Vec<u64> = (0..m).map(|e| region(self.row_of(e), cols[e] as usize).unwrap_or(u64::MAX)).collect();
+        let same = |e: usize, p: u32| p != NONE && regions[p as usize] == regions[e];
+
+        // sweep 1: components (root = earliest entry) and the last row of each
+        let mut root: Vec<u32> = (0..m as u32).collect();
+        let mut last = vec![0u32; m];
+        for (e, preds) in self.preds.iter().enumerate() {
+            if regions[e] == u64::MAX {
+                continue;
+            }
+            for &p in preds {
+                if same(e, p) {
+                    let (a, b) = (find(&mut root, e as u32), find(&mut root, p));
+                    let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+                    root[hi as usize] = lo;
+                }
+            }
+            let r = find(&mut root, e as u32) as usize;
+            last[r] = self.rows[e];
+        }
+
+        // sweep 2: shortest paths from each component's first column
+        let mut cost = vec![f32::INFINITY; m];
+        let mut start = vec![NONE; m];
+        let mut nodes = vec![0u32; m];
+        let mut best_end = vec![NONE; m];
+        for e in 0..m {
+            if regions[e] == u64::MAX {
+                continue;
+            }
+            let c = find(&mut root, e as u32) as usize;
+            let (first_row, last_row) = (self.rows[c], last[c]);
+            if first_row == last_row {
+                continue;
+            }
+            let d = self.sssm.dist(e);
+            if self.rows[e] == first_row {
+                (cost[e], start[e], nodes[e]) = (d, e as u32, 1);
+            } else {
+                let mut best = NONE;
+                for &p in &self.preds[e] {
+                    if same(e, p) && cost[p as usize] < best_cost(&cost, best) {
+                        best = p;
+                    }
+                }
+                if best != NONE {
+                    let b = best as usize;
+                    (cost[e], start[e], nodes[e]) = (cost[b] + d, start[b], nodes[b] + 1);
+                }
+            }
+            if self.rows[e] == last_row && cost[e].is_finite() && cost[e] < best_cost(&cost, best_end[c]) {
+                best_end[c] = e as u32;
+            }
+        }
+
+        let mut paths: Vec<WarpingPath> = best_end
+            .iter()
+            .filter(|&&end| end != NONE)
+            .map(|&end| {
+                let (end, s) = (end as usize, start[end as usize] as usize);
+                WarpingPath {
+                    start: (self.row_of(s), cols[s] as usize),
+                    end: (self.row_of(end), cols[end] as usize),
+                    cost: cost[end],
+                    nodes: nodes[end] as usize,
+                    region: regions[end],
+                }
+            })
+            .collect();
+        paths.sort_by_key(|p| (p.region, p.start, p.end));
+        paths
+    }
+}
+
+/// Root of `x` in a union-find forest, halving the path on the way.
+fn find(root: &mut [u32], mut x: u32) -> u32 {
+    while root[x as usize] != x {
+        let up = root[root[x as usize] as usize];
+        root[x as usize] = up;
+        x = up;
+    }
+    x
+}
+
+fn best_cost(cost: &[f32], e: u32) -> f32 {
+    if e == NONE {
+        f32::INFINITY
+    } else {
+        cost[e as usize]
+    }
+}
+
+/// A warping path through one component of the neighbourhood graph: from entry `start` =
+/// `(i, j)` to entry `end`, through `nodes` entries with summed distance `cost`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WarpingPath {
+    pub start: (usize, usize),
+    pub end: (usize, usize),
+    pub cost: f32,
+    pub nodes: usize,
+    /// The region the path lies in (as given to [`NeighbourhoodGraph::warping_paths`]).
+    pub region: u64,
+}
+
+impl WarpingPath {
+    /// Average gradient `Δj / Δi` (`None` if the path stays in one frame `i`).
+    pub fn slope(&self) -> Option<f64> {
+        let di = self.end.0 - self.start.0;
+        (di > 0).then(|| (self.end.1 as f64 - self.start.1 as f64) / di as f64)
+    }
+
+    /// Number of frames the path covers on the shorter of its two axes.
+    pub fn frames(&self) -> usize {
+        (self.end.0 - self.start.0).min(self.end.1.saturating_sub(self.start.1)) + 1
+    }
+
+    /// Mean distance per entry.
+    pub fn mean_cost(&self) -> f32 {
+        self.cost / self.nodes.max(1) as f32
+    }
+
+    /// The validity test of §IV-C: long enough and with a slope within `[1/ν, ν]`.
+    pub fn is_valid(&self, nu: f64, min_frames: usize) -> bool {
+        self.frames() >= min_frames && self.slope().is_some_and(|s| s >= 1.0 / nu && s <= nu)
+    }
+}
+
+/// Settings of the primitive search (from the checked parameters).
+#[derive(Debug, Clone, Copy)]
+pub struct PrimitiveSearch {
+    pub nu: f64,
+    pub min_path_frames: usize,
+    pub min_cut_distance: usize,
+}
+
+/// A candidate cut and the path it comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Cut {
+    /// First frame of a new primitive.
+    pub frame: usize,
+    pub path: WarpingPath,
+}
+
+impl PrimitiveSearch {
+    /// The cuts inside each of `actions` (sorted, disjoint spans) found from the diagonals of
+    /// `graph`; one list per action, ascending.
+    pub fn cuts(&self, graph: &NeighbourhoodGraph, actions: &[Span]) -> Vec<Vec<Cut>> {
+        let action_of = frame_lookup(graph.sssm().frames(), actions);
+        let paths = graph.warping_paths(|i, j| {
+            let a = action_of[i];
+            (a != NONE && a == action_of[j]).then_some(a as u64)
+        });
+        let mut per_action: Vec<Vec<Cut>> = vec![Vec::new(); actions.len()];
+        for path in paths {
+            if !path.is_valid(self.nu, self.min_path_frames) {
+                continue;
+            }
+            let a = &actions[path.region as usize];
+            let frame = path.start.1;
+            if frame >= a.start + self.min_cut_distance && frame + self.min_cut_distance <= a.end {
+                per_action[path.region as usize].push(Cut { frame, path });
+            }
+        }
+        per_action.into_iter().map(|c| self.thin(c)).collect()
+    }
+
+    /// Of candidate cuts closer than `min_cut_distance`, keeps the one with the cheaper path.
+    pub fn thin(&self, mut candidates: Vec<Cut>) -> Vec<Cut> {
+        candidates.sort_by(|a, b| a.path.mean_cost().total_cmp(&b.path.mean_cost()).then(a.frame.cmp(&b.frame)));
+        let mut taken = std::collections::BTreeSet::new();
+        let mut kept: Vec<Cut> = Vec::with_capacity(candidates.len());
+        for c in candidates {
+            let lo = c.frame.saturating_sub(self.min_cut_distance.saturating_sub(1));
+            let hi = c.frame.saturating_add(self.min_cut_distance.saturating_sub(1));
+            if self.min_cut_distance == 0 || taken.range(lo..=hi).next().is_none() {
+                taken.insert(c.frame);
+                kept.push(c);
+            }
+        }
+        kept.sort_by_key(|c| c.frame);
+        kept
+    }
+}
+
+/// For each frame, the index of the span containing it (`NONE` outside all spans).
+pub(crate) fn frame_lookup(n: usize, spans: &[Span]) -> Vec<u32> {
+    let mut of = vec![NONE; n];
+    for (k, s) in spans.iter().enumerate() {
+        of[s.start..=s.end.min(n.saturating_sub(1))].iter_mut().for_each(|a| *a = k as u32);
+    }
+    of
+}
+
+/// Splits `action` at `cuts` (frames that start a new primitive, ascending, inside the action).
+pub fn split(action: Span, cuts: &[usize]) -> Vec<Span> {
+    let mut out = Vec::with_capacity(cuts.len() + 1);
+    let mut start = action.start;
+    for &c in cuts {
+        if c > start && c <= action.end {
+            out.push(Span { start, end: c - 1 });
+            start = c;
+        }
+    }
+    out.push(Span { start, end: action.end });
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sssm_from_pairs(n: usize, pairs: &[(usize, usize, f32)]) -> Sssm {
+        let mut lists = vec![Vec::new(); n];
+        for &(i, j, d) in pairs {
+            lists[i].push((j as u32, d));
+        }
+        Sssm::from_lists(&lists).unwrap()
+    }
+
+    #[test]
+    fn predecessors_follow_the_three_steps() {
+        // entries (0,0) (0,1) (1,1) (1,2) (2,2)
+        let s = sssm_from_pairs(3, &[(0, 0, 0.0), (0, 1, 1.0), (1, 1, 0.0), (1, 2, 1.0), (2, 2, 0.0)]);
+        let g = NeighbourhoodGraph::new(&s);
+        // (1,1): diagonal from (0,0), vertical from (0,1), none in its row
+        assert_eq!(g.preds[2], [0, 1, NONE]);
+        // (1,2): diagonal from (0,1), horizontal from (1,1)
+        assert_eq!(g.preds[3], [1, NONE, 2]);
+        // (2,2): diagonal from (1,1), vertical from (1,2)
+        assert_eq!(g.preds[4], [2, 3, NONE]);
+    }
+
+    #[test]
+    fn each_diagonal_is_one_component_with_its_cheapest_path() {
+        // a diagonal j = i + 10 for i in 0..=20, doubled by a parallel cheaper lane j = i + 11
+        let mut pairs = Vec::new();
+        for i in 0..=20 {
+            pairs.push((i, i + 10, 2.0));
+            pairs.push((i, i + 11, 1.0));
+        }
+        // and a separate short diagonal j = i + 30 for i in 0..=3
+        for i in 0..=3 {
+            pairs.push((i, i + 30, 0.5));
+        }
+        let s = sssm_from_pairs(40, &pairs);
+        let g = NeighbourhoodGraph::new(&s);
+        let paths = g.warping_paths(|_, _| Some(0));
+        assert_eq!(paths.len(), 2);
+        let long = paths.iter().find(|p| p.nodes > 10).unwrap();
+        assert_eq!(long.start, (0, 11));
+        assert_eq!(long.end, (20, 31));
+        assert_eq!(long.nodes, 21);
+        assert!((long.cost - 21.0).abs() < 1e-5);
+        assert_eq!(long.slope(), Some(1.0));
+        let short = paths.iter().find(|p| p.nodes <= 10).unwrap();
+        assert_eq!((short.start, short.end, short.frames()), ((0, 30), (3, 33), 4));
+        // regions split the graph: only the part with i < 10 in region 0
+        let split_paths = g.warping_paths(|i, _| (i < 10).then_some(0));
+        let long = split_paths.iter().find(|p| p.start.1 == 11).unwrap();
+        assert_eq!(long.end, (9, 20));
+    }
+
+    #[test]
+    fn slope_filtering() {
+        let path = |di: usize, dj: usize| WarpingPath {
+            start: (0, 0),
+            end: (di, dj),
+            cost: 1.0,
+            nodes: di.max(dj) + 1,
+            region: 0,
+        };
+        assert!(path(20, 20).is_valid(2.0, 5));
+        assert!(path(20, 40).is_valid(2.0, 5));
+        assert!(path(20, 10).is_valid(2.0, 5));
+        assert!(!path(20, 41).is_valid(2.0, 5), "slope 2.05 > ν");
+        assert!(!path(20, 9).is_valid(2.0, 5), "slope 0.45 < 1/ν");
+        assert!(!path(0, 9).is_valid(2.0, 5), "no extent in i");
+        assert!(!path(3, 3).is_valid(2.0, 5), "4 frames < 5");
+        assert!(path(3, 3).is_valid(2.0, 4));
+        assert!(!path(20, 30).is_valid(1.2, 5));
+    }
+
+    #[test]
+    fn a_steep_path_found_in_the_graph_is_rejected() {
+        // a "standing" stretch: frames 30..=32 map onto 0..=29 (slope 10)
+        let mut pairs = Vec::new();
+        for j in 0..30 {
+            pairs.push((30 + j / 10, j, 1.0));
+        }
+        let s = sssm_from_pairs(40, &pairs);
+        let g = NeighbourhoodGraph::new(&s);
+        let paths = g.warping_paths(|_, _| Some(0));
+        assert_eq!(paths.len(), 1);
+        // cheapest: enter at (30, 9), leave at (32, 20)
+        assert_eq!((paths[0].start, paths[0].end), ((30, 9), (32, 20)));
+        assert_eq!(paths[0].slope(), Some(5.5));
+        assert!(!paths[0].is_valid(2.0, 2));
+    }
+
+    #[test]
+    fn close_cuts_keep_the_cheaper_path() {
+        let search = PrimitiveSearch { nu: 2.0, min_path_frames: 5, min_cut_distance: 5 };
+        let cut = |frame: usize, cost: f32| Cut {
+            frame,
+            path: WarpingPath { start: (0, frame), end: (10, frame + 10), cost, nodes: 11, region: 0 },
+        };
+        let kept = search.thin(vec![cut(40, 22.0), cut(43, 11.0), cut(60, 30.0), cut(64, 33.0), cut(80, 1.0)]);
+        assert_eq!(kept.iter().map(|c| c.frame).collect::<Vec<_>>(), vec![43, 60, 80]);
+    }
+
+    #[test]
+    fn splitting_an_action() {
+        let a = Span { start: 10, end: 50 };
+        assert_eq!(split(a, &[]), vec![a]);
+        assert_eq!(
+            split(a, &[20, 35]),
+            vec![Span { start: 10, end: 19 }, Span { start: 20, end: 34 }, Span { start: 35, end: 50 }]
+        );
+    }
+}

@@ -1,0 +1,146 @@
+//! The `mocapseg` command line, run as a user would run it.
+#![cfg(not(target_arch = "wasm32"))]
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures").join(name)
+}
+
+fn out_dir() -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("cli");
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_mocapseg")).args(args).output().expect("run mocapseg")
+}
+
+fn stdout_json(out: &Output) -> serde_json::Value {
+    assert!(out.status.success(), "failed: {}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).expect("JSON on stdout")
+}
+
+#[test]
+fn info_reports_frames_fps_units_and_warnings() {
+    let v = stdout_json(&run(&["info", fixture("02_01.bvh").to_str().unwrap()]));
+    assert_eq!(v["file"], "02_01.bvh");
+    assert_eq!(v["joints"], 31);
+    assert_eq!(v["end_sites"], 7);
+    assert_eq!(v["frames"], 343);
+    assert_eq!(v["frame_time"], 0.0083333);
+    assert!((v["fps"].as_f64().unwrap() - 120.0).abs() < 1e-3);
+    assert!((v["duration_s"].as_f64().unwrap() - 343.0 * 0.0083333).abs() < 1e-6);
+    assert_eq!(v["units"], "cmu_asf");
+    assert_eq!(v["up_axis"], "Y");
+    assert_eq!(v["warnings"].as_array().unwrap().len(), 0);
+
+    // The assimp file declares 3069 frames but holds 3070 rows: the rows win, with a warning.
+    let v = stdout_json(&run(&["info", fixture("assimp_Boxing_Toes_100fps.bvh").to_str().unwrap()]));
+    assert_eq!(v["frames"], 3070);
+    assert_eq!(v["declared_frames"], 3069);
+    assert_eq!(v["fps"], 100.0);
+    let warnings = v["warnings"].as_array().unwrap();
+    assert!(warnings.iter().any(|w| w.as_str().unwrap().contains("3069")), "{warnings:?}");
+
+    // 23.976 fps stays 23.976.
+    let v = stdout_json(&run(&["info", fixture("pybvh_full_precision_frame_time.bvh").to_str().unwrap()]));
+    assert_eq!(v["frame_time"], 0.0417083750417);
+    assert!((v["fps"].as_f64().unwrap() - 23.976).abs() < 1e-6);
+}
+
+#[test]
+fn bad_files_fail_with_file_line_and_column() {
+    let out = run(&["info", fixture("bad.bvh").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.starts_with("error: bad.bvh: line 9, column 34:"), "{err}");
+    let out = run(&["info", "/definitely/not/here.bvh"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("/definitely/not/here.bvh"));
+}
+
+#[test]
+fn image_writes_a_png_one_column_per_frame() {
+    let path = out_dir().join("02_01.png");
+    let out = run(&["image", fixture("02_01.bvh").to_str().unwrap(), "-o", path.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap()));
+    let reader = decoder.read_info().unwrap();
+    let info = reader.info();
+    assert_eq!((info.width, info.height), (343, 31));
+}
+
+#[test]
+fn positions_csv_has_a_row_per_frame_and_xyz_per_joint() {
+    let path = out_dir().join("02_01.csv");
+    let out = run(&["positions", fixture("02_01.bvh").to_str().unwrap(), "--fps", "30", "-o", path.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&path).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let header: Vec<&str> = lines[0].split(',').collect();
+    assert_eq!(&header[..5], &["frame", "time_s", "Hips_x", "Hips_y", "Hips_z"]);
+    assert_eq!(header.len(), 2 + 31 * 3);
+    // 343 frames at 120 Hz = frames 0, 4, …, 340 at 30 Hz.
+    assert_eq!(lines.len() - 1, 86);
+    let row: Vec<f64> = lines[2].split(',').map(|v| v.parse().unwrap()).collect();
+    assert_eq!(row[0], 1.0);
+    assert!((row[1] - 1.0 / 30.0).abs() < 1e-9);
+    // Root height of a CMU take is 16–18 units.
+    assert!((15.0..19.0).contains(&row[3]), "root y {}", row[3]);
+}
+
+#[test]
+fn segment_prints_the_schema_and_echoes_overridden_params() {
+    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("www/sample.bvh");
+    let out = run(&["segment", "--method", "sssm", file.to_str().unwrap(), "--radius", "17", "--param", "stop_window=6"]);
+    let v = stdout_json(&out);
+    assert_eq!(v["method"], "sssm");
+    assert_eq!(v["frames"], 2465);
+    assert_eq!(v["params"]["radius"], 17.0);
+    assert_eq!(v["params"]["stop_window"], 6);
+    let segs = v["segments"].as_array().unwrap();
+    let actions: Vec<_> = segs.iter().filter(|s| s["level"] == "action").collect();
+    assert!(actions.len() >= 2, "13_30 holds five exercises, found {} actions", actions.len());
+    for s in segs {
+        assert!(s["start"].as_u64().unwrap() <= s["end"].as_u64().unwrap());
+        assert!(s["end"].as_u64().unwrap() < 2465);
+    }
+
+    let out = run(&["segment", file.to_str().unwrap(), "--param", "no_such=1"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown SSSM parameter `no_such`"));
+    let out = run(&["segment", file.to_str().unwrap(), "--radius", "-1"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("radius"));
+}
+
+#[test]
+fn eval_scores_a_segmentation_against_truth() {
+    let dir = out_dir();
+    let seg = serde_json::json!({
+        "file": "take.bvh", "fps": 10.0, "frames": 100, "method": "hand", "params": {},
+        "segments": [
+            {"start": 0, "end": 49, "label": "a", "level": "action", "cluster": 0, "score": null},
+            {"start": 50, "end": 99, "label": "b", "level": "action", "cluster": 1, "score": null}
+        ]
+    });
+    let seg_path = dir.join("take.json");
+    std::fs::write(&seg_path, seg.to_string()).unwrap();
+    let truth_path = dir.join("truth.csv");
+    std::fs::write(&truth_path, "trial,label,start_frame,end_frame,trial_frames\ntake,walk,1,50,100\ntake,jump,51,100,100\n").unwrap();
+    let v = stdout_json(&run(&["eval", seg_path.to_str().unwrap(), "--truth", truth_path.to_str().unwrap()]));
+    assert_eq!(v["trial"], "take");
+    assert_eq!(v["boundaries"][0]["f1"], 1.0);
+    assert_eq!(v["covering"], 1.0);
+    assert_eq!(v["hungarian_accuracy"], 1.0);
+}
+
+#[test]
+fn eval_data_says_clearly_when_the_data_is_absent() {
+    let out = run(&["eval-data", "--data", "/no/such/folder"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no shared data here"));
+}

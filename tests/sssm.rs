@@ -1,0 +1,375 @@
+//! SSSM segmentation (issue 3) on synthetic feature sequences with known answers, on
+//! hand-made neighbour lists, and end to end on fixture takes.
+//!
+//! The same tests run natively (`cargo test --test sssm`) and in headless Chromium
+//! (`cargo test --target wasm32-unknown-unknown --test sssm`, runner in `.cargo/config.toml`):
+//! fixtures are embedded with `include_bytes!`, and in wasm `#[test]` is wasm-bindgen-test's.
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+#[cfg(target_arch = "wasm32")]
+wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
+
+use mocapseg::segment::Level;
+use mocapseg::sssm::activities::{RegionGrowing, Span};
+use mocapseg::sssm::primitives::{NeighbourhoodGraph, PrimitiveSearch};
+use mocapseg::sssm::{segment, segment_features, FeatureMatrix, MirrorMap, Sssm, SssmError, SssmOutcome, SssmParams};
+use std::f32::consts::TAU;
+
+/// Deterministic noise in [-0.5, 0.5).
+struct Noise(u64);
+
+impl Noise {
+    fn next(&mut self) -> f32 {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32 - 0.5
+    }
+}
+
+/// One frame of the 15 end-effector values `[LH, RH, LF, RF, Head] × (x, y, z)` in inches
+/// (x lateral, left side at +x; y up; z forward), as `motion::normalize` produces them.
+type Pose = [f32; 15];
+
+fn matrix(poses: &[Pose], noise: &mut Noise, amplitude: f32) -> FeatureMatrix {
+    let rows: Vec<Pose> = poses.iter().map(|p| p.map(|v| v + amplitude * noise.next())).collect();
+    FeatureMatrix::from_rows(&rows).unwrap()
+}
+
+/// Arms circling in front of the body, feet still; `period` frames per circle.
+fn arm_circles(t: f32, period: f32) -> Pose {
+    let a = TAU * t / period;
+    [
+        12.0 + 10.0 * a.cos(),
+        20.0 + 10.0 * a.sin(),
+        10.0, // left hand
+        -12.0 - 10.0 * a.cos(),
+        20.0 + 10.0 * a.sin(),
+        10.0, // right hand
+        8.0,
+        -35.0,
+        0.0, // left foot
+        -8.0,
+        -35.0,
+        0.0, // right foot
+        0.0,
+        25.0,
+        0.0, // head
+    ]
+}
+
+/// Squats: the body goes down and up, hands reach forward at the bottom; `period` frames each.
+fn squats(t: f32, period: f32) -> Pose {
+    let depth = 0.5 - 0.5 * (TAU * t / period).cos(); // 0 standing … 1 bottom
+    [
+        10.0,
+        -10.0 + 25.0 * depth,
+        5.0 + 20.0 * depth, // hands rise forward as the hips drop
+        -10.0,
+        -10.0 + 25.0 * depth,
+        5.0 + 20.0 * depth,
+        9.0,
+        -35.0 + 15.0 * depth,
+        2.0 * depth, // feet come closer to the hips
+        -9.0,
+        -35.0 + 15.0 * depth,
+        2.0 * depth,
+        0.0,
+        25.0,
+        6.0 * depth,
+    ]
+}
+
+/// Walking in place: each foot swings forward and lifts, the arms swing against the legs, the
+/// right side half a cycle after the left: frame `t` mirrored is frame `t + period/2`.
+fn gait(t: f32, period: f32) -> Pose {
+    let side = |phase: f32, sign: f32| {
+        let a = TAU * phase;
+        let foot = [sign * 8.0, -35.0 + 4.0 * a.sin().max(0.0), 14.0 * a.sin()];
+        let hand = [sign * 17.0, -2.0, -12.0 * a.sin()];
+        (foot, hand)
+    };
+    let (lf, lh) = side(t / period, 1.0);
+    let (rf, rh) = side(t / period + 0.5, -1.0);
+    let bob = 1.0 * (2.0 * TAU * t / period).cos();
+    [lh[0], lh[1], lh[2], rh[0], rh[1], rh[2], lf[0], lf[1], lf[2], rf[0], rf[1], rf[2], 0.0, 25.0 + bob, 0.0]
+}
+
+fn run(base: &FeatureMatrix, mirror: bool, params: SssmParams) -> SssmOutcome {
+    let valid = params.mirror(mirror).check().unwrap();
+    let map = MirrorMap::end_effectors();
+    segment_features(base, Some(&map), &valid, &mut |_, _| {}).unwrap()
+}
+
+/// Boundaries between consecutive actions, each transition split at its middle (how the
+/// action level is scored).
+fn action_boundaries(o: &SssmOutcome) -> Vec<usize> {
+    o.actions.windows(2).map(|w| (w[0].span.end + 1 + w[1].span.start) / 2).collect()
+}
+
+fn median(mut v: Vec<usize>) -> usize {
+    v.sort_unstable();
+    v[v.len() / 2]
+}
+
+#[test]
+fn two_periodic_activities_back_to_back_give_one_cut_at_the_switch() {
+    let poses: Vec<Pose> =
+        (0..1200).map(|t| if t < 600 { arm_circles(t as f32, 31.3) } else { squats(t as f32, 43.7) }).collect();
+    let o = run(&matrix(&poses, &mut Noise(1), 1.0), true, SssmParams::new());
+    assert_eq!(o.actions.len(), 2, "actions: {:?}", o.actions);
+    let b = action_boundaries(&o);
+    // Each stacked feature spans ±10 frames, so the 20 frames around the switch mix both
+    // activities; a stop after w = 5 empty scan lines adds at most 5 frames: ±15 frames.
+    assert!(b[0].abs_diff(600) <= 15, "boundary at {} instead of 600", b[0]);
+    // both actions nearly fill their halves (the first period has nothing to repeat yet)
+    assert!(o.actions[0].span.start <= 45 && o.actions[1].span.end >= 1150, "{:?}", o.actions);
+    // different kinds of action
+    assert_ne!(o.actions[0].cluster, o.actions[1].cluster);
+}
+
+#[test]
+fn a_periodic_motion_is_cut_into_primitives_of_its_period() {
+    let period = 40.0;
+    let poses: Vec<Pose> = (0..900).map(|t| squats(t as f32, period)).collect();
+    let o = run(&matrix(&poses, &mut Noise(2), 1.0), false, SssmParams::new());
+    assert_eq!(o.actions.len(), 1, "actions: {:?}", o.actions);
+    let a = o.actions[0].span;
+    assert!(a.start <= 40 && a.end >= 860, "the action covers the take: {a:?}");
+    let lengths: Vec<usize> = o.primitives.iter().map(|p| p.span.len()).collect();
+    // inner primitives (the first and last may be partial cycles)
+    let inner = lengths[1..lengths.len() - 1].to_vec();
+    assert!(inner.len() >= 18, "{} primitives for 22 cycles: {lengths:?}", lengths.len());
+    assert_eq!(median(inner.clone()), 40, "primitive lengths {lengths:?}");
+    assert!(inner.iter().all(|&l| l.abs_diff(40) <= 3), "primitive lengths {lengths:?}");
+    // all full cycles are one cluster
+    let c = o.primitives[1].cluster;
+    assert!(o.primitives[1..o.primitives.len() - 1].iter().all(|p| p.cluster == c), "{:?}", o.primitives);
+}
+
+#[test]
+fn a_mirrored_gait_alternates_between_two_mirror_clusters() {
+    let period = 36.0;
+    let poses: Vec<Pose> = (0..900).map(|t| gait(t as f32, period)).collect();
+    let base = matrix(&poses, &mut Noise(3), 0.5);
+
+    // without the mirror, primitives are whole cycles
+    let plain = run(&base, false, SssmParams::new());
+    assert_eq!(plain.actions.len(), 1);
+    let inner: Vec<usize> = plain.primitives[1..plain.primitives.len() - 1].iter().map(|p| p.span.len()).collect();
+    assert_eq!(median(inner), 36, "{:?}", plain.primitives);
+
+    // with it, every cycle splits into two steps that alternate between mirror clusters
+    let o = run(&base, true, SssmParams::new());
+    assert_eq!(o.actions.len(), 1);
+    let steps = &o.primitives[1..o.primitives.len() - 1];
+    assert!(steps.len() >= 40, "{} steps", steps.len());
+    assert_eq!(median(steps.iter().map(|p| p.span.len()).collect()), 18, "{:?}", o.primitives);
+    let (a, b) = (steps[0].cluster, steps[1].cluster);
+    assert_ne!(a, b);
+    for (k, p) in steps.iter().enumerate() {
+        assert_eq!(p.cluster, if k % 2 == 0 { a } else { b }, "step {k}: {:?}", o.primitives);
+    }
+    assert_eq!(o.clusters[a].mirror_of, Some(b));
+    assert_eq!(o.clusters[b].mirror_of, Some(a));
+    assert_eq!(o.actions[0].symmetry, mocapseg::sssm::SymmetryKind::PhaseShifted);
+}
+
+#[test]
+fn region_growing_on_hand_made_lists() {
+    // Frames 0..=99: a repeated block 10..=59 (frame i matches i ± 20, ± 40) and nothing else
+    // but the main diagonal.
+    let n = 100;
+    let mut lists = vec![Vec::new(); n];
+    for (i, list) in lists.iter_mut().enumerate() {
+        list.push((i as u32, 0.0));
+        for k in [20i64, 40] {
+            for j in [i as i64 - k, i as i64 + k] {
+                if (10..60).contains(&(i as i64)) && (10..60).contains(&j) {
+                    list.push((j as u32, 2.0));
+                }
+            }
+        }
+    }
+    let s = Sssm::from_lists(&lists).unwrap();
+    let grow = RegionGrowing { sssm: &s, mirror: None, band: 10, stop_window: 5, min_entries: 10, relative: Some(1.5) };
+    let forward = grow.forward();
+    assert_eq!(forward.len(), 1);
+    // scan line i counts j in [0, i − 10]: i − 20 for i in 30..=59, i − 40 for i in 50..=59
+    assert_eq!((forward[0].seed, forward[0].end, forward[0].entries), (0, 59, 40));
+    let act = grow.activities(mocapseg::sssm::BoundaryRule::Paper);
+    assert_eq!(act.backward_starts, vec![10]);
+    assert_eq!(act.actions, vec![Span { start: 10, end: 59 }]);
+    assert_eq!(act.transitions, vec![Span { start: 0, end: 9 }, Span { start: 60, end: 99 }]);
+}
+
+#[test]
+fn warping_paths_outside_the_slope_limits_give_no_cut() {
+    // one action 0..=99; a diagonal j = i + 30 (slope 1) and a steep stretch j = 3(i − 10) + 50
+    // (slope 3) for i in 10..=25
+    let n = 100;
+    let mut lists = vec![Vec::new(); n];
+    for (i, list) in lists.iter_mut().enumerate().take(70) {
+        list.push(((i + 30) as u32, 1.0));
+    }
+    for (i, list) in lists.iter_mut().enumerate().take(26).skip(10) {
+        for j in 3 * (i - 10) + 50..3 * (i - 10) + 53 {
+            if !list.iter().any(|&(c, _)| c as usize == j) {
+                list.push((j as u32, 0.5));
+            }
+        }
+    }
+    let s = Sssm::from_lists(&lists).unwrap();
+    let graph = NeighbourhoodGraph::new(&s);
+    let search = PrimitiveSearch { nu: 2.0, min_path_frames: 5, min_cut_distance: 5 };
+    let cuts = search.cuts(&graph, &[Span { start: 0, end: 99 }]);
+    assert_eq!(cuts[0].iter().map(|c| c.frame).collect::<Vec<_>>(), vec![30]);
+    assert_eq!(cuts[0][0].path.slope(), Some(1.0));
+    // with ν = 4 the steep path is valid too; its cheapest route enters row 10 at (10, 52)
+    // and leaves row 25 at (25, 95): slope 43/15 ≈ 2.9, and a second cut at 52
+    let loose = PrimitiveSearch { nu: 4.0, ..search };
+    let cuts = loose.cuts(&graph, &[Span { start: 0, end: 99 }]);
+    assert_eq!(cuts[0].iter().map(|c| c.frame).collect::<Vec<_>>(), vec![30, 52]);
+    assert_eq!((cuts[0][1].path.start, cuts[0][1].path.end), ((10, 52), (25, 95)));
+}
+
+#[test]
+fn parameters_are_checked_with_readable_errors() {
+    let e = SssmParams::new().radius(-1.0).check().unwrap_err();
+    assert_eq!(e.to_string(), "invalid SSSM parameter radius = -1: expected a positive radius in inches");
+    let e = SssmParams::new().offsets(vec![-5, 0, 0]).check().unwrap_err();
+    assert!(matches!(e, SssmError::InvalidParam { name: "offsets", .. }), "{e}");
+    assert!(e.to_string().contains("distinct frame offsets"));
+    let e = SssmParams::new().nu(0.9).check().unwrap_err();
+    assert!(e.to_string().contains("ν ≥ 1"), "{e}");
+    let ok = SssmParams::new().check().unwrap();
+    assert!((ok.search_radius() - 19.0 * 5f64.sqrt()).abs() < 1e-9);
+}
+
+#[test]
+fn features_of_the_wrong_shape_are_rejected() {
+    let base = FeatureMatrix::from_rows(&[[0.0f32; 6]; 40]).unwrap();
+    let valid = SssmParams::new().check().unwrap();
+    let e = segment_features(&base, Some(&MirrorMap::end_effectors()), &valid, &mut |_, _| {}).unwrap_err();
+    assert!(e.to_string().contains("mirror map is for 15 values"), "{e}");
+    // without a mirror map the same features are fine (a still take: no action)
+    let o = segment_features(&base, None, &valid, &mut |_, _| {}).unwrap();
+    assert!(o.actions.is_empty());
+    assert_eq!(o.activities.transitions, vec![Span { start: 0, end: 39 }]);
+}
+
+#[test]
+fn tiny_still_and_huge_inputs_are_handled() {
+    let valid = SssmParams::new().check().unwrap();
+    let map = MirrorMap::end_effectors();
+    for n in [1, 2, 5, 31] {
+        let base = matrix(&vec![squats(0.0, 40.0); n], &mut Noise(n as u64), 0.1);
+        let o = segment_features(&base, Some(&map), &valid, &mut |_, _| {}).unwrap();
+        assert!(o.actions.is_empty() && o.primitives.is_empty(), "{n} frames");
+        assert_eq!(o.activities.transitions, vec![Span { start: 0, end: n - 1 }]);
+    }
+    // a perfectly still take: every frame is every frame's neighbour, capped
+    let still = FeatureMatrix::from_rows(&vec![squats(0.0, 40.0); 900]).unwrap();
+    let o = segment_features(&still, Some(&map), &valid, &mut |_, _| {}).unwrap();
+    assert!((0..900).all(|i| o.sssm.row(i).0.len() <= 600));
+    assert!(o.actions.len() <= 1);
+    // too long for the entry budget
+    let long = FeatureMatrix::new(40_000, 1, vec![0.0; 40_000]).unwrap();
+    let e = segment_features(&long, None, &valid, &mut |_, _| {}).unwrap_err();
+    assert!(matches!(e, SssmError::TooLarge { frames: 40_000, .. }), "{e}");
+}
+
+#[test]
+fn segmenting_a_take_gives_a_valid_segmentation_at_the_file_rate() {
+    let motion = &load("131_01.bvh", include_bytes!("fixtures/131_01.bvh"));
+    let mut stages = Vec::new();
+    let r =
+        mocapseg::sssm::segment_with_progress(motion, &SssmParams::new(), &mut |s, f| stages.push((s.to_string(), f)))
+            .unwrap();
+    let seg = &r.segmentation;
+    seg.validate().unwrap();
+    assert_eq!((seg.fps, seg.frames, seg.method.as_str()), (motion.fps, motion.frames(), "sssm"));
+    assert_eq!(seg.params["radius"], 19.0);
+    assert_eq!(stages.first().map(|s| s.0.as_str()), Some("features"));
+    assert_eq!(stages.last().map(|s| s.1), Some(1.0));
+    // actions and transitions tile the take
+    let mut top: Vec<_> = seg.segments.iter().filter(|s| s.level != Level::Primitive).collect();
+    top.sort_by_key(|s| s.start);
+    assert_eq!(top.first().unwrap().start, 0);
+    assert_eq!(top.last().unwrap().end, motion.frames() - 1);
+    for w in top.windows(2) {
+        assert_eq!(w[0].end + 1, w[1].start, "{:?} then {:?}", w[0], w[1]);
+    }
+    // primitives tile the actions
+    for a in seg.level(Level::Action) {
+        let prims: Vec<_> = seg.level(Level::Primitive).filter(|p| p.start >= a.start && p.end <= a.end).collect();
+        assert_eq!(prims.first().unwrap().start, a.start);
+        assert_eq!(prims.last().unwrap().end, a.end);
+        assert_eq!(prims.iter().map(|p| p.end + 1 - p.start).sum::<usize>(), a.end + 1 - a.start);
+    }
+    // 131_01 is "start, walk, stop": one walking action between standing still
+    let actions: Vec<_> = seg.level(Level::Action).collect();
+    assert_eq!(actions.len(), 1, "{actions:?}");
+    let t = |f: usize| f as f64 / motion.fps;
+    assert!(t(actions[0].start) > 0.5 && t(actions[0].end) < t(motion.frames()) - 0.5, "{:?}", actions[0]);
+    // the working rate maps back: 120 Hz file, 30 Hz working frames
+    assert_eq!(r.outcome.fps, 30.0);
+    assert_eq!(r.source_frames[3], 12.0);
+    assert!(segment(motion, &SssmParams::new().radius(0.0)).is_err());
+}
+
+fn load(name: &str, bytes: &[u8]) -> mocapseg::motion::Motion {
+    mocapseg::load::load_bytes(name, bytes, &mut |_| {}).unwrap().motion
+}
+
+fn mean_abs(f: &FeatureMatrix) -> f64 {
+    f.as_slice().iter().map(|v| v.abs() as f64).sum::<f64>() / f.as_slice().len() as f64
+}
+
+#[test]
+fn features_are_in_inches_whatever_the_file_units() {
+    // the same take in CMU ASF units and in metres
+    let asf = load("131_01.bvh", include_bytes!("fixtures/131_01.bvh"));
+    let metres = load("scaled.bvh", include_bytes!("fixtures/cmu_131_01_scaled_meters.bvh"));
+    for body_scale in [false, true] {
+        let valid = SssmParams::new().body_scale(body_scale).check().unwrap();
+        let a = mocapseg::sssm::features::from_motion(&asf, &valid).unwrap();
+        let m = mocapseg::sssm::features::from_motion(&metres, &valid).unwrap();
+        assert_eq!(a.base.dim(), 15);
+        assert_eq!(a.base.frames(), 249, "994 frames at 120 Hz → 249 at 30 Hz");
+        let (ma, mm) = (mean_abs(&a.base), mean_abs(&m.base));
+        assert!((ma / mm - 1.0).abs() < 0.01, "body_scale {body_scale}: {ma} vs {mm} inches");
+        // hands, feet and head lie within a body's reach of the hips: 5–30 inches on average
+        assert!((5.0..30.0).contains(&ma), "{ma}");
+    }
+    // without body scaling the factor is inches per ASF unit (1/0.45)
+    let valid = SssmParams::new().body_scale(false).check().unwrap();
+    let a = mocapseg::sssm::features::from_motion(&asf, &valid).unwrap();
+    assert!((a.scale - 0.056444 / 0.0254).abs() < 1e-9, "{}", a.scale);
+}
+
+#[test]
+fn a_skeleton_without_hands_and_feet_is_refused_with_a_message() {
+    let motion = load("simple.bvh", include_bytes!("fixtures/bvh_anim_test_simple.bvh"));
+    let e = segment(&motion, &SssmParams::new()).unwrap_err();
+    assert!(matches!(e, SssmError::MissingJoints(_)), "{e}");
+    assert!(e.to_string().contains("hands, feet, head and hips"), "{e}");
+}
+
+#[test]
+fn the_bundled_sample_is_cut_where_its_annotation_says() {
+    // www/sample.bvh = CMU 13_30; mocap6 annotation (Fox et al. 2014): JumpJack, Twist,
+    // KneeRaise, Squat, Jog, boundaries at AMC frames 217, 805, 1417, 1933 (1-based, 120 Hz)
+    let motion = load("sample.bvh", include_bytes!("../www/sample.bvh"));
+    let r = segment(&motion, &SssmParams::new()).unwrap();
+    let actions: Vec<_> = r.segmentation.level(Level::Action).collect();
+    assert_eq!(actions.len(), 5, "{actions:?}");
+    let bounds: Vec<usize> = actions.windows(2).map(|w| (w[0].end + 1 + w[1].start) / 2).collect();
+    for (found, truth) in bounds.iter().zip([216, 804, 1416, 1932]) {
+        assert!(found.abs_diff(truth) <= 60, "boundary at {found}, annotated at {truth} (±0.5 s)");
+    }
+    // five different exercises: five kinds of action
+    let mut kinds: Vec<_> = actions.iter().map(|a| a.cluster).collect();
+    kinds.sort_unstable();
+    kinds.dedup();
+    assert_eq!(kinds.len(), 5);
+}
