@@ -16,10 +16,24 @@
 //! * worker → page: `{type: "error", id, message, fatal}` — `message` is the parser's error with
 //!   the file name in front ("02_bad.bvh: line 12, column 5: expected …"); `fatal` asks the page
 //!   to start a fresh worker (the wasm module trapped).
+//!
+//! The SSSM segmentation (Krüger et al. 2017, issue 3) runs on the take the worker loaded last
+//! (kept in the worker after [`worker_load`]) with [`worker_sssm`]:
+//! * page → worker: `{id, kind: "sssm", params: "<SssmParams JSON, fields optional>"}`
+//!   ([`sssm_request`]);
+//! * worker → page: `{type: "sssm-progress", id, stage, fraction}`;
+//! * worker → page: `{type: "sssm-done", id, report: "<SssmReport JSON>", image: {size, block,
+//!   rgba: Uint8Array}}` — the segmentation at the file's frame rate plus the SSSM image
+//!   rendered by [`crate::sssm_image`];
+//! * worker → page: `{type: "sssm-error", id, message, fatal}` (a bad parameter names it).
 
 use crate::bvh::{parse_with_progress, ParseLimits};
 use crate::image::MotionImage;
 use crate::motion::{Motion, Units, UpAxis};
+use crate::segment::Segmentation;
+use crate::sssm::{segment_with_progress, SssmParams};
+use crate::sssm_image::{self, SssmImage};
+use std::cell::RefCell;
 use glam::Vec3;
 use js_sys::{Array, ArrayBuffer, Float32Array, Function, Object, Reflect, Uint8Array};
 use serde::{Deserialize, Serialize};
@@ -131,6 +145,26 @@ impl LoadedMotion {
     }
 }
 
+/// What the page shows of an SSSM run besides the image.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SssmReport {
+    /// Actions, transitions and primitives at the file's frame rate.
+    pub segmentation: Segmentation,
+    /// For each primitive cluster, the cluster that holds its mirror images (§V), if any.
+    pub mirror_of: Vec<Option<usize>>,
+    /// Working frame rate and frames (the SSSM image's axes).
+    pub working_fps: f64,
+    pub working_frames: usize,
+}
+
+/// A finished SSSM run, as received by the page.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SssmView {
+    pub report: SssmReport,
+    /// The SSSM image (see [`crate::sssm_image`]).
+    pub image: SssmImage,
+}
+
 /// A message from the worker, decoded on the page.
 #[derive(Debug, Clone, PartialEq)]
 pub enum WorkerEvent {
@@ -144,6 +178,20 @@ pub enum WorkerEvent {
         motion: Box<LoadedMotion>,
     },
     Error {
+        id: u32,
+        message: String,
+        fatal: bool,
+    },
+    SssmProgress {
+        id: u32,
+        stage: String,
+        fraction: Option<f64>,
+    },
+    SssmDone {
+        id: u32,
+        view: Box<SssmView>,
+    },
+    SssmError {
         id: u32,
         message: String,
         fatal: bool,
@@ -171,6 +219,22 @@ impl WorkerEvent {
                     .unwrap_or_else(|| "unknown error".into()),
                 fatal: field(data, "fatal")?.is_truthy(),
             }),
+            Some("sssm-progress") => Ok(WorkerEvent::SssmProgress {
+                id,
+                stage: field(data, "stage")?.as_string().unwrap_or_default(),
+                fraction: field(data, "fraction")?.as_f64(),
+            }),
+            Some("sssm-done") => Ok(WorkerEvent::SssmDone {
+                id,
+                view: Box::new(decode_sssm(data)?),
+            }),
+            Some("sssm-error") => Ok(WorkerEvent::SssmError {
+                id,
+                message: field(data, "message")?
+                    .as_string()
+                    .unwrap_or_else(|| "unknown error".into()),
+                fatal: field(data, "fatal")?.is_truthy(),
+            }),
             other => Err(format!("unknown worker message type {other:?}")),
         }
     }
@@ -183,6 +247,74 @@ pub fn load_request(id: u32, name: &str, bytes: &ArrayBuffer) -> Result<JsValue,
     Reflect::set(&message, &"name".into(), &name.into())?;
     Reflect::set(&message, &"bytes".into(), bytes)?;
     Ok(message.into())
+}
+
+/// The message asking the worker to run the SSSM on the loaded take with `params_json`.
+pub fn sssm_request(id: u32, params_json: &str) -> Result<JsValue, JsValue> {
+    let message = Object::new();
+    Reflect::set(&message, &"id".into(), &id.into())?;
+    Reflect::set(&message, &"kind".into(), &"sssm".into())?;
+    Reflect::set(&message, &"params".into(), &params_json.into())?;
+    Ok(message.into())
+}
+
+thread_local! {
+    /// The take loaded last (the SSSM runs on it).
+    static LOADED: RefCell<Option<Motion>> = const { RefCell::new(None) };
+}
+
+/// Worker entry point: run the SSSM segmentation (Krüger et al. 2017) on the take loaded last.
+///
+/// `params_json` is an [`SssmParams`] object whose fields are all optional (the defaults fill
+/// in the rest); `progress(stage, fraction)` reports the method's stages. Returns `{report,
+/// image: {size, block, rgba}}` (see the module documentation); throws a string naming the bad
+/// parameter or what else went wrong.
+#[wasm_bindgen]
+pub fn worker_sssm(params_json: &str, progress: &Function) -> Result<JsValue, JsValue> {
+    console_error_panic_hook::set_once();
+    let params: SssmParams =
+        serde_json::from_str(params_json).map_err(|e| JsValue::from_str(&format!("SSSM parameters: {e}")))?;
+    let mut report = |stage: &str, fraction: f64| {
+        let _ = progress.call2(&JsValue::NULL, &stage.into(), &fraction.into());
+    };
+    LOADED.with_borrow(|loaded| {
+        let motion = loaded.as_ref().ok_or_else(|| JsValue::from_str("SSSM: no take is loaded"))?;
+        let result = segment_with_progress(motion, &params, &mut report)
+            .map_err(|e| JsValue::from_str(&format!("SSSM on {}: {e}", motion.name)))?;
+        report("image", 1.0);
+        let image = sssm_image::render(&result.outcome);
+        let summary = SssmReport {
+            mirror_of: result.outcome.clusters.iter().map(|c| c.mirror_of).collect(),
+            working_fps: result.outcome.fps,
+            working_frames: result.outcome.frames,
+            segmentation: result.segmentation,
+        };
+        encode_sssm(&summary, &image)
+    })
+}
+
+fn encode_sssm(report: &SssmReport, image: &SssmImage) -> Result<JsValue, JsValue> {
+    let text = serde_json::to_string(report).map_err(|e| JsValue::from_str(&format!("SSSM report: {e}")))?;
+    let result = Object::new();
+    set(&result, "report", text.into())?;
+    let img = Object::new();
+    set(&img, "size", image.size.into())?;
+    set(&img, "block", image.block.into())?;
+    set(&img, "rgba", Uint8Array::from(&image.rgba[..]).into())?;
+    set(&result, "image", img.into())?;
+    Ok(result.into())
+}
+
+fn decode_sssm(data: &JsValue) -> Result<SssmView, String> {
+    let text = field(data, "report")?.as_string().ok_or("worker message `report` is not text")?;
+    let report: SssmReport = serde_json::from_str(&text).map_err(|e| format!("worker message `report`: {e}"))?;
+    report.segmentation.validate().map_err(|e| format!("worker message `report`: {e}"))?;
+    let image = field(data, "image")?;
+    let image = SssmImage { size: decode(&image, "size")?, block: decode(&image, "block")?, rgba: decode_bytes(&image, "rgba")? };
+    if image.rgba.len() != image.size * image.size * 4 {
+        return Err("worker message: the SSSM image's size does not match its pixels".into());
+    }
+    Ok(SssmView { report, image })
 }
 
 /// Worker entry point: parse `bytes` as BVH, run forward kinematics and build the motion image.
@@ -211,7 +343,9 @@ pub fn worker_load(bytes: &[u8], name: String, progress: &Function) -> Result<Js
     report("motion image", None);
     let image = MotionImage::from_motion(&motion);
     let png = image.try_to_png().map_err(|e| fail(format!("motion image: {e}")))?;
-    encode_result(&motion, &image, &png)
+    let result = encode_result(&motion, &image, &png)?;
+    LOADED.set(Some(motion));
+    Ok(result)
 }
 
 fn encode_result(motion: &Motion, image: &MotionImage, png: &[u8]) -> Result<JsValue, JsValue> {
@@ -445,6 +579,73 @@ mod tests {
             }
         );
         assert!(WorkerEvent::from_js(&Object::new().into()).is_err());
+    }
+
+    fn sssm(params: &str) -> (Result<JsValue, JsValue>, Vec<(String, Option<f64>)>) {
+        let seen = Rc::new(RefCell::new(Vec::new()));
+        let sink = seen.clone();
+        let progress = Closure::<dyn FnMut(String, JsValue)>::new(move |stage: String, f: JsValue| {
+            sink.borrow_mut().push((stage, f.as_f64()));
+        });
+        let result = worker_sssm(params, progress.as_ref().unchecked_ref());
+        let seen = seen.borrow().clone();
+        (result, seen)
+    }
+
+    /// A real take (CMU 12_01, 120 Hz) through the SSSM entry point and back on the page side.
+    #[wasm_bindgen_test]
+    fn an_sssm_run_reaches_the_page_intact() {
+        let take = include_str!("../tests/fixtures/12_01.bvh");
+        let (loaded, _) = load(take, "12_01.bvh");
+        let WorkerEvent::Done { motion, .. } = WorkerEvent::from_js(&as_message("done", 1, &loaded.unwrap())).unwrap()
+        else {
+            panic!("not a done message");
+        };
+        let (result, progress) = sssm("{}");
+        let result = result.expect("the SSSM runs on the loaded take");
+        for stage in ["features", "neighbours", "activities", "primitives", "clusters"] {
+            assert!(progress.iter().any(|(s, _)| s == stage), "no {stage} progress: {progress:?}");
+        }
+        let WorkerEvent::SssmDone { id, view } = WorkerEvent::from_js(&as_message("sssm-done", 9, &result)).unwrap()
+        else {
+            panic!("not an sssm-done message");
+        };
+        assert_eq!(id, 9);
+        let s = &view.report.segmentation;
+        assert_eq!((s.file.as_str(), s.frames, s.method.as_str()), ("12_01.bvh", motion.summary.frames, "sssm"));
+        assert_eq!(s.params["radius"], 19.0, "the defaults are echoed");
+        assert!(!s.segments.is_empty());
+        // 120 Hz → 30 Hz working rate: one pixel per working frame
+        assert_eq!(view.report.working_fps, 30.0);
+        assert_eq!((view.image.size, view.image.block), (view.report.working_frames, 1));
+        assert!(view.report.working_frames.abs_diff(motion.summary.frames / 4) <= 1);
+        assert_eq!(view.image.rgba.len(), view.image.size * view.image.size * 4);
+        // the diagonal (every frame is its own neighbour at distance 0) is drawn dark
+        let k = (view.image.size / 2 * (view.image.size + 1)) * 4;
+        assert!(view.image.rgba[k] < 128, "diagonal pixel {:?}", &view.image.rgba[k..k + 4]);
+
+        let (radius, _) = sssm(r#"{"radius": 11, "primitive_radius": 8, "offsets": [-5, 0, 5], "mirror": false}"#);
+        let WorkerEvent::SssmDone { view: other, .. } =
+            WorkerEvent::from_js(&as_message("sssm-done", 10, &radius.unwrap())).unwrap()
+        else {
+            panic!("not an sssm-done message");
+        };
+        assert_eq!(other.report.segmentation.params["radius"], 11.0);
+        assert_eq!(other.report.segmentation.params["mirror"], false);
+    }
+
+    #[wasm_bindgen_test]
+    fn bad_sssm_parameters_are_named() {
+        let (loaded, _) = load(include_str!("../tests/fixtures/12_01.bvh"), "12_01.bvh");
+        loaded.unwrap();
+        let message = sssm(r#"{"radius": -1}"#).0.expect_err("negative radius").as_string().unwrap();
+        assert!(message.contains("radius = -1"), "{message}");
+        let message = sssm(r#"{"radius": 11}"#).0.expect_err("primitive radius > radius").as_string().unwrap();
+        assert!(message.contains("primitive_radius"), "{message}");
+        let message = sssm(r#"{"offsets": []}"#).0.expect_err("no offsets").as_string().unwrap();
+        assert!(message.contains("offsets"), "{message}");
+        let message = sssm(r#"{"radus": 3}"#).0.expect_err("unknown field").as_string().unwrap();
+        assert!(message.starts_with("SSSM parameters: unknown field `radus`"), "{message}");
     }
 
     #[wasm_bindgen_test]

@@ -10,7 +10,15 @@ pub fn ErrorBanner(state: AppState) -> impl IntoView {
     let message = move || state.error.get().unwrap_or_default();
     view! {
         <div id="error-banner" class="ms-error-banner" role="alert" hidden=move || state.error.with(Option::is_none)>
-            <strong class="ms-error-title">"Could not load the file."</strong>
+            <strong class="ms-error-title">
+                {move || {
+                    if state.error.with(|e| e.as_deref().is_some_and(|m| m.contains("SSSM"))) {
+                        "Could not segment the take."
+                    } else {
+                        "Could not load the file."
+                    }
+                }}
+            </strong>
             <span id="error-message" class="ms-error-message">{message}</span>
             <button
                 id="error-dismiss"

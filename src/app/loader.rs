@@ -3,8 +3,8 @@
 //! ([`WorkerEvent`]) into state. Only the newest load counts: messages about an older one are
 //! ignored. A worker whose wasm trapped is replaced by a fresh one.
 
-use super::{AppState, LoadState};
-use crate::worker::{load_request, transfer_list, WorkerEvent};
+use super::{AppState, LoadState, SssmState};
+use crate::worker::{load_request, sssm_request, transfer_list, WorkerEvent};
 use js_sys::ArrayBuffer;
 use leptos::prelude::*;
 use std::cell::{Cell, RefCell};
@@ -51,6 +51,8 @@ struct Inner {
     worker: RefCell<Option<Worker>>,
     /// Id of the newest load; messages with another id are stale.
     current: Cell<u32>,
+    /// Id of the newest SSSM run (its own numbering).
+    sssm_current: Cell<u32>,
     /// Keeps the worker's event handlers alive.
     handlers: RefCell<Vec<Handler>>,
 }
@@ -62,6 +64,7 @@ impl Loader {
             urls,
             worker: RefCell::new(None),
             current: Cell::new(0),
+            sssm_current: Cell::new(0),
             handlers: RefCell::new(Vec::new()),
         });
         spawn_worker(&inner);
@@ -79,6 +82,11 @@ impl Loader {
                 Err(message) => fail(&inner, id, format!("{name}: could not load the sample: {message}")),
             }
         });
+    }
+
+    /// Runs the SSSM on the take on screen with `params_json` (see [`crate::worker::worker_sssm`]).
+    pub fn run_sssm(&self, params_json: &str) {
+        run_sssm(&self.0, params_json);
     }
 
     /// Loads a file the user dropped or picked.
@@ -125,6 +133,30 @@ fn send(inner: &Rc<Inner>, id: u32, name: &str, bytes: &ArrayBuffer) {
     };
     if let Err(e) = posted {
         fail(inner, id, format!("{name}: {}", js_message(&e)));
+    }
+}
+
+fn run_sssm(inner: &Rc<Inner>, params_json: &str) {
+    let id = inner.sssm_current.get().wrapping_add(1);
+    inner.sssm_current.set(id);
+    inner.state.sssm.set(SssmState::Running { stage: "starting".into(), fraction: 0.0 });
+    if inner.worker.borrow().is_none() {
+        spawn_worker(inner);
+    }
+    let posted = match (&*inner.worker.borrow(), sssm_request(id, params_json)) {
+        (Some(worker), Ok(message)) => worker.post_message(&message),
+        (None, _) => Err(JsValue::from_str("the worker could not be started")),
+        (_, Err(e)) => Err(e),
+    };
+    if let Err(e) = posted {
+        fail_sssm(inner, id, format!("SSSM: {}", js_message(&e)));
+    }
+}
+
+fn fail_sssm(inner: &Inner, id: u32, message: String) {
+    if inner.sssm_current.get() == id {
+        inner.state.error.set(Some(message));
+        inner.state.sssm.set(SssmState::Failed);
     }
 }
 
@@ -206,10 +238,31 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
         }
         WorkerEvent::Done { id, motion } if id == inner.current.get() => {
             state.playing.set(false);
+            state.play_until.set(None);
             state.frame.set(0);
+            state.sssm_view.set(None);
             state.motion.set(Some(Arc::new(*motion)));
             state.error.set(None);
             state.load.set(LoadState::Ready);
+            run_sssm(inner, "{}");
+        }
+        WorkerEvent::SssmProgress { id, stage, fraction } if id == inner.sssm_current.get() => {
+            state.sssm.set(SssmState::Running { stage, fraction: fraction.unwrap_or(0.0) });
+        }
+        WorkerEvent::SssmDone { id, view } if id == inner.sssm_current.get() => {
+            state.sssm_view.set(Some(Arc::new(*view)));
+            if state.error.with_untracked(|e| e.as_deref().is_some_and(|m| m.contains("SSSM"))) {
+                state.error.set(None);
+            }
+            state.sssm.set(SssmState::Done);
+        }
+        WorkerEvent::SssmError { id, message, fatal } => {
+            fail_sssm(inner, id, message);
+            if fatal {
+                if let Some(worker) = inner.worker.borrow_mut().take() {
+                    worker.terminate();
+                }
+            }
         }
         WorkerEvent::Error { id, message, fatal } => {
             fail(inner, id, message);

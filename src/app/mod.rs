@@ -10,6 +10,9 @@
 //! per file) renders it and computes nothing — the worker does the work, [`camera`] and
 //! [`playback`] hold the little math the player needs. `document.body.dataset.state` says
 //! where loading stands: `loading`, `ready` or `error` (the outcome of the last load).
+//! After each successful load the worker runs the SSSM segmentation (Krüger et al. 2017) with
+//! default parameters ([`sssm_panel`]); `document.body.dataset.sssm` says where that stands:
+//! `idle`, `running`, `done` or `error`.
 
 mod camera;
 mod drop_zone;
@@ -19,10 +22,11 @@ mod motion_image;
 mod playback;
 mod player;
 mod progress;
+mod sssm_panel;
 mod summary;
 mod timeline;
 
-use crate::worker::LoadedMotion;
+use crate::worker::{LoadedMotion, SssmView};
 use leptos::prelude::*;
 use std::sync::Arc;
 use wasm_bindgen::prelude::*;
@@ -33,6 +37,7 @@ use error_banner::ErrorBanner;
 use loader::{Loader, Urls};
 use player::Player;
 use progress::Progress;
+use sssm_panel::SssmPanel;
 use summary::Summary;
 use timeline::Timeline;
 
@@ -62,6 +67,31 @@ impl LoadState {
     }
 }
 
+/// Where the SSSM segmentation of the take on screen stands.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SssmState {
+    /// Nothing asked yet.
+    Idle,
+    /// The worker is at `stage`, `fraction` (0..1) done.
+    Running { stage: String, fraction: f64 },
+    /// The last run finished (`AppState::sssm_view` holds it).
+    Done,
+    /// The last run failed (the error banner says why).
+    Failed,
+}
+
+impl SssmState {
+    /// The value of `document.body.dataset.sssm`.
+    pub fn body_state(&self) -> &'static str {
+        match self {
+            SssmState::Idle => "idle",
+            SssmState::Running { .. } => "running",
+            SssmState::Done => "done",
+            SssmState::Failed => "error",
+        }
+    }
+}
+
 /// Everything the page shows, as signals (created once, passed to every component).
 #[derive(Debug, Clone, Copy)]
 pub struct AppState {
@@ -75,6 +105,11 @@ pub struct AppState {
     pub playing: RwSignal<bool>,
     /// Playback speed (1 = the file's own frame rate).
     pub speed: RwSignal<f64>,
+    /// Playback stops at this frame (set when a primitive is played).
+    pub play_until: RwSignal<Option<usize>>,
+    pub sssm: RwSignal<SssmState>,
+    /// The SSSM segmentation of the take on screen (`None` until one finishes).
+    pub sssm_view: RwSignal<Option<Arc<SssmView>>>,
 }
 
 impl AppState {
@@ -90,6 +125,9 @@ impl AppState {
             frame: RwSignal::new(0),
             playing: RwSignal::new(false),
             speed: RwSignal::new(1.0),
+            play_until: RwSignal::new(None),
+            sssm: RwSignal::new(SssmState::Idle),
+            sssm_view: RwSignal::new(None),
         }
     }
 
@@ -129,6 +167,12 @@ fn App(urls: Urls) -> impl IntoView {
             let _ = body.set_attribute("data-state", value);
         }
     });
+    Effect::new(move |_| {
+        let value = state.sssm.with(SssmState::body_state);
+        if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
+            let _ = body.set_attribute("data-sssm", value);
+        }
+    });
     loader.load_sample();
 
     view! {
@@ -138,7 +182,7 @@ fn App(urls: Urls) -> impl IntoView {
         </header>
         <ErrorBanner state=state/>
         <section class="ms-input">
-            <DropZone state=state loader=loader/>
+            <DropZone state=state loader=loader.clone()/>
             <Progress state=state/>
         </section>
         <Summary state=state/>
@@ -146,5 +190,6 @@ fn App(urls: Urls) -> impl IntoView {
             <Player state=state/>
             <Timeline state=state/>
         </main>
+        <SssmPanel state=state loader=loader.clone()/>
     }
 }

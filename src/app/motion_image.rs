@@ -77,7 +77,7 @@ pub fn DownloadPng(state: AppState) -> impl IntoView {
 }
 
 /// The file name without its extension ("02_01.bvh" → "02_01").
-fn stem(name: &str) -> &str {
+pub(super) fn stem(name: &str) -> &str {
     match name.rsplit_once('.') {
         Some((stem, _)) if !stem.is_empty() => stem,
         _ => name,
@@ -148,7 +148,7 @@ fn context(canvas: &HtmlCanvasElement) -> Result<CanvasRenderingContext2d, JsVal
 }
 
 /// Saves `bytes` as a file called `name` through a temporary object URL.
-fn download(bytes: &[u8], mime: &str, name: &str) -> Result<(), JsValue> {
+pub(super) fn download(bytes: &[u8], mime: &str, name: &str) -> Result<(), JsValue> {
     let options = BlobPropertyBag::new();
     options.set_type(mime);
     let blob = Blob::new_with_u8_array_sequence_and_options(&Array::of1(&Uint8Array::from(bytes)), &options)?;

@@ -66,7 +66,17 @@ fn schedule(state: AppState, pending: Rc<RefCell<Option<AnimationFrame>>>, mut c
             fps,
             state.speed.get_untracked(),
         );
-        if frame != state.frame.get_untracked() {
+        let shown = state.frame.get_untracked();
+        if let Some(end) = state.play_until.get_untracked() {
+            // playing one segment: stop on its last frame (also if playback wrapped around)
+            if frame >= end || frame < shown {
+                state.frame.set(end.min(frames.saturating_sub(1)));
+                state.play_until.set(None);
+                state.playing.set(false);
+                return;
+            }
+        }
+        if frame != shown {
             state.frame.set(frame);
         }
         schedule(state, next, clock);

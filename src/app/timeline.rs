@@ -3,6 +3,7 @@
 //! current frame across all of them and follows playback. Clicking or dragging seeks.
 
 use super::motion_image::{DownloadPng, MotionImageCanvas};
+use super::sssm_panel::SssmRows;
 use super::AppState;
 use leptos::ev::PointerEvent;
 use leptos::prelude::*;
@@ -59,8 +60,10 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                 on:pointercancel=on_up
             >
                 <MotionImageCanvas state=state/>
-                // Segmentation rows (one per method) are added here by later issues.
-                <div id="timeline-rows" class="ms-timeline-rows"></div>
+                // Segmentation rows, one per level of each method.
+                <div id="timeline-rows" class="ms-timeline-rows">
+                    <SssmRows state=state/>
+                </div>
                 <div id="playhead" class="ms-playhead" style:left=playhead_left hidden=move || state.frames() == 0></div>
             </div>
         </section>

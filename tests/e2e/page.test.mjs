@@ -3,7 +3,8 @@
 // BASE_URL). Checks the page contract: the bundled sample loads on start, a fixture loaded
 // through the file input (and by drag-and-drop) shows the right summary, the motion image and
 // the player canvases are drawn, play/pause/scrub move the frame counter and the playhead, the
-// PNG download is a PNG, and a malformed file shows the parser's error (with its line) while
+// PNG download is a PNG, the SSSM segmentation (Krüger et al. 2017) runs after the sample loads
+// (rows, image, re-run, a bad parameter, export, playing a primitive), and a malformed file shows the parser's error (with its line) while
 // the page keeps working. Screenshots go to OUT_DIR (default <repo>/test-output).
 //
 // Run: node page.test.mjs   (env: BASE_URL, OUT_DIR, FIXTURES, SAMPLE_BVH, E2E_TIMEOUT_MS)
@@ -208,6 +209,93 @@ test("page loads and auto-loads the bundled sample", async () => {
   assert.ok((await text("#summary-name")).length > 0, "#summary-name is empty after the sample loaded");
   assert.equal(await page.locator("#error-banner").isVisible(), false, "error banner visible on start");
   await shot("e2e-sample.png");
+});
+
+/** Waits until body[data-sssm] is `want` (after having left it, if `since` says so). */
+async function waitSssm(want) {
+  try {
+    await page.waitForFunction((w) => document.body.dataset.sssm === w, want, { timeout: TIMEOUT });
+  } catch (e) {
+    await shot(`e2e-sssm-timeout-${want}.png`).catch(() => {});
+    throw new Error(`SSSM did not become ${want}: data-sssm=${await page.evaluate(() => document.body.dataset.sssm)}, `
+      + `error-banner="${await text("#error-banner").catch(() => "?")}", page errors=${JSON.stringify(pageErrors)}`);
+  }
+}
+
+/** Clicks #sssm-run with `radius` in the form and waits for the run to leave "running". */
+async function runSssm(radius, want) {
+  await page.fill("#sssm-radius", String(radius));
+  await page.evaluate(() => { window.__sssm = []; });
+  await page.click("#sssm-run");
+  await page.waitForFunction(() => (window.__sssm ?? []).includes("running")
+    || document.body.dataset.sssm !== "done", null, { timeout: TIMEOUT });
+  await waitSssm(want);
+}
+
+test("SSSM segments the sample: rows, image, re-run, bad parameter, export", async () => {
+  await page.evaluate(() => {
+    window.__sssm = [];
+    new MutationObserver(() => window.__sssm.push(document.body.dataset.sssm ?? ""))
+      .observe(document.body, { attributes: true, attributeFilter: ["data-sssm"] });
+  });
+  await waitSssm("done");
+  const rows = await page.evaluate(() => {
+    const read = (sel) => [...document.querySelectorAll(sel)].map((e) => ({
+      start: Number(e.dataset.start), end: Number(e.dataset.end), title: e.title, cls: e.className,
+    }));
+    return { actions: read("#row-actions .ms-seg--action"), transitions: read("#row-actions .ms-seg--transition"),
+      primitives: read("#row-primitives .ms-seg--primitive") };
+  });
+  assert.ok(rows.actions.length >= 2, `#row-actions has ${rows.actions.length} actions, want ≥ 2`);
+  assert.ok(rows.primitives.length >= 2, `#row-primitives has ${rows.primitives.length} primitives, want ≥ 2`);
+  for (const s of [...rows.actions, ...rows.transitions, ...rows.primitives]) {
+    assert.ok(Number.isInteger(s.start) && Number.isInteger(s.end) && s.start <= s.end
+      && s.end < SAMPLE_HDR.frames, `segment frames ${JSON.stringify(s)}`);
+    assert.match(s.title, /frames \d+–\d+ · [\d.]+–[\d.]+ s/, `segment tooltip ${JSON.stringify(s)}`);
+  }
+  const image = await canvasStats("#sssm-image");
+  assert.ok(!image.error, image.error);
+  assert.ok(image.width > 0 && image.width === image.height, `#sssm-image is not square: ${JSON.stringify(image)}`);
+  assert.ok(image.distinct >= 8, `#sssm-image looks blank: ${JSON.stringify(image)}`);
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "error banner visible after the SSSM");
+  await shot("e2e-sssm.png");
+
+  // re-run with another radius: the export echoes it
+  await runSssm(15, "done");
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#sssm-export")]);
+  const stem = SAMPLE_HDR.name.replace(/\.bvh$/i, "");
+  assert.equal(download.suggestedFilename(), `${stem}_sssm.json`);
+  const file = path.join(OUT, "e2e-sssm.json");
+  await download.saveAs(file);
+  const json = JSON.parse(readFileSync(file, "utf8"));
+  assert.equal(json.method, "sssm");
+  assert.equal(json.params.radius, 15, "the export echoes the radius of the re-run");
+  assert.equal(json.frames, SAMPLE_HDR.frames);
+  assert.ok(json.segments.some((s) => s.level === "primitive"), "the export has primitives");
+
+  // a bad parameter: the core's message names it, the previous result stays on screen
+  await runSssm(-1, "error");
+  await page.locator("#error-banner").waitFor({ state: "visible", timeout: TIMEOUT });
+  assert.match(await text("#error-banner"), /radius/, "the error banner names the bad parameter");
+  assert.ok((await page.locator("#row-primitives .ms-seg--primitive").count()) >= 2, "rows kept after a failed run");
+  await runSssm(19, "done");
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "error banner stays after a good re-run");
+
+  // clicking a primitive plays it from its start and stops at its end
+  const prim = await page.evaluate(() => {
+    const all = [...document.querySelectorAll("#row-primitives .ms-seg--primitive")];
+    const widest = all.reduce((a, b) => (b.getBoundingClientRect().width > a.getBoundingClientRect().width ? b : a));
+    widest.id = "e2e-primitive";
+    return { start: Number(widest.dataset.start), end: Number(widest.dataset.end) };
+  });
+  await page.click("#e2e-primitive");
+  const { n } = await frameCounter();
+  assert.ok(n - 1 >= prim.start && n - 1 <= prim.end,
+    `after clicking primitive ${prim.start}–${prim.end} the frame counter shows ${n} (1-based)`);
+  const seconds = (prim.end - prim.start + 1) * SAMPLE_HDR.frameTime;
+  await page.waitForFunction(() => document.querySelector("#play-pause")?.getAttribute("aria-pressed") === "false",
+    null, { timeout: seconds * 1000 + 5000 });
+  assert.equal((await frameCounter()).n - 1, prim.end, "playback of a primitive stops on its last frame");
 });
 
 test("file input loads 02_01.bvh: summary, motion image, player", async () => {
