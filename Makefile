@@ -96,11 +96,11 @@ serve:
 test-native: check-toolchain
 	$(CARGO) test
 
-# The core (parser, FK, motion image) compiled to wasm32, run in headless Chromium; then the
+# The core (parser, FK, motion image, the SSSM pipeline) compiled to wasm32, run in headless Chromium; then the
 # page's own unit tests (camera, playback clock, worker message round trip) in wasm.
 test-wasm: check-toolchain
 	WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
-	$(CARGO) test $(WASM_CARGO_FLAGS) --target $(WASM_TARGET) --test wasm_core
+	$(CARGO) test $(WASM_CARGO_FLAGS) --target $(WASM_TARGET) --test wasm_core --test sssm
 	WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
 	$(CARGO) test $(WASM_CARGO_FLAGS) --target $(WASM_TARGET) --lib --features web
 
