@@ -32,6 +32,9 @@ DEMO_PORT   ?= 8080
 # Seconds a headless wasm-bindgen-test run may take (the runner's default is 20).
 WASM_TEST_TIMEOUT ?= 300
 
+# SSSM benchmark sequence (written by `mocapseg bench-sssm --write-bvh`).
+BENCH_SEQ ?= $(CURDIR)/target/bench/sssm-sequence-30hz.bvh
+
 # Benchmark input: the long CMU take 86_01 from shared data if present, else the bundled
 # sample (CMU 13_30), else the largest fixture.
 BENCH_BVH ?= $(firstword $(wildcard $(abspath $(CURDIR)/../shared/data/cmu/86/86_01.bvh) \
@@ -110,13 +113,21 @@ test-e2e:
 
 # --- benchmarks -------------------------------------------------------------------------
 
+# SSSM: the distinct-material sequence (and its 30 Hz BVH for the wasm bench), then the worst
+# case of one take repeated (every frame also neighbours its copies).
 bench-native: check-toolchain
 	@echo "bench input: $(BENCH_BVH)"
 	$(CARGO) run --release --bin $(CRATE) -- bench "$(BENCH_BVH)"
-	$(CARGO) run --release --bin $(CRATE) -- bench-sssm "$(BENCH_BVH)"
+	@mkdir -p $(dir $(BENCH_SEQ))
+	$(CARGO) run --release --bin $(CRATE) -- bench-sssm --write-bvh "$(BENCH_SEQ)"
+	$(CARGO) run --release --bin $(CRATE) -- bench-sssm --reps 3 "$(BENCH_BVH)"
+
+$(BENCH_SEQ):
+	@mkdir -p $(dir $(BENCH_SEQ))
+	$(CARGO) run --release --bin $(CRATE) -- bench-sssm --reps 1 --write-bvh "$(BENCH_SEQ)"
 
 # --nocapture makes the runner print the test's console output (the numbers).
-bench-wasm: check-toolchain
-	@echo "bench input: $(BENCH_BVH)"
-	MOCAPSEG_BENCH_BVH="$(BENCH_BVH)" WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
+bench-wasm: check-toolchain $(BENCH_SEQ)
+	@echo "bench input: $(BENCH_BVH), SSSM sequence $(BENCH_SEQ)"
+	MOCAPSEG_BENCH_BVH="$(BENCH_BVH)" MOCAPSEG_BENCH_SSSM_BVH="$(BENCH_SEQ)" WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
 	$(CARGO) test $(WASM_CARGO_FLAGS) --release --target $(WASM_TARGET) --test wasm_bench -- --nocapture

@@ -11,6 +11,7 @@ pub mod bvh;
 pub mod image;
 pub mod load;
 pub mod motion;
+pub mod parallel;
 pub mod segment;
 pub mod sssm;
 pub mod sssm_image;

@@ -373,3 +373,25 @@ fn the_bundled_sample_is_cut_where_its_annotation_says() {
     kinds.dedup();
     assert_eq!(kinds.len(), 5);
 }
+
+#[test]
+fn the_stacked_search_and_the_kd_tree_give_the_same_segmentation() {
+    use mocapseg::sssm::NeighbourSearchKind;
+    let motion = load("sample.bvh", include_bytes!("../www/sample.bvh"));
+    let stacked = segment(&motion, &SssmParams::new()).unwrap();
+    let tree = segment(&motion, &SssmParams::new().neighbour_search(NeighbourSearchKind::KdTree)).unwrap();
+    assert_eq!(stacked.outcome.sssm.to_lists().len(), tree.outcome.sssm.to_lists().len());
+    // the same neighbours (distances agree to rounding: summed per frame vs over all values)
+    let (a, b) = (&stacked.outcome.sssm, &tree.outcome.sssm);
+    assert!(a.entries() > 10 * a.frames(), "the take needs real neighbours, got {}", a.entries());
+    assert_eq!(a.cols(), b.cols());
+    assert!(a.dists().iter().zip(b.dists()).all(|(x, y)| (x - y).abs() < 1e-3));
+    let (ma, mb) = (stacked.outcome.mirror_sssm.as_ref().unwrap(), tree.outcome.mirror_sssm.as_ref().unwrap());
+    assert_eq!(ma.cols(), mb.cols());
+    let spans = |r: &mocapseg::sssm::SssmResult| -> Vec<(usize, usize, Level)> {
+        r.segmentation.segments.iter().map(|s| (s.start, s.end, s.level)).collect()
+    };
+    assert_eq!(spans(&stacked), spans(&tree));
+    assert_eq!(stacked.segmentation.params["neighbour_search"], "stacked");
+    assert_eq!(tree.segmentation.params["neighbour_search"], "kd_tree");
+}

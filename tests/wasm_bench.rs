@@ -98,26 +98,42 @@ fn parse_and_fk_throughput() {
     report("parse + Motion::from_bvh", ms, runs, mb, frames);
 }
 
-/// SSSM end to end (features → clusters) on 1×, 2× and 4× a 3000-frame sequence at 30 Hz, made by
-/// resampling the benchmarked take to 30 Hz and repeating it (issue 3, "Speed"; the same sequence
-/// construction as `mocapseg bench-sssm`).
+/// The SSSM benchmark sequence: 12 000 frames at 30 Hz written by
+/// `mocapseg bench-sssm --write-bvh` (the CMU takes of the shared data one after another; make
+/// bench-wasm builds it), so native and wasm time the same frames.
+const SSSM_SEQUENCE: &str = include_str!(env!(
+    "MOCAPSEG_BENCH_SSSM_BVH",
+    "set MOCAPSEG_BENCH_SSSM_BVH to the sequence written by `mocapseg bench-sssm --write-bvh` (make bench-wasm does)"
+));
+
+/// SSSM end to end (features → clusters) on the first 3000, 6000 and 12 000 frames of the
+/// sequence (issue 3, "Speed"; the same frames as `mocapseg bench-sssm`).
 #[wasm_bindgen_test]
 fn sssm_end_to_end() {
+    use mocapseg::segment::Level;
     use mocapseg::sssm::{segment, SssmParams};
-    let bvh = bvh::parse(TEXT).unwrap_or_else(|e| panic!("{PATH}: {e}"));
-    let take = Motion::from_bvh("bench", &bvh).expect("motion").resample(30.0).expect("resample");
+    let bvh = bvh::parse(SSSM_SEQUENCE).expect("the SSSM bench sequence parses");
+    let full = Motion::from_bvh("bench sequence", &bvh).expect("motion");
+    assert!((full.fps - 30.0).abs() < 1e-6, "the sequence is at 30 Hz");
     let params = SssmParams::default();
     let mut base = None;
     for factor in [1usize, 2, 4] {
         let n = 3000 * factor;
-        let seq = Motion::concatenate(std::slice::from_ref(&take), n).expect("sequence");
-        let mut primitives = 0;
+        let seq = Motion::concatenate(std::slice::from_ref(&full), n).expect("sequence");
+        let mut summary = (0, 0, 0);
         let (ms, runs) = median_ms(|| {
             let r = segment(&seq, &params).expect("sssm");
-            primitives = r.outcome.primitives.len();
+            let seg = &r.segmentation;
+            summary = (r.outcome.sssm.entries(), seg.level(Level::Action).count(), seg.level(Level::Primitive).count());
         });
+        assert!(summary.1 > 0 && summary.2 >= summary.1, "the sequence has actions and primitives");
         let growth = base.map(|b: f64| format!(" ({:.2}× the 1× time)", ms / b)).unwrap_or_default();
         base.get_or_insert(ms);
-        console_log!("wasm bench | sssm {factor}× {n:6} frames @30 Hz | {ms:9.1} ms{growth} | {primitives} primitives | median of {runs} runs");
+        console_log!(
+            "wasm bench | sssm {factor}× {n:6} frames @30 Hz | {ms:9.1} ms{growth} | SSSM entries {} actions {} primitives {} | median of {runs} runs",
+            summary.0,
+            summary.1,
+            summary.2
+        );
     }
 }

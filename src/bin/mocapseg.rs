@@ -104,8 +104,12 @@ mod cli {
         },
         /// Time SSSM end to end on 1×, 2× and 4× a 3000-frame (30 Hz) sequence built from CMU takes.
         BenchSssm {
-            /// Takes to build the sequence from (default: the bundled sample and fixtures).
+            /// Takes to build the sequence from, same skeleton, 30 Hz or a multiple (default: every CMU
+            /// take of ../shared/data, else the bundled sample and fixtures).
             files: Vec<PathBuf>,
+            /// Also write the 4× sequence as a 30 Hz BVH (the wasm benchmark embeds it).
+            #[arg(long)]
+            write_bvh: Option<PathBuf>,
             /// Frames at 30 Hz of the 1× sequence.
             #[arg(long, default_value_t = 3000)]
             frames: usize,
@@ -169,7 +173,7 @@ mod cli {
                 segment(&file, &method, &overrides)
             }
             Command::EvalData { data, method, params, json } => eval_data(&data, &method, &params, json),
-            Command::BenchSssm { files, frames, reps } => bench_sssm(files, frames, reps),
+            Command::BenchSssm { files, frames, reps, write_bvh } => bench_sssm(files, frames, reps, write_bvh),
             Command::Eval { segmentation, truth, trial, first_frame, row_offset } => {
                 eval(&segmentation, &truth, trial, TruthOptions { first_frame, bvh_row_offset: row_offset })
             }
@@ -367,48 +371,110 @@ mod cli {
         Ok(())
     }
 
-    fn bench_sssm(files: Vec<PathBuf>, frames: usize, reps: usize) -> Result<(), String> {
+    /// The default SSSM bench material: the CMU takes of the shared data on the common CMU skeleton
+    /// (distinct material: 5206 frames at 30 Hz; the 131_* takes have another skeleton), else the bundled sample and the fixtures (cycled).
+    fn default_sssm_bench_files() -> Vec<PathBuf> {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let files = if files.is_empty() {
-            ["www/sample.bvh", "tests/fixtures/02_01.bvh", "tests/fixtures/35_01.bvh", "tests/fixtures/12_01.bvh"]
-                .iter()
-                .map(|f| root.join(f))
-                .collect()
-        } else {
-            files
-        };
-        let takes: Vec<Motion> = files.iter().map(|f| load(f).map(|l| l.motion)).collect::<Result<_, _>>()?;
+        let shared = root.join("../shared/data/cmu");
+        let names = [
+            "86/86_01", "mocap6/13_29", "mocap6/14_14", "mocap6/13_30", "mocap6/13_31", "locomotion/02_01",
+            "locomotion/02_02", "locomotion/12_01", "locomotion/35_01",
+        ];
+        let all: Vec<PathBuf> = names.iter().map(|n| shared.join(format!("{n}.bvh"))).collect();
+        if all.iter().all(|p| p.exists()) {
+            return all;
+        }
+        eprintln!("note: ../shared/data/cmu is absent; benchmarking the bundled sample and fixtures (cycled)");
+        ["www/sample.bvh", "tests/fixtures/02_01.bvh", "tests/fixtures/35_01.bvh", "tests/fixtures/12_01.bvh"]
+            .iter()
+            .map(|f| root.join(f))
+            .collect()
+    }
+
+    /// The takes' frame rows at 30 Hz one after another, as one BVH on the first take's skeleton
+    /// (all takes must have the same joints and channels, at a whole multiple of 30 Hz), cycled to
+    /// `frames` rows. The same frames feed the native and the wasm benchmark.
+    /// Also returns the number of distinct rows (before cycling).
+    fn bench_sequence(files: &[PathBuf], frames: usize) -> Result<(bvh::Bvh, usize), String> {
+        let mut takes = Vec::new();
+        for f in files {
+            let text = std::fs::read_to_string(f).map_err(|e| format!("{}: {e}", f.display()))?;
+            takes.push(bvh::parse(&text).map_err(|e| format!("{}: {e}", f.display()))?);
+        }
+        let first = takes.first().ok_or("no takes to benchmark")?.clone();
+        let layout = |b: &bvh::Bvh| b.joints.iter().map(|j| (j.name.clone(), j.channels.clone())).collect::<Vec<_>>();
+        let mut rows: Vec<&[f64]> = Vec::new();
+        for (b, f) in takes.iter().zip(files) {
+            if layout(b) != layout(&first) {
+                return Err(format!("{}: its joints or channels differ from {}", f.display(), files[0].display()));
+            }
+            let step = (b.fps() / 30.0).round().max(1.0) as usize;
+            if (b.fps() / step as f64 - 30.0).abs() > 0.5 {
+                return Err(format!("{}: {} fps is not a whole multiple of 30", f.display(), b.fps()));
+            }
+            rows.extend((0..b.frames()).step_by(step).map(|i| b.frame(i)));
+        }
+        let distinct = rows.len();
+        let mut seq = first;
+        seq.values = rows.iter().cycle().take(frames).flat_map(|r| r.iter().copied()).collect();
+        seq.frame_time = 1.0 / 30.0;
+        seq.declared_frames = frames;
+        seq.warnings.clear();
+        Ok((seq, distinct))
+    }
+
+    fn bench_sssm(files: Vec<PathBuf>, frames: usize, reps: usize, write_bvh: Option<PathBuf>) -> Result<(), String> {
+        let files = if files.is_empty() { default_sssm_bench_files() } else { files };
+        let (longest, distinct) = bench_sequence(&files, 4 * frames)?;
+        if let Some(path) = &write_bvh {
+            std::fs::write(path, bvh::write(&longest)).map_err(|e| format!("{}: {e}", path.display()))?;
+            println!("wrote the 4× sequence ({} frames at 30 Hz) to {}", longest.frames(), path.display());
+        }
+        let full = Motion::from_bvh("bench sequence", &longest).map_err(|e| e.to_string())?;
         let params = SssmParams::default();
-        let names: Vec<String> = takes.iter().map(|m| m.name.clone()).collect();
-        println!("bench sssm native: sequences cut from {} (cycled), default parameters, median of {reps}", names.join(", "));
+        let names: Vec<String> = files.iter().map(|f| f.file_stem().unwrap_or_default().to_string_lossy().into()).collect();
+        println!(
+            "bench sssm native: takes {} at 30 Hz one after another ({distinct} distinct frames, cycled when longer), \
+             default parameters, median of {reps}",
+            names.join(", ")
+        );
         let mut base_ms = None;
         for factor in [1usize, 2, 4] {
             let n = frames * factor;
-            let seq = sequence_at_30hz(&takes, n)?;
+            let seq = Motion::concatenate(std::slice::from_ref(&full), n).map_err(|e| e.to_string())?;
             let mut times = Vec::new();
-            let mut summary = (0, 0, 0);
+            let mut summary = (0, 0, 0, 0);
+            let mut stages: Vec<(String, f64)> = Vec::new();
             for _ in 0..reps.max(1) {
                 let t0 = Instant::now();
-                let r = sssm::segment(&seq, &params).map_err(|e| e.to_string())?;
+                let mut last = (String::from("start"), Instant::now());
+                let mut these = Vec::new();
+                let r = sssm::segment_with_progress(&seq, &params, &mut |stage, _| {
+                    these.push((std::mem::replace(&mut last.0, stage.to_string()), last.1.elapsed().as_secs_f64() * 1e3));
+                    last.1 = Instant::now();
+                })
+                .map_err(|e| e.to_string())?;
                 times.push(t0.elapsed().as_secs_f64() * 1e3);
+                stages = these;
                 let seg = &r.segmentation;
-                summary = (seg.level(Level::Action).count(), seg.level(Level::Primitive).count(), r.outcome.clusters.len());
+                summary = (
+                    seg.level(Level::Action).count(),
+                    seg.level(Level::Primitive).count(),
+                    r.outcome.clusters.len(),
+                    r.outcome.sssm.entries(),
+                );
             }
             let ms = median(times);
             let growth = base_ms.map(|b: f64| format!("  ({:.2}× the 1× time)", ms / b)).unwrap_or_default();
             base_ms.get_or_insert(ms);
             println!(
-                "  {factor}× {n:6} frames  {ms:8.1} ms{growth}   actions {} primitives {} clusters {}",
-                summary.0, summary.1, summary.2
+                "  {factor}× {n:6} frames  {ms:8.1} ms{growth}   SSSM entries {} actions {} primitives {} clusters {}",
+                summary.3, summary.0, summary.1, summary.2
             );
+            let parts: Vec<String> = stages.iter().skip(1).map(|(s, ms)| format!("{s} {ms:.1}")).collect();
+            println!("      stages (ms, last run): {}", parts.join(", "));
         }
         Ok(())
-    }
-
-    /// A sequence of `frames` frames at 30 Hz made by resampling the takes to 30 Hz and cycling through them.
-    fn sequence_at_30hz(takes: &[Motion], frames: usize) -> Result<Motion, String> {
-        let at30: Vec<Motion> = takes.iter().map(|m| m.resample(30.0).map_err(|e| e.to_string())).collect::<Result<_, _>>()?;
-        Motion::concatenate(&at30, frames).map_err(|e| e.to_string())
     }
 
     fn default_bench_file() -> Result<PathBuf, String> {

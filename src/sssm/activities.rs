@@ -125,6 +125,15 @@ pub struct RegionGrowing<'a> {
 /// Scan lines with neighbours a region needs before the relative gate applies.
 pub const GATE_LINES: usize = 10;
 
+/// The median of an action's nearest-repeat distances (`None` if fewer than [`GATE_LINES`]).
+fn typical_of(d: &mut [f32]) -> Option<f32> {
+    if d.len() < GATE_LINES {
+        return None;
+    }
+    let k = d.len() / 2;
+    Some(*d.select_nth_unstable_by(k, f32::total_cmp).1)
+}
+
 /// What one scan line found: the number of neighbours in range and the nearest one's distance.
 #[derive(Debug, Clone, Copy)]
 struct Line {
@@ -345,11 +354,7 @@ impl RegionGrowing<'_> {
     /// closely the action repeats itself (`None` if fewer than `GATE_LINES` frames repeat).
     pub fn typical_repeat(&self, span: Span) -> Option<f32> {
         let mut d: Vec<f32> = (span.start..=span.end).filter_map(|i| self.nearest_in(i, span)).collect();
-        if d.len() < GATE_LINES {
-            return None;
-        }
-        let k = d.len() / 2;
-        Some(*d.select_nth_unstable_by(k, f32::total_cmp).1)
+        typical_of(&mut d)
     }
 
     /// Fraction of the frames of `from` whose nearest repeat in `to` is within `limit`.
@@ -386,16 +391,60 @@ impl RegionGrowing<'_> {
     /// frames repeat frames of the other within the relative gate (`factor`; without a gate,
     /// any neighbour counts). Kinds are numbered in order of first appearance.
     pub fn kinds(&self, actions: &[Span], factor: Option<f32>) -> Vec<usize> {
-        let limit = |a: Span| match factor {
-            Some(f) => self.typical_repeat(a).map(|t| f * t),
-            None => Some(f32::INFINITY),
-        };
-        let limits: Vec<Option<f32>> = actions.iter().map(|&a| limit(a)).collect();
-        let mut uf = petgraph::unionfind::UnionFind::<usize>::new(actions.len());
-        for x in 0..actions.len() {
-            for y in x + 1..actions.len() {
-                let (Some(lx), Some(ly)) = (limits[x], limits[y]) else { continue };
-                if self.cover(actions[y], actions[x], lx) >= 0.5 && self.cover(actions[x], actions[y], ly) >= 0.5 {
+        // One pass over the neighbour lists: for every frame of an action, its nearest repeat
+        // in each action (the same as `nearest_in` per pair, but O(entries) for all pairs).
+        let count = actions.len();
+        let action_of = super::primitives::frame_lookup(self.sssm.frames(), actions);
+        let mut nearest = vec![f32::INFINITY; count];
+        let mut touched: Vec<usize> = Vec::new();
+        let mut own: Vec<Vec<f32>> = vec![Vec::new(); count];
+        let mut near_lists: Vec<(u32, usize, f32)> = Vec::new(); // (frame's action, other action, distance)
+        let band = self.band();
+        for (i, &y) in action_of.iter().enumerate() {
+            if y == u32::MAX {
+                continue;
+            }
+            for s in std::iter::once(self.sssm).chain(self.mirror) {
+                let (cols, dists) = s.row(i);
+                for (&j, &d) in cols.iter().zip(dists) {
+                    let x = action_of[j as usize];
+                    if x != u32::MAX && (j as usize).abs_diff(i) >= band {
+                        let slot = &mut nearest[x as usize];
+                        if slot.is_infinite() {
+                            touched.push(x as usize);
+                        }
+                        *slot = slot.min(d);
+                    }
+                }
+            }
+            for &x in &touched {
+                if x == y as usize {
+                    own[x].push(nearest[x]);
+                }
+                near_lists.push((y, x, nearest[x]));
+                nearest[x] = f32::INFINITY;
+            }
+            touched.clear();
+        }
+        let limits: Vec<Option<f32>> = own
+            .iter_mut()
+            .map(|d| match factor {
+                Some(f) => typical_of(d).map(|t| f * t),
+                None => Some(f32::INFINITY),
+            })
+            .collect();
+        // hits[y·count + x]: frames of y whose nearest repeat in x is within x's limit
+        let mut hits = vec![0u32; count * count];
+        for &(y, x, d) in &near_lists {
+            if limits[x].is_some_and(|l| d <= l) {
+                hits[y as usize * count + x] += 1;
+            }
+        }
+        let cover = |from: usize, to: usize| hits[from * count + to] as f64 / actions[from].len() as f64;
+        let mut uf = petgraph::unionfind::UnionFind::<usize>::new(count);
+        for x in 0..count {
+            for y in x + 1..count {
+                if limits[x].is_some() && limits[y].is_some() && cover(y, x) >= 0.5 && cover(x, y) >= 0.5 {
                     uf.union(x, y);
                 }
             }

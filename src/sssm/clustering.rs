@@ -17,7 +17,7 @@ use petgraph::graph::{DiGraph, NodeIndex};
 use serde::{Deserialize, Serialize};
 
 use super::activities::Span;
-use super::primitives::{frame_lookup, NeighbourhoodGraph};
+use super::primitives::{frame_lookup, Blocks, NeighbourhoodGraph};
 
 /// Settings of the cluster graph (from the checked parameters).
 #[derive(Debug, Clone, Copy)]
@@ -43,17 +43,13 @@ impl ClusterSearch {
     /// The edges `p → q` (`p ≠ q`) of the cluster graph of `primitives` (sorted, disjoint) on
     /// the SSSM behind `graph`, sorted and without duplicates.
     pub fn links(&self, graph: &NeighbourhoodGraph, primitives: &[Span]) -> Vec<(usize, usize)> {
-        let count = primitives.len() as u64;
         let prim_of = frame_lookup(graph.sssm().frames(), primitives);
-        let paths = graph.warping_paths(|i, j| {
-            let (p, q) = (prim_of[i], prim_of[j]);
-            (p != u32::MAX && q != u32::MAX).then(|| p as u64 * count + q as u64)
-        });
+        let paths = graph.warping_paths(&Blocks::all_pairs(&prim_of));
         let mut links: Vec<(usize, usize)> = paths
             .iter()
             .filter(|path| path.is_valid(self.nu, self.min_path_frames))
             .filter_map(|path| {
-                let (p, q) = ((path.region / count) as usize, (path.region % count) as usize);
+                let (p, q) = path.block();
                 let cover_p = (path.end.0 - path.start.0 + 1) as f64 / primitives[p].len() as f64;
                 let cover_q = (path.end.1 - path.start.1 + 1) as f64 / primitives[q].len() as f64;
                 (cover_p >= self.coverage && cover_q >= self.coverage).then_some((p, q))

@@ -30,19 +30,20 @@ pub mod symmetry;
 use serde::{Deserialize, Serialize};
 
 use crate::motion::{Motion, MotionError};
+use crate::parallel;
 use crate::segment::{Level, Segment, Segmentation};
 
 pub use activities::{Activities, Span};
 pub use clustering::Cluster;
 pub use features::{FeatureMatrix, MirrorMap, MotionFeatures};
 pub use neighbours::Sssm;
-pub use params::{BoundaryRule, BundlingOptimum, SssmParams, ValidParams};
+pub use params::{BoundaryRule, BundlingOptimum, NeighbourSearchKind, SssmParams, ValidParams};
 pub use symmetry::SymmetryKind;
 
 use activities::RegionGrowing;
 use bundling::Bundling;
 use clustering::ClusterSearch;
-use neighbours::NeighbourSearch;
+use neighbours::{NeighbourSearch, StackedSearch};
 use primitives::{NeighbourhoodGraph, PrimitiveSearch};
 
 /// Everything that can go wrong in the SSSM method.
@@ -161,22 +162,31 @@ pub fn segment_features(
             limit: MAX_ENTRIES,
         });
     }
-    let mut stacked = features::stack(base, &params.offsets);
-    if params.bundling {
-        progress("bundling", 0.05);
-        let b = Bundling { k: params.bundling_k, variance: params.bundling_variance, optimum: params.bundling_optimum };
-        stacked = b.bundle(&stacked);
-    }
-
-    progress("neighbours", 0.3);
     let radius = params.search_radius();
-    let search = NeighbourSearch::new(&stacked);
-    let sssm = search.self_similarity(radius as f32, params.max_neighbours);
-    let mirror_sssm = match mirror {
-        Some(m) => Some(search.mirror_similarity(&m.apply(&stacked)?, radius as f32, params.max_neighbours)?),
-        None => None,
+    let (sssm, mirror_sssm) = if params.bundling || params.neighbour_search == NeighbourSearchKind::KdTree {
+        let mut stacked = features::stack(base, &params.offsets);
+        if params.bundling {
+            progress("bundling", 0.05);
+            let b =
+                Bundling { k: params.bundling_k, variance: params.bundling_variance, optimum: params.bundling_optimum };
+            stacked = b.bundle(&stacked);
+        }
+        progress("neighbours", 0.3);
+        let search = NeighbourSearch::new(&stacked);
+        let sssm = search.self_similarity(radius as f32, params.max_neighbours);
+        let mirror_sssm = match mirror {
+            Some(m) => Some(search.mirror_similarity(&m.apply(&stacked)?, radius as f32, params.max_neighbours)?),
+            None => None,
+        };
+        (sssm, mirror_sssm)
+    } else {
+        progress("neighbours", 0.3);
+        StackedSearch::new(base, &params.offsets, mirror)?.similarities(radius as f32, params.max_neighbours)
     };
 
+    // Region growing needs both SSSMs; the primitive and cluster graphs only the nearer
+    // neighbours (see `primitive_radius`). The two run at once natively (`parallel::join`), as do
+    // the searches on the plain and on the mirror graph below.
     progress("activities", 0.5);
     let grow = RegionGrowing {
         sssm: &sssm,
@@ -186,32 +196,40 @@ pub fn segment_features(
         min_entries: params.min_action_entries(),
         relative: (params.relative_gate > 0.0).then_some(params.relative_gate as f32),
     };
-    let activities = grow.activities(params.boundary_rule);
-    let spans = activities.actions.clone();
-    let kinds = grow.kinds(&spans, grow.relative);
-
-    // the primitive and cluster graphs use the nearer neighbours only (see `primitive_radius`)
-    progress("primitives", 0.6);
     let near_radius = params.primitive_search_radius() as f32;
-    let near = sssm.within(near_radius);
-    let graph = NeighbourhoodGraph::new(&near);
-    let mirror_near = mirror_sssm.as_ref().map(|m| m.within(near_radius));
-    let mirror_graph = mirror_near.as_ref().map(NeighbourhoodGraph::new);
+    let ((activities, kinds), (near, mirror_near)) = parallel::join(
+        || {
+            let activities = grow.activities(params.boundary_rule);
+            let kinds = grow.kinds(&activities.actions, grow.relative);
+            (activities, kinds)
+        },
+        || (sssm.within(near_radius), mirror_sssm.as_ref().map(|m| m.within(near_radius))),
+    );
+    let spans = activities.actions.clone();
+
+    progress("primitives", 0.6);
+    let (mut graph, mut mirror_graph) =
+        parallel::join(|| NeighbourhoodGraph::new(&near), || mirror_near.as_ref().map(NeighbourhoodGraph::new));
     let prim_search = PrimitiveSearch {
         nu: params.nu,
         min_path_frames: params.min_path_frames,
         min_cut_distance: params.min_cut_distance,
     };
-    let main_cuts = cut_frames(&prim_search, Some(&graph), &spans);
-    let mirror_cuts = cut_frames(&prim_search, mirror_graph.as_ref(), &spans);
+    let (main_cuts, mirror_cuts) = parallel::join(
+        || cut_frames(&prim_search, Some(&mut graph), &spans),
+        || cut_frames(&prim_search, mirror_graph.as_mut(), &spans),
+    );
     let (primitive_spans, primitive_action, symmetry) =
         split_actions(&spans, &main_cuts, &mirror_cuts, mirror.is_some(), params.min_cut_distance);
 
     progress("clusters", 0.85);
     let cluster_search =
         ClusterSearch { nu: params.nu, min_path_frames: params.min_path_frames, coverage: params.cluster_coverage };
-    let cluster_of = ClusterSearch::clusters(primitive_spans.len(), &cluster_search.links(&graph, &primitive_spans));
-    let mirror_links = mirror_graph.as_ref().map_or(Vec::new(), |g| cluster_search.links(g, &primitive_spans));
+    let (links, mirror_links) = parallel::join(
+        || cluster_search.links(&mut graph, &primitive_spans),
+        || mirror_graph.as_mut().map_or(Vec::new(), |g| cluster_search.links(g, &primitive_spans)),
+    );
+    let cluster_of = ClusterSearch::clusters(primitive_spans.len(), &links);
     let clusters = ClusterSearch::describe(&cluster_of, &mirror_links);
 
     progress("done", 1.0);
@@ -253,7 +271,7 @@ fn checked_mirror<'m>(
 }
 
 /// The cut frames of each action on `graph` (no cuts without a graph).
-fn cut_frames(search: &PrimitiveSearch, graph: Option<&NeighbourhoodGraph>, spans: &[Span]) -> Vec<Vec<usize>> {
+fn cut_frames(search: &PrimitiveSearch, graph: Option<&mut NeighbourhoodGraph>, spans: &[Span]) -> Vec<Vec<usize>> {
     match graph {
         Some(g) => search.cuts(g, spans).into_iter().map(|c| c.into_iter().map(|c| c.frame).collect()).collect(),
         None => vec![Vec::new(); spans.len()],

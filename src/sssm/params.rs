@@ -49,6 +49,19 @@ pub enum BoundaryRule {
     Midpoint,
 }
 
+/// How the SSSM's radius search runs (§IV-A); both give the same neighbour lists.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NeighbourSearchKind {
+    /// Exact search using how the features are stacked: per-frame distances summed along the
+    /// diagonals (see `neighbours::stacked`). The default; needs unbundled features, so with
+    /// `bundling` on the kd-tree runs instead.
+    Stacked,
+    /// kiddo kd-tree over the leading principal coordinates of the stacked features, every
+    /// candidate checked in full (see `neighbours`).
+    KdTree,
+}
+
 /// Which optimum the feature bundling moves a point to (§III, eq. 4).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -118,6 +131,8 @@ pub struct SssmParams {
     pub bundling_optimum: BundlingOptimum,
     /// Use the mirrored features to split phase-shifted primitives and pair clusters (§V).
     pub mirror: bool,
+    /// How the radius search runs (same result either way; `stacked` is faster).
+    pub neighbour_search: NeighbourSearchKind,
     /// A warping path links two primitives in the cluster graph only if it covers at least
     /// this fraction of both (§VI; the code's `coverage_clustering = 0.66`).
     pub cluster_coverage: f64,
@@ -146,6 +161,7 @@ impl Default for SssmParams {
             bundling_variance: 0.975,
             bundling_optimum: BundlingOptimum::Density,
             mirror: true,
+            neighbour_search: NeighbourSearchKind::Stacked,
             cluster_coverage: 0.66,
         }
     }
@@ -208,6 +224,8 @@ impl SssmParams {
         bundling_optimum: BundlingOptimum,
         /// Turns the mirrored features (§V) on or off.
         mirror: bool,
+        /// Chooses how the radius search runs.
+        neighbour_search: NeighbourSearchKind,
         /// Sets the coverage a linking path needs in the cluster graph.
         cluster_coverage: f64,
     }

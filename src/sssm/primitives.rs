@@ -31,6 +31,7 @@ pub struct NeighbourhoodGraph<'a> {
     rows: Vec<u32>,
     /// Predecessor entries `[(i−1, j−1), (i−1, j), (i, j−1)]`, `NONE` where absent.
     preds: Vec<[u32; 3]>,
+    scratch: std::cell::RefCell<Scratch>,
 }
 
 impl<'a> NeighbourhoodGraph<'a> {
@@ -63,7 +64,7 @@ impl<'a> NeighbourhoodGraph<'a> {
                 }
             }
         }
-        NeighbourhoodGraph { sssm, rows, preds }
+        NeighbourhoodGraph { sssm, rows, preds, scratch: Default::default() }
     }
 
     /// The SSSM this graph is built on.
@@ -76,90 +77,190 @@ impl<'a> NeighbourhoodGraph<'a> {
         self.rows[e] as usize
     }
 
-    /// The shortest warping path of every connected component of the subgraph whose entries
-    /// `(i, j)` have the same `region(i, j)` (entries with `None` are left out; edges only join
-    /// entries of one region). Components that span a single frame, or whose last column
-    /// cannot be reached from their first, have no path.
+    /// The shortest warping path of every connected component of the subgraph inside the
+    /// blocks of the SSSM that `blocks` marks (an entry `(i, j)` lies in block
+    /// `(rows[i], cols[j])`; edges only join entries of one block). Components that span a
+    /// single frame, or whose last column cannot be reached from their first, have no path.
     ///
     /// Two sweeps in row order. The first joins each entry with its predecessors in a
     /// union-find whose root is always the component's earliest entry, so the root's row is
     /// the component's first column, and records each root's last row. The second is the
-    /// shortest-path recursion of the DAG, started at the first column.
-    pub fn warping_paths(&self, region: impl Fn(usize, usize) -> Option<u64>) -> Vec<WarpingPath> {
+    /// shortest-path recursion of the DAG, started at the first column. A predecessor lies in
+    /// the same block exactly when no span boundary lies between the two frames, so that test
+    /// is two lookups; rows outside every span are skipped whole, and with `diagonal_only`
+    /// each row only visits the columns of its own span (a binary search).
+    pub fn warping_paths(&self, blocks: &Blocks) -> Vec<WarpingPath> {
+        let n = self.sssm.frames();
         let m = self.sssm.entries();
         let cols = self.sssm.cols();
-        let regions: Vec<u64> = (0..m).map(|e| region(self.row_of(e), cols[e] as usize).unwrap_or(u64::MAX)).collect();
-        let same = |e: usize, p: u32| p != NONE && regions[p as usize] == regions[e];
+        assert!(blocks.rows.len() == n && blocks.cols.len() == n, "block lookups must cover the take");
+        let cont = |spans: &[u32]| -> Vec<bool> { (0..n).map(|i| i > 0 && spans[i - 1] == spans[i]).collect() };
+        let (row_cont, col_cont) = (cont(blocks.rows), cont(blocks.cols));
+        // the entries of row i inside the blocks, as an entry range plus a per-entry test
+        let live_range = |i: usize| -> std::ops::Range<usize> {
+            let r = self.sssm.row_range(i);
+            if blocks.rows[i] == NONE {
+                return r.start..r.start;
+            }
+            if !blocks.diagonal_only {
+                return r;
+            }
+            let (s, e) = blocks.row_span_bounds(i);
+            let row_cols = &cols[r.clone()];
+            let a = row_cols.partition_point(|&j| (j as usize) < s);
+            let b = row_cols.partition_point(|&j| (j as usize) <= e);
+            r.start + a..r.start + b
+        };
+        let live = |e: usize| blocks.cols[cols[e] as usize] != NONE;
+        // which predecessors lie in the same block as entry e (row i, column j)
+        let same = |k: usize, i: usize, j: usize| match k {
+            0 => row_cont[i] && col_cont[j],
+            1 => row_cont[i],
+            _ => col_cont[j],
+        };
+
+        let mut scratch = self.scratch.borrow_mut();
+        let Scratch { root, last, cost, start, nodes, best_end } = &mut *scratch;
+        for v in [&mut *root, &mut *last, &mut *start, &mut *nodes, &mut *best_end] {
+            v.resize(m, NONE);
+        }
+        cost.resize(m, f32::INFINITY);
 
         // sweep 1: components (root = earliest entry) and the last row of each
-        let mut root: Vec<u32> = (0..m as u32).collect();
-        let mut last = vec![0u32; m];
-        for (e, preds) in self.preds.iter().enumerate() {
-            if regions[e] == u64::MAX {
-                continue;
-            }
-            for &p in preds {
-                if same(e, p) {
-                    let (a, b) = (find(&mut root, e as u32), find(&mut root, p));
-                    let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-                    root[hi as usize] = lo;
+        for i in 0..n {
+            for e in live_range(i) {
+                if !live(e) {
+                    continue;
                 }
+                let j = cols[e] as usize;
+                root[e] = e as u32;
+                best_end[e] = NONE;
+                for (k, &p) in self.preds[e].iter().enumerate() {
+                    if p != NONE && same(k, i, j) {
+                        let (a, b) = (find(root, e as u32), find(root, p));
+                        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+                        root[hi as usize] = lo;
+                    }
+                }
+                let r = find(root, e as u32) as usize;
+                last[r] = i as u32;
             }
-            let r = find(&mut root, e as u32) as usize;
-            last[r] = self.rows[e];
         }
 
         // sweep 2: shortest paths from each component's first column
-        let mut cost = vec![f32::INFINITY; m];
-        let mut start = vec![NONE; m];
-        let mut nodes = vec![0u32; m];
-        let mut best_end = vec![NONE; m];
-        for e in 0..m {
-            if regions[e] == u64::MAX {
-                continue;
-            }
-            let c = find(&mut root, e as u32) as usize;
-            let (first_row, last_row) = (self.rows[c], last[c]);
-            if first_row == last_row {
-                continue;
-            }
-            let d = self.sssm.dist(e);
-            if self.rows[e] == first_row {
-                (cost[e], start[e], nodes[e]) = (d, e as u32, 1);
-            } else {
-                let mut best = NONE;
-                for &p in &self.preds[e] {
-                    if same(e, p) && cost[p as usize] < best_cost(&cost, best) {
-                        best = p;
+        let mut ends = Vec::new();
+        for i in 0..n {
+            for e in live_range(i) {
+                if !live(e) {
+                    continue;
+                }
+                let j = cols[e] as usize;
+                let c = find(root, e as u32) as usize;
+                let (first_row, last_row) = (self.rows[c], last[c]);
+                cost[e] = f32::INFINITY;
+                if first_row == last_row {
+                    continue;
+                }
+                let d = self.sssm.dist(e);
+                if i as u32 == first_row {
+                    (cost[e], start[e], nodes[e]) = (d, e as u32, 1);
+                } else {
+                    let mut best = NONE;
+                    let mut best_cost = f32::INFINITY;
+                    for (k, &p) in self.preds[e].iter().enumerate() {
+                        if p != NONE && same(k, i, j) && cost[p as usize] < best_cost {
+                            best = p;
+                            best_cost = cost[p as usize];
+                        }
+                    }
+                    if best != NONE {
+                        let b = best as usize;
+                        (cost[e], start[e], nodes[e]) = (best_cost + d, start[b], nodes[b] + 1);
                     }
                 }
-                if best != NONE {
-                    let b = best as usize;
-                    (cost[e], start[e], nodes[e]) = (cost[b] + d, start[b], nodes[b] + 1);
+                if i as u32 == last_row && cost[e].is_finite() {
+                    let be = best_end[c];
+                    if be == NONE {
+                        ends.push(c);
+                    }
+                    if be == NONE || cost[e] < cost[be as usize] {
+                        best_end[c] = e as u32;
+                    }
                 }
-            }
-            if self.rows[e] == last_row && cost[e].is_finite() && cost[e] < best_cost(&cost, best_end[c]) {
-                best_end[c] = e as u32;
             }
         }
 
-        let mut paths: Vec<WarpingPath> = best_end
+        let mut paths: Vec<WarpingPath> = ends
             .iter()
-            .filter(|&&end| end != NONE)
-            .map(|&end| {
-                let (end, s) = (end as usize, start[end as usize] as usize);
+            .map(|&c| {
+                let end = best_end[c] as usize;
+                let s = start[end] as usize;
+                let (i, j) = (self.row_of(end), cols[end] as usize);
                 WarpingPath {
                     start: (self.row_of(s), cols[s] as usize),
-                    end: (self.row_of(end), cols[end] as usize),
+                    end: (i, j),
                     cost: cost[end],
                     nodes: nodes[end] as usize,
-                    region: regions[end],
+                    region: ((blocks.rows[i] as u64) << 32) | blocks.cols[j] as u64,
                 }
             })
             .collect();
         paths.sort_by_key(|p| (p.region, p.start, p.end));
         paths
     }
+}
+
+/// Which blocks of the SSSM a warping-path search runs in: frame `i` belongs to span
+/// `rows[i]` as a row and `cols[i]` as a column (`NONE` = outside every span).
+pub struct Blocks<'a> {
+    pub rows: &'a [u32],
+    pub cols: &'a [u32],
+    /// Only the blocks on the diagonal (row span = column span; `rows` and `cols` equal).
+    pub diagonal_only: bool,
+    /// First and last frame of each span of `cols` (for `diagonal_only`).
+    pub bounds: Vec<(usize, usize)>,
+}
+
+impl<'a> Blocks<'a> {
+    /// The blocks `span × span` of the same span (actions against themselves).
+    pub fn diagonal(of: &'a [u32]) -> Self {
+        let count = of.iter().filter(|&&s| s != NONE).map(|&s| s as usize + 1).max().unwrap_or(0);
+        let mut bounds = vec![(usize::MAX, 0); count];
+        for (i, &s) in of.iter().enumerate() {
+            if s != NONE {
+                let b = &mut bounds[s as usize];
+                b.0 = b.0.min(i);
+                b.1 = b.1.max(i);
+            }
+        }
+        Blocks { rows: of, cols: of, diagonal_only: true, bounds }
+    }
+
+    /// Every block `span × span'` (all pairs of spans).
+    pub fn all_pairs(of: &'a [u32]) -> Self {
+        Blocks { rows: of, cols: of, diagonal_only: false, bounds: Vec::new() }
+    }
+
+    /// Blocks given by separate row and column lookups (all pairs).
+    pub fn rows_cols(rows: &'a [u32], cols: &'a [u32]) -> Self {
+        Blocks { rows, cols, diagonal_only: false, bounds: Vec::new() }
+    }
+
+    fn row_span_bounds(&self, i: usize) -> (usize, usize) {
+        self.bounds[self.rows[i] as usize]
+    }
+}
+
+/// Work arrays of [`NeighbourhoodGraph::warping_paths`], one value per entry, kept between
+/// calls (the searches for cuts and for cluster links run on the same graph).
+#[derive(Default)]
+struct Scratch {
+    root: Vec<u32>,
+    last: Vec<u32>,
+    cost: Vec<f32>,
+    start: Vec<u32>,
+    nodes: Vec<u32>,
+    best_end: Vec<u32>,
 }
 
 /// Root of `x` in a union-find forest, halving the path on the way.
@@ -172,14 +273,6 @@ fn find(root: &mut [u32], mut x: u32) -> u32 {
     x
 }
 
-fn best_cost(cost: &[f32], e: u32) -> f32 {
-    if e == NONE {
-        f32::INFINITY
-    } else {
-        cost[e as usize]
-    }
-}
-
 /// A warping path through one component of the neighbourhood graph: from entry `start` =
 /// `(i, j)` to entry `end`, through `nodes` entries with summed distance `cost`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -188,11 +281,16 @@ pub struct WarpingPath {
     pub end: (usize, usize),
     pub cost: f32,
     pub nodes: usize,
-    /// The region the path lies in (as given to [`NeighbourhoodGraph::warping_paths`]).
+    /// The block the path lies in: row span `<< 32 |` column span (see [`Blocks`]).
     pub region: u64,
 }
 
 impl WarpingPath {
+    /// The block `(row span, column span)` the path lies in.
+    pub fn block(&self) -> (usize, usize) {
+        ((self.region >> 32) as usize, (self.region & 0xffff_ffff) as usize)
+    }
+
     /// Average gradient `Δj / Δi` (`None` if the path stays in one frame `i`).
     pub fn slope(&self) -> Option<f64> {
         let di = self.end.0 - self.start.0;
@@ -236,19 +334,17 @@ impl PrimitiveSearch {
     /// `graph`; one list per action, ascending.
     pub fn cuts(&self, graph: &NeighbourhoodGraph, actions: &[Span]) -> Vec<Vec<Cut>> {
         let action_of = frame_lookup(graph.sssm().frames(), actions);
-        let paths = graph.warping_paths(|i, j| {
-            let a = action_of[i];
-            (a != NONE && a == action_of[j]).then_some(a as u64)
-        });
+        let paths = graph.warping_paths(&Blocks::diagonal(&action_of));
         let mut per_action: Vec<Vec<Cut>> = vec![Vec::new(); actions.len()];
         for path in paths {
             if !path.is_valid(self.nu, self.min_path_frames) {
                 continue;
             }
-            let a = &actions[path.region as usize];
+            let action = path.block().0;
+            let a = &actions[action];
             let frame = path.start.1;
             if frame >= a.start + self.min_cut_distance && frame + self.min_cut_distance <= a.end {
-                per_action[path.region as usize].push(Cut { frame, path });
+                per_action[action].push(Cut { frame, path });
             }
         }
         per_action.into_iter().map(|c| self.thin(c)).collect()
@@ -334,7 +430,7 @@ mod tests {
         }
         let s = sssm_from_pairs(40, &pairs);
         let g = NeighbourhoodGraph::new(&s);
-        let paths = g.warping_paths(|_, _| Some(0));
+        let paths = g.warping_paths(&Blocks::all_pairs(&[0; 40]));
         assert_eq!(paths.len(), 2);
         let long = paths.iter().find(|p| p.nodes > 10).unwrap();
         assert_eq!(long.start, (0, 11));
@@ -345,7 +441,8 @@ mod tests {
         let short = paths.iter().find(|p| p.nodes <= 10).unwrap();
         assert_eq!((short.start, short.end, short.frames()), ((0, 30), (3, 33), 4));
         // regions split the graph: only the part with i < 10 in region 0
-        let split_paths = g.warping_paths(|i, _| (i < 10).then_some(0));
+        let rows: Vec<u32> = (0..40).map(|i| if i < 10 { 0 } else { NONE }).collect();
+        let split_paths = g.warping_paths(&Blocks::rows_cols(&rows, &[0; 40]));
         let long = split_paths.iter().find(|p| p.start.1 == 11).unwrap();
         assert_eq!(long.end, (9, 20));
     }
@@ -379,7 +476,7 @@ mod tests {
         }
         let s = sssm_from_pairs(40, &pairs);
         let g = NeighbourhoodGraph::new(&s);
-        let paths = g.warping_paths(|_, _| Some(0));
+        let paths = g.warping_paths(&Blocks::all_pairs(&[0; 40]));
         assert_eq!(paths.len(), 1);
         // cheapest: enter at (30, 9), leave at (32, 20)
         assert_eq!((paths[0].start, paths[0].end), ((30, 9), (32, 20)));

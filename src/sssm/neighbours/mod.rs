@@ -19,6 +19,9 @@ use serde::{Deserialize, Serialize};
 use super::features::FeatureMatrix;
 use super::SssmError;
 
+pub mod stacked;
+pub use stacked::StackedSearch;
+
 /// Number of leading principal coordinates the kd-tree indexes.
 pub const TREE_DIMS: usize = 4;
 /// At most this many frames are used to estimate the principal axes (a subsample is enough:
@@ -276,11 +279,7 @@ impl NeighbourSearch {
             }
         }
         out[first..].sort_unstable_by_key(|c| c.0);
-        if out.len() - first > max {
-            let mut row = out.split_off(first);
-            cap_row(&mut row, max);
-            out.extend_from_slice(&row);
-        }
+        cap_tail(out, first, max);
     }
 
     fn search(&self, rotated_queries: &[f32], radius: f32, max_neighbours: usize) -> Sssm {
@@ -300,17 +299,46 @@ impl NeighbourSearch {
     /// `j ≥ i` and again to the finished rows, so at most `2 · max_neighbours` entries per frame
     /// are ever held (a still take, where every frame is everyone's neighbour, stays small).
     fn search_symmetric(&self, rotated_queries: &[f32], radius: f32, max_neighbours: usize) -> Sssm {
-        let n = rotated_queries.len() / self.dim;
         let limit = radius * radius;
-        // the upper triangle, row by row
-        let mut upper: Vec<(u32, f32)> = Vec::new();
-        let mut upper_starts = Vec::with_capacity(n + 1);
-        upper_starts.push(0usize);
+        let mut upper = UpperTriangle::new(rotated_queries.len() / self.dim);
         for (i, q) in rotated_queries.chunks_exact(self.dim).enumerate() {
-            self.query(q, limit, i, max_neighbours, &mut upper);
-            upper_starts.push(upper.len());
+            self.query(q, limit, i, max_neighbours, &mut upper.entries);
+            upper.end_row();
         }
-        // row i = its lower entries (from earlier rows, ascending) then its upper entries
+        upper.into_symmetric(max_neighbours)
+    }
+}
+
+/// Rows transposed together by [`UpperTriangle::into_symmetric`].
+const TRANSPOSE_BLOCK: usize = 64;
+
+/// The upper triangle (`j ≥ i`) of a symmetric SSSM, row by row, as a search produces it.
+pub(crate) struct UpperTriangle {
+    n: usize,
+    /// `(j, d_ij)` of every row, ascending `j` within a row.
+    pub(crate) entries: Vec<(u32, f32)>,
+    starts: Vec<usize>,
+}
+
+impl UpperTriangle {
+    pub(crate) fn new(n: usize) -> Self {
+        let mut starts = Vec::with_capacity(n + 1);
+        starts.push(0);
+        UpperTriangle { n, entries: Vec::new(), starts }
+    }
+
+    /// Closes the current row (its entries are those pushed since the last call).
+    pub(crate) fn end_row(&mut self) {
+        self.starts.push(self.entries.len());
+    }
+
+    /// The full symmetric matrix: row `i` = its lower entries (from earlier rows, ascending)
+    /// then its upper entries. The cap applies to each row of the triangle and again to the
+    /// finished rows, so at most `2 · max_neighbours` entries per frame are ever held (a still
+    /// take, where every frame is everyone's neighbour, stays small).
+    pub(crate) fn into_symmetric(self, max_neighbours: usize) -> Sssm {
+        let UpperTriangle { n, entries: upper, starts: upper_starts } = self;
+        debug_assert_eq!(upper_starts.len(), n + 1);
         let mut lower = vec![0u32; n];
         for &(j, _) in &upper {
             lower[j as usize] += 1;
@@ -331,14 +359,44 @@ impl NeighbourSearch {
         let mut cols = vec![0u32; total];
         let mut dists = vec![0f32; total];
         let mut fill: Vec<u32> = starts[..n].to_vec();
-        for i in 0..n {
-            for &(j, d) in &upper[upper_starts[i]..upper_starts[i + 1]] {
-                if j as usize != i {
-                    let k = fill[j as usize] as usize;
-                    cols[k] = i as u32;
-                    dists[k] = d;
-                    fill[j as usize] += 1;
+        // Entry (i, j) of the triangle is entry (j, i) of row j's lower part. Writing them row
+        // by row would jump across the whole matrix for every entry; instead each block of
+        // `TRANSPOSE_BLOCK` rows is first sorted by `j` in a small buffer (a counting sort), then
+        // copied out with `j` ascending, so the writes move through memory in order.
+        let mut count = vec![0u32; n + 1];
+        let mut buffer: Vec<(u32, f32)> = Vec::new();
+        for block in (0..n).step_by(TRANSPOSE_BLOCK) {
+            let rows = block..(block + TRANSPOSE_BLOCK).min(n);
+            count[block..=n].iter_mut().for_each(|c| *c = 0);
+            for i in rows.clone() {
+                for &(j, _) in &upper[upper_starts[i]..upper_starts[i + 1]] {
+                    count[j as usize + 1] += u32::from(j as usize != i);
                 }
+            }
+            for j in block..n {
+                count[j + 1] += count[j];
+            }
+            buffer.resize(count[n] as usize, (0, 0.0));
+            for i in rows {
+                for &(j, d) in &upper[upper_starts[i]..upper_starts[i + 1]] {
+                    if j as usize != i {
+                        let k = &mut count[j as usize];
+                        buffer[*k as usize] = (i as u32, d);
+                        *k += 1;
+                    }
+                }
+            }
+            // count[j] is now the end of row j's run in the buffer
+            let mut from = 0usize;
+            for j in block..n {
+                let to = count[j] as usize;
+                let at = fill[j] as usize;
+                for (k, &(i, d)) in (at..).zip(&buffer[from..to]) {
+                    cols[k] = i;
+                    dists[k] = d;
+                }
+                fill[j] += (to - from) as u32;
+                from = to;
             }
         }
         for i in 0..n {
@@ -349,29 +407,82 @@ impl NeighbourSearch {
                 dists[k] = d;
             }
         }
-        let sssm = Sssm { n, starts, cols, dists };
-        if (0..n).all(|i| sssm.row_range(i).len() <= max_neighbours) {
-            return sssm;
+        let mut sssm = Sssm { n, starts, cols, dists };
+        if (0..n).any(|i| sssm.row_range(i).len() > max_neighbours) {
+            // cap the rows in place (each row moves down over what earlier rows dropped)
+            let mut row = Vec::new();
+            let mut at = 0usize;
+            for i in 0..n {
+                let r = sssm.row_range(i);
+                sssm.starts[i] = at as u32;
+                if r.len() <= max_neighbours {
+                    sssm.cols.copy_within(r.clone(), at);
+                    sssm.dists.copy_within(r.clone(), at);
+                    at += r.len();
+                    continue;
+                }
+                row.clear();
+                row.extend(r.map(|e| (sssm.cols[e], sssm.dists[e])));
+                cap_row(&mut row, max_neighbours);
+                for &(j, d) in &row {
+                    sssm.cols[at] = j;
+                    sssm.dists[at] = d;
+                    at += 1;
+                }
+            }
+            sssm.starts[n] = at as u32;
+            sssm.cols.truncate(at);
+            sssm.dists.truncate(at);
         }
-        let mut b = SssmBuilder::new(n);
-        let mut row = Vec::new();
-        for i in 0..n {
-            row.clear();
-            row.extend(sssm.row_range(i).map(|e| (sssm.cols[e], sssm.dists[e])));
-            cap_row(&mut row, max_neighbours);
-            b.push_sorted_row(&row);
-        }
-        b.finish()
+        sssm
     }
 }
 
-/// Keeps the `max` nearest entries of a row sorted by index (still sorted by index after).
-fn cap_row(row: &mut Vec<(u32, f32)>, max: usize) {
-    if row.len() > max {
-        row.select_nth_unstable_by(max, |a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
-        row.truncate(max);
-        row.sort_unstable_by_key(|&(j, _)| j);
+/// Keeps the `max` nearest entries of a row sorted by index (still sorted by index after; of
+/// entries tied at the cut-off distance the lower indices stay). Linear in the row's length.
+pub(crate) fn cap_row(row: &mut Vec<(u32, f32)>, max: usize) {
+    cap_tail(row, 0, max);
+}
+
+/// [`cap_row`] for the entries `row[first..]` (the earlier entries are left alone).
+pub(crate) fn cap_tail(row: &mut Vec<(u32, f32)>, first: usize, max: usize) {
+    let tail = &mut row[first..];
+    if tail.len() <= max {
+        return;
     }
+    if max == 0 {
+        row.truncate(first);
+        return;
+    }
+    let cutoff = CAP_SCRATCH.with(|scratch| {
+        let mut dists = scratch.take();
+        dists.clear();
+        dists.extend(tail.iter().map(|e| e.1));
+        let (_, &mut cutoff, _) = dists.select_nth_unstable_by(max - 1, f32::total_cmp);
+        scratch.set(dists);
+        cutoff
+    });
+    // entries nearer than the cut-off all stay; those at it fill the rest in index order
+    let nearer = tail.iter().filter(|e| e.1 < cutoff).count();
+    let mut ties = max - nearer;
+    let mut kept = 0;
+    for k in 0..tail.len() {
+        let e = tail[k];
+        let keep = e.1 < cutoff || (e.1 == cutoff && ties > 0);
+        if keep {
+            if e.1 == cutoff {
+                ties -= 1;
+            }
+            tail[kept] = e;
+            kept += 1;
+        }
+    }
+    row.truncate(first + kept);
+}
+
+thread_local! {
+    /// The distances [`cap_tail`] selects from (kept to avoid an allocation per row).
+    static CAP_SCRATCH: std::cell::Cell<Vec<f32>> = const { std::cell::Cell::new(Vec::new()) };
 }
 
 /// Rotates `features` onto `axes` (rows) about `mean`.

@@ -1,0 +1,325 @@
+//! The exact radius search of stacked features (§IV-A), using how they are stacked.
+//!
+//! A stacked feature is `F_i = [f_{i+o₁}, …, f_{i+o_k}]` (per-frame features `f`, frame offsets
+//! `o`, indices clamped to the take), so its squared distance is a sum of per-frame squared
+//! distances taken along a diagonal:
+//!
+//! ```text
+//! |F_i − F_j|² = Σ_o D(c(i+o), c(j+o)),   D(a, b) = |f_a − f_b|²,   c = clamp to the take
+//! ```
+//!
+//! Row `a` of `D` (for `b ≥ a`) is computed once, when the first stacked row needs it, and
+//! kept while later rows still do (a ring of `max o − min o + 1` rows). Every `D(a, b)` costs
+//! one per-frame distance (15 values for the end effectors), so the whole upper triangle costs
+//! what a single 15-value distance per pair costs instead of a 75-value one, with every loop
+//! running over contiguous memory (it vectorises). For the mirror SSSM (§V) the same holds with
+//! `D_M(a, b) = |M f_a − f_b|²`, `M` the mirror map.
+//!
+//! Why not the kd-tree of [`super::NeighbourSearch`]: at the method's radius (`r = 19·√5`
+//! inches) about a sixth of all frame pairs of a repetitive take are neighbours, and a tree
+//! cannot prune a search whose ball covers much of the data; on a 3000-frame take this search
+//! is about 20 times faster (see the README's benchmark). The kd-tree stays for features that
+//! are not a plain stack (after feature bundling, §III) and for cross searches.
+
+use super::{cap_tail, Sssm, UpperTriangle};
+use crate::sssm::features::{FeatureMatrix, MirrorMap};
+use crate::sssm::SssmError;
+
+/// Per-frame features prepared for the stacked search.
+pub struct StackedSearch {
+    n: usize,
+    dim: usize,
+    offsets: Vec<i32>,
+    /// The features, centred, dimension-major (`dim × n`): the candidates `b`.
+    columns: Vec<f32>,
+    /// The features, centred, frame-major: the queries `a`.
+    queries: Vec<f32>,
+    /// The mirrored features `M f_a`, centred, frame-major (if a mirror map was given).
+    mirrored: Option<Vec<f32>>,
+}
+
+impl StackedSearch {
+    /// Prepares per-frame features `base` stacked at `offsets` (as in
+    /// [`stack`](crate::sssm::features::stack)), with their mirror map if the mirror SSSM is
+    /// wanted.
+    pub fn new(base: &FeatureMatrix, offsets: &[i32], mirror: Option<&MirrorMap>) -> Result<Self, SssmError> {
+        let (n, dim) = (base.frames(), base.dim());
+        if offsets.is_empty() {
+            return Err(SssmError::BadFeatures("no frame offsets to stack".into()));
+        }
+        let mirrored = match mirror {
+            Some(m) if m.dim() != dim => {
+                return Err(SssmError::BadFeatures(format!(
+                    "the mirror map is for {} values per frame, the features have {dim}",
+                    m.dim()
+                )))
+            }
+            Some(m) => Some(m.apply(base)?),
+            None => None,
+        };
+        // Centring keeps the sums small (better f32 rounding). The centre must be its own
+        // mirror image, so that |M(f−μ) − (g−μ)| = |Mf − g|: the mean of f and M f.
+        let mut centre = vec![0f64; dim];
+        for i in 0..n {
+            for (c, &x) in centre.iter_mut().zip(base.row(i)) {
+                *c += x as f64;
+            }
+            if let Some(m) = &mirrored {
+                for (c, &x) in centre.iter_mut().zip(m.row(i)) {
+                    *c += x as f64;
+                }
+            }
+        }
+        let count = if mirrored.is_some() { 2 * n } else { n } as f64;
+        let centre: Vec<f32> = centre.iter().map(|&c| (c / count) as f32).collect();
+        let centred = |f: &FeatureMatrix| -> Vec<f32> {
+            f.as_slice().chunks_exact(dim).flat_map(|row| row.iter().zip(&centre).map(|(&x, &c)| x - c)).collect()
+        };
+        let queries = centred(base);
+        let mut columns = vec![0f32; n * dim];
+        for (i, row) in queries.chunks_exact(dim).enumerate() {
+            for (k, &x) in row.iter().enumerate() {
+                columns[k * n + i] = x;
+            }
+        }
+        let mirrored = mirrored.as_ref().map(centred);
+        Ok(StackedSearch { n, dim, offsets: offsets.to_vec(), columns, queries, mirrored })
+    }
+
+    /// The SSSM (every frame with its neighbours within `radius`, itself included at distance
+    /// 0, at most `max_neighbours` of them, the nearest) and, if a mirror map was given, the
+    /// mirror SSSM (`|M·F_i − F_j| ≤ radius`, symmetric because `M` is an isometry and its own
+    /// inverse). Exactly the lists a brute-force search over the stacked features gives.
+    pub fn similarities(&self, radius: f32, max_neighbours: usize) -> (Sssm, Option<Sssm>) {
+        let plain = || self.similarity(&self.queries, radius, max_neighbours);
+        let mirror = || self.mirrored.as_ref().map(|q| self.similarity(q, radius, max_neighbours));
+        crate::parallel::join(plain, mirror)
+    }
+
+    /// The symmetric SSSM between the `queries` (plain or mirrored features) and the frames.
+    fn similarity(&self, queries: &[f32], radius: f32, max_neighbours: usize) -> Sssm {
+        let n = self.n;
+        let limit = radius * radius;
+        let lo = *self.offsets.iter().min().expect("offsets checked in new");
+        let hi = *self.offsets.iter().max().expect("offsets checked in new");
+        let mut ring = RowRing::new(((hi - lo) as usize + 1).min(n), n);
+        let mut upper = UpperTriangle::new(n);
+        let mut sums = vec![0f32; n];
+        for i in 0..n {
+            let sums = &mut sums[..n - i];
+            self.stacked_row(i, queries, &mut ring, sums);
+            push_within(sums, i, limit, max_neighbours, &mut upper);
+        }
+        upper.into_symmetric(max_neighbours)
+    }
+
+    /// `sums[j − i] = Σ_o D(c(i+o), c(j+o))` for `j ≥ i`, with `D` measured from the query
+    /// frames `queries` (the plain or the mirrored features) to the candidate frames.
+    fn stacked_row(&self, i: usize, queries: &[f32], ring: &mut RowRing, sums: &mut [f32]) {
+        let n = self.n as i64;
+        sums.fill(0.0);
+        for &o in &self.offsets {
+            let a = (i as i64 + o as i64).clamp(0, n - 1) as usize;
+            let row = ring.row(a, |out| self.distance_row(&queries[a * self.dim..(a + 1) * self.dim], a, out));
+            // j + o below 0 (j < −o), inside the take, at or past its end (j ≥ n − o)
+            let inner_from = (i as i64).max(-(o as i64)).min(n) as usize;
+            let inner_to = (n - o as i64).clamp(inner_from as i64, n) as usize;
+            let (head, rest) = sums.split_at_mut(inner_from - i);
+            let (inner, tail) = rest.split_at_mut(inner_to - inner_from);
+            head.iter_mut().for_each(|s| *s += row[0]);
+            if !inner.is_empty() {
+                let b0 = (inner_from as i64 + o as i64) as usize;
+                let len = inner.len();
+                for (s, &d) in inner.iter_mut().zip(&row[b0..b0 + len]) {
+                    *s += d;
+                }
+            }
+            tail.iter_mut().for_each(|s| *s += row[self.n - 1]);
+        }
+    }
+
+    /// `out[b] = |q − f_b|²` for `b ≥ from` (the rest of `out` is left as it is). Blocks of
+    /// [`LANES`] candidates are summed over all dimensions in a local accumulator, which the
+    /// compiler keeps in vector registers.
+    fn distance_row(&self, q: &[f32], from: usize, out: &mut [f32]) {
+        let n = self.n;
+        let out = &mut out[from..n];
+        let mut blocks = out.chunks_exact_mut(LANES);
+        let mut b = from;
+        for block in &mut blocks {
+            let mut acc = [0f32; LANES];
+            for (k, &qk) in q.iter().enumerate() {
+                let column: &[f32; LANES] =
+                    self.columns[k * n + b..k * n + b + LANES].try_into().expect("a block of LANES values");
+                for t in 0..LANES {
+                    let d = column[t] - qk;
+                    acc[t] += d * d;
+                }
+            }
+            block.copy_from_slice(&acc);
+            b += LANES;
+        }
+        let rest = blocks.into_remainder();
+        rest.fill(0.0);
+        for (k, &qk) in q.iter().enumerate() {
+            for (o, &x) in rest.iter_mut().zip(&self.columns[k * n + b..(k + 1) * n]) {
+                let d = x - qk;
+                *o += d * d;
+            }
+        }
+    }
+}
+
+/// Candidates summed at once by [`StackedSearch::distance_row`].
+const LANES: usize = 32;
+
+/// Appends the entries `(i + k, √sums[k])` with `sums[k] ≤ limit` as row `i` of `upper`,
+/// capped to the `max` nearest.
+fn push_within(sums: &[f32], i: usize, limit: f32, max: usize, upper: &mut UpperTriangle) {
+    let first = upper.entries.len();
+    for (k, &s) in sums.iter().enumerate() {
+        if s <= limit {
+            upper.entries.push(((i + k) as u32, s.max(0.0).sqrt()));
+        }
+    }
+    cap_tail(&mut upper.entries, first, max);
+    upper.end_row();
+}
+
+/// The rows `D(a, ·)` still needed, in `slots` rows of `n` values (slot `a mod slots`).
+struct RowRing {
+    n: usize,
+    owner: Vec<usize>,
+    data: Vec<f32>,
+}
+
+impl RowRing {
+    fn new(slots: usize, n: usize) -> Self {
+        RowRing { n, owner: vec![usize::MAX; slots], data: vec![0f32; slots * n] }
+    }
+
+    /// Row `a`, computed by `fill` unless it is still held.
+    fn row(&mut self, a: usize, fill: impl FnOnce(&mut [f32])) -> &[f32] {
+        let slot = a % self.owner.len();
+        let row = &mut self.data[slot * self.n..(slot + 1) * self.n];
+        if self.owner[slot] != a {
+            fill(row);
+            self.owner[slot] = a;
+        }
+        row
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sssm::features::stack;
+    use crate::sssm::neighbours::NeighbourSearch;
+
+    /// A deterministic pseudo-random walk in `d` dimensions.
+    fn walk(n: usize, d: usize, seed: u64) -> FeatureMatrix {
+        let mut s = seed;
+        let mut x = vec![0f32; d];
+        let mut data = Vec::with_capacity(n * d);
+        for _ in 0..n {
+            for v in x.iter_mut() {
+                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                *v = 0.9 * *v + 2.0 * ((s >> 40) as f32 / (1u64 << 24) as f32) - 1.0;
+            }
+            data.extend_from_slice(&x);
+        }
+        FeatureMatrix::new(n, d, data).unwrap()
+    }
+
+    fn brute_force(a: &FeatureMatrix, b: &FeatureMatrix, r: f32) -> Vec<Vec<(u32, f32)>> {
+        (0..a.frames())
+            .map(|i| {
+                (0..b.frames())
+                    .filter_map(|j| {
+                        let d2: f32 = a.row(i).iter().zip(b.row(j)).map(|(x, y)| (x - y) * (x - y)).sum();
+                        (d2 <= r * r).then(|| (j as u32, d2.sqrt()))
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Same neighbours and distances, allowing for pairs within rounding of the radius.
+    fn same_lists(got: &Sssm, truth: &[Vec<(u32, f32)>], r: f32) {
+        let got = got.to_lists();
+        assert_eq!(got.len(), truth.len());
+        for (i, (x, y)) in got.iter().zip(truth).enumerate() {
+            let border = |&&(_, d): &&(u32, f32)| (d - r).abs() > 1e-3;
+            let xs: Vec<_> = x.iter().filter(border).collect();
+            let ys: Vec<_> = y.iter().filter(border).collect();
+            assert_eq!(xs.iter().map(|p| p.0).collect::<Vec<_>>(), ys.iter().map(|p| p.0).collect::<Vec<_>>(), "row {i}");
+            for (p, q) in xs.iter().zip(&ys) {
+                assert!((p.1 - q.1).abs() < 1e-3, "row {i}: {p:?} vs {q:?}");
+            }
+        }
+    }
+
+    /// A walk whose second half repeats the mirror image of its first half, slightly off.
+    fn walk_and_mirror(half: usize, seed: u64) -> FeatureMatrix {
+        let map = MirrorMap::end_effectors();
+        let first = walk(half, 15, seed);
+        let wobble = walk(half, 15, seed + 1);
+        let mirrored = map.apply(&first).unwrap();
+        let mut data = first.as_slice().to_vec();
+        data.extend(mirrored.as_slice().iter().zip(wobble.as_slice()).map(|(m, w)| m + 0.2 * w));
+        FeatureMatrix::new(2 * half, 15, data).unwrap()
+    }
+
+    #[test]
+    fn matches_brute_force_on_the_stacked_features_with_the_take_ends_clamped() {
+        let base = walk_and_mirror(150, 5);
+        let map = MirrorMap::end_effectors();
+        for offsets in [vec![-10, -5, 0, 5, 10], vec![0], vec![3, -7, 0], vec![-40, 40]] {
+            let stacked = stack(&base, &offsets);
+            let mirrored = map.apply(&stacked).unwrap();
+            let r = 4.0 * (offsets.len() as f32).sqrt();
+            let search = StackedSearch::new(&base, &offsets, Some(&map)).unwrap();
+            let (sssm, mirror) = search.similarities(r, 10_000);
+            let truth = brute_force(&stacked, &stacked, r);
+            assert!(sssm.entries() > 3 * 300, "{offsets:?}: the test needs real neighbours, got {}", sssm.entries());
+            same_lists(&sssm, &truth, r);
+            let mirror = mirror.unwrap();
+            let mirror_truth = brute_force(&mirrored, &stacked, r);
+            assert!(mirror.entries() > 300, "{offsets:?}: the test needs mirror neighbours, got {}", mirror.entries());
+            same_lists(&mirror, &mirror_truth, r);
+            // the same lists as the kd-tree search
+            let tree = NeighbourSearch::new(&stacked);
+            same_lists(&tree.self_similarity(r, 10_000), &sssm.to_lists(), r);
+        }
+    }
+
+    #[test]
+    fn a_take_shorter_than_the_offsets_and_a_single_frame() {
+        let base = walk(7, 15, 9);
+        let offsets = [-10, -5, 0, 5, 10];
+        let stacked = stack(&base, &offsets);
+        let (sssm, mirror) = StackedSearch::new(&base, &offsets, None).unwrap().similarities(8.0, 100);
+        assert!(mirror.is_none());
+        same_lists(&sssm, &brute_force(&stacked, &stacked, 8.0), 8.0);
+        let one = walk(1, 15, 1);
+        let (sssm, _) = StackedSearch::new(&one, &offsets, Some(&MirrorMap::end_effectors())).unwrap().similarities(1.0, 5);
+        assert_eq!(sssm.to_lists(), vec![vec![(0, 0.0)]]);
+    }
+
+    #[test]
+    fn the_cap_keeps_the_nearest_neighbours() {
+        let rows: Vec<[f32; 1]> = (0..50).map(|i| [i as f32]).collect();
+        let base = FeatureMatrix::from_rows(&rows).unwrap();
+        let (sssm, _) = StackedSearch::new(&base, &[0], None).unwrap().similarities(100.0, 5);
+        let (cols, dists) = sssm.row(20);
+        assert_eq!(cols, &[18, 19, 20, 21, 22]);
+        assert_eq!(dists, &[2.0, 1.0, 0.0, 1.0, 2.0]);
+    }
+
+    #[test]
+    fn bad_inputs_are_errors() {
+        let base = walk(10, 6, 1);
+        assert!(StackedSearch::new(&base, &[], None).is_err());
+        assert!(StackedSearch::new(&base, &[0], Some(&MirrorMap::end_effectors())).is_err());
+    }
+}
