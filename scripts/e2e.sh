@@ -33,5 +33,9 @@ done
 
 echo "e2e: serving $DIST on http://127.0.0.1:$PORT/"
 cd "$ROOT/tests/e2e"
+# a Node ≥ 20 that scripts/setup.sh installed when the system's is older (Debian 12 ships 18)
+for bin in "$ROOT"/.tools/node/node_modules/node-linux-*/bin; do
+    [ -x "$bin/node" ] && PATH="$bin:$PATH"
+done
 BASE_URL="http://127.0.0.1:$PORT/" OUT_DIR="$OUT" FIXTURES="$ROOT/tests/fixtures" SAMPLE_BVH="$DIST/www/sample.bvh" \
     node page.test.mjs

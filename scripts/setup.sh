@@ -211,6 +211,7 @@ ensure_npm() {
     if ! have node || ! have npm; then
         apt_install nodejs npm
     fi
+    ensure_node20
     local stamp="$E2E_DIR/node_modules/.setup-stamp" want
     want=$(cat "$E2E_DIR/package.json" "$E2E_DIR/package-lock.json" | sha256sum | cut -d' ' -f1)
     if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$want" ] \
@@ -223,6 +224,32 @@ ensure_npm() {
     "$E2E_DIR/node_modules/.bin/wasm-opt" --version | grep -q "version 132" \
         || die "tests/e2e/node_modules/.bin/wasm-opt is not binaryen 132"
     echo "$want" >"$stamp"
+}
+
+# playwright-core needs Node ≥ 20; Debian 12 ships 18. Then a Node 20 binary comes from the npm
+# registry (package node-linux-<arch>) into .tools/node; scripts/e2e.sh puts it first on PATH.
+ensure_node20() {
+    local major
+    major=$(node -p 'process.versions.node.split(".")[0]' 2>/dev/null || echo 0)
+    if [ "$major" -ge 20 ]; then
+        log "node $(node --version) is recent enough for playwright-core"
+        return
+    fi
+    local arch
+    case "$(uname -m)" in
+        x86_64) arch=x64 ;;
+        aarch64 | arm64) arch=arm64 ;;
+        *) die "node $(node --version) is older than 20 and no Node 20 package exists for $(uname -m)" ;;
+    esac
+    local dir="$ROOT/.tools/node"
+    if [ ! -x "$dir/node_modules/node-linux-$arch/bin/node" ]; then
+        log "node $(node --version) is older than 20 (playwright-core needs ≥ 20): npm install node-linux-$arch@20 into .tools/node"
+        mkdir -p "$dir"
+        npm install --no-save --no-audit --no-fund --loglevel=error --prefix "$dir" "node-linux-$arch@20" \
+            || die "could not install Node 20 from the npm registry"
+    fi
+    "$dir/node_modules/node-linux-$arch/bin/node" --version >/dev/null || die "the Node 20 from .tools/node does not run"
+    log "using $("$dir/node_modules/node-linux-$arch/bin/node" --version) from .tools/node for the e2e test"
 }
 
 main() {

@@ -38,10 +38,7 @@ pub fn decode(bytes: &[u8]) -> (std::borrow::Cow<'_, str>, Option<Warning>) {
         Err(e) => {
             let line = bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
             let text: String = bytes.iter().map(|&b| b as char).collect();
-            let warning = Warning {
-                line,
-                message: "the file is not valid UTF-8; read it as Latin-1".to_string(),
-            };
+            let warning = Warning { line, message: "the file is not valid UTF-8; read it as Latin-1".to_string() };
             (std::borrow::Cow::Owned(text), Some(warning))
         }
     }
@@ -63,7 +60,8 @@ pub fn load_bytes(file: &str, bytes: &[u8], progress: &mut dyn FnMut(f64)) -> Re
 #[cfg(not(target_arch = "wasm32"))]
 pub fn load_path(path: &std::path::Path) -> Result<Loaded, LoadError> {
     let file = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| path.display().to_string());
-    let bytes = std::fs::read(path).map_err(|e| LoadError::Io { file: path.display().to_string(), message: e.to_string() })?;
+    let bytes =
+        std::fs::read(path).map_err(|e| LoadError::Io { file: path.display().to_string(), message: e.to_string() })?;
     load_bytes(&file, &bytes, &mut |_| {})
 }
 

@@ -29,7 +29,7 @@ pub fn join<A, B>(a: impl FnOnce() -> A, b: impl FnOnce() -> B) -> (A, B) {
 mod tests {
     #[test]
     fn both_results_come_back_in_order() {
-        let data = vec![1, 2, 3];
+        let data = [1, 2, 3];
         let (sum, len) = super::join(|| data.iter().sum::<i32>(), || data.len());
         assert_eq!((sum, len), (6, 3));
     }

@@ -33,10 +33,10 @@ use crate::motion::{Motion, Units, UpAxis};
 use crate::segment::Segmentation;
 use crate::sssm::{segment_with_progress, SssmParams};
 use crate::sssm_image::{self, SssmImage};
-use std::cell::RefCell;
 use glam::Vec3;
 use js_sys::{Array, ArrayBuffer, Float32Array, Function, Object, Reflect, Uint8Array};
 use serde::{Deserialize, Serialize};
+use std::cell::RefCell;
 use wasm_bindgen::prelude::*;
 
 /// What the summary line shows about a loaded take.
@@ -77,20 +77,12 @@ impl Bounds {
     /// The bounds of a set of points (a unit box around the origin if there are none).
     pub fn of(points: &[Vec3]) -> Bounds {
         let finite = points.iter().filter(|p| p.is_finite());
-        let (min, max) = finite.fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
+        let (min, max) = finite
+            .fold((Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
         if min.cmple(max).all() {
-            Bounds {
-                min: min.to_array(),
-                max: max.to_array(),
-            }
+            Bounds { min: min.to_array(), max: max.to_array() }
         } else {
-            Bounds {
-                min: [-0.5; 3],
-                max: [0.5; 3],
-            }
+            Bounds { min: [-0.5; 3], max: [0.5; 3] }
         }
     }
 
@@ -139,9 +131,7 @@ impl LoadedMotion {
     pub fn frame(&self, i: usize) -> impl Iterator<Item = Vec3> + '_ {
         let n = self.nodes();
         let i = i.min(self.summary.frames.saturating_sub(1));
-        self.positions[i * n * 3..(i + 1) * n * 3]
-            .chunks_exact(3)
-            .map(Vec3::from_slice)
+        self.positions[i * n * 3..(i + 1) * n * 3].chunks_exact(3).map(Vec3::from_slice)
     }
 }
 
@@ -168,34 +158,12 @@ pub struct SssmView {
 /// A message from the worker, decoded on the page.
 #[derive(Debug, Clone, PartialEq)]
 pub enum WorkerEvent {
-    Progress {
-        id: u32,
-        stage: String,
-        fraction: Option<f64>,
-    },
-    Done {
-        id: u32,
-        motion: Box<LoadedMotion>,
-    },
-    Error {
-        id: u32,
-        message: String,
-        fatal: bool,
-    },
-    SssmProgress {
-        id: u32,
-        stage: String,
-        fraction: Option<f64>,
-    },
-    SssmDone {
-        id: u32,
-        view: Box<SssmView>,
-    },
-    SssmError {
-        id: u32,
-        message: String,
-        fatal: bool,
-    },
+    Progress { id: u32, stage: String, fraction: Option<f64> },
+    Done { id: u32, motion: Box<LoadedMotion> },
+    Error { id: u32, message: String, fatal: bool },
+    SssmProgress { id: u32, stage: String, fraction: Option<f64> },
+    SssmDone { id: u32, view: Box<SssmView> },
+    SssmError { id: u32, message: String, fatal: bool },
 }
 
 impl WorkerEvent {
@@ -208,15 +176,10 @@ impl WorkerEvent {
                 stage: field(data, "stage")?.as_string().unwrap_or_default(),
                 fraction: field(data, "fraction")?.as_f64(),
             }),
-            Some("done") => Ok(WorkerEvent::Done {
-                id,
-                motion: Box::new(decode_motion(data)?),
-            }),
+            Some("done") => Ok(WorkerEvent::Done { id, motion: Box::new(decode_motion(data)?) }),
             Some("error") => Ok(WorkerEvent::Error {
                 id,
-                message: field(data, "message")?
-                    .as_string()
-                    .unwrap_or_else(|| "unknown error".into()),
+                message: field(data, "message")?.as_string().unwrap_or_else(|| "unknown error".into()),
                 fatal: field(data, "fatal")?.is_truthy(),
             }),
             Some("sssm-progress") => Ok(WorkerEvent::SssmProgress {
@@ -224,15 +187,10 @@ impl WorkerEvent {
                 stage: field(data, "stage")?.as_string().unwrap_or_default(),
                 fraction: field(data, "fraction")?.as_f64(),
             }),
-            Some("sssm-done") => Ok(WorkerEvent::SssmDone {
-                id,
-                view: Box::new(decode_sssm(data)?),
-            }),
+            Some("sssm-done") => Ok(WorkerEvent::SssmDone { id, view: Box::new(decode_sssm(data)?) }),
             Some("sssm-error") => Ok(WorkerEvent::SssmError {
                 id,
-                message: field(data, "message")?
-                    .as_string()
-                    .unwrap_or_else(|| "unknown error".into()),
+                message: field(data, "message")?.as_string().unwrap_or_else(|| "unknown error".into()),
                 fatal: field(data, "fatal")?.is_truthy(),
             }),
             other => Err(format!("unknown worker message type {other:?}")),
@@ -310,7 +268,11 @@ fn decode_sssm(data: &JsValue) -> Result<SssmView, String> {
     let report: SssmReport = serde_json::from_str(&text).map_err(|e| format!("worker message `report`: {e}"))?;
     report.segmentation.validate().map_err(|e| format!("worker message `report`: {e}"))?;
     let image = field(data, "image")?;
-    let image = SssmImage { size: decode(&image, "size")?, block: decode(&image, "block")?, rgba: decode_bytes(&image, "rgba")? };
+    let image = SssmImage {
+        size: decode(&image, "size")?,
+        block: decode(&image, "block")?,
+        rgba: decode_bytes(&image, "rgba")?,
+    };
     if image.rgba.len() != image.size * image.size * 4 {
         return Err("worker message: the SSSM image's size does not match its pixels".into());
     }
@@ -411,10 +373,7 @@ fn decode<T: serde::de::DeserializeOwned>(data: &JsValue, key: &str) -> Result<T
 
 fn decode_bytes(data: &JsValue, key: &str) -> Result<Vec<u8>, String> {
     let value = field(data, key)?;
-    value
-        .dyn_ref::<Uint8Array>()
-        .map(Uint8Array::to_vec)
-        .ok_or_else(|| format!("worker message `{key}` is not bytes"))
+    value.dyn_ref::<Uint8Array>().map(Uint8Array::to_vec).ok_or_else(|| format!("worker message `{key}` is not bytes"))
 }
 
 fn decode_motion(data: &JsValue) -> Result<LoadedMotion, String> {
@@ -433,13 +392,7 @@ fn decode_motion(data: &JsValue) -> Result<LoadedMotion, String> {
         rgba: decode_bytes(&image, "rgba")?,
         png: decode_bytes(&image, "png")?,
     };
-    let motion = LoadedMotion {
-        summary,
-        skeleton,
-        bounds,
-        positions,
-        image,
-    };
+    let motion = LoadedMotion { summary, skeleton, bounds, positions, image };
     check_shapes(&motion)?;
     Ok(motion)
 }
@@ -449,11 +402,7 @@ fn check_shapes(m: &LoadedMotion) -> Result<(), String> {
     let nodes = m.nodes();
     let consistent = m.skeleton.parents.len() == nodes
         && m.skeleton.is_end_site.len() == nodes
-        && m.skeleton
-            .parents
-            .iter()
-            .enumerate()
-            .all(|(i, p)| p.is_none_or(|p| p < i))
+        && m.skeleton.parents.iter().enumerate().all(|(i, p)| p.is_none_or(|p| p < i))
         && m.positions.len() == m.summary.frames * nodes * 3
         && m.summary.frames > 0
         && m.image.rgba.len() == m.image.width * m.image.height * 4;
@@ -503,23 +452,15 @@ mod tests {
     fn a_load_reaches_the_page_intact() {
         let (result, progress) = load(BVH, "tiny.bvh");
         let result = result.expect("tiny file loads");
-        assert!(
-            progress.iter().any(|(stage, f)| stage == "parsing" && *f == Some(1.0)),
-            "{progress:?}"
-        );
-        assert!(progress
-            .iter()
-            .any(|(stage, f)| stage == "forward kinematics" && f.is_none()));
+        assert!(progress.iter().any(|(stage, f)| stage == "parsing" && *f == Some(1.0)), "{progress:?}");
+        assert!(progress.iter().any(|(stage, f)| stage == "forward kinematics" && f.is_none()));
 
         let WorkerEvent::Done { id, motion } = WorkerEvent::from_js(&as_message("done", 7, &result)).unwrap() else {
             panic!("not a done message");
         };
         assert_eq!(id, 7);
         let s = &motion.summary;
-        assert_eq!(
-            (s.name.as_str(), s.joints, s.end_sites, s.frames),
-            ("tiny.bvh", 2, 1, 2)
-        );
+        assert_eq!((s.name.as_str(), s.joints, s.end_sites, s.frames), ("tiny.bvh", 2, 1, 2));
         assert!((s.fps - 1.0 / 0.0417083750417).abs() < 1e-9);
         assert_eq!(motion.skeleton.parents, vec![None, Some(0), Some(1)]);
         assert_eq!(motion.skeleton.is_end_site, vec![false, false, true]);
@@ -555,11 +496,7 @@ mod tests {
         }
         assert_eq!(
             WorkerEvent::from_js(&progress).unwrap(),
-            WorkerEvent::Progress {
-                id: 3,
-                stage: "parsing".into(),
-                fraction: Some(0.5)
-            }
+            WorkerEvent::Progress { id: 3, stage: "parsing".into(), fraction: Some(0.5) }
         );
         let error = Object::new();
         for (k, v) in [
@@ -572,11 +509,7 @@ mod tests {
         }
         assert_eq!(
             WorkerEvent::from_js(&error).unwrap(),
-            WorkerEvent::Error {
-                id: 4,
-                message: "x.bvh: boom".into(),
-                fatal: true
-            }
+            WorkerEvent::Error { id: 4, message: "x.bvh: boom".into(), fatal: true }
         );
         assert!(WorkerEvent::from_js(&Object::new().into()).is_err());
     }

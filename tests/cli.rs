@@ -95,7 +95,8 @@ fn positions_csv_has_a_row_per_frame_and_xyz_per_joint() {
 #[test]
 fn segment_prints_the_schema_and_echoes_overridden_params() {
     let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("www/sample.bvh");
-    let out = run(&["segment", "--method", "sssm", file.to_str().unwrap(), "--radius", "17", "--param", "stop_window=6"]);
+    let out =
+        run(&["segment", "--method", "sssm", file.to_str().unwrap(), "--radius", "17", "--param", "stop_window=6"]);
     let v = stdout_json(&out);
     assert_eq!(v["method"], "sssm");
     assert_eq!(v["frames"], 2465);
@@ -130,7 +131,11 @@ fn eval_scores_a_segmentation_against_truth() {
     let seg_path = dir.join("take.json");
     std::fs::write(&seg_path, seg.to_string()).unwrap();
     let truth_path = dir.join("truth.csv");
-    std::fs::write(&truth_path, "trial,label,start_frame,end_frame,trial_frames\ntake,walk,1,50,100\ntake,jump,51,100,100\n").unwrap();
+    std::fs::write(
+        &truth_path,
+        "trial,label,start_frame,end_frame,trial_frames\ntake,walk,1,50,100\ntake,jump,51,100,100\n",
+    )
+    .unwrap();
     let v = stdout_json(&run(&["eval", seg_path.to_str().unwrap(), "--truth", truth_path.to_str().unwrap()]));
     assert_eq!(v["trial"], "take");
     assert_eq!(v["boundaries"][0]["f1"], 1.0);

@@ -311,6 +311,17 @@ fn segmenting_a_take_gives_a_valid_segmentation_at_the_file_rate() {
     assert_eq!(actions.len(), 1, "{actions:?}");
     let t = |f: usize| f as f64 / motion.fps;
     assert!(t(actions[0].start) > 0.5 && t(actions[0].end) < t(motion.frames()) - 0.5, "{:?}", actions[0]);
+    // primitives name their cluster's mirror partner (SSSM §V) in the schema's `mirror_of`
+    for p in seg.level(Level::Primitive) {
+        let c = p.cluster.unwrap();
+        assert_eq!(p.mirror_of, r.outcome.clusters[c].mirror_of, "{p:?}");
+        assert_eq!(p.label.contains("mirrors"), p.mirror_of.is_some(), "{p:?}");
+    }
+    // 02_01 walks: its steps are left and right steps, mirror images of each other
+    let walk = segment(&load("02_01.bvh", include_bytes!("fixtures/02_01.bvh")), &SssmParams::new()).unwrap();
+    let steps: Vec<_> = walk.segmentation.level(Level::Primitive).collect();
+    assert!(steps.len() >= 2 && steps.iter().all(|p| p.mirror_of.is_some()), "{steps:?}");
+    assert_eq!(steps[0].mirror_of, steps[1].cluster, "{steps:?}");
     // the working rate maps back: 120 Hz file, 30 Hz working frames
     assert_eq!(r.outcome.fps, 30.0);
     assert_eq!(r.source_frames[3], 12.0);

@@ -22,10 +22,8 @@ use wasm_bindgen_test::*;
 wasm_bindgen_test_configure!(run_in_browser);
 
 /// Absolute path of the benchmarked take, fixed at compile time.
-const PATH: &str = env!(
-    "MOCAPSEG_BENCH_BVH",
-    "set MOCAPSEG_BENCH_BVH to the absolute path of a .bvh file (make bench-wasm does)"
-);
+const PATH: &str =
+    env!("MOCAPSEG_BENCH_BVH", "set MOCAPSEG_BENCH_BVH to the absolute path of a .bvh file (make bench-wasm does)");
 const TEXT: &str = include_str!(env!("MOCAPSEG_BENCH_BVH"));
 
 /// Minimum measuring time per benchmark, and the run-count bounds.
@@ -46,9 +44,7 @@ fn median_ms(mut work: impl FnMut()) -> (f64, usize) {
     work();
     let mut times = Vec::new();
     let started = performance_now();
-    while times.len() < MAX_RUNS
-        && (times.len() < MIN_RUNS || performance_now() - started < MIN_TOTAL_MS)
-    {
+    while times.len() < MAX_RUNS && (times.len() < MIN_RUNS || performance_now() - started < MIN_TOTAL_MS) {
         let t0 = performance_now();
         work();
         times.push(performance_now() - t0);

@@ -213,9 +213,8 @@ fn fk_cmu_walk_stands_on_the_floor() {
     assert!((16.0..=18.0).contains(&mean_root_y), "mean root height {mean_root_y}");
 
     // Each frame's lowest point (a foot or toe) is on the floor, y ≈ 0 (1 unit ≈ 5.6 cm).
-    let mut lowest: Vec<f64> = (0..m.frames())
-        .map(|f| m.frame(f).iter().map(|p| p.y as f64).fold(f64::INFINITY, f64::min))
-        .collect();
+    let mut lowest: Vec<f64> =
+        (0..m.frames()).map(|f| m.frame(f).iter().map(|p| p.y as f64).fold(f64::INFINITY, f64::min)).collect();
     lowest.sort_by(|a, b| a.total_cmp(b));
     let median = lowest[lowest.len() / 2];
     assert!(median.abs() < 1.0, "median lowest point {median}");

@@ -26,17 +26,9 @@ pub struct Basis {
 
 impl Basis {
     /// Y up, X right, +Z toward the viewer (BVH default, CMU).
-    pub const Y_UP: Basis = Basis {
-        up: Vec3::Y,
-        right: Vec3::X,
-        back: Vec3::Z,
-    };
+    pub const Y_UP: Basis = Basis { up: Vec3::Y, right: Vec3::X, back: Vec3::Z };
     /// Z up, X right, −Y toward the viewer (the Y-up basis turned +90° about X).
-    pub const Z_UP: Basis = Basis {
-        up: Vec3::Z,
-        right: Vec3::X,
-        back: Vec3::NEG_Y,
-    };
+    pub const Z_UP: Basis = Basis { up: Vec3::Z, right: Vec3::X, back: Vec3::NEG_Y };
 
     /// Height of a point above the origin, along `up`.
     pub fn height(&self, p: Vec3) -> f32 {
@@ -67,13 +59,7 @@ impl Orbit {
     pub fn fit(min: Vec3, max: Vec3, aspect: f32) -> Orbit {
         let radius = (0.5 * (max - min).length()).max(1e-3);
         let half_fov = 0.5 * effective_fov(aspect);
-        Orbit {
-            target: 0.5 * (min + max),
-            yaw: 0.6,
-            pitch: 0.3,
-            distance: 1.05 * radius / half_fov.sin(),
-            radius,
-        }
+        Orbit { target: 0.5 * (min + max), yaw: 0.6, pitch: 0.3, distance: 1.05 * radius / half_fov.sin(), radius }
     }
 
     /// Where the camera is.
@@ -95,10 +81,7 @@ impl Orbit {
     /// The camera moved `factor` times closer (< 1) or farther (> 1), within limits.
     pub fn zoomed(self, factor: f32) -> Orbit {
         let (near, far) = (DISTANCE_RANGE.0 * self.radius, DISTANCE_RANGE.1 * self.radius);
-        Orbit {
-            distance: (self.distance * factor).clamp(near, far),
-            ..self
-        }
+        Orbit { distance: (self.distance * factor).clamp(near, far), ..self }
     }
 
     /// Near clipping distance: small next to the scene, never zero.
@@ -132,17 +115,13 @@ pub struct Projector {
 impl Projector {
     pub fn new(orbit: &Orbit, basis: &Basis, size: Vec2) -> Projector {
         let aspect = size.x / size.y.max(1.0);
-        Projector {
-            matrix: orbit.view_projection(basis, aspect),
-            near: orbit.near(),
-            size,
-        }
+        Projector { matrix: orbit.view_projection(basis, aspect), near: orbit.near(), size }
     }
 
     /// Pixel position of a point in front of the camera; `None` behind it.
     pub fn point(&self, p: Vec3) -> Option<Vec2> {
         let clip = self.matrix * p.extend(1.0);
-        (clip.w >= self.near).then(|| self.to_pixels(clip))
+        (clip.w >= self.near).then(|| self.clip_to_pixels(clip))
     }
 
     /// Pixel end points of a segment, cut where it crosses the near plane; `None` if it lies
@@ -150,10 +129,10 @@ impl Projector {
     pub fn segment(&self, a: Vec3, b: Vec3) -> Option<(Vec2, Vec2)> {
         let (ca, cb) = (self.matrix * a.extend(1.0), self.matrix * b.extend(1.0));
         match (ca.w >= self.near, cb.w >= self.near) {
-            (true, true) => Some((self.to_pixels(ca), self.to_pixels(cb))),
+            (true, true) => Some((self.clip_to_pixels(ca), self.clip_to_pixels(cb))),
             (false, false) => None,
-            (true, false) => Some((self.to_pixels(ca), self.to_pixels(self.cut(ca, cb)))),
-            (false, true) => Some((self.to_pixels(self.cut(cb, ca)), self.to_pixels(cb))),
+            (true, false) => Some((self.clip_to_pixels(ca), self.clip_to_pixels(self.cut(ca, cb)))),
+            (false, true) => Some((self.clip_to_pixels(self.cut(cb, ca)), self.clip_to_pixels(cb))),
         }
     }
 
@@ -163,7 +142,7 @@ impl Projector {
         inside + (outside - inside) * t
     }
 
-    fn to_pixels(&self, clip: Vec4) -> Vec2 {
+    fn clip_to_pixels(&self, clip: Vec4) -> Vec2 {
         let ndc = Vec2::new(clip.x, clip.y) / clip.w;
         Vec2::new((ndc.x + 1.0) * 0.5 * self.size.x, (1.0 - ndc.y) * 0.5 * self.size.y)
     }
@@ -208,11 +187,7 @@ impl FloorGrid {
 pub fn nice_step(x: f32) -> f32 {
     let x = x.max(1e-6);
     let decade = 10f32.powf(x.log10().floor());
-    [1.0, 2.0, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * decade)
-        .find(|s| *s >= x * 0.999)
-        .unwrap_or(10.0 * decade)
+    [1.0, 2.0, 5.0, 10.0].into_iter().map(|m| m * decade).find(|s| *s >= x * 0.999).unwrap_or(10.0 * decade)
 }
 
 #[cfg(test)]
@@ -267,22 +242,14 @@ mod tests {
     #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
     #[cfg_attr(not(target_arch = "wasm32"), test)]
     fn segments_are_cut_at_the_near_plane() {
-        let orbit = Orbit {
-            target: Vec3::ZERO,
-            yaw: 0.0,
-            pitch: 0.0,
-            distance: 10.0,
-            radius: 1.0,
-        };
+        let orbit = Orbit { target: Vec3::ZERO, yaw: 0.0, pitch: 0.0, distance: 10.0, radius: 1.0 };
         let projector = Projector::new(&orbit, &Basis::Y_UP, Vec2::new(100.0, 100.0));
         let eye = orbit.eye(&Basis::Y_UP);
         assert_eq!(eye, Vec3::new(0.0, 0.0, 10.0));
         let behind = Vec3::new(0.0, 1.0, 20.0);
         assert!(projector.point(behind).is_none());
         assert!(projector.segment(behind, behind + Vec3::X).is_none());
-        let (a, b) = projector
-            .segment(Vec3::new(0.0, 1.0, 0.0), behind)
-            .expect("front part is kept");
+        let (a, b) = projector.segment(Vec3::new(0.0, 1.0, 0.0), behind).expect("front part is kept");
         assert!(a.is_finite() && b.is_finite());
         assert!(close(a, projector.point(Vec3::new(0.0, 1.0, 0.0)).unwrap()));
     }
@@ -290,13 +257,7 @@ mod tests {
     #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
     #[cfg_attr(not(target_arch = "wasm32"), test)]
     fn orbit_limits() {
-        let orbit = Orbit {
-            target: Vec3::ZERO,
-            yaw: 0.0,
-            pitch: 0.0,
-            distance: 10.0,
-            radius: 1.0,
-        };
+        let orbit = Orbit { target: Vec3::ZERO, yaw: 0.0, pitch: 0.0, distance: 10.0, radius: 1.0 };
         assert_eq!(orbit.rotated(0.0, 10.0).pitch, PITCH_RANGE.1);
         assert_eq!(orbit.zoomed(1e-6).distance, DISTANCE_RANGE.0);
         assert_eq!(orbit.zoomed(1e6).distance, DISTANCE_RANGE.1);
@@ -314,11 +275,7 @@ mod tests {
         for (a, b) in &grid.lines {
             assert!((a.z - 0.05).abs() < 1e-5 && (b.z - 0.05).abs() < 1e-5);
         }
-        let reach = grid
-            .lines
-            .iter()
-            .map(|(a, _)| a.x.abs().max(a.y.abs()))
-            .fold(0.0, f32::max);
+        let reach = grid.lines.iter().map(|(a, _)| a.x.abs().max(a.y.abs())).fold(0.0, f32::max);
         assert!(reach >= 1.0, "grid covers the motion");
     }
 }

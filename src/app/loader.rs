@@ -26,10 +26,7 @@ impl Urls {
     /// The defaults, overridden by the root element's `data-worker-url` / `data-sample-url`.
     pub fn from_root(root: &web_sys::Element) -> Urls {
         let get = |name: &str, default: &str| root.get_attribute(name).unwrap_or_else(|| default.to_string());
-        Urls {
-            worker: get("data-worker-url", "./www/worker.js"),
-            sample: get("data-sample-url", "./www/sample.bvh"),
-        }
+        Urls { worker: get("data-worker-url", "./www/worker.js"), sample: get("data-sample-url", "./www/sample.bvh") }
     }
 
     /// The file name at the end of the sample's URL.
@@ -97,11 +94,7 @@ impl Loader {
         wasm_bindgen_futures::spawn_local(async move {
             match JsFuture::from(file.array_buffer()).await {
                 Ok(bytes) => send(&inner, id, &name, bytes.unchecked_ref()),
-                Err(e) => fail(
-                    &inner,
-                    id,
-                    format!("{name}: could not read the file: {}", js_message(&e)),
-                ),
+                Err(e) => fail(&inner, id, format!("{name}: could not read the file: {}", js_message(&e))),
             }
         });
     }
@@ -111,11 +104,7 @@ impl Loader {
 fn begin(inner: &Inner, name: &str) -> u32 {
     let id = inner.current.get().wrapping_add(1);
     inner.current.set(id);
-    inner.state.load.set(LoadState::Loading {
-        name: name.to_string(),
-        stage: "reading".into(),
-        fraction: None,
-    });
+    inner.state.load.set(LoadState::Loading { name: name.to_string(), stage: "reading".into(), fraction: None });
     id
 }
 
@@ -177,10 +166,7 @@ fn spawn_worker(inner: &Rc<Inner>) {
     let worker = match Worker::new_with_options(&inner.urls.worker, &options) {
         Ok(worker) => worker,
         Err(e) => {
-            inner
-                .state
-                .error
-                .set(Some(format!("the worker could not be started: {}", js_message(&e))));
+            inner.state.error.set(Some(format!("the worker could not be started: {}", js_message(&e))));
             return;
         }
     };
@@ -227,10 +213,7 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
     match event {
         WorkerEvent::Progress { id, stage, fraction } if id == inner.current.get() => {
             state.load.update(|load| {
-                if let LoadState::Loading {
-                    stage: s, fraction: f, ..
-                } = load
-                {
+                if let LoadState::Loading { stage: s, fraction: f, .. } = load {
                     *s = stage;
                     *f = fraction;
                 }
@@ -279,22 +262,13 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
 
 async fn fetch_bytes(url: &str) -> Result<ArrayBuffer, String> {
     let window = web_sys::window().ok_or("no window")?;
-    let response: Response = JsFuture::from(window.fetch_with_str(url))
-        .await
-        .map_err(|e| js_message(&e))?
-        .unchecked_into();
+    let response: Response =
+        JsFuture::from(window.fetch_with_str(url)).await.map_err(|e| js_message(&e))?.unchecked_into();
     if !response.ok() {
-        return Err(format!(
-            "HTTP {} {} for {url}",
-            response.status(),
-            response.status_text()
-        ));
+        return Err(format!("HTTP {} {} for {url}", response.status(), response.status_text()));
     }
     let body = response.array_buffer().map_err(|e| js_message(&e))?;
-    JsFuture::from(body)
-        .await
-        .map(JsCast::unchecked_into)
-        .map_err(|e| js_message(&e))
+    JsFuture::from(body).await.map(JsCast::unchecked_into).map_err(|e| js_message(&e))
 }
 
 /// The message of a JS error (or the value itself, as text).

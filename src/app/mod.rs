@@ -45,11 +45,7 @@ use timeline::Timeline;
 #[derive(Debug, Clone, PartialEq)]
 pub enum LoadState {
     /// A file is being read or worked on; `fraction` is `None` when the stage cannot say.
-    Loading {
-        name: String,
-        stage: String,
-        fraction: Option<f64>,
-    },
+    Loading { name: String, stage: String, fraction: Option<f64> },
     /// The last load succeeded.
     Ready,
     /// The last load failed (the error banner says why).
@@ -116,11 +112,7 @@ impl AppState {
     fn new() -> AppState {
         AppState {
             motion: RwSignal::new(None),
-            load: RwSignal::new(LoadState::Loading {
-                name: String::new(),
-                stage: "starting".into(),
-                fraction: None,
-            }),
+            load: RwSignal::new(LoadState::Loading { name: String::new(), stage: "starting".into(), fraction: None }),
             error: RwSignal::new(None),
             frame: RwSignal::new(0),
             playing: RwSignal::new(false),

@@ -87,10 +87,7 @@ pub(super) fn stem(name: &str) -> &str {
 /// Stretches `image` over the whole canvas: columns to its width, rows to its height.
 fn draw(canvas: &HtmlCanvasElement, image: &Pixels) -> Result<(), JsValue> {
     let dpr = gloo::utils::window().device_pixel_ratio().max(1.0);
-    let (w, h) = (
-        ((canvas.client_width() as f64) * dpr).max(1.0),
-        ((canvas.client_height() as f64) * dpr).max(1.0),
-    );
+    let (w, h) = (((canvas.client_width() as f64) * dpr).max(1.0), ((canvas.client_height() as f64) * dpr).max(1.0));
     canvas.set_width(w as u32);
     canvas.set_height(h as u32);
     let ctx = context(canvas)?;
@@ -120,10 +117,7 @@ fn draw(canvas: &HtmlCanvasElement, image: &Pixels) -> Result<(), JsValue> {
             columns as f64,
             image.height as f64,
         )?;
-        let (x, dw) = (
-            start as f64 / image.width as f64 * w,
-            columns as f64 / image.width as f64 * w,
-        );
+        let (x, dw) = (start as f64 / image.width as f64 * w, columns as f64 / image.width as f64 * w);
         ctx.draw_image_with_html_canvas_element_and_sw_and_sh_and_dx_and_dy_and_dw_and_dh(
             &scratch,
             0.0,
@@ -140,11 +134,7 @@ fn draw(canvas: &HtmlCanvasElement, image: &Pixels) -> Result<(), JsValue> {
 }
 
 fn context(canvas: &HtmlCanvasElement) -> Result<CanvasRenderingContext2d, JsValue> {
-    canvas
-        .get_context("2d")?
-        .ok_or("no 2d context")?
-        .dyn_into()
-        .map_err(JsValue::from)
+    canvas.get_context("2d")?.ok_or("no 2d context")?.dyn_into().map_err(JsValue::from)
 }
 
 /// Saves `bytes` as a file called `name` through a temporary object URL.

@@ -24,9 +24,7 @@ impl Clock {
     /// The frame to show at `now_ms`, having shown `frame` of `frames` at the previous tick;
     /// playback wraps around at the end.
     pub fn tick(&mut self, now_ms: f64, frame: usize, frames: usize, fps: f64, speed: f64) -> usize {
-        let elapsed_s = self
-            .last_ms
-            .map_or(0.0, |last| ((now_ms - last) / 1000.0).clamp(0.0, MAX_STEP_S));
+        let elapsed_s = self.last_ms.map_or(0.0, |last| ((now_ms - last) / 1000.0).clamp(0.0, MAX_STEP_S));
         self.last_ms = Some(now_ms);
         if frames == 0 || fps.is_nan() || fps <= 0.0 || speed.is_nan() || speed <= 0.0 {
             return 0;
@@ -56,16 +54,9 @@ fn schedule(state: AppState, pending: Rc<RefCell<Option<AnimationFrame>>>, mut c
         if !state.playing.get_untracked() {
             return;
         }
-        let (frames, fps) = state
-            .motion
-            .with_untracked(|m| m.as_ref().map_or((0, 0.0), |m| (m.summary.frames, m.summary.fps)));
-        let frame = clock.tick(
-            now_ms,
-            state.frame.get_untracked(),
-            frames,
-            fps,
-            state.speed.get_untracked(),
-        );
+        let (frames, fps) =
+            state.motion.with_untracked(|m| m.as_ref().map_or((0, 0.0), |m| (m.summary.frames, m.summary.fps)));
+        let frame = clock.tick(now_ms, state.frame.get_untracked(), frames, fps, state.speed.get_untracked());
         let shown = state.frame.get_untracked();
         if let Some(end) = state.play_until.get_untracked() {
             // playing one segment: stop on its last frame (also if playback wrapped around)

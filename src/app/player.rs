@@ -43,9 +43,8 @@ pub fn Player(state: AppState) -> impl IntoView {
     });
     let fit = move || {
         let aspect = canvas_ref.get_untracked().map_or(1.5, |c| aspect_of(&c));
-        let fitted = state
-            .motion
-            .with_untracked(|m| m.as_ref().map(|m| Orbit::fit(m.bounds.min(), m.bounds.max(), aspect)));
+        let fitted =
+            state.motion.with_untracked(|m| m.as_ref().map(|m| Orbit::fit(m.bounds.min(), m.bounds.max(), aspect)));
         orbit.set(fitted);
     };
     // A new take: frame the camera on it.
@@ -180,10 +179,7 @@ fn aspect_of(canvas: &HtmlCanvasElement) -> f32 {
 /// Sizes the canvas' backing store to its CSS size × device pixels; returns the size in pixels.
 fn fit_backing_store(canvas: &HtmlCanvasElement) -> Vec2 {
     let dpr = gloo::utils::window().device_pixel_ratio().max(1.0);
-    let (w, h) = (
-        (canvas.client_width() as f64 * dpr) as u32,
-        (canvas.client_height() as f64 * dpr) as u32,
-    );
+    let (w, h) = ((canvas.client_width() as f64 * dpr) as u32, (canvas.client_height() as f64 * dpr) as u32);
     if canvas.width() != w.max(1) || canvas.height() != h.max(1) {
         canvas.set_width(w.max(1));
         canvas.set_height(h.max(1));
@@ -204,18 +200,11 @@ fn draw(canvas: &HtmlCanvasElement, m: &LoadedMotion, frame: usize, orbit: &Orbi
     ctx.fill_rect(0.0, 0.0, size.x as f64, size.y as f64);
     let projector = Projector::new(orbit, basis, size);
     let points: Vec<Vec3> = m.frame(frame).collect();
-    let bones: Vec<(Vec3, Vec3)> = m
-        .skeleton
-        .parents
-        .iter()
-        .enumerate()
-        .filter_map(|(i, p)| p.map(|p| (points[p], points[i])))
-        .collect();
+    let bones: Vec<(Vec3, Vec3)> =
+        m.skeleton.parents.iter().enumerate().filter_map(|(i, p)| p.map(|p| (points[p], points[i]))).collect();
 
     stroke_segments(&ctx, &projector, grid.lines.iter().copied(), GRID, scale);
-    let shadows = bones
-        .iter()
-        .map(|(a, b)| (basis.on_floor(*a, grid.height), basis.on_floor(*b, grid.height)));
+    let shadows = bones.iter().map(|(a, b)| (basis.on_floor(*a, grid.height), basis.on_floor(*b, grid.height)));
     stroke_segments(&ctx, &projector, shadows, SHADOW, 3.0 * scale);
     ctx.set_line_cap("round");
     stroke_segments(&ctx, &projector, bones.iter().copied(), BONE, 2.5 * scale);

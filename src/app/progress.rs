@@ -42,11 +42,7 @@ fn describe(name: &str, stage: &str, fraction: Option<f64>) -> String {
         "starting" => "Starting",
         other => other,
     };
-    let name = if name.is_empty() {
-        String::new()
-    } else {
-        format!(" {name}")
-    };
+    let name = if name.is_empty() { String::new() } else { format!(" {name}") };
     match fraction {
         Some(f) => format!("{verb}{name}… {:.0} %", 100.0 * f.clamp(0.0, 1.0)),
         None => format!("{verb}{name}…"),

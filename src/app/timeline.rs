@@ -21,9 +21,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
         let frames = state.frames();
         if frames > 0 && rect.width() > 0.0 {
             let fraction = (ev.client_x() as f64 - rect.left()) / rect.width();
-            state
-                .frame
-                .set(((fraction * frames as f64).floor().max(0.0) as usize).min(frames - 1));
+            state.frame.set(((fraction * frames as f64).floor().max(0.0) as usize).min(frames - 1));
         }
     };
     let on_down = move |ev: PointerEvent| {

@@ -231,8 +231,7 @@ mod cli {
             Some(f) => loaded.motion.resample(f).map_err(|e| format!("{}: {e}", file.display()))?,
             None => loaded.motion,
         };
-        let cols: Vec<usize> =
-            (0..motion.joints()).filter(|&j| end_sites || !motion.skeleton.is_end_site[j]).collect();
+        let cols: Vec<usize> = (0..motion.joints()).filter(|&j| end_sites || !motion.skeleton.is_end_site[j]).collect();
         let out = std::fs::File::create(output).map_err(|e| format!("{}: {e}", output.display()))?;
         let mut w = std::io::BufWriter::new(out);
         let io = |e: std::io::Error| format!("{}: {e}", output.display());
@@ -254,7 +253,13 @@ mod cli {
             writeln!(w).map_err(io)?;
         }
         w.flush().map_err(io)?;
-        eprintln!("wrote {} ({} frames at {} fps, {} joints)", output.display(), motion.frames(), motion.fps, cols.len());
+        eprintln!(
+            "wrote {} ({} frames at {} fps, {} joints)",
+            output.display(),
+            motion.frames(),
+            motion.fps,
+            cols.len()
+        );
         Ok(())
     }
 
@@ -267,8 +272,10 @@ mod cli {
         let trial = trial.unwrap_or_else(|| {
             Path::new(&seg.file).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
         });
-        let truth = load_csv(&read_text(truth_path)?, &trial, options).map_err(|e| format!("{}: {e}", truth_path.display()))?;
-        let scores = evaluate(&seg, &truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", seg_path.display()))?;
+        let truth =
+            load_csv(&read_text(truth_path)?, &trial, options).map_err(|e| format!("{}: {e}", truth_path.display()))?;
+        let scores =
+            evaluate(&seg, &truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", seg_path.display()))?;
         println!("{}", serde_json::to_string_pretty(&scores).map_err(|e| e.to_string())?);
         Ok(())
     }
@@ -284,8 +291,8 @@ mod cli {
                 let known: Vec<&str> = map.keys().map(String::as_str).collect();
                 return Err(format!("unknown SSSM parameter `{name}`; known: {}", known.join(", ")));
             }
-            let value = serde_json::from_str(raw.trim())
-                .unwrap_or_else(|_| serde_json::Value::String(raw.trim().to_string()));
+            let value =
+                serde_json::from_str(raw.trim()).unwrap_or_else(|_| serde_json::Value::String(raw.trim().to_string()));
             map.insert(name, value);
         }
         serde_json::from_value(json).map_err(|e| format!("invalid SSSM parameters: {e}"))
@@ -350,18 +357,36 @@ mod cli {
             println!("{}", serde_json::to_string_pretty(&list).map_err(|e| e.to_string())?);
             return Ok(());
         }
-        println!("| take | true / found actions | F1@0.5s | F1@1s | covering | Hungarian acc. | strict | tolerant | time |");
+        println!(
+            "| take | true / found actions | F1@0.5s | F1@1s | covering | Hungarian acc. | strict | tolerant | time |"
+        );
         println!("|---|---|---|---|---|---|---|---|---|");
         let n = rows.len() as f64;
         let mut mean = [0.0f64; 6];
         for (s, actions, secs) in &rows {
-            let v = [s.boundaries[0].f1, s.boundaries[1].f1, s.covering, s.hungarian_accuracy, s.strict_accuracy, s.tolerant_accuracy];
+            let v = [
+                s.boundaries[0].f1,
+                s.boundaries[1].f1,
+                s.covering,
+                s.hungarian_accuracy,
+                s.strict_accuracy,
+                s.tolerant_accuracy,
+            ];
             for (m, x) in mean.iter_mut().zip(v) {
                 *m += x / n;
             }
             println!(
                 "| {} | {} / {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.0} ms |",
-                s.trial, s.true_boundaries + 1, actions, v[0], v[1], v[2], v[3], v[4], v[5], secs * 1e3
+                s.trial,
+                s.true_boundaries + 1,
+                actions,
+                v[0],
+                v[1],
+                v[2],
+                v[3],
+                v[4],
+                v[5],
+                secs * 1e3
             );
         }
         println!(
@@ -377,8 +402,15 @@ mod cli {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
         let shared = root.join("../shared/data/cmu");
         let names = [
-            "86/86_01", "mocap6/13_29", "mocap6/14_14", "mocap6/13_30", "mocap6/13_31", "locomotion/02_01",
-            "locomotion/02_02", "locomotion/12_01", "locomotion/35_01",
+            "86/86_01",
+            "mocap6/13_29",
+            "mocap6/14_14",
+            "mocap6/13_30",
+            "mocap6/13_31",
+            "locomotion/02_01",
+            "locomotion/02_02",
+            "locomotion/12_01",
+            "locomotion/35_01",
         ];
         let all: Vec<PathBuf> = names.iter().map(|n| shared.join(format!("{n}.bvh"))).collect();
         if all.iter().all(|p| p.exists()) {
@@ -432,7 +464,8 @@ mod cli {
         }
         let full = Motion::from_bvh("bench sequence", &longest).map_err(|e| e.to_string())?;
         let params = SssmParams::default();
-        let names: Vec<String> = files.iter().map(|f| f.file_stem().unwrap_or_default().to_string_lossy().into()).collect();
+        let names: Vec<String> =
+            files.iter().map(|f| f.file_stem().unwrap_or_default().to_string_lossy().into()).collect();
         println!(
             "bench sssm native: takes {} at 30 Hz one after another ({distinct} distinct frames, cycled when longer), \
              default parameters, median of {reps}",
@@ -450,7 +483,10 @@ mod cli {
                 let mut last = (String::from("start"), Instant::now());
                 let mut these = Vec::new();
                 let r = sssm::segment_with_progress(&seq, &params, &mut |stage, _| {
-                    these.push((std::mem::replace(&mut last.0, stage.to_string()), last.1.elapsed().as_secs_f64() * 1e3));
+                    these.push((
+                        std::mem::replace(&mut last.0, stage.to_string()),
+                        last.1.elapsed().as_secs_f64() * 1e3,
+                    ));
                     last.1 = Instant::now();
                 })
                 .map_err(|e| e.to_string())?;
@@ -520,7 +556,12 @@ mod cli {
         println!("bench native: {} ({:.2} MB, {} frames), median of {} runs", file.display(), mb, frames, reps);
         println!("  parse         {:8.2} ms  {:8.1} MB/s  {:10.0} frames/s", p * 1e3, mb / p, frames as f64 / p);
         println!("  fk            {:8.2} ms  {:21.0} frames/s", f * 1e3, frames as f64 / f);
-        println!("  parse+fk      {:8.2} ms  {:8.1} MB/s  {:10.0} frames/s", (p + f) * 1e3, mb / (p + f), frames as f64 / (p + f));
+        println!(
+            "  parse+fk      {:8.2} ms  {:8.1} MB/s  {:10.0} frames/s",
+            (p + f) * 1e3,
+            mb / (p + f),
+            frames as f64 / (p + f)
+        );
         println!("  motion image  {:8.2} ms", i * 1e3);
         Ok(())
     }

@@ -225,10 +225,16 @@ impl Motion {
         let first = takes.first().ok_or(MotionError::NoFrames)?;
         for t in takes {
             if t.skeleton.names != first.skeleton.names {
-                return Err(MotionError::Incompatible(format!("`{}` and `{}` have different skeletons", first.name, t.name)));
+                return Err(MotionError::Incompatible(format!(
+                    "`{}` and `{}` have different skeletons",
+                    first.name, t.name
+                )));
             }
             if (t.fps - first.fps).abs() > 1e-6 * first.fps {
-                return Err(MotionError::Incompatible(format!("`{}` is at {} fps, `{}` at {} fps", first.name, first.fps, t.name, t.fps)));
+                return Err(MotionError::Incompatible(format!(
+                    "`{}` is at {} fps, `{}` at {} fps",
+                    first.name, first.fps, t.name, t.fps
+                )));
             }
             if t.frames() == 0 {
                 return Err(MotionError::NoFrames);

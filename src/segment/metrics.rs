@@ -62,7 +62,9 @@ pub struct Scores {
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MetricsError {
-    #[error("the segmentation has {seg} frames but the truth has {truth}: is it the same take at the same frame rate?")]
+    #[error(
+        "the segmentation has {seg} frames but the truth has {truth}: is it the same take at the same frame rate?"
+    )]
     LengthMismatch { seg: usize, truth: usize },
     #[error("the segmentation has no action, transition or primitive segments")]
     Empty,
@@ -92,8 +94,10 @@ fn action_spans(seg: &Segmentation) -> Vec<Span> {
     if actions.is_empty() {
         return Vec::new();
     }
-    let mut spans: Vec<Span> =
-        actions.iter().map(|&i| Span { start: parts[i].start, end: parts[i].end, key: cluster_key(parts[i]) }).collect();
+    let mut spans: Vec<Span> = actions
+        .iter()
+        .map(|&i| Span { start: parts[i].start, end: parts[i].end, key: cluster_key(parts[i]) })
+        .collect();
     // Stretch neighbouring actions over the gaps between them (transitions or unlabelled frames), meeting in the middle.
     for k in 0..spans.len().saturating_sub(1) {
         let (a_end, b_start) = (spans[k].end, spans[k + 1].start);
@@ -138,9 +142,35 @@ fn matched_boundaries(pred: &[usize], truth: &[usize], tol: f64) -> usize {
 
 fn boundary_score(pred: &[usize], truth: &[usize], tolerance_s: f64, fps: f64) -> BoundaryScore {
     let matched = matched_boundaries(pred, truth, tolerance_s * fps);
-    let ratio = |m: usize, n: usize| if n == 0 { if m == 0 { 1.0 } else { 0.0 } } else { m as f64 / n as f64 };
-    let precision = if pred.is_empty() { if truth.is_empty() { 1.0 } else { 0.0 } } else { ratio(matched, pred.len()) };
-    let recall = if truth.is_empty() { if pred.is_empty() { 1.0 } else { 0.0 } } else { ratio(matched, truth.len()) };
+    let ratio = |m: usize, n: usize| {
+        if n == 0 {
+            if m == 0 {
+                1.0
+            } else {
+                0.0
+            }
+        } else {
+            m as f64 / n as f64
+        }
+    };
+    let precision = if pred.is_empty() {
+        if truth.is_empty() {
+            1.0
+        } else {
+            0.0
+        }
+    } else {
+        ratio(matched, pred.len())
+    };
+    let recall = if truth.is_empty() {
+        if pred.is_empty() {
+            1.0
+        } else {
+            0.0
+        }
+    } else {
+        ratio(matched, truth.len())
+    };
     let f1 = if precision + recall > 0.0 { 2.0 * precision * recall / (precision + recall) } else { 0.0 };
     BoundaryScore { tolerance_s, precision, recall, f1, matched }
 }
@@ -221,12 +251,11 @@ fn hungarian_agreement(table: &[Vec<i64>]) -> i64 {
         return 0;
     }
     // kuhn_munkres needs rows <= columns: transpose when there are more clusters than labels.
-    let (r, c, get): (usize, usize, Box<dyn Fn(usize, usize) -> i64>) = if rows <= cols {
-        (rows, cols, Box::new(|i, j| table[i][j]))
+    let weights = if rows <= cols {
+        Matrix::from_fn(rows, cols, |(i, j)| table[i][j])
     } else {
-        (cols, rows, Box::new(|i, j| table[j][i]))
+        Matrix::from_fn(cols, rows, |(i, j)| table[j][i])
     };
-    let weights = Matrix::from_fn(r, c, |(i, j)| get(i, j));
     kuhn_munkres(&weights).0
 }
 
@@ -248,8 +277,15 @@ fn uncertain_frames(truth: &Truth, fps: f64, half_width_s: f64) -> Vec<bool> {
 }
 
 /// Strict and tolerant accuracy (see the module documentation).
-fn strict_tolerant(seg: &Segmentation, truth: &Truth, truth_keys: &[Option<usize>], n_labels: usize, tol: &Tolerances) -> (f64, f64) {
-    let mut prims: Vec<Span> = seg.level(Level::Primitive).map(|s| Span { start: s.start, end: s.end, key: cluster_key(s) }).collect();
+fn strict_tolerant(
+    seg: &Segmentation,
+    truth: &Truth,
+    truth_keys: &[Option<usize>],
+    n_labels: usize,
+    tol: &Tolerances,
+) -> (f64, f64) {
+    let mut prims: Vec<Span> =
+        seg.level(Level::Primitive).map(|s| Span { start: s.start, end: s.end, key: cluster_key(s) }).collect();
     if prims.is_empty() {
         prims = seg.level(Level::Action).map(|s| Span { start: s.start, end: s.end, key: cluster_key(s) }).collect();
     }
@@ -325,7 +361,15 @@ mod tests {
             params: serde_json::Value::Null,
             segments: parts
                 .iter()
-                .map(|&(start, end, level, cluster)| Segment { start, end, label: String::new(), level, cluster, score: None })
+                .map(|&(start, end, level, cluster)| Segment {
+                    start,
+                    end,
+                    label: String::new(),
+                    level,
+                    cluster,
+                    score: None,
+                    mirror_of: None,
+                })
                 .collect(),
         }
     }
@@ -344,7 +388,10 @@ mod tests {
     #[test]
     fn perfect_segmentation_scores_one_everywhere() {
         let t = truth(100, &[(0, 39, "walk"), (40, 69, "jump"), (70, 99, "walk")]);
-        let s = seg(100, &[(0, 39, Level::Action, Some(0)), (40, 69, Level::Action, Some(1)), (70, 99, Level::Action, Some(0))]);
+        let s = seg(
+            100,
+            &[(0, 39, Level::Action, Some(0)), (40, 69, Level::Action, Some(1)), (70, 99, Level::Action, Some(0))],
+        );
         let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
         assert_eq!((sc.true_boundaries, sc.predicted_boundaries), (2, 2));
         for b in &sc.boundaries {
@@ -359,7 +406,10 @@ mod tests {
     #[test]
     fn transitions_split_at_their_middle() {
         // Transition 30..=49 between two actions: the boundary lands at 40.
-        let s = seg(100, &[(0, 29, Level::Action, Some(0)), (30, 49, Level::Transition, None), (50, 99, Level::Action, Some(1))]);
+        let s = seg(
+            100,
+            &[(0, 29, Level::Action, Some(0)), (30, 49, Level::Transition, None), (50, 99, Level::Action, Some(1))],
+        );
         let spans = action_spans(&s);
         assert_eq!(spans.iter().map(|s| (s.start, s.end)).collect::<Vec<_>>(), vec![(0, 39), (40, 99)]);
         let t = truth(100, &[(0, 39, "a"), (40, 99, "b")]);
@@ -400,10 +450,17 @@ mod tests {
         // Three predicted clusters over two labels: Hungarian can use only two of them,
         // strict accuracy maps clusters 0 and 2 both to "walk".
         let t = truth(90, &[(0, 59, "walk"), (60, 89, "jump")]);
-        let s = seg(90, &[
-            (0, 29, Level::Action, Some(0)), (30, 59, Level::Action, Some(2)), (60, 89, Level::Action, Some(1)),
-            (0, 29, Level::Primitive, Some(0)), (30, 59, Level::Primitive, Some(2)), (60, 89, Level::Primitive, Some(1)),
-        ]);
+        let s = seg(
+            90,
+            &[
+                (0, 29, Level::Action, Some(0)),
+                (30, 59, Level::Action, Some(2)),
+                (60, 89, Level::Action, Some(1)),
+                (0, 29, Level::Primitive, Some(0)),
+                (30, 59, Level::Primitive, Some(2)),
+                (60, 89, Level::Primitive, Some(1)),
+            ],
+        );
         let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
         assert!((sc.hungarian_accuracy - 60.0 / 90.0).abs() < 1e-12);
         assert_eq!(sc.strict_accuracy, 1.0);

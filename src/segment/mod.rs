@@ -5,7 +5,8 @@
 //!  "segments": [{"start": 0, "end": 549, "label": "walk", "level": "action",
 //!                "cluster": 0, "score": null}]}
 //! ```
-//! Frame indices are 0-based and inclusive, at the file's own frame rate.
+//! Frame indices are 0-based and inclusive, at the file's own frame rate. A segment may also carry
+//! `"mirror_of": K`: its cluster is the mirror image of cluster `K` (SSSM primitives).
 
 pub mod metrics;
 pub mod truth;
@@ -30,6 +31,10 @@ pub struct Segment {
     pub level: Level,
     pub cluster: Option<usize>,
     pub score: Option<f64>,
+    /// The cluster whose segments are this one's mirror image (left step ↔ right step), for
+    /// methods that find mirror pairs (SSSM §V); left out of the JSON when there is none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mirror_of: Option<usize>,
 }
 
 /// A method's output for one file.
@@ -103,8 +108,24 @@ mod tests {
             method: "test".into(),
             params: serde_json::json!({"radius": 19.0}),
             segments: vec![
-                Segment { start: 0, end: 49, label: "walk".into(), level: Level::Action, cluster: Some(0), score: None },
-                Segment { start: 50, end: 99, label: "t".into(), level: Level::Transition, cluster: None, score: Some(0.5) },
+                Segment {
+                    start: 0,
+                    end: 49,
+                    label: "walk".into(),
+                    level: Level::Action,
+                    cluster: Some(0),
+                    score: None,
+                    mirror_of: None,
+                },
+                Segment {
+                    start: 50,
+                    end: 99,
+                    label: "t".into(),
+                    level: Level::Transition,
+                    cluster: None,
+                    score: Some(0.5),
+                    mirror_of: None,
+                },
             ],
         }
     }

@@ -106,7 +106,7 @@ pub fn load_csv(text: &str, trial: &str, options: TruthOptions) -> Result<Truth,
         };
         let (start, end) = (number(c_start, "start_frame")?, number(c_end, "end_frame")?);
         if end < start {
-            return Err(TruthError::Line { line: line_no, message: format!("end_frame is before start_frame") });
+            return Err(TruthError::Line { line: line_no, message: "end_frame is before start_frame".to_string() });
         }
         let end_window = match (c_lo, c_hi) {
             (Some(lo), Some(hi)) if !field(lo)?.is_empty() && !field(hi)?.is_empty() => {

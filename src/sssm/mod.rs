@@ -225,9 +225,11 @@ pub fn segment_features(
     progress("clusters", 0.85);
     let cluster_search =
         ClusterSearch { nu: params.nu, min_path_frames: params.min_path_frames, coverage: params.cluster_coverage };
+    // each graph moves to one thread (`&mut`: its work arrays are not shared)
+    let (plain_graph, mirror_graph, spans_ref) = (&mut graph, mirror_graph.as_mut(), &primitive_spans);
     let (links, mirror_links) = parallel::join(
-        || cluster_search.links(&mut graph, &primitive_spans),
-        || mirror_graph.as_mut().map_or(Vec::new(), |g| cluster_search.links(g, &primitive_spans)),
+        move || cluster_search.links(plain_graph, spans_ref),
+        move || mirror_graph.map_or(Vec::new(), |g| cluster_search.links(g, spans_ref)),
     );
     let cluster_of = ClusterSearch::clusters(primitive_spans.len(), &links);
     let clusters = ClusterSearch::describe(&cluster_of, &mirror_links);
@@ -328,23 +330,24 @@ fn file_span(source: &[f64], file_frames: usize, span: Span) -> Option<(usize, u
 fn to_segmentation(motion: &Motion, params: &ValidParams, o: &SssmOutcome, source: &[f64]) -> Segmentation {
     let n = motion.frames();
     let mut segments = Vec::new();
-    let mut push = |span: Span, label: String, level: Level, cluster: Option<usize>| {
+    let mut push = |span: Span, label: String, level: Level, cluster: Option<usize>, mirror_of: Option<usize>| {
         if let Some((start, end)) = file_span(source, n, span) {
-            segments.push(Segment { start, end, label, level, cluster, score: None });
+            segments.push(Segment { start, end, label, level, cluster, score: None, mirror_of });
         }
     };
     for a in &o.actions {
-        push(a.span, format!("A{}", a.cluster), Level::Action, Some(a.cluster));
+        push(a.span, format!("A{}", a.cluster), Level::Action, Some(a.cluster), None);
     }
     for t in &o.activities.transitions {
-        push(*t, "transition".into(), Level::Transition, None);
+        push(*t, "transition".into(), Level::Transition, None, None);
     }
     for p in &o.primitives {
-        let label = match o.clusters[p.cluster].mirror_of {
+        let mirror_of = o.clusters[p.cluster].mirror_of;
+        let label = match mirror_of {
             Some(m) => format!("P{} mirrors P{m}", p.cluster),
             None => format!("P{}", p.cluster),
         };
-        push(p.span, label, Level::Primitive, Some(p.cluster));
+        push(p.span, label, Level::Primitive, Some(p.cluster), mirror_of);
     }
     segments.sort_by_key(|s| (s.start, s.level != Level::Primitive, s.end));
     Segmentation {

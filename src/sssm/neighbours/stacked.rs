@@ -252,7 +252,11 @@ mod tests {
             let border = |&&(_, d): &&(u32, f32)| (d - r).abs() > 1e-3;
             let xs: Vec<_> = x.iter().filter(border).collect();
             let ys: Vec<_> = y.iter().filter(border).collect();
-            assert_eq!(xs.iter().map(|p| p.0).collect::<Vec<_>>(), ys.iter().map(|p| p.0).collect::<Vec<_>>(), "row {i}");
+            assert_eq!(
+                xs.iter().map(|p| p.0).collect::<Vec<_>>(),
+                ys.iter().map(|p| p.0).collect::<Vec<_>>(),
+                "row {i}"
+            );
             for (p, q) in xs.iter().zip(&ys) {
                 assert!((p.1 - q.1).abs() < 1e-3, "row {i}: {p:?} vs {q:?}");
             }
@@ -302,7 +306,8 @@ mod tests {
         assert!(mirror.is_none());
         same_lists(&sssm, &brute_force(&stacked, &stacked, 8.0), 8.0);
         let one = walk(1, 15, 1);
-        let (sssm, _) = StackedSearch::new(&one, &offsets, Some(&MirrorMap::end_effectors())).unwrap().similarities(1.0, 5);
+        let (sssm, _) =
+            StackedSearch::new(&one, &offsets, Some(&MirrorMap::end_effectors())).unwrap().similarities(1.0, 5);
         assert_eq!(sssm.to_lists(), vec![vec![(0, 0.0)]]);
     }
 
