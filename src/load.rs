@@ -36,12 +36,20 @@ pub fn decode(bytes: &[u8]) -> (std::borrow::Cow<'_, str>, Option<Warning>) {
     match std::str::from_utf8(bytes) {
         Ok(text) => (std::borrow::Cow::Borrowed(text), None),
         Err(e) => {
-            let line = bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
+            let line = line_breaks(&bytes[..e.valid_up_to()]) + 1;
             let text: String = bytes.iter().map(|&b| b as char).collect();
             let warning = Warning { line, message: "the file is not valid UTF-8; read it as Latin-1".to_string() };
             (std::borrow::Cow::Owned(text), Some(warning))
         }
     }
+}
+
+/// Line breaks in `bytes` counted as the BVH parser counts them: `\n`, `\r\n` and a lone `\r`
+/// (old Mac exporters) are one break each.
+fn line_breaks(bytes: &[u8]) -> usize {
+    let lone_cr = bytes.windows(2).filter(|w| w[0] == b'\r' && w[1] != b'\n').count();
+    let last_cr = usize::from(bytes.last() == Some(&b'\r'));
+    bytes.iter().filter(|&&b| b == b'\n').count() + lone_cr + last_cr
 }
 
 /// Parses `bytes` (the content of `file`) and computes its motion, reporting parse progress 0..1.
@@ -77,6 +85,18 @@ mod tests {
         let w = warning.expect("a warning");
         assert_eq!(w.line, 2);
         assert!(w.message.contains("UTF-8"));
+    }
+
+    #[test]
+    fn the_warning_counts_lines_like_the_parser_whatever_the_line_breaks() {
+        for (bytes, line) in [
+            (&b"A\r\nB\r\nROOT H\xe4nd"[..], 3),
+            (&b"A\rB\rC\rROOT H\xe4nd"[..], 4),
+            (&b"A\r\rB\nROOT H\xe4nd"[..], 4),
+            (&b"A\r\xe4"[..], 2),
+        ] {
+            assert_eq!(decode(bytes).1.expect("a warning").line, line, "{bytes:?}");
+        }
     }
 
     #[test]
