@@ -5,9 +5,10 @@
 //! the method in a web worker and threads would need cross-origin isolation, it runs them one
 //! after the other. Either way the results are the same.
 
-/// Runs `a` and `b` (concurrently natively) and returns both results.
+/// Runs `a` and `b` (concurrently natively: `a` on the calling thread, so it may hold
+/// non-`Send` state such as a progress callback) and returns both results.
 #[cfg(not(target_arch = "wasm32"))]
-pub fn join<A: Send, B: Send>(a: impl FnOnce() -> A + Send, b: impl FnOnce() -> B + Send) -> (A, B) {
+pub fn join<A, B: Send>(a: impl FnOnce() -> A, b: impl FnOnce() -> B + Send) -> (A, B) {
     std::thread::scope(|scope| {
         let other = scope.spawn(b);
         let first = a();

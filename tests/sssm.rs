@@ -291,6 +291,9 @@ fn segmenting_a_take_gives_a_valid_segmentation_at_the_file_rate() {
     assert_eq!(seg.params["radius"], 19.0);
     assert_eq!(stages.first().map(|s| s.0.as_str()), Some("features"));
     assert_eq!(stages.last().map(|s| s.1), Some(1.0));
+    // progress never goes back, and the neighbour search reports as it goes
+    assert!(stages.windows(2).all(|w| w[0].1 <= w[1].1), "{stages:?}");
+    assert!(stages.iter().filter(|s| s.0 == "neighbours").count() >= 3, "{stages:?}");
     // actions and transitions tile the take
     let mut top: Vec<_> = seg.segments.iter().filter(|s| s.level != Level::Primitive).collect();
     top.sort_by_key(|s| s.start);

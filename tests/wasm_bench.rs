@@ -107,7 +107,7 @@ const SSSM_SEQUENCE: &str = include_str!(env!(
 #[wasm_bindgen_test]
 fn sssm_end_to_end() {
     use mocapseg::segment::Level;
-    use mocapseg::sssm::{segment, SssmParams};
+    use mocapseg::sssm::{segment_with_progress, SssmParams};
     let bvh = bvh::parse(SSSM_SEQUENCE).expect("the SSSM bench sequence parses");
     let full = Motion::from_bvh("bench sequence", &bvh).expect("motion");
     assert!((full.fps - 30.0).abs() < 1e-6, "the sequence is at 30 Hz");
@@ -117,8 +117,21 @@ fn sssm_end_to_end() {
         let n = 3000 * factor;
         let seq = Motion::concatenate(std::slice::from_ref(&full), n).expect("sequence");
         let mut summary = (0, 0, 0);
+        let mut stages = String::new();
         let (ms, runs) = median_ms(|| {
-            let r = segment(&seq, &params).expect("sssm");
+            // time between progress reports = the stage just finished
+            let mut last = ("start".to_string(), performance_now());
+            let mut these = Vec::new();
+            let r = segment_with_progress(&seq, &params, &mut |stage, _| {
+                // a stage ends when the next one reports (a stage may report many times)
+                if stage != last.0 {
+                    let now = performance_now();
+                    these.push(format!("{} {:.1}", std::mem::replace(&mut last.0, stage.to_string()), now - last.1));
+                    last.1 = now;
+                }
+            })
+            .expect("sssm");
+            stages = these[1..].join(", ");
             let seg = &r.segmentation;
             summary = (r.outcome.sssm.entries(), seg.level(Level::Action).count(), seg.level(Level::Primitive).count());
         });
@@ -131,5 +144,6 @@ fn sssm_end_to_end() {
             summary.1,
             summary.2
         );
+        console_log!("wasm bench |   stages (ms, last run): {stages}");
     }
 }

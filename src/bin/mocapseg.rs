@@ -483,11 +483,12 @@ mod cli {
                 let mut last = (String::from("start"), Instant::now());
                 let mut these = Vec::new();
                 let r = sssm::segment_with_progress(&seq, &params, &mut |stage, _| {
-                    these.push((
-                        std::mem::replace(&mut last.0, stage.to_string()),
-                        last.1.elapsed().as_secs_f64() * 1e3,
-                    ));
-                    last.1 = Instant::now();
+                    // a stage ends when the next one reports (a stage may report many times)
+                    if stage != last.0 {
+                        let ms = last.1.elapsed().as_secs_f64() * 1e3;
+                        these.push((std::mem::replace(&mut last.0, stage.to_string()), ms));
+                        last.1 = Instant::now();
+                    }
                 })
                 .map_err(|e| e.to_string())?;
                 times.push(t0.elapsed().as_secs_f64() * 1e3);

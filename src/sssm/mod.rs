@@ -181,7 +181,11 @@ pub fn segment_features(
         (sssm, mirror_sssm)
     } else {
         progress("neighbours", 0.3);
-        StackedSearch::new(base, &params.offsets, mirror)?.similarities(radius as f32, params.max_neighbours)
+        StackedSearch::new(base, &params.offsets, mirror)?.similarities_with_progress(
+            radius as f32,
+            params.max_neighbours,
+            &mut |f| progress("neighbours", 0.3 + 0.2 * f),
+        )
     };
 
     // Region growing needs both SSSMs; the primitive and cluster graphs only the nearer

@@ -91,13 +91,38 @@ impl StackedSearch {
     /// mirror SSSM (`|M·F_i − F_j| ≤ radius`, symmetric because `M` is an isometry and its own
     /// inverse). Exactly the lists a brute-force search over the stacked features gives.
     pub fn similarities(&self, radius: f32, max_neighbours: usize) -> (Sssm, Option<Sssm>) {
-        let plain = || self.similarity(&self.queries, radius, max_neighbours);
-        let mirror = || self.mirrored.as_ref().map(|q| self.similarity(q, radius, max_neighbours));
-        crate::parallel::join(plain, mirror)
+        self.similarities_with_progress(radius, max_neighbours, &mut |_| {})
+    }
+
+    /// [`Self::similarities`], reporting the fraction done (0 to 1) as it goes.
+    pub fn similarities_with_progress(
+        &self,
+        radius: f32,
+        max_neighbours: usize,
+        progress: &mut dyn FnMut(f64),
+    ) -> (Sssm, Option<Sssm>) {
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            // both halves at once; the plain one (on this thread) reports for both
+            let plain = || self.similarity(&self.queries, radius, max_neighbours, progress);
+            let mirror = || self.mirrored.as_ref().map(|q| self.similarity(q, radius, max_neighbours, &mut |_| {}));
+            crate::parallel::join(plain, mirror)
+        }
+        #[cfg(target_arch = "wasm32")]
+        {
+            // one after the other, each half of the progress
+            let share = if self.mirrored.is_some() { 0.5 } else { 1.0 };
+            let plain = self.similarity(&self.queries, radius, max_neighbours, &mut |f| progress(share * f));
+            let mirror = self
+                .mirrored
+                .as_ref()
+                .map(|q| self.similarity(q, radius, max_neighbours, &mut |f| progress(share + share * f)));
+            (plain, mirror)
+        }
     }
 
     /// The symmetric SSSM between the `queries` (plain or mirrored features) and the frames.
-    fn similarity(&self, queries: &[f32], radius: f32, max_neighbours: usize) -> Sssm {
+    fn similarity(&self, queries: &[f32], radius: f32, max_neighbours: usize, progress: &mut dyn FnMut(f64)) -> Sssm {
         let n = self.n;
         let limit = radius * radius;
         let lo = *self.offsets.iter().min().expect("offsets checked in new");
@@ -106,35 +131,70 @@ impl StackedSearch {
         let mut upper = UpperTriangle::new(n);
         let mut sums = vec![0f32; n];
         for i in 0..n {
+            if i % PROGRESS_ROWS == 0 {
+                // row i costs n − i: the rows before it are this fraction of the work
+                let left = (n - i) as f64 / n as f64;
+                progress(1.0 - left * left);
+            }
             let sums = &mut sums[..n - i];
             self.stacked_row(i, queries, &mut ring, sums);
             push_within(sums, i, limit, max_neighbours, &mut upper);
         }
-        upper.into_symmetric(max_neighbours)
+        let sssm = upper.into_symmetric(max_neighbours);
+        progress(1.0);
+        sssm
     }
 
     /// `sums[j − i] = Σ_o D(c(i+o), c(j+o))` for `j ≥ i`, with `D` measured from the query
     /// frames `queries` (the plain or the mirrored features) to the candidate frames.
     fn stacked_row(&self, i: usize, queries: &[f32], ring: &mut RowRing, sums: &mut [f32]) {
-        let n = self.n as i64;
-        sums.fill(0.0);
+        let n = self.n;
+        let clamp = |t: i64| t.clamp(0, n as i64 - 1) as usize;
         for &o in &self.offsets {
-            let a = (i as i64 + o as i64).clamp(0, n - 1) as usize;
-            let row = ring.row(a, |out| self.distance_row(&queries[a * self.dim..(a + 1) * self.dim], a, out));
-            // j + o below 0 (j < −o), inside the take, at or past its end (j ≥ n − o)
-            let inner_from = (i as i64).max(-(o as i64)).min(n) as usize;
-            let inner_to = (n - o as i64).clamp(inner_from as i64, n) as usize;
-            let (head, rest) = sums.split_at_mut(inner_from - i);
-            let (inner, tail) = rest.split_at_mut(inner_to - inner_from);
-            head.iter_mut().for_each(|s| *s += row[0]);
-            if !inner.is_empty() {
-                let b0 = (inner_from as i64 + o as i64) as usize;
-                let len = inner.len();
-                for (s, &d) in inner.iter_mut().zip(&row[b0..b0 + len]) {
-                    *s += d;
+            let a = clamp(i as i64 + o as i64);
+            ring.ensure(a, |out| self.distance_row(&queries[a * self.dim..(a + 1) * self.dim], a, out));
+        }
+        let rows = |k: usize| -> (&[f32], i64) {
+            let o = self.offsets[k] as i64;
+            (ring.get(clamp(i as i64 + o)), o)
+        };
+        // inside [j0, j1) every j + o lies in the take: one pass per two offsets, no clamping
+        let lo = *self.offsets.iter().min().expect("offsets checked in new") as i64;
+        let hi = *self.offsets.iter().max().expect("offsets checked in new") as i64;
+        let j0 = (i as i64).max(-lo).min(n as i64) as usize;
+        let j1 = (n as i64 - hi.max(0)).clamp(j0 as i64, n as i64) as usize;
+        let at = |o: i64, from: usize, len: usize| -> std::ops::Range<usize> {
+            let b = (from as i64 + o) as usize;
+            b..b + len
+        };
+        if j1 > j0 {
+            let len = j1 - j0;
+            let inner = &mut sums[j0 - i..j1 - i];
+            let (r0, o0) = rows(0);
+            inner.copy_from_slice(&r0[at(o0, j0, len)]);
+            let mut k = 1;
+            while k + 1 < self.offsets.len() {
+                let ((ra, oa), (rb, ob)) = (rows(k), rows(k + 1));
+                for ((s, &x), &y) in inner.iter_mut().zip(&ra[at(oa, j0, len)]).zip(&rb[at(ob, j0, len)]) {
+                    *s += x + y;
+                }
+                k += 2;
+            }
+            if k < self.offsets.len() {
+                let (r, o) = rows(k);
+                for (s, &x) in inner.iter_mut().zip(&r[at(o, j0, len)]) {
+                    *s += x;
                 }
             }
-            tail.iter_mut().for_each(|s| *s += row[self.n - 1]);
+        }
+        // the frames near the take's ends, where some j + o is clamped
+        for j in (i..j0).chain(j1.max(i)..n) {
+            sums[j - i] = (0..self.offsets.len())
+                .map(|k| {
+                    let (r, o) = rows(k);
+                    r[clamp(j as i64 + o)]
+                })
+                .sum();
         }
     }
 
@@ -170,6 +230,12 @@ impl StackedSearch {
     }
 }
 
+/// Candidates tested at once by `push_within`.
+const SCAN_BLOCK: usize = 16;
+
+/// Rows between two progress reports of the search.
+const PROGRESS_ROWS: usize = 64;
+
 /// Candidates summed at once by [`StackedSearch::distance_row`].
 const LANES: usize = 32;
 
@@ -177,10 +243,25 @@ const LANES: usize = 32;
 /// capped to the `max` nearest.
 fn push_within(sums: &[f32], i: usize, limit: f32, max: usize, upper: &mut UpperTriangle) {
     let first = upper.entries.len();
-    for (k, &s) in sums.iter().enumerate() {
+    let mut push = |k: usize, s: f32| {
         if s <= limit {
             upper.entries.push(((i + k) as u32, s.max(0.0).sqrt()));
         }
+    };
+    // most candidates are out of reach: test a block at once (branch-free, vectorised) and look
+    // at its values one by one only if one of them is within the limit
+    let mut blocks = sums.chunks_exact(SCAN_BLOCK);
+    for (b, block) in (&mut blocks).enumerate() {
+        let hit = block.iter().fold(0u32, |hit, &s| hit | u32::from(s <= limit));
+        if hit != 0 {
+            for (k, &s) in block.iter().enumerate() {
+                push(b * SCAN_BLOCK + k, s);
+            }
+        }
+    }
+    let done = sums.len() - blocks.remainder().len();
+    for (k, &s) in blocks.remainder().iter().enumerate() {
+        push(done + k, s);
     }
     cap_tail(&mut upper.entries, first, max);
     upper.end_row();
@@ -198,15 +279,20 @@ impl RowRing {
         RowRing { n, owner: vec![usize::MAX; slots], data: vec![0f32; slots * n] }
     }
 
-    /// Row `a`, computed by `fill` unless it is still held.
-    fn row(&mut self, a: usize, fill: impl FnOnce(&mut [f32])) -> &[f32] {
+    /// Computes row `a` with `fill` unless it is still held.
+    fn ensure(&mut self, a: usize, fill: impl FnOnce(&mut [f32])) {
         let slot = a % self.owner.len();
-        let row = &mut self.data[slot * self.n..(slot + 1) * self.n];
         if self.owner[slot] != a {
-            fill(row);
+            fill(&mut self.data[slot * self.n..(slot + 1) * self.n]);
             self.owner[slot] = a;
         }
-        row
+    }
+
+    /// Row `a` (which must have been ensured since its slot was last reused).
+    fn get(&self, a: usize) -> &[f32] {
+        let slot = a % self.owner.len();
+        debug_assert_eq!(self.owner[slot], a);
+        &self.data[slot * self.n..(slot + 1) * self.n]
     }
 }
 
@@ -319,6 +405,19 @@ mod tests {
         let (cols, dists) = sssm.row(20);
         assert_eq!(cols, &[18, 19, 20, 21, 22]);
         assert_eq!(dists, &[2.0, 1.0, 0.0, 1.0, 2.0]);
+    }
+
+    #[test]
+    fn progress_rises_to_one() {
+        let base = walk_and_mirror(200, 3);
+        let search = StackedSearch::new(&base, &[-10, -5, 0, 5, 10], Some(&MirrorMap::end_effectors())).unwrap();
+        let mut seen = Vec::new();
+        let (sssm, _) = search.similarities_with_progress(10.0, 600, &mut |f| seen.push(f));
+        assert_eq!(sssm.to_lists(), search.similarities(10.0, 600).0.to_lists());
+        assert!(seen.len() >= 5, "{seen:?}");
+        assert!(seen.windows(2).all(|w| w[0] <= w[1]), "{seen:?}");
+        assert_eq!(seen.first(), Some(&0.0));
+        assert_eq!(seen.last(), Some(&1.0));
     }
 
     #[test]
