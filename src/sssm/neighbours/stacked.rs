@@ -302,32 +302,13 @@ mod tests {
     use crate::sssm::features::stack;
     use crate::sssm::neighbours::NeighbourSearch;
 
-    /// A deterministic pseudo-random walk in `d` dimensions.
     fn walk(n: usize, d: usize, seed: u64) -> FeatureMatrix {
-        let mut s = seed;
-        let mut x = vec![0f32; d];
-        let mut data = Vec::with_capacity(n * d);
-        for _ in 0..n {
-            for v in x.iter_mut() {
-                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-                *v = 0.9 * *v + 2.0 * ((s >> 40) as f32 / (1u64 << 24) as f32) - 1.0;
-            }
-            data.extend_from_slice(&x);
-        }
-        FeatureMatrix::new(n, d, data).unwrap()
+        crate::sssm::neighbours::tests::walk(n, d, seed, 0.9)
     }
 
+    /// For every row of `a`, its rows of `b` within `r`.
     fn brute_force(a: &FeatureMatrix, b: &FeatureMatrix, r: f32) -> Vec<Vec<(u32, f32)>> {
-        (0..a.frames())
-            .map(|i| {
-                (0..b.frames())
-                    .filter_map(|j| {
-                        let d2: f32 = a.row(i).iter().zip(b.row(j)).map(|(x, y)| (x - y) * (x - y)).sum();
-                        (d2 <= r * r).then(|| (j as u32, d2.sqrt()))
-                    })
-                    .collect()
-            })
-            .collect()
+        crate::sssm::neighbours::tests::brute_force(b, a, r)
     }
 
     /// Same neighbours and distances, allowing for pairs within rounding of the radius.
