@@ -171,28 +171,24 @@ impl WorkerEvent {
     pub fn from_js(data: &JsValue) -> Result<WorkerEvent, String> {
         let id = field(data, "id")?.as_f64().ok_or("worker message without an id")? as u32;
         match field(data, "type")?.as_string().as_deref() {
-            Some("progress") => Ok(WorkerEvent::Progress {
-                id,
-                stage: field(data, "stage")?.as_string().unwrap_or_default(),
-                fraction: field(data, "fraction")?.as_f64(),
-            }),
+            Some("progress") => {
+                let (stage, fraction) = progress_fields(data)?;
+                Ok(WorkerEvent::Progress { id, stage, fraction })
+            }
             Some("done") => Ok(WorkerEvent::Done { id, motion: Box::new(decode_motion(data)?) }),
-            Some("error") => Ok(WorkerEvent::Error {
-                id,
-                message: field(data, "message")?.as_string().unwrap_or_else(|| "unknown error".into()),
-                fatal: field(data, "fatal")?.is_truthy(),
-            }),
-            Some("sssm-progress") => Ok(WorkerEvent::SssmProgress {
-                id,
-                stage: field(data, "stage")?.as_string().unwrap_or_default(),
-                fraction: field(data, "fraction")?.as_f64(),
-            }),
+            Some("error") => {
+                let (message, fatal) = error_fields(data)?;
+                Ok(WorkerEvent::Error { id, message, fatal })
+            }
+            Some("sssm-progress") => {
+                let (stage, fraction) = progress_fields(data)?;
+                Ok(WorkerEvent::SssmProgress { id, stage, fraction })
+            }
             Some("sssm-done") => Ok(WorkerEvent::SssmDone { id, view: Box::new(decode_sssm(data)?) }),
-            Some("sssm-error") => Ok(WorkerEvent::SssmError {
-                id,
-                message: field(data, "message")?.as_string().unwrap_or_else(|| "unknown error".into()),
-                fatal: field(data, "fatal")?.is_truthy(),
-            }),
+            Some("sssm-error") => {
+                let (message, fatal) = error_fields(data)?;
+                Ok(WorkerEvent::SssmError { id, message, fatal })
+            }
             other => Err(format!("unknown worker message type {other:?}")),
         }
     }
@@ -361,6 +357,17 @@ fn flat_positions(positions: &[Vec3]) -> Float32Array {
 
 fn set(target: &Object, key: &str, value: JsValue) -> Result<(), JsValue> {
     Reflect::set(target, &key.into(), &value).map(|_| ())
+}
+
+/// `stage` and `fraction` of a progress message (a load's or an SSSM run's).
+fn progress_fields(data: &JsValue) -> Result<(String, Option<f64>), String> {
+    Ok((field(data, "stage")?.as_string().unwrap_or_default(), field(data, "fraction")?.as_f64()))
+}
+
+/// `message` and `fatal` of an error message (a load's or an SSSM run's).
+fn error_fields(data: &JsValue) -> Result<(String, bool), String> {
+    let message = field(data, "message")?.as_string().unwrap_or_else(|| "unknown error".into());
+    Ok((message, field(data, "fatal")?.is_truthy()))
 }
 
 fn field(data: &JsValue, key: &str) -> Result<JsValue, String> {

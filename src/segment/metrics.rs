@@ -142,35 +142,14 @@ fn matched_boundaries(pred: &[usize], truth: &[usize], tol: f64) -> usize {
 
 fn boundary_score(pred: &[usize], truth: &[usize], tolerance_s: f64, fps: f64) -> BoundaryScore {
     let matched = matched_boundaries(pred, truth, tolerance_s * fps);
-    let ratio = |m: usize, n: usize| {
-        if n == 0 {
-            if m == 0 {
-                1.0
-            } else {
-                0.0
-            }
-        } else {
-            m as f64 / n as f64
-        }
+    // share of `n` boundaries matched; with none, perfect only if the other side has none either
+    let rate = |n: usize, other: usize| match (n, other) {
+        (0, 0) => 1.0,
+        (0, _) => 0.0,
+        _ => matched as f64 / n as f64,
     };
-    let precision = if pred.is_empty() {
-        if truth.is_empty() {
-            1.0
-        } else {
-            0.0
-        }
-    } else {
-        ratio(matched, pred.len())
-    };
-    let recall = if truth.is_empty() {
-        if pred.is_empty() {
-            1.0
-        } else {
-            0.0
-        }
-    } else {
-        ratio(matched, truth.len())
-    };
+    let precision = rate(pred.len(), truth.len());
+    let recall = rate(truth.len(), pred.len());
     let f1 = if precision + recall > 0.0 { 2.0 * precision * recall / (precision + recall) } else { 0.0 };
     BoundaryScore { tolerance_s, precision, recall, f1, matched }
 }
