@@ -113,13 +113,17 @@ test-e2e:
 
 # --- benchmarks -------------------------------------------------------------------------
 
-# SSSM: the distinct-material sequence (and its 30 Hz BVH for the wasm bench), then the worst
-# case of one take repeated (every frame also neighbours its copies).
+# SSSM: the CMU sequence at 3000/6000/12000 frames (and its 30 Hz BVH for the wasm bench), the
+# same without the search horizon (the paper's all-pairs SSSM), the sequence at 1300/2600/5200
+# frames (all distinct material), then the worst case of one take repeated (every frame also
+# neighbours its copies).
 bench-native: check-toolchain
 	@echo "bench input: $(BENCH_BVH)"
 	$(CARGO) run --release --bin $(CRATE) -- bench "$(BENCH_BVH)"
 	@mkdir -p $(dir $(BENCH_SEQ))
 	$(CARGO) run --release --bin $(CRATE) -- bench-sssm --write-bvh "$(BENCH_SEQ)"
+	$(CARGO) run --release --bin $(CRATE) -- bench-sssm --reps 3 --param horizon_s=0
+	$(CARGO) run --release --bin $(CRATE) -- bench-sssm --frames 1300
 	$(CARGO) run --release --bin $(CRATE) -- bench-sssm --reps 3 "$(BENCH_BVH)"
 
 $(BENCH_SEQ):

@@ -171,6 +171,7 @@ mod tests {
             mirror_cuts: vec![4, 6],
             primitives: vec![],
             clusters: vec![],
+            far_pairs: vec![],
         }
     }
 

@@ -392,7 +392,8 @@ fn the_bundled_sample_is_cut_where_its_annotation_says() {
 fn the_stacked_search_and_the_kd_tree_give_the_same_segmentation() {
     use mocapseg::sssm::NeighbourSearchKind;
     let motion = load("sample.bvh", include_bytes!("../www/sample.bvh"));
-    let stacked = segment(&motion, &SssmParams::new()).unwrap();
+    // the kd-tree searches every pair: compare with the stacked search without a horizon
+    let stacked = segment(&motion, &SssmParams::new().horizon_s(0.0)).unwrap();
     let tree = segment(&motion, &SssmParams::new().neighbour_search(NeighbourSearchKind::KdTree)).unwrap();
     assert_eq!(stacked.outcome.sssm.to_lists().len(), tree.outcome.sssm.to_lists().len());
     // the same neighbours (distances agree to rounding: summed per frame vs over all values)
@@ -408,4 +409,42 @@ fn the_stacked_search_and_the_kd_tree_give_the_same_segmentation() {
     assert_eq!(spans(&stacked), spans(&tree));
     assert_eq!(stacked.segmentation.params["neighbour_search"], "stacked");
     assert_eq!(tree.segmentation.params["neighbour_search"], "kd_tree");
+}
+
+#[test]
+fn with_a_search_horizon_an_activity_repeated_far_away_is_still_one_kind() {
+    // arm circles, squats for 40 s, arm circles again: the two circling actions are farther
+    // apart than a 10 s horizon, so only a far block can tell they are one kind
+    let poses: Vec<Pose> = (0..2400)
+        .map(|t| if (600..1800).contains(&t) { squats(t as f32, 43.7) } else { arm_circles(t as f32, 31.3) })
+        .collect();
+    let base = matrix(&poses, &mut Noise(4), 1.0);
+    let exact = run(&base, true, SssmParams::new().horizon_s(0.0));
+    let near = run(&base, true, SssmParams::new().horizon_s(10.0));
+    assert_eq!(exact.actions.len(), 3, "{:?}", exact.actions);
+    assert_eq!(exact.actions[0].cluster, exact.actions[2].cluster);
+    // the same actions, kinds, primitives and clusters as without a horizon
+    assert_eq!(near.actions, exact.actions);
+    assert_eq!(near.primitives, exact.primitives);
+    assert_eq!(near.clusters, exact.clusters);
+    assert!(near.primitives.len() >= 60, "{} primitives", near.primitives.len());
+    // the far block between the two circling actions linked them
+    assert!(near.far_pairs.contains(&(0, 2, true)), "{:?}", near.far_pairs);
+    // beyond 10 s the SSSM only holds the far block and each action's own block
+    let h = 300;
+    let block = |i: usize, j: usize| {
+        let of = |f: usize| near.actions.iter().position(|a| a.span.contains(f));
+        let (a, b) = (of(i), of(j));
+        a.is_some() && (a == b || (a, b) == (Some(2), Some(0)))
+    };
+    let mut far = 0;
+    for i in 0..near.frames {
+        for &j in near.sssm.row(i).0 {
+            let (i, j) = (i.max(j as usize), i.min(j as usize));
+            assert!(i - j <= h || block(i, j), "entry ({i}, {j}) beyond the horizon");
+            far += usize::from(i - j > h);
+        }
+    }
+    assert!(far > 1000, "{far} far entries");
+    assert!(exact.sssm.entries() > near.sssm.entries());
 }

@@ -1,7 +1,7 @@
 //! The SSSM segmentation (Krüger et al. 2017, issue 3) on the page.
 //!
 //! * [`SssmPanel`] — `#sssm-panel`: the parameter form `#sssm-params` (radius, offsets,
-//!   bundling, mirror; `#sssm-run` re-runs in the worker), `#sssm-progress` while it runs, the
+//!   search horizon, bundling, mirror; `#sssm-run` re-runs in the worker), `#sssm-progress` while it runs, the
 //!   SSSM image `#sssm-image` (rendered by the worker, see [`crate::sssm_image`]) and
 //!   `#sssm-export`, which saves the segmentation JSON as `<name>_sssm.json`.
 //! * [`SssmRows`] — `#row-actions` and `#row-primitives` under the motion image, on the
@@ -29,19 +29,22 @@ use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement};
 /// defaults, except the primitive graph's radius, which keeps its default ratio to the radius
 /// so that any radius the user picks is consistent). Fails with a message naming the field the
 /// text cannot be read from; the values themselves are checked by the core.
-pub fn params_json(radius: &str, offsets: &str, bundling: bool, mirror: bool) -> Result<String, String> {
-    let radius: f64 = radius
-        .trim()
-        .parse()
-        .ok()
-        .filter(|r: &f64| r.is_finite())
-        .ok_or_else(|| format!("invalid SSSM parameter radius = {radius:?}: expected a number of inches"))?;
+pub fn params_json(radius: &str, offsets: &str, horizon: &str, bundling: bool, mirror: bool) -> Result<String, String> {
+    let number = |name: &str, text: &str, unit: &str| -> Result<f64, String> {
+        text.trim()
+            .parse()
+            .ok()
+            .filter(|r: &f64| r.is_finite())
+            .ok_or_else(|| format!("invalid SSSM parameter {name} = {text:?}: expected a number of {unit}"))
+    };
+    let radius = number("radius", radius, "inches")?;
+    let horizon = number("horizon_s", horizon, "seconds (0 = every pair)")?;
     let offsets = parse_offsets(offsets)?;
     let defaults = SssmParams::default();
     let primitive_radius = radius * defaults.primitive_radius / defaults.radius;
     Ok(serde_json::json!({
         "radius": radius, "primitive_radius": primitive_radius, "offsets": offsets,
-        "bundling": bundling, "mirror": mirror,
+        "horizon_s": horizon, "bundling": bundling, "mirror": mirror,
     })
     .to_string())
 }
@@ -86,6 +89,7 @@ fn tooltip(s: &Segment, fps: f64) -> String {
 pub fn SssmPanel(state: AppState, loader: Loader) -> impl IntoView {
     let radius = RwSignal::new("19".to_string());
     let offsets = RwSignal::new("-10,-5,0,5,10".to_string());
+    let horizon = RwSignal::new(SssmParams::default().horizon_s.to_string());
     let bundling = RwSignal::new(false);
     let mirror = RwSignal::new(true);
     let on_run = move |ev: leptos::ev::SubmitEvent| {
@@ -93,6 +97,7 @@ pub fn SssmPanel(state: AppState, loader: Loader) -> impl IntoView {
         match params_json(
             &radius.get_untracked(),
             &offsets.get_untracked(),
+            &horizon.get_untracked(),
             bundling.get_untracked(),
             mirror.get_untracked(),
         ) {
@@ -171,6 +176,18 @@ pub fn SssmPanel(state: AppState, loader: Loader) -> impl IntoView {
                     <input id="sssm-offsets" type="text" size="16" bind:value=offsets/>
                 </label>
                 <label>
+                    "Horizon (s) "
+                    <input
+                        id="sssm-horizon"
+                        type="number"
+                        step="any"
+                        min="0"
+                        size="4"
+                        title="Neighbours are searched up to this far apart; actions farther apart are compared through far blocks (0 = every pair, the paper's SSSM)"
+                        bind:value=horizon
+                    />
+                </label>
+                <label>
                     <input id="sssm-bundling" type="checkbox" bind:checked=bundling/>
                     " Feature bundling"
                 </label>
@@ -196,7 +213,8 @@ pub fn SssmPanel(state: AppState, loader: Loader) -> impl IntoView {
                 <p class="ms-sssm-legend">
                     "Frame i down, frame j across (30 Hz). Grey: neighbours within the search radius, darker = closer. "
                     "Coloured squares: actions (colour = kind of action); orange squares: transitions; "
-                    "blue lines: primitive cuts; red lines: cuts found only in the mirrored features."
+                    "blue lines: primitive cuts; red lines: cuts found only in the mirrored features. "
+                    "Farther apart than the search horizon, only the blocks of actions that may repeat each other are searched."
                 </p>
             </div>
         </section>
@@ -330,20 +348,23 @@ mod tests {
     #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
     #[cfg_attr(not(target_arch = "wasm32"), test)]
     fn form_values_become_the_worker_params() {
-        let json = params_json(" 15 ", "-10, -5,0 5,10", true, false).unwrap();
+        let json = params_json(" 15 ", "-10, -5,0 5,10", "0", true, false).unwrap();
         let v: serde_json::Value = serde_json::from_str(&json).unwrap();
         assert_eq!(v["radius"], 15.0);
+        assert_eq!(v["horizon_s"], 0.0);
         let d = SssmParams::default();
         assert_eq!(v["primitive_radius"], 15.0 * d.primitive_radius / d.radius);
-        // at the default radius the JSON gives the default parameters
-        let back: SssmParams = serde_json::from_str(&params_json("19", "-10,-5,0,5,10", false, true).unwrap()).unwrap();
+        // the form's initial values give the default parameters
+        let initial = params_json("19", "-10,-5,0,5,10", &d.horizon_s.to_string(), false, true).unwrap();
+        let back: SssmParams = serde_json::from_str(&initial).unwrap();
         assert_eq!(back, d);
         assert_eq!(v["offsets"], serde_json::json!([-10, -5, 0, 5, 10]));
         assert_eq!((v["bundling"].as_bool(), v["mirror"].as_bool()), (Some(true), Some(false)));
-        // negative radius is the core's to reject (it names the parameter)
-        assert!(params_json("-1", "0", false, false).is_ok());
-        assert!(params_json("abc", "0", false, false).unwrap_err().contains("radius"));
-        assert!(params_json("19", "-10,x", false, false).unwrap_err().contains("offsets"));
+        // negative values are the core's to reject (it names the parameter)
+        assert!(params_json("-1", "0", "-3", false, false).is_ok());
+        assert!(params_json("abc", "0", "20", false, false).unwrap_err().contains("radius"));
+        assert!(params_json("19", "-10,x", "20", false, false).unwrap_err().contains("offsets"));
+        assert!(params_json("19", "0", "soon", false, false).unwrap_err().contains("horizon_s"));
     }
 
     #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]

@@ -27,6 +27,25 @@ pub struct Truth {
     pub segments: Vec<TruthSegment>,
 }
 
+impl Truth {
+    /// The ground truth of `parts` played one after another (each part's frames shifted by the
+    /// frames of the parts before it), as trial `trial`.
+    pub fn concatenate(trial: &str, parts: &[Truth]) -> Truth {
+        let mut segments = Vec::new();
+        let mut shift = 0;
+        for part in parts {
+            segments.extend(part.segments.iter().map(|s| TruthSegment {
+                start: s.start + shift,
+                end: s.end + shift,
+                label: s.label.clone(),
+                end_window: s.end_window.map(|(lo, hi)| (lo + shift, hi + shift)),
+            }));
+            shift += part.frames;
+        }
+        Truth { trial: trial.to_string(), frames: shift, segments }
+    }
+}
+
 /// How frame numbers in the CSV relate to BVH rows.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TruthOptions {
@@ -143,6 +162,19 @@ mod tests {
 86_01,0,walk,1,550,550,500,550,600,4579,120,yes,\n\
 86_01,1,jump,551,1150,600,1100,1150,1200,4579,120,yes,\n\
 86_02,0,walk,1,1010,1010,980,1010,1100,10617,120,no,\n";
+
+    #[test]
+    fn concatenated_trials_shift_by_the_frames_before_them() {
+        let a = load_csv(CMU, "86_01", TruthOptions::default()).unwrap();
+        let b = load_csv(CMU, "86_02", TruthOptions::default()).unwrap();
+        let both = Truth::concatenate("86_01+02", &[a.clone(), b]);
+        assert_eq!(both.frames, 4579 + 10617);
+        assert_eq!(both.segments.len(), 3);
+        assert_eq!(both.segments[..2], a.segments[..]);
+        let last = &both.segments[2];
+        assert_eq!((last.start, last.end, last.label.as_str()), (4579, 4579 + 1009, "walk"));
+        assert_eq!(last.end_window, Some((4579 + 979, 4579 + 1099)));
+    }
 
     #[test]
     fn one_based_amc_frames_become_zero_based_rows() {

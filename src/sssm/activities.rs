@@ -357,6 +357,16 @@ impl RegionGrowing<'_> {
         typical_of(&mut d)
     }
 
+    /// How near a frame must come to a frame of `span` to repeat it in [`Self::kinds`]: the
+    /// relative gate times the action's typical repeat distance (`None` if the action does not
+    /// repeat itself; unbounded without a gate).
+    pub fn repeat_limit(&self, span: Span) -> Option<f32> {
+        match self.relative {
+            Some(f) => self.typical_repeat(span).map(|t| f * t),
+            None => Some(f32::INFINITY),
+        }
+    }
+
     /// Fraction of the frames of `from` whose nearest repeat in `to` is within `limit`.
     fn cover(&self, from: Span, to: Span, limit: f32) -> f64 {
         let hits = (from.start..=from.end).filter(|&i| self.nearest_in(i, to).is_some_and(|d| d <= limit)).count();

@@ -43,7 +43,7 @@ pub use symmetry::SymmetryKind;
 use activities::RegionGrowing;
 use bundling::Bundling;
 use clustering::ClusterSearch;
-use neighbours::{NeighbourSearch, StackedSearch};
+use neighbours::{FarSearch, NeighbourSearch, StackedSearch};
 use primitives::{NeighbourhoodGraph, PrimitiveSearch};
 
 /// Everything that can go wrong in the SSSM method.
@@ -112,6 +112,10 @@ pub struct SssmOutcome {
     pub mirror_cuts: Vec<usize>,
     pub primitives: Vec<Primitive>,
     pub clusters: Vec<Cluster>,
+    /// With a search horizon: the action pairs `(earlier, later)` whose far SSSM blocks were
+    /// searched and whether each linked its actions (see [`neighbours::far`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub far_pairs: Vec<(usize, usize, bool)>,
 }
 
 /// [`segment`]'s result: the segmentation at the file's frame rate plus the working-rate
@@ -163,7 +167,8 @@ pub fn segment_features(
         });
     }
     let radius = params.search_radius();
-    let (sssm, mirror_sssm) = if params.bundling || params.neighbour_search == NeighbourSearchKind::KdTree {
+    let mut search = None;
+    let (mut sssm, mut mirror_sssm) = if params.bundling || params.neighbour_search == NeighbourSearchKind::KdTree {
         let mut stacked = features::stack(base, &params.offsets);
         if params.bundling {
             progress("bundling", 0.05);
@@ -181,34 +186,51 @@ pub fn segment_features(
         (sssm, mirror_sssm)
     } else {
         progress("neighbours", 0.3);
-        StackedSearch::new(base, &params.offsets, mirror)?.similarities_with_progress(
-            radius as f32,
-            params.max_neighbours,
-            &mut |f| progress("neighbours", 0.3 + 0.2 * f),
-        )
+        search = Some(StackedSearch::new(base, &params.offsets, mirror)?.with_horizon(params.horizon_frames()));
+        search.as_ref().expect("just set").similarities_with_progress(radius as f32, params.max_neighbours, &mut |f| {
+            progress("neighbours", 0.3 + 0.2 * f)
+        })
     };
 
     // Region growing needs both SSSMs; the primitive and cluster graphs only the nearer
     // neighbours (see `primitive_radius`). The two run at once natively (`parallel::join`), as do
     // the searches on the plain and on the mirror graph below.
     progress("activities", 0.5);
-    let grow = RegionGrowing {
-        sssm: &sssm,
-        mirror: mirror_sssm.as_ref().filter(|_| params.mirror_activities),
-        band: params.band_frames(),
-        stop_window: params.stop_window,
-        min_entries: params.min_action_entries(),
-        relative: (params.relative_gate > 0.0).then_some(params.relative_gate as f32),
-    };
     let near_radius = params.primitive_search_radius() as f32;
-    let ((activities, kinds), (near, mirror_near)) = parallel::join(
-        || {
+    let within = |sssm: &Sssm, mirror_sssm: Option<&Sssm>| {
+        (sssm.within(near_radius), mirror_sssm.map(|m| m.within(near_radius)))
+    };
+    let (activities, kinds, (near, mirror_near), far_pairs) = match (&search, params.horizon_frames()) {
+        (Some(search), Some(horizon)) if horizon + 1 < base.frames() => {
+            // with a horizon: actions from the near SSSM, then the far blocks between actions
+            // that may repeat each other, then kinds and clusters on the SSSM with them
+            let grow = region_growing(params, &sssm, mirror_sssm.as_ref());
             let activities = grow.activities(params.boundary_rule);
-            let kinds = grow.kinds(&activities.actions, grow.relative);
-            (activities, kinds)
-        },
-        || (sssm.within(near_radius), mirror_sssm.as_ref().map(|m| m.within(near_radius))),
-    );
+            let limits: Vec<Option<f32>> = activities.actions.iter().map(|&a| grow.repeat_limit(a)).collect();
+            let far = FarSearch::new(search, horizon, radius as f32, near_radius, params.fps);
+            let entries = far.search(&activities.actions, &limits);
+            (sssm, mirror_sssm) = parallel::join(
+                || sssm.with_far_entries(&entries.plain, params.max_neighbours),
+                || mirror_sssm.as_ref().map(|m| m.with_far_entries(&entries.mirror, params.max_neighbours)),
+            );
+            let g = region_growing(params, &sssm, mirror_sssm.as_ref());
+            let (kinds, near) =
+                parallel::join(|| g.kinds(&activities.actions, g.relative), || within(&sssm, mirror_sssm.as_ref()));
+            (activities, kinds, near, entries.pairs)
+        }
+        _ => {
+            let g = region_growing(params, &sssm, mirror_sssm.as_ref());
+            let ((activities, kinds), near) = parallel::join(
+                || {
+                    let activities = g.activities(params.boundary_rule);
+                    let kinds = g.kinds(&activities.actions, g.relative);
+                    (activities, kinds)
+                },
+                || within(&sssm, mirror_sssm.as_ref()),
+            );
+            (activities, kinds, near, Vec::new())
+        }
+    };
     let spans = activities.actions.clone();
 
     progress("primitives", 0.6);
@@ -255,7 +277,20 @@ pub fn segment_features(
         mirror_sssm,
         activities,
         clusters,
+        far_pairs,
     })
+}
+
+/// Region growing (§IV-B) over `sssm` (and `mirror`, if `mirror_activities`) with `params`.
+fn region_growing<'a>(params: &ValidParams, sssm: &'a Sssm, mirror: Option<&'a Sssm>) -> RegionGrowing<'a> {
+    RegionGrowing {
+        sssm,
+        mirror: mirror.filter(|_| params.mirror_activities),
+        band: params.band_frames(),
+        stop_window: params.stop_window,
+        min_entries: params.min_action_entries(),
+        relative: (params.relative_gate > 0.0).then_some(params.relative_gate as f32),
+    }
 }
 
 /// The mirror map to use: `None` if mirroring is off or no map is given; an error if it does

@@ -270,6 +270,7 @@ test("SSSM segments the sample: rows, image, re-run, bad parameter, export", asy
   const json = JSON.parse(readFileSync(file, "utf8"));
   assert.equal(json.method, "sssm");
   assert.equal(json.params.radius, 15, "the export echoes the radius of the re-run");
+  assert.equal(json.params.horizon_s, 20, "the export echoes the form's search horizon");
   assert.equal(json.frames, SAMPLE_HDR.frames);
   assert.ok(json.segments.some((s) => s.level === "primitive"), "the export has primitives");
 
@@ -277,6 +278,10 @@ test("SSSM segments the sample: rows, image, re-run, bad parameter, export", asy
   await runSssm(-1, "error");
   await page.locator("#error-banner").waitFor({ state: "visible", timeout: TIMEOUT });
   assert.match(await text("#error-banner"), /radius/, "the error banner names the bad parameter");
+  await page.fill("#sssm-horizon", "2");
+  await runSssm(19, "error");
+  assert.match(await text("#error-banner"), /horizon_s.*at least 5 seconds/, "the banner names the bad horizon");
+  await page.fill("#sssm-horizon", "20");
   assert.ok((await page.locator("#row-primitives .ms-seg--primitive").count()) >= 2, "rows kept after a failed run");
   await runSssm(19, "done");
   assert.equal(await page.locator("#error-banner").isVisible(), false, "error banner stays after a good re-run");

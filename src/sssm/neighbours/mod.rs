@@ -19,7 +19,9 @@ use serde::{Deserialize, Serialize};
 use super::features::FeatureMatrix;
 use super::SssmError;
 
+pub mod far;
 pub mod stacked;
+pub use far::FarSearch;
 pub use stacked::StackedSearch;
 
 /// Number of leading principal coordinates the kd-tree indexes.
@@ -163,6 +165,38 @@ impl Sssm {
             b.push_sorted_row(&row);
         }
         b.finish()
+    }
+
+    /// Keeps the `max` nearest entries of every row (as [`cap_row`]), in place.
+    pub fn cap_rows(&mut self, max: usize) {
+        let n = self.n;
+        if (0..n).all(|i| self.row_range(i).len() <= max) {
+            return;
+        }
+        // each row moves down over what earlier rows dropped
+        let mut row = Vec::new();
+        let mut at = 0usize;
+        for i in 0..n {
+            let r = self.row_range(i);
+            self.starts[i] = at as u32;
+            if r.len() <= max {
+                self.cols.copy_within(r.clone(), at);
+                self.dists.copy_within(r.clone(), at);
+                at += r.len();
+                continue;
+            }
+            row.clear();
+            row.extend(r.map(|e| (self.cols[e], self.dists[e])));
+            cap_row(&mut row, max);
+            for &(j, d) in &row {
+                self.cols[at] = j;
+                self.dists[at] = d;
+                at += 1;
+            }
+        }
+        self.starts[n] = at as u32;
+        self.cols.truncate(at);
+        self.dists.truncate(at);
     }
 
     /// The lists as `(j, d_ij)` pairs (for export; the method itself works on the rows).
@@ -408,32 +442,7 @@ impl UpperTriangle {
             }
         }
         let mut sssm = Sssm { n, starts, cols, dists };
-        if (0..n).any(|i| sssm.row_range(i).len() > max_neighbours) {
-            // cap the rows in place (each row moves down over what earlier rows dropped)
-            let mut row = Vec::new();
-            let mut at = 0usize;
-            for i in 0..n {
-                let r = sssm.row_range(i);
-                sssm.starts[i] = at as u32;
-                if r.len() <= max_neighbours {
-                    sssm.cols.copy_within(r.clone(), at);
-                    sssm.dists.copy_within(r.clone(), at);
-                    at += r.len();
-                    continue;
-                }
-                row.clear();
-                row.extend(r.map(|e| (sssm.cols[e], sssm.dists[e])));
-                cap_row(&mut row, max_neighbours);
-                for &(j, d) in &row {
-                    sssm.cols[at] = j;
-                    sssm.dists[at] = d;
-                    at += 1;
-                }
-            }
-            sssm.starts[n] = at as u32;
-            sssm.cols.truncate(at);
-            sssm.dists.truncate(at);
-        }
+        sssm.cap_rows(max_neighbours);
         sssm
     }
 }

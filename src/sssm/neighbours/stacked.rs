@@ -28,15 +28,17 @@ use crate::sssm::SssmError;
 
 /// Per-frame features prepared for the stacked search.
 pub struct StackedSearch {
-    n: usize,
-    dim: usize,
-    offsets: Vec<i32>,
+    pub(super) n: usize,
+    pub(super) dim: usize,
+    pub(super) offsets: Vec<i32>,
     /// The features, centred, dimension-major (`dim × n`): the candidates `b`.
     columns: Vec<f32>,
     /// The features, centred, frame-major: the queries `a`.
-    queries: Vec<f32>,
+    pub(super) queries: Vec<f32>,
     /// The mirrored features `M f_a`, centred, frame-major (if a mirror map was given).
-    mirrored: Option<Vec<f32>>,
+    pub(super) mirrored: Option<Vec<f32>>,
+    /// Only pairs at most this many frames apart are searched (`None`: all pairs).
+    horizon: Option<usize>,
 }
 
 impl StackedSearch {
@@ -84,7 +86,23 @@ impl StackedSearch {
             }
         }
         let mirrored = mirrored.as_ref().map(centred);
-        Ok(StackedSearch { n, dim, offsets: offsets.to_vec(), columns, queries, mirrored })
+        Ok(StackedSearch { n, dim, offsets: offsets.to_vec(), columns, queries, mirrored, horizon: None })
+    }
+
+    /// Restricts the search to pairs `(i, j)` with `|i − j| ≤ horizon` frames (`None`: every
+    /// pair, the paper's SSSM). The cost then grows with `n · horizon` instead of `n²`; see
+    /// [`super::far`] for how actions farther apart are still compared.
+    pub fn with_horizon(mut self, horizon: Option<usize>) -> Self {
+        self.horizon = horizon;
+        self
+    }
+
+    /// Last candidate column (exclusive) of row `i`.
+    fn row_end(&self, i: usize) -> usize {
+        match self.horizon {
+            Some(h) => (i + h + 1).min(self.n),
+            None => self.n,
+        }
     }
 
     /// The SSSM (every frame with its neighbours within `radius`, itself included at distance
@@ -131,13 +149,15 @@ impl StackedSearch {
         let mut ring = RowRing::new(((hi - lo) as usize + 1).min(n), n);
         let mut upper = UpperTriangle::new(n);
         let mut sums = vec![0f32; n];
+        // row i costs row_end(i) − i candidates
+        let total: f64 = (0..n).map(|i| (self.row_end(i) - i) as f64).sum();
+        let mut done = 0f64;
         for i in 0..n {
             if i % PROGRESS_ROWS == 0 {
-                // row i costs n − i: the rows before it are this fraction of the work
-                let left = (n - i) as f64 / n as f64;
-                progress(1.0 - left * left);
+                progress(done / total.max(1.0));
             }
-            let sums = &mut sums[..n - i];
+            let sums = &mut sums[..self.row_end(i) - i];
+            done += sums.len() as f64;
             self.stacked_row(i, queries, &mut ring, sums);
             push_within(sums, i, limit, max_neighbours, &mut upper);
         }
@@ -146,14 +166,20 @@ impl StackedSearch {
         sssm
     }
 
-    /// `sums[j − i] = Σ_o D(c(i+o), c(j+o))` for `j ≥ i`, with `D` measured from the query
-    /// frames `queries` (the plain or the mirrored features) to the candidate frames.
+    /// `sums[j − i] = Σ_o D(c(i+o), c(j+o))` for `i ≤ j < i + sums.len()`, with `D` measured
+    /// from the query frames `queries` (the plain or the mirrored features) to the candidate
+    /// frames.
     fn stacked_row(&self, i: usize, queries: &[f32], ring: &mut RowRing, sums: &mut [f32]) {
         let n = self.n;
+        let end = i + sums.len();
         let clamp = |t: i64| t.clamp(0, n as i64 - 1) as usize;
+        // c is monotone and moves no faster than its argument, so c(j+o) − c(i+o) ≤ j − i: row a
+        // of D is needed up to column a + horizon
+        let reach = self.horizon.map_or(n, |h| h + 1);
         for &o in &self.offsets {
             let a = clamp(i as i64 + o as i64);
-            ring.ensure(a, |out| self.distance_row(&queries[a * self.dim..(a + 1) * self.dim], a, out));
+            let to = (a + reach).min(n);
+            ring.ensure(a, |out| self.distance_row(&queries[a * self.dim..(a + 1) * self.dim], a, to, out));
         }
         let rows = |k: usize| -> (&[f32], i64) {
             let o = self.offsets[k] as i64;
@@ -162,8 +188,8 @@ impl StackedSearch {
         // inside [j0, j1) every j + o lies in the take: one pass per two offsets, no clamping
         let lo = *self.offsets.iter().min().expect("offsets checked in new") as i64;
         let hi = *self.offsets.iter().max().expect("offsets checked in new") as i64;
-        let j0 = (i as i64).max(-lo).min(n as i64) as usize;
-        let j1 = (n as i64 - hi.max(0)).clamp(j0 as i64, n as i64) as usize;
+        let j0 = (i as i64).max(-lo).min(end as i64) as usize;
+        let j1 = (n as i64 - hi.max(0)).clamp(j0 as i64, end as i64) as usize;
         let at = |o: i64, from: usize, len: usize| -> std::ops::Range<usize> {
             let b = (from as i64 + o) as usize;
             b..b + len
@@ -189,7 +215,7 @@ impl StackedSearch {
             }
         }
         // the frames near the take's ends, where some j + o is clamped
-        for j in (i..j0).chain(j1.max(i)..n) {
+        for j in (i..j0).chain(j1.max(i)..end) {
             sums[j - i] = (0..self.offsets.len())
                 .map(|k| {
                     let (r, o) = rows(k);
@@ -199,12 +225,12 @@ impl StackedSearch {
         }
     }
 
-    /// `out[b] = |q − f_b|²` for `b ≥ from` (the rest of `out` is left as it is). Blocks of
-    /// [`LANES`] candidates are summed over all dimensions in a local accumulator, which the
+    /// `out[b] = |q − f_b|²` for `from ≤ b < to` (the rest of `out` is left as it is). Blocks
+    /// of [`LANES`] candidates are summed over all dimensions in a local accumulator, which the
     /// compiler keeps in vector registers.
-    fn distance_row(&self, q: &[f32], from: usize, out: &mut [f32]) {
+    pub(super) fn distance_row(&self, q: &[f32], from: usize, to: usize, out: &mut [f32]) {
         let n = self.n;
-        let out = &mut out[from..n];
+        let out = &mut out[from..to];
         let mut blocks = out.chunks_exact_mut(LANES);
         let mut b = from;
         for block in &mut blocks {
@@ -223,7 +249,7 @@ impl StackedSearch {
         let rest = blocks.into_remainder();
         rest.fill(0.0);
         for (k, &qk) in q.iter().enumerate() {
-            for (o, &x) in rest.iter_mut().zip(&self.columns[k * n + b..(k + 1) * n]) {
+            for (o, &x) in rest.iter_mut().zip(&self.columns[k * n + b..k * n + to]) {
                 let d = x - qk;
                 *o += d * d;
             }
@@ -363,6 +389,42 @@ mod tests {
             let tree = NeighbourSearch::new(&stacked);
             same_lists(&tree.self_similarity(r, 10_000), &sssm.to_lists(), r);
         }
+    }
+
+    #[test]
+    fn with_a_horizon_the_lists_are_the_brute_force_ones_up_to_that_far() {
+        let base = walk_and_mirror(150, 7);
+        let map = MirrorMap::end_effectors();
+        for (offsets, horizon) in
+            [(vec![-10, -5, 0, 5, 10], 40), (vec![0], 1), (vec![3, -7, 0], 120), (vec![-40, 40], 33)]
+        {
+            let stacked = stack(&base, &offsets);
+            let mirrored = map.apply(&stacked).unwrap();
+            let r = 4.0 * (offsets.len() as f32).sqrt();
+            let search = StackedSearch::new(&base, &offsets, Some(&map)).unwrap().with_horizon(Some(horizon));
+            let (sssm, mirror) = search.similarities(r, 10_000);
+            let near = |lists: Vec<Vec<(u32, f32)>>| -> Vec<Vec<(u32, f32)>> {
+                lists
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, l)| l.into_iter().filter(|&(j, _)| (j as usize).abs_diff(i) <= horizon).collect())
+                    .collect()
+            };
+            let truth = near(brute_force(&stacked, &stacked, r));
+            assert!(truth.iter().map(Vec::len).sum::<usize>() > 2 * 300, "{offsets:?}: the test needs neighbours");
+            // and some beyond the horizon, which must be left out
+            assert!(
+                brute_force(&stacked, &stacked, r).iter().map(Vec::len).sum::<usize>()
+                    > truth.iter().map(Vec::len).sum::<usize>()
+            );
+            same_lists(&sssm, &truth, r);
+            same_lists(&mirror.unwrap(), &near(brute_force(&mirrored, &stacked, r)), r);
+        }
+        // a horizon as long as the take is no horizon
+        let search = StackedSearch::new(&base, &[-10, 0, 10], None).unwrap();
+        let all = search.similarities(7.0, 600).0;
+        let whole = StackedSearch::new(&base, &[-10, 0, 10], None).unwrap().with_horizon(Some(base.frames()));
+        assert_eq!(whole.similarities(7.0, 600).0, all);
     }
 
     #[test]
