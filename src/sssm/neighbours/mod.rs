@@ -346,7 +346,8 @@ impl NeighbourSearch {
 /// Rows transposed together by [`UpperTriangle::into_symmetric`].
 const TRANSPOSE_BLOCK: usize = 64;
 
-/// The upper triangle (`j ≥ i`) of a symmetric SSSM, row by row, as a search produces it.
+/// The upper triangle (`j ≥ i`) of a symmetric SSSM, row by row (each row sorted by `j`), as a
+/// search produces it.
 pub(crate) struct UpperTriangle {
     n: usize,
     /// `(j, d_ij)` of every row, ascending `j` within a row.
@@ -401,16 +402,24 @@ impl UpperTriangle {
         let mut buffer: Vec<(u32, f32)> = Vec::new();
         for block in (0..n).step_by(TRANSPOSE_BLOCK) {
             let rows = block..(block + TRANSPOSE_BLOCK).min(n);
-            count[block..=n].iter_mut().for_each(|c| *c = 0);
+            // the columns these rows reach (rows are sorted: the last entry is the farthest), so
+            // that a banded SSSM (search horizon) costs the band, not n, per block
+            let end = rows
+                .clone()
+                .filter_map(|i| upper[upper_starts[i]..upper_starts[i + 1]].last().map(|e| e.0 as usize + 1))
+                .max()
+                .unwrap_or(block)
+                .max(block);
+            count[block..=end].iter_mut().for_each(|c| *c = 0);
             for i in rows.clone() {
                 for &(j, _) in &upper[upper_starts[i]..upper_starts[i + 1]] {
                     count[j as usize + 1] += u32::from(j as usize != i);
                 }
             }
-            for j in block..n {
+            for j in block..end {
                 count[j + 1] += count[j];
             }
-            buffer.resize(count[n] as usize, (0, 0.0));
+            buffer.resize(count[end] as usize, (0, 0.0));
             for i in rows {
                 for &(j, d) in &upper[upper_starts[i]..upper_starts[i + 1]] {
                     if j as usize != i {
@@ -422,7 +431,7 @@ impl UpperTriangle {
             }
             // count[j] is now the end of row j's run in the buffer
             let mut from = 0usize;
-            for j in block..n {
+            for j in block..end {
                 let to = count[j] as usize;
                 let at = fill[j] as usize;
                 for (k, &(i, d)) in (at..).zip(&buffer[from..to]) {
