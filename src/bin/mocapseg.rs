@@ -547,8 +547,14 @@ mod cli {
             let ms = median(times);
             let growth = base_ms.map(|b: f64| format!("  ({:.2}× the 1× time)", ms / b)).unwrap_or_default();
             base_ms.get_or_insert(ms);
+            // repeated material has more neighbours per frame (every copy neighbours the others)
+            let repeats = if n > distinct {
+                format!("   [{:.2}× the {distinct} distinct frames]", n as f64 / distinct as f64)
+            } else {
+                String::new()
+            };
             println!(
-                "  {factor}× {n:6} frames  {ms:8.1} ms{growth}   SSSM entries {} actions {} primitives {} clusters {}",
+                "  {factor}× {n:6} frames  {ms:8.1} ms{growth}   SSSM entries {} actions {} primitives {} clusters {}{repeats}",
                 summary.3, summary.0, summary.1, summary.2
             );
             let parts: Vec<String> = stages.iter().skip(1).map(|(s, ms)| format!("{s} {ms:.1}")).collect();
