@@ -193,44 +193,33 @@ pub fn segment_features(
     };
 
     // Region growing needs both SSSMs; the primitive and cluster graphs only the nearer
-    // neighbours (see `primitive_radius`). The two run at once natively (`parallel::join`), as do
-    // the searches on the plain and on the mirror graph below.
+    // neighbours (see `primitive_radius`). Natively the kinds and the nearer neighbours are found
+    // at once (`parallel::join`), as are the searches on the plain and on the mirror graph below.
     progress("activities", 0.5);
-    let near_radius = params.primitive_search_radius() as f32;
-    let within = |sssm: &Sssm, mirror_sssm: Option<&Sssm>| {
-        (sssm.within(near_radius), mirror_sssm.map(|m| m.within(near_radius)))
-    };
-    let (activities, kinds, (near, mirror_near), far_pairs) = match (&search, params.horizon_frames()) {
-        (Some(search), Some(horizon)) if horizon + 1 < base.frames() => {
-            // with a horizon: actions from the near SSSM, then the far blocks between actions
-            // that may repeat each other, then kinds and clusters on the SSSM with them
+    let activities = region_growing(params, &sssm, mirror_sssm.as_ref()).activities(params.boundary_rule);
+    let mut far_pairs = Vec::new();
+    if let (Some(search), Some(horizon)) = (&search, params.horizon_frames()) {
+        if horizon + 1 < base.frames() {
+            // with a horizon: the far blocks between actions that may repeat each other (and of
+            // each long action), then kinds and clusters on the SSSM with them
             let grow = region_growing(params, &sssm, mirror_sssm.as_ref());
-            let activities = grow.activities(params.boundary_rule);
             let limits: Vec<Option<f32>> = activities.actions.iter().map(|&a| grow.repeat_limit(a)).collect();
-            let far = FarSearch::new(search, horizon, radius as f32, near_radius, params.fps);
+            let far =
+                FarSearch::new(search, horizon, radius as f32, params.primitive_search_radius() as f32, params.fps);
             let entries = far.search(&activities.actions, &limits);
             (sssm, mirror_sssm) = parallel::join(
                 || sssm.with_far_entries(&entries.plain, params.max_neighbours),
                 || mirror_sssm.as_ref().map(|m| m.with_far_entries(&entries.mirror, params.max_neighbours)),
             );
-            let g = region_growing(params, &sssm, mirror_sssm.as_ref());
-            let (kinds, near) =
-                parallel::join(|| g.kinds(&activities.actions, g.relative), || within(&sssm, mirror_sssm.as_ref()));
-            (activities, kinds, near, entries.pairs)
+            far_pairs = entries.pairs;
         }
-        _ => {
-            let g = region_growing(params, &sssm, mirror_sssm.as_ref());
-            let ((activities, kinds), near) = parallel::join(
-                || {
-                    let activities = g.activities(params.boundary_rule);
-                    let kinds = g.kinds(&activities.actions, g.relative);
-                    (activities, kinds)
-                },
-                || within(&sssm, mirror_sssm.as_ref()),
-            );
-            (activities, kinds, near, Vec::new())
-        }
-    };
+    }
+    let grow = region_growing(params, &sssm, mirror_sssm.as_ref());
+    let near_radius = params.primitive_search_radius() as f32;
+    let (kinds, (near, mirror_near)) = parallel::join(
+        || grow.kinds(&activities.actions, grow.relative),
+        || (sssm.within(near_radius), mirror_sssm.as_ref().map(|m| m.within(near_radius))),
+    );
     let spans = activities.actions.clone();
 
     progress("primitives", 0.6);
