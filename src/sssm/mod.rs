@@ -204,9 +204,10 @@ pub fn segment_features(
             // each long action), then kinds and clusters on the SSSM with them
             let grow = region_growing(params, &sssm, mirror_sssm.as_ref());
             let limits: Vec<Option<f32>> = activities.actions.iter().map(|&a| grow.repeat_limit(a)).collect();
-            let far =
-                FarSearch::new(search, horizon, radius as f32, params.primitive_search_radius() as f32, params.fps);
-            let entries = far.search(&activities.actions, &limits);
+            let near_radius = params.primitive_search_radius() as f32;
+            let far = FarSearch::new(search, horizon, radius as f32, params.max_neighbours, near_radius, params.fps);
+            progress("far blocks", 0.5);
+            let entries = far.search(&activities.actions, &limits, &mut |f| progress("far blocks", 0.5 + 0.08 * f));
             (sssm, mirror_sssm) = parallel::join(
                 || sssm.with_far_entries(&entries.plain, params.max_neighbours),
                 || mirror_sssm.as_ref().map(|m| m.with_far_entries(&entries.mirror, params.max_neighbours)),
@@ -214,6 +215,7 @@ pub fn segment_features(
             far_pairs = entries.pairs;
         }
     }
+    progress("kinds", 0.58);
     let grow = region_growing(params, &sssm, mirror_sssm.as_ref());
     let near_radius = params.primitive_search_radius() as f32;
     let (kinds, (near, mirror_near)) = parallel::join(

@@ -118,6 +118,8 @@ pub struct FarSearch<'a> {
     radius: f32,
     /// Far entries farther than this are only kept as a frame's nearest repeat.
     keep_radius: f32,
+    /// Each row of a block keeps at most this many entries, the nearest.
+    max_neighbours: usize,
     /// Frames between two summary poses.
     step: usize,
 }
@@ -135,12 +137,19 @@ pub struct FarEntries {
 }
 
 impl<'a> FarSearch<'a> {
-    /// Far blocks for an SSSM searched with `horizon` frames at radius `radius`, keeping the far
-    /// entries within `keep_radius` (the primitive graph's) and each frame's nearest, at `fps`
-    /// working frames per second.
-    pub fn new(search: &'a StackedSearch, horizon: usize, radius: f32, keep_radius: f32, fps: f64) -> Self {
+    /// Far blocks for an SSSM searched with `horizon` frames at radius `radius` with at most
+    /// `max_neighbours` per row, keeping the far entries within `keep_radius` (the primitive
+    /// graph's) and each frame's nearest, at `fps` working frames per second.
+    pub fn new(
+        search: &'a StackedSearch,
+        horizon: usize,
+        radius: f32,
+        max_neighbours: usize,
+        keep_radius: f32,
+        fps: f64,
+    ) -> Self {
         let step = (SUMMARY_STEP_S * fps).round().max(1.0) as usize;
-        FarSearch { search, horizon, radius, keep_radius, step }
+        FarSearch { search, horizon, radius, keep_radius, max_neighbours, step }
     }
 
     /// An action's summary frames: up to [`SUMMARY_POSES`], `step` apart, centred on the
@@ -193,20 +202,34 @@ impl<'a> FarSearch<'a> {
     /// `limits[a]` is how near a frame must come to action `a` to repeat it (the kinds' test,
     /// [`RegionGrowing::kinds`](crate::sssm::activities::RegionGrowing::kinds); `None`: `a`
     /// does not repeat itself and links to nothing).
-    pub fn search(&self, actions: &[Span], limits: &[Option<f32>]) -> FarEntries {
+    pub fn search(&self, actions: &[Span], limits: &[Option<f32>], progress: &mut dyn FnMut(f64)) -> FarEntries {
         assert_eq!(actions.len(), limits.len(), "one limit per action");
         let mut out = FarEntries::default();
+        // the work: each long action's own block, then the candidates' blocks (at most), by the
+        // frame pairs they hold
+        let long: Vec<Span> = actions.iter().copied().filter(|a| a.len() > self.horizon + 1).collect();
+        let candidates = self.candidates(actions, limits);
+        let size = |a: Span, b: Span| (a.len() * b.len()) as f64;
+        let total = long.iter().map(|&a| size(a, a)).sum::<f64>()
+            + candidates.iter().map(|&(_, a, b)| size(actions[a], actions[b])).sum::<f64>();
+        let mut done = 0.0;
+        let mut advance = |work: f64| {
+            done += work;
+            progress((done / total.max(1.0)).min(1.0));
+        };
         // an action longer than the horizon: its own block beyond the horizon, whose diagonals
         // give the cuts of its later repetitions (§IV-C)
-        for &a in actions.iter().filter(|a| a.len() > self.horizon + 1) {
+        for &a in &long {
             let (plain, mirror, _, _) = self.searched_block(a, a);
             out.plain.extend(plain);
             out.mirror.extend(mirror);
+            advance(size(a, a));
         }
         let mut linked = petgraph::unionfind::UnionFind::<usize>::new(actions.len());
         let mut failures = vec![0usize; actions.len()];
         let mut failed = std::collections::HashSet::new();
-        for (_, a, b) in self.candidates(actions, limits) {
+        for (_, a, b) in candidates {
+            advance(size(actions[a], actions[b]));
             if failures[a] >= FAR_TRIES || failures[b] >= FAR_TRIES || linked.equiv(a, b) {
                 continue;
             }
@@ -231,6 +254,7 @@ impl<'a> FarSearch<'a> {
             }
             out.pairs.push((a, b, links));
         }
+        progress(1.0);
         out
     }
 
@@ -277,6 +301,7 @@ impl<'a> FarSearch<'a> {
         let mut scratch = vec![0f32; s.n];
         let mut poses = Vec::new();
         let mut sums = vec![0f32; cols.len()];
+        let mut row = Vec::new();
         for chunk in (rows.start..=rows.end).step_by(BLOCK_ROWS) {
             let last = (chunk + BLOCK_ROWS - 1).min(rows.end);
             // per-pose squared distances P[x − x0][y − y0] for the poses these rows stack
@@ -309,11 +334,17 @@ impl<'a> FarSearch<'a> {
                         }
                     }
                 }
-                for (k, &d2) in sums.iter().enumerate() {
-                    if d2 <= limit {
-                        out.push((i as u32, (cols.start + k) as u32, d2.max(0.0).sqrt()));
-                    }
-                }
+                // the row's nearest `max` (as the search caps its rows: a long action's own block
+                // may hold far more repetitions than the SSSM keeps)
+                row.clear();
+                row.extend(
+                    sums.iter()
+                        .enumerate()
+                        .filter(|&(_, &d2)| d2 <= limit)
+                        .map(|(k, &d2)| ((cols.start + k) as u32, d2.max(0.0).sqrt())),
+                );
+                cap_row(&mut row, self.max_neighbours);
+                out.extend(row.iter().map(|&(j, d)| (i as u32, j, d)));
             }
         }
         out
@@ -422,7 +453,7 @@ mod tests {
         let mirrored = map.apply(&stacked).unwrap();
         let search = StackedSearch::new(&base, &OFFSETS, Some(&map)).unwrap();
         let r = 30.0;
-        let far = FarSearch::new(&search, 200, r, 10.0, 30.0);
+        let far = FarSearch::new(&search, 200, r, 100_000, 10.0, 30.0);
         let mut found = [0usize; 2]; // plain, mirror
                                      // the take's first and last frames: the stacked features are clamped there
         let blocks = [(900, 1199, 0, 299), (1200, 1499, 0, 299), (350, 420, 0, 180), (1300, 1499, 950, 1050)];
@@ -458,12 +489,12 @@ mod tests {
     fn repeated_activities_beyond_the_horizon_are_linked_and_others_not() {
         let base = a_b_a();
         let search = StackedSearch::new(&base, &OFFSETS, Some(&MirrorMap::end_effectors())).unwrap();
-        let far = FarSearch::new(&search, 200, 19.0 * 5f32.sqrt(), 13.0 * 5f32.sqrt(), 30.0);
+        let far = FarSearch::new(&search, 200, 19.0 * 5f32.sqrt(), 600, 13.0 * 5f32.sqrt(), 30.0);
         let limits = vec![Some(6.0); 3];
         // A and A again: a candidate; B is another activity, and near A's end within the horizon
         let candidates = far.candidates(&spans(), &limits);
         assert_eq!(candidates.iter().map(|c| (c.1, c.2)).collect::<Vec<_>>(), vec![(0, 2)], "{candidates:?}");
-        let found = far.search(&spans(), &limits);
+        let found = far.search(&spans(), &limits, &mut |_| {});
         assert_eq!(found.pairs, vec![(0, 2, true)]);
         // entries of the far block, and of each action's own block (all are longer than the
         // horizon)
@@ -486,14 +517,14 @@ mod tests {
     fn a_block_that_does_not_repeat_counts_as_a_failure() {
         let base = a_b_a();
         let search = StackedSearch::new(&base, &OFFSETS, None).unwrap();
-        let far = FarSearch::new(&search, 200, 1e3, 1e3, 30.0);
+        let far = FarSearch::new(&search, 200, 1e3, 600, 1e3, 30.0);
         // with a huge radius every pair is a candidate; with a limit no frame reaches, the
         // blocks link nothing, and each action gives up after FAR_TRIES failures
         let spans: Vec<Span> = (0..8).map(|k| Span { start: 150 * k, end: 150 * k + 149 }).collect();
         let limits = vec![Some(1e-6); 8];
         let candidates = far.candidates(&spans, &[Some(1e6); 8]);
         assert!(candidates.len() > 15, "{}", candidates.len());
-        let found = far.search(&spans, &limits);
+        let found = far.search(&spans, &limits, &mut |_| {});
         assert!(found.pairs.iter().all(|p| !p.2));
         let mut tries = [0usize; 8];
         for &(a, b, _) in &found.pairs {
@@ -501,6 +532,32 @@ mod tests {
             tries[b] += 1;
         }
         assert!(tries.iter().all(|&t| t <= FAR_TRIES + 1), "{tries:?}");
+    }
+
+    #[test]
+    fn block_rows_keep_their_nearest_and_progress_rises_to_one() {
+        let base = a_b_a();
+        let search = StackedSearch::new(&base, &OFFSETS, Some(&MirrorMap::end_effectors())).unwrap();
+        let (rows, cols) = (Span { start: 900, end: 1199 }, Span { start: 0, end: 299 });
+        let all = FarSearch::new(&search, 200, 60.0, 100_000, 10.0, 30.0).block(&search.queries, rows, cols);
+        let capped = FarSearch::new(&search, 200, 60.0, 7, 10.0, 30.0).block(&search.queries, rows, cols);
+        let row_of = |v: &[(u32, u32, f32)], i: u32| -> Vec<(u32, f32)> {
+            v.iter().filter(|e| e.0 == i).map(|e| (e.1, e.2)).collect()
+        };
+        // (the stacked windows of frames 900–909 reach into B)
+        for i in 910..1200u32 {
+            let mut nearest = row_of(&all, i);
+            assert!(nearest.len() > 7, "row {i} needs more than 7 neighbours, has {}", nearest.len());
+            crate::sssm::neighbours::cap_row(&mut nearest, 7);
+            assert_eq!(row_of(&capped, i), nearest, "row {i}");
+        }
+        // progress: rising, ending at 1
+        let far = FarSearch::new(&search, 200, 19.0 * 5f32.sqrt(), 600, 13.0 * 5f32.sqrt(), 30.0);
+        let mut seen = Vec::new();
+        far.search(&spans(), &[Some(6.0); 3], &mut |f| seen.push(f));
+        assert!(seen.len() >= 4, "{seen:?}");
+        assert!(seen.windows(2).all(|w| w[0] <= w[1]) && seen.iter().all(|f| (0.0..=1.0).contains(f)), "{seen:?}");
+        assert_eq!(seen.last(), Some(&1.0));
     }
 
     #[test]
