@@ -296,15 +296,21 @@ impl<'a> FarSearch<'a> {
         let lo = *s.offsets.iter().min().expect("offsets checked") as i64;
         let hi = *s.offsets.iter().max().expect("offsets checked") as i64;
         let limit = self.radius * self.radius;
-        let (y0, y1) = (clamp(cols.start as i64 + lo), clamp(cols.end as i64 + hi));
-        let width = y1 - y0 + 1;
+        let y0 = clamp(cols.start as i64 + lo);
         let mut scratch = vec![0f32; s.n];
         let mut poses = Vec::new();
         let mut sums = vec![0f32; cols.len()];
         let mut row = Vec::new();
         for chunk in (rows.start..=rows.end).step_by(BLOCK_ROWS) {
             let last = (chunk + BLOCK_ROWS - 1).min(rows.end);
-            // per-pose squared distances P[x − x0][y − y0] for the poses these rows stack
+            // the columns these rows pair with beyond the horizon
+            let Some(j_last) = last.checked_sub(self.horizon + 1).map(|j| j.min(cols.end)) else { continue };
+            if j_last < cols.start {
+                continue;
+            }
+            // per-pose squared distances P[x − x0][y − y0] for the poses these rows and columns stack
+            let y1 = clamp(j_last as i64 + hi);
+            let width = y1 - y0 + 1;
             let (x0, x1) = (clamp(chunk as i64 + lo), clamp(last as i64 + hi));
             poses.clear();
             for x in x0..=x1 {
