@@ -10,11 +10,12 @@
 pub mod bvh;
 pub mod image;
 pub mod load;
+pub mod method;
 pub mod motion;
 pub mod parallel;
 pub mod segment;
 pub mod sssm;
-pub mod sssm_image;
+
 
 #[cfg(feature = "web")]
 pub mod app;

@@ -24,7 +24,7 @@
 //! * worker → page: `{type: "sssm-progress", id, stage, fraction}`;
 //! * worker → page: `{type: "sssm-done", id, report: "<SssmReport JSON>", image: {size, block,
 //!   rgba: Uint8Array}}` — the segmentation at the file's frame rate plus the SSSM image
-//!   rendered by [`crate::sssm_image`];
+//!   rendered by [`crate::sssm::image`];
 //! * worker → page: `{type: "sssm-error", id, message, fatal}` (a bad parameter names it).
 
 use crate::bvh::{parse_with_progress, ParseLimits};
@@ -32,7 +32,7 @@ use crate::image::MotionImage;
 use crate::motion::{Motion, Units, UpAxis};
 use crate::segment::Segmentation;
 use crate::sssm::{segment_with_progress, SssmParams};
-use crate::sssm_image::{self, SssmImage};
+use crate::sssm::image::{self as sssm_image, SssmImage};
 use glam::Vec3;
 use js_sys::{Array, ArrayBuffer, Float32Array, Function, Object, Reflect, Uint8Array};
 use serde::{Deserialize, Serialize};
@@ -151,7 +151,7 @@ pub struct SssmReport {
 #[derive(Debug, Clone, PartialEq)]
 pub struct SssmView {
     pub report: SssmReport,
-    /// The SSSM image (see [`crate::sssm_image`]).
+    /// The SSSM image (see [`crate::sssm::image`]).
     pub image: SssmImage,
 }
 

@@ -2,7 +2,7 @@
 //!
 //! * [`SssmPanel`] — `#sssm-panel`: the parameter form `#sssm-params` (radius, offsets,
 //!   search horizon, bundling, mirror; `#sssm-run` re-runs in the worker), `#sssm-progress` while it runs, the
-//!   SSSM image `#sssm-image` (rendered by the worker, see [`crate::sssm_image`]) and
+//!   SSSM image `#sssm-image` (rendered by the worker, see [`crate::sssm::image`]) and
 //!   `#sssm-export`, which saves the segmentation JSON as `<name>_sssm.json`.
 //! * [`SssmRows`] — `#row-actions` and `#row-primitives` under the motion image, on the
 //!   timeline's time axis: actions coloured by cluster as in the SSSM image (transitions
@@ -16,7 +16,7 @@ use super::motion_image::{download, stem};
 use super::{AppState, SssmState};
 use crate::segment::{Level, Segment};
 use crate::sssm::SssmParams;
-use crate::sssm_image;
+use crate::sssm::image as sssm_image;
 use crate::worker::SssmView;
 use leptos::ev::{MouseEvent, PointerEvent};
 use leptos::html::Canvas;

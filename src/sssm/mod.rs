@@ -22,6 +22,7 @@ pub mod activities;
 pub mod bundling;
 pub mod clustering;
 pub mod features;
+pub mod image;
 pub mod neighbours;
 pub mod params;
 pub mod primitives;
