@@ -16,7 +16,6 @@ pub mod parallel;
 pub mod segment;
 pub mod sssm;
 
-
 #[cfg(feature = "web")]
 pub mod app;
 #[cfg(feature = "web")]

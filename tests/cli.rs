@@ -95,8 +95,16 @@ fn positions_csv_has_a_row_per_frame_and_xyz_per_joint() {
 #[test]
 fn segment_prints_the_schema_and_echoes_overridden_params() {
     let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("www/sample.bvh");
-    let out =
-        run(&["segment", "--method", "sssm", file.to_str().unwrap(), "--radius", "17", "--param", "stop_window=6"]);
+    let out = run(&[
+        "segment",
+        "--method",
+        "sssm",
+        file.to_str().unwrap(),
+        "--param",
+        "radius=17",
+        "--param",
+        "stop_window=6",
+    ]);
     let v = stdout_json(&out);
     assert_eq!(v["method"], "sssm");
     assert_eq!(v["frames"], 2465);
@@ -113,9 +121,136 @@ fn segment_prints_the_schema_and_echoes_overridden_params() {
     let out = run(&["segment", file.to_str().unwrap(), "--param", "no_such=1"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown SSSM parameter `no_such`"));
-    let out = run(&["segment", file.to_str().unwrap(), "--radius", "-1"]);
+    let out = run(&["segment", file.to_str().unwrap(), "--param", "radius=-1"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("radius"));
+    let out = run(&["segment", "--method", "nope", file.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown method `nope`; available: sssm"));
+}
+
+/// The registry as `mocapseg methods --json` lists it: every method with its parameters.
+fn methods() -> Vec<serde_json::Value> {
+    stdout_json(&run(&["methods", "--json"])).as_array().unwrap().clone()
+}
+
+#[test]
+fn methods_lists_every_method_with_help_and_bounds() {
+    let list = methods();
+    assert!(list.iter().any(|m| m["info"]["name"] == "sssm"));
+    for m in &list {
+        let params = m["params"].as_array().unwrap();
+        assert!(!params.is_empty(), "{m}");
+        for p in params {
+            assert!(!p["help"].as_str().unwrap().is_empty() && p["kind"]["type"].is_string(), "{p}");
+        }
+    }
+    let text = run(&["methods"]);
+    assert!(text.status.success());
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(text.contains("sssm") && text.contains("radius"), "{text}");
+}
+
+#[test]
+fn segment_runs_every_registered_method_with_its_defaults_and_an_override() {
+    let file = fixture("02_01.bvh");
+    for m in methods() {
+        let name = m["info"]["name"].as_str().unwrap();
+        let v = stdout_json(&run(&["segment", "--method", name, file.to_str().unwrap()]));
+        assert_eq!(v["method"], name);
+        assert_eq!(v["frames"], 343);
+        // every parameter is echoed with its default
+        for p in m["params"].as_array().unwrap() {
+            assert_eq!(v["params"][p["name"].as_str().unwrap()], p["default"], "{name}: {p}");
+        }
+        // an override (the first numeric parameter at its upper bound) is echoed
+        let numeric = m["params"].as_array().unwrap().iter().find(|p| p["kind"]["type"] == "integer");
+        if let Some(p) = numeric {
+            let (pname, max) = (p["name"].as_str().unwrap(), &p["kind"]["max"]);
+            let out = run(&["segment", "--method", name, file.to_str().unwrap(), "--param", &format!("{pname}={max}")]);
+            if out.status.success() {
+                let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+                assert_eq!(&v["params"][pname], max, "{name}");
+            } else {
+                // the largest value may be refused for this take, but never with a panic
+                let err = String::from_utf8_lossy(&out.stderr);
+                assert!(err.starts_with("error: ") && !err.contains("panicked"), "{name}: {err}");
+            }
+        }
+    }
+}
+
+#[test]
+fn batch_segments_a_folder_and_skips_a_broken_file() {
+    let input = out_dir().join("batch-in");
+    let output = out_dir().join("batch-out");
+    let _ = std::fs::remove_dir_all(&input);
+    let _ = std::fs::remove_dir_all(&output);
+    std::fs::create_dir_all(input.join("sub")).unwrap();
+    for f in ["02_01.bvh", "35_01.bvh", "bad.bvh"] {
+        std::fs::copy(fixture(f), input.join(f)).unwrap();
+    }
+    std::fs::copy(fixture("12_01.bvh"), input.join("sub/12_01.bvh")).unwrap();
+    std::fs::write(input.join("notes.txt"), "not a take").unwrap();
+    let out = run(&["segment", "--method", "sssm", input.to_str().unwrap(), "--out", output.to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "some takes failed: exit code 2\n{stdout}\n{stderr}");
+    // one summary line per take, the broken one with the parser's message
+    assert_eq!(stdout.lines().filter(|l| l.starts_with("ok ")).count(), 3, "{stdout}");
+    let fail: Vec<&str> = stdout.lines().filter(|l| l.starts_with("FAIL")).collect();
+    assert_eq!(fail.len(), 1, "{stdout}");
+    assert!(fail[0].contains("bad.bvh: line 9, column 34"), "{}", fail[0]);
+    assert!(stderr.contains("3 of 4 takes segmented, 1 failed") && stderr.contains("takes/s"), "{stderr}");
+    // one valid segmentation per good take
+    for (name, frames) in [("02_01", 343), ("35_01", 358), ("12_01", 524)] {
+        let text = std::fs::read_to_string(output.join(format!("{name}.json"))).unwrap();
+        let seg = mocapseg::segment::Segmentation::from_json(&text).unwrap();
+        assert_eq!((seg.frames, seg.method.as_str()), (frames, "sssm"), "{name}");
+        assert_eq!(seg.file, format!("{name}.bvh"));
+    }
+    assert!(!output.join("bad.json").exists());
+
+    // several takes need --out
+    let out = run(&["segment", fixture("02_01.bvh").to_str().unwrap(), fixture("35_01.bvh").to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--out"));
+}
+
+#[test]
+fn eval_scores_a_folder_of_predictions_in_one_table() {
+    let dir = out_dir().join("eval-folder");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let seg = |file: &str, cut: usize| {
+        serde_json::json!({
+            "file": file, "fps": 10.0, "frames": 100, "method": "hand", "params": {},
+            "segments": [
+                {"start": 0, "end": cut - 1, "label": "a", "level": "action", "cluster": 0, "score": null},
+                {"start": cut, "end": 99, "label": "b", "level": "action", "cluster": 1, "score": null}
+            ]
+        })
+        .to_string()
+    };
+    std::fs::write(dir.join("a.json"), seg("a.bvh", 50)).unwrap();
+    std::fs::write(dir.join("b.json"), seg("b.bvh", 80)).unwrap();
+    let truth = dir.join("truth.csv");
+    std::fs::write(
+        &truth,
+        "trial,label,start_frame,end_frame,trial_frames\na,walk,1,50,100\na,jump,51,100,100\nb,walk,1,50,100\nb,jump,51,100,100\n",
+    )
+    .unwrap();
+    let out = run(&["eval", dir.to_str().unwrap(), "--truth", truth.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let table = String::from_utf8_lossy(&out.stdout);
+    let lines: Vec<&str> = table.lines().collect();
+    assert_eq!(lines.len(), 5, "{table}");
+    assert!(lines[2].starts_with("| a | 2 / 2 | 1.00 | 1.00 | 1.00 | 1.00 |"), "{table}");
+    // b's boundary is 3 s off: no boundary match; covering ½·50/80 + ½·20/50 = 0.51
+    assert!(lines[3].starts_with("| b | 2 / 2 | 0.00 | 0.00 | 0.51 |"), "{table}");
+    assert!(lines[4].starts_with("| **mean** | | **0.50** | **0.50** | **0.76** |"), "{table}");
+    let v = stdout_json(&run(&["eval", dir.to_str().unwrap(), "--truth", truth.to_str().unwrap(), "--json"]));
+    assert_eq!(v.as_array().unwrap().len(), 2);
 }
 
 #[test]
@@ -143,9 +278,15 @@ fn eval_scores_a_segmentation_against_truth() {
     assert_eq!(v["hungarian_accuracy"], 1.0);
 }
 
+/// A lab example built next to the test binaries (`cargo test` builds the examples).
+fn example(name: &str) -> PathBuf {
+    let deps = std::env::current_exe().unwrap().parent().unwrap().to_path_buf();
+    deps.parent().unwrap().join("examples").join(name)
+}
+
 #[test]
 fn eval_data_says_clearly_when_the_data_is_absent() {
-    let out = run(&["eval-data", "--data", "/no/such/folder"]);
+    let out = Command::new(example("eval_data")).args(["--data", "/no/such/folder"]).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no shared data here"));
 }

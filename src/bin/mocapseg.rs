@@ -2,15 +2,17 @@
 //!
 //! ```text
 //! mocapseg info FILE.bvh                      JSON summary of a take
-//! mocapseg image FILE.bvh -o out.png          the motion image (DT-FCN §2) as PNG
+//! mocapseg image FILE.bvh -o out.png          the motion image (Cheema et al. 2019, §2) as PNG
 //! mocapseg positions FILE.bvh [--fps F] -o out.csv   world joint positions per frame
-//! mocapseg segment --method sssm FILE.bvh [--radius R] [--param NAME=VALUE]…   segmentation JSON
-//! mocapseg eval-data [--data ../shared/data]  segment and score the labelled CMU takes
-//! mocapseg bench-sssm                         SSSM time on 1×, 2×, 4× a 3000-frame take
-//! mocapseg eval SEG.json --truth GT.csv [--trial ID]   scores against ground truth
+//! mocapseg methods                            the segmentation methods and their parameters
+//! mocapseg segment --method NAME [--param NAME=VALUE]… FILE.bvh      segmentation JSON on stdout
+//! mocapseg segment --method NAME [--param NAME=VALUE]… DIR_OR_FILES… --out DIR   batch, all cores
+//! mocapseg eval SEG.json… --truth GT.csv      scores against ground truth (one table for many)
 //! mocapseg bench [FILE.bvh] [--reps N]        parse + forward-kinematics throughput
 //! ```
 //! Errors go to stderr as `error: FILE: line L, column C: what was expected`, exit code 1.
+//! The lab's own tools (scores on the shared labelled takes, SSSM benchmarks) are examples:
+//! `cargo run --release --example eval_data`, `--example bench_sssm`.
 
 #[cfg(target_arch = "wasm32")]
 fn main() {}
@@ -22,20 +24,25 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(not(target_arch = "wasm32"))]
 mod cli {
+    use std::collections::HashMap;
     use std::io::Write;
     use std::path::{Path, PathBuf};
     use std::process::ExitCode;
+    use std::sync::atomic::{AtomicUsize, Ordering};
     use std::time::Instant;
 
     use clap::{Parser, Subcommand};
+    use indicatif::{ProgressBar, ProgressStyle};
     use mocapseg::bvh;
     use mocapseg::image::MotionImage;
     use mocapseg::load::{load_path, Loaded};
+    use mocapseg::method::{self, CheckedParams, DynMethod, NoProgress, ParamKind, RunOptions};
     use mocapseg::motion::Motion;
     use mocapseg::segment::metrics::{evaluate, Tolerances};
-    use mocapseg::segment::truth::{load_csv, Truth, TruthOptions};
+    use mocapseg::segment::report::{self, Row};
+    use mocapseg::segment::truth::{load_csv, TruthOptions};
     use mocapseg::segment::{Level, Segmentation};
-    use mocapseg::sssm::{self, SssmParams};
+    use rayon::prelude::*;
 
     #[derive(Parser)]
     #[command(name = "mocapseg", version, about = "Motion-capture segmentation: BVH tools and segmenters")]
@@ -66,68 +73,43 @@ mod cli {
             #[arg(short, long)]
             output: PathBuf,
         },
-        /// Segment a take and print the segmentation JSON (parameters echoed in `params`).
-        Segment {
-            file: PathBuf,
-            /// The method: `sssm` (Krüger et al. 2017).
-            #[arg(long, default_value = "sssm")]
-            method: String,
-            /// Generalized radius R in inches.
-            #[arg(long, allow_negative_numbers = true)]
-            radius: Option<f64>,
-            /// Stacked frame offsets at 30 Hz, e.g. `-10,-5,0,5,10`.
-            #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
-            offsets: Option<Vec<i32>>,
-            /// Feature bundling (§III) on or off.
-            #[arg(long)]
-            bundling: Option<bool>,
-            /// Mirrored features (§V) on or off.
-            #[arg(long)]
-            mirror: Option<bool>,
-            /// Any other parameter as NAME=VALUE (JSON value), e.g. `--param stop_window=8`; repeatable.
-            #[arg(long = "param", value_name = "NAME=VALUE")]
-            params: Vec<String>,
-        },
-        /// Segment the labelled CMU takes in a data folder and print the scores per take and their mean.
-        EvalData {
-            /// The shared data folder (with cmu/ and labels/).
-            #[arg(long, default_value = "../shared/data")]
-            data: PathBuf,
-            #[arg(long, default_value = "sssm")]
-            method: String,
-            /// Parameter overrides as NAME=VALUE (JSON value); repeatable.
-            #[arg(long = "param", value_name = "NAME=VALUE")]
-            params: Vec<String>,
-            /// Print JSON instead of a markdown table.
+        /// List the segmentation methods with their parameters, defaults and accepted ranges.
+        Methods {
+            /// Print JSON instead of text.
             #[arg(long)]
             json: bool,
         },
-        /// Time SSSM end to end on 1×, 2× and 4× a 3000-frame (30 Hz) sequence built from CMU takes.
-        BenchSssm {
-            /// Takes to build the sequence from, same skeleton, 30 Hz or a multiple (default: every CMU
-            /// take of ../shared/data, else the bundled sample and fixtures).
-            files: Vec<PathBuf>,
-            /// Also write the 4× sequence as a 30 Hz BVH (the wasm benchmark embeds it).
-            #[arg(long)]
-            write_bvh: Option<PathBuf>,
-            /// Frames at 30 Hz of the 1× sequence.
-            #[arg(long, default_value_t = 3000)]
-            frames: usize,
-            #[arg(long, default_value_t = 5)]
-            reps: usize,
-            /// Parameter overrides as NAME=VALUE (JSON value); repeatable.
+        /// Segment takes. One file without --out: the segmentation JSON on stdout. Folders (searched
+        /// for .bvh files) or several files: one JSON per take in --out, in parallel on every core,
+        /// a summary line per take; a file that fails is reported and skipped (exit code 2 at the end).
+        Segment {
+            /// BVH files and/or folders.
+            #[arg(required = true)]
+            inputs: Vec<PathBuf>,
+            /// The method (`mocapseg methods` lists them).
+            #[arg(long, default_value = "sssm")]
+            method: String,
+            /// A parameter as NAME=VALUE (JSON value), e.g. `--param radius=17`; repeatable.
             #[arg(long = "param", value_name = "NAME=VALUE")]
             params: Vec<String>,
+            /// Folder for the segmentations (`<take>.json`); needed for more than one take.
+            #[arg(long)]
+            out: Option<PathBuf>,
+            /// Takes segmented at once (default: one per core).
+            #[arg(long)]
+            jobs: Option<usize>,
         },
-        /// Score a segmentation JSON against ground truth CSV (boundary P/R/F1 at 0.5 s and 1 s, covering,
-        /// Hungarian frame accuracy, strict/tolerant accuracy); prints JSON.
+        /// Score segmentation JSON against ground truth CSV (boundary P/R/F1 at 0.5 s and 1 s, covering,
+        /// Hungarian frame accuracy, strict/tolerant accuracy). One file: JSON; several files or a
+        /// folder of predictions: one markdown table with the mean (--json for JSON).
         Eval {
-            /// Segmentation JSON (the schema every method prints).
-            segmentation: PathBuf,
+            /// Segmentation JSON files and/or folders of them (the schema every method prints).
+            #[arg(required = true)]
+            predictions: Vec<PathBuf>,
             /// Ground truth CSV with columns trial,label,start_frame,end_frame[,trial_frames,end_window_lo,end_window_hi].
             #[arg(long)]
             truth: PathBuf,
-            /// Trial id in the CSV (default: the segmentation's file name without extension).
+            /// Trial id in the CSV (default: each segmentation's file name without extension).
             #[arg(long)]
             trial: Option<String>,
             /// The number the CSV gives the first frame (1 for CMU AMC frame numbers).
@@ -136,6 +118,9 @@ mod cli {
             /// BVH rows before the CSV's first frame (1 when the BVH prepends a T-pose row).
             #[arg(long, default_value_t = 0)]
             row_offset: usize,
+            /// JSON (a list of scores) instead of the table.
+            #[arg(long)]
+            json: bool,
         },
         /// Measure parse and forward-kinematics throughput (MB/s, frames/s) on a take.
         Bench {
@@ -147,10 +132,17 @@ mod cli {
         },
     }
 
+    /// What `run` ends with: success, or some takes of a batch failed (exit code 2).
+    enum Outcome {
+        Ok,
+        Partial,
+    }
+
     pub fn main() -> ExitCode {
         let cli = Cli::parse();
         match run(cli.command) {
-            Ok(()) => ExitCode::SUCCESS,
+            Ok(Outcome::Ok) => ExitCode::SUCCESS,
+            Ok(Outcome::Partial) => ExitCode::from(2),
             Err(message) => {
                 eprintln!("error: {message}");
                 ExitCode::FAILURE
@@ -158,31 +150,21 @@ mod cli {
         }
     }
 
-    fn run(command: Command) -> Result<(), String> {
+    fn run(command: Command) -> Result<Outcome, String> {
         match command {
+            Command::Segment { inputs, method, params, out, jobs } => {
+                return segment(&inputs, &method, &params, out, jobs)
+            }
             Command::Info { file } => info(&file),
             Command::Image { file, output } => image(&file, &output),
             Command::Positions { file, fps, end_sites, output } => positions(&file, fps, end_sites, &output),
+            Command::Methods { json } => methods(json),
             Command::Bench { file, reps } => bench(file, reps),
-            Command::Segment { file, method, radius, offsets, bundling, mirror, params } => {
-                let mut overrides = params;
-                let named = [
-                    ("radius", radius.map(|v| v.to_string())),
-                    ("offsets", offsets.map(|v| format!("{v:?}"))),
-                    ("bundling", bundling.map(|v| v.to_string())),
-                    ("mirror", mirror.map(|v| v.to_string())),
-                ];
-                overrides.extend(named.into_iter().filter_map(|(k, v)| v.map(|v| format!("{k}={v}"))));
-                segment(&file, &method, &overrides)
-            }
-            Command::EvalData { data, method, params, json } => eval_data(&data, &method, &params, json),
-            Command::BenchSssm { files, frames, reps, write_bvh, params } => {
-                bench_sssm(files, frames, reps, write_bvh, &params)
-            }
-            Command::Eval { segmentation, truth, trial, first_frame, row_offset } => {
-                eval(&segmentation, &truth, trial, TruthOptions { first_frame, bvh_row_offset: row_offset })
+            Command::Eval { predictions, truth, trial, first_frame, row_offset, json } => {
+                eval(&predictions, &truth, trial, TruthOptions { first_frame, bvh_row_offset: row_offset }, json)
             }
         }
+        .map(|()| Outcome::Ok)
     }
 
     fn load(file: &Path) -> Result<Loaded, String> {
@@ -215,7 +197,7 @@ mod cli {
     fn image(file: &Path, output: &Path) -> Result<(), String> {
         let loaded = load(file)?;
         let img = MotionImage::from_motion(&loaded.motion);
-        let png = img.to_png();
+        let png = img.try_to_png().map_err(|e| format!("{}: {e}", output.display()))?;
         std::fs::write(output, &png).map_err(|e| format!("{}: {e}", output.display()))?;
         eprintln!("wrote {} ({}×{} px, {} bytes)", output.display(), img.width, img.height, png.len());
         Ok(())
@@ -268,297 +250,251 @@ mod cli {
         Ok(())
     }
 
+    fn kind_text(kind: &ParamKind) -> String {
+        match kind {
+            ParamKind::Number { min, max } => format!("number in [{min}, {max}]"),
+            ParamKind::Integer { min, max } => format!("whole number in [{min}, {max}]"),
+            ParamKind::Bool => "true or false".into(),
+            ParamKind::Choice { options } => format!("one of {}", options.join(", ")),
+            ParamKind::IntegerList { min, max, max_len } => {
+                format!("list of at most {max_len} whole numbers in [{min}, {max}], e.g. [-5,0,5]")
+            }
+        }
+    }
+
+    fn methods(json: bool) -> Result<(), String> {
+        if json {
+            let list: Vec<_> = method::registry()
+                .iter()
+                .map(|m| serde_json::json!({"info": m.info(), "params": m.param_specs()}))
+                .collect();
+            println!("{}", serde_json::to_string_pretty(&list).map_err(|e| e.to_string())?);
+            return Ok(());
+        }
+        for m in method::registry() {
+            let info = m.info();
+            println!(
+                "{} — {} ({})\n  {}\n  parameters (--param NAME=VALUE):",
+                info.name, info.short, info.paper, info.summary
+            );
+            for p in m.param_specs() {
+                let unit = p.unit.as_deref().map(|u| format!(" {u}")).unwrap_or_default();
+                println!("    {:<28} default {}{unit}; {}", p.name, p.default, kind_text(&p.kind));
+                println!("    {:<28} {}", "", p.help);
+            }
+            println!();
+        }
+        Ok(())
+    }
+
     fn read_text(path: &Path) -> Result<String, String> {
         std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))
     }
 
-    fn eval(seg_path: &Path, truth_path: &Path, trial: Option<String>, options: TruthOptions) -> Result<(), String> {
-        let seg = Segmentation::from_json(&read_text(seg_path)?).map_err(|e| format!("{}: {e}", seg_path.display()))?;
-        let trial = trial.unwrap_or_else(|| {
-            Path::new(&seg.file).file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()
-        });
-        let truth =
-            load_csv(&read_text(truth_path)?, &trial, options).map_err(|e| format!("{}: {e}", truth_path.display()))?;
-        let scores =
-            evaluate(&seg, &truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", seg_path.display()))?;
-        println!("{}", serde_json::to_string_pretty(&scores).map_err(|e| e.to_string())?);
-        Ok(())
-    }
-
-    /// The method's parameters: its defaults with `NAME=VALUE` overrides applied (values are JSON).
-    fn sssm_params(overrides: &[String]) -> Result<SssmParams, String> {
-        let mut json = serde_json::to_value(SssmParams::default()).map_err(|e| e.to_string())?;
-        let map = json.as_object_mut().ok_or("parameters are not a JSON object")?;
-        for o in overrides {
-            let (name, raw) = o.split_once('=').ok_or_else(|| format!("`{o}`: expected NAME=VALUE"))?;
-            let name = name.trim().replace('-', "_");
-            if !map.contains_key(&name) {
-                let known: Vec<&str> = map.keys().map(String::as_str).collect();
-                return Err(format!("unknown SSSM parameter `{name}`; known: {}", known.join(", ")));
+    /// Every file under `inputs` with extension `ext` (folders searched recursively, sorted);
+    /// files named directly are kept whatever their extension.
+    fn collect_files(inputs: &[PathBuf], ext: &str) -> Result<Vec<PathBuf>, String> {
+        fn walk(dir: &Path, ext: &str, out: &mut Vec<PathBuf>) -> Result<(), String> {
+            let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
+                .map_err(|e| format!("{}: {e}", dir.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .collect();
+            entries.sort();
+            for p in entries {
+                if p.is_dir() {
+                    walk(&p, ext, out)?;
+                } else if p.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext)) {
+                    out.push(p);
+                }
             }
-            let value =
-                serde_json::from_str(raw.trim()).unwrap_or_else(|_| serde_json::Value::String(raw.trim().to_string()));
-            map.insert(name, value);
-        }
-        serde_json::from_value(json).map_err(|e| format!("invalid SSSM parameters: {e}"))
-    }
-
-    fn run_method(motion: &Motion, method: &str, overrides: &[String]) -> Result<Segmentation, String> {
-        match method {
-            "sssm" => {
-                let params = sssm_params(overrides)?;
-                let result = sssm::segment(motion, &params).map_err(|e| format!("{}: {e}", motion.name))?;
-                Ok(result.segmentation)
-            }
-            other => Err(format!("unknown method `{other}`; available: sssm")),
-        }
-    }
-
-    fn segment(file: &Path, method: &str, overrides: &[String]) -> Result<(), String> {
-        let loaded = load(file)?;
-        let seg = run_method(&loaded.motion, method, overrides)?;
-        println!("{}", seg.to_json());
-        Ok(())
-    }
-
-    /// The labelled takes of the shared data: (BVH path, ground-truth CSV, trial id).
-    fn labelled_takes(data: &Path) -> Vec<(PathBuf, PathBuf, &'static str)> {
-        let cmu86 = data.join("labels/cmu86_zhou_gt.csv");
-        let mocap6 = data.join("labels/mocap6_gt.csv");
-        let mut takes = vec![(data.join("cmu/86/86_01.bvh"), cmu86, "86_01")];
-        for t in ["13_29", "13_30", "13_31", "14_14"] {
-            takes.push((data.join(format!("cmu/mocap6/{t}.bvh")), mocap6.clone(), t));
-        }
-        takes
-    }
-
-    fn eval_data(data: &Path, method: &str, overrides: &[String], json: bool) -> Result<(), String> {
-        if !data.join("labels").is_dir() {
-            return Err(format!(
-                "{}: no shared data here (expected labels/ and cmu/ as in ../shared/data); pass --data DIR",
-                data.display()
-            ));
-        }
-        let mut rows = Vec::new();
-        let mut score = |motion: &Motion, truth: &Truth| -> Result<(), String> {
-            let started = Instant::now();
-            let seg = run_method(motion, method, overrides)?;
-            let seconds = started.elapsed().as_secs_f64();
-            let scores = evaluate(&seg, truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", truth.trial))?;
-            rows.push((scores, seg.level(Level::Action).count(), seconds));
             Ok(())
-        };
-        let mut mocap6 = Vec::new();
-        let mut joined_rows = 0;
-        for (bvh_path, truth_path, trial) in labelled_takes(data) {
-            if !bvh_path.exists() {
-                eprintln!("skipping {trial}: {} is absent", bvh_path.display());
-                continue;
-            }
-            let loaded = load(&bvh_path)?;
-            let truth = load_csv(&read_text(&truth_path)?, trial, TruthOptions::default())
-                .map_err(|e| format!("{}: {e}", truth_path.display()))?;
-            score(&loaded.motion, &truth)?;
-            if trial != "86_01" {
-                mocap6.push((loaded.motion, truth));
+        }
+        let mut files = Vec::new();
+        for input in inputs {
+            if input.is_dir() {
+                walk(input, ext, &mut files)?;
+            } else if input.exists() {
+                files.push(input.clone());
+            } else {
+                return Err(format!("{}: no such file or folder", input.display()));
             }
         }
-        // The mocap6 takes one after another: one long take (about 2 minutes) whose activities
-        // recur across the parts, so kinds are scored across far-apart actions too.
-        if mocap6.len() > 1 {
-            let motions: Vec<Motion> = mocap6.iter().map(|(m, _)| m.clone()).collect();
-            let truths: Vec<Truth> = mocap6.iter().map(|(_, t)| t.clone()).collect();
-            let frames = motions.iter().map(Motion::frames).sum();
-            let names: Vec<&str> = truths.iter().map(|t| t.trial.as_str()).collect();
-            let name = names.join("+");
-            let mut joined = Motion::concatenate(&motions, frames).map_err(|e| format!("{name}: {e}"))?;
-            joined.name = name.clone();
-            score(&joined, &Truth::concatenate(&name, &truths))?;
-            joined_rows = 1;
-        }
-        if rows.is_empty() {
-            return Err(format!("{}: none of the labelled takes is present", data.display()));
-        }
-        if json {
-            let list: Vec<_> = rows.iter().map(|(s, _, _)| s).collect();
-            println!("{}", serde_json::to_string_pretty(&list).map_err(|e| e.to_string())?);
-            return Ok(());
-        }
-        println!(
-            "| take | true / found actions | F1@0.5s | F1@1s | covering | Hungarian acc. | strict | tolerant | time |"
-        );
-        println!("|---|---|---|---|---|---|---|---|---|");
-        // the single takes, their mean, then the joined take (not in the mean)
-        let single = rows.len() - joined_rows;
-        let n = single as f64;
-        let mut mean = [0.0f64; 6];
-        let line = |s: &mocapseg::segment::metrics::Scores, actions: usize, secs: f64| {
-            let v = [
-                s.boundaries[0].f1,
-                s.boundaries[1].f1,
-                s.covering,
-                s.hungarian_accuracy,
-                s.strict_accuracy,
-                s.tolerant_accuracy,
-            ];
-            println!(
-                "| {} | {} / {} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.0} ms |",
-                s.trial,
-                s.true_boundaries + 1,
-                actions,
-                v[0],
-                v[1],
-                v[2],
-                v[3],
-                v[4],
-                v[5],
-                secs * 1e3
-            );
-            v
-        };
-        for (s, actions, secs) in &rows[..single] {
-            let v = line(s, *actions, *secs);
-            for (m, x) in mean.iter_mut().zip(v) {
-                *m += x / n;
-            }
-        }
-        println!(
-            "| **mean** | | **{:.2}** | **{:.2}** | **{:.2}** | **{:.2}** | **{:.2}** | **{:.2}** | |",
-            mean[0], mean[1], mean[2], mean[3], mean[4], mean[5]
-        );
-        for (s, actions, secs) in &rows[single..] {
-            line(s, *actions, *secs);
-        }
-        Ok(())
+        files.dedup();
+        Ok(files)
     }
 
-    /// The default SSSM bench material: the CMU takes of the shared data on the common CMU skeleton
-    /// (distinct material: 5206 frames at 30 Hz; the 131_* takes have another skeleton), else the bundled sample and the fixtures (cycled).
-    fn default_sssm_bench_files() -> Vec<PathBuf> {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-        let shared = root.join("../shared/data/cmu");
-        let names = [
-            "86/86_01",
-            "mocap6/13_29",
-            "mocap6/14_14",
-            "mocap6/13_30",
-            "mocap6/13_31",
-            "locomotion/02_01",
-            "locomotion/02_02",
-            "locomotion/12_01",
-            "locomotion/35_01",
-        ];
-        let all: Vec<PathBuf> = names.iter().map(|n| shared.join(format!("{n}.bvh"))).collect();
-        if all.iter().all(|p| p.exists()) {
-            return all;
+    fn stem(path: &Path) -> String {
+        path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "take".into())
+    }
+
+    /// Output names `<stem>.json`, made unique with the parent folder's name where stems repeat.
+    fn output_names(files: &[PathBuf]) -> Vec<String> {
+        let mut count: HashMap<String, usize> = HashMap::new();
+        for f in files {
+            *count.entry(stem(f)).or_default() += 1;
         }
-        eprintln!("note: ../shared/data/cmu is absent; benchmarking the bundled sample and fixtures (cycled)");
-        ["www/sample.bvh", "tests/fixtures/02_01.bvh", "tests/fixtures/35_01.bvh", "tests/fixtures/12_01.bvh"]
+        let mut used: HashMap<String, usize> = HashMap::new();
+        files
             .iter()
-            .map(|f| root.join(f))
+            .map(|f| {
+                let s = stem(f);
+                let base = if count[&s] > 1 {
+                    let parent = f.parent().and_then(|p| p.file_name()).map(|p| p.to_string_lossy().into_owned());
+                    format!("{}_{s}", parent.unwrap_or_default())
+                } else {
+                    s
+                };
+                let n = used.entry(base.clone()).or_default();
+                *n += 1;
+                if *n > 1 {
+                    format!("{base}_{n}.json")
+                } else {
+                    format!("{base}.json")
+                }
+            })
             .collect()
     }
 
-    /// The takes' frame rows at 30 Hz one after another, as one BVH on the first take's skeleton
-    /// (all takes must have the same joints and channels, at a whole multiple of 30 Hz), cycled to
-    /// `frames` rows. The same frames feed the native and the wasm benchmark.
-    /// Also returns the number of distinct rows (before cycling).
-    fn bench_sequence(files: &[PathBuf], frames: usize) -> Result<(bvh::Bvh, usize), String> {
-        let mut takes = Vec::new();
-        for f in files {
-            let text = std::fs::read_to_string(f).map_err(|e| format!("{}: {e}", f.display()))?;
-            takes.push(bvh::parse(&text).map_err(|e| format!("{}: {e}", f.display()))?);
-        }
-        let first = takes.first().ok_or("no takes to benchmark")?.clone();
-        let layout = |b: &bvh::Bvh| b.joints.iter().map(|j| (j.name.clone(), j.channels.clone())).collect::<Vec<_>>();
-        let mut rows: Vec<&[f64]> = Vec::new();
-        for (b, f) in takes.iter().zip(files) {
-            if layout(b) != layout(&first) {
-                return Err(format!("{}: its joints or channels differ from {}", f.display(), files[0].display()));
+    fn segment(
+        inputs: &[PathBuf],
+        method_name: &str,
+        overrides: &[String],
+        out: Option<PathBuf>,
+        jobs: Option<usize>,
+    ) -> Result<Outcome, String> {
+        let method = method::find(method_name).map_err(|e| e.to_string())?;
+        let params = method::params_from_overrides(method, overrides).map_err(|e| e.to_string())?;
+        let checked = method.check_json(&params).map_err(|e| e.to_string())?;
+        let files = collect_files(inputs, "bvh")?;
+        let single = inputs.len() == 1 && !inputs[0].is_dir();
+        match out {
+            None if single => {
+                let loaded = load(&files[0])?;
+                let output = method
+                    .run_checked(&loaded.motion, &checked, &RunOptions::default(), &mut NoProgress)
+                    .map_err(|e| format!("{}: {e}", loaded.motion.name))?;
+                println!("{}", output.segmentation.to_json());
+                Ok(Outcome::Ok)
             }
-            let step = (b.fps() / 30.0).round().max(1.0) as usize;
-            if (b.fps() / step as f64 - 30.0).abs() > 0.5 {
-                return Err(format!("{}: {} fps is not a whole multiple of 30", f.display(), b.fps()));
-            }
-            rows.extend((0..b.frames()).step_by(step).map(|i| b.frame(i)));
+            None => Err("several takes: give a folder for their segmentations with --out DIR".into()),
+            Some(dir) => batch(method, &checked, &files, &dir, jobs),
         }
-        let distinct = rows.len();
-        let mut seq = first;
-        seq.values = rows.iter().cycle().take(frames).flat_map(|r| r.iter().copied()).collect();
-        seq.frame_time = 1.0 / 30.0;
-        seq.declared_frames = frames;
-        seq.warnings.clear();
-        Ok((seq, distinct))
     }
 
-    fn bench_sssm(
-        files: Vec<PathBuf>,
-        frames: usize,
-        reps: usize,
-        write_bvh: Option<PathBuf>,
-        overrides: &[String],
-    ) -> Result<(), String> {
-        let files = if files.is_empty() { default_sssm_bench_files() } else { files };
-        let (longest, distinct) = bench_sequence(&files, 4 * frames)?;
-        if let Some(path) = &write_bvh {
-            std::fs::write(path, bvh::write(&longest)).map_err(|e| format!("{}: {e}", path.display()))?;
-            println!("wrote the 4× sequence ({} frames at 30 Hz) to {}", longest.frames(), path.display());
-        }
-        let full = Motion::from_bvh("bench sequence", &longest).map_err(|e| e.to_string())?;
-        let params = sssm_params(overrides)?;
-        let names: Vec<String> =
-            files.iter().map(|f| f.file_stem().unwrap_or_default().to_string_lossy().into()).collect();
-        println!(
-            "bench sssm native: takes {} at 30 Hz one after another ({distinct} distinct frames, cycled when longer), \
-             {}, median of {reps}",
-            names.join(", "),
-            if overrides.is_empty() { "default parameters".to_string() } else { overrides.join(" ") }
+    /// One take of a batch: load, segment, write; the summary line and the take's frames.
+    fn segment_one(
+        method: &dyn DynMethod,
+        checked: &CheckedParams,
+        file: &Path,
+        out: &Path,
+    ) -> Result<(String, usize), String> {
+        let started = Instant::now();
+        let loaded = load(file)?;
+        let output = method
+            .run_checked(&loaded.motion, checked, &RunOptions::default(), &mut NoProgress)
+            .map_err(|e| format!("{}: {e}", file.display()))?;
+        let seg = &output.segmentation;
+        std::fs::write(out, seg.to_json()).map_err(|e| format!("{}: {e}", out.display()))?;
+        let counts: Vec<String> = [Level::Action, Level::Transition, Level::Primitive]
+            .iter()
+            .map(|&l| (l, seg.level(l).count()))
+            .filter(|(_, n)| *n > 0)
+            .map(|(l, n)| format!("{}s {n}", serde_json::to_value(l).unwrap_or_default().as_str().unwrap_or("?")))
+            .collect();
+        let line = format!(
+            "ok    {}  {} frames at {} fps  {}  {:.2} s → {}",
+            file.display(),
+            seg.frames,
+            seg.fps,
+            counts.join(", "),
+            started.elapsed().as_secs_f64(),
+            out.display()
         );
-        let mut base_ms = None;
-        for factor in [1usize, 2, 4] {
-            let n = frames * factor;
-            let seq = Motion::concatenate(std::slice::from_ref(&full), n).map_err(|e| e.to_string())?;
-            let mut times = Vec::new();
-            let mut summary = (0, 0, 0, 0);
-            let mut stages: Vec<(String, f64)> = Vec::new();
-            for _ in 0..reps.max(1) {
-                let t0 = Instant::now();
-                let mut last = (String::from("start"), Instant::now());
-                let mut these = Vec::new();
-                let r = sssm::segment_with_progress(&seq, &params, &mut |stage, _| {
-                    // a stage ends when the next one reports (a stage may report many times)
-                    if stage != last.0 {
-                        let ms = last.1.elapsed().as_secs_f64() * 1e3;
-                        these.push((std::mem::replace(&mut last.0, stage.to_string()), ms));
-                        last.1 = Instant::now();
+        Ok((line, seg.frames))
+    }
+
+    fn batch(
+        method: &dyn DynMethod,
+        checked: &CheckedParams,
+        files: &[PathBuf],
+        dir: &Path,
+        jobs: Option<usize>,
+    ) -> Result<Outcome, String> {
+        if files.is_empty() {
+            return Err("no .bvh files found in the inputs".into());
+        }
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let names = output_names(files);
+        let threads = jobs.unwrap_or_else(rayon::current_num_threads).max(1);
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| e.to_string())?;
+        let bar = ProgressBar::new(files.len() as u64);
+        bar.set_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} takes  {elapsed_precise}  eta {eta}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        let failed = AtomicUsize::new(0);
+        let frames = AtomicUsize::new(0);
+        let started = Instant::now();
+        pool.install(|| {
+            files.par_iter().zip(&names).for_each(|(file, name)| {
+                match segment_one(method, checked, file, &dir.join(name)) {
+                    Ok((line, n)) => {
+                        frames.fetch_add(n, Ordering::Relaxed);
+                        bar.suspend(|| println!("{line}"));
                     }
-                })
-                .map_err(|e| e.to_string())?;
-                times.push(t0.elapsed().as_secs_f64() * 1e3);
-                stages = these;
-                let seg = &r.segmentation;
-                summary = (
-                    seg.level(Level::Action).count(),
-                    seg.level(Level::Primitive).count(),
-                    r.outcome.clusters.len(),
-                    r.outcome.sssm.entries(),
-                );
-            }
-            let ms = median(times);
-            let growth = base_ms.map(|b: f64| format!("  ({:.2}× the 1× time)", ms / b)).unwrap_or_default();
-            base_ms.get_or_insert(ms);
-            // repeated material has more neighbours per frame (every copy neighbours the others)
-            let repeats = if n > distinct {
-                format!("   [{:.2}× the {distinct} distinct frames]", n as f64 / distinct as f64)
-            } else {
-                String::new()
-            };
-            println!(
-                "  {factor}× {n:6} frames  {ms:8.1} ms{growth}   SSSM entries {} actions {} primitives {} clusters {}{repeats}",
-                summary.3, summary.0, summary.1, summary.2
-            );
-            let parts: Vec<String> = stages.iter().skip(1).map(|(s, ms)| format!("{s} {ms:.1}")).collect();
-            println!("      stages (ms, last run): {}", parts.join(", "));
+                    Err(message) => {
+                        failed.fetch_add(1, Ordering::Relaxed);
+                        bar.suspend(|| println!("FAIL  {message}"));
+                    }
+                }
+                bar.inc(1);
+            })
+        });
+        bar.finish_and_clear();
+        let seconds = started.elapsed().as_secs_f64();
+        let failed = failed.into_inner();
+        let done = files.len() - failed;
+        eprintln!(
+            "{} {}: {done} of {} takes segmented{} in {seconds:.1} s on {threads} threads: {:.2} takes/s, {:.0} frames/s",
+            method.info().name,
+            dir.display(),
+            files.len(),
+            if failed > 0 { format!(", {failed} failed (reported above)") } else { String::new() },
+            done as f64 / seconds,
+            frames.into_inner() as f64 / seconds
+        );
+        Ok(if failed > 0 { Outcome::Partial } else { Outcome::Ok })
+    }
+
+    fn eval(
+        predictions: &[PathBuf],
+        truth_path: &Path,
+        trial: Option<String>,
+        options: TruthOptions,
+        json: bool,
+    ) -> Result<(), String> {
+        let files = collect_files(predictions, "json")?;
+        if files.is_empty() {
+            return Err("no segmentation .json files in the inputs".into());
+        }
+        let truth_text = read_text(truth_path)?;
+        let mut rows = Vec::new();
+        for path in &files {
+            let seg = Segmentation::from_json(&read_text(path)?).map_err(|e| format!("{}: {e}", path.display()))?;
+            let id = trial.clone().unwrap_or_else(|| stem(Path::new(&seg.file)));
+            let truth = load_csv(&truth_text, &id, options).map_err(|e| format!("{}: {e}", truth_path.display()))?;
+            let scores =
+                evaluate(&seg, &truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", path.display()))?;
+            rows.push(Row { scores, found_actions: seg.level(Level::Action).count(), seconds: None });
+        }
+        let single = predictions.len() == 1 && !predictions[0].is_dir();
+        if single && !json {
+            println!("{}", serde_json::to_string_pretty(&rows[0].scores).map_err(|e| e.to_string())?);
+        } else if json {
+            let list: Vec<_> = rows.iter().map(|r| &r.scores).collect();
+            println!("{}", serde_json::to_string_pretty(&list).map_err(|e| e.to_string())?);
+        } else {
+            print!("{}", report::markdown(&rows, &[]));
         }
         Ok(())
     }

@@ -1,7 +1,29 @@
-//! One shape for every segmentation method (in the spirit of linfa's `Fit`/`Predict` with
-//! checked hyper-parameters): parameters with the paper's defaults, a checked form, and one
-//! function from a [`Motion`](crate::motion::Motion) to a segmentation, reporting progress and
-//! stopping when asked to.
+//! One shape for every segmentation method, in the spirit of linfa's checked hyper-parameters:
+//!
+//! * a [`Method`] has `Params` with the paper's defaults (serde, every field optional in JSON),
+//!   a [`Method::check`] that turns them into the method's checked form or a human message
+//!   naming the parameter and the accepted range (lower *and* upper bounds), and
+//!   [`Method::run`] from a [`Motion`] and checked parameters to a [`Segmentation`] plus the
+//!   method's own [`Details`] (pictures, per-frame scores), reporting progress to a
+//!   [`Progress`] sink that can also ask it to stop;
+//! * the [`registry`] lists the methods. The command line (`segment --method NAME --param k=v`),
+//!   the web worker (one generic "segment" request) and the page (one generic method panel)
+//!   only ever go through it, as [`DynMethod`]: parameters as JSON in, the same output out.
+//!
+//! Adding a method is one folder (its paper's modules plus a `method.rs` implementing
+//! [`Method`]) and one line in [`registry`].
+
+pub mod spec;
+
+use std::any::Any;
+use std::sync::Arc;
+
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+
+use crate::motion::Motion;
+use crate::segment::Segmentation;
+pub use spec::{ParamKind, ParamSpec};
 
 /// The caller asked a running method to stop (the method returns as soon as it next reports).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -14,3 +36,301 @@ impl std::fmt::Display for Cancelled {
 }
 
 impl std::error::Error for Cancelled {}
+
+/// Where a running method reports how far it got, and learns whether to stop.
+pub trait Progress {
+    /// The method is at `stage`, `fraction` (0..1) of the whole run done.
+    fn report(&mut self, stage: &str, fraction: f64);
+    /// True when the caller wants the run to stop; the method then returns [`MethodError::Cancelled`].
+    fn cancelled(&self) -> bool {
+        false
+    }
+    /// [`Progress::report`], then `Err(Cancelled)` if the run should stop.
+    fn step(&mut self, stage: &str, fraction: f64) -> Result<(), Cancelled> {
+        self.report(stage, fraction);
+        if self.cancelled() {
+            Err(Cancelled)
+        } else {
+            Ok(())
+        }
+    }
+}
+
+/// A progress sink that ignores every report and never cancels.
+pub struct NoProgress;
+
+impl Progress for NoProgress {
+    fn report(&mut self, _: &str, _: f64) {}
+}
+
+/// Any `FnMut(stage, fraction)` is a progress sink that never cancels.
+impl<F: FnMut(&str, f64)> Progress for F {
+    fn report(&mut self, stage: &str, fraction: f64) {
+        self(stage, fraction)
+    }
+}
+
+/// What can go wrong when a method is asked for or run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MethodError {
+    #[error("unknown method `{name}`; available: {known}")]
+    Unknown { name: String, known: String },
+    /// A parameter is unknown, of the wrong type, or out of range; the message names it.
+    #[error("{0}")]
+    Params(String),
+    /// The take cannot be segmented (too short, missing joints, too large, …).
+    #[error("{0}")]
+    Failed(String),
+    #[error("cancelled")]
+    Cancelled,
+}
+
+impl From<Cancelled> for MethodError {
+    fn from(_: Cancelled) -> Self {
+        MethodError::Cancelled
+    }
+}
+
+/// Who a method is, for the command line's help and the page's panel.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MethodInfo {
+    /// The name used on the command line, in files and in the protocol (`sssm`).
+    pub name: String,
+    /// Short name shown in messages and headings (`SSSM`).
+    pub short: String,
+    /// The paper, as cited in headings (`Krüger et al. 2017`).
+    pub paper: String,
+    /// One sentence on what the method finds.
+    pub summary: String,
+    /// The page runs it by itself after each load (with the form's parameters).
+    pub auto_run: bool,
+}
+
+/// A picture a method draws of its work (the SSSM image, a score map), RGBA row-major.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Picture {
+    /// Unique within the method (the page's element id is `<method>-<id>`).
+    pub id: String,
+    pub title: String,
+    /// How to read it (axes, colours).
+    pub caption: String,
+    pub width: usize,
+    pub height: usize,
+    /// `width × height × 4` bytes; moved as a transferred buffer, not in the JSON.
+    #[serde(skip)]
+    pub rgba: Vec<u8>,
+}
+
+/// A per-frame score (confidence, effort value, …) at the file's frame rate.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Curve {
+    pub id: String,
+    pub title: String,
+    /// One value per file frame.
+    pub values: Vec<f32>,
+}
+
+/// What a method shows besides its segments.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Details {
+    /// One line that sums the result up ("5 actions · 3 transitions · …").
+    pub summary: String,
+    pub pictures: Vec<Picture>,
+    pub curves: Vec<Curve>,
+}
+
+/// How a run should go besides its parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct RunOptions {
+    /// Draw the method's pictures (the page wants them; a batch on the command line does not).
+    pub pictures: bool,
+}
+
+/// A method's result on one take.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MethodOutput {
+    /// At the file's frame rate, parameters echoed in `params`.
+    pub segmentation: Segmentation,
+    pub details: Details,
+}
+
+/// A segmentation method, typed (see the module documentation).
+pub trait Method: Send + Sync + 'static {
+    /// The parameters with the paper's defaults; JSON fields are all optional.
+    type Params: Serialize + DeserializeOwned + Default + Clone + Send + Sync + 'static;
+    /// The parameters after [`Method::check`]: the method only ever runs on these.
+    type Checked: Send + Sync + 'static;
+
+    fn info(&self) -> MethodInfo;
+    /// Every parameter with its help, bounds and default.
+    fn param_specs(&self) -> Vec<ParamSpec>;
+    /// Validates `params`; the message of a refusal names the parameter and what is accepted.
+    fn check(&self, params: Self::Params) -> Result<Self::Checked, MethodError>;
+    /// The checked parameters as they are echoed in a segmentation's `params`.
+    fn echo(&self, params: &Self::Checked) -> serde_json::Value;
+    /// Segments `motion`; draws the method's pictures only if `options.pictures`.
+    fn run(
+        &self,
+        motion: &Motion,
+        params: &Self::Checked,
+        options: &RunOptions,
+        progress: &mut dyn Progress,
+    ) -> Result<MethodOutput, MethodError>;
+}
+
+/// Checked parameters of some method (from [`DynMethod::check_json`]); check once, run on many takes.
+#[derive(Clone)]
+pub struct CheckedParams {
+    method: String,
+    echo: serde_json::Value,
+    inner: Arc<dyn Any + Send + Sync>,
+}
+
+impl CheckedParams {
+    /// Every parameter's value (defaults filled in), as echoed in the output.
+    pub fn echo(&self) -> &serde_json::Value {
+        &self.echo
+    }
+}
+
+impl std::fmt::Debug for CheckedParams {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "CheckedParams({} {})", self.method, self.echo)
+    }
+}
+
+/// A method behind the registry: parameters as JSON.
+pub trait DynMethod: Send + Sync {
+    fn info(&self) -> MethodInfo;
+    fn param_specs(&self) -> Vec<ParamSpec>;
+    /// The default parameters as a JSON object.
+    fn defaults(&self) -> serde_json::Value;
+    /// Reads `params` (a JSON object; missing fields take their defaults, unknown ones are
+    /// refused) and checks them.
+    fn check_json(&self, params: &serde_json::Value) -> Result<CheckedParams, MethodError>;
+    /// Runs on `motion` with parameters from [`DynMethod::check_json`] of this method.
+    fn run_checked(
+        &self,
+        motion: &Motion,
+        params: &CheckedParams,
+        options: &RunOptions,
+        progress: &mut dyn Progress,
+    ) -> Result<MethodOutput, MethodError>;
+    /// [`DynMethod::check_json`] then [`DynMethod::run_checked`].
+    fn run_json(
+        &self,
+        motion: &Motion,
+        params: &serde_json::Value,
+        options: &RunOptions,
+        progress: &mut dyn Progress,
+    ) -> Result<MethodOutput, MethodError> {
+        let checked = self.check_json(params)?;
+        self.run_checked(motion, &checked, options, progress)
+    }
+}
+
+impl<M: Method> DynMethod for M {
+    fn info(&self) -> MethodInfo {
+        Method::info(self)
+    }
+
+    fn param_specs(&self) -> Vec<ParamSpec> {
+        Method::param_specs(self)
+    }
+
+    fn defaults(&self) -> serde_json::Value {
+        serde_json::to_value(M::Params::default()).unwrap_or(serde_json::Value::Null)
+    }
+
+    fn check_json(&self, params: &serde_json::Value) -> Result<CheckedParams, MethodError> {
+        let info = Method::info(self);
+        let params = if params.is_null() { serde_json::json!({}) } else { params.clone() };
+        let typed: M::Params = serde_json::from_value(params)
+            .map_err(|e| MethodError::Params(format!("{} parameters: {e}", info.short)))?;
+        let checked = self.check(typed)?;
+        Ok(CheckedParams { method: info.name, echo: self.echo(&checked), inner: Arc::new(checked) })
+    }
+
+    fn run_checked(
+        &self,
+        motion: &Motion,
+        params: &CheckedParams,
+        options: &RunOptions,
+        progress: &mut dyn Progress,
+    ) -> Result<MethodOutput, MethodError> {
+        let checked = params.inner.downcast_ref::<M::Checked>().ok_or_else(|| {
+            MethodError::Params(format!("parameters of `{}` given to `{}`", params.method, Method::info(self).name))
+        })?;
+        if progress.cancelled() {
+            return Err(MethodError::Cancelled);
+        }
+        self.run(motion, checked, options, progress)
+    }
+}
+
+/// Every method, in the order the page shows them. One line per method.
+pub fn registry() -> &'static [&'static dyn DynMethod] {
+    &[&crate::sssm::method::Sssm]
+}
+
+/// The method called `name`.
+pub fn find(name: &str) -> Result<&'static dyn DynMethod, MethodError> {
+    let name = name.trim().to_ascii_lowercase();
+    registry().iter().copied().find(|m| m.info().name == name).ok_or_else(|| MethodError::Unknown {
+        name,
+        known: registry().iter().map(|m| m.info().name).collect::<Vec<_>>().join(", "),
+    })
+}
+
+/// Applies `NAME=VALUE` overrides (values as JSON; anything that is not JSON is a string) to
+/// the defaults of `method`, naming the known parameters when one is unknown.
+pub fn params_from_overrides(method: &dyn DynMethod, overrides: &[String]) -> Result<serde_json::Value, MethodError> {
+    let info = method.info();
+    let mut params = serde_json::Map::new();
+    let specs = method.param_specs();
+    for o in overrides {
+        let (name, raw) =
+            o.split_once('=').ok_or_else(|| MethodError::Params(format!("`{o}`: expected NAME=VALUE")))?;
+        let name = name.trim().replace('-', "_");
+        if !specs.iter().any(|s| s.name == name) {
+            let known: Vec<&str> = specs.iter().map(|s| s.name.as_str()).collect();
+            return Err(MethodError::Params(format!(
+                "unknown {} parameter `{name}`; known: {}",
+                info.short,
+                known.join(", ")
+            )));
+        }
+        let value =
+            serde_json::from_str(raw.trim()).unwrap_or_else(|_| serde_json::Value::String(raw.trim().to_string()));
+        params.insert(name, value);
+    }
+    Ok(serde_json::Value::Object(params))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_and_found_case_insensitively() {
+        let names: Vec<String> = registry().iter().map(|m| m.info().name).collect();
+        let mut sorted = names.clone();
+        sorted.sort();
+        sorted.dedup();
+        assert_eq!(sorted.len(), names.len(), "{names:?}");
+        assert_eq!(find("SSSM").unwrap().info().name, "sssm");
+        let err = find("nope").err().unwrap().to_string();
+        assert!(err.contains("unknown method `nope`") && err.contains("sssm"), "{err}");
+    }
+
+    #[test]
+    fn overrides_are_json_and_unknown_names_list_the_known_ones() {
+        let m = find("sssm").unwrap();
+        let p = params_from_overrides(m, &["radius=17".into(), "boundary-rule=paper".into()]).unwrap();
+        assert_eq!(p["radius"], 17);
+        assert_eq!(p["boundary_rule"], "paper");
+        let err = params_from_overrides(m, &["no_such=1".into()]).unwrap_err().to_string();
+        assert!(err.contains("unknown SSSM parameter `no_such`") && err.contains("radius"), "{err}");
+        assert!(params_from_overrides(m, &["radius".into()]).is_err());
+    }
+}

@@ -23,6 +23,7 @@ pub mod bundling;
 pub mod clustering;
 pub mod features;
 pub mod image;
+pub mod method;
 pub mod neighbours;
 pub mod params;
 pub mod primitives;
@@ -32,7 +33,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::motion::{Motion, MotionError};
 use crate::parallel;
-use crate::segment::{Level, Segment, Segmentation};
+use crate::segment::Segmentation;
 
 pub use activities::{Activities, Span};
 pub use clustering::Cluster;
@@ -44,6 +45,7 @@ pub use symmetry::SymmetryKind;
 use activities::RegionGrowing;
 use bundling::Bundling;
 use clustering::ClusterSearch;
+use method::to_segmentation;
 use neighbours::{FarSearch, NeighbourSearch, StackedSearch};
 use primitives::{NeighbourhoodGraph, PrimitiveSearch};
 
@@ -338,75 +340,4 @@ fn sorted_flat(cuts: Vec<Vec<usize>>) -> Vec<usize> {
     let mut all: Vec<usize> = cuts.into_iter().flatten().collect();
     all.sort_unstable();
     all
-}
-
-/// The first file frame of working frame `k` (frames are split half-way between the file
-/// positions of consecutive working frames).
-fn file_start(source: &[f64], k: usize) -> usize {
-    if k == 0 {
-        0
-    } else {
-        ((source[k - 1] + source[k]) / 2.0).ceil() as usize
-    }
-}
-
-/// The working-rate `span` in file frames (`None` if it maps to no file frame).
-fn file_span(source: &[f64], file_frames: usize, span: Span) -> Option<(usize, usize)> {
-    let start = file_start(source, span.start);
-    let end =
-        if span.end + 1 < source.len() { file_start(source, span.end + 1).checked_sub(1)? } else { file_frames - 1 };
-    (start <= end && end < file_frames).then_some((start, end))
-}
-
-fn to_segmentation(motion: &Motion, params: &ValidParams, o: &SssmOutcome, source: &[f64]) -> Segmentation {
-    let n = motion.frames();
-    let mut segments = Vec::new();
-    let mut push = |span: Span, label: String, level: Level, cluster: Option<usize>, mirror_of: Option<usize>| {
-        if let Some((start, end)) = file_span(source, n, span) {
-            segments.push(Segment { start, end, label, level, cluster, score: None, mirror_of });
-        }
-    };
-    for a in &o.actions {
-        push(a.span, format!("A{}", a.cluster), Level::Action, Some(a.cluster), None);
-    }
-    for t in &o.activities.transitions {
-        push(*t, "transition".into(), Level::Transition, None, None);
-    }
-    for p in &o.primitives {
-        let mirror_of = o.clusters[p.cluster].mirror_of;
-        let label = match mirror_of {
-            Some(m) => format!("P{} mirrors P{m}", p.cluster),
-            None => format!("P{}", p.cluster),
-        };
-        push(p.span, label, Level::Primitive, Some(p.cluster), mirror_of);
-    }
-    segments.sort_by_key(|s| (s.start, s.level != Level::Primitive, s.end));
-    Segmentation {
-        file: motion.name.clone(),
-        fps: motion.fps,
-        frames: n,
-        method: "sssm".into(),
-        params: params.to_json(),
-        segments,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn working_spans_map_to_contiguous_file_frames() {
-        // 120 Hz file of 41 frames → 30 Hz working frames at file frames 0, 4, …, 40
-        let source: Vec<f64> = (0..11).map(|k| 4.0 * k as f64).collect();
-        assert_eq!(file_span(&source, 41, Span { start: 0, end: 2 }), Some((0, 9)));
-        assert_eq!(file_span(&source, 41, Span { start: 3, end: 10 }), Some((10, 40)));
-        // a file with a trailing partial frame: the last span runs to the end
-        assert_eq!(file_span(&source, 43, Span { start: 3, end: 10 }), Some((10, 42)));
-        // upsampled 20 Hz → 30 Hz: a working frame may fall inside one file frame
-        let source: Vec<f64> = (0..7).map(|k| k as f64 * 2.0 / 3.0).collect();
-        assert_eq!(file_span(&source, 5, Span { start: 0, end: 0 }), Some((0, 0)));
-        assert_eq!(file_span(&source, 5, Span { start: 1, end: 1 }), None);
-        assert_eq!(file_span(&source, 5, Span { start: 2, end: 6 }), Some((1, 4)));
-    }
 }

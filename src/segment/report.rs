@@ -1,0 +1,104 @@
+//! Scores of several takes as one markdown table with their mean (what `mocapseg eval` prints for
+//! a folder of predictions and the lab's `eval_data` example prints for the shared takes).
+
+use super::metrics::Scores;
+
+/// One take's row: its scores, how many actions the method found, and (if measured) how long it took.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    pub scores: Scores,
+    pub found_actions: usize,
+    pub seconds: Option<f64>,
+}
+
+const COLUMNS: [&str; 6] = ["F1@0.5s", "F1@1s", "covering", "Hungarian acc.", "strict", "tolerant"];
+
+fn values(s: &Scores) -> [f64; 6] {
+    let f1 = |k: usize| s.boundaries.get(k).map_or(f64::NAN, |b| b.f1);
+    [f1(0), f1(1), s.covering, s.hungarian_accuracy, s.strict_accuracy, s.tolerant_accuracy]
+}
+
+/// The mean of every score column over `rows` (`None` when there are none).
+pub fn mean(rows: &[Row]) -> Option<[f64; 6]> {
+    if rows.is_empty() {
+        return None;
+    }
+    let mut mean = [0.0; 6];
+    for r in rows {
+        for (m, v) in mean.iter_mut().zip(values(&r.scores)) {
+            *m += v / rows.len() as f64;
+        }
+    }
+    Some(mean)
+}
+
+/// A markdown table: one line per row of `rows`, then their mean in bold, then `extra` (rows
+/// shown but not in the mean, such as several takes joined into one).
+pub fn markdown(rows: &[Row], extra: &[Row]) -> String {
+    let timed = rows.iter().chain(extra).any(|r| r.seconds.is_some());
+    let mut out = format!("| take | true / found actions | {} |", COLUMNS.join(" | "));
+    out += if timed { " time |\n" } else { "\n" };
+    out += &"|---".repeat(2 + COLUMNS.len() + usize::from(timed));
+    out += "|\n";
+    let line = |r: &Row| {
+        let cells: Vec<String> = values(&r.scores).iter().map(|v| format!("{v:.2}")).collect();
+        let time = match (timed, r.seconds) {
+            (true, Some(s)) => format!(" {:.0} ms |", s * 1e3),
+            (true, None) => " |".into(),
+            _ => String::new(),
+        };
+        format!(
+            "| {} | {} / {} | {} |{time}\n",
+            r.scores.trial,
+            r.scores.true_boundaries + 1,
+            r.found_actions,
+            cells.join(" | ")
+        )
+    };
+    for r in rows {
+        out += &line(r);
+    }
+    if let Some(m) = mean(rows) {
+        let cells: Vec<String> = m.iter().map(|v| format!("**{v:.2}**")).collect();
+        out += &format!("| **mean** | | {} |{}\n", cells.join(" | "), if timed { " |" } else { "" });
+    }
+    for r in extra {
+        out += &line(r);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::segment::metrics::BoundaryScore;
+
+    fn row(trial: &str, f1: f64, covering: f64) -> Row {
+        let b = BoundaryScore { tolerance_s: 1.0, precision: f1, recall: f1, f1, matched: 3 };
+        Row {
+            scores: Scores {
+                trial: trial.into(),
+                true_boundaries: 4,
+                predicted_boundaries: 5,
+                boundaries: vec![b.clone(), b],
+                covering,
+                hungarian_accuracy: 0.5,
+                strict_accuracy: 0.25,
+                tolerant_accuracy: 1.0,
+            },
+            found_actions: 6,
+            seconds: None,
+        }
+    }
+
+    #[test]
+    fn table_has_a_line_per_take_and_their_mean() {
+        let table = markdown(&[row("a", 1.0, 0.5), row("b", 0.5, 0.25)], &[row("a+b", 0.1, 0.1)]);
+        let lines: Vec<&str> = table.lines().collect();
+        assert_eq!(lines.len(), 6, "{table}");
+        assert_eq!(lines[2], "| a | 5 / 6 | 1.00 | 1.00 | 0.50 | 0.50 | 0.25 | 1.00 |");
+        assert_eq!(lines[4], "| **mean** | | **0.75** | **0.75** | **0.38** | **0.50** | **0.25** | **1.00** |");
+        assert!(lines[5].starts_with("| a+b |"));
+        assert!(!table.contains("time"));
+    }
+}

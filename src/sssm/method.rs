@@ -1,0 +1,160 @@
+//! The SSSM method behind the common [`Method`] interface: the parameters of [`SssmParams`],
+//! the segmentation at the file's frame rate (actions, transitions, primitives with their
+//! clusters and mirror pairs) and the SSSM picture of [`super::image`].
+
+use super::{Span, SssmError, SssmOutcome, SssmParams, ValidParams};
+use crate::method::{Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions};
+use crate::motion::Motion;
+use crate::segment::frames::WorkingFrames;
+use crate::segment::{Level, Segment, Segmentation};
+
+/// Sparse self-similarity segmentation (Krüger et al. 2017).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Sssm;
+
+impl From<SssmError> for MethodError {
+    fn from(e: SssmError) -> Self {
+        match e {
+            SssmError::InvalidParam { .. } => MethodError::Params(e.to_string()),
+            other => MethodError::Failed(other.to_string()),
+        }
+    }
+}
+
+impl Method for Sssm {
+    type Params = SssmParams;
+    type Checked = ValidParams;
+
+    fn info(&self) -> MethodInfo {
+        MethodInfo {
+            name: "sssm".into(),
+            short: "SSSM".into(),
+            paper: "Krüger et al. 2017".into(),
+            summary: "Unsupervised: actions (repetitive activities) and the transitions between them, each action cut \
+                      into motion primitives, primitives clustered, mirror pairs (left/right step) found."
+                .into(),
+            auto_run: true,
+        }
+    }
+
+    fn param_specs(&self) -> Vec<ParamSpec> {
+        temporary_specs()
+    }
+
+    fn check(&self, params: SssmParams) -> Result<ValidParams, MethodError> {
+        Ok(params.check()?)
+    }
+
+    fn echo(&self, params: &ValidParams) -> serde_json::Value {
+        params.to_json()
+    }
+
+    fn run(
+        &self,
+        motion: &Motion,
+        params: &ValidParams,
+        options: &RunOptions,
+        progress: &mut dyn Progress,
+    ) -> Result<MethodOutput, MethodError> {
+        let result = super::segment_with_progress(motion, params, &mut |stage, f| progress.report(stage, f))?;
+        let o = &result.outcome;
+        let s = &result.segmentation;
+        let summary = format!(
+            "{} actions · {} transitions · {} primitives in {} clusters · SSSM of {} frames at {} Hz",
+            s.level(Level::Action).count(),
+            s.level(Level::Transition).count(),
+            s.level(Level::Primitive).count(),
+            o.clusters.len(),
+            o.frames,
+            o.fps
+        );
+        let mut pictures = Vec::new();
+        if options.pictures {
+            progress.step("image", 0.99)?;
+            let image = super::image::render(o);
+            pictures.push(Picture {
+                id: "image".into(),
+                title: "Sparse self-similarity matrix".into(),
+                caption: format!(
+                    "Frame i down, frame j across ({} Hz{}). Grey: neighbours within the search radius, darker = \
+                     closer. Coloured squares: actions (colour = kind of action); orange squares: transitions; blue \
+                     lines: primitive cuts; red lines: cuts found only in the mirrored features. Farther apart than \
+                     the search horizon, only the blocks of actions that may repeat each other are searched.",
+                    o.fps,
+                    if image.block > 1 { format!(", {} frames per pixel", image.block) } else { String::new() }
+                ),
+                width: image.size,
+                height: image.size,
+                rgba: image.rgba,
+            });
+        }
+        Ok(MethodOutput {
+            segmentation: result.segmentation,
+            details: Details { summary, pictures, curves: Vec::new() },
+        })
+    }
+}
+
+/// The method's result at the file's frame rate: actions (`A<kind>`), transitions and
+/// primitives (`P<cluster>`, with their mirror cluster), sorted by start frame.
+pub(crate) fn to_segmentation(motion: &Motion, params: &ValidParams, o: &SssmOutcome, source: &[f64]) -> Segmentation {
+    let frames = WorkingFrames { source, file_frames: motion.frames() };
+    let mut segments = Vec::new();
+    let mut push = |span: Span, label: String, level: Level, cluster: Option<usize>, mirror_of: Option<usize>| {
+        let working = Segment { start: span.start, end: span.end, label, level, cluster, score: None, mirror_of };
+        segments.extend(frames.to_file(working));
+    };
+    for a in &o.actions {
+        push(a.span, format!("A{}", a.cluster), Level::Action, Some(a.cluster), None);
+    }
+    for t in &o.activities.transitions {
+        push(*t, "transition".into(), Level::Transition, None, None);
+    }
+    for p in &o.primitives {
+        let mirror_of = o.clusters[p.cluster].mirror_of;
+        let label = match mirror_of {
+            Some(m) => format!("P{} mirrors P{m}", p.cluster),
+            None => format!("P{}", p.cluster),
+        };
+        push(p.span, label, Level::Primitive, Some(p.cluster), mirror_of);
+    }
+    segments.sort_by_key(|s| (s.start, s.level != Level::Primitive, s.end));
+    Segmentation {
+        file: motion.name.clone(),
+        fps: motion.fps,
+        frames: motion.frames(),
+        method: "sssm".into(),
+        params: params.to_json(),
+        segments,
+    }
+}
+
+/// Until the bounds move into `params` (kinds read off the defaults).
+fn temporary_specs() -> Vec<ParamSpec> {
+    use crate::method::ParamKind;
+    let defaults = serde_json::to_value(SssmParams::default()).unwrap_or_default();
+    let basic = ["radius", "offsets", "horizon_s", "bundling", "mirror"];
+    defaults
+        .as_object()
+        .map(|o| {
+            o.iter()
+                .map(|(name, v)| ParamSpec {
+                    name: name.clone(),
+                    help: name.replace('_', " "),
+                    kind: match v {
+                        serde_json::Value::Bool(_) => ParamKind::Bool,
+                        serde_json::Value::Array(_) => ParamKind::IntegerList { min: -300, max: 300, max_len: 32 },
+                        serde_json::Value::String(_) => {
+                            ParamKind::Choice { options: vec![v.as_str().unwrap_or("").into()] }
+                        }
+                        v if v.is_u64() => ParamKind::Integer { min: 0, max: 1_000_000 },
+                        _ => ParamKind::Number { min: 0.0, max: 1e6 },
+                    },
+                    default: v.clone(),
+                    unit: None,
+                    basic: basic.contains(&name.as_str()),
+                })
+                .collect()
+        })
+        .unwrap_or_default()
+}
