@@ -13,6 +13,7 @@ pub mod load;
 pub mod method;
 pub mod motion;
 pub mod parallel;
+pub mod protocol;
 pub mod segment;
 pub mod sssm;
 
