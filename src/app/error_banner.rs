@@ -1,4 +1,5 @@
-//! `#error-banner`: the last load's error (the parser's message with file, line and column).
+//! `#error-banner`: the last error: a load's (the parser's message with file, line and column)
+//! or a method's (the parameter it refuses and why).
 //! Hidden when there is none; dismissable; the rest of the page — and the take already on
 //! screen — stays usable.
 
@@ -12,7 +13,7 @@ pub fn ErrorBanner(state: AppState) -> impl IntoView {
         <div id="error-banner" class="ms-error-banner" role="alert" hidden=move || state.error.with(Option::is_none)>
             <strong class="ms-error-title">
                 {move || {
-                    if state.error.with(|e| e.as_deref().is_some_and(|m| m.contains("SSSM"))) {
+                    if state.error_is_run.get() {
                         "Could not segment the take."
                     } else {
                         "Could not load the file."

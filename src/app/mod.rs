@@ -10,23 +10,25 @@
 //! per file) renders it and computes nothing — the worker does the work, [`camera`] and
 //! [`playback`] hold the little math the player needs. `document.body.dataset.state` says
 //! where loading stands: `loading`, `ready` or `error` (the outcome of the last load).
-//! After each successful load the worker runs the SSSM segmentation (Krüger et al. 2017) with
-//! default parameters ([`sssm_panel`]); `document.body.dataset.sssm` says where that stands:
-//! `idle`, `running`, `done` or `error`.
+//! After each successful load the worker runs every method whose `auto_run` is set with the
+//! parameters in its form ([`method_panel`]: one generic panel per registered method, built from
+//! the registry); `document.body.dataset.<method>` (e.g. `data-sssm`) says where each stands:
+//! `idle`, `running`, `done`, `error` or `cancelled`.
 
 mod camera;
 mod drop_zone;
 mod error_banner;
 mod loader;
+mod method_panel;
 mod motion_image;
 mod playback;
 mod player;
 mod progress;
-mod sssm_panel;
 mod summary;
 mod timeline;
 
-use crate::worker::{LoadedMotion, SssmView};
+use crate::method::{form, MethodInfo, ParamSpec};
+use crate::protocol::{LoadedMotion, MethodView};
 use leptos::prelude::*;
 use std::sync::Arc;
 use wasm_bindgen::prelude::*;
@@ -35,9 +37,9 @@ use wasm_bindgen::JsCast;
 use drop_zone::DropZone;
 use error_banner::ErrorBanner;
 use loader::{Loader, Urls};
+use method_panel::MethodPanel;
 use player::Player;
 use progress::Progress;
-use sssm_panel::SssmPanel;
 use summary::Summary;
 use timeline::Timeline;
 
@@ -63,28 +65,57 @@ impl LoadState {
     }
 }
 
-/// Where the SSSM segmentation of the take on screen stands.
+/// Where a method's run on the take on screen stands.
 #[derive(Debug, Clone, PartialEq)]
-pub enum SssmState {
+pub enum RunState {
     /// Nothing asked yet.
     Idle,
     /// The worker is at `stage`, `fraction` (0..1) done.
     Running { stage: String, fraction: f64 },
-    /// The last run finished (`AppState::sssm_view` holds it).
+    /// The last run finished (the slot's `view` holds it).
     Done,
     /// The last run failed (the error banner says why).
     Failed,
+    /// The user stopped the last run.
+    Cancelled,
 }
 
-impl SssmState {
-    /// The value of `document.body.dataset.sssm`.
+impl RunState {
+    /// The value of `document.body.dataset.<method>`.
     pub fn body_state(&self) -> &'static str {
         match self {
-            SssmState::Idle => "idle",
-            SssmState::Running { .. } => "running",
-            SssmState::Done => "done",
-            SssmState::Failed => "error",
+            RunState::Idle => "idle",
+            RunState::Running { .. } => "running",
+            RunState::Done => "done",
+            RunState::Failed => "error",
+            RunState::Cancelled => "cancelled",
         }
+    }
+}
+
+/// One registered method on the page: who it is, its form, where its run stands, its result.
+#[derive(Debug)]
+pub struct MethodSlot {
+    pub info: MethodInfo,
+    pub specs: Vec<ParamSpec>,
+    /// The form's text, one field per parameter (booleans as `true` / `false`).
+    pub fields: Vec<RwSignal<String>>,
+    pub run: RwSignal<RunState>,
+    /// The last finished run on the take on screen.
+    pub view: RwSignal<Option<Arc<MethodView>>>,
+}
+
+impl MethodSlot {
+    fn new(method: &dyn crate::method::DynMethod) -> MethodSlot {
+        let specs = method.param_specs();
+        let fields = specs.iter().map(|s| RwSignal::new(form::field_text(&s.default))).collect();
+        MethodSlot { info: method.info(), specs, fields, run: RwSignal::new(RunState::Idle), view: RwSignal::new(None) }
+    }
+
+    /// The parameters the form holds now, as the worker reads them.
+    pub fn params(&self) -> Result<serde_json::Value, String> {
+        let texts: Vec<String> = self.fields.iter().map(|f| f.get_untracked()).collect();
+        form::params_from_form(&self.info.short, &self.specs, &texts)
     }
 }
 
@@ -103,9 +134,10 @@ pub struct AppState {
     pub speed: RwSignal<f64>,
     /// Playback stops at this frame (set when a primitive is played).
     pub play_until: RwSignal<Option<usize>>,
-    pub sssm: RwSignal<SssmState>,
-    /// The SSSM segmentation of the take on screen (`None` until one finishes).
-    pub sssm_view: RwSignal<Option<Arc<SssmView>>>,
+    /// True when the banner's error is a method's (not a load's).
+    pub error_is_run: RwSignal<bool>,
+    /// Every registered method, in the registry's order (made once per page).
+    pub methods: &'static [MethodSlot],
 }
 
 impl AppState {
@@ -118,9 +150,21 @@ impl AppState {
             playing: RwSignal::new(false),
             speed: RwSignal::new(1.0),
             play_until: RwSignal::new(None),
-            sssm: RwSignal::new(SssmState::Idle),
-            sssm_view: RwSignal::new(None),
+            error_is_run: RwSignal::new(false),
+            methods: Box::leak(crate::method::registry().iter().map(|m| MethodSlot::new(*m)).collect()),
         }
+    }
+
+    /// Shows `message` in the error banner (a load's error).
+    pub fn show_error(&self, message: String) {
+        self.error_is_run.set(false);
+        self.error.set(Some(message));
+    }
+
+    /// Shows `message` in the error banner (a method's error).
+    pub fn show_run_error(&self, message: String) {
+        self.error_is_run.set(true);
+        self.error.set(Some(message));
     }
 
     /// Number of frames of the take on screen (0 when none).
@@ -159,12 +203,15 @@ fn App(urls: Urls) -> impl IntoView {
             let _ = body.set_attribute("data-state", value);
         }
     });
-    Effect::new(move |_| {
-        let value = state.sssm.with(SssmState::body_state);
-        if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
-            let _ = body.set_attribute("data-sssm", value);
-        }
-    });
+    for slot in state.methods {
+        let attribute = format!("data-{}", slot.info.name);
+        Effect::new(move |_| {
+            let value = slot.run.with(RunState::body_state);
+            if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
+                let _ = body.set_attribute(&attribute, value);
+            }
+        });
+    }
     loader.load_sample();
 
     view! {
@@ -182,6 +229,10 @@ fn App(urls: Urls) -> impl IntoView {
             <Player state=state/>
             <Timeline state=state/>
         </main>
-        <SssmPanel state=state loader=loader.clone()/>
+        {state
+            .methods
+            .iter()
+            .map(|slot| view! { <MethodPanel state=state method=slot loader=loader.clone()/> })
+            .collect_view()}
     }
 }

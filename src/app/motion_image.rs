@@ -4,7 +4,7 @@
 //! `#download-png` saves the worker's PNG encoding as `<name>_motion_image.png`.
 
 use super::AppState;
-use crate::worker::ImageData as Pixels;
+use crate::protocol::ImageData as Pixels;
 use gloo::events::EventListener;
 use js_sys::{Array, Uint8Array};
 use leptos::html::Canvas;
@@ -58,7 +58,7 @@ pub fn DownloadPng(state: AppState) -> impl IntoView {
             if let Some(m) = m {
                 let name = format!("{}_motion_image.png", stem(&m.summary.name));
                 if let Err(e) = download(&m.image.png, "image/png", &name) {
-                    state.error.set(Some(format!("could not save {name}: {e:?}")));
+                    state.show_error(format!("could not save {name}: {e:?}"));
                 }
             }
         })

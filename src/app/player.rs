@@ -6,7 +6,7 @@
 use super::camera::{Basis, FloorGrid, Orbit, Projector};
 use super::{playback, AppState};
 use crate::motion::UpAxis;
-use crate::worker::LoadedMotion;
+use crate::protocol::LoadedMotion;
 use glam::{Vec2, Vec3};
 use gloo::events::{EventListener, EventListenerOptions};
 use leptos::ev::{Event, PointerEvent};

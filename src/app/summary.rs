@@ -4,7 +4,7 @@
 
 use super::AppState;
 use crate::motion::{Units, UpAxis};
-use crate::worker::Summary as Facts;
+use crate::protocol::Summary as Facts;
 use leptos::prelude::*;
 
 #[component]

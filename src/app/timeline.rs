@@ -2,8 +2,8 @@
 //! for segmentations (later issues) go under it in `#timeline-rows`; `#playhead` marks the
 //! current frame across all of them and follows playback. Clicking or dragging seeks.
 
+use super::method_panel::MethodRows;
 use super::motion_image::{DownloadPng, MotionImageCanvas};
-use super::sssm_panel::SssmRows;
 use super::AppState;
 use leptos::ev::PointerEvent;
 use leptos::prelude::*;
@@ -60,7 +60,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                 <MotionImageCanvas state=state/>
                 // Segmentation rows, one per level of each method.
                 <div id="timeline-rows" class="ms-timeline-rows">
-                    <SssmRows state=state/>
+                    <MethodRows state=state/>
                 </div>
                 <div id="playhead" class="ms-playhead" style:left=playhead_left hidden=move || state.frames() == 0></div>
             </div>

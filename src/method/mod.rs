@@ -13,6 +13,7 @@
 //! Adding a method is one folder (its paper's modules plus a `method.rs` implementing
 //! [`Method`]) and one line in [`registry`].
 
+pub mod form;
 pub mod spec;
 
 use std::any::Any;

@@ -10,6 +10,7 @@
 
 pub mod frames;
 pub mod metrics;
+pub mod palette;
 pub mod report;
 pub mod truth;
 

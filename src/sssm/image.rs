@@ -30,14 +30,7 @@ const FAR_GREY: f32 = 215.0;
 const TRANSITION: [u8; 3] = [230, 140, 20];
 const CUT: [u8; 3] = [30, 90, 235];
 const MIRROR_CUT: [u8; 3] = [215, 30, 40];
-/// Colours of the action squares, by the action's cluster.
-const ACTION_COLOURS: [[u8; 3]; 6] =
-    [[0, 160, 70], [150, 60, 200], [0, 150, 170], [200, 40, 140], [120, 150, 0], [90, 90, 220]];
-
-/// The colour of the actions of cluster `cluster` (the page's action row uses it too).
-pub fn action_colour(cluster: usize) -> [u8; 3] {
-    ACTION_COLOURS[cluster % ACTION_COLOURS.len()]
-}
+pub use crate::segment::palette::action_colour;
 
 impl SssmImage {
     fn blank(size: usize, block: usize) -> Self {
@@ -190,12 +183,12 @@ mod tests {
         assert_eq!(rgb(&image, 2, 1), WHITE);
         // (0, 4) is on the cut line at column 4; (5, 1) lies off every line: white
         assert_eq!(rgb(&image, 4, 0), CUT, "lines are drawn over the entries");
-        assert_eq!(rgb(&image, 2, 0), ACTION_COLOURS[0]);
+        assert_eq!(rgb(&image, 2, 0), action_colour(0));
         assert_eq!(rgb(&image, 5, 1), WHITE);
         assert_eq!(rgb(&image, 4, 2), CUT);
         assert_eq!(rgb(&image, 6, 2), MIRROR_CUT);
         // the action's border and the transition's
-        assert_eq!(rgb(&image, 7, 3), ACTION_COLOURS[0]);
+        assert_eq!(rgb(&image, 7, 3), action_colour(0));
         assert_eq!(rgb(&image, 8, 10), TRANSITION);
         // the transition's diagonal entries inside it stay grey-black
         assert_eq!(rgb(&image, 9, 9), [0, 0, 0]);
@@ -234,7 +227,7 @@ mod tests {
         assert_eq!(rgb(&image, 100, 4), TRANSITION, "the transition starts at frame 8 = pixel 4");
         assert_eq!(rgb(&image, 100, 7), TRANSITION, "its border is 4 pixels wide");
         assert_eq!(rgb(&image, 100, 8), WHITE);
-        assert_eq!(rgb(&image, 1, 0), ACTION_COLOURS[0]);
+        assert_eq!(rgb(&image, 1, 0), action_colour(0));
         assert_eq!(rgb(&image, 3, 1), CUT, "the cut at frame 4 = pixel 2 is 2 pixels wide inside the action");
     }
 }

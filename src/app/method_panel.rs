@@ -1,0 +1,316 @@
+//! One generic panel per registered method, built from the registry
+//! ([`crate::method::registry`]): nothing here knows any method.
+//!
+//! * [`MethodPanel`] — `#<name>-panel`: heading with the paper, the result's one-line summary
+//!   `#<name>-counts`, `#<name>-export` (saves the segmentation JSON as `<take>_<name>.json`),
+//!   the parameter form `#<name>-params` generated from the method's [`ParamSpec`]s (one field
+//!   `#<name>-<param>` each; the basic ones shown, the others under "Advanced"), `#<name>-run`,
+//!   `#<name>-cancel` and `#<name>-progress` while it runs, and every picture the method draws as
+//!   a canvas `#<name>-<picture>` with its caption.
+//! * [`MethodRows`] — under the motion image, on the timeline's time axis, for every method with
+//!   a result: `#row-<name>-actions` (actions coloured by kind, transitions hatched grey) and
+//!   `#row-<name>-primitives` (coloured by cluster, mirror-pair clusters in one hue at two
+//!   lightnesses). Every segment carries `data-start`/`data-end` (file frames) and a tooltip;
+//!   clicking a primitive plays it once, clicking an action seeks to it.
+
+use super::loader::Loader;
+use super::motion_image::{download, stem};
+use super::{AppState, MethodSlot, RunState};
+use crate::method::{ParamKind, ParamSpec, Picture};
+use crate::protocol::MethodView;
+use crate::segment::palette::{action_colour, cluster_colour};
+use crate::segment::{Level, Segment};
+use leptos::ev::{MouseEvent, PointerEvent};
+use leptos::html::Canvas;
+use leptos::prelude::*;
+use std::sync::Arc;
+use wasm_bindgen::{Clamped, JsCast, JsValue};
+use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement};
+
+/// Tooltip of a segment: label, frames (1-based as on the frame counter) and seconds.
+fn tooltip(s: &Segment, fps: f64) -> String {
+    format!(
+        "{} · frames {}–{} · {:.2}–{:.2} s",
+        s.label,
+        s.start + 1,
+        s.end + 1,
+        s.start as f64 / fps,
+        (s.end + 1) as f64 / fps
+    )
+}
+
+/// The label of a parameter's field: its name in words, with its unit.
+fn field_label(spec: &ParamSpec) -> String {
+    let words = spec.name.replace('_', " ");
+    match &spec.unit {
+        Some(unit) => format!("{words} ({unit}) "),
+        None => format!("{words} "),
+    }
+}
+
+/// One form field for `spec`, bound to `value`.
+fn field(method: &str, spec: &ParamSpec, value: RwSignal<String>) -> AnyView {
+    let id = format!("{method}-{}", spec.name);
+    let help = spec.help.clone();
+    let label = field_label(spec);
+    match &spec.kind {
+        ParamKind::Bool => {
+            let checked = move || value.get() == "true";
+            let on_change = move |ev: leptos::ev::Event| {
+                let on = ev
+                    .target()
+                    .and_then(|t| t.dyn_into::<web_sys::HtmlInputElement>().ok())
+                    .is_some_and(|i| i.checked());
+                value.set(on.to_string());
+            };
+            view! {
+                <label title=help>
+                    <input id=id type="checkbox" prop:checked=checked on:change=on_change/>
+                    " "
+                    {label}
+                </label>
+            }
+            .into_any()
+        }
+        ParamKind::Choice { options } => {
+            let options = options.clone();
+            view! {
+                <label title=help>
+                    {label}
+                    <select id=id bind:value=value>
+                        {options.into_iter().map(|o| view! { <option value=o.clone()>{o.clone()}</option> }).collect_view()}
+                    </select>
+                </label>
+            }
+            .into_any()
+        }
+        ParamKind::Number { min, max } => {
+            let (min, max) = (min.to_string(), max.to_string());
+            view! {
+                <label title=help>
+                    {label}
+                    <input id=id type="number" step="any" min=min max=max size="6" bind:value=value/>
+                </label>
+            }
+            .into_any()
+        }
+        ParamKind::Integer { min, max } => {
+            let (min, max) = (min.to_string(), max.to_string());
+            view! {
+                <label title=help>
+                    {label}
+                    <input id=id type="number" step="1" min=min max=max size="6" bind:value=value/>
+                </label>
+            }
+            .into_any()
+        }
+        ParamKind::IntegerList { .. } => view! {
+            <label title=help>
+                {label}
+                <input id=id type="text" size="16" bind:value=value/>
+            </label>
+        }
+        .into_any(),
+    }
+}
+
+#[component]
+pub fn MethodPanel(state: AppState, method: &'static MethodSlot, loader: Loader) -> impl IntoView {
+    let slot = method;
+    let index = state.methods.iter().position(|s| std::ptr::eq(s, slot)).unwrap_or(0);
+    let name = slot.info.name.clone();
+    let running = move || slot.run.with(|s| matches!(s, RunState::Running { .. }));
+    let progress = move || {
+        slot.run.with(|s| match s {
+            RunState::Running { stage, fraction } => (stage.clone(), *fraction),
+            _ => (String::new(), 0.0),
+        })
+    };
+    let run_loader = loader.clone();
+    let on_run = move |ev: leptos::ev::SubmitEvent| {
+        ev.prevent_default();
+        run_loader.run(index);
+    };
+    let on_cancel = move |_| loader.cancel(index);
+    let export_name = name.clone();
+    let on_export = move |_| {
+        slot.view.with_untracked(|v| {
+            if let Some(v) = v {
+                let s = &v.segmentation;
+                let file = format!("{}_{}.json", stem(&s.file), export_name);
+                if let Err(e) = download(s.to_json().as_bytes(), "application/json", &file) {
+                    state.show_error(format!("could not save {file}: {e:?}"));
+                }
+            }
+        })
+    };
+    let counts = move || slot.view.with(|v| v.as_ref().map(|v| v.details.summary.clone()).unwrap_or_default());
+    let basic: Vec<AnyView> =
+        slot.specs.iter().zip(&slot.fields).filter(|(s, _)| s.basic).map(|(s, v)| field(&name, s, *v)).collect();
+    let advanced: Vec<AnyView> =
+        slot.specs.iter().zip(&slot.fields).filter(|(s, _)| !s.basic).map(|(s, v)| field(&name, s, *v)).collect();
+    let short = slot.info.short.clone();
+    let pictures = move || {
+        slot.view.with(|v| match v {
+            Some(v) => (0..v.details.pictures.len()).map(|k| picture_view(slot, v.clone(), k)).collect::<Vec<_>>(),
+            None => Vec::new(),
+        })
+    };
+
+    view! {
+        <section id=format!("{name}-panel") class="ms-method" aria-label=format!("{} segmentation", slot.info.short)>
+            <div class="ms-timeline-head">
+                <h2 title=slot.info.summary.clone()>{format!("{} ({})", slot.info.short, slot.info.paper)}</h2>
+                <span id=format!("{name}-counts") class="ms-timeline-legend">{counts}</span>
+                <button
+                    id=format!("{name}-export")
+                    class="ms-button ms-button--quiet"
+                    type="button"
+                    disabled=move || slot.view.with(Option::is_none)
+                    on:click=on_export
+                >
+                    "Export JSON"
+                </button>
+            </div>
+            <form id=format!("{name}-params") class="ms-method-params" on:submit=on_run>
+                {basic}
+                <details class="ms-method-advanced">
+                    <summary>"Advanced"</summary>
+                    {advanced}
+                </details>
+                <button
+                    id=format!("{name}-run")
+                    class="ms-button"
+                    type="submit"
+                    disabled=move || running() || state.motion.with(Option::is_none)
+                >
+                    "Run"
+                </button>
+                <button
+                    id=format!("{name}-cancel")
+                    class="ms-button ms-button--quiet"
+                    type="button"
+                    hidden=move || !running()
+                    on:click=on_cancel
+                >
+                    "Cancel"
+                </button>
+                <div id=format!("{name}-progress") class="ms-progress" role="status" aria-live="polite" hidden=move || !running()>
+                    <progress max="1" value=move || progress().1.clamp(0.0, 1.0).to_string()></progress>
+                    <span class="ms-progress-label">{move || format!("{short}: {}…", progress().0)}</span>
+                </div>
+            </form>
+            <div class="ms-method-body">{pictures}</div>
+        </section>
+    }
+}
+
+/// Picture `k` of `view` on a canvas, one canvas pixel per picture pixel (CSS scales it).
+fn picture_view(slot: &'static MethodSlot, view: Arc<MethodView>, k: usize) -> impl IntoView {
+    let p: &Picture = &view.details.pictures[k];
+    let id = format!("{}-{}", slot.info.name, p.id);
+    let (title, caption) = (p.title.clone(), p.caption.clone());
+    let canvas_ref = NodeRef::<Canvas>::new();
+    Effect::new(move |_| {
+        if let Some(canvas) = canvas_ref.get() {
+            if let Err(e) = draw_picture(&canvas, &view.details.pictures[k]) {
+                web_sys::console::error_2(&"could not draw a picture".into(), &e);
+            }
+        }
+    });
+    view! {
+        <figure class="ms-method-figure">
+            <canvas id=id class="ms-method-picture" node_ref=canvas_ref aria-label=title.clone()></canvas>
+            <figcaption class="ms-method-legend"><strong>{title}". "</strong>{caption}</figcaption>
+        </figure>
+    }
+}
+
+fn draw_picture(canvas: &HtmlCanvasElement, p: &Picture) -> Result<(), JsValue> {
+    canvas.set_width(p.width as u32);
+    canvas.set_height(p.height as u32);
+    if p.width == 0 || p.height == 0 {
+        return Ok(());
+    }
+    let ctx: CanvasRenderingContext2d = canvas.get_context("2d")?.ok_or("no 2d context")?.dyn_into()?;
+    let pixels =
+        web_sys::ImageData::new_with_u8_clamped_array_and_sh(Clamped(&p.rgba), p.width as u32, p.height as u32)?;
+    ctx.put_image_data(&pixels, 0.0, 0.0)
+}
+
+/// The timeline rows of every method with a result.
+#[component]
+pub fn MethodRows(state: AppState) -> impl IntoView {
+    state
+        .methods
+        .iter()
+        .map(|slot| {
+            let name = &slot.info.name;
+            let rows = move |levels: &'static [Level], primitive: bool| {
+                move || {
+                    let Some(v) = slot.view.get() else { return Vec::new() };
+                    let mut segments: Vec<Segment> =
+                        v.segmentation.segments.iter().filter(|s| levels.contains(&s.level)).cloned().collect();
+                    segments.sort_by_key(|s| s.start);
+                    segments.into_iter().map(|s| segment_view(state, &v, s, primitive)).collect::<Vec<_>>()
+                }
+            };
+            let hidden = move || slot.view.with(Option::is_none);
+            view! {
+                <div id=format!("row-{name}-actions") class="ms-row" hidden=hidden title=format!("{} actions and transitions", slot.info.short)>
+                    {rows(&[Level::Action, Level::Transition], false)}
+                </div>
+                <div id=format!("row-{name}-primitives") class="ms-row" hidden=hidden title=format!("{} primitives", slot.info.short)>
+                    {rows(&[Level::Primitive], true)}
+                </div>
+            }
+        })
+        .collect_view()
+}
+
+fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, primitive: bool) -> impl IntoView {
+    let frames = v.segmentation.frames.max(1) as f64;
+    let fps = v.segmentation.fps;
+    let left = format!("{:.4}%", s.start as f64 / frames * 100.0);
+    let width = format!("{:.4}%", (s.end + 1 - s.start) as f64 / frames * 100.0);
+    let (class, colour) = match (s.level, s.cluster) {
+        (Level::Transition, _) => ("ms-seg ms-seg--transition", String::new()),
+        (Level::Primitive, Some(c)) => ("ms-seg ms-seg--primitive", cluster_colour(c, s.mirror_of)),
+        (_, Some(c)) => {
+            let [r, g, b] = action_colour(c);
+            ("ms-seg ms-seg--action", format!("rgb({r}, {g}, {b})"))
+        }
+        (_, None) => ("ms-seg", "#888".to_string()),
+    };
+    let title = tooltip(&s, fps);
+    let (start, end) = (s.start, s.end);
+    // keep the timeline's own seek from capturing the pointer (the click must reach us)
+    let on_down = move |ev: PointerEvent| ev.stop_propagation();
+    let on_click = move |ev: MouseEvent| {
+        ev.stop_propagation();
+        if primitive {
+            state.play_until.set(Some(end));
+            state.frame.set(start);
+            state.playing.set(true);
+        } else {
+            state.play_until.set(None);
+            state.frame.set(start);
+        }
+    };
+    view! {
+        <div
+            class=class
+            style:left=left
+            style:width=width
+            style:background-color=(!colour.is_empty()).then_some(colour)
+            data-start=start.to_string()
+            data-end=end.to_string()
+            data-cluster=s.cluster.map(|c| c.to_string()).unwrap_or_default()
+            title=title
+            on:pointerdown=on_down
+            on:click=on_click
+        >
+            {s.label.clone()}
+        </div>
+    }
+}

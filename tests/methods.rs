@@ -1,0 +1,137 @@
+//! The method registry's round trip: every registered method checks its defaults, runs on a
+//! fixture, returns a segmentation that fits the schema and echoes its parameters, refuses
+//! parameters outside the bounds its specs announce, and stops when asked to.
+#![cfg(not(target_arch = "wasm32"))]
+
+use mocapseg::load::load_bytes;
+use mocapseg::method::{self, MethodError, NoProgress, ParamKind, Progress, RunOptions};
+use mocapseg::motion::Motion;
+use mocapseg::segment::Segmentation;
+
+fn take() -> Motion {
+    load_bytes("12_01.bvh", include_bytes!("fixtures/12_01.bvh"), &mut |_| {}).unwrap().motion
+}
+
+#[test]
+fn every_method_runs_with_its_defaults_and_echoes_them() {
+    let motion = take();
+    for m in method::registry() {
+        let info = m.info();
+        let defaults = m.defaults();
+        let checked =
+            m.check_json(&serde_json::json!({})).unwrap_or_else(|e| panic!("{}: defaults refused: {e}", info.name));
+        assert_eq!(checked.echo(), &defaults, "{}: the checked defaults echo the defaults", info.name);
+        // every spec names a parameter of the defaults, with its default value
+        let specs = m.param_specs();
+        assert_eq!(specs.len(), defaults.as_object().unwrap().len(), "{}: one spec per parameter", info.name);
+        for s in &specs {
+            assert_eq!(defaults[&s.name], s.default, "{}: spec {}", info.name, s.name);
+        }
+        let out = m.run_checked(&motion, &checked, &RunOptions { pictures: true }, &mut NoProgress).unwrap();
+        let seg = &out.segmentation;
+        seg.validate().unwrap();
+        assert_eq!((seg.method.as_str(), seg.file.as_str(), seg.frames), (info.name.as_str(), "12_01.bvh", 524));
+        assert_eq!(seg.params, defaults, "{}: parameters echoed", info.name);
+        assert!(!seg.segments.is_empty(), "{}: no segments on a walk", info.name);
+        // the JSON schema round trip
+        assert_eq!(&Segmentation::from_json(&seg.to_json()).unwrap(), seg);
+        assert!(!out.details.summary.is_empty());
+        for p in &out.details.pictures {
+            assert_eq!(p.rgba.len(), p.width * p.height * 4, "{}: picture {}", info.name, p.id);
+            assert!(p.width > 0 && !p.caption.is_empty());
+        }
+        for c in &out.details.curves {
+            assert_eq!(c.values.len(), seg.frames, "{}: curve {}", info.name, c.id);
+        }
+        // without pictures asked for, none are drawn
+        let out = m.run_checked(&motion, &checked, &RunOptions::default(), &mut NoProgress).unwrap();
+        assert!(out.details.pictures.is_empty());
+        assert_eq!(&out.segmentation, seg, "{}: same result with and without pictures", info.name);
+    }
+}
+
+#[test]
+fn sssm_on_the_registry_is_sssm_itself() {
+    let motion = take();
+    let direct = mocapseg::sssm::segment(&motion, &mocapseg::sssm::SssmParams::default()).unwrap().segmentation;
+    let m = method::find("sssm").unwrap();
+    let via = m.run_json(&motion, &serde_json::json!({}), &RunOptions::default(), &mut NoProgress).unwrap();
+    assert_eq!(via.segmentation, direct);
+}
+
+#[test]
+fn values_outside_the_announced_bounds_are_refused_by_name() {
+    for m in method::registry() {
+        let name = m.info().name;
+        for s in m.param_specs() {
+            let outside: Vec<serde_json::Value> = match &s.kind {
+                ParamKind::Number { min, max } => vec![(min - 1.0).into(), (max * 2.0 + 1.0).into(), 1e300.into()],
+                ParamKind::Integer { min, max } => {
+                    let mut v = vec![serde_json::json!(max.saturating_add(1))];
+                    if *min > 0 {
+                        v.push(serde_json::json!(min - 1));
+                    }
+                    v
+                }
+                ParamKind::Choice { .. } => vec!["no-such-choice".into()],
+                ParamKind::Bool => vec!["maybe".into()],
+                ParamKind::IntegerList { max, max_len, .. } => {
+                    vec![serde_json::json!([max + 1]), serde_json::json!(vec![0; max_len + 1])]
+                }
+            };
+            for v in outside {
+                let params = serde_json::json!({ s.name.clone(): v.clone() });
+                match m.check_json(&params) {
+                    Ok(_) => panic!("{name}: {} = {v} accepted, outside {:?}", s.name, s.kind),
+                    Err(e) => {
+                        assert!(matches!(e, MethodError::Params(_)), "{name}: {e:?}");
+                        let text = e.to_string();
+                        assert!(
+                            text.contains(&s.name) || text.contains("invalid") || text.contains("parameters"),
+                            "{name}: {} = {v}: {text}",
+                            s.name
+                        );
+                    }
+                }
+            }
+        }
+        let unknown = m.check_json(&serde_json::json!({"no_such_parameter": 1})).unwrap_err().to_string();
+        assert!(unknown.contains("no_such_parameter"), "{name}: {unknown}");
+    }
+}
+
+/// Cancels as soon as the run reports a stage after `after` reports.
+struct CancelAfter {
+    reports: usize,
+    after: usize,
+    stages: Vec<String>,
+}
+
+impl Progress for CancelAfter {
+    fn report(&mut self, stage: &str, _: f64) {
+        self.reports += 1;
+        self.stages.push(stage.to_string());
+    }
+    fn cancelled(&self) -> bool {
+        self.reports > self.after
+    }
+}
+
+#[test]
+fn every_method_stops_when_cancelled() {
+    let motion = take();
+    for m in method::registry() {
+        let checked = m.check_json(&serde_json::json!({})).unwrap();
+        for after in [0, 2] {
+            let mut progress = CancelAfter { reports: 0, after, stages: Vec::new() };
+            let result = m.run_checked(&motion, &checked, &RunOptions::default(), &mut progress);
+            assert_eq!(result.err(), Some(MethodError::Cancelled), "{}: after {after} reports", m.info().name);
+            assert!(
+                progress.reports <= after + 1,
+                "{}: went on after the cancel: {:?}",
+                m.info().name,
+                progress.stages
+            );
+        }
+    }
+}
