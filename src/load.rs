@@ -12,11 +12,10 @@ pub struct Loaded {
 }
 
 impl Loaded {
-    /// Parser warnings followed by motion warnings, as text.
+    /// Parser warnings followed by motion warnings, as text, each once ([`Motion::from_bvh`]
+    /// already starts the motion's warnings with the parser's).
     pub fn warnings(&self) -> Vec<String> {
-        let mut w: Vec<String> = self.bvh.warnings.iter().map(Warning::to_string).collect();
-        w.extend(self.motion.warnings.iter().cloned());
-        w
+        self.motion.warnings.clone()
     }
 }
 
@@ -229,6 +228,30 @@ mod tests {
         let loaded = load_bytes("tiny.bvh", text.as_bytes(), &mut |_| {}).expect("loads");
         assert_eq!((loaded.motion.frames(), loaded.motion.positions.len()), (1, 1));
         assert_eq!(crate::image::MotionImage::from_motion(&loaded.motion).width, 1);
+    }
+
+    #[test]
+    fn each_warning_is_reported_once() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/assimp_Boxing_Toes_100fps.bvh");
+        let loaded = load_path(&path).expect("loads");
+        let warnings = loaded.warnings();
+        let frames = warnings.iter().filter(|w| w.contains("`Frames:` says 3069")).count();
+        assert_eq!(frames, 1, "{warnings:#?}");
+        assert!(warnings[0].contains("has 3070 complete data rows"), "{warnings:#?}");
+        let mut unique = warnings.clone();
+        unique.sort();
+        unique.dedup();
+        assert_eq!(unique.len(), warnings.len(), "{warnings:#?}");
+        // A Latin-1 file's decoding warning comes first, once.
+        let mut bytes = std::fs::read(&path).expect("fixture");
+        let at = bytes.windows(4).position(|w| w == b"ROOT").expect("ROOT") + 5;
+        bytes.insert(at, 0xe4);
+        let loaded = load_bytes("latin1.bvh", &bytes, &mut |_| {}).expect("loads");
+        let warnings = loaded.warnings();
+        assert!(warnings[0].contains("not valid UTF-8"), "{warnings:#?}");
+        assert_eq!(warnings.iter().filter(|w| w.contains("UTF-8")).count(), 1, "{warnings:#?}");
+        assert_eq!(warnings.iter().filter(|w| w.contains("`Frames:` says")).count(), 1, "{warnings:#?}");
     }
 
     #[test]
