@@ -11,12 +11,14 @@
 //! Positions are stored frame-major (`frames × joints`, End Sites included, in the order of
 //! [`Bvh::joints`]) as `f32` in the file's own units and axes; FK itself runs in `f64`.
 
+pub mod export;
 pub mod fk;
 pub mod joints;
 pub mod normalize;
 pub mod resample;
 pub mod units;
 
+pub use export::write_positions_csv;
 pub use joints::{map_joints, Canonical, JointMap, MissingJoints};
 pub use units::{UnitDetection, Units, UpAxis};
 
