@@ -215,7 +215,7 @@ mod cli {
     fn image(file: &Path, output: &Path) -> Result<(), String> {
         let loaded = load(file)?;
         let img = MotionImage::from_motion(&loaded.motion);
-        let png = img.to_png();
+        let png = img.try_to_png().map_err(|e| format!("{}: {e}", output.display()))?;
         std::fs::write(output, &png).map_err(|e| format!("{}: {e}", output.display()))?;
         eprintln!("wrote {} ({}×{} px, {} bytes)", output.display(), img.width, img.height, png.len());
         Ok(())
