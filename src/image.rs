@@ -1,7 +1,7 @@
 //! The motion image of DT-FCN (Cheema et al. 2019, section 2 "Our Approach", after Laraba et
 //! al. 2017): "each column of the image represents a frame in the motion sequence. The rows
 //! represent the joints and the RGB values are the scaled XYZ Euclidean coordinates of each
-//! corresponding joint" (issue 2, "Motion image").
+//! corresponding joint".
 //!
 //! Here: one column per frame, one row per joint (every node that is not an End Site, in file
 //! order), R, G, B = the joint's X, Y, Z relative to the root (first node) of the same frame,

@@ -1,4 +1,4 @@
-//! Native integration tests of the BVH parser and writer (issue 2, "BVH parsing"):
+//! Native integration tests of the BVH parser and writer:
 //! every fixture against independently established facts, every quirk of the format, every
 //! error message (line, column, content), parse → write → parse round trips, limits, progress,
 //! and a deterministic fuzz test (mutated and truncated fixtures, random bytes) that no input

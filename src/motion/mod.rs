@@ -1,6 +1,6 @@
 //! Motion: a skeleton plus the world position of every joint in every frame.
 //!
-//! This is the representation every segmentation method works on (issue 2, "Motion"):
+//! This is the representation every segmentation method works on:
 //! [`Motion::from_bvh`] runs forward kinematics over a parsed [`Bvh`] ([`fk`]), detects the
 //! file's length units and up axis ([`units`]), and keeps the frame rate. [`Motion::resample`]
 //! brings a take to the rate a method works at (30 Hz for the methods in the papers;
