@@ -1,14 +1,14 @@
 //! The motion image of DT-FCN (Cheema et al. 2019, section 2 "Our Approach", after Laraba et
 //! al. 2017): "each column of the image represents a frame in the motion sequence. The rows
 //! represent the joints and the RGB values are the scaled XYZ Euclidean coordinates of each
-//! corresponding joint" (issue 2, "Motion image").
+//! corresponding joint".
 //!
 //! Here: one column per frame, one row per joint (every node that is not an End Site, in file
 //! order), R, G, B = the joint's X, Y, Z relative to the root (first node) of the same frame,
 //! in file axes. Each axis is scaled linearly from its minimum over the whole take (all rows,
 //! all frames) to 0 and its maximum to 255, rounding to nearest; an axis that is constant over
 //! the take is 128. Alpha is 255. Pixels are row-major RGBA, ready for a canvas `ImageData`;
-//! [`MotionImage::to_png`] encodes them with the `png` crate.
+//! [`MotionImage::try_to_png`] encodes them with the `png` crate.
 
 use crate::motion::Motion;
 
@@ -93,20 +93,22 @@ impl MotionImage {
         [self.rgba[i], self.rgba[i + 1], self.rgba[i + 2], self.rgba[i + 3]]
     }
 
-    /// PNG encoding (8-bit RGBA), or why it failed (only for images built inconsistently by hand).
+    /// PNG encoding (8-bit RGBA), or why it cannot be encoded: no pixels, more columns or rows
+    /// than PNG allows (2^31 − 1), RGBA bytes that do not match the size, or an encoder error.
     pub fn try_to_png(&self) -> Result<Vec<u8>, ImageError> {
         let (width, height) = (self.width, self.height);
         if width == 0 || height == 0 {
             return Err(ImageError::Empty { width, height });
         }
-        let expected = width * height * 4;
-        if self.rgba.len() != expected {
-            return Err(ImageError::SizeMismatch { width, height, len: self.rgba.len(), expected });
-        }
         let (w, h) = match (u32::try_from(width), u32::try_from(height)) {
             (Ok(w), Ok(h)) if w <= i32::MAX as u32 && h <= i32::MAX as u32 => (w, h),
             _ => return Err(ImageError::TooLarge { width, height }),
         };
+        let expected = width.checked_mul(height).and_then(|n| n.checked_mul(4));
+        if expected != Some(self.rgba.len()) {
+            let Some(expected) = expected else { return Err(ImageError::TooLarge { width, height }) };
+            return Err(ImageError::SizeMismatch { width, height, len: self.rgba.len(), expected });
+        }
         let mut out = Vec::new();
         let mut enc = png::Encoder::new(&mut out, w, h);
         enc.set_color(png::ColorType::Rgba);
@@ -115,12 +117,5 @@ impl MotionImage {
         writer.write_image_data(&self.rgba)?;
         writer.finish()?;
         Ok(out)
-    }
-
-    /// PNG encoding (8-bit RGBA). Every image made by [`MotionImage::from_motion`] encodes; an
-    /// inconsistent hand-built one gives an empty vector (use [`MotionImage::try_to_png`] to
-    /// learn why).
-    pub fn to_png(&self) -> Vec<u8> {
-        self.try_to_png().unwrap_or_default()
     }
 }

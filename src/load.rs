@@ -12,11 +12,10 @@ pub struct Loaded {
 }
 
 impl Loaded {
-    /// Parser warnings followed by motion warnings, as text.
+    /// Parser warnings followed by motion warnings, as text, each once ([`Motion::from_bvh`]
+    /// already starts the motion's warnings with the parser's).
     pub fn warnings(&self) -> Vec<String> {
-        let mut w: Vec<String> = self.bvh.warnings.iter().map(Warning::to_string).collect();
-        w.extend(self.motion.warnings.iter().cloned());
-        w
+        self.motion.warnings.clone()
     }
 }
 
@@ -29,6 +28,67 @@ pub enum LoadError {
     Motion { file: String, source: MotionError },
     #[error("{file}: {message}")]
     Io { file: String, message: String },
+    #[error(
+        "{file}: {frames} frames × {nodes} joints need about {} MiB, more than the page's budget of {} MiB; cut the take",
+        mib(*needed),
+        mib(*budget)
+    )]
+    TooLarge { file: String, frames: usize, nodes: usize, needed: usize, budget: usize },
+}
+
+/// Whole MiB, rounded up (so a refused load never reads as "needs 1024 MiB of 1024").
+fn mib(bytes: usize) -> usize {
+    bytes.div_ceil(1 << 20)
+}
+
+/// How much memory one load may take, checked before the big allocations (the world positions
+/// and the motion image), so a take too large for a browser tab is refused with a message
+/// instead of killing the tab.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MemoryBudget {
+    pub max_bytes: usize,
+}
+
+impl Default for MemoryBudget {
+    /// 1 GiB: what a browser tab can hold besides the page itself (a 40-node skeleton at
+    /// 120 fps fits about 80 minutes).
+    fn default() -> Self {
+        MemoryBudget { max_bytes: 1 << 30 }
+    }
+}
+
+impl MemoryBudget {
+    /// Bytes of one world position (`f32` × 3).
+    const POSITION_BYTES: usize = 12;
+    /// World positions are held three times: the motion, the flat copy sent to the page, and
+    /// the page's own copy.
+    const POSITION_COPIES: usize = 3;
+    /// Motion image bytes per frame and node: 4 RGBA plus as much again for its PNG (deflate of
+    /// smooth motion is smaller; this bounds it).
+    const IMAGE_BYTES: usize = 4 + 4;
+
+    /// About how many bytes loading `frames` frames of a `nodes`-node skeleton (End Sites
+    /// included) takes: positions and motion image. Saturates instead of overflowing.
+    pub fn estimate(frames: usize, nodes: usize) -> usize {
+        let per_position = Self::POSITION_BYTES * Self::POSITION_COPIES + Self::IMAGE_BYTES;
+        frames.saturating_mul(nodes).saturating_mul(per_position)
+    }
+
+    /// Ok if [`MemoryBudget::estimate`] fits in the budget; otherwise an error naming `file`,
+    /// the size of the take, what it needs and the budget.
+    pub fn check(&self, file: &str, frames: usize, nodes: usize) -> Result<(), LoadError> {
+        let needed = Self::estimate(frames, nodes);
+        if needed <= self.max_bytes {
+            return Ok(());
+        }
+        Err(LoadError::TooLarge { file: file.to_string(), frames, nodes, needed, budget: self.max_bytes })
+    }
+
+    /// Parser limits that keep the frame values themselves (`f64`) within the budget too.
+    fn parse_limits(&self) -> ParseLimits {
+        let default = ParseLimits::default();
+        ParseLimits { max_values: default.max_values.min(self.max_bytes / 8), ..default }
+    }
 }
 
 /// Decodes BVH bytes: UTF-8, or (for files from old exporters) Latin-1 with a warning.
@@ -52,14 +112,29 @@ fn line_breaks(bytes: &[u8]) -> usize {
     bytes.iter().filter(|&&b| b == b'\n').count() + lone_cr + last_cr
 }
 
-/// Parses `bytes` (the content of `file`) and computes its motion, reporting parse progress 0..1.
+/// Parses `bytes` (the content of `file`) and computes its motion, reporting parse progress 0..1,
+/// within the default [`MemoryBudget`].
 pub fn load_bytes(file: &str, bytes: &[u8], progress: &mut dyn FnMut(f64)) -> Result<Loaded, LoadError> {
+    load_bytes_with_budget(file, bytes, &MemoryBudget::default(), progress)
+}
+
+/// Parses `bytes` (the content of `file`) and computes its motion, reporting parse progress 0..1.
+/// The frame values may take at most `budget` (the parser stops at that many values), and the
+/// frames present × nodes are checked against `budget` after parsing, before forward kinematics
+/// allocates the positions.
+pub fn load_bytes_with_budget(
+    file: &str,
+    bytes: &[u8],
+    budget: &MemoryBudget,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Loaded, LoadError> {
     let (text, decode_warning) = decode(bytes);
-    let mut bvh = bvh::parse_with_progress(&text, &ParseLimits::default(), progress)
+    let mut bvh = bvh::parse_with_progress(&text, &budget.parse_limits(), progress)
         .map_err(|source| LoadError::Parse { file: file.to_string(), source })?;
     if let Some(w) = decode_warning {
         bvh.warnings.insert(0, w);
     }
+    budget.check(file, bvh.frames(), bvh.joints.len())?;
     let motion = Motion::from_bvh(file, &bvh).map_err(|source| LoadError::Motion { file: file.to_string(), source })?;
     Ok(Loaded { bvh, motion })
 }
@@ -97,6 +172,86 @@ mod tests {
         ] {
             assert_eq!(decode(bytes).1.expect("a warning").line, line, "{bytes:?}");
         }
+    }
+
+    /// A chain of `nodes` joints with one rotation channel each, and `frames` rows of zeros.
+    fn chain(nodes: usize, frames: usize) -> String {
+        let mut s = String::from("HIERARCHY\n");
+        for i in 0..nodes {
+            s.push_str(&format!(
+                "{} J{i}\n{{\nOFFSET 0 1 0\nCHANNELS 1 Xrotation\n",
+                if i == 0 { "ROOT" } else { "JOINT" }
+            ));
+        }
+        s.push_str(&"}\n".repeat(nodes));
+        s.push_str(&format!("MOTION\nFrames: {frames}\nFrame Time: 0.01\n"));
+        let row = format!("{}\n", vec!["0"; nodes].join(" "));
+        s.push_str(&row.repeat(frames));
+        s
+    }
+
+    #[test]
+    fn estimate_counts_positions_three_times_and_the_image_and_saturates() {
+        assert_eq!(MemoryBudget::estimate(1000, 10), 1000 * 10 * (12 * 3 + 8));
+        assert_eq!(MemoryBudget::estimate(usize::MAX, 3), usize::MAX);
+        assert_eq!(MemoryBudget::default().max_bytes, 1 << 30);
+    }
+
+    #[test]
+    fn a_take_over_the_budget_is_refused_naming_file_size_and_budget() {
+        let text = chain(4, 100);
+        let needed = MemoryBudget::estimate(100, 4);
+        let tight = MemoryBudget { max_bytes: needed - 1 };
+        let e = load_bytes_with_budget("walk.bvh", text.as_bytes(), &tight, &mut |_| {}).unwrap_err();
+        assert!(matches!(e, LoadError::TooLarge { frames: 100, nodes: 4, .. }), "{e}");
+        let m = e.to_string();
+        assert!(m.starts_with("walk.bvh: 100 frames × 4 joints need about 1 MiB"), "{m}");
+        assert!(m.contains("budget of 1 MiB") && m.contains("cut the take"), "{m}");
+        let exact = MemoryBudget { max_bytes: needed };
+        let loaded = load_bytes_with_budget("walk.bvh", text.as_bytes(), &exact, &mut |_| {}).expect("fits exactly");
+        assert_eq!(loaded.motion.frames(), 100);
+    }
+
+    #[test]
+    fn the_budget_also_bounds_the_parsed_values() {
+        // 64 bytes = 8 f64 values: the parser stops at the row that would pass them, and says where.
+        let budget = MemoryBudget { max_bytes: 64 };
+        let e = load_bytes_with_budget("walk.bvh", chain(4, 3).as_bytes(), &budget, &mut |_| {}).unwrap_err();
+        let m = e.to_string();
+        assert!(m.starts_with("walk.bvh: line 27, column 1: too many frame values: the limit is 8"), "{m}");
+    }
+
+    #[test]
+    fn declared_frames_with_no_data_behind_them_load_as_one_frame() {
+        let text = "HIERARCHY\nROOT Pelvis\n{\n\tOFFSET 0 0 0\n\tCHANNELS 0\n}\nMOTION\nFrames: 33554432\nFrame Time: 0.008333333\n";
+        assert_eq!(text.len(), 100);
+        let loaded = load_bytes("tiny.bvh", text.as_bytes(), &mut |_| {}).expect("loads");
+        assert_eq!((loaded.motion.frames(), loaded.motion.positions.len()), (1, 1));
+        assert_eq!(crate::image::MotionImage::from_motion(&loaded.motion).width, 1);
+    }
+
+    #[test]
+    fn each_warning_is_reported_once() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/assimp_Boxing_Toes_100fps.bvh");
+        let loaded = load_path(&path).expect("loads");
+        let warnings = loaded.warnings();
+        let frames = warnings.iter().filter(|w| w.contains("`Frames:` says 3069")).count();
+        assert_eq!(frames, 1, "{warnings:#?}");
+        assert!(warnings[0].contains("has 3070 complete data rows"), "{warnings:#?}");
+        let mut unique = warnings.clone();
+        unique.sort();
+        unique.dedup();
+        assert_eq!(unique.len(), warnings.len(), "{warnings:#?}");
+        // A Latin-1 file's decoding warning comes first, once.
+        let mut bytes = std::fs::read(&path).expect("fixture");
+        let at = bytes.windows(4).position(|w| w == b"ROOT").expect("ROOT") + 5;
+        bytes.insert(at, 0xe4);
+        let loaded = load_bytes("latin1.bvh", &bytes, &mut |_| {}).expect("loads");
+        let warnings = loaded.warnings();
+        assert!(warnings[0].contains("not valid UTF-8"), "{warnings:#?}");
+        assert_eq!(warnings.iter().filter(|w| w.contains("UTF-8")).count(), 1, "{warnings:#?}");
+        assert_eq!(warnings.iter().filter(|w| w.contains("`Frames:` says")).count(), 1, "{warnings:#?}");
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! Native integration tests of the BVH parser and writer (issue 2, "BVH parsing"):
+//! Native integration tests of the BVH parser and writer:
 //! every fixture against independently established facts, every quirk of the format, every
 //! error message (line, column, content), parse → write → parse round trips, limits, progress,
 //! and a deterministic fuzz test (mutated and truncated fixtures, random bytes) that no input
@@ -682,10 +682,39 @@ fn zero_frames_and_zero_channels() {
     let b = parse_ok(&small(P6, R3, 0, ""));
     assert_eq!((b.frames(), b.values.len()), (0, 0));
     assert!(b.warnings.is_empty());
-    let text = "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 0\n}\nMOTION\nFrames: 3\nFrame Time: 0.1\n";
+    let text = "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 0\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n";
     let b = parse_ok(text);
-    assert_eq!((b.channels_per_frame, b.frames()), (0, 3));
+    assert_eq!((b.channels_per_frame, b.frames()), (0, 1));
+    assert!(b.warnings.is_empty(), "{:?}", b.warnings);
     assert_eq!(parse_ok(&bvh::write(&b)), b);
+    let b = parse_ok(&text.replace("Frames: 1", "Frames: 0"));
+    assert_eq!((b.frames(), b.warnings.len()), (0, 0));
+}
+
+#[test]
+fn zero_channels_give_one_frame_whatever_frames_declares() {
+    // Decision: a hierarchy with no channels has no data rows, so `Frames:` has nothing behind
+    // it. It describes one pose (the rest pose): 1 frame and a warning naming the `Frames:` line,
+    // like any other `Frames:` / rows mismatch. Before, this 100-byte file became 2^25 frames.
+    let text = "HIERARCHY\nROOT Pelvis\n{\n\tOFFSET 0 0 0\n\tCHANNELS 0\n}\nMOTION\nFrames: 33554432\nFrame Time: 0.008333333\n";
+    assert_eq!(text.len(), 100);
+    let b = parse_ok(text);
+    assert_eq!((b.channels_per_frame, b.declared_frames, b.frames()), (0, 33_554_432, 1));
+    assert_eq!(b.warnings.len(), 1, "{:?}", b.warnings);
+    let w = &b.warnings[0];
+    assert_eq!(w.line, 8, "the Frames: line");
+    assert!(
+        w.message.contains("33554432") && w.message.contains("no channels") && w.message.contains("1 frame"),
+        "{w}"
+    );
+    // Written back, it says what it holds.
+    let again = parse_ok(&bvh::write(&b));
+    assert_eq!((again.declared_frames, again.frames()), (1, 1));
+    assert!(again.warnings.is_empty());
+    // Joints and End Sites without channels: the same.
+    let text = "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 0\nJOINT B\n{\nOFFSET 0 1 0\nCHANNELS 0\nEnd Site\n{\nOFFSET 0 1 0\n}\n}\n}\nMOTION\nFrames: 3\nFrame Time: 0.1\n";
+    let b = parse_ok(text);
+    assert_eq!((b.joints.len(), b.frames(), b.warnings.len()), (3, 1, 1));
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! constant-axis rule, PNG round trip, and the image of a real CMU take.
 
 use mocapseg::bvh::{self, Bvh, BvhJoint, Channel, JointKind};
-use mocapseg::image::{scale_to_byte, MotionImage};
+use mocapseg::image::{scale_to_byte, ImageError, MotionImage};
 use mocapseg::motion::Motion;
 
 use Channel::{Xposition as XP, Yposition as YP, Zposition as ZP, Zrotation as ZR};
@@ -88,7 +88,7 @@ fn decode(png_bytes: &[u8]) -> (png::OutputInfo, Vec<u8>) {
 #[test]
 fn png_decodes_to_the_same_pixels() {
     let img = MotionImage::from_motion(&small_take());
-    let bytes = img.to_png();
+    let bytes = img.try_to_png().expect("encodes");
     assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
     let (info, pixels) = decode(&bytes);
     assert_eq!((info.width, info.height), (3, 3));
@@ -102,9 +102,22 @@ fn inconsistent_hand_built_image_is_an_error_not_a_panic() {
     let bad = MotionImage { width: 2, height: 2, rgba: vec![0; 3], rows: vec![] };
     let err = bad.try_to_png().unwrap_err();
     assert_eq!(err.to_string(), "image is 2 × 2 but has 3 RGBA bytes (expected 16)");
-    assert!(bad.to_png().is_empty());
     let empty = MotionImage { width: 0, height: 5, rgba: vec![], rows: vec![] };
     assert_eq!(empty.try_to_png().unwrap_err().to_string(), "image has no pixels (0 × 5)");
+}
+
+#[test]
+fn images_png_cannot_hold_are_errors_not_panics_or_empty_files() {
+    // PNG allows at most 2^31 − 1 columns: a take that long is refused before any pixel is read.
+    let wide = MotionImage { width: 1 << 31, height: 1, rgba: vec![], rows: vec![] };
+    assert_eq!(wide.try_to_png().unwrap_err().to_string(), format!("image too large for PNG: {} × 1", 1u64 << 31));
+    // width × height × 4 overflowing usize was a panic (debug) or a wrong size check (release).
+    let huge = MotionImage { width: usize::MAX, height: 2, rgba: vec![], rows: vec![] };
+    assert!(matches!(huge.try_to_png(), Err(ImageError::TooLarge { .. })));
+    if usize::BITS == 64 {
+        let square = MotionImage { width: 1 << 30, height: 1 << 30, rgba: vec![], rows: vec![] };
+        assert!(matches!(square.try_to_png(), Err(ImageError::SizeMismatch { .. })));
+    }
 }
 
 #[test]
@@ -144,7 +157,7 @@ fn image_of_a_cmu_take() {
         (0..3).map(|a| ((p[a] as f64 - lo[a] as f64) / (hi[a] as f64 - lo[a] as f64) * 255.0).round() as u8).collect();
     assert_eq!(&img.pixel(100, row)[..3], &expect[..]);
     // PNG round trip on the real image.
-    let (info, pixels) = decode(&img.to_png());
+    let (info, pixels) = decode(&img.try_to_png().expect("encodes"));
     assert_eq!((info.width, info.height), (343, 31));
     assert_eq!(pixels, img.rgba);
 }

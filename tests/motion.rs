@@ -252,12 +252,13 @@ fn motion_errors_are_clear() {
 }
 
 #[test]
-fn huge_declared_frame_count_without_channels_is_refused_not_allocated() {
+fn huge_declared_frame_count_without_channels_is_one_frame_not_allocated() {
+    // No channels, no data rows: the file describes one pose whatever `Frames:` says.
     let nodes = [node("Root", None, [0.0; 3], &[]), end_site(0, [0.0, 1.0, 0.0], "Root")];
     let mut b = build(&nodes, 0.1, &[vec![]]);
     b.declared_frames = usize::MAX / 2;
-    let err = Motion::from_bvh("x", &b).unwrap_err();
-    assert!(matches!(err, MotionError::TooLarge { .. }), "{err}");
+    let m = Motion::from_bvh("x", &b).expect("one frame");
+    assert_eq!((m.frames(), m.positions.len()), (1, 2));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1176,4 +1177,43 @@ fn skeleton_with_a_parent_cycle_does_not_hang_the_mapper() {
     assert!(!s.is_ancestor_or_self(5, 0));
     let err = map_joints(&s).unwrap_err();
     assert!(err.missing.contains(&Canonical::LeftHand));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Positions as CSV
+
+#[test]
+fn positions_csv_reads_back_with_a_csv_reader_even_with_commas_in_names() {
+    let nodes = [
+        node("Hips", None, [0.0; 3], &[XP, YP, ZP]),
+        node("Left, \"Arm\"", Some(0), [1.0, 0.0, 0.0], &[]),
+        end_site(1, [0.0, 2.0, 0.0], "Left, \"Arm\""),
+    ];
+    let m = motion(&nodes, 0.5, &[vec![0.0, 0.0, 0.0], vec![0.25, -1.5, 3.0]]);
+    for end_sites in [false, true] {
+        let mut out = Vec::new();
+        mocapseg::motion::write_positions_csv(&m, end_sites, &mut out).expect("writes");
+        let mut r = csv::Reader::from_reader(out.as_slice());
+        let header: Vec<String> = r.headers().expect("header").iter().map(String::from).collect();
+        let mut expected = vec!["frame", "time_s", "Hips_x", "Hips_y", "Hips_z"];
+        expected.extend(["Left, \"Arm\"_x", "Left, \"Arm\"_y", "Left, \"Arm\"_z"]);
+        if end_sites {
+            expected.extend(["Left, \"Arm\"_End_x", "Left, \"Arm\"_End_y", "Left, \"Arm\"_End_z"]);
+        }
+        assert_eq!(header, expected);
+        let rows: Vec<Vec<f64>> = r
+            .records()
+            .map(|rec| rec.expect("record").iter().map(|v| v.parse().expect("a number")).collect())
+            .collect();
+        assert_eq!(rows.len(), 2);
+        for (f, row) in rows.iter().enumerate() {
+            assert_eq!(row.len(), header.len());
+            assert_eq!((row[0], row[1]), (f as f64, f as f64 * 0.5));
+            for j in 0..(header.len() - 2) / 3 {
+                let p = m.position(f, j);
+                let got: Vec<f32> = row[2 + 3 * j..5 + 3 * j].iter().map(|&v| v as f32).collect();
+                assert_eq!(got, p.to_array(), "frame {f} joint {j}");
+            }
+        }
+    }
 }

@@ -93,9 +93,10 @@ pub struct Bvh {
 }
 
 impl Bvh {
-    /// Number of frame rows actually present.
+    /// Number of frame rows actually present. A file with no channels has no rows and describes
+    /// one pose (the rest pose): 1 frame if it declares any, whatever `Frames:` says.
     pub fn frames(&self) -> usize {
-        self.values.len().checked_div(self.channels_per_frame).unwrap_or(self.declared_frames)
+        self.values.len().checked_div(self.channels_per_frame).unwrap_or(self.declared_frames.min(1))
     }
 
     /// The channel values of one frame.

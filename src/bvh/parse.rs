@@ -23,6 +23,9 @@
 //!   last non-blank line of the file: that is how a truncated download ends, so the incomplete
 //!   row is dropped with a warning and all complete rows are kept. A file that declares frames
 //!   but has no complete row at all is an error.
+//! * A hierarchy with no channels has no data rows: it describes one pose (the rest pose), so it
+//!   gives at most 1 frame whatever `Frames:` says, with a [`Warning`] naming the `Frames:` line
+//!   if that says more.
 //!
 //! Every error is a [`BvhError`] naming the 1-based line and column (in characters) and what was
 //! expected there. The parser never panics, is linear in the input, and allocates no more than a
@@ -69,7 +72,30 @@ pub fn parse_with_progress(text: &str, limits: &ParseLimits, progress: &mut dyn 
     let rows = RowReader::new(text, lx.pos, lx.line, channels_per_frame, header.frames, limits);
     let (values, row_warning) = rows.read(&mut report)?;
     progress(1.0);
-    let present = values.len().checked_div(channels_per_frame).unwrap_or(header.frames);
+    if channels_per_frame == 0 {
+        // No channels, no data rows: every frame would be the rest pose, so a `Frames:` count
+        // has nothing behind it and must not become that many frames (33 M frames from a
+        // 100-byte file). One frame is all such a file describes.
+        if header.frames > 1 {
+            warnings.push(Warning {
+                line: header.frames_line,
+                message: format!(
+                    "`Frames:` says {} but the hierarchy declares no channels, so the file has no data rows; \
+                     using 1 frame (the rest pose)",
+                    header.frames
+                ),
+            });
+        }
+        return Ok(Bvh {
+            joints,
+            frame_time: header.frame_time,
+            declared_frames: header.frames,
+            channels_per_frame,
+            values,
+            warnings,
+        });
+    }
+    let present = values.len() / channels_per_frame;
     if header.frames > 0 && present == 0 {
         return Err(lx.error_at_end(format!(
             "`Frames:` declares {} frames but the file has no complete frame row (truncated file?)",

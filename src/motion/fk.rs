@@ -1,4 +1,4 @@
-//! Forward kinematics for BVH hierarchies (issue 2, "Motion").
+//! Forward kinematics for BVH hierarchies: the world position of every node in every frame.
 //!
 //! Conventions, applied to every node of the file:
 //! * local translation = the node's OFFSET, except that a position channel (`Xposition`,

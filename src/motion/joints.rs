@@ -1,6 +1,5 @@
 //! Canonical joints: maps the naming conventions of common BVH exporters onto the one set of
-//! joints the segmentation methods use (issue 2, "Motion": "Map common skeleton naming
-//! conventions … to a canonical set of joints").
+//! joints the segmentation methods use.
 //!
 //! Canonical set: Hips (root), Spine, Chest, Neck, Head, Left/Right Shoulder (the upper-arm
 //! joint, not the clavicle), Elbow, Hand (the wrist), Hip (the thigh joint), Knee, Foot (the

@@ -1,6 +1,6 @@
 //! Motion: a skeleton plus the world position of every joint in every frame.
 //!
-//! This is the representation every segmentation method works on (issue 2, "Motion"):
+//! This is the representation every segmentation method works on:
 //! [`Motion::from_bvh`] runs forward kinematics over a parsed [`Bvh`] ([`fk`]), detects the
 //! file's length units and up axis ([`units`]), and keeps the frame rate. [`Motion::resample`]
 //! brings a take to the rate a method works at (30 Hz for the methods in the papers;
@@ -11,12 +11,14 @@
 //! Positions are stored frame-major (`frames × joints`, End Sites included, in the order of
 //! [`Bvh::joints`]) as `f32` in the file's own units and axes; FK itself runs in `f64`.
 
+pub mod export;
 pub mod fk;
 pub mod joints;
 pub mod normalize;
 pub mod resample;
 pub mod units;
 
+pub use export::write_positions_csv;
 pub use joints::{map_joints, Canonical, JointMap, MissingJoints};
 pub use units::{UnitDetection, Units, UpAxis};
 

@@ -1,5 +1,5 @@
-//! The pose normalisations the segmentation papers use (issue 2, "Motion": "root-relative,
-//! facing-aligned (rotated about the vertical so the root faces +Z), scaled by body size").
+//! The pose normalisations the segmentation papers use: root-relative, facing-aligned (rotated
+//! about the vertical so the root faces +Z), scaled by body size.
 //!
 //! * **Y-up frame.** Everything here first brings positions into a right-handed Y-up frame:
 //!   Z-up files are rotated −90° about X, `(x, y, z) → (x, z, −y)` ([`to_y_up`]).

@@ -1,5 +1,4 @@
-//! Resampling a take to another frame rate (issue 2, "Motion": "resampling to a target rate
-//! (the methods work at 30 Hz)").
+//! Resampling a take to another frame rate (the methods work at 30 Hz).
 //!
 //! Output frame `k` lies at time `k / fps_target`, i.e. at fractional source frame
 //! `s_k = k · r` with `r = fps_source / fps_target`; positions are interpolated linearly

@@ -1,5 +1,5 @@
 //! Length units and up axis of a take, detected from the size and geometry of the body
-//! (issue 2, "Motion": "units and up-axis detection (CMU units, cm, m, inches; Y-up vs Z-up)").
+//! (CMU units, centimetres, metres or inches; Y-up or Z-up).
 //!
 //! BVH files carry no unit field, so the units are inferred from how big a human body is in
 //! them:

@@ -19,8 +19,8 @@ use std::collections::BTreeMap;
 use pathfinding::prelude::{kuhn_munkres, Matrix};
 use serde::Serialize;
 
-use super::truth::Truth;
-use super::{Level, Segment, Segmentation};
+use super::truth::{Truth, MAX_FRAMES};
+use super::{Level, SchemaError, Segment, Segmentation};
 
 /// Tolerances of the scores, in seconds.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -68,6 +68,39 @@ pub enum MetricsError {
     LengthMismatch { seg: usize, truth: usize },
     #[error("the segmentation has no action, transition or primitive segments")]
     Empty,
+    #[error("segmentation: {0}")]
+    Schema(#[from] SchemaError),
+    #[error("ground truth segment {index} (`{label}`): {problem}")]
+    BadTruth { index: usize, label: String, problem: String },
+    #[error("the take has {frames} frames, more than the {limit} this tool scores")]
+    TooLong { frames: usize, limit: usize },
+}
+
+/// Checks what the scores rely on, so that no frame number can overflow or index past the take:
+/// the segmentation's own schema, at most [`MAX_FRAMES`] frames, and every true segment (and its
+/// uncertainty window) ordered and inside the take.
+fn check_inputs(seg: &Segmentation, truth: &Truth) -> Result<(), MetricsError> {
+    if truth.frames > MAX_FRAMES {
+        return Err(MetricsError::TooLong { frames: truth.frames, limit: MAX_FRAMES });
+    }
+    seg.validate()?;
+    let bad = |index: usize, problem: String| MetricsError::BadTruth {
+        index,
+        label: truth.segments[index].label.clone(),
+        problem,
+    };
+    for (index, s) in truth.segments.iter().enumerate() {
+        if s.start > s.end {
+            return Err(bad(index, format!("start {} is after end {}", s.start, s.end)));
+        }
+        if s.end >= truth.frames {
+            return Err(bad(index, format!("end {} is past the last frame {}", s.end, truth.frames.saturating_sub(1))));
+        }
+        if let Some((lo, hi)) = s.end_window.filter(|&(lo, hi)| lo > hi || hi >= truth.frames) {
+            return Err(bad(index, format!("uncertainty window {lo}..={hi} is reversed or past the last frame")));
+        }
+    }
+    Ok(())
 }
 
 /// A labelled interval `start..=end` used internally.
@@ -247,7 +280,7 @@ fn uncertain_frames(truth: &Truth, fps: f64, half_width_s: f64) -> Vec<bool> {
         if i + 1 == truth.segments.len() {
             break; // the last segment's end is the end of the take, not a boundary
         }
-        let (lo, hi) = s.end_window.unwrap_or((s.end.saturating_sub(half), s.end + half));
+        let (lo, hi) = s.end_window.unwrap_or((s.end.saturating_sub(half), s.end.saturating_add(half)));
         for slot in out.iter_mut().take(hi.min(last) + 1).skip(lo) {
             *slot = true;
         }
@@ -290,11 +323,13 @@ fn strict_tolerant(
     (strict as f64 / frames.max(1) as f64, tolerant as f64 / frames.max(1) as f64)
 }
 
-/// Scores `seg` against `truth` (both at the file's frame rate, 0-based rows).
+/// Scores `seg` against `truth` (both at the file's frame rate, 0-based rows). Inputs that break
+/// the schema (reversed or out-of-range segments, more than [`MAX_FRAMES`] frames) are errors.
 pub fn evaluate(seg: &Segmentation, truth: &Truth, tol: &Tolerances) -> Result<Scores, MetricsError> {
     if seg.frames != truth.frames {
         return Err(MetricsError::LengthMismatch { seg: seg.frames, truth: truth.frames });
     }
+    check_inputs(seg, truth)?;
     let spans = action_spans(seg);
     if spans.is_empty() && seg.level(Level::Primitive).next().is_none() {
         return Err(MetricsError::Empty);
@@ -454,6 +489,40 @@ mod tests {
         let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
         assert!((sc.strict_accuracy - 0.95).abs() < 1e-12);
         assert_eq!(sc.tolerant_accuracy, 1.0);
+    }
+
+    #[test]
+    fn out_of_range_frame_numbers_are_errors_not_overflows() {
+        let t = truth(100, &[(0, 99, "a")]);
+        // From JSON: `end: usize::MAX` is past the last frame.
+        let text = r#"{"file": "t.bvh", "fps": 10.0, "frames": 100, "method": "m", "params": null,
+            "segments": [{"start": 0, "end": 18446744073709551615, "label": "", "level": "action",
+                          "cluster": 0, "score": null}]}"#;
+        let e = Segmentation::from_json(text).unwrap_err();
+        assert!(e.to_string().contains("end 18446744073709551615 is past the last frame 99"), "{e}");
+        // Built in code, never validated: evaluate checks it itself.
+        let mut s = seg(100, &[(0, 49, Level::Action, Some(0)), (50, 99, Level::Action, Some(1))]);
+        s.segments[0].end = usize::MAX;
+        let e = evaluate(&s, &t, &Tolerances::default()).unwrap_err();
+        assert_eq!(e.to_string(), "segmentation: segment 0: end 18446744073709551615 is past the last frame 99");
+        // A take as long as usize allows, on both sides.
+        let mut huge = truth(usize::MAX, &[(0, usize::MAX - 1, "a")]);
+        let s = seg(usize::MAX, &[(0, usize::MAX - 1, Level::Action, Some(0))]);
+        let e = evaluate(&s, &huge, &Tolerances::default()).unwrap_err();
+        assert!(matches!(e, MetricsError::TooLong { .. }), "{e}");
+        // A truth built in code with a segment past its end, or a window past it.
+        huge.frames = 100;
+        let s = seg(100, &[(0, 99, Level::Action, Some(0))]);
+        let e = evaluate(&s, &huge, &Tolerances::default()).unwrap_err();
+        assert!(e.to_string().starts_with("ground truth segment 0 (`a`): end"), "{e}");
+        let mut t = truth(100, &[(0, 49, "a"), (50, 99, "b")]);
+        t.segments[0].end_window = Some((40, usize::MAX));
+        let e = evaluate(&s, &t, &Tolerances::default()).unwrap_err();
+        assert!(e.to_string().contains("uncertainty window"), "{e}");
+        // A huge tolerance saturates instead of overflowing.
+        let t = truth(100, &[(0, 49, "a"), (50, 99, "b")]);
+        let tol = Tolerances { uncertain_s: 1e300, ..Tolerances::default() };
+        assert_eq!(evaluate(&s, &t, &tol).unwrap().tolerant_accuracy, 1.0);
     }
 
     #[test]

@@ -6,7 +6,7 @@
 //! BVH row = frame − 1. [`TruthOptions::first_frame`] says which number the file's first frame has, and
 //! [`TruthOptions::bvh_row_offset`] covers BVHs that prepend a T-pose row (cgspeed MotionBuilder files: +1).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One labelled span, in 0-based inclusive BVH rows.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -30,17 +30,19 @@ pub struct Truth {
 impl Truth {
     /// The ground truth of `parts` played one after another (each part's frames shifted by the
     /// frames of the parts before it), as trial `trial`.
+    /// Frame numbers saturate at `usize::MAX` rather than overflow (parts read by [`load_csv`]
+    /// have at most [`MAX_FRAMES`] frames each, so that takes 2^39 of them).
     pub fn concatenate(trial: &str, parts: &[Truth]) -> Truth {
         let mut segments = Vec::new();
-        let mut shift = 0;
+        let mut shift: usize = 0;
         for part in parts {
             segments.extend(part.segments.iter().map(|s| TruthSegment {
-                start: s.start + shift,
-                end: s.end + shift,
+                start: s.start.saturating_add(shift),
+                end: s.end.saturating_add(shift),
                 label: s.label.clone(),
-                end_window: s.end_window.map(|(lo, hi)| (lo + shift, hi + shift)),
+                end_window: s.end_window.map(|(lo, hi)| (lo.saturating_add(shift), hi.saturating_add(shift))),
             }));
-            shift += part.frames;
+            shift = shift.saturating_add(part.frames);
         }
         Truth { trial: trial.to_string(), frames: shift, segments }
     }
@@ -71,86 +73,145 @@ pub enum TruthError {
     NoTrial { trial: String, present: String },
 }
 
-fn column(header: &[&str], name: &'static str) -> Result<usize, TruthError> {
-    header.iter().position(|h| h.trim() == name).ok_or(TruthError::MissingColumn(name))
+/// The longest take, in frames, whose ground truth can be read: a take the tool loads has at most
+/// [`MAX_POSITIONS`](crate::motion::MAX_POSITIONS) joint positions, so at most that many frames.
+/// Bounding every frame number by it keeps all arithmetic on them far from overflow.
+pub const MAX_FRAMES: usize = crate::motion::MAX_POSITIONS;
+
+/// One CSV row: only the columns this module reads (every other column is ignored). Values stay
+/// text so that a bad number gets an error naming its column and value.
+#[derive(Debug, Deserialize)]
+struct Row {
+    trial: String,
+    label: String,
+    start_frame: String,
+    end_frame: String,
+    #[serde(default)]
+    trial_frames: Option<String>,
+    #[serde(default)]
+    end_window_lo: Option<String>,
+    #[serde(default)]
+    end_window_hi: Option<String>,
 }
 
-fn optional_column(header: &[&str], name: &str) -> Option<usize> {
-    header.iter().position(|h| h.trim() == name)
+const REQUIRED: [&str; 4] = ["trial", "label", "start_frame", "end_frame"];
+
+fn line_error(line: usize, message: String) -> TruthError {
+    TruthError::Line { line, message }
 }
 
-/// Reads the segments of `trial` from a ground-truth CSV (simple CSV: no quoted commas).
+fn csv_error(e: &csv::Error) -> TruthError {
+    let line = e.position().map_or(0, |p| p.line() as usize);
+    let message = match e.kind() {
+        csv::ErrorKind::Deserialize { err, .. } => err.to_string(),
+        _ => e.to_string(),
+    };
+    line_error(line, message)
+}
+
+/// A whole frame number (`550`, or `550.0` as spreadsheets write it; a fraction is cut) that
+/// is at least `first` and at most `first +` [`MAX_FRAMES`].
+fn frame_number(raw: &str, what: &str, first: usize, line: usize) -> Result<usize, TruthError> {
+    let value = match raw.parse::<u64>() {
+        Ok(v) => v as f64,
+        Err(_) => match raw.parse::<f64>() {
+            Ok(v) if v.is_finite() => v.floor(),
+            _ => return Err(line_error(line, format!("expected a frame number in `{what}`, found `{raw}`"))),
+        },
+    };
+    if value < first as f64 {
+        return Err(line_error(line, format!("`{what}` = {raw} is before the first frame {first}")));
+    }
+    if value - first as f64 >= MAX_FRAMES as f64 {
+        return Err(line_error(
+            line,
+            format!("`{what}` = {raw} is past the longest take this tool reads ({MAX_FRAMES} frames)"),
+        ));
+    }
+    Ok(value as usize - first)
+}
+
+/// `row` + `offset`, or an error naming the column (so no frame number can overflow).
+fn shifted(row: usize, offset: usize, what: &str, line: usize) -> Result<usize, TruthError> {
+    row.checked_add(offset).filter(|&r| r < MAX_FRAMES).ok_or_else(|| {
+        line_error(
+            line,
+            format!("`{what}` plus the BVH row offset {offset} is past the longest take ({MAX_FRAMES} frames)"),
+        )
+    })
+}
+
+/// Reads the segments of `trial` from a ground-truth CSV (RFC 4180: quoted fields may hold
+/// commas, quotes and line breaks; blank lines are skipped; extra columns are ignored).
+/// Errors name the file's line.
 pub fn load_csv(text: &str, trial: &str, options: TruthOptions) -> Result<Truth, TruthError> {
-    let mut lines = text.lines().enumerate().filter(|(_, l)| !l.trim().is_empty());
-    let (_, header_line) = lines.next().ok_or(TruthError::MissingColumn("trial"))?;
-    let header: Vec<&str> = header_line.split(',').collect();
-    let (c_trial, c_label) = (column(&header, "trial")?, column(&header, "label")?);
-    let (c_start, c_end) = (column(&header, "start_frame")?, column(&header, "end_frame")?);
-    let c_frames = optional_column(&header, "trial_frames");
-    let c_lo = optional_column(&header, "end_window_lo");
-    let c_hi = optional_column(&header, "end_window_hi");
+    let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).flexible(true).from_reader(text.as_bytes());
+    let headers = reader.headers().map_err(|e| csv_error(&e))?.clone();
+    let position = |name: &str| headers.iter().position(|h| h == name);
+    let mut width = 0;
+    for name in REQUIRED {
+        width = width.max(position(name).ok_or(TruthError::MissingColumn(name))? + 1);
+    }
 
     let mut trials_seen: Vec<String> = Vec::new();
     let mut segments = Vec::new();
     let mut frames: Option<usize> = None;
-    for (index, line) in lines {
-        let line_no = index + 1;
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        let field = |c: usize| -> Result<&str, TruthError> {
-            fields.get(c).copied().ok_or_else(|| TruthError::Line {
-                line: line_no,
-                message: format!("expected at least {} fields, found {}", c + 1, fields.len()),
-            })
-        };
-        let this_trial = field(c_trial)?;
-        if !trials_seen.iter().any(|t| t == this_trial) {
-            trials_seen.push(this_trial.to_string());
+    let mut record = csv::StringRecord::new();
+    loop {
+        match reader.read_record(&mut record) {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(e) => return Err(csv_error(&e)),
         }
-        if this_trial != trial {
+        let line = record.position().map_or(0, |p| p.line() as usize);
+        if record.iter().all(str::is_empty) {
+            continue; // a line of blanks
+        }
+        if record.len() < width {
+            return Err(line_error(line, format!("expected at least {width} fields, found {}", record.len())));
+        }
+        let row: Row = record.deserialize(Some(&headers)).map_err(|e| csv_error(&e))?;
+        if !trials_seen.contains(&row.trial) {
+            trials_seen.push(row.trial.clone());
+        }
+        if row.trial != trial {
             continue;
         }
-        let number = |c: usize, what: &str| -> Result<usize, TruthError> {
-            let raw = field(c)?;
-            let value: f64 = raw.parse().map_err(|_| TruthError::Line {
-                line: line_no,
-                message: format!("expected a frame number in `{what}`, found `{raw}`"),
-            })?;
-            if !(value.is_finite() && value >= options.first_frame as f64) {
-                return Err(TruthError::Line {
-                    line: line_no,
-                    message: format!("`{what}` = {raw} is before the first frame {}", options.first_frame),
-                });
-            }
-            Ok(value.floor() as usize - options.first_frame + options.bvh_row_offset)
+        let number = |raw: &str, what: &str| -> Result<usize, TruthError> {
+            let n = frame_number(raw, what, options.first_frame, line)?;
+            shifted(n, options.bvh_row_offset, what, line)
         };
-        let (start, end) = (number(c_start, "start_frame")?, number(c_end, "end_frame")?);
+        let (start, end) = (number(&row.start_frame, "start_frame")?, number(&row.end_frame, "end_frame")?);
         if end < start {
-            return Err(TruthError::Line { line: line_no, message: "end_frame is before start_frame".to_string() });
+            return Err(line_error(line, "end_frame is before start_frame".to_string()));
         }
-        let end_window = match (c_lo, c_hi) {
-            (Some(lo), Some(hi)) if !field(lo)?.is_empty() && !field(hi)?.is_empty() => {
+        let end_window = match (row.end_window_lo.as_deref(), row.end_window_hi.as_deref()) {
+            (Some(lo), Some(hi)) if !lo.is_empty() && !hi.is_empty() => {
                 let (a, b) = (number(lo, "end_window_lo")?, number(hi, "end_window_hi")?);
                 Some((a.min(b), a.max(b)))
             }
             _ => None,
         };
-        if let Some(c) = c_frames {
-            let raw = field(c)?;
-            if !raw.is_empty() {
-                frames = Some(raw.parse().map_err(|_| TruthError::Line {
-                    line: line_no,
-                    message: format!("expected a frame count in `trial_frames`, found `{raw}`"),
-                })?);
-            }
+        if let Some(raw) = row.trial_frames.as_deref().filter(|r| !r.is_empty()) {
+            let n: usize = raw
+                .parse()
+                .map_err(|_| line_error(line, format!("expected a frame count in `trial_frames`, found `{raw}`")))?;
+            frames = Some(n.checked_add(options.bvh_row_offset).filter(|&f| f <= MAX_FRAMES).ok_or_else(|| {
+                line_error(
+                    line,
+                    format!("`trial_frames` = {raw} is past the longest take this tool reads ({MAX_FRAMES} frames)"),
+                )
+            })?);
         }
-        segments.push(TruthSegment { start, end, label: field(c_label)?.to_string(), end_window });
+        segments.push(TruthSegment { start, end, label: row.label, end_window });
     }
     if segments.is_empty() {
         return Err(TruthError::NoTrial { trial: trial.to_string(), present: trials_seen.join(", ") });
     }
     segments.sort_by_key(|s| s.start);
+    // every end < MAX_FRAMES, so + 1 cannot overflow
     let last_end = segments.iter().map(|s| s.end).max().unwrap_or(0);
-    let frames = frames.map(|f| f + options.bvh_row_offset).unwrap_or(last_end + 1).max(last_end + 1);
+    let frames = frames.unwrap_or(last_end + 1).max(last_end + 1);
     Ok(Truth { trial: trial.to_string(), frames, segments })
 }
 
@@ -204,5 +265,59 @@ mod tests {
         let bad = "trial,label,start_frame,end_frame\nA,walk,one,5\n";
         let e = load_csv(bad, "A", TruthOptions::default()).unwrap_err();
         assert_eq!(e.to_string(), "ground truth CSV line 2: expected a frame number in `start_frame`, found `one`");
+        let short = "trial,label,start_frame,end_frame\nA,walk,1,5\nA,walk\n";
+        let e = load_csv(short, "A", TruthOptions::default()).unwrap_err();
+        assert_eq!(e.to_string(), "ground truth CSV line 3: expected at least 4 fields, found 2");
+        let e = load_csv("", "A", TruthOptions::default()).unwrap_err();
+        assert_eq!(e, TruthError::MissingColumn("trial"));
+    }
+
+    #[test]
+    fn quoted_fields_may_hold_commas_quotes_and_line_breaks() {
+        // What a CSV writer produces for such labels; the hand-written reader split them.
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.write_record(["trial", "label", "start_frame", "end_frame", "trial_frames"]).unwrap();
+        w.write_record(["86,01", "walk, then \"run\"", "1", "10", "30"]).unwrap();
+        w.write_record(["86,01", "two\nlines", "11", "30", "30"]).unwrap();
+        let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
+        assert!(text.contains("\"walk, then \"\"run\"\"\""), "{text}");
+        let t = load_csv(&text, "86,01", TruthOptions::default()).unwrap();
+        assert_eq!(t.frames, 30);
+        let labels: Vec<&str> = t.segments.iter().map(|s| s.label.as_str()).collect();
+        assert_eq!(labels, ["walk, then \"run\"", "two\nlines"]);
+        assert_eq!((t.segments[1].start, t.segments[1].end), (10, 29));
+    }
+
+    #[test]
+    fn errors_give_the_file_line_past_quoted_line_breaks_and_blank_lines() {
+        let text = "\n trial , label,start_frame,end_frame\n\nA,\"two\nlines\",1,5\n   \nA,walk,x,9\n";
+        let e = load_csv(text, "A", TruthOptions::default()).unwrap_err();
+        assert_eq!(e.to_string(), "ground truth CSV line 7: expected a frame number in `start_frame`, found `x`");
+        let ok = load_csv(&text.replace(",x,", ",6,"), "A", TruthOptions::default()).unwrap();
+        assert_eq!(ok.segments.len(), 2);
+        let e = load_csv("trial,label,start_frame,end_frame\nA,\"open,1,5\n", "A", TruthOptions::default());
+        assert!(e.is_err(), "{e:?}");
+    }
+
+    #[test]
+    fn huge_frame_numbers_are_errors_not_overflows() {
+        let head = "trial,label,start_frame,end_frame,trial_frames\n";
+        for (row, what) in [
+            ("A,walk,1,18446744073709551615,", "`end_frame` = 18446744073709551615 is past the longest take"),
+            ("A,walk,1,99999999999999999999999,", "`end_frame` = 99999999999999999999999 is past the longest take"),
+            ("A,walk,1,1e300,", "`end_frame` = 1e300 is past the longest take"),
+            ("A,walk,1,5,18446744073709551615", "`trial_frames` = 18446744073709551615 is past the longest take"),
+        ] {
+            let e = load_csv(&format!("{head}{row}\n"), "A", TruthOptions::default()).unwrap_err();
+            assert!(e.to_string().starts_with(&format!("ground truth CSV line 2: {what}")), "{e}");
+        }
+        // The offsets are checked too.
+        let last = MAX_FRAMES.to_string();
+        let o = TruthOptions { first_frame: 1, bvh_row_offset: usize::MAX };
+        let e = load_csv(&format!("{head}A,walk,1,{last},\n"), "A", o).unwrap_err();
+        assert!(e.to_string().contains("plus the BVH row offset"), "{e}");
+        let o = TruthOptions { first_frame: 0, bvh_row_offset: 1 };
+        let e = load_csv(&format!("{head}A,walk,0,5,{last}\n"), "A", o).unwrap_err();
+        assert!(e.to_string().contains("`trial_frames`"), "{e}");
     }
 }
