@@ -230,12 +230,13 @@ pub fn worker_sssm(params_json: &str, progress: &Function) -> Result<JsValue, Js
         serde_json::from_str(params_json).map_err(|e| JsValue::from_str(&format!("SSSM parameters: {e}")))?;
     let mut report = |stage: &str, fraction: f64| {
         let _ = progress.call2(&JsValue::NULL, &stage.into(), &fraction.into());
+        Ok(())
     };
     LOADED.with_borrow(|loaded| {
         let motion = loaded.as_ref().ok_or_else(|| JsValue::from_str("SSSM: no take is loaded"))?;
         let result = segment_with_progress(motion, &params, &mut report)
             .map_err(|e| JsValue::from_str(&format!("SSSM on {}: {e}", motion.name)))?;
-        report("image", 1.0);
+        let _ = report("image", 1.0);
         let image = sssm_image::render(&result.outcome);
         let summary = SssmReport {
             mirror_of: result.outcome.clusters.iter().map(|c| c.mirror_of).collect(),

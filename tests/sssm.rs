@@ -97,7 +97,7 @@ fn gait(t: f32, period: f32) -> Pose {
 fn run(base: &FeatureMatrix, mirror: bool, params: SssmParams) -> SssmOutcome {
     let valid = params.mirror(mirror).check().unwrap();
     let map = MirrorMap::end_effectors();
-    segment_features(base, Some(&map), &valid, &mut |_, _| {}).unwrap()
+    segment_features(base, Some(&map), &valid, &mut |_, _| Ok(())).unwrap()
 }
 
 /// Boundaries between consecutive actions, each transition split at its middle (how the
@@ -249,10 +249,10 @@ fn parameters_are_checked_with_readable_errors() {
 fn features_of_the_wrong_shape_are_rejected() {
     let base = FeatureMatrix::from_rows(&[[0.0f32; 6]; 40]).unwrap();
     let valid = SssmParams::new().check().unwrap();
-    let e = segment_features(&base, Some(&MirrorMap::end_effectors()), &valid, &mut |_, _| {}).unwrap_err();
+    let e = segment_features(&base, Some(&MirrorMap::end_effectors()), &valid, &mut |_, _| Ok(())).unwrap_err();
     assert!(e.to_string().contains("mirror map is for 15 values"), "{e}");
     // without a mirror map the same features are fine (a still take: no action)
-    let o = segment_features(&base, None, &valid, &mut |_, _| {}).unwrap();
+    let o = segment_features(&base, None, &valid, &mut |_, _| Ok(())).unwrap();
     assert!(o.actions.is_empty());
     assert_eq!(o.activities.transitions, vec![Span { start: 0, end: 39 }]);
 }
@@ -263,18 +263,18 @@ fn tiny_still_and_huge_inputs_are_handled() {
     let map = MirrorMap::end_effectors();
     for n in [1, 2, 5, 31] {
         let base = matrix(&vec![squats(0.0, 40.0); n], &mut Noise(n as u64), 0.1);
-        let o = segment_features(&base, Some(&map), &valid, &mut |_, _| {}).unwrap();
+        let o = segment_features(&base, Some(&map), &valid, &mut |_, _| Ok(())).unwrap();
         assert!(o.actions.is_empty() && o.primitives.is_empty(), "{n} frames");
         assert_eq!(o.activities.transitions, vec![Span { start: 0, end: n - 1 }]);
     }
     // a perfectly still take: every frame is every frame's neighbour, capped
     let still = FeatureMatrix::from_rows(&vec![squats(0.0, 40.0); 900]).unwrap();
-    let o = segment_features(&still, Some(&map), &valid, &mut |_, _| {}).unwrap();
+    let o = segment_features(&still, Some(&map), &valid, &mut |_, _| Ok(())).unwrap();
     assert!((0..900).all(|i| o.sssm.row(i).0.len() <= 600));
     assert!(o.actions.len() <= 1);
     // too long for the entry budget
     let long = FeatureMatrix::new(40_000, 1, vec![0.0; 40_000]).unwrap();
-    let e = segment_features(&long, None, &valid, &mut |_, _| {}).unwrap_err();
+    let e = segment_features(&long, None, &valid, &mut |_, _| Ok(())).unwrap_err();
     assert!(matches!(e, SssmError::TooLarge { frames: 40_000, .. }), "{e}");
 }
 
@@ -282,9 +282,11 @@ fn tiny_still_and_huge_inputs_are_handled() {
 fn segmenting_a_take_gives_a_valid_segmentation_at_the_file_rate() {
     let motion = &load("131_01.bvh", include_bytes!("fixtures/131_01.bvh"));
     let mut stages = Vec::new();
-    let r =
-        mocapseg::sssm::segment_with_progress(motion, &SssmParams::new(), &mut |s, f| stages.push((s.to_string(), f)))
-            .unwrap();
+    let r = mocapseg::sssm::segment_with_progress(motion, &SssmParams::new(), &mut |s, f| {
+        stages.push((s.to_string(), f));
+        Ok(())
+    })
+    .unwrap();
     let seg = &r.segmentation;
     seg.validate().unwrap();
     assert_eq!((seg.fps, seg.frames, seg.method.as_str()), (motion.fps, motion.frames(), "sssm"));
@@ -447,4 +449,46 @@ fn with_a_search_horizon_an_activity_repeated_far_away_is_still_one_kind() {
     }
     assert!(far > 1000, "{far} far entries");
     assert!(exact.sssm.entries() > near.sssm.entries());
+}
+
+/// Runs `segment_features` with a callback that cancels at the first report of `stage` past
+/// `from`; returns the result and every report seen (the cancelling one last).
+fn cancelled_at(base: &FeatureMatrix, params: SssmParams, stage: &str, from: f64) -> (SssmError, Vec<(String, f64)>) {
+    let valid = params.check().unwrap();
+    let mut seen = Vec::new();
+    let r = segment_features(base, Some(&MirrorMap::end_effectors()), &valid, &mut |s, f| {
+        seen.push((s.to_string(), f));
+        if s == stage && f > from {
+            Err(mocapseg::method::Cancelled)
+        } else {
+            Ok(())
+        }
+    });
+    (r.expect_err("the run was cancelled"), seen)
+}
+
+#[test]
+fn a_callback_that_cancels_stops_the_run_at_once() {
+    let poses: Vec<Pose> = (0..2400)
+        .map(|t| if (600..1800).contains(&t) { squats(t as f32, 43.7) } else { arm_circles(t as f32, 31.3) })
+        .collect();
+    let base = matrix(&poses, &mut Noise(4), 1.0);
+    // inside the neighbour search (its first report past the stage boundary at 0.3), and inside
+    // the far blocks of a 10 s horizon: the callback is never called again, no later stage runs
+    for (stage, from, horizon) in [("neighbours", 0.3, 20.0), ("far blocks", 0.5, 10.0)] {
+        let (err, seen) = cancelled_at(&base, SssmParams::new().horizon_s(horizon), stage, from);
+        assert_eq!(err, SssmError::Cancelled);
+        assert_eq!(err.to_string(), "cancelled");
+        let (last, f) = seen.last().unwrap();
+        assert!(last == stage && *f > from && *f < 1.0, "{seen:?}");
+        assert_eq!(seen.iter().filter(|s| s.0 == stage && s.1 > from).count(), 1, "{seen:?}");
+    }
+    // with the kd-tree and at a stage boundary
+    let kd = SssmParams::new().neighbour_search(mocapseg::sssm::NeighbourSearchKind::KdTree);
+    let (err, seen) = cancelled_at(&base, kd, "neighbours", 0.3);
+    assert_eq!(err, SssmError::Cancelled);
+    assert_eq!(seen.last().map(|s| s.0.as_str()), Some("neighbours"), "{seen:?}");
+    let (err, seen) = cancelled_at(&base, SssmParams::new(), "activities", 0.0);
+    assert_eq!(err, SssmError::Cancelled);
+    assert_eq!(seen.last().map(|s| s.0.as_str()), Some("activities"), "{seen:?}");
 }

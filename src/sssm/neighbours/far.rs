@@ -41,6 +41,7 @@
 //! primitive graph's radius and every frame's nearest repeat.
 
 use super::{cap_row, Sssm, SssmBuilder, StackedSearch};
+use crate::method::Cancelled;
 use crate::sssm::activities::Span;
 
 /// Blocks of an action that may fail to link before it gets no more.
@@ -201,21 +202,29 @@ impl<'a> FarSearch<'a> {
     /// Searches the blocks of the candidate pairs in order (see the module documentation).
     /// `limits[a]` is how near a frame must come to action `a` to repeat it (the kinds' test,
     /// [`RegionGrowing::kinds`](crate::sssm::activities::RegionGrowing::kinds); `None`: `a`
-    /// does not repeat itself and links to nothing).
-    pub fn search(&self, actions: &[Span], limits: &[Option<f32>], progress: &mut dyn FnMut(f64)) -> FarEntries {
+    /// does not repeat itself and links to nothing). Reports the fraction done before the
+    /// first block and after each one, and stops as soon as `progress` returns
+    /// `Err(Cancelled)`.
+    pub fn search(
+        &self,
+        actions: &[Span],
+        limits: &[Option<f32>],
+        progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+    ) -> Result<FarEntries, Cancelled> {
         assert_eq!(actions.len(), limits.len(), "one limit per action");
         let mut out = FarEntries::default();
         // the work: each long action's own block, then the candidates' blocks (at most), by the
         // frame pairs they hold
-        let long: Vec<Span> = actions.iter().copied().filter(|a| a.len() > self.horizon + 1).collect();
+        let long: Vec<Span> = actions.iter().copied().filter(|a| a.len() > self.horizon.saturating_add(1)).collect();
         let candidates = self.candidates(actions, limits);
         let size = |a: Span, b: Span| (a.len() * b.len()) as f64;
         let total = long.iter().map(|&a| size(a, a)).sum::<f64>()
             + candidates.iter().map(|&(_, a, b)| size(actions[a], actions[b])).sum::<f64>();
         let mut done = 0.0;
+        progress(0.0)?;
         let mut advance = |work: f64| {
             done += work;
-            progress((done / total.max(1.0)).min(1.0));
+            progress((done / total.max(1.0)).min(1.0))
         };
         // an action longer than the horizon: its own block beyond the horizon, whose diagonals
         // give the cuts of its later repetitions (§IV-C)
@@ -223,13 +232,13 @@ impl<'a> FarSearch<'a> {
             let (plain, mirror, _, _) = self.searched_block(a, a);
             out.plain.extend(plain);
             out.mirror.extend(mirror);
-            advance(size(a, a));
+            advance(size(a, a))?;
         }
         let mut linked = petgraph::unionfind::UnionFind::<usize>::new(actions.len());
         let mut failures = vec![0usize; actions.len()];
         let mut failed = std::collections::HashSet::new();
         for (_, a, b) in candidates {
-            advance(size(actions[a], actions[b]));
+            advance(size(actions[a], actions[b]))?;
             if failures[a] >= FAR_TRIES || failures[b] >= FAR_TRIES || linked.equiv(a, b) {
                 continue;
             }
@@ -254,8 +263,8 @@ impl<'a> FarSearch<'a> {
             }
             out.pairs.push((a, b, links));
         }
-        progress(1.0);
-        out
+        progress(1.0)?;
+        Ok(out)
     }
 
     /// The plain and the mirrored block of `rows × cols` beyond the horizon, with only the
@@ -304,7 +313,7 @@ impl<'a> FarSearch<'a> {
         for chunk in (rows.start..=rows.end).step_by(BLOCK_ROWS) {
             let last = (chunk + BLOCK_ROWS - 1).min(rows.end);
             // the columns these rows pair with beyond the horizon
-            let Some(j_last) = last.checked_sub(self.horizon + 1).map(|j| j.min(cols.end)) else { continue };
+            let Some(j_last) = last.checked_sub(self.horizon.saturating_add(1)).map(|j| j.min(cols.end)) else { continue };
             if j_last < cols.start {
                 continue;
             }
@@ -319,7 +328,7 @@ impl<'a> FarSearch<'a> {
             }
             for i in chunk..=last {
                 // only pairs beyond the horizon (the nearer ones are in the SSSM already)
-                let Some(j_max) = i.checked_sub(self.horizon + 1) else { continue };
+                let Some(j_max) = i.checked_sub(self.horizon.saturating_add(1)) else { continue };
                 if j_max < cols.start {
                     continue;
                 }
@@ -501,7 +510,7 @@ mod tests {
         // A and A again: a candidate; B is another activity, and near A's end within the horizon
         let candidates = far.candidates(&spans(), &limits);
         assert_eq!(candidates.iter().map(|c| (c.1, c.2)).collect::<Vec<_>>(), vec![(0, 2)], "{candidates:?}");
-        let found = far.search(&spans(), &limits, &mut |_| {});
+        let found = far.search(&spans(), &limits, &mut |_| Ok(())).unwrap();
         assert_eq!(found.pairs, vec![(0, 2, true)]);
         // entries of the far block, and of each action's own block (all are longer than the
         // horizon)
@@ -537,7 +546,7 @@ mod tests {
         let limits = vec![Some(12.0); 5];
         let candidates = far.candidates(&spans, &limits);
         assert!(candidates.len() >= 8, "{candidates:?}");
-        let found = far.search(&spans, &limits, &mut |_| {});
+        let found = far.search(&spans, &limits, &mut |_| Ok(())).unwrap();
         // every block fails to link; each action gives up after FAR_TRIES failed blocks, so
         // fewer blocks are searched than there are candidates
         assert!(!found.pairs.is_empty() && found.pairs.iter().all(|p| !p.2), "{:?}", found.pairs);
@@ -571,7 +580,11 @@ mod tests {
         // progress: rising, ending at 1
         let far = FarSearch::new(&search, 200, 19.0 * 5f32.sqrt(), 600, 13.0 * 5f32.sqrt(), 30.0);
         let mut seen = Vec::new();
-        far.search(&spans(), &[Some(6.0); 3], &mut |f| seen.push(f));
+        far.search(&spans(), &[Some(6.0); 3], &mut |f| {
+            seen.push(f);
+            Ok(())
+        })
+        .unwrap();
         assert!(seen.len() >= 4, "{seen:?}");
         assert!(seen.windows(2).all(|w| w[0] <= w[1]) && seen.iter().all(|f| (0.0..=1.0).contains(f)), "{seen:?}");
         assert_eq!(seen.last(), Some(&1.0));
