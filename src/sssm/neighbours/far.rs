@@ -450,7 +450,6 @@ mod tests {
     }
 
     const OFFSETS: [i32; 5] = [-10, -5, 0, 5, 10];
-    const LIMIT: f32 = 30.0;
 
     fn spans() -> Vec<Span> {
         vec![Span { start: 0, end: 299 }, Span { start: 300, end: 899 }, Span { start: 900, end: 1199 }]
