@@ -12,6 +12,7 @@ wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 
 use mocapseg::segment::Level;
 use mocapseg::sssm::activities::{RegionGrowing, Span};
+use mocapseg::sssm::neighbours::{FarSearch, StackedSearch};
 use mocapseg::sssm::primitives::{NeighbourhoodGraph, PrimitiveSearch};
 use mocapseg::sssm::{segment, segment_features, FeatureMatrix, MirrorMap, Sssm, SssmError, SssmOutcome, SssmParams};
 use std::f32::consts::TAU;
@@ -491,4 +492,33 @@ fn a_callback_that_cancels_stops_the_run_at_once() {
     let (err, seen) = cancelled_at(&base, SssmParams::new(), "activities", 0.0);
     assert_eq!(err, SssmError::Cancelled);
     assert_eq!(seen.last().map(|s| s.0.as_str()), Some("activities"), "{seen:?}");
+}
+
+#[test]
+fn a_huge_search_horizon_is_refused_and_overflows_nothing_inside() {
+    let motion = load("131_01.bvh", include_bytes!("fixtures/131_01.bvh"));
+    let e = segment(&motion, &SssmParams::new().horizon_s(1e300)).unwrap_err();
+    assert!(matches!(e, SssmError::InvalidParam { name: "horizon_s", .. }), "{e}");
+    assert!(e.to_string().starts_with("invalid SSSM parameter horizon_s = "), "{e}");
+    // inside, a horizon of usize::MAX frames is no horizon (nothing overflows)
+    let poses: Vec<Pose> = (0..300).map(|t| arm_circles(t as f32, 31.3)).collect();
+    let base = matrix(&poses, &mut Noise(7), 1.0);
+    let (offsets, map) = ([-10, -5, 0, 5, 10], MirrorMap::end_effectors());
+    let all = StackedSearch::new(&base, &offsets, Some(&map)).unwrap();
+    let huge = StackedSearch::new(&base, &offsets, Some(&map)).unwrap().with_horizon(Some(usize::MAX));
+    assert_eq!(huge.similarities(40.0, 600), all.similarities(40.0, 600));
+    let far = FarSearch::new(&huge, usize::MAX, 40.0, 600, 30.0, 30.0);
+    let spans = [Span { start: 0, end: 99 }, Span { start: 200, end: 299 }];
+    let found = far.search(&spans, &[Some(6.0); 2], &mut |_| Ok(())).unwrap();
+    assert!(found.plain.is_empty() && found.mirror.is_empty() && found.pairs.is_empty(), "{found:?}");
+}
+
+#[test]
+fn the_bundling_neighbours_count_in_the_entry_budget() {
+    // 24 000 frames × 600 neighbours fit in the budget, × (600 + 256) do not
+    let long = FeatureMatrix::new(24_000, 1, vec![0.0; 24_000]).unwrap();
+    let valid = SssmParams::new().bundling(true).bundling_k(256).check().unwrap();
+    let e = segment_features(&long, None, &valid, &mut |_, _| Ok(())).unwrap_err();
+    assert!(matches!(e, SssmError::TooLarge { frames: 24_000, max_neighbours: 600, bundling_k: 256, .. }), "{e}");
+    const { assert!(24_000 * 600 <= mocapseg::sssm::MAX_ENTRIES) };
 }

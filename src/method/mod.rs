@@ -3,6 +3,9 @@
 //! function from a [`Motion`](crate::motion::Motion) to a segmentation, reporting progress and
 //! stopping when asked to.
 
+pub mod spec;
+pub use spec::{ParamKind, ParamSpec};
+
 /// The caller asked a running method to stop (the method returns as soon as it next reports).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Cancelled;

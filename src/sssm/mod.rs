@@ -63,11 +63,13 @@ pub enum SssmError {
     MissingJoints(String),
     #[error("cannot prepare the take: {0}")]
     Motion(#[from] MotionError),
+    /// `frames × (max_neighbours + bundling_k)` exceeds `limit` (`bundling_k` is 0 without
+    /// bundling).
     #[error(
-        "the take is too long for the SSSM: {frames} frames × {max_neighbours} neighbours exceeds {limit} \
-         neighbour entries; cut the take or lower max_neighbours"
+        "the take is too long for the SSSM: {frames} frames × ({max_neighbours} neighbours + {bundling_k} bundling \
+         neighbours) exceeds {limit} entries; cut the take or lower max_neighbours"
     )]
-    TooLarge { frames: usize, max_neighbours: usize, limit: usize },
+    TooLarge { frames: usize, max_neighbours: usize, bundling_k: usize, limit: usize },
     /// The progress callback returned `Err(Cancelled)`: the run stopped where it was.
     #[error("cancelled")]
     Cancelled,
@@ -79,9 +81,9 @@ impl From<Cancelled> for SssmError {
     }
 }
 
-/// Upper bound on `frames × max_neighbours`: the SSSMs and graphs hold about 40 bytes per
-/// entry, so this keeps a run below about 800 MB even when every frame has the most
-/// neighbours (18 minutes at 30 Hz with the default 600).
+/// Upper bound on `frames × (max_neighbours + bundling_k)` (`bundling_k` only with bundling):
+/// the SSSMs and graphs hold about 40 bytes per entry, so this keeps a run below about 800 MB
+/// even when every frame has the most neighbours (18 minutes at 30 Hz with the default 600).
 pub const MAX_ENTRIES: usize = 20_000_000;
 
 /// A motion primitive: frames `span` of action `action`, in cluster `cluster`.
@@ -172,10 +174,13 @@ pub fn segment_features(
     progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
 ) -> Result<SssmOutcome, SssmError> {
     let mirror = checked_mirror(base, mirror, params)?;
-    if base.frames().saturating_mul(params.max_neighbours) > MAX_ENTRIES {
+    // the bundling holds k neighbours of every frame besides the SSSM's
+    let bundling_k = if params.bundling { params.bundling_k } else { 0 };
+    if base.frames().saturating_mul(params.max_neighbours.saturating_add(bundling_k)) > MAX_ENTRIES {
         return Err(SssmError::TooLarge {
             frames: base.frames(),
             max_neighbours: params.max_neighbours,
+            bundling_k,
             limit: MAX_ENTRIES,
         });
     }
@@ -201,9 +206,11 @@ pub fn segment_features(
     } else {
         progress("neighbours", 0.3)?;
         search = Some(StackedSearch::new(base, &params.offsets, mirror)?.with_horizon(params.horizon_frames()));
-        search.as_ref().expect("just set").similarities_with_progress(radius as f32, params.max_neighbours, &mut |f| {
-            progress("neighbours", 0.3 + 0.2 * f)
-        })?
+        search.as_ref().expect("just set").similarities_with_progress(
+            radius as f32,
+            params.max_neighbours,
+            &mut |f| progress("neighbours", 0.3 + 0.2 * f),
+        )?
     };
 
     // Region growing needs both SSSMs; the primitive and cluster graphs only the nearer
@@ -221,8 +228,7 @@ pub fn segment_features(
             let near_radius = params.primitive_search_radius() as f32;
             let far = FarSearch::new(search, horizon, radius as f32, params.max_neighbours, near_radius, params.fps);
             progress("far blocks", 0.5)?;
-            let entries =
-                far.search(&activities.actions, &limits, &mut |f| progress("far blocks", 0.5 + 0.08 * f))?;
+            let entries = far.search(&activities.actions, &limits, &mut |f| progress("far blocks", 0.5 + 0.08 * f))?;
             (sssm, mirror_sssm) = parallel::join(
                 || sssm.with_far_entries(&entries.plain, params.max_neighbours),
                 || mirror_sssm.as_ref().map(|m| m.with_far_entries(&entries.mirror, params.max_neighbours)),

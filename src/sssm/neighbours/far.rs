@@ -313,7 +313,9 @@ impl<'a> FarSearch<'a> {
         for chunk in (rows.start..=rows.end).step_by(BLOCK_ROWS) {
             let last = (chunk + BLOCK_ROWS - 1).min(rows.end);
             // the columns these rows pair with beyond the horizon
-            let Some(j_last) = last.checked_sub(self.horizon.saturating_add(1)).map(|j| j.min(cols.end)) else { continue };
+            let Some(j_last) = last.checked_sub(self.horizon.saturating_add(1)).map(|j| j.min(cols.end)) else {
+                continue;
+            };
             if j_last < cols.start {
                 continue;
             }

@@ -23,8 +23,8 @@
 //! are not a plain stack (after feature bundling, §III) and for cross searches.
 
 use super::{cap_tail, Sssm, UpperTriangle};
-use crate::sssm::features::{FeatureMatrix, MirrorMap};
 use crate::method::Cancelled;
+use crate::sssm::features::{FeatureMatrix, MirrorMap};
 use crate::sssm::SssmError;
 
 /// Per-frame features prepared for the stacked search.
