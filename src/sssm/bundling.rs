@@ -33,8 +33,8 @@ use kiddo::SquaredEuclidean;
 use nalgebra::{Cholesky, DMatrix, DVector, SymmetricEigen, QR};
 
 use super::features::FeatureMatrix;
-use super::neighbours::{principal_axes, rotate};
 use super::params::BundlingOptimum;
+use crate::features::pca::{principal_axes, rotate};
 
 /// Principal coordinates indexed by the bundling's kNN tree.
 pub const KNN_DIMS: usize = 16;

@@ -30,6 +30,7 @@ pub mod symmetry;
 
 use serde::{Deserialize, Serialize};
 
+use crate::features::FeatureError;
 use crate::method::Cancelled;
 use crate::motion::{Motion, MotionError};
 use crate::parallel;
@@ -73,6 +74,16 @@ pub enum SssmError {
     /// The progress callback returned `Err(Cancelled)`: the run stopped where it was.
     #[error("cancelled")]
     Cancelled,
+}
+
+/// A feature matrix's or mirror map's error as the SSSM reports it (same messages).
+impl From<FeatureError> for SssmError {
+    fn from(e: FeatureError) -> Self {
+        match e {
+            FeatureError::NoFrames => SssmError::NoFrames,
+            FeatureError::Bad(message) => SssmError::BadFeatures(message),
+        }
+    }
 }
 
 impl From<Cancelled> for SssmError {
@@ -414,6 +425,17 @@ fn to_segmentation(motion: &Motion, params: &ValidParams, o: &SssmOutcome, sourc
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn feature_errors_read_as_before_the_move() {
+        let e = SssmError::from(FeatureMatrix::new(2, 2, vec![0.0; 3]).unwrap_err());
+        assert_eq!(e, SssmError::BadFeatures("3 values do not make 2 frames of 2 values".into()));
+        assert_eq!(e.to_string(), "invalid features: 3 values do not make 2 frames of 2 values");
+        assert_eq!(SssmError::from(FeatureMatrix::new(0, 2, vec![]).unwrap_err()), SssmError::NoFrames);
+        let m = MirrorMap::new(vec![0, 1], vec![1.0, 1.0]).unwrap();
+        let wide = FeatureMatrix::from_rows(&[[1.0f32, 2.0, 3.0]]).unwrap();
+        assert!(matches!(m.apply(&wide).map_err(SssmError::from), Err(SssmError::BadFeatures(_))));
+    }
 
     #[test]
     fn working_spans_map_to_contiguous_file_frames() {
