@@ -16,6 +16,7 @@ pub mod motion;
 pub mod parallel;
 pub mod segment;
 pub mod sssm;
+pub mod stats;
 
 
 #[cfg(feature = "web")]

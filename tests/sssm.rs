@@ -18,12 +18,15 @@ use mocapseg::sssm::{segment, segment_features, FeatureMatrix, MirrorMap, Sssm, 
 use std::f32::consts::TAU;
 
 /// Deterministic noise in [-0.5, 0.5).
-struct Noise(u64);
+struct Noise(mocapseg::stats::Rng);
 
 impl Noise {
+    fn new(seed: u64) -> Self {
+        Noise(mocapseg::stats::Rng::new(seed))
+    }
+
     fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32 - 0.5
+        self.0.next_f32() - 0.5
     }
 }
 
@@ -108,15 +111,14 @@ fn action_boundaries(o: &SssmOutcome) -> Vec<usize> {
 }
 
 fn median(mut v: Vec<usize>) -> usize {
-    v.sort_unstable();
-    v[v.len() / 2]
+    mocapseg::stats::median(&mut v).expect("some values")
 }
 
 #[test]
 fn two_periodic_activities_back_to_back_give_one_cut_at_the_switch() {
     let poses: Vec<Pose> =
         (0..1200).map(|t| if t < 600 { arm_circles(t as f32, 31.3) } else { squats(t as f32, 43.7) }).collect();
-    let o = run(&matrix(&poses, &mut Noise(1), 1.0), true, SssmParams::new());
+    let o = run(&matrix(&poses, &mut Noise::new(1), 1.0), true, SssmParams::new());
     assert_eq!(o.actions.len(), 2, "actions: {:?}", o.actions);
     let b = action_boundaries(&o);
     // Each stacked feature spans ±10 frames, so the 20 frames around the switch mix both
@@ -132,7 +134,7 @@ fn two_periodic_activities_back_to_back_give_one_cut_at_the_switch() {
 fn a_periodic_motion_is_cut_into_primitives_of_its_period() {
     let period = 40.0;
     let poses: Vec<Pose> = (0..900).map(|t| squats(t as f32, period)).collect();
-    let o = run(&matrix(&poses, &mut Noise(2), 1.0), false, SssmParams::new());
+    let o = run(&matrix(&poses, &mut Noise::new(2), 1.0), false, SssmParams::new());
     assert_eq!(o.actions.len(), 1, "actions: {:?}", o.actions);
     let a = o.actions[0].span;
     assert!(a.start <= 40 && a.end >= 860, "the action covers the take: {a:?}");
@@ -151,7 +153,7 @@ fn a_periodic_motion_is_cut_into_primitives_of_its_period() {
 fn a_mirrored_gait_alternates_between_two_mirror_clusters() {
     let period = 36.0;
     let poses: Vec<Pose> = (0..900).map(|t| gait(t as f32, period)).collect();
-    let base = matrix(&poses, &mut Noise(3), 0.5);
+    let base = matrix(&poses, &mut Noise::new(3), 0.5);
 
     // without the mirror, primitives are whole cycles
     let plain = run(&base, false, SssmParams::new());
@@ -263,7 +265,7 @@ fn tiny_still_and_huge_inputs_are_handled() {
     let valid = SssmParams::new().check().unwrap();
     let map = MirrorMap::end_effectors();
     for n in [1, 2, 5, 31] {
-        let base = matrix(&vec![squats(0.0, 40.0); n], &mut Noise(n as u64), 0.1);
+        let base = matrix(&vec![squats(0.0, 40.0); n], &mut Noise::new(n as u64), 0.1);
         let o = segment_features(&base, Some(&map), &valid, &mut |_, _| Ok(())).unwrap();
         assert!(o.actions.is_empty() && o.primitives.is_empty(), "{n} frames");
         assert_eq!(o.activities.transitions, vec![Span { start: 0, end: n - 1 }]);
@@ -421,7 +423,7 @@ fn with_a_search_horizon_an_activity_repeated_far_away_is_still_one_kind() {
     let poses: Vec<Pose> = (0..2400)
         .map(|t| if (600..1800).contains(&t) { squats(t as f32, 43.7) } else { arm_circles(t as f32, 31.3) })
         .collect();
-    let base = matrix(&poses, &mut Noise(4), 1.0);
+    let base = matrix(&poses, &mut Noise::new(4), 1.0);
     let exact = run(&base, true, SssmParams::new().horizon_s(0.0));
     let near = run(&base, true, SssmParams::new().horizon_s(10.0));
     assert_eq!(exact.actions.len(), 3, "{:?}", exact.actions);
@@ -473,7 +475,7 @@ fn a_callback_that_cancels_stops_the_run_at_once() {
     let poses: Vec<Pose> = (0..2400)
         .map(|t| if (600..1800).contains(&t) { squats(t as f32, 43.7) } else { arm_circles(t as f32, 31.3) })
         .collect();
-    let base = matrix(&poses, &mut Noise(4), 1.0);
+    let base = matrix(&poses, &mut Noise::new(4), 1.0);
     // inside the neighbour search (its first report past the stage boundary at 0.3), and inside
     // the far blocks of a 10 s horizon: the callback is never called again, no later stage runs
     for (stage, from, horizon) in [("neighbours", 0.3, 20.0), ("far blocks", 0.5, 10.0)] {
@@ -502,7 +504,7 @@ fn a_huge_search_horizon_is_refused_and_overflows_nothing_inside() {
     assert!(e.to_string().starts_with("invalid SSSM parameter horizon_s = "), "{e}");
     // inside, a horizon of usize::MAX frames is no horizon (nothing overflows)
     let poses: Vec<Pose> = (0..300).map(|t| arm_circles(t as f32, 31.3)).collect();
-    let base = matrix(&poses, &mut Noise(7), 1.0);
+    let base = matrix(&poses, &mut Noise::new(7), 1.0);
     let (offsets, map) = ([-10, -5, 0, 5, 10], MirrorMap::end_effectors());
     let all = StackedSearch::new(&base, &offsets, Some(&map)).unwrap();
     let huge = StackedSearch::new(&base, &offsets, Some(&map)).unwrap().with_horizon(Some(usize::MAX));

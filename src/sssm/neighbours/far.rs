@@ -98,13 +98,10 @@ impl Summary {
                 row_min[k] = acc.iter().copied().fold(row_min[k], f32::min);
             }
         }
+        // (no summary poses: no distance)
+        let median = |v: &mut [f32]| crate::stats::median(v).unwrap_or(f32::INFINITY);
         (median(&mut row_min).sqrt(), median(&mut col_min).sqrt())
     }
-}
-
-fn median(v: &mut [f32]) -> f32 {
-    let k = v.len() / 2;
-    *v.select_nth_unstable_by(k, f32::total_cmp).1
 }
 
 /// Rows of a far block measured at once (bounds the memory of a block of two long actions).

@@ -550,13 +550,12 @@ mod tests {
     /// A deterministic pseudo-random walk in `d` dimensions: each step keeps `decay` of the
     /// position (1 = a free walk, below 1 it stays near the origin) and adds uniform noise.
     pub(super) fn walk(n: usize, d: usize, seed: u64, decay: f32) -> FeatureMatrix {
-        let mut s = seed;
+        let mut rng = crate::stats::Rng::new(seed);
         let mut x = vec![0f32; d];
         let mut data = Vec::with_capacity(n * d);
         for _ in 0..n {
             for v in x.iter_mut() {
-                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-                *v = decay * *v + 2.0 * ((s >> 40) as f32 / (1u64 << 24) as f32) - 1.0;
+                *v = decay * *v + 2.0 * rng.next_f32() - 1.0;
             }
             data.extend_from_slice(&x);
         }
