@@ -1,4 +1,5 @@
-//! SSSM segmentation (issue 3) on synthetic feature sequences with known answers, on
+//! SSSM segmentation (Krüger et al. 2017: activities §IV-B, primitives §IV-C, mirror §V,
+//! clusters §VI) on synthetic feature sequences with known answers, on
 //! hand-made neighbour lists, and end to end on fixture takes.
 //!
 //! The same tests run natively (`cargo test --test sssm`) and in headless Chromium

@@ -1,8 +1,8 @@
 //! Parameters of the SSSM method (Krüger et al. 2017, §III–§VI) with the defaults of the paper
 //! and of the authors' published code, checked once into [`ValidParams`].
 //!
-//! Where the paper and the authors' code disagree, the default follows issue 3 and the
-//! difference is noted on the field:
+//! Where the paper and the authors' code disagree, the difference and which one the default
+//! follows are noted here, by the paper's section:
 //!
 //! * **Radius.** The paper (§IV-A) defines a *generalized* radius `R` for one stacked pose and
 //!   rescales it as `r = R·√(|w|·N)`. The authors' code uses `r = R·√|w|` (`|w|` = number of
@@ -577,7 +577,7 @@ mod tests {
     }
 
     #[test]
-    fn defaults_are_the_issue_values() {
+    fn defaults_are_the_papers_and_the_authors_code_values() {
         let v = SssmParams::default().check().unwrap();
         assert_eq!(v.offsets, vec![-10, -5, 0, 5, 10]);
         assert!((v.search_radius() - 19.0 * 5f64.sqrt()).abs() < 1e-12);
