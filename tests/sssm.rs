@@ -477,21 +477,25 @@ fn a_callback_that_cancels_stops_the_run_at_once() {
         .map(|t| if (600..1800).contains(&t) { squats(t as f32, 43.7) } else { arm_circles(t as f32, 31.3) })
         .collect();
     let base = matrix(&poses, &mut Noise::new(4), 1.0);
-    // inside the neighbour search (its first report past the stage boundary at 0.3), and inside
-    // the far blocks of a 10 s horizon: the callback is never called again, no later stage runs
-    for (stage, from, horizon) in [("neighbours", 0.3, 20.0), ("far blocks", 0.5, 10.0)] {
-        let (err, seen) = cancelled_at(&base, SssmParams::new().horizon_s(horizon), stage, from);
+    // inside the stacked neighbour search (its first report past the stage boundary at 0.3),
+    // inside the far blocks of a 10 s horizon, inside the kd-tree search and inside the
+    // bundling: the callback is never called again, no later stage runs
+    let kd = SssmParams::new().neighbour_search(mocapseg::sssm::NeighbourSearchKind::KdTree);
+    let cases = [
+        ("neighbours", 0.3, SssmParams::new()),
+        ("far blocks", 0.5, SssmParams::new().horizon_s(10.0)),
+        ("neighbours", 0.3, kd),
+        ("bundling", 0.05, SssmParams::new().bundling(true)),
+    ];
+    for (stage, from, params) in cases {
+        let (err, seen) = cancelled_at(&base, params, stage, from);
         assert_eq!(err, SssmError::Cancelled);
         assert_eq!(err.to_string(), "cancelled");
         let (last, f) = seen.last().unwrap();
         assert!(last == stage && *f > from && *f < 1.0, "{seen:?}");
         assert_eq!(seen.iter().filter(|s| s.0 == stage && s.1 > from).count(), 1, "{seen:?}");
     }
-    // with the kd-tree and at a stage boundary
-    let kd = SssmParams::new().neighbour_search(mocapseg::sssm::NeighbourSearchKind::KdTree);
-    let (err, seen) = cancelled_at(&base, kd, "neighbours", 0.3);
-    assert_eq!(err, SssmError::Cancelled);
-    assert_eq!(seen.last().map(|s| s.0.as_str()), Some("neighbours"), "{seen:?}");
+    // at a stage boundary
     let (err, seen) = cancelled_at(&base, SssmParams::new(), "activities", 0.0);
     assert_eq!(err, SssmError::Cancelled);
     assert_eq!(seen.last().map(|s| s.0.as_str()), Some("activities"), "{seen:?}");

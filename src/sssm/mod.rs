@@ -203,14 +203,21 @@ pub fn segment_features(
             progress("bundling", 0.05)?;
             let b =
                 Bundling { k: params.bundling_k, variance: params.bundling_variance, optimum: params.bundling_optimum };
-            stacked = b.bundle(&stacked);
+            stacked = b.bundle_with_progress(&stacked, &mut |f| progress("bundling", 0.05 + 0.25 * f))?;
         }
         progress("neighbours", 0.3)?;
         let search = NeighbourSearch::new(&stacked);
-        let sssm = search.self_similarity(radius as f32, params.max_neighbours);
-        progress("neighbours", 0.4)?;
+        let share = if mirror.is_some() { 0.1 } else { 0.2 };
+        let sssm = search.self_similarity_with_progress(radius as f32, params.max_neighbours, &mut |f| {
+            progress("neighbours", 0.3 + share * f)
+        })?;
         let mirror_sssm = match mirror {
-            Some(m) => Some(search.mirror_similarity(&m.apply(&stacked)?, radius as f32, params.max_neighbours)?),
+            Some(m) => Some(search.mirror_similarity_with_progress(
+                &m.apply(&stacked)?,
+                radius as f32,
+                params.max_neighbours,
+                &mut |f| progress("neighbours", 0.4 + 0.1 * f),
+            )?),
             None => None,
         };
         (sssm, mirror_sssm)

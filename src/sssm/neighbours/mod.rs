@@ -18,11 +18,15 @@ use serde::{Deserialize, Serialize};
 use super::features::FeatureMatrix;
 use super::SssmError;
 use crate::features::pca::{principal_axes, rotate};
+use crate::method::Cancelled;
 
 pub mod far;
 pub mod stacked;
 pub use far::FarSearch;
 pub use stacked::StackedSearch;
+
+/// Frames between two progress reports of a search.
+const PROGRESS_ROWS: usize = 64;
 
 /// Number of leading principal coordinates the kd-tree indexes.
 pub const TREE_DIMS: usize = 4;
@@ -257,7 +261,21 @@ impl NeighbourSearch {
     /// The SSSM of the indexed frames: for every frame its neighbours within `radius` (the
     /// frame itself included, at distance 0), at most `max_neighbours` of them (the nearest).
     pub fn self_similarity(&self, radius: f32, max_neighbours: usize) -> Sssm {
-        self.search_symmetric(&self.rotated, radius, max_neighbours)
+        match self.self_similarity_with_progress(radius, max_neighbours, &mut |_| Ok(())) {
+            Ok(sssm) => sssm,
+            Err(Cancelled) => unreachable!("a callback that never cancels"),
+        }
+    }
+
+    /// [`Self::self_similarity`], reporting the fraction of the frames done (every
+    /// [`PROGRESS_ROWS`] frames); stops as soon as `progress` returns `Err(Cancelled)`.
+    pub fn self_similarity_with_progress(
+        &self,
+        radius: f32,
+        max_neighbours: usize,
+        progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+    ) -> Result<Sssm, Cancelled> {
+        self.search_symmetric(&self.rotated, radius, max_neighbours, progress)
     }
 
     /// The mirror SSSM (§V): for every frame `i`, the frames `j` with `|M·F_i − F_j| ≤ radius`,
@@ -269,8 +287,20 @@ impl NeighbourSearch {
         radius: f32,
         max_neighbours: usize,
     ) -> Result<Sssm, SssmError> {
+        self.mirror_similarity_with_progress(mirrored, radius, max_neighbours, &mut |_| Ok(()))
+    }
+
+    /// [`Self::mirror_similarity`], reporting and stopping as
+    /// [`Self::self_similarity_with_progress`] does ([`SssmError::Cancelled`]).
+    pub fn mirror_similarity_with_progress(
+        &self,
+        mirrored: &FeatureMatrix,
+        radius: f32,
+        max_neighbours: usize,
+        progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+    ) -> Result<Sssm, SssmError> {
         self.check_dim(mirrored)?;
-        Ok(self.search_symmetric(&rotate(mirrored, &self.mean, &self.axes), radius, max_neighbours))
+        Ok(self.search_symmetric(&rotate(mirrored, &self.mean, &self.axes), radius, max_neighbours, progress)?)
     }
 
     /// For every row of `queries`, its neighbours among the indexed frames (no symmetry
@@ -329,14 +359,26 @@ impl NeighbourSearch {
     /// computations) and entry `(i, j)` also gives `(j, i)`. The cap applies to each query's
     /// `j ≥ i` and again to the finished rows, so at most `2 · max_neighbours` entries per frame
     /// are ever held (a still take, where every frame is everyone's neighbour, stays small).
-    fn search_symmetric(&self, rotated_queries: &[f32], radius: f32, max_neighbours: usize) -> Sssm {
+    fn search_symmetric(
+        &self,
+        rotated_queries: &[f32],
+        radius: f32,
+        max_neighbours: usize,
+        progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+    ) -> Result<Sssm, Cancelled> {
         let limit = radius * radius;
-        let mut upper = UpperTriangle::new(rotated_queries.len() / self.dim);
+        let n = rotated_queries.len() / self.dim;
+        let mut upper = UpperTriangle::new(n);
         for (i, q) in rotated_queries.chunks_exact(self.dim).enumerate() {
+            if i % PROGRESS_ROWS == 0 {
+                progress(i as f64 / n as f64)?;
+            }
             self.query(q, limit, i, max_neighbours, &mut upper.entries);
             upper.end_row();
         }
-        upper.into_symmetric(max_neighbours)
+        let sssm = upper.into_symmetric(max_neighbours);
+        progress(1.0)?;
+        Ok(sssm)
     }
 }
 

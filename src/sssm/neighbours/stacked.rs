@@ -22,7 +22,7 @@
 //! search"). The kd-tree stays for features that
 //! are not a plain stack (after feature bundling, §III) and for cross searches.
 
-use super::{cap_tail, Sssm, UpperTriangle};
+use super::{cap_tail, Sssm, UpperTriangle, PROGRESS_ROWS};
 use crate::method::Cancelled;
 use crate::sssm::features::{FeatureMatrix, MirrorMap};
 use crate::sssm::SssmError;
@@ -289,9 +289,6 @@ impl StackedSearch {
 
 /// Candidates tested at once by `push_within`.
 const SCAN_BLOCK: usize = 16;
-
-/// Rows between two progress reports of the search.
-const PROGRESS_ROWS: usize = 64;
 
 /// Candidates summed at once by [`StackedSearch::distance_row`].
 const LANES: usize = 32;
