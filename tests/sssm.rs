@@ -495,6 +495,19 @@ fn a_callback_that_cancels_stops_the_run_at_once() {
         assert!(last == stage && *f > from && *f < 1.0, "{seen:?}");
         assert_eq!(seen.iter().filter(|s| s.0 == stage && s.1 > from).count(), 1, "{seen:?}");
     }
+    // a take, cancelled at the first report after the neighbour search: the run ends there
+    let motion = load("131_01.bvh", include_bytes!("fixtures/131_01.bvh"));
+    let mut after = Vec::new();
+    let e = mocapseg::sssm::segment_with_progress(&motion, &SssmParams::new(), &mut |s, _| {
+        if s == "features" || s == "neighbours" {
+            return Ok(());
+        }
+        after.push(s.to_string());
+        Err(mocapseg::method::Cancelled)
+    })
+    .unwrap_err();
+    assert_eq!(e, SssmError::Cancelled);
+    assert_eq!(after, ["activities"]);
     // at a stage boundary
     let (err, seen) = cancelled_at(&base, SssmParams::new(), "activities", 0.0);
     assert_eq!(err, SssmError::Cancelled);
