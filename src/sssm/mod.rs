@@ -40,7 +40,7 @@ pub use activities::{Activities, Span};
 pub use clustering::Cluster;
 pub use features::{FeatureMatrix, MirrorMap, MotionFeatures};
 pub use neighbours::Sssm;
-pub use params::{BoundaryRule, BundlingOptimum, NeighbourSearchKind, SssmParams, ValidParams};
+pub use params::{param_specs, BoundaryRule, BundlingOptimum, NeighbourSearchKind, SssmParams, ValidParams};
 pub use symmetry::SymmetryKind;
 
 use activities::RegionGrowing;

@@ -252,7 +252,9 @@ impl SssmParams {
     pub fn check(self) -> Result<ValidParams, SssmError> {
         let p = self;
         let bad = |name: &'static str, value: f64, expected: &'static str| {
-            Err(SssmError::InvalidParam { name, value: value.to_string(), expected })
+            // huge values in exponent form (1e300, not 301 digits)
+            let value = if value.abs() >= 1e16 { format!("{value:e}") } else { value.to_string() };
+            Err(SssmError::InvalidParam { name, value, expected })
         };
         if !(FPS.0..=FPS.1).contains(&p.fps) {
             return bad("fps", p.fps, "a frame rate between 1 and 1000");
