@@ -60,8 +60,8 @@ impl Bundling {
         }
     }
 
-    /// [`Self::bundle`], reporting the fraction of the frames moved (every
-    /// [`PROGRESS_FRAMES`] frames); stops as soon as `progress` returns `Err(Cancelled)`.
+    /// [`Self::bundle`], reporting the fraction of the frames moved (every 64 frames); stops
+    /// as soon as `progress` returns `Err(Cancelled)`.
     pub fn bundle_with_progress(
         &self,
         features: &FeatureMatrix,

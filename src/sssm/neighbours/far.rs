@@ -201,7 +201,7 @@ impl<'a> FarSearch<'a> {
     /// `limits[a]` is how near a frame must come to action `a` to repeat it (the kinds' test,
     /// [`RegionGrowing::kinds`](crate::sssm::activities::RegionGrowing::kinds); `None`: `a`
     /// does not repeat itself and links to nothing). Reports the fraction done before the
-    /// first block, every [`BLOCK_ROWS`] rows of a block and after each block, and stops as
+    /// first block, every 256 rows of a block and after each block, and stops as
     /// soon as `progress` returns `Err(Cancelled)`.
     pub fn search(
         &self,

@@ -267,8 +267,8 @@ impl NeighbourSearch {
         }
     }
 
-    /// [`Self::self_similarity`], reporting the fraction of the frames done (every
-    /// [`PROGRESS_ROWS`] frames); stops as soon as `progress` returns `Err(Cancelled)`.
+    /// [`Self::self_similarity`], reporting the fraction of the frames done (every 64 frames);
+    /// stops as soon as `progress` returns `Err(Cancelled)`.
     pub fn self_similarity_with_progress(
         &self,
         radius: f32,

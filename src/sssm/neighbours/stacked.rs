@@ -117,8 +117,8 @@ impl StackedSearch {
         }
     }
 
-    /// [`Self::similarities`], reporting the fraction done (0 to 1) as it goes (every
-    /// [`PROGRESS_ROWS`] rows); stops as soon as `progress` returns `Err(Cancelled)`.
+    /// [`Self::similarities`], reporting the fraction done (0 to 1) as it goes (every 64 rows);
+    /// stops as soon as `progress` returns `Err(Cancelled)`.
     pub fn similarities_with_progress(
         &self,
         radius: f32,
