@@ -159,6 +159,7 @@ mod lab {
                         these.push((std::mem::replace(&mut last.0, stage.to_string()), ms));
                         last.1 = Instant::now();
                     }
+                    Ok(())
                 })
                 .map_err(|e| e.to_string())?;
                 times.push(t0.elapsed().as_secs_f64() * 1e3);

@@ -8,6 +8,7 @@
 //! (skeleton + world joint positions per frame) → motion image / segmentations.
 
 pub mod bvh;
+pub mod features;
 pub mod image;
 pub mod load;
 pub mod method;
@@ -16,6 +17,7 @@ pub mod parallel;
 pub mod protocol;
 pub mod segment;
 pub mod sssm;
+pub mod stats;
 
 #[cfg(feature = "web")]
 pub mod app;

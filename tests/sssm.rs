@@ -1,4 +1,5 @@
-//! SSSM segmentation (issue 3) on synthetic feature sequences with known answers, on
+//! SSSM segmentation (Krüger et al. 2017: activities §IV-B, primitives §IV-C, mirror §V,
+//! clusters §VI) on synthetic feature sequences with known answers, on
 //! hand-made neighbour lists, and end to end on fixture takes.
 //!
 //! The same tests run natively (`cargo test --test sssm`) and in headless Chromium
@@ -12,17 +13,21 @@ wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 
 use mocapseg::segment::Level;
 use mocapseg::sssm::activities::{RegionGrowing, Span};
+use mocapseg::sssm::neighbours::{FarSearch, StackedSearch};
 use mocapseg::sssm::primitives::{NeighbourhoodGraph, PrimitiveSearch};
 use mocapseg::sssm::{segment, segment_features, FeatureMatrix, MirrorMap, Sssm, SssmError, SssmOutcome, SssmParams};
 use std::f32::consts::TAU;
 
 /// Deterministic noise in [-0.5, 0.5).
-struct Noise(u64);
+struct Noise(mocapseg::stats::Rng);
 
 impl Noise {
+    fn new(seed: u64) -> Self {
+        Noise(mocapseg::stats::Rng::new(seed))
+    }
+
     fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32 - 0.5
+        self.0.next_f32() - 0.5
     }
 }
 
@@ -97,7 +102,7 @@ fn gait(t: f32, period: f32) -> Pose {
 fn run(base: &FeatureMatrix, mirror: bool, params: SssmParams) -> SssmOutcome {
     let valid = params.mirror(mirror).check().unwrap();
     let map = MirrorMap::end_effectors();
-    segment_features(base, Some(&map), &valid, &mut |_, _| {}).unwrap()
+    segment_features(base, Some(&map), &valid, &mut |_, _| Ok(())).unwrap()
 }
 
 /// Boundaries between consecutive actions, each transition split at its middle (how the
@@ -107,15 +112,14 @@ fn action_boundaries(o: &SssmOutcome) -> Vec<usize> {
 }
 
 fn median(mut v: Vec<usize>) -> usize {
-    v.sort_unstable();
-    v[v.len() / 2]
+    mocapseg::stats::median(&mut v).expect("some values")
 }
 
 #[test]
 fn two_periodic_activities_back_to_back_give_one_cut_at_the_switch() {
     let poses: Vec<Pose> =
         (0..1200).map(|t| if t < 600 { arm_circles(t as f32, 31.3) } else { squats(t as f32, 43.7) }).collect();
-    let o = run(&matrix(&poses, &mut Noise(1), 1.0), true, SssmParams::new());
+    let o = run(&matrix(&poses, &mut Noise::new(1), 1.0), true, SssmParams::new());
     assert_eq!(o.actions.len(), 2, "actions: {:?}", o.actions);
     let b = action_boundaries(&o);
     // Each stacked feature spans ±10 frames, so the 20 frames around the switch mix both
@@ -131,7 +135,7 @@ fn two_periodic_activities_back_to_back_give_one_cut_at_the_switch() {
 fn a_periodic_motion_is_cut_into_primitives_of_its_period() {
     let period = 40.0;
     let poses: Vec<Pose> = (0..900).map(|t| squats(t as f32, period)).collect();
-    let o = run(&matrix(&poses, &mut Noise(2), 1.0), false, SssmParams::new());
+    let o = run(&matrix(&poses, &mut Noise::new(2), 1.0), false, SssmParams::new());
     assert_eq!(o.actions.len(), 1, "actions: {:?}", o.actions);
     let a = o.actions[0].span;
     assert!(a.start <= 40 && a.end >= 860, "the action covers the take: {a:?}");
@@ -150,7 +154,7 @@ fn a_periodic_motion_is_cut_into_primitives_of_its_period() {
 fn a_mirrored_gait_alternates_between_two_mirror_clusters() {
     let period = 36.0;
     let poses: Vec<Pose> = (0..900).map(|t| gait(t as f32, period)).collect();
-    let base = matrix(&poses, &mut Noise(3), 0.5);
+    let base = matrix(&poses, &mut Noise::new(3), 0.5);
 
     // without the mirror, primitives are whole cycles
     let plain = run(&base, false, SssmParams::new());
@@ -249,10 +253,10 @@ fn parameters_are_checked_with_readable_errors() {
 fn features_of_the_wrong_shape_are_rejected() {
     let base = FeatureMatrix::from_rows(&[[0.0f32; 6]; 40]).unwrap();
     let valid = SssmParams::new().check().unwrap();
-    let e = segment_features(&base, Some(&MirrorMap::end_effectors()), &valid, &mut |_, _| {}).unwrap_err();
+    let e = segment_features(&base, Some(&MirrorMap::end_effectors()), &valid, &mut |_, _| Ok(())).unwrap_err();
     assert!(e.to_string().contains("mirror map is for 15 values"), "{e}");
     // without a mirror map the same features are fine (a still take: no action)
-    let o = segment_features(&base, None, &valid, &mut |_, _| {}).unwrap();
+    let o = segment_features(&base, None, &valid, &mut |_, _| Ok(())).unwrap();
     assert!(o.actions.is_empty());
     assert_eq!(o.activities.transitions, vec![Span { start: 0, end: 39 }]);
 }
@@ -262,19 +266,19 @@ fn tiny_still_and_huge_inputs_are_handled() {
     let valid = SssmParams::new().check().unwrap();
     let map = MirrorMap::end_effectors();
     for n in [1, 2, 5, 31] {
-        let base = matrix(&vec![squats(0.0, 40.0); n], &mut Noise(n as u64), 0.1);
-        let o = segment_features(&base, Some(&map), &valid, &mut |_, _| {}).unwrap();
+        let base = matrix(&vec![squats(0.0, 40.0); n], &mut Noise::new(n as u64), 0.1);
+        let o = segment_features(&base, Some(&map), &valid, &mut |_, _| Ok(())).unwrap();
         assert!(o.actions.is_empty() && o.primitives.is_empty(), "{n} frames");
         assert_eq!(o.activities.transitions, vec![Span { start: 0, end: n - 1 }]);
     }
     // a perfectly still take: every frame is every frame's neighbour, capped
     let still = FeatureMatrix::from_rows(&vec![squats(0.0, 40.0); 900]).unwrap();
-    let o = segment_features(&still, Some(&map), &valid, &mut |_, _| {}).unwrap();
+    let o = segment_features(&still, Some(&map), &valid, &mut |_, _| Ok(())).unwrap();
     assert!((0..900).all(|i| o.sssm.row(i).0.len() <= 600));
     assert!(o.actions.len() <= 1);
     // too long for the entry budget
     let long = FeatureMatrix::new(40_000, 1, vec![0.0; 40_000]).unwrap();
-    let e = segment_features(&long, None, &valid, &mut |_, _| {}).unwrap_err();
+    let e = segment_features(&long, None, &valid, &mut |_, _| Ok(())).unwrap_err();
     assert!(matches!(e, SssmError::TooLarge { frames: 40_000, .. }), "{e}");
 }
 
@@ -282,9 +286,11 @@ fn tiny_still_and_huge_inputs_are_handled() {
 fn segmenting_a_take_gives_a_valid_segmentation_at_the_file_rate() {
     let motion = &load("131_01.bvh", include_bytes!("fixtures/131_01.bvh"));
     let mut stages = Vec::new();
-    let r =
-        mocapseg::sssm::segment_with_progress(motion, &SssmParams::new(), &mut |s, f| stages.push((s.to_string(), f)))
-            .unwrap();
+    let r = mocapseg::sssm::segment_with_progress(motion, &SssmParams::new(), &mut |s, f| {
+        stages.push((s.to_string(), f));
+        Ok(())
+    })
+    .unwrap();
     let seg = &r.segmentation;
     seg.validate().unwrap();
     assert_eq!((seg.fps, seg.frames, seg.method.as_str()), (motion.fps, motion.frames(), "sssm"));
@@ -418,7 +424,7 @@ fn with_a_search_horizon_an_activity_repeated_far_away_is_still_one_kind() {
     let poses: Vec<Pose> = (0..2400)
         .map(|t| if (600..1800).contains(&t) { squats(t as f32, 43.7) } else { arm_circles(t as f32, 31.3) })
         .collect();
-    let base = matrix(&poses, &mut Noise(4), 1.0);
+    let base = matrix(&poses, &mut Noise::new(4), 1.0);
     let exact = run(&base, true, SssmParams::new().horizon_s(0.0));
     let near = run(&base, true, SssmParams::new().horizon_s(10.0));
     assert_eq!(exact.actions.len(), 3, "{:?}", exact.actions);
@@ -447,4 +453,92 @@ fn with_a_search_horizon_an_activity_repeated_far_away_is_still_one_kind() {
     }
     assert!(far > 1000, "{far} far entries");
     assert!(exact.sssm.entries() > near.sssm.entries());
+}
+
+/// Runs `segment_features` with a callback that cancels at the first report of `stage` past
+/// `from`; returns the result and every report seen (the cancelling one last).
+fn cancelled_at(base: &FeatureMatrix, params: SssmParams, stage: &str, from: f64) -> (SssmError, Vec<(String, f64)>) {
+    let valid = params.check().unwrap();
+    let mut seen = Vec::new();
+    let r = segment_features(base, Some(&MirrorMap::end_effectors()), &valid, &mut |s, f| {
+        seen.push((s.to_string(), f));
+        if s == stage && f > from {
+            Err(mocapseg::method::Cancelled)
+        } else {
+            Ok(())
+        }
+    });
+    (r.expect_err("the run was cancelled"), seen)
+}
+
+#[test]
+fn a_callback_that_cancels_stops_the_run_at_once() {
+    let poses: Vec<Pose> = (0..2400)
+        .map(|t| if (600..1800).contains(&t) { squats(t as f32, 43.7) } else { arm_circles(t as f32, 31.3) })
+        .collect();
+    let base = matrix(&poses, &mut Noise::new(4), 1.0);
+    // inside the stacked neighbour search (its first report past the stage boundary at 0.3),
+    // inside the far blocks of a 10 s horizon, inside the kd-tree search and inside the
+    // bundling: the callback is never called again, no later stage runs
+    let kd = SssmParams::new().neighbour_search(mocapseg::sssm::NeighbourSearchKind::KdTree);
+    let cases = [
+        ("neighbours", 0.3, SssmParams::new()),
+        ("far blocks", 0.5, SssmParams::new().horizon_s(10.0)),
+        ("neighbours", 0.3, kd),
+        ("bundling", 0.05, SssmParams::new().bundling(true)),
+    ];
+    for (stage, from, params) in cases {
+        let (err, seen) = cancelled_at(&base, params, stage, from);
+        assert_eq!(err, SssmError::Cancelled);
+        assert_eq!(err.to_string(), "cancelled");
+        let (last, f) = seen.last().unwrap();
+        assert!(last == stage && *f > from && *f < 1.0, "{seen:?}");
+        assert_eq!(seen.iter().filter(|s| s.0 == stage && s.1 > from).count(), 1, "{seen:?}");
+    }
+    // a take, cancelled at the first report after the neighbour search: the run ends there
+    let motion = load("131_01.bvh", include_bytes!("fixtures/131_01.bvh"));
+    let mut after = Vec::new();
+    let e = mocapseg::sssm::segment_with_progress(&motion, &SssmParams::new(), &mut |s, _| {
+        if s == "features" || s == "neighbours" {
+            return Ok(());
+        }
+        after.push(s.to_string());
+        Err(mocapseg::method::Cancelled)
+    })
+    .unwrap_err();
+    assert_eq!(e, SssmError::Cancelled);
+    assert_eq!(after, ["activities"]);
+    // at a stage boundary
+    let (err, seen) = cancelled_at(&base, SssmParams::new(), "activities", 0.0);
+    assert_eq!(err, SssmError::Cancelled);
+    assert_eq!(seen.last().map(|s| s.0.as_str()), Some("activities"), "{seen:?}");
+}
+
+#[test]
+fn a_huge_search_horizon_is_refused_and_overflows_nothing_inside() {
+    let motion = load("131_01.bvh", include_bytes!("fixtures/131_01.bvh"));
+    let e = segment(&motion, &SssmParams::new().horizon_s(1e300)).unwrap_err();
+    assert!(matches!(e, SssmError::InvalidParam { name: "horizon_s", .. }), "{e}");
+    assert!(e.to_string().starts_with("invalid SSSM parameter horizon_s = 1e300: expected "), "{e}");
+    // inside, a horizon of usize::MAX frames is no horizon (nothing overflows)
+    let poses: Vec<Pose> = (0..300).map(|t| arm_circles(t as f32, 31.3)).collect();
+    let base = matrix(&poses, &mut Noise::new(7), 1.0);
+    let (offsets, map) = ([-10, -5, 0, 5, 10], MirrorMap::end_effectors());
+    let all = StackedSearch::new(&base, &offsets, Some(&map)).unwrap();
+    let huge = StackedSearch::new(&base, &offsets, Some(&map)).unwrap().with_horizon(Some(usize::MAX));
+    assert_eq!(huge.similarities(40.0, 600), all.similarities(40.0, 600));
+    let far = FarSearch::new(&huge, usize::MAX, 40.0, 600, 30.0, 30.0);
+    let spans = [Span { start: 0, end: 99 }, Span { start: 200, end: 299 }];
+    let found = far.search(&spans, &[Some(6.0); 2], &mut |_| Ok(())).unwrap();
+    assert!(found.plain.is_empty() && found.mirror.is_empty() && found.pairs.is_empty(), "{found:?}");
+}
+
+#[test]
+fn the_bundling_neighbours_count_in_the_entry_budget() {
+    // 24 000 frames × 600 neighbours fit in the budget, × (600 + 256) do not
+    let long = FeatureMatrix::new(24_000, 1, vec![0.0; 24_000]).unwrap();
+    let valid = SssmParams::new().bundling(true).bundling_k(256).check().unwrap();
+    let e = segment_features(&long, None, &valid, &mut |_, _| Ok(())).unwrap_err();
+    assert!(matches!(e, SssmError::TooLarge { frames: 24_000, max_neighbours: 600, bundling_k: 256, .. }), "{e}");
+    const { assert!(24_000 * 600 <= mocapseg::sssm::MAX_ENTRIES) };
 }

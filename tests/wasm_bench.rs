@@ -153,6 +153,7 @@ async fn sssm_series(full: &Motion, frames: usize, params: &mocapseg::sssm::Sssm
                     these.push(format!("{} {:.1}", std::mem::replace(&mut last.0, stage.to_string()), now - last.1));
                     last.1 = now;
                 }
+                Ok(())
             })
             .expect("sssm");
             if run > 0 {

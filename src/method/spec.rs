@@ -1,27 +1,46 @@
-//! What a method's parameters look like, so a command line and a page can offer them without
-//! knowing the method: name, help, kind with the bounds the method's check enforces, default.
+//! What a page needs to build a parameter form for a method: for every parameter its name, a
+//! one-line help, its kind with exactly the bounds the method's check enforces, and its
+//! default (as the method's parameters serialize it).
 
 use serde::{Deserialize, Serialize};
 
 /// One parameter of a method.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ParamSpec {
+    /// The field name (as in the parameters' JSON).
     pub name: String,
+    /// One sentence for a tooltip.
     pub help: String,
     pub kind: ParamKind,
+    /// The default value, as it appears in the parameters' JSON.
     pub default: serde_json::Value,
+    /// Unit of the value (`"s"`, `"frames"`, `"in"`, …), if it has one.
     pub unit: Option<String>,
-    /// Shown in the basic form (the others under "advanced").
+    /// Shown in the basic form (others under "advanced").
     pub basic: bool,
 }
 
-/// The kind of value a parameter takes, with the bounds the method's check enforces.
+/// The type of a parameter and the values it accepts (bounds included).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum ParamKind {
-    Number { min: f64, max: f64 },
-    Integer { min: i64, max: i64 },
+    Number {
+        min: f64,
+        max: f64,
+    },
+    Integer {
+        min: i64,
+        max: i64,
+    },
     Bool,
-    Choice { options: Vec<String> },
-    IntegerList { min: i64, max: i64, max_len: usize },
+    /// One of `options` (the serialized names).
+    Choice {
+        options: Vec<String>,
+    },
+    /// A list of at most `max_len` integers, each within `[min, max]`.
+    IntegerList {
+        min: i64,
+        max: i64,
+        max_len: usize,
+    },
 }

@@ -150,17 +150,9 @@ pub fn sample_frames(frames: usize) -> Vec<usize> {
     (0..SAMPLE_FRAMES).map(|k| k * (frames - 1) / (SAMPLE_FRAMES - 1)).collect()
 }
 
+/// The median (the mean of the two middle values for an even count; 0 if empty).
 fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(|a, b| a.total_cmp(b));
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
+    crate::stats::median_midpoint(&mut v).unwrap_or(0.0)
 }
 
 /// The unit that makes `measure` (file units) closest to `nominal_m` metres on a log scale.

@@ -33,12 +33,15 @@ use kiddo::SquaredEuclidean;
 use nalgebra::{Cholesky, DMatrix, DVector, SymmetricEigen, QR};
 
 use super::features::FeatureMatrix;
-use super::neighbours::{principal_axes, rotate};
 use super::params::BundlingOptimum;
+use crate::features::pca::{principal_axes, rotate};
+use crate::method::Cancelled;
 
 /// Principal coordinates indexed by the bundling's kNN tree.
 pub const KNN_DIMS: usize = 16;
 const MAX_ITERATIONS: usize = 100;
+/// Frames moved between two progress reports.
+const PROGRESS_FRAMES: usize = 64;
 
 /// Settings of the bundling (from the checked parameters).
 #[derive(Debug, Clone, Copy)]
@@ -51,23 +54,40 @@ pub struct Bundling {
 impl Bundling {
     /// The bundled features `F̂` (same shape as `features`).
     pub fn bundle(&self, features: &FeatureMatrix) -> FeatureMatrix {
+        match self.bundle_with_progress(features, &mut |_| Ok(())) {
+            Ok(out) => out,
+            Err(Cancelled) => unreachable!("a callback that never cancels"),
+        }
+    }
+
+    /// [`Self::bundle`], reporting the fraction of the frames moved (every 64 frames); stops
+    /// as soon as `progress` returns `Err(Cancelled)`.
+    pub fn bundle_with_progress(
+        &self,
+        features: &FeatureMatrix,
+        progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+    ) -> Result<FeatureMatrix, Cancelled> {
         let n = features.frames();
         let k = self.k.min(n.saturating_sub(1));
         let mut out = features.clone();
         if k < 2 {
-            return out;
+            return Ok(out);
         }
         let neighbours = nearest_neighbours(features, k);
         let directions = directions(features);
         let d = features.dim();
         for i in 0..n {
+            if i % PROGRESS_FRAMES == 0 {
+                progress(i as f64 / n as f64)?;
+            }
             let delta =
                 self.displacement(features, i, &neighbours[i * k..(i + 1) * k], &directions[i * d..(i + 1) * d]);
             for (o, dv) in out.row_mut(i).iter_mut().zip(delta.iter()) {
                 *o += *dv as f32;
             }
         }
-        out
+        progress(1.0)?;
+        Ok(out)
     }
 
     /// The move of frame `i` (a `dim`-vector) given its neighbours and direction.

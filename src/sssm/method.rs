@@ -16,6 +16,7 @@ impl From<SssmError> for MethodError {
     fn from(e: SssmError) -> Self {
         match e {
             SssmError::InvalidParam { .. } => MethodError::Params(e.to_string()),
+            SssmError::Cancelled => MethodError::Cancelled,
             other => MethodError::Failed(other.to_string()),
         }
     }
@@ -38,7 +39,7 @@ impl Method for Sssm {
     }
 
     fn param_specs(&self) -> Vec<ParamSpec> {
-        temporary_specs()
+        super::params::param_specs()
     }
 
     fn check(&self, params: SssmParams) -> Result<ValidParams, MethodError> {
@@ -56,7 +57,7 @@ impl Method for Sssm {
         options: &RunOptions,
         progress: &mut dyn Progress,
     ) -> Result<MethodOutput, MethodError> {
-        let result = super::segment_with_progress(motion, params, &mut |stage, f| progress.report(stage, f))?;
+        let result = super::segment_with_progress(motion, params, &mut |stage, f| progress.step(stage, f))?;
         let o = &result.outcome;
         let s = &result.segmentation;
         let summary = format!(
@@ -127,34 +128,4 @@ pub(crate) fn to_segmentation(motion: &Motion, params: &ValidParams, o: &SssmOut
         params: params.to_json(),
         segments,
     }
-}
-
-/// Until the bounds move into `params` (kinds read off the defaults).
-fn temporary_specs() -> Vec<ParamSpec> {
-    use crate::method::ParamKind;
-    let defaults = serde_json::to_value(SssmParams::default()).unwrap_or_default();
-    let basic = ["radius", "offsets", "horizon_s", "bundling", "mirror"];
-    defaults
-        .as_object()
-        .map(|o| {
-            o.iter()
-                .map(|(name, v)| ParamSpec {
-                    name: name.clone(),
-                    help: name.replace('_', " "),
-                    kind: match v {
-                        serde_json::Value::Bool(_) => ParamKind::Bool,
-                        serde_json::Value::Array(_) => ParamKind::IntegerList { min: -300, max: 300, max_len: 32 },
-                        serde_json::Value::String(_) => {
-                            ParamKind::Choice { options: vec![v.as_str().unwrap_or("").into()] }
-                        }
-                        v if v.is_u64() => ParamKind::Integer { min: 0, max: 1_000_000 },
-                        _ => ParamKind::Number { min: 0.0, max: 1e6 },
-                    },
-                    default: v.clone(),
-                    unit: None,
-                    basic: basic.contains(&name.as_str()),
-                })
-                .collect()
-        })
-        .unwrap_or_default()
 }

@@ -31,6 +31,8 @@ pub mod symmetry;
 
 use serde::{Deserialize, Serialize};
 
+use crate::features::FeatureError;
+use crate::method::Cancelled;
 use crate::motion::{Motion, MotionError};
 use crate::parallel;
 use crate::segment::Segmentation;
@@ -39,7 +41,7 @@ pub use activities::{Activities, Span};
 pub use clustering::Cluster;
 pub use features::{FeatureMatrix, MirrorMap, MotionFeatures};
 pub use neighbours::Sssm;
-pub use params::{BoundaryRule, BundlingOptimum, NeighbourSearchKind, SssmParams, ValidParams};
+pub use params::{param_specs, BoundaryRule, BundlingOptimum, NeighbourSearchKind, SssmParams, ValidParams};
 pub use symmetry::SymmetryKind;
 
 use activities::RegionGrowing;
@@ -64,16 +66,37 @@ pub enum SssmError {
     MissingJoints(String),
     #[error("cannot prepare the take: {0}")]
     Motion(#[from] MotionError),
+    /// `frames × (max_neighbours + bundling_k)` exceeds `limit` (`bundling_k` is 0 without
+    /// bundling).
     #[error(
-        "the take is too long for the SSSM: {frames} frames × {max_neighbours} neighbours exceeds {limit} \
-         neighbour entries; cut the take or lower max_neighbours"
+        "the take is too long for the SSSM: {frames} frames × ({max_neighbours} neighbours + {bundling_k} bundling \
+         neighbours) exceeds {limit} entries; cut the take or lower max_neighbours"
     )]
-    TooLarge { frames: usize, max_neighbours: usize, limit: usize },
+    TooLarge { frames: usize, max_neighbours: usize, bundling_k: usize, limit: usize },
+    /// The progress callback returned `Err(Cancelled)`: the run stopped where it was.
+    #[error("cancelled")]
+    Cancelled,
 }
 
-/// Upper bound on `frames × max_neighbours`: the SSSMs and graphs hold about 40 bytes per
-/// entry, so this keeps a run below about 800 MB even when every frame has the most
-/// neighbours (18 minutes at 30 Hz with the default 600).
+/// A feature matrix's or mirror map's error as the SSSM reports it (same messages).
+impl From<FeatureError> for SssmError {
+    fn from(e: FeatureError) -> Self {
+        match e {
+            FeatureError::NoFrames => SssmError::NoFrames,
+            FeatureError::Bad(message) => SssmError::BadFeatures(message),
+        }
+    }
+}
+
+impl From<Cancelled> for SssmError {
+    fn from(_: Cancelled) -> Self {
+        SssmError::Cancelled
+    }
+}
+
+/// Upper bound on `frames × (max_neighbours + bundling_k)` (`bundling_k` only with bundling):
+/// the SSSMs and graphs hold about 40 bytes per entry, so this keeps a run below about 800 MB
+/// even when every frame has the most neighbours (18 minutes at 30 Hz with the default 600).
 pub const MAX_ENTRIES: usize = 20_000_000;
 
 /// A motion primitive: frames `span` of action `action`, in cluster `cluster`.
@@ -135,17 +158,19 @@ pub struct SssmResult {
 
 /// Segments `motion` with `params` (see the module documentation).
 pub fn segment(motion: &Motion, params: &SssmParams) -> Result<SssmResult, SssmError> {
-    segment_with_progress(motion, params, &mut |_, _| {})
+    segment_with_progress(motion, params, &mut |_, _| Ok(()))
 }
 
-/// [`segment`], reporting `(stage, fraction done)` as it goes.
+/// [`segment`], reporting `(stage, fraction done)` as it goes: at every stage boundary and
+/// inside the neighbour search and the far blocks. When `progress` returns `Err(Cancelled)`
+/// the run stops at once with [`SssmError::Cancelled`].
 pub fn segment_with_progress(
     motion: &Motion,
     params: &SssmParams,
-    progress: &mut dyn FnMut(&str, f64),
+    progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
 ) -> Result<SssmResult, SssmError> {
     let valid = params.clone().check()?;
-    progress("features", 0.0);
+    progress("features", 0.0)?;
     let features = features::from_motion(motion, &valid)?;
     let outcome = segment_features(&features.base, Some(&features.mirror), &valid, progress)?;
     let segmentation = to_segmentation(motion, &valid, &outcome, &features.source_frames);
@@ -154,18 +179,21 @@ pub fn segment_with_progress(
 
 /// Runs the method on per-frame features `base` at the working rate `params.fps` (stacked
 /// here over `params.offsets`). The mirror step (§V) runs if `params.mirror` is on and a
-/// `mirror` map for `base` is given.
+/// `mirror` map for `base` is given. Progress and cancelling as in [`segment_with_progress`].
 pub fn segment_features(
     base: &FeatureMatrix,
     mirror: Option<&MirrorMap>,
     params: &ValidParams,
-    progress: &mut dyn FnMut(&str, f64),
+    progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
 ) -> Result<SssmOutcome, SssmError> {
     let mirror = checked_mirror(base, mirror, params)?;
-    if base.frames().saturating_mul(params.max_neighbours) > MAX_ENTRIES {
+    // the bundling holds k neighbours of every frame besides the SSSM's
+    let bundling_k = if params.bundling { params.bundling_k } else { 0 };
+    if base.frames().saturating_mul(params.max_neighbours.saturating_add(bundling_k)) > MAX_ENTRIES {
         return Err(SssmError::TooLarge {
             frames: base.frames(),
             max_neighbours: params.max_neighbours,
+            bundling_k,
             limit: MAX_ENTRIES,
         });
     }
@@ -174,43 +202,53 @@ pub fn segment_features(
     let (mut sssm, mut mirror_sssm) = if params.bundling || params.neighbour_search == NeighbourSearchKind::KdTree {
         let mut stacked = features::stack(base, &params.offsets);
         if params.bundling {
-            progress("bundling", 0.05);
+            progress("bundling", 0.05)?;
             let b =
                 Bundling { k: params.bundling_k, variance: params.bundling_variance, optimum: params.bundling_optimum };
-            stacked = b.bundle(&stacked);
+            stacked = b.bundle_with_progress(&stacked, &mut |f| progress("bundling", 0.05 + 0.25 * f))?;
         }
-        progress("neighbours", 0.3);
+        progress("neighbours", 0.3)?;
         let search = NeighbourSearch::new(&stacked);
-        let sssm = search.self_similarity(radius as f32, params.max_neighbours);
+        let share = if mirror.is_some() { 0.1 } else { 0.2 };
+        let sssm = search.self_similarity_with_progress(radius as f32, params.max_neighbours, &mut |f| {
+            progress("neighbours", 0.3 + share * f)
+        })?;
         let mirror_sssm = match mirror {
-            Some(m) => Some(search.mirror_similarity(&m.apply(&stacked)?, radius as f32, params.max_neighbours)?),
+            Some(m) => Some(search.mirror_similarity_with_progress(
+                &m.apply(&stacked)?,
+                radius as f32,
+                params.max_neighbours,
+                &mut |f| progress("neighbours", 0.4 + 0.1 * f),
+            )?),
             None => None,
         };
         (sssm, mirror_sssm)
     } else {
-        progress("neighbours", 0.3);
+        progress("neighbours", 0.3)?;
         search = Some(StackedSearch::new(base, &params.offsets, mirror)?.with_horizon(params.horizon_frames()));
-        search.as_ref().expect("just set").similarities_with_progress(radius as f32, params.max_neighbours, &mut |f| {
-            progress("neighbours", 0.3 + 0.2 * f)
-        })
+        search.as_ref().expect("just set").similarities_with_progress(
+            radius as f32,
+            params.max_neighbours,
+            &mut |f| progress("neighbours", 0.3 + 0.2 * f),
+        )?
     };
 
     // Region growing needs both SSSMs; the primitive and cluster graphs only the nearer
     // neighbours (see `primitive_radius`). Natively the kinds and the nearer neighbours are found
     // at once (`parallel::join`), as are the searches on the plain and on the mirror graph below.
-    progress("activities", 0.5);
+    progress("activities", 0.5)?;
     let activities = region_growing(params, &sssm, mirror_sssm.as_ref()).activities(params.boundary_rule);
     let mut far_pairs = Vec::new();
     if let (Some(search), Some(horizon)) = (&search, params.horizon_frames()) {
-        if horizon + 1 < base.frames() {
+        if horizon.saturating_add(1) < base.frames() {
             // with a horizon: the far blocks between actions that may repeat each other (and of
             // each long action), then kinds and clusters on the SSSM with them
             let grow = region_growing(params, &sssm, mirror_sssm.as_ref());
             let limits: Vec<Option<f32>> = activities.actions.iter().map(|&a| grow.repeat_limit(a)).collect();
             let near_radius = params.primitive_search_radius() as f32;
             let far = FarSearch::new(search, horizon, radius as f32, params.max_neighbours, near_radius, params.fps);
-            progress("far blocks", 0.5);
-            let entries = far.search(&activities.actions, &limits, &mut |f| progress("far blocks", 0.5 + 0.08 * f));
+            progress("far blocks", 0.5)?;
+            let entries = far.search(&activities.actions, &limits, &mut |f| progress("far blocks", 0.5 + 0.08 * f))?;
             (sssm, mirror_sssm) = parallel::join(
                 || sssm.with_far_entries(&entries.plain, params.max_neighbours),
                 || mirror_sssm.as_ref().map(|m| m.with_far_entries(&entries.mirror, params.max_neighbours)),
@@ -218,7 +256,7 @@ pub fn segment_features(
             far_pairs = entries.pairs;
         }
     }
-    progress("kinds", 0.58);
+    progress("kinds", 0.58)?;
     let grow = region_growing(params, &sssm, mirror_sssm.as_ref());
     let near_radius = params.primitive_search_radius() as f32;
     let (kinds, (near, mirror_near)) = parallel::join(
@@ -227,7 +265,7 @@ pub fn segment_features(
     );
     let spans = activities.actions.clone();
 
-    progress("primitives", 0.6);
+    progress("primitives", 0.6)?;
     let (mut graph, mut mirror_graph) =
         parallel::join(|| NeighbourhoodGraph::new(&near), || mirror_near.as_ref().map(NeighbourhoodGraph::new));
     let prim_search = PrimitiveSearch {
@@ -242,7 +280,7 @@ pub fn segment_features(
     let (primitive_spans, primitive_action, symmetry) =
         split_actions(&spans, &main_cuts, &mirror_cuts, mirror.is_some(), params.min_cut_distance);
 
-    progress("clusters", 0.85);
+    progress("clusters", 0.85)?;
     let cluster_search =
         ClusterSearch { nu: params.nu, min_path_frames: params.min_path_frames, coverage: params.cluster_coverage };
     // each graph moves to one thread (`&mut`: its work arrays are not shared)
@@ -254,7 +292,7 @@ pub fn segment_features(
     let cluster_of = ClusterSearch::clusters(primitive_spans.len(), &links);
     let clusters = ClusterSearch::describe(&cluster_of, &mirror_links);
 
-    progress("done", 1.0);
+    progress("done", 1.0)?;
     Ok(SssmOutcome {
         fps: params.fps,
         frames: base.frames(),
@@ -340,4 +378,20 @@ fn sorted_flat(cuts: Vec<Vec<usize>>) -> Vec<usize> {
     let mut all: Vec<usize> = cuts.into_iter().flatten().collect();
     all.sort_unstable();
     all
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn feature_errors_read_as_before_the_move() {
+        let e = SssmError::from(FeatureMatrix::new(2, 2, vec![0.0; 3]).unwrap_err());
+        assert_eq!(e, SssmError::BadFeatures("3 values do not make 2 frames of 2 values".into()));
+        assert_eq!(e.to_string(), "invalid features: 3 values do not make 2 frames of 2 values");
+        assert_eq!(SssmError::from(FeatureMatrix::new(0, 2, vec![]).unwrap_err()), SssmError::NoFrames);
+        let m = MirrorMap::new(vec![0, 1], vec![1.0, 1.0]).unwrap();
+        let wide = FeatureMatrix::from_rows(&[[1.0f32, 2.0, 3.0]]).unwrap();
+        assert!(matches!(m.apply(&wide).map_err(SssmError::from), Err(SssmError::BadFeatures(_))));
+    }
 }

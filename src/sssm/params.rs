@@ -1,8 +1,8 @@
 //! Parameters of the SSSM method (Krüger et al. 2017, §III–§VI) with the defaults of the paper
 //! and of the authors' published code, checked once into [`ValidParams`].
 //!
-//! Where the paper and the authors' code disagree, the default follows issue 3 and the
-//! difference is noted on the field:
+//! Where the paper and the authors' code disagree, the difference and which one the default
+//! follows are noted here, by the paper's section:
 //!
 //! * **Radius.** The paper (§IV-A) defines a *generalized* radius `R` for one stacked pose and
 //!   rescales it as `r = R·√(|w|·N)`. The authors' code uses `r = R·√|w|` (`|w|` = number of
@@ -30,6 +30,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::SssmError;
+use crate::method::{ParamKind, ParamSpec};
 
 /// How the action boundaries are placed from the two region-growing passes (§IV-B).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -251,9 +252,11 @@ impl SssmParams {
     pub fn check(self) -> Result<ValidParams, SssmError> {
         let p = self;
         let bad = |name: &'static str, value: f64, expected: &'static str| {
-            Err(SssmError::InvalidParam { name, value: value.to_string(), expected })
+            // huge values in exponent form (1e300, not 301 digits)
+            let value = if value.abs() >= 1e16 { format!("{value:e}") } else { value.to_string() };
+            Err(SssmError::InvalidParam { name, value, expected })
         };
-        if !(p.fps.is_finite() && p.fps >= 1.0 && p.fps <= 1000.0) {
+        if !(FPS.0..=FPS.1).contains(&p.fps) {
             return bad("fps", p.fps, "a frame rate between 1 and 1000");
         }
         if p.offsets.is_empty() {
@@ -285,41 +288,53 @@ impl SssmParams {
         if !(p.radius.is_finite() && p.radius > 0.0) {
             return bad("radius", p.radius, "a positive radius in inches");
         }
+        if !(RADIUS.0..=RADIUS.1).contains(&p.radius) {
+            return bad("radius", p.radius, "a radius between 0.1 and 1000 inches");
+        }
         if p.stop_window == 0 {
             return bad("stop_window", 0.0, "a stop window of at least 1 frame");
+        }
+        if p.stop_window > MAX_STOP_WINDOW {
+            return bad("stop_window", p.stop_window as f64, "a stop window of at most 300 frames");
         }
         if p.max_neighbours == 0 {
             return bad("max_neighbours", 0.0, "at least 1 neighbour per frame");
         }
-        if !(p.diagonal_band_s.is_finite() && p.diagonal_band_s >= 0.0 && p.diagonal_band_s <= 60.0) {
+        if p.max_neighbours > MAX_NEIGHBOURS {
+            return bad("max_neighbours", p.max_neighbours as f64, "at most 5000 neighbours per frame");
+        }
+        if !(DIAGONAL_BAND_S.0..=DIAGONAL_BAND_S.1).contains(&p.diagonal_band_s) {
             return bad("diagonal_band_s", p.diagonal_band_s, "a band between 0 and 60 seconds");
         }
-        if !(p.min_action_entries_per_fps.is_finite() && p.min_action_entries_per_fps >= 0.0) {
-            return bad("min_action_entries_per_fps", p.min_action_entries_per_fps, "a number ≥ 0");
+        if !(MIN_ACTION_ENTRIES_PER_FPS.0..=MIN_ACTION_ENTRIES_PER_FPS.1).contains(&p.min_action_entries_per_fps) {
+            return bad("min_action_entries_per_fps", p.min_action_entries_per_fps, "a number between 0 and 1000");
         }
-        if !(p.relative_gate == 0.0 || p.relative_gate.is_finite() && p.relative_gate >= 1.0) {
-            return bad("relative_gate", p.relative_gate, "0 (off) or a factor ≥ 1");
+        if !(p.relative_gate == 0.0 || (RELATIVE_GATE.0..=RELATIVE_GATE.1).contains(&p.relative_gate)) {
+            return bad("relative_gate", p.relative_gate, "0 (off) or a factor ≥ 1, at most 100");
         }
-        if !(p.primitive_radius.is_finite() && p.primitive_radius > 0.0 && p.primitive_radius <= p.radius) {
-            return bad("primitive_radius", p.primitive_radius, "a positive radius in inches, at most `radius`");
+        if !(p.primitive_radius >= RADIUS.0 && p.primitive_radius <= p.radius) {
+            return bad("primitive_radius", p.primitive_radius, "a radius of at least 0.1 inches, at most `radius`");
         }
-        if !(p.nu.is_finite() && p.nu >= 1.0) {
-            return bad("nu", p.nu, "a slope limit ν ≥ 1");
+        if !(NU.0..=NU.1).contains(&p.nu) {
+            return bad("nu", p.nu, "a slope limit ν ≥ 1, at most 100");
         }
-        if p.min_path_frames < 2 {
-            return bad("min_path_frames", p.min_path_frames as f64, "a minimum path length of at least 2 frames");
+        if !(MIN_PATH_FRAMES.0..=MIN_PATH_FRAMES.1).contains(&p.min_path_frames) {
+            return bad("min_path_frames", p.min_path_frames as f64, "a minimum path length between 2 and 3000 frames");
         }
-        if p.bundling_k < 2 {
-            return bad("bundling_k", p.bundling_k as f64, "at least 2 neighbours for the bundling");
+        if !(MIN_CUT_DISTANCE.0..=MIN_CUT_DISTANCE.1).contains(&p.min_cut_distance) {
+            return bad("min_cut_distance", p.min_cut_distance as f64, "a cut distance between 1 and 3000 frames");
         }
-        if !(p.bundling_variance > 0.0 && p.bundling_variance <= 1.0) {
-            return bad("bundling_variance", p.bundling_variance, "a fraction in (0, 1]");
+        if !(BUNDLING_K.0..=BUNDLING_K.1).contains(&p.bundling_k) {
+            return bad("bundling_k", p.bundling_k as f64, "between 2 and 256 neighbours for the bundling");
         }
-        if !(p.cluster_coverage > 0.0 && p.cluster_coverage <= 1.0) {
-            return bad("cluster_coverage", p.cluster_coverage, "a fraction in (0, 1]");
+        if !(FRACTION.0..=FRACTION.1).contains(&p.bundling_variance) {
+            return bad("bundling_variance", p.bundling_variance, "a fraction between 0.01 and 1");
         }
-        if !(p.horizon_s == 0.0 || (p.horizon_s.is_finite() && p.horizon_s >= MIN_HORIZON_S)) {
-            return bad("horizon_s", p.horizon_s, "0 (no horizon) or at least 5 seconds");
+        if !(FRACTION.0..=FRACTION.1).contains(&p.cluster_coverage) {
+            return bad("cluster_coverage", p.cluster_coverage, "a fraction between 0.01 and 1");
+        }
+        if !(p.horizon_s == 0.0 || (MIN_HORIZON_S..=MAX_HORIZON_S).contains(&p.horizon_s)) {
+            return bad("horizon_s", p.horizon_s, "0 (no horizon) or at least 5 seconds, at most 3600");
         }
         Ok(ValidParams(p))
     }
@@ -328,11 +343,183 @@ impl SssmParams {
 /// Shortest accepted search horizon in seconds: region growing needs a few repetitions of an
 /// activity inside the horizon.
 pub const MIN_HORIZON_S: f64 = 5.0;
+/// Longest accepted search horizon in seconds (an hour: longer takes exceed the entry budget,
+/// [`MAX_ENTRIES`](super::MAX_ENTRIES), anyway).
+pub const MAX_HORIZON_S: f64 = 3600.0;
+
+// The accepted ranges `(min, max)`, both included, of the other numeric parameters; the
+// messages of `check` and the ranges of `param_specs` are these.
+const FPS: (f64, f64) = (1.0, 1000.0);
+/// 0.1 inch: no two poses are ever that close; 1000 inches: every pose of any take is within.
+const RADIUS: (f64, f64) = (0.1, 1000.0);
+/// 10 s at 30 Hz.
+const MAX_STOP_WINDOW: usize = 300;
+/// Largest neighbour cap per frame (the default is 600; more only costs memory).
+pub const MAX_NEIGHBOURS: usize = 5000;
+const DIAGONAL_BAND_S: (f64, f64) = (0.0, 60.0);
+const MIN_ACTION_ENTRIES_PER_FPS: (f64, f64) = (0.0, 1000.0);
+/// Beside 0 (off).
+const RELATIVE_GATE: (f64, f64) = (1.0, 100.0);
+const NU: (f64, f64) = (1.0, 100.0);
+/// Frames; 3000 is 100 s at 30 Hz (and 3 s at the highest `fps`).
+const MIN_PATH_FRAMES: (usize, usize) = (2, 3000);
+/// Frames; at least 1 so that no cut falls on an action's border (an empty primitive).
+const MIN_CUT_DISTANCE: (usize, usize) = (1, 3000);
+/// The bundling holds `k` neighbours of every frame (counted in the entry budget).
+pub const BUNDLING_K: (usize, usize) = (2, 256);
+/// `bundling_variance` and `cluster_coverage`.
+const FRACTION: (f64, f64) = (0.01, 1.0);
 
 /// Largest accepted |offset| in frames.
 pub const MAX_OFFSET: u32 = 300;
 /// Largest accepted number of stacked offsets.
 pub const MAX_OFFSETS: usize = 32;
+
+/// One [`ParamSpec`] per field of [`SssmParams`], in the order of the fields, with exactly the
+/// ranges [`SssmParams::check`] accepts (so a page can build its form from them).
+pub fn param_specs() -> Vec<ParamSpec> {
+    let d = serde_json::to_value(SssmParams::default()).unwrap_or(serde_json::Value::Null);
+    let spec = |name: &str, help: &str, kind: ParamKind, unit: Option<&str>, basic: bool| ParamSpec {
+        name: name.into(),
+        help: help.into(),
+        kind,
+        default: d[name].clone(),
+        unit: unit.map(Into::into),
+        basic,
+    };
+    let number = |(min, max): (f64, f64)| ParamKind::Number { min, max };
+    let integer = |(min, max): (usize, usize)| ParamKind::Integer { min: min as i64, max: max as i64 };
+    let choice = |options: &[&str]| ParamKind::Choice { options: options.iter().map(|&o| o.into()).collect() };
+    let frames = Some("frames");
+    let inches = Some("in");
+    vec![
+        spec("fps", "Frame rate the method works at; takes are resampled to it.", number(FPS), Some("Hz"), false),
+        spec(
+            "offsets",
+            "Frame offsets stacked into one feature vector (§IV-A), distinct.",
+            ParamKind::IntegerList { min: -(MAX_OFFSET as i64), max: MAX_OFFSET as i64, max_len: MAX_OFFSETS },
+            frames,
+            true,
+        ),
+        spec("radius", "Generalized radius R of the neighbour search (§IV-A).", number(RADIUS), inches, true),
+        spec("body_scale", "Scale every take to the reference body size first.", ParamKind::Bool, None, false),
+        spec(
+            "stop_window",
+            "Region growing stops after this many scan lines without new neighbours (§IV-B, w).",
+            integer((1, MAX_STOP_WINDOW)),
+            frames,
+            false,
+        ),
+        spec(
+            "max_neighbours",
+            "At most this many neighbours per frame are kept (the nearest).",
+            integer((1, MAX_NEIGHBOURS)),
+            None,
+            false,
+        ),
+        spec(
+            "diagonal_band_s",
+            "Width of the band around the main diagonal removed before region growing.",
+            number(DIAGONAL_BAND_S),
+            Some("s"),
+            false,
+        ),
+        spec(
+            "min_action_entries_per_fps",
+            "An activity region must hold more than this many neighbour entries per second.",
+            number(MIN_ACTION_ENTRIES_PER_FPS),
+            None,
+            false,
+        ),
+        spec(
+            "boundary_rule",
+            "How action boundaries are placed from the forward and backward passes (§IV-B).",
+            choice(&["paper", "midpoint"]),
+            None,
+            false,
+        ),
+        spec(
+            "mirror_activities",
+            "Region growing also counts the mirror neighbours (§V); needs mirror.",
+            ParamKind::Bool,
+            None,
+            false,
+        ),
+        spec(
+            "relative_gate",
+            "Relative gate of the region growing: 0 = off (the paper), else a factor from 1 to 100.",
+            number((0.0, RELATIVE_GATE.1)),
+            None,
+            false,
+        ),
+        spec(
+            "primitive_radius",
+            "Generalized radius of the primitive and cluster graphs (§IV-C, §VI); at most radius.",
+            number(RADIUS),
+            inches,
+            false,
+        ),
+        spec("nu", "Warping paths must have a slope within [1/ν, ν] (§IV-C).", number(NU), None, false),
+        spec(
+            "min_path_frames",
+            "Warping paths covering fewer frames than this are discarded (§IV-C).",
+            integer(MIN_PATH_FRAMES),
+            frames,
+            false,
+        ),
+        spec(
+            "min_cut_distance",
+            "Cuts closer than this are merged, and cuts this close to an action's border dropped (§IV-C).",
+            integer(MIN_CUT_DISTANCE),
+            frames,
+            false,
+        ),
+        spec("bundling", "Feature bundling (§III) before the neighbour search.", ParamKind::Bool, None, true),
+        spec("bundling_k", "Number of nearest neighbours used by the bundling.", integer(BUNDLING_K), None, false),
+        spec(
+            "bundling_variance",
+            "Fraction of the neighbours' variance the bundling's local PCA keeps (§III).",
+            number(FRACTION),
+            None,
+            false,
+        ),
+        spec(
+            "bundling_optimum",
+            "Optimum the bundling moves each point to.",
+            choice(&["density", "geometric_median"]),
+            None,
+            false,
+        ),
+        spec(
+            "mirror",
+            "Use the mirrored features to split primitives and pair clusters (§V).",
+            ParamKind::Bool,
+            None,
+            true,
+        ),
+        spec(
+            "neighbour_search",
+            "How the radius search runs (same result; stacked is faster).",
+            choice(&["stacked", "kd_tree"]),
+            None,
+            false,
+        ),
+        spec(
+            "cluster_coverage",
+            "A path links two primitives only if it covers at least this fraction of both (§VI).",
+            number(FRACTION),
+            None,
+            false,
+        ),
+        spec(
+            "horizon_s",
+            "Search horizon: 0 = none (every pair is searched), else 5 to 3600 seconds.",
+            number((0.0, MAX_HORIZON_S)),
+            Some("s"),
+            true,
+        ),
+    ]
+}
 
 /// Parameters that passed [`SssmParams::check`], with the derived quantities in frames.
 #[derive(Debug, Clone, PartialEq)]
@@ -392,7 +579,7 @@ mod tests {
     }
 
     #[test]
-    fn defaults_are_the_issue_values() {
+    fn defaults_are_the_papers_and_the_authors_code_values() {
         let v = SssmParams::default().check().unwrap();
         assert_eq!(v.offsets, vec![-10, -5, 0, 5, 10]);
         assert!((v.search_radius() - 19.0 * 5f64.sqrt()).abs() < 1e-12);
@@ -430,6 +617,117 @@ mod tests {
         assert!(err_of(SssmParams::new().relative_gate(0.5)).contains("relative_gate"));
         assert!(err_of(SssmParams::new().primitive_radius(25.0)).contains("at most `radius`"));
         assert!(SssmParams::new().relative_gate(0.0).check().is_ok());
+    }
+
+    #[test]
+    fn every_numeric_parameter_has_an_upper_bound() {
+        // the bound itself passes, just beyond it is refused, with the field named
+        let ok = |p: SssmParams| assert!(p.clone().check().is_ok(), "{p:?} refused");
+        ok(SssmParams::new().radius(1000.0).primitive_radius(0.1));
+        ok(SssmParams::new().stop_window(300).max_neighbours(5000).min_action_entries_per_fps(1000.0));
+        ok(SssmParams::new().relative_gate(100.0).nu(100.0).min_path_frames(3000).min_cut_distance(3000));
+        ok(SssmParams::new().bundling_k(256).bundling_variance(0.01).cluster_coverage(0.01).horizon_s(3600.0));
+        let refused = [
+            (SssmParams::new().radius(1000.5), "radius"),
+            (SssmParams::new().radius(0.09).primitive_radius(0.09), "radius"),
+            (SssmParams::new().primitive_radius(0.05), "primitive_radius"),
+            (SssmParams::new().stop_window(301), "stop_window"),
+            (SssmParams::new().max_neighbours(5001), "max_neighbours"),
+            (SssmParams::new().min_action_entries_per_fps(1000.5), "min_action_entries_per_fps"),
+            (SssmParams::new().min_action_entries_per_fps(f64::INFINITY), "min_action_entries_per_fps"),
+            (SssmParams::new().relative_gate(101.0), "relative_gate"),
+            (SssmParams::new().nu(100.5), "nu"),
+            (SssmParams::new().nu(f64::NAN), "nu"),
+            (SssmParams::new().min_path_frames(3001), "min_path_frames"),
+            (SssmParams::new().min_cut_distance(0), "min_cut_distance"),
+            (SssmParams::new().min_cut_distance(usize::MAX), "min_cut_distance"),
+            (SssmParams::new().bundling_k(257), "bundling_k"),
+            (SssmParams::new().bundling_k(usize::MAX), "bundling_k"),
+            (SssmParams::new().bundling_variance(0.005), "bundling_variance"),
+            (SssmParams::new().cluster_coverage(0.005), "cluster_coverage"),
+            (SssmParams::new().horizon_s(3600.5), "horizon_s"),
+            (SssmParams::new().horizon_s(1e300), "horizon_s"),
+        ];
+        for (p, name) in refused {
+            let e = err_of(p);
+            assert!(e.starts_with(&format!("invalid SSSM parameter {name} = ")), "{e}");
+            assert!(e.contains(": expected "), "{e}");
+        }
+    }
+
+    /// `SssmParams::default()` with `name` set to `value` (through the JSON, as a form would).
+    fn with(name: &str, value: serde_json::Value) -> Result<ValidParams, String> {
+        let mut json = serde_json::to_value(SssmParams::default()).unwrap();
+        json[name] = value;
+        // primitive_radius may not exceed radius: try each with the other at its extreme
+        match name {
+            "primitive_radius" => json["radius"] = json!(RADIUS.1),
+            "radius" => json["primitive_radius"] = json!(RADIUS.0),
+            _ => {}
+        }
+        let p: SssmParams = serde_json::from_value(json).map_err(|e| e.to_string())?;
+        p.check().map_err(|e| e.to_string())
+    }
+
+    use serde_json::json;
+
+    #[test]
+    fn the_specs_are_the_fields_with_the_bounds_check_enforces() {
+        let specs = param_specs();
+        let fields = serde_json::to_value(SssmParams::default()).unwrap();
+        let names: Vec<&str> = specs.iter().map(|s| s.name.as_str()).collect();
+        assert_eq!(names.len(), 23);
+        assert_eq!(names.len(), fields.as_object().unwrap().len());
+        let basic: Vec<&str> = specs.iter().filter(|s| s.basic).map(|s| s.name.as_str()).collect();
+        assert_eq!(basic, ["offsets", "radius", "bundling", "mirror", "horizon_s"]);
+        for s in &specs {
+            assert_eq!(s.default, fields[&s.name], "{}", s.name);
+            assert!(!s.help.is_empty() && s.help.len() <= 100, "{}: {}", s.name, s.help);
+            let name = s.name.as_str();
+            let pass = |v: serde_json::Value| assert!(with(name, v.clone()).is_ok(), "{name} = {v} refused");
+            let fail = |v: serde_json::Value| {
+                let e = with(name, v.clone()).expect_err(&format!("{name} = {v} accepted"));
+                // refused by check with the field named, or already by the JSON's types
+                assert!(
+                    e.starts_with(&format!("invalid SSSM parameter {name} = ")) || !e.starts_with("invalid"),
+                    "{e}"
+                );
+            };
+            pass(s.default.clone());
+            match &s.kind {
+                ParamKind::Number { min, max } => {
+                    pass(json!(min));
+                    pass(json!(max));
+                    fail(json!(max + 1e-6 * max.abs().max(1.0)));
+                    fail(json!(min - 1e-6 * min.abs().max(1.0)));
+                }
+                ParamKind::Integer { min, max } => {
+                    pass(json!(min));
+                    pass(json!(max));
+                    fail(json!(max + 1));
+                    fail(json!(min - 1));
+                }
+                ParamKind::IntegerList { min, max, max_len } => {
+                    pass(json!([min, 0, max]));
+                    fail(json!([min - 1, 0]));
+                    fail(json!([0, max + 1]));
+                    pass(json!((0..*max_len as i64).collect::<Vec<_>>()));
+                    fail(json!((0..*max_len as i64 + 1).collect::<Vec<_>>()));
+                }
+                ParamKind::Choice { options } => {
+                    options.iter().for_each(|o| pass(json!(o)));
+                    fail(json!("none of them"));
+                }
+                ParamKind::Bool => {
+                    pass(json!(true));
+                    pass(json!(false));
+                }
+            }
+        }
+        // specs serialize with their kind tagged
+        let radius = serde_json::to_value(&specs[2]).unwrap();
+        assert_eq!(radius["kind"], json!({"type": "number", "min": 0.1, "max": 1000.0}));
+        assert_eq!(radius["unit"], "in");
     }
 
     #[test]

@@ -16,6 +16,7 @@
 //! is kept; cuts that close to the action's border are dropped. An action without repetitions
 //! stays one primitive.
 
+use petgraph::unionfind::UnionFind;
 use serde::{Deserialize, Serialize};
 
 use super::activities::Span;
@@ -83,8 +84,8 @@ impl<'a> NeighbourhoodGraph<'a> {
     /// single frame, or whose last column cannot be reached from their first, have no path.
     ///
     /// Two sweeps in row order. The first joins each entry with its predecessors in a
-    /// union-find whose root is always the component's earliest entry, so the root's row is
-    /// the component's first column, and records each root's last row. The second is the
+    /// union-find (petgraph's), keeping for each component its earliest entry, whose row is the
+    /// component's first column, and its last row. The second is the
     /// shortest-path recursion of the DAG, started at the first column. A predecessor lies in
     /// the same block exactly when no span boundary lies between the two frames, so that test
     /// is two lookups; rows outside every span are skipped whole, and with `diagonal_only`
@@ -120,29 +121,34 @@ impl<'a> NeighbourhoodGraph<'a> {
         };
 
         let mut scratch = self.scratch.borrow_mut();
-        let Scratch { root, last, cost, start, nodes, best_end } = &mut *scratch;
-        for v in [&mut *root, &mut *last, &mut *start, &mut *nodes, &mut *best_end] {
+        let Scratch { first, last, cost, start, nodes, best_end } = &mut *scratch;
+        for v in [&mut *first, &mut *last, &mut *start, &mut *nodes, &mut *best_end] {
             v.resize(m, NONE);
         }
         cost.resize(m, f32::INFINITY);
+        let mut components = UnionFind::<u32>::new(m);
 
-        // sweep 1: components (root = earliest entry) and the last row of each
+        // sweep 1: components, with the earliest entry and the last row of each (indexed by the
+        // component's representative)
         for i in 0..n {
             for e in live_range(i) {
                 if !live(e) {
                     continue;
                 }
                 let j = cols[e] as usize;
-                root[e] = e as u32;
+                first[e] = e as u32;
                 best_end[e] = NONE;
                 for (k, &p) in self.preds[e].iter().enumerate() {
                     if p != NONE && same(k, i, j) {
-                        let (a, b) = (find(root, e as u32), find(root, p));
-                        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-                        root[hi as usize] = lo;
+                        let (a, b) = (components.find_mut(e as u32), components.find_mut(p));
+                        if components.union(a, b) {
+                            let earliest = first[a as usize].min(first[b as usize]);
+                            first[components.find_mut(a) as usize] = earliest;
+                        }
                     }
                 }
-                let r = find(root, e as u32) as usize;
+                // the rows come in order: the last one to reach a component is its last row
+                let r = components.find_mut(e as u32) as usize;
                 last[r] = i as u32;
             }
         }
@@ -155,8 +161,8 @@ impl<'a> NeighbourhoodGraph<'a> {
                     continue;
                 }
                 let j = cols[e] as usize;
-                let c = find(root, e as u32) as usize;
-                let (first_row, last_row) = (self.rows[c], last[c]);
+                let c = components.find_mut(e as u32) as usize;
+                let (first_row, last_row) = (self.rows[first[c] as usize], last[c]);
                 cost[e] = f32::INFINITY;
                 if first_row == last_row {
                     continue;
@@ -255,22 +261,13 @@ impl<'a> Blocks<'a> {
 /// calls (the searches for cuts and for cluster links run on the same graph).
 #[derive(Default)]
 struct Scratch {
-    root: Vec<u32>,
+    /// The earliest entry of the component a representative stands for.
+    first: Vec<u32>,
     last: Vec<u32>,
     cost: Vec<f32>,
     start: Vec<u32>,
     nodes: Vec<u32>,
     best_end: Vec<u32>,
-}
-
-/// Root of `x` in a union-find forest, halving the path on the way.
-fn find(root: &mut [u32], mut x: u32) -> u32 {
-    while root[x as usize] != x {
-        let up = root[root[x as usize] as usize];
-        root[x as usize] = up;
-        x = up;
-    }
-    x
 }
 
 /// A warping path through one component of the neighbourhood graph: from entry `start` =

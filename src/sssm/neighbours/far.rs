@@ -41,7 +41,9 @@
 //! primitive graph's radius and every frame's nearest repeat.
 
 use super::{cap_row, Sssm, SssmBuilder, StackedSearch};
+use crate::method::Cancelled;
 use crate::sssm::activities::Span;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Blocks of an action that may fail to link before it gets no more.
 pub const FAR_TRIES: usize = 2;
@@ -97,13 +99,10 @@ impl Summary {
                 row_min[k] = acc.iter().copied().fold(row_min[k], f32::min);
             }
         }
+        // (no summary poses: no distance)
+        let median = |v: &mut [f32]| crate::stats::median(v).unwrap_or(f32::INFINITY);
         (median(&mut row_min).sqrt(), median(&mut col_min).sqrt())
     }
-}
-
-fn median(v: &mut [f32]) -> f32 {
-    let k = v.len() / 2;
-    *v.select_nth_unstable_by(k, f32::total_cmp).1
 }
 
 /// Rows of a far block measured at once (bounds the memory of a block of two long actions).
@@ -201,44 +200,60 @@ impl<'a> FarSearch<'a> {
     /// Searches the blocks of the candidate pairs in order (see the module documentation).
     /// `limits[a]` is how near a frame must come to action `a` to repeat it (the kinds' test,
     /// [`RegionGrowing::kinds`](crate::sssm::activities::RegionGrowing::kinds); `None`: `a`
-    /// does not repeat itself and links to nothing).
-    pub fn search(&self, actions: &[Span], limits: &[Option<f32>], progress: &mut dyn FnMut(f64)) -> FarEntries {
+    /// does not repeat itself and links to nothing). Reports the fraction done before the
+    /// first block, every 256 rows of a block and after each block, and stops as
+    /// soon as `progress` returns `Err(Cancelled)`.
+    pub fn search(
+        &self,
+        actions: &[Span],
+        limits: &[Option<f32>],
+        progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+    ) -> Result<FarEntries, Cancelled> {
         assert_eq!(actions.len(), limits.len(), "one limit per action");
         let mut out = FarEntries::default();
         // the work: each long action's own block, then the candidates' blocks (at most), by the
         // frame pairs they hold
-        let long: Vec<Span> = actions.iter().copied().filter(|a| a.len() > self.horizon + 1).collect();
+        let long: Vec<Span> = actions.iter().copied().filter(|a| a.len() > self.horizon.saturating_add(1)).collect();
         let candidates = self.candidates(actions, limits);
         let size = |a: Span, b: Span| (a.len() * b.len()) as f64;
         let total = long.iter().map(|&a| size(a, a)).sum::<f64>()
             + candidates.iter().map(|&(_, a, b)| size(actions[a], actions[b])).sum::<f64>();
+        let total = total.max(1.0);
+        // the fraction done: `done` pairs, plus `part` of a block of `work` pairs
+        let fraction = |done: f64, part: f64, work: f64| ((done + part * work) / total).min(1.0);
         let mut done = 0.0;
-        let mut advance = |work: f64| {
-            done += work;
-            progress((done / total.max(1.0)).min(1.0));
-        };
+        progress(0.0)?;
         // an action longer than the horizon: its own block beyond the horizon, whose diagonals
         // give the cuts of its later repetitions (§IV-C)
         for &a in &long {
-            let (plain, mirror, _, _) = self.searched_block(a, a);
+            let work = size(a, a);
+            let (plain, mirror, _, _) = self.searched_block(a, a, &mut |f| progress(fraction(done, f, work)))?;
             out.plain.extend(plain);
             out.mirror.extend(mirror);
-            advance(size(a, a));
+            done += work;
+            progress(fraction(done, 0.0, 0.0))?;
         }
         let mut linked = petgraph::unionfind::UnionFind::<usize>::new(actions.len());
         let mut failures = vec![0usize; actions.len()];
         let mut failed = std::collections::HashSet::new();
         for (_, a, b) in candidates {
-            advance(size(actions[a], actions[b]));
+            let work = size(actions[a], actions[b]);
             if failures[a] >= FAR_TRIES || failures[b] >= FAR_TRIES || linked.equiv(a, b) {
+                done += work;
+                progress(fraction(done, 0.0, 0.0))?;
                 continue;
             }
             // a block between two groups of linked actions that failed is not tried again
             let groups = (linked.find_mut(a).min(linked.find_mut(b)), linked.find_mut(a).max(linked.find_mut(b)));
             if failed.contains(&groups) {
+                done += work;
+                progress(fraction(done, 0.0, 0.0))?;
                 continue;
             }
-            let (plain, mirror, rows, cols) = self.searched_block(actions[b], actions[a]);
+            let (plain, mirror, rows, cols) =
+                self.searched_block(actions[b], actions[a], &mut |f| progress(fraction(done, f, work)))?;
+            done += work;
+            progress(fraction(done, 0.0, 0.0))?;
             let cover = |nearest: &[f32], limit: Option<f32>| {
                 limit.map_or(0.0, |l| nearest.iter().filter(|&&d| d <= l).count() as f64 / nearest.len() as f64)
             };
@@ -254,25 +269,44 @@ impl<'a> FarSearch<'a> {
             }
             out.pairs.push((a, b, links));
         }
-        progress(1.0);
-        out
+        progress(1.0)?;
+        Ok(out)
     }
 
     /// The plain and the mirrored block of `rows × cols` beyond the horizon, with only the
     /// entries the later steps use: those within the keep radius (the warping paths of the
     /// primitives and clusters) and every row's and column's nearest (the kinds); also the
-    /// nearest distance of every row and of every column (infinite if none).
+    /// nearest distance of every row and of every column (infinite if none). Reports the
+    /// fraction of the rows done to `progress` and stops when it returns `Err(Cancelled)`.
     #[allow(clippy::type_complexity)]
     fn searched_block(
         &self,
         rows: Span,
         cols: Span,
-    ) -> (Vec<(u32, u32, f32)>, Vec<(u32, u32, f32)>, Vec<f32>, Vec<f32>) {
-        // the plain and the mirrored block at once (natively)
+        progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+    ) -> Result<(Vec<(u32, u32, f32)>, Vec<(u32, u32, f32)>, Vec<f32>, Vec<f32>), Cancelled> {
+        // the plain and the mirrored block at once (natively); the plain one reports, and the
+        // mirrored one stops when the plain one was cancelled
+        let stop = AtomicBool::new(false);
         let (plain, mirror) = crate::parallel::join(
-            || self.block(&self.search.queries, rows, cols),
-            || self.search.mirrored.as_ref().map_or(Vec::new(), |m| self.block(m, rows, cols)),
+            || {
+                self.block(&self.search.queries, rows, cols, &mut |f| {
+                    progress(f).inspect_err(|_| stop.store(true, Ordering::Relaxed))
+                })
+            },
+            || {
+                self.search.mirrored.as_ref().map_or(Ok(Vec::new()), |m| {
+                    self.block(m, rows, cols, &mut |_| {
+                        if stop.load(Ordering::Relaxed) {
+                            Err(Cancelled)
+                        } else {
+                            Ok(())
+                        }
+                    })
+                })
+            },
         );
+        let (plain, mirror) = (plain?, mirror?);
         let (mut row_min, mut col_min) = (vec![f32::INFINITY; rows.len()], vec![f32::INFINITY; cols.len()]);
         for &(i, j, d) in plain.iter().chain(&mirror) {
             let (r, c) = (&mut row_min[i as usize - rows.start], &mut col_min[j as usize - cols.start]);
@@ -283,12 +317,20 @@ impl<'a> FarSearch<'a> {
             d <= self.keep_radius || d == row_min[i as usize - rows.start] || d == col_min[j as usize - cols.start]
         };
         let (plain, mirror) = (plain.into_iter().filter(keep).collect(), mirror.into_iter().filter(keep).collect());
-        (plain, mirror, row_min, col_min)
+        Ok((plain, mirror, row_min, col_min))
     }
 
     /// Entries `(i, j, d)`, `i` in `rows`, `j` in `cols`, `i − j > horizon`, with the stacked
-    /// distance `d = √Σ_o |q_{c(i+o)} − f_{c(j+o)}|² ≤ r` (`c` clamps to the take).
-    fn block(&self, queries: &[f32], rows: Span, cols: Span) -> Vec<(u32, u32, f32)> {
+    /// distance `d = √Σ_o |q_{c(i+o)} − f_{c(j+o)}|² ≤ r` (`c` clamps to the take). Calls
+    /// `tick` with the fraction of the rows done before every [`BLOCK_ROWS`] rows and stops
+    /// when it returns `Err(Cancelled)`.
+    fn block(
+        &self,
+        queries: &[f32],
+        rows: Span,
+        cols: Span,
+        tick: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+    ) -> Result<Vec<(u32, u32, f32)>, Cancelled> {
         let mut out = Vec::new();
         let s = self.search;
         let (n, d) = (s.n as i64, s.dim);
@@ -302,9 +344,12 @@ impl<'a> FarSearch<'a> {
         let mut sums = vec![0f32; cols.len()];
         let mut row = Vec::new();
         for chunk in (rows.start..=rows.end).step_by(BLOCK_ROWS) {
+            tick((chunk - rows.start) as f64 / rows.len() as f64)?;
             let last = (chunk + BLOCK_ROWS - 1).min(rows.end);
             // the columns these rows pair with beyond the horizon
-            let Some(j_last) = last.checked_sub(self.horizon + 1).map(|j| j.min(cols.end)) else { continue };
+            let Some(j_last) = last.checked_sub(self.horizon.saturating_add(1)).map(|j| j.min(cols.end)) else {
+                continue;
+            };
             if j_last < cols.start {
                 continue;
             }
@@ -319,7 +364,7 @@ impl<'a> FarSearch<'a> {
             }
             for i in chunk..=last {
                 // only pairs beyond the horizon (the nearer ones are in the SSSM already)
-                let Some(j_max) = i.checked_sub(self.horizon + 1) else { continue };
+                let Some(j_max) = i.checked_sub(self.horizon.saturating_add(1)) else { continue };
                 if j_max < cols.start {
                     continue;
                 }
@@ -353,7 +398,7 @@ impl<'a> FarSearch<'a> {
                 out.extend(row.iter().map(|&(j, d)| (i as u32, j, d)));
             }
         }
-        out
+        Ok(out)
     }
 }
 
@@ -441,7 +486,6 @@ mod tests {
     }
 
     const OFFSETS: [i32; 5] = [-10, -5, 0, 5, 10];
-    const LIMIT: f32 = 30.0;
 
     fn spans() -> Vec<Span> {
         vec![Span { start: 0, end: 299 }, Span { start: 300, end: 899 }, Span { start: 900, end: 1199 }]
@@ -468,7 +512,7 @@ mod tests {
             let (rows, cols) = (Span { start: r0, end: r1 }, Span { start: c0, end: c1 });
             let cases = [(&search.queries, &stacked), (search.mirrored.as_ref().unwrap(), &mirrored)];
             for (k, (queries, features)) in cases.into_iter().enumerate() {
-                let got = far.block(queries, rows, cols);
+                let got = far.block(queries, rows, cols, &mut |_| Ok(())).unwrap();
                 let mut truth = Vec::new();
                 for i in rows.start..=rows.end {
                     for j in cols.start..=cols.end.min(i.saturating_sub(201)) {
@@ -501,7 +545,7 @@ mod tests {
         // A and A again: a candidate; B is another activity, and near A's end within the horizon
         let candidates = far.candidates(&spans(), &limits);
         assert_eq!(candidates.iter().map(|c| (c.1, c.2)).collect::<Vec<_>>(), vec![(0, 2)], "{candidates:?}");
-        let found = far.search(&spans(), &limits, &mut |_| {});
+        let found = far.search(&spans(), &limits, &mut |_| Ok(())).unwrap();
         assert_eq!(found.pairs, vec![(0, 2, true)]);
         // entries of the far block, and of each action's own block (all are longer than the
         // horizon)
@@ -537,7 +581,7 @@ mod tests {
         let limits = vec![Some(12.0); 5];
         let candidates = far.candidates(&spans, &limits);
         assert!(candidates.len() >= 8, "{candidates:?}");
-        let found = far.search(&spans, &limits, &mut |_| {});
+        let found = far.search(&spans, &limits, &mut |_| Ok(())).unwrap();
         // every block fails to link; each action gives up after FAR_TRIES failed blocks, so
         // fewer blocks are searched than there are candidates
         assert!(!found.pairs.is_empty() && found.pairs.iter().all(|p| !p.2), "{:?}", found.pairs);
@@ -556,8 +600,12 @@ mod tests {
         let base = a_b_a();
         let search = StackedSearch::new(&base, &OFFSETS, Some(&MirrorMap::end_effectors())).unwrap();
         let (rows, cols) = (Span { start: 900, end: 1199 }, Span { start: 0, end: 299 });
-        let all = FarSearch::new(&search, 200, 60.0, 100_000, 10.0, 30.0).block(&search.queries, rows, cols);
-        let capped = FarSearch::new(&search, 200, 60.0, 7, 10.0, 30.0).block(&search.queries, rows, cols);
+        let all = FarSearch::new(&search, 200, 60.0, 100_000, 10.0, 30.0)
+            .block(&search.queries, rows, cols, &mut |_| Ok(()))
+            .unwrap();
+        let capped = FarSearch::new(&search, 200, 60.0, 7, 10.0, 30.0)
+            .block(&search.queries, rows, cols, &mut |_| Ok(()))
+            .unwrap();
         let row_of = |v: &[(u32, u32, f32)], i: u32| -> Vec<(u32, f32)> {
             v.iter().filter(|e| e.0 == i).map(|e| (e.1, e.2)).collect()
         };
@@ -571,10 +619,47 @@ mod tests {
         // progress: rising, ending at 1
         let far = FarSearch::new(&search, 200, 19.0 * 5f32.sqrt(), 600, 13.0 * 5f32.sqrt(), 30.0);
         let mut seen = Vec::new();
-        far.search(&spans(), &[Some(6.0); 3], &mut |f| seen.push(f));
+        far.search(&spans(), &[Some(6.0); 3], &mut |f| {
+            seen.push(f);
+            Ok(())
+        })
+        .unwrap();
         assert!(seen.len() >= 4, "{seen:?}");
         assert!(seen.windows(2).all(|w| w[0] <= w[1]) && seen.iter().all(|f| (0.0..=1.0).contains(f)), "{seen:?}");
         assert_eq!(seen.last(), Some(&1.0));
+    }
+
+    #[test]
+    fn a_search_reports_inside_its_blocks_and_stops_there_when_cancelled() {
+        let base = a_b_a();
+        let search = StackedSearch::new(&base, &OFFSETS, Some(&MirrorMap::end_effectors())).unwrap();
+        let far = FarSearch::new(&search, 200, 19.0 * 5f32.sqrt(), 600, 13.0 * 5f32.sqrt(), 30.0);
+        let limits = [Some(6.0); 3];
+        // three own blocks and one candidate block, each reporting every 256 rows
+        let mut seen = Vec::new();
+        let found = far.search(&spans(), &limits, &mut |f| {
+            seen.push(f);
+            Ok(())
+        });
+        assert_eq!(found.unwrap().pairs.len(), 1);
+        assert!(seen.windows(2).all(|w| w[0] <= w[1]), "{seen:?}");
+        // A's own block is 1/7 of the work (300² of 300² + 600² + 300² + 300²), B's the next 4/7:
+        // the first report past 2/7 is from inside B's block
+        let b_inside = seen.iter().position(|&f| f > 2.0 / 7.0).unwrap();
+        assert!(seen[b_inside] < 5.0 / 7.0 - 1e-9, "{seen:?}");
+        for stop_at in [1, b_inside, seen.len() - 1] {
+            let mut calls = 0;
+            let r = far.search(&spans(), &limits, &mut |_| {
+                calls += 1;
+                if calls > stop_at {
+                    Err(Cancelled)
+                } else {
+                    Ok(())
+                }
+            });
+            assert_eq!(r, Err(Cancelled), "cancelled at report {stop_at}");
+            assert_eq!(calls, stop_at + 1, "no report after the cancelling one");
+        }
     }
 
     #[test]

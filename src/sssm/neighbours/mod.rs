@@ -13,22 +13,23 @@
 
 use kiddo::immutable::float::kdtree::ImmutableKdTree;
 use kiddo::SquaredEuclidean;
-use nalgebra::{DMatrix, SymmetricEigen};
 use serde::{Deserialize, Serialize};
 
 use super::features::FeatureMatrix;
 use super::SssmError;
+use crate::features::pca::{principal_axes, rotate};
+use crate::method::Cancelled;
 
 pub mod far;
 pub mod stacked;
 pub use far::FarSearch;
 pub use stacked::StackedSearch;
 
+/// Frames between two progress reports of a search.
+const PROGRESS_ROWS: usize = 64;
+
 /// Number of leading principal coordinates the kd-tree indexes.
 pub const TREE_DIMS: usize = 4;
-/// At most this many frames are used to estimate the principal axes (a subsample is enough:
-/// any rotation gives exact distances, the axes only make the tree prune better).
-const PCA_SAMPLE: usize = 1024;
 
 /// A sparse self-similarity matrix: for each frame `i`, its neighbours `j` (ascending) and the
 /// distances `d_ij`, in compressed-row form.
@@ -260,7 +261,21 @@ impl NeighbourSearch {
     /// The SSSM of the indexed frames: for every frame its neighbours within `radius` (the
     /// frame itself included, at distance 0), at most `max_neighbours` of them (the nearest).
     pub fn self_similarity(&self, radius: f32, max_neighbours: usize) -> Sssm {
-        self.search_symmetric(&self.rotated, radius, max_neighbours)
+        match self.self_similarity_with_progress(radius, max_neighbours, &mut |_| Ok(())) {
+            Ok(sssm) => sssm,
+            Err(Cancelled) => unreachable!("a callback that never cancels"),
+        }
+    }
+
+    /// [`Self::self_similarity`], reporting the fraction of the frames done (every 64 frames);
+    /// stops as soon as `progress` returns `Err(Cancelled)`.
+    pub fn self_similarity_with_progress(
+        &self,
+        radius: f32,
+        max_neighbours: usize,
+        progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+    ) -> Result<Sssm, Cancelled> {
+        self.search_symmetric(&self.rotated, radius, max_neighbours, progress)
     }
 
     /// The mirror SSSM (§V): for every frame `i`, the frames `j` with `|M·F_i − F_j| ≤ radius`,
@@ -272,8 +287,20 @@ impl NeighbourSearch {
         radius: f32,
         max_neighbours: usize,
     ) -> Result<Sssm, SssmError> {
+        self.mirror_similarity_with_progress(mirrored, radius, max_neighbours, &mut |_| Ok(()))
+    }
+
+    /// [`Self::mirror_similarity`], reporting and stopping as
+    /// [`Self::self_similarity_with_progress`] does ([`SssmError::Cancelled`]).
+    pub fn mirror_similarity_with_progress(
+        &self,
+        mirrored: &FeatureMatrix,
+        radius: f32,
+        max_neighbours: usize,
+        progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+    ) -> Result<Sssm, SssmError> {
         self.check_dim(mirrored)?;
-        Ok(self.search_symmetric(&rotate(mirrored, &self.mean, &self.axes), radius, max_neighbours))
+        Ok(self.search_symmetric(&rotate(mirrored, &self.mean, &self.axes), radius, max_neighbours, progress)?)
     }
 
     /// For every row of `queries`, its neighbours among the indexed frames (no symmetry
@@ -332,14 +359,26 @@ impl NeighbourSearch {
     /// computations) and entry `(i, j)` also gives `(j, i)`. The cap applies to each query's
     /// `j ≥ i` and again to the finished rows, so at most `2 · max_neighbours` entries per frame
     /// are ever held (a still take, where every frame is everyone's neighbour, stays small).
-    fn search_symmetric(&self, rotated_queries: &[f32], radius: f32, max_neighbours: usize) -> Sssm {
+    fn search_symmetric(
+        &self,
+        rotated_queries: &[f32],
+        radius: f32,
+        max_neighbours: usize,
+        progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+    ) -> Result<Sssm, Cancelled> {
         let limit = radius * radius;
-        let mut upper = UpperTriangle::new(rotated_queries.len() / self.dim);
+        let n = rotated_queries.len() / self.dim;
+        let mut upper = UpperTriangle::new(n);
         for (i, q) in rotated_queries.chunks_exact(self.dim).enumerate() {
+            if i % PROGRESS_ROWS == 0 {
+                progress(i as f64 / n as f64)?;
+            }
             self.query(q, limit, i, max_neighbours, &mut upper.entries);
             upper.end_row();
         }
-        upper.into_symmetric(max_neighbours)
+        let sssm = upper.into_symmetric(max_neighbours);
+        progress(1.0)?;
+        Ok(sssm)
     }
 }
 
@@ -503,22 +542,6 @@ thread_local! {
     static CAP_SCRATCH: std::cell::Cell<Vec<f32>> = const { std::cell::Cell::new(Vec::new()) };
 }
 
-/// Rotates `features` onto `axes` (rows) about `mean`.
-pub(crate) fn rotate(features: &FeatureMatrix, mean: &[f32], axes: &[f32]) -> Vec<f32> {
-    let d = features.dim();
-    let mut out = vec![0f32; features.frames() * d];
-    let mut centred = vec![0f32; d];
-    for (i, o) in out.chunks_exact_mut(d).enumerate() {
-        for ((c, &x), &m) in centred.iter_mut().zip(features.row(i)).zip(mean) {
-            *c = x - m;
-        }
-        for (k, ok) in o.iter_mut().enumerate() {
-            *ok = dot(&axes[k * d..(k + 1) * d], &centred);
-        }
-    }
-    out
-}
-
 /// The leading [`TREE_DIMS`] coordinates of a rotated frame (zero-padded).
 fn leading_coords(x: &[f32]) -> [f32; TREE_DIMS] {
     let mut p = [0f32; TREE_DIMS];
@@ -557,55 +580,6 @@ fn finish_distance(a: &[f32], b: &[f32], partial: f32, limit: f32) -> Option<f32
     Some(sum)
 }
 
-fn dot(a: &[f32], b: &[f32]) -> f32 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-/// Mean and principal axes (rows, by decreasing variance) of the frames of `features`,
-/// estimated on an even subsample of at most [`PCA_SAMPLE`] frames.
-pub(crate) fn principal_axes(features: &FeatureMatrix) -> (Vec<f32>, Vec<f32>) {
-    let n = features.frames();
-    let d = features.dim();
-    let step = n.div_ceil(PCA_SAMPLE).max(1);
-    let sample: Vec<usize> = (0..n).step_by(step).collect();
-    let mut mean = vec![0f64; d];
-    for &i in &sample {
-        for (m, &x) in mean.iter_mut().zip(features.row(i)) {
-            *m += x as f64;
-        }
-    }
-    mean.iter_mut().for_each(|m| *m /= sample.len() as f64);
-    let mut cov = DMatrix::<f64>::zeros(d, d);
-    let mut c = vec![0f64; d];
-    for &i in &sample {
-        for ((ck, &x), &m) in c.iter_mut().zip(features.row(i)).zip(&mean) {
-            *ck = x as f64 - m;
-        }
-        for a in 0..d {
-            let ca = c[a];
-            if ca == 0.0 {
-                continue;
-            }
-            for b in a..d {
-                cov[(a, b)] += ca * c[b];
-            }
-        }
-    }
-    for a in 0..d {
-        for b in 0..a {
-            cov[(a, b)] = cov[(b, a)];
-        }
-    }
-    let eig = SymmetricEigen::new(cov);
-    let mut order: Vec<usize> = (0..d).collect();
-    order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));
-    let mut axes = Vec::with_capacity(d * d);
-    for &k in &order {
-        axes.extend(eig.eigenvectors.column(k).iter().map(|&v| v as f32));
-    }
-    (mean.iter().map(|&m| m as f32).collect(), axes)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -618,13 +592,12 @@ mod tests {
     /// A deterministic pseudo-random walk in `d` dimensions: each step keeps `decay` of the
     /// position (1 = a free walk, below 1 it stays near the origin) and adds uniform noise.
     pub(super) fn walk(n: usize, d: usize, seed: u64, decay: f32) -> FeatureMatrix {
-        let mut s = seed;
+        let mut rng = crate::stats::Rng::new(seed);
         let mut x = vec![0f32; d];
         let mut data = Vec::with_capacity(n * d);
         for _ in 0..n {
             for v in x.iter_mut() {
-                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-                *v = decay * *v + 2.0 * ((s >> 40) as f32 / (1u64 << 24) as f32) - 1.0;
+                *v = decay * *v + 2.0 * rng.next_f32() - 1.0;
             }
             data.extend_from_slice(&x);
         }

@@ -22,7 +22,8 @@
 //! search"). The kd-tree stays for features that
 //! are not a plain stack (after feature bundling, §III) and for cross searches.
 
-use super::{cap_tail, Sssm, UpperTriangle};
+use super::{cap_tail, Sssm, UpperTriangle, PROGRESS_ROWS};
+use crate::method::Cancelled;
 use crate::sssm::features::{FeatureMatrix, MirrorMap};
 use crate::sssm::SssmError;
 
@@ -100,7 +101,7 @@ impl StackedSearch {
     /// Last candidate column (exclusive) of row `i`.
     fn row_end(&self, i: usize) -> usize {
         match self.horizon {
-            Some(h) => (i + h + 1).min(self.n),
+            Some(h) => i.saturating_add(h).saturating_add(1).min(self.n),
             None => self.n,
         }
     }
@@ -110,38 +111,67 @@ impl StackedSearch {
     /// mirror SSSM (`|M·F_i − F_j| ≤ radius`, symmetric because `M` is an isometry and its own
     /// inverse). Exactly the lists a brute-force search over the stacked features gives.
     pub fn similarities(&self, radius: f32, max_neighbours: usize) -> (Sssm, Option<Sssm>) {
-        self.similarities_with_progress(radius, max_neighbours, &mut |_| {})
+        match self.similarities_with_progress(radius, max_neighbours, &mut |_| Ok(())) {
+            Ok(found) => found,
+            Err(Cancelled) => unreachable!("a callback that never cancels"),
+        }
     }
 
-    /// [`Self::similarities`], reporting the fraction done (0 to 1) as it goes.
+    /// [`Self::similarities`], reporting the fraction done (0 to 1) as it goes (every 64 rows);
+    /// stops as soon as `progress` returns `Err(Cancelled)`.
     pub fn similarities_with_progress(
         &self,
         radius: f32,
         max_neighbours: usize,
-        progress: &mut dyn FnMut(f64),
-    ) -> (Sssm, Option<Sssm>) {
+        progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+    ) -> Result<(Sssm, Option<Sssm>), Cancelled> {
         #[cfg(not(target_arch = "wasm32"))]
         {
+            use std::sync::atomic::{AtomicBool, Ordering};
+            // set when the caller cancels, so that the half without the callback stops too
+            let stop = AtomicBool::new(false);
             // both halves at once; the plain one (on this thread) reports for both
-            let plain = || self.similarity(&self.queries, radius, max_neighbours, progress);
-            let mirror = || self.mirrored.as_ref().map(|q| self.similarity(q, radius, max_neighbours, &mut |_| {}));
-            crate::parallel::join(plain, mirror)
+            let plain = || {
+                self.similarity(&self.queries, radius, max_neighbours, &mut |f| {
+                    progress(f).inspect_err(|_| stop.store(true, Ordering::Relaxed))
+                })
+            };
+            let mirror = || {
+                self.mirrored.as_ref().map(|q| {
+                    self.similarity(q, radius, max_neighbours, &mut |_| {
+                        if stop.load(Ordering::Relaxed) {
+                            Err(Cancelled)
+                        } else {
+                            Ok(())
+                        }
+                    })
+                })
+            };
+            let (plain, mirror) = crate::parallel::join(plain, mirror);
+            Ok((plain?, mirror.transpose()?))
         }
         #[cfg(target_arch = "wasm32")]
         {
             // one after the other, each half of the progress
             let share = if self.mirrored.is_some() { 0.5 } else { 1.0 };
-            let plain = self.similarity(&self.queries, radius, max_neighbours, &mut |f| progress(share * f));
+            let plain = self.similarity(&self.queries, radius, max_neighbours, &mut |f| progress(share * f))?;
             let mirror = self
                 .mirrored
                 .as_ref()
-                .map(|q| self.similarity(q, radius, max_neighbours, &mut |f| progress(share + share * f)));
-            (plain, mirror)
+                .map(|q| self.similarity(q, radius, max_neighbours, &mut |f| progress(share + share * f)))
+                .transpose()?;
+            Ok((plain, mirror))
         }
     }
 
     /// The symmetric SSSM between the `queries` (plain or mirrored features) and the frames.
-    fn similarity(&self, queries: &[f32], radius: f32, max_neighbours: usize, progress: &mut dyn FnMut(f64)) -> Sssm {
+    fn similarity(
+        &self,
+        queries: &[f32],
+        radius: f32,
+        max_neighbours: usize,
+        progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+    ) -> Result<Sssm, Cancelled> {
         let n = self.n;
         let limit = radius * radius;
         let lo = *self.offsets.iter().min().expect("offsets checked in new");
@@ -154,7 +184,7 @@ impl StackedSearch {
         let mut done = 0f64;
         for i in 0..n {
             if i % PROGRESS_ROWS == 0 {
-                progress(done / total.max(1.0));
+                progress(done / total.max(1.0))?;
             }
             let sums = &mut sums[..self.row_end(i) - i];
             done += sums.len() as f64;
@@ -162,8 +192,8 @@ impl StackedSearch {
             push_within(sums, i, limit, max_neighbours, &mut upper);
         }
         let sssm = upper.into_symmetric(max_neighbours);
-        progress(1.0);
-        sssm
+        progress(1.0)?;
+        Ok(sssm)
     }
 
     /// `sums[j − i] = Σ_o D(c(i+o), c(j+o))` for `i ≤ j < i + sums.len()`, with `D` measured
@@ -175,10 +205,10 @@ impl StackedSearch {
         let clamp = |t: i64| t.clamp(0, n as i64 - 1) as usize;
         // c is monotone and moves no faster than its argument, so c(j+o) − c(i+o) ≤ j − i: row a
         // of D is needed up to column a + horizon
-        let reach = self.horizon.map_or(n, |h| h + 1);
+        let reach = self.horizon.map_or(n, |h| h.saturating_add(1));
         for &o in &self.offsets {
             let a = clamp(i as i64 + o as i64);
-            let to = (a + reach).min(n);
+            let to = a.saturating_add(reach).min(n);
             ring.ensure(a, |out| self.distance_row(&queries[a * self.dim..(a + 1) * self.dim], a, to, out));
         }
         let rows = |k: usize| -> (&[f32], i64) {
@@ -259,9 +289,6 @@ impl StackedSearch {
 
 /// Candidates tested at once by `push_within`.
 const SCAN_BLOCK: usize = 16;
-
-/// Rows between two progress reports of the search.
-const PROGRESS_ROWS: usize = 64;
 
 /// Candidates summed at once by [`StackedSearch::distance_row`].
 const LANES: usize = 32;
@@ -456,7 +483,12 @@ mod tests {
         let base = walk_and_mirror(200, 3);
         let search = StackedSearch::new(&base, &[-10, -5, 0, 5, 10], Some(&MirrorMap::end_effectors())).unwrap();
         let mut seen = Vec::new();
-        let (sssm, _) = search.similarities_with_progress(10.0, 600, &mut |f| seen.push(f));
+        let (sssm, _) = search
+            .similarities_with_progress(10.0, 600, &mut |f| {
+                seen.push(f);
+                Ok(())
+            })
+            .unwrap();
         assert_eq!(sssm.to_lists(), search.similarities(10.0, 600).0.to_lists());
         assert!(seen.len() >= 5, "{seen:?}");
         assert!(seen.windows(2).all(|w| w[0] <= w[1]), "{seen:?}");

@@ -1,0 +1,125 @@
+//! Small statistics helpers shared across the crate: medians and one deterministic
+//! pseudo-random generator for tests and synthetic data (no OS entropy, so it runs the same
+//! natively and in wasm32).
+
+use std::cmp::Ordering;
+
+/// Values with a total order for [`median`]: integers by `Ord`, floats by `total_cmp`.
+pub trait TotalOrder: Copy {
+    fn total_order(&self, other: &Self) -> Ordering;
+}
+
+macro_rules! total_order_by_ord {
+    ($($t:ty),*) => {
+        $(impl TotalOrder for $t {
+            fn total_order(&self, other: &Self) -> Ordering {
+                self.cmp(other)
+            }
+        })*
+    };
+}
+total_order_by_ord!(u8, u16, u32, u64, usize, i8, i16, i32, i64, isize);
+
+impl TotalOrder for f32 {
+    fn total_order(&self, other: &Self) -> Ordering {
+        self.total_cmp(other)
+    }
+}
+
+impl TotalOrder for f64 {
+    fn total_order(&self, other: &Self) -> Ordering {
+        self.total_cmp(other)
+    }
+}
+
+/// The (upper) median of `values`: the value at index `len / 2` once sorted (`values` is
+/// reordered). `None` if empty.
+pub fn median<T: TotalOrder>(values: &mut [T]) -> Option<T> {
+    if values.is_empty() {
+        return None;
+    }
+    let k = values.len() / 2;
+    Some(*values.select_nth_unstable_by(k, T::total_order).1)
+}
+
+/// The median of `values` with an even count taken as the mean of the two middle values
+/// (`values` is reordered). `None` if empty.
+pub fn median_midpoint(values: &mut [f64]) -> Option<f64> {
+    let upper = median(values)?;
+    let n = values.len();
+    if n % 2 == 1 {
+        return Some(upper);
+    }
+    // after the selection the lower middle value is the largest of the first half
+    let lower = values[..n / 2].iter().copied().max_by(f64::total_cmp).expect("n ≥ 2");
+    Some(0.5 * (lower + upper))
+}
+
+/// A small deterministic pseudo-random generator: Knuth's MMIX linear congruential generator
+/// (`s ← 6364136223846793005·s + 1442695040888963407`), read from its high bits only (its low
+/// bits have short periods). Good enough for noise and fuzz inputs; not for anything secret.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Rng(u64);
+
+impl Rng {
+    /// A generator started at `seed` (the same seed gives the same sequence everywhere).
+    pub fn new(seed: u64) -> Self {
+        Rng(seed)
+    }
+
+    fn step(&mut self) -> u64 {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0
+    }
+
+    /// The next 32 random bits.
+    pub fn next_u32(&mut self) -> u32 {
+        (self.step() >> 32) as u32
+    }
+
+    /// The next 64 random bits (two steps).
+    pub fn next_u64(&mut self) -> u64 {
+        ((self.next_u32() as u64) << 32) | self.next_u32() as u64
+    }
+
+    /// Uniform in `[0, 1)` with 24 bits (exactly representable as `f32`).
+    pub fn next_f32(&mut self) -> f32 {
+        (self.step() >> 40) as f32 / (1u64 << 24) as f32
+    }
+
+    /// Uniform in `0..n` (0 if `n` is 0).
+    pub fn below(&mut self, n: usize) -> usize {
+        ((self.next_u64() as u128 * n as u128) >> 64) as usize
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn medians_of_even_odd_and_empty() {
+        assert_eq!(median(&mut [3.0f64, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median(&mut [4usize, 1, 2, 3]), Some(3));
+        assert_eq!(median::<f32>(&mut []), None);
+        assert_eq!(median(&mut [f32::INFINITY, 0.5, 2.0]), Some(2.0));
+        assert_eq!(median_midpoint(&mut [3.0, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median_midpoint(&mut [4.0, 1.0, 2.0, 3.0]), Some(2.5));
+        assert_eq!(median_midpoint(&mut []), None);
+    }
+
+    #[test]
+    fn the_generator_is_deterministic_and_in_range() {
+        let (mut a, mut b) = (Rng::new(7), Rng::new(7));
+        for _ in 0..1000 {
+            let x = a.next_f32();
+            assert_eq!(x, b.next_f32());
+            assert!((0.0..1.0).contains(&x));
+            assert!(a.below(10) < 10 && b.below(10) < 10);
+        }
+        assert_eq!(Rng::new(1).below(0), 0);
+        // the sequence the SSSM tests' noise was built on: (s >> 40) / 2^24 after one step
+        let s = 5u64.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        assert_eq!(Rng::new(5).next_f32(), (s >> 40) as f32 / (1u64 << 24) as f32);
+    }
+}
