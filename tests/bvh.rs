@@ -965,21 +965,7 @@ fn long_and_odd_tokens_are_shown_short_and_escaped() {
 // Fuzz: no input panics, hangs or breaks the invariants
 // ---------------------------------------------------------------------------------------------
 
-/// SplitMix64: a small deterministic PRNG, so failures reproduce.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
+use mocapseg::stats::Rng;
 
 /// Parses any bytes (lossily decoded); must give Ok with the invariants or an Err with a sane
 /// position. A panic fails the test naming the input. Returns whether it parsed.
@@ -1036,7 +1022,7 @@ fn mutate(rng: &mut Rng, base: &[u8]) -> Vec<u8> {
         let at = rng.below(b.len() + 1);
         match rng.below(6) {
             0 => b.truncate(at),
-            1 if at < b.len() => b[at] = rng.next() as u8,
+            1 if at < b.len() => b[at] = rng.next_u64() as u8,
             2 => {
                 let len = rng.below(64).min(b.len() - at);
                 b.drain(at..at + len);
@@ -1060,7 +1046,7 @@ fn mutate(rng: &mut Rng, base: &[u8]) -> Vec<u8> {
 fn fuzz_mutated_and_truncated_fixtures_never_panic() {
     // MOCAPSEG_FUZZ_ROUNDS / MOCAPSEG_FUZZ_SEED run a longer or different campaign.
     let rounds = env_number("MOCAPSEG_FUZZ_ROUNDS", 300) as usize;
-    let mut rng = Rng(env_number("MOCAPSEG_FUZZ_SEED", 0x5eed_b0a7));
+    let mut rng = Rng::new(env_number("MOCAPSEG_FUZZ_SEED", 0x5eed_b0a7));
     let mut total_parsed = 0;
     for f in FACTS {
         let text = fixture(f.file);
@@ -1100,10 +1086,10 @@ fn fuzz_truncated_full_files_keep_complete_rows_or_fail_cleanly() {
 
 #[test]
 fn fuzz_random_bytes_and_token_soup_never_panic() {
-    let mut rng = Rng(42);
+    let mut rng = Rng::new(42);
     for i in 0..2000 {
         let len = rng.below(400);
-        let bytes: Vec<u8> = (0..len).map(|_| rng.next() as u8).collect();
+        let bytes: Vec<u8> = (0..len).map(|_| rng.next_u64() as u8).collect();
         check_any(&bytes, &format!("random bytes {i}"));
     }
     #[rustfmt::skip]

@@ -25,7 +25,6 @@ fn main() -> std::process::ExitCode {
 #[cfg(not(target_arch = "wasm32"))]
 mod cli {
     use std::collections::HashMap;
-    use std::io::Write;
     use std::path::{Path, PathBuf};
     use std::process::ExitCode;
     use std::sync::atomic::{AtomicUsize, Ordering};
@@ -37,11 +36,12 @@ mod cli {
     use mocapseg::image::MotionImage;
     use mocapseg::load::{load_path, Loaded};
     use mocapseg::method::{self, CheckedParams, DynMethod, NoProgress, ParamKind, RunOptions};
-    use mocapseg::motion::Motion;
+    use mocapseg::motion::{write_positions_csv, Motion};
     use mocapseg::segment::metrics::{evaluate, Tolerances};
     use mocapseg::segment::report::{self, Row};
     use mocapseg::segment::truth::{load_csv, TruthOptions};
     use mocapseg::segment::{Level, Segmentation};
+    use mocapseg::stats;
     use rayon::prelude::*;
 
     #[derive(Parser)]
@@ -203,50 +203,17 @@ mod cli {
         Ok(())
     }
 
-    /// CSV field: quoted when the joint name holds a comma, quote or whitespace.
-    fn csv_field(name: &str) -> String {
-        if name.contains([',', '"', ' ', '\t']) {
-            format!("\"{}\"", name.replace('"', "\"\""))
-        } else {
-            name.to_string()
-        }
-    }
-
     fn positions(file: &Path, fps: Option<f64>, end_sites: bool, output: &Path) -> Result<(), String> {
         let loaded = load(file)?;
         let motion: Motion = match fps {
             Some(f) => loaded.motion.resample(f).map_err(|e| format!("{}: {e}", file.display()))?,
             None => loaded.motion,
         };
-        let cols: Vec<usize> = (0..motion.joints()).filter(|&j| end_sites || !motion.skeleton.is_end_site[j]).collect();
         let out = std::fs::File::create(output).map_err(|e| format!("{}: {e}", output.display()))?;
-        let mut w = std::io::BufWriter::new(out);
-        let io = |e: std::io::Error| format!("{}: {e}", output.display());
-        write!(w, "frame,time_s").map_err(io)?;
-        for &j in &cols {
-            let n = &motion.skeleton.names[j];
-            for axis in ["x", "y", "z"] {
-                write!(w, ",{}", csv_field(&format!("{n}_{axis}"))).map_err(io)?;
-            }
-        }
-        writeln!(w).map_err(io)?;
-        for f in 0..motion.frames() {
-            write!(w, "{f},{}", f as f64 / motion.fps).map_err(io)?;
-            let frame = motion.frame(f);
-            for &j in &cols {
-                let p = frame[j];
-                write!(w, ",{},{},{}", p.x, p.y, p.z).map_err(io)?;
-            }
-            writeln!(w).map_err(io)?;
-        }
-        w.flush().map_err(io)?;
-        eprintln!(
-            "wrote {} ({} frames at {} fps, {} joints)",
-            output.display(),
-            motion.frames(),
-            motion.fps,
-            cols.len()
-        );
+        write_positions_csv(&motion, end_sites, std::io::BufWriter::new(out))
+            .map_err(|e| format!("{}: {e}", output.display()))?;
+        let cols = (0..motion.joints()).filter(|&j| end_sites || !motion.skeleton.is_end_site[j]).count();
+        eprintln!("wrote {} ({} frames at {} fps, {} joints)", output.display(), motion.frames(), motion.fps, cols);
         Ok(())
     }
 
@@ -509,8 +476,7 @@ mod cli {
     }
 
     fn median(mut v: Vec<f64>) -> f64 {
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
+        stats::median(&mut v).unwrap_or(f64::NAN)
     }
 
     fn bench(file: Option<PathBuf>, reps: usize) -> Result<(), String> {

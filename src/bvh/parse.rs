@@ -896,36 +896,26 @@ fn fast_decimal(b: &[u8]) -> Option<f64> {
 mod tests {
     use super::*;
 
-    /// A small deterministic PRNG (SplitMix64).
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            z ^ (z >> 31)
-        }
-    }
+    use crate::stats::Rng;
 
     #[test]
     fn fast_path_agrees_bit_for_bit_with_std_parse() {
-        let mut rng = Rng(7);
+        let mut rng = Rng::new(7);
         for _ in 0..200_000 {
-            let int_digits = (rng.next() % 8) as usize;
-            let frac_digits = (rng.next() % 9) as usize;
+            let int_digits = (rng.next_u64() % 8) as usize;
+            let frac_digits = (rng.next_u64() % 9) as usize;
             let mut s = String::new();
-            if rng.next() % 2 == 0 {
+            if rng.next_u64() % 2 == 0 {
                 s.push('-');
             }
             for _ in 0..int_digits {
-                s.push(char::from(b'0' + (rng.next() % 10) as u8));
+                s.push(char::from(b'0' + (rng.next_u64() % 10) as u8));
             }
-            if frac_digits > 0 || rng.next() % 4 == 0 {
+            if frac_digits > 0 || rng.next_u64() % 4 == 0 {
                 s.push('.');
             }
             for _ in 0..frac_digits {
-                s.push(char::from(b'0' + (rng.next() % 10) as u8));
+                s.push(char::from(b'0' + (rng.next_u64() % 10) as u8));
             }
             let std = s.parse::<f64>().ok();
             let fast = fast_decimal(s.as_bytes());
