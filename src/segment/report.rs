@@ -80,7 +80,7 @@ mod tests {
                 trial: trial.into(),
                 true_boundaries: 4,
                 predicted_boundaries: 5,
-                boundaries: vec![b.clone(), b],
+                boundaries: vec![b, b],
                 covering,
                 hungarian_accuracy: 0.5,
                 strict_accuracy: 0.25,
