@@ -1,11 +1,13 @@
 # mocapseg — build, serve, test and benchmark (plain make; no trunk).
 #
 #   make demo    set up, build the page and serve it on http://localhost:8080
-#   make test    set up, then every test: native (cargo test), wasm core tests in headless
-#                Chromium, the release page bundle, and the Playwright end-to-end test
-#   make bench   parse + FK throughput, native CLI and in headless Chromium
+#   make test    set up, then every test: native (cargo test), the release page bundle, the wasm
+#                tests in headless Chromium (one binary sharing the bundle's build), and the
+#                Playwright end-to-end test; prints each stage's time
+#   make bench   parse + FK, SSSM and batch throughput, native CLI and in headless Chromium
 #   make setup   install the toolchain (scripts/setup.sh; idempotent, seconds when done)
-#   make web     build the page into dist/ (release wasm + wasm-bindgen + wasm-opt + assets)
+#   make web     build the page into dist/ (release wasm + wasm-bindgen + wasm-opt + assets;
+#                wasm-bindgen and wasm-opt only run again when the wasm changed)
 #
 # scripts/setup.sh writes .toolchain.env, which says how to drive cargo (Route S: rustup;
 # Route D: Debian rustc-web with -Zbuild-std). The top-level targets run setup first and then
@@ -32,8 +34,15 @@ DEMO_PORT   ?= 8080
 # Seconds a headless wasm-bindgen-test run may take (the runner's default is 20).
 WASM_TEST_TIMEOUT ?= 300
 
-# SSSM benchmark sequence (written by `mocapseg bench-sssm --write-bvh`).
+# Where `make test` writes each stage's time.
+STAGE_TIMES := $(CURDIR)/test-output/stage-times.txt
+export STAGE_TIMES
+
+# SSSM benchmark sequence (written by `cargo run --example bench_sssm -- --write-bvh`).
 BENCH_SEQ ?= $(CURDIR)/target/bench/sssm-sequence-30hz.bvh
+
+# Batch benchmark: every BVH of the shared data (CMU takes and other exporters' files).
+BENCH_DATA ?= $(abspath $(CURDIR)/../shared/data)
 
 # Benchmark input: the long CMU take 86_01 from shared data if present, else the bundled
 # sample (CMU 13_30), else the largest fixture.
@@ -54,12 +63,16 @@ demo: setup
 	$(MAKE) web
 	$(MAKE) serve
 
-test: setup
-	$(MAKE) test-native
-	$(MAKE) test-wasm
-	$(MAKE) web
-	$(MAKE) test-e2e
-	@echo "make test: all steps passed (native, wasm core in headless Chromium, web bundle, e2e)"
+# Stages in the order that builds least: the wasm tests reuse the release library `web` built.
+test:
+	@mkdir -p test-output && : >$(STAGE_TIMES)
+	@scripts/stage.sh setup scripts/setup.sh
+	@scripts/stage.sh native $(MAKE) test-native
+	@scripts/stage.sh web $(MAKE) web
+	@scripts/stage.sh wasm $(MAKE) test-wasm
+	@scripts/stage.sh e2e $(MAKE) test-e2e
+	@echo; echo "make test: all stages passed (native, web bundle, wasm in headless Chromium, e2e). Times:"
+	@cat $(STAGE_TIMES)
 
 bench: setup
 	$(MAKE) bench-native
@@ -71,21 +84,29 @@ check-toolchain:
 # --- build ------------------------------------------------------------------------------
 
 # The page: release wasm of the lib with the `web` feature → wasm-bindgen → wasm-opt → dist/.
+# dist/.wasm-sum records the checksum of the wasm it was made from: an unchanged build skips
+# wasm-bindgen and wasm-opt (the slow part) and only refreshes the static files.
 web: check-toolchain
 	$(CARGO) build $(WASM_CARGO_FLAGS) --lib --release --target $(WASM_TARGET) --features web
 	@tdir=$$($(CARGO) metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])'); \
 	wasm="$$tdir/$(WASM_TARGET)/release/$(CRATE).wasm"; \
-	rm -rf $(DIST) && mkdir -p $(DIST); \
-	echo "wasm-bindgen --target web --no-typescript --out-dir $(DIST)/pkg $$wasm"; \
-	wasm-bindgen --target web --no-typescript --out-dir $(DIST)/pkg "$$wasm"; \
-	if [ -x $(WASM_OPT) ]; then \
-		echo "$(WASM_OPT) -O2 $(DIST)/pkg/$(CRATE)_bg.wasm"; \
-		$(WASM_OPT) -O2 $(DIST)/pkg/$(CRATE)_bg.wasm -o $(DIST)/pkg/$(CRATE)_bg.wasm; \
+	sum=$$(sha256sum "$$wasm" | cut -d' ' -f1); \
+	if [ -f $(DIST)/.wasm-sum ] && [ "$$(cat $(DIST)/.wasm-sum)" = "$$sum" ] && [ -f $(DIST)/pkg/$(CRATE)_bg.wasm ]; then \
+		echo "$(DIST)/pkg is up to date with $$wasm"; \
 	else \
-		echo "note: $(WASM_OPT) (npm binaryen@132) not installed: wasm left unoptimised (run 'make setup')"; \
+		rm -rf $(DIST) && mkdir -p $(DIST); \
+		echo "wasm-bindgen --target web --no-typescript --out-dir $(DIST)/pkg $$wasm"; \
+		wasm-bindgen --target web --no-typescript --out-dir $(DIST)/pkg "$$wasm"; \
+		if [ -x $(WASM_OPT) ]; then \
+			echo "$(WASM_OPT) -O2 $(DIST)/pkg/$(CRATE)_bg.wasm"; \
+			$(WASM_OPT) -O2 $(DIST)/pkg/$(CRATE)_bg.wasm -o $(DIST)/pkg/$(CRATE)_bg.wasm; \
+		else \
+			echo "note: $(WASM_OPT) (npm binaryen@132) not installed: wasm left unoptimised (run 'make setup')"; \
+		fi; \
+		echo "$$sum" >$(DIST)/.wasm-sum; \
 	fi; \
 	cp index.html $(DIST)/; \
-	cp -r www $(DIST)/www; \
+	rm -rf $(DIST)/www && cp -r www $(DIST)/www; \
 	echo "built $(DIST)/: $$(du -h $(DIST)/pkg/$(CRATE)_bg.wasm | cut -f1) wasm"
 
 serve:
@@ -99,13 +120,12 @@ serve:
 test-native: check-toolchain
 	$(CARGO) test
 
-# The core (parser, FK, motion image, the SSSM pipeline) compiled to wasm32, run in headless Chromium; then the
-# page's own unit tests (camera, playback clock, worker message round trip) in wasm.
+# One wasm test binary (tests/wasm.rs: the core, the SSSM suite, the worker's glue) in headless
+# Chromium, in the release profile with the `web` feature: it links the library `make web`
+# built instead of building every dependency a second time.
 test-wasm: check-toolchain
 	WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
-	$(CARGO) test $(WASM_CARGO_FLAGS) --target $(WASM_TARGET) --test wasm_core --test sssm
-	WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
-	$(CARGO) test $(WASM_CARGO_FLAGS) --target $(WASM_TARGET) --lib --features web
+	$(CARGO) test $(WASM_CARGO_FLAGS) --release --target $(WASM_TARGET) --features web --test wasm
 
 # Playwright against dist/ served on a free loopback port (needs `make web` first).
 test-e2e:
@@ -121,14 +141,18 @@ bench-native: check-toolchain
 	@echo "bench input: $(BENCH_BVH)"
 	$(CARGO) run --release --bin $(CRATE) -- bench "$(BENCH_BVH)"
 	@mkdir -p $(dir $(BENCH_SEQ))
-	$(CARGO) run --release --bin $(CRATE) -- bench-sssm --write-bvh "$(BENCH_SEQ)"
-	$(CARGO) run --release --bin $(CRATE) -- bench-sssm --reps 3 --param horizon_s=0
-	$(CARGO) run --release --bin $(CRATE) -- bench-sssm --frames 1300
-	$(CARGO) run --release --bin $(CRATE) -- bench-sssm --reps 3 "$(BENCH_BVH)"
+	$(CARGO) run --release --example bench_sssm -- --write-bvh "$(BENCH_SEQ)"
+	$(CARGO) run --release --example bench_sssm -- --reps 3 --param horizon_s=0
+	$(CARGO) run --release --example bench_sssm -- --frames 1300
+	$(CARGO) run --release --example bench_sssm -- --reps 3 "$(BENCH_BVH)"
+	@echo "batch: every take of $(BENCH_DATA) (takes/s on all cores)"
+	@if [ -d "$(BENCH_DATA)" ]; then \
+		$(CARGO) run --release --bin $(CRATE) -- segment --method sssm "$(BENCH_DATA)" --out target/bench/batch >/dev/null || true; \
+	else echo "note: $(BENCH_DATA) is absent: no batch benchmark"; fi
 
 $(BENCH_SEQ):
 	@mkdir -p $(dir $(BENCH_SEQ))
-	$(CARGO) run --release --bin $(CRATE) -- bench-sssm --reps 1 --write-bvh "$(BENCH_SEQ)"
+	$(CARGO) run --release --example bench_sssm -- --reps 1 --write-bvh "$(BENCH_SEQ)"
 
 # --nocapture makes the runner print the test's console output (the numbers).
 bench-wasm: check-toolchain $(BENCH_SEQ)

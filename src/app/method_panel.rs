@@ -41,7 +41,12 @@ fn tooltip(s: &Segment, fps: f64) -> String {
 
 /// The label of a parameter's field: its name in words, with its unit.
 fn field_label(spec: &ParamSpec) -> String {
-    let words = spec.name.replace('_', " ");
+    // `horizon_s` in seconds reads "horizon (s)"
+    let name = match spec.unit.as_deref() {
+        Some(unit) => spec.name.strip_suffix(&format!("_{unit}")).unwrap_or(&spec.name),
+        None => &spec.name,
+    };
+    let words = name.replace('_', " ");
     match &spec.unit {
         Some(unit) => format!("{words} ({unit}) "),
         None => format!("{words} "),
@@ -172,7 +177,7 @@ pub fn MethodPanel(state: AppState, method: &'static MethodSlot, loader: Loader)
                     "Export JSON"
                 </button>
             </div>
-            <form id=format!("{name}-params") class="ms-method-params" on:submit=on_run>
+            <form id=format!("{name}-params") class="ms-method-params" novalidate=true on:submit=on_run>
                 {basic}
                 <details class="ms-method-advanced">
                     <summary>"Advanced"</summary>

@@ -15,7 +15,6 @@
 //! the registry); `document.body.dataset.<method>` (e.g. `data-sssm`) says where each stands:
 //! `idle`, `running`, `done`, `error` or `cancelled`.
 
-mod camera;
 mod drop_zone;
 mod error_banner;
 mod loader;

@@ -3,10 +3,10 @@
 //! (`#play-pause`), a scrub bar (`#scrub`), a speed menu (`#speed`) and `#frame-counter`.
 //! Camera math is in [`super::camera`]; playback timing in [`super::playback`].
 
-use super::camera::{Basis, FloorGrid, Orbit, Projector};
 use super::{playback, AppState};
 use crate::motion::UpAxis;
 use crate::protocol::LoadedMotion;
+use crate::view::camera::{Basis, FloorGrid, Orbit, Projector};
 use glam::{Vec2, Vec3};
 use gloo::events::{EventListener, EventListenerOptions};
 use leptos::ev::{Event, PointerEvent};

@@ -243,11 +243,11 @@ test("SSSM segments the sample: rows, image, re-run, bad parameter, export", asy
     const read = (sel) => [...document.querySelectorAll(sel)].map((e) => ({
       start: Number(e.dataset.start), end: Number(e.dataset.end), title: e.title, cls: e.className,
     }));
-    return { actions: read("#row-actions .ms-seg--action"), transitions: read("#row-actions .ms-seg--transition"),
-      primitives: read("#row-primitives .ms-seg--primitive") };
+    return { actions: read("#row-sssm-actions .ms-seg--action"), transitions: read("#row-sssm-actions .ms-seg--transition"),
+      primitives: read("#row-sssm-primitives .ms-seg--primitive") };
   });
-  assert.ok(rows.actions.length >= 2, `#row-actions has ${rows.actions.length} actions, want ≥ 2`);
-  assert.ok(rows.primitives.length >= 2, `#row-primitives has ${rows.primitives.length} primitives, want ≥ 2`);
+  assert.ok(rows.actions.length >= 2, `#row-sssm-actions has ${rows.actions.length} actions, want ≥ 2`);
+  assert.ok(rows.primitives.length >= 2, `#row-sssm-primitives has ${rows.primitives.length} primitives, want ≥ 2`);
   for (const s of [...rows.actions, ...rows.transitions, ...rows.primitives]) {
     assert.ok(Number.isInteger(s.start) && Number.isInteger(s.end) && s.start <= s.end
       && s.end < SAMPLE_HDR.frames, `segment frames ${JSON.stringify(s)}`);
@@ -278,17 +278,17 @@ test("SSSM segments the sample: rows, image, re-run, bad parameter, export", asy
   await runSssm(-1, "error");
   await page.locator("#error-banner").waitFor({ state: "visible", timeout: TIMEOUT });
   assert.match(await text("#error-banner"), /radius/, "the error banner names the bad parameter");
-  await page.fill("#sssm-horizon", "2");
+  await page.fill("#sssm-horizon_s", "2");
   await runSssm(19, "error");
   assert.match(await text("#error-banner"), /horizon_s.*at least 5 seconds/, "the banner names the bad horizon");
-  await page.fill("#sssm-horizon", "20");
-  assert.ok((await page.locator("#row-primitives .ms-seg--primitive").count()) >= 2, "rows kept after a failed run");
+  await page.fill("#sssm-horizon_s", "20");
+  assert.ok((await page.locator("#row-sssm-primitives .ms-seg--primitive").count()) >= 2, "rows kept after a failed run");
   await runSssm(19, "done");
   assert.equal(await page.locator("#error-banner").isVisible(), false, "error banner stays after a good re-run");
 
   // clicking a primitive plays it from its start and stops at its end
   const prim = await page.evaluate(() => {
-    const all = [...document.querySelectorAll("#row-primitives .ms-seg--primitive")];
+    const all = [...document.querySelectorAll("#row-sssm-primitives .ms-seg--primitive")];
     const widest = all.reduce((a, b) => (b.getBoundingClientRect().width > a.getBoundingClientRect().width ? b : a));
     widest.id = "e2e-primitive";
     return { start: Number(widest.dataset.start), end: Number(widest.dataset.end) };
@@ -394,6 +394,86 @@ test("drag-and-drop a file onto the drop zone", async () => {
   await page.dispatchEvent("#drop-zone", "drop", { dataTransfer });
   await waitReady(DROPPED.name);
   await assertSummary(DROPPED);
+});
+
+/** Clicks #sssm-run (once it is enabled) and waits for that run to finish. */
+async function clickRun() {
+  await page.locator("#sssm-run:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await page.evaluate(() => { window.__sssm = []; });
+  await page.click("#sssm-run");
+  await page.waitForFunction(() => (window.__sssm ?? []).includes("running"), null, { timeout: TIMEOUT });
+  await waitSssm("done");
+}
+
+/** Clicks `#sssm-export` and returns the saved segmentation JSON. */
+async function exportSssm(name) {
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#sssm-export")]);
+  const file = path.join(OUT, name);
+  await download.saveAs(file);
+  return JSON.parse(readFileSync(file, "utf8"));
+}
+
+/** Drops a fixture on the drop zone (as a user's drag-and-drop does). */
+function dropFile(name, body) {
+  return page.evaluate(([name, body]) => {
+    const dt = new DataTransfer();
+    dt.items.add(new File([body], name, { type: "" }));
+    const zone = document.querySelector("#drop-zone");
+    zone.dispatchEvent(new DragEvent("dragover", { dataTransfer: dt, bubbles: true, cancelable: true }));
+    zone.dispatchEvent(new DragEvent("drop", { dataTransfer: dt, bubbles: true, cancelable: true }));
+  }, [name, body]);
+}
+
+test("the automatic run after a load uses the form's current parameters", async () => {
+  await page.locator("#sssm-run:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await page.fill("#sssm-radius", "17");
+  await page.setInputFiles("#file-input", path.join(FIXTURES, "35_01.bvh"));
+  await waitReady("35_01.bvh");
+  // the load cleared the previous result; the export comes back with the automatic run's
+  await page.locator("#sssm-export:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await waitSssm("done");
+  const json = await exportSssm("e2e-auto-run.json");
+  assert.equal(json.file, "35_01.bvh");
+  assert.equal(json.params.radius, 17, "the automatic run took the form's radius");
+  await page.fill("#sssm-radius", "19");
+});
+
+test("a file that fails while another is still parsing: Run segments the take on screen", async () => {
+  allowConsoleErrors = true;
+  const before = await text("#summary-name");
+  try {
+    // the big sample is sent to the worker, then a bad file replaces it as the newest load
+    await dropFile("race-sample.bvh", SAMPLE_HDR.text);
+    await page.setInputFiles("#file-input", BAD);
+    await page.waitForFunction(() => document.body.dataset.state === "error", null, { timeout: TIMEOUT });
+  } finally {
+    allowConsoleErrors = false;
+  }
+  const shown = await text("#summary-name");
+  const frames = Number(/\d+/.exec(await text("#summary-frames"))[0]);
+  console.log(`  (after the race the page shows ${shown}; before it showed ${before})`);
+  await page.locator("#error-dismiss").click();
+  await clickRun();
+  const json = await exportSssm("e2e-race.json");
+  assert.equal(json.file, shown, "Run segmented the take on screen");
+  assert.equal(json.frames, frames, "…with the frames on screen");
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "no error after the run");
+});
+
+test("a worker replaced (a cancelled run): Run segments the take on screen again", async () => {
+  const shown = await text("#summary-name");
+  // cancel a run as soon as it starts: the worker is terminated and a new one started
+  await page.evaluate(() => {
+    document.querySelector("#sssm-run").click();
+    document.querySelector("#sssm-cancel").click();
+  });
+  await waitSssm("cancelled");
+  assert.equal(await page.locator("#sssm-progress").isVisible(), false, "no progress after the cancel");
+  // the new worker holds no take: the page sends the one on screen and the run goes through
+  await clickRun();
+  const json = await exportSssm("e2e-after-cancel.json");
+  assert.equal(json.file, shown);
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "no error after the new worker's run");
 });
 
 test("load sample button", async () => {

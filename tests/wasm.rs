@@ -1,12 +1,103 @@
-//! The core (BVH parser, forward kinematics, motion image) compiled to wasm32 and run in headless
-//! Chromium (issue 2, "Tests": wasm-bindgen-test tests of the core as part of `make test`).
+//! Everything that must also hold in a real browser, in one wasm test binary run in headless
+//! Chromium: the core (BVH parser, forward kinematics, motion image), the SSSM suite
+//! (`tests/sssm.rs`, included below) and the worker's `postMessage` glue of the protocol.
 //!
-//! Run: `make test-wasm`, i.e. `cargo test --target wasm32-unknown-unknown --test wasm_core`
-//! with `wasm-bindgen-test-runner` as the runner (.cargo/config.toml). The fixtures are embedded
-//! with `include_str!`: the browser has no file system.
+//! Run: `make test-wasm`, i.e. `cargo test --release --target wasm32-unknown-unknown --features web
+//! --test wasm` with `wasm-bindgen-test-runner` as the runner (.cargo/config.toml). One binary,
+//! built in the release profile, reuses the library `make web` builds (a second profile or
+//! feature set would build every dependency again). The fixtures are embedded with
+//! `include_str!`: the browser has no file system.
 //!
-//! Compiled only for wasm32 (natively this file is empty; the native tests cover the same core).
-#![cfg(target_arch = "wasm32")]
+//! Compiled only for wasm32 with the `web` feature (natively this file is empty; the native tests
+//! cover the same core and the protocol itself).
+#![cfg(all(target_arch = "wasm32", feature = "web"))]
+
+/// The SSSM suite, the same file as the native `tests/sssm.rs` (it configures the browser run).
+#[path = "sssm.rs"]
+mod sssm;
+
+/// The worker's entry point and the page's decoding, through real JS values.
+mod worker {
+    use js_sys::{Array, Function, Uint8Array};
+    use mocapseg::protocol::{FailureKind, Request, Response};
+    use mocapseg::worker::{request_message, response_from_js, worker_handle};
+    use std::cell::RefCell;
+    use std::rc::Rc;
+    use wasm_bindgen::prelude::*;
+    use wasm_bindgen_test::wasm_bindgen_test;
+
+    /// Hands `request` (with `bytes` as the file) to the worker's entry point the way
+    /// `www/worker.js` does, and decodes everything it posts as the page does.
+    fn ask(request: Request, bytes: Option<&[u8]>) -> Vec<Response> {
+        let buffer = bytes.map(|b| Uint8Array::from(b).buffer());
+        let (message, transfer) = request_message(&request, buffer.as_ref());
+        assert_eq!(transfer.length(), u32::from(bytes.is_some()), "the file's buffer is transferred");
+        let posted = Rc::new(RefCell::new(Vec::new()));
+        let sink = posted.clone();
+        let post = Closure::<dyn FnMut(JsValue, Array)>::new(move |m: JsValue, transfer: Array| {
+            // every bulk buffer is in the transfer list
+            let buffers: Array = js_sys::Reflect::get(&m, &"buffers".into()).unwrap().into();
+            assert_eq!(buffers.length(), transfer.length());
+            sink.borrow_mut().push(response_from_js(&m).expect("the page decodes what the worker posts"));
+        });
+        worker_handle(message, post.as_ref().unchecked_ref::<Function>());
+        let out = posted.borrow().clone();
+        out
+    }
+
+    #[wasm_bindgen_test]
+    fn a_load_and_a_run_reach_the_page_intact_and_other_takes_are_refused() {
+        let take = include_bytes!("fixtures/12_01.bvh");
+        let load = Request::Load { take: 7, name: "12_01.bvh".into(), restore: false, bytes: Vec::new() };
+        let posted = ask(load, Some(take));
+        assert!(posted
+            .iter()
+            .any(|r| matches!(r, Response::Progress { take: 7, run: None, fraction: Some(f), .. } if *f == 1.0)));
+        let Some(Response::Loaded { take: 7, motion }) = posted.last() else { panic!("{:?}", posted.last()) };
+        assert_eq!((motion.summary.name.as_str(), motion.summary.frames), ("12_01.bvh", 524));
+        assert_eq!(motion.positions.len(), 524 * motion.nodes() * 3);
+        assert_eq!(&motion.image.png[..8], b"\x89PNG\r\n\x1a\n");
+
+        let run =
+            Request::Segment { take: 7, run: 8, method: "sssm".into(), params: serde_json::json!({"radius": 15}) };
+        let posted = ask(run, None);
+        for stage in ["features", "neighbours", "activities", "primitives", "clusters"] {
+            assert!(
+                posted.iter().any(|r| matches!(r, Response::Progress { run: Some(8), stage: s, .. } if s == stage)),
+                "{stage}"
+            );
+        }
+        let Some(Response::Segmented { take: 7, run: 8, view }) = posted.last() else { panic!("{:?}", posted.last()) };
+        assert_eq!(view.segmentation.params["radius"], 15.0);
+        let picture = &view.details.pictures[0];
+        assert_eq!(picture.rgba.len(), picture.width * picture.height * 4);
+
+        let other = Request::Segment { take: 6, run: 9, method: "sssm".into(), params: serde_json::json!({}) };
+        let posted = ask(other, None);
+        assert!(matches!(posted.last(), Some(Response::Failed { take: 6, kind: FailureKind::NotLoaded, .. })));
+    }
+
+    #[wasm_bindgen_test]
+    fn bad_files_and_parameters_come_back_as_messages_naming_them() {
+        let bad = include_bytes!("fixtures/bad.bvh");
+        let posted =
+            ask(Request::Load { take: 1, name: "bad.bvh".into(), restore: false, bytes: Vec::new() }, Some(bad));
+        let Some(Response::Failed { kind: FailureKind::Input, message, .. }) = posted.last() else { panic!() };
+        assert!(message.starts_with("bad.bvh: line 9, column 34"), "{message}");
+        // a Latin-1 file decodes through the shared loader, with its warning
+        let mut latin1 = include_bytes!("fixtures/12_01.bvh").to_vec();
+        let at = latin1.windows(4).position(|w| w == b"Hips").unwrap();
+        latin1[at + 1] = 0xe4;
+        let posted =
+            ask(Request::Load { take: 2, name: "l1.bvh".into(), restore: false, bytes: Vec::new() }, Some(&latin1));
+        let Some(Response::Loaded { motion, .. }) = posted.last() else { panic!("{:?}", posted.last()) };
+        assert!(motion.skeleton.names.iter().any(|n| n == "H\u{e4}ps"), "{:?}", &motion.skeleton.names[..3]);
+        assert!(motion.summary.warnings.iter().any(|w| w.contains("Latin-1")), "{:?}", motion.summary.warnings);
+        let run = Request::Segment { take: 2, run: 3, method: "sssm".into(), params: serde_json::json!({"radus": 3}) };
+        let Some(Response::Failed { message, .. }) = ask(run, None).pop() else { panic!() };
+        assert!(message.starts_with("SSSM parameters: unknown field `radus`"), "{message}");
+    }
+}
 
 use mocapseg::bvh::{self, Channel, JointKind};
 use mocapseg::image::MotionImage;
@@ -247,7 +338,7 @@ fn motion_image_size_values_and_png() {
     let distinct: std::collections::HashSet<&[u8]> = img.rgba.chunks(4).collect();
     assert!(distinct.len() > 100, "only {} distinct colours", distinct.len());
 
-    let png = img.to_png();
+    let png = img.try_to_png().expect("encodes");
     assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
     assert_eq!(&png[12..16], b"IHDR");
     let be = |o: usize| u32::from_be_bytes(png[o..o + 4].try_into().unwrap()) as usize;

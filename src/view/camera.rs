@@ -198,8 +198,7 @@ mod tests {
         (a - b).length() < 1e-3
     }
 
-    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
-    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    #[test]
     fn nice_steps() {
         assert_eq!(nice_step(0.8), 1.0);
         assert_eq!(nice_step(1.0), 1.0);
@@ -209,8 +208,7 @@ mod tests {
         assert!((nice_step(0.03) - 0.05).abs() < 1e-7);
     }
 
-    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
-    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    #[test]
     fn fitted_camera_sees_the_whole_box() {
         let (min, max) = (Vec3::new(-10.0, 0.0, -30.0), Vec3::new(10.0, 18.0, 30.0));
         for basis in [Basis::Y_UP, Basis::Z_UP] {
@@ -228,8 +226,7 @@ mod tests {
         }
     }
 
-    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
-    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    #[test]
     fn target_projects_to_the_canvas_centre_and_up_is_up() {
         let orbit = Orbit::fit(Vec3::ZERO, Vec3::new(0.0, 0.0, 2.0), 1.0);
         let projector = Projector::new(&orbit, &Basis::Z_UP, Vec2::new(200.0, 100.0));
@@ -239,8 +236,7 @@ mod tests {
         assert!(top.y < bottom.y, "higher points are drawn higher on the canvas");
     }
 
-    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
-    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    #[test]
     fn segments_are_cut_at_the_near_plane() {
         let orbit = Orbit { target: Vec3::ZERO, yaw: 0.0, pitch: 0.0, distance: 10.0, radius: 1.0 };
         let projector = Projector::new(&orbit, &Basis::Y_UP, Vec2::new(100.0, 100.0));
@@ -254,8 +250,7 @@ mod tests {
         assert!(close(a, projector.point(Vec3::new(0.0, 1.0, 0.0)).unwrap()));
     }
 
-    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
-    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    #[test]
     fn orbit_limits() {
         let orbit = Orbit { target: Vec3::ZERO, yaw: 0.0, pitch: 0.0, distance: 10.0, radius: 1.0 };
         assert_eq!(orbit.rotated(0.0, 10.0).pitch, PITCH_RANGE.1);
@@ -265,8 +260,7 @@ mod tests {
         assert!((turned.eye(&Basis::Y_UP) - Vec3::new(0.0, 0.0, -10.0)).length() < 1e-4);
     }
 
-    #[cfg_attr(target_arch = "wasm32", wasm_bindgen_test::wasm_bindgen_test)]
-    #[cfg_attr(not(target_arch = "wasm32"), test)]
+    #[test]
     fn grid_lies_on_the_lowest_point_of_a_z_up_motion() {
         let basis = Basis::Z_UP;
         let grid = FloorGrid::under(Vec3::new(-1.0, -1.0, 0.05), Vec3::new(1.0, 1.0, 1.8), &basis);
