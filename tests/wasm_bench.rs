@@ -1,4 +1,4 @@
-//! Benchmark (issue 2, "Benchmark"): parse + forward-kinematics throughput of the core compiled
+//! Benchmark: parse + forward-kinematics throughput of the core compiled
 //! to wasm32, measured in headless Chromium. Not a timed test: it asserts only that the work
 //! succeeded, and prints MB/s and frames/s.
 //!
@@ -95,15 +95,15 @@ fn parse_and_fk_throughput() {
 }
 
 /// The SSSM benchmark sequence: 12 000 frames at 30 Hz written by
-/// `mocapseg bench-sssm --write-bvh` (the CMU takes of the shared data one after another; make
+/// `cargo run --release --example bench_sssm -- --write-bvh` (the CMU takes of the shared data one after another; make
 /// bench-wasm builds it), so native and wasm time the same frames.
 const SSSM_SEQUENCE: &str = include_str!(env!(
     "MOCAPSEG_BENCH_SSSM_BVH",
-    "set MOCAPSEG_BENCH_SSSM_BVH to the sequence written by `mocapseg bench-sssm --write-bvh` (make bench-wasm does)"
+    "set MOCAPSEG_BENCH_SSSM_BVH to the sequence written by `cargo run --release --example bench_sssm -- --write-bvh` (make bench-wasm does)"
 ));
 
-/// SSSM end to end (features → clusters) on 1×, 2× and 4× a length (issue 3, "Speed"; the same
-/// frames as `mocapseg bench-sssm`): 3000 frames with the default parameters (the sequence's
+/// SSSM end to end (features → clusters) on 1×, 2× and 4× a length (the same
+/// frames as `cargo run --example bench_sssm`): 3000 frames with the default parameters (the sequence's
 /// 5211 distinct frames repeat from frame 5211 on), the same without the search horizon (the
 /// paper's all-pairs SSSM), and 1300 frames (so that 4× is still distinct material).
 #[wasm_bindgen_test]

@@ -1,4 +1,4 @@
-//! The page (issue 2, "The page"): a leptos 0.8 client-side app.
+//! The page: a leptos 0.8 client-side app (drop a BVH, see it play, its motion image and its segmentations).
 //!
 //! A user drops a BVH file (or the bundled sample loads by itself); the file goes to a web
 //! worker ([`crate::worker`]) that parses it, runs forward kinematics and builds the motion
