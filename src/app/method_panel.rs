@@ -90,24 +90,10 @@ fn field(method: &str, spec: &ParamSpec, value: RwSignal<String>) -> AnyView {
             .into_any()
         }
         ParamKind::Number { min, max } => {
-            let (min, max) = (min.to_string(), max.to_string());
-            view! {
-                <label title=help>
-                    {label}
-                    <input id=id type="number" step="any" min=min max=max size="6" bind:value=value/>
-                </label>
-            }
-            .into_any()
+            number_input(id, label, help, (min.to_string(), max.to_string(), "any"), value)
         }
         ParamKind::Integer { min, max } => {
-            let (min, max) = (min.to_string(), max.to_string());
-            view! {
-                <label title=help>
-                    {label}
-                    <input id=id type="number" step="1" min=min max=max size="6" bind:value=value/>
-                </label>
-            }
-            .into_any()
+            number_input(id, label, help, (min.to_string(), max.to_string(), "1"), value)
         }
         ParamKind::IntegerList { .. } => view! {
             <label title=help>
@@ -117,6 +103,23 @@ fn field(method: &str, spec: &ParamSpec, value: RwSignal<String>) -> AnyView {
         }
         .into_any(),
     }
+}
+
+/// A number field with its bounds and step (`any` or `1`) as hints; the method checks the value.
+fn number_input(
+    id: String,
+    label: String,
+    help: String,
+    (min, max, step): (String, String, &'static str),
+    value: RwSignal<String>,
+) -> AnyView {
+    view! {
+        <label title=help>
+            {label}
+            <input id=id type="number" step=step min=min max=max size="6" bind:value=value/>
+        </label>
+    }
+    .into_any()
 }
 
 #[component]
