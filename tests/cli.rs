@@ -44,6 +44,7 @@ fn info_reports_frames_fps_units_and_warnings() {
     assert_eq!(v["fps"], 100.0);
     let warnings = v["warnings"].as_array().unwrap();
     assert!(warnings.iter().any(|w| w.as_str().unwrap().contains("3069")), "{warnings:?}");
+    assert_eq!(warnings.len(), 1, "the mismatch is reported once: {warnings:?}");
 
     // 23.976 fps stays 23.976.
     let v = stdout_json(&run(&["info", fixture("pybvh_full_precision_frame_time.bvh").to_str().unwrap()]));
@@ -60,6 +61,25 @@ fn bad_files_fail_with_file_line_and_column() {
     let out = run(&["info", "/definitely/not/here.bvh"]);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("/definitely/not/here.bvh"));
+}
+
+#[test]
+fn a_declared_frame_count_without_data_is_one_frame_not_a_huge_image() {
+    // every joint has CHANNELS 0 and the file declares 2^25 frames
+    let path = out_dir().join("no-channels.bvh");
+    std::fs::write(
+        &path,
+        "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 0\n  CHANNELS 0\n  End Site\n  {\n    OFFSET 0 1 0\n  }\n}\nMOTION\nFrames: 33554432\nFrame Time: 0.0333333\n",
+    )
+    .unwrap();
+    let v = stdout_json(&run(&["info", path.to_str().unwrap()]));
+    assert_eq!((v["frames"].as_u64(), v["declared_frames"].as_u64()), (Some(1), Some(33554432)));
+    let frames_warnings = v["warnings"].as_array().unwrap().iter().filter(|w| w.as_str().unwrap().contains("Frames:"));
+    assert_eq!(frames_warnings.count(), 1, "{v}");
+    let png = out_dir().join("no-channels.png");
+    let out = run(&["image", path.to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(std::fs::metadata(&png).unwrap().len() < 1000, "a one-column image");
 }
 
 #[test]
