@@ -3,8 +3,14 @@
 //! mocap6 takes joined into one 2-minute take) with any registered method and prints the scores
 //! as one table with their mean. Says so and fails when the folder is absent.
 //!
+//! With `--grid NAME=V1,V2,…` (repeatable) it instead *chooses* parameters by leave-one-take-out:
+//! for each take, the grid setting with the best mean F1@1s on the other takes is scored on the
+//! held-out take, and the held-out mean is printed beside the in-sample one (the setting best on
+//! all takes, scored on those same takes) — parameters are never tuned on the take reported.
+//!
 //! ```text
 //! cargo run --release --example eval_data -- [--data ../shared/data] [--method sssm] [--param NAME=VALUE]… [--json]
+//! cargo run --release --example eval_data -- --grid radius=13,16,19,22,25 --grid relative_gate=0,1.5
 //! ```
 
 #[cfg(target_arch = "wasm32")]
@@ -49,6 +55,9 @@ mod lab {
         /// Print JSON instead of a markdown table.
         #[arg(long)]
         json: bool,
+        /// Leave-one-take-out choice of parameters over this grid: NAME=V1,V2,… (JSON values); repeatable.
+        #[arg(long = "grid", value_name = "NAME=V1,V2,…")]
+        grid: Vec<String>,
     }
 
     /// The labelled takes of the shared data: (BVH path, ground-truth CSV, trial id).
@@ -62,13 +71,115 @@ mod lab {
         takes
     }
 
-    pub fn eval_data(args: Args) -> Result<(), String> {
-        let data = &args.data;
+    /// The labelled takes that are present, with their ground truth.
+    fn load_takes(data: &Path) -> Result<Vec<(Motion, Truth)>, String> {
         if !data.join("labels").is_dir() {
             return Err(format!(
                 "{}: no shared data here (expected labels/ and cmu/ as in ../shared/data); pass --data DIR",
                 data.display()
             ));
+        }
+        let mut takes = Vec::new();
+        for (bvh_path, truth_path, trial) in labelled_takes(data) {
+            if !bvh_path.exists() {
+                eprintln!("skipping {trial}: {} is absent", bvh_path.display());
+                continue;
+            }
+            let loaded = load_path(&bvh_path).map_err(|e| e.to_string())?;
+            let text = std::fs::read_to_string(&truth_path).map_err(|e| format!("{}: {e}", truth_path.display()))?;
+            let truth = load_csv(&text, trial, TruthOptions::default())
+                .map_err(|e| format!("{}: {e}", truth_path.display()))?;
+            takes.push((loaded.motion, truth));
+        }
+        if takes.is_empty() {
+            return Err(format!("{}: none of the labelled takes is present", data.display()));
+        }
+        Ok(takes)
+    }
+
+    /// Every combination of the grid's values, as `NAME=VALUE` overrides after `base`.
+    fn grid_settings(base: &[String], grid: &[String]) -> Result<Vec<Vec<String>>, String> {
+        let mut settings = vec![base.to_vec()];
+        for g in grid {
+            let (name, values) = g.split_once('=').ok_or_else(|| format!("--grid {g}: expected NAME=V1,V2,…"))?;
+            let values: Vec<&str> = values.split(',').map(str::trim).filter(|v| !v.is_empty()).collect();
+            if values.is_empty() {
+                return Err(format!("--grid {g}: no values"));
+            }
+            settings = settings
+                .iter()
+                .flat_map(|s| values.iter().map(move |v| [s.clone(), vec![format!("{}={v}", name.trim())]].concat()))
+                .collect();
+        }
+        Ok(settings)
+    }
+
+    /// Leave-one-take-out: for each take, the grid setting best (mean F1@1s) on the others,
+    /// scored on it; then the held-out mean beside the in-sample one.
+    fn leave_one_take_out(args: &Args) -> Result<(), String> {
+        let takes = load_takes(&args.data)?;
+        if takes.len() < 2 {
+            return Err("leave-one-take-out needs at least two labelled takes".into());
+        }
+        let method = method::find(&args.method).map_err(|e| e.to_string())?;
+        let settings = grid_settings(&args.params, &args.grid)?;
+        // scores[s][t] = (F1@1s, covering) of setting s on take t
+        let mut scores = Vec::new();
+        for overrides in &settings {
+            let params = method::params_from_overrides(method, overrides).map_err(|e| e.to_string())?;
+            let checked = method.check_json(&params).map_err(|e| format!("{}: {e}", overrides.join(" ")))?;
+            let mut row = Vec::new();
+            for (motion, truth) in &takes {
+                let output = method
+                    .run_checked(motion, &checked, &RunOptions::default(), &mut NoProgress)
+                    .map_err(|e| format!("{}: {e}", motion.name))?;
+                let s = evaluate(&output.segmentation, truth, &Tolerances::default())
+                    .map_err(|e| format!("{}: {e}", truth.trial))?;
+                row.push((s.boundaries[1].f1, s.covering));
+            }
+            scores.push(row);
+        }
+        let n = takes.len();
+        let mean_f1 = |s: usize, skip: Option<usize>| {
+            let kept: Vec<f64> = (0..n).filter(|&t| Some(t) != skip).map(|t| scores[s][t].0).collect();
+            kept.iter().sum::<f64>() / kept.len() as f64
+        };
+        let best = |skip: Option<usize>| {
+            (0..settings.len()).fold(0, |b, s| if mean_f1(s, skip) > mean_f1(b, skip) + 1e-12 { s } else { b })
+        };
+        let label = |s: usize| {
+            let grid_part = &settings[s][args.params.len()..];
+            grid_part.join(" ")
+        };
+        println!(
+            "leave-one-take-out over {} settings ({}), {} takes, method {}",
+            settings.len(),
+            args.grid.join("; "),
+            n,
+            args.method
+        );
+        println!("| held-out take | chosen on the other takes | F1@1s held out | covering held out |");
+        println!("|---|---|---|---|");
+        let (mut held_f1, mut held_cov) = (0.0, 0.0);
+        for t in 0..n {
+            let s = best(Some(t));
+            let (f1, cov) = scores[s][t];
+            held_f1 += f1 / n as f64;
+            held_cov += cov / n as f64;
+            println!("| {} | {} | {f1:.2} | {cov:.2} |", takes[t].1.trial, label(s));
+        }
+        let s = best(None);
+        let in_f1 = mean_f1(s, None);
+        let in_cov = (0..n).map(|t| scores[s][t].1).sum::<f64>() / n as f64;
+        println!("| **mean held out** | | **{held_f1:.2}** | **{held_cov:.2}** |");
+        println!("| mean in-sample (best on all takes: {}) | | {in_f1:.2} | {in_cov:.2} |", label(s));
+        Ok(())
+    }
+
+    pub fn eval_data(args: Args) -> Result<(), String> {
+        let data = &args.data;
+        if !args.grid.is_empty() {
+            return leave_one_take_out(&args);
         }
         let method = method::find(&args.method).map_err(|e| e.to_string())?;
         let params = method::params_from_overrides(method, &args.params).map_err(|e| e.to_string())?;
@@ -83,24 +194,14 @@ mod lab {
             let scores = evaluate(&seg, truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", truth.trial))?;
             Ok(Row { scores, found_actions: seg.level(Level::Action).count(), seconds: Some(seconds) })
         };
+        let takes = load_takes(data)?;
         let mut rows = Vec::new();
         let mut mocap6 = Vec::new();
-        for (bvh_path, truth_path, trial) in labelled_takes(data) {
-            if !bvh_path.exists() {
-                eprintln!("skipping {trial}: {} is absent", bvh_path.display());
-                continue;
+        for (motion, truth) in takes {
+            rows.push(score(&motion, &truth)?);
+            if truth.trial != "86_01" {
+                mocap6.push((motion, truth));
             }
-            let loaded = load_path(&bvh_path).map_err(|e| e.to_string())?;
-            let text = std::fs::read_to_string(&truth_path).map_err(|e| format!("{}: {e}", truth_path.display()))?;
-            let truth = load_csv(&text, trial, TruthOptions::default())
-                .map_err(|e| format!("{}: {e}", truth_path.display()))?;
-            rows.push(score(&loaded.motion, &truth)?);
-            if trial != "86_01" {
-                mocap6.push((loaded.motion, truth));
-            }
-        }
-        if rows.is_empty() {
-            return Err(format!("{}: none of the labelled takes is present", data.display()));
         }
         // The mocap6 takes one after another: one long take (about 2 minutes) whose activities
         // recur across the parts, so kinds are scored across far-apart actions too.
