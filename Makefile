@@ -158,4 +158,4 @@ $(BENCH_SEQ):
 bench-wasm: check-toolchain $(BENCH_SEQ)
 	@echo "bench input: $(BENCH_BVH), SSSM sequence $(BENCH_SEQ)"
 	MOCAPSEG_BENCH_BVH="$(BENCH_BVH)" MOCAPSEG_BENCH_SSSM_BVH="$(BENCH_SEQ)" WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
-	$(CARGO) test $(WASM_CARGO_FLAGS) --release --target $(WASM_TARGET) --test wasm_bench -- --nocapture
+	$(CARGO) test $(WASM_CARGO_FLAGS) --release --target $(WASM_TARGET) --features web --test wasm_bench -- --nocapture
