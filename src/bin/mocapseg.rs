@@ -356,7 +356,14 @@ mod cli {
         out: &Path,
     ) -> Result<(String, usize), String> {
         let started = Instant::now();
-        let loaded = load(file)?;
+        // the loader names the file; a batch names the path (takes of one name in several folders)
+        let loaded = load(file).map_err(|e| {
+            let name = file.file_name().map(|n| format!("{}: ", n.to_string_lossy())).unwrap_or_default();
+            match e.strip_prefix(&name) {
+                Some(rest) if !name.is_empty() => format!("{}: {rest}", file.display()),
+                _ => e,
+            }
+        })?;
         let output = method
             .run_checked(&loaded.motion, checked, &RunOptions::default(), &mut NoProgress)
             .map_err(|e| format!("{}: {e}", file.display()))?;
