@@ -476,6 +476,48 @@ test("a worker replaced (a cancelled run): Run segments the take on screen again
   assert.equal(await page.locator("#error-banner").isVisible(), false, "no error after the new worker's run");
 });
 
+test("a worker replaced after a fatal error: Run segments the take on screen again", async () => {
+  const shown = await text("#summary-name");
+  // The next worker script the page fetches breaks on its first segment request, as a wasm trap
+  // would (worker.js reports it as "internal"); the page must replace it, and the fresh worker
+  // (the real script) must get the take on screen before it runs anything.
+  let served = 0;
+  const context = page.context();
+  const handler = async (route) => {
+    served += 1;
+    const response = await route.fetch();
+    const body = (await response.text()).replace(
+      "worker_handle(event.data, post);",
+      `if (!self.__broke && JSON.parse(event.data.json).type === "segment") { self.__broke = true; throw new Error("simulated trap"); }
+    worker_handle(event.data, post);`,
+    );
+    await route.fulfill({ response, body });
+    await context.unroute("**/www/worker.js", handler);
+  };
+  await context.route("**/www/worker.js", handler);
+  // a cancel replaces the worker: the new one is the sabotaged script
+  await page.evaluate(() => {
+    document.querySelector("#sssm-run").click();
+    document.querySelector("#sssm-cancel").click();
+  });
+  await waitSssm("cancelled");
+  allowConsoleErrors = true;
+  try {
+    await page.locator("#sssm-run:not([disabled])").waitFor({ timeout: TIMEOUT });
+    await page.click("#sssm-run");
+    await waitSssm("error");
+  } finally {
+    allowConsoleErrors = false;
+  }
+  assert.equal(served, 1, "the sabotaged worker script was served");
+  assert.match(await text("#error-banner"), /internal error: simulated trap/, "the banner says the worker broke");
+  // the broken worker was replaced; the next run goes to a fresh one, which gets the take first
+  await clickRun();
+  const json = await exportSssm("e2e-after-fatal.json");
+  assert.equal(json.file, shown, "Run segmented the take on screen");
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "the banner cleared after the good run");
+});
+
 test("load sample button", async () => {
   await page.click("#load-sample");
   await page.waitForFunction(
