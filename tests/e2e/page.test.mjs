@@ -4,8 +4,11 @@
 // through the file input (and by drag-and-drop) shows the right summary, the motion image and
 // the player canvases are drawn, play/pause/scrub move the frame counter and the playhead, the
 // PNG download is a PNG, the SSSM segmentation (Krüger et al. 2017) runs after the sample loads
-// (rows, image, re-run, a bad parameter, export, playing a primitive), and a malformed file shows the parser's error (with its line) while
-// the page keeps working. Screenshots go to OUT_DIR (default <repo>/test-output).
+// (rows, image, re-run, a bad parameter, export, playing a primitive), a malformed file shows the
+// parser's error (with its line) while the page keeps working, the automatic run takes the form's
+// parameters, and the protocol's races — a file that fails while another is still parsing, a
+// worker replaced after a cancel or a fatal error — never make "Run" segment another take than the
+// one on screen. Screenshots go to OUT_DIR (default <repo>/test-output).
 //
 // Run: node page.test.mjs   (env: BASE_URL, OUT_DIR, FIXTURES, SAMPLE_BVH, E2E_TIMEOUT_MS)
 
