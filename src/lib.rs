@@ -18,6 +18,7 @@ pub mod protocol;
 pub mod segment;
 pub mod sssm;
 pub mod stats;
+pub mod velocity;
 pub mod view;
 
 #[cfg(feature = "web")]

@@ -263,12 +263,15 @@ pub fn MethodRows(state: AppState) -> impl IntoView {
                     segments.into_iter().map(|s| segment_view(state, &v, s, primitive)).collect::<Vec<_>>()
                 }
             };
-            let hidden = move || slot.view.with(Option::is_none);
+            // a row shows only when the method's result has segments of its levels
+            let hidden = move |levels: &'static [Level]| {
+                move || slot.view.with(|v| v.as_ref().is_none_or(|v| !v.segmentation.segments.iter().any(|s| levels.contains(&s.level))))
+            };
             view! {
-                <div id=format!("row-{name}-actions") class="ms-row" hidden=hidden title=format!("{} actions and transitions", slot.info.short)>
+                <div id=format!("row-{name}-actions") class="ms-row" hidden=hidden(&[Level::Action, Level::Transition]) title=format!("{} actions and transitions", slot.info.short)>
                     {rows(&[Level::Action, Level::Transition], false)}
                 </div>
-                <div id=format!("row-{name}-primitives") class="ms-row" hidden=hidden title=format!("{} primitives", slot.info.short)>
+                <div id=format!("row-{name}-primitives") class="ms-row" hidden=hidden(&[Level::Primitive]) title=format!("{} primitives", slot.info.short)>
                     {rows(&[Level::Primitive], true)}
                 </div>
             }

@@ -6,6 +6,7 @@
 //! Which features a method computes from a take is the method's own business (the SSSM's are in
 //! [`crate::sssm::features`]); this module only holds and transforms them.
 
+pub mod end_effectors;
 pub mod pca;
 
 /// What is wrong with a feature matrix or a mirror map.

@@ -13,15 +13,12 @@
 
 pub use crate::features::{stack, FeatureMatrix, MirrorMap};
 
+pub use crate::features::end_effectors::REFERENCE_BODY_INCHES;
+
 use super::params::ValidParams;
 use super::SssmError;
-use crate::motion::normalize::{body_size, end_effector_features, to_inches};
-use crate::motion::resample::source_positions;
+use crate::features::end_effectors::{end_effectors, EndEffectorError};
 use crate::motion::Motion;
-
-/// Body size (leg length + trunk length, [`body_size`]) of CMU subject 86 in inches, measured
-/// on `86_01.bvh`: the body the generalized radius was tuned on.
-pub const REFERENCE_BODY_INCHES: f64 = 56.07;
 
 /// The features of a take, ready for the method.
 #[derive(Debug, Clone, PartialEq)]
@@ -38,25 +35,17 @@ pub struct MotionFeatures {
 
 /// The paper's end-effector features of `motion` at the working rate (see the module docs).
 pub fn from_motion(motion: &Motion, params: &ValidParams) -> Result<MotionFeatures, SssmError> {
-    if motion.frames() == 0 {
-        return Err(SssmError::NoFrames);
-    }
-    let map = motion.joint_map().map_err(|e| SssmError::MissingJoints(e.to_string()))?;
-    let source_frames = source_positions(motion.frames(), motion.fps, params.fps)?;
-    let working = motion.resample(params.fps)?;
-    let inches = to_inches(motion.units);
-    let mut scale = inches;
-    if params.body_scale {
-        let body = body_size(&motion.skeleton, &map) * inches;
-        if !(body.is_finite() && body > 0.0) {
-            return Err(SssmError::BadFeatures(format!(
-                "the skeleton's body size is {body} inches; cannot scale it to the reference body"
-            )));
-        }
-        scale *= REFERENCE_BODY_INCHES / body;
-    }
-    let rows = end_effector_features(&working, &map);
-    let data: Vec<f32> = rows.iter().flat_map(|r| r.iter().map(|&v| (v as f64 * scale) as f32)).collect();
-    let base = FeatureMatrix::new(rows.len(), 15, data)?;
-    Ok(MotionFeatures { base, mirror: MirrorMap::end_effectors(), source_frames, scale })
+    let e = end_effectors(motion, params.fps, params.body_scale).map_err(|e| match e {
+        EndEffectorError::NoFrames => SssmError::NoFrames,
+        EndEffectorError::MissingJoints(m) => SssmError::MissingJoints(m),
+        EndEffectorError::Motion(m) => SssmError::Motion(m),
+        EndEffectorError::BadBody(_) => SssmError::BadFeatures(e.to_string()),
+        EndEffectorError::Features(f) => f.into(),
+    })?;
+    Ok(MotionFeatures {
+        base: e.base,
+        mirror: MirrorMap::end_effectors(),
+        source_frames: e.source_frames,
+        scale: e.scale,
+    })
 }

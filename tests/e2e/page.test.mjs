@@ -306,6 +306,25 @@ test("SSSM segments the sample: rows, image, re-run, bad parameter, export", asy
   assert.equal((await frameCounter()).n - 1, prim.end, "playback of a primitive stops on its last frame");
 });
 
+test("every registered method gets a panel: the velocity baseline runs after the load too", async () => {
+  await page.waitForFunction(() => document.body.dataset.velocity === "done", null, { timeout: TIMEOUT });
+  const gestures = await page.locator("#row-velocity-primitives .ms-seg").count();
+  assert.ok(gestures >= 2, `#row-velocity-primitives has ${gestures} segments, want ≥ 2`);
+  assert.equal(await page.locator("#row-velocity-actions").isVisible(), false, "no empty actions row");
+  const plot = await canvasStats("#velocity-speed");
+  assert.ok(!plot.error && plot.width > 0 && plot.distinct >= 4, `#velocity-speed looks blank: ${JSON.stringify(plot)}`);
+  assert.match(await text("#velocity-counts"), /\d+ gestures/);
+  // its form is generated from its own parameters; a value out of range is named by the method
+  await page.fill("#velocity-high_speed", "5");
+  await page.click("#velocity-run");
+  await page.waitForFunction(() => document.body.dataset.velocity === "error", null, { timeout: TIMEOUT });
+  assert.match(await text("#error-banner"), /high_speed = 5: expected at least low_speed/);
+  await page.fill("#velocity-high_speed", "30");
+  await page.click("#velocity-run");
+  await page.waitForFunction(() => document.body.dataset.velocity === "done", null, { timeout: TIMEOUT });
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "the banner cleared after the good run");
+});
+
 test("file input loads 02_01.bvh: summary, motion image, player", async () => {
   await clearStates();
   await page.setInputFiles("#file-input", path.join(FIXTURES, "02_01.bvh"));

@@ -1,0 +1,188 @@
+//! The hand-speed segmentation behind the common [`Method`] interface: its parameters, the
+//! segmentation at the file's frame rate, both hands' speed as per-frame curves and as a plot.
+
+use super::{boundaries, hand_speed, ValidParams, VelocityParams, BOUNDS};
+use crate::features::end_effectors::{end_effectors, LEFT_HAND, RIGHT_HAND};
+use crate::method::{
+    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamKind, ParamSpec, Picture, Progress, RunOptions,
+};
+use crate::motion::Motion;
+use crate::segment::frames::WorkingFrames;
+use crate::segment::{Level, Segment, Segmentation};
+
+/// Hand-speed segmentation (Osaki et al. 2000; Shiratori et al. 2003), as Bouchard & Badler's baseline.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Velocity;
+
+/// Height in pixels of the speed plot.
+const PLOT_HEIGHT: usize = 120;
+/// Widest plot in pixels (longer takes put several working frames in a column, keeping the fastest).
+const PLOT_MAX_WIDTH: usize = 1500;
+
+impl Method for Velocity {
+    type Params = VelocityParams;
+    type Checked = ValidParams;
+
+    fn info(&self) -> MethodInfo {
+        MethodInfo {
+            name: "velocity".into(),
+            short: "Velocity".into(),
+            paper: "Osaki et al. 2000; Shiratori et al. 2003".into(),
+            summary: "Kinematic baseline: a boundary wherever a hand slows down below one speed after moving faster \
+                      than another."
+                .into(),
+            auto_run: true,
+        }
+    }
+
+    fn param_specs(&self) -> Vec<ParamSpec> {
+        let d = VelocityParams::default();
+        let help = |name: &str| match name {
+            "fps" => "Frame rate the method works at; takes are resampled to it.",
+            "smooth_s" => "Standard deviation of the Gaussian that smooths the hand speeds (0 = none).",
+            "low_speed" => "A local minimum of a hand's speed below this is a boundary candidate.",
+            "high_speed" => "A segment must reach this hand speed somewhere (at least low_speed).",
+            _ => "Boundaries of either hand closer than this are merged into one.",
+        };
+        let mut specs: Vec<ParamSpec> = BOUNDS
+            .iter()
+            .map(|&(name, min, max, unit)| ParamSpec {
+                name: name.into(),
+                help: help(name).into(),
+                kind: ParamKind::Number { min, max },
+                default: serde_json::json!(d.value(name)),
+                unit: Some(unit.into()),
+                basic: matches!(name, "low_speed" | "high_speed" | "merge_s"),
+            })
+            .collect();
+        specs.insert(
+            1,
+            ParamSpec {
+                name: "body_scale".into(),
+                help: "Scale every take to the reference body (speeds in inches per second of CMU subject 86's body)."
+                    .into(),
+                kind: ParamKind::Bool,
+                default: serde_json::json!(d.body_scale),
+                unit: None,
+                basic: false,
+            },
+        );
+        specs
+    }
+
+    fn check(&self, params: VelocityParams) -> Result<ValidParams, MethodError> {
+        params.check().map_err(|e| MethodError::Params(e.to_string()))
+    }
+
+    fn echo(&self, params: &ValidParams) -> serde_json::Value {
+        serde_json::to_value(&**params).unwrap_or_default()
+    }
+
+    fn run(
+        &self,
+        motion: &Motion,
+        params: &ValidParams,
+        options: &RunOptions,
+        progress: &mut dyn Progress,
+    ) -> Result<MethodOutput, MethodError> {
+        progress.step("features", 0.0)?;
+        let e = end_effectors(motion, params.fps, params.body_scale).map_err(|e| MethodError::Failed(e.to_string()))?;
+        progress.step("speed", 0.3)?;
+        let speeds: Vec<Vec<f32>> =
+            [LEFT_HAND, RIGHT_HAND].iter().map(|&c| hand_speed(&e.base, c, params.fps, params.smooth_s)).collect();
+        let cuts = boundaries(&speeds, params, &mut |stage, f| progress.step(stage, f))?;
+        let frames = WorkingFrames { source: &e.source_frames, file_frames: motion.frames() };
+        let n = e.base.frames();
+        let starts: Vec<usize> = std::iter::once(0).chain(cuts.iter().copied()).collect();
+        let mut segments = Vec::new();
+        for (k, &start) in starts.iter().enumerate() {
+            let end = starts.get(k + 1).map_or(n - 1, |&next| next - 1);
+            let peak = speeds.iter().flat_map(|s| &s[start..=end]).fold(0.0f32, |a, &b| a.max(b));
+            let working = Segment {
+                start,
+                end,
+                label: "gesture".into(),
+                level: Level::Primitive,
+                cluster: None,
+                score: Some((peak as f64 * 10.0).round() / 10.0),
+                mirror_of: None,
+            };
+            segments.extend(frames.to_file(working));
+        }
+        let segmentation = Segmentation {
+            file: motion.name.clone(),
+            fps: motion.fps,
+            frames: motion.frames(),
+            method: "velocity".into(),
+            params: self.echo(params),
+            segments,
+        };
+        let curves = ["left hand", "right hand"]
+            .iter()
+            .zip(&speeds)
+            .map(|(hand, s)| Curve {
+                id: hand.replace(' ', "-") + "-speed",
+                title: format!("{hand} speed (in/s)"),
+                values: (0..motion.frames()).map(|f| s[frames.working_frame(f)]).collect(),
+            })
+            .collect();
+        let mut pictures = Vec::new();
+        if options.pictures {
+            progress.step("plot", 0.95)?;
+            pictures.push(plot(&speeds, &cuts, params));
+        }
+        let summary = format!(
+            "{} gestures · {} boundaries · hand speed up to {:.0} in/s",
+            segmentation.segments.len(),
+            cuts.len(),
+            speeds.iter().flatten().fold(0.0f32, |a, &b| a.max(b))
+        );
+        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves } })
+    }
+}
+
+/// Both hands' speed over time (left blue, right red), the two thresholds (grey) and the
+/// boundaries (black); time across at the working rate, speed up.
+fn plot(speeds: &[Vec<f32>], cuts: &[usize], params: &ValidParams) -> Picture {
+    let n = speeds.first().map_or(0, Vec::len).max(1);
+    let per_column = n.div_ceil(PLOT_MAX_WIDTH).max(1);
+    let width = n.div_ceil(per_column);
+    let top = speeds.iter().flatten().fold(params.high_speed as f32 * 1.2, |a, &b| a.max(b));
+    let y_of = |v: f32| PLOT_HEIGHT - 1 - ((v / top).clamp(0.0, 1.0) * (PLOT_HEIGHT - 1) as f32).round() as usize;
+    let mut rgba = vec![255u8; width * PLOT_HEIGHT * 4];
+    let mut set = |x: usize, y: usize, c: [u8; 3]| {
+        let k = (y * width + x) * 4;
+        rgba[k..k + 3].copy_from_slice(&c);
+    };
+    for (threshold, grey) in [(params.low_speed, 200u8), (params.high_speed, 170)] {
+        let y = y_of(threshold as f32);
+        (0..width).filter(|x| x % 4 < 2).for_each(|x| set(x, y, [grey; 3]));
+    }
+    for &c in cuts {
+        (0..PLOT_HEIGHT).for_each(|y| set(c / per_column, y, [40, 40, 40]));
+    }
+    for (s, colour) in speeds.iter().zip([[30u8, 90, 235], [215, 30, 40]]) {
+        let mut last: Option<usize> = None;
+        for x in 0..width {
+            let chunk = &s[x * per_column..((x + 1) * per_column).min(s.len())];
+            let y = y_of(chunk.iter().fold(0.0f32, |a, &b| a.max(b)));
+            // a connected line: every pixel between the previous column's height and this one
+            let (a, b) = last.map_or((y, y), |l| (l.min(y), l.max(y)));
+            (a..=b).for_each(|yy| set(x, yy, colour));
+            last = Some(y);
+        }
+    }
+    Picture {
+        id: "speed".into(),
+        title: "Hand speed".into(),
+        caption: format!(
+            "Time across ({} Hz{}), speed up to {top:.0} in/s. Blue: left hand, red: right hand; dashed grey: the \
+             low and high speed thresholds; black: boundaries.",
+            params.fps,
+            if per_column > 1 { format!(", {per_column} frames per pixel") } else { String::new() }
+        ),
+        width,
+        height: PLOT_HEIGHT,
+        rgba,
+    }
+}

@@ -1,0 +1,287 @@
+//! Hand-speed segmentation: the kinematic baseline Bouchard & Badler compare LMA with (their
+//! §5.1, "the velocity method from Osaki et al. [2000] and Shiratori et al. [2003] … defines
+//! boundaries as hand linear velocity local minima below some threshold and segment maximal
+//! velocity above another threshold").
+//!
+//! 1. [`crate::features::end_effectors`]: both hands relative to the hips, facing-aligned, in
+//!    inches of the reference body, at the working rate (30 Hz);
+//! 2. [`hand_speed`]: each hand's linear speed (central differences), Gaussian-smoothed;
+//! 3. [`boundaries`]: per hand, every local speed minimum below `low_speed` is a candidate; a
+//!    candidate is kept when the hand was faster than `high_speed` somewhere since the last kept
+//!    boundary (so every segment holds a real movement); the two hands' boundaries are merged
+//!    where they lie within `merge_s` of each other;
+//! 4. one segment (level `primitive`, label `gesture`) between consecutive boundaries, its
+//!    `score` the highest hand speed inside it (inches per second, reference body).
+//!
+//! The thresholds are in speeds of a body the size of CMU subject 86 (`body_scale`), so they
+//! mean the same for every skeleton and unit. Their defaults come from what hands do, not from
+//! tuning on labelled takes: at rest a hand drifts below 0.3 m/s (12 in/s); a gesture's stroke
+//! passes 0.75 m/s (30 in/s).
+
+pub mod method;
+
+use serde::{Deserialize, Serialize};
+
+use crate::features::FeatureMatrix;
+use crate::method::Cancelled;
+
+/// Parameters of the hand-speed segmentation (see the module documentation).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct VelocityParams {
+    /// Frame rate the method works at; takes are resampled to it.
+    pub fps: f64,
+    /// Scale every take to the reference body size (thresholds in reference inches per second).
+    pub body_scale: bool,
+    /// Standard deviation (seconds) of the Gaussian that smooths the speeds (0 = none).
+    pub smooth_s: f64,
+    /// A local speed minimum below this (inches per second) is a boundary candidate.
+    pub low_speed: f64,
+    /// A segment must reach this hand speed (inches per second) somewhere.
+    pub high_speed: f64,
+    /// Boundaries (of either hand) closer than this many seconds are merged into one.
+    pub merge_s: f64,
+}
+
+impl Default for VelocityParams {
+    fn default() -> Self {
+        VelocityParams { fps: 30.0, body_scale: true, smooth_s: 0.1, low_speed: 12.0, high_speed: 30.0, merge_s: 0.3 }
+    }
+}
+
+/// Why the parameters are refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("invalid velocity parameter {name} = {value}: expected {expected}")]
+pub struct ParamError {
+    pub name: &'static str,
+    pub value: String,
+    pub expected: String,
+}
+
+/// [`VelocityParams`] that passed [`VelocityParams::check`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ValidParams(VelocityParams);
+
+impl std::ops::Deref for ValidParams {
+    type Target = VelocityParams;
+    fn deref(&self) -> &VelocityParams {
+        &self.0
+    }
+}
+
+/// Bounds of every numeric parameter: `(name, min, max, unit)`.
+pub const BOUNDS: [(&str, f64, f64, &str); 5] = [
+    ("fps", 10.0, 240.0, "Hz"),
+    ("smooth_s", 0.0, 1.0, "s"),
+    ("low_speed", 0.1, 1000.0, "in/s"),
+    ("high_speed", 0.1, 2000.0, "in/s"),
+    ("merge_s", 0.0, 2.0, "s"),
+];
+
+impl VelocityParams {
+    pub(crate) fn value(&self, name: &str) -> f64 {
+        match name {
+            "fps" => self.fps,
+            "smooth_s" => self.smooth_s,
+            "low_speed" => self.low_speed,
+            "high_speed" => self.high_speed,
+            _ => self.merge_s,
+        }
+    }
+
+    /// Validates every parameter; the method only ever runs on the result.
+    pub fn check(self) -> Result<ValidParams, ParamError> {
+        for (name, min, max, unit) in BOUNDS {
+            let v = self.value(name);
+            if !(v.is_finite() && (min..=max).contains(&v)) {
+                return Err(ParamError {
+                    name,
+                    value: format!("{v:e}").replace("e0", ""),
+                    expected: format!("{min} to {max} {unit}"),
+                });
+            }
+        }
+        if self.high_speed < self.low_speed {
+            return Err(ParamError {
+                name: "high_speed",
+                value: self.high_speed.to_string(),
+                expected: format!("at least low_speed ({})", self.low_speed),
+            });
+        }
+        Ok(ValidParams(self))
+    }
+}
+
+/// The linear speed (feature units per second) of the point in columns `col..col + 3` of
+/// `features` at `fps`: central differences, one-sided at the ends, then a Gaussian of `sigma_s`
+/// seconds (none below half a frame).
+pub fn hand_speed(features: &FeatureMatrix, col: usize, fps: f64, sigma_s: f64) -> Vec<f32> {
+    let n = features.frames();
+    let p = |i: usize| {
+        let r = features.row(i);
+        [r[col] as f64, r[col + 1] as f64, r[col + 2] as f64]
+    };
+    let dist =
+        |a: [f64; 3], b: [f64; 3]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+    let raw: Vec<f64> = (0..n)
+        .map(|i| match (i.checked_sub(1), (i + 1 < n).then_some(i + 1)) {
+            (Some(a), Some(b)) => dist(p(a), p(b)) * fps / 2.0,
+            (None, Some(b)) => dist(p(i), p(b)) * fps,
+            (Some(a), None) => dist(p(a), p(i)) * fps,
+            (None, None) => 0.0,
+        })
+        .collect();
+    gaussian(&raw, sigma_s * fps).into_iter().map(|v| v as f32).collect()
+}
+
+/// `values` convolved with a normalised Gaussian of `sigma` samples (truncated at 3σ; the ends
+/// renormalised), or unchanged when `sigma < 0.5`.
+fn gaussian(values: &[f64], sigma: f64) -> Vec<f64> {
+    if sigma < 0.5 {
+        return values.to_vec();
+    }
+    let half = (3.0 * sigma).ceil() as isize;
+    let kernel: Vec<f64> = (-half..=half).map(|k| (-0.5 * (k as f64 / sigma).powi(2)).exp()).collect();
+    let n = values.len() as isize;
+    (0..n)
+        .map(|i| {
+            let (mut sum, mut weight) = (0.0, 0.0);
+            for (k, w) in (-half..=half).zip(&kernel) {
+                let j = i + k;
+                if (0..n).contains(&j) {
+                    sum += w * values[j as usize];
+                    weight += w;
+                }
+            }
+            sum / weight
+        })
+        .collect()
+}
+
+/// One hand's boundaries: local minima of `speed` below `low`, each kept when the speed passed
+/// `high` since the last kept one (or the start).
+pub fn hand_boundaries(speed: &[f32], low: f32, high: f32) -> Vec<usize> {
+    let mut kept = Vec::new();
+    let mut peak = 0.0f32;
+    for t in 0..speed.len() {
+        peak = peak.max(speed[t]);
+        let is_min = t > 0 && t + 1 < speed.len() && speed[t] <= speed[t - 1] && speed[t] < speed[t + 1];
+        if is_min && speed[t] < low && peak >= high {
+            kept.push(t);
+            peak = speed[t];
+        }
+    }
+    kept
+}
+
+/// Boundaries of every hand merged: sorted, and a run of boundaries each within `merge` frames
+/// of the previous one becomes one boundary at the run's (rounded) mean.
+pub fn merge_boundaries(mut all: Vec<usize>, merge: usize) -> Vec<usize> {
+    all.sort_unstable();
+    let mut out = Vec::new();
+    let mut run: Vec<usize> = Vec::new();
+    for b in all {
+        if run.last().is_some_and(|&last| b - last > merge) {
+            out.push((run.iter().sum::<usize>() as f64 / run.len() as f64).round() as usize);
+            run.clear();
+        }
+        run.push(b);
+    }
+    if !run.is_empty() {
+        out.push((run.iter().sum::<usize>() as f64 / run.len() as f64).round() as usize);
+    }
+    out.dedup();
+    out
+}
+
+/// The segmentation of hand-speed curves (one per hand, same length): the boundaries (first frames
+/// of every segment after the first), reporting progress.
+pub fn boundaries(
+    speeds: &[Vec<f32>],
+    params: &ValidParams,
+    progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
+) -> Result<Vec<usize>, Cancelled> {
+    let mut all = Vec::new();
+    for (k, s) in speeds.iter().enumerate() {
+        progress("boundaries", 0.5 + 0.4 * k as f64 / speeds.len().max(1) as f64)?;
+        all.extend(hand_boundaries(s, params.low_speed as f32, params.high_speed as f32));
+    }
+    let merge = (params.merge_s * params.fps).round() as usize;
+    let frames = speeds.first().map_or(0, Vec::len);
+    Ok(merge_boundaries(all, merge).into_iter().filter(|&b| b > 0 && b < frames).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn speed_of_a_point_at_constant_speed_is_that_speed() {
+        // 2 inches per frame along x at 30 Hz = 60 in/s, with and without smoothing
+        let rows: Vec<[f32; 3]> = (0..40).map(|i| [2.0 * i as f32, 5.0, -1.0]).collect();
+        let m = FeatureMatrix::from_rows(&rows).unwrap();
+        for sigma in [0.0, 0.1] {
+            let s = hand_speed(&m, 0, 30.0, sigma);
+            assert_eq!(s.len(), 40);
+            assert!(s.iter().all(|v| (v - 60.0).abs() < 1e-3), "{s:?}");
+        }
+        // uniform acceleration: the central difference is exact at every inner frame
+        let rows: Vec<[f32; 3]> = (0..20).map(|i| [0.0, 0.5 * (i * i) as f32, 0.0]).collect();
+        let s = hand_speed(&FeatureMatrix::from_rows(&rows).unwrap(), 0, 10.0, 0.0);
+        for (t, v) in s.iter().enumerate().take(19).skip(1) {
+            assert!((v - 10.0 * t as f32).abs() < 1e-3, "frame {t}: {v}");
+        }
+    }
+
+    /// Three strokes (speed bumps up to `peak`) separated by near-stops at frames 30 and 60.
+    fn strokes(peak: f32, stop: f32) -> Vec<f32> {
+        (0..90)
+            .map(|t| {
+                let phase = (t % 30) as f32 / 30.0;
+                stop + (peak - stop) * (std::f32::consts::PI * phase).sin()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn minima_below_low_after_a_peak_above_high_are_boundaries() {
+        assert_eq!(hand_boundaries(&strokes(50.0, 2.0), 12.0, 30.0), vec![30, 60]);
+        // stops that are not slow enough, or strokes that are not fast enough, cut nothing
+        assert!(hand_boundaries(&strokes(50.0, 15.0), 12.0, 30.0).is_empty());
+        assert!(hand_boundaries(&strokes(25.0, 2.0), 12.0, 30.0).is_empty());
+        // a slow wiggle instead of the second stroke: its minima (and the stop at 60) follow no fast
+        // movement, so only the first stop cuts
+        let mut s = strokes(50.0, 2.0);
+        s[33..59].iter_mut().enumerate().for_each(|(k, v)| *v = 3.0 + 5.0 * (k as f32 * 0.5).sin().abs());
+        assert_eq!(hand_boundaries(&s, 12.0, 30.0), vec![30]);
+    }
+
+    #[test]
+    fn the_hands_boundaries_merge_when_close() {
+        assert_eq!(merge_boundaries(vec![60, 30, 32, 90], 3), vec![31, 60, 90]);
+        assert_eq!(merge_boundaries(vec![10, 12, 14, 16], 2), vec![13]);
+        assert_eq!(merge_boundaries(vec![10, 10], 0), vec![10]);
+        assert!(merge_boundaries(vec![], 5).is_empty());
+    }
+
+    #[test]
+    fn parameters_are_checked_on_both_sides() {
+        assert!(VelocityParams::default().check().is_ok());
+        let bad = |p: VelocityParams| p.check().unwrap_err().to_string();
+        assert!(bad(VelocityParams { low_speed: 0.0, ..Default::default() }).contains("low_speed"));
+        assert!(bad(VelocityParams { high_speed: 1e300, ..Default::default() }).contains("high_speed = 1e300"));
+        assert!(bad(VelocityParams { high_speed: 5.0, ..Default::default() }).contains("at least low_speed"));
+        assert!(bad(VelocityParams { smooth_s: f64::NAN, ..Default::default() }).contains("smooth_s"));
+        assert!(bad(VelocityParams { fps: 5.0, ..Default::default() }).contains("10 to 240 Hz"));
+    }
+
+    #[test]
+    fn a_cancel_stops_the_boundary_search() {
+        let p = VelocityParams::default().check().unwrap();
+        let speeds = vec![strokes(50.0, 2.0), strokes(50.0, 2.0)];
+        let r = boundaries(&speeds, &p, &mut |_, _| Err(Cancelled));
+        assert_eq!(r, Err(Cancelled));
+        let r = boundaries(&speeds, &p, &mut |_, _| Ok(())).unwrap();
+        assert_eq!(r, vec![30, 60]);
+    }
+}
