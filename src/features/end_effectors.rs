@@ -9,7 +9,8 @@
 //! left side at +x, y up, z forward).
 
 use super::{FeatureError, FeatureMatrix};
-use crate::motion::normalize::{body_size, end_effector_features, to_inches};
+use crate::motion::joints::Canonical;
+use crate::motion::normalize::{body_size, end_effector_features, facing_aligned, to_inches};
 use crate::motion::resample::source_positions;
 use crate::motion::{Motion, MotionError};
 
@@ -22,10 +23,10 @@ pub const LEFT_HAND: usize = 0;
 /// Column of the right hand's `x`.
 pub const RIGHT_HAND: usize = 3;
 
-/// The end-effector features of a take at a working rate.
+/// Joint positions of a take at a working rate (the end effectors, or any canonical joints).
 #[derive(Debug, Clone, PartialEq)]
-pub struct EndEffectors {
-    /// 15 values per working frame (see the module docs).
+pub struct JointFeatures {
+    /// 3 values per joint per working frame (15 for the end effectors, see the module docs).
     pub base: FeatureMatrix,
     /// Fractional file frame of each working frame.
     pub source_frames: Vec<f64>,
@@ -49,8 +50,29 @@ pub enum EndEffectorError {
     Features(#[from] FeatureError),
 }
 
+/// Which positions [`features`] extracts.
+enum Select<'a> {
+    EndEffectors,
+    Joints(&'a [Canonical]),
+}
+
 /// The end-effector features of `motion` at `fps` (see the module docs).
-pub fn end_effectors(motion: &Motion, fps: f64, body_scale: bool) -> Result<EndEffectors, EndEffectorError> {
+pub fn end_effectors(motion: &Motion, fps: f64, body_scale: bool) -> Result<JointFeatures, EndEffectorError> {
+    features(motion, fps, body_scale, Select::EndEffectors)
+}
+
+/// The positions of the canonical `joints` of `motion` at `fps`, hip-relative, facing-aligned,
+/// in inches (of the reference body with `body_scale`): 3 columns per joint, in order.
+pub fn canonical_joints(
+    motion: &Motion,
+    fps: f64,
+    body_scale: bool,
+    joints: &[Canonical],
+) -> Result<JointFeatures, EndEffectorError> {
+    features(motion, fps, body_scale, Select::Joints(joints))
+}
+
+fn features(motion: &Motion, fps: f64, body_scale: bool, select: Select) -> Result<JointFeatures, EndEffectorError> {
     if motion.frames() == 0 {
         return Err(EndEffectorError::NoFrames);
     }
@@ -66,8 +88,22 @@ pub fn end_effectors(motion: &Motion, fps: f64, body_scale: bool) -> Result<EndE
         }
         scale *= REFERENCE_BODY_INCHES / body;
     }
-    let rows = end_effector_features(&working, &map);
-    let data: Vec<f32> = rows.iter().flat_map(|r| r.iter().map(|&v| (v as f64 * scale) as f32)).collect();
-    let base = FeatureMatrix::new(rows.len(), 15, data)?;
-    Ok(EndEffectors { base, source_frames, scale })
+    let (dim, data): (usize, Vec<f32>) = match select {
+        Select::EndEffectors => {
+            let rows = end_effector_features(&working, &map);
+            (15, rows.iter().flat_map(|r| r.iter().map(|&v| (v as f64 * scale) as f32)).collect())
+        }
+        Select::Joints(joints) => {
+            let idx: Vec<usize> = joints.iter().map(|&c| map.get(c)).collect();
+            let aligned = facing_aligned(&working, &map);
+            let data = aligned
+                .chunks_exact(working.joints().max(1))
+                .flat_map(|frame| idx.iter().flat_map(move |&j| frame[j].to_array()))
+                .map(|v| (v as f64 * scale) as f32)
+                .collect();
+            (3 * joints.len(), data)
+        }
+    };
+    let base = FeatureMatrix::new(working.frames(), dim, data)?;
+    Ok(JointFeatures { base, source_frames, scale })
 }

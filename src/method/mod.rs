@@ -14,6 +14,7 @@
 //! [`Method`]) and one line in [`registry`].
 
 pub mod form;
+pub mod plot;
 pub mod spec;
 
 use std::any::Any;

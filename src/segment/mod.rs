@@ -8,6 +8,7 @@
 //! Frame indices are 0-based and inclusive, at the file's own frame rate. A segment may also carry
 //! `"mirror_of": K`: its cluster is the mirror image of cluster `K` (SSSM primitives).
 
+pub mod cuts;
 pub mod frames;
 pub mod metrics;
 pub mod palette;

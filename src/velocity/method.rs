@@ -3,21 +3,17 @@
 
 use super::{boundaries, hand_speed, ValidParams, VelocityParams, BOUNDS};
 use crate::features::end_effectors::{end_effectors, LEFT_HAND, RIGHT_HAND};
+use crate::method::plot::{self, Series};
 use crate::method::{
     Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamKind, ParamSpec, Picture, Progress, RunOptions,
 };
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
-use crate::segment::{Level, Segment, Segmentation};
+use crate::segment::{cuts, Level, Segmentation};
 
 /// Hand-speed segmentation (Osaki et al. 2000; Shiratori et al. 2003), as Bouchard & Badler's baseline.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Velocity;
-
-/// Height in pixels of the speed plot.
-const PLOT_HEIGHT: usize = 120;
-/// Widest plot in pixels (longer takes put several working frames in a column, keeping the fastest).
-const PLOT_MAX_WIDTH: usize = 1500;
 
 impl Method for Velocity {
     type Params = VelocityParams;
@@ -92,23 +88,10 @@ impl Method for Velocity {
             [LEFT_HAND, RIGHT_HAND].iter().map(|&c| hand_speed(&e.base, c, params.fps, params.smooth_s)).collect();
         let cuts = boundaries(&speeds, params, &mut |stage, f| progress.step(stage, f))?;
         let frames = WorkingFrames { source: &e.source_frames, file_frames: motion.frames() };
-        let n = e.base.frames();
-        let starts: Vec<usize> = std::iter::once(0).chain(cuts.iter().copied()).collect();
-        let mut segments = Vec::new();
-        for (k, &start) in starts.iter().enumerate() {
-            let end = starts.get(k + 1).map_or(n - 1, |&next| next - 1);
-            let peak = speeds.iter().flat_map(|s| &s[start..=end]).fold(0.0f32, |a, &b| a.max(b));
-            let working = Segment {
-                start,
-                end,
-                label: "gesture".into(),
-                level: Level::Primitive,
-                cluster: None,
-                score: Some((peak as f64 * 10.0).round() / 10.0),
-                mirror_of: None,
-            };
-            segments.extend(frames.to_file(working));
-        }
+        let peak = |a: usize, b: usize| speeds.iter().flat_map(|s| &s[a..=b]).fold(0.0f32, |x, &y| x.max(y));
+        let segments = cuts::segments(&frames, &cuts, "gesture", Level::Primitive, |a, b| {
+            Some((peak(a, b) as f64 * 10.0).round() / 10.0)
+        });
         let segmentation = Segmentation {
             file: motion.name.clone(),
             fps: motion.fps,
@@ -141,48 +124,20 @@ impl Method for Velocity {
     }
 }
 
-/// Both hands' speed over time (left blue, right red), the two thresholds (grey) and the
-/// boundaries (black); time across at the working rate, speed up.
+/// Both hands' speed over time with the two thresholds and the boundaries.
 fn plot(speeds: &[Vec<f32>], cuts: &[usize], params: &ValidParams) -> Picture {
-    let n = speeds.first().map_or(0, Vec::len).max(1);
-    let per_column = n.div_ceil(PLOT_MAX_WIDTH).max(1);
-    let width = n.div_ceil(per_column);
-    let top = speeds.iter().flatten().fold(params.high_speed as f32 * 1.2, |a, &b| a.max(b));
-    let y_of = |v: f32| PLOT_HEIGHT - 1 - ((v / top).clamp(0.0, 1.0) * (PLOT_HEIGHT - 1) as f32).round() as usize;
-    let mut rgba = vec![255u8; width * PLOT_HEIGHT * 4];
-    let mut set = |x: usize, y: usize, c: [u8; 3]| {
-        let k = (y * width + x) * 4;
-        rgba[k..k + 3].copy_from_slice(&c);
-    };
-    for (threshold, grey) in [(params.low_speed, 200u8), (params.high_speed, 170)] {
-        let y = y_of(threshold as f32);
-        (0..width).filter(|x| x % 4 < 2).for_each(|x| set(x, y, [grey; 3]));
-    }
-    for &c in cuts {
-        (0..PLOT_HEIGHT).for_each(|y| set(c / per_column, y, [40, 40, 40]));
-    }
-    for (s, colour) in speeds.iter().zip([[30u8, 90, 235], [215, 30, 40]]) {
-        let mut last: Option<usize> = None;
-        for x in 0..width {
-            let chunk = &s[x * per_column..((x + 1) * per_column).min(s.len())];
-            let y = y_of(chunk.iter().fold(0.0f32, |a, &b| a.max(b)));
-            // a connected line: every pixel between the previous column's height and this one
-            let (a, b) = last.map_or((y, y), |l| (l.min(y), l.max(y)));
-            (a..=b).for_each(|yy| set(x, yy, colour));
-            last = Some(y);
-        }
-    }
-    Picture {
-        id: "speed".into(),
-        title: "Hand speed".into(),
-        caption: format!(
-            "Time across ({} Hz{}), speed up to {top:.0} in/s. Blue: left hand, red: right hand; dashed grey: the \
-             low and high speed thresholds; black: boundaries.",
-            params.fps,
-            if per_column > 1 { format!(", {per_column} frames per pixel") } else { String::new() }
+    let series: Vec<Series> =
+        speeds.iter().zip([[30u8, 90, 235], [215, 30, 40]]).map(|(values, colour)| Series { values, colour }).collect();
+    plot::lines(
+        "speed",
+        "Hand speed",
+        &format!(
+            "Time across ({} Hz), speed up (in/s). Blue: left hand, red: right hand; dashed grey: the low and high \
+             speed thresholds; black: boundaries.",
+            params.fps
         ),
-        width,
-        height: PLOT_HEIGHT,
-        rgba,
-    }
+        &series,
+        &[params.low_speed as f32, params.high_speed as f32],
+        cuts,
+    )
 }

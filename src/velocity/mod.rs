@@ -9,7 +9,7 @@
 //! 3. [`boundaries`]: per hand, every local speed minimum below `low_speed` is a candidate; a
 //!    candidate is kept when the hand was faster than `high_speed` somewhere since the last kept
 //!    boundary (so every segment holds a real movement); the two hands' boundaries are merged
-//!    where they lie within `merge_s` of each other;
+//!    where they lie within `merge_s` of each other ([`crate::segment::cuts::merge`]);
 //! 4. one segment (level `primitive`, label `gesture`) between consecutive boundaries, its
 //!    `score` the highest hand speed inside it (inches per second, reference body).
 //!
@@ -24,6 +24,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::features::FeatureMatrix;
 use crate::method::Cancelled;
+use crate::segment::cuts;
 
 /// Parameters of the hand-speed segmentation (see the module documentation).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -174,26 +175,6 @@ pub fn hand_boundaries(speed: &[f32], low: f32, high: f32) -> Vec<usize> {
     kept
 }
 
-/// Boundaries of every hand merged: sorted, and a run of boundaries each within `merge` frames
-/// of the previous one becomes one boundary at the run's (rounded) mean.
-pub fn merge_boundaries(mut all: Vec<usize>, merge: usize) -> Vec<usize> {
-    all.sort_unstable();
-    let mut out = Vec::new();
-    let mut run: Vec<usize> = Vec::new();
-    for b in all {
-        if run.last().is_some_and(|&last| b - last > merge) {
-            out.push((run.iter().sum::<usize>() as f64 / run.len() as f64).round() as usize);
-            run.clear();
-        }
-        run.push(b);
-    }
-    if !run.is_empty() {
-        out.push((run.iter().sum::<usize>() as f64 / run.len() as f64).round() as usize);
-    }
-    out.dedup();
-    out
-}
-
 /// The segmentation of hand-speed curves (one per hand, same length): the boundaries (first frames
 /// of every segment after the first), reporting progress.
 pub fn boundaries(
@@ -208,7 +189,7 @@ pub fn boundaries(
     }
     let merge = (params.merge_s * params.fps).round() as usize;
     let frames = speeds.first().map_or(0, Vec::len);
-    Ok(merge_boundaries(all, merge).into_iter().filter(|&b| b > 0 && b < frames).collect())
+    Ok(cuts::merge(all, merge).into_iter().filter(|&b| b > 0 && b < frames).collect())
 }
 
 #[cfg(test)]
@@ -254,14 +235,6 @@ mod tests {
         let mut s = strokes(50.0, 2.0);
         s[33..59].iter_mut().enumerate().for_each(|(k, v)| *v = 3.0 + 5.0 * (k as f32 * 0.5).sin().abs());
         assert_eq!(hand_boundaries(&s, 12.0, 30.0), vec![30]);
-    }
-
-    #[test]
-    fn the_hands_boundaries_merge_when_close() {
-        assert_eq!(merge_boundaries(vec![60, 30, 32, 90], 3), vec![31, 60, 90]);
-        assert_eq!(merge_boundaries(vec![10, 12, 14, 16], 2), vec![13]);
-        assert_eq!(merge_boundaries(vec![10, 10], 0), vec![10]);
-        assert!(merge_boundaries(vec![], 5).is_empty());
     }
 
     #[test]
