@@ -307,7 +307,10 @@ test("SSSM segments the sample: rows, image, re-run, bad parameter, export", asy
 });
 
 test("every registered method gets a panel: the velocity baseline runs after the load too", async () => {
-  await page.waitForFunction(() => document.body.dataset.velocity === "done", null, { timeout: TIMEOUT });
+  // one panel per registered method, each run after the load
+  const names = await page.evaluate(() => [...document.querySelectorAll("section.ms-method")].map((s) => s.id.replace(/-panel$/, "")));
+  for (const want of ["sssm", "velocity", "kcs"]) assert.ok(names.includes(want), `no ${want} panel in ${names}`);
+  await page.waitForFunction((names) => names.every((n) => document.body.dataset[n] === "done"), names, { timeout: TIMEOUT });
   const gestures = await page.locator("#row-velocity-primitives .ms-seg").count();
   assert.ok(gestures >= 2, `#row-velocity-primitives has ${gestures} segments, want ≥ 2`);
   assert.equal(await page.locator("#row-velocity-actions").isVisible(), false, "no empty actions row");

@@ -1,0 +1,147 @@
+//! The kinematic centroid segmentation behind the common [`Method`] interface.
+
+use super::{centroid, segment_limbs, KcsParams, ValidParams, BOUNDS};
+use crate::features::end_effectors::canonical_joints;
+use crate::method::plot::{self, Series};
+use crate::method::{
+    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamKind, ParamSpec, Progress, RunOptions,
+};
+use crate::motion::joints::Canonical as C;
+use crate::motion::Motion;
+use crate::segment::frames::WorkingFrames;
+use crate::segment::{cuts, Level, Segmentation};
+
+/// Kinematic Centroid Segmentation (Jenkins & Matarić 2003), as Bouchard & Badler's baseline.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Kcs;
+
+/// The limbs: name, joints whose mean is the centroid, plot colour.
+const LIMBS: [(&str, [C; 3], [u8; 3]); 4] = [
+    ("left arm", [C::LeftShoulder, C::LeftElbow, C::LeftHand], [30, 90, 235]),
+    ("right arm", [C::RightShoulder, C::RightElbow, C::RightHand], [215, 30, 40]),
+    ("left leg", [C::LeftHip, C::LeftKnee, C::LeftFoot], [0, 150, 90]),
+    ("right leg", [C::RightHip, C::RightKnee, C::RightFoot], [200, 130, 0]),
+];
+
+impl Method for Kcs {
+    type Params = KcsParams;
+    type Checked = ValidParams;
+
+    fn info(&self) -> MethodInfo {
+        MethodInfo {
+            name: "kcs".into(),
+            short: "KCS".into(),
+            paper: "Jenkins & Matarić 2003".into(),
+            summary: "Kinematic baseline: each limb a pendulum, a cut at the far end of every swing of its centroid."
+                .into(),
+            auto_run: true,
+        }
+    }
+
+    fn param_specs(&self) -> Vec<ParamSpec> {
+        let d = KcsParams::default();
+        let help = |name: &str| match name {
+            "fps" => "Frame rate the method works at; takes are resampled to it.",
+            "drop" => "A swing ends once the limb's centroid has come back this far from its farthest point.",
+            "min_segment_s" => "Segments shorter than this are not cut.",
+            _ => "Cuts of different limbs closer than this are merged into one.",
+        };
+        let mut specs: Vec<ParamSpec> = BOUNDS
+            .iter()
+            .map(|&(name, min, max, unit)| ParamSpec {
+                name: name.into(),
+                help: help(name).into(),
+                kind: ParamKind::Number { min, max },
+                default: serde_json::json!(d.value(name)),
+                unit: Some(unit.into()),
+                basic: matches!(name, "drop" | "min_segment_s"),
+            })
+            .collect();
+        let flag = |name: &str, help: &str, default: bool, basic: bool| ParamSpec {
+            name: name.into(),
+            help: help.into(),
+            kind: ParamKind::Bool,
+            default: serde_json::json!(default),
+            unit: None,
+            basic,
+        };
+        specs.insert(
+            1,
+            flag(
+                "body_scale",
+                "Scale every take to the reference body (distances in its inches).",
+                d.body_scale,
+                false,
+            ),
+        );
+        specs.push(flag("legs", "Segment the legs too, not only the arms.", d.legs, true));
+        specs
+    }
+
+    fn check(&self, params: KcsParams) -> Result<ValidParams, MethodError> {
+        params.check().map_err(|e| MethodError::Params(e.to_string()))
+    }
+
+    fn echo(&self, params: &ValidParams) -> serde_json::Value {
+        serde_json::to_value(&**params).unwrap_or_default()
+    }
+
+    fn run(
+        &self,
+        motion: &Motion,
+        params: &ValidParams,
+        options: &RunOptions,
+        progress: &mut dyn Progress,
+    ) -> Result<MethodOutput, MethodError> {
+        progress.step("features", 0.0)?;
+        let limbs = &LIMBS[..if params.legs { 4 } else { 2 }];
+        let joints: Vec<C> = limbs.iter().flat_map(|(_, j, _)| *j).collect();
+        let f = canonical_joints(motion, params.fps, params.body_scale, &joints)
+            .map_err(|e| MethodError::Failed(e.to_string()))?;
+        let centroids: Vec<Vec<[f32; 3]>> = (0..limbs.len()).map(|l| centroid(&f.base, 9 * l, 3)).collect();
+        let (cut_frames, curves) = segment_limbs(&centroids, params, &mut |stage, x| progress.step(stage, x))?;
+        let frames = WorkingFrames { source: &f.source_frames, file_frames: motion.frames() };
+        let reach = |a: usize, b: usize| curves.iter().flat_map(|c| &c[a..=b]).fold(0.0f32, |x, &y| x.max(y));
+        let segments = cuts::segments(&frames, &cut_frames, "swing", Level::Primitive, |a, b| {
+            Some((reach(a, b) as f64 * 10.0).round() / 10.0)
+        });
+        let segmentation = Segmentation {
+            file: motion.name.clone(),
+            fps: motion.fps,
+            frames: motion.frames(),
+            method: "kcs".into(),
+            params: self.echo(params),
+            segments,
+        };
+        let mut pictures = Vec::new();
+        if options.pictures {
+            progress.step("plot", 0.95)?;
+            let series: Vec<Series> =
+                curves.iter().zip(limbs).map(|(values, (_, _, colour))| Series { values, colour: *colour }).collect();
+            pictures.push(plot::lines(
+                "swings",
+                "Limb centroid displacement",
+                &format!(
+                    "Time across ({} Hz), up: how far each limb's centroid is from where it was at the start of its \
+                     segment (inches). Blue: left arm, red: right arm{}; black: cuts.",
+                    params.fps,
+                    if params.legs { ", green: left leg, orange: right leg" } else { "" }
+                ),
+                &series,
+                &[],
+                &cut_frames,
+            ));
+        }
+        let summary = format!("{} swings · {} cuts", segmentation.segments.len(), cut_frames.len());
+        let curves = curves
+            .iter()
+            .zip(limbs)
+            .map(|(c, (name, _, _))| Curve {
+                id: name.replace(' ', "-") + "-displacement",
+                title: format!("{name} centroid displacement (in)"),
+                values: (0..motion.frames()).map(|i| c[frames.working_frame(i)]).collect(),
+            })
+            .collect();
+        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves } })
+    }
+}

@@ -1,0 +1,223 @@
+//! Kinematic Centroid Segmentation (Jenkins & Matarić 2003, 2004), one of the kinematic
+//! baselines Bouchard & Badler compare LMA with (their §5.1: "an in-line approach that
+//! correlates segment boundaries to locally maximum hand displacement from the torso").
+//!
+//! Each limb is treated as a pendulum: its *kinematic centroid* is the mean position of its
+//! joints (arm: shoulder, elbow, hand; leg: hip, knee, foot), hip-relative and facing-aligned,
+//! in inches of the reference body, at 30 Hz ([`crate::features::end_effectors::canonical_joints`]).
+//! Scanning forward from a segment's first frame, the centroid's distance from where it was at
+//! that frame grows while the limb swings out; the segment ends at the farthest point of the
+//! swing, recognised once the distance has dropped `drop` inches below its maximum (a hysteresis
+//! that ignores jitter), provided the segment is at least `min_segment_s` long. The next segment
+//! starts there. The limbs' cuts are merged where they lie within `merge_s` of each other
+//! ([`crate::segment::cuts::merge`]). Arms only by default (the comparison is about gestures);
+//! `legs` adds both legs.
+//!
+//! The defaults come from the sizes involved, not from tuning on labelled takes: 2 inches (5 cm)
+//! is above marker jitter and well below a gesture's reach; 0.2 s is the shortest stroke.
+
+pub mod method;
+
+use serde::{Deserialize, Serialize};
+
+use crate::features::FeatureMatrix;
+use crate::method::Cancelled;
+use crate::segment::cuts;
+
+/// Parameters of the kinematic centroid segmentation (see the module documentation).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct KcsParams {
+    /// Frame rate the method works at; takes are resampled to it.
+    pub fps: f64,
+    /// Scale every take to the reference body size (distances in reference inches).
+    pub body_scale: bool,
+    /// A swing ends once the centroid has come back this many inches from its farthest point.
+    pub drop: f64,
+    /// Segments shorter than this (seconds) are not cut.
+    pub min_segment_s: f64,
+    /// Cuts of different limbs closer than this (seconds) are merged into one.
+    pub merge_s: f64,
+    /// Segment the legs too (not only the arms).
+    pub legs: bool,
+}
+
+impl Default for KcsParams {
+    fn default() -> Self {
+        KcsParams { fps: 30.0, body_scale: true, drop: 2.0, min_segment_s: 0.2, merge_s: 0.2, legs: false }
+    }
+}
+
+/// Bounds of every numeric parameter: `(name, min, max, unit)`.
+pub const BOUNDS: [(&str, f64, f64, &str); 4] = [
+    ("fps", 10.0, 240.0, "Hz"),
+    ("drop", 0.1, 100.0, "in"),
+    ("min_segment_s", 0.0, 10.0, "s"),
+    ("merge_s", 0.0, 2.0, "s"),
+];
+
+/// Why the parameters are refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("invalid KCS parameter {name} = {value}: expected {expected}")]
+pub struct ParamError {
+    pub name: &'static str,
+    pub value: String,
+    pub expected: String,
+}
+
+/// [`KcsParams`] that passed [`KcsParams::check`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ValidParams(KcsParams);
+
+impl std::ops::Deref for ValidParams {
+    type Target = KcsParams;
+    fn deref(&self) -> &KcsParams {
+        &self.0
+    }
+}
+
+impl KcsParams {
+    pub(crate) fn value(&self, name: &str) -> f64 {
+        match name {
+            "fps" => self.fps,
+            "drop" => self.drop,
+            "min_segment_s" => self.min_segment_s,
+            _ => self.merge_s,
+        }
+    }
+
+    /// Validates every parameter; the method only ever runs on the result.
+    pub fn check(self) -> Result<ValidParams, ParamError> {
+        for (name, min, max, unit) in BOUNDS {
+            let v = self.value(name);
+            if !(v.is_finite() && (min..=max).contains(&v)) {
+                let value = if v.abs() >= 1e6 { format!("{v:e}") } else { v.to_string() };
+                return Err(ParamError { name, value, expected: format!("{min} to {max} {unit}") });
+            }
+        }
+        Ok(ValidParams(self))
+    }
+}
+
+/// The mean of the `joints` 3-column points from column `first` on of `features`, in every
+/// frame (a limb's kinematic centroid).
+pub fn centroid(features: &FeatureMatrix, first: usize, joints: usize) -> Vec<[f32; 3]> {
+    (0..features.frames())
+        .map(|i| {
+            let r = &features.row(i)[first..first + 3 * joints];
+            let mut c = [0.0f32; 3];
+            for p in r.chunks_exact(3) {
+                for (ca, v) in c.iter_mut().zip(p) {
+                    *ca += v / joints as f32;
+                }
+            }
+            c
+        })
+        .collect()
+}
+
+fn distance(a: [f32; 3], b: [f32; 3]) -> f32 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// One limb's cuts: each segment ends at the farthest point of its centroid's swing from where
+/// the segment began, once the distance has dropped `drop` below that farthest point and the
+/// segment has at least `min_frames` frames. Also returns, per frame, the distance from the
+/// start of the segment it belongs to.
+pub fn limb_cuts(centroid: &[[f32; 3]], drop: f32, min_frames: usize) -> (Vec<usize>, Vec<f32>) {
+    let n = centroid.len();
+    let mut cuts = Vec::new();
+    let mut displacement = vec![0.0f32; n];
+    let mut start = 0;
+    let (mut far, mut far_at) = (0.0f32, 0);
+    let mut t = 1;
+    while t < n {
+        let d = distance(centroid[t], centroid[start]);
+        displacement[t] = d;
+        if d > far {
+            (far, far_at) = (d, t);
+        } else if far - d >= drop && far_at - start >= min_frames.max(1) {
+            cuts.push(far_at);
+            start = far_at;
+            (far, far_at) = (0.0, start);
+            t = start;
+        }
+        t += 1;
+    }
+    (cuts, displacement)
+}
+
+/// The cuts of every limb's centroid merged, with each limb's displacement curve.
+pub fn segment_limbs(
+    centroids: &[Vec<[f32; 3]>],
+    params: &ValidParams,
+    progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
+) -> Result<(Vec<usize>, Vec<Vec<f32>>), Cancelled> {
+    let min_frames = (params.min_segment_s * params.fps).round() as usize;
+    let mut all = Vec::new();
+    let mut curves = Vec::new();
+    for (k, c) in centroids.iter().enumerate() {
+        progress("swings", 0.4 + 0.5 * k as f64 / centroids.len().max(1) as f64)?;
+        let (limb, displacement) = limb_cuts(c, params.drop as f32, min_frames);
+        all.extend(limb);
+        curves.push(displacement);
+    }
+    let merge = (params.merge_s * params.fps).round() as usize;
+    let n = centroids.first().map_or(0, Vec::len);
+    Ok((cuts::merge(all, merge).into_iter().filter(|&c| c > 0 && c < n).collect(), curves))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::stats::Rng;
+
+    /// A limb swinging out and back along x: `amplitude · |sin(π t / 30)|`, extremes every 15 frames.
+    fn swings(frames: usize, amplitude: f32) -> Vec<[f32; 3]> {
+        (0..frames).map(|t| [amplitude * (std::f32::consts::PI * t as f32 / 30.0).sin().abs(), 10.0, 0.0]).collect()
+    }
+
+    #[test]
+    fn a_pendulum_is_cut_at_the_far_end_of_every_swing() {
+        let (cuts, displacement) = limb_cuts(&swings(91, 12.0), 2.0, 6);
+        // out to the far point (15), back to the start (30: farthest from 15), out again (45), …
+        assert_eq!(cuts, vec![15, 30, 45, 60, 75]);
+        assert!((displacement[15] - 12.0).abs() < 1e-4 && displacement[16] < 12.0);
+    }
+
+    #[test]
+    fn jitter_below_the_drop_and_short_segments_cut_nothing() {
+        let mut rng = Rng::new(5);
+        let still: Vec<[f32; 3]> = (0..200).map(|_| [rng.next_f32(), rng.next_f32(), rng.next_f32()]).collect();
+        assert!(limb_cuts(&still, 2.0, 6).0.is_empty(), "jitter of 1 inch");
+        // swings of 15 frames cannot be cut into segments of at least 20
+        let (cuts, _) = limb_cuts(&swings(91, 12.0), 2.0, 20);
+        assert!(cuts.windows(2).all(|w| w[1] - w[0] >= 20), "{cuts:?}");
+        assert!(cuts.first().is_none_or(|&c| c >= 20), "{cuts:?}");
+    }
+
+    #[test]
+    fn the_centroid_is_the_mean_of_the_joints() {
+        let m = FeatureMatrix::from_rows(&[[9.0f32, 0.0, 0.0, 0.0, 2.0, 4.0, 6.0, 4.0, 2.0, 0.0]]).unwrap();
+        assert_eq!(centroid(&m, 1, 3), vec![[2.0, 2.0, 2.0]]);
+    }
+
+    #[test]
+    fn limbs_merge_and_a_cancel_stops() {
+        let p = KcsParams::default().check().unwrap();
+        let limbs = vec![swings(91, 12.0), swings(91, 12.0)];
+        let (cuts, curves) = segment_limbs(&limbs, &p, &mut |_, _| Ok(())).unwrap();
+        assert_eq!(cuts, vec![15, 30, 45, 60, 75]);
+        assert_eq!(curves.len(), 2);
+        assert_eq!(segment_limbs(&limbs, &p, &mut |_, _| Err(Cancelled)).err(), Some(Cancelled));
+    }
+
+    #[test]
+    fn parameters_are_checked_on_both_sides() {
+        let bad = |p: KcsParams| p.check().unwrap_err().to_string();
+        assert!(bad(KcsParams { drop: 0.0, ..Default::default() }).contains("drop = 0"));
+        assert!(bad(KcsParams { drop: 1e300, ..Default::default() }).contains("drop = 1e300"));
+        assert!(bad(KcsParams { merge_s: -1.0, ..Default::default() }).contains("0 to 2 s"));
+        assert!(bad(KcsParams { fps: f64::INFINITY, ..Default::default() }).contains("fps"));
+    }
+}
