@@ -39,7 +39,6 @@ mod lab {
     use mocapseg::segment::metrics::{evaluate, Tolerances};
     use mocapseg::segment::report::{self, Row};
     use mocapseg::segment::truth::{load_csv, Truth, TruthOptions};
-    use mocapseg::segment::Level;
 
     #[derive(clap::Parser)]
     #[command(about = "Segment and score the labelled takes of the shared data folder")]
@@ -192,7 +191,7 @@ mod lab {
             let seconds = started.elapsed().as_secs_f64();
             let seg = output.segmentation;
             let scores = evaluate(&seg, truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", truth.trial))?;
-            Ok(Row { scores, found_actions: seg.level(Level::Action).count(), seconds: Some(seconds) })
+            Ok(Row { scores, found_actions: report::scored_segments(&seg), seconds: Some(seconds) })
         };
         let takes = load_takes(data)?;
         let mut rows = Vec::new();

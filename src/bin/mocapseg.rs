@@ -459,7 +459,7 @@ mod cli {
             let truth = load_csv(&truth_text, &id, options).map_err(|e| format!("{}: {e}", truth_path.display()))?;
             let scores =
                 evaluate(&seg, &truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", path.display()))?;
-            rows.push(Row { scores, found_actions: seg.level(Level::Action).count(), seconds: None });
+            rows.push(Row { scores, found_actions: report::scored_segments(&seg), seconds: None });
         }
         let single = predictions.len() == 1 && !predictions[0].is_dir();
         if single && !json {

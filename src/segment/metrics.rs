@@ -119,11 +119,15 @@ fn cluster_key(s: &Segment) -> String {
 }
 
 /// Action-level spans covering the take: actions in order, each transition split at its middle.
+/// A method that finds no actions, only finer segments (the kinematic baselines' gestures), is
+/// scored on those: its primitives stand for its actions.
 fn action_spans(seg: &Segmentation) -> Vec<Span> {
+    let has_actions = seg.segments.iter().any(|s| s.level == Level::Action);
+    let unit = if has_actions { Level::Action } else { Level::Primitive };
     let mut parts: Vec<&Segment> =
-        seg.segments.iter().filter(|s| matches!(s.level, Level::Action | Level::Transition)).collect();
+        seg.segments.iter().filter(|s| s.level == unit || (has_actions && s.level == Level::Transition)).collect();
     parts.sort_by_key(|s| (s.start, s.end));
-    let actions: Vec<usize> = (0..parts.len()).filter(|&i| parts[i].level == Level::Action).collect();
+    let actions: Vec<usize> = (0..parts.len()).filter(|&i| parts[i].level == unit).collect();
     if actions.is_empty() {
         return Vec::new();
     }
@@ -530,5 +534,14 @@ mod tests {
         let t = truth(100, &[(0, 99, "a")]);
         let s = seg(25, &[(0, 24, Level::Action, None)]);
         assert_eq!(evaluate(&s, &t, &Tolerances::default()), Err(MetricsError::LengthMismatch { seg: 25, truth: 100 }));
+    }
+
+    #[test]
+    fn a_segmentation_of_primitives_only_is_scored_on_its_primitives() {
+        let truth = truth(100, &[(0, 49, "a"), (50, 99, "b")]);
+        let s = seg(100, &[(0, 51, Level::Primitive, None), (52, 99, Level::Primitive, None)]);
+        let scores = evaluate(&s, &truth, &Tolerances::default()).unwrap();
+        assert_eq!((scores.predicted_boundaries, scores.boundaries[0].matched), (1, 1));
+        assert!(scores.covering > 0.9, "{}", scores.covering);
     }
 }

@@ -2,8 +2,19 @@
 //! a folder of predictions and the lab's `eval_data` example prints for the shared takes).
 
 use super::metrics::Scores;
+use super::{Level, Segmentation};
 
-/// One take's row: its scores, how many actions the method found, and (if measured) how long it took.
+/// The segments a segmentation is scored on: its actions, or its primitives when it finds no
+/// actions (as the metrics do).
+pub fn scored_segments(seg: &Segmentation) -> usize {
+    match seg.level(Level::Action).count() {
+        0 => seg.level(Level::Primitive).count(),
+        n => n,
+    }
+}
+
+/// One take's row: its scores, how many actions (or, without actions, primitives) the method
+/// found, and (if measured) how long it took.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
     pub scores: Scores,
@@ -36,7 +47,7 @@ pub fn mean(rows: &[Row]) -> Option<[f64; 6]> {
 /// shown but not in the mean, such as several takes joined into one).
 pub fn markdown(rows: &[Row], extra: &[Row]) -> String {
     let timed = rows.iter().chain(extra).any(|r| r.seconds.is_some());
-    let mut out = format!("| take | true / found actions | {} |", COLUMNS.join(" | "));
+    let mut out = format!("| take | true actions / found | {} |", COLUMNS.join(" | "));
     out += if timed { " time |\n" } else { "\n" };
     out += &"|---".repeat(2 + COLUMNS.len() + usize::from(timed));
     out += "|\n";
