@@ -47,6 +47,24 @@ pub struct BoundaryScore {
     pub matched: usize,
 }
 
+/// Segment-level agreement as Bouchard & Badler measure it (their §5.1, eq. 3): two segments
+/// match when both their starts and their ends lie within `tolerance_s` of each other, each
+/// segment matching at most one (the closest); similarity `s = TP − (FP + FN) / 2`, a count.
+/// (The paper's text as extracted reads like a ratio, but its Table 3 is the difference:
+/// LMA 136 − (92 + 75)/2 = 52.5, velocity 119 − (109 + 92)/2 = 18.5, KCS 10.5, PCA 2.0.)
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SegmentScore {
+    pub tolerance_s: f64,
+    /// Matched segments.
+    pub matched: usize,
+    /// Found segments that match none.
+    pub unmatched_found: usize,
+    /// True segments that match none.
+    pub unmatched_true: usize,
+    /// `matched − (unmatched_found + unmatched_true) / 2`.
+    pub similarity: f64,
+}
+
 /// Every score of one segmentation against one truth.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Scores {
@@ -54,6 +72,8 @@ pub struct Scores {
     pub true_boundaries: usize,
     pub predicted_boundaries: usize,
     pub boundaries: Vec<BoundaryScore>,
+    /// Bouchard & Badler's segment matching at 0.5 s.
+    pub segments: SegmentScore,
     pub covering: f64,
     pub hungarian_accuracy: f64,
     pub strict_accuracy: f64,
@@ -327,6 +347,34 @@ fn strict_tolerant(
     (strict as f64 / frames.max(1) as f64, tolerant as f64 / frames.max(1) as f64)
 }
 
+/// Bouchard & Badler's segment score of the spans `found` against `truth` (see [`SegmentScore`]):
+/// candidate pairs within the tolerance at both ends, taken closest first (sum of the two
+/// boundary differences), each segment used once.
+pub fn segment_score(found: &[(usize, usize)], truth: &[(usize, usize)], tolerance_s: f64, fps: f64) -> SegmentScore {
+    let tol = tolerance_s * fps;
+    let mut pairs: Vec<(usize, usize, usize)> = Vec::new();
+    for (i, &(fs, fe)) in found.iter().enumerate() {
+        for (j, &(ts, te)) in truth.iter().enumerate() {
+            let (ds, de) = (fs.abs_diff(ts), fe.abs_diff(te));
+            if ds as f64 <= tol && de as f64 <= tol {
+                pairs.push((ds.saturating_add(de), i, j));
+            }
+        }
+    }
+    pairs.sort_unstable();
+    let (mut used_f, mut used_t) = (vec![false; found.len()], vec![false; truth.len()]);
+    let mut matched = 0;
+    for (_, i, j) in pairs {
+        if !used_f[i] && !used_t[j] {
+            (used_f[i], used_t[j]) = (true, true);
+            matched += 1;
+        }
+    }
+    let (unmatched_found, unmatched_true) = (found.len() - matched, truth.len() - matched);
+    let similarity = matched as f64 - (unmatched_found + unmatched_true) as f64 / 2.0;
+    SegmentScore { tolerance_s, matched, unmatched_found, unmatched_true, similarity }
+}
+
 /// Scores `seg` against `truth` (both at the file's frame rate, 0-based rows). Inputs that break
 /// the schema (reversed or out-of-range segments, more than [`MAX_FRAMES`] frames) are errors.
 pub fn evaluate(seg: &Segmentation, truth: &Truth, tol: &Tolerances) -> Result<Scores, MetricsError> {
@@ -345,6 +393,7 @@ pub fn evaluate(seg: &Segmentation, truth: &Truth, tol: &Tolerances) -> Result<S
     let true_iv: Vec<(usize, usize)> = truth.segments.iter().map(|s| (s.start, s.end)).collect();
     let pred_iv: Vec<(usize, usize)> = spans.iter().map(|s| (s.start, s.end)).collect();
     let covering = covering(&true_iv, &pred_iv, truth.frames);
+    let segments = segment_score(&pred_iv, &true_iv, tol.boundary_s[0], seg.fps);
 
     let (truth_keys, labels) = truth_frames(truth);
     let pred_keys = per_frame(&spans, truth.frames);
@@ -358,6 +407,7 @@ pub fn evaluate(seg: &Segmentation, truth: &Truth, tol: &Tolerances) -> Result<S
         true_boundaries: true_b.len(),
         predicted_boundaries: pred_b.len(),
         boundaries,
+        segments,
         covering,
         hungarian_accuracy,
         strict_accuracy,
@@ -543,5 +593,21 @@ mod tests {
         let scores = evaluate(&s, &truth, &Tolerances::default()).unwrap();
         assert_eq!((scores.predicted_boundaries, scores.boundaries[0].matched), (1, 1));
         assert!(scores.covering > 0.9, "{}", scores.covering);
+    }
+
+    #[test]
+    fn segments_match_when_both_ends_are_close_and_only_once() {
+        // at 10 fps, 0.5 s = 5 frames
+        let truth = [(0, 49), (50, 99), (100, 149)];
+        let found = [(0, 47), (48, 60), (61, 100), (101, 149)];
+        let s = segment_score(&found, &truth, 0.5, 10.0);
+        // (0,47)~(0,49); (101,149)~(100,149); (48,60) ends 39 from 99; (61,100) starts 11 from 50
+        assert_eq!((s.matched, s.unmatched_found, s.unmatched_true), (2, 2, 1));
+        assert_eq!(s.similarity, 2.0 - 3.0 / 2.0);
+        // the closest pair wins when one segment could match two
+        let s = segment_score(&[(0, 50), (2, 49)], &[(0, 49)], 0.5, 10.0);
+        assert_eq!((s.matched, s.unmatched_found), (1, 1));
+        assert_eq!(segment_score(&truth, &truth, 0.5, 10.0).similarity, 3.0);
+        assert_eq!(segment_score(&[], &truth, 0.5, 10.0).similarity, -1.5);
     }
 }

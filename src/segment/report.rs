@@ -22,19 +22,21 @@ pub struct Row {
     pub seconds: Option<f64>,
 }
 
-const COLUMNS: [&str; 6] = ["F1@0.5s", "F1@1s", "covering", "Hungarian acc.", "strict", "tolerant"];
+/// The score columns; `s@0.5s` is Bouchard & Badler's segment similarity (matched − unmatched / 2, a count).
+const COLUMNS: [&str; 7] = ["F1@0.5s", "F1@1s", "covering", "Hungarian acc.", "strict", "tolerant", "s@0.5s"];
 
-fn values(s: &Scores) -> [f64; 6] {
+fn values(s: &Scores) -> [f64; 7] {
     let f1 = |k: usize| s.boundaries.get(k).map_or(f64::NAN, |b| b.f1);
-    [f1(0), f1(1), s.covering, s.hungarian_accuracy, s.strict_accuracy, s.tolerant_accuracy]
+    let similarity = s.segments.similarity;
+    [f1(0), f1(1), s.covering, s.hungarian_accuracy, s.strict_accuracy, s.tolerant_accuracy, similarity]
 }
 
 /// The mean of every score column over `rows` (`None` when there are none).
-pub fn mean(rows: &[Row]) -> Option<[f64; 6]> {
+pub fn mean(rows: &[Row]) -> Option<[f64; 7]> {
     if rows.is_empty() {
         return None;
     }
-    let mut mean = [0.0; 6];
+    let mut mean = [0.0; 7];
     for r in rows {
         for (m, v) in mean.iter_mut().zip(values(&r.scores)) {
             *m += v / rows.len() as f64;
@@ -92,6 +94,7 @@ mod tests {
                 true_boundaries: 4,
                 predicted_boundaries: 5,
                 boundaries: vec![b, b],
+                segments: crate::segment::metrics::segment_score(&[(0, 9)], &[(0, 10), (20, 29)], 0.5, 10.0),
                 covering,
                 hungarian_accuracy: 0.5,
                 strict_accuracy: 0.25,
@@ -107,8 +110,11 @@ mod tests {
         let table = markdown(&[row("a", 1.0, 0.5), row("b", 0.5, 0.25)], &[row("a+b", 0.1, 0.1)]);
         let lines: Vec<&str> = table.lines().collect();
         assert_eq!(lines.len(), 6, "{table}");
-        assert_eq!(lines[2], "| a | 5 / 6 | 1.00 | 1.00 | 0.50 | 0.50 | 0.25 | 1.00 |");
-        assert_eq!(lines[4], "| **mean** | | **0.75** | **0.75** | **0.38** | **0.50** | **0.25** | **1.00** |");
+        assert_eq!(lines[2], "| a | 5 / 6 | 1.00 | 1.00 | 0.50 | 0.50 | 0.25 | 1.00 | 0.50 |");
+        assert_eq!(
+            lines[4],
+            "| **mean** | | **0.75** | **0.75** | **0.38** | **0.50** | **0.25** | **1.00** | **0.50** |"
+        );
         assert!(lines[5].starts_with("| a+b |"));
         assert!(!table.contains("time"));
     }
