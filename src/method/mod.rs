@@ -271,7 +271,7 @@ impl<M: Method> DynMethod for M {
 
 /// Every method, in the order the page shows them. One line per method.
 pub fn registry() -> &'static [&'static dyn DynMethod] {
-    &[&crate::sssm::method::Sssm, &crate::velocity::method::Velocity]
+    &[&crate::sssm::method::Sssm, &crate::velocity::method::Velocity, &crate::pca::method::Pca]
 }
 
 /// The method called `name`.
