@@ -181,3 +181,67 @@ fn plot(s: &Scan, params: &ValidParams) -> Picture {
         rgba,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::load::load_bytes;
+
+    #[test]
+    fn a_walk_is_one_behaviour_at_the_file_rate_with_its_curve_plot_and_progress() {
+        let motion =
+            load_bytes("12_01.bvh", include_bytes!("../../tests/fixtures/12_01.bvh"), &mut |_| {}).unwrap().motion;
+        let params = PcaParams::default().check().unwrap();
+        let mut stages: Vec<String> = Vec::new();
+        let mut progress = |stage: &str, _: f64| stages.push(stage.to_string());
+        let out = Pca.run(&motion, &params, &RunOptions { pictures: true }, &mut progress).unwrap();
+        // 524 frames at 120 Hz: 131 working frames, a single walk, no cut
+        let seg = &out.segmentation;
+        assert_eq!(seg.segments.len(), 1, "{:?}", seg.segments);
+        let s = &seg.segments[0];
+        assert_eq!(
+            (s.start, s.end, s.label.as_str(), s.level, s.cluster, s.score),
+            (0, 523, "B1", Level::Action, None, None)
+        );
+        assert_eq!(out.details.curves[0].values.len(), 524);
+        let p = &out.details.pictures[0];
+        assert_eq!((p.width, p.height, p.rgba.len()), (131, PLOT_HEIGHT, 131 * PLOT_HEIGHT * 4));
+        // every stage reported, the scan at least every 64 working frames
+        assert_eq!(stages.first().map(String::as_str), Some("poses"));
+        assert!(stages.iter().filter(|s| *s == "scan").count() >= 131 / 64, "{stages:?}");
+        assert!(stages.contains(&"segments".to_string()) && stages.contains(&"plot".to_string()));
+    }
+
+    #[test]
+    fn raised_hands_after_a_walk_are_a_second_behaviour_cut_near_the_change() {
+        use crate::motion::normalize::body_size;
+        use crate::motion::units::UpAxis;
+        let walk =
+            load_bytes("12_01.bvh", include_bytes!("../../tests/fixtures/12_01.bvh"), &mut |_| {}).unwrap().motion;
+        // the same walk again with both hands a third of the body higher
+        let map = walk.joint_map().unwrap();
+        let up = match walk.up_axis {
+            UpAxis::Y => glam::Vec3::Y,
+            UpAxis::Z => glam::Vec3::Z,
+        };
+        let lift = up * (body_size(&walk.skeleton, &map) / 3.0) as f32;
+        let mut raised = walk.clone();
+        for frame in raised.positions.chunks_exact_mut(walk.joints()) {
+            frame[map.left_hand] += lift;
+            frame[map.right_hand] += lift;
+        }
+        let motion = crate::motion::Motion::concatenate(&[walk, raised], 1048).unwrap();
+        let params = PcaParams::default().check().unwrap();
+        let out = Pca.run(&motion, &params, &RunOptions::default(), &mut crate::method::NoProgress).unwrap();
+        let segs = &out.segmentation.segments;
+        assert_eq!(segs.len(), 2, "{segs:?}");
+        // file frames (120 Hz): the change at 524, found within 10 working frames (40 file frames)
+        assert!(segs[1].start.abs_diff(524) <= 40, "{segs:?}");
+        assert_eq!((segs[0].start, segs[0].end + 1, segs[1].end), (0, segs[1].start, 1047));
+        assert_eq!((segs[1].label.as_str(), segs[0].score), ("B2", None));
+        assert!(segs[1].score.unwrap() > 1.0, "{segs:?}");
+        // the curve passes the threshold (1) at the cut
+        let cut = segs[1].start;
+        assert!(out.details.curves[0].values[cut.saturating_sub(2)..cut + 3].iter().any(|&v| v > 1.0));
+    }
+}
