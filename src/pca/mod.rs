@@ -23,11 +23,11 @@
 //!    cut's `d_i / (mean + k_σ · std)` (none for the first segment).
 //!
 //! Deviations from Barbič et al.:
-//! * **Pose space.** Barbič used joint angles (quaternions of the 14 main joints); we use the
-//!   canonical joints' positions, normalised as above, so that every skeleton gives the same 48
-//!   coordinates with the same meaning.
-//! * **Working rate.** Barbič worked at 120 Hz with `k` = 240 frames, `ℓ` = 60 frames; the
-//!   parameters here are in seconds (same 2 s and 0.5 s) at 30 Hz.
+//! * **Pose space.** Barbič used joint angles; we use the canonical joints' positions,
+//!   normalised as above, so that every skeleton gives the same 48 coordinates with the same
+//!   meaning (and no angle wrap-around or quaternion sign to handle).
+//! * **Working rate.** The parameters are in seconds (`k` = 2 s, `ℓ` = 0.5 s) and the take is
+//!   resampled to 30 Hz, whatever its own rate (Barbič worked on the 120 Hz frames).
 //! * **Statistics.** "So far" is read as the derivatives before `i` (`ℓ ≤ j < i`), as in Barbič.
 //! * **Flat data.** A derivative also has to exceed 10⁻⁹ of the window's total variance to cut
 //!   ([`ROUNDING`]), so that rounding noise on perfectly flat (or perfectly `r`-dimensional)
@@ -325,8 +325,8 @@ pub struct Scan {
     pub dims: Vec<usize>,
 }
 
-/// The PCA segmentation of `frames` (`dim` values per frame), reporting progress (stage "scan",
-/// fractions `0.1..0.9`) every [`REPORT_EVERY`] frames.
+/// The PCA segmentation of `frames` (`dim` finite values per frame; [`poses`] checks that),
+/// reporting progress (stage "scan", fractions `0.1..0.9`) every [`REPORT_EVERY`] frames.
 pub fn scan(
     frames: &[f64],
     dim: usize,
