@@ -15,6 +15,7 @@ pub mod load;
 pub mod method;
 pub mod motion;
 pub mod parallel;
+pub mod pca;
 pub mod protocol;
 pub mod segment;
 pub mod sssm;

@@ -272,7 +272,12 @@ impl<M: Method> DynMethod for M {
 
 /// Every method, in the order the page shows them. One line per method.
 pub fn registry() -> &'static [&'static dyn DynMethod] {
-    &[&crate::sssm::method::Sssm, &crate::velocity::method::Velocity, &crate::kcs::method::Kcs]
+    &[
+        &crate::sssm::method::Sssm,
+        &crate::velocity::method::Velocity,
+        &crate::kcs::method::Kcs,
+        &crate::pca::method::Pca,
+    ]
 }
 
 /// The method called `name`.
