@@ -1,11 +1,10 @@
 //! The kinematic centroid segmentation behind the common [`Method`] interface.
 
-use super::{centroid, segment_limbs, KcsParams, ValidParams, BOUNDS};
+use super::{centroid, segment_limbs, KcsParams, ValidParams, PARAMS};
 use crate::features::end_effectors::canonical_joints;
+use crate::method::bounds;
 use crate::method::plot::{self, Series};
-use crate::method::{
-    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamKind, ParamSpec, Progress, RunOptions,
-};
+use crate::method::{Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Progress, RunOptions};
 use crate::motion::joints::Canonical as C;
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -40,46 +39,15 @@ impl Method for Kcs {
 
     fn param_specs(&self) -> Vec<ParamSpec> {
         let d = KcsParams::default();
-        let help = |name: &str| match name {
-            "fps" => "Frame rate the method works at; takes are resampled to it.",
-            "drop" => "A swing ends once the limb's centroid has come back this far from its farthest point.",
-            "min_segment_s" => "Segments shorter than this are not cut.",
-            _ => "Cuts of different limbs closer than this are merged into one.",
-        };
-        let mut specs: Vec<ParamSpec> = BOUNDS
-            .iter()
-            .map(|&(name, min, max, unit)| ParamSpec {
-                name: name.into(),
-                help: help(name).into(),
-                kind: ParamKind::Number { min, max },
-                default: serde_json::json!(d.value(name)),
-                unit: Some(unit.into()),
-                basic: matches!(name, "drop" | "min_segment_s"),
-            })
-            .collect();
-        let flag = |name: &str, help: &str, default: bool, basic: bool| ParamSpec {
-            name: name.into(),
-            help: help.into(),
-            kind: ParamKind::Bool,
-            default: serde_json::json!(default),
-            unit: None,
-            basic,
-        };
-        specs.insert(
-            1,
-            flag(
-                "body_scale",
-                "Scale every take to the reference body (distances in its inches).",
-                d.body_scale,
-                false,
-            ),
-        );
-        specs.push(flag("legs", "Segment the legs too, not only the arms.", d.legs, true));
+        let mut specs = bounds::specs(&PARAMS, |n| d.value(n));
+        let help = "Scale every take to the reference body (distances in its inches).";
+        specs.insert(1, bounds::switch("body_scale", help, d.body_scale, false));
+        specs.push(bounds::switch("legs", "Segment the legs too, not only the arms.", d.legs, true));
         specs
     }
 
     fn check(&self, params: KcsParams) -> Result<ValidParams, MethodError> {
-        params.check().map_err(|e| MethodError::Params(e.to_string()))
+        params.check()
     }
 
     fn echo(&self, params: &ValidParams) -> serde_json::Value {
@@ -102,9 +70,13 @@ impl Method for Kcs {
         let (cut_frames, curves) = segment_limbs(&centroids, params, &mut |stage, x| progress.step(stage, x))?;
         let frames = WorkingFrames { source: &f.source_frames, file_frames: motion.frames() };
         let reach = |a: usize, b: usize| curves.iter().flat_map(|c| &c[a..=b]).fold(0.0f32, |x, &y| x.max(y));
-        let segments = cuts::segments(&frames, &cut_frames, "swing", Level::Primitive, |a, b| {
-            Some((reach(a, b) as f64 * 10.0).round() / 10.0)
-        });
+        let segments = cuts::segments(
+            &frames,
+            &cut_frames,
+            |_| "swing".into(),
+            Level::Primitive,
+            |_, a, b| Some((reach(a, b) as f64 * 10.0).round() / 10.0),
+        );
         let segmentation = Segmentation {
             file: motion.name.clone(),
             fps: motion.fps,

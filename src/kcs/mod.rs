@@ -21,7 +21,8 @@ pub mod method;
 use serde::{Deserialize, Serialize};
 
 use crate::features::FeatureMatrix;
-use crate::method::Cancelled;
+use crate::method::bounds::{self, NumberParam, Valid};
+use crate::method::{Cancelled, MethodError};
 use crate::segment::cuts;
 
 /// Parameters of the kinematic centroid segmentation (see the module documentation).
@@ -48,33 +49,37 @@ impl Default for KcsParams {
     }
 }
 
-/// Bounds of every numeric parameter: `(name, min, max, unit)`.
-pub const BOUNDS: [(&str, f64, f64, &str); 4] = [
-    ("fps", 10.0, 240.0, "Hz"),
-    ("drop", 0.1, 100.0, "in"),
-    ("min_segment_s", 0.0, 10.0, "s"),
-    ("merge_s", 0.0, 2.0, "s"),
-];
-
-/// Why the parameters are refused.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("invalid KCS parameter {name} = {value}: expected {expected}")]
-pub struct ParamError {
-    pub name: &'static str,
-    pub value: String,
-    pub expected: String,
-}
-
 /// [`KcsParams`] that passed [`KcsParams::check`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct ValidParams(KcsParams);
+pub type ValidParams = Valid<KcsParams>;
 
-impl std::ops::Deref for ValidParams {
-    type Target = KcsParams;
-    fn deref(&self) -> &KcsParams {
-        &self.0
-    }
-}
+/// Every numeric parameter: range, unit, help.
+pub const PARAMS: [NumberParam; 4] = [
+    bounds::WORKING_FPS,
+    NumberParam {
+        name: "drop",
+        min: 0.1,
+        max: 100.0,
+        unit: "in",
+        help: "A swing ends once the limb's centroid has come back this far from its farthest point.",
+        basic: true,
+    },
+    NumberParam {
+        name: "min_segment_s",
+        min: 0.0,
+        max: 10.0,
+        unit: "s",
+        help: "Segments shorter than this are not cut.",
+        basic: true,
+    },
+    NumberParam {
+        name: "merge_s",
+        min: 0.0,
+        max: 2.0,
+        unit: "s",
+        help: "Cuts of different limbs closer than this are merged into one.",
+        basic: false,
+    },
+];
 
 impl KcsParams {
     pub(crate) fn value(&self, name: &str) -> f64 {
@@ -87,15 +92,9 @@ impl KcsParams {
     }
 
     /// Validates every parameter; the method only ever runs on the result.
-    pub fn check(self) -> Result<ValidParams, ParamError> {
-        for (name, min, max, unit) in BOUNDS {
-            let v = self.value(name);
-            if !(v.is_finite() && (min..=max).contains(&v)) {
-                let value = if v.abs() >= 1e6 { format!("{v:e}") } else { v.to_string() };
-                return Err(ParamError { name, value, expected: format!("{min} to {max} {unit}") });
-            }
-        }
-        Ok(ValidParams(self))
+    pub fn check(self) -> Result<ValidParams, MethodError> {
+        bounds::check("KCS", &PARAMS, |n| self.value(n))?;
+        Ok(Valid::checked(self))
     }
 }
 

@@ -13,6 +13,7 @@
 //! Adding a method is one folder (its paper's modules plus a `method.rs` implementing
 //! [`Method`]) and one line in [`registry`].
 
+pub mod bounds;
 pub mod form;
 pub mod plot;
 pub mod spec;

@@ -2,13 +2,14 @@
 //! at the file's frame rate, the normalised error derivative as a per-frame curve, and a plot of
 //! the projection error and its derivative with the cuts.
 
-use super::{poses, scan, PcaParams, Scan, ValidParams, BOUNDS};
+use super::{poses, scan, PcaParams, Scan, ValidParams, PARAMS};
+use crate::method::bounds;
 use crate::method::{
-    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamKind, ParamSpec, Picture, Progress, RunOptions,
+    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions,
 };
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
-use crate::segment::{Level, Segment, Segmentation};
+use crate::segment::{cuts, Level, Segmentation};
 
 /// PCA segmentation (Barbič et al. 2004), as Bouchard & Badler's baseline.
 #[derive(Debug, Clone, Copy, Default)]
@@ -39,28 +40,11 @@ impl Method for Pca {
 
     fn param_specs(&self) -> Vec<ParamSpec> {
         let d = PcaParams::default();
-        let help = |name: &str| match name {
-            "fps" => "Frame rate the method works at; takes are resampled to it.",
-            "tau" => "Fraction of the variance of a segment's first frames its principal directions must keep.",
-            "window_s" => "Seconds that fix a segment's dimension; also the shortest segment.",
-            "lag_s" => "The error's derivative is taken over this many seconds (at most half of window_s).",
-            _ => "A cut where the error's derivative exceeds its mean by this many standard deviations.",
-        };
-        BOUNDS
-            .iter()
-            .map(|&(name, min, max, unit)| ParamSpec {
-                name: name.into(),
-                help: help(name).into(),
-                kind: ParamKind::Number { min, max },
-                default: serde_json::json!(d.value(name)),
-                unit: (!unit.is_empty()).then(|| unit.into()),
-                basic: matches!(name, "tau" | "window_s" | "k_sigma"),
-            })
-            .collect()
+        bounds::specs(&PARAMS, |n| d.value(n))
     }
 
     fn check(&self, params: PcaParams) -> Result<ValidParams, MethodError> {
-        params.check().map_err(|e| MethodError::Params(e.to_string()))
+        params.check()
     }
 
     fn echo(&self, params: &ValidParams) -> serde_json::Value {
@@ -79,22 +63,14 @@ impl Method for Pca {
         let s = scan(&p.data, p.dim, params, &mut |stage, f| progress.step(stage, f))?;
         progress.step("segments", 0.9)?;
         let frames = WorkingFrames { source: &p.source_frames, file_frames: motion.frames() };
-        let n = p.frames();
-        let starts: Vec<usize> = std::iter::once(0).chain(s.cuts.iter().map(|c| c.frame)).collect();
-        let mut segments = Vec::new();
-        for (k, &start) in starts.iter().enumerate() {
-            let end = starts.get(k + 1).map_or(n - 1, |&next| next - 1);
-            let working = Segment {
-                start,
-                end,
-                label: format!("B{}", k + 1),
-                level: Level::Action,
-                cluster: None,
-                score: k.checked_sub(1).map(|c| (s.cuts[c].ratio * 100.0).round() / 100.0),
-                mirror_of: None,
-            };
-            segments.extend(frames.to_file(working));
-        }
+        let cut_frames: Vec<usize> = s.cuts.iter().map(|c| c.frame).collect();
+        let segments = cuts::segments(
+            &frames,
+            &cut_frames,
+            |k| format!("B{}", k + 1),
+            Level::Action,
+            |k, _, _| k.checked_sub(1).map(|c| (s.cuts[c].ratio * 100.0).round() / 100.0),
+        );
         let segmentation = Segmentation {
             file: motion.name.clone(),
             fps: motion.fps,

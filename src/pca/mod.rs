@@ -40,7 +40,8 @@ pub mod method;
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
-use crate::method::Cancelled;
+use crate::method::bounds::{self, NumberParam, Valid};
+use crate::method::{Cancelled, MethodError};
 use crate::motion::joints::Canonical;
 use crate::motion::normalize::body_scaled;
 use crate::motion::resample::source_positions;
@@ -75,33 +76,44 @@ impl Default for PcaParams {
     }
 }
 
-/// Why the parameters are refused.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("invalid PCA parameter {name} = {value}: expected {expected}")]
-pub struct ParamError {
-    pub name: &'static str,
-    pub value: String,
-    pub expected: String,
-}
-
 /// [`PcaParams`] that passed [`PcaParams::check`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct ValidParams(PcaParams);
+pub type ValidParams = Valid<PcaParams>;
 
-impl std::ops::Deref for ValidParams {
-    type Target = PcaParams;
-    fn deref(&self) -> &PcaParams {
-        &self.0
-    }
-}
-
-/// Bounds of every parameter: `(name, min, max, unit)`.
-pub const BOUNDS: [(&str, f64, f64, &str); 5] = [
-    ("fps", 10.0, 240.0, "Hz"),
-    ("tau", 0.5, 0.999, ""),
-    ("window_s", 1.0, 20.0, "s"),
-    ("lag_s", 0.1, 5.0, "s"),
-    ("k_sigma", 0.5, 10.0, ""),
+/// Every parameter: range, unit, help.
+pub const PARAMS: [NumberParam; 5] = [
+    bounds::WORKING_FPS,
+    NumberParam {
+        name: "tau",
+        min: 0.5,
+        max: 0.999,
+        unit: "",
+        help: "Fraction of the variance of a segment's first frames its principal directions must keep.",
+        basic: true,
+    },
+    NumberParam {
+        name: "window_s",
+        min: 1.0,
+        max: 20.0,
+        unit: "s",
+        help: "Seconds that fix a segment's dimension; also the shortest segment.",
+        basic: true,
+    },
+    NumberParam {
+        name: "lag_s",
+        min: 0.1,
+        max: 5.0,
+        unit: "s",
+        help: "The error's derivative is taken over this many seconds (at most half of window_s).",
+        basic: false,
+    },
+    NumberParam {
+        name: "k_sigma",
+        min: 0.5,
+        max: 10.0,
+        unit: "",
+        help: "A cut where the error's derivative exceeds its mean by this many standard deviations.",
+        basic: true,
+    },
 ];
 
 impl PcaParams {
@@ -116,25 +128,13 @@ impl PcaParams {
     }
 
     /// Validates every parameter; the method only ever runs on the result.
-    pub fn check(self) -> Result<ValidParams, ParamError> {
-        for (name, min, max, unit) in BOUNDS {
-            let v = self.value(name);
-            if !(v.is_finite() && (min..=max).contains(&v)) {
-                return Err(ParamError {
-                    name,
-                    value: format!("{v:e}").replace("e0", ""),
-                    expected: format!("{min} to {max} {unit}").trim_end().to_string(),
-                });
-            }
-        }
+    pub fn check(self) -> Result<ValidParams, MethodError> {
+        bounds::check("PCA", &PARAMS, |n| self.value(n))?;
         if self.lag_s > self.window_s / 2.0 {
-            return Err(ParamError {
-                name: "lag_s",
-                value: self.lag_s.to_string(),
-                expected: format!("at most half of window_s ({})", self.window_s / 2.0),
-            });
+            let expected = format!("at most half of window_s ({})", self.window_s / 2.0);
+            return Err(bounds::refuse("PCA", "lag_s", self.lag_s, &expected));
         }
-        Ok(ValidParams(self))
+        Ok(Valid::checked(self))
     }
 }
 

@@ -27,14 +27,14 @@ pub fn merge(mut cuts: Vec<usize>, merge: usize) -> Vec<usize> {
 }
 
 /// One segment per stretch between `cuts` (working frames, ascending, inside `1..working frames`)
-/// over the whole take, mapped to file frames: `label`, `level`, and `score(start, end)` of each
-/// (working frames, inclusive).
+/// over the whole take, mapped to file frames: the `k`-th (from 0) gets `label(k)`, `level`, and
+/// `score(k, start, end)` (working frames, inclusive).
 pub fn segments(
     frames: &WorkingFrames,
     cuts: &[usize],
-    label: &str,
+    label: impl Fn(usize) -> String,
     level: Level,
-    mut score: impl FnMut(usize, usize) -> Option<f64>,
+    mut score: impl FnMut(usize, usize, usize) -> Option<f64>,
 ) -> Vec<Segment> {
     let n = frames.source.len();
     let starts: Vec<usize> = std::iter::once(0).chain(cuts.iter().copied().filter(|&c| c > 0 && c < n)).collect();
@@ -44,15 +44,8 @@ pub fn segments(
         if n == 0 || end < start {
             continue;
         }
-        let working = Segment {
-            start,
-            end,
-            label: label.into(),
-            level,
-            cluster: None,
-            score: score(start, end),
-            mirror_of: None,
-        };
+        let (label, score) = (label(k), score(k, start, end));
+        let working = Segment { start, end, label, level, cluster: None, score, mirror_of: None };
         out.extend(frames.to_file(working));
     }
     out
@@ -75,10 +68,10 @@ mod tests {
         // 40 working frames at 30 Hz of a 120 Hz file of 157 frames
         let source: Vec<f64> = (0..40).map(|k| 4.0 * k as f64).collect();
         let w = WorkingFrames { source: &source, file_frames: 157 };
-        let s = segments(&w, &[10, 25], "g", Level::Primitive, |a, b| Some((b - a) as f64));
+        let s = segments(&w, &[10, 25], |k| format!("g{k}"), Level::Primitive, |_, a, b| Some((b - a) as f64));
         let spans: Vec<(usize, usize)> = s.iter().map(|s| (s.start, s.end)).collect();
         assert_eq!(spans, vec![(0, 37), (38, 97), (98, 156)]);
-        assert_eq!(s[1].score, Some(14.0));
-        assert_eq!(segments(&w, &[], "g", Level::Action, |_, _| None).len(), 1);
+        assert_eq!((s[1].score, s[1].label.as_str()), (Some(14.0), "g1"));
+        assert_eq!(segments(&w, &[], |_| "g".into(), Level::Action, |_, _, _| None).len(), 1);
     }
 }

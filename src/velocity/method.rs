@@ -1,11 +1,12 @@
 //! The hand-speed segmentation behind the common [`Method`] interface: its parameters, the
 //! segmentation at the file's frame rate, both hands' speed as per-frame curves and as a plot.
 
-use super::{boundaries, hand_speed, ValidParams, VelocityParams, BOUNDS};
+use super::{boundaries, hand_speed, ValidParams, VelocityParams, PARAMS};
 use crate::features::end_effectors::{end_effectors, LEFT_HAND, RIGHT_HAND};
+use crate::method::bounds;
 use crate::method::plot::{self, Series};
 use crate::method::{
-    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamKind, ParamSpec, Picture, Progress, RunOptions,
+    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions,
 };
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -33,41 +34,14 @@ impl Method for Velocity {
 
     fn param_specs(&self) -> Vec<ParamSpec> {
         let d = VelocityParams::default();
-        let help = |name: &str| match name {
-            "fps" => "Frame rate the method works at; takes are resampled to it.",
-            "smooth_s" => "Standard deviation of the Gaussian that smooths the hand speeds (0 = none).",
-            "low_speed" => "A local minimum of a hand's speed below this is a boundary candidate.",
-            "high_speed" => "A segment must reach this hand speed somewhere (at least low_speed).",
-            _ => "Boundaries of either hand closer than this are merged into one.",
-        };
-        let mut specs: Vec<ParamSpec> = BOUNDS
-            .iter()
-            .map(|&(name, min, max, unit)| ParamSpec {
-                name: name.into(),
-                help: help(name).into(),
-                kind: ParamKind::Number { min, max },
-                default: serde_json::json!(d.value(name)),
-                unit: Some(unit.into()),
-                basic: matches!(name, "low_speed" | "high_speed" | "merge_s"),
-            })
-            .collect();
-        specs.insert(
-            1,
-            ParamSpec {
-                name: "body_scale".into(),
-                help: "Scale every take to the reference body (speeds in inches per second of CMU subject 86's body)."
-                    .into(),
-                kind: ParamKind::Bool,
-                default: serde_json::json!(d.body_scale),
-                unit: None,
-                basic: false,
-            },
-        );
+        let mut specs = bounds::specs(&PARAMS, |n| d.value(n));
+        let help = "Scale every take to the reference body (speeds in inches per second of CMU subject 86's body).";
+        specs.insert(1, bounds::switch("body_scale", help, d.body_scale, false));
         specs
     }
 
     fn check(&self, params: VelocityParams) -> Result<ValidParams, MethodError> {
-        params.check().map_err(|e| MethodError::Params(e.to_string()))
+        params.check()
     }
 
     fn echo(&self, params: &ValidParams) -> serde_json::Value {
@@ -89,9 +63,13 @@ impl Method for Velocity {
         let cuts = boundaries(&speeds, params, &mut |stage, f| progress.step(stage, f))?;
         let frames = WorkingFrames { source: &e.source_frames, file_frames: motion.frames() };
         let peak = |a: usize, b: usize| speeds.iter().flat_map(|s| &s[a..=b]).fold(0.0f32, |x, &y| x.max(y));
-        let segments = cuts::segments(&frames, &cuts, "gesture", Level::Primitive, |a, b| {
-            Some((peak(a, b) as f64 * 10.0).round() / 10.0)
-        });
+        let segments = cuts::segments(
+            &frames,
+            &cuts,
+            |_| "gesture".into(),
+            Level::Primitive,
+            |_, a, b| Some((peak(a, b) as f64 * 10.0).round() / 10.0),
+        );
         let segmentation = Segmentation {
             file: motion.name.clone(),
             fps: motion.fps,

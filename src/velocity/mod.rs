@@ -23,7 +23,8 @@ pub mod method;
 use serde::{Deserialize, Serialize};
 
 use crate::features::FeatureMatrix;
-use crate::method::Cancelled;
+use crate::method::bounds::{self, NumberParam, Valid};
+use crate::method::{Cancelled, MethodError};
 use crate::segment::cuts;
 
 /// Parameters of the hand-speed segmentation (see the module documentation).
@@ -50,33 +51,44 @@ impl Default for VelocityParams {
     }
 }
 
-/// Why the parameters are refused.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("invalid velocity parameter {name} = {value}: expected {expected}")]
-pub struct ParamError {
-    pub name: &'static str,
-    pub value: String,
-    pub expected: String,
-}
-
 /// [`VelocityParams`] that passed [`VelocityParams::check`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct ValidParams(VelocityParams);
+pub type ValidParams = Valid<VelocityParams>;
 
-impl std::ops::Deref for ValidParams {
-    type Target = VelocityParams;
-    fn deref(&self) -> &VelocityParams {
-        &self.0
-    }
-}
-
-/// Bounds of every numeric parameter: `(name, min, max, unit)`.
-pub const BOUNDS: [(&str, f64, f64, &str); 5] = [
-    ("fps", 10.0, 240.0, "Hz"),
-    ("smooth_s", 0.0, 1.0, "s"),
-    ("low_speed", 0.1, 1000.0, "in/s"),
-    ("high_speed", 0.1, 2000.0, "in/s"),
-    ("merge_s", 0.0, 2.0, "s"),
+/// Every numeric parameter: range, unit, help.
+pub const PARAMS: [NumberParam; 5] = [
+    bounds::WORKING_FPS,
+    NumberParam {
+        name: "smooth_s",
+        min: 0.0,
+        max: 1.0,
+        unit: "s",
+        help: "Standard deviation of the Gaussian that smooths the hand speeds (0 = none).",
+        basic: false,
+    },
+    NumberParam {
+        name: "low_speed",
+        min: 0.1,
+        max: 1000.0,
+        unit: "in/s",
+        help: "A local minimum of a hand's speed below this is a boundary candidate.",
+        basic: true,
+    },
+    NumberParam {
+        name: "high_speed",
+        min: 0.1,
+        max: 2000.0,
+        unit: "in/s",
+        help: "A segment must reach this hand speed somewhere (at least low_speed).",
+        basic: true,
+    },
+    NumberParam {
+        name: "merge_s",
+        min: 0.0,
+        max: 2.0,
+        unit: "s",
+        help: "Boundaries of either hand closer than this are merged into one.",
+        basic: true,
+    },
 ];
 
 impl VelocityParams {
@@ -91,25 +103,13 @@ impl VelocityParams {
     }
 
     /// Validates every parameter; the method only ever runs on the result.
-    pub fn check(self) -> Result<ValidParams, ParamError> {
-        for (name, min, max, unit) in BOUNDS {
-            let v = self.value(name);
-            if !(v.is_finite() && (min..=max).contains(&v)) {
-                return Err(ParamError {
-                    name,
-                    value: format!("{v:e}").replace("e0", ""),
-                    expected: format!("{min} to {max} {unit}"),
-                });
-            }
-        }
+    pub fn check(self) -> Result<ValidParams, MethodError> {
+        bounds::check("velocity", &PARAMS, |n| self.value(n))?;
         if self.high_speed < self.low_speed {
-            return Err(ParamError {
-                name: "high_speed",
-                value: self.high_speed.to_string(),
-                expected: format!("at least low_speed ({})", self.low_speed),
-            });
+            let expected = format!("at least low_speed ({})", self.low_speed);
+            return Err(bounds::refuse("velocity", "high_speed", self.high_speed, &expected));
         }
-        Ok(ValidParams(self))
+        Ok(Valid::checked(self))
     }
 }
 
