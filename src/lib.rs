@@ -18,6 +18,7 @@ pub mod parallel;
 pub mod pca;
 pub mod protocol;
 pub mod segment;
+pub mod splice;
 pub mod sssm;
 pub mod stats;
 pub mod velocity;

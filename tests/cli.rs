@@ -299,6 +299,58 @@ fn eval_scores_a_segmentation_against_truth() {
     assert_eq!(v["hungarian_accuracy"], 1.0);
 }
 
+#[test]
+fn splice_writes_a_take_and_its_ground_truth_that_eval_reads() {
+    let dir = out_dir().join("splice");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let labels = dir.join("labels.csv");
+    std::fs::write(
+        &labels,
+        "trial,label,start_frame,end_frame,trial_frames\n02_01,walk,1,170,343\n02_01,\"walk, later\",171,343,343\n\
+         35_01,run,1,358,358\n",
+    )
+    .unwrap();
+    let out = dir.join("mix.bvh");
+    let (a, b) = (fixture("02_01.bvh"), fixture("35_01.bvh"));
+    let args = ["splice", "--bvh", a.to_str().unwrap(), b.to_str().unwrap(), "--labels", labels.to_str().unwrap()];
+    let run_splice = |seed: &str| {
+        let r = run(&[&args[..], &["--pieces", "6", "--seed", seed, "-o", out.to_str().unwrap()]].concat());
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        (std::fs::read_to_string(&out).unwrap(), std::fs::read_to_string(dir.join("mix.csv")).unwrap())
+    };
+    let (bvh1, csv1) = run_splice("4");
+    assert_eq!(run_splice("4"), (bvh1.clone(), csv1.clone()), "the same seed gives the same take");
+    assert_ne!(run_splice("5").0, bvh1, "another seed another take");
+    let (_, csv) = run_splice("4");
+    assert_eq!(csv.lines().count(), 7, "a header and 6 pieces:\n{csv}");
+    let mut reader = csv::Reader::from_reader(csv.as_bytes());
+    let found: Vec<String> = reader.records().map(|r| r.unwrap()[1].to_string()).collect();
+    assert!(found.iter().all(|l| ["walk", "walk, later", "run"].contains(&l.as_str())), "{found:?}");
+    assert!(found.windows(2).all(|w| w[0] != w[1]), "no label twice in a row: {found:?}");
+    // segment the spliced take and score it against its ground truth
+    let seg = dir.join("mix.json");
+    let r = run(&["segment", "--method", "pca", out.to_str().unwrap()]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    std::fs::write(&seg, &r.stdout).unwrap();
+    let v = stdout_json(&run(&["eval", seg.to_str().unwrap(), "--truth", dir.join("mix.csv").to_str().unwrap()]));
+    assert_eq!(v["trial"], "mix");
+    assert_eq!(v["true_boundaries"], 5);
+    assert!(v["segments"]["similarity"].is_number());
+    // a take without labels is named
+    let r = run(&[
+        "splice",
+        "--bvh",
+        fixture("12_01.bvh").to_str().unwrap(),
+        "--labels",
+        labels.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(r.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("no labels for trial `12_01`"));
+}
+
 /// A lab example built next to the test binaries (`cargo test` builds the examples).
 fn example(name: &str) -> PathBuf {
     let deps = std::env::current_exe().unwrap().parent().unwrap().to_path_buf();

@@ -8,6 +8,7 @@
 //! mocapseg segment --method NAME [--param NAME=VALUE]… FILE.bvh      segmentation JSON on stdout
 //! mocapseg segment --method NAME [--param NAME=VALUE]… DIR_OR_FILES… --out DIR   batch, all cores
 //! mocapseg eval SEG.json… --truth GT.csv      scores against ground truth (one table for many)
+//! mocapseg splice --bvh TAKES… --labels GT.csv… -o OUT.bvh   a take with known gesture boundaries
 //! mocapseg bench [FILE.bvh] [--reps N]        parse + forward-kinematics throughput
 //! ```
 //! Errors go to stderr as `error: FILE: line L, column C: what was expected`, exit code 1.
@@ -41,6 +42,7 @@ mod cli {
     use mocapseg::segment::report::{self, Row};
     use mocapseg::segment::truth::{load_csv, TruthOptions};
     use mocapseg::segment::{Level, Segmentation};
+    use mocapseg::splice::{Source, SpliceOptions};
     use mocapseg::stats;
     use rayon::prelude::*;
 
@@ -122,6 +124,32 @@ mod cli {
             #[arg(long)]
             json: bool,
         },
+        /// Build a take with known boundaries from labelled takes (pieces of 0.8–3 s, each from another
+        /// action than the one before, joined continuously); writes OUT.bvh and its ground truth OUT.csv.
+        Splice {
+            /// Source takes (same hierarchy and frame rate, Y up), files or folders.
+            #[arg(long = "bvh", required = true, num_args = 1..)]
+            bvh: Vec<PathBuf>,
+            /// Ground-truth CSVs giving each take's labelled segments (trial = the take's file name
+            /// without extension; 1-based frames as in the shared data).
+            #[arg(long = "labels", required = true, num_args = 1..)]
+            labels: Vec<PathBuf>,
+            #[arg(long, default_value_t = 20)]
+            pieces: usize,
+            #[arg(long, default_value_t = 1)]
+            seed: u64,
+            /// Shortest and longest piece, seconds.
+            #[arg(long, default_value_t = 0.8)]
+            min_s: f64,
+            #[arg(long, default_value_t = 3.0)]
+            max_s: f64,
+            /// Transition between two pieces, seconds.
+            #[arg(long, default_value_t = 0.25)]
+            blend_s: f64,
+            /// The spliced take (`.bvh`); its ground truth goes next to it as `.csv`.
+            #[arg(long, short)]
+            out: PathBuf,
+        },
         /// Measure parse and forward-kinematics throughput (MB/s, frames/s) on a take.
         Bench {
             /// The take to measure (default: ../shared/data/cmu/86/86_01.bvh, else the bundled sample).
@@ -159,6 +187,9 @@ mod cli {
             Command::Image { file, output } => image(&file, &output),
             Command::Positions { file, fps, end_sites, output } => positions(&file, fps, end_sites, &output),
             Command::Methods { json } => methods(json),
+            Command::Splice { bvh, labels, pieces, seed, min_s, max_s, blend_s, out } => {
+                splice(&bvh, &labels, SpliceOptions { pieces, seed, min_s, max_s, blend_s }, &out)
+            }
             Command::Bench { file, reps } => bench(file, reps),
             Command::Eval { predictions, truth, trial, first_frame, row_offset, json } => {
                 eval(&predictions, &truth, trial, TruthOptions { first_frame, bvh_row_offset: row_offset }, json)
@@ -470,6 +501,36 @@ mod cli {
         } else {
             print!("{}", report::markdown(&rows, &[]));
         }
+        Ok(())
+    }
+
+    fn splice(bvh: &[PathBuf], labels: &[PathBuf], options: SpliceOptions, out: &Path) -> Result<(), String> {
+        let files = collect_files(bvh, "bvh")?;
+        let label_texts: Vec<(PathBuf, String)> =
+            labels.iter().map(|p| read_text(p).map(|t| (p.clone(), t))).collect::<Result<_, _>>()?;
+        let mut takes = Vec::new();
+        for f in &files {
+            let text = read_text(f)?;
+            let parsed = bvh::parse(&text).map_err(|e| format!("{}: {e}", f.display()))?;
+            let trial = stem(f);
+            let truth = label_texts
+                .iter()
+                .find_map(|(_, t)| load_csv(t, &trial, TruthOptions::default()).ok())
+                .ok_or_else(|| format!("{}: no labels for trial `{trial}` in the --labels files", f.display()))?;
+            takes.push((trial, parsed, truth));
+        }
+        let sources: Vec<Source> = takes.iter().map(|(n, b, t)| Source { name: n, bvh: b, truth: t }).collect();
+        let spliced = mocapseg::splice::splice(&sources, &options).map_err(|e| e.to_string())?;
+        let csv_path = out.with_extension("csv");
+        std::fs::write(out, bvh::write(&spliced.bvh)).map_err(|e| format!("{}: {e}", out.display()))?;
+        std::fs::write(&csv_path, spliced.truth_csv(&stem(out))).map_err(|e| format!("{}: {e}", csv_path.display()))?;
+        eprintln!(
+            "wrote {} ({} pieces, {} frames) and its ground truth {}",
+            out.display(),
+            spliced.pieces.len(),
+            spliced.bvh.frames(),
+            csv_path.display()
+        );
         Ok(())
     }
 
