@@ -8,7 +8,7 @@
 //!   `#<name>-cancel` and `#<name>-progress` while it runs, and every picture the method draws as
 //!   a canvas `#<name>-<picture>` with its caption.
 //! * [`MethodRows`] — under the motion image, on the timeline's time axis, for every method with
-//!   a result: `#row-<name>-actions` (actions coloured by kind, transitions hatched grey) and
+//!   a result (each row labelled with the method and level at its right end): `#row-<name>-actions` (actions coloured by kind, transitions hatched grey) and
 //!   `#row-<name>-primitives` (coloured by cluster, mirror-pair clusters in one hue at two
 //!   lightnesses). Every segment carries `data-start`/`data-end` (file frames) and a tooltip;
 //!   clicking a primitive plays it once, clicking an action seeks to it.
@@ -268,10 +268,10 @@ pub fn MethodRows(state: AppState) -> impl IntoView {
                 move || slot.view.with(|v| v.as_ref().is_none_or(|v| !v.segmentation.segments.iter().any(|s| levels.contains(&s.level))))
             };
             view! {
-                <div id=format!("row-{name}-actions") class="ms-row" hidden=hidden(&[Level::Action, Level::Transition]) title=format!("{} actions and transitions", slot.info.short)>
+                <div id=format!("row-{name}-actions") class="ms-row" data-label=format!("{} actions", slot.info.short) hidden=hidden(&[Level::Action, Level::Transition]) title=format!("{} actions and transitions", slot.info.short)>
                     {rows(&[Level::Action, Level::Transition], false)}
                 </div>
-                <div id=format!("row-{name}-primitives") class="ms-row" hidden=hidden(&[Level::Primitive]) title=format!("{} primitives", slot.info.short)>
+                <div id=format!("row-{name}-primitives") class="ms-row" data-label=format!("{} primitives", slot.info.short) hidden=hidden(&[Level::Primitive]) title=format!("{} primitives", slot.info.short)>
                     {rows(&[Level::Primitive], true)}
                 </div>
             }

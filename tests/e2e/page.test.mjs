@@ -311,6 +311,9 @@ test("every registered method gets a panel: the velocity baseline runs after the
   const names = await page.evaluate(() => [...document.querySelectorAll("section.ms-method")].map((s) => s.id.replace(/-panel$/, "")));
   for (const want of ["sssm", "velocity", "kcs"]) assert.ok(names.includes(want), `no ${want} panel in ${names}`);
   await page.waitForFunction((names) => names.every((n) => document.body.dataset[n] === "done"), names, { timeout: TIMEOUT });
+  // every row says which method and level it shows
+  assert.equal(await page.locator("#row-pca-actions").getAttribute("data-label"), "PCA actions");
+  assert.equal(await page.locator("#row-kcs-primitives").getAttribute("data-label"), "KCS primitives");
   const gestures = await page.locator("#row-velocity-primitives .ms-seg").count();
   assert.ok(gestures >= 2, `#row-velocity-primitives has ${gestures} segments, want ≥ 2`);
   assert.equal(await page.locator("#row-velocity-actions").isVisible(), false, "no empty actions row");
