@@ -359,6 +359,11 @@ fn example(name: &str) -> PathBuf {
 
 #[test]
 fn eval_data_says_clearly_when_the_data_is_absent() {
+    for name in ["eval_data", "eval_splice"] {
+        let out = Command::new(example(name)).args(["--data", "/no/such/folder"]).output().unwrap();
+        assert_eq!(out.status.code(), Some(1), "{name}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("no shared data here"), "{name}");
+    }
     let out = Command::new(example("eval_data")).args(["--data", "/no/such/folder"]).output().unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no shared data here"));

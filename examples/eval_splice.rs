@@ -1,0 +1,149 @@
+//! Lab tool, not part of the product: the gesture-level benchmark. Splices the labelled takes of
+//! the shared data (CMU 86_01, the mocap6 takes) into takes with known boundaries
+//! ([`mocapseg::splice`], one per seed), segments each with every registered method (default
+//! parameters; SSSM also scored on its primitives alone) and prints one table: segments found,
+//! Bouchard & Badler's matched segments and similarity s at 0.5 s, boundary F1 and recall at
+//! 0.5 s, each the mean over the seeds. Says so and fails when the shared data is absent.
+//!
+//! ```text
+//! cargo run --release --example eval_splice -- [--data ../shared/data] [--seeds 1,2,3] [--pieces 40]
+//! ```
+
+#[cfg(target_arch = "wasm32")]
+fn main() {}
+
+#[cfg(not(target_arch = "wasm32"))]
+fn main() -> std::process::ExitCode {
+    use clap::Parser;
+    match lab::run(lab::Args::parse()) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+mod lab {
+    use std::path::{Path, PathBuf};
+
+    use mocapseg::bvh::{self, Bvh};
+    use mocapseg::method::{self, NoProgress, RunOptions};
+    use mocapseg::motion::Motion;
+    use mocapseg::segment::metrics::{evaluate, Tolerances};
+    use mocapseg::segment::truth::{load_csv, Truth, TruthOptions};
+    use mocapseg::segment::{Level, Segmentation};
+    use mocapseg::splice::{splice, Source, SpliceOptions};
+
+    #[derive(clap::Parser)]
+    #[command(about = "Score every method on spliced takes with known boundaries")]
+    pub struct Args {
+        /// The shared data folder (with cmu/ and labels/).
+        #[arg(long, default_value = "../shared/data")]
+        data: PathBuf,
+        /// One spliced take per seed.
+        #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
+        seeds: Vec<u64>,
+        #[arg(long, default_value_t = 40)]
+        pieces: usize,
+    }
+
+    /// The labelled takes: (trial, BVH path, label CSV).
+    fn takes(data: &Path) -> Vec<(&'static str, PathBuf, PathBuf)> {
+        let mut v = vec![("86_01", data.join("cmu/86/86_01.bvh"), data.join("labels/cmu86_zhou_gt.csv"))];
+        for t in ["13_29", "13_30", "13_31", "14_14"] {
+            v.push((t, data.join(format!("cmu/mocap6/{t}.bvh")), data.join("labels/mocap6_gt.csv")));
+        }
+        v
+    }
+
+    /// Sums of one method's scores over the seeds.
+    #[derive(Default)]
+    struct Sums {
+        found: f64,
+        matched: f64,
+        similarity: f64,
+        f1: f64,
+        recall: f64,
+    }
+
+    pub fn run(args: Args) -> Result<(), String> {
+        if !args.data.join("labels").is_dir() {
+            return Err(format!(
+                "{}: no shared data here (expected labels/ and cmu/ as in ../shared/data); pass --data DIR",
+                args.data.display()
+            ));
+        }
+        let mut loaded: Vec<(&str, Bvh, Truth)> = Vec::new();
+        for (trial, bvh_path, csv) in takes(&args.data) {
+            let text = std::fs::read_to_string(&bvh_path).map_err(|e| format!("{}: {e}", bvh_path.display()))?;
+            let b = bvh::parse(&text).map_err(|e| format!("{}: {e}", bvh_path.display()))?;
+            let labels = std::fs::read_to_string(&csv).map_err(|e| format!("{}: {e}", csv.display()))?;
+            let truth =
+                load_csv(&labels, trial, TruthOptions::default()).map_err(|e| format!("{}: {e}", csv.display()))?;
+            loaded.push((trial, b, truth));
+        }
+        let sources: Vec<Source> = loaded.iter().map(|(n, b, t)| Source { name: n, bvh: b, truth: t }).collect();
+        // every method, and SSSM's primitives on their own
+        let mut rows: Vec<(String, Sums)> =
+            method::registry().iter().map(|m| (m.info().name, Sums::default())).collect();
+        rows.push(("sssm primitives".into(), Sums::default()));
+        let mut seconds = 0.0;
+        for &seed in &args.seeds {
+            let options = SpliceOptions { pieces: args.pieces, seed, ..Default::default() };
+            let spliced = splice(&sources, &options).map_err(|e| e.to_string())?;
+            let name = format!("splice{seed}");
+            let truth =
+                load_csv(&spliced.truth_csv(&name), &name, TruthOptions::default()).map_err(|e| e.to_string())?;
+            let motion = Motion::from_bvh(&name, &spliced.bvh).map_err(|e| e.to_string())?;
+            seconds += motion.duration_s();
+            for (k, m) in method::registry().iter().enumerate() {
+                let out = m
+                    .run_json(&motion, &serde_json::json!({}), &RunOptions::default(), &mut NoProgress)
+                    .map_err(|e| format!("{}: {e}", m.info().name))?;
+                add(&mut rows[k].1, &out.segmentation, &truth)?;
+                if m.info().name == "sssm" {
+                    let mut prims = out.segmentation.clone();
+                    prims.segments.retain(|s| s.level == Level::Primitive);
+                    let last = rows.len() - 1;
+                    add(&mut rows[last].1, &prims, &truth)?;
+                }
+            }
+        }
+        let n = args.seeds.len().max(1) as f64;
+        println!(
+            "{} spliced takes (seeds {:?}, {} pieces each, {:.0} s in all), default parameters, mean per take:",
+            args.seeds.len(),
+            args.seeds,
+            args.pieces,
+            seconds
+        );
+        println!(
+            "| method | segments found (of {}) | matched segments | s@0.5s | boundary F1@0.5s | boundary recall@0.5s |",
+            args.pieces
+        );
+        println!("|---|---|---|---|---|---|");
+        for (name, s) in &rows {
+            println!(
+                "| {name} | {:.1} | {:.1} | {:.1} | {:.2} | {:.2} |",
+                s.found / n,
+                s.matched / n,
+                s.similarity / n,
+                s.f1 / n,
+                s.recall / n
+            );
+        }
+        Ok(())
+    }
+
+    fn add(sums: &mut Sums, seg: &Segmentation, truth: &Truth) -> Result<(), String> {
+        let s = evaluate(seg, truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", seg.method))?;
+        sums.found += (s.predicted_boundaries + 1) as f64;
+        sums.matched += s.segments.matched as f64;
+        sums.similarity += s.segments.similarity;
+        sums.f1 += s.boundaries[0].f1;
+        sums.recall += s.boundaries[0].recall;
+        Ok(())
+    }
+}
