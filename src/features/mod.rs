@@ -7,6 +7,7 @@
 //! [`crate::sssm::features`]); this module only holds and transforms them.
 
 pub mod end_effectors;
+pub mod kinematics;
 pub mod pca;
 
 /// What is wrong with a feature matrix or a mirror map.

@@ -66,7 +66,7 @@ impl Method for Kcs {
         let joints: Vec<C> = limbs.iter().flat_map(|(_, j, _)| *j).collect();
         let f = canonical_joints(motion, params.fps, params.body_scale, &joints)
             .map_err(|e| MethodError::Failed(e.to_string()))?;
-        let centroids: Vec<Vec<[f32; 3]>> = (0..limbs.len()).map(|l| centroid(&f.base, 9 * l, 3)).collect();
+        let centroids: Vec<Vec<glam::Vec3>> = (0..limbs.len()).map(|l| centroid(&f.base, 9 * l, 3)).collect();
         let (cut_frames, curves) = segment_limbs(&centroids, params, &mut |stage, x| progress.step(stage, x))?;
         let frames = WorkingFrames { source: &f.source_frames, file_frames: motion.frames() };
         let reach = |a: usize, b: usize| curves.iter().flat_map(|c| &c[a..=b]).fold(0.0f32, |x, &y| x.max(y));

@@ -18,6 +18,7 @@
 
 pub mod method;
 
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::features::FeatureMatrix;
@@ -100,30 +101,20 @@ impl KcsParams {
 
 /// The mean of the `joints` 3-column points from column `first` on of `features`, in every
 /// frame (a limb's kinematic centroid).
-pub fn centroid(features: &FeatureMatrix, first: usize, joints: usize) -> Vec<[f32; 3]> {
+pub fn centroid(features: &FeatureMatrix, first: usize, joints: usize) -> Vec<Vec3> {
     (0..features.frames())
         .map(|i| {
             let r = &features.row(i)[first..first + 3 * joints];
-            let mut c = [0.0f32; 3];
-            for p in r.chunks_exact(3) {
-                for (ca, v) in c.iter_mut().zip(p) {
-                    *ca += v / joints as f32;
-                }
-            }
-            c
+            r.chunks_exact(3).map(Vec3::from_slice).sum::<Vec3>() / joints as f32
         })
         .collect()
-}
-
-fn distance(a: [f32; 3], b: [f32; 3]) -> f32 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
 /// One limb's cuts: each segment ends at the farthest point of its centroid's swing from where
 /// the segment began, once the distance has dropped `drop` below that farthest point and the
 /// segment has at least `min_frames` frames. Also returns, per frame, the distance from the
 /// start of the segment it belongs to.
-pub fn limb_cuts(centroid: &[[f32; 3]], drop: f32, min_frames: usize) -> (Vec<usize>, Vec<f32>) {
+pub fn limb_cuts(centroid: &[Vec3], drop: f32, min_frames: usize) -> (Vec<usize>, Vec<f32>) {
     let n = centroid.len();
     let mut cuts = Vec::new();
     let mut displacement = vec![0.0f32; n];
@@ -131,7 +122,7 @@ pub fn limb_cuts(centroid: &[[f32; 3]], drop: f32, min_frames: usize) -> (Vec<us
     let (mut far, mut far_at) = (0.0f32, 0);
     let mut t = 1;
     while t < n {
-        let d = distance(centroid[t], centroid[start]);
+        let d = centroid[t].distance(centroid[start]);
         displacement[t] = d;
         if d > far {
             (far, far_at) = (d, t);
@@ -148,7 +139,7 @@ pub fn limb_cuts(centroid: &[[f32; 3]], drop: f32, min_frames: usize) -> (Vec<us
 
 /// The cuts of every limb's centroid merged, with each limb's displacement curve.
 pub fn segment_limbs(
-    centroids: &[Vec<[f32; 3]>],
+    centroids: &[Vec<Vec3>],
     params: &ValidParams,
     progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
 ) -> Result<(Vec<usize>, Vec<Vec<f32>>), Cancelled> {
@@ -172,8 +163,10 @@ mod tests {
     use crate::stats::Rng;
 
     /// A limb swinging out and back along x: `amplitude · |sin(π t / 30)|`, extremes every 15 frames.
-    fn swings(frames: usize, amplitude: f32) -> Vec<[f32; 3]> {
-        (0..frames).map(|t| [amplitude * (std::f32::consts::PI * t as f32 / 30.0).sin().abs(), 10.0, 0.0]).collect()
+    fn swings(frames: usize, amplitude: f32) -> Vec<Vec3> {
+        (0..frames)
+            .map(|t| Vec3::new(amplitude * (std::f32::consts::PI * t as f32 / 30.0).sin().abs(), 10.0, 0.0))
+            .collect()
     }
 
     #[test]
@@ -187,7 +180,7 @@ mod tests {
     #[test]
     fn jitter_below_the_drop_and_short_segments_cut_nothing() {
         let mut rng = Rng::new(5);
-        let still: Vec<[f32; 3]> = (0..200).map(|_| [rng.next_f32(), rng.next_f32(), rng.next_f32()]).collect();
+        let still: Vec<Vec3> = (0..200).map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32())).collect();
         assert!(limb_cuts(&still, 2.0, 6).0.is_empty(), "jitter of 1 inch");
         // swings of 15 frames cannot be cut into segments of at least 20
         let (cuts, _) = limb_cuts(&swings(91, 12.0), 2.0, 20);
@@ -198,7 +191,7 @@ mod tests {
     #[test]
     fn the_centroid_is_the_mean_of_the_joints() {
         let m = FeatureMatrix::from_rows(&[[9.0f32, 0.0, 0.0, 0.0, 2.0, 4.0, 6.0, 4.0, 2.0, 0.0]]).unwrap();
-        assert_eq!(centroid(&m, 1, 3), vec![[2.0, 2.0, 2.0]]);
+        assert_eq!(centroid(&m, 1, 3), vec![Vec3::splat(2.0)]);
     }
 
     #[test]

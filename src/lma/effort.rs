@@ -14,6 +14,8 @@
 //! module's convention; the other three follow the factors' definitions. Every descriptor of any
 //! candidate segment costs O(1) from [`Prefix`] tables built once per take.
 
+use glam::DVec3;
+
 use super::features::{Kinematics, Prefix, Stat, Weighting};
 
 /// The four Effort factors.
@@ -49,7 +51,7 @@ struct Hand {
     jerk: Prefix,
     /// `steps[t]` = distance from frame `t − 1` to `t` (0 at frame 0).
     steps: Prefix,
-    positions: Vec<[f64; 3]>,
+    positions: Vec<DVec3>,
 }
 
 /// Descriptor tables of a take: both hands' trajectories (relative to the torso) at `fps`.
@@ -58,13 +60,9 @@ pub struct EffortTables {
     frames: usize,
 }
 
-fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
-}
-
 impl EffortTables {
     /// Tables for the hands' trajectories (each one position per frame, all as long).
-    pub fn new(hands: &[Vec<[f64; 3]>], fps: f64) -> EffortTables {
+    pub fn new(hands: &[Vec<DVec3>], fps: f64) -> EffortTables {
         let frames = hands.iter().map(Vec::len).min().unwrap_or(0);
         let hands = hands
             .iter()
@@ -72,7 +70,7 @@ impl EffortTables {
                 let k = Kinematics::of(p, fps);
                 let energy: Vec<f64> = k.speed.iter().map(|v| 0.5 * v * v).collect();
                 let steps: Vec<f64> =
-                    (0..p.len()).map(|t| if t == 0 { 0.0 } else { distance(p[t], p[t - 1]) }).collect();
+                    (0..p.len()).map(|t| if t == 0 { 0.0 } else { p[t].distance(p[t - 1]) }).collect();
                 Hand {
                     energy: Prefix::new(&energy),
                     acceleration: Prefix::new(&k.acceleration),
@@ -102,7 +100,7 @@ impl EffortTables {
         let space = self.hands.iter().max_by(|a, b| path(a).total_cmp(&path(b))).map_or(1.0, |h| {
             let p = path(h);
             if p > 1e-9 {
-                (distance(h.positions[end], h.positions[start]) / p).min(1.0)
+                (h.positions[end].distance(h.positions[start]) / p).min(1.0)
             } else {
                 1.0
             }
@@ -139,16 +137,16 @@ mod tests {
 
     const FPS: f64 = 30.0;
 
-    fn still(frames: usize) -> Vec<[f64; 3]> {
-        vec![[0.1, 0.2, 0.3]; frames]
+    fn still(frames: usize) -> Vec<DVec3> {
+        vec![DVec3::new(0.1, 0.2, 0.3); frames]
     }
 
     #[test]
     fn a_straight_stroke_is_direct_and_an_arc_is_not() {
-        let line: Vec<[f64; 3]> = (0..31).map(|t| [t as f64 / 30.0, 0.0, 0.0]).collect();
-        let arc: Vec<[f64; 3]> = (0..31)
+        let line: Vec<DVec3> = (0..31).map(|t| DVec3::new(t as f64 / 30.0, 0.0, 0.0)).collect();
+        let arc: Vec<DVec3> = (0..31)
             .map(|t| std::f64::consts::PI * t as f64 / 30.0)
-            .map(|a| [0.5 * (1.0 - a.cos()), 0.5 * a.sin(), 0.0])
+            .map(|a| DVec3::new(0.5 * (1.0 - a.cos()), 0.5 * a.sin(), 0.0))
             .collect();
         let straight = EffortTables::new(&[line, still(31)], FPS).descriptors(0, 30);
         assert!((straight.space - 1.0).abs() < 1e-9, "{straight:?}");
@@ -159,14 +157,14 @@ mod tests {
 
     #[test]
     fn faster_harder_and_jerkier_motion_scores_higher() {
-        let stroke = |speed: f64| (0..61).map(|t| [speed * t as f64 / FPS, 0.0, 0.0]).collect::<Vec<_>>();
+        let stroke = |speed: f64| (0..61).map(|t| DVec3::new(speed * t as f64 / FPS, 0.0, 0.0)).collect::<Vec<_>>();
         let slow = EffortTables::new(&[stroke(1.0), still(61)], FPS).descriptors(5, 55);
         let fast = EffortTables::new(&[stroke(2.0), still(61)], FPS).descriptors(5, 55);
         assert!((slow.weight - 0.5).abs() < 1e-9 && (fast.weight - 2.0).abs() < 1e-9, "{slow:?} {fast:?}");
         // a sudden start (a step in speed) against a constant speed
         let mut sudden = stroke(1.0);
         for p in sudden.iter_mut().skip(30) {
-            p[0] += (p[0] - 1.0) * 2.0;
+            p.x += (p.x - 1.0) * 2.0;
         }
         let calm = EffortTables::new(&[stroke(1.0), still(61)], FPS).descriptors(5, 55);
         let jolt = EffortTables::new(&[sudden, still(61)], FPS).descriptors(5, 55);

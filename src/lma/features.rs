@@ -1,6 +1,6 @@
 //! The kinematic feature pool of Bouchard & Badler's LMA Effort classifiers (their §4, Fig. 1):
-//! per-frame kinematic quantities of a joint ([`Kinematics`]: speed, acceleration, jerk,
-//! curvature, distance from the torso), each weighted to emphasise the beginning, middle or end of
+//! per-frame kinematic quantities of a joint ([`Kinematics`], shared with the other methods in
+//! [`crate::features::kinematics`]: speed, acceleration, jerk, curvature, distance from the torso), each weighted to emphasise the beginning, middle or end of
 //! a candidate segment ([`Weighting`]) and reduced to one scalar by a statistic ([`Stat`]: mean,
 //! sum, max, min, standard deviation).
 //!
@@ -12,70 +12,7 @@
 //! values (a weight that varies along the segment has no O(1) range maximum); the paper leaves
 //! which combinations its 4500 permutations hold unstated.
 
-/// Per-frame kinematic quantities of one joint's trajectory (positions relative to the torso).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Kinematics {
-    pub speed: Vec<f64>,
-    pub acceleration: Vec<f64>,
-    pub jerk: Vec<f64>,
-    /// `|v × a| / |v|³` (0 where the joint does not move).
-    pub curvature: Vec<f64>,
-    /// Distance from the torso (the origin of the positions).
-    pub distance: Vec<f64>,
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt()
-}
-
-/// Central differences of `x` at rate `fps` (one-sided at the ends; zeros for fewer than 2 frames).
-fn derivative(x: &[[f64; 3]], fps: f64) -> Vec<[f64; 3]> {
-    let n = x.len();
-    (0..n)
-        .map(|i| {
-            let (a, b, step) = match (i.checked_sub(1), (i + 1 < n).then_some(i + 1)) {
-                (Some(a), Some(b)) => (a, b, 2.0),
-                (None, Some(b)) => (i, b, 1.0),
-                (Some(a), None) => (a, i, 1.0),
-                (None, None) => return [0.0; 3],
-            };
-            sub(x[b], x[a]).map(|d| d * fps / step)
-        })
-        .collect()
-}
-
-impl Kinematics {
-    /// The quantities of `positions` (one per frame) sampled at `fps`.
-    pub fn of(positions: &[[f64; 3]], fps: f64) -> Kinematics {
-        let v = derivative(positions, fps);
-        let a = derivative(&v, fps);
-        let j = derivative(&a, fps);
-        let curvature = v
-            .iter()
-            .zip(&a)
-            .map(|(v, a)| {
-                let speed = norm(*v);
-                let cross = [v[1] * a[2] - v[2] * a[1], v[2] * a[0] - v[0] * a[2], v[0] * a[1] - v[1] * a[0]];
-                if speed > 1e-9 {
-                    norm(cross) / speed.powi(3)
-                } else {
-                    0.0
-                }
-            })
-            .collect();
-        Kinematics {
-            speed: v.iter().map(|x| norm(*x)).collect(),
-            acceleration: a.iter().map(|x| norm(*x)).collect(),
-            jerk: j.iter().map(|x| norm(*x)).collect(),
-            curvature,
-            distance: positions.iter().map(|p| norm(*p)).collect(),
-        }
-    }
-}
+pub use crate::features::kinematics::Kinematics;
 
 /// Which part of a segment a feature emphasises (`u` = 0 at its first frame, 1 at its last).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -196,45 +133,8 @@ mod tests {
     use super::*;
     use crate::stats::Rng;
 
-    const FPS: f64 = 30.0;
-
     fn close(a: f64, b: f64, tol: f64) -> bool {
         (a - b).abs() <= tol * (1.0 + b.abs())
-    }
-
-    #[test]
-    fn constant_speed_on_a_line() {
-        let p: Vec<[f64; 3]> = (0..40).map(|i| [3.0 * i as f64 / FPS, 1.0, 0.0]).collect();
-        let k = Kinematics::of(&p, FPS);
-        assert!(k.speed.iter().all(|&v| close(v, 3.0, 1e-9)), "{:?}", k.speed);
-        assert!(k.acceleration.iter().all(|&v| v.abs() < 1e-9));
-        assert!(k.curvature.iter().all(|&v| v.abs() < 1e-9));
-        assert!(close(k.distance[0], 1.0, 1e-12));
-    }
-
-    #[test]
-    fn uniform_acceleration() {
-        // x = ½·2·t²: speed 2t, acceleration 2, jerk 0 (inner frames, where central differences are exact)
-        let p: Vec<[f64; 3]> = (0..40).map(|i| [0.0, (i as f64 / FPS).powi(2), 0.0]).collect();
-        let k = Kinematics::of(&p, FPS);
-        for t in 3..37 {
-            assert!(close(k.speed[t], 2.0 * t as f64 / FPS, 1e-9), "speed at {t}");
-            assert!(close(k.acceleration[t], 2.0, 1e-9), "acceleration at {t}: {}", k.acceleration[t]);
-            assert!(k.jerk[t].abs() < 1e-6, "jerk at {t}: {}", k.jerk[t]);
-        }
-    }
-
-    #[test]
-    fn a_circle_has_curvature_one_over_its_radius() {
-        let (r, omega) = (0.5, 2.0);
-        let p: Vec<[f64; 3]> =
-            (0..200).map(|i| i as f64 / 120.0).map(|t| [r * (omega * t).cos(), r * (omega * t).sin(), 0.0]).collect();
-        let k = Kinematics::of(&p, 120.0);
-        for t in 5..195 {
-            assert!(close(k.speed[t], r * omega, 1e-4), "speed {}", k.speed[t]);
-            assert!(close(k.acceleration[t], r * omega * omega, 1e-3), "acceleration {}", k.acceleration[t]);
-            assert!(close(k.curvature[t], 1.0 / r, 1e-3), "curvature {}", k.curvature[t]);
-        }
     }
 
     /// The statistic computed frame by frame, as the definition reads.

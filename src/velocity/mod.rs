@@ -22,6 +22,7 @@ pub mod method;
 
 use serde::{Deserialize, Serialize};
 
+use crate::features::kinematics::{points, Kinematics};
 use crate::features::FeatureMatrix;
 use crate::method::bounds::{self, NumberParam, Valid};
 use crate::method::{Cancelled, MethodError};
@@ -117,21 +118,7 @@ impl VelocityParams {
 /// `features` at `fps`: central differences, one-sided at the ends, then a Gaussian of `sigma_s`
 /// seconds (none below half a frame).
 pub fn hand_speed(features: &FeatureMatrix, col: usize, fps: f64, sigma_s: f64) -> Vec<f32> {
-    let n = features.frames();
-    let p = |i: usize| {
-        let r = features.row(i);
-        [r[col] as f64, r[col + 1] as f64, r[col + 2] as f64]
-    };
-    let dist =
-        |a: [f64; 3], b: [f64; 3]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
-    let raw: Vec<f64> = (0..n)
-        .map(|i| match (i.checked_sub(1), (i + 1 < n).then_some(i + 1)) {
-            (Some(a), Some(b)) => dist(p(a), p(b)) * fps / 2.0,
-            (None, Some(b)) => dist(p(i), p(b)) * fps,
-            (Some(a), None) => dist(p(a), p(i)) * fps,
-            (None, None) => 0.0,
-        })
-        .collect();
+    let raw = Kinematics::speed(&points(features, col), fps);
     gaussian(&raw, sigma_s * fps).into_iter().map(|v| v as f32).collect()
 }
 
