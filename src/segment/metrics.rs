@@ -138,12 +138,21 @@ fn cluster_key(s: &Segment) -> String {
     }
 }
 
+/// The level a segmentation is scored at: its actions, or its primitives when it has no actions.
+pub fn scored_level(seg: &Segmentation) -> Level {
+    if seg.segments.iter().any(|s| s.level == Level::Action) {
+        Level::Action
+    } else {
+        Level::Primitive
+    }
+}
+
 /// Action-level spans covering the take: actions in order, each transition split at its middle.
 /// A method that finds no actions, only finer segments (the kinematic baselines' gestures), is
 /// scored on those: its primitives stand for its actions.
 fn action_spans(seg: &Segmentation) -> Vec<Span> {
-    let has_actions = seg.segments.iter().any(|s| s.level == Level::Action);
-    let unit = if has_actions { Level::Action } else { Level::Primitive };
+    let unit = scored_level(seg);
+    let has_actions = unit == Level::Action;
     let mut parts: Vec<&Segment> =
         seg.segments.iter().filter(|s| s.level == unit || (has_actions && s.level == Level::Transition)).collect();
     parts.sort_by_key(|s| (s.start, s.end));

@@ -2,15 +2,12 @@
 //! a folder of predictions and the lab's `eval_data` example prints for the shared takes).
 
 use super::metrics::Scores;
-use super::{Level, Segmentation};
+use super::Segmentation;
 
 /// The segments a segmentation is scored on: its actions, or its primitives when it finds no
 /// actions (as the metrics do).
 pub fn scored_segments(seg: &Segmentation) -> usize {
-    match seg.level(Level::Action).count() {
-        0 => seg.level(Level::Primitive).count(),
-        n => n,
-    }
+    seg.level(super::metrics::scored_level(seg)).count()
 }
 
 /// One take's row: its scores, how many actions (or, without actions, primitives) the method
