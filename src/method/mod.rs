@@ -248,8 +248,8 @@ impl<M: Method> DynMethod for M {
     fn check_json(&self, params: &serde_json::Value) -> Result<CheckedParams, MethodError> {
         let info = Method::info(self);
         let params = if params.is_null() { serde_json::json!({}) } else { params.clone() };
-        let typed: M::Params = serde_json::from_value(params)
-            .map_err(|e| MethodError::Params(format!("{} parameters: {e}", info.short)))?;
+        let typed: M::Params =
+            serde_json::from_value(params.clone()).map_err(|e| misread::<M::Params>(&info.short, &params, e))?;
         let checked = self.check(typed)?;
         Ok(CheckedParams { method: info.name, echo: self.echo(&checked), inner: Arc::new(checked) })
     }
@@ -268,6 +268,24 @@ impl<M: Method> DynMethod for M {
             return Err(MethodError::Cancelled);
         }
         self.run(motion, checked, options, progress)
+    }
+}
+
+/// Why `params` could not be read as `P`, naming the parameter whose value is of the wrong kind
+/// (serde's own message names no field); unknown fields keep serde's message, which lists the
+/// known ones.
+fn misread<P: DeserializeOwned>(short: &str, params: &serde_json::Value, e: serde_json::Error) -> MethodError {
+    let culprit = params.as_object().and_then(|fields| {
+        fields.iter().find_map(|(name, value)| {
+            let alone = serde_json::json!({ name.clone(): value.clone() });
+            serde_json::from_value::<P>(alone).err().map(|e| (name, value, e))
+        })
+    });
+    match culprit {
+        Some((name, value, e)) if !e.to_string().starts_with("unknown field") => {
+            MethodError::Params(format!("invalid {short} parameter {name} = {value}: {e}"))
+        }
+        _ => MethodError::Params(format!("{short} parameters: {e}")),
     }
 }
 
