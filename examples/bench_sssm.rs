@@ -11,16 +11,14 @@
 fn main() {}
 
 #[cfg(not(target_arch = "wasm32"))]
+#[allow(dead_code)] // each example uses part of it
+mod common;
+
+#[cfg(not(target_arch = "wasm32"))]
 fn main() -> std::process::ExitCode {
     use clap::Parser;
     let a = lab::Args::parse();
-    match lab::bench_sssm(a.files, a.frames, a.reps, a.write_bvh, &a.params) {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
-            std::process::ExitCode::FAILURE
-        }
-    }
+    common::exit(lab::bench_sssm(a.files, a.frames, a.reps, a.write_bvh, &a.params))
 }
 
 #[cfg(not(target_arch = "wasm32"))]

@@ -17,15 +17,13 @@
 fn main() {}
 
 #[cfg(not(target_arch = "wasm32"))]
+#[allow(dead_code)] // each example uses part of it
+mod common;
+
+#[cfg(not(target_arch = "wasm32"))]
 fn main() -> std::process::ExitCode {
     use clap::Parser;
-    match lab::eval_data(lab::Args::parse()) {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
-            std::process::ExitCode::FAILURE
-        }
-    }
+    common::exit(lab::eval_data(lab::Args::parse()))
 }
 
 #[cfg(not(target_arch = "wasm32"))]
@@ -38,7 +36,7 @@ mod lab {
     use mocapseg::motion::Motion;
     use mocapseg::segment::metrics::{evaluate, Tolerances};
     use mocapseg::segment::report::{self, Row};
-    use mocapseg::segment::truth::{load_csv, Truth, TruthOptions};
+    use mocapseg::segment::truth::Truth;
 
     #[derive(clap::Parser)]
     #[command(about = "Segment and score the labelled takes of the shared data folder")]
@@ -59,39 +57,12 @@ mod lab {
         grid: Vec<String>,
     }
 
-    /// The labelled takes of the shared data: (BVH path, ground-truth CSV, trial id).
-    fn labelled_takes(data: &Path) -> Vec<(PathBuf, PathBuf, &'static str)> {
-        let cmu86 = data.join("labels/cmu86_zhou_gt.csv");
-        let mocap6 = data.join("labels/mocap6_gt.csv");
-        let mut takes = vec![(data.join("cmu/86/86_01.bvh"), cmu86, "86_01")];
-        for t in ["13_29", "13_30", "13_31", "14_14"] {
-            takes.push((data.join(format!("cmu/mocap6/{t}.bvh")), mocap6.clone(), t));
-        }
-        takes
-    }
-
-    /// The labelled takes that are present, with their ground truth.
+    /// The labelled takes that are present, with their motion and ground truth.
     fn load_takes(data: &Path) -> Result<Vec<(Motion, Truth)>, String> {
-        if !data.join("labels").is_dir() {
-            return Err(format!(
-                "{}: no shared data here (expected labels/ and cmu/ as in ../shared/data); pass --data DIR",
-                data.display()
-            ));
-        }
         let mut takes = Vec::new();
-        for (bvh_path, truth_path, trial) in labelled_takes(data) {
-            if !bvh_path.exists() {
-                eprintln!("skipping {trial}: {} is absent", bvh_path.display());
-                continue;
-            }
-            let loaded = load_path(&bvh_path).map_err(|e| e.to_string())?;
-            let text = std::fs::read_to_string(&truth_path).map_err(|e| format!("{}: {e}", truth_path.display()))?;
-            let truth = load_csv(&text, trial, TruthOptions::default())
-                .map_err(|e| format!("{}: {e}", truth_path.display()))?;
-            takes.push((loaded.motion, truth));
-        }
-        if takes.is_empty() {
-            return Err(format!("{}: none of the labelled takes is present", data.display()));
+        for take in crate::common::labelled_takes(data)? {
+            let loaded = load_path(&take.bvh).map_err(|e| e.to_string())?;
+            takes.push((loaded.motion, take.truth));
         }
         Ok(takes)
     }

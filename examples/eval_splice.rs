@@ -13,20 +13,18 @@
 fn main() {}
 
 #[cfg(not(target_arch = "wasm32"))]
+#[allow(dead_code)] // each example uses part of it
+mod common;
+
+#[cfg(not(target_arch = "wasm32"))]
 fn main() -> std::process::ExitCode {
     use clap::Parser;
-    match lab::run(lab::Args::parse()) {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
-            std::process::ExitCode::FAILURE
-        }
-    }
+    common::exit(lab::run(lab::Args::parse()))
 }
 
 #[cfg(not(target_arch = "wasm32"))]
 mod lab {
-    use std::path::{Path, PathBuf};
+    use std::path::PathBuf;
 
     use mocapseg::bvh::{self, Bvh};
     use mocapseg::method::{self, NoProgress, RunOptions};
@@ -49,15 +47,6 @@ mod lab {
         pieces: usize,
     }
 
-    /// The labelled takes: (trial, BVH path, label CSV).
-    fn takes(data: &Path) -> Vec<(&'static str, PathBuf, PathBuf)> {
-        let mut v = vec![("86_01", data.join("cmu/86/86_01.bvh"), data.join("labels/cmu86_zhou_gt.csv"))];
-        for t in ["13_29", "13_30", "13_31", "14_14"] {
-            v.push((t, data.join(format!("cmu/mocap6/{t}.bvh")), data.join("labels/mocap6_gt.csv")));
-        }
-        v
-    }
-
     /// Sums of one method's scores over the seeds.
     #[derive(Default)]
     struct Sums {
@@ -69,20 +58,11 @@ mod lab {
     }
 
     pub fn run(args: Args) -> Result<(), String> {
-        if !args.data.join("labels").is_dir() {
-            return Err(format!(
-                "{}: no shared data here (expected labels/ and cmu/ as in ../shared/data); pass --data DIR",
-                args.data.display()
-            ));
-        }
         let mut loaded: Vec<(&str, Bvh, Truth)> = Vec::new();
-        for (trial, bvh_path, csv) in takes(&args.data) {
-            let text = std::fs::read_to_string(&bvh_path).map_err(|e| format!("{}: {e}", bvh_path.display()))?;
-            let b = bvh::parse(&text).map_err(|e| format!("{}: {e}", bvh_path.display()))?;
-            let labels = std::fs::read_to_string(&csv).map_err(|e| format!("{}: {e}", csv.display()))?;
-            let truth =
-                load_csv(&labels, trial, TruthOptions::default()).map_err(|e| format!("{}: {e}", csv.display()))?;
-            loaded.push((trial, b, truth));
+        for take in crate::common::labelled_takes(&args.data)? {
+            let text = std::fs::read_to_string(&take.bvh).map_err(|e| format!("{}: {e}", take.bvh.display()))?;
+            let b = bvh::parse(&text).map_err(|e| format!("{}: {e}", take.bvh.display()))?;
+            loaded.push((take.trial, b, take.truth));
         }
         let sources: Vec<Source> = loaded.iter().map(|(n, b, t)| Source { name: n, bvh: b, truth: t }).collect();
         // every method, and SSSM's primitives on their own

@@ -1,0 +1,55 @@
+//! What the lab's examples share (not an example itself: cargo only builds `main.rs` in an
+//! examples subfolder): the labelled takes of the shared data and the exit of a `main`.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use mocapseg::segment::truth::{load_csv, Truth, TruthOptions};
+
+/// A labelled take of the shared data: its BVH and its ground truth.
+pub struct LabelledTake {
+    pub trial: &'static str,
+    pub bvh: PathBuf,
+    pub truth: Truth,
+}
+
+/// CMU 86_01 (Barbič/Zhou labels) and the four mocap6 takes (Fox/Hughes labels) that are present
+/// under `data`; an error saying so when the folder is not the shared data or holds none of them.
+pub fn labelled_takes(data: &Path) -> Result<Vec<LabelledTake>, String> {
+    if !data.join("labels").is_dir() {
+        return Err(format!(
+            "{}: no shared data here (expected labels/ and cmu/ as in ../shared/data); pass --data DIR",
+            data.display()
+        ));
+    }
+    let mut list = vec![("86_01", data.join("cmu/86/86_01.bvh"), data.join("labels/cmu86_zhou_gt.csv"))];
+    for t in ["13_29", "13_30", "13_31", "14_14"] {
+        list.push((t, data.join(format!("cmu/mocap6/{t}.bvh")), data.join("labels/mocap6_gt.csv")));
+    }
+    let mut takes = Vec::new();
+    for (trial, bvh, labels) in list {
+        if !bvh.exists() {
+            eprintln!("skipping {trial}: {} is absent", bvh.display());
+            continue;
+        }
+        let text = std::fs::read_to_string(&labels).map_err(|e| format!("{}: {e}", labels.display()))?;
+        let truth =
+            load_csv(&text, trial, TruthOptions::default()).map_err(|e| format!("{}: {e}", labels.display()))?;
+        takes.push(LabelledTake { trial, bvh, truth });
+    }
+    if takes.is_empty() {
+        return Err(format!("{}: none of the labelled takes is present", data.display()));
+    }
+    Ok(takes)
+}
+
+/// The exit of an example's `main`: success, or the message on stderr and code 1.
+pub fn exit(result: Result<(), String>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}
