@@ -104,17 +104,77 @@ impl SpliceOptions {
     }
 }
 
-/// The axes of a joint's rotation channels in file order, and their slots in a row (empty for a
-/// joint without rotations).
-fn rotation_slots(bvh: &Bvh, j: usize) -> (Vec<Channel>, Vec<usize>) {
-    let joint = &bvh.joints[j];
-    joint
-        .channels
-        .iter()
-        .enumerate()
-        .filter(|(_, c)| c.is_rotation())
-        .map(|(k, &c)| (c, joint.channel_start + k))
-        .unzip()
+/// Where a row's channels are, read once from the hierarchy.
+struct Layout {
+    /// Per joint: its rotation channels in file order and their slots in a row (empty: none).
+    rotations: Vec<(Vec<Channel>, Vec<usize>)>,
+    /// The slots of every position channel (any joint's).
+    positions: Vec<usize>,
+    /// The root's x, y, z position slots (`None` where it has no such channel).
+    root: [Option<usize>; 3],
+}
+
+impl Layout {
+    fn of(bvh: &Bvh) -> Layout {
+        let rotations = bvh
+            .joints
+            .iter()
+            .map(|j| {
+                j.channels
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, c)| c.is_rotation())
+                    .map(|(k, &c)| (c, j.channel_start + k))
+                    .unzip()
+            })
+            .collect();
+        let mut positions = Vec::new();
+        let mut root = [None; 3];
+        for (n, j) in bvh.joints.iter().enumerate() {
+            for (k, c) in j.channels.iter().enumerate().filter(|(_, c)| !c.is_rotation()) {
+                positions.push(j.channel_start + k);
+                if n == 0 {
+                    root[c.axis()] = Some(j.channel_start + k);
+                }
+            }
+        }
+        Layout { rotations, positions, root }
+    }
+
+    /// The rotation of joint `j` in `row`.
+    fn rotation(&self, j: usize, row: &[f64]) -> DQuat {
+        let (channels, slots) = &self.rotations[j];
+        let values: Vec<f64> = slots.iter().map(|&s| row[s]).collect();
+        local_rotation(channels, &values)
+    }
+
+    fn set_rotation(&self, j: usize, row: &mut [f64], q: DQuat) {
+        let (channels, slots) = &self.rotations[j];
+        if channels.len() == 3 {
+            for (s, v) in slots.iter().zip(euler_of(channels, q)) {
+                row[*s] = v;
+            }
+        }
+    }
+
+    fn root_position(&self, row: &[f64]) -> DVec3 {
+        let s = self.root;
+        DVec3::new(s[0].map_or(0.0, |k| row[k]), s[1].map_or(0.0, |k| row[k]), s[2].map_or(0.0, |k| row[k]))
+    }
+
+    fn set_root_position(&self, row: &mut [f64], p: DVec3) {
+        for (slot, v) in self.root.iter().zip(p.to_array()) {
+            if let Some(k) = slot {
+                row[*k] = v;
+            }
+        }
+    }
+
+    /// The direction (about +Y) the root faces in `row`.
+    fn facing_yaw(&self, row: &[f64]) -> f64 {
+        let forward = self.rotation(0, row) * DVec3::Z;
+        forward.x.atan2(forward.z)
+    }
 }
 
 /// Euler angles (degrees) in the channel order `order` of the rotation `q` (the inverse of
@@ -134,65 +194,8 @@ pub fn euler_of(order: &[Channel], q: DQuat) -> [f64; 3] {
     [a.to_degrees(), b.to_degrees(), c.to_degrees()]
 }
 
-/// The rotation of joint `j` in `row`.
-fn rotation(bvh: &Bvh, j: usize, row: &[f64]) -> DQuat {
-    let (channels, slots) = rotation_slots(bvh, j);
-    let values: Vec<f64> = slots.iter().map(|&s| row[s]).collect();
-    local_rotation(&channels, &values)
-}
-
-fn set_rotation(bvh: &Bvh, j: usize, row: &mut [f64], q: DQuat) {
-    let (channels, slots) = rotation_slots(bvh, j);
-    if channels.len() == 3 {
-        for (s, v) in slots.iter().zip(euler_of(&channels, q)) {
-            row[*s] = v;
-        }
-    }
-}
-
-/// The slots of every position channel of a row (any joint's).
-fn position_slots(bvh: &Bvh) -> Vec<usize> {
-    bvh.joints
-        .iter()
-        .flat_map(|j| {
-            j.channels.iter().enumerate().filter(|(_, c)| !c.is_rotation()).map(move |(k, _)| j.channel_start + k)
-        })
-        .collect()
-}
-
-/// The root's position channels (x, y, z slots; `None` where the root has no such channel).
-fn root_position_slots(bvh: &Bvh) -> [Option<usize>; 3] {
-    let root = &bvh.joints[0];
-    let mut slots = [None; 3];
-    for (k, c) in root.channels.iter().enumerate() {
-        if !c.is_rotation() {
-            slots[c.axis()] = Some(root.channel_start + k);
-        }
-    }
-    slots
-}
-
-fn root_position(bvh: &Bvh, row: &[f64]) -> DVec3 {
-    let s = root_position_slots(bvh);
-    DVec3::new(s[0].map_or(0.0, |k| row[k]), s[1].map_or(0.0, |k| row[k]), s[2].map_or(0.0, |k| row[k]))
-}
-
-fn set_root_position(bvh: &Bvh, row: &mut [f64], p: DVec3) {
-    for (slot, v) in root_position_slots(bvh).iter().zip(p.to_array()) {
-        if let Some(k) = slot {
-            row[*k] = v;
-        }
-    }
-}
-
-/// The direction (about +Y) the root faces in `row`.
-fn facing_yaw(bvh: &Bvh, row: &[f64]) -> f64 {
-    let forward = rotation(bvh, 0, row) * DVec3::Z;
-    forward.x.atan2(forward.z)
-}
-
-/// Checks that every take can be joined to the first.
-fn check_sources(sources: &[Source]) -> Result<(), SpliceError> {
+/// Checks that every take can be joined to the first; their common layout.
+fn check_sources(sources: &[Source]) -> Result<Layout, SpliceError> {
     let first = sources.first().ok_or(SpliceError::NoSources)?.bvh;
     let layout = |b: &Bvh| b.joints.iter().map(|j| (j.name.clone(), j.channels.clone())).collect::<Vec<_>>();
     for s in sources {
@@ -200,8 +203,8 @@ fn check_sources(sources: &[Source]) -> Result<(), SpliceError> {
             return Err(SpliceError::Mismatch(s.name.into()));
         }
     }
-    for j in 0..first.joints.len() {
-        let (channels, _) = rotation_slots(first, j);
+    let layout = Layout::of(first);
+    for (j, (channels, _)) in layout.rotations.iter().enumerate() {
         let mut axes: Vec<usize> = channels.iter().map(|c| c.axis()).collect();
         axes.sort_unstable();
         axes.dedup();
@@ -209,13 +212,13 @@ fn check_sources(sources: &[Source]) -> Result<(), SpliceError> {
             return Err(SpliceError::Rotations(sources[0].name.into(), first.joints[j].name.clone(), channels.len()));
         }
     }
-    Ok(())
+    Ok(layout)
 }
 
 /// Cuts `options.pieces` pieces from `sources` and joins them (see the module documentation).
 pub fn splice(sources: &[Source], options: &SpliceOptions) -> Result<Spliced, SpliceError> {
     options.check()?;
-    check_sources(sources)?;
+    let layout = check_sources(sources)?;
     let first = sources[0].bvh;
     let fps = 1.0 / first.frame_time;
     let (min_f, max_f) = ((options.min_s * fps).round() as usize, (options.max_s * fps).round() as usize);
@@ -254,8 +257,8 @@ pub fn splice(sources: &[Source], options: &SpliceOptions) -> Result<Spliced, Sp
         let (turn, shift) = match values.len().checked_sub(width) {
             Some(at) => {
                 let end = &values[at..];
-                let turn = DQuat::from_rotation_y(facing_yaw(first, end) - facing_yaw(first, rows[0]));
-                let (from, to) = (root_position(first, rows[0]), root_position(first, end));
+                let turn = DQuat::from_rotation_y(layout.facing_yaw(end) - layout.facing_yaw(rows[0]));
+                let (from, to) = (layout.root_position(rows[0]), layout.root_position(end));
                 (turn, (from, to))
             }
             None => (DQuat::IDENTITY, (DVec3::ZERO, DVec3::ZERO)),
@@ -266,10 +269,10 @@ pub fn splice(sources: &[Source], options: &SpliceOptions) -> Result<Spliced, Sp
                 let mut r = row.to_vec();
                 if !values.is_empty() {
                     let (from, to) = shift;
-                    let p = root_position(first, row);
+                    let p = layout.root_position(row);
                     let horizontal = turn * DVec3::new(p.x - from.x, 0.0, p.z - from.z);
-                    set_root_position(first, &mut r, DVec3::new(to.x + horizontal.x, p.y, to.z + horizontal.z));
-                    set_rotation(first, 0, &mut r, turn * rotation(first, 0, row));
+                    layout.set_root_position(&mut r, DVec3::new(to.x + horizontal.x, p.y, to.z + horizontal.z));
+                    layout.set_rotation(0, &mut r, turn * layout.rotation(0, row));
                 }
                 r
             })
@@ -283,14 +286,14 @@ pub fn splice(sources: &[Source], options: &SpliceOptions) -> Result<Spliced, Sp
                 let x = i as f64 / (blend + 1) as f64;
                 let t = x * x * (3.0 - 2.0 * x);
                 let mut row = a.clone();
-                for j in 0..first.joints.len() {
-                    if !rotation_slots(first, j).0.is_empty() {
-                        let q = rotation(first, j, &a).slerp(rotation(first, j, b), t);
-                        set_rotation(first, j, &mut row, q);
+                for j in 0..layout.rotations.len() {
+                    if !layout.rotations[j].0.is_empty() {
+                        let q = layout.rotation(j, &a).slerp(layout.rotation(j, b), t);
+                        layout.set_rotation(j, &mut row, q);
                     }
                 }
                 // position channels (the root's and any other joint's) interpolated
-                for k in position_slots(first) {
+                for &k in &layout.positions {
                     row[k] = a[k] + (b[k] - a[k]) * t;
                 }
                 values.extend(&row);
