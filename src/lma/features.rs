@@ -52,7 +52,14 @@ pub struct Prefix {
 }
 
 impl Prefix {
+    /// Tables for segments of any length.
     pub fn new(x: &[f64]) -> Prefix {
+        Prefix::up_to(x, x.len())
+    }
+
+    /// Tables for segments of at most `longest` frames (the extremum tables then hold
+    /// `log2(longest)` levels instead of `log2(frames)`: a long take's memory stays linear).
+    pub fn up_to(x: &[f64], longest: usize) -> Prefix {
         let n = x.len();
         let mut c: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; n + 1]);
         for (t, &v) in x.iter().enumerate() {
@@ -65,7 +72,7 @@ impl Prefix {
         let table = |pick: fn(f64, f64) -> f64| {
             let mut levels = vec![x.to_vec()];
             let mut width = 1;
-            while 2 * width <= n {
+            while 2 * width <= n.min(longest.max(1)) {
                 let prev = &levels[levels.len() - 1];
                 let next: Vec<f64> = (0..=n - 2 * width).map(|i| pick(prev[i], prev[i + width])).collect();
                 levels.push(next);
@@ -91,7 +98,18 @@ impl Prefix {
 
     fn extremum(levels: &[Vec<f64>], a: usize, b: usize, pick: fn(f64, f64) -> f64) -> f64 {
         let len = b - a;
-        let level = (usize::BITS - 1 - len.leading_zeros()) as usize;
+        let level = ((usize::BITS - 1 - len.leading_zeros()) as usize).min(levels.len() - 1);
+        if len > 2 << level {
+            // longer than the tables were built for: fold the range in steps of the top level
+            let width = 1 << level;
+            let mut v = levels[level][a];
+            let mut i = a + width;
+            while i + width < b {
+                v = pick(v, levels[level][i]);
+                i += width;
+            }
+            return pick(v, levels[level][b - width]);
+        }
         pick(levels[level][a], levels[level][b - (1 << level)])
     }
 
@@ -124,6 +142,88 @@ impl Prefix {
             Stat::Mean if w > 0.0 => wx / w,
             Stat::Std if w > 0.0 => (wx2 / w - (wx / w).powi(2)).max(0.0).sqrt(),
             _ => 0.0,
+        }
+    }
+}
+
+/// The per-frame quantities of every joint of an arm (Fig. 1's "kinematic features"): its
+/// position (`x` lateral, `y` up, `z` forward), distance from the sternum, speed, acceleration,
+/// jerk and `ln(1 + curvature)` (curvature spikes where the joint nearly stops; the logarithm
+/// keeps one spike from dominating a segment's statistics).
+pub const QUANTITIES: [&str; 8] = ["x", "y", "z", "distance", "speed", "acceleration", "jerk", "curvature"];
+
+/// The statistics taken of every quantity: mean, sum and standard deviation under each of the four
+/// weightings, and the (unweighted) maximum and minimum.
+pub const STATISTICS: [(Weighting, Stat); 14] = [
+    (Weighting::Uniform, Stat::Mean),
+    (Weighting::Beginning, Stat::Mean),
+    (Weighting::Middle, Stat::Mean),
+    (Weighting::End, Stat::Mean),
+    (Weighting::Uniform, Stat::Sum),
+    (Weighting::Beginning, Stat::Sum),
+    (Weighting::Middle, Stat::Sum),
+    (Weighting::End, Stat::Sum),
+    (Weighting::Uniform, Stat::Std),
+    (Weighting::Beginning, Stat::Std),
+    (Weighting::Middle, Stat::Std),
+    (Weighting::End, Stat::Std),
+    (Weighting::Uniform, Stat::Max),
+    (Weighting::Uniform, Stat::Min),
+];
+
+/// Size of the feature pool: joints × quantities × statistics.
+pub const POOL_SIZE: usize = 3 * QUANTITIES.len() * STATISTICS.len();
+
+/// The feature pool of one arm of a take: every feature of any segment in O(1).
+#[derive(Debug, Clone)]
+pub struct Pool {
+    series: Vec<Prefix>,
+    frames: usize,
+}
+
+impl Pool {
+    /// The pool of `arm` at `fps`, for segments of at most `longest` frames.
+    pub fn of(arm: &super::body::Arm, fps: f64, longest: usize) -> Pool {
+        let mut series = Vec::with_capacity(3 * QUANTITIES.len());
+        for joint in &arm.joints {
+            let k = Kinematics::of(joint, fps);
+            let axis = |a: usize| joint.iter().map(|p| p[a]).collect::<Vec<f64>>();
+            let curvature: Vec<f64> = k.curvature.iter().map(|c| c.ln_1p()).collect();
+            for values in [axis(0), axis(1), axis(2), k.distance, k.speed, k.acceleration, k.jerk, curvature] {
+                series.push(Prefix::up_to(&values, longest));
+            }
+        }
+        Pool { series, frames: arm.frames() }
+    }
+
+    /// Frames of the take.
+    pub fn frames(&self) -> usize {
+        self.frames
+    }
+
+    /// Feature `index` (of [`POOL_SIZE`]) of the segment `start..=end`.
+    pub fn feature(&self, index: usize, start: usize, end: usize) -> f64 {
+        let (weighting, stat) = STATISTICS[index % STATISTICS.len()];
+        self.series[index / STATISTICS.len()].stat(start, end, weighting, stat)
+    }
+
+    /// The features `which` (indices into the pool) of the segment `start..=end`, into `out`.
+    pub fn features(&self, which: &[u16], start: usize, end: usize, out: &mut [f32]) {
+        for (o, &k) in out.iter_mut().zip(which) {
+            *o = self.feature(k as usize, start, end) as f32;
+        }
+    }
+
+    /// The name of feature `index`: `hand speed, max` or `elbow y, mean (beginning)`.
+    pub fn name(index: usize) -> String {
+        let (weighting, stat) = STATISTICS[index % STATISTICS.len()];
+        let series = index / STATISTICS.len();
+        let joint = super::body::ARM_JOINTS[series / QUANTITIES.len()];
+        let quantity = QUANTITIES[series % QUANTITIES.len()];
+        let stat = format!("{stat:?}").to_lowercase();
+        match (stat.as_str(), weighting) {
+            ("max" | "min", _) | (_, Weighting::Uniform) => format!("{joint} {quantity}, {stat}"),
+            _ => format!("{joint} {quantity}, {stat} ({})", format!("{weighting:?}").to_lowercase()),
         }
     }
 }
@@ -185,8 +285,50 @@ mod tests {
                 }
             }
         }
+        // tables built for short segments still answer long ones
+        let short = Prefix::up_to(&x, 20);
+        for (start, end) in [(0, 299), (3, 90), (17, 40), (5, 25), (100, 100)] {
+            for stat in [Stat::Max, Stat::Min] {
+                assert_eq!(short.stat(start, end, Weighting::Uniform, stat), direct(&x, start, end, Weighting::Uniform, stat));
+            }
+        }
         // a one-frame segment: its value, whatever the weighting's shape
         assert_eq!(prefix.stat(7, 7, Weighting::Uniform, Stat::Mean), x[7]);
         assert_eq!(prefix.stat(7, 7, Weighting::Uniform, Stat::Max), x[7]);
+    }
+}
+
+#[cfg(test)]
+mod pool_tests {
+    use super::*;
+    use crate::lma::body::{Arm, Side};
+    use glam::DVec3;
+
+    #[test]
+    fn the_pool_reads_an_analytic_stroke() {
+        // the hand moves along x at 2 bones/s, the elbow stays, the shoulder sits 1 bone up
+        let frames = 61;
+        let hand: Vec<DVec3> = (0..frames).map(|t| DVec3::new(2.0 * t as f64 / 30.0, 0.0, 0.5)).collect();
+        let arm = Arm { side: Side::Right, joints: [vec![DVec3::Y; frames], vec![DVec3::ZERO; frames], hand] };
+        let pool = Pool::of(&arm, 30.0, 40);
+        let index = |joint: usize, quantity: &str, stat: (Weighting, Stat)| {
+            let q = QUANTITIES.iter().position(|&n| n == quantity).unwrap();
+            let s = STATISTICS.iter().position(|&x| x == stat).unwrap();
+            (joint * QUANTITIES.len() + q) * STATISTICS.len() + s
+        };
+        let speed_max = index(2, "speed", (Weighting::Uniform, Stat::Max));
+        assert!((pool.feature(speed_max, 10, 50) - 2.0).abs() < 1e-9);
+        assert_eq!(Pool::name(speed_max), "hand speed, max");
+        let x_end = index(2, "x", (Weighting::End, Stat::Mean));
+        assert_eq!(Pool::name(x_end), "hand x, mean (end)");
+        // the end-weighted mean of a linear ramp lies past its middle
+        let mid = 2.0 * 30.0 / 30.0;
+        assert!(pool.feature(x_end, 10, 50) > mid + 0.1);
+        let shoulder_height = index(0, "y", (Weighting::Middle, Stat::Std));
+        assert!(pool.feature(shoulder_height, 0, 60).abs() < 1e-6);
+        let mut out = vec![0.0f32; 2];
+        pool.features(&[speed_max as u16, x_end as u16], 10, 50, &mut out);
+        assert_eq!(out[0], pool.feature(speed_max, 10, 50) as f32);
+        assert_eq!(POOL_SIZE, 336);
     }
 }

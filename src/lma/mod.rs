@@ -9,5 +9,7 @@
 //! boundary-shifted classifiers, the deviance map and its minima search, and the registered `lma`
 //! method build on them.
 
+pub mod body;
 pub mod effort;
 pub mod features;
+pub mod search;

@@ -45,7 +45,7 @@ pub fn segments(
             continue;
         }
         let (label, score) = (label(k), score(k, start, end));
-        let working = Segment { start, end, label, level, cluster: None, score, mirror_of: None };
+        let working = Segment { start, end, label, level, cluster: None, score, mirror_of: None, effort: None };
         out.extend(frames.to_file(working));
     }
     out

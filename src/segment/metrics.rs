@@ -446,6 +446,7 @@ mod tests {
                     cluster,
                     score: None,
                     mirror_of: None,
+                    effort: None,
                 })
                 .collect(),
         }

@@ -6,7 +6,9 @@
 //!                "cluster": 0, "score": null}]}
 //! ```
 //! Frame indices are 0-based and inclusive, at the file's own frame rate. A segment may also carry
-//! `"mirror_of": K`: its cluster is the mirror image of cluster `K` (SSSM primitives).
+//! `"mirror_of": K`: its cluster is the mirror image of cluster `K` (SSSM primitives), and
+//! `"effort": {"space": x, "time": x, "weight": x, "flow": x}`: its Laban Effort, each factor in
+//! [−1, 1] from fully indulging (−1) to fully condensing (+1) (LMA segments).
 
 pub mod cuts;
 pub mod frames;
@@ -39,6 +41,19 @@ pub struct Segment {
     /// methods that find mirror pairs (SSSM §V); left out of the JSON when there is none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mirror_of: Option<usize>,
+    /// The segment's Laban Effort (methods that classify it, LMA); left out of the JSON when none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub effort: Option<Effort>,
+}
+
+/// Laban Effort of a segment: each factor in [−1, 1], −1 fully indulging (indirect, sustained,
+/// light, free), +1 fully condensing (direct, sudden, strong, bound).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Effort {
+    pub space: f64,
+    pub time: f64,
+    pub weight: f64,
+    pub flow: f64,
 }
 
 /// A method's output for one file.
@@ -120,6 +135,7 @@ mod tests {
                     cluster: Some(0),
                     score: None,
                     mirror_of: None,
+                    effort: None,
                 },
                 Segment {
                     start: 50,
@@ -129,6 +145,7 @@ mod tests {
                     cluster: None,
                     score: Some(0.5),
                     mirror_of: None,
+                    effort: Some(Effort { space: -1.0, time: 0.5, weight: 0.0, flow: 1.0 }),
                 },
             ],
         }
@@ -143,6 +160,10 @@ mod tests {
         assert_eq!(v["segments"][1]["level"], "transition");
         assert!(v["segments"][0]["score"].is_null());
         assert_eq!(v["params"]["radius"], 19.0);
+        // the optional fields appear only where a method sets them
+        assert!(v["segments"][0].get("effort").is_none() && v["segments"][0].get("mirror_of").is_none());
+        assert_eq!(v["segments"][1]["effort"]["space"], -1.0);
+        assert_eq!(v["segments"][1]["effort"]["time"], 0.5);
         assert_eq!(Segmentation::from_json(&text).unwrap(), s);
     }
 
