@@ -100,6 +100,30 @@ mod cli {
             /// Takes segmented at once (default: one per core).
             #[arg(long)]
             jobs: Option<usize>,
+            /// LMA: assess every candidate segment, not only those between slow-hand frames
+            /// (the same as `--param exhaustive=true`).
+            #[arg(long)]
+            exhaustive: bool,
+        },
+        /// Train the LMA Effort classifier family (121 boundary-shifted classifiers × 4 networks) and
+        /// write it as JSON. Without --labels the labels are the stand-in Effort descriptors' terciles
+        /// over the takes' segments between hand-speed minima (how the shipped models/lma-effort.json is made).
+        TrainLma {
+            /// BVH files and/or folders to learn from.
+            #[arg(required = true)]
+            inputs: Vec<PathBuf>,
+            /// Your own Effort labels: CSV `file,start_frame,end_frame,space,time,weight,flow`
+            /// (0-based inclusive file frames; indulging|neutral|condensing).
+            #[arg(long)]
+            labels: Option<PathBuf>,
+            /// Seed of every random choice (same seed, same model).
+            #[arg(long, default_value_t = 1)]
+            seed: u64,
+            /// Random initialisations of each unshifted network (the paper's 20).
+            #[arg(long, default_value_t = 20)]
+            restarts: usize,
+            #[arg(long, short)]
+            out: PathBuf,
         },
         /// Score segmentation JSON against ground truth CSV (boundary P/R/F1 at 0.5 s and 1 s, covering,
         /// Hungarian frame accuracy, strict/tolerant accuracy). One file: JSON; several files or a
@@ -180,8 +204,14 @@ mod cli {
 
     fn run(command: Command) -> Result<Outcome, String> {
         match command {
-            Command::Segment { inputs, method, params, out, jobs } => {
-                return segment(&inputs, &method, &params, out, jobs)
+            Command::Segment { inputs, method, mut params, out, jobs, exhaustive } => {
+                if exhaustive {
+                    params.push("exhaustive=true".into());
+                }
+                return segment(&inputs, &method, &params, out, jobs);
+            }
+            Command::TrainLma { inputs, labels, seed, restarts, out } => {
+                train_lma(&inputs, labels, seed, restarts, &out)
             }
             Command::Info { file } => info(&file),
             Command::Image { file, output } => image(&file, &output),
@@ -319,6 +349,85 @@ mod cli {
         }
         files.dedup();
         Ok(files)
+    }
+
+    fn train_lma(
+        inputs: &[PathBuf],
+        labels: Option<PathBuf>,
+        seed: u64,
+        restarts: usize,
+        out: &Path,
+    ) -> Result<(), String> {
+        use mocapseg::lma::corpus::{parse_labels, Corpus, CorpusConfig};
+        use mocapseg::lma::training::{train_family, TrainConfig};
+        let started = Instant::now();
+        let files = collect_files(inputs, "bvh")?;
+        let mut motions = Vec::new();
+        for f in &files {
+            match load(f) {
+                Ok(l) => motions.push(l.motion),
+                Err(e) => eprintln!("skipped {e}"),
+            }
+        }
+        let takes: Vec<&mocapseg::motion::Motion> = motions.iter().collect();
+        let config = CorpusConfig::default();
+        // takes without arms are skipped (and said), the others learnt from
+        let usable: Vec<&mocapseg::motion::Motion> = takes
+            .into_iter()
+            .filter(|m| match mocapseg::lma::body::upper_body(m, config.fps) {
+                Ok(_) => true,
+                Err(e) => {
+                    eprintln!("skipped {}: {e}", m.name);
+                    false
+                }
+            })
+            .collect();
+        let corpus = match &labels {
+            Some(path) => {
+                let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+                let rows = parse_labels(&text, &path.display().to_string())?;
+                Corpus::from_labels(&usable, &rows, config)?
+            }
+            None => Corpus::from_descriptors(&usable, config)?,
+        };
+        eprintln!("{}", corpus.origin);
+        let bar = indicatif::ProgressBar::new(1000);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {msg}").map_err(|e| e.to_string())?,
+        );
+        let train_config = TrainConfig { seed, restarts, ..TrainConfig::default() };
+        let (model, reports) = train_family(&corpus, &train_config, &mut |stage, f| {
+            bar.set_position((f * 1000.0) as u64);
+            bar.set_message(stage.to_string());
+            Ok(())
+        })?;
+        bar.finish_and_clear();
+        println!("| factor | features kept | principal components | hidden units | train error | validation error | shifted nets' validation error | most salient features |");
+        println!("|---|---|---|---|---|---|---|---|");
+        for r in &reports {
+            println!(
+                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {} |",
+                r.factor.name(),
+                r.selected,
+                r.components,
+                r.hidden,
+                r.train_error,
+                r.validation_error,
+                r.shifted_validation_error,
+                r.most_salient.join("; ")
+            );
+        }
+        let json = model.to_json();
+        std::fs::write(out, &json).map_err(|e| format!("{}: {e}", out.display()))?;
+        println!(
+            "{} classifiers × 4 networks from {} segments in {:.1} s → {} ({} kB)",
+            model.shifts(),
+            model.samples,
+            started.elapsed().as_secs_f64(),
+            out.display(),
+            json.len() / 1000
+        );
+        Ok(())
     }
 
     fn stem(path: &Path) -> String {

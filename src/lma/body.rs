@@ -102,7 +102,8 @@ pub fn upper_body(motion: &Motion, fps: f64) -> Result<UpperBody, EndEffectorErr
     }
     let arm = |side: Side, first: usize| {
         let mirror = if side == Side::Left { DVec3::new(-1.0, 1.0, 1.0) } else { DVec3::ONE };
-        let joints = std::array::from_fn(|k| (0..frames).map(|t| (at(t, first + k) - at(t, 0)) / bone * mirror).collect());
+        let joints =
+            std::array::from_fn(|k| (0..frames).map(|t| (at(t, first + k) - at(t, 0)) / bone * mirror).collect());
         Arm { side, joints }
     };
     Ok(UpperBody {

@@ -27,12 +27,42 @@ pub enum Factor {
     Flow,
 }
 
+impl Factor {
+    pub const ALL: [Factor; 4] = [Factor::Space, Factor::Time, Factor::Weight, Factor::Flow];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Factor::Space => "space",
+            Factor::Time => "time",
+            Factor::Weight => "weight",
+            Factor::Flow => "flow",
+        }
+    }
+}
+
 /// An Effort element of one factor.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Element {
     Indulging,
     Neutral,
     Condensing,
+}
+
+impl Element {
+    pub const ALL: [Element; 3] = [Element::Indulging, Element::Neutral, Element::Condensing];
+
+    /// Reads `indulging`, `neutral` or `condensing` (any case).
+    pub fn parse(text: &str) -> Option<Element> {
+        Element::ALL.into_iter().find(|e| e.name().eq_ignore_ascii_case(text.trim()))
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Element::Indulging => "indulging",
+            Element::Neutral => "neutral",
+            Element::Condensing => "condensing",
+        }
+    }
 }
 
 /// The four descriptors of a segment (see the module table).
@@ -52,6 +82,13 @@ struct Hand {
     /// `steps[t]` = distance from frame `t − 1` to `t` (0 at frame 0).
     steps: Prefix,
     positions: Vec<DVec3>,
+}
+
+impl Descriptors {
+    /// The descriptors in the order of [`Factor::ALL`].
+    pub fn values(&self) -> [f64; 4] {
+        [self.space, self.time, self.weight, self.flow]
+    }
 }
 
 /// Descriptor tables of a take: both hands' trajectories (relative to the torso) at `fps`.

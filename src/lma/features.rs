@@ -289,7 +289,10 @@ mod tests {
         let short = Prefix::up_to(&x, 20);
         for (start, end) in [(0, 299), (3, 90), (17, 40), (5, 25), (100, 100)] {
             for stat in [Stat::Max, Stat::Min] {
-                assert_eq!(short.stat(start, end, Weighting::Uniform, stat), direct(&x, start, end, Weighting::Uniform, stat));
+                assert_eq!(
+                    short.stat(start, end, Weighting::Uniform, stat),
+                    direct(&x, start, end, Weighting::Uniform, stat)
+                );
             }
         }
         // a one-frame segment: its value, whatever the weighting's shape

@@ -296,6 +296,7 @@ pub fn registry() -> &'static [&'static dyn DynMethod] {
         &crate::velocity::method::Velocity,
         &crate::kcs::method::Kcs,
         &crate::pca::method::Pca,
+        &crate::lma::method::Lma,
     ]
 }
 

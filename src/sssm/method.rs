@@ -102,7 +102,8 @@ pub(crate) fn to_segmentation(motion: &Motion, params: &ValidParams, o: &SssmOut
     let frames = WorkingFrames { source, file_frames: motion.frames() };
     let mut segments = Vec::new();
     let mut push = |span: Span, label: String, level: Level, cluster: Option<usize>, mirror_of: Option<usize>| {
-        let working = Segment { start: span.start, end: span.end, label, level, cluster, score: None, mirror_of, effort: None };
+        let working =
+            Segment { start: span.start, end: span.end, label, level, cluster, score: None, mirror_of, effort: None };
         segments.extend(frames.to_file(working));
     };
     for a in &o.actions {

@@ -1,0 +1,233 @@
+//! The LMA Effort classifier and its boundary-shifted family (Bouchard & Badler §4.1–4.2).
+//!
+//! One classifier is four small networks, one per Effort factor, each reading its own salient
+//! features of the pool ([`super::features::Pool`]), standardised and rotated onto their
+//! principal components to 95 % of the variance, through a sigmoid hidden layer to three sigmoid
+//! outputs (indulging, neutral, condensing) — 12 outputs in all.
+//!
+//! The family: "one per start shift i and end shift j in [−s, s]", each trained on segments whose
+//! boundaries were shifted by (i, j) while keeping their labels. At a candidate segment
+//! `start..=end`, classifier (i, j) reads the segment `start + i ..= end + j`, the input it was
+//! trained to expect around a true segment, so where the candidate *is* a segment they agree.
+//! Their disagreement is the mean deviance (eq. 1–2): `d = 1/(2s+1)² Σ |m − x_ij|` with
+//! `m` the mean output (Euclidean norm of the 12-vector).
+//!
+//! The four factors' feature selections and principal axes are shared by the whole family
+//! (chosen once, on the unshifted segments), so a segment is projected once and then read by all
+//! (2s+1)² networks of a factor — which is what makes the exhaustive search affordable.
+
+use serde::{Deserialize, Serialize};
+
+use super::effort::Factor;
+use super::features::Pool;
+use super::network::Net;
+use crate::segment::Effort;
+
+/// One Effort factor's networks and the input they read.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FactorModel {
+    /// The selected pool features (indices into the pool), most salient first.
+    pub selected: Vec<u16>,
+    /// Mean and standard deviation of each selected feature over the training segments.
+    pub mean: Vec<f32>,
+    pub scale: Vec<f32>,
+    /// `components × selected` principal axes (rows) of the standardised features.
+    pub projection: Vec<f32>,
+    pub components: usize,
+    /// One network per shift, index `(i + s)·(2s + 1) + (j + s)`.
+    pub nets: Vec<Net>,
+    /// The unshifted network's error on the validation segments (the paper's rule).
+    pub validation_error: f32,
+}
+
+impl FactorModel {
+    /// The projected input of the segment `start..=end` into `z` (`components` values); `x` is
+    /// scratch of `selected.len()`.
+    pub fn project(&self, pool: &Pool, start: usize, end: usize, x: &mut [f32], z: &mut [f32]) {
+        pool.features(&self.selected, start, end, x);
+        for ((v, m), s) in x.iter_mut().zip(&self.mean).zip(&self.scale) {
+            *v = (*v - m) / s;
+        }
+        let n = self.selected.len();
+        for (c, zc) in z.iter_mut().enumerate().take(self.components) {
+            *zc = self.projection[c * n..(c + 1) * n].iter().zip(x.iter()).map(|(a, b)| a * b).sum();
+        }
+    }
+}
+
+/// The trained family of Effort classifiers and how it was made.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EffortModel {
+    /// Frame rate of the segments it was trained on (takes are resampled to it).
+    pub fps: f64,
+    /// The largest boundary shift `s` (frames): `(2s + 1)²` classifiers.
+    pub max_shift: usize,
+    /// Shortest and longest training segment (frames).
+    pub min_len: usize,
+    pub max_len: usize,
+    /// Where the labels came from (descriptor terciles over which takes, or a user's file).
+    pub origin: String,
+    /// Training and validation segments.
+    pub samples: usize,
+    /// Space, Time, Weight, Flow.
+    pub factors: Vec<FactorModel>,
+}
+
+/// The 12 outputs of one classifier: per factor indulging, neutral, condensing.
+pub type Outputs = [f32; 12];
+
+impl EffortModel {
+    /// Classifiers in the family.
+    pub fn shifts(&self) -> usize {
+        (2 * self.max_shift + 1).pow(2)
+    }
+
+    /// Index of the classifier for start shift `i` and end shift `j`.
+    pub fn shift_index(&self, i: isize, j: isize) -> usize {
+        let s = self.max_shift as isize;
+        ((i + s) * (2 * s + 1) + (j + s)) as usize
+    }
+
+    /// Reads a model file, checking that it is complete.
+    pub fn from_json(text: &str) -> Result<EffortModel, String> {
+        let model: EffortModel = serde_json::from_str(text).map_err(|e| format!("not an LMA effort model: {e}"))?;
+        model.validate()?;
+        Ok(model)
+    }
+
+    pub fn to_json(&self) -> String {
+        serde_json::to_string(self).expect("a model always serialises")
+    }
+
+    fn validate(&self) -> Result<(), String> {
+        let bad = |what: String| Err(format!("LMA effort model: {what}"));
+        if self.factors.len() != 4 {
+            return bad(format!("{} factors, expected 4 (space, time, weight, flow)", self.factors.len()));
+        }
+        if !(self.fps.is_finite() && self.fps > 0.0) || self.min_len < 2 || self.max_len < self.min_len {
+            return bad(format!("fps {} and lengths {}..{} are not usable", self.fps, self.min_len, self.max_len));
+        }
+        for (f, m) in Factor::ALL.iter().zip(&self.factors) {
+            let n = m.selected.len();
+            let ok = n > 0
+                && m.selected.iter().all(|&k| (k as usize) < super::features::POOL_SIZE)
+                && m.mean.len() == n
+                && m.scale.len() == n
+                && m.scale.iter().all(|s| *s > 0.0)
+                && m.projection.len() == m.components * n
+                && m.nets.len() == self.shifts()
+                && m.nets.iter().all(|net| net.inputs == m.components && net.outputs == 3);
+            if !ok {
+                return bad(format!("the {f:?} networks do not fit their inputs"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Total projected inputs over the four factors.
+    pub fn width(&self) -> usize {
+        self.factors.iter().map(|f| f.components).sum()
+    }
+
+    /// The four factors' projected inputs of `start..=end`, concatenated into `z` ([`Self::width`]).
+    pub fn project(&self, pool: &Pool, start: usize, end: usize, z: &mut [f32]) {
+        let mut x = vec![0.0; self.factors.iter().map(|f| f.selected.len()).max().unwrap_or(0)];
+        let mut at = 0;
+        for f in &self.factors {
+            f.project(pool, start, end, &mut x[..f.selected.len()], &mut z[at..at + f.components]);
+            at += f.components;
+        }
+    }
+
+    /// The 12 outputs of classifier `shift` on projected inputs `z`.
+    pub fn classify(&self, shift: usize, z: &[f32]) -> Outputs {
+        let mut out = [0.0; 12];
+        let mut at = 0;
+        for (k, f) in self.factors.iter().enumerate() {
+            let net = &f.nets[shift];
+            let mut hidden = vec![0.0; net.hidden];
+            net.forward(&z[at..at + f.components], &mut hidden, &mut out[3 * k..3 * k + 3]);
+            at += f.components;
+        }
+        out
+    }
+
+    /// Mean deviance and mean output of the family at the candidate `start..=end` of `pool`
+    /// (shifted segments clamped to the take).
+    pub fn assess(&self, pool: &Pool, start: usize, end: usize) -> (f32, Outputs) {
+        let s = self.max_shift as isize;
+        let mut z = vec![0.0; self.width()];
+        let mut outputs = Vec::with_capacity(self.shifts());
+        for i in -s..=s {
+            for j in -s..=s {
+                let (a, b) = shifted(start, end, i, j, pool.frames());
+                self.project(pool, a, b, &mut z);
+                outputs.push(self.classify(self.shift_index(i, j), &z));
+            }
+        }
+        deviance(&outputs)
+    }
+}
+
+/// The segment `start + i ..= end + j` kept inside `frames` frames and at least two frames long.
+pub fn shifted(start: usize, end: usize, i: isize, j: isize, frames: usize) -> (usize, usize) {
+    let last = frames.saturating_sub(1) as isize;
+    let b = (end as isize + j).clamp(1, last.max(1)) as usize;
+    let a = (start as isize + i).clamp(0, b as isize - 1) as usize;
+    (a, b)
+}
+
+/// Eq. 1–2: the mean output `m` of the family and the mean Euclidean distance of each output to it.
+pub fn deviance(outputs: &[Outputs]) -> (f32, Outputs) {
+    let n = outputs.len().max(1) as f32;
+    let mut m = [0.0f32; 12];
+    for x in outputs {
+        for (a, b) in m.iter_mut().zip(x) {
+            *a += b / n;
+        }
+    }
+    let d = outputs.iter().map(|x| x.iter().zip(&m).map(|(a, b)| (a - b).powi(2)).sum::<f32>().sqrt()).sum::<f32>() / n;
+    (d, m)
+}
+
+/// A segment's Effort from the family's mean output: per factor condensing − indulging, in [−1, 1].
+pub fn effort(m: &Outputs) -> Effort {
+    let factor = |k: usize| ((m[3 * k + 2] - m[3 * k]) as f64).clamp(-1.0, 1.0);
+    Effort { space: factor(0), time: factor(1), weight: factor(2), flow: factor(3) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn identical_classifiers_deviate_by_nothing() {
+        let x: Outputs = [0.1, 0.8, 0.1, 0.9, 0.05, 0.05, 0.2, 0.2, 0.6, 0.3, 0.3, 0.4];
+        let (d, m) = deviance(&vec![x; 121]);
+        assert!(d.abs() < 1e-5, "{d}");
+        assert!(m.iter().zip(&x).all(|(a, b)| (a - b).abs() < 1e-5));
+        // two classifiers that disagree on one output by 1: each is 0.5 from the mean
+        let mut y = x;
+        y[0] += 1.0;
+        let (d, _) = deviance(&[x, y]);
+        assert!((d - 0.5).abs() < 1e-6, "{d}");
+    }
+
+    #[test]
+    fn effort_runs_from_indulging_to_condensing() {
+        let mut m = [0.0f32; 12];
+        m[0] = 1.0; // space fully indulging
+        m[5] = 1.0; // time fully condensing
+        m[7] = 1.0; // weight neutral
+        let e = effort(&m);
+        assert_eq!((e.space, e.time, e.weight, e.flow), (-1.0, 1.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn shifted_segments_stay_inside_the_take() {
+        assert_eq!(shifted(10, 40, -5, 5, 100), (5, 45));
+        assert_eq!(shifted(2, 40, -5, 5, 100), (0, 45));
+        assert_eq!(shifted(60, 98, 5, 5, 100), (65, 99));
+        assert_eq!(shifted(0, 1, 5, -5, 100), (0, 1));
+    }
+}

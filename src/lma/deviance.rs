@@ -1,0 +1,134 @@
+//! The deviance map of one arm (Bouchard & Badler §4.2, Fig. 5): the family's mean deviance for
+//! every candidate segment between the shortest and longest segment length.
+//!
+//! * [`pruned`]: candidates start and end only at frames where the hand's speed has a local
+//!   minimum below a threshold ("computing the average deviation for frames where the end
+//!   effector speed is below a threshold"), each assessed on its own;
+//! * [`exhaustive`]: every candidate. Each segment the family reads (every start, every length
+//!   from `min_len − 2s` to `max_len + 2s`) is projected once, a start row at a time, and every
+//!   network of the family reads a whole row of candidates in one batched pass
+//!   ([`crate::lma::network::Net::forward_batch`]) — the paper's "more than 3 hours" for a 25-second
+//!   take become seconds.
+
+use std::collections::VecDeque;
+
+use super::classifier::{deviance, EffortModel, Outputs};
+use super::features::Pool;
+use super::search::DevianceMap;
+use crate::method::Cancelled;
+
+/// Frames where `speed` has a local minimum below `threshold` (the pruned search's boundaries).
+pub fn slow_frames(speed: &[f64], threshold: f64) -> Vec<usize> {
+    (1..speed.len().saturating_sub(1))
+        .filter(|&t| speed[t] < threshold && speed[t] <= speed[t - 1] && speed[t] < speed[t + 1])
+        .collect()
+}
+
+/// The map over candidates whose both ends are in `boundaries`, lengths `min_len..=max_len`.
+pub fn pruned(
+    model: &EffortModel,
+    pool: &Pool,
+    boundaries: &[usize],
+    (min_len, max_len): (usize, usize),
+    progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+) -> Result<DevianceMap, Cancelled> {
+    let mut map = DevianceMap::new(pool.frames(), min_len, max_len);
+    for (k, &s) in boundaries.iter().enumerate() {
+        progress(k as f64 / boundaries.len().max(1) as f64)?;
+        for &e in boundaries.iter().filter(|&&e| e >= s + min_len && e <= s + max_len) {
+            map.set(s, e, model.assess(pool, s, e).0);
+        }
+    }
+    Ok(map)
+}
+
+/// One start row of projected inputs: per factor, `lengths × components` values for the
+/// segments `a ..= a + lo + k` (ends past the take clamped to its last frame).
+struct Row {
+    a: usize,
+    factors: Vec<Vec<f32>>,
+}
+
+/// The map over every candidate of lengths `min_len..=max_len`.
+pub fn exhaustive(
+    model: &EffortModel,
+    pool: &Pool,
+    (min_len, max_len): (usize, usize),
+    progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+) -> Result<DevianceMap, Cancelled> {
+    let n = pool.frames();
+    let mut map = DevianceMap::new(n, min_len, max_len);
+    let s = model.max_shift;
+    if n < min_len + 2 || min_len < 2 * s + 2 {
+        return Ok(map);
+    }
+    // lengths the family reads: min_len − 2s ..= max_len + 2s (at least 1)
+    let lo = min_len.saturating_sub(2 * s).max(1);
+    let hi = max_len + 2 * s;
+    let lengths = hi - lo + 1;
+    let widest = model.factors.iter().map(|f| f.selected.len()).max().unwrap_or(0);
+    let mut x = vec![0.0; widest];
+    let project_row = |a: usize, x: &mut [f32]| Row {
+        a,
+        factors: model
+            .factors
+            .iter()
+            .map(|f| {
+                let mut z = vec![0.0; lengths * f.components];
+                for k in 0..lengths {
+                    let b = (a + lo + k).min(n - 1).max(a + 1);
+                    let z_k = &mut z[k * f.components..(k + 1) * f.components];
+                    f.project(pool, a, b, &mut x[..f.selected.len()], z_k);
+                }
+                z
+            })
+            .collect(),
+    };
+    let shifts = model.shifts();
+    let candidates = max_len - min_len + 1;
+    let mut outputs: Vec<Outputs> = vec![[0.0; 12]; candidates * shifts];
+    let mut batch = vec![0.0f32; candidates * 3];
+    let mut rows: VecDeque<Row> = VecDeque::new();
+    let last_start = n - 1 - min_len;
+    for start in 0..=last_start {
+        if start % 16 == 0 {
+            progress(start as f64 / (last_start + 1) as f64)?;
+        }
+        // the rows start − s ..= start + s (clamped), projected once each
+        let first = start.saturating_sub(s);
+        while rows.front().is_some_and(|r| r.a < first) {
+            rows.pop_front();
+        }
+        let need = (start + s).min(n - 2);
+        let next = rows.back().map_or(first, |r| r.a + 1);
+        for a in next..=need {
+            rows.push_back(project_row(a, &mut x));
+        }
+        let ends = (n - 1 - start - min_len + 1).min(candidates);
+        for i in -(s as isize)..=s as isize {
+            let a = (start as isize + i).clamp(0, need as isize) as usize;
+            let row = &rows[a - rows[0].a];
+            for j in -(s as isize)..=s as isize {
+                let shift = model.shift_index(i, j);
+                // candidate (start, start + min_len + c) reads (a, start + min_len + c + j)
+                let offset = start as isize + min_len as isize + j - a as isize - lo as isize;
+                // min_len > 2s keeps every shifted length inside the row (see EffortModel::check_lengths)
+                debug_assert!(offset >= 0 && offset as usize + ends <= lengths);
+                let offset = offset as usize;
+                for (f, factor) in model.factors.iter().enumerate() {
+                    let k = factor.components;
+                    let input = &row.factors[f][offset * k..(offset + ends) * k];
+                    factor.nets[shift].forward_batch(input, &mut batch[..ends * 3]);
+                    for c in 0..ends {
+                        outputs[c * shifts + shift][3 * f..3 * f + 3].copy_from_slice(&batch[3 * c..3 * c + 3]);
+                    }
+                }
+            }
+        }
+        for c in 0..ends {
+            let (d, _) = deviance(&outputs[c * shifts..(c + 1) * shifts]);
+            map.set(start, start + min_len + c, d);
+        }
+    }
+    Ok(map)
+}

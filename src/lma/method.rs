@@ -1,0 +1,363 @@
+//! LMA Effort segmentation behind the common [`Method`] interface: per arm, the deviance map of
+//! the shipped (or a user's) classifier family, its boundary search, the two arms merged; every
+//! segment carries its Effort; the deviance maps and the Effort bars are drawn for the page.
+
+use serde::{Deserialize, Serialize};
+
+use super::body::{upper_body, Side};
+use super::classifier::{effort, EffortModel, Outputs};
+use super::deviance::{exhaustive, pruned, slow_frames};
+use super::features::{Kinematics, Pool};
+use super::search::{merge_arms, pair, smooth, troughs, Arms, DevianceMap};
+use super::shipped_model;
+use crate::method::bounds::{self, NumberParam, Valid};
+use crate::method::{Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions};
+use crate::motion::Motion;
+use crate::segment::frames::WorkingFrames;
+use crate::segment::{Effort, Level, Segment, Segmentation};
+
+/// Parameters of the LMA segmentation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LmaParams {
+    /// Assess every candidate segment instead of those between slow-hand frames only.
+    pub exhaustive: bool,
+    /// Shortest and longest segment (seconds).
+    pub min_s: f64,
+    pub max_s: f64,
+    /// Pruned search: candidate boundaries are local minima of the hand's speed below this (arm bones per second).
+    pub prune_speed: f64,
+    /// Standard deviation (seconds) of the Gaussian that smooths the row and column profiles.
+    pub smooth_s: f64,
+    /// A trough is kept when the profile then rises by more than this share of its spread.
+    pub min_rise: f64,
+    /// The two arms' segments whose both ends lie within this many seconds are merged.
+    pub merge_s: f64,
+}
+
+impl Default for LmaParams {
+    /// The paper's lengths (0.67–3.33 s); the others from what bodies do (a resting hand moves
+    /// below about one arm bone per second) and the paper's figures, not tuned on labelled takes.
+    fn default() -> Self {
+        LmaParams {
+            exhaustive: false,
+            min_s: 0.67,
+            max_s: 3.33,
+            prune_speed: 1.0,
+            smooth_s: 0.1,
+            min_rise: 0.1,
+            merge_s: 0.33,
+        }
+    }
+}
+
+/// [`LmaParams`] that passed the check.
+pub type ValidParams = Valid<LmaParams>;
+
+pub const PARAMS: [NumberParam; 6] = [
+    NumberParam {
+        name: "min_s",
+        min: 0.4,
+        max: 5.0,
+        unit: "s",
+        help: "Shortest segment (the family's boundary shifts need at least 0.4 s).",
+        basic: false,
+    },
+    NumberParam { name: "max_s", min: 0.5, max: 6.0, unit: "s", help: "Longest segment.", basic: false },
+    NumberParam {
+        name: "prune_speed",
+        min: 0.01,
+        max: 100.0,
+        unit: "bones/s",
+        help: "Pruned search: boundaries only where a hand's speed has a local minimum below this.",
+        basic: true,
+    },
+    NumberParam {
+        name: "smooth_s",
+        min: 0.0,
+        max: 1.0,
+        unit: "s",
+        help: "Standard deviation of the Gaussian that smooths the deviance profiles.",
+        basic: false,
+    },
+    NumberParam {
+        name: "min_rise",
+        min: 0.0,
+        max: 1.0,
+        unit: "",
+        help: "A trough of the deviance profile is kept when the profile then rises by more than this share of its spread.",
+        basic: true,
+    },
+    NumberParam {
+        name: "merge_s",
+        min: 0.0,
+        max: 2.0,
+        unit: "s",
+        help: "Left- and right-arm segments with both ends this close become one.",
+        basic: true,
+    },
+];
+
+impl LmaParams {
+    fn value(&self, name: &str) -> f64 {
+        match name {
+            "min_s" => self.min_s,
+            "max_s" => self.max_s,
+            "prune_speed" => self.prune_speed,
+            "smooth_s" => self.smooth_s,
+            "min_rise" => self.min_rise,
+            _ => self.merge_s,
+        }
+    }
+
+    pub fn check(self) -> Result<ValidParams, MethodError> {
+        bounds::check("LMA", &PARAMS, |n| self.value(n))?;
+        if self.max_s <= self.min_s {
+            return Err(bounds::refuse("LMA", "max_s", self.max_s, &format!("more than min_s ({})", self.min_s)));
+        }
+        Ok(Valid::checked(self))
+    }
+}
+
+/// LMA Effort segmentation (Bouchard & Badler).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Lma;
+
+/// One arm's search, for the pictures.
+struct ArmSearch {
+    side: Side,
+    map: DevianceMap,
+    segments: Vec<(usize, usize)>,
+}
+
+impl Method for Lma {
+    type Params = LmaParams;
+    type Checked = ValidParams;
+
+    fn info(&self) -> MethodInfo {
+        MethodInfo {
+            name: "lma".into(),
+            short: "LMA".into(),
+            paper: "Bouchard & Badler".into(),
+            summary: "Gestures where 121 Laban Effort classifiers, each trained on shifted boundaries, agree; every \
+                      segment with its Space, Time, Weight and Flow."
+                .into(),
+            auto_run: true,
+        }
+    }
+
+    fn param_specs(&self) -> Vec<ParamSpec> {
+        let d = LmaParams::default();
+        let mut specs = bounds::specs(&PARAMS, |n| d.value(n));
+        let help = "Assess every candidate segment (slower) instead of only those between slow-hand frames.";
+        specs.insert(0, bounds::switch("exhaustive", help, d.exhaustive, true));
+        specs
+    }
+
+    fn check(&self, params: LmaParams) -> Result<ValidParams, MethodError> {
+        params.check()
+    }
+
+    fn echo(&self, params: &ValidParams) -> serde_json::Value {
+        serde_json::to_value(&**params).unwrap_or_default()
+    }
+
+    fn run(
+        &self,
+        motion: &Motion,
+        params: &ValidParams,
+        options: &RunOptions,
+        progress: &mut dyn Progress,
+    ) -> Result<MethodOutput, MethodError> {
+        let model = shipped_model().map_err(MethodError::Failed)?;
+        segment_with(model, motion, params, options, progress)
+    }
+}
+
+/// The LMA segmentation of `motion` with the classifier family `model`.
+pub fn segment_with(
+    model: &EffortModel,
+    motion: &Motion,
+    params: &LmaParams,
+    options: &RunOptions,
+    progress: &mut dyn Progress,
+) -> Result<MethodOutput, MethodError> {
+    progress.step("arms", 0.0)?;
+    let fps = model.fps;
+    let body = upper_body(motion, fps).map_err(|e| MethodError::Failed(e.to_string()))?;
+    let min_len = ((params.min_s * fps).round() as usize).max(2 * model.max_shift + 2);
+    let max_len = ((params.max_s * fps).round() as usize).max(min_len);
+    let longest = max_len + 2 * model.max_shift + 1;
+    let mut searches = Vec::new();
+    let mut pools = Vec::new();
+    let mut assessed = 0usize;
+    for (k, arm) in body.arms.iter().enumerate() {
+        let pool = Pool::of(arm, fps, longest);
+        let base = 0.05 + 0.45 * k as f64;
+        let stage = format!("{} arm", arm.side.name());
+        let mut report = |f: f64| progress.step(&stage, base + 0.4 * f);
+        let map = if params.exhaustive {
+            exhaustive(model, &pool, (min_len, max_len), &mut report)?
+        } else {
+            let speed = smooth(&Kinematics::speed(arm.hand(), fps), 0.1 * fps);
+            let slow = slow_frames(&speed, params.prune_speed);
+            pruned(model, &pool, &slow, (min_len, max_len), &mut report)?
+        };
+        assessed += map.candidates().count();
+        let (rows, cols) = map.profiles();
+        let sigma = params.smooth_s * fps;
+        let starts = troughs(&smooth(&rows, sigma), params.min_rise);
+        let ends = troughs(&smooth(&cols, sigma), params.min_rise);
+        let segments = pair(&starts, &ends, min_len, max_len);
+        searches.push(ArmSearch { side: arm.side, map, segments });
+        pools.push(pool);
+    }
+    progress.step("merge", 0.9)?;
+    let within = (params.merge_s * fps).round() as usize;
+    let merged = merge_arms(&searches[0].segments, &searches[1].segments, within);
+    let frames = WorkingFrames { source: &body.source_frames, file_frames: motion.frames() };
+    let mut segments = Vec::new();
+    for &(start, end, arms) in &merged {
+        let (label, (d, m)) = match arms {
+            Arms::First => ("left arm", model.assess(&pools[0], start, end)),
+            Arms::Second => ("right arm", model.assess(&pools[1], start, end)),
+            Arms::Both => {
+                let (l, r) = (model.assess(&pools[0], start, end), model.assess(&pools[1], start, end));
+                let mean: Outputs = std::array::from_fn(|k| (l.1[k] + r.1[k]) / 2.0);
+                ("both arms", ((l.0 + r.0) / 2.0, mean))
+            }
+        };
+        let working = Segment {
+            start,
+            end,
+            label: label.into(),
+            level: Level::Primitive,
+            cluster: None,
+            score: Some((d as f64 * 1000.0).round() / 1000.0),
+            mirror_of: None,
+            effort: Some(rounded(effort(&m))),
+        };
+        segments.extend(frames.to_file(working));
+    }
+    let mut pictures = Vec::new();
+    if options.pictures {
+        progress.step("pictures", 0.95)?;
+        for s in &searches {
+            pictures.push(deviance_picture(s));
+        }
+        pictures.push(effort_picture(&segments, motion.frames()));
+    }
+    let count = |a: Arms| merged.iter().filter(|m| m.2 == a).count();
+    let summary = format!(
+        "{} gestures ({} both arms, {} left, {} right) · {} search, {} candidate segments assessed by {} classifiers",
+        segments.len(),
+        count(Arms::Both),
+        count(Arms::First),
+        count(Arms::Second),
+        if params.exhaustive { "exhaustive" } else { "pruned" },
+        assessed,
+        model.shifts()
+    );
+    let segmentation = Segmentation {
+        file: motion.name.clone(),
+        fps: motion.fps,
+        frames: motion.frames(),
+        method: "lma".into(),
+        params: serde_json::to_value(params).unwrap_or_default(),
+        segments,
+    };
+    Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves: Vec::new() } })
+}
+
+fn rounded(e: Effort) -> Effort {
+    let r = |x: f64| (x * 1000.0).round() / 1000.0;
+    Effort { space: r(e.space), time: r(e.time), weight: r(e.weight), flow: r(e.flow) }
+}
+
+/// Largest side of a drawn deviance map (pixels).
+const MAP_PIXELS: usize = 480;
+
+/// The start × end deviance map of one arm (the paper's Fig. 5): rows are start frames, columns
+/// end frames, darker = the classifiers agree more; the chosen segments in red.
+fn deviance_picture(search: &ArmSearch) -> Picture {
+    let map = &search.map;
+    let n = map.frames.max(1);
+    let side = n.min(MAP_PIXELS);
+    let px = |t: usize| (t * side / n).min(side - 1);
+    let mut sums = vec![0.0f32; side * side];
+    let mut counts = vec![0u32; side * side];
+    let (mut lo, mut hi) = (f32::MAX, f32::MIN);
+    for (s, e, d) in map.candidates() {
+        let i = px(s) * side + px(e);
+        sums[i] += d;
+        counts[i] += 1;
+        lo = lo.min(d);
+        hi = hi.max(d);
+    }
+    let span = (hi - lo).max(1e-6);
+    let mut rgba = vec![255u8; side * side * 4];
+    for i in 0..side * side {
+        let v = if counts[i] > 0 { (sums[i] / counts[i] as f32 - lo) / span } else { continue };
+        let grey = (40.0 + 215.0 * v) as u8;
+        rgba[4 * i..4 * i + 3].copy_from_slice(&[grey, grey, grey]);
+    }
+    for &(s, e) in &search.segments {
+        for (dy, dx) in [(0, 0), (0, 1), (1, 0), (0, -1), (-1, 0)] {
+            let (y, x) = (px(s) as isize + dy, px(e) as isize + dx);
+            if (0..side as isize).contains(&y) && (0..side as isize).contains(&x) {
+                let i = (y as usize * side + x as usize) * 4;
+                rgba[i..i + 3].copy_from_slice(&[220, 30, 30]);
+            }
+        }
+    }
+    let name = search.side.name();
+    Picture {
+        id: format!("deviance-{name}"),
+        title: format!("Deviance map, {name} arm"),
+        caption: format!(
+            "Mean deviance of the classifiers for every candidate segment of the {name} arm: start frame down, end \
+             frame across (the band between the shortest and longest segment); darker = more agreement. Red: the \
+             segments chosen for this arm, before the arms are merged."
+        ),
+        width: side,
+        height: side,
+        rgba,
+    }
+}
+
+/// Effort bars: one row per factor along the take, each segment's span coloured from blue
+/// (indulging) through grey (neutral) to red (condensing).
+fn effort_picture(segments: &[Segment], frames: usize) -> Picture {
+    let (width, row) = (frames.clamp(1, 960), 14usize);
+    let height = 4 * row;
+    let mut rgba = vec![245u8; width * height * 4];
+    for s in segments {
+        let Some(e) = s.effort else { continue };
+        let (x0, x1) = (s.start * width / frames.max(1), (s.end * width / frames.max(1)).min(width - 1));
+        for (k, v) in [e.space, e.time, e.weight, e.flow].into_iter().enumerate() {
+            let t = ((v + 1.0) / 2.0).clamp(0.0, 1.0);
+            let colour = [
+                (40.0 + 180.0 * t) as u8,
+                (90.0 + 60.0 * (1.0 - (2.0 * t - 1.0).abs())) as u8,
+                (220.0 - 180.0 * t) as u8,
+            ];
+            for y in k * row + 1..(k + 1) * row - 1 {
+                for x in x0..=x1 {
+                    let i = (y * width + x) * 4;
+                    rgba[i..i + 3].copy_from_slice(&colour);
+                }
+            }
+        }
+    }
+    Picture {
+        id: "effort".into(),
+        title: "Effort of each segment".into(),
+        caption: "Rows from top: Space (indirect … direct), Time (sustained … sudden), Weight (light … strong), Flow \
+                  (free … bound); each segment's span from blue (indulging) through grey to red (condensing), time \
+                  across."
+            .into(),
+        width,
+        height,
+        rgba,
+    }
+}
