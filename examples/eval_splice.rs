@@ -65,9 +65,15 @@ mod lab {
             loaded.push((take.trial, b, take.truth));
         }
         let sources: Vec<Source> = loaded.iter().map(|(n, b, t)| Source { name: n, bvh: b, truth: t }).collect();
-        // every method, and SSSM's primitives on their own
-        let mut rows: Vec<(String, Sums)> =
-            method::registry().iter().map(|m| (m.info().name, Sums::default())).collect();
+        // every method with its defaults, LMA's exhaustive search, and SSSM's primitives on their own
+        let mut runs: Vec<(String, &dyn method::DynMethod, serde_json::Value)> =
+            method::registry().iter().map(|&m| (m.info().name, m, serde_json::json!({}))).collect();
+        runs.push((
+            "lma exhaustive".into(),
+            method::find("lma").map_err(|e| e.to_string())?,
+            serde_json::json!({"exhaustive": true}),
+        ));
+        let mut rows: Vec<(String, Sums)> = runs.iter().map(|r| (r.0.clone(), Sums::default())).collect();
         rows.push(("sssm primitives".into(), Sums::default()));
         let mut seconds = 0.0;
         for &seed in &args.seeds {
@@ -78,12 +84,12 @@ mod lab {
                 load_csv(&spliced.truth_csv(&name), &name, TruthOptions::default()).map_err(|e| e.to_string())?;
             let motion = Motion::from_bvh(&name, &spliced.bvh).map_err(|e| e.to_string())?;
             seconds += motion.duration_s();
-            for (k, m) in method::registry().iter().enumerate() {
+            for (k, (name, m, params)) in runs.iter().enumerate() {
                 let out = m
-                    .run_json(&motion, &serde_json::json!({}), &RunOptions::default(), &mut NoProgress)
-                    .map_err(|e| format!("{}: {e}", m.info().name))?;
+                    .run_json(&motion, params, &RunOptions::default(), &mut NoProgress)
+                    .map_err(|e| format!("{name}: {e}"))?;
                 add(&mut rows[k].1, &out.segmentation, &truth)?;
-                if m.info().name == "sssm" {
+                if name == "sssm" {
                     let mut prims = out.segmentation.clone();
                     prims.segments.retain(|s| s.level == Level::Primitive);
                     let last = rows.len() - 1;
@@ -112,6 +118,35 @@ mod lab {
                 s.similarity / n,
                 s.f1 / n,
                 s.recall / n
+            );
+        }
+        // the real takes: how many of their action boundaries each method's boundaries recall
+        println!();
+        println!(
+            "Real takes (86_01, mocap6): recall of the labelled action boundaries within 0.5 s, default parameters:"
+        );
+        println!("| method | {} | mean |", loaded.iter().map(|l| l.0).collect::<Vec<_>>().join(" | "));
+        println!("|---|{}---|", "---|".repeat(loaded.len()));
+        for (name, m, params) in &runs {
+            let mut recalls = Vec::new();
+            for (trial, b, truth) in &loaded {
+                let motion = Motion::from_bvh(trial, b).map_err(|e| e.to_string())?;
+                let out = m
+                    .run_json(&motion, params, &RunOptions::default(), &mut NoProgress)
+                    .map_err(|e| format!("{name}: {e}"))?;
+                // a method that finds nothing recalls nothing (the scorer refuses empty segmentations)
+                if out.segmentation.segments.is_empty() {
+                    recalls.push(0.0);
+                    continue;
+                }
+                let s =
+                    evaluate(&out.segmentation, truth, &Tolerances::default()).map_err(|e| format!("{name}: {e}"))?;
+                recalls.push(s.boundaries[0].recall);
+            }
+            let mean = recalls.iter().sum::<f64>() / recalls.len().max(1) as f64;
+            println!(
+                "| {name} | {} | {mean:.2} |",
+                recalls.iter().map(|r| format!("{r:.2}")).collect::<Vec<_>>().join(" | ")
             );
         }
         Ok(())

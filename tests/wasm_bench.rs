@@ -180,3 +180,43 @@ async fn sssm_series(full: &Motion, frames: usize, params: &mocapseg::sssm::Sssm
 
 /// Timed runs per length of the SSSM benchmark (after one warm-up run).
 const SSSM_RUNS: usize = 5;
+
+/// LMA (Bouchard & Badler) on 25, 50 and 100 s of the same sequence at 30 Hz (750, 1500, 3000
+/// frames, as `cargo run --release --example bench_lma`): the pruned search (median of 3 runs)
+/// and the exhaustive one (one run each: it is the slow one, and how it grows is the point).
+#[wasm_bindgen_test]
+async fn lma_end_to_end() {
+    use mocapseg::lma::method::{segment_with, LmaParams};
+    use mocapseg::method::{NoProgress, RunOptions};
+    let model = mocapseg::lma::shipped_model().expect("the shipped LMA family");
+    let bvh = bvh::parse(SSSM_SEQUENCE).expect("the bench sequence parses");
+    let full = Motion::from_bvh("bench sequence", &bvh).expect("motion");
+    for exhaustive in [false, true] {
+        let params = LmaParams { exhaustive, ..LmaParams::default() };
+        let mut base = None;
+        for frames in [750usize, 1500, 3000] {
+            let seq = Motion::concatenate(std::slice::from_ref(&full), frames).expect("sequence");
+            let runs = if exhaustive { 1 } else { 3 };
+            let mut times = Vec::new();
+            let mut found = 0;
+            for _ in 0..runs {
+                yield_to_browser().await;
+                let t0 = performance_now();
+                let out = segment_with(model, &seq, &params, &RunOptions::default(), &mut NoProgress).expect("lma");
+                times.push(performance_now() - t0);
+                found = out.segmentation.segments.len();
+            }
+            times.sort_by(f64::total_cmp);
+            let ms = times[times.len() / 2];
+            let growth = base.map(|b: f64| format!(" ({:.2}× the 750-frame time)", ms / b)).unwrap_or_default();
+            base.get_or_insert(ms);
+            console_log!(
+                "wasm bench | lma {} {:5} frames @30 Hz ({:3.0} s) | {:9.1} ms{growth} | {found} segments | median of {runs}",
+                if exhaustive { "exhaustive" } else { "pruned    " },
+                frames,
+                frames as f64 / 30.0,
+                ms
+            );
+        }
+    }
+}
