@@ -9,7 +9,7 @@ use super::classifier::{effort, EffortModel, Outputs};
 use super::deviance::{exhaustive, pruned, slow_frames};
 use super::features::{Kinematics, Pool};
 use super::search::{merge_arms, pair, smooth, troughs, Arms, DevianceMap};
-use super::shipped_model;
+use super::model_in_use;
 use crate::method::bounds::{self, NumberParam, Valid};
 use crate::method::{Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions};
 use crate::motion::Motion;
@@ -169,8 +169,12 @@ impl Method for Lma {
         options: &RunOptions,
         progress: &mut dyn Progress,
     ) -> Result<MethodOutput, MethodError> {
-        let model = shipped_model().map_err(MethodError::Failed)?;
-        segment_with(model, motion, params, options, progress)
+        let (model, shipped) = model_in_use().map_err(MethodError::Failed)?;
+        let mut out = segment_with(&model, motion, params, options, progress)?;
+        if !shipped {
+            out.details.summary += &format!(" · your classifiers ({})", model.origin);
+        }
+        Ok(out)
     }
 }
 

@@ -26,18 +26,42 @@ pub mod network;
 pub mod search;
 pub mod training;
 
-use std::sync::OnceLock;
+use std::sync::{Arc, Mutex, OnceLock};
 
 use classifier::EffortModel;
 
 /// The shipped classifier family (built into the binary; read once).
 pub fn shipped_model() -> Result<&'static EffortModel, String> {
-    static MODEL: OnceLock<Result<EffortModel, String>> = OnceLock::new();
+    shipped().map(|m| &**m)
+}
+
+fn shipped() -> Result<&'static Arc<EffortModel>, String> {
+    static MODEL: OnceLock<Result<Arc<EffortModel>, String>> = OnceLock::new();
     MODEL
         .get_or_init(|| {
             EffortModel::from_json(include_str!("../../models/lma-effort.json"))
+                .map(Arc::new)
                 .map_err(|e| format!("the shipped LMA model is unusable ({e}); retrain it with `mocapseg train-lma`"))
         })
         .as_ref()
         .map_err(Clone::clone)
+}
+
+/// The family the registered `lma` method uses in this process: one the user trained or loaded
+/// ([`use_model`]), else the shipped one.
+static IN_USE: Mutex<Option<Arc<EffortModel>>> = Mutex::new(None);
+
+/// Makes `model` the family of every later `lma` run in this process (`None`: the shipped one
+/// again). The page's worker calls it after training on the user's labels or loading their file;
+/// the command line after `--lma-model`.
+pub fn use_model(model: Option<EffortModel>) {
+    *IN_USE.lock().unwrap_or_else(|e| e.into_inner()) = model.map(Arc::new);
+}
+
+/// The family `lma` runs with now, and whether it is the shipped one.
+pub fn model_in_use() -> Result<(Arc<EffortModel>, bool), String> {
+    if let Some(m) = IN_USE.lock().unwrap_or_else(|e| e.into_inner()).as_ref() {
+        return Ok((m.clone(), false));
+    }
+    shipped().map(|m| (m.clone(), true))
 }
