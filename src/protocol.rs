@@ -9,11 +9,19 @@
 //! [`FailureKind::NotLoaded`], and the page then sends the take it shows again (`restore`) and
 //! repeats the request — so the page never segments a take other than the one on screen, even
 //! after a load that lost a race or a worker replaced after a crash or a cancel.
+//!
+//! The worker also holds the LMA classifier family its `lma` runs use: `train_lma` trains one on
+//! the user's Effort labels for the held take, `use_lma_model` loads one the user saved (or goes
+//! back to the shipped family). A worker starts with the shipped family, so the page sends the
+//! family it holds to every new worker before anything else.
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::image::MotionImage;
+use crate::lma::classifier::EffortModel;
+use crate::lma::corpus::{parse_labels, Corpus, CorpusConfig, EffortLabel};
+use crate::lma::training::{train_family, FactorReport, TrainConfig};
 use crate::method::{Details, MethodError, MethodOutput, RunOptions};
 use crate::motion::{Motion, Units, UpAxis};
 use crate::segment::Segmentation;
@@ -39,13 +47,30 @@ pub enum Request {
     },
     /// Segment take `take` with `method` (a registry name) and `params` (JSON, fields optional).
     Segment { take: TakeId, run: RunId, method: String, params: serde_json::Value },
+    /// Train the LMA classifier family on the rows of `labels` (the text of the Effort labels CSV
+    /// `name`, `file,start_frame,end_frame,space,time,weight,flow`) that name take `take`; rows
+    /// for other files are counted and left out. The family then serves every later `lma` run.
+    TrainLma { take: TakeId, run: RunId, name: String, labels: String },
+    /// Make `model` (a family's JSON text, as `Trained` sends it or a user saved it) the family
+    /// of every later `lma` run; `None`: the shipped family again. Any worker accepts it, whatever
+    /// take it holds (`take` and `run` only name the answer).
+    UseLmaModel {
+        take: TakeId,
+        run: RunId,
+        /// Buffer 0 when present (UTF-8); no buffer means the shipped family.
+        #[serde(skip)]
+        model: Option<String>,
+    },
 }
 
 impl Request {
     /// The take the request is about.
     pub fn take(&self) -> TakeId {
         match self {
-            Request::Load { take, .. } | Request::Segment { take, .. } => *take,
+            Request::Load { take, .. }
+            | Request::Segment { take, .. }
+            | Request::TrainLma { take, .. }
+            | Request::UseLmaModel { take, .. } => *take,
         }
     }
 }
@@ -226,6 +251,41 @@ impl From<MethodOutput> for MethodView {
     }
 }
 
+/// How a trained LMA family did on one Effort factor (from the trainer's [`FactorReport`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FactorSummary {
+    /// `space`, `time`, `weight` or `flow`.
+    pub factor: String,
+    /// The labelled segments per class: indulging, neutral, condensing.
+    pub segments: [usize; 3],
+    /// Hidden units of its networks.
+    pub hidden: usize,
+    /// The unshifted network's error rate on the training and the held-out validation segments.
+    pub train_error: f32,
+    pub validation_error: f32,
+    /// Mean validation error of the boundary-shifted networks on their shifted segments.
+    pub shifted_validation_error: f32,
+}
+
+impl FactorSummary {
+    fn new(report: &FactorReport, samples: &[crate::lma::corpus::Sample], factor: usize) -> FactorSummary {
+        let mut segments = [0; 3];
+        for s in samples {
+            if let Some(n) = segments.get_mut(s.classes[factor]) {
+                *n += 1;
+            }
+        }
+        FactorSummary {
+            factor: report.factor.name().to_string(),
+            segments,
+            hidden: report.hidden,
+            train_error: report.train_error,
+            validation_error: report.validation_error,
+            shifted_validation_error: report.shifted_validation_error,
+        }
+    }
+}
+
 /// Worker → page.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
@@ -249,6 +309,28 @@ pub enum Response {
         take: TakeId,
         run: RunId,
         view: Box<MethodView>,
+    },
+    /// A `train_lma` run finished: `model` is the family's JSON (for the page to save and to send
+    /// to a new worker), now in use. `used_rows` named the take, `ignored_rows` other files.
+    Trained {
+        take: TakeId,
+        run: RunId,
+        /// Buffer 0 (UTF-8).
+        #[serde(skip)]
+        model: String,
+        /// Space, Time, Weight, Flow.
+        report: Vec<FactorSummary>,
+        /// Where the labels came from, in words (as the `lma` summary shows it).
+        origin: String,
+        used_rows: usize,
+        ignored_rows: usize,
+    },
+    /// The family `lma` runs use now (after `use_lma_model`).
+    ModelInUse {
+        take: TakeId,
+        run: RunId,
+        origin: String,
+        shipped: bool,
     },
     /// A load (`run: None`) or a run failed.
     Failed {
@@ -277,6 +359,10 @@ fn bytes_f32(bytes: &[u8]) -> Result<Vec<f32>, String> {
     Ok(bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect())
 }
 
+fn utf8(bytes: Vec<u8>, what: &str) -> Result<String, String> {
+    String::from_utf8(bytes).map_err(|e| format!("worker message: {what} is not UTF-8 text ({e})"))
+}
+
 fn json_error(what: &str, e: serde_json::Error) -> String {
     format!("{what}: {e}")
 }
@@ -287,7 +373,8 @@ impl Request {
         let json = serde_json::to_string(&self).unwrap_or_default();
         let buffers = match self {
             Request::Load { bytes, .. } => vec![bytes],
-            Request::Segment { .. } => Vec::new(),
+            Request::UseLmaModel { model, .. } => model.into_iter().map(String::into_bytes).collect(),
+            Request::Segment { .. } | Request::TrainLma { .. } => Vec::new(),
         };
         Packet { json, buffers }
     }
@@ -296,8 +383,14 @@ impl Request {
     pub fn from_packet(packet: Packet) -> Result<Request, String> {
         let mut request: Request = serde_json::from_str(&packet.json).map_err(|e| json_error("worker request", e))?;
         let mut buffers = packet.buffers.into_iter();
-        if let Request::Load { bytes, .. } = &mut request {
-            *bytes = buffers.next().ok_or("worker request: a load without the file's bytes")?;
+        match &mut request {
+            Request::Load { bytes, .. } => {
+                *bytes = buffers.next().ok_or("worker request: a load without the file's bytes")?;
+            }
+            Request::UseLmaModel { model, .. } => {
+                *model = buffers.next().map(|b| utf8(b, "the LMA family")).transpose()?;
+            }
+            Request::Segment { .. } | Request::TrainLma { .. } => {}
         }
         Ok(request)
     }
@@ -319,6 +412,7 @@ impl Response {
                     buffers.push(std::mem::take(&mut p.rgba));
                 }
             }
+            Response::Trained { model, .. } => buffers.push(std::mem::take(model).into_bytes()),
             _ => {}
         }
         Packet { json: serde_json::to_string(&this).unwrap_or_default(), buffers }
@@ -348,6 +442,7 @@ impl Response {
                     return Err(format!("worker message: curve {} does not have one value per frame", c.id));
                 }
             }
+            Response::Trained { model, .. } => *model = utf8(next("the trained family")?, "the trained family")?,
             _ => {}
         }
         Ok(response)
@@ -360,12 +455,28 @@ impl Response {
 #[derive(Debug, Default)]
 pub struct WorkerState {
     held: Option<(TakeId, Motion)>,
+    /// How `train_lma` trains (the trainer's defaults).
+    training: TrainConfig,
 }
 
 impl WorkerState {
+    /// A worker that trains LMA families with `training` instead of the defaults.
+    pub fn with_training(training: TrainConfig) -> WorkerState {
+        WorkerState { held: None, training }
+    }
+
     /// The take the worker holds.
     pub fn held(&self) -> Option<TakeId> {
         self.held.as_ref().map(|(t, _)| *t)
+    }
+
+    /// The held take if it is `take`, else the `not_loaded` message.
+    fn motion(&self, take: TakeId) -> Result<&Motion, String> {
+        match &self.held {
+            Some((held, motion)) if *held == take => Ok(motion),
+            Some((held, _)) => Err(format!("take {take} is not loaded in the worker (it holds take {held})")),
+            None => Err(format!("take {take} is not loaded in the worker (it holds none)")),
+        }
     }
 
     /// Answers `request`, posting progress and the final response through `post`.
@@ -388,6 +499,11 @@ impl WorkerState {
                 let response = self.segment(take, run, &method, &params, post);
                 post(response);
             }
+            Request::TrainLma { take, run, name, labels } => {
+                let response = self.train_lma(take, run, &name, &labels, post);
+                post(response);
+            }
+            Request::UseLmaModel { take, run, model } => post(use_lma_model(take, run, model.as_deref())),
         }
     }
 
@@ -416,17 +532,9 @@ impl WorkerState {
         post: &mut dyn FnMut(Response),
     ) -> Response {
         let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind };
-        let motion = match &self.held {
-            Some((held, motion)) if *held == take => motion,
-            Some((held, _)) => {
-                return fail(
-                    format!("take {take} is not loaded in the worker (it holds take {held})"),
-                    FailureKind::NotLoaded,
-                )
-            }
-            None => {
-                return fail(format!("take {take} is not loaded in the worker (it holds none)"), FailureKind::NotLoaded)
-            }
+        let motion = match self.motion(take) {
+            Ok(motion) => motion,
+            Err(message) => return fail(message, FailureKind::NotLoaded),
         };
         let m = match crate::method::find(method) {
             Ok(m) => m,
@@ -443,6 +551,94 @@ impl WorkerState {
             Err(e) => fail(format!("{short} on {}: {e}", motion.name), FailureKind::Input),
         }
     }
+
+    /// Trains the LMA family on the rows of the labels file `name` that name the held take (the
+    /// others are counted), reporting progress as run `run`, and makes it the family in use.
+    /// Like a segment run it is stopped by replacing the worker, so its progress never cancels.
+    fn train_lma(
+        &self,
+        take: TakeId,
+        run: RunId,
+        name: &str,
+        labels: &str,
+        post: &mut dyn FnMut(Response),
+    ) -> Response {
+        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind };
+        let motion = match self.motion(take) {
+            Ok(motion) => motion,
+            Err(message) => return fail(message, FailureKind::NotLoaded),
+        };
+        let rows = match parse_labels(labels, name) {
+            Ok(rows) => rows,
+            Err(message) => return fail(message, FailureKind::Input),
+        };
+        let (used, ignored): (Vec<EffortLabel>, Vec<EffortLabel>) =
+            rows.into_iter().partition(|row| names_take(&row.file, &motion.name));
+        if used.is_empty() {
+            return fail(no_rows_for(name, &motion.name, &ignored), FailureKind::Input);
+        }
+        let mut corpus = match Corpus::from_labels(&[motion], &used, CorpusConfig::default()) {
+            Ok(corpus) => corpus,
+            Err(message) => return fail(format!("{name}: {message}"), FailureKind::Input),
+        };
+        corpus.origin = format!("{} segments of {} labelled in {name}", corpus.samples.len(), motion.name);
+        let mut progress = |stage: &str, fraction: f64| {
+            post(Response::Progress { take, run: Some(run), stage: stage.into(), fraction: Some(fraction) });
+            Ok(())
+        };
+        let (model, reports) = match train_family(&corpus, &self.training, &mut progress) {
+            Ok(trained) => trained,
+            Err(message) => return fail(format!("{name}: {message}"), FailureKind::Input),
+        };
+        let report = reports.iter().enumerate().map(|(f, r)| FactorSummary::new(r, &corpus.samples, f)).collect();
+        let json = model.to_json();
+        let origin = model.origin.clone();
+        crate::lma::use_model(Some(model));
+        Response::Trained { take, run, model: json, report, origin, used_rows: used.len(), ignored_rows: ignored.len() }
+    }
+}
+
+/// Makes the family `model` (JSON text; `None`: the shipped one) the one `lma` runs use.
+fn use_lma_model(take: TakeId, run: RunId, model: Option<&str>) -> Response {
+    let fail = |message: String| Response::Failed { take, run: Some(run), message, kind: FailureKind::Input };
+    match model.map(EffortModel::from_json).transpose() {
+        Ok(model) => crate::lma::use_model(model),
+        Err(message) => return fail(message),
+    }
+    match crate::lma::model_in_use() {
+        Ok((model, shipped)) => Response::ModelInUse { take, run, origin: model.origin.clone(), shipped },
+        Err(message) => fail(message),
+    }
+}
+
+/// A labels row's `file` names the take `take` (the rule `Corpus::from_labels` matches rows by:
+/// case aside, with or without folders and `.bvh`).
+fn names_take(file: &str, take: &str) -> bool {
+    let stem = |s: &str| {
+        let base = s.rsplit(['/', '\\']).next().unwrap_or(s).to_ascii_lowercase();
+        base.strip_suffix(".bvh").map(str::to_string).unwrap_or(base)
+    };
+    stem(file) == stem(take)
+}
+
+/// Why a labels file gives nothing to learn from the take `take`: no rows at all, or only rows
+/// for other files (a few of which it names).
+fn no_rows_for(name: &str, take: &str, others: &[EffortLabel]) -> String {
+    if others.is_empty() {
+        return format!("{name} has no rows, only its header");
+    }
+    let mut files: Vec<&str> = Vec::new();
+    for row in others {
+        if !files.contains(&row.file.as_str()) {
+            files.push(&row.file);
+        }
+    }
+    const SHOWN: usize = 5;
+    let mut named = files.iter().take(SHOWN).map(|f| format!("`{f}`")).collect::<Vec<_>>().join(", ");
+    if files.len() > SHOWN {
+        named += &format!(" and {} more", files.len() - SHOWN);
+    }
+    format!("{name}: no row is for the loaded take `{take}`; its rows name {named}")
 }
 
 #[cfg(test)]
@@ -536,6 +732,12 @@ mod tests {
                 kind: FailureKind::NotLoaded,
             },
             Response::Failed { take: 1, run: None, message: "x.bvh: line 3".into(), kind: FailureKind::Input },
+            Response::ModelInUse {
+                take: 2,
+                run: 6,
+                origin: "12 segments of a.bvh labelled in e.csv".into(),
+                shipped: false,
+            },
         ] {
             let packet = r.clone().into_packet();
             assert!(packet.buffers.is_empty());
@@ -605,6 +807,184 @@ mod tests {
         let unknown =
             ask(&mut w, Request::Segment { take: 4, run: 6, method: "nope".into(), params: serde_json::json!({}) });
         assert!(matches!(unknown.last(), Some(Response::Failed { kind: FailureKind::Input, .. })));
+    }
+
+    #[test]
+    fn lma_families_travel_as_buffers_and_labels_as_text() {
+        let train = Request::TrainLma { take: 2, run: 3, name: "e.csv".into(), labels: "file,start_frame\n".into() };
+        let packet = train.clone().into_packet();
+        assert!(packet.buffers.is_empty());
+        assert_eq!(Request::from_packet(packet).unwrap(), train);
+        assert_eq!(train.take(), 2);
+
+        let family = r#"{"fps": 30.0, "factors": []}"#.to_string();
+        let mine = Request::UseLmaModel { take: 2, run: 4, model: Some(family.clone()) };
+        let packet = mine.clone().into_packet();
+        assert_eq!(packet.buffers, vec![family.clone().into_bytes()]);
+        assert!(!packet.json.contains("factors"), "the family travels as a buffer: {}", packet.json);
+        assert_eq!(Request::from_packet(packet).unwrap(), mine);
+        let shipped = Request::UseLmaModel { take: 2, run: 5, model: None };
+        let packet = shipped.clone().into_packet();
+        assert!(packet.buffers.is_empty(), "no buffer: the shipped family");
+        assert_eq!(Request::from_packet(packet).unwrap(), shipped);
+        let garbled =
+            Packet { json: r#"{"type":"use_lma_model","take":2,"run":5}"#.into(), buffers: vec![vec![0xff, 0xfe]] };
+        assert!(Request::from_packet(garbled).unwrap_err().contains("the LMA family is not UTF-8"));
+
+        let report = vec![FactorSummary {
+            factor: "space".into(),
+            segments: [4, 5, 3],
+            hidden: 3,
+            train_error: 0.1,
+            validation_error: 0.5,
+            shifted_validation_error: 0.45,
+        }];
+        let trained = Response::Trained {
+            take: 2,
+            run: 3,
+            model: family.clone(),
+            report,
+            origin: "12 segments".into(),
+            used_rows: 12,
+            ignored_rows: 1,
+        };
+        let packet = trained.clone().into_packet();
+        assert_eq!(packet.buffers, vec![family.into_bytes()]);
+        assert!(!packet.json.contains("factors"), "{}", packet.json);
+        let v: serde_json::Value = serde_json::from_str(&packet.json).unwrap();
+        assert_eq!((v["type"].as_str(), v["report"][0]["segments"][1].as_u64()), (Some("trained"), Some(5)));
+        assert_eq!(Response::from_packet(packet.clone()).unwrap(), trained);
+        let mut missing = packet;
+        missing.buffers.clear();
+        assert!(Response::from_packet(missing).unwrap_err().contains("no buffer for the trained family"));
+    }
+
+    /// Effort labels CSV rows `file,start,end,class×4`, classes cycling through the three elements.
+    fn label_rows(file: &str, rows: usize, step: usize, length: usize) -> String {
+        (0..rows)
+            .map(|k| {
+                let classes = [0, 1, 2, k].map(|f| ["indulging", "neutral", "condensing"][(k + f) % 3]).join(",");
+                format!("{file},{},{},{classes}\n", step * k, step * k + length)
+            })
+            .collect()
+    }
+
+    const HEADER: &str = "file,start_frame,end_frame,space,time,weight,flow\n";
+
+    fn train(take: TakeId, run: RunId, labels: String) -> Request {
+        Request::TrainLma { take, run, name: "mine.csv".into(), labels }
+    }
+
+    fn failure(posted: Vec<Response>) -> (FailureKind, String) {
+        match posted.last() {
+            Some(Response::Failed { kind, message, .. }) => (*kind, message.clone()),
+            other => panic!("expected a failure, got {other:?}"),
+        }
+    }
+
+    fn lma_summary(worker: &mut WorkerState, take: TakeId, run: RunId) -> String {
+        let posted = ask(worker, Request::Segment { take, run, method: "lma".into(), params: serde_json::json!({}) });
+        let Some(Response::Segmented { view, .. }) = posted.last() else { panic!("{:?}", posted.last()) };
+        view.details.summary.clone()
+    }
+
+    /// The only test in this process that changes the LMA family in use (it is per process,
+    /// as it is per worker in the browser).
+    #[test]
+    fn the_worker_trains_an_lma_family_on_the_rows_for_its_take_and_uses_it_until_told_otherwise() {
+        let quick =
+            crate::lma::network::TrainOptions { max_epochs: 40, learning_rate: 0.02, weight_decay: 1e-4, patience: 10 };
+        let config = TrainConfig {
+            restarts: 2,
+            saliency_rounds: 4,
+            options: quick,
+            shift_options: crate::lma::network::TrainOptions { max_epochs: 3, ..quick },
+            ..TrainConfig::default()
+        };
+        let mut w = WorkerState::with_training(config);
+        let mine = format!("{HEADER}{}", label_rows("12_01.bvh", 12, 30, 120));
+        assert_eq!(failure(ask(&mut w, train(1, 1, mine.clone()))).0, FailureKind::NotLoaded);
+        ask(&mut w, Request::Load { take: 1, name: "12_01.bvh".into(), restore: false, bytes: take_bytes() });
+
+        // what the user gets wrong is named: the line, the take and the files the rows name, too few rows
+        let typo = mine.replacen("neutral", "nuetral", 1);
+        let (kind, message) = failure(ask(&mut w, train(1, 2, typo)));
+        assert_eq!(kind, FailureKind::Input);
+        assert!(message.contains("mine.csv line 2") && message.contains("`nuetral`"), "{message}");
+        let elsewhere = format!("{HEADER}{}{}", label_rows("35_01.bvh", 9, 20, 90), label_rows("nope", 1, 0, 50));
+        let (kind, message) = failure(ask(&mut w, train(1, 3, elsewhere)));
+        assert_eq!(kind, FailureKind::Input);
+        assert!(message.contains("loaded take `12_01.bvh`") && message.contains("`35_01.bvh`, `nope`"), "{message}");
+        let (_, message) = failure(ask(&mut w, train(1, 4, HEADER.to_string())));
+        assert!(message.contains("no rows"), "{message}");
+        let (_, message) = failure(ask(&mut w, train(1, 5, format!("{HEADER}{}", label_rows("12_01", 5, 30, 120)))));
+        assert!(message.contains("too few to train on"), "{message}");
+        let long =
+            format!("{HEADER}{}12_01,400,600,neutral,neutral,neutral,neutral\n", label_rows("12_01", 9, 30, 120));
+        let (_, message) = failure(ask(&mut w, train(1, 6, long)));
+        assert!(message.contains("line 11") && message.contains("do not fit"), "{message}");
+        assert!(!lma_summary(&mut w, 1, 7).contains("your classifiers"), "failed trainings leave the shipped family");
+
+        // rows for the take (named in any case, with or without folder and extension) train the
+        // family; the other file's rows are counted and left out
+        let rows = label_rows("12_01.bvh", 12, 30, 120).replacen("12_01.bvh", "takes/12_01.BVH", 1).replacen(
+            "12_01.bvh",
+            "12_01",
+            1,
+        );
+        let labels = format!("{HEADER}{rows}{}", label_rows("35_01.bvh", 3, 20, 90));
+        let posted = ask(&mut w, train(1, 8, labels));
+        let stages: Vec<&str> = posted
+            .iter()
+            .filter_map(|r| match r {
+                Response::Progress { run: Some(8), stage, fraction: Some(f), .. } if (0.0..=1.0).contains(f) => {
+                    Some(stage.as_str())
+                }
+                _ => None,
+            })
+            .collect();
+        assert!(stages.contains(&"space saliency") && stages.contains(&"flow shifted networks"), "{stages:?}");
+        let Some(Response::Trained { take: 1, run: 8, model, report, origin, used_rows: 12, ignored_rows: 3 }) =
+            posted.last()
+        else {
+            panic!("{:?}", posted.last())
+        };
+        assert_eq!(report.iter().map(|r| r.factor.as_str()).collect::<Vec<_>>(), ["space", "time", "weight", "flow"]);
+        for r in report {
+            assert_eq!(r.segments.iter().sum::<usize>(), 12, "{r:?}");
+            assert!((0.0..=1.0).contains(&r.validation_error) && r.hidden >= 1, "{r:?}");
+        }
+        assert_eq!(report[0].segments, [4, 4, 4]);
+        assert_eq!(origin, "12 segments of 12_01.bvh labelled in mine.csv");
+        let family = EffortModel::from_json(model).unwrap();
+        assert_eq!((family.samples, &family.origin), (12, origin));
+        let yours = format!(" · your classifiers ({origin})");
+        assert!(lma_summary(&mut w, 1, 9).ends_with(&yours), "{}", lma_summary(&mut w, 1, 9));
+
+        // a bad family file is refused with what is wrong, and the family in use stays
+        let not_json = ask(&mut w, Request::UseLmaModel { take: 1, run: 10, model: Some("{\"fps\": 30".into()) });
+        let (kind, message) = failure(not_json);
+        assert!(kind == FailureKind::Input && message.contains("not an LMA effort model"), "{message}");
+        let mut three: serde_json::Value = serde_json::from_str(model).unwrap();
+        three["factors"].as_array_mut().unwrap().pop();
+        let short = ask(&mut w, Request::UseLmaModel { take: 1, run: 11, model: Some(three.to_string()) });
+        assert!(failure(short).1.contains("3 factors, expected 4"));
+        assert!(lma_summary(&mut w, 1, 12).ends_with(&yours));
+
+        // back to the shipped family, and the saved one again (whatever take the worker holds)
+        let shipped = ask(&mut w, Request::UseLmaModel { take: 1, run: 13, model: None });
+        let Some(Response::ModelInUse { shipped: true, origin: shipped_origin, .. }) = shipped.last() else {
+            panic!("{shipped:?}")
+        };
+        assert!(shipped_origin.starts_with("stand-in labels"), "{shipped_origin}");
+        assert!(!lma_summary(&mut w, 1, 14).contains("your classifiers"));
+        let again = ask(&mut w, Request::UseLmaModel { take: 99, run: 15, model: Some(model.clone()) });
+        assert_eq!(
+            again.last(),
+            Some(&Response::ModelInUse { take: 99, run: 15, origin: origin.clone(), shipped: false })
+        );
+        assert!(lma_summary(&mut w, 1, 16).ends_with(&yours));
+        ask(&mut w, Request::UseLmaModel { take: 1, run: 17, model: None });
     }
 
     #[test]

@@ -48,16 +48,18 @@ fn take_of(json: &str) -> u32 {
         .unwrap_or(0)
 }
 
-/// The page's message for `request` (a `segment`), or for a load whose file is `bytes`
-/// (an `ArrayBuffer` to be transferred: `Request::Load`'s own `bytes` are left empty).
-/// Returns the message and its transfer list.
+/// The page's message for `request` and its transfer list: the request's own buffers (a
+/// family's JSON text), or for a load whose file is `bytes`, that `ArrayBuffer` (transferred;
+/// `Request::Load`'s own `bytes` are left empty).
 pub fn request_message(request: &Request, bytes: Option<&ArrayBuffer>) -> (JsValue, Array) {
-    let json = serde_json::to_string(request).unwrap_or_default();
-    let buffers = Array::new();
-    if let Some(b) = bytes {
-        buffers.push(b);
+    match bytes {
+        Some(b) => {
+            let json = serde_json::to_string(request).unwrap_or_default();
+            let buffers = Array::of1(b);
+            (message(&json, &buffers), buffers)
+        }
+        None => packet_to_js(request.clone().into_packet()),
     }
-    (message(&json, &buffers), buffers)
 }
 
 fn message(json: &str, buffers: &Array) -> JsValue {

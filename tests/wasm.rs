@@ -35,8 +35,10 @@ mod worker {
     /// `www/worker.js` does, and decodes everything it posts as the page does.
     fn ask(request: Request, bytes: Option<&[u8]>) -> Vec<Response> {
         let buffer = bytes.map(|b| Uint8Array::from(b).buffer());
+        // a load's file, or the request's own buffers (a family's JSON text)
+        let own = request.clone().into_packet().buffers.len();
         let (message, transfer) = request_message(&request, buffer.as_ref());
-        assert_eq!(transfer.length(), u32::from(bytes.is_some()), "the file's buffer is transferred");
+        assert_eq!(transfer.length() as usize, if bytes.is_some() { 1 } else { own }, "the buffers are transferred");
         let posted = Rc::new(RefCell::new(Vec::new()));
         let sink = posted.clone();
         let post = Closure::<dyn FnMut(JsValue, Array)>::new(move |m: JsValue, transfer: Array| {
@@ -80,6 +82,52 @@ mod worker {
         let other = Request::Segment { take: 6, run: 9, method: "sssm".into(), params: serde_json::json!({}) };
         let posted = ask(other, None);
         assert!(matches!(posted.last(), Some(Response::Failed { take: 6, kind: FailureKind::NotLoaded, .. })));
+    }
+
+    /// Changes the LMA family in use of this test binary, and leaves the shipped one at its end.
+    #[wasm_bindgen_test]
+    fn an_lma_family_trained_in_the_worker_reaches_the_page_and_goes_back_to_a_worker() {
+        let take = include_bytes!("fixtures/12_01.bvh");
+        ask(Request::Load { take: 11, name: "12_01.bvh".into(), restore: false, bytes: Vec::new() }, Some(take));
+        let classes = ["indulging", "neutral", "condensing"];
+        let mut labels = "file,start_frame,end_frame,space,time,weight,flow\n".to_string();
+        for k in 0..12 {
+            let c = |f: usize| classes[(k + f) % 3];
+            labels += &format!("12_01.bvh,{},{},{},{},{},{}\n", 30 * k, 30 * k + 120, c(0), c(1), c(2), c(k));
+        }
+        labels += "35_01.bvh,0,90,neutral,neutral,neutral,neutral\n";
+        let posted = ask(Request::TrainLma { take: 11, run: 12, name: "mine.csv".into(), labels }, None);
+        assert!(posted
+            .iter()
+            .any(|r| matches!(r, Response::Progress { run: Some(12), stage, .. } if stage == "flow shifted networks")));
+        let Some(Response::Trained { run: 12, model, report, origin, used_rows: 12, ignored_rows: 1, .. }) =
+            posted.last()
+        else {
+            panic!("{:?}", posted.last())
+        };
+        assert_eq!(report.len(), 4);
+        let family = mocapseg::lma::classifier::EffortModel::from_json(model).expect("the family arrives whole");
+        assert_eq!((family.samples, &family.origin), (12, origin));
+        let lma_summary = |run| {
+            let request = Request::Segment { take: 11, run, method: "lma".into(), params: serde_json::json!({}) };
+            let Some(Response::Segmented { view, .. }) = ask(request, None).pop() else { panic!("lma run {run}") };
+            view.details.summary
+        };
+        let yours = format!("your classifiers ({origin})");
+        let summary = lma_summary(13);
+        assert!(summary.ends_with(&yours), "{summary}");
+
+        // back to the shipped family, then the page's copy sent again, as to a new worker
+        let shipped = ask(Request::UseLmaModel { take: 11, run: 14, model: None }, None);
+        assert!(matches!(shipped.last(), Some(Response::ModelInUse { run: 14, shipped: true, .. })), "{shipped:?}");
+        assert!(!lma_summary(15).contains("your classifiers"));
+        let again = ask(Request::UseLmaModel { take: 0, run: 16, model: Some(model.clone()) }, None);
+        assert_eq!(
+            again.last(),
+            Some(&Response::ModelInUse { take: 0, run: 16, origin: origin.clone(), shipped: false })
+        );
+        assert!(lma_summary(17).ends_with(&yours));
+        ask(Request::UseLmaModel { take: 11, run: 18, model: None }, None);
     }
 
     #[wasm_bindgen_test]
