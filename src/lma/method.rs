@@ -8,8 +8,8 @@ use super::body::{upper_body, Side};
 use super::classifier::{effort, EffortModel, Outputs};
 use super::deviance::{exhaustive, pruned, slow_frames};
 use super::features::{Kinematics, Pool};
-use super::search::{merge_arms, pair, smooth, troughs, Arms, DevianceMap};
 use super::model_in_use;
+use super::search::{merge_arms, pair, smooth, troughs, Arms, DevianceMap};
 use crate::method::bounds::{self, NumberParam, Valid};
 use crate::method::{Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions};
 use crate::motion::Motion;
@@ -36,8 +36,11 @@ pub struct LmaParams {
 }
 
 impl Default for LmaParams {
-    /// The paper's lengths (0.67–3.33 s); the others from what bodies do (a resting hand moves
-    /// below about one arm bone per second) and the paper's figures, not tuned on labelled takes.
+    /// The paper's lengths (0.67–3.33 s) and hand-speed threshold from what bodies do (a resting
+    /// hand moves below about one arm bone per second); `min_rise` and `merge_s` chosen, as the
+    /// paper chose its granularity, by a grid search on `s` — on takes spliced from the five
+    /// labelled takes (`cargo run --release --example tune_lma`, which also reports the
+    /// leave-one-take-out figure: README, "LMA").
     fn default() -> Self {
         LmaParams {
             exhaustive: false,
@@ -45,8 +48,8 @@ impl Default for LmaParams {
             max_s: 3.33,
             prune_speed: 1.0,
             smooth_s: 0.1,
-            min_rise: 0.1,
-            merge_s: 0.33,
+            min_rise: 0.4,
+            merge_s: 0.67,
         }
     }
 }
@@ -123,13 +126,6 @@ impl LmaParams {
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Lma;
 
-/// One arm's search, for the pictures.
-struct ArmSearch {
-    side: Side,
-    map: DevianceMap,
-    segments: Vec<(usize, usize)>,
-}
-
 impl Method for Lma {
     type Params = LmaParams;
     type Checked = ValidParams;
@@ -178,23 +174,46 @@ impl Method for Lma {
     }
 }
 
-/// The LMA segmentation of `motion` with the classifier family `model`.
-pub fn segment_with(
+/// What the classifiers say about a take: both arms' feature pools and deviance maps at the
+/// family's rate. The boundary search ([`Analysis::find`]) only reads it, so the search's own
+/// parameters (`smooth_s`, `min_rise`, `merge_s`) can be tried without assessing a segment again.
+pub struct Analysis {
+    pub fps: f64,
+    pub min_len: usize,
+    pub max_len: usize,
+    /// Fractional file frame of every working frame.
+    pub source_frames: Vec<f64>,
+    pub file_frames: usize,
+    pools: Vec<Pool>,
+    /// Left arm, right arm.
+    pub maps: Vec<(Side, DevianceMap)>,
+}
+
+/// A segment the search found (working frames), its arms, mean deviance and mean output.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Found {
+    pub start: usize,
+    pub end: usize,
+    pub arms: Arms,
+    pub deviance: f32,
+    pub outputs: Outputs,
+}
+
+/// Both arms' deviance maps of `motion` (pruned or exhaustive as `params` say).
+pub fn analyse(
     model: &EffortModel,
     motion: &Motion,
     params: &LmaParams,
-    options: &RunOptions,
     progress: &mut dyn Progress,
-) -> Result<MethodOutput, MethodError> {
+) -> Result<Analysis, MethodError> {
     progress.step("arms", 0.0)?;
     let fps = model.fps;
     let body = upper_body(motion, fps).map_err(|e| MethodError::Failed(e.to_string()))?;
     let min_len = ((params.min_s * fps).round() as usize).max(2 * model.max_shift + 2);
     let max_len = ((params.max_s * fps).round() as usize).max(min_len);
     let longest = max_len + 2 * model.max_shift + 1;
-    let mut searches = Vec::new();
+    let mut maps = Vec::new();
     let mut pools = Vec::new();
-    let mut assessed = 0usize;
     for (k, arm) in body.arms.iter().enumerate() {
         let pool = Pool::of(arm, fps, longest);
         let base = 0.05 + 0.45 * k as f64;
@@ -207,51 +226,103 @@ pub fn segment_with(
             let slow = slow_frames(&speed, params.prune_speed);
             pruned(model, &pool, &slow, (min_len, max_len), &mut report)?
         };
-        assessed += map.candidates().count();
-        let (rows, cols) = map.profiles();
-        let sigma = params.smooth_s * fps;
-        let starts = troughs(&smooth(&rows, sigma), params.min_rise);
-        let ends = troughs(&smooth(&cols, sigma), params.min_rise);
-        let segments = pair(&starts, &ends, min_len, max_len);
-        searches.push(ArmSearch { side: arm.side, map, segments });
+        maps.push((arm.side, map));
         pools.push(pool);
     }
-    progress.step("merge", 0.9)?;
-    let within = (params.merge_s * fps).round() as usize;
-    let merged = merge_arms(&searches[0].segments, &searches[1].segments, within);
-    let frames = WorkingFrames { source: &body.source_frames, file_frames: motion.frames() };
-    let mut segments = Vec::new();
-    for &(start, end, arms) in &merged {
-        let (label, (d, m)) = match arms {
-            Arms::First => ("left arm", model.assess(&pools[0], start, end)),
-            Arms::Second => ("right arm", model.assess(&pools[1], start, end)),
-            Arms::Both => {
-                let (l, r) = (model.assess(&pools[0], start, end), model.assess(&pools[1], start, end));
-                let mean: Outputs = std::array::from_fn(|k| (l.1[k] + r.1[k]) / 2.0);
-                ("both arms", ((l.0 + r.0) / 2.0, mean))
-            }
-        };
-        let working = Segment {
-            start,
-            end,
-            label: label.into(),
-            level: Level::Primitive,
-            cluster: None,
-            score: Some((d as f64 * 1000.0).round() / 1000.0),
-            mirror_of: None,
-            effort: Some(rounded(effort(&m))),
-        };
-        segments.extend(frames.to_file(working));
+    Ok(Analysis { fps, min_len, max_len, source_frames: body.source_frames, file_frames: motion.frames(), pools, maps })
+}
+
+impl Analysis {
+    /// Candidate segments assessed, both arms.
+    pub fn assessed(&self) -> usize {
+        self.maps.iter().map(|(_, m)| m.candidates().count()).sum()
     }
+
+    /// Each arm's segments: troughs of the smoothed row and column profiles paired start to end.
+    pub fn arm_segments(&self, params: &LmaParams) -> Vec<Vec<(usize, usize)>> {
+        let sigma = params.smooth_s * self.fps;
+        self.maps
+            .iter()
+            .map(|(_, map)| {
+                let (rows, cols) = map.profiles();
+                let starts = troughs(&smooth(&rows, sigma), params.min_rise);
+                let ends = troughs(&smooth(&cols, sigma), params.min_rise);
+                pair(&starts, &ends, self.min_len, self.max_len)
+            })
+            .collect()
+    }
+
+    /// The segments of both arms, merged, each assessed by the family for its Effort.
+    pub fn find(&self, model: &EffortModel, params: &LmaParams) -> Vec<Found> {
+        let arms = self.arm_segments(params);
+        let within = (params.merge_s * self.fps).round() as usize;
+        merge_arms(&arms[0], &arms[1], within)
+            .into_iter()
+            .map(|(start, end, arms)| {
+                let (deviance, outputs) = match arms {
+                    Arms::First => model.assess(&self.pools[0], start, end),
+                    Arms::Second => model.assess(&self.pools[1], start, end),
+                    Arms::Both => {
+                        let (l, r) =
+                            (model.assess(&self.pools[0], start, end), model.assess(&self.pools[1], start, end));
+                        ((l.0 + r.0) / 2.0, std::array::from_fn(|k| (l.1[k] + r.1[k]) / 2.0))
+                    }
+                };
+                Found { start, end, arms, deviance, outputs }
+            })
+            .collect()
+    }
+
+    /// Found segments as schema segments at the file's frame rate (level `primitive`, labelled by
+    /// arm, `score` = mean deviance, with their Effort).
+    pub fn to_file(&self, found: &[Found]) -> Vec<Segment> {
+        let frames = WorkingFrames { source: &self.source_frames, file_frames: self.file_frames };
+        found
+            .iter()
+            .filter_map(|f| {
+                let label = match f.arms {
+                    Arms::First => "left arm",
+                    Arms::Second => "right arm",
+                    Arms::Both => "both arms",
+                };
+                frames.to_file(Segment {
+                    start: f.start,
+                    end: f.end,
+                    label: label.into(),
+                    level: Level::Primitive,
+                    cluster: None,
+                    score: Some((f.deviance as f64 * 1000.0).round() / 1000.0),
+                    mirror_of: None,
+                    effort: Some(rounded(effort(&f.outputs))),
+                })
+            })
+            .collect()
+    }
+}
+
+/// The LMA segmentation of `motion` with the classifier family `model`.
+pub fn segment_with(
+    model: &EffortModel,
+    motion: &Motion,
+    params: &LmaParams,
+    options: &RunOptions,
+    progress: &mut dyn Progress,
+) -> Result<MethodOutput, MethodError> {
+    let analysis = analyse(model, motion, params, progress)?;
+    progress.step("search", 0.9)?;
+    let merged = analysis.find(model, params);
+    let segments = analysis.to_file(&merged);
+    let assessed = analysis.assessed();
     let mut pictures = Vec::new();
     if options.pictures {
         progress.step("pictures", 0.95)?;
-        for s in &searches {
-            pictures.push(deviance_picture(s));
+        let arms = analysis.arm_segments(params);
+        for ((side, map), segments) in analysis.maps.iter().zip(&arms) {
+            pictures.push(deviance_picture(*side, map, segments));
         }
         pictures.push(effort_picture(&segments, motion.frames()));
     }
-    let count = |a: Arms| merged.iter().filter(|m| m.2 == a).count();
+    let count = |a: Arms| merged.iter().filter(|m| m.arms == a).count();
     let summary = format!(
         "{} gestures ({} both arms, {} left, {} right) · {} search, {} candidate segments assessed by {} classifiers",
         segments.len(),
@@ -283,8 +354,7 @@ const MAP_PIXELS: usize = 480;
 
 /// The start × end deviance map of one arm (the paper's Fig. 5): rows are start frames, columns
 /// end frames, darker = the classifiers agree more; the chosen segments in red.
-fn deviance_picture(search: &ArmSearch) -> Picture {
-    let map = &search.map;
+fn deviance_picture(arm: Side, map: &DevianceMap, segments: &[(usize, usize)]) -> Picture {
     let n = map.frames.max(1);
     let side = n.min(MAP_PIXELS);
     let px = |t: usize| (t * side / n).min(side - 1);
@@ -305,7 +375,7 @@ fn deviance_picture(search: &ArmSearch) -> Picture {
         let grey = (40.0 + 215.0 * v) as u8;
         rgba[4 * i..4 * i + 3].copy_from_slice(&[grey, grey, grey]);
     }
-    for &(s, e) in &search.segments {
+    for &(s, e) in segments {
         for (dy, dx) in [(0, 0), (0, 1), (1, 0), (0, -1), (-1, 0)] {
             let (y, x) = (px(s) as isize + dy, px(e) as isize + dx);
             if (0..side as isize).contains(&y) && (0..side as isize).contains(&x) {
@@ -314,7 +384,7 @@ fn deviance_picture(search: &ArmSearch) -> Picture {
             }
         }
     }
-    let name = search.side.name();
+    let name = arm.name();
     Picture {
         id: format!("deviance-{name}"),
         title: format!("Deviance map, {name} arm"),

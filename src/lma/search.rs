@@ -12,6 +12,8 @@
 //! numbers of candidates; and the culling threshold is a share of the profile's own spread
 //! (its 10th to 90th percentile), since deviance units depend on the classifiers.
 
+pub use crate::stats::gaussian_smooth as smooth;
+
 /// Mean deviance of candidate segments `start..=end`, `min_len ≤ end − start ≤ max_len` frames:
 /// one row per start frame; `None` where a candidate was not computed (the pruned search).
 #[derive(Debug, Clone, PartialEq)]
@@ -80,32 +82,6 @@ impl DevianceMap {
         let [rows, cols] = means(&raw);
         (rows, cols)
     }
-}
-
-/// `profile` smoothed by a Gaussian of `sigma` frames over its defined (non-`NaN`) values, each
-/// output renormalised by the weights present; `NaN` where the profile is.
-pub fn smooth(profile: &[f64], sigma: f64) -> Vec<f64> {
-    if sigma < 0.5 {
-        return profile.to_vec();
-    }
-    let half = (3.0 * sigma).ceil() as usize;
-    let kernel: Vec<f64> = (0..=half).map(|k| (-0.5 * (k as f64 / sigma).powi(2)).exp()).collect();
-    (0..profile.len())
-        .map(|t| {
-            if profile[t].is_nan() {
-                return f64::NAN;
-            }
-            let (mut sum, mut weight) = (0.0, 0.0);
-            for u in t.saturating_sub(half)..(t + half + 1).min(profile.len()) {
-                if !profile[u].is_nan() {
-                    let w = kernel[u.abs_diff(t)];
-                    sum += w * profile[u];
-                    weight += w;
-                }
-            }
-            sum / weight
-        })
-        .collect()
 }
 
 /// The troughs of `profile` (ignoring `NaN`s): local minima of its defined values, each kept only

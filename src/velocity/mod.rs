@@ -119,31 +119,7 @@ impl VelocityParams {
 /// seconds (none below half a frame).
 pub fn hand_speed(features: &FeatureMatrix, col: usize, fps: f64, sigma_s: f64) -> Vec<f32> {
     let raw = Kinematics::speed(&points(features, col), fps);
-    gaussian(&raw, sigma_s * fps).into_iter().map(|v| v as f32).collect()
-}
-
-/// `values` convolved with a normalised Gaussian of `sigma` samples (truncated at 3σ; the ends
-/// renormalised), or unchanged when `sigma < 0.5`.
-fn gaussian(values: &[f64], sigma: f64) -> Vec<f64> {
-    if sigma < 0.5 {
-        return values.to_vec();
-    }
-    let half = (3.0 * sigma).ceil() as isize;
-    let kernel: Vec<f64> = (-half..=half).map(|k| (-0.5 * (k as f64 / sigma).powi(2)).exp()).collect();
-    let n = values.len() as isize;
-    (0..n)
-        .map(|i| {
-            let (mut sum, mut weight) = (0.0, 0.0);
-            for (k, w) in (-half..=half).zip(&kernel) {
-                let j = i + k;
-                if (0..n).contains(&j) {
-                    sum += w * values[j as usize];
-                    weight += w;
-                }
-            }
-            sum / weight
-        })
-        .collect()
+    crate::stats::gaussian_smooth(&raw, sigma_s * fps).into_iter().map(|v| v as f32).collect()
 }
 
 /// One hand's boundaries: local minima of `speed` below `low`, each kept when the speed passed
