@@ -93,7 +93,6 @@ impl Rng {
     }
 }
 
-
 /// `profile` convolved with a Gaussian of `sigma` samples (truncated at 3σ), over its defined
 /// (non-`NaN`) values, each output renormalised by the weights present (so the ends and gaps
 /// are not pulled towards 0); `NaN` where the profile is; unchanged for `sigma < 0.5`. Shared by
