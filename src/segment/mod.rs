@@ -12,6 +12,7 @@
 
 pub mod cuts;
 pub mod frames;
+pub mod labelling;
 pub mod metrics;
 pub mod palette;
 pub mod report;

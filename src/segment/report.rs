@@ -20,20 +20,46 @@ pub struct Row {
 }
 
 /// The score columns; `s@0.5s` is Bouchard & Badler's segment similarity (matched − unmatched / 2, a count).
-const COLUMNS: [&str; 7] = ["F1@0.5s", "F1@1s", "covering", "Hungarian acc.", "strict", "tolerant", "s@0.5s"];
+/// `edit` and `F1@10/25/50` are the per-frame labelling scores (percent; see `labelling.rs`).
+const COLUMNS: [&str; 11] = [
+    "F1@0.5s",
+    "F1@1s",
+    "covering",
+    "Hungarian acc.",
+    "strict",
+    "tolerant",
+    "s@0.5s",
+    "edit",
+    "F1@10",
+    "F1@25",
+    "F1@50",
+];
 
-fn values(s: &Scores) -> [f64; 7] {
+fn values(s: &Scores) -> [f64; 11] {
     let f1 = |k: usize| s.boundaries.get(k).map_or(f64::NAN, |b| b.f1);
     let similarity = s.segments.similarity;
-    [f1(0), f1(1), s.covering, s.hungarian_accuracy, s.strict_accuracy, s.tolerant_accuracy, similarity]
+    let l = &s.labelling;
+    [
+        f1(0),
+        f1(1),
+        s.covering,
+        s.hungarian_accuracy,
+        s.strict_accuracy,
+        s.tolerant_accuracy,
+        similarity,
+        l.edit,
+        l.f1[0],
+        l.f1[1],
+        l.f1[2],
+    ]
 }
 
 /// The mean of every score column over `rows` (`None` when there are none).
-pub fn mean(rows: &[Row]) -> Option<[f64; 7]> {
+pub fn mean(rows: &[Row]) -> Option<[f64; 11]> {
     if rows.is_empty() {
         return None;
     }
-    let mut mean = [0.0; 7];
+    let mut mean = [0.0; 11];
     for r in rows {
         for (m, v) in mean.iter_mut().zip(values(&r.scores)) {
             *m += v / rows.len() as f64;
@@ -96,6 +122,11 @@ mod tests {
                 hungarian_accuracy: 0.5,
                 strict_accuracy: 0.25,
                 tolerant_accuracy: 1.0,
+                labelling: crate::segment::labelling::LabellingScores {
+                    frame_accuracy: 0.5,
+                    edit: 80.0,
+                    f1: [90.0, 70.0, 50.0],
+                },
             },
             found_actions: 6,
             seconds: None,
@@ -107,10 +138,13 @@ mod tests {
         let table = markdown(&[row("a", 1.0, 0.5), row("b", 0.5, 0.25)], &[row("a+b", 0.1, 0.1)]);
         let lines: Vec<&str> = table.lines().collect();
         assert_eq!(lines.len(), 6, "{table}");
-        assert_eq!(lines[2], "| a | 5 / 6 | 1.00 | 1.00 | 0.50 | 0.50 | 0.25 | 1.00 | 0.50 |");
+        assert_eq!(
+            lines[2],
+            "| a | 5 / 6 | 1.00 | 1.00 | 0.50 | 0.50 | 0.25 | 1.00 | 0.50 | 80.00 | 90.00 | 70.00 | 50.00 |"
+        );
         assert_eq!(
             lines[4],
-            "| **mean** | | **0.75** | **0.75** | **0.38** | **0.50** | **0.25** | **1.00** | **0.50** |"
+            "| **mean** | | **0.75** | **0.75** | **0.38** | **0.50** | **0.25** | **1.00** | **0.50** | **80.00** | **90.00** | **70.00** | **50.00** |"
         );
         assert!(lines[5].starts_with("| a+b |"));
         assert!(!table.contains("time"));
