@@ -7,9 +7,15 @@
 //! holds another one (a load that lost a race with a failing one, or a new worker after a crash
 //! or a cancel) answers `not_loaded`, and the page sends it the take on screen again and repeats
 //! the request once. A worker whose wasm trapped, or whose run the user cancels, is replaced.
+//!
+//! The LMA family works the same way: a training on the user's labels or a switch of family is
+//! one request under way at a time (repeated once after `not_loaded`, sent again to a new
+//! worker), and every worker the page starts first gets the user's family the page holds — a
+//! new worker starts with the shipped one, and LMA must not silently go back to it.
 
+use super::lma_training::{self, TrainingState, UserFamily};
 use super::{AppState, LoadState, MethodSlot, RunState};
-use crate::protocol::{FailureKind, Request, Response, RunId, TakeId};
+use crate::protocol::{FactorSummary, FailureKind, Request, Response, RunId, TakeId};
 use crate::worker::{request_message, response_from_js};
 use js_sys::ArrayBuffer;
 use leptos::prelude::*;
@@ -64,6 +70,26 @@ struct Run {
     retried: bool,
 }
 
+/// What the user asked of the LMA family.
+#[derive(Clone)]
+enum LmaAsk {
+    /// Train on the labels file `name` (its text).
+    Train { name: String, labels: String },
+    /// Use a family file's (name, JSON), or the shipped family (`None`).
+    Use(Option<(String, String)>),
+}
+
+/// The LMA family request under way.
+struct LmaJob {
+    id: RunId,
+    ask: LmaAsk,
+    retried: bool,
+    /// The take it was last sent for.
+    take_name: String,
+    /// `performance.now()` when it was asked.
+    started: f64,
+}
+
 /// A handle on the worker; cheap to clone.
 #[derive(Clone)]
 pub struct Loader(Rc<Inner>);
@@ -82,6 +108,10 @@ struct Inner {
     shown: RefCell<Option<Take>>,
     /// The current run of each method (by registry name).
     runs: RefCell<Vec<Option<Run>>>,
+    /// The LMA family request under way.
+    lma_job: RefCell<Option<LmaJob>>,
+    /// The request that gave the newest worker the user's family (its answer is checked).
+    family_sync: Cell<Option<RunId>>,
     /// Keeps the worker's event handlers alive.
     handlers: RefCell<Vec<Handler>>,
 }
@@ -97,6 +127,8 @@ impl Loader {
             pending: RefCell::new(None),
             shown: RefCell::new(None),
             runs: RefCell::new(state.methods.iter().map(|_| None).collect()),
+            lma_job: RefCell::new(None),
+            family_sync: Cell::new(None),
             handlers: RefCell::new(Vec::new()),
         });
         spawn_worker(&inner);
@@ -150,6 +182,39 @@ impl Loader {
             return;
         }
         inner.state.methods[index].run.set(RunState::Cancelled);
+        replace_worker(inner);
+    }
+
+    /// Trains the LMA family on the labels file `name` (its text) for the take on screen.
+    pub fn train_lma(&self, name: String, labels: String) {
+        let lma = self.0.state.lma;
+        lma.state.set(TrainingState::Training { stage: "starting".into(), fraction: 0.0 });
+        lma.status.set(format!("Training on the rows of {name} for the take on screen…"));
+        start_lma_job(&self.0, LmaAsk::Train { name, labels });
+    }
+
+    /// Makes the family of the file `name` (its JSON text) the one LMA runs with, or the shipped
+    /// family (`None`).
+    pub fn use_lma_model(&self, model: Option<(String, String)>) {
+        self.0.state.lma.state.set(TrainingState::Switching);
+        start_lma_job(&self.0, LmaAsk::Use(model));
+    }
+
+    /// Stops a training: the worker is replaced, and the new one gets the family the page holds.
+    pub fn cancel_lma_training(&self) {
+        let inner = &self.0;
+        if inner.lma_job.borrow_mut().take().is_none() {
+            return;
+        }
+        let lma = inner.state.lma;
+        let (state, status) = match lma.family.get_untracked() {
+            Some(f) => {
+                (TrainingState::Done, format!("Training cancelled; LMA still uses your classifiers ({}).", f.origin))
+            }
+            None => (TrainingState::Idle, "Training cancelled; LMA still uses the shipped classifiers.".to_string()),
+        };
+        lma.status.set(status);
+        lma.state.set(state);
         replace_worker(inner);
     }
 }
@@ -273,6 +338,158 @@ fn spawn_worker(inner: &Rc<Inner>) {
     worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
     *inner.handlers.borrow_mut() = vec![on_message, on_error];
     *inner.worker.borrow_mut() = Some(worker);
+    send_family(inner);
+}
+
+/// Gives a worker just started the user's family the page holds (a worker starts with the
+/// shipped one), before any other request.
+fn send_family(inner: &Rc<Inner>) {
+    inner.family_sync.set(None);
+    let Some(family) = inner.state.lma.family.get_untracked() else { return };
+    let id = next_id(inner);
+    inner.family_sync.set(Some(id));
+    let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
+    let request = Request::UseLmaModel { take, run: id, model: Some(family.json.clone()) };
+    if let Err(message) = post(inner, &request, None) {
+        drop_family(inner, message);
+    }
+}
+
+/// The worker would not take the user's family: the page drops it (so that no worker is asked
+/// again) and says so; LMA runs with the shipped family.
+fn drop_family(inner: &Inner, message: String) {
+    inner.family_sync.set(None);
+    let lma = inner.state.lma;
+    lma.family.set(None);
+    lma.report.set(Vec::new());
+    lma.status.set(format!("The worker could not take your classifiers ({message}); LMA uses the shipped ones."));
+    lma.state.set(TrainingState::Failed);
+}
+
+fn start_lma_job(inner: &Rc<Inner>, ask: LmaAsk) {
+    let id = next_id(inner);
+    let started = now();
+    *inner.lma_job.borrow_mut() = Some(LmaJob { id, ask, retried: false, take_name: String::new(), started });
+    if let Err(message) = send_lma_job(inner) {
+        fail_lma_job(inner, message);
+    }
+}
+
+/// Posts the LMA family request under way, for the take on screen.
+fn send_lma_job(inner: &Rc<Inner>) -> Result<(), String> {
+    let (take, take_name) = inner.shown.borrow().as_ref().map(|t| (t.id, t.name.clone())).unzip();
+    let request = {
+        let mut job = inner.lma_job.borrow_mut();
+        let job = job.as_mut().ok_or("no LMA request")?;
+        job.take_name = take_name.unwrap_or_default();
+        match &job.ask {
+            LmaAsk::Train { name, labels } => Request::TrainLma {
+                take: take.ok_or("load a take before training")?,
+                run: job.id,
+                name: name.clone(),
+                labels: labels.clone(),
+            },
+            LmaAsk::Use(model) => Request::UseLmaModel {
+                take: take.unwrap_or(0),
+                run: job.id,
+                model: model.as_ref().map(|(_, json)| json.clone()),
+            },
+        }
+    };
+    post(inner, &request, None)
+}
+
+/// The LMA family request under way failed: the status line says why; the family in use stays.
+fn fail_lma_job(inner: &Inner, message: String) {
+    let job = inner.lma_job.borrow_mut().take();
+    let message = match job.map(|j| j.ask) {
+        Some(LmaAsk::Use(Some((name, _)))) => format!("{name}: {message}"),
+        _ => message,
+    };
+    let lma = inner.state.lma;
+    lma.status.set(message);
+    lma.state.set(TrainingState::Failed);
+}
+
+/// Whether `run` is the LMA family request under way.
+fn is_lma_job(inner: &Inner, run: RunId) -> bool {
+    inner.lma_job.borrow().as_ref().is_some_and(|j| j.id == run)
+}
+
+/// LMA runs again on the take on screen (after its family changed).
+fn rerun_lma(inner: &Rc<Inner>) {
+    let index = inner.state.methods.iter().position(|m| m.info.name == lma_training::METHOD);
+    if let (Some(index), true) = (index, inner.shown.borrow().is_some()) {
+        start_run(inner, index);
+    }
+}
+
+/// The worker trained the user's family and uses it.
+fn on_trained(inner: &Rc<Inner>, model: String, report: Vec<FactorSummary>, origin: String, rows: (usize, usize)) {
+    let Some(job) = inner.lma_job.borrow_mut().take() else { return };
+    let seconds = (now() - job.started) / 1000.0;
+    let file = match &job.ask {
+        LmaAsk::Train { name, .. } => name.clone(),
+        LmaAsk::Use(_) => String::new(),
+    };
+    let (used, ignored) = rows;
+    let left_out = match ignored {
+        0 => String::new(),
+        1 => " (1 row for another file left out)".to_string(),
+        n => format!(" ({n} rows for other files left out)"),
+    };
+    let lma = inner.state.lma;
+    lma.family.set(Some(Arc::new(UserFamily { json: model, origin, trained_on: Some(job.take_name.clone()) })));
+    lma.report.set(report);
+    lma.status.set(format!(
+        "Trained on {used} rows of {file} for {} in {seconds:.2} s{left_out}. LMA runs with your classifiers now.",
+        job.take_name
+    ));
+    lma.state.set(TrainingState::Done);
+    rerun_lma(inner);
+}
+
+/// The worker switched to the family the user asked for.
+fn on_model_in_use(inner: &Rc<Inner>, origin: String, shipped: bool) {
+    let Some(job) = inner.lma_job.borrow_mut().take() else { return };
+    let lma = inner.state.lma;
+    lma.report.set(Vec::new());
+    match job.ask {
+        LmaAsk::Use(Some((name, json))) if !shipped => {
+            lma.status.set(format!("Loaded {name}: LMA runs with your classifiers ({origin})."));
+            lma.family.set(Some(Arc::new(UserFamily { json, origin, trained_on: None })));
+            lma.state.set(TrainingState::Done);
+        }
+        _ => {
+            lma.family.set(None);
+            lma.status
+                .set("Back to the shipped classifiers (trained on stand-in labels); LMA runs with them now.".into());
+            lma.state.set(TrainingState::Idle);
+        }
+    }
+    rerun_lma(inner);
+}
+
+fn on_lma_job_failed(inner: &Rc<Inner>, message: String, kind: FailureKind) {
+    match kind {
+        FailureKind::NotLoaded => {
+            let first = inner.lma_job.borrow_mut().as_mut().is_some_and(|j| !std::mem::replace(&mut j.retried, true));
+            let resent = first && restore(inner).and_then(|()| send_lma_job(inner)).is_ok();
+            if !resent {
+                fail_lma_job(inner, message);
+            }
+        }
+        FailureKind::Internal => {
+            fail_lma_job(inner, message);
+            replace_worker(inner);
+        }
+        FailureKind::Input | FailureKind::Cancelled => fail_lma_job(inner, message),
+    }
+}
+
+/// Milliseconds since the page started.
+fn now() -> f64 {
+    web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now())
 }
 
 /// A new worker in place of the old one, given the work the old one had: the pending load and
@@ -289,6 +506,12 @@ fn replace_worker(inner: &Rc<Inner>) {
             if let Err(message) = send_run(inner, index) {
                 fail_run(inner, index, message);
             }
+        }
+    }
+    let asked = inner.lma_job.borrow().is_some();
+    if asked {
+        if let Err(message) = send_lma_job(inner) {
+            fail_lma_job(inner, message);
         }
     }
 }
@@ -308,6 +531,9 @@ fn on_worker_error(inner: &Rc<Inner>, event: Event) {
         if inner.runs.borrow()[index].is_some() {
             fail_run(inner, index, format!("the worker failed: {message}"));
         }
+    }
+    if inner.lma_job.borrow().is_some() {
+        fail_lma_job(inner, format!("the worker failed: {message}"));
     }
     if let Some(worker) = inner.worker.borrow_mut().take() {
         worker.terminate();
@@ -332,6 +558,8 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
         Response::Progress { run: Some(run), stage, fraction, .. } => {
             if let Some(index) = run_index(inner, run) {
                 state.methods[index].run.set(RunState::Running { stage, fraction: fraction.unwrap_or(0.0) });
+            } else if is_lma_job(inner, run) {
+                state.lma.state.set(TrainingState::Training { stage, fraction: fraction.unwrap_or(0.0) });
             }
         }
         Response::Loaded { take, motion } if take == inner.current.get() => {
@@ -363,6 +591,22 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                     state.error.set(None);
                 }
                 slot.run.set(RunState::Done);
+            }
+        }
+        Response::Trained { run, model, report, origin, used_rows, ignored_rows, .. } if is_lma_job(inner, run) => {
+            on_trained(inner, model, report, origin, (used_rows, ignored_rows));
+        }
+        Response::ModelInUse { run, origin, shipped, .. } if is_lma_job(inner, run) => {
+            on_model_in_use(inner, origin, shipped);
+        }
+        Response::ModelInUse { run, .. } if inner.family_sync.get() == Some(run) => inner.family_sync.set(None),
+        Response::Failed { run: Some(run), message, kind, .. } if is_lma_job(inner, run) => {
+            on_lma_job_failed(inner, message, kind);
+        }
+        Response::Failed { run: Some(run), message, kind, .. } if inner.family_sync.get() == Some(run) => {
+            drop_family(inner, message);
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
             }
         }
         Response::Failed { take, run: None, message, kind } => {

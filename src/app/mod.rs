@@ -13,10 +13,12 @@
 //! After each successful load the worker runs every method whose `auto_run` is set with the
 //! parameters in its form ([`method_panel`]: one generic panel per registered method, built from
 //! the registry); `document.body.dataset.<method>` (e.g. `data-sssm`) says where each stands:
-//! `idle`, `running`, `done`, `error` or `cancelled`.
+//! `idle`, `running`, `done`, `error` or `cancelled`. Under the LMA panel, [`lma_training`] trains
+//! LMA's classifiers on the user's own Effort labels (`data-lma-training`).
 
 mod drop_zone;
 mod error_banner;
+mod lma_training;
 mod loader;
 mod method_panel;
 mod motion_image;
@@ -35,6 +37,7 @@ use wasm_bindgen::JsCast;
 
 use drop_zone::DropZone;
 use error_banner::ErrorBanner;
+use lma_training::{LmaTraining, LmaTrainingPanel};
 use loader::{Loader, Urls};
 use method_panel::MethodPanel;
 use player::Player;
@@ -137,6 +140,8 @@ pub struct AppState {
     pub error_is_run: RwSignal<bool>,
     /// Every registered method, in the registry's order (made once per page).
     pub methods: &'static [MethodSlot],
+    /// LMA's classifiers from the user's own labels.
+    pub lma: LmaTraining,
 }
 
 impl AppState {
@@ -151,6 +156,7 @@ impl AppState {
             play_until: RwSignal::new(None),
             error_is_run: RwSignal::new(false),
             methods: Box::leak(crate::method::registry().iter().map(|m| MethodSlot::new(*m)).collect()),
+            lma: LmaTraining::new(),
         }
     }
 
@@ -231,7 +237,15 @@ fn App(urls: Urls) -> impl IntoView {
         {state
             .methods
             .iter()
-            .map(|slot| view! { <MethodPanel state=state method=slot loader=loader.clone()/> })
+            .map(|slot| {
+                // LMA's panel is followed by the training of its classifiers
+                let training = (slot.info.name == lma_training::METHOD)
+                    .then(|| view! { <LmaTrainingPanel state=state loader=loader.clone()/> });
+                view! {
+                    <MethodPanel state=state method=slot loader=loader.clone()/>
+                    {training}
+                }
+            })
             .collect_view()}
     }
 }

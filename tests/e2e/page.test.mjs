@@ -8,7 +8,10 @@
 // parser's error (with its line) while the page keeps working, the automatic run takes the form's
 // parameters, and the protocol's races — a file that fails while another is still parsing, a
 // worker replaced after a cancel or a fatal error — never make "Run" segment another take than the
-// one on screen. Screenshots go to OUT_DIR (default <repo>/test-output).
+// one on screen; and LMA's classifiers trained on the user's own Effort labels in the browser (the
+// report, the download, loading it back, the shipped family again, errors in the status line, a
+// new worker after a cancel or a crash still using the user's family). Screenshots go to OUT_DIR
+// (default <repo>/test-output).
 //
 // Run: node page.test.mjs   (env: BASE_URL, OUT_DIR, FIXTURES, SAMPLE_BVH, E2E_TIMEOUT_MS)
 
@@ -329,6 +332,233 @@ test("every registered method gets a panel: the velocity baseline runs after the
   await page.click("#velocity-run");
   await page.waitForFunction(() => document.body.dataset.velocity === "done", null, { timeout: TIMEOUT });
   assert.equal(await page.locator("#error-banner").isVisible(), false, "the banner cleared after the good run");
+});
+
+// ---- LMA classifiers from the user's own Effort labels ----------------------------------------
+
+const LMA_HEADER = "file,start_frame,end_frame,space,time,weight,flow";
+const ELEMENTS = ["indulging", "neutral", "condensing"];
+
+/** An Effort labels CSV: `rows` segments of `file` (1.25 s each at 120 fps), classes mixed. */
+function effortCsv(file, rows, extra = []) {
+  const lines = [LMA_HEADER];
+  for (let k = 0; k < rows; k += 1) {
+    const start = 60 + 160 * k;
+    const classes = [k, Math.floor(k / 3), k + 1, k + 2].map((c) => ELEMENTS[c % 3]);
+    lines.push([file, start, start + 150, ...classes].join(","));
+  }
+  return [...lines, ...extra].join("\n") + "\n";
+}
+
+const lmaTraining = () => page.evaluate(() => document.body.dataset.lmaTraining ?? "");
+
+/** Starts recording every value body[data-lma-training] and body[data-lma] take. */
+async function watchLma() {
+  await page.evaluate(() => {
+    window.__lmaTraining = [];
+    window.__lma = [];
+    window.__lmaObserver?.disconnect();
+    window.__lmaObserver = new MutationObserver(() => {
+      window.__lmaTraining.push(document.body.dataset.lmaTraining ?? "");
+      window.__lma.push(document.body.dataset.lma ?? "");
+    });
+    window.__lmaObserver.observe(document.body, { attributes: true, attributeFilter: ["data-lma-training", "data-lma"] });
+  });
+}
+
+/** Waits until body[data-lma-training] went through `busy` (training, switching) and is `want`. */
+async function waitTraining(busy, want) {
+  try {
+    await page.waitForFunction(([b, w]) => window.__lmaTraining.includes(b) && document.body.dataset.lmaTraining === w,
+      [busy, want], { timeout: TIMEOUT });
+  } catch (e) {
+    await shot(`e2e-lma-training-timeout-${want}.png`).catch(() => {});
+    throw new Error(`LMA training did not go through ${busy} to ${want}: data-lma-training=${await lmaTraining()}, `
+      + `seen ${JSON.stringify(await page.evaluate(() => window.__lmaTraining))}, `
+      + `status="${await text("#lma-train-status").catch(() => "?")}", page errors=${JSON.stringify(pageErrors)}`);
+  }
+}
+
+/** Picks `csv` as the labels file `name`, clicks Train and waits for `want`; returns the milliseconds. */
+async function train(name, csv, want) {
+  await page.setInputFiles("#lma-labels", { name, mimeType: "text/csv", buffer: Buffer.from(csv) });
+  await page.waitForFunction((n) => document.querySelector("#lma-labels-name")?.textContent === n, name);
+  await page.locator("#lma-train:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await watchLma();
+  const started = Date.now();
+  await page.click("#lma-train");
+  await waitTraining("training", want);
+  return Date.now() - started;
+}
+
+/** Picks a family file (a path, or {name, mimeType, buffer}) and waits for `want`. */
+async function loadFamily(file, want) {
+  await watchLma();
+  await page.setInputFiles("#lma-model-file", file);
+  await waitTraining("switching", want);
+}
+
+/**
+ * Waits until LMA ran (again) after the last watchLma(): body[data-lma] went through "running" and
+ * is "done", and its summary does (or does not) say "your classifiers".
+ */
+async function waitLmaRun(yours) {
+  try {
+    await page.waitForFunction(
+      () => window.__lma.includes("running") && document.body.dataset.lma === "done", null, { timeout: TIMEOUT });
+  } catch (e) {
+    throw new Error(`LMA did not run again: data-lma=${await page.evaluate(() => document.body.dataset.lma)}, `
+      + `seen ${JSON.stringify(await page.evaluate(() => window.__lma))}, banner="${await text("#error-banner")}"`);
+  }
+  const counts = await text("#lma-counts");
+  assert.equal(counts.includes("your classifiers"), yours,
+    `#lma-counts should ${yours ? "" : "not "}say "your classifiers": "${counts}"`);
+  return counts;
+}
+
+/** Clicks #lma-run and, at once, #lma-cancel (the worker is replaced). */
+async function cancelLmaRun() {
+  await page.locator("#lma-run:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await page.evaluate(() => {
+    document.querySelector("#lma-run").click();
+    document.querySelector("#lma-cancel").click();
+  });
+  await page.waitForFunction(() => document.body.dataset.lma === "cancelled", null, { timeout: TIMEOUT });
+}
+
+/** Clicks #lma-run and waits for its result. */
+async function rerunLma(yours) {
+  await page.locator("#lma-run:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await watchLma();
+  await page.click("#lma-run");
+  return waitLmaRun(yours);
+}
+
+test("LMA trains on the user's Effort labels in the browser, saves, reloads and drops its classifiers", async () => {
+  await page.waitForFunction(() => document.body.dataset.lma === "done", null, { timeout: TIMEOUT });
+  assert.equal(await lmaTraining(), "idle", "the shipped family at start");
+  assert.match(await text("#lma-train-status"), /shipped classifiers/);
+  assert.equal(await page.locator("#lma-model-shipped").isDisabled(), true, "nothing to go back from");
+  assert.doesNotMatch(await text("#lma-counts"), /your classifiers/);
+  // the panel sits right under the LMA panel
+  assert.equal(await page.evaluate(() => document.querySelector("#lma-panel")?.nextElementSibling?.id), "lma-training");
+
+  // errors show in the status line, the page stays usable and the shipped family stays in use
+  const rows = 14;
+  const bad = effortCsv(SAMPLE_HDR.name, rows).replace(/\n(.*?),neutral,/, "\n$1,nuetral,");
+  const badLine = bad.split("\n").findIndex((l) => l.includes("nuetral")) + 1;
+  await train("bad-value.csv", bad, "error");
+  assert.match(await text("#lma-train-status"), new RegExp(`bad-value\\.csv line ${badLine}\\b.*nuetral`),
+    "the status line names the bad line");
+  await train("elsewhere.csv", effortCsv("86_01.bvh", rows), "error");
+  assert.match(await text("#lma-train-status"), new RegExp(`${SAMPLE_HDR.name.replace(".", "\\.")}.*86_01\\.bvh`),
+    "the status line names the loaded take and the file the rows name");
+  await train("few.csv", effortCsv(SAMPLE_HDR.name, 5), "error");
+  assert.match(await text("#lma-train-status"), /too few to train on/);
+  assert.equal(await page.locator("#lma-train-report").isVisible(), false, "no report without a training");
+  await shot("e2e-lma-train-error.png");
+
+  // a good file: its rows for the take train the family; the rows for another take are left out
+  const csv = effortCsv(SAMPLE_HDR.name, rows, [`86_01.bvh,0,200,${ELEMENTS.join(",")},neutral`]);
+  const ms = await train("effort.csv", csv, "done");
+  console.log(`  (training on ${rows} labelled segments of ${SAMPLE_HDR.name} took ${(ms / 1000).toFixed(2)} s `
+    + `from the click to the report; status: "${await text("#lma-train-status")}")`);
+  const status = await text("#lma-train-status");
+  assert.match(status, new RegExp(`Trained on ${rows} rows of effort\\.csv`), status);
+  assert.match(status, /1 row for another file left out/, status);
+  const factors = await page.locator("#lma-train-report tbody tr").evaluateAll(
+    (trs) => trs.map((tr) => [...tr.children].map((c) => c.textContent.trim())));
+  assert.deepEqual(factors.map((r) => r[0]), ["space", "time", "weight", "flow"], "one report row per factor");
+  for (const r of factors) {
+    assert.equal(r[1].split("/").reduce((a, n) => a + Number(n), 0), rows, `segments per class of ${r[0]}: ${r[1]}`);
+    assert.match(r[4], /^\d+ %$/, `validation error of ${r[0]}: ${r[4]}`);
+  }
+  // LMA ran again by itself, with the user's classifiers
+  await waitLmaRun(true);
+  await shot("e2e-lma-trained.png");
+  await page.locator("#lma-training").screenshot({ path: path.join(OUT, "e2e-lma-training-panel.png") });
+
+  // the download: a Blob URL of the family's JSON, named after the take
+  const blob = await page.evaluate(async () => {
+    const a = document.querySelector("#lma-model-download");
+    const json = await (await fetch(a.href)).json();
+    return { href: a.href, download: a.download, factors: json.factors?.length, samples: json.samples };
+  });
+  assert.match(blob.href, /^blob:/);
+  assert.equal(blob.factors, 4, "the downloaded family has 4 factors");
+  assert.equal(blob.samples, rows);
+  const stem = SAMPLE_HDR.name.replace(/\.bvh$/i, "");
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#lma-model-download")]);
+  assert.equal(download.suggestedFilename(), `lma-effort-${stem}.json`);
+  const saved = path.join(OUT, `lma-effort-${stem}.json`);
+  await download.saveAs(saved);
+
+  // a new worker (after a cancel, after a crash) gets the user's family before it runs LMA
+  await cancelLmaRun();
+  await rerunLma(true);
+  let served = 0;
+  const context = page.context();
+  const handler = async (route) => {
+    served += 1;
+    const response = await route.fetch();
+    const body = (await response.text()).replace(
+      "worker_handle(event.data, post);",
+      `if (!self.__broke && JSON.parse(event.data.json).type === "segment") { self.__broke = true; throw new Error("simulated trap"); }
+    worker_handle(event.data, post);`,
+    );
+    await route.fulfill({ response, body });
+    await context.unroute("**/www/worker.js", handler);
+  };
+  await context.route("**/www/worker.js", handler);
+  await cancelLmaRun(); // the next worker is the sabotaged script
+  allowConsoleErrors = true;
+  try {
+    await page.locator("#lma-run:not([disabled])").waitFor({ timeout: TIMEOUT });
+    await page.click("#lma-run");
+    await page.waitForFunction(() => document.body.dataset.lma === "error", null, { timeout: TIMEOUT });
+  } finally {
+    allowConsoleErrors = false;
+  }
+  assert.equal(served, 1, "the sabotaged worker script was served");
+  assert.match(await text("#error-banner"), /internal error: simulated trap/, "the banner says the worker broke");
+  await rerunLma(true);
+
+  // a training cancelled at once: the worker is replaced, the user's family stays in use
+  await page.setInputFiles("#lma-labels", { name: "effort.csv", mimeType: "text/csv", buffer: Buffer.from(csv) });
+  await page.waitForFunction(() => /effort\.csv: ready to train/.test(document.querySelector("#lma-train-status")?.textContent));
+  await page.locator("#lma-train:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await page.evaluate(() => {
+    document.querySelector("#lma-train").click();
+    document.querySelector("#lma-train-cancel").click();
+  });
+  await page.waitForFunction(() => document.body.dataset.lmaTraining === "done", null, { timeout: TIMEOUT });
+  assert.match(await text("#lma-train-status"), /Training cancelled; LMA still uses your classifiers/);
+  await rerunLma(true);
+
+  // back to the shipped family: LMA runs again without the user's classifiers
+  await watchLma();
+  await page.click("#lma-model-shipped");
+  await waitTraining("switching", "idle");
+  await waitLmaRun(false);
+  assert.equal(await page.locator("#lma-model-download").isVisible(), false, "no download without a trained family");
+
+  // a bad family file is refused with what is wrong; the shipped family stays
+  await loadFamily({ name: "broken.json", mimeType: "application/json", buffer: Buffer.from('{"fps": 30}') }, "error");
+  assert.match(await text("#lma-train-status"), /broken\.json: not an LMA effort model/);
+
+  // the downloaded family loads back
+  await loadFamily(saved, "done");
+  assert.match(await text("#lma-train-status"), new RegExp(`Loaded lma-effort-${stem}\\.json`));
+  const counts = await waitLmaRun(true);
+  assert.match(counts, new RegExp(`your classifiers \\(${rows} segments of ${SAMPLE_HDR.name.replace(".", "\\.")} `
+    + "labelled in effort\\.csv\\)"));
+
+  // and the shipped one again, for the tests that follow
+  await watchLma();
+  await page.click("#lma-model-shipped");
+  await waitTraining("switching", "idle");
+  await waitLmaRun(false);
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "no error banner from the training");
 });
 
 test("file input loads 02_01.bvh: summary, motion image, player", async () => {
