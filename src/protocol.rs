@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::image::MotionImage;
 use crate::lma::classifier::EffortModel;
-use crate::lma::corpus::{parse_labels, Corpus, CorpusConfig, EffortLabel};
+use crate::lma::corpus::{parse_labels, Corpus, CorpusConfig, EffortLabel, Sample};
 use crate::lma::training::{train_family, FactorReport, TrainConfig};
 use crate::method::{Details, MethodError, MethodOutput, RunOptions};
 use crate::motion::{Motion, Units, UpAxis};
@@ -268,7 +268,7 @@ pub struct FactorSummary {
 }
 
 impl FactorSummary {
-    fn new(report: &FactorReport, samples: &[crate::lma::corpus::Sample], factor: usize) -> FactorSummary {
+    fn new(report: &FactorReport, samples: &[Sample], factor: usize) -> FactorSummary {
         let mut segments = [0; 3];
         for s in samples {
             if let Some(n) = segments.get_mut(s.classes[factor]) {
