@@ -573,7 +573,7 @@ impl WorkerState {
             Err(message) => return fail(message, FailureKind::Input),
         };
         let (used, ignored): (Vec<EffortLabel>, Vec<EffortLabel>) =
-            rows.into_iter().partition(|row| names_take(&row.file, &motion.name));
+            rows.into_iter().partition(|row| crate::lma::corpus::same_file(&row.file, &motion.name));
         if used.is_empty() {
             return fail(no_rows_for(name, &motion.name, &ignored), FailureKind::Input);
         }
@@ -609,16 +609,6 @@ fn use_lma_model(take: TakeId, run: RunId, model: Option<&str>) -> Response {
         Ok((model, shipped)) => Response::ModelInUse { take, run, origin: model.origin.clone(), shipped },
         Err(message) => fail(message),
     }
-}
-
-/// A labels row's `file` names the take `take` (the rule `Corpus::from_labels` matches rows by:
-/// case aside, with or without folders and `.bvh`).
-fn names_take(file: &str, take: &str) -> bool {
-    let stem = |s: &str| {
-        let base = s.rsplit(['/', '\\']).next().unwrap_or(s).to_ascii_lowercase();
-        base.strip_suffix(".bvh").map(str::to_string).unwrap_or(base)
-    };
-    stem(file) == stem(take)
 }
 
 /// Why a labels file gives nothing to learn from the take `take`: no rows at all, or only rows

@@ -179,8 +179,9 @@ impl Corpus {
     }
 }
 
-/// `a` and `b` name the same file (case-insensitive, with or without folders and `.bvh`).
-fn same_file(a: &str, b: &str) -> bool {
+/// `a` and `b` name the same file (case-insensitive, with or without folders and `.bvh`): how a
+/// label row's `file` finds its take (here and in the worker).
+pub fn same_file(a: &str, b: &str) -> bool {
     let stem = |s: &str| {
         let base = s.rsplit(['/', '\\']).next().unwrap_or(s).to_ascii_lowercase();
         base.strip_suffix(".bvh").map(str::to_string).unwrap_or(base)
