@@ -360,27 +360,58 @@ fn deviance_picture(arm: Side, map: &DevianceMap, segments: &[(usize, usize)]) -
     let px = |t: usize| (t * side / n).min(side - 1);
     let mut sums = vec![0.0f32; side * side];
     let mut counts = vec![0u32; side * side];
-    let (mut lo, mut hi) = (f32::MAX, f32::MIN);
     for (s, e, d) in map.candidates() {
         let i = px(s) * side + px(e);
         sums[i] += d;
         counts[i] += 1;
-        lo = lo.min(d);
-        hi = hi.max(d);
     }
+    // grey from the 2nd to the 98th percentile of the drawn values (a few extreme candidates,
+    // e.g. at a T-pose, would otherwise leave everything else one shade)
+    let mut drawn: Vec<f32> = (0..side * side).filter(|&i| counts[i] > 0).map(|i| sums[i] / counts[i] as f32).collect();
+    drawn.sort_by(f32::total_cmp);
+    let at = |q: f64| drawn.get(((drawn.len().max(1) - 1) as f64 * q).round() as usize).copied().unwrap_or(0.0);
+    let (lo, hi) = (at(0.02), at(0.98));
     let span = (hi - lo).max(1e-6);
     let mut rgba = vec![255u8; side * side * 4];
-    for i in 0..side * side {
-        let v = if counts[i] > 0 { (sums[i] / counts[i] as f32 - lo) / span } else { continue };
-        let grey = (40.0 + 215.0 * v) as u8;
-        rgba[4 * i..4 * i + 3].copy_from_slice(&[grey, grey, grey]);
+    // the pruned search's few candidates are drawn as blocks, or they would be single pixels
+    let filled = counts.iter().filter(|&&c| c > 0).count();
+    let radius = if filled * 50 < side * side { 2isize } else { 0 };
+    // a light backdrop marks where candidates could lie (the band), the rest stays white
+    for y in 0..side {
+        for x in 0..side {
+            let (s, e) = (y * n / side, x * n / side);
+            if e > s + map.min_len.saturating_sub(1) && e <= s + map.max_len + n / side {
+                rgba[4 * (y * side + x)..4 * (y * side + x) + 3].copy_from_slice(&[236, 238, 242]);
+            }
+        }
     }
+    for i in (0..side * side).filter(|&i| counts[i] > 0) {
+        let v = ((sums[i] / counts[i] as f32 - lo) / span).clamp(0.0, 1.0);
+        let grey = (30.0 + 200.0 * v) as u8;
+        let (y, x) = ((i / side) as isize, (i % side) as isize);
+        for dy in -radius..=radius {
+            for dx in -radius..=radius {
+                let (py, px) = (y + dy, x + dx);
+                if (0..side as isize).contains(&py) && (0..side as isize).contains(&px) {
+                    let k = (py as usize * side + px as usize) * 4;
+                    rgba[k..k + 3].copy_from_slice(&[grey, grey, grey]);
+                }
+            }
+        }
+    }
+    // each chosen segment: a red ring of radius 4 around its (start, end)
     for &(s, e) in segments {
-        for (dy, dx) in [(0, 0), (0, 1), (1, 0), (0, -1), (-1, 0)] {
-            let (y, x) = (px(s) as isize + dy, px(e) as isize + dx);
-            if (0..side as isize).contains(&y) && (0..side as isize).contains(&x) {
-                let i = (y as usize * side + x as usize) * 4;
-                rgba[i..i + 3].copy_from_slice(&[220, 30, 30]);
+        for dy in -4isize..=4 {
+            for dx in -4isize..=4 {
+                let r2 = dy * dy + dx * dx;
+                if !(9..=20).contains(&r2) {
+                    continue;
+                }
+                let (y, x) = (px(s) as isize + dy, px(e) as isize + dx);
+                if (0..side as isize).contains(&y) && (0..side as isize).contains(&x) {
+                    let i = (y as usize * side + x as usize) * 4;
+                    rgba[i..i + 3].copy_from_slice(&[225, 25, 25]);
+                }
             }
         }
     }
@@ -390,8 +421,9 @@ fn deviance_picture(arm: Side, map: &DevianceMap, segments: &[(usize, usize)]) -
         title: format!("Deviance map, {name} arm"),
         caption: format!(
             "Mean deviance of the classifiers for every candidate segment of the {name} arm: start frame down, end \
-             frame across (the band between the shortest and longest segment); darker = more agreement. Red: the \
-             segments chosen for this arm, before the arms are merged."
+             frame across (the band between the shortest and longest segment, shaded); darker = more agreement \
+             (the pruned search assesses only segments between slow-hand frames: dots). Red: the segments chosen for \
+             this arm (rings), before the arms are merged."
         ),
         width: side,
         height: side,
