@@ -107,6 +107,12 @@ impl EffortModel {
         if !(self.fps.is_finite() && self.fps > 0.0) || self.min_len < 2 || self.max_len < self.min_len {
             return bad(format!("fps {} and lengths {}..{} are not usable", self.fps, self.min_len, self.max_len));
         }
+        if self.max_shift > 30 || self.max_len > 100_000 {
+            return bad(format!(
+                "max_shift {} (at most 30) or max_len {} is out of range",
+                self.max_shift, self.max_len
+            ));
+        }
         for (f, m) in Factor::ALL.iter().zip(&self.factors) {
             let n = m.selected.len();
             let ok = n > 0
@@ -116,7 +122,17 @@ impl EffortModel {
                 && m.scale.iter().all(|s| *s > 0.0)
                 && m.projection.len() == m.components * n
                 && m.nets.len() == self.shifts()
-                && m.nets.iter().all(|net| net.inputs == m.components && net.outputs == 3);
+                && m.projection.iter().chain(&m.mean).chain(&m.scale).all(|v| v.is_finite())
+                && m.nets.iter().all(|net| {
+                    net.inputs == m.components
+                        && net.outputs == 3
+                        && (1..=1000).contains(&net.hidden)
+                        && net.w1.len() == net.hidden * net.inputs
+                        && net.b1.len() == net.hidden
+                        && net.w2.len() == net.outputs * net.hidden
+                        && net.b2.len() == net.outputs
+                        && net.w1.iter().chain(&net.b1).chain(&net.w2).chain(&net.b2).all(|v| v.is_finite())
+                });
             if !ok {
                 return bad(format!("the {f:?} networks do not fit their inputs"));
             }
@@ -221,6 +237,24 @@ mod tests {
         m[7] = 1.0; // weight neutral
         let e = effort(&m);
         assert_eq!((e.space, e.time, e.weight, e.flow), (-1.0, 1.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn broken_model_files_are_refused_with_what_is_wrong() {
+        let shipped = crate::lma::shipped_model().unwrap();
+        assert_eq!(EffortModel::from_json(&shipped.to_json()).as_ref(), Ok(shipped));
+        let mut bad = shipped.clone();
+        bad.factors[1].nets[7].w1.pop();
+        assert!(EffortModel::from_json(&bad.to_json()).unwrap_err().contains("Time networks"));
+        let mut bad = shipped.clone();
+        bad.factors[2].nets[0].b2[0] = f32::NAN;
+        // NaN is written as null by JSON: the file no longer reads as a model
+        assert!(EffortModel::from_json(&bad.to_json()).is_err());
+        let mut bad = shipped.clone();
+        bad.max_shift = 1_000_000;
+        assert!(EffortModel::from_json(&bad.to_json()).unwrap_err().contains("max_shift"));
+        let err = EffortModel::from_json("{\"fps\": 30}").unwrap_err();
+        assert!(err.starts_with("not an LMA effort model"), "{err}");
     }
 
     #[test]
