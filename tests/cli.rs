@@ -368,3 +368,29 @@ fn eval_data_says_clearly_when_the_data_is_absent() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("no shared data here"));
 }
+
+#[test]
+fn gait_labels_tile_a_walk_as_a_label_csv() {
+    let out = run(&["gait", fixture("35_01.bvh").to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8(out.stdout).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("file,start_frame,end_frame,label"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    // consecutive rows tile the take's 358 frames
+    let mut next = 0;
+    for r in &rows {
+        assert_eq!(r[0], "35_01.bvh");
+        assert_eq!(r[1].parse::<usize>().unwrap(), next, "{rows:?}");
+        next = r[2].parse::<usize>().unwrap() + 1;
+    }
+    assert_eq!(next, 358);
+    // a walk: it has steps of both feet
+    assert!(rows.iter().any(|r| r[3].contains("left step")) && rows.iter().any(|r| r[3].contains("right step")));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("ok ") && stderr.contains("segments"), "{stderr}");
+    // a take without feet is reported, and nothing could be labelled
+    let out = run(&["gait", fixture("bvh_anim_test_simple.bvh").to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("FAIL"));
+}

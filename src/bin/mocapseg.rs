@@ -105,6 +105,18 @@ mod cli {
             #[arg(long)]
             exhaustive: bool,
         },
+        /// Label the gait phases of takes by rule (standing, begin/end left/right step, left/right
+        /// step, turn — the DT-FCN paper's locomotion labels; heuristic, from foot contacts and the
+        /// facing's turn rate) and write them as a label CSV `file,start_frame,end_frame,label`
+        /// (0-based inclusive file frames).
+        Gait {
+            /// BVH files and/or folders.
+            #[arg(required = true)]
+            inputs: Vec<PathBuf>,
+            /// The label CSV (default: stdout).
+            #[arg(long, short)]
+            out: Option<PathBuf>,
+        },
         /// Train the LMA Effort classifier family (121 boundary-shifted classifiers × 4 networks) and
         /// write it as JSON. Without --labels the labels are the stand-in Effort descriptors' terciles
         /// over the takes' segments between hand-speed minima (how the shipped models/lma-effort.json is made).
@@ -213,6 +225,7 @@ mod cli {
             Command::TrainLma { inputs, labels, seed, restarts, out } => {
                 train_lma(&inputs, labels, seed, restarts, &out)
             }
+            Command::Gait { inputs, out } => gait(&inputs, out),
             Command::Info { file } => info(&file),
             Command::Image { file, output } => image(&file, &output),
             Command::Positions { file, fps, end_sites, output } => positions(&file, fps, end_sites, &output),
@@ -349,6 +362,49 @@ mod cli {
         }
         files.dedup();
         Ok(files)
+    }
+
+    fn gait(inputs: &[PathBuf], out: Option<PathBuf>) -> Result<(), String> {
+        use mocapseg::labels::gait::{gait_of, runs, GaitParams};
+        use mocapseg::labels::{to_csv, LabelRow};
+        let mut rows = Vec::new();
+        let mut failed = 0;
+        for f in collect_files(inputs, "bvh")? {
+            let labelled = load(&f).and_then(|l| gait_of(&l.motion, &GaitParams::default()).map(|g| (l.motion, g)));
+            match labelled {
+                Ok((motion, labels)) => {
+                    let spans = runs(&labels);
+                    let mut seconds: Vec<(&str, f64)> = Vec::new();
+                    for &(s, e, g) in &spans {
+                        match seconds.iter_mut().find(|x| x.0 == g.name()) {
+                            Some(x) => x.1 += (e + 1 - s) as f64 / motion.fps,
+                            None => seconds.push((g.name(), (e + 1 - s) as f64 / motion.fps)),
+                        }
+                        rows.push(LabelRow {
+                            file: motion.name.clone(),
+                            start_frame: s,
+                            end_frame: e,
+                            label: g.name().into(),
+                        });
+                    }
+                    let summary: Vec<String> = seconds.iter().map(|(n, s)| format!("{n} {s:.1} s")).collect();
+                    eprintln!("ok    {}  {} segments: {}", f.display(), spans.len(), summary.join(", "));
+                }
+                Err(e) => {
+                    failed += 1;
+                    eprintln!("FAIL  {}: {e}", f.display());
+                }
+            }
+        }
+        let text = to_csv(&rows);
+        match out {
+            Some(path) => std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?,
+            None => print!("{text}"),
+        }
+        if failed > 0 && rows.is_empty() {
+            return Err("no take could be labelled".into());
+        }
+        Ok(())
     }
 
     fn train_lma(
