@@ -117,6 +117,23 @@ mod cli {
             #[arg(long, short)]
             out: Option<PathBuf>,
         },
+        /// Convert ground truth in the shared data's format (`trial,label,start_frame,end_frame,…`,
+        /// 1-based AMC frames) into the label CSV the supervised methods read
+        /// (`file,start_frame,end_frame,label`, 0-based BVH rows).
+        Labels {
+            /// Ground-truth CSVs.
+            #[arg(required = true)]
+            truth: Vec<PathBuf>,
+            /// The number the CSVs give the first frame (1 for CMU AMC frame numbers).
+            #[arg(long, default_value_t = 1)]
+            first_frame: usize,
+            /// BVH rows before the CSV's first frame (1 when the BVH prepends a T-pose row).
+            #[arg(long, default_value_t = 0)]
+            row_offset: usize,
+            /// The label CSV (default: stdout).
+            #[arg(long, short)]
+            out: Option<PathBuf>,
+        },
         /// Train the LMA Effort classifier family (121 boundary-shifted classifiers × 4 networks) and
         /// write it as JSON. Without --labels the labels are the stand-in Effort descriptors' terciles
         /// over the takes' segments between hand-speed minima (how the shipped models/lma-effort.json is made).
@@ -226,6 +243,9 @@ mod cli {
                 train_lma(&inputs, labels, seed, restarts, &out)
             }
             Command::Gait { inputs, out } => gait(&inputs, out),
+            Command::Labels { truth, first_frame, row_offset, out } => {
+                labels(&truth, TruthOptions { first_frame, bvh_row_offset: row_offset }, out)
+            }
             Command::Info { file } => info(&file),
             Command::Image { file, output } => image(&file, &output),
             Command::Positions { file, fps, end_sites, output } => positions(&file, fps, end_sites, &output),
@@ -362,6 +382,28 @@ mod cli {
         }
         files.dedup();
         Ok(files)
+    }
+
+    fn labels(truth: &[PathBuf], options: TruthOptions, out: Option<PathBuf>) -> Result<(), String> {
+        let mut rows = Vec::new();
+        for path in truth {
+            let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let (converted, skipped) =
+                mocapseg::labels::from_truth_csv(&text, options).map_err(|e| format!("{}: {e}", path.display()))?;
+            for why in skipped {
+                eprintln!("skipped {}: {why}", path.display());
+            }
+            eprintln!("{}: {} labelled segments", path.display(), converted.len());
+            rows.extend(converted);
+        }
+        let text = mocapseg::labels::to_csv(&rows);
+        match out {
+            Some(path) => std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display())),
+            None => {
+                print!("{text}");
+                Ok(())
+            }
+        }
     }
 
     fn gait(inputs: &[PathBuf], out: Option<PathBuf>) -> Result<(), String> {

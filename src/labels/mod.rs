@@ -5,9 +5,13 @@
 //! `file` the take's file name, frames **0-based, inclusive, at the file's own frame rate** (BVH
 //! data rows), `label` any text (quoted if it holds commas).
 //!
-//! * [`gait`]: heuristic gait-phase labels (Cheema et al. 2019's locomotion label kind).
+//! * [`gait`]: heuristic gait-phase labels (Cheema et al. 2019's locomotion label kind);
+//! * [`from_truth_csv`]: the shared data's ground truth (1-based AMC frames) as label rows —
+//!   `mocapseg labels ../shared/data/labels/mocap6_gt.csv -o mocap6.csv`.
 
 pub mod gait;
+
+use crate::segment::truth::{load_csv, TruthOptions};
 
 /// One labelled segment of a take.
 #[derive(Debug, Clone, PartialEq)]
@@ -28,9 +32,113 @@ pub fn to_csv(rows: &[LabelRow]) -> String {
     String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default()
 }
 
+/// Reads a label CSV (the header is required; errors name `source` and the line).
+pub fn read_csv(text: &str, source: &str) -> Result<Vec<LabelRow>, String> {
+    const HEADER: [&str; 4] = ["file", "start_frame", "end_frame", "label"];
+    let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).flexible(true).from_reader(text.as_bytes());
+    let header: Vec<String> =
+        reader.headers().map_err(|e| format!("{source}: {e}"))?.iter().map(|h| h.to_ascii_lowercase()).collect();
+    if header != HEADER {
+        return Err(format!(
+            "{source} line 1: expected the header `{}`, found `{}`",
+            HEADER.join(","),
+            header.join(",")
+        ));
+    }
+    let mut rows = Vec::new();
+    for record in reader.records() {
+        let r = record.map_err(|e| format!("{source}: {e}"))?;
+        let line = r.position().map_or(0, |p| p.line());
+        if r.len() != 4 {
+            return Err(format!("{source} line {line}: {} fields, expected 4 ({})", r.len(), HEADER.join(",")));
+        }
+        let frame = |i: usize| {
+            r[i].parse::<usize>()
+                .map_err(|_| format!("{source} line {line}: {} `{}` is not a frame number (0-based)", HEADER[i], &r[i]))
+        };
+        let (start_frame, end_frame) = (frame(1)?, frame(2)?);
+        if end_frame < start_frame {
+            return Err(format!("{source} line {line}: end_frame {end_frame} is before start_frame {start_frame}"));
+        }
+        if r[3].is_empty() {
+            return Err(format!("{source} line {line}: the label is empty"));
+        }
+        rows.push(LabelRow { file: r[0].to_string(), start_frame, end_frame, label: r[3].to_string() });
+    }
+    Ok(rows)
+}
+
+/// Ground truth in the shared data's format (`trial,label,start_frame,end_frame,…`, read by
+/// [`crate::segment::truth::load_csv`] with `options`) as label rows: every trial that reads,
+/// file `<trial>.bvh`, frames made 0-based BVH rows; and why each other trial could not be read
+/// (the shared data lists trials whose motion it lacks, some with incomplete rows).
+pub fn from_truth_csv(text: &str, options: TruthOptions) -> Result<(Vec<LabelRow>, Vec<String>), String> {
+    let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).flexible(true).from_reader(text.as_bytes());
+    let trial_column = reader
+        .headers()
+        .map_err(|e| e.to_string())?
+        .iter()
+        .position(|h| h == "trial")
+        .ok_or("the ground truth has no `trial` column")?;
+    let mut trials: Vec<String> = Vec::new();
+    for record in reader.records() {
+        let r = record.map_err(|e| e.to_string())?;
+        if let Some(t) = r.get(trial_column).filter(|t| !trials.iter().any(|x| x == t)) {
+            trials.push(t.to_string());
+        }
+    }
+    let (mut rows, mut skipped) = (Vec::new(), Vec::new());
+    for trial in &trials {
+        match load_csv(text, trial, options) {
+            Ok(truth) => rows.extend(truth.segments.iter().map(|s| LabelRow {
+                file: format!("{trial}.bvh"),
+                start_frame: s.start,
+                end_frame: s.end,
+                label: s.label.clone(),
+            })),
+            Err(e) => skipped.push(format!("trial {trial}: {e}")),
+        }
+    }
+    Ok((rows, skipped))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn label_files_read_back_and_name_their_bad_lines() {
+        let rows = vec![
+            LabelRow { file: "a.bvh".into(), start_frame: 0, end_frame: 9, label: "left step".into() },
+            LabelRow { file: "b, c.bvh".into(), start_frame: 10, end_frame: 20, label: "turn".into() },
+        ];
+        assert_eq!(read_csv(&to_csv(&rows), "x.csv").unwrap(), rows);
+        let err =
+            read_csv("file,start_frame,end_frame,label\na.bvh,0,9,walk\na.bvh,ten,20,run\n", "x.csv").unwrap_err();
+        assert!(err.contains("x.csv line 3") && err.contains("`ten`"), "{err}");
+        assert!(read_csv("trial,label\n", "x.csv").unwrap_err().contains("line 1: expected the header"));
+        assert!(read_csv("file,start_frame,end_frame,label\na,5,2,x\n", "x.csv").unwrap_err().contains("before"));
+    }
+
+    #[test]
+    fn the_shared_ground_truth_converts_to_zero_based_rows() {
+        let gt = "trial,label,start_frame,end_frame,trial_frames\n86_01,walk,1,550,1000\n86_01,jump,551,1000,1000\n\
+                  13_29,JumpJack,1,468,900\n13_29,Twist,469,900,900\n";
+        let (rows, skipped) = from_truth_csv(gt, TruthOptions::default()).unwrap();
+        assert!(skipped.is_empty());
+        assert_eq!(rows.len(), 4);
+        assert_eq!(
+            rows[0],
+            LabelRow { file: "86_01.bvh".into(), start_frame: 0, end_frame: 549, label: "walk".into() }
+        );
+        assert_eq!((rows[3].file.as_str(), rows[3].start_frame, rows[3].end_frame), ("13_29.bvh", 468, 899));
+        // a trial with an incomplete row is skipped, and said
+        let partial = format!("{gt}14_06,Box,901,,\n");
+        let (rows, skipped) = from_truth_csv(&partial, TruthOptions::default()).unwrap();
+        assert_eq!(rows.len(), 4);
+        assert_eq!(skipped.len(), 1);
+        assert!(skipped[0].starts_with("trial 14_06:"), "{skipped:?}");
+    }
 
     #[test]
     fn rows_are_written_with_their_header_and_quoted_when_needed() {
