@@ -11,6 +11,7 @@ pub mod bvh;
 pub mod features;
 pub mod image;
 pub mod kcs;
+pub mod knn;
 pub mod labels;
 pub mod lma;
 pub mod load;
