@@ -8,6 +8,7 @@
 //! (skeleton + world joint positions per frame) → motion image / segmentations.
 
 pub mod bvh;
+pub mod dtfcn;
 pub mod features;
 pub mod image;
 pub mod kcs;

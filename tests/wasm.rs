@@ -1,6 +1,6 @@
 //! Everything that must also hold in a real browser, in one wasm test binary run in headless
-//! Chromium: the core (BVH parser, forward kinematics, motion image), the SSSM and LMA suites
-//! (`tests/sssm.rs`, `tests/lma.rs`, included below) and the worker's `postMessage` glue of the protocol.
+//! Chromium: the core (BVH parser, forward kinematics, motion image), the SSSM, LMA and DT-FCN suites
+//! (`tests/sssm.rs`, `tests/lma.rs`, `tests/dtfcn.rs`, included below) and the worker's `postMessage` glue of the protocol.
 //!
 //! Run: `make test-wasm`, i.e. `cargo test --release --target wasm32-unknown-unknown --features web
 //! --test wasm` with `wasm-bindgen-test-runner` as the runner (.cargo/config.toml). One binary,
@@ -20,6 +20,11 @@ mod sssm;
 /// batched exhaustive map, both searches, training and a user's labels, in the browser.
 #[path = "lma.rs"]
 mod lma;
+
+/// DT-FCN and the k-NN (the same file as the native `tests/dtfcn.rs`): training, reproducibility,
+/// model files, the registered methods and every shipped model, in the browser.
+#[path = "dtfcn.rs"]
+mod dtfcn;
 
 /// The worker's entry point and the page's decoding, through real JS values.
 mod worker {

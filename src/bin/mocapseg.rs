@@ -24,6 +24,10 @@ fn main() -> std::process::ExitCode {
 }
 
 #[cfg(not(target_arch = "wasm32"))]
+#[path = "mocapseg/dtfcn_cli.rs"]
+mod dtfcn_cli;
+
+#[cfg(not(target_arch = "wasm32"))]
 mod cli {
     use std::collections::HashMap;
     use std::path::{Path, PathBuf};
@@ -104,6 +108,10 @@ mod cli {
             /// (the same as `--param exhaustive=true`).
             #[arg(long)]
             exhaustive: bool,
+            /// DT-FCN / k-NN: a shipped model (exercises, cmu-actions, locomotion) or a model file
+            /// (the same as `--param model=…`).
+            #[arg(long)]
+            model: Option<String>,
         },
         /// Label the gait phases of takes by rule (standing, begin/end left/right step, left/right
         /// step, turn — the DT-FCN paper's locomotion labels; heuristic, from foot contacts and the
@@ -154,6 +162,65 @@ mod cli {
             #[arg(long, short)]
             out: PathBuf,
         },
+        /// Train a DT-FCN (or, with --method knn, fit the k-NN) on labelled takes and write the model
+        /// file `segment --method dtfcn --model FILE` reads. Labels: CSV `file,start_frame,end_frame,label`
+        /// (0-based inclusive file frames; `mocapseg labels` converts the shared data's ground truth).
+        /// With --cross-validate: leave-one-take-out, the epochs chosen on an inner validation take,
+        /// a table of frame accuracy, edit and F1@{10,25,50} per held-out take, network and k-NN side by side.
+        TrainDtfcn {
+            /// BVH files and/or folders (takes without label rows are skipped, and said).
+            #[arg(long = "bvh", required = true, num_args = 1..)]
+            bvh: Vec<PathBuf>,
+            #[arg(long)]
+            labels: PathBuf,
+            /// Most epochs (training stops earlier when the validation loss stops falling).
+            #[arg(long, default_value_t = 60)]
+            epochs: usize,
+            /// The model file to write.
+            #[arg(long, short)]
+            out: Option<PathBuf>,
+            /// `dtfcn` or `knn`.
+            #[arg(long, default_value = "dtfcn")]
+            method: String,
+            /// The model's name (default: the output file's stem).
+            #[arg(long)]
+            name: Option<String>,
+            #[arg(long, default_value_t = 1)]
+            seed: u64,
+            /// Share of training frames given a random label (the paper's Table 3), 0–1.
+            #[arg(long, default_value_t = 0.0)]
+            noise: f64,
+            /// w_transition: frames around each label change whose loss is zeroed (Table 4; 0 = none).
+            #[arg(long, default_value_t = 0)]
+            mask: usize,
+            /// `all`, `none`, or a list of mirror,yaw,warp,scale,jitter.
+            #[arg(long, default_value = "all")]
+            augment: String,
+            /// The take whose validation loss chooses the epoch (early stopping); default none.
+            #[arg(long)]
+            validation: Option<String>,
+            /// Leave-one-take-out table instead of one model.
+            #[arg(long)]
+            cross_validate: bool,
+            #[arg(long, default_value_t = 1e-3)]
+            learning_rate: f64,
+            #[arg(long, default_value_t = 1e-4)]
+            weight_decay: f64,
+            /// Kernel width w (receptive field w⁵ frames).
+            #[arg(long, default_value_t = 3)]
+            width: usize,
+            /// Epochs without a better validation loss before stopping.
+            #[arg(long, default_value_t = 12)]
+            patience: usize,
+            /// Frames of each training crop the loss is taken on.
+            #[arg(long, default_value_t = 128)]
+            crop: usize,
+            /// Crops per optimiser step.
+            #[arg(long, default_value_t = 2)]
+            batch: usize,
+        },
+        /// Print a model file's header: kind, classes, colours, joint set, rate, how it was trained.
+        ModelInfo { file: PathBuf },
         /// Score segmentation JSON against ground truth CSV (boundary P/R/F1 at 0.5 s and 1 s, covering,
         /// Hungarian frame accuracy, strict/tolerant accuracy). One file: JSON; several files or a
         /// folder of predictions: one markdown table with the mean (--json for JSON).
@@ -233,16 +300,58 @@ mod cli {
 
     fn run(command: Command) -> Result<Outcome, String> {
         match command {
-            Command::Segment { inputs, method, mut params, out, jobs, exhaustive } => {
+            Command::Segment { inputs, method, mut params, out, jobs, exhaustive, model } => {
                 if exhaustive {
                     params.push("exhaustive=true".into());
                 }
+                if let Some(m) = model {
+                    params.push(format!("model={m}"));
+                }
+                install_model_files(&method, &params)?;
                 return segment(&inputs, &method, &params, out, jobs);
             }
             Command::TrainLma { inputs, labels, seed, restarts, out } => {
                 train_lma(&inputs, labels, seed, restarts, &out)
             }
             Command::Gait { inputs, out } => gait(&inputs, out),
+            Command::TrainDtfcn {
+                bvh,
+                labels,
+                epochs,
+                out,
+                method,
+                name,
+                seed,
+                noise,
+                mask,
+                augment,
+                validation,
+                cross_validate,
+                learning_rate,
+                weight_decay,
+                width,
+                patience,
+                crop,
+                batch,
+            } => {
+                let augment = mocapseg::dtfcn::augment::Augment::parse(&augment)?;
+                let options = mocapseg::dtfcn::training::TrainOptions {
+                    epochs,
+                    seed,
+                    label_noise: noise,
+                    mask_frames: mask,
+                    augment,
+                    learning_rate,
+                    weight_decay,
+                    width,
+                    patience,
+                    crop_frames: crop,
+                    batch,
+                    ..Default::default()
+                };
+                crate::dtfcn_cli::train(&bvh, &labels, options, out, &method, name, validation, cross_validate)
+            }
+            Command::ModelInfo { file } => crate::dtfcn_cli::model_info(&file),
             Command::Labels { truth, first_frame, row_offset, out } => {
                 labels(&truth, TruthOptions { first_frame, bvh_row_offset: row_offset }, out)
             }
@@ -259,6 +368,32 @@ mod cli {
             }
         }
         .map(|()| Outcome::Ok)
+    }
+
+    /// `segment --param model=FILE`: a model file given by path is read and installed under its
+    /// path, so the method finds it by that name.
+    fn install_model_files(method: &str, params: &[String]) -> Result<(), String> {
+        if method != "dtfcn" && method != "knn" {
+            return Ok(());
+        }
+        for p in params {
+            if let Some(path) = p.strip_prefix("model=") {
+                let path = path.trim();
+                if mocapseg::dtfcn::shipped::NAMES.contains(&path) {
+                    continue;
+                }
+                let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
+                let model = mocapseg::dtfcn::model::Model::from_bytes(&bytes, path)?;
+                if model.header.kind.name() != method {
+                    return Err(format!(
+                        "{path} is a {} model; --method {method} needs a {method} model",
+                        model.header.kind.name()
+                    ));
+                }
+                mocapseg::dtfcn::method::install(path, model)?;
+            }
+        }
+        Ok(())
     }
 
     fn load(file: &Path) -> Result<Loaded, String> {
@@ -354,7 +489,7 @@ mod cli {
 
     /// Every file under `inputs` with extension `ext` (folders searched recursively, sorted);
     /// files named directly are kept whatever their extension.
-    fn collect_files(inputs: &[PathBuf], ext: &str) -> Result<Vec<PathBuf>, String> {
+    pub(crate) fn collect_files(inputs: &[PathBuf], ext: &str) -> Result<Vec<PathBuf>, String> {
         fn walk(dir: &Path, ext: &str, out: &mut Vec<PathBuf>) -> Result<(), String> {
             let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
                 .map_err(|e| format!("{}: {e}", dir.display()))?

@@ -5,12 +5,14 @@
 //! (nalgebra), searched with a kiddo kd-tree. The confidence of a frame is the share of votes its
 //! label won.
 //!
-//! Not yet a registered method: it becomes one with the DT-FCN's model files and label set.
+//! It is a registered method (`knn`, [`crate::dtfcn::method`]) reading the same model files and
+//! label CSVs as the network.
 //! `cargo run --release --example eval_knn` scores it leave-one-take-out on the shared takes.
 
 use kiddo::immutable::float::kdtree::ImmutableKdTree;
 use kiddo::SquaredEuclidean;
 
+use crate::dtfcn::infer::Probabilities;
 use crate::features::end_effectors::canonical_joints;
 use crate::features::pca::principal_axes;
 use crate::features::{stack, FeatureMatrix};
@@ -22,7 +24,7 @@ use crate::segment::frames::WorkingFrames;
 pub const DIMS: usize = 32;
 
 /// How frames are described and voted on.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct KnnParams {
     pub fps: f64,
     /// Half the window, in working frames (30 = ±1 s at 30 Hz).
@@ -38,6 +40,25 @@ impl Default for KnnParams {
     }
 }
 
+impl KnnParams {
+    /// Refuses windows and votes the labeller cannot use (as read from a model file).
+    pub fn check(&self) -> Result<(), String> {
+        if (self.fps - crate::dtfcn::input::NETWORK_FPS).abs() > 1e-9 {
+            return Err(format!("k-NN at {} Hz; this mocapseg's k-NN works at 30 Hz", self.fps));
+        }
+        if !(0..=300).contains(&self.half_window) || !(1..=300).contains(&self.stride) {
+            return Err(format!(
+                "k-NN window ±{} frames every {}: expected 0 to 300 and 1 to 300",
+                self.half_window, self.stride
+            ));
+        }
+        if !(1..=100).contains(&self.k) {
+            return Err(format!("k-NN k = {}: expected 1 to 100", self.k));
+        }
+        Ok(())
+    }
+}
+
 /// A labelled take for fitting: the motion and one label index per file frame.
 pub struct Labelled<'a> {
     pub motion: &'a Motion,
@@ -50,6 +71,7 @@ pub struct Knn {
     mean: Vec<f32>,
     /// `DIMS × d` leading principal axes.
     axes: Vec<f32>,
+    points: Vec<[f32; DIMS]>,
     tree: ImmutableKdTree<f32, u32, DIMS, 32>,
     labels: Vec<usize>,
 }
@@ -66,6 +88,12 @@ fn project(x: &[f32], mean: &[f32], axes: &[f32]) -> [f32; DIMS] {
     std::array::from_fn(|k| {
         axes.get(k * d..(k + 1) * d).map_or(0.0, |a| a.iter().zip(x).zip(mean).map(|((a, x), m)| a * (x - m)).sum())
     })
+}
+
+impl std::fmt::Debug for Knn {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Knn({} frames, {:?})", self.points.len(), self.params)
+    }
 }
 
 impl Knn {
@@ -89,35 +117,114 @@ impl Knn {
         let (mean, axes) = principal_axes(&all);
         let points: Vec<[f32; DIMS]> = (0..all.frames()).map(|i| project(all.row(i), &mean, &axes)).collect();
         let tree = ImmutableKdTree::new_from_slice(&points);
-        Ok(Knn { params, mean, axes, tree, labels })
+        Ok(Knn { params, mean, axes, points, tree, labels })
+    }
+
+    /// The fitted labeller as bytes (the payload of its model file): frames `n` and window
+    /// values `d` (u32 LE each), the mean (`d` f32), the axes (`DIMS × d` f32), the projected
+    /// training frames (`n × DIMS` f32) and their labels (`n` u32).
+    pub fn to_bytes(&self) -> Vec<u8> {
+        let (n, d) = (self.points.len(), self.mean.len());
+        let mut out = Vec::with_capacity(8 + 4 * (d + self.axes.len() + n * (DIMS + 1)));
+        out.extend_from_slice(&(n as u32).to_le_bytes());
+        out.extend_from_slice(&(d as u32).to_le_bytes());
+        // only the leading DIMS axes are used (the fit keeps them all); fewer axes than DIMS
+        // (windows of fewer values) are padded with zero axes, which `project` gives 0 for
+        let mut axes = self.axes.iter().copied().take(DIMS * d).collect::<Vec<f32>>();
+        axes.resize(DIMS * d, 0.0);
+        let floats = self.mean.iter().chain(&axes).chain(self.points.iter().flatten());
+        for v in floats {
+            out.extend_from_slice(&v.to_le_bytes());
+        }
+        for &l in &self.labels {
+            out.extend_from_slice(&(l as u32).to_le_bytes());
+        }
+        out
+    }
+
+    /// Reads [`Knn::to_bytes`] back, checking sizes, values and that labels are below `classes`.
+    pub fn from_bytes(bytes: &[u8], params: KnnParams, classes: usize) -> Result<Knn, String> {
+        params.check()?;
+        let word = |i: usize| -> Result<[u8; 4], String> {
+            bytes.get(4 * i..4 * i + 4).and_then(|b| b.try_into().ok()).ok_or_else(|| "k-NN data truncated".to_string())
+        };
+        let n = u32::from_le_bytes(word(0)?) as usize;
+        let d = u32::from_le_bytes(word(1)?) as usize;
+        let offsets = (2 * params.half_window / params.stride + 1) as usize;
+        let expected_d = offsets * 3 * Canonical::ALL.len();
+        if d != expected_d {
+            return Err(format!("k-NN windows of {d} values, but its parameters make {expected_d}"));
+        }
+        let words = 2 + d + DIMS * d + n * DIMS + n;
+        if n == 0 || bytes.len() != 4 * words {
+            return Err(format!("k-NN data of {} bytes, expected {} for {n} frames", bytes.len(), 4 * words));
+        }
+        let float = |i: usize| word(i).map(f32::from_le_bytes);
+        let mut floats = Vec::with_capacity(d + DIMS * d + n * DIMS);
+        for i in 2..2 + d + DIMS * d + n * DIMS {
+            let v = float(i)?;
+            if !v.is_finite() {
+                return Err("k-NN data holds a non-finite value".into());
+            }
+            floats.push(v);
+        }
+        let mean = floats[..d].to_vec();
+        let axes = floats[d..d + DIMS * d].to_vec();
+        let points: Vec<[f32; DIMS]> =
+            floats[d + DIMS * d..].chunks_exact(DIMS).map(|c| std::array::from_fn(|k| c[k])).collect();
+        let mut labels = Vec::with_capacity(n);
+        for i in 0..n {
+            let l = u32::from_le_bytes(word(2 + d + DIMS * d + n * DIMS + i)?) as usize;
+            if l >= classes {
+                return Err(format!("k-NN frame {i} has label {l}, but the model has {classes} classes"));
+            }
+            labels.push(l);
+        }
+        let tree = ImmutableKdTree::new_from_slice(&points);
+        Ok(Knn { params, mean, axes, points, tree, labels })
+    }
+
+    /// The window and vote this labeller was fitted with.
+    pub fn params(&self) -> KnnParams {
+        self.params
+    }
+
+    /// Per working frame (at the labeller's rate) of `motion`: each of `classes` classes' share
+    /// of the `k` votes, plus 1e-4 · (k − rank) / k for each vote so that a tie goes to the
+    /// label whose nearest vote is nearer (shares stay within 1e-4 of the vote counts).
+    pub fn probabilities(&self, motion: &Motion, classes: usize) -> Result<Probabilities, String> {
+        let (w, _) = windows(motion, &self.params)?;
+        let k = self.params.k.max(1);
+        let mut values = vec![0f32; w.frames() * classes];
+        for i in 0..w.frames() {
+            let q = project(w.row(i), &self.mean, &self.axes);
+            let found = self.tree.nearest_n::<SquaredEuclidean>(
+                &q,
+                std::num::NonZero::new(k).unwrap_or(std::num::NonZero::<usize>::MIN),
+            );
+            let share = 1.0 / found.len().max(1) as f32;
+            for (rank, n) in found.iter().enumerate() {
+                let l = self.labels[n.item as usize];
+                if l < classes {
+                    values[i * classes + l] += share + 1e-4 * (k - rank) as f32 / (k * k) as f32;
+                }
+            }
+        }
+        Ok(Probabilities { frames: w.frames(), classes, values })
     }
 
     /// Per file frame of `motion`: the voted label and the share of the `k` votes it won.
     pub fn predict(&self, motion: &Motion) -> Result<Vec<(usize, f32)>, String> {
-        let (w, source) = windows(motion, &self.params)?;
-        let k = self.params.k.max(1);
-        let working: Vec<(usize, f32)> = (0..w.frames())
-            .map(|i| {
-                let q = project(w.row(i), &self.mean, &self.axes);
-                let found = self.tree.nearest_n::<SquaredEuclidean>(
-                    &q,
-                    std::num::NonZero::new(k).unwrap_or(std::num::NonZero::<usize>::MIN),
-                );
-                // votes in order of distance: ties go to the label whose nearest vote is nearer
-                let mut votes: Vec<(usize, usize, usize)> = Vec::new(); // (label, count, rank of first)
-                for (rank, n) in found.iter().enumerate() {
-                    let l = self.labels[n.item as usize];
-                    match votes.iter_mut().find(|v| v.0 == l) {
-                        Some(v) => v.1 += 1,
-                        None => votes.push((l, 1, rank)),
-                    }
-                }
-                let best = votes.iter().max_by_key(|v| (v.1, std::cmp::Reverse(v.2))).copied().unwrap_or((0, 0, 0));
-                (best.0, best.1 as f32 / found.len().max(1) as f32)
-            })
-            .collect();
+        let classes = self.labels.iter().max().map_or(1, |m| m + 1);
+        let p = self.probabilities(motion, classes)?;
+        let (_, source) = windows(motion, &self.params)?;
         let frames = WorkingFrames { source: &source, file_frames: motion.frames() };
-        Ok((0..motion.frames()).map(|f| working[frames.working_frame(f)]).collect())
+        Ok((0..motion.frames())
+            .map(|f| {
+                let (c, share) = p.best(frames.working_frame(f));
+                (c, (share * self.params.k as f32).round() / self.params.k as f32)
+            })
+            .collect())
     }
 }
 
@@ -144,6 +251,11 @@ mod tests {
         assert!(right > 0.95, "{right}");
         // far from the change of label, all five votes agree
         assert_eq!(predicted[50].1, 1.0);
+        // written and read back (its model file's payload), it votes the same
+        let back = Knn::from_bytes(&knn.to_bytes(), knn.params(), 2).unwrap();
+        assert_eq!(back.predict(&asked).unwrap(), predicted);
+        assert!(Knn::from_bytes(&knn.to_bytes(), knn.params(), 1).unwrap_err().contains("label 1"));
+        assert!(Knn::from_bytes(&knn.to_bytes()[..100], knn.params(), 2).is_err());
         // a take without the canonical joints is refused by name
         let stick = motion("stick.bvh", include_str!("../../tests/fixtures/bvh_anim_test_simple.bvh"));
         assert!(knn.predict(&stick).unwrap_err().starts_with("stick.bvh:"));

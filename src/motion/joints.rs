@@ -107,6 +107,26 @@ impl Canonical {
             Canonical::RightFoot => "RightFoot",
         }
     }
+
+    /// The same joint on the other side of the body (itself for the trunk and head).
+    pub fn mirror(self) -> Canonical {
+        use Canonical::*;
+        match self {
+            LeftShoulder => RightShoulder,
+            LeftElbow => RightElbow,
+            LeftHand => RightHand,
+            RightShoulder => LeftShoulder,
+            RightElbow => LeftElbow,
+            RightHand => LeftHand,
+            LeftHip => RightHip,
+            LeftKnee => RightKnee,
+            LeftFoot => RightFoot,
+            RightHip => LeftHip,
+            RightKnee => LeftKnee,
+            RightFoot => LeftFoot,
+            other => other,
+        }
+    }
 }
 
 impl std::fmt::Display for Canonical {

@@ -171,6 +171,26 @@ impl Motion {
         })
     }
 
+    /// Frames `start..end` as a take of their own (same skeleton, rate, units; clamped to the take).
+    pub fn slice(&self, start: usize, end: usize) -> Motion {
+        let j = self.joints();
+        let end = end.min(self.frames());
+        let start = start.min(end);
+        Motion { positions: self.positions[start * j..end * j].to_vec(), ..self.clone_without_positions() }
+    }
+
+    fn clone_without_positions(&self) -> Motion {
+        Motion {
+            name: self.name.clone(),
+            skeleton: self.skeleton.clone(),
+            fps: self.fps,
+            positions: Vec::new(),
+            units: self.units,
+            up_axis: self.up_axis,
+            warnings: self.warnings.clone(),
+        }
+    }
+
     /// Number of frames.
     pub fn frames(&self) -> usize {
         self.positions.len().checked_div(self.joints()).unwrap_or(0)

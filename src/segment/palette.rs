@@ -19,6 +19,27 @@ pub fn cluster_colour(cluster: usize, mirror_of: Option<usize>) -> String {
     format!("hsl({hue:.0}, 62%, {lightness}%)")
 }
 
+/// The CSS colour (`#rrggbb`) of class `i` of a labelling model (DT-FCN, k-NN): hues spread by
+/// the golden angle, alternating lightness; a class index has the same colour in every row,
+/// take and model file.
+pub fn class_colour(i: usize) -> String {
+    let h = (i as f64 * 137.508 + 20.0) % 360.0;
+    let (s, l) = (0.65, if i % 2 == 0 { 0.45 } else { 0.55 });
+    let c = (1.0 - (2.0 * l - 1.0f64).abs()) * s;
+    let x = c * (1.0 - ((h / 60.0) % 2.0 - 1.0).abs());
+    let m = l - c / 2.0;
+    let (r, g, b) = match (h / 60.0) as u32 {
+        0 => (c, x, 0.0),
+        1 => (x, c, 0.0),
+        2 => (0.0, c, x),
+        3 => (0.0, x, c),
+        4 => (x, 0.0, c),
+        _ => (c, 0.0, x),
+    };
+    let byte = |v: f64| ((v + m) * 255.0).round().clamp(0.0, 255.0) as u8;
+    format!("#{:02x}{:02x}{:02x}", byte(r), byte(g), byte(b))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

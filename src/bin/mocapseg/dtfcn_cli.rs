@@ -1,0 +1,199 @@
+//! `mocapseg train-dtfcn` and `mocapseg model-info`: the DT-FCN and k-NN models on the command
+//! line (the training itself is the library's, `mocapseg::dtfcn`).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use indicatif::{ProgressBar, ProgressStyle};
+use mocapseg::dtfcn::corpus::{
+    class_labels, fit_knn_model, leave_one_take_out, rows_without_takes, train_model, ModelMeta,
+};
+use mocapseg::dtfcn::model::{data_hash, Model};
+use mocapseg::dtfcn::training::{EpochReport, TrainOptions, TrainingTake};
+use mocapseg::labels::read_csv;
+use mocapseg::lma::corpus::same_file;
+use mocapseg::load::load_path;
+use mocapseg::motion::Motion;
+
+/// The command line as typed (for the model's provenance).
+fn command_line() -> String {
+    let args: Vec<String> = std::env::args().collect();
+    let mut shown = vec!["mocapseg".to_string()];
+    shown.extend(args.into_iter().skip(1).map(|a| if a.contains(' ') { format!("'{a}'") } else { a }));
+    shown.join(" ")
+}
+
+#[allow(clippy::too_many_arguments)]
+pub fn train(
+    inputs: &[PathBuf],
+    labels_path: &Path,
+    options: TrainOptions,
+    out: Option<PathBuf>,
+    method: &str,
+    name: Option<String>,
+    validation: Option<String>,
+    cross_validate: bool,
+) -> Result<(), String> {
+    if method != "dtfcn" && method != "knn" {
+        return Err(format!("--method {method}: expected dtfcn or knn"));
+    }
+    options.check()?;
+    let started = Instant::now();
+    let label_bytes = std::fs::read(labels_path).map_err(|e| format!("{}: {e}", labels_path.display()))?;
+    let rows = read_csv(&String::from_utf8_lossy(&label_bytes), &labels_path.display().to_string())?;
+    let files = crate::cli::collect_files(inputs, "bvh")?;
+    let mut motions: Vec<Motion> = Vec::new();
+    let mut hashed: Vec<(String, Vec<u8>)> = Vec::new();
+    for f in &files {
+        let fname = f.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        if !rows.iter().any(|r| same_file(&r.file, &fname)) {
+            eprintln!("skipped {}: no label rows name it", f.display());
+            continue;
+        }
+        let loaded = load_path(f).map_err(|e| e.to_string())?;
+        hashed.push((fname, std::fs::read(f).map_err(|e| format!("{}: {e}", f.display()))?));
+        motions.push(loaded.motion);
+    }
+    if motions.is_empty() {
+        return Err(format!("none of the takes given is named in {}", labels_path.display()));
+    }
+    let refs: Vec<&Motion> = motions.iter().collect();
+    let missing = rows_without_takes(&rows, &refs);
+    if !missing.is_empty() {
+        eprintln!("note: label rows of takes not given are left out: {}", missing.join(", "));
+    }
+    let (classes, labels) = class_labels(&rows, &refs)?;
+    let frames: usize = labels.iter().map(|l| l.iter().flatten().count()).sum();
+    eprintln!("{} takes, {} labelled frames, {} classes: {}", motions.len(), frames, classes.len(), classes.join(", "));
+    let on_epoch = |bar: &ProgressBar, take: &str, r: &EpochReport| {
+        bar.set_position(r.epoch as u64);
+        let val = match (r.validation_loss, r.validation_accuracy) {
+            (Some(l), Some(a)) => format!(" · validation loss {l:.3} accuracy {a:.3}"),
+            _ => String::new(),
+        };
+        let line = format!(
+            "{take}epoch {:>3}/{}: loss {:.3} · train accuracy {:.3}{val}{}",
+            r.epoch,
+            r.epochs,
+            r.loss,
+            r.train_accuracy,
+            if r.best { " *" } else { "" }
+        );
+        bar.suspend(|| eprintln!("{line}"));
+        true
+    };
+    let bar = ProgressBar::new(options.epochs as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] epoch {pos}/{len} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+
+    if cross_validate {
+        let folds = leave_one_take_out(&motions, &labels, &classes, &options, &mut |take, r| {
+            if r.epoch == 1 {
+                bar.reset();
+            }
+            on_epoch(&bar, &format!("[held out {take}] "), r)
+        })?;
+        bar.finish_and_clear();
+        println!(
+            "Leave one take out ({} takes; epochs chosen on the next take in turn, at most {}; augmentation {}; noise {}; mask {}):",
+            folds.len(),
+            options.epochs,
+            options.augment.describe(),
+            options.label_noise,
+            options.mask_frames
+        );
+        println!("| held-out take | validation take (its accuracy) | epoch kept / run | DT-FCN acc | edit | F1@10 | F1@25 | F1@50 | confidence | k-NN acc | edit | F1@10 | F1@25 | F1@50 | time |");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+        let mut mean = [0.0f64; 11];
+        let inner = folds.iter().map(|f| f.validation_accuracy).sum::<f64>() / folds.len().max(1) as f64;
+        for f in &folds {
+            let row = [
+                f.network.frame_accuracy,
+                f.network.edit,
+                f.network.f1[0],
+                f.network.f1[1],
+                f.network.f1[2],
+                f.confidence,
+                f.knn.frame_accuracy,
+                f.knn.edit,
+                f.knn.f1[0],
+                f.knn.f1[1],
+                f.knn.f1[2],
+            ];
+            for (m, v) in mean.iter_mut().zip(row) {
+                *m += v / folds.len() as f64;
+            }
+            println!(
+                "| {} | {} | {} / {} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} | {:.0} s |",
+                f.take, format!("{} ({:.3})", f.validation_take, f.validation_accuracy), f.best_epoch, f.epochs_run, row[0], row[1], row[2], row[3], row[4], row[5],
+                row[6], row[7], row[8], row[9], row[10], f.seconds
+            );
+        }
+        println!(
+            "| **mean** | ({inner:.3}) | | **{:.3}** | **{:.1}** | **{:.1}** | **{:.1}** | **{:.1}** | **{:.2}** | **{:.3}** | **{:.1}** | **{:.1}** | **{:.1}** | **{:.1}** | {:.0} s |",
+            mean[0], mean[1], mean[2], mean[3], mean[4], mean[5], mean[6], mean[7], mean[8], mean[9], mean[10],
+            started.elapsed().as_secs_f64()
+        );
+        return Ok(());
+    }
+
+    let out = out.ok_or("--out FILE is needed (or --cross-validate)")?;
+    let meta = ModelMeta {
+        name: name.unwrap_or_else(|| out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()),
+        command: command_line(),
+        data_hash: data_hash(&hashed, &label_bytes),
+    };
+    let model = if method == "knn" {
+        let takes: Vec<(&Motion, &[Option<usize>])> =
+            motions.iter().zip(&labels).map(|(m, l)| (m, l.as_slice())).collect();
+        fit_knn_model(&takes, &classes, &meta)?
+    } else {
+        let mut train_takes = Vec::new();
+        let mut val_takes = Vec::new();
+        for (m, l) in motions.iter().zip(&labels) {
+            let t = TrainingTake::new(m, l)?;
+            if validation.as_deref().is_some_and(|v| same_file(v, &m.name)) {
+                val_takes.push(t);
+            } else {
+                train_takes.push(t);
+            }
+        }
+        if let Some(v) = &validation {
+            if val_takes.is_empty() {
+                return Err(format!("--validation {v}: no such take among those given"));
+            }
+        }
+        let m = train_model(&train_takes, &val_takes, &classes, &options, &meta, &mut |r| on_epoch(&bar, "", r))?;
+        bar.finish_and_clear();
+        eprintln!("kept the weights of epoch {} of {}", m.header.provenance.best_epoch, m.header.provenance.epochs_run);
+        m
+    };
+    let bytes = model.to_bytes()?;
+    std::fs::write(&out, &bytes).map_err(|e| format!("{}: {e}", out.display()))?;
+    if let Some(n) = &model.header.network {
+        eprintln!(
+            "network: {} parameters (the paper's: 663,562 for 10 classes), receptive field {} frames",
+            n.parameter_count(),
+            n.receptive_field()
+        );
+    }
+    eprintln!("wrote {} ({} bytes) in {:.1} s", out.display(), bytes.len(), started.elapsed().as_secs_f64());
+    Ok(())
+}
+
+pub fn model_info(file: &Path) -> Result<(), String> {
+    let bytes = std::fs::read(file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let model = Model::from_bytes(&bytes, &file.display().to_string())?;
+    let mut h = serde_json::to_value(&model.header).map_err(|e| e.to_string())?;
+    if let Some(o) = h.as_object_mut() {
+        o.remove("standardise");
+        if let Some(n) = &model.header.network {
+            o.insert("parameters".into(), n.parameter_count().into());
+            o.insert("receptive_field_frames".into(), n.receptive_field().into());
+        }
+    }
+    println!("{}", serde_json::to_string_pretty(&h).map_err(|e| e.to_string())?);
+    Ok(())
+}

@@ -1,0 +1,321 @@
+//! From labelled takes to models and scores, the same for the command line and the browser:
+//! matching label rows to takes, the class list, training a DT-FCN or fitting a k-NN into a
+//! model file, and leave-one-take-out cross-validation with the epochs chosen inside the
+//! training takes (nested: the held-out take never chooses anything).
+
+use super::input::{joint_names, NETWORK_FPS};
+use super::model::{Labeller, Model, ModelHeader, ModelKind, Provenance};
+use super::training::{train, EpochReport, TrainOptions, Trained, TrainingTake};
+use crate::knn::{Knn, KnnParams, Labelled as KnnTake};
+use crate::labels::LabelRow;
+use crate::lma::corpus::same_file;
+use crate::motion::Motion;
+use crate::segment::labelling::{self, LabellingScores};
+
+/// The files `rows` name that are not among `takes` (their rows are left out of training).
+pub fn rows_without_takes(rows: &[LabelRow], takes: &[&Motion]) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for r in rows {
+        if !takes.iter().any(|m| same_file(&m.name, &r.file)) && !out.contains(&r.file) {
+            out.push(r.file.clone());
+        }
+    }
+    out
+}
+
+/// Confidence below which frames are `unknown` by default: chosen by the leave-one-class-out
+/// experiment (`cargo run --release --example eval_dtfcn -- unseen`, README) as the threshold
+/// that calls the most never-seen-class frames unknown while calling at most 10 % of the
+/// seen-class frames unknown (0.80: 35 % of unseen, 10 % of seen frames on mocap6).
+pub const DEFAULT_UNKNOWN_THRESHOLD: f32 = 0.8;
+
+/// The classes of `rows` in order of first appearance, and each take's per-file-frame labels
+/// (`None` where no row covers a frame). Rows naming no given take are left out
+/// ([`rows_without_takes`] names them); rows past a take's end are refused.
+pub fn class_labels(rows: &[LabelRow], takes: &[&Motion]) -> Result<(Vec<String>, Vec<Vec<Option<usize>>>), String> {
+    let mut classes: Vec<String> = Vec::new();
+    let mut labels: Vec<Vec<Option<usize>>> = takes.iter().map(|m| vec![None; m.frames()]).collect();
+    for (i, r) in rows.iter().enumerate() {
+        let Some(t) = takes.iter().position(|m| same_file(&m.name, &r.file)) else {
+            continue; // a row of a take not given (see `rows_without_takes`)
+        };
+        let n = takes[t].frames();
+        if r.end_frame >= n {
+            return Err(format!(
+                "label row {} ({} frames {}–{}) goes past the take's last frame {} (frames are 0-based)",
+                i + 2,
+                r.file,
+                r.start_frame,
+                r.end_frame,
+                n.saturating_sub(1)
+            ));
+        }
+        let c = classes.iter().position(|c| *c == r.label).unwrap_or_else(|| {
+            classes.push(r.label.clone());
+            classes.len() - 1
+        });
+        labels[t][r.start_frame..=r.end_frame].iter_mut().for_each(|l| *l = Some(c));
+    }
+    if classes.len() < 2 {
+        return Err(format!("the labels name {} class(es); a labeller needs at least 2", classes.len()));
+    }
+    Ok((classes, labels))
+}
+
+/// A colour per class ([`crate::segment::palette::class_colour`]).
+pub fn class_colours(classes: usize) -> Vec<String> {
+    (0..classes).map(crate::segment::palette::class_colour).collect()
+}
+
+/// What to call a model and how it was made.
+pub struct ModelMeta {
+    pub name: String,
+    pub command: String,
+    pub data_hash: String,
+}
+
+fn header(kind: ModelKind, classes: &[String], meta: &ModelMeta, provenance: Provenance) -> ModelHeader {
+    ModelHeader {
+        kind,
+        name: meta.name.clone(),
+        classes: classes.to_vec(),
+        colours: class_colours(classes.len()),
+        joints: joint_names(),
+        fps: NETWORK_FPS,
+        unknown_threshold: DEFAULT_UNKNOWN_THRESHOLD,
+        network: None,
+        standardise: None,
+        knn: None,
+        provenance,
+        payload_sha256: String::new(),
+        written_by: format!("mocapseg {}", env!("CARGO_PKG_VERSION")),
+    }
+}
+
+/// Trains a DT-FCN model on `takes` (early stopping on `validation` when given).
+pub fn train_model(
+    takes: &[TrainingTake],
+    validation: &[TrainingTake],
+    classes: &[String],
+    options: &TrainOptions,
+    meta: &ModelMeta,
+    on_epoch: &mut dyn FnMut(&EpochReport) -> bool,
+) -> Result<Model, String> {
+    let trained = train(takes, validation, classes, options, on_epoch)?;
+    Ok(model_from(trained, takes, classes, options, meta))
+}
+
+/// The model file's contents for a finished training run on `takes` (a [`train`] result or
+/// [`super::training::Trainer::finish`]'s).
+pub fn model_from(
+    trained: Trained,
+    takes: &[TrainingTake],
+    classes: &[String],
+    options: &TrainOptions,
+    meta: &ModelMeta,
+) -> Model {
+    let provenance = Provenance {
+        command: meta.command.clone(),
+        data_hash: meta.data_hash.clone(),
+        takes: takes.iter().map(|t| t.name.clone()).collect(),
+        frames: takes.iter().map(|t| t.labels.iter().flatten().count()).sum(),
+        options: options.clone(),
+        epochs_run: trained.reports.len(),
+        best_epoch: trained.best_epoch,
+    };
+    let mut h = header(ModelKind::Dtfcn, classes, meta, provenance);
+    h.network = Some(trained.network.clone());
+    h.standardise = Some(trained.standardise.clone());
+    Model { header: h, labeller: Labeller::Network(trained.net) }
+}
+
+/// Fits a k-NN model on `takes` (motions with per-file-frame labels; unlabelled frames left out).
+pub fn fit_knn_model(
+    takes: &[(&Motion, &[Option<usize>])],
+    classes: &[String],
+    meta: &ModelMeta,
+) -> Result<Model, String> {
+    let params = KnnParams::default();
+    let knn = fit_knn(takes, params)?;
+    let provenance = Provenance {
+        command: meta.command.clone(),
+        data_hash: meta.data_hash.clone(),
+        takes: takes.iter().map(|t| t.0.name.clone()).collect(),
+        frames: takes.iter().map(|t| t.1.iter().flatten().count()).sum(),
+        options: TrainOptions::default(),
+        epochs_run: 0,
+        best_epoch: 0,
+    };
+    let mut h = header(ModelKind::Knn, classes, meta, provenance);
+    h.knn = Some(params);
+    Ok(Model { header: h, labeller: Labeller::Knn(knn) })
+}
+
+/// The k-NN on the labelled frames of `takes`.
+pub fn fit_knn(takes: &[(&Motion, &[Option<usize>])], params: KnnParams) -> Result<Knn, String> {
+    // the k-NN takes a label for every frame: unlabelled stretches are cut out as separate takes
+    let mut parts: Vec<(Motion, Vec<usize>)> = Vec::new();
+    for (m, labels) in takes {
+        if labels.iter().all(Option::is_some) {
+            parts.push(((*m).clone(), labels.iter().map(|l| l.unwrap_or(0)).collect()));
+        } else {
+            let mut start = None;
+            for f in 0..=labels.len() {
+                match (labels.get(f).copied().flatten(), start) {
+                    (Some(_), None) => start = Some(f),
+                    (None, Some(s)) => {
+                        if f - s >= 30 {
+                            let sub = m.slice(s, f);
+                            parts.push((sub, labels[s..f].iter().map(|l| l.unwrap_or(0)).collect()));
+                        }
+                        start = None;
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+    let labelled: Vec<KnnTake> = parts.iter().map(|(m, l)| KnnTake { motion: m, labels: l }).collect();
+    if labelled.is_empty() {
+        return Err("no labelled stretch of at least 30 frames to fit the k-NN on".into());
+    }
+    Knn::fit(&labelled, params)
+}
+
+/// Per-file-frame labels as the k-NN is given them under `options`' label noise and boundary
+/// masking (the mask's width converted from network frames to the file's rate).
+pub fn imperfect_labels(
+    labels: &[Option<usize>],
+    fps: f64,
+    classes: usize,
+    options: &TrainOptions,
+    salt: u64,
+) -> Vec<Option<usize>> {
+    let mut rng = crate::stats::Rng::new(options.seed ^ (salt.wrapping_mul(0x9e37_79b9)));
+    let mut out = super::training::noisy_labels(labels, classes, options.label_noise, &mut rng);
+    let w = (options.mask_frames as f64 * fps / NETWORK_FPS).round() as usize;
+    let mask = super::training::boundary_mask(labels, w);
+    for (l, m) in out.iter_mut().zip(mask) {
+        if m == 0.0 {
+            *l = None;
+        }
+    }
+    out
+}
+
+/// One held-out take's result in cross-validation.
+#[derive(Debug, Clone)]
+pub struct Fold {
+    pub take: String,
+    pub network: LabellingScores,
+    pub knn: LabellingScores,
+    /// Mean confidence the network gave the held-out frames.
+    pub confidence: f64,
+    /// Epoch chosen on the inner validation take.
+    pub best_epoch: usize,
+    pub epochs_run: usize,
+    pub validation_take: String,
+    /// Frame accuracy on the inner validation take at the kept epoch (what may choose settings).
+    pub validation_accuracy: f64,
+    pub seconds: f64,
+}
+
+/// Leave-one-take-out: for each take, train on the others with one of them (the next in turn)
+/// as the validation take that chooses the epoch, train again on all the others for that many
+/// epochs, and score on the held-out take; the k-NN fitted on the same training takes beside it.
+/// Scores are on the held-out take's file frames.
+pub fn leave_one_take_out(
+    motions: &[Motion],
+    labels: &[Vec<Option<usize>>],
+    classes: &[String],
+    options: &TrainOptions,
+    on_epoch: &mut dyn FnMut(&str, &EpochReport) -> bool,
+) -> Result<Vec<Fold>, String> {
+    if motions.len() < 3 {
+        return Err(format!(
+            "leave-one-take-out with an inner validation take needs at least 3 takes; {} given",
+            motions.len()
+        ));
+    }
+    let takes: Vec<TrainingTake> =
+        motions.iter().zip(labels).map(|(m, l)| TrainingTake::new(m, l)).collect::<Result<_, _>>()?;
+    let mut folds = Vec::new();
+    for held in 0..motions.len() {
+        let started = web_time_now();
+        let val = (held + 1) % motions.len();
+        let train_idx: Vec<usize> = (0..motions.len()).filter(|&i| i != held && i != val).collect();
+        let train_takes: Vec<TrainingTake> = train_idx.iter().map(|&i| takes[i].clone()).collect();
+        let name = motions[held].name.clone();
+        let chosen =
+            train(&train_takes, std::slice::from_ref(&takes[val]), classes, options, &mut |r| on_epoch(&name, r))?;
+        // then the network is trained again on every training take (the validation take too)
+        // for the epochs the validation take chose
+        let all: Vec<TrainingTake> = (0..motions.len()).filter(|&i| i != held).map(|i| takes[i].clone()).collect();
+        let again = TrainOptions { epochs: chosen.best_epoch, ..options.clone() };
+        let trained = train(&all, &[], classes, &again, &mut |r| on_epoch(&name, r))?;
+        let probs = super::infer::predict_input(&trained.net, &trained.standardise, &takes[held].input, classes.len());
+        let working: Vec<(usize, f32)> = (0..probs.frames).map(|f| probs.best(f)).collect();
+        let per_file = TrainingTake::to_file_frames(&takes[held].input.source_frames, motions[held].frames(), &working);
+        let truth = &labels[held];
+        let pred: Vec<Option<usize>> = per_file.iter().map(|p| Some(p.0)).collect();
+        let network = labelling::score(&pred, truth);
+        let confidence = per_file.iter().map(|p| p.1 as f64).sum::<f64>() / per_file.len().max(1) as f64;
+        // the k-NN on all training takes (it has no epochs to choose), under the same label
+        // noise and boundary masking as the network
+        let imperfect: Vec<Vec<Option<usize>>> = (0..motions.len())
+            .map(|i| imperfect_labels(&labels[i], motions[i].fps, classes.len(), options, i as u64))
+            .collect();
+        let knn_train: Vec<(&Motion, &[Option<usize>])> =
+            (0..motions.len()).filter(|&i| i != held).map(|i| (&motions[i], imperfect[i].as_slice())).collect();
+        let knn = fit_knn(&knn_train, KnnParams::default())?;
+        let kp = knn.predict(&motions[held])?;
+        let kpred: Vec<Option<usize>> = kp.iter().map(|p| Some(p.0)).collect();
+        folds.push(Fold {
+            take: name,
+            network,
+            knn: labelling::score(&kpred, truth),
+            confidence,
+            best_epoch: chosen.best_epoch,
+            epochs_run: chosen.reports.len(),
+            validation_take: motions[val].name.clone(),
+            validation_accuracy: chosen
+                .reports
+                .iter()
+                .find(|r| r.epoch == chosen.best_epoch)
+                .and_then(|r| r.validation_accuracy)
+                .unwrap_or(0.0),
+            seconds: web_time_now() - started,
+        });
+    }
+    Ok(folds)
+}
+
+/// Seconds on a monotonic clock where there is one (0 in wasm, where the caller times itself).
+fn web_time_now() -> f64 {
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        use std::sync::OnceLock;
+        use std::time::Instant;
+        static START: OnceLock<Instant> = OnceLock::new();
+        START.get_or_init(Instant::now).elapsed().as_secs_f64()
+    }
+    #[cfg(target_arch = "wasm32")]
+    {
+        0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn colours_are_distinct_css_hex() {
+        let c = class_colours(12);
+        assert!(c.iter().all(|s| s.len() == 7 && s.starts_with('#')));
+        let mut d = c.clone();
+        d.sort();
+        d.dedup();
+        assert_eq!(d.len(), 12);
+    }
+}

@@ -1,0 +1,82 @@
+//! Labelling a take with a trained network: the motion image standardised, the network run over
+//! it in blocks (each with the receptive field's half of real frames on either side, so the
+//! result is the whole take's result while memory stays bounded on long takes), and each frame's
+//! most probable class with its softmax probability as the confidence.
+
+use burn::tensor::Tensor;
+
+use super::input::{NetworkInput, Standardise, CHANNELS};
+use super::network::DtFcn;
+
+/// Output frames computed per block (plus context on either side).
+pub const BLOCK_FRAMES: usize = 2048;
+
+/// Class probabilities of every working frame, frame-major (`frames × classes`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Probabilities {
+    pub frames: usize,
+    pub classes: usize,
+    pub values: Vec<f32>,
+}
+
+impl Probabilities {
+    /// Probability of class `c` at frame `f`.
+    pub fn prob(&self, f: usize, c: usize) -> f32 {
+        self.values[f * self.classes + c]
+    }
+
+    /// The most probable class of frame `f` and its probability.
+    pub fn best(&self, f: usize) -> (usize, f32) {
+        let row = &self.values[f * self.classes..(f + 1) * self.classes];
+        row.iter().enumerate().fold((0, f32::NEG_INFINITY), |b, (c, &p)| if p > b.1 { (c, p) } else { b })
+    }
+}
+
+/// Class probabilities of every frame of `input` (see the module docs). `classes` is the
+/// network's class count.
+pub fn predict_input(net: &DtFcn, standardise: &Standardise, input: &NetworkInput, classes: usize) -> Probabilities {
+    predict_blocks(net, standardise, input, classes, BLOCK_FRAMES, &mut |_| {})
+}
+
+/// [`predict_input`] with blocks of `block` frames, reporting the share done after each block.
+pub fn predict_blocks(
+    net: &DtFcn,
+    standardise: &Standardise,
+    input: &NetworkInput,
+    classes: usize,
+    block: usize,
+    done: &mut dyn FnMut(f64),
+) -> Probabilities {
+    let n = input.frames;
+    let z = standardise.apply(input);
+    let device = super::device();
+    let margin = receptive_half(net);
+    let mut values = vec![0f32; n * classes];
+    let block = block.max(1);
+    let mut start = 0;
+    while start < n {
+        let end = (start + block).min(n);
+        let (lo, hi) = (start.saturating_sub(margin), (end + margin).min(n));
+        let m = hi - lo;
+        let mut x = Vec::with_capacity(CHANNELS * m);
+        for c in 0..CHANNELS {
+            x.extend_from_slice(&z[c * n + lo..c * n + hi]);
+        }
+        let x = Tensor::<1>::from_floats(x.as_slice(), &device).reshape([1, CHANNELS, m]);
+        let p: Vec<f32> = net.forward(x).into_data().try_to_vec::<f32>().unwrap_or_default();
+        // p is [1, classes, m]
+        for f in start..end {
+            for c in 0..classes {
+                values[f * classes + c] = p.get(c * m + (f - lo)).copied().unwrap_or(0.0);
+            }
+        }
+        done(end as f64 / n as f64);
+        start = end;
+    }
+    Probabilities { frames: n, classes, values }
+}
+
+/// Half the receptive field of `net`: frames of context one output frame needs on each side.
+pub fn receptive_half(net: &DtFcn) -> usize {
+    net.layers.iter().map(|l| l.dilation * (l.kernel_size - 1)).sum::<usize>().div_ceil(2)
+}

@@ -1,0 +1,347 @@
+//! DT-FCN and the k-NN labeller behind the common [`Method`] interface: a model (shipped, or
+//! one the user trained or loaded) labels every frame; runs of equal labels are the segments,
+//! each scored by its mean confidence; frames whose confidence is below the threshold are
+//! labelled `unknown`. Pictures: the class probabilities over time, as the paper's figures draw
+//! them. Curve: the confidence of every frame.
+
+use std::sync::{Arc, Mutex, OnceLock};
+
+use serde::{Deserialize, Serialize};
+
+use super::corpus::DEFAULT_UNKNOWN_THRESHOLD;
+use super::infer::{predict_blocks, Probabilities, BLOCK_FRAMES};
+use super::input::network_input;
+use super::model::{Labeller, Model, ModelKind};
+use super::shipped;
+use crate::method::{
+    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamKind, ParamSpec, Picture, Progress, RunOptions,
+};
+use crate::motion::Motion;
+use crate::segment::frames::WorkingFrames;
+use crate::segment::{Level, Segment, Segmentation};
+
+/// The label of frames below the confidence threshold.
+pub const UNKNOWN: &str = "unknown";
+
+/// Parameters of both labelling methods.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LabelParams {
+    /// A shipped model's name, or the name a user model was installed under.
+    pub model: String,
+    /// Frames whose confidence is below this are `unknown` (0 = never).
+    pub unknown_threshold: f64,
+}
+
+impl Default for LabelParams {
+    fn default() -> Self {
+        LabelParams { model: shipped::NAMES[0].into(), unknown_threshold: DEFAULT_UNKNOWN_THRESHOLD as f64 }
+    }
+}
+
+/// Checked parameters: the model itself and the threshold in force.
+pub struct Checked {
+    /// As asked for (a shipped name, or the name a user model was installed under).
+    name: String,
+    model: Arc<Model>,
+    threshold: f64,
+}
+
+/// Models installed by the user (trained or loaded in the page, or `--model FILE` on the
+/// command line), by name, one list per kind.
+fn installed() -> &'static Mutex<Vec<(String, Arc<Model>)>> {
+    static USER: OnceLock<Mutex<Vec<(String, Arc<Model>)>>> = OnceLock::new();
+    USER.get_or_init(|| Mutex::new(Vec::new()))
+}
+
+/// Makes `model` available to the method of its kind under `name` (replacing one of that name
+/// and kind). Refuses the names of shipped models.
+pub fn install(name: &str, model: Model) -> Result<(), String> {
+    if shipped::NAMES.contains(&name) {
+        return Err(format!("`{name}` is the name of a shipped model; choose another name"));
+    }
+    let kind = model.header.kind;
+    let mut list = installed().lock().map_err(|_| "the model list is unavailable".to_string())?;
+    list.retain(|(n, m)| !(n == name && m.header.kind == kind));
+    list.push((name.to_string(), Arc::new(model)));
+    Ok(())
+}
+
+/// Names of the installed models of `kind`.
+pub fn installed_names(kind: ModelKind) -> Vec<String> {
+    installed()
+        .lock()
+        .map(|l| l.iter().filter(|(_, m)| m.header.kind == kind).map(|(n, _)| n.clone()).collect())
+        .unwrap_or_default()
+}
+
+/// The model of `kind` called `name`: an installed one first, else a shipped one.
+pub fn resolve(kind: ModelKind, name: &str) -> Result<Arc<Model>, String> {
+    if let Ok(list) = installed().lock() {
+        if let Some((_, m)) = list.iter().find(|(n, m)| n == name && m.header.kind == kind) {
+            return Ok(m.clone());
+        }
+    }
+    shipped::model(kind, name)
+}
+
+/// A labelling method over models of one kind.
+#[derive(Debug, Clone, Copy)]
+pub struct Labelling {
+    kind: ModelKind,
+}
+
+/// The DT-FCN method.
+pub const DTFCN: Labelling = Labelling { kind: ModelKind::Dtfcn };
+/// The k-NN method.
+pub const KNN: Labelling = Labelling { kind: ModelKind::Knn };
+
+impl Method for Labelling {
+    type Params = LabelParams;
+    type Checked = Checked;
+
+    fn info(&self) -> MethodInfo {
+        match self.kind {
+            ModelKind::Dtfcn => MethodInfo {
+                name: "dtfcn".into(),
+                short: "DT-FCN".into(),
+                paper: "Cheema et al. 2019".into(),
+                summary: "Per-frame semantic labels from a dilated temporal fully-convolutional network trained on \
+                          labelled takes."
+                    .into(),
+                auto_run: true,
+            },
+            ModelKind::Knn => MethodInfo {
+                name: "knn".into(),
+                short: "k-NN".into(),
+                paper: "baseline for Cheema et al. 2019".into(),
+                summary: "Per-frame labels by a 5-nearest-neighbour vote on ±1 s windows of the motion image.".into(),
+                auto_run: true,
+            },
+        }
+    }
+
+    fn param_specs(&self) -> Vec<ParamSpec> {
+        let mut options: Vec<String> = shipped::NAMES.iter().map(|s| s.to_string()).collect();
+        options.extend(installed_names(self.kind));
+        vec![
+            ParamSpec {
+                name: "model".into(),
+                help: "The model that labels the take: one shipped with the app (exercises, CMU actions, locomotion \
+                       phases) or one you trained or loaded."
+                    .into(),
+                kind: ParamKind::Choice { options },
+                default: serde_json::json!(shipped::NAMES[0]),
+                unit: None,
+                basic: true,
+            },
+            ParamSpec {
+                name: "unknown_threshold".into(),
+                help: "Frames whose confidence is below this are labelled `unknown` (0: never).".into(),
+                kind: ParamKind::Number { min: 0.0, max: 1.0 },
+                default: serde_json::json!(DEFAULT_UNKNOWN_THRESHOLD as f64),
+                unit: None,
+                basic: true,
+            },
+        ]
+    }
+
+    fn check(&self, params: LabelParams) -> Result<Checked, MethodError> {
+        let model = resolve(self.kind, params.model.trim()).map_err(|e| MethodError::Params(format!("model: {e}")))?;
+        let t = params.unknown_threshold;
+        if !(0.0..=1.0).contains(&t) {
+            return Err(MethodError::Params(format!("unknown_threshold = {t}: expected a confidence from 0 to 1")));
+        }
+        let threshold = t;
+        Ok(Checked { name: params.model.trim().to_string(), model, threshold })
+    }
+
+    fn echo(&self, params: &Checked) -> serde_json::Value {
+        // the parameters as asked (segments carry the class names; a class's colour is
+        // `segment::palette::class_colour(cluster)`, as in every model file)
+        serde_json::json!({
+            "model": params.name,
+            "unknown_threshold": params.threshold,
+        })
+    }
+
+    fn run(
+        &self,
+        motion: &Motion,
+        params: &Checked,
+        options: &RunOptions,
+        progress: &mut dyn Progress,
+    ) -> Result<MethodOutput, MethodError> {
+        progress.step("motion image", 0.0)?;
+        let labelled = label(&params.model, motion, progress)?;
+        let header = &params.model.header;
+        let file: Vec<(Option<usize>, f32)> = labelled
+            .per_file_frame
+            .iter()
+            .map(|&(c, p)| (if p as f64 >= params.threshold { Some(c) } else { None }, p))
+            .collect();
+        let segments = runs(&file, &header.classes);
+        let segmentation = Segmentation {
+            file: motion.name.clone(),
+            fps: motion.fps,
+            frames: motion.frames(),
+            method: self.info().name,
+            params: self.echo(params),
+            segments,
+        };
+        let unknown = file.iter().filter(|f| f.0.is_none()).count();
+        let mean = file.iter().map(|f| f.1 as f64).sum::<f64>() / file.len().max(1) as f64;
+        let summary = format!(
+            "{} segments · {} classes of model `{}` · mean confidence {:.2} · {:.0} % unknown (below {:.2})",
+            segmentation.segments.len(),
+            header.classes.len(),
+            header.name,
+            mean,
+            100.0 * unknown as f64 / file.len().max(1) as f64,
+            params.threshold
+        );
+        let curves = vec![Curve {
+            id: "confidence".into(),
+            title: "confidence (probability of the frame's label)".into(),
+            values: file.iter().map(|f| f.1).collect(),
+        }];
+        let mut pictures = Vec::new();
+        if options.pictures {
+            pictures.push(probability_picture(&labelled.probabilities, &header.colours, &header.classes));
+        }
+        progress.step("done", 1.0)?;
+        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves } })
+    }
+}
+
+/// A take labelled by a model.
+pub struct Labelled {
+    /// Per working frame (30 Hz): every class's probability (a vote share for k-NN).
+    pub probabilities: Probabilities,
+    /// Per file frame: the most probable class and its probability.
+    pub per_file_frame: Vec<(usize, f32)>,
+}
+
+/// Labels every frame of `motion` with `model`.
+pub fn label(model: &Model, motion: &Motion, progress: &mut dyn Progress) -> Result<Labelled, MethodError> {
+    let classes = model.header.classes.len();
+    let probabilities = match &model.labeller {
+        Labeller::Network(net) => {
+            let input = network_input(motion).map_err(MethodError::Failed)?;
+            let standardise = model
+                .header
+                .standardise
+                .as_ref()
+                .ok_or_else(|| MethodError::Failed("the model has no input standardisation".into()))?;
+            let mut cancelled = false;
+            let p = predict_blocks(net, standardise, &input, classes, BLOCK_FRAMES, &mut |f| {
+                if progress.step("network", 0.05 + 0.9 * f).is_err() {
+                    cancelled = true;
+                }
+            });
+            if cancelled {
+                return Err(MethodError::Cancelled);
+            }
+            let frames = WorkingFrames { source: &input.source_frames, file_frames: motion.frames() };
+            let per_file = (0..motion.frames()).map(|f| p.best(frames.working_frame(f))).collect();
+            return Ok(Labelled { probabilities: p, per_file_frame: per_file });
+        }
+        Labeller::Knn(knn) => {
+            progress.step("neighbours", 0.1)?;
+            knn.probabilities(motion, classes).map_err(MethodError::Failed)?
+        }
+    };
+    let input_frames = probabilities.frames;
+    let source = crate::motion::resample::source_positions(motion.frames(), motion.fps, super::input::NETWORK_FPS)
+        .map_err(|e| MethodError::Failed(e.to_string()))?;
+    let frames = WorkingFrames { source: &source, file_frames: motion.frames() };
+    let per_file = (0..motion.frames())
+        .map(|f| probabilities.best(frames.working_frame(f).min(input_frames.saturating_sub(1))))
+        .collect();
+    Ok(Labelled { probabilities, per_file_frame: per_file })
+}
+
+/// One segment per run of equal labels (`None` = unknown), scored by mean confidence.
+pub fn runs(frames: &[(Option<usize>, f32)], classes: &[String]) -> Vec<Segment> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    for f in 1..=frames.len() {
+        if f == frames.len() || frames[f].0 != frames[start].0 {
+            let run = &frames[start..f];
+            let mean = run.iter().map(|r| r.1 as f64).sum::<f64>() / run.len() as f64;
+            let class = frames[start].0;
+            out.push(Segment {
+                start,
+                end: f - 1,
+                label: class.and_then(|c| classes.get(c).cloned()).unwrap_or_else(|| UNKNOWN.to_string()),
+                level: Level::Action,
+                cluster: class,
+                score: Some((mean * 1000.0).round() / 1000.0),
+                mirror_of: None,
+                effort: None,
+            });
+            start = f;
+        }
+    }
+    out
+}
+
+/// Parses `#rrggbb` (grey when it is not).
+fn rgb(css: &str) -> [u8; 3] {
+    let h = css.trim_start_matches('#');
+    let c = |i: usize| h.get(i..i + 2).and_then(|s| u8::from_str_radix(s, 16).ok()).unwrap_or(128);
+    if h.len() == 6 {
+        [c(0), c(2), c(4)]
+    } else {
+        [128, 128, 128]
+    }
+}
+
+/// The class probabilities over time, one row per class (class colour × probability on white),
+/// one column per working frame, as the paper's figures show them.
+fn probability_picture(p: &Probabilities, colours: &[String], classes: &[String]) -> Picture {
+    let row_h = 6;
+    let (w, h) = (p.frames.max(1), p.classes * row_h);
+    let mut rgba = vec![255u8; w * h * 4];
+    for c in 0..p.classes {
+        let col = rgb(colours.get(c).map_or("", |s| s.as_str()));
+        for f in 0..p.frames {
+            let a = p.prob(f, c).clamp(0.0, 1.0);
+            let px = [0, 1, 2].map(|k| (255.0 - a * (255.0 - col[k] as f32)).round() as u8);
+            for y in c * row_h..(c + 1) * row_h {
+                let i = (y * w + f) * 4;
+                rgba[i..i + 3].copy_from_slice(&px);
+            }
+        }
+    }
+    Picture {
+        id: "probabilities".into(),
+        title: "Class probabilities".into(),
+        caption: format!(
+            "Time across (30 Hz), one row per class from the top: {}. The stronger the colour, the more probable the \
+             class.",
+            classes.join(", ")
+        ),
+        width: w,
+        height: h,
+        rgba,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn runs_of_labels_become_segments_with_mean_confidence_and_unknowns() {
+        let classes = vec!["walk".to_string(), "jump".to_string()];
+        let frames = [(Some(0), 0.9), (Some(0), 0.7), (None, 0.2), (Some(1), 1.0)];
+        let s = runs(&frames, &classes);
+        assert_eq!(s.len(), 3);
+        assert_eq!((s[0].start, s[0].end, s[0].label.as_str(), s[0].score), (0, 1, "walk", Some(0.8)));
+        assert_eq!((s[1].label.as_str(), s[1].cluster), (UNKNOWN, None));
+        assert_eq!((s[2].start, s[2].end, s[2].label.as_str()), (3, 3, "jump"));
+        assert!(runs(&[], &classes).is_empty());
+        assert_eq!(rgb("#ff8000"), [255, 128, 0]);
+    }
+}

@@ -1,0 +1,384 @@
+//! Model files: one file holds everything a trained labeller needs and everything a reader needs
+//! to trust it — the class names and colours, the joint set and frame rate of its input, the
+//! input's standardisation, how it was trained (the command, a hash of the data, the options) and
+//! the weights (a burn record in burnpack form for the network; the training frames for k-NN).
+//!
+//! Layout: the magic line `mocapseg-model\n`, a format byte, the header's length (u32 LE), the
+//! header (JSON, [`ModelHeader`]), the payload's length (u64 LE) and the payload. The header
+//! carries the payload's SHA-256, so a truncated or damaged file is refused before its weights
+//! are read; every other refusal names what is wrong (another format, another version, another
+//! joint set, a class count that does not match the weights).
+
+use burn::module::Module;
+use burn::store::ModuleRecord;
+use burn::tensor::Bytes;
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+
+use super::input::{joint_names, Standardise, NETWORK_FPS};
+use super::network::{DtFcn, DtFcnConfig};
+use super::training::TrainOptions;
+use crate::knn::{Knn, KnnParams};
+
+/// The first bytes of every model file.
+pub const MAGIC: &[u8] = b"mocapseg-model\n";
+/// The format this build writes and reads.
+pub const FORMAT: u8 = 1;
+/// Largest header accepted (the header is JSON of names and a few hundred numbers).
+const MAX_HEADER: usize = 1 << 20;
+/// Largest payload accepted.
+const MAX_PAYLOAD: u64 = 256 << 20;
+
+/// What kind of labeller a model file holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ModelKind {
+    /// The DT-FCN network ([`super::network`]).
+    Dtfcn,
+    /// The k-nearest-neighbour labeller ([`crate::knn`]).
+    Knn,
+}
+
+impl ModelKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            ModelKind::Dtfcn => "dtfcn",
+            ModelKind::Knn => "knn",
+        }
+    }
+}
+
+/// How a model was made, so that it can be made again.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Provenance {
+    /// The command that trained it.
+    pub command: String,
+    /// SHA-256 over the training data (file names, motion and labels), see [`data_hash`].
+    pub data_hash: String,
+    /// The training takes' file names.
+    pub takes: Vec<String>,
+    /// Labelled working frames trained on.
+    pub frames: usize,
+    pub options: TrainOptions,
+    /// Epochs run and the epoch whose weights were kept.
+    pub epochs_run: usize,
+    pub best_epoch: usize,
+}
+
+/// Everything about a model but its weights.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModelHeader {
+    pub kind: ModelKind,
+    /// Short name (`exercises`).
+    pub name: String,
+    pub classes: Vec<String>,
+    /// CSS colour of each class (`#rrggbb`).
+    pub colours: Vec<String>,
+    /// The image rows the model reads, by canonical joint name.
+    pub joints: Vec<String>,
+    /// Working frame rate of its input.
+    pub fps: f64,
+    /// Frames below this confidence are labelled `unknown` by default.
+    pub unknown_threshold: f32,
+    /// The network's shape (DT-FCN).
+    #[serde(default)]
+    pub network: Option<DtFcnConfig>,
+    /// The input's standardisation (DT-FCN).
+    #[serde(default)]
+    pub standardise: Option<Standardise>,
+    /// The k-NN's window and vote (k-NN).
+    #[serde(default)]
+    pub knn: Option<KnnParams>,
+    pub provenance: Provenance,
+    /// SHA-256 of the payload, hex.
+    pub payload_sha256: String,
+    /// The mocapseg version that wrote it.
+    pub written_by: String,
+}
+
+/// A loaded model: its header and its labeller.
+pub struct Model {
+    pub header: ModelHeader,
+    pub labeller: Labeller,
+}
+
+/// The labeller inside a model.
+pub enum Labeller {
+    Network(DtFcn),
+    Knn(Knn),
+}
+
+impl std::fmt::Debug for Model {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Model({} {}, {} classes)", self.header.kind.name(), self.header.name, self.header.classes.len())
+    }
+}
+
+/// Hex SHA-256 of `bytes`.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// SHA-256 over training data given as `(file name, file bytes)` pairs (sorted by name first)
+/// and the label file's bytes.
+pub fn data_hash(files: &[(String, Vec<u8>)], labels: &[u8]) -> String {
+    let mut sorted: Vec<&(String, Vec<u8>)> = files.iter().collect();
+    sorted.sort_by(|a, b| a.0.cmp(&b.0));
+    let mut h = Sha256::new();
+    for (name, bytes) in sorted {
+        h.update((name.len() as u64).to_le_bytes());
+        h.update(name.as_bytes());
+        h.update((bytes.len() as u64).to_le_bytes());
+        h.update(bytes);
+    }
+    h.update(labels);
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
+}
+
+impl Model {
+    /// The model's file bytes.
+    pub fn to_bytes(&self) -> Result<Vec<u8>, String> {
+        let payload: Vec<u8> = match &self.labeller {
+            Labeller::Network(net) => {
+                let bytes = net.clone().into_record().into_bytes().map_err(|e| format!("writing the weights: {e}"))?;
+                bytes.to_vec()
+            }
+            Labeller::Knn(knn) => knn.to_bytes(),
+        };
+        let mut header = self.header.clone();
+        header.payload_sha256 = sha256_hex(&payload);
+        let json = serde_json::to_vec(&header).map_err(|e| format!("writing the header: {e}"))?;
+        let mut out = Vec::with_capacity(MAGIC.len() + 13 + json.len() + payload.len());
+        out.extend_from_slice(MAGIC);
+        out.push(FORMAT);
+        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        out.extend_from_slice(&json);
+        out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+        out.extend_from_slice(&payload);
+        Ok(out)
+    }
+
+    /// Reads a model file; `source` names it in messages.
+    pub fn from_bytes(bytes: &[u8], source: &str) -> Result<Model, String> {
+        let header = read_header(bytes, source)?;
+        let (header, payload) = header;
+        check_header(&header).map_err(|e| format!("{source}: {e}"))?;
+        let labeller = match header.kind {
+            ModelKind::Dtfcn => {
+                let config = header
+                    .network
+                    .clone()
+                    .ok_or_else(|| format!("{source}: a DT-FCN model without its network shape"))?;
+                let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(payload.to_vec()))
+                    .map_err(|e| format!("{source}: the weights are not a burn record: {e}"))?;
+                let net = config
+                    .init(&super::device())
+                    .try_load_record(record)
+                    .map_err(|e| format!("{source}: the weights do not fit the network the header describes: {e}"))?;
+                Labeller::Network(net)
+            }
+            ModelKind::Knn => {
+                let params = header.knn.ok_or_else(|| format!("{source}: a k-NN model without its parameters"))?;
+                Labeller::Knn(
+                    Knn::from_bytes(payload, params, header.classes.len()).map_err(|e| format!("{source}: {e}"))?,
+                )
+            }
+        };
+        Ok(Model { header, labeller })
+    }
+}
+
+/// The header and payload of a model file, or what is wrong with its framing.
+fn read_header<'a>(bytes: &'a [u8], source: &str) -> Result<(ModelHeader, &'a [u8]), String> {
+    if !bytes.starts_with(MAGIC) {
+        let shown: String = String::from_utf8_lossy(&bytes[..bytes.len().min(16)])
+            .chars()
+            .map(|c| if c.is_control() { '·' } else { c })
+            .collect();
+        let hint = if bytes.starts_with(b"{") {
+            " (a JSON file: an LMA family or a segmentation, not a labelling model?)"
+        } else {
+            ""
+        };
+        return Err(format!(
+            "{source}: not a mocapseg model file: it starts with `{shown}`, expected `mocapseg-model`{hint}"
+        ));
+    }
+    let mut at = MAGIC.len();
+    let format = *bytes.get(at).ok_or_else(|| format!("{source}: truncated after the magic line"))?;
+    if format != FORMAT {
+        return Err(format!(
+            "{source}: model file format {format}; this mocapseg ({}) reads format {FORMAT} — retrain the model or use the mocapseg that wrote it",
+            env!("CARGO_PKG_VERSION")
+        ));
+    }
+    at += 1;
+    let len = u32::from_le_bytes(
+        bytes
+            .get(at..at + 4)
+            .ok_or_else(|| format!("{source}: truncated before the header length"))?
+            .try_into()
+            .unwrap_or([0; 4]),
+    ) as usize;
+    at += 4;
+    if len > MAX_HEADER {
+        return Err(format!("{source}: header of {len} bytes (at most {MAX_HEADER}): not a model file or damaged"));
+    }
+    let json = bytes
+        .get(at..at + len)
+        .ok_or_else(|| format!("{source}: truncated: the header needs {len} bytes, {} are left", bytes.len() - at))?;
+    let header: ModelHeader =
+        serde_json::from_slice(json).map_err(|e| format!("{source}: the header is not a model header: {e}"))?;
+    at += len;
+    let plen = u64::from_le_bytes(
+        bytes
+            .get(at..at + 8)
+            .ok_or_else(|| format!("{source}: truncated before the weights"))?
+            .try_into()
+            .unwrap_or([0; 8]),
+    );
+    at += 8;
+    if plen > MAX_PAYLOAD {
+        return Err(format!("{source}: weights of {plen} bytes (at most {MAX_PAYLOAD}): damaged file"));
+    }
+    let left = bytes.len() - at;
+    if (left as u64) < plen {
+        return Err(format!("{source}: truncated: the weights need {plen} bytes, {left} are left"));
+    }
+    if left as u64 > plen {
+        return Err(format!("{source}: {} bytes after the weights: not one model file", left as u64 - plen));
+    }
+    let payload = &bytes[at..];
+    let sum = sha256_hex(payload);
+    if sum != header.payload_sha256 {
+        return Err(format!("{source}: the weights do not match their checksum: the file is damaged"));
+    }
+    Ok((header, payload))
+}
+
+/// What a header must say for this build to use the model.
+pub fn check_header(h: &ModelHeader) -> Result<(), String> {
+    let k = h.classes.len();
+    if k < 2 {
+        return Err(format!("{k} classes: a labelling model needs at least 2"));
+    }
+    if h.colours.len() != k {
+        return Err(format!("{k} classes but {} colours", h.colours.len()));
+    }
+    if let Some(dup) = h.classes.iter().enumerate().find(|(i, c)| h.classes[..*i].contains(c)) {
+        return Err(format!("class `{}` is listed twice", dup.1));
+    }
+    let ours = joint_names();
+    if h.joints != ours {
+        return Err(format!(
+            "trained on the joint set [{}], but this mocapseg's motion image has [{}]",
+            h.joints.join(", "),
+            ours.join(", ")
+        ));
+    }
+    if (h.fps - NETWORK_FPS).abs() > 1e-9 {
+        return Err(format!("input at {} Hz, but this mocapseg's motion image is at {NETWORK_FPS} Hz", h.fps));
+    }
+    if !(0.0..=1.0).contains(&h.unknown_threshold) {
+        return Err(format!("unknown threshold {}: expected 0 to 1", h.unknown_threshold));
+    }
+    match h.kind {
+        ModelKind::Dtfcn => {
+            let n = h.network.as_ref().ok_or("a DT-FCN model without its network shape")?;
+            n.check()?;
+            if n.classes != k {
+                return Err(format!("the network has {} outputs but the header lists {k} classes", n.classes));
+            }
+            if n.channels != 3 * ours.len() {
+                return Err(format!(
+                    "the network reads {} channels, expected {} (3 per joint)",
+                    n.channels,
+                    3 * ours.len()
+                ));
+            }
+            h.standardise.as_ref().ok_or("a DT-FCN model without its input standardisation")?.check()?;
+        }
+        ModelKind::Knn => {
+            h.knn.as_ref().ok_or("a k-NN model without its parameters")?.check()?;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dtfcn::input::CHANNELS;
+
+    fn tiny() -> Model {
+        let classes: Vec<String> = vec!["a".into(), "b".into(), "c".into()];
+        let network = DtFcnConfig { channels: CHANNELS, classes: 3, width: 3, filters: vec![4, 8] };
+        let device = crate::dtfcn::device();
+        device.seed(3);
+        let net = network.init(&device);
+        Model {
+            header: ModelHeader {
+                kind: ModelKind::Dtfcn,
+                name: "tiny".into(),
+                colours: vec!["#ff0000".into(), "#00ff00".into(), "#0000ff".into()],
+                classes,
+                joints: joint_names(),
+                fps: NETWORK_FPS,
+                unknown_threshold: 0.5,
+                network: Some(network),
+                standardise: Some(Standardise { mean: vec![0.0; CHANNELS], spread: vec![1.0; CHANNELS] }),
+                knn: None,
+                provenance: Provenance {
+                    command: "test".into(),
+                    data_hash: data_hash(&[], b""),
+                    takes: vec![],
+                    frames: 0,
+                    options: TrainOptions::default(),
+                    epochs_run: 0,
+                    best_epoch: 0,
+                },
+                payload_sha256: String::new(),
+                written_by: "test".into(),
+            },
+            labeller: Labeller::Network(net),
+        }
+    }
+
+    #[test]
+    fn a_model_reads_back_and_every_kind_of_damage_is_named() {
+        let bytes = tiny().to_bytes().unwrap();
+        let back = Model::from_bytes(&bytes, "m.model").unwrap();
+        assert_eq!(back.header.classes, vec!["a", "b", "c"]);
+        assert_eq!(back.to_bytes().unwrap(), bytes, "load → save is byte-identical");
+
+        let err = |b: &[u8]| Model::from_bytes(b, "m.model").unwrap_err();
+        assert!(err(b"{\"family\": 1}").contains("not a mocapseg model file"), "{}", err(b"{}"));
+        assert!(err(&bytes[..bytes.len() - 10]).contains("truncated"), "{}", err(&bytes[..bytes.len() - 10]));
+        assert!(err(&bytes[..30]).contains("truncated"));
+        let mut other = bytes.clone();
+        other[MAGIC.len()] = 9;
+        assert!(err(&other).contains("format 9"), "{}", err(&other));
+        let mut flipped = bytes.clone();
+        let last = flipped.len() - 1;
+        flipped[last] ^= 0xff;
+        assert!(err(&flipped).contains("checksum"), "{}", err(&flipped));
+
+        // a header that lies: another joint set, another class count
+        let mut m = tiny();
+        m.header.joints[3] = "Tail".into();
+        let e = err(&m.to_bytes().unwrap());
+        assert!(e.contains("joint set") && e.contains("Tail"), "{e}");
+        let mut m = tiny();
+        m.header.classes.push("d".into());
+        m.header.colours.push("#000000".into());
+        let e = err(&m.to_bytes().unwrap());
+        assert!(e.contains("3 outputs") && e.contains("4 classes"), "{e}");
+        // weights of another shape than the header says
+        let mut m = tiny();
+        if let Some(n) = m.header.network.as_mut() {
+            n.filters = vec![4, 16];
+        }
+        let e = err(&m.to_bytes().unwrap());
+        assert!(e.contains("do not fit"), "{e}");
+    }
+}

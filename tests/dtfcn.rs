@@ -1,0 +1,185 @@
+//! DT-FCN (Cheema et al. 2019) and its k-NN baseline end to end on fixture takes: a small
+//! network overfits two short takes to 100 %, training is reproducible from its seed, a model
+//! file saved and loaded labels identically, the paper's noise and masking do what Tables 3–4
+//! describe, the registered methods label a take with a user's model, and the shipped models
+//! load and label a walk.
+//!
+//! Runs natively (`cargo test --test dtfcn`) and, included by `tests/wasm.rs`, in headless
+//! Chromium: the fixtures are embedded, and in wasm `#[test]` is wasm-bindgen-test's.
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen_test::wasm_bindgen_test as test;
+
+use mocapseg::bvh;
+use mocapseg::dtfcn::augment::Augment;
+use mocapseg::dtfcn::corpus::{class_labels, fit_knn_model, train_model, ModelMeta};
+use mocapseg::dtfcn::infer::predict_input;
+use mocapseg::dtfcn::method::{install, label};
+use mocapseg::dtfcn::model::{Labeller, Model};
+use mocapseg::dtfcn::shipped;
+use mocapseg::dtfcn::training::{boundary_mask, evaluate, noisy_labels, TrainOptions, TrainingTake};
+use mocapseg::labels::LabelRow;
+use mocapseg::method::{find, NoProgress, RunOptions};
+use mocapseg::motion::Motion;
+use mocapseg::stats::Rng;
+
+const WALK: &str = include_str!("fixtures/02_01.bvh");
+const OTHER: &str = include_str!("fixtures/35_01.bvh");
+
+fn motion(name: &str, text: &str) -> Motion {
+    Motion::from_bvh(name, &bvh::parse(text).unwrap()).unwrap()
+}
+
+/// A small network and no augmentation: quick enough for a test in any profile.
+fn small(epochs: usize) -> TrainOptions {
+    TrainOptions {
+        epochs,
+        filters: vec![16, 16, 32],
+        augment: Augment::none(),
+        crop_frames: 64,
+        batch: 4,
+        learning_rate: 5e-3,
+        weight_decay: 0.0,
+        ..TrainOptions::default()
+    }
+}
+
+/// Two takes, each labelled `a` in its first half and `b` (walk) or `c` (other) after.
+fn two_takes() -> (Vec<Motion>, Vec<String>, Vec<TrainingTake>) {
+    let takes = vec![motion("02_01.bvh", WALK), motion("35_01.bvh", OTHER)];
+    let rows: Vec<LabelRow> = takes
+        .iter()
+        .zip(["b", "c"])
+        .flat_map(|(m, second)| {
+            let half = m.frames() / 2;
+            [
+                LabelRow { file: m.name.clone(), start_frame: 0, end_frame: half - 1, label: "a".into() },
+                LabelRow { file: m.name.clone(), start_frame: half, end_frame: m.frames() - 1, label: second.into() },
+            ]
+        })
+        .collect();
+    let refs: Vec<&Motion> = takes.iter().collect();
+    let (classes, labels) = class_labels(&rows, &refs).unwrap();
+    let training = takes.iter().zip(&labels).map(|(m, l)| TrainingTake::new(m, l).unwrap()).collect();
+    (takes, classes, training)
+}
+
+fn meta() -> ModelMeta {
+    ModelMeta { name: "test".into(), command: "tests/dtfcn.rs".into(), data_hash: "-".into() }
+}
+
+#[test]
+fn a_small_network_overfits_two_short_takes() {
+    let (_, classes, takes) = two_takes();
+    assert_eq!(classes, vec!["a", "b", "c"]);
+    let model = train_model(&takes, &[], &classes, &small(80), &meta(), &mut |_| true).unwrap();
+    let Labeller::Network(net) = &model.labeller else { panic!("not a network") };
+    let s = model.header.standardise.as_ref().unwrap();
+    let (loss, accuracy) = evaluate(net, s, &takes, classes.len()).unwrap();
+    assert_eq!(accuracy, 1.0, "loss {loss}");
+}
+
+#[test]
+fn the_same_seed_trains_the_same_model_and_another_seed_another() {
+    let (_, classes, takes) = two_takes();
+    let bytes = |seed| {
+        let o = TrainOptions { seed, augment: Augment::all(), ..small(2) };
+        train_model(&takes, &[], &classes, &o, &meta(), &mut |_| true).unwrap().to_bytes().unwrap()
+    };
+    let a = bytes(5);
+    assert_eq!(a, bytes(5));
+    assert_ne!(a, bytes(6));
+}
+
+#[test]
+fn a_saved_model_loads_and_labels_exactly_as_before() {
+    let (motions, classes, takes) = two_takes();
+    let model = train_model(&takes, &[], &classes, &small(3), &meta(), &mut |_| true).unwrap();
+    let bytes = model.to_bytes().unwrap();
+    let back = Model::from_bytes(&bytes, "test.model").unwrap();
+    let a = label(&model, &motions[0], &mut NoProgress).unwrap();
+    let b = label(&back, &motions[0], &mut NoProgress).unwrap();
+    assert_eq!(a.probabilities, b.probabilities);
+    assert_eq!(a.per_file_frame.len(), motions[0].frames());
+    // blockwise inference gives the whole take's result
+    let (Labeller::Network(net), Some(s)) = (&model.labeller, model.header.standardise.as_ref()) else { panic!() };
+    let whole = predict_input(net, s, &takes[0].input, 3);
+    let blocks = mocapseg::dtfcn::infer::predict_blocks(net, s, &takes[0].input, 3, 17, &mut |_| {});
+    for (x, y) in whole.values.iter().zip(&blocks.values) {
+        assert!((x - y).abs() < 1e-5, "{x} vs {y}");
+    }
+}
+
+#[test]
+fn noise_replaces_the_share_asked_and_masking_blanks_the_boundaries() {
+    let labels: Vec<Option<usize>> = (0..10_000).map(|f| Some(f / 1000 % 4)).collect();
+    let noisy = noisy_labels(&labels, 4, 0.8, &mut Rng::new(1));
+    let changed = labels.iter().zip(&noisy).filter(|(a, b)| a != b).count() as f64 / labels.len() as f64;
+    // 80 % drawn at random, a quarter of which land on the true label: 60 % changed
+    assert!((changed - 0.6).abs() < 0.02, "{changed}");
+    assert_eq!(noisy_labels(&labels, 4, 0.0, &mut Rng::new(1)), labels);
+
+    let labels: Vec<Option<usize>> = (0..40).map(|f| Some(usize::from(f >= 20))).chain([None, None]).collect();
+    let mask = boundary_mask(&labels, 11);
+    let zeros: Vec<usize> = (0..mask.len()).filter(|&f| mask[f] == 0.0).collect();
+    // 11 frames centred on the change between 19 and 20, 11 before the unlabelled end, and the
+    // unlabelled frames themselves
+    assert_eq!(&zeros[..11], &(15..26).collect::<Vec<_>>()[..]);
+    assert!(zeros.contains(&40) && zeros.contains(&41) && zeros.contains(&35));
+    assert_eq!(boundary_mask(&labels, 0).iter().filter(|&&m| m == 0.0).count(), 2);
+}
+
+#[test]
+fn the_registered_methods_label_a_take_with_a_users_models() {
+    let (motions, classes, takes) = two_takes();
+    let net = train_model(&takes, &[], &classes, &small(3), &meta(), &mut |_| true).unwrap();
+    install("my-test-model", net).unwrap();
+    let labels: Vec<Vec<Option<usize>>> = takes
+        .iter()
+        .zip(&motions)
+        .map(|(t, m)| TrainingTake::to_file_frames(&t.input.source_frames, m.frames(), &t.labels))
+        .collect();
+    let knn_takes: Vec<(&Motion, &[Option<usize>])> =
+        motions.iter().zip(&labels).map(|(m, l)| (m, l.as_slice())).collect();
+    install("my-test-model", fit_knn_model(&knn_takes, &classes, &meta()).unwrap()).unwrap();
+    for name in ["dtfcn", "knn"] {
+        let m = find(name).unwrap();
+        let params = serde_json::json!({ "model": "my-test-model", "unknown_threshold": 0.0 });
+        let out = m.run_json(&motions[0], &params, &RunOptions { pictures: true }, &mut NoProgress).unwrap();
+        let s = &out.segmentation;
+        s.validate().unwrap();
+        assert_eq!(s.segments.first().unwrap().start, 0);
+        assert_eq!(s.segments.last().unwrap().end, motions[0].frames() - 1);
+        assert!(s.segments.windows(2).all(|w| w[0].end + 1 == w[1].start), "{name}: segments tile the take");
+        assert!(s.segments.iter().all(|g| classes.contains(&g.label)), "{name}");
+        assert_eq!(out.details.curves[0].values.len(), motions[0].frames());
+        assert_eq!(out.details.pictures[0].height % 3, 0);
+        // a threshold of 1 leaves nothing certain enough
+        let params = serde_json::json!({ "model": "my-test-model", "unknown_threshold": 1.0 });
+        let out = m.run_json(&motions[0], &params, &RunOptions::default(), &mut NoProgress).unwrap();
+        assert!(out.segmentation.segments.iter().any(|g| g.label == "unknown"), "{name}");
+        // a model that does not exist is refused by name, listing the shipped ones
+        let err =
+            m.run_json(&motions[0], &serde_json::json!({ "model": "nope" }), &RunOptions::default(), &mut NoProgress);
+        let err = err.unwrap_err().to_string();
+        assert!(err.contains("`nope`") && err.contains("exercises"), "{err}");
+    }
+    // a shipped model's name cannot be taken
+    let again = train_model(&takes, &[], &classes, &small(1), &meta(), &mut |_| true).unwrap();
+    assert!(install("exercises", again).unwrap_err().contains("shipped"));
+}
+
+#[test]
+fn every_shipped_model_loads_and_labels_a_walk() {
+    let walk = motion("02_01.bvh", WALK);
+    for kind in ["dtfcn", "knn"] {
+        let m = find(kind).unwrap();
+        for name in shipped::NAMES {
+            let out = m
+                .run_json(&walk, &serde_json::json!({ "model": name }), &RunOptions::default(), &mut NoProgress)
+                .unwrap_or_else(|e| panic!("{kind} {name}: {e}"));
+            out.segmentation.validate().unwrap();
+            assert!(!out.segmentation.segments.is_empty());
+        }
+    }
+}
