@@ -146,6 +146,7 @@ bench-native: check-toolchain
 	$(CARGO) run --release --example bench_sssm -- --frames 1300
 	$(CARGO) run --release --example bench_sssm -- --reps 3 "$(BENCH_BVH)"
 	$(CARGO) run --release --example bench_lma -- "$(BENCH_SEQ)" --reps 3
+	$(CARGO) run --release --example bench_dtfcn -- "$(BENCH_SEQ)" --reps 5
 	@echo "batch: every take of $(BENCH_DATA) (takes/s on all cores)"
 	@if [ -d "$(BENCH_DATA)" ]; then \
 		$(CARGO) run --release --bin $(CRATE) -- segment --method sssm "$(BENCH_DATA)" --out target/bench/batch >/dev/null || true; \

@@ -220,3 +220,44 @@ async fn lma_end_to_end() {
         }
     }
 }
+
+/// DT-FCN and k-NN: labelling 3000 frames at 30 Hz of the bench sequence with the shipped
+/// `exercises` models (median of 5), and 20 epochs of training on 3682 frames (the exercises
+/// set's size) with the shipped models' settings — the same work as `cargo run --release
+/// --example bench_dtfcn`.
+#[wasm_bindgen_test]
+async fn dtfcn_end_to_end() {
+    use mocapseg::dtfcn::bench::{inference, trainer, EXERCISE_FRAMES};
+    use mocapseg::dtfcn::model::ModelKind;
+    let bvh = bvh::parse(SSSM_SEQUENCE).expect("the bench sequence parses");
+    let full = Motion::from_bvh("bench sequence", &bvh).expect("motion");
+    let take = Motion::concatenate(std::slice::from_ref(&full), 3000).expect("3000 frames");
+    for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
+        inference(&take, kind, "exercises").expect("warm-up");
+        let mut times = Vec::new();
+        let mut segments = 0;
+        for _ in 0..5 {
+            yield_to_browser().await;
+            let t0 = performance_now();
+            segments = inference(&take, kind, "exercises").expect("inference");
+            times.push(performance_now() - t0);
+        }
+        times.sort_by(f64::total_cmp);
+        console_log!(
+            "wasm bench | {} inference, 3000 frames @30 Hz | {:9.1} ms | {segments} segments | median of 5",
+            kind.name(),
+            times[2]
+        );
+    }
+    let (mut trainer, _, _) = trainer(&full, 20).expect("trainer");
+    let t0 = performance_now();
+    while !trainer.done() {
+        // one epoch per turn of the event loop, as the page's worker trains
+        yield_to_browser().await;
+        trainer.epoch().expect("epoch");
+    }
+    console_log!(
+        "wasm bench | dtfcn training, 20 epochs on {EXERCISE_FRAMES} frames @30 Hz | {:9.1} s",
+        (performance_now() - t0) / 1000.0
+    );
+}
