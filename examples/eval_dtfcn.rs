@@ -32,10 +32,8 @@ mod lab {
     use std::path::PathBuf;
 
     use mocapseg::dtfcn::augment::Augment;
-    use mocapseg::dtfcn::corpus::{class_labels, fit_knn, imperfect_labels, leave_one_take_out};
-    use mocapseg::dtfcn::infer::predict_input;
-    use mocapseg::dtfcn::training::{train, TrainOptions, TrainingTake};
-    use mocapseg::knn::KnnParams;
+    use mocapseg::dtfcn::corpus::{class_labels, leave_one_take_out, predict_held_out};
+    use mocapseg::dtfcn::training::TrainOptions;
     use mocapseg::labels::{from_truth_csv, LabelRow};
     use mocapseg::motion::Motion;
     use mocapseg::segment::truth::TruthOptions;
@@ -160,25 +158,8 @@ mod lab {
             let gone = (0..classes.len()).max_by_key(|&c| counts[c]).unwrap_or(0);
             let without: Vec<Vec<Option<usize>>> =
                 labels.iter().map(|l| l.iter().map(|x| x.filter(|&c| c != gone)).collect()).collect();
-            let val = (held + 1) % motions.len();
-            let mk = |i: usize| TrainingTake::new(&motions[i], &without[i]);
-            let train_idx: Vec<usize> = (0..motions.len()).filter(|&i| i != held && i != val).collect();
-            let tr: Vec<TrainingTake> = train_idx.iter().map(|&i| mk(i)).collect::<Result<_, _>>()?;
-            let chosen = train(&tr, &[mk(val)?], classes, base, &mut |_| true)?;
-            let all: Vec<TrainingTake> = (0..motions.len()).filter(|&i| i != held).map(mk).collect::<Result<_, _>>()?;
-            let again = TrainOptions { epochs: chosen.best_epoch, ..base.clone() };
-            let net = train(&all, &[], classes, &again, &mut |_| true)?;
-            let input = TrainingTake::new(&motions[held], &labels[held])?;
-            let p = predict_input(&net.net, &net.standardise, &input.input, classes.len());
-            let working: Vec<(usize, f32)> = (0..p.frames).map(|f| p.best(f)).collect();
-            let per_file = TrainingTake::to_file_frames(&input.input.source_frames, motions[held].frames(), &working);
-            let knn_takes: Vec<Vec<Option<usize>>> = (0..motions.len())
-                .map(|i| imperfect_labels(&without[i], motions[i].fps, classes.len(), base, i as u64))
-                .collect();
-            let kt: Vec<(&Motion, &[Option<usize>])> =
-                (0..motions.len()).filter(|&i| i != held).map(|i| (&motions[i], knn_takes[i].as_slice())).collect();
-            let knn = fit_knn(&kt, KnnParams::default())?;
-            let kp = knn.predict(&motions[held])?;
+            let p = predict_held_out(motions, &without, held, classes, base, &mut |_| true)?;
+            let (per_file, kp) = (p.network, p.knn);
             let mut line = format!("| {} | {} |", motions[held].name, classes[gone]);
             for (m, pred) in [per_file.as_slice(), kp.as_slice()].iter().enumerate() {
                 let (mut u, mut nu, mut s, mut ns) = (0.0, 0, 0.0, 0);

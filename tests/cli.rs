@@ -394,3 +394,76 @@ fn gait_labels_tile_a_walk_as_a_label_csv() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("FAIL"));
 }
+
+#[test]
+fn train_dtfcn_writes_a_model_that_segment_and_model_info_read_and_bad_models_are_named() {
+    let dir = out_dir().join("dtfcn");
+    std::fs::create_dir_all(&dir).unwrap();
+    // two walks, each labelled in halves (0-based inclusive BVH rows); a row for a take not given
+    let labels = dir.join("labels.csv");
+    std::fs::write(
+        &labels,
+        "file,start_frame,end_frame,label\n02_01.bvh,0,170,start\n02_01.bvh,171,342,walk\n\
+         35_01.bvh,0,178,start\n35_01.bvh,179,357,walk\nelsewhere.bvh,0,10,jump\n",
+    )
+    .unwrap();
+    let model = dir.join("walk.model");
+    let (a, b) = (fixture("02_01.bvh"), fixture("35_01.bvh"));
+    for method in ["dtfcn", "knn"] {
+        let out = run(&[
+            "train-dtfcn",
+            "--method",
+            method,
+            "--bvh",
+            a.to_str().unwrap(),
+            b.to_str().unwrap(),
+            "--labels",
+            labels.to_str().unwrap(),
+            "--epochs",
+            "2",
+            "--width",
+            "2",
+            "--out",
+            model.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{method}: {err}");
+        assert!(err.contains("elsewhere.bvh"), "the row of a take not given is said: {err}");
+        if method == "dtfcn" {
+            assert!(err.contains("parameters (the paper's: 663,562"), "{err}");
+        }
+        let info = stdout_json(&run(&["model-info", model.to_str().unwrap()]));
+        assert_eq!(info["kind"], method);
+        assert_eq!(info["classes"], serde_json::json!(["start", "walk"]));
+        assert!(info["provenance"]["command"].as_str().unwrap().starts_with("mocapseg train-dtfcn"));
+        let seg = stdout_json(&run(&[
+            "segment",
+            "--method",
+            method,
+            "--model",
+            model.to_str().unwrap(),
+            "--param",
+            "unknown_threshold=0",
+            a.to_str().unwrap(),
+        ]));
+        assert_eq!(seg["method"], method);
+        let segments = seg["segments"].as_array().unwrap();
+        assert!(segments.iter().all(|s| s["label"] == "start" || s["label"] == "walk"), "{seg}");
+        assert_eq!(segments.last().unwrap()["end"], 342);
+    }
+    // a damaged model file: refused with its name and what is wrong, exit code 1
+    let bytes = std::fs::read(&model).unwrap();
+    let broken = dir.join("broken.model");
+    std::fs::write(&broken, &bytes[..bytes.len() / 2]).unwrap();
+    let out = run(&["segment", "--method", "knn", "--model", broken.to_str().unwrap(), a.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("broken.model") && err.contains("truncated"), "{err}");
+    // a model of the other kind
+    let out = run(&["segment", "--method", "dtfcn", "--model", model.to_str().unwrap(), a.to_str().unwrap()]);
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("is a knn model"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

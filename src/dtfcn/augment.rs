@@ -61,9 +61,11 @@ impl Augment {
                 "warp" | "time_warp" => a.time_warp = true,
                 "scale" => a.scale = true,
                 "jitter" | "noise" => a.jitter = true,
-                other => return Err(format!(
+                other => {
+                    return Err(format!(
                     "unknown augmentation `{other}`; expected none, all, or a list of mirror, yaw, warp, scale, jitter"
-                )),
+                ))
+                }
             }
         }
         Ok(a)

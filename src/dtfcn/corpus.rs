@@ -12,6 +12,9 @@ use crate::lma::corpus::same_file;
 use crate::motion::Motion;
 use crate::segment::labelling::{self, LabellingScores};
 
+/// The class names and, per take, the class of every file frame (`None` = unlabelled).
+pub type ClassLabels = (Vec<String>, Vec<Vec<Option<usize>>>);
+
 /// The files `rows` name that are not among `takes` (their rows are left out of training).
 pub fn rows_without_takes(rows: &[LabelRow], takes: &[&Motion]) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
@@ -32,7 +35,7 @@ pub const DEFAULT_UNKNOWN_THRESHOLD: f32 = 0.8;
 /// The classes of `rows` in order of first appearance, and each take's per-file-frame labels
 /// (`None` where no row covers a frame). Rows naming no given take are left out
 /// ([`rows_without_takes`] names them); rows past a take's end are refused.
-pub fn class_labels(rows: &[LabelRow], takes: &[&Motion]) -> Result<(Vec<String>, Vec<Vec<Option<usize>>>), String> {
+pub fn class_labels(rows: &[LabelRow], takes: &[&Motion]) -> Result<ClassLabels, String> {
     let mut classes: Vec<String> = Vec::new();
     let mut labels: Vec<Vec<Option<usize>>> = takes.iter().map(|m| vec![None; m.frames()]).collect();
     for (i, r) in rows.iter().enumerate() {
@@ -148,7 +151,7 @@ pub fn fit_knn_model(
     };
     let mut h = header(ModelKind::Knn, classes, meta, provenance);
     h.knn = Some(params);
-    Ok(Model { header: h, labeller: Labeller::Knn(knn) })
+    Ok(Model { header: h, labeller: Labeller::Knn(Box::new(knn)) })
 }
 
 /// The k-NN on the labelled frames of `takes`.
@@ -220,10 +223,68 @@ pub struct Fold {
     pub seconds: f64,
 }
 
-/// Leave-one-take-out: for each take, train on the others with one of them (the next in turn)
-/// as the validation take that chooses the epoch, train again on all the others for that many
-/// epochs, and score on the held-out take; the k-NN fitted on the same training takes beside it.
-/// Scores are on the held-out take's file frames.
+/// The held-out take's labels in one fold of the nested protocol, by the network and the k-NN.
+#[derive(Debug, Clone)]
+pub struct FoldPrediction {
+    /// Per file frame of the held-out take: class and confidence (network) / vote share (k-NN).
+    pub network: Vec<(usize, f32)>,
+    pub knn: Vec<(usize, f32)>,
+    /// The epoch the validation take chose, of how many run.
+    pub best_epoch: usize,
+    pub epochs_run: usize,
+    /// Frame accuracy on the validation take at that epoch.
+    pub validation_accuracy: f64,
+    /// The validation take's index.
+    pub validation: usize,
+}
+
+/// One fold of the nested protocol: take `held` is held out; of the others, the next one in turn
+/// is the validation take that chooses the epoch (early stopping); the network is then trained
+/// again on all the others for that many epochs and labels the held-out take; the k-NN, fitted
+/// on the same takes under the same label noise and masking, labels it too. `labels` are the
+/// training labels (per file frame) of every take; the held-out take's are not used.
+pub fn predict_held_out(
+    motions: &[Motion],
+    labels: &[Vec<Option<usize>>],
+    held: usize,
+    classes: &[String],
+    options: &TrainOptions,
+    on_epoch: &mut dyn FnMut(&EpochReport) -> bool,
+) -> Result<FoldPrediction, String> {
+    let n = motions.len();
+    if n < 3 {
+        return Err(format!("the nested protocol needs at least 3 takes (train, validation, held out); {n} given"));
+    }
+    let val = (held + 1) % n;
+    let take = |i: usize| TrainingTake::new(&motions[i], &labels[i]);
+    let inner: Vec<TrainingTake> = (0..n).filter(|&i| i != held && i != val).map(take).collect::<Result<_, _>>()?;
+    let chosen = train(&inner, &[take(val)?], classes, options, &mut *on_epoch)?;
+    let all: Vec<TrainingTake> = (0..n).filter(|&i| i != held).map(take).collect::<Result<_, _>>()?;
+    let again = TrainOptions { epochs: chosen.best_epoch, ..options.clone() };
+    let trained = train(&all, &[], classes, &again, on_epoch)?;
+    let input = super::input::network_input(&motions[held])?;
+    let probs = super::infer::predict_input(&trained.net, &trained.standardise, &input, classes.len());
+    let working: Vec<(usize, f32)> = (0..probs.frames).map(|f| probs.best(f)).collect();
+    let network = TrainingTake::to_file_frames(&input.source_frames, motions[held].frames(), &working);
+    let imperfect: Vec<Vec<Option<usize>>> =
+        (0..n).map(|i| imperfect_labels(&labels[i], motions[i].fps, classes.len(), options, i as u64)).collect();
+    let knn_train: Vec<(&Motion, &[Option<usize>])> =
+        (0..n).filter(|&i| i != held).map(|i| (&motions[i], imperfect[i].as_slice())).collect();
+    let knn = fit_knn(&knn_train, KnnParams::default())?.predict(&motions[held])?;
+    let validation_accuracy =
+        chosen.reports.iter().find(|r| r.epoch == chosen.best_epoch).and_then(|r| r.validation_accuracy).unwrap_or(0.0);
+    Ok(FoldPrediction {
+        network,
+        knn,
+        best_epoch: chosen.best_epoch,
+        epochs_run: chosen.reports.len(),
+        validation_accuracy,
+        validation: val,
+    })
+}
+
+/// Leave-one-take-out with [`predict_held_out`] for every take, scored on the held-out take's
+/// file frames.
 pub fn leave_one_take_out(
     motions: &[Motion],
     labels: &[Vec<Option<usize>>],
@@ -231,59 +292,25 @@ pub fn leave_one_take_out(
     options: &TrainOptions,
     on_epoch: &mut dyn FnMut(&str, &EpochReport) -> bool,
 ) -> Result<Vec<Fold>, String> {
-    if motions.len() < 3 {
-        return Err(format!(
-            "leave-one-take-out with an inner validation take needs at least 3 takes; {} given",
-            motions.len()
-        ));
-    }
-    let takes: Vec<TrainingTake> =
-        motions.iter().zip(labels).map(|(m, l)| TrainingTake::new(m, l)).collect::<Result<_, _>>()?;
     let mut folds = Vec::new();
     for held in 0..motions.len() {
         let started = web_time_now();
-        let val = (held + 1) % motions.len();
-        let train_idx: Vec<usize> = (0..motions.len()).filter(|&i| i != held && i != val).collect();
-        let train_takes: Vec<TrainingTake> = train_idx.iter().map(|&i| takes[i].clone()).collect();
         let name = motions[held].name.clone();
-        let chosen =
-            train(&train_takes, std::slice::from_ref(&takes[val]), classes, options, &mut |r| on_epoch(&name, r))?;
-        // then the network is trained again on every training take (the validation take too)
-        // for the epochs the validation take chose
-        let all: Vec<TrainingTake> = (0..motions.len()).filter(|&i| i != held).map(|i| takes[i].clone()).collect();
-        let again = TrainOptions { epochs: chosen.best_epoch, ..options.clone() };
-        let trained = train(&all, &[], classes, &again, &mut |r| on_epoch(&name, r))?;
-        let probs = super::infer::predict_input(&trained.net, &trained.standardise, &takes[held].input, classes.len());
-        let working: Vec<(usize, f32)> = (0..probs.frames).map(|f| probs.best(f)).collect();
-        let per_file = TrainingTake::to_file_frames(&takes[held].input.source_frames, motions[held].frames(), &working);
+        let p = predict_held_out(motions, labels, held, classes, options, &mut |r| on_epoch(&name, r))?;
         let truth = &labels[held];
-        let pred: Vec<Option<usize>> = per_file.iter().map(|p| Some(p.0)).collect();
-        let network = labelling::score(&pred, truth);
-        let confidence = per_file.iter().map(|p| p.1 as f64).sum::<f64>() / per_file.len().max(1) as f64;
-        // the k-NN on all training takes (it has no epochs to choose), under the same label
-        // noise and boundary masking as the network
-        let imperfect: Vec<Vec<Option<usize>>> = (0..motions.len())
-            .map(|i| imperfect_labels(&labels[i], motions[i].fps, classes.len(), options, i as u64))
-            .collect();
-        let knn_train: Vec<(&Motion, &[Option<usize>])> =
-            (0..motions.len()).filter(|&i| i != held).map(|i| (&motions[i], imperfect[i].as_slice())).collect();
-        let knn = fit_knn(&knn_train, KnnParams::default())?;
-        let kp = knn.predict(&motions[held])?;
-        let kpred: Vec<Option<usize>> = kp.iter().map(|p| Some(p.0)).collect();
+        let score = |pred: &[(usize, f32)]| {
+            let pred: Vec<Option<usize>> = pred.iter().map(|p| Some(p.0)).collect();
+            labelling::score(&pred, truth)
+        };
         folds.push(Fold {
             take: name,
-            network,
-            knn: labelling::score(&kpred, truth),
-            confidence,
-            best_epoch: chosen.best_epoch,
-            epochs_run: chosen.reports.len(),
-            validation_take: motions[val].name.clone(),
-            validation_accuracy: chosen
-                .reports
-                .iter()
-                .find(|r| r.epoch == chosen.best_epoch)
-                .and_then(|r| r.validation_accuracy)
-                .unwrap_or(0.0),
+            network: score(&p.network),
+            knn: score(&p.knn),
+            confidence: p.network.iter().map(|p| p.1 as f64).sum::<f64>() / p.network.len().max(1) as f64,
+            best_epoch: p.best_epoch,
+            epochs_run: p.epochs_run,
+            validation_take: motions[p.validation].name.clone(),
+            validation_accuracy: p.validation_accuracy,
             seconds: web_time_now() - started,
         });
     }

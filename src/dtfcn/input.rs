@@ -138,10 +138,10 @@ pub fn mirrored(input: &NetworkInput) -> NetworkInput {
     let hip = HIP_ROW;
     let n = input.frames;
     let mut values = vec![0f32; input.values.len()];
-    for j in 0..JOINTS {
+    for (j, &other) in partner.iter().enumerate() {
         for axis in 0..3 {
             let sign = if axis == 0 || (j == hip && axis == 1) { -1.0 } else { 1.0 };
-            let from = channel_of(axis, partner[j]);
+            let from = channel_of(axis, other);
             let to = channel_of(axis, j);
             for t in 0..n {
                 values[to * n + t] = sign * input.values[from * n + t];

@@ -49,8 +49,10 @@ pub struct Checked {
 
 /// Models installed by the user (trained or loaded in the page, or `--model FILE` on the
 /// command line), by name, one list per kind.
-fn installed() -> &'static Mutex<Vec<(String, Arc<Model>)>> {
-    static USER: OnceLock<Mutex<Vec<(String, Arc<Model>)>>> = OnceLock::new();
+type Installed = Mutex<Vec<(String, Arc<Model>)>>;
+
+fn installed() -> &'static Installed {
+    static USER: OnceLock<Installed> = OnceLock::new();
     USER.get_or_init(|| Mutex::new(Vec::new()))
 }
 

@@ -105,7 +105,7 @@ pub struct Model {
 /// The labeller inside a model.
 pub enum Labeller {
     Network(DtFcn),
-    Knn(Knn),
+    Knn(Box<Knn>),
 }
 
 impl std::fmt::Debug for Model {
@@ -179,9 +179,9 @@ impl Model {
             }
             ModelKind::Knn => {
                 let params = header.knn.ok_or_else(|| format!("{source}: a k-NN model without its parameters"))?;
-                Labeller::Knn(
+                Labeller::Knn(Box::new(
                     Knn::from_bytes(payload, params, header.classes.len()).map_err(|e| format!("{source}: {e}"))?,
-                )
+                ))
             }
         };
         Ok(Model { header, labeller })

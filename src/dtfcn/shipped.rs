@@ -26,9 +26,11 @@ const KNN: [&[u8]; 3] = [
     include_bytes!("../../models/knn-locomotion.model"),
 ];
 
+type Slot = OnceLock<Result<Arc<Model>, String>>;
+
 /// The shipped model of `kind` called `name`, read once.
 pub fn model(kind: ModelKind, name: &str) -> Result<Arc<Model>, String> {
-    static LOADED: [[OnceLock<Result<Arc<Model>, String>>; 3]; 2] =
+    static LOADED: [[Slot; 3]; 2] =
         [[OnceLock::new(), OnceLock::new(), OnceLock::new()], [OnceLock::new(), OnceLock::new(), OnceLock::new()]];
     let i = NAMES.iter().position(|n| *n == name).ok_or_else(|| {
         format!("no {} model called `{name}`; shipped: {} (or load your own)", kind.name(), NAMES.join(", "))

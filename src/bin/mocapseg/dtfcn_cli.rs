@@ -125,9 +125,10 @@ pub fn train(
             for (m, v) in mean.iter_mut().zip(row) {
                 *m += v / folds.len() as f64;
             }
+            let validation = format!("{} ({:.3})", f.validation_take, f.validation_accuracy);
             println!(
                 "| {} | {} | {} / {} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} | {:.0} s |",
-                f.take, format!("{} ({:.3})", f.validation_take, f.validation_accuracy), f.best_epoch, f.epochs_run, row[0], row[1], row[2], row[3], row[4], row[5],
+                f.take, validation, f.best_epoch, f.epochs_run, row[0], row[1], row[2], row[3], row[4], row[5],
                 row[6], row[7], row[8], row[9], row[10], f.seconds
             );
         }
