@@ -30,7 +30,7 @@ pub fn rows_without_takes(rows: &[LabelRow], takes: &[&Motion]) -> Vec<String> {
 /// experiment (`cargo run --release --example eval_dtfcn -- unseen`, README) as the threshold
 /// that calls the most never-seen-class frames unknown while calling at most 10 % of the
 /// seen-class frames unknown (0.80: 35 % of unseen, 10 % of seen frames on mocap6).
-pub const DEFAULT_UNKNOWN_THRESHOLD: f32 = 0.8;
+pub const DEFAULT_UNKNOWN_THRESHOLD: f64 = 0.8;
 
 /// The classes of `rows` in order of first appearance, and each take's per-file-frame labels
 /// (`None` where no row covers a frame). Rows naming no given take are left out
@@ -85,7 +85,7 @@ fn header(kind: ModelKind, classes: &[String], meta: &ModelMeta, provenance: Pro
         colours: class_colours(classes.len()),
         joints: joint_names(),
         fps: NETWORK_FPS,
-        unknown_threshold: DEFAULT_UNKNOWN_THRESHOLD,
+        unknown_threshold: DEFAULT_UNKNOWN_THRESHOLD as f32,
         network: None,
         standardise: None,
         knn: None,

@@ -35,7 +35,7 @@ pub struct LabelParams {
 
 impl Default for LabelParams {
     fn default() -> Self {
-        LabelParams { model: shipped::NAMES[0].into(), unknown_threshold: DEFAULT_UNKNOWN_THRESHOLD as f64 }
+        LabelParams { model: shipped::NAMES[0].into(), unknown_threshold: DEFAULT_UNKNOWN_THRESHOLD }
     }
 }
 
@@ -141,7 +141,7 @@ impl Method for Labelling {
                 name: "unknown_threshold".into(),
                 help: "Frames whose confidence is below this are labelled `unknown` (0: never).".into(),
                 kind: ParamKind::Number { min: 0.0, max: 1.0 },
-                default: serde_json::json!(DEFAULT_UNKNOWN_THRESHOLD as f64),
+                default: serde_json::json!(DEFAULT_UNKNOWN_THRESHOLD),
                 unit: None,
                 basic: true,
             },
