@@ -14,10 +14,24 @@
 //! the user's Effort labels for the held take, `use_lma_model` loads one the user saved (or goes
 //! back to the shipped family). A worker starts with the shipped family, so the page sends the
 //! family it holds to every new worker before anything else.
+//!
+//! The same holds for the labelling models of `dtfcn` and `knn`: `use_label_model` installs a
+//! model file the user loaded (or the page holds from a training) under its name, and the page
+//! sends every model it holds to each new worker. `train_dtfcn` trains a DT-FCN **one epoch per
+//! message**: it prepares the trainer and runs epoch 1; each epoch answers `training_epoch`, and
+//! while more epochs are due [`WorkerState::next_step`] names the `continue_training` request the
+//! worker's glue (`www/worker.js`) schedules to itself with `setTimeout(0)`, so that a
+//! `stop_training` from the page is read between two epochs. When the run ends (its epochs done,
+//! or stopped: the best model so far is kept), the worker installs the model and answers
+//! `dtfcn_trained` with the model file as a buffer.
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
+use crate::dtfcn::corpus::{class_labels, model_from, rows_without_takes, ModelMeta};
+use crate::dtfcn::input::NetworkInput;
+use crate::dtfcn::model::{data_hash, Model, ModelKind};
+use crate::dtfcn::training::{EpochReport, TrainOptions, Trainer, TrainingTake};
 use crate::image::MotionImage;
 use crate::lma::classifier::EffortModel;
 use crate::lma::corpus::{parse_labels, Corpus, CorpusConfig, EffortLabel, Sample};
@@ -61,6 +75,44 @@ pub enum Request {
         #[serde(skip)]
         model: Option<String>,
     },
+    /// Install the labelling model file `file` (`Model::to_bytes`) for the method of `kind`
+    /// (`dtfcn` or `knn`): under the name in its header, or — when that is empty or a shipped
+    /// model's — under the file's stem. Refused with the core's message when the bytes are not
+    /// such a model, or a model of the other kind. Any worker accepts it, whatever take it holds.
+    UseLabelModel {
+        take: TakeId,
+        run: RunId,
+        kind: ModelKind,
+        /// The file's name (messages name it).
+        file: String,
+        /// Buffer 0.
+        #[serde(skip)]
+        bytes: Vec<u8>,
+    },
+    /// Train a DT-FCN on the rows of the label CSV `labels` (its text; the file `labels_name`,
+    /// `file,start_frame,end_frame,label`, 0-based file frames) for the takes `takes` (file
+    /// names; their bytes are the buffers, in order — the page sends the take on screen first),
+    /// with `options`; the model is installed as `name`. Prepares the trainer and runs epoch 1
+    /// (answer: `training_epoch`); the epochs after it come with `continue_training`. Rows for
+    /// files not given are left out (and named in the answer). Any worker accepts it.
+    TrainDtfcn {
+        take: TakeId,
+        run: RunId,
+        name: String,
+        labels_name: String,
+        labels: String,
+        takes: Vec<String>,
+        options: TrainOptions,
+        /// Buffers 0.., one per take.
+        #[serde(skip)]
+        bytes: Vec<Vec<u8>>,
+    },
+    /// Runs the next epoch of the training `run` (the worker's glue sends it to its own worker
+    /// when [`WorkerState::next_step`] says so). Ignored when that training is over.
+    ContinueTraining { take: TakeId, run: RunId },
+    /// Ends the training `run` after the epochs so far: the best model so far is kept, installed
+    /// and sent (`dtfcn_trained` with `stopped`). Ignored when that training is over.
+    StopTraining { take: TakeId, run: RunId },
 }
 
 impl Request {
@@ -70,7 +122,11 @@ impl Request {
             Request::Load { take, .. }
             | Request::Segment { take, .. }
             | Request::TrainLma { take, .. }
-            | Request::UseLmaModel { take, .. } => *take,
+            | Request::UseLmaModel { take, .. }
+            | Request::UseLabelModel { take, .. }
+            | Request::TrainDtfcn { take, .. }
+            | Request::ContinueTraining { take, .. }
+            | Request::StopTraining { take, .. } => *take,
         }
     }
 }
@@ -286,6 +342,114 @@ impl FactorSummary {
     }
 }
 
+/// The input of a DT-FCN training a refusal is about (the page shows the message there).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TrainField {
+    /// The label CSV: a bad line, no row for any take given, fewer than 2 classes, a row past a
+    /// take's end.
+    Labels,
+    /// A take: it does not parse, is given twice, or lacks the joints the network reads.
+    Takes,
+    /// The model's name.
+    Name,
+    Epochs,
+    LabelNoise,
+    MaskFrames,
+    /// Kernel width.
+    Width,
+    /// Filters per layer (and the number of layers).
+    Filters,
+    CropFrames,
+    Batch,
+    LearningRate,
+    WeightDecay,
+}
+
+impl TrainField {
+    /// The field a refusal of the training options (`TrainOptions::check`, the network's check)
+    /// is about, from what its message names; `None` when it names none of them.
+    pub fn of_option_message(message: &str) -> Option<TrainField> {
+        let m = message.to_ascii_lowercase();
+        [
+            ("kernel width", TrainField::Width),
+            ("label noise", TrainField::LabelNoise),
+            ("learning rate", TrainField::LearningRate),
+            ("weight decay", TrainField::WeightDecay),
+            ("epochs", TrainField::Epochs),
+            ("mask", TrainField::MaskFrames),
+            ("crop", TrainField::CropFrames),
+            ("batch", TrainField::Batch),
+            ("layers", TrainField::Filters),
+            ("filters", TrainField::Filters),
+            ("classes", TrainField::Labels),
+        ]
+        .into_iter()
+        .find(|(word, _)| m.contains(word))
+        .map(|(_, field)| field)
+    }
+}
+
+/// A labelling model the worker installed (loaded from a file or just trained), as the page
+/// shows it and lists it among its method's models.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LabelModelInfo {
+    /// The name it is installed under (the value of the method's `model` parameter).
+    pub name: String,
+    pub kind: ModelKind,
+    pub classes: Vec<String>,
+    /// CSS `#rrggbb`, one per class.
+    pub colours: Vec<String>,
+    /// Frames below this confidence are `unknown` unless the run says otherwise.
+    pub unknown_threshold: f32,
+    /// How it was made: the takes, labelled frames, epochs run and kept, the command.
+    pub takes: Vec<String>,
+    pub frames: usize,
+    pub epochs_run: usize,
+    pub best_epoch: usize,
+    pub command: String,
+}
+
+impl LabelModelInfo {
+    /// Refuses an info whose classes and colours do not pair up (so views can index freely).
+    fn check(&self) -> Result<(), String> {
+        if self.classes.len() == self.colours.len() {
+            Ok(())
+        } else {
+            Err(format!(
+                "worker message: model {} has {} classes but {} colours",
+                self.name,
+                self.classes.len(),
+                self.colours.len()
+            ))
+        }
+    }
+
+    fn new(name: &str, model: &Model) -> LabelModelInfo {
+        let h = &model.header;
+        LabelModelInfo {
+            name: name.to_string(),
+            kind: h.kind,
+            classes: h.classes.clone(),
+            colours: h.colours.clone(),
+            unknown_threshold: h.unknown_threshold,
+            takes: h.provenance.takes.clone(),
+            frames: h.provenance.frames,
+            epochs_run: h.provenance.epochs_run,
+            best_epoch: h.provenance.best_epoch,
+            command: h.provenance.command.clone(),
+        }
+    }
+}
+
+/// The method's name for a model kind, as headings show it.
+pub fn kind_short(kind: ModelKind) -> &'static str {
+    match kind {
+        ModelKind::Dtfcn => "DT-FCN",
+        ModelKind::Knn => "k-NN",
+    }
+}
+
 /// Worker → page.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
@@ -332,12 +496,47 @@ pub enum Response {
         origin: String,
         shipped: bool,
     },
+    /// A `use_label_model`: the model is installed, its method's runs may name it now.
+    LabelModelInUse {
+        take: TakeId,
+        run: RunId,
+        model: LabelModelInfo,
+    },
+    /// One epoch of the DT-FCN training `run` is done; `more`: the worker goes on with the next.
+    TrainingEpoch {
+        take: TakeId,
+        run: RunId,
+        report: EpochReport,
+        more: bool,
+    },
+    /// The DT-FCN training `run` ended (every epoch ran, or `stopped` by the page: the best model
+    /// so far is kept); the model is installed as `model.name`.
+    DtfcnTrained {
+        take: TakeId,
+        run: RunId,
+        model: LabelModelInfo,
+        reports: Vec<EpochReport>,
+        /// The epoch (1-based) whose weights were kept.
+        best_epoch: usize,
+        stopped: bool,
+        /// Label rows for the takes trained on, and the files rows name that were not given.
+        used_rows: usize,
+        left_out: Vec<String>,
+        /// Buffer 0: the model file (`Model::to_bytes`).
+        #[serde(skip)]
+        bytes: Vec<u8>,
+    },
     /// A load (`run: None`) or a run failed.
     Failed {
         take: TakeId,
         run: Option<RunId>,
         message: String,
         kind: FailureKind,
+        /// The input of the request that is wrong, when it is one of several (a DT-FCN training's
+        /// `labels`, `takes`, `name`, `epochs`, `label_noise`, `mask_frames`, `width`, `filters`,
+        /// …, see [`TrainField`]); left out otherwise.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        field: Option<TrainField>,
     },
 }
 
@@ -374,7 +573,12 @@ impl Request {
         let buffers = match self {
             Request::Load { bytes, .. } => vec![bytes],
             Request::UseLmaModel { model, .. } => model.into_iter().map(String::into_bytes).collect(),
-            Request::Segment { .. } | Request::TrainLma { .. } => Vec::new(),
+            Request::UseLabelModel { bytes, .. } => vec![bytes],
+            Request::TrainDtfcn { bytes, .. } => bytes,
+            Request::Segment { .. }
+            | Request::TrainLma { .. }
+            | Request::ContinueTraining { .. }
+            | Request::StopTraining { .. } => Vec::new(),
         };
         Packet { json, buffers }
     }
@@ -390,7 +594,23 @@ impl Request {
             Request::UseLmaModel { model, .. } => {
                 *model = buffers.next().map(|b| utf8(b, "the LMA family")).transpose()?;
             }
-            Request::Segment { .. } | Request::TrainLma { .. } => {}
+            Request::UseLabelModel { bytes, .. } => {
+                *bytes = buffers.next().ok_or("worker request: a model file without its bytes")?;
+            }
+            Request::TrainDtfcn { takes, bytes, .. } => {
+                *bytes = buffers.by_ref().take(takes.len()).collect();
+                if bytes.len() != takes.len() {
+                    return Err(format!(
+                        "worker request: a training with {} takes but the bytes of {}",
+                        takes.len(),
+                        bytes.len()
+                    ));
+                }
+            }
+            Request::Segment { .. }
+            | Request::TrainLma { .. }
+            | Request::ContinueTraining { .. }
+            | Request::StopTraining { .. } => {}
         }
         Ok(request)
     }
@@ -413,6 +633,7 @@ impl Response {
                 }
             }
             Response::Trained { model, .. } => buffers.push(std::mem::take(model).into_bytes()),
+            Response::DtfcnTrained { bytes, .. } => buffers.push(std::mem::take(bytes)),
             _ => {}
         }
         Packet { json: serde_json::to_string(&this).unwrap_or_default(), buffers }
@@ -443,6 +664,11 @@ impl Response {
                 }
             }
             Response::Trained { model, .. } => *model = utf8(next("the trained family")?, "the trained family")?,
+            Response::DtfcnTrained { bytes, model, .. } => {
+                *bytes = next("the trained model")?;
+                model.check()?;
+            }
+            Response::LabelModelInUse { model, .. } => model.check()?,
             _ => {}
         }
         Ok(response)
@@ -457,12 +683,118 @@ pub struct WorkerState {
     held: Option<(TakeId, Motion)>,
     /// How `train_lma` trains (the trainer's defaults).
     training: TrainConfig,
+    /// The DT-FCN training under way (one at a time: a new one replaces it).
+    dtfcn: Option<DtfcnJob>,
+}
+
+/// A DT-FCN training under way in the worker, between two epochs.
+struct DtfcnJob {
+    take: TakeId,
+    run: RunId,
+    trainer: Trainer,
+    /// The takes trained on, without their motion images (what the model's provenance needs).
+    takes: Vec<TrainingTake>,
+    classes: Vec<String>,
+    options: TrainOptions,
+    name: String,
+    command: String,
+    data_hash: String,
+    used_rows: usize,
+    left_out: Vec<String>,
+}
+
+impl std::fmt::Debug for DtfcnJob {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "DtfcnJob(run {} of take {}, model {}, {} epochs done)",
+            self.run,
+            self.take,
+            self.name,
+            self.trainer.reports().len()
+        )
+    }
+}
+
+/// The longest model name accepted.
+const MAX_MODEL_NAME: usize = 64;
+
+/// Refuses a name a user model cannot be installed under (empty, too long, control characters,
+/// a shipped model's).
+fn check_model_name(name: &str) -> Result<(), String> {
+    if name.is_empty() {
+        return Err("the model needs a name".into());
+    }
+    if name.chars().count() > MAX_MODEL_NAME {
+        return Err(format!("the model name has {} characters; at most {MAX_MODEL_NAME}", name.chars().count()));
+    }
+    if name.chars().any(char::is_control) {
+        return Err("the model name has a control character".into());
+    }
+    if crate::dtfcn::shipped::NAMES.contains(&name) {
+        return Err(format!("`{name}` is the name of a shipped model; choose another name"));
+    }
+    Ok(())
+}
+
+/// `text` as one shell word (quoted when it holds a space), as the command line's provenance shows it.
+fn shell_word(text: &str) -> String {
+    if text.is_empty() || text.contains(|c: char| c.is_whitespace() || "'\"$`\\".contains(c)) {
+        format!("'{}'", text.replace('\'', "'\\''"))
+    } else {
+        text.to_string()
+    }
+}
+
+/// The `mocapseg train-dtfcn` command that trains the same model natively.
+fn train_command(takes: &[String], labels: &str, name: &str, o: &TrainOptions) -> String {
+    let d = TrainOptions::default();
+    let mut words = vec!["mocapseg train-dtfcn --bvh".to_string()];
+    words.extend(takes.iter().map(|t| shell_word(t)));
+    words.push(format!(
+        "--labels {} --epochs {} --seed {} --noise {} --mask {} --augment {} --width {}",
+        shell_word(labels),
+        o.epochs,
+        o.seed,
+        o.label_noise,
+        o.mask_frames,
+        o.augment.describe(),
+        o.width
+    ));
+    if o.crop_frames != d.crop_frames {
+        words.push(format!("--crop {}", o.crop_frames));
+    }
+    if o.batch != d.batch {
+        words.push(format!("--batch {}", o.batch));
+    }
+    if o.learning_rate != d.learning_rate {
+        words.push(format!("--learning-rate {}", o.learning_rate));
+    }
+    if o.weight_decay != d.weight_decay {
+        words.push(format!("--weight-decay {}", o.weight_decay));
+    }
+    words.push(format!("--name {} -o {}", shell_word(name), shell_word(&format!("{name}.model"))));
+    let mut command = words.join(" ");
+    command += " (trained in the browser";
+    if o.filters != d.filters {
+        let filters: Vec<String> = o.filters.iter().map(usize::to_string).collect();
+        command += &format!(", filters {}", filters.join(","));
+    }
+    command += ")";
+    command
 }
 
 impl WorkerState {
     /// A worker that trains LMA families with `training` instead of the defaults.
     pub fn with_training(training: TrainConfig) -> WorkerState {
-        WorkerState { held: None, training }
+        WorkerState { held: None, training, dtfcn: None }
+    }
+
+    /// The request the worker should send itself next (after a `setTimeout(0)`, so that the
+    /// page's messages are read first): the next epoch of the DT-FCN training under way.
+    pub fn next_step(&self) -> Option<Request> {
+        let job = self.dtfcn.as_ref()?;
+        (!job.trainer.done()).then_some(Request::ContinueTraining { take: job.take, run: job.run })
     }
 
     /// The take the worker holds.
@@ -491,7 +823,9 @@ impl WorkerState {
                         Response::Restored { take }
                     }
                     Ok(motion) => Response::Loaded { take, motion },
-                    Err(message) => Response::Failed { take, run: None, message, kind: FailureKind::Input },
+                    Err(message) => {
+                        Response::Failed { take, run: None, message, kind: FailureKind::Input, field: None }
+                    }
                 };
                 post(response);
             }
@@ -504,7 +838,161 @@ impl WorkerState {
                 post(response);
             }
             Request::UseLmaModel { take, run, model } => post(use_lma_model(take, run, model.as_deref())),
+            Request::UseLabelModel { take, run, kind, file, bytes } => {
+                post(use_label_model(take, run, kind, &file, &bytes))
+            }
+            Request::TrainDtfcn { take, run, name, labels_name, labels, takes, options, bytes } => {
+                let ask = DtfcnAsk { name, labels_name, labels, takes, options, bytes };
+                match self.start_dtfcn(take, run, ask, post) {
+                    Ok(()) => self.dtfcn_epoch(post),
+                    Err((message, field)) => {
+                        post(Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, field })
+                    }
+                }
+            }
+            Request::ContinueTraining { run, .. } => {
+                if self.dtfcn.as_ref().is_some_and(|j| j.run == run) {
+                    self.dtfcn_epoch(post);
+                }
+            }
+            Request::StopTraining { run, .. } => {
+                if let Some(job) = self.dtfcn.as_mut().filter(|j| j.run == run) {
+                    job.trainer.stop();
+                    self.finish_dtfcn(post);
+                }
+            }
         }
+    }
+
+    /// Checks a DT-FCN training request and prepares its trainer (the job under way from now
+    /// on); a refusal names the input that is wrong.
+    fn start_dtfcn(
+        &mut self,
+        take: TakeId,
+        run: RunId,
+        ask: DtfcnAsk,
+        post: &mut dyn FnMut(Response),
+    ) -> Result<(), (String, Option<TrainField>)> {
+        // a new training replaces the one under way
+        self.dtfcn = None;
+        let DtfcnAsk { name, labels_name, labels, takes: names, options, bytes } = ask;
+        let name = name.trim().to_string();
+        check_model_name(&name).map_err(|m| (m, Some(TrainField::Name)))?;
+        let option_field = |m: String| {
+            let field = TrainField::of_option_message(&m);
+            (m, field)
+        };
+        options.check().map_err(option_field)?;
+        let rows = crate::labels::read_csv(&labels, &labels_name).map_err(|m| (m, Some(TrainField::Labels)))?;
+        if rows.is_empty() {
+            return Err((format!("{labels_name} has no rows, only its header"), Some(TrainField::Labels)));
+        }
+        let takes_field = |m: String| (m, Some(TrainField::Takes));
+        for (i, a) in names.iter().enumerate() {
+            if names[..i].iter().any(|b| crate::lma::corpus::same_file(a, b)) {
+                return Err(takes_field(format!("{a} is given twice")));
+            }
+        }
+        // the takes some row names, parsed
+        let mut motions: Vec<Motion> = Vec::new();
+        let mut hashed: Vec<(String, Vec<u8>)> = Vec::new();
+        let named: Vec<usize> = (0..names.len())
+            .filter(|&i| rows.iter().any(|r| crate::lma::corpus::same_file(&r.file, &names[i])))
+            .collect();
+        if named.is_empty() {
+            let files: Vec<&str> = rows.iter().map(|r| r.file.as_str()).collect();
+            return Err((no_rows_for_takes(&labels_name, &names, &files), Some(TrainField::Labels)));
+        }
+        let mut bytes: Vec<Option<Vec<u8>>> = bytes.into_iter().map(Some).collect();
+        for (k, &i) in named.iter().enumerate() {
+            post(Response::Progress {
+                take,
+                run: Some(run),
+                stage: format!("reading {}", names[i]),
+                fraction: Some(k as f64 / named.len() as f64 * 0.5),
+            });
+            let file = bytes[i].take().unwrap_or_default();
+            let loaded =
+                crate::load::load_bytes(&names[i], &file, &mut |_| {}).map_err(|e| takes_field(e.to_string()))?;
+            motions.push(loaded.motion);
+            // kept for the data hash of the model's provenance
+            hashed.push((names[i].clone(), file));
+        }
+        drop(bytes);
+        let refs: Vec<&Motion> = motions.iter().collect();
+        let left_out = rows_without_takes(&rows, &refs);
+        let used_rows =
+            rows.iter().filter(|r| refs.iter().any(|m| crate::lma::corpus::same_file(&m.name, &r.file))).count();
+        let (classes, labels_per_take) =
+            class_labels(&rows, &refs).map_err(|m| (format!("{labels_name}: {m}"), Some(TrainField::Labels)))?;
+        options.network(classes.len()).check().map_err(option_field)?;
+        post(Response::Progress { take, run: Some(run), stage: "motion images".into(), fraction: Some(0.5) });
+        let mut training = Vec::with_capacity(motions.len());
+        for (m, l) in motions.iter().zip(&labels_per_take) {
+            training.push(TrainingTake::new(m, l).map_err(|e| takes_field(format!("{}: {e}", m.name)))?);
+        }
+        let light: Vec<TrainingTake> = training
+            .iter()
+            .map(|t| TrainingTake {
+                name: t.name.clone(),
+                input: NetworkInput { values: Vec::new(), frames: 0, source_frames: Vec::new() },
+                labels: t.labels.clone(),
+            })
+            .collect();
+        let trainer = Trainer::new(training, Vec::new(), classes.clone(), options.clone()).map_err(|m| {
+            let field = TrainField::of_option_message(&m).or(Some(TrainField::Labels));
+            (format!("{labels_name}: {m}"), field)
+        })?;
+        let used_names: Vec<String> = motions.iter().map(|m| m.name.clone()).collect();
+        post(Response::Progress { take, run: Some(run), stage: "epoch 1".into(), fraction: Some(0.0) });
+        self.dtfcn = Some(DtfcnJob {
+            take,
+            run,
+            trainer,
+            takes: light,
+            classes,
+            command: train_command(&used_names, &labels_name, &name, &options),
+            options,
+            data_hash: data_hash(&hashed, labels.as_bytes()),
+            name,
+            used_rows,
+            left_out,
+        });
+        Ok(())
+    }
+
+    /// Runs the next epoch of the training under way and answers with its report; ends the run
+    /// when it was the last.
+    fn dtfcn_epoch(&mut self, post: &mut dyn FnMut(Response)) {
+        let Some(job) = self.dtfcn.as_mut() else { return };
+        let (take, run) = (job.take, job.run);
+        match job.trainer.epoch() {
+            Ok(report) => {
+                let more = !job.trainer.done();
+                post(Response::TrainingEpoch { take, run, report, more });
+                if !more {
+                    self.finish_dtfcn(post);
+                }
+            }
+            Err(message) => {
+                self.dtfcn = None;
+                post(Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, field: None });
+            }
+        }
+    }
+
+    /// Ends the training under way: its model (the best epoch's) is installed and sent.
+    fn finish_dtfcn(&mut self, post: &mut dyn FnMut(Response)) {
+        let Some(job) = self.dtfcn.take() else { return };
+        let (take, run) = (job.take, job.run);
+        let response = job.finish().unwrap_or_else(|message| Response::Failed {
+            take,
+            run: Some(run),
+            message,
+            kind: FailureKind::Input,
+            field: None,
+        });
+        post(response);
     }
 
     fn load(
@@ -531,7 +1019,7 @@ impl WorkerState {
         params: &serde_json::Value,
         post: &mut dyn FnMut(Response),
     ) -> Response {
-        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind };
+        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, field: None };
         let motion = match self.motion(take) {
             Ok(motion) => motion,
             Err(message) => return fail(message, FailureKind::NotLoaded),
@@ -563,7 +1051,7 @@ impl WorkerState {
         labels: &str,
         post: &mut dyn FnMut(Response),
     ) -> Response {
-        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind };
+        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, field: None };
         let motion = match self.motion(take) {
             Ok(motion) => motion,
             Err(message) => return fail(message, FailureKind::NotLoaded),
@@ -598,9 +1086,103 @@ impl WorkerState {
     }
 }
 
+/// What a `train_dtfcn` request asks, once its ids are taken out.
+struct DtfcnAsk {
+    name: String,
+    labels_name: String,
+    labels: String,
+    takes: Vec<String>,
+    options: TrainOptions,
+    bytes: Vec<Vec<u8>>,
+}
+
+impl DtfcnJob {
+    /// The model of the finished run, installed, as the answer to the page.
+    fn finish(self) -> Result<Response, String> {
+        let trained = self.trainer.finish()?;
+        let (reports, best_epoch, stopped) = (trained.reports.clone(), trained.best_epoch, trained.stopped);
+        let meta = ModelMeta { name: self.name.clone(), command: self.command, data_hash: self.data_hash };
+        let model = model_from(trained, &self.takes, &self.classes, &self.options, &meta);
+        let bytes = model.to_bytes()?;
+        let info = LabelModelInfo::new(&self.name, &model);
+        crate::dtfcn::method::install(&self.name, model)?;
+        Ok(Response::DtfcnTrained {
+            take: self.take,
+            run: self.run,
+            model: info,
+            reports,
+            best_epoch,
+            stopped,
+            used_rows: self.used_rows,
+            left_out: self.left_out,
+            bytes,
+        })
+    }
+}
+
+/// Installs the labelling model file `file` (its bytes) for the method of `kind`.
+fn use_label_model(take: TakeId, run: RunId, kind: ModelKind, file: &str, bytes: &[u8]) -> Response {
+    let fail =
+        |message: String| Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, field: None };
+    let model = match Model::from_bytes(bytes, file) {
+        Ok(model) => model,
+        Err(message) => return fail(message),
+    };
+    if model.header.kind != kind {
+        return fail(format!(
+            "{file} holds a {} model, not a {} model: load it in the {} panel",
+            kind_short(model.header.kind),
+            kind_short(kind),
+            kind_short(model.header.kind)
+        ));
+    }
+    let inner = model.header.name.trim().to_string();
+    let name = if check_model_name(&inner).is_ok() {
+        inner
+    } else {
+        let base = file.rsplit(['/', '\\']).next().unwrap_or(file);
+        let stem = base.rsplit_once('.').map_or(base, |(stem, _)| stem).trim().to_string();
+        if let Err(message) = check_model_name(&stem) {
+            return fail(format!("{file}: the model is called `{inner}` and the file `{stem}`: {message}"));
+        }
+        stem
+    };
+    let info = LabelModelInfo::new(&name, &model);
+    match crate::dtfcn::method::install(&name, model) {
+        Ok(()) => Response::LabelModelInUse { take, run, model: info },
+        Err(message) => fail(format!("{file}: {message}")),
+    }
+}
+
+/// Why a label CSV gives nothing to train on from the takes `takes`: its rows (naming `files`)
+/// name none of them.
+fn no_rows_for_takes(name: &str, takes: &[String], files: &[&str]) -> String {
+    let mut named: Vec<&str> = Vec::new();
+    for f in files {
+        if !named.contains(f) {
+            named.push(f);
+        }
+    }
+    const SHOWN: usize = 5;
+    let mut list = named.iter().take(SHOWN).map(|f| format!("`{f}`")).collect::<Vec<_>>().join(", ");
+    if named.len() > SHOWN {
+        list += &format!(" and {} more", named.len() - SHOWN);
+    }
+    let given = match takes {
+        [] => "no take is given".to_string(),
+        [one] => format!("no row is for the loaded take `{one}`"),
+        [first, rest @ ..] => format!(
+            "no row is for the loaded take `{first}` or the other takes given ({})",
+            rest.iter().map(|t| format!("`{t}`")).collect::<Vec<_>>().join(", ")
+        ),
+    };
+    format!("{name}: {given}; its rows name {list}")
+}
+
 /// Makes the family `model` (JSON text; `None`: the shipped one) the one `lma` runs use.
 fn use_lma_model(take: TakeId, run: RunId, model: Option<&str>) -> Response {
-    let fail = |message: String| Response::Failed { take, run: Some(run), message, kind: FailureKind::Input };
+    let fail =
+        |message: String| Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, field: None };
     match model.map(EffortModel::from_json).transpose() {
         Ok(model) => crate::lma::use_model(model),
         Err(message) => return fail(message),
@@ -720,8 +1302,15 @@ mod tests {
                 run: Some(2),
                 message: "take 1 is not loaded".into(),
                 kind: FailureKind::NotLoaded,
+                field: None,
             },
-            Response::Failed { take: 1, run: None, message: "x.bvh: line 3".into(), kind: FailureKind::Input },
+            Response::Failed {
+                take: 1,
+                run: None,
+                message: "x.bvh: line 3".into(),
+                kind: FailureKind::Input,
+                field: None,
+            },
             Response::ModelInUse {
                 take: 2,
                 run: 6,
@@ -769,7 +1358,7 @@ mod tests {
             &mut w,
             Request::Load { take: 2, name: "bad.bvh".into(), restore: false, bytes: b"HIERARCHY\nROOT".to_vec() },
         );
-        let Some(Response::Failed { take: 2, run: None, message, kind: FailureKind::Input }) = bad.last() else {
+        let Some(Response::Failed { take: 2, run: None, message, kind: FailureKind::Input, .. }) = bad.last() else {
             panic!("{bad:?}")
         };
         assert!(message.starts_with("bad.bvh: line "), "{message}");
@@ -975,6 +1564,444 @@ mod tests {
         );
         assert!(lma_summary(&mut w, 1, 16).ends_with(&yours));
         ask(&mut w, Request::UseLmaModel { take: 1, run: 17, model: None });
+    }
+
+    // ---- DT-FCN / k-NN models and training ------------------------------------------------
+
+    fn tiny_options(epochs: usize) -> TrainOptions {
+        TrainOptions { filters: vec![8, 8], crop_frames: 64, epochs, ..Default::default() }
+    }
+
+    const LABELS_HEADER: &str = "file,start_frame,end_frame,label\n";
+
+    /// Label rows for 12_01.bvh (524 frames): three classes in turn.
+    fn walk_labels() -> String {
+        format!("{LABELS_HEADER}12_01.bvh,0,179,stand\n12_01.bvh,180,359,walk\n12_01.bvh,360,523,<b>turn</b>\n")
+    }
+
+    fn train_dtfcn(
+        run: RunId,
+        name: &str,
+        labels: String,
+        options: TrainOptions,
+        takes: Vec<(&str, Vec<u8>)>,
+    ) -> Request {
+        let (names, bytes): (Vec<String>, Vec<Vec<u8>>) = takes.into_iter().map(|(n, b)| (n.to_string(), b)).unzip();
+        Request::TrainDtfcn {
+            take: 1,
+            run,
+            name: name.into(),
+            labels_name: "labels.csv".into(),
+            labels,
+            takes: names,
+            options,
+            bytes,
+        }
+    }
+
+    fn refusal(posted: Vec<Response>) -> (String, Option<TrainField>) {
+        match posted.last() {
+            Some(Response::Failed { kind: FailureKind::Input, message, field, .. }) => (message.clone(), *field),
+            other => panic!("expected a refusal, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn label_model_requests_and_answers_carry_their_bytes_as_buffers() {
+        let use_model = Request::UseLabelModel {
+            take: 2,
+            run: 3,
+            kind: ModelKind::Knn,
+            file: "mine.model".into(),
+            bytes: b"mocapseg-model\n\x01".to_vec(),
+        };
+        let packet = use_model.clone().into_packet();
+        assert_eq!(packet.buffers, vec![b"mocapseg-model\n\x01".to_vec()]);
+        let v: serde_json::Value = serde_json::from_str(&packet.json).unwrap();
+        assert_eq!((v["type"].as_str(), v["kind"].as_str()), (Some("use_label_model"), Some("knn")));
+        assert_eq!(Request::from_packet(packet).unwrap(), use_model);
+        let without = Packet {
+            json: r#"{"type":"use_label_model","take":2,"run":3,"kind":"dtfcn","file":"x"}"#.into(),
+            buffers: vec![],
+        };
+        assert!(Request::from_packet(without).unwrap_err().contains("without its bytes"));
+
+        let train =
+            train_dtfcn(4, "mine", walk_labels(), tiny_options(2), vec![("12_01.bvh", vec![1, 2]), ("b.bvh", vec![3])]);
+        let packet = train.clone().into_packet();
+        assert_eq!(packet.buffers, vec![vec![1, 2], vec![3]]);
+        let v: serde_json::Value = serde_json::from_str(&packet.json).unwrap();
+        assert_eq!(v["options"]["filters"], serde_json::json!([8, 8]));
+        assert_eq!(v["takes"], serde_json::json!(["12_01.bvh", "b.bvh"]));
+        assert_eq!(Request::from_packet(packet.clone()).unwrap(), train);
+        assert_eq!(train.take(), 1);
+        let mut short = packet;
+        short.buffers.pop();
+        assert!(Request::from_packet(short).unwrap_err().contains("2 takes but the bytes of 1"));
+        // the page may leave options out: the defaults
+        let bare = Packet {
+            json: r#"{"type":"train_dtfcn","take":1,"run":2,"name":"m","labels_name":"l.csv","labels":"","takes":[],"options":{"epochs":3}}"#.into(),
+            buffers: vec![],
+        };
+        let Request::TrainDtfcn { options, .. } = Request::from_packet(bare).unwrap() else { panic!() };
+        assert_eq!(options, TrainOptions { epochs: 3, ..TrainOptions::default() });
+        for r in [Request::ContinueTraining { take: 1, run: 5 }, Request::StopTraining { take: 1, run: 5 }] {
+            let packet = r.clone().into_packet();
+            assert!(packet.buffers.is_empty());
+            assert_eq!(Request::from_packet(packet).unwrap(), r);
+        }
+
+        let info = LabelModelInfo {
+            name: "mine".into(),
+            kind: ModelKind::Dtfcn,
+            classes: vec!["a".into(), "b".into()],
+            colours: vec!["#ff0000".into(), "#00ff00".into()],
+            unknown_threshold: 0.5,
+            takes: vec!["12_01.bvh".into()],
+            frames: 131,
+            epochs_run: 2,
+            best_epoch: 2,
+            command: "mocapseg train-dtfcn".into(),
+        };
+        let report = EpochReport {
+            epoch: 1,
+            epochs: 2,
+            loss: 1.1,
+            train_accuracy: 0.4,
+            validation_loss: None,
+            validation_accuracy: None,
+            best: true,
+        };
+        for r in [
+            Response::LabelModelInUse { take: 1, run: 2, model: info.clone() },
+            Response::TrainingEpoch { take: 1, run: 2, report: report.clone(), more: true },
+            Response::Failed {
+                take: 1,
+                run: Some(2),
+                message: "epochs 0".into(),
+                kind: FailureKind::Input,
+                field: Some(TrainField::Epochs),
+            },
+        ] {
+            let packet = r.clone().into_packet();
+            assert!(packet.buffers.is_empty());
+            assert_eq!(Response::from_packet(packet).unwrap(), r);
+        }
+        let failed =
+            Response::Failed { take: 1, run: None, message: "x".into(), kind: FailureKind::Input, field: None };
+        assert!(!failed.into_packet().json.contains("field"), "no field: left out");
+        let v: serde_json::Value = serde_json::from_str(
+            &Response::Failed {
+                take: 1,
+                run: Some(2),
+                message: "x".into(),
+                kind: FailureKind::Input,
+                field: Some(TrainField::LabelNoise),
+            }
+            .into_packet()
+            .json,
+        )
+        .unwrap();
+        assert_eq!(v["field"], "label_noise");
+        // worker.js's own failure message has no field
+        let glue = Packet {
+            json: r#"{"type":"failed","take":0,"run":7,"message":"internal error: x","kind":"internal"}"#.into(),
+            buffers: vec![],
+        };
+        assert!(matches!(
+            Response::from_packet(glue).unwrap(),
+            Response::Failed { field: None, kind: FailureKind::Internal, .. }
+        ));
+
+        let trained = Response::DtfcnTrained {
+            take: 1,
+            run: 2,
+            model: info.clone(),
+            reports: vec![report],
+            best_epoch: 1,
+            stopped: true,
+            used_rows: 3,
+            left_out: vec!["86_01.bvh".into()],
+            bytes: b"mocapseg-model\nweights".to_vec(),
+        };
+        let packet = trained.clone().into_packet();
+        assert_eq!(packet.buffers, vec![b"mocapseg-model\nweights".to_vec()]);
+        assert!(!packet.json.contains("weights"), "{}", packet.json);
+        assert_eq!(Response::from_packet(packet.clone()).unwrap(), trained);
+        let mut missing = packet;
+        missing.buffers.clear();
+        assert!(Response::from_packet(missing).unwrap_err().contains("no buffer for the trained model"));
+        let mut odd = info;
+        odd.colours.pop();
+        let bad = Response::LabelModelInUse { take: 1, run: 2, model: odd }.into_packet();
+        assert!(Response::from_packet(bad).unwrap_err().contains("2 classes but 1 colours"));
+    }
+
+    #[test]
+    fn option_refusals_name_their_field() {
+        let field = |o: TrainOptions| TrainField::of_option_message(&o.check().unwrap_err());
+        assert_eq!(field(TrainOptions { epochs: 0, ..Default::default() }), Some(TrainField::Epochs));
+        assert_eq!(field(TrainOptions { label_noise: 1.5, ..Default::default() }), Some(TrainField::LabelNoise));
+        assert_eq!(field(TrainOptions { mask_frames: 999, ..Default::default() }), Some(TrainField::MaskFrames));
+        assert_eq!(field(TrainOptions { crop_frames: 1, ..Default::default() }), Some(TrainField::CropFrames));
+        assert_eq!(field(TrainOptions { learning_rate: 0.0, ..Default::default() }), Some(TrainField::LearningRate));
+        let network = |o: TrainOptions| TrainField::of_option_message(&o.network(3).check().unwrap_err());
+        assert_eq!(network(TrainOptions { width: 9, ..Default::default() }), Some(TrainField::Width));
+        assert_eq!(network(TrainOptions { filters: vec![], ..Default::default() }), Some(TrainField::Filters));
+        assert_eq!(network(TrainOptions { filters: vec![0, 4], ..Default::default() }), Some(TrainField::Filters));
+    }
+
+    /// Trains through the worker as the page does: the request, then every `continue_training`
+    /// the worker asks for, until it asks for none.
+    fn train_to_the_end(w: &mut WorkerState, request: Request) -> Vec<Response> {
+        let mut posted = ask(w, request);
+        while let Some(next) = w.next_step() {
+            assert!(matches!(next, Request::ContinueTraining { .. }), "{next:?}");
+            posted.extend(ask(w, next));
+        }
+        posted
+    }
+
+    #[test]
+    fn the_worker_trains_a_dtfcn_one_epoch_per_message_installs_it_and_sends_the_file() {
+        let mut w = WorkerState::default();
+        assert!(w.next_step().is_none(), "nothing to continue before a training");
+        let labels = format!("{}86_01.bvh,0,99,walk\n", walk_labels());
+        let first =
+            ask(&mut w, train_dtfcn(7, "tiny-trained", labels, tiny_options(2), vec![("12_01.bvh", take_bytes())]));
+        // epoch 1 answers, and the worker asks for epoch 2 (it does not run it by itself)
+        let Some(Response::TrainingEpoch { take: 1, run: 7, report, more: true }) = first.last() else {
+            panic!("{first:?}")
+        };
+        assert_eq!((report.epoch, report.epochs), (1, 2));
+        assert!(report.loss.is_finite() && (0.0..=1.0).contains(&report.train_accuracy), "{report:?}");
+        assert!(first.iter().any(|r| matches!(r, Response::Progress { run: Some(7), .. })));
+        assert_eq!(w.next_step(), Some(Request::ContinueTraining { take: 1, run: 7 }));
+        // a continue for another training is ignored
+        assert!(ask(&mut w, Request::ContinueTraining { take: 1, run: 99 }).is_empty());
+        let second = ask(&mut w, Request::ContinueTraining { take: 1, run: 7 });
+        assert!(
+            matches!(&second[0], Response::TrainingEpoch { run: 7, more: false, report, .. } if report.epoch == 2),
+            "{second:?}"
+        );
+        let Some(Response::DtfcnTrained {
+            run: 7,
+            model,
+            reports,
+            best_epoch,
+            stopped: false,
+            used_rows: 3,
+            left_out,
+            bytes,
+            ..
+        }) = second.last()
+        else {
+            panic!("{second:?}")
+        };
+        assert!(w.next_step().is_none(), "the training is over");
+        assert_eq!(reports.len(), 2);
+        assert_eq!(*best_epoch, 2, "without validation takes the last epoch is kept");
+        assert_eq!(left_out, &vec!["86_01.bvh".to_string()]);
+        assert_eq!((model.name.as_str(), model.kind), ("tiny-trained", ModelKind::Dtfcn));
+        assert_eq!(model.classes, vec!["stand", "walk", "<b>turn</b>"]);
+        assert_eq!(model.colours.len(), 3);
+        assert_eq!(model.takes, vec!["12_01.bvh"]);
+        assert!(
+            model.command.starts_with("mocapseg train-dtfcn --bvh 12_01.bvh --labels labels.csv --epochs 2"),
+            "{}",
+            model.command
+        );
+        assert!(model.command.contains("filters 8,8"), "{}", model.command);
+        assert!(bytes.starts_with(b"mocapseg-model\n"));
+        let back = Model::from_bytes(bytes, "tiny-trained.model").unwrap();
+        assert_eq!(back.header.classes, model.classes);
+        assert_eq!(back.header.provenance.epochs_run, 2);
+
+        // the installed model labels the held take by its name
+        ask(&mut w, Request::Load { take: 1, name: "12_01.bvh".into(), restore: false, bytes: take_bytes() });
+        let run = ask(
+            &mut w,
+            Request::Segment {
+                take: 1,
+                run: 8,
+                method: "dtfcn".into(),
+                params: serde_json::json!({"model": "tiny-trained"}),
+            },
+        );
+        let Some(Response::Segmented { view, .. }) = run.last() else { panic!("{:?}", run.last()) };
+        assert_eq!(view.segmentation.params["model"], "tiny-trained");
+        for s in &view.segmentation.segments {
+            let label = s.cluster.map_or("unknown", |c| model.classes[c].as_str());
+            assert_eq!(s.label, label, "{s:?}");
+        }
+        assert!(view.details.pictures.iter().any(|p| p.id == "probabilities"));
+
+        // the file loads back (under the name in it), not as a k-NN model
+        let again = ask(
+            &mut w,
+            Request::UseLabelModel {
+                take: 5,
+                run: 9,
+                kind: ModelKind::Dtfcn,
+                file: "renamed.model".into(),
+                bytes: bytes.clone(),
+            },
+        );
+        let Some(Response::LabelModelInUse { take: 5, run: 9, model: loaded }) = again.last() else {
+            panic!("{again:?}")
+        };
+        assert_eq!(loaded, model);
+        let (message, _) = refusal(ask(
+            &mut w,
+            Request::UseLabelModel {
+                take: 5,
+                run: 10,
+                kind: ModelKind::Knn,
+                file: "renamed.model".into(),
+                bytes: bytes.clone(),
+            },
+        ));
+        assert!(message.contains("renamed.model holds a DT-FCN model, not a k-NN model"), "{message}");
+
+        // bad files are refused with the core's message, and the worker goes on answering
+        let truncated = bytes[..bytes.len() / 2].to_vec();
+        let json = br#"{"fps": 30.0, "factors": []}"#.to_vec();
+        let mut rng = crate::stats::Rng::new(5);
+        let random: Vec<u8> = (0..4096).map(|_| rng.below(256) as u8).collect();
+        for (file, bad, says) in [
+            ("half.model", truncated, "half.model: truncated"),
+            ("family.json", json, "family.json: not a mocapseg model file"),
+            ("noise.bin", random, "noise.bin: not a mocapseg model file"),
+            ("empty.model", Vec::new(), "empty.model: not a mocapseg model file"),
+        ] {
+            let (message, field) = refusal(ask(
+                &mut w,
+                Request::UseLabelModel { take: 5, run: 11, kind: ModelKind::Dtfcn, file: file.into(), bytes: bad },
+            ));
+            assert!(message.starts_with(says), "{message}");
+            assert_eq!(field, None);
+        }
+        let run = ask(
+            &mut w,
+            Request::Segment {
+                take: 1,
+                run: 12,
+                method: "dtfcn".into(),
+                params: serde_json::json!({"model": "tiny-trained", "unknown_threshold": 0.99}),
+            },
+        );
+        assert!(matches!(run.last(), Some(Response::Segmented { .. })), "{:?}", run.last());
+    }
+
+    #[test]
+    fn a_stopped_training_keeps_the_model_of_its_epochs_so_far() {
+        let mut w = WorkerState::default();
+        let first = ask(
+            &mut w,
+            train_dtfcn(3, "tiny-stopped", walk_labels(), tiny_options(50), vec![("12_01.bvh", take_bytes())]),
+        );
+        assert!(matches!(first.last(), Some(Response::TrainingEpoch { more: true, .. })), "{first:?}");
+        // the page's stop is read before the worker's own continue
+        assert!(
+            ask(&mut w, Request::StopTraining { take: 1, run: 99 }).is_empty(),
+            "another training's stop is ignored"
+        );
+        let stopped = ask(&mut w, Request::StopTraining { take: 1, run: 3 });
+        let [Response::DtfcnTrained { stopped: true, reports, best_epoch: 1, model, bytes, .. }] = &stopped[..] else {
+            panic!("{stopped:?}")
+        };
+        assert_eq!(reports.len(), 1);
+        assert_eq!(model.epochs_run, 1);
+        assert!(Model::from_bytes(bytes, "s.model").is_ok());
+        assert!(w.next_step().is_none());
+        assert!(
+            ask(&mut w, Request::ContinueTraining { take: 1, run: 3 }).is_empty(),
+            "the continue after a stop is ignored"
+        );
+        assert!(ask(&mut w, Request::StopTraining { take: 1, run: 3 }).is_empty(), "a second stop is ignored");
+        // and the stopped model is installed
+        ask(&mut w, Request::Load { take: 1, name: "12_01.bvh".into(), restore: false, bytes: take_bytes() });
+        let run = ask(
+            &mut w,
+            Request::Segment {
+                take: 1,
+                run: 4,
+                method: "dtfcn".into(),
+                params: serde_json::json!({"model": "tiny-stopped"}),
+            },
+        );
+        assert!(matches!(run.last(), Some(Response::Segmented { .. })), "{:?}", run.last());
+        // a whole run after a stop: a new request replaces nothing left over
+        let posted = train_to_the_end(
+            &mut w,
+            train_dtfcn(5, "tiny-stopped", walk_labels(), tiny_options(1), vec![("12_01.bvh", take_bytes())]),
+        );
+        assert!(
+            matches!(posted.last(), Some(Response::DtfcnTrained { run: 5, stopped: false, .. })),
+            "{:?}",
+            posted.last()
+        );
+    }
+
+    #[test]
+    fn training_refusals_name_the_input_that_is_wrong() {
+        let mut w = WorkerState::default();
+        let walk = || vec![("12_01.bvh", take_bytes())];
+        let mut check = |request: Request, field: TrainField, says: &[&str]| {
+            let (message, f) = refusal(ask(&mut w, request));
+            assert_eq!(f, Some(field), "{message}");
+            for s in says {
+                assert!(message.contains(s), "{message} should say {s}");
+            }
+            assert!(w.next_step().is_none(), "no training after a refusal");
+        };
+        let bad_line = walk_labels().replace("180,359", "180,abc");
+        check(
+            train_dtfcn(1, "m", bad_line, tiny_options(2), walk()),
+            TrainField::Labels,
+            &["labels.csv line 3", "`abc`"],
+        );
+        let elsewhere = format!("{LABELS_HEADER}86_01.bvh,0,99,walk\n86_01.bvh,100,199,run\n");
+        check(
+            train_dtfcn(1, "m", elsewhere, tiny_options(2), walk()),
+            TrainField::Labels,
+            &["no row is for the loaded take `12_01.bvh`", "`86_01.bvh`"],
+        );
+        check(train_dtfcn(1, "m", LABELS_HEADER.into(), tiny_options(2), walk()), TrainField::Labels, &["no rows"]);
+        let one = format!("{LABELS_HEADER}12_01.bvh,0,523,walk\n");
+        check(train_dtfcn(1, "m", one, tiny_options(2), walk()), TrainField::Labels, &["1 class", "at least 2"]);
+        let past = format!("{LABELS_HEADER}12_01.bvh,0,99,walk\n12_01.bvh,100,900,run\n");
+        check(
+            train_dtfcn(1, "m", past, tiny_options(2), walk()),
+            TrainField::Labels,
+            &["past the take's last frame 523"],
+        );
+        check(train_dtfcn(1, "m", walk_labels(), tiny_options(0), walk()), TrainField::Epochs, &["epochs 0"]);
+        check(
+            train_dtfcn(1, "m", walk_labels(), TrainOptions { label_noise: 2.0, ..tiny_options(2) }, walk()),
+            TrainField::LabelNoise,
+            &["label noise 2"],
+        );
+        check(
+            train_dtfcn(1, "m", walk_labels(), TrainOptions { mask_frames: 1000, ..tiny_options(2) }, walk()),
+            TrainField::MaskFrames,
+            &["mask 1000"],
+        );
+        check(
+            train_dtfcn(1, "m", walk_labels(), TrainOptions { width: 1, ..tiny_options(2) }, walk()),
+            TrainField::Width,
+            &["kernel width 1"],
+        );
+        check(train_dtfcn(1, "  ", walk_labels(), tiny_options(2), walk()), TrainField::Name, &["needs a name"]);
+        check(
+            train_dtfcn(1, "exercises", walk_labels(), tiny_options(2), walk()),
+            TrainField::Name,
+            &["shipped model"],
+        );
+        let broken = vec![("12_01.bvh", b"HIERARCHY\nROOT".to_vec())];
+        check(train_dtfcn(1, "m", walk_labels(), tiny_options(2), broken), TrainField::Takes, &["12_01.bvh: line"]);
+        let twice = vec![("12_01.bvh", take_bytes()), ("takes/12_01.BVH", take_bytes())];
+        check(train_dtfcn(1, "m", walk_labels(), tiny_options(2), twice), TrainField::Takes, &["given twice"]);
     }
 
     #[test]

@@ -34,8 +34,20 @@ pub fn worker_handle(message: JsValue, post: &Function) {
         Ok(request) => STATE.with_borrow_mut(|state| state.handle(request, &mut send)),
         Err(message) => {
             let take = take_of(&message);
-            send(Response::Failed { take, run: None, message, kind: FailureKind::Input })
+            send(Response::Failed { take, run: None, message, kind: FailureKind::Input, field: None })
         }
+    }
+}
+
+/// What the worker should send itself next, as a message for [`worker_handle`] (`undefined`
+/// when nothing): `www/worker.js` asks after every message and schedules the answer with
+/// `setTimeout(0)`, so that the page's messages (a `stop_training`) are read in between — this is
+/// how a DT-FCN training runs one epoch per message.
+#[wasm_bindgen]
+pub fn worker_next() -> JsValue {
+    match STATE.with_borrow(|state| state.next_step()) {
+        Some(request) => packet_to_js(request.into_packet()).0,
+        None => JsValue::UNDEFINED,
     }
 }
 
@@ -49,8 +61,8 @@ fn take_of(json: &str) -> u32 {
 }
 
 /// The page's message for `request` and its transfer list: the request's own buffers (a
-/// family's JSON text), or for a load whose file is `bytes`, that `ArrayBuffer` (transferred;
-/// `Request::Load`'s own `bytes` are left empty).
+/// family's JSON text, a model file, training takes), or for a load whose file is `bytes`, that
+/// `ArrayBuffer` (transferred; `Request::Load`'s own `bytes` are left empty).
 pub fn request_message(request: &Request, bytes: Option<&ArrayBuffer>) -> (JsValue, Array) {
     match bytes {
         Some(b) => {

@@ -1,9 +1,9 @@
 // mocapseg web worker: loads takes and runs every segmentation method off the page's thread.
 // src/protocol.rs defines the messages and src/worker.rs answers them; this file only wires
 // postMessage. Every message is {json, buffers}: the request or response as JSON text and its
-// bulk data (file bytes, positions, pixels) as transferred buffers.
+// bulk data (file bytes, positions, pixels, model files) as transferred buffers.
 // Paths are relative to this file: dist/www/worker.js loads dist/pkg/mocapseg.js.
-import init, { worker_handle } from "../pkg/mocapseg.js";
+import init, { worker_handle, worker_next } from "../pkg/mocapseg.js";
 
 // Start loading the module at once, but register the handler synchronously so that no message
 // sent while the wasm is still compiling is lost.
@@ -12,10 +12,15 @@ ready.catch(() => {}); // reported with the first request instead
 
 const post = (message, transfer) => self.postMessage(message, transfer);
 
-self.onmessage = async (event) => {
+// One message (from the page, or one the worker sends itself), then whatever the worker asks to
+// do next — the next epoch of a DT-FCN training — after a setTimeout(0): the page's messages that
+// arrived meanwhile (a stop) are read first, so a long training never blocks them.
+const handle = async (event) => {
   try {
     await ready;
     worker_handle(event.data, post);
+    const next = worker_next();
+    if (next !== undefined) setTimeout(() => handle({ data: next }), 0);
   } catch (err) {
     // A trap (a bug in the wasm) or a module that failed to load: the module may be broken,
     // so the page replaces this worker ("internal").
@@ -28,3 +33,5 @@ self.onmessage = async (event) => {
     post({ json: JSON.stringify({ type: "failed", take, run, message, kind: "internal" }), buffers: [] }, []);
   }
 };
+
+self.onmessage = handle;

@@ -12,10 +12,23 @@
 //! one request under way at a time (repeated once after `not_loaded`, sent again to a new
 //! worker), and every worker the page starts first gets the user's family the page holds — a
 //! new worker starts with the shipped one, and LMA must not silently go back to it.
+//!
+//! So do the user's DT-FCN and k-NN models: a model file is installed in the worker
+//! (`use_label_model`, its answer adds it to the method's model choice and runs the method again),
+//! every model the page holds goes to each new worker before anything else, and a model file
+//! request or a DT-FCN training under way is sent again to a new worker (the training then starts
+//! again from its first epoch). A training runs one epoch per message; Stop asks the worker to end
+//! it after the epoch under way and keep the best model so far.
 
+use super::dtfcn_training::{model_file_name, TrainAsk, TrainState, TrainedFile};
+use super::label_models::{describe, kind_of, LoadStatus, UserModel};
 use super::lma_training::{self, TrainingState, UserFamily};
 use super::{AppState, LoadState, MethodSlot, RunState};
-use crate::protocol::{FactorSummary, FailureKind, Request, Response, RunId, TakeId};
+use crate::dtfcn::model::ModelKind;
+use crate::dtfcn::training::EpochReport;
+use crate::protocol::{
+    kind_short, FactorSummary, FailureKind, LabelModelInfo, Request, Response, RunId, TakeId, TrainField,
+};
 use crate::worker::{request_message, response_from_js};
 use js_sys::ArrayBuffer;
 use leptos::prelude::*;
@@ -90,6 +103,26 @@ struct LmaJob {
     started: f64,
 }
 
+/// A model file the worker is asked to install.
+struct LabelJob {
+    id: RunId,
+    kind: ModelKind,
+    file: String,
+    bytes: Arc<Vec<u8>>,
+}
+
+/// The DT-FCN training under way.
+struct DtfcnJob {
+    id: RunId,
+    ask: TrainAsk,
+    /// `performance.now()` when it was (last) sent.
+    started: f64,
+    /// The take on screen it was sent with.
+    take_name: String,
+    /// Stop was pressed.
+    stopping: bool,
+}
+
 /// A handle on the worker; cheap to clone.
 #[derive(Clone)]
 pub struct Loader(Rc<Inner>);
@@ -112,6 +145,12 @@ struct Inner {
     lma_job: RefCell<Option<LmaJob>>,
     /// The request that gave the newest worker the user's family (its answer is checked).
     family_sync: Cell<Option<RunId>>,
+    /// Model files being installed (one per method at a time).
+    label_jobs: RefCell<Vec<LabelJob>>,
+    /// The requests that gave the newest worker the user's models: run, kind and name.
+    model_sync: RefCell<Vec<(RunId, ModelKind, String)>>,
+    /// The DT-FCN training under way.
+    dtfcn_job: RefCell<Option<DtfcnJob>>,
     /// Keeps the worker's event handlers alive.
     handlers: RefCell<Vec<Handler>>,
 }
@@ -129,6 +168,9 @@ impl Loader {
             runs: RefCell::new(state.methods.iter().map(|_| None).collect()),
             lma_job: RefCell::new(None),
             family_sync: Cell::new(None),
+            label_jobs: RefCell::new(Vec::new()),
+            model_sync: RefCell::new(Vec::new()),
+            dtfcn_job: RefCell::new(None),
             handlers: RefCell::new(Vec::new()),
         });
         spawn_worker(&inner);
@@ -216,6 +258,56 @@ impl Loader {
         lma.status.set(status);
         lma.state.set(state);
         replace_worker(inner);
+    }
+}
+
+impl Loader {
+    /// Installs the model file `file` (its bytes) for the method of `kind`; on success it becomes
+    /// the method's model and the method runs again on the take on screen.
+    pub fn use_label_model(&self, kind: ModelKind, file: String, bytes: Vec<u8>) {
+        let inner = &self.0;
+        let input = inner.state.labels.input(kind);
+        input.state.set(LoadStatus::Loading);
+        input.status.set(format!("Checking {file}…"));
+        let id = next_id(inner);
+        inner.label_jobs.borrow_mut().retain(|j| j.kind != kind);
+        inner.label_jobs.borrow_mut().push(LabelJob { id, kind, file, bytes: Arc::new(bytes) });
+        if let Err(message) = send_label_job(inner, id) {
+            fail_label_job(inner, id, message);
+        }
+    }
+
+    /// Trains a DT-FCN in the worker on the take on screen (and the takes the ask adds).
+    pub fn train_dtfcn(&self, ask: TrainAsk) {
+        let inner = &self.0;
+        let t = inner.state.dtfcn;
+        t.errors.set(Vec::new());
+        t.reports.set(Vec::new());
+        t.state.set(TrainState::Training { stage: "starting".into(), epoch: 0, epochs: ask.options.epochs });
+        t.status.set(format!("Training `{}` on the rows of {}…", ask.name, ask.labels_name));
+        let id = next_id(inner);
+        *inner.dtfcn_job.borrow_mut() =
+            Some(DtfcnJob { id, ask, started: now(), take_name: String::new(), stopping: false });
+        if let Err(message) = send_dtfcn_job(inner) {
+            fail_dtfcn_job(inner, message, None);
+        }
+    }
+
+    /// Asks the worker to end the training after the epoch under way (the best model so far is
+    /// kept and sent).
+    pub fn stop_dtfcn_training(&self) {
+        let inner = &self.0;
+        let id = {
+            let mut job = inner.dtfcn_job.borrow_mut();
+            let Some(job) = job.as_mut().filter(|j| !j.stopping) else { return };
+            job.stopping = true;
+            job.id
+        };
+        inner.state.dtfcn.state.set(TrainState::Stopping);
+        let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
+        if let Err(message) = post(inner, &Request::StopTraining { take, run: id }, None) {
+            fail_dtfcn_job(inner, message, None);
+        }
     }
 }
 
@@ -339,6 +431,217 @@ fn spawn_worker(inner: &Rc<Inner>) {
     *inner.handlers.borrow_mut() = vec![on_message, on_error];
     *inner.worker.borrow_mut() = Some(worker);
     send_family(inner);
+    send_label_models(inner);
+}
+
+/// Gives a worker just started every DT-FCN and k-NN model the page holds (a worker knows only
+/// the shipped ones), before any other request.
+fn send_label_models(inner: &Rc<Inner>) {
+    inner.model_sync.borrow_mut().clear();
+    let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
+    for m in inner.state.labels.models.get_untracked() {
+        let id = next_id(inner);
+        inner.model_sync.borrow_mut().push((id, m.info.kind, m.info.name.clone()));
+        let request = Request::UseLabelModel {
+            take,
+            run: id,
+            kind: m.info.kind,
+            file: m.file.clone(),
+            bytes: (*m.bytes).clone(),
+        };
+        if let Err(message) = post(inner, &request, None) {
+            drop_model(inner, id, message);
+        }
+    }
+}
+
+/// The worker would not take one of the user's models: the page drops it (so that no worker is
+/// asked again) and says so next to its method's file input.
+fn drop_model(inner: &Inner, run: RunId, message: String) {
+    let entry = {
+        let mut sync = inner.model_sync.borrow_mut();
+        let at = sync.iter().position(|(id, _, _)| *id == run);
+        at.map(|at| sync.remove(at))
+    };
+    let Some((_, kind, name)) = entry else { return };
+    inner.state.labels.remove(kind, &name);
+    let input = inner.state.labels.input(kind);
+    input.status.set(format!("The worker could not take your model `{name}` ({message}); it was dropped."));
+    input.state.set(LoadStatus::Failed);
+}
+
+/// Posts the model file request `id`.
+fn send_label_job(inner: &Rc<Inner>, id: RunId) -> Result<(), String> {
+    let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
+    let request = {
+        let jobs = inner.label_jobs.borrow();
+        let job = jobs.iter().find(|j| j.id == id).ok_or("no model file request")?;
+        Request::UseLabelModel { take, run: id, kind: job.kind, file: job.file.clone(), bytes: (*job.bytes).clone() }
+    };
+    post(inner, &request, None)
+}
+
+/// The model file request `id` failed: its message shows next to the method's file input; the
+/// models the method had stay.
+fn fail_label_job(inner: &Inner, id: RunId, message: String) {
+    let job = {
+        let mut jobs = inner.label_jobs.borrow_mut();
+        let at = jobs.iter().position(|j| j.id == id);
+        at.map(|at| jobs.remove(at))
+    };
+    let Some(job) = job else { return };
+    let input = inner.state.labels.input(job.kind);
+    input.status.set(message);
+    input.state.set(LoadStatus::Failed);
+}
+
+/// The model `name` of `kind` becomes its method's model (added to the choice if new), and the
+/// method runs again on the take on screen.
+fn select_model(inner: &Rc<Inner>, kind: ModelKind, name: &str) {
+    let Some(index) = inner.state.methods.iter().position(|m| kind_of(&m.info.name) == Some(kind)) else { return };
+    let slot = &inner.state.methods[index];
+    if let Some((value, choices)) = slot.param("model") {
+        choices.update(|c| {
+            if !c.iter().any(|o| o == name) {
+                c.push(name.to_string());
+            }
+        });
+        value.set(name.to_string());
+    }
+    if inner.shown.borrow().is_some() {
+        start_run(inner, index);
+    }
+}
+
+/// The worker installed a model file the user loaded.
+fn on_label_model(inner: &Rc<Inner>, run: RunId, info: LabelModelInfo) {
+    let job = {
+        let mut jobs = inner.label_jobs.borrow_mut();
+        let at = jobs.iter().position(|j| j.id == run);
+        at.map(|at| jobs.remove(at))
+    };
+    let Some(job) = job else { return };
+    let input = inner.state.labels.input(job.kind);
+    let name = info.name.clone();
+    input.status.set(format!(
+        "Loaded {}: {} model `{name}`, {}. {} labels the take with it now.",
+        job.file,
+        kind_short(info.kind),
+        describe(&info),
+        kind_short(info.kind)
+    ));
+    input.state.set(LoadStatus::Done);
+    inner.state.labels.add(UserModel { info, file: job.file, bytes: job.bytes });
+    select_model(inner, job.kind, &name);
+}
+
+/// Posts the DT-FCN training under way: the take on screen first, then the takes the user added.
+fn send_dtfcn_job(inner: &Rc<Inner>) -> Result<(), String> {
+    let shown = inner.shown.borrow().clone().ok_or("load a take before training")?;
+    let request = {
+        let mut job = inner.dtfcn_job.borrow_mut();
+        let job = job.as_mut().ok_or("no training")?;
+        job.take_name = shown.name.clone();
+        job.started = now();
+        let ask = &job.ask;
+        let mut takes = vec![shown.name.clone()];
+        let mut bytes = vec![js_sys::Uint8Array::new(&shown.bytes).to_vec()];
+        for (name, b) in &ask.extra {
+            takes.push(name.clone());
+            bytes.push((**b).clone());
+        }
+        Request::TrainDtfcn {
+            take: shown.id,
+            run: job.id,
+            name: ask.name.clone(),
+            labels_name: ask.labels_name.clone(),
+            labels: ask.labels.clone(),
+            takes,
+            options: ask.options.clone(),
+            bytes,
+        }
+    };
+    post(inner, &request, None)
+}
+
+fn is_dtfcn_job(inner: &Inner, run: RunId) -> bool {
+    inner.dtfcn_job.borrow().as_ref().is_some_and(|j| j.id == run)
+}
+
+/// The DT-FCN training under way failed or was refused: the message shows at `field` (or in the
+/// status line); the model in use stays.
+fn fail_dtfcn_job(inner: &Inner, message: String, field: Option<TrainField>) {
+    inner.dtfcn_job.borrow_mut().take();
+    let t = inner.state.dtfcn;
+    match field {
+        Some(field) => {
+            t.refuse(field, message);
+            t.status.set("Not trained: see the message at the input marked below.".into());
+        }
+        None => t.status.set(format!("Not trained: {message}")),
+    }
+    t.state.set(TrainState::Failed);
+}
+
+/// One more epoch of the training under way.
+fn on_training_epoch(inner: &Inner, report: EpochReport) {
+    let stopping = inner.dtfcn_job.borrow().as_ref().is_some_and(|j| j.stopping);
+    let t = inner.state.dtfcn;
+    let (epoch, epochs) = (report.epoch, report.epochs);
+    t.reports.update(|r| {
+        // a training started again on a new worker begins with epoch 1
+        r.retain(|old| old.epoch < epoch);
+        r.push(report);
+    });
+    if !stopping {
+        t.state.set(TrainState::Training { stage: "training".into(), epoch, epochs });
+    }
+}
+
+/// The DT-FCN training ended with a model, installed in the worker: the page keeps it (for the
+/// download and for new workers), makes it DT-FCN's model and runs DT-FCN again.
+fn on_dtfcn_trained(inner: &Rc<Inner>, trained: Trained) {
+    let Some(job) = inner.dtfcn_job.borrow_mut().take() else { return };
+    let seconds = (now() - job.started) / 1000.0;
+    let Trained { model, reports, best_epoch, stopped, used_rows, left_out, bytes } = trained;
+    let bytes = Arc::new(bytes);
+    let name = model.name.clone();
+    let t = inner.state.dtfcn;
+    let ran = reports.len();
+    t.reports.set(reports);
+    t.trained.set(Some(TrainedFile { name: name.clone(), bytes: bytes.clone() }));
+    let how = if stopped {
+        format!("stopped after {ran} of {} epochs", job.ask.options.epochs)
+    } else {
+        format!("{ran} epochs")
+    };
+    let left = if left_out.is_empty() {
+        String::new()
+    } else {
+        format!(" (rows for {} left out: not loaded)", left_out.join(", "))
+    };
+    t.status.set(format!(
+        "Trained `{name}` on {used_rows} rows of {}{left}: {} classes ({}), {how} in {seconds:.1} s, the weights of epoch \
+         {best_epoch} kept. DT-FCN labels {} with it now.",
+        job.ask.labels_name,
+        model.classes.len(),
+        model.classes.join(", "),
+        job.take_name
+    ));
+    t.state.set(TrainState::Done);
+    inner.state.labels.add(UserModel { file: model_file_name(&name), info: model, bytes });
+    select_model(inner, ModelKind::Dtfcn, &name);
+}
+
+/// What `dtfcn_trained` brings.
+struct Trained {
+    model: LabelModelInfo,
+    reports: Vec<EpochReport>,
+    best_epoch: usize,
+    stopped: bool,
+    used_rows: usize,
+    left_out: Vec<String>,
+    bytes: Vec<u8>,
 }
 
 /// Gives a worker just started the user's family the page holds (a worker starts with the
@@ -514,6 +817,30 @@ fn replace_worker(inner: &Rc<Inner>) {
             fail_lma_job(inner, message);
         }
     }
+    let label_jobs: Vec<RunId> = inner.label_jobs.borrow().iter().map(|j| j.id).collect();
+    for id in label_jobs {
+        if let Err(message) = send_label_job(inner, id) {
+            fail_label_job(inner, id, message);
+        }
+    }
+    let training = inner.dtfcn_job.borrow().as_ref().map(|j| j.stopping);
+    match training {
+        Some(true) => {
+            fail_dtfcn_job(inner, "the worker was replaced before it sent the stopped model; train again".into(), None)
+        }
+        Some(false) => {
+            let t = inner.state.dtfcn;
+            t.reports.set(Vec::new());
+            let epochs = inner.dtfcn_job.borrow().as_ref().map_or(1, |j| j.ask.options.epochs);
+            t.state.set(TrainState::Training { stage: "starting again".into(), epoch: 0, epochs });
+            t.status
+                .set("The worker was replaced (a cancel or a crash): the training starts again from epoch 1.".into());
+            if let Err(message) = send_dtfcn_job(inner) {
+                fail_dtfcn_job(inner, message, None);
+            }
+        }
+        None => {}
+    }
 }
 
 /// The worker script could not load or threw outside a request: report it and drop the worker
@@ -534,6 +861,13 @@ fn on_worker_error(inner: &Rc<Inner>, event: Event) {
     }
     if inner.lma_job.borrow().is_some() {
         fail_lma_job(inner, format!("the worker failed: {message}"));
+    }
+    let label_jobs: Vec<RunId> = inner.label_jobs.borrow().iter().map(|j| j.id).collect();
+    for id in label_jobs {
+        fail_label_job(inner, id, format!("the worker failed: {message}"));
+    }
+    if inner.dtfcn_job.borrow().is_some() {
+        fail_dtfcn_job(inner, format!("the worker failed: {message}"), None);
     }
     if let Some(worker) = inner.worker.borrow_mut().take() {
         worker.terminate();
@@ -560,6 +894,12 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                 state.methods[index].run.set(RunState::Running { stage, fraction: fraction.unwrap_or(0.0) });
             } else if is_lma_job(inner, run) {
                 state.lma.state.set(TrainingState::Training { stage, fraction: fraction.unwrap_or(0.0) });
+            } else if is_dtfcn_job(inner, run) && !inner.dtfcn_job.borrow().as_ref().is_some_and(|j| j.stopping) {
+                state.dtfcn.state.update(|s| {
+                    if let TrainState::Training { stage: st, .. } = s {
+                        *st = stage;
+                    }
+                });
             }
         }
         Response::Loaded { take, motion } if take == inner.current.get() => {
@@ -600,6 +940,45 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
             on_model_in_use(inner, origin, shipped);
         }
         Response::ModelInUse { run, .. } if inner.family_sync.get() == Some(run) => inner.family_sync.set(None),
+        Response::LabelModelInUse { run, model, .. } => {
+            let synced = {
+                let mut sync = inner.model_sync.borrow_mut();
+                let before = sync.len();
+                sync.retain(|(id, _, _)| *id != run);
+                sync.len() != before
+            };
+            if !synced {
+                on_label_model(inner, run, model);
+            }
+        }
+        Response::TrainingEpoch { run, report, .. } if is_dtfcn_job(inner, run) => on_training_epoch(inner, report),
+        Response::DtfcnTrained { run, model, reports, best_epoch, stopped, used_rows, left_out, bytes, .. }
+            if is_dtfcn_job(inner, run) =>
+        {
+            on_dtfcn_trained(inner, Trained { model, reports, best_epoch, stopped, used_rows, left_out, bytes });
+        }
+        Response::Failed { run: Some(run), message, kind, field, .. } if is_dtfcn_job(inner, run) => {
+            fail_dtfcn_job(inner, message, field);
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
+            }
+        }
+        Response::Failed { run: Some(run), message, kind, .. }
+            if inner.label_jobs.borrow().iter().any(|j| j.id == run) =>
+        {
+            fail_label_job(inner, run, message);
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
+            }
+        }
+        Response::Failed { run: Some(run), message, kind, .. }
+            if inner.model_sync.borrow().iter().any(|(id, _, _)| *id == run) =>
+        {
+            drop_model(inner, run, message);
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
+            }
+        }
         Response::Failed { run: Some(run), message, kind, .. } if is_lma_job(inner, run) => {
             on_lma_job_failed(inner, message, kind);
         }
@@ -609,7 +988,7 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                 replace_worker(inner);
             }
         }
-        Response::Failed { take, run: None, message, kind } => {
+        Response::Failed { take, run: None, message, kind, .. } => {
             fail_load(inner, take, message);
             if kind == FailureKind::Internal {
                 replace_worker(inner);

@@ -11,14 +11,19 @@
 //!   a result (each row labelled with the method and level at its right end): `#row-<name>-actions` (actions coloured by kind, transitions hatched grey) and
 //!   `#row-<name>-primitives` (coloured by cluster, mirror-pair clusters in one hue at two
 //!   lightnesses). Every segment carries `data-start`/`data-end` (file frames) and a tooltip;
-//!   clicking a primitive plays it once, clicking an action seeks to it.
+//!   clicking a primitive plays it once, clicking an action seeks to it. A labelling method (one
+//!   DT-FCN, k-NN) colours each segment by its class (`cluster`: the colour the run echoes in
+//!   `params.colours`, else the class colour of every model file, `palette::class_colour`;
+//!   `data-colour`), lighter the lower its mean confidence
+//!   (`score`, `data-score`), and hatches `unknown` segments grey (`ms-seg--unknown`); its row is
+//!   labelled "<method> labels". Labels are always text, never markup.
 
 use super::loader::Loader;
 use super::motion_image::{download, stem};
 use super::{AppState, MethodSlot, RunState};
 use crate::method::{ParamKind, ParamSpec, Picture};
 use crate::protocol::MethodView;
-use crate::segment::palette::{action_colour, cluster_colour};
+use crate::segment::palette::{action_colour, class_colour, cluster_colour};
 use crate::segment::{Level, Segment};
 use leptos::ev::{MouseEvent, PointerEvent};
 use leptos::html::Canvas;
@@ -53,8 +58,8 @@ fn field_label(spec: &ParamSpec) -> String {
     }
 }
 
-/// One form field for `spec`, bound to `value`.
-fn field(method: &str, spec: &ParamSpec, value: RwSignal<String>) -> AnyView {
+/// One form field for `spec`, bound to `value` (a choice offers `choices`).
+fn field(method: &str, spec: &ParamSpec, value: RwSignal<String>, choices: RwSignal<Vec<String>>) -> AnyView {
     let id = format!("{method}-{}", spec.name);
     let help = spec.help.clone();
     let label = field_label(spec);
@@ -77,13 +82,24 @@ fn field(method: &str, spec: &ParamSpec, value: RwSignal<String>) -> AnyView {
             }
             .into_any()
         }
-        ParamKind::Choice { options } => {
-            let options = options.clone();
+        ParamKind::Choice { .. } => {
+            // the options may grow (a model the user loads or trains); each option says whether
+            // it is the one chosen, so a value set before its option exists still shows
+            let options = move || {
+                choices
+                    .get()
+                    .into_iter()
+                    .map(|o| {
+                        let chosen = o.clone();
+                        view! { <option value=o.clone() prop:selected=move || value.get() == chosen>{o.clone()}</option> }
+                    })
+                    .collect_view()
+            };
             view! {
                 <label title=help>
                     {label}
                     <select id=id bind:value=value>
-                        {options.into_iter().map(|o| view! { <option value=o.clone()>{o.clone()}</option> }).collect_view()}
+                        {options}
                     </select>
                 </label>
             }
@@ -123,7 +139,14 @@ fn number_input(
 }
 
 #[component]
-pub fn MethodPanel(state: AppState, method: &'static MethodSlot, loader: Loader) -> impl IntoView {
+pub fn MethodPanel(
+    state: AppState,
+    method: &'static MethodSlot,
+    loader: Loader,
+    /// What the method adds under its form (DT-FCN, k-NN: model files and training).
+    #[prop(optional)]
+    extra: Option<AnyView>,
+) -> impl IntoView {
     let slot = method;
     let index = state.methods.iter().position(|s| std::ptr::eq(s, slot)).unwrap_or(0);
     let name = slot.info.name.clone();
@@ -153,10 +176,13 @@ pub fn MethodPanel(state: AppState, method: &'static MethodSlot, loader: Loader)
         })
     };
     let counts = move || slot.view.with(|v| v.as_ref().map(|v| v.details.summary.clone()).unwrap_or_default());
+    let fields = || slot.specs.iter().zip(&slot.fields).zip(&slot.choices);
     let basic: Vec<AnyView> =
-        slot.specs.iter().zip(&slot.fields).filter(|(s, _)| s.basic).map(|(s, v)| field(&name, s, *v)).collect();
+        fields().filter(|((s, _), _)| s.basic).map(|((s, v), c)| field(&name, s, *v, *c)).collect();
     let advanced: Vec<AnyView> =
-        slot.specs.iter().zip(&slot.fields).filter(|(s, _)| !s.basic).map(|(s, v)| field(&name, s, *v)).collect();
+        fields().filter(|((s, _), _)| !s.basic).map(|((s, v), c)| field(&name, s, *v, *c)).collect();
+    let has_advanced = !advanced.is_empty();
+    let extra = extra.map(|e| view! { <div class="ms-method-extra">{e}</div> });
     let short = slot.info.short.clone();
     let pictures = move || {
         slot.view.with(|v| match v {
@@ -182,7 +208,7 @@ pub fn MethodPanel(state: AppState, method: &'static MethodSlot, loader: Loader)
             </div>
             <form id=format!("{name}-params") class="ms-method-params" novalidate=true on:submit=on_run>
                 {basic}
-                <details class="ms-method-advanced">
+                <details class="ms-method-advanced" hidden=!has_advanced>
                     <summary>"Advanced"</summary>
                     {advanced}
                 </details>
@@ -208,6 +234,7 @@ pub fn MethodPanel(state: AppState, method: &'static MethodSlot, loader: Loader)
                     <span class="ms-progress-label">{move || format!("{short}: {}…", progress().0)}</span>
                 </div>
             </form>
+            {extra}
             <div class="ms-method-body">{pictures}</div>
         </section>
     }
@@ -267,8 +294,14 @@ pub fn MethodRows(state: AppState) -> impl IntoView {
             let hidden = move |levels: &'static [Level]| {
                 move || slot.view.with(|v| v.as_ref().is_none_or(|v| !v.segmentation.segments.iter().any(|s| levels.contains(&s.level))))
             };
+            // a labelling method's row holds its per-frame labels
+            let short = slot.info.short.clone();
+            let actions_label = move || {
+                let labels = slot.view.with(|v| v.as_ref().is_some_and(|v| is_labelling(v)));
+                format!("{short} {}", if labels { "labels" } else { "actions" })
+            };
             view! {
-                <div id=format!("row-{name}-actions") class="ms-row" data-label=format!("{} actions", slot.info.short) hidden=hidden(&[Level::Action, Level::Transition]) title=format!("{} actions and transitions", slot.info.short)>
+                <div id=format!("row-{name}-actions") class="ms-row" data-label=actions_label hidden=hidden(&[Level::Action, Level::Transition]) title=format!("{} actions and transitions", slot.info.short)>
                     {rows(&[Level::Action, Level::Transition], false)}
                 </div>
                 <div id=format!("row-{name}-primitives") class="ms-row" data-label=format!("{} primitives", slot.info.short) hidden=hidden(&[Level::Primitive]) title=format!("{} primitives", slot.info.short)>
@@ -279,19 +312,67 @@ pub fn MethodRows(state: AppState) -> impl IntoView {
         .collect_view()
 }
 
+/// Whether `v` is a labelling method's run (DT-FCN, k-NN): its segments are per-frame class labels.
+fn is_labelling(v: &MethodView) -> bool {
+    super::label_models::kind_of(&v.method).is_some() || v.segmentation.params.get("colours").is_some()
+}
+
+/// The CSS colour of class `cluster` in a labelling method's run: the one the run echoes in
+/// `params.colours` if it does, else the class colour every model file gives that class index.
+fn class_css(v: &MethodView, cluster: usize) -> String {
+    v.segmentation
+        .params
+        .get("colours")
+        .and_then(|c| c.get(cluster))
+        .and_then(|c| c.as_str())
+        .map_or_else(|| class_colour(cluster), str::to_string)
+}
+
+/// `#rrggbb` as RGB.
+fn parse_hex(css: &str) -> Option<[u8; 3]> {
+    let hex = css.strip_prefix('#').filter(|h| h.len() == 6 && h.is_ascii())?;
+    let byte = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).ok();
+    Some([byte(0)?, byte(2)?, byte(4)?])
+}
+
+/// A class colour shaded by confidence: the full colour at 1, towards white as it falls (a
+/// third of the colour left at 0), and the text colour that reads on it.
+fn confidence_shade([r, g, b]: [u8; 3], score: f64) -> (String, &'static str) {
+    let strength = 0.3 + 0.7 * score.clamp(0.0, 1.0);
+    let mix = |c: u8| (255.0 - strength * (255.0 - c as f64)).round().clamp(0.0, 255.0) as u8;
+    let (r, g, b) = (mix(r), mix(g), mix(b));
+    let luminance = (0.299 * r as f64 + 0.587 * g as f64 + 0.114 * b as f64) / 255.0;
+    (format!("rgb({r}, {g}, {b})"), if luminance > 0.6 { "#10131a" } else { "#ffffff" })
+}
+
 fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, primitive: bool) -> impl IntoView {
     let frames = v.segmentation.frames.max(1) as f64;
     let fps = v.segmentation.fps;
     let left = format!("{:.4}%", s.start as f64 / frames * 100.0);
     let width = format!("{:.4}%", (s.end + 1 - s.start) as f64 / frames * 100.0);
-    let (class, colour) = match (s.level, s.cluster) {
-        (Level::Transition, _) => ("ms-seg ms-seg--transition", String::new()),
-        (Level::Primitive, Some(c)) => ("ms-seg ms-seg--primitive", cluster_colour(c, s.mirror_of)),
-        (_, Some(c)) => {
+    let mut text_colour = None;
+    let mut class_colour_of = None;
+    let (class, colour) = match (is_labelling(v), s.level, s.cluster) {
+        // a labelling method: its class's colour, by confidence; `unknown` hatched grey
+        (true, _, cluster) => {
+            let css = cluster.map(|c| class_css(v, c));
+            match css.and_then(|css| Some((parse_hex(&css)?, css))) {
+                Some((rgb, css)) => {
+                    let (shade, ink) = confidence_shade(rgb, s.score.unwrap_or(1.0));
+                    text_colour = Some(ink);
+                    class_colour_of = Some(css);
+                    ("ms-seg ms-seg--label", shade)
+                }
+                None => ("ms-seg ms-seg--unknown", String::new()),
+            }
+        }
+        (false, Level::Transition, _) => ("ms-seg ms-seg--transition", String::new()),
+        (false, Level::Primitive, Some(c)) => ("ms-seg ms-seg--primitive", cluster_colour(c, s.mirror_of)),
+        (false, _, Some(c)) => {
             let [r, g, b] = action_colour(c);
             ("ms-seg ms-seg--action", format!("rgb({r}, {g}, {b})"))
         }
-        (_, None) => ("ms-seg", "#888".to_string()),
+        (false, _, None) => ("ms-seg", "#888".to_string()),
     };
     let title = tooltip(&s, fps);
     let (start, end) = (s.start, s.end);
@@ -314,9 +395,12 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, primitive: boo
             style:left=left
             style:width=width
             style:background-color=(!colour.is_empty()).then_some(colour)
+            style:color=text_colour
             data-start=start.to_string()
             data-end=end.to_string()
             data-cluster=s.cluster.map(|c| c.to_string()).unwrap_or_default()
+            data-colour=class_colour_of
+            data-score=s.score.map(|x| x.to_string())
             title=title
             on:pointerdown=on_down
             on:click=on_click

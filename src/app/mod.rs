@@ -14,10 +14,14 @@
 //! parameters in its form ([`method_panel`]: one generic panel per registered method, built from
 //! the registry); `document.body.dataset.<method>` (e.g. `data-sssm`) says where each stands:
 //! `idle`, `running`, `done`, `error` or `cancelled`. Under the LMA panel, [`lma_training`] trains
-//! LMA's classifiers on the user's own Effort labels (`data-lma-training`).
+//! LMA's classifiers on the user's own Effort labels (`data-lma-training`). The DT-FCN and k-NN
+//! panels take the user's model files ([`label_models`]), and the DT-FCN panel trains a network in
+//! the worker one epoch at a time ([`dtfcn_training`], `data-dtfcn-training`).
 
 mod drop_zone;
+mod dtfcn_training;
 mod error_banner;
+mod label_models;
 mod lma_training;
 mod loader;
 mod method_panel;
@@ -36,7 +40,9 @@ use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
 
 use drop_zone::DropZone;
+use dtfcn_training::{DtfcnTraining, DtfcnTrainingPanel};
 use error_banner::ErrorBanner;
+use label_models::{LabelModelFile, LabelModels};
 use lma_training::{LmaTraining, LmaTrainingPanel};
 use loader::{Loader, Urls};
 use method_panel::MethodPanel;
@@ -102,6 +108,9 @@ pub struct MethodSlot {
     pub specs: Vec<ParamSpec>,
     /// The form's text, one field per parameter (booleans as `true` / `false`).
     pub fields: Vec<RwSignal<String>>,
+    /// The options of each choice parameter (empty for the others): the method's own, then the
+    /// user's models the page added (DT-FCN, k-NN).
+    pub choices: Vec<RwSignal<Vec<String>>>,
     pub run: RwSignal<RunState>,
     /// The last finished run on the take on screen.
     pub view: RwSignal<Option<Arc<MethodView>>>,
@@ -110,15 +119,72 @@ pub struct MethodSlot {
 impl MethodSlot {
     fn new(method: &dyn crate::method::DynMethod) -> MethodSlot {
         let specs = method.param_specs();
-        let fields = specs.iter().map(|s| RwSignal::new(form::field_text(&s.default))).collect();
-        MethodSlot { info: method.info(), specs, fields, run: RwSignal::new(RunState::Idle), view: RwSignal::new(None) }
+        let fields = specs.iter().map(|s| RwSignal::new(default_text(&s.default))).collect();
+        let choices = specs
+            .iter()
+            .map(|s| match &s.kind {
+                crate::method::ParamKind::Choice { options } => RwSignal::new(options.clone()),
+                _ => RwSignal::new(Vec::new()),
+            })
+            .collect();
+        MethodSlot {
+            info: method.info(),
+            specs,
+            fields,
+            choices,
+            run: RwSignal::new(RunState::Idle),
+            view: RwSignal::new(None),
+        }
     }
 
-    /// The parameters the form holds now, as the worker reads them.
+    /// The parameters the form holds now, as the worker reads them. An empty number field is the
+    /// method's default: the parameter is left out of the JSON (every field is optional there),
+    /// or `null` when its default is `null` (the method decides).
     pub fn params(&self) -> Result<serde_json::Value, String> {
+        use crate::method::ParamKind;
         let texts: Vec<String> = self.fields.iter().map(|f| f.get_untracked()).collect();
-        form::params_from_form(&self.info.short, &self.specs, &texts)
+        let unset: Vec<bool> = self
+            .specs
+            .iter()
+            .zip(&texts)
+            .map(|(s, t)| {
+                t.trim().is_empty()
+                    && (s.default.is_null() || matches!(s.kind, ParamKind::Number { .. } | ParamKind::Integer { .. }))
+            })
+            .collect();
+        let specs: Vec<ParamSpec> =
+            self.specs.iter().zip(&unset).filter(|(_, u)| !**u).map(|(s, _)| s.clone()).collect();
+        let set: Vec<String> = texts.into_iter().zip(&unset).filter(|(_, u)| !**u).map(|(t, _)| t).collect();
+        let mut params = form::params_from_form(&self.info.short, &specs, &set)?;
+        if let Some(object) = params.as_object_mut() {
+            for (spec, _) in self.specs.iter().zip(&unset).filter(|(s, u)| **u && s.default.is_null()) {
+                object.insert(spec.name.clone(), serde_json::Value::Null);
+            }
+        }
+        Ok(params)
     }
+
+    /// The field of parameter `name`, with its choices.
+    pub fn param(&self, name: &str) -> Option<(RwSignal<String>, RwSignal<Vec<String>>)> {
+        let i = self.specs.iter().position(|s| s.name == name)?;
+        Some((self.fields[i], self.choices[i]))
+    }
+}
+
+/// The form text of a parameter's default: empty for `null` (the method decides), and a number
+/// that is exactly an `f32` (a default written `x as f64`) in the `f32`'s shortest form — `0.8`,
+/// not `0.800000011920929`.
+fn default_text(value: &serde_json::Value) -> String {
+    if value.is_null() {
+        return String::new();
+    }
+    if let Some(x) = value.as_f64().filter(|_| value.is_f64()) {
+        let short = x as f32;
+        if short as f64 == x && x.fract() != 0.0 && short.to_string().len() < x.to_string().len() {
+            return short.to_string();
+        }
+    }
+    form::field_text(value)
 }
 
 /// Everything the page shows, as signals (created once, passed to every component).
@@ -142,6 +208,10 @@ pub struct AppState {
     pub methods: &'static [MethodSlot],
     /// LMA's classifiers from the user's own labels.
     pub lma: LmaTraining,
+    /// The user's DT-FCN and k-NN models (loaded or trained).
+    pub labels: LabelModels,
+    /// The DT-FCN training in the browser.
+    pub dtfcn: DtfcnTraining,
 }
 
 impl AppState {
@@ -157,6 +227,8 @@ impl AppState {
             error_is_run: RwSignal::new(false),
             methods: Box::leak(crate::method::registry().iter().map(|m| MethodSlot::new(*m)).collect()),
             lma: LmaTraining::new(),
+            labels: LabelModels::new(),
+            dtfcn: DtfcnTraining::new(),
         }
     }
 
@@ -237,13 +309,27 @@ fn App(urls: Urls) -> impl IntoView {
         {state
             .methods
             .iter()
-            .map(|slot| {
-                // LMA's panel is followed by the training of its classifiers
-                let training = (slot.info.name == lma_training::METHOD)
-                    .then(|| view! { <LmaTrainingPanel state=state loader=loader.clone()/> });
-                view! {
-                    <MethodPanel state=state method=slot loader=loader.clone()/>
-                    {training}
+            .map(|slot| match label_models::kind_of(&slot.info.name) {
+                // DT-FCN and k-NN take the user's model files; DT-FCN also trains in the browser
+                Some(kind) => {
+                    let training = (kind == crate::dtfcn::model::ModelKind::Dtfcn)
+                        .then(|| view! { <DtfcnTrainingPanel state=state loader=loader.clone()/> });
+                    let extra = view! {
+                        <LabelModelFile state=state loader=loader.clone() kind=kind/>
+                        {training}
+                    }
+                    .into_any();
+                    view! { <MethodPanel state=state method=slot loader=loader.clone() extra=extra/> }.into_any()
+                }
+                None => {
+                    // LMA's panel is followed by the training of its classifiers
+                    let training = (slot.info.name == lma_training::METHOD)
+                        .then(|| view! { <LmaTrainingPanel state=state loader=loader.clone()/> });
+                    view! {
+                        <MethodPanel state=state method=slot loader=loader.clone()/>
+                        {training}
+                    }
+                    .into_any()
                 }
             })
             .collect_view()}

@@ -10,7 +10,10 @@
 // worker replaced after a cancel or a fatal error — never make "Run" segment another take than the
 // one on screen; and LMA's classifiers trained on the user's own Effort labels in the browser (the
 // report, the download, loading it back, the shipped family again, errors in the status line, a
-// new worker after a cancel or a crash still using the user's family). Screenshots go to OUT_DIR
+// new worker after a cancel or a crash still using the user's family); DT-FCN and k-NN (rows in
+// their class colours shaded by confidence, unknown hatched, the model choice and threshold, bad
+// model files named at their input, a DT-FCN trained in the browser epoch by epoch with its
+// refusals, plot, Stop, download and the file loaded back). Screenshots go to OUT_DIR
 // (default <repo>/test-output).
 //
 // Run: node page.test.mjs   (env: BASE_URL, OUT_DIR, FIXTURES, SAMPLE_BVH, E2E_TIMEOUT_MS)
@@ -559,6 +562,427 @@ test("LMA trains on the user's Effort labels in the browser, saves, reloads and 
   await waitTraining("switching", "idle");
   await waitLmaRun(false);
   assert.equal(await page.locator("#error-banner").isVisible(), false, "no error banner from the training");
+});
+
+// ---- DT-FCN and k-NN: class-coloured rows, model files, training in the browser ---------------
+
+const MODELS = path.join(ROOT, "models");
+
+/** Waits until body[data-<key>] is `want` (data attributes in camelCase), or fails with what the page shows. */
+async function waitData(key, want, timeout = TIMEOUT) {
+  try {
+    await page.waitForFunction(([k, w]) => document.body.dataset[k] === w, [key, want], { timeout });
+  } catch (e) {
+    await shot(`e2e-timeout-${key}-${want}.png`).catch(() => {});
+    throw new Error(`data-${key} did not become ${want}: it is ${await page.evaluate((k) => document.body.dataset[k], key)}, `
+      + `banner="${await text("#error-banner").catch(() => "?")}", `
+      + `training status="${await text("#dtfcn-train-status").catch(() => "?")}", page errors=${JSON.stringify(pageErrors)}`);
+  }
+}
+
+/** Clicks `#<method>-run` and waits until that run went through "running" and is `want`. */
+async function runMethod(method, want = "done") {
+  await page.locator(`#${method}-run:not([disabled])`).waitFor({ timeout: TIMEOUT });
+  await watchMethod(method);
+  await page.click(`#${method}-run`);
+  await waitRun(method, want);
+}
+
+/** Starts recording the values body[data-<method>] takes. */
+async function watchMethod(method) {
+  await page.evaluate((m) => {
+    window.__runs = window.__runs ?? {};
+    window.__runs[m] = [];
+    window.__runObservers = window.__runObservers ?? {};
+    window.__runObservers[m]?.disconnect();
+    window.__runObservers[m] = new MutationObserver(() => window.__runs[m].push(document.body.dataset[m] ?? ""));
+    window.__runObservers[m].observe(document.body, { attributes: true, attributeFilter: [`data-${m}`] });
+  }, method);
+}
+
+/** Waits until body[data-<method>] went through "running" (since watchMethod) and is `want`. */
+async function waitRun(method, want = "done") {
+  try {
+    await page.waitForFunction(([m, w]) => window.__runs[m].includes("running") && document.body.dataset[m] === w,
+      [method, want], { timeout: TIMEOUT });
+  } catch (e) {
+    await shot(`e2e-timeout-run-${method}.png`).catch(() => {});
+    throw new Error(`${method} did not run to ${want}: data-${method}=${await page.evaluate((m) => document.body.dataset[m], method)}, `
+      + `seen ${JSON.stringify(await page.evaluate((m) => window.__runs[m], method))}, banner="${await text("#error-banner")}"`);
+  }
+}
+
+/** The segmentation JSON of `method`'s last run (its export). */
+async function exportRun(method, file) {
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click(`#${method}-export`)]);
+  const saved = path.join(OUT, file);
+  await download.saveAs(saved);
+  return JSON.parse(readFileSync(saved, "utf8"));
+}
+
+/** The shade the page gives a class colour at confidence `score` (method_panel.rs). */
+function shade(hex, score) {
+  const strength = 0.3 + 0.7 * Math.min(1, Math.max(0, score));
+  const c = [1, 3, 5].map((i) => parseInt(hex.slice(i, i + 2), 16));
+  return c.map((v) => Math.round(255 - strength * (255 - v)));
+}
+
+/** The header of a model file (`mocapseg-model\n`, format byte, u32 LE length, JSON): classes, colours, … */
+function modelHeader(bytes) {
+  assert.equal(bytes.subarray(0, 15).toString("latin1"), "mocapseg-model\n", "a model file");
+  const length = bytes.readUInt32LE(16);
+  return JSON.parse(bytes.subarray(20, 20 + length).toString("utf8"));
+}
+
+/** The header of the shipped model `name` of `method` (dtfcn, knn). */
+const shippedHeader = (method, name) => modelHeader(readFileSync(path.join(ROOT, "models", `${method}-${name}.model`)));
+
+/**
+ * Checks `#row-<method>-actions` against the run's JSON and the model's header (its classes and
+ * colours): one segment each, its label as text, coloured by its class and shaded by its confidence.
+ */
+async function assertLabelRow(method, json, header) {
+  const segs = await page.locator(`#row-${method}-actions .ms-seg`).evaluateAll((els) => els.map((e) => ({
+    start: Number(e.dataset.start), end: Number(e.dataset.end), cluster: e.dataset.cluster, colour: e.dataset.colour ?? null,
+    score: Number(e.dataset.score), cls: e.className, text: e.textContent, bg: getComputedStyle(e).backgroundColor,
+    image: getComputedStyle(e).backgroundImage, children: e.children.length,
+  })));
+  assert.equal(segs.length, json.segments.length, `#row-${method}-actions shows every segment`);
+  assert.equal(header.colours.length, header.classes.length, "a colour per class");
+  const byStart = new Map(json.segments.map((s) => [s.start, s]));
+  let coloured = 0;
+  for (const seg of segs) {
+    const s = byStart.get(seg.start);
+    assert.ok(s && s.end === seg.end, `segment ${seg.start}–${seg.end} is in the run's JSON`);
+    assert.equal(seg.text, s.label, "the label shows as text");
+    assert.equal(seg.children, 0, "no markup inside a segment");
+    if (s.cluster === null || s.cluster === undefined) {
+      assert.equal(s.label, "unknown");
+      assert.match(seg.cls, /ms-seg--unknown/, `an unknown segment is hatched: ${JSON.stringify(seg)}`);
+      assert.match(seg.image, /repeating-linear-gradient/, "hatched");
+    } else {
+      coloured += 1;
+      assert.match(seg.cls, /ms-seg--label/);
+      assert.equal(seg.colour, header.colours[s.cluster], `segment ${s.start} carries its class colour`);
+      assert.equal(s.label, header.classes[s.cluster]);
+      const want = shade(seg.colour, s.score);
+      const got = seg.bg.match(/\d+/g).slice(0, 3).map(Number);
+      assert.ok(got.every((v, i) => Math.abs(v - want[i]) <= 1),
+        `segment ${s.start} (score ${s.score}) is ${seg.bg}, want rgb(${want}) from ${seg.colour}`);
+    }
+  }
+  return { coloured, colours: new Set(segs.map((s) => s.colour).filter(Boolean)).size };
+}
+
+const defaultThreshold = {};
+
+test("DT-FCN and k-NN label the sample: rows coloured by class and confidence, model and threshold in the form", async () => {
+  for (const m of ["dtfcn", "knn"]) {
+    assert.equal(await page.locator(`#${m}-panel`).count(), 1, `#${m}-panel`);
+    await waitData(m, "done");
+    const json = await exportRun(m, `e2e-${m}.json`);
+    assert.equal(json.method, m);
+    assert.equal(json.params.model, "exercises", "the default model");
+    const { coloured, colours } = await assertLabelRow(m, json, shippedHeader(m, "exercises"));
+    assert.ok(coloured >= 1, `#row-${m}-actions has no coloured segment`);
+    console.log(`  (${m} on the sample: ${json.segments.length} segments, ${colours} class colours; `
+      + `"${await text(`#${m}-counts`)}")`);
+    assert.equal(await page.locator(`#row-${m}-actions`).getAttribute("data-label"), m === "dtfcn" ? "DT-FCN labels" : "k-NN labels");
+    const options = await page.locator(`#${m}-model option`).evaluateAll((os) => os.map((o) => o.value));
+    assert.deepEqual(options.slice(0, 3), ["exercises", "cmu-actions", "locomotion"], `#${m}-model offers the shipped models`);
+    const threshold = Number(await page.inputValue(`#${m}-unknown_threshold`));
+    assert.ok(threshold > 0 && threshold < 1, `the default threshold in the form: ${threshold}`);
+    assert.equal(json.params.unknown_threshold, threshold, "the form's threshold is echoed");
+    defaultThreshold[m] = threshold;
+    assert.ok(await page.locator(`#${m}-probabilities`).count() === 1, `#${m}-probabilities picture`);
+  }
+  await page.locator("#dtfcn-panel").screenshot({ path: path.join(OUT, "e2e-dtfcn-panel.png") });
+
+  // the threshold and the model from the form
+  await page.fill("#knn-unknown_threshold", "0.999");
+  await runMethod("knn");
+  let json = await exportRun("knn", "e2e-knn-threshold.json");
+  assert.equal(json.params.unknown_threshold, 0.999);
+  assert.ok(json.segments.some((s) => s.label === "unknown"), "a high threshold leaves frames unknown");
+  await assertLabelRow("knn", json, shippedHeader("knn", "exercises"));
+  await page.fill("#knn-unknown_threshold", "");
+  await page.selectOption("#knn-model", "cmu-actions");
+  await runMethod("knn");
+  json = await exportRun("knn", "e2e-knn-cmu.json");
+  assert.equal(json.params.model, "cmu-actions");
+  assert.ok(Math.abs(json.params.unknown_threshold - defaultThreshold.knn) < 1e-6,
+    `an emptied threshold is the method's default: ${json.params.unknown_threshold}`);
+  await assertLabelRow("knn", json, shippedHeader("knn", "cmu-actions"));
+  await page.selectOption("#knn-model", "exercises");
+  await page.fill("#knn-unknown_threshold", "1.5");
+  await runMethod("knn", "error");
+  assert.match(await text("#error-banner"), /unknown_threshold = 1\.5/, "the method names the bad threshold");
+  await page.fill("#knn-unknown_threshold", String(defaultThreshold.knn));
+  await runMethod("knn");
+  assert.equal(await page.locator("#error-banner").isVisible(), false);
+});
+
+test("a bad model file shows the core's message at its input; the page keeps working", async () => {
+  const knn = readFileSync(path.join(MODELS, "knn-exercises.model"));
+  const bad = [
+    ["#knn-model-file", "knn", { name: "half.model", buffer: knn.subarray(0, knn.length >> 1) }, /half\.model: truncated/],
+    ["#dtfcn-model-file", "dtfcn", { name: "family.json", buffer: Buffer.from('{"fps": 30, "factors": []}') },
+      /family\.json: not a mocapseg model file.*JSON/],
+    ["#dtfcn-model-file", "dtfcn", { name: "noise.bin", buffer: Buffer.from(Array.from({ length: 5000 }, (_, i) => (i * 7919 + 13) % 256)) },
+      /noise\.bin: not a mocapseg model file/],
+    ["#dtfcn-model-file", "dtfcn", { name: "knn-exercises.model", buffer: knn }, /holds a k-NN model, not a DT-FCN model/],
+  ];
+  for (const [input, m, file, message] of bad) {
+    await page.setInputFiles(input, { mimeType: "application/octet-stream", ...file });
+    await waitData(`${m}Model`, "error");
+    const status = await text(`#${m}-model-status`);
+    assert.match(status, message, `#${m}-model-status after ${file.name}: "${status}"`);
+    assert.equal(await page.locator(`#${m}-model-status.ms-field-error`).count(), 1, "shown as an error");
+  }
+  await page.locator("#knn-panel").screenshot({ path: path.join(OUT, "e2e-knn-bad-model.png") });
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "a bad model file is not a page error");
+  // the worker still answers and the page still works
+  await runMethod("sssm");
+  await runMethod("dtfcn");
+  // a good k-NN file: named after the file (its own name is a shipped model's), chosen and run
+  await watchMethod("knn");
+  await page.setInputFiles("#knn-model-file", path.join(MODELS, "knn-exercises.model"));
+  await waitData("knnModel", "done");
+  assert.match(await text("#knn-model-status"), /Loaded knn-exercises\.model: k-NN model `knn-exercises`, 7 classes/);
+  assert.equal(await page.inputValue("#knn-model"), "knn-exercises", "the loaded model is chosen");
+  await waitRun("knn");
+  const json = await exportRun("knn", "e2e-knn-loaded.json");
+  assert.equal(json.params.model, "knn-exercises", "the run used it");
+  await page.selectOption("#knn-model", "exercises");
+});
+
+/** A label CSV for `file`: `rows` [start, end, label], plus `extra` lines. */
+function labelCsv(file, rows, extra = []) {
+  return ["file,start_frame,end_frame,label", ...rows.map(([a, b, l]) => `${file},${a},${b},${l}`), ...extra].join("\n") + "\n";
+}
+
+/** Picks `csv` as the training's label file `name`. */
+async function pickLabels(name, csv) {
+  await page.setInputFiles("#dtfcn-train-labels", { name, mimeType: "text/csv", buffer: Buffer.from(csv) });
+  await page.waitForFunction((n) => document.querySelector("#dtfcn-train-labels-name")?.textContent === n, name);
+}
+
+/** Starts recording body[data-dtfcn-training] and the progress line. */
+async function watchTraining() {
+  await page.evaluate(() => {
+    window.__training = [];
+    window.__progress = [];
+    window.__trainingObserver?.disconnect();
+    window.__trainingObserver = new MutationObserver(() => {
+      window.__training.push(document.body.dataset.dtfcnTraining ?? "");
+      const p = document.querySelector("#dtfcn-train-progress");
+      if (p && !p.hidden) window.__progress.push(p.textContent.trim());
+    });
+    window.__trainingObserver.observe(document.body, { attributes: true, subtree: true, childList: true, characterData: true });
+  });
+}
+
+/** Clicks Train and waits for body[data-dtfcn-training] to go through "training" to `want`. */
+async function trainDtfcn(want) {
+  await page.locator("#dtfcn-train-start:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await watchTraining();
+  await page.click("#dtfcn-train-start");
+  try {
+    await page.waitForFunction((w) => window.__training.includes("training") && document.body.dataset.dtfcnTraining === w,
+      want, { timeout: TIMEOUT * 3 });
+  } catch (e) {
+    await shot(`e2e-dtfcn-training-${want}.png`).catch(() => {});
+    throw new Error(`DT-FCN training did not end ${want}: ${await page.evaluate(() => document.body.dataset.dtfcnTraining)}, `
+      + `seen ${JSON.stringify(await page.evaluate(() => window.__training))}, status="${await text("#dtfcn-train-status")}"`);
+  }
+}
+
+test("DT-FCN trains in the browser: refusals at their field, progress and plot, Stop, download, load back", async () => {
+  const F = SAMPLE_HDR.frames; // 2465 frames of the sample
+  const rows = [[0, 599, "stand"], [600, 1199, "<i>kick</i>"], [1200, 1799, "reach"], [1800, F - 1, "stand"]];
+  const csv = labelCsv(SAMPLE_HDR.name, rows, ["86_01.bvh,0,99,walk", "35_01.bvh,0,199,stand", "35_01.bvh,200,357,reach"]);
+  // the form's network is the paper's (64,64,128,256,512 filters, kernel width 3)
+  await page.click("#dtfcn-training summary");
+  const paper = "64,64,128,256,512";
+  assert.equal(await page.inputValue("#dtfcn-train-filters"), paper);
+  assert.equal(await page.inputValue("#dtfcn-train-epochs"), "20", "20 epochs by default");
+
+  // refusals show at the input that is wrong; nothing is trained
+  const refusals = [
+    [labelCsv(SAMPLE_HDR.name, [[0, 99, "a"], [100, "x1", "b"]]), {}, "labels", /labels\.csv line 3.*`x1`/],
+    [labelCsv("86_01.bvh", [[0, 99, "a"], [100, 199, "b"]]), {}, "labels", /no row is for the loaded take.*86_01\.bvh/],
+    [labelCsv(SAMPLE_HDR.name, [[0, 99, "a"], [100, 199, "a"]]), {}, "labels", /1 class.*at least 2/],
+    [labelCsv(SAMPLE_HDR.name, [[0, 99, "a"], [100, F + 5, "b"]]), {}, "labels", /past the take's last frame/],
+    [csv, { "#dtfcn-train-epochs": "0" }, "epochs", /epochs 0/],
+    [csv, { "#dtfcn-train-epochs": "2.5" }, "epochs", /`2\.5` is not a whole number/],
+    [csv, { "#dtfcn-train-noise": "1.5" }, "label_noise", /label noise 1\.5/],
+    [csv, { "#dtfcn-train-name": "exercises" }, "name", /shipped model/],
+    [csv, { "#dtfcn-train-filters": "16,x" }, "filters", /whole numbers/],
+  ];
+  for (const [labels, fields, field, message] of refusals) {
+    await pickLabels("labels.csv", labels);
+    await page.fill("#dtfcn-train-epochs", "2");
+    await page.fill("#dtfcn-train-noise", "0");
+    await page.fill("#dtfcn-train-name", "e2e-dtfcn");
+    await page.fill("#dtfcn-train-filters", paper);
+    for (const [sel, value] of Object.entries(fields)) await page.fill(sel, value);
+    await page.locator("#dtfcn-train-start:not([disabled])").waitFor({ timeout: TIMEOUT });
+    await page.click("#dtfcn-train-start");
+    await waitData("dtfcnTraining", "error");
+    const shown = page.locator(`#dtfcn-train-error-${field}`);
+    await shown.waitFor({ state: "visible", timeout: TIMEOUT });
+    assert.match(await shown.textContent(), message, `#dtfcn-train-error-${field}`);
+    assert.equal(await page.locator("#dtfcn-training .ms-field-error:not([hidden])").count(), 1, "one field marked");
+  }
+  await page.locator("#dtfcn-training").screenshot({ path: path.join(OUT, "e2e-dtfcn-train-refused.png") });
+  assert.equal(await page.locator("#dtfcn-train-download").isVisible(), false, "nothing to download yet");
+
+  // two epochs: progress, plot, the model becomes DT-FCN's and labels the take
+  await page.fill("#dtfcn-train-filters", paper);
+  await page.fill("#dtfcn-train-epochs", "2");
+  await page.fill("#dtfcn-train-noise", "0.1");
+  await page.fill("#dtfcn-train-mask", "4");
+  await page.uncheck("#dtfcn-train-aug-jitter");
+  await page.selectOption("#dtfcn-train-width", "2");
+  await page.fill("#dtfcn-train-name", "e2e-dtfcn");
+  await pickLabels("labels.csv", csv);
+  // a second take besides the one on screen
+  await page.setInputFiles("#dtfcn-train-takes", path.join(FIXTURES, "35_01.bvh"));
+  await page.waitForFunction(() => /and 35_01\.bvh/.test(document.querySelector("#dtfcn-train-takes-names")?.textContent ?? ""));
+  await watchMethod("dtfcn");
+  const started = Date.now();
+  await trainDtfcn("done");
+  console.log(`  (2 epochs of the paper's network on the sample: ${((Date.now() - started) / 1000).toFixed(1)} s; `
+    + `"${await text("#dtfcn-train-status")}")`);
+  const progress = await page.evaluate(() => window.__progress);
+  assert.ok(progress.some((p) => /Epoch 1 of 2/.test(p)), `the progress line showed epoch 1 of 2: ${JSON.stringify(progress.slice(0, 5))}`);
+  const status = await text("#dtfcn-train-status");
+  assert.match(status, /Trained `e2e-dtfcn` on 6 rows of labels\.csv \(rows for 86_01\.bvh left out: not loaded\): 3 classes \(stand, <i>kick<\/i>, reach\), 2 epochs/);
+  const plot = await canvasStats("#dtfcn-train-plot");
+  assert.ok(!plot.error && plot.width > 0 && plot.distinct >= 4, `#dtfcn-train-plot looks blank: ${JSON.stringify(plot)}`);
+  // the download: NAME.model, a model file
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#dtfcn-train-download")]);
+  assert.equal(download.suggestedFilename(), "e2e-dtfcn.model");
+  const saved = path.join(OUT, "e2e-dtfcn.model");
+  await download.saveAs(saved);
+  const bytes = readFileSync(saved);
+  assert.equal(bytes.subarray(0, 15).toString("latin1"), "mocapseg-model\n", "the file starts with the model magic");
+  const trained = modelHeader(bytes);
+  assert.deepEqual(trained.classes, ["stand", "<i>kick</i>", "reach"]);
+  assert.equal(trained.name, "e2e-dtfcn");
+
+  assert.equal(await page.inputValue("#dtfcn-model"), "e2e-dtfcn", "the trained model is chosen");
+  await waitRun("dtfcn");
+  let json = await exportRun("dtfcn", "e2e-dtfcn-trained.json");
+  assert.equal(json.params.model, "e2e-dtfcn");
+  await assertLabelRow("dtfcn", json, trained);
+  // with no threshold every frame gets a class of the model, in its colour
+  await page.fill("#dtfcn-unknown_threshold", "0");
+  await runMethod("dtfcn");
+  json = await exportRun("dtfcn", "e2e-dtfcn-trained-all.json");
+  assert.equal(json.params.unknown_threshold, 0);
+  const { coloured } = await assertLabelRow("dtfcn", json, trained);
+  assert.ok(coloured >= 1 && json.segments.every((s) => s.label !== "unknown"), "every frame labelled");
+  assert.equal(await page.locator("#row-dtfcn-actions i").count(), 0, "a label is never markup");
+  await page.fill("#dtfcn-unknown_threshold", String(defaultThreshold.dtfcn ?? 0.5));
+  await page.locator("#dtfcn-panel").screenshot({ path: path.join(OUT, "e2e-dtfcn-trained.png") });
+
+  // Stop: a long training ends after the epoch under way and keeps its model
+  await page.fill("#dtfcn-train-epochs", "500");
+  await page.fill("#dtfcn-train-name", "e2e-stopped");
+  await page.locator("#dtfcn-train-start:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await watchTraining();
+  await page.click("#dtfcn-train-start");
+  await page.waitForFunction(() => /Epoch [2-9]\d* of 500/.test(document.querySelector("#dtfcn-train-progress")?.textContent ?? ""),
+    null, { timeout: TIMEOUT });
+  // a worker replaced meanwhile (another method's run cancelled) gets the training again, from epoch 1
+  await page.evaluate(() => {
+    document.querySelector("#sssm-run").click();
+    document.querySelector("#sssm-cancel").click();
+  });
+  await waitData("sssm", "cancelled");
+  await page.waitForFunction(() => /training starts again from epoch 1/.test(document.querySelector("#dtfcn-train-status")?.textContent ?? ""),
+    null, { timeout: TIMEOUT });
+  await page.waitForFunction(() => /Epoch [2-9]\d* of 500/.test(document.querySelector("#dtfcn-train-progress")?.textContent ?? ""),
+    null, { timeout: TIMEOUT });
+  await runMethod("sssm");
+  // the page stays responsive while the worker trains
+  const t0 = Date.now();
+  await setRange("#scrub", 10);
+  assert.ok(Date.now() - t0 < 2000, "the page answered while training");
+  await page.click("#dtfcn-train-stop");
+  await waitData("dtfcnTraining", "done", TIMEOUT);
+  assert.ok((await page.evaluate(() => window.__training)).includes("stopping"), "went through stopping");
+  const stopped = await text("#dtfcn-train-status");
+  const m = /stopped after (\d+) of 500 epochs/.exec(stopped);
+  assert.ok(m && Number(m[1]) >= 2 && Number(m[1]) < 500, `the status says it stopped: "${stopped}"`);
+  assert.equal(await page.inputValue("#dtfcn-model"), "e2e-stopped");
+  assert.equal(await text("#dtfcn-train-download"), "Download e2e-stopped.model");
+  await waitData("dtfcn", "done");
+
+  // a new worker (after a cancel) still has the user's models
+  await page.evaluate(() => {
+    document.querySelector("#dtfcn-run").click();
+    document.querySelector("#dtfcn-cancel").click();
+  });
+  await waitData("dtfcn", "cancelled");
+  await runMethod("dtfcn");
+  json = await exportRun("dtfcn", "e2e-dtfcn-after-cancel.json");
+  assert.equal(json.params.model, "e2e-stopped", "the new worker knows the stopped model");
+
+  // the downloaded file loads back and is applied
+  await page.selectOption("#dtfcn-model", "exercises");
+  await runMethod("dtfcn");
+  await watchMethod("dtfcn");
+  await page.setInputFiles("#dtfcn-model-file", saved);
+  await waitData("dtfcnModel", "done");
+  assert.match(await text("#dtfcn-model-status"),
+    /Loaded e2e-dtfcn\.model: DT-FCN model `e2e-dtfcn`, 3 classes \(stand, <i>kick<\/i>, reach\), trained on \d+ labelled frames of sample\.bvh, 35_01\.bvh, epoch 2 of 2 kept/);
+  assert.equal(await page.inputValue("#dtfcn-model"), "e2e-dtfcn");
+  await waitRun("dtfcn");
+  json = await exportRun("dtfcn", "e2e-dtfcn-loaded-back.json");
+  assert.equal(json.params.model, "e2e-dtfcn");
+  await assertLabelRow("dtfcn", json, trained);
+  // a worker that breaks between two epochs: the training fails with the trap's message, the
+  // worker is replaced, and the new one still has the user's models
+  let served = 0;
+  const context = page.context();
+  const handler = async (route) => {
+    served += 1;
+    const response = await route.fetch();
+    const body = (await response.text()).replace(
+      "worker_handle(event.data, post);",
+      `if (!self.__broke && JSON.parse(event.data.json).type === "continue_training") { self.__broke = true; throw new Error("simulated trap"); }
+    worker_handle(event.data, post);`,
+    );
+    await route.fulfill({ response, body });
+    await context.unroute("**/www/worker.js", handler);
+  };
+  await context.route("**/www/worker.js", handler);
+  await page.evaluate(() => {
+    document.querySelector("#sssm-run").click();
+    document.querySelector("#sssm-cancel").click();
+  });
+  await waitData("sssm", "cancelled");
+  await page.fill("#dtfcn-train-epochs", "3");
+  await page.fill("#dtfcn-train-name", "e2e-broken");
+  allowConsoleErrors = true;
+  try {
+    await trainDtfcn("error");
+  } finally {
+    allowConsoleErrors = false;
+  }
+  assert.equal(served, 1, "the sabotaged worker script was served");
+  assert.match(await text("#dtfcn-train-status"), /Not trained: internal error: simulated trap/);
+  const models = await page.locator("#dtfcn-model option").evaluateAll((os) => os.map((o) => o.value));
+  assert.ok(!models.includes("e2e-broken"), `no model from the broken training: ${models}`);
+  await runMethod("dtfcn");
+  json = await exportRun("dtfcn", "e2e-dtfcn-after-trap.json");
+  assert.equal(json.params.model, "e2e-dtfcn", "the replaced worker still has the user's model");
+
+  // the shipped model again for the tests that follow
+  await page.selectOption("#dtfcn-model", "exercises");
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "no page error from the training");
 });
 
 test("file input loads 02_01.bvh: summary, motion image, player", async () => {
