@@ -124,6 +124,13 @@ mod cli {
             /// The label CSV (default: stdout).
             #[arg(long, short)]
             out: Option<PathBuf>,
+            /// Keep only the parts inside the segments of this label CSV labelled --label (the walking
+            /// parts of takes whose actions are labelled); takes it does not name are kept whole.
+            #[arg(long, requires = "label")]
+            within: Option<PathBuf>,
+            /// The label of --within's segments to keep (e.g. `walk`).
+            #[arg(long, requires = "within")]
+            label: Option<String>,
         },
         /// Convert ground truth in the shared data's format (`trial,label,start_frame,end_frame,…`,
         /// 1-based AMC frames) into the label CSV the supervised methods read
@@ -313,7 +320,7 @@ mod cli {
             Command::TrainLma { inputs, labels, seed, restarts, out } => {
                 train_lma(&inputs, labels, seed, restarts, &out)
             }
-            Command::Gait { inputs, out } => gait(&inputs, out),
+            Command::Gait { inputs, out, within, label } => gait(&inputs, out, within.zip(label)),
             Command::TrainDtfcn {
                 bvh,
                 labels,
@@ -541,7 +548,7 @@ mod cli {
         }
     }
 
-    fn gait(inputs: &[PathBuf], out: Option<PathBuf>) -> Result<(), String> {
+    fn gait(inputs: &[PathBuf], out: Option<PathBuf>, within: Option<(PathBuf, String)>) -> Result<(), String> {
         use mocapseg::labels::gait::{gait_of, runs, GaitParams};
         use mocapseg::labels::{to_csv, LabelRow};
         let mut rows = Vec::new();
@@ -572,6 +579,12 @@ mod cli {
                     eprintln!("FAIL  {}: {e}", f.display());
                 }
             }
+        }
+        if let Some((path, label)) = within {
+            let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            let spans = mocapseg::labels::read_csv(&text, &path.display().to_string())?;
+            rows = mocapseg::labels::within(&rows, &spans, &label);
+            eprintln!("kept {} rows inside the `{label}` segments of {}", rows.len(), path.display());
         }
         let text = to_csv(&rows);
         match out {

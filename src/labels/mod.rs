@@ -102,9 +102,47 @@ pub fn from_truth_csv(text: &str, options: TruthOptions) -> Result<(Vec<LabelRow
     Ok((rows, skipped))
 }
 
+/// The parts of `rows` inside the segments of `spans` labelled `label` (same file by
+/// [`crate::lma::corpus::same_file`]), each row clipped to them: the gait phases of the walking
+/// parts of a take whose actions are labelled (`mocapseg gait --within actions.csv --label walk`).
+/// Rows of files `spans` does not name at all are kept whole (walking clips are walks throughout).
+pub fn within(rows: &[LabelRow], spans: &[LabelRow], label: &str) -> Vec<LabelRow> {
+    let mut out = Vec::new();
+    for r in rows {
+        if !spans.iter().any(|s| crate::lma::corpus::same_file(&s.file, &r.file)) {
+            out.push(r.clone());
+            continue;
+        }
+        for s in spans.iter().filter(|s| s.label == label && crate::lma::corpus::same_file(&s.file, &r.file)) {
+            let (a, b) = (r.start_frame.max(s.start_frame), r.end_frame.min(s.end_frame));
+            if a <= b {
+                out.push(LabelRow { start_frame: a, end_frame: b, ..r.clone() });
+            }
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn rows_are_clipped_to_the_spans_of_one_label_in_the_same_file() {
+        let row = |f: &str, a, b, l: &str| LabelRow { file: f.into(), start_frame: a, end_frame: b, label: l.into() };
+        let gait =
+            [row("86_01.bvh", 0, 99, "left step"), row("86_01.bvh", 100, 299, "standing"), row("x.bvh", 0, 9, "turn")];
+        let actions = [row("86_01", 50, 149, "walk"), row("86_01.bvh", 150, 400, "jump"), row("x.bvh", 0, 9, "walk")];
+        assert_eq!(
+            within(&gait, &actions, "walk"),
+            vec![
+                row("86_01.bvh", 50, 99, "left step"),
+                row("86_01.bvh", 100, 149, "standing"),
+                row("x.bvh", 0, 9, "turn")
+            ]
+        );
+        assert!(within(&gait, &actions, "run").is_empty());
+    }
 
     #[test]
     fn label_files_read_back_and_name_their_bad_lines() {

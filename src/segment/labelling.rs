@@ -2,7 +2,7 @@
 //! "Temporal Convolutional Networks for Action Segmentation and Detection"; Farha & Gall 2019,
 //! MS-TCN), on per-frame label indices (`None` = no label):
 //!
-//! * **frame accuracy**: the share of frames whose predicted label is the true one;
+//! * **frame accuracy**: the share of labelled frames whose predicted label is the true one;
 //! * **segmental edit score**: `(1 − d / max(m, n)) × 100`, `d` the Levenshtein distance between the
 //!   predicted and the true sequences of segment labels (runs of one label), `m`, `n` their lengths;
 //! * **segmental F1@k** (k = 0.10, 0.25, 0.50): a predicted segment is a true positive when its
@@ -85,7 +85,8 @@ fn f1_at(pred: &[(usize, usize, usize)], truth: &[(usize, usize, usize)], overla
 /// The scores of predicted against true per-frame labels (same length; the labels index one
 /// vocabulary).
 pub fn score(pred: &[Option<usize>], truth: &[Option<usize>]) -> LabellingScores {
-    let frames = truth.len().max(1);
+    // the share of the labelled frames (a take labelled in part is scored where it is labelled)
+    let frames = truth.iter().filter(|t| t.is_some()).count().max(1);
     let right = pred.iter().zip(truth).filter(|(p, t)| p.is_some() && p == t).count();
     let (p, t) = (runs(pred), runs(truth));
     let names = |r: &[(usize, usize, usize)]| r.iter().map(|x| x.0).collect::<Vec<_>>();
