@@ -193,7 +193,12 @@ impl Knn {
     /// of the `k` votes, plus 1e-4 · (k − rank) / k for each vote so that a tie goes to the
     /// label whose nearest vote is nearer (shares stay within 1e-4 of the vote counts).
     pub fn probabilities(&self, motion: &Motion, classes: usize) -> Result<Probabilities, String> {
-        let (w, _) = windows(motion, &self.params)?;
+        self.vote(motion, classes).map(|(p, _)| p)
+    }
+
+    /// [`Knn::probabilities`] and the file position of each working frame.
+    fn vote(&self, motion: &Motion, classes: usize) -> Result<(Probabilities, Vec<f64>), String> {
+        let (w, source) = windows(motion, &self.params)?;
         let k = self.params.k.max(1);
         let mut values = vec![0f32; w.frames() * classes];
         for i in 0..w.frames() {
@@ -210,14 +215,13 @@ impl Knn {
                 }
             }
         }
-        Ok(Probabilities { frames: w.frames(), classes, values })
+        Ok((Probabilities { frames: w.frames(), classes, values }, source))
     }
 
     /// Per file frame of `motion`: the voted label and the share of the `k` votes it won.
     pub fn predict(&self, motion: &Motion) -> Result<Vec<(usize, f32)>, String> {
         let classes = self.labels.iter().max().map_or(1, |m| m + 1);
-        let p = self.probabilities(motion, classes)?;
-        let (_, source) = windows(motion, &self.params)?;
+        let (p, source) = self.vote(motion, classes)?;
         let frames = WorkingFrames { source: &source, file_frames: motion.frames() };
         Ok((0..motion.frames())
             .map(|f| {
