@@ -84,10 +84,19 @@ impl MemoryBudget {
         Err(LoadError::TooLarge { file: file.to_string(), frames, nodes, needed, budget: self.max_bytes })
     }
 
-    /// Parser limits that keep the frame values themselves (`f64`) within the budget too.
-    fn parse_limits(&self) -> ParseLimits {
+    /// Parser limits that keep the whole take within the budget while it is read: the text, the
+    /// frame values (`f64`) and what each frame will need once loaded ([`MemoryBudget::estimate`]
+    /// per node), so the parser stops at the first row past the budget instead of allocating it.
+    /// A take must have a frame.
+    pub fn parse_limits(&self) -> ParseLimits {
         let default = ParseLimits::default();
-        ParseLimits { max_values: default.max_values.min(self.max_bytes / 8), ..default }
+        ParseLimits {
+            max_values: default.max_values.min(self.max_bytes / 8),
+            max_bytes: self.max_bytes,
+            bytes_per_node_frame: Self::estimate(1, 1),
+            min_frames: 1,
+            ..default
+        }
     }
 }
 
@@ -198,27 +207,62 @@ mod tests {
     }
 
     #[test]
-    fn a_take_over_the_budget_is_refused_naming_file_size_and_budget() {
+    fn a_take_over_the_budget_is_refused_at_the_first_row_past_it() {
+        // The budget covers the text, the values (8 bytes each) and each frame's estimate once
+        // loaded: with room for exactly 100 frames the take loads, with a byte less the parser
+        // stops at the row of frame 100 and says why, naming the budget and the frames that fit.
         let text = chain(4, 100);
-        let needed = MemoryBudget::estimate(100, 4);
-        let tight = MemoryBudget { max_bytes: needed - 1 };
-        let e = load_bytes_with_budget("walk.bvh", text.as_bytes(), &tight, &mut |_| {}).unwrap_err();
-        assert!(matches!(e, LoadError::TooLarge { frames: 100, nodes: 4, .. }), "{e}");
-        let m = e.to_string();
-        assert!(m.starts_with("walk.bvh: 100 frames × 4 joints need about 1 MiB"), "{m}");
-        assert!(m.contains("budget of 1 MiB") && m.contains("cut the take"), "{m}");
-        let exact = MemoryBudget { max_bytes: needed };
+        let per_frame = 4 * 8 + MemoryBudget::estimate(1, 4);
+        let exact = MemoryBudget { max_bytes: text.len() + 100 * per_frame };
         let loaded = load_bytes_with_budget("walk.bvh", text.as_bytes(), &exact, &mut |_| {}).expect("fits exactly");
         assert_eq!(loaded.motion.frames(), 100);
+        let tight = MemoryBudget { max_bytes: exact.max_bytes - 1 };
+        let e = load_bytes_with_budget("walk.bvh", text.as_bytes(), &tight, &mut |_| {}).unwrap_err();
+        let m = e.to_string();
+        let last_row = text.lines().count();
+        assert!(m.starts_with(&format!("walk.bvh: line {last_row}, column 1: the take is too large")), "{m}");
+        assert!(m.contains("budget of 1 MiB") && m.contains("at most 99 frames") && m.contains("cut the take"), "{m}");
+        assert!(m.contains(&format!("needs about {per_frame} bytes")), "{m}");
     }
 
     #[test]
-    fn the_budget_also_bounds_the_parsed_values() {
-        // 64 bytes = 8 f64 values: the parser stops at the row that would pass them, and says where.
-        let budget = MemoryBudget { max_bytes: 64 };
-        let e = load_bytes_with_budget("walk.bvh", chain(4, 3).as_bytes(), &budget, &mut |_| {}).unwrap_err();
-        let m = e.to_string();
-        assert!(m.starts_with("walk.bvh: line 27, column 1: too many frame values: the limit is 8"), "{m}");
+    fn a_take_needing_more_than_the_budget_after_parsing_is_refused_naming_its_size() {
+        // No channels: nothing to read, one frame of 10 001 nodes, too many for a tiny budget.
+        let mut text = "HIERARCHY\nROOT A\n{\nOFFSET 0 0 0\nCHANNELS 0\n".to_string();
+        for i in 0..50 {
+            text += &format!("JOINT J{i}\n{{\nOFFSET 0 1 0\nCHANNELS 0\nEnd Site\n{{\nOFFSET 0 1 0\n}}\n}}\n");
+        }
+        text += "}\nMOTION\nFrames: 1\nFrame Time: 0.1\n";
+        let budget = MemoryBudget { max_bytes: MemoryBudget::estimate(1, 101) - 1 };
+        let e = load_bytes_with_budget("wide.bvh", text.as_bytes(), &budget, &mut |_| {}).unwrap_err();
+        assert!(matches!(e, LoadError::TooLarge { frames: 1, nodes: 101, .. }), "{e}");
+        assert!(e.to_string().starts_with("wide.bvh: 1 frames × 101 joints need about 1 MiB"), "{e}");
+    }
+
+    #[test]
+    fn the_value_limit_stops_the_parser_where_it_is_passed() {
+        // 8 values: the parser stops at the row that would pass them, and says where.
+        let limits = ParseLimits { max_values: 8, ..ParseLimits::default() };
+        let e = bvh::parse_with_progress(&chain(4, 3), &limits, &mut |_| {}).unwrap_err().to_string();
+        assert!(e.starts_with("line 27, column 1: too many frame values: the limit is 8"), "{e}");
+        // The budget's own value limit is never the tighter one: the frame budget counts the values too.
+        let tight = MemoryBudget { max_bytes: 64 }.parse_limits();
+        assert_eq!((tight.max_values, tight.max_bytes, tight.min_frames), (8, 64, 1));
+    }
+
+    #[test]
+    fn a_take_without_frames_is_refused_where_it_says_so() {
+        let text = chain(2, 0);
+        let e = load_bytes("still.bvh", text.as_bytes(), &mut |_| {}).unwrap_err().to_string();
+        let line = text.lines().position(|l| l.starts_with("Frames:")).unwrap() + 1;
+        assert!(e.starts_with(&format!("still.bvh: line {line}, column 9: the take has no frames")), "{e}");
+        assert!(e.contains("a skeleton with no motion"), "{e}");
+        let skeleton = &text[..text.find("MOTION").unwrap()];
+        let e = load_bytes("skeleton.bvh", skeleton.as_bytes(), &mut |_| {}).unwrap_err().to_string();
+        assert!(e.starts_with("skeleton.bvh: line ") && e.contains("no `MOTION` section"), "{e}");
+        let parsed = crate::bvh::parse(skeleton).expect("a skeleton with no motion");
+        assert_eq!((parsed.joints.len(), parsed.frames()), (2, 0));
+        assert!(parsed.warnings[0].message.contains("a skeleton with no motion"), "{:?}", parsed.warnings);
     }
 
     #[test]

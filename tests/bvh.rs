@@ -766,8 +766,18 @@ fn truncated_files() {
     assert_err(cut, 9, 23, &["`CHANNELS 3` of joint `Spine` needs 3 channel names", "found end of file after 1"]);
     let cut = &full[..full.find("\t}\n}\nMOTION").unwrap()];
     assert_err(cut, 14, 1, &["expected `}` closing JOINT `Spine`", "end of file"]);
+    // cut after the hierarchy: a skeleton with no motion (0 frames, with a warning), which the
+    // loader refuses at the end of the file because it needs a frame
     let cut = &full[..full.find("MOTION").unwrap()];
-    assert_err(cut, 16, 1, &["expected `MOTION`", "end of file"]);
+    let b = parse_ok(cut);
+    assert_eq!((b.joints.len(), b.frames(), b.declared_frames), (3, 0, 0));
+    assert_eq!(b.warnings.len(), 1, "{:?}", b.warnings);
+    assert_eq!(b.warnings[0].line, 16);
+    assert!(b.warnings[0].message.contains("no `MOTION` section): a skeleton with no motion"), "{:?}", b.warnings);
+    let limits = ParseLimits { min_frames: 1, ..ParseLimits::default() };
+    let e = bvh::parse_with_progress(cut, &limits, &mut |_| {}).unwrap_err();
+    assert_eq!((e.line, e.column), (16, 1), "{e}");
+    assert!(e.message.contains("nothing to play or segment"), "{e}");
     let cut = &full[..full.find("Frames").unwrap()];
     assert_err(cut, 17, 1, &["expected `Frames:` after `MOTION`", "end of file"]);
     let cut = &full[..full.find("Frame Time").unwrap()];
@@ -934,7 +944,7 @@ fn limits_are_enforced() {
     let e = bvh::parse_with_progress(&simple9(), &limits, &mut |_| {}).expect_err("18 values > 10");
     assert_eq!((e.line, e.column), (20, 1), "{e}");
     assert!(e.message.contains("too many frame values: the limit is 10"), "{e}");
-    let limits = ParseLimits { max_values: 18, max_joints: 3 };
+    let limits = ParseLimits { max_values: 18, max_joints: 3, ..ParseLimits::default() };
     assert!(bvh::parse_with_progress(&simple9(), &limits, &mut |_| {}).is_ok());
 }
 
@@ -945,8 +955,13 @@ fn deep_nesting_is_not_a_stack_overflow() {
         text.push_str(&format!("JOINT j{i}\n{{\nOFFSET 0 0 0\n"));
     }
     let e = parse_err(&text);
+    assert!(e.message.contains("the hierarchy nests too deep: the limit is 256 levels"), "{e}");
+    // the 256th JOINT opens level 257: its keyword is on line 6 + 3 × 255
+    assert_eq!((e.line, e.column), (6 + 3 * 255, 1), "{e}");
+    let limits = ParseLimits { max_depth: usize::MAX, ..ParseLimits::default() };
+    let e = bvh::parse_with_progress(&text, &limits, &mut |_| {}).expect_err("too many joints");
     assert!(e.message.contains("too many joints"), "{e}");
-    let limits = ParseLimits { max_joints: 100_000, ..ParseLimits::default() };
+    let limits = ParseLimits { max_joints: 100_000, max_depth: 100_000, ..ParseLimits::default() };
     let e = bvh::parse_with_progress(&text, &limits, &mut |_| {}).expect_err("never closed");
     assert!(e.message.contains("expected `}` closing JOINT `j49999`"), "{e}");
 }
@@ -971,7 +986,7 @@ use mocapseg::stats::Rng;
 /// position. A panic fails the test naming the input. Returns whether it parsed.
 fn check_any(bytes: &[u8], what: &str) -> bool {
     let text = String::from_utf8_lossy(bytes);
-    let limits = ParseLimits { max_joints: 2_000, max_values: 1 << 20 };
+    let limits = ParseLimits { max_joints: 2_000, max_values: 1 << 20, ..ParseLimits::default() };
     let result = std::panic::catch_unwind(|| {
         bvh::parse_with_progress(&text, &limits, &mut |p| assert!((0.0..=1.0).contains(&p)))
     });

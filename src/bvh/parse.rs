@@ -36,21 +36,48 @@
 
 use super::{Bvh, BvhError, BvhJoint, Channel, JointKind, Warning};
 
-/// Upper bounds that keep any input from allocating without bound.
+/// Upper bounds that keep any input from allocating without bound, and what a take must have.
+/// The loader (`crate::load`) derives its limits from its memory budget; README "Limits" lists
+/// them all.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ParseLimits {
     /// Maximum number of hierarchy nodes (joints and End Sites together).
     pub max_joints: usize,
+    /// Maximum nesting depth of the hierarchy (a root is depth 1, its End Sites count too).
+    pub max_depth: usize,
     /// Maximum number of channel values in the MOTION section (frames × channels).
     pub max_values: usize,
+    /// Bytes the parsed take may occupy, the text included, or `usize::MAX` for no such bound.
+    /// With [`ParseLimits::bytes_per_node_frame`] it bounds the frames: each frame costs its
+    /// values (8 bytes each) plus that many bytes per node, and reading stops with an error at
+    /// the first row past the budget, before anything is allocated for it.
+    pub max_bytes: usize,
+    /// What each frame will cost per node after parsing (world positions, pictures: the
+    /// loader's estimate), counted against [`ParseLimits::max_bytes`].
+    pub bytes_per_node_frame: usize,
+    /// Takes with fewer frames are refused (the loader needs 1: a skeleton with no motion
+    /// has nothing to play or segment). 0 accepts a file that ends after its hierarchy as a
+    /// skeleton with no motion.
+    pub min_frames: usize,
 }
 
 impl Default for ParseLimits {
-    /// 10 000 nodes; 2^27 ≈ 134 million values (1 GiB of `f64`: e.g. 300 channels for 5 hours at 120 fps).
+    /// 10 000 nodes, depth 256, 2^27 ≈ 134 million values (1 GiB of `f64`: e.g. 300 channels
+    /// for 5 hours at 120 fps), no byte budget, 0 frames accepted.
     fn default() -> Self {
-        ParseLimits { max_joints: 10_000, max_values: 1 << 27 }
+        ParseLimits {
+            max_joints: 10_000,
+            max_depth: 256,
+            max_values: 1 << 27,
+            max_bytes: usize::MAX,
+            bytes_per_node_frame: 0,
+            min_frames: 0,
+        }
     }
 }
+
+/// The frame time given to a skeleton with no `MOTION` section (it has no frame rate).
+pub const NO_MOTION_FRAME_TIME: f64 = 1.0 / 30.0;
 
 /// Parses BVH text with the default [`ParseLimits`].
 pub fn parse(text: &str) -> Result<Bvh, BvhError> {
@@ -63,15 +90,29 @@ pub fn parse_with_progress(text: &str, limits: &ParseLimits, progress: &mut dyn 
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut lx = Lexer::new(text);
     let mut warnings = Vec::new();
-    let joints = parse_hierarchy(&mut lx, limits, &mut warnings)?;
+    let (joints, motion_section) = parse_hierarchy(&mut lx, limits, &mut warnings)?;
     let channels_per_frame = joints.iter().map(|j| j.channels.len()).sum();
+    if !motion_section {
+        return skeleton_only(&lx, joints, channels_per_frame, limits, warnings);
+    }
     let header = parse_motion_header(&mut lx)?;
     let total = text.len().max(1) as f64;
     let mut report = |done: usize| progress(done as f64 / total);
     report(lx.pos);
-    let rows = RowReader::new(text, lx.pos, lx.line, channels_per_frame, header.frames, limits);
+    let budget = FrameBudget::new(text.len(), channels_per_frame, joints.len(), header.frame_time, limits);
+    let rows = RowReader::new(text, lx.pos, lx.line, channels_per_frame, header.frames, limits, budget);
     let (values, row_warning) = rows.read(&mut report)?;
     progress(1.0);
+    // A file that declares frames but has none is refused below as truncated; this is the one
+    // that declares none.
+    let present = values.len().checked_div(channels_per_frame).unwrap_or(header.frames.min(1));
+    if header.frames == 0 && present < limits.min_frames {
+        return Err(BvhError::new(
+            header.frames_line,
+            header.frames_column,
+            "the take has no frames (`Frames: 0`): a skeleton with no motion, so there is nothing to play or segment",
+        ));
+    }
     if channels_per_frame == 0 {
         // No channels, no data rows: every frame would be the rest pose, so a `Frames:` count
         // has nothing behind it and must not become that many frames (33 M frames from a
@@ -120,6 +161,69 @@ pub fn parse_with_progress(text: &str, limits: &ParseLimits, progress: &mut dyn 
         values,
         warnings,
     })
+}
+
+/// A file that ends after a complete hierarchy: a skeleton with no motion (0 frames, frame
+/// time [`NO_MOTION_FRAME_TIME`], a warning saying so), or an error where frames are required.
+fn skeleton_only(
+    lx: &Lexer<'_>,
+    joints: Vec<BvhJoint>,
+    channels_per_frame: usize,
+    limits: &ParseLimits,
+    mut warnings: Vec<Warning>,
+) -> Result<Bvh, BvhError> {
+    if limits.min_frames > 0 {
+        return Err(lx.error_at_end(
+            "the file ends after its hierarchy (no `MOTION` section): a skeleton with no motion, \
+             so there is nothing to play or segment",
+        ));
+    }
+    warnings.push(Warning {
+        line: lx.line,
+        message: "the file ends after its hierarchy (no `MOTION` section): a skeleton with no motion (0 frames)"
+            .to_string(),
+    });
+    Ok(Bvh {
+        joints,
+        frame_time: NO_MOTION_FRAME_TIME,
+        declared_frames: 0,
+        channels_per_frame,
+        values: Vec::new(),
+        warnings,
+    })
+}
+
+/// How many frames fit in [`ParseLimits::max_bytes`], and the words to say so when a file has more.
+#[derive(Debug, Clone, Copy)]
+struct FrameBudget {
+    max_frames: usize,
+    frame_bytes: usize,
+    max_bytes: usize,
+    nodes: usize,
+    frame_time: f64,
+}
+
+impl FrameBudget {
+    fn new(text_bytes: usize, channels: usize, nodes: usize, frame_time: f64, limits: &ParseLimits) -> Self {
+        let frame_bytes = channels.saturating_mul(8).saturating_add(nodes.saturating_mul(limits.bytes_per_node_frame));
+        let room = limits.max_bytes.saturating_sub(text_bytes);
+        let max_frames = if limits.max_bytes == usize::MAX { usize::MAX } else { room / frame_bytes.max(1) };
+        FrameBudget { max_frames, frame_bytes, max_bytes: limits.max_bytes, nodes, frame_time }
+    }
+
+    fn message(&self) -> String {
+        let minutes = self.max_frames as f64 * self.frame_time / 60.0;
+        format!(
+            "the take is too large for the memory budget of {} MiB: a frame of this {}-node skeleton needs about {} bytes \
+             once loaded, so at most {} frames ({minutes:.1} minutes at this frame rate) fit beside the file itself; \
+             this row would be frame {} — cut the take",
+            self.max_bytes.div_ceil(1 << 20),
+            self.nodes,
+            self.frame_bytes,
+            self.max_frames,
+            self.max_frames.saturating_add(1)
+        )
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -291,12 +395,13 @@ impl Open {
     }
 }
 
-/// Reads `HIERARCHY` and all `ROOT` trees, up to and including `MOTION`.
+/// Reads `HIERARCHY` and all `ROOT` trees, up to and including `MOTION`. The flag is false when
+/// the file ends after a complete hierarchy instead (a skeleton with no motion).
 fn parse_hierarchy(
     lx: &mut Lexer<'_>,
     limits: &ParseLimits,
     warnings: &mut Vec<Warning>,
-) -> Result<Vec<BvhJoint>, BvhError> {
+) -> Result<(Vec<BvhJoint>, bool), BvhError> {
     match lx.next() {
         Some(t) if t.is("HIERARCHY") => {}
         None => return Err(lx.error_here("expected `HIERARCHY`, found end of file (the file is empty)")),
@@ -307,7 +412,7 @@ fn parse_hierarchy(
         }
     }
     let mut tree = Tree { joints: Vec::new(), lines: Vec::new(), channels: 0, limits };
-    loop {
+    let motion_section = loop {
         let tok = lx.next();
         match tok {
             Some(t) if t.is("ROOT") => tree.parse_root(lx, &t)?,
@@ -315,7 +420,7 @@ fn parse_hierarchy(
                 if tree.joints.is_empty() {
                     return Err(lx.error_at(&t, "expected `ROOT` before `MOTION`: the hierarchy has no joints"));
                 }
-                break;
+                break true;
             }
             Some(t) if t.text == "}" => {
                 return Err(lx.error_at(&t, "unbalanced braces: this `}` closes nothing; expected `ROOT` or `MOTION`"))
@@ -323,17 +428,15 @@ fn parse_hierarchy(
             None if tree.joints.is_empty() => {
                 return Err(lx.error_here("expected `ROOT`, found end of file (truncated file?)"))
             }
-            None => {
-                return Err(lx.error_here("expected `MOTION` after the hierarchy, found end of file (truncated file?)"))
-            }
+            None => break false,
             Some(t) => {
                 let what = if tree.joints.is_empty() { "`ROOT`" } else { "`ROOT` or `MOTION`" };
                 return Err(lx.error_at(&t, format!("expected {what}, found {}", show(Some(&t)))));
             }
         }
-    }
+    };
     warn_duplicate_names(&tree.joints, &tree.lines, warnings);
-    Ok(tree.joints)
+    Ok((tree.joints, motion_section))
 }
 
 /// The hierarchy being built.
@@ -357,6 +460,20 @@ impl Tree<'_> {
         self.joints.push(node);
         self.lines.push(at.line);
         Ok(self.joints.len() - 1)
+    }
+
+    /// Refuses a child (at `at`) of a node `open` levels deep when that passes the depth limit.
+    fn check_depth(&self, lx: &Lexer<'_>, at: &Tok<'_>, open: usize) -> Result<(), BvhError> {
+        if open < self.limits.max_depth {
+            return Ok(());
+        }
+        Err(lx.error_at(
+            at,
+            format!(
+                "the hierarchy nests too deep: the limit is {} levels (a root is level 1; real skeletons have fewer than 30)",
+                self.limits.max_depth
+            ),
+        ))
     }
 
     fn name_of(&self, open: &Open) -> &str {
@@ -406,6 +523,7 @@ impl Tree<'_> {
                 self.require_offset(lx, top, &t)?;
                 top.children_started = true;
                 let parent = top.index;
+                self.check_depth(lx, &t, stack.len())?;
                 let name = read_name(lx, "JOINT")?;
                 let index = self.add(lx, &t, node(name, JointKind::Joint, Some(parent), self.channels))?;
                 expect_open(lx, "JOINT name")?;
@@ -417,6 +535,7 @@ impl Tree<'_> {
                 top.end_sites += 1;
                 let parent = top.index;
                 let suffix = if top.end_sites == 1 { String::new() } else { top.end_sites.to_string() };
+                self.check_depth(lx, &t, stack.len())?;
                 match lx.next() {
                     Some(s) if s.is("Site") => {}
                     other => {
@@ -630,6 +749,8 @@ fn warn_duplicate_names(joints: &[BvhJoint], lines: &[usize], warnings: &mut Vec
 struct MotionHeader {
     frames: usize,
     frames_line: usize,
+    /// Column of the frame count.
+    frames_column: usize,
     frame_time: f64,
 }
 
@@ -652,7 +773,8 @@ fn parse_motion_header(lx: &mut Lexer<'_>) -> Result<MotionHeader, BvhError> {
             ))
         }
     };
-    Ok(MotionHeader { frames, frames_line: frames_tok.line, frame_time })
+    let frames_column = column(lx.text, frames_tok.line_start, frames_tok.start);
+    Ok(MotionHeader { frames, frames_line: frames_tok.line, frames_column, frame_time })
 }
 
 fn parse_frame_count(lx: &Lexer<'_>, tok: &Tok<'_>) -> Result<usize, BvhError> {
@@ -731,14 +853,27 @@ struct RowReader<'a> {
     channels: usize,
     max_values: usize,
     capacity: usize,
+    budget: FrameBudget,
 }
 
 impl<'a> RowReader<'a> {
-    fn new(text: &'a str, pos: usize, line: usize, channels: usize, declared: usize, limits: &ParseLimits) -> Self {
+    fn new(
+        text: &'a str,
+        pos: usize,
+        line: usize,
+        channels: usize,
+        declared: usize,
+        limits: &ParseLimits,
+        budget: FrameBudget,
+    ) -> Self {
         // Never trust `Frames:` for the allocation: a value takes at least two bytes ("0 ").
         let by_size = (text.len() - pos) / 2 + 1;
-        let capacity = declared.saturating_mul(channels).min(by_size).min(limits.max_values);
-        RowReader { text, pos, line, channels, max_values: limits.max_values, capacity }
+        let capacity = declared
+            .min(budget.max_frames)
+            .saturating_mul(channels)
+            .min(by_size)
+            .min(limits.max_values);
+        RowReader { text, pos, line, channels, max_values: limits.max_values, capacity, budget }
     }
 
     /// Reads every row; returns the values and a warning if an incomplete last row was dropped.
@@ -795,6 +930,9 @@ impl<'a> RowReader<'a> {
                     line_start,
                     format!("too many frame values: the limit is {}", self.max_values),
                 ));
+            }
+            if n == 0 && self.channels > 0 && values.len() / self.channels >= self.budget.max_frames {
+                return Err(self.error(tok, line_start, self.budget.message()));
             }
             if n == self.channels {
                 let message = if self.channels == 0 {
@@ -987,7 +1125,9 @@ mod tests {
     #[test]
     fn allocation_follows_the_input_not_the_declared_frame_count() {
         let text = "0 0 0\n";
-        let reader = RowReader::new(text, 0, 1, 3, usize::MAX, &ParseLimits::default());
+        let limits = ParseLimits::default();
+        let budget = FrameBudget::new(text.len(), 3, 1, 0.1, &limits);
+        let reader = RowReader::new(text, 0, 1, 3, usize::MAX, &limits, budget);
         assert!(reader.capacity <= text.len() / 2 + 1);
     }
 }

@@ -1,0 +1,119 @@
+//! The loader's memory budget, measured: a counting allocator records the peak bytes allocated
+//! while a take is loaded, so "processed within the budget or refused before passing it" is
+//! checked against what was really allocated, not against the loader's own estimate.
+#![cfg(not(target_arch = "wasm32"))]
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+use mocapseg::load::{load_bytes_with_budget, MemoryBudget};
+
+/// The system allocator, counting the bytes currently allocated and their peak.
+struct Counting;
+
+static CURRENT: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+/// The tests measure one at a time (the counters are global).
+static MEASURING: Mutex<()> = Mutex::new(());
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let p = unsafe { System.alloc(layout) };
+        if !p.is_null() {
+            let now = CURRENT.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
+            PEAK.fetch_max(now, Ordering::Relaxed);
+        }
+        p
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) };
+        CURRENT.fetch_sub(layout.size(), Ordering::Relaxed);
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let p = unsafe { System.realloc(ptr, layout, new_size) };
+        if !p.is_null() {
+            if new_size >= layout.size() {
+                let now = CURRENT.fetch_add(new_size - layout.size(), Ordering::Relaxed) + new_size - layout.size();
+                PEAK.fetch_max(now, Ordering::Relaxed);
+            } else {
+                CURRENT.fetch_sub(layout.size() - new_size, Ordering::Relaxed);
+            }
+        }
+        p
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// Runs `f` and returns its result and the peak bytes allocated above what was allocated before.
+fn peak_during<T>(f: impl FnOnce() -> T) -> (T, usize) {
+    let base = CURRENT.load(Ordering::Relaxed);
+    PEAK.store(base, Ordering::Relaxed);
+    let out = f();
+    (out, PEAK.load(Ordering::Relaxed) - base)
+}
+
+/// The hierarchy of the CMU fixture 12_01 (31 joints, 62 channels) with `frames` rows of zeros
+/// and small angles.
+fn cmu_take(frames: usize) -> String {
+    let text = include_str!("fixtures/12_01.bvh");
+    let head = &text[..text.find("MOTION").unwrap()];
+    let channels: usize = head.lines().filter_map(|l| l.trim().strip_prefix("CHANNELS ")).map(|c| c[..1].parse::<usize>().unwrap()).sum();
+    let row = format!("{}\n", vec!["1.5"; channels].join(" "));
+    let mut out = String::with_capacity(head.len() + 64 + row.len() * frames);
+    out += head;
+    out += &format!("MOTION\nFrames: {frames}\nFrame Time: 0.008333\n");
+    for _ in 0..frames {
+        out += &row;
+    }
+    out
+}
+
+#[test]
+fn a_million_frames_load_within_the_budget() {
+    let _one = MEASURING.lock().unwrap();
+    // one joint with three rotations and an End Site: a million frames, 10 MB of text
+    let mut text = String::from("HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n");
+    text += "End Site\n{\nOFFSET 0 10 0\n}\n}\nMOTION\nFrames: 1000000\nFrame Time: 0.008333\n";
+    for i in 0..1_000_000u32 {
+        text += &format!("{} 0 0\n", i % 90);
+    }
+    let budget = MemoryBudget::default();
+    let (loaded, peak) = peak_during(|| load_bytes_with_budget("million.bvh", text.as_bytes(), &budget, &mut |_| {}));
+    let loaded = loaded.expect("a million frames of a small skeleton fit the budget");
+    assert_eq!(loaded.motion.frames(), 1_000_000);
+    // what the budget counts for it (values and the per-frame estimate) bounds what was allocated
+    let counted = 1_000_000 * (3 * 8 + MemoryBudget::estimate(1, 2));
+    assert!(peak <= counted, "peak {peak} bytes > the {counted} the budget counts");
+    assert!(peak + text.len() <= budget.max_bytes, "peak {peak} bytes + text {} > budget", text.len());
+}
+
+#[test]
+fn a_take_past_the_budget_is_refused_before_allocating_past_it() {
+    let _one = MEASURING.lock().unwrap();
+    // 20 000 frames of the CMU skeleton (13 MB of text) against a 32 MiB budget: about 8000
+    // frames fit; the parser must stop at the first row past them, having allocated less than
+    // the budget (the text is the caller's and counts against the budget too).
+    let text = cmu_take(20_000);
+    let budget = MemoryBudget { max_bytes: 32 << 20 };
+    let (result, peak) = peak_during(|| load_bytes_with_budget("long.bvh", text.as_bytes(), &budget, &mut |_| {}));
+    let message = result.expect_err("over the budget").to_string();
+    assert!(message.starts_with("long.bvh: line "), "{message}");
+    assert!(message.contains("the take is too large for the memory budget of 32 MiB"), "{message}");
+    let fits: usize = message.split("at most ").nth(1).and_then(|s| s.split(' ').next()).unwrap().parse().unwrap();
+    assert!((1000..20_000).contains(&fits), "{message}");
+    // the row named is the first past the budget: the header's lines, then `fits` rows
+    let line: usize = message["long.bvh: line ".len()..].split(',').next().unwrap().parse().unwrap();
+    let first_row = text.lines().position(|l| l.starts_with("Frame Time")).unwrap() + 2;
+    assert_eq!(line, first_row + fits, "{message}");
+    assert!(peak + text.len() <= budget.max_bytes, "peak {peak} bytes + text {} > budget", text.len());
+    // and the same take within a budget it fits loads, within that budget
+    let roomy = MemoryBudget { max_bytes: 128 << 20 };
+    let (loaded, peak) = peak_during(|| load_bytes_with_budget("long.bvh", text.as_bytes(), &roomy, &mut |_| {}));
+    assert_eq!(loaded.expect("fits").motion.frames(), 20_000);
+    assert!(peak + text.len() <= roomy.max_bytes, "peak {peak} bytes + text {} > budget", text.len());
+}
