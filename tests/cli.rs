@@ -467,3 +467,46 @@ fn train_dtfcn_writes_a_model_that_segment_and_model_info_read_and_bad_models_ar
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// `mocapseg features`: the 15 end-effector values SSSM starts from, one row per 30 Hz frame,
+/// equal to the library's (what `bench/peers/run.py` feeds the other libraries).
+#[test]
+fn features_writes_the_end_effector_features_at_the_working_rate() {
+    let take = fixture("02_01.bvh");
+    let path = out_dir().join("02_01-features.csv");
+    let out = run(&["features", take.to_str().unwrap(), "--fps", "30", "-o", path.to_str().unwrap()]);
+    assert!(out.status.success(), "failed: {}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(header.len(), 17);
+    assert_eq!(&header[..3], &["frame", "source_frame", "lhand_x"]);
+    assert_eq!(header[16], "head_z");
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+
+    let motion = mocapseg::load::load_path(&take).unwrap().motion;
+    let lib = mocapseg::features::end_effectors::end_effectors(&motion, 30.0, true).unwrap();
+    // 343 frames at 120 Hz are 2.85 s: 86 frames at 30 Hz, every fourth file frame
+    assert_eq!(rows.len(), 86);
+    assert_eq!(lib.base.frames(), rows.len());
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row.len(), 17, "row {i}");
+        assert_eq!(row[0], i as f64);
+        assert!((row[1] - 4.0 * i as f64).abs() < 1e-9, "row {i}: source frame {}", row[1]);
+        for (c, v) in row[2..].iter().enumerate() {
+            assert_eq!(*v as f32, lib.base.row(i)[c], "row {i} column {}", header[c + 2]);
+        }
+        // a walking body: the head above the hips, both feet below them, the hands between
+        let (lhand_y, rhand_y, lfoot_y, rfoot_y, head_y) = (row[3], row[6], row[9], row[12], row[15]);
+        assert!(head_y > 15.0 && head_y < 35.0, "row {i}: head {head_y} in above the hips");
+        assert!(lfoot_y < -25.0 && rfoot_y < -25.0, "row {i}: feet {lfoot_y} {rfoot_y}");
+        assert!(lhand_y < head_y && rhand_y < head_y && lhand_y > lfoot_y && rhand_y > rfoot_y, "row {i}: hands");
+        // the left hand is on the left (+x), the right on the right
+        assert!(row[2] > row[5], "row {i}: left hand x {} right hand x {}", row[2], row[5]);
+    }
+
+    // a rate that is no rate is refused with the file's name
+    let out = run(&["features", take.to_str().unwrap(), "--fps", "0", "-o", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("02_01.bvh"), "{}", String::from_utf8_lossy(&out.stderr));
+}

@@ -4,6 +4,7 @@
 //! mocapseg info FILE.bvh                      JSON summary of a take
 //! mocapseg image FILE.bvh -o out.png          the motion image (Cheema et al. 2019, §2) as PNG
 //! mocapseg positions FILE.bvh [--fps F] -o out.csv   world joint positions per frame
+//! mocapseg features FILE.bvh [--fps 30] -o out.csv    the 15 end-effector features SSSM starts from
 //! mocapseg methods                            the segmentation methods and their parameters
 //! mocapseg segment --method NAME [--param NAME=VALUE]… FILE.bvh      segmentation JSON on stdout
 //! mocapseg segment --method NAME [--param NAME=VALUE]… DIR_OR_FILES… --out DIR   batch, all cores
@@ -76,6 +77,22 @@ mod cli {
             /// Also write the End Site positions.
             #[arg(long)]
             end_sites: bool,
+            #[arg(short, long)]
+            output: PathBuf,
+        },
+        /// Write the 15 end-effector features per working frame as CSV (what SSSM, velocity and
+        /// others start from, `src/features/end_effectors.rs`): hands, feet and head relative to the
+        /// hips, facing-aligned, in inches scaled to the reference body:
+        /// frame,source_frame,lhand_x,lhand_y,lhand_z,rhand_…,lfoot_…,rfoot_…,head_x,head_y,head_z
+        /// (`source_frame` = the fractional file frame of the working frame).
+        Features {
+            file: PathBuf,
+            /// Working frame rate (SSSM's default 30).
+            #[arg(long, default_value_t = 30.0)]
+            fps: f64,
+            /// Keep inches of the file's own body instead of scaling to the reference body.
+            #[arg(long)]
+            no_body_scale: bool,
             #[arg(short, long)]
             output: PathBuf,
         },
@@ -365,6 +382,7 @@ mod cli {
             Command::Info { file } => info(&file),
             Command::Image { file, output } => image(&file, &output),
             Command::Positions { file, fps, end_sites, output } => positions(&file, fps, end_sites, &output),
+            Command::Features { file, fps, no_body_scale, output } => features(&file, fps, !no_body_scale, &output),
             Command::Methods { json } => methods(json),
             Command::Splice { bvh, labels, pieces, seed, min_s, max_s, blend_s, out } => {
                 splice(&bvh, &labels, SpliceOptions { pieces, seed, min_s, max_s, blend_s }, &out)
@@ -450,6 +468,41 @@ mod cli {
             .map_err(|e| format!("{}: {e}", output.display()))?;
         let cols = (0..motion.joints()).filter(|&j| end_sites || !motion.skeleton.is_end_site[j]).count();
         eprintln!("wrote {} ({} frames at {} fps, {} joints)", output.display(), motion.frames(), motion.fps, cols);
+        Ok(())
+    }
+
+    /// Column names of `mocapseg features`, in the order of `src/features/end_effectors.rs`.
+    const FEATURE_COLUMNS: [&str; 15] = [
+        "lhand_x", "lhand_y", "lhand_z", "rhand_x", "rhand_y", "rhand_z", "lfoot_x", "lfoot_y", "lfoot_z", "rfoot_x",
+        "rfoot_y", "rfoot_z", "head_x", "head_y", "head_z",
+    ];
+
+    fn features(file: &Path, fps: f64, body_scale: bool, output: &Path) -> Result<(), String> {
+        let loaded = load(file)?;
+        let e = mocapseg::features::end_effectors::end_effectors(&loaded.motion, fps, body_scale)
+            .map_err(|e| format!("{}: {e}", file.display()))?;
+        if e.base.dim() != FEATURE_COLUMNS.len() {
+            return Err(format!("{}: {} features per frame, expected 15", file.display(), e.base.dim()));
+        }
+        let out = std::fs::File::create(output).map_err(|e| format!("{}: {e}", output.display()))?;
+        let mut w = csv::Writer::from_writer(std::io::BufWriter::new(out));
+        let fail = |e: csv::Error| format!("{}: {e}", output.display());
+        let mut header = vec!["frame", "source_frame"];
+        header.extend(FEATURE_COLUMNS);
+        w.write_record(&header).map_err(fail)?;
+        for i in 0..e.base.frames() {
+            let mut row = vec![i.to_string(), e.source_frames[i].to_string()];
+            row.extend(e.base.row(i).iter().map(|v| v.to_string()));
+            w.write_record(&row).map_err(fail)?;
+        }
+        w.flush().map_err(|e| format!("{}: {e}", output.display()))?;
+        eprintln!(
+            "wrote {} ({} frames at {fps} fps from {} at {} fps, 15 features)",
+            output.display(),
+            e.base.frames(),
+            loaded.motion.frames(),
+            loaded.motion.fps
+        );
         Ok(())
     }
 
