@@ -261,3 +261,77 @@ async fn dtfcn_end_to_end() {
         (performance_now() - t0) / 1000.0
     );
 }
+
+/// Frames of "1× a CMU take" in `make bench`'s table (CMU 86_01 at 30 Hz, the first take of the
+/// sequence), as `examples/bench_methods.rs` natively.
+const TAKE_FRAMES: usize = 1145;
+
+/// Median of `reps` timed runs after one warm-up (3 when the warm-up took over a second), in ms,
+/// yielding to the browser before each run.
+async fn time_ms(reps: usize, mut work: impl FnMut()) -> (f64, usize) {
+    yield_to_browser().await;
+    let t0 = performance_now();
+    work();
+    let reps = if performance_now() - t0 > 1000.0 { reps.min(3) } else { reps };
+    let mut times = Vec::new();
+    for _ in 0..reps {
+        yield_to_browser().await;
+        let t0 = performance_now();
+        work();
+        times.push(performance_now() - t0);
+    }
+    times.sort_by(f64::total_cmp);
+    (times[times.len() / 2], reps)
+}
+
+/// The wasm half of `make bench`'s one table: parse and forward kinematics of the take, and every
+/// registered method with its default parameters on 1×, 2×, 4× a CMU take — the same work as
+/// `cargo run --release --example bench_methods`, printed as `BENCHJSON {…}` lines that the
+/// Makefile collects from the runner's output for `bench_table`. It asserts only that the work
+/// succeeded.
+#[wasm_bindgen_test]
+async fn methods_table() {
+    use mocapseg::method::{self, NoProgress, RunOptions};
+    use serde_json::json;
+    let emit = |v: serde_json::Value| console_log!("BENCHJSON {v}");
+    let name = PATH.rsplit('/').next().unwrap_or(PATH);
+    let parsed = bvh::parse(TEXT).expect("the take parses");
+    let frames = parsed.frames();
+    let (ms, runs) = time_ms(7, || {
+        let b = bvh::parse(TEXT).expect("parse");
+        assert_eq!(b.frames(), frames);
+    })
+    .await;
+    emit(
+        json!({"side": "wasm", "what": "parse", "input": name, "bytes": TEXT.len(), "frames": frames, "ms": ms, "runs": runs}),
+    );
+    let (ms, runs) = time_ms(7, || {
+        let p = fk::forward_kinematics(&parsed).expect("fk");
+        assert_eq!(p.len(), frames * parsed.joints.len());
+    })
+    .await;
+    emit(
+        json!({"side": "wasm", "what": "fk", "input": name, "bytes": TEXT.len(), "frames": frames, "ms": ms, "runs": runs}),
+    );
+
+    let seq = bvh::parse(SSSM_SEQUENCE).expect("the bench sequence parses");
+    let full = Motion::from_bvh("bench sequence", &seq).expect("motion");
+    assert!(full.frames() >= 4 * TAKE_FRAMES, "the sequence holds 4 × {TAKE_FRAMES} frames");
+    for m in method::registry() {
+        let info = m.info();
+        let checked = m.check_json(&serde_json::Value::Null).expect("default parameters");
+        for factor in [1usize, 2, 4] {
+            let n = factor * TAKE_FRAMES;
+            let take = Motion::concatenate(std::slice::from_ref(&full), n).expect("sequence");
+            let mut segments = 0;
+            let (ms, runs) = time_ms(5, || {
+                let o = m.run_checked(&take, &checked, &RunOptions::default(), &mut NoProgress).expect(&info.name);
+                segments = o.segmentation.segments.len();
+            })
+            .await;
+            assert!(segments > 0, "{} found no segment in {n} frames", info.name);
+            emit(json!({"side": "wasm", "what": "method", "method": info.name, "factor": factor,
+                "frames": n, "ms": ms, "runs": runs, "segments": segments}));
+        }
+    }
+}
