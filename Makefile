@@ -4,7 +4,8 @@
 #   make test    set up, then every test: native (cargo test), the release page bundle, the wasm
 #                tests in headless Chromium (one binary sharing the bundle's build), and the
 #                Playwright end-to-end test; prints each stage's time
-#   make bench   parse + FK, SSSM and batch throughput, native CLI and in headless Chromium
+#   make bench   one table: parse, FK, every method at 1×/2×/4× a take and the batch rate, native
+#                and in headless Chromium; with ../shared/data also the peer libraries (bench/peers)
 #   make setup   install the toolchain (scripts/setup.sh; idempotent, seconds when done)
 #   make web     build the page into dist/ (release wasm + wasm-bindgen + wasm-opt + assets;
 #                wasm-bindgen and wasm-opt only run again when the wasm changed)
@@ -33,6 +34,7 @@ WASM_OPT    := tests/e2e/node_modules/.bin/wasm-opt
 DEMO_PORT   ?= 8080
 # Seconds a headless wasm-bindgen-test run may take (the runner's default is 20).
 WASM_TEST_TIMEOUT ?= 300
+BENCH_WASM_TIMEOUT ?= 900
 
 # Where `make test` writes each stage's time.
 STAGE_TIMES := $(CURDIR)/test-output/stage-times.txt
@@ -44,6 +46,9 @@ BENCH_SEQ ?= $(CURDIR)/target/bench/sssm-sequence-30hz.bvh
 # Batch benchmark: every BVH of the shared data (CMU takes and other exporters' files).
 BENCH_DATA ?= $(abspath $(CURDIR)/../shared/data)
 
+# make bench's results: JSON lines per side (examples/bench_table.rs prints the one table).
+BENCH_DIR := $(CURDIR)/target/bench
+
 # Benchmark input: the long CMU take 86_01 from shared data if present, else the bundled
 # sample (CMU 13_30), else the largest fixture.
 BENCH_BVH ?= $(firstword $(wildcard $(abspath $(CURDIR)/../shared/data/cmu/86/86_01.bvh) \
@@ -51,10 +56,10 @@ BENCH_BVH ?= $(firstword $(wildcard $(abspath $(CURDIR)/../shared/data/cmu/86/86
                 $(abspath $(shell ls -S tests/fixtures/*.bvh 2>/dev/null | head -n 1)))
 
 .PHONY: help setup demo test bench web serve check-toolchain \
-        test-native test-wasm test-e2e bench-native bench-wasm
+        test-native test-wasm test-e2e bench-native bench-wasm bench-peers bench-table
 
 help:
-	@sed -n '3,9p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '3,10p' Makefile | sed 's/^# \{0,1\}//'
 
 setup:
 	scripts/setup.sh
@@ -74,9 +79,14 @@ test:
 	@echo; echo "make test: all stages passed (native, web bundle, wasm in headless Chromium, e2e). Times:"
 	@cat $(STAGE_TIMES)
 
+# The detailed outputs first, then the peers (when the shared data is there), and last the one
+# table (bench_table, from the JSON lines the native and the wasm benchmarks wrote).
 bench: setup
 	$(MAKE) bench-native
 	$(MAKE) bench-wasm
+	@if [ -d "$(BENCH_DATA)/labels" ]; then $(MAKE) bench-peers; \
+	else echo "note: $(BENCH_DATA) is absent: the peer libraries (bench/peers) are not run"; fi
+	$(MAKE) bench-table
 
 check-toolchain:
 	@test -f .toolchain.env || { echo "No .toolchain.env: run 'make setup' first." >&2; exit 1; }
@@ -147,17 +157,36 @@ bench-native: check-toolchain
 	$(CARGO) run --release --example bench_sssm -- --reps 3 "$(BENCH_BVH)"
 	$(CARGO) run --release --example bench_lma -- "$(BENCH_SEQ)" --reps 3
 	$(CARGO) run --release --example bench_dtfcn -- "$(BENCH_SEQ)" --reps 5
-	@echo "batch: every take of $(BENCH_DATA) (takes/s on all cores)"
-	@if [ -d "$(BENCH_DATA)" ]; then \
-		$(CARGO) run --release --bin $(CRATE) -- segment --method sssm "$(BENCH_DATA)" --out target/bench/batch >/dev/null || true; \
-	else echo "note: $(BENCH_DATA) is absent: no batch benchmark"; fi
+	@echo "the table's native column: parse, FK, every method at 1×/2×/4× a take, batch over $(BENCH_DATA)"
+	$(CARGO) build --release --bin $(CRATE)
+	@tdir=$$($(CARGO) metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])'); \
+	$(CARGO) run --release --example bench_methods -- --parse "$(BENCH_BVH)" --sequence "$(BENCH_SEQ)" \
+		--batch "$(BENCH_DATA)" --cli "$$tdir/release/$(CRATE)" --out "$(BENCH_DIR)/results-native.jsonl"
 
 $(BENCH_SEQ):
 	@mkdir -p $(dir $(BENCH_SEQ))
 	$(CARGO) run --release --example bench_sssm -- --reps 1 --write-bvh "$(BENCH_SEQ)"
 
-# --nocapture makes the runner print the test's console output (the numbers).
+# --nocapture makes the runner print the test's console output (the numbers); the table's
+# wasm column is what the methods_table test prints after BENCHJSON.
 bench-wasm: check-toolchain $(BENCH_SEQ)
 	@echo "bench input: $(BENCH_BVH), SSSM sequence $(BENCH_SEQ)"
-	MOCAPSEG_BENCH_BVH="$(BENCH_BVH)" MOCAPSEG_BENCH_SSSM_BVH="$(BENCH_SEQ)" WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
-	$(CARGO) test $(WASM_CARGO_FLAGS) --release --target $(WASM_TARGET) --features web --test wasm_bench -- --nocapture
+	@mkdir -p $(BENCH_DIR)
+	MOCAPSEG_BENCH_BVH="$(BENCH_BVH)" MOCAPSEG_BENCH_SSSM_BVH="$(BENCH_SEQ)" WASM_BINDGEN_TEST_TIMEOUT=$(BENCH_WASM_TIMEOUT) \
+	$(CARGO) test $(WASM_CARGO_FLAGS) --release --target $(WASM_TARGET) --features web --test wasm_bench -- --nocapture \
+		2>&1 | tee $(BENCH_DIR)/wasm-bench.log
+	@grep -o 'BENCHJSON {.*}' $(BENCH_DIR)/wasm-bench.log | sed 's/^BENCHJSON //' >$(BENCH_DIR)/results-wasm.jsonl
+	@echo "the table's wasm column: $$(wc -l <$(BENCH_DIR)/results-wasm.jsonl) results in $(BENCH_DIR)/results-wasm.jsonl"
+
+# The peer libraries (ClaSP, FLUSS, ruptures) beside mocapseg's methods on the labelled takes of the
+# shared data: accuracy and time (bench/peers/README.md). Sets up its own Python environment.
+bench-peers: check-toolchain
+	$(CARGO) build --release --bin $(CRATE)
+	bench/peers/setup.sh
+	@tdir=$$($(CARGO) metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])'); \
+	bench/peers/.venv/bin/python bench/peers/run.py --data "$(BENCH_DATA)" --cli "$$tdir/release/$(CRATE)" \
+		--out "$(BENCH_DIR)/peers"
+
+# The one table, last: native beside wasm with the wasm/native time ratio.
+bench-table: check-toolchain
+	@$(CARGO) run -q --release --example bench_table -- "$(BENCH_DIR)/results-native.jsonl" "$(BENCH_DIR)/results-wasm.jsonl"
