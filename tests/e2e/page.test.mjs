@@ -13,8 +13,9 @@
 // new worker after a cancel or a crash still using the user's family); DT-FCN and k-NN (rows in
 // their class colours shaded by confidence, unknown hatched, the model choice and threshold, bad
 // model files named at their input, a DT-FCN trained in the browser epoch by epoch with its
-// refusals, plot, Stop, download and the file loaded back). Screenshots go to OUT_DIR
-// (default <repo>/test-output).
+// refusals, plot, Stop, download and the file loaded back); the page's Content-Security-Policy (a
+// full use — load, every method, every export — requests nothing from another origin, page or
+// worker, and nothing is refused). Screenshots go to OUT_DIR (default <repo>/test-output).
 //
 // Run: node page.test.mjs   (env: BASE_URL, OUT_DIR, FIXTURES, SAMPLE_BVH, E2E_TIMEOUT_MS)
 
@@ -61,6 +62,9 @@ let page;
 const pageErrors = []; // uncaught exceptions: never allowed
 const consoleErrors = []; // console.error: not allowed outside the bad-file step
 let allowConsoleErrors = false;
+const requests = []; // the URL of every request the page and its workers made, in order
+const serviceWorkers = []; // service workers the page registered: none expected
+const cspViolations = []; // securitypolicyviolation events and the console's CSP messages: never allowed
 
 before(async () => {
   browser = await chromium.launch({
@@ -89,12 +93,31 @@ before(async () => {
     if (document.body) watch();
     else document.addEventListener("DOMContentLoaded", watch);
   });
+  // Every request, the workers' too (Chromium reports a dedicated worker's fetches to the context).
+  context.on("request", (r) => requests.push(r.url()));
+  context.on("serviceworker", (w) => serviceWorkers.push(w.url()));
+  // Every Content-Security-Policy violation in any document of the context, straight to the test
+  // (a binding, so that a navigation loses none).
+  await context.exposeBinding("__e2eCspViolation", (_source, v) => cspViolations.push(v));
+  await context.addInitScript(() => {
+    document.addEventListener("securitypolicyviolation", (e) => {
+      window.__e2eCspViolation({
+        directive: e.effectiveDirective, blocked: e.blockedURI, sample: e.sample,
+        source: `${e.sourceFile}:${e.lineNumber}`,
+      });
+    });
+  });
   page = await context.newPage();
   page.setDefaultTimeout(TIMEOUT);
   page.on("pageerror", (e) => pageErrors.push(String(e)));
   page.on("console", (m) => {
-    if (m.type() !== "error") return;
     const text = m.text();
+    // a refusal (or an ignored directive) the browser reports only in the console
+    if (/Content.Security.Policy/i.test(text)) {
+      cspViolations.push({ console: `${m.type()}: ${text}` });
+      return;
+    }
+    if (m.type() !== "error") return;
     if (allowConsoleErrors && !/panicked|RuntimeError|unreachable/i.test(text)) {
       console.log(`  (console error during the bad-file step, allowed: ${text})`);
     } else {
@@ -194,6 +217,24 @@ function setRange(sel, value) {
   }, [sel, value]);
 }
 
+/** Waits (in the test, not the page) until `cond()` holds, at most 10 s. */
+async function until(cond, what) {
+  for (const end = Date.now() + 10_000; !cond();) {
+    if (Date.now() > end) throw new Error(`timed out waiting for ${what}`);
+    await new Promise((r) => setTimeout(r, 50));
+  }
+}
+
+/** The recorded requests that went to another origin than the page's (blob: and data: URLs of the page are its own). */
+function foreignRequests(urls) {
+  const own = new URL(BASE_URL).origin;
+  return urls.filter((u) => {
+    const url = new URL(u);
+    if (url.protocol === "data:") return false;
+    return url.origin !== own; // a blob: URL's origin is the document's that made it
+  });
+}
+
 // ---- the tests (run in order, on one page) ---------------------------------------------------
 
 test("fixtures are what the test expects", () => {
@@ -218,6 +259,71 @@ test("page loads and auto-loads the bundled sample", async () => {
   assert.ok((await text("#summary-name")).length > 0, "#summary-name is empty after the sample loaded");
   assert.equal(await page.locator("#error-banner").isVisible(), false, "error banner visible on start");
   await shot("e2e-sample.png");
+});
+
+// ---- the Content-Security-Policy: a full use stays on the page's origin -----------------------
+
+/** Every registered method (the registry's order), each with a panel and an export. */
+const METHODS = ["sssm", "velocity", "kcs", "pca", "lma", "knn", "dtfcn"];
+
+test("a full use of the page under its Content-Security-Policy: every request to the page's origin, nothing refused", async () => {
+  // the policy is the page's own <meta> (index.html), with what the issue asks of it
+  const policy = await page.locator('meta[http-equiv="Content-Security-Policy"]').getAttribute("content");
+  const directives = new Map(policy.split(";").map((d) => d.trim().split(/\s+/)).filter((d) => d[0]).map(([k, ...v]) => [k, v.join(" ")]));
+  assert.deepEqual(Object.fromEntries(directives), {
+    "default-src": "'self'", "script-src": "'self' 'wasm-unsafe-eval'", "worker-src": "'self'", "connect-src": "'self'",
+    "img-src": "'self'", "style-src": "'self'", "object-src": "'none'", "base-uri": "'self'", "form-action": "'none'",
+  }, `the page's policy: ${policy}`);
+
+  // load the built-in sample; every method runs after the load, then once more from its Run button
+  for (const m of METHODS) await watchMethod(m);
+  await clearStates();
+  await page.click("#load-sample");
+  await page.waitForFunction(() => window.__states.includes("loading") && document.body.dataset.state === "ready",
+    null, { timeout: TIMEOUT });
+  const panels = await page.evaluate(() => [...document.querySelectorAll("section.ms-method")].map((s) => s.id.replace(/-panel$/, "")));
+  assert.deepEqual(panels, METHODS, "one panel per registered method");
+  for (const m of METHODS) await waitRun(m);
+  const stem = SAMPLE_HDR.name.replace(/\.bvh$/i, "");
+  for (const m of METHODS) {
+    await runMethod(m);
+    // and its export, a download of the segmentation JSON
+    const [download] = await Promise.all([page.waitForEvent("download"), page.click(`#${m}-export`)]);
+    assert.equal(download.suggestedFilename(), `${stem}_${m}.json`);
+    assert.match(download.url(), /^blob:/, "an export is a blob: URL of the page");
+    const saved = path.join(OUT, `e2e-csp-${m}.json`);
+    await download.saveAs(saved);
+    const json = JSON.parse(readFileSync(saved, "utf8"));
+    assert.equal(json.method, m);
+    assert.equal(json.frames, SAMPLE_HDR.frames);
+  }
+  // the motion image as PNG
+  const [png] = await Promise.all([page.waitForEvent("download"), page.click("#download-png")]);
+  await png.saveAs(path.join(OUT, "e2e-csp-motion-image.png"));
+  assert.deepEqual([...readFileSync(path.join(OUT, "e2e-csp-motion-image.png")).subarray(0, 4)], [0x89, 0x50, 0x4e, 0x47]);
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "no error during the full use");
+
+  // every request, from the first page load on, went to the page's origin …
+  const foreign = foreignRequests(requests);
+  assert.deepEqual(foreign, [], `requests to another origin: ${JSON.stringify(foreign)}`);
+  // … and the recorder saw the worker's own: its script, and the wasm fetched by the page and by the worker
+  assert.ok(requests.some((u) => u.endsWith("/www/worker.js")), "the worker script was requested");
+  assert.ok(requests.filter((u) => u.endsWith("/pkg/mocapseg_bg.wasm")).length >= 2,
+    `the wasm fetched by the page and by the worker: ${JSON.stringify(requests)}`);
+  assert.ok(requests.some((u) => u.endsWith("/www/sample.bvh")), "the sample was fetched");
+  assert.deepEqual(serviceWorkers, [], "no service worker");
+  assert.deepEqual(cspViolations, [], `Content-Security-Policy violations: ${JSON.stringify(cspViolations)}`);
+  console.log(`  (${requests.length} requests, all to ${new URL(BASE_URL).origin}; no CSP violation)`);
+
+  // the policy is enforced and the recorder hears it: an inline style attribute set on purpose is
+  // refused (style-src 'self') and reported
+  await page.evaluate(() => document.body.setAttribute("style", "outline: 7px solid red"));
+  const outline = await page.evaluate(() => getComputedStyle(document.body).outlineWidth);
+  await page.evaluate(() => document.body.removeAttribute("style"));
+  assert.notEqual(outline, "7px", "the inline style attribute was refused");
+  await until(() => cspViolations.some((v) => v.directive === "style-src-attr") && cspViolations.some((v) => v.console),
+    `the deliberate violation reported as an event and in the console: ${JSON.stringify(cspViolations)}`);
+  cspViolations.length = 0;
 });
 
 /** Waits until body[data-sssm] is `want` (after having left it, if `since` says so). */
@@ -481,20 +587,17 @@ test("LMA trains on the user's Effort labels in the browser, saves, reloads and 
   await shot("e2e-lma-trained.png");
   await page.locator("#lma-training").screenshot({ path: path.join(OUT, "e2e-lma-training-panel.png") });
 
-  // the download: a Blob URL of the family's JSON, named after the take
-  const blob = await page.evaluate(async () => {
-    const a = document.querySelector("#lma-model-download");
-    const json = await (await fetch(a.href)).json();
-    return { href: a.href, download: a.download, factors: json.factors?.length, samples: json.samples };
-  });
-  assert.match(blob.href, /^blob:/);
-  assert.equal(blob.factors, 4, "the downloaded family has 4 factors");
-  assert.equal(blob.samples, rows);
+  // the download: a Blob URL of the family's JSON, named after the take (read from the saved
+  // file: the page's connect-src 'self' does not let a script fetch a blob: URL)
+  assert.match(await page.locator("#lma-model-download").getAttribute("href"), /^blob:/);
   const stem = SAMPLE_HDR.name.replace(/\.bvh$/i, "");
   const [download] = await Promise.all([page.waitForEvent("download"), page.click("#lma-model-download")]);
   assert.equal(download.suggestedFilename(), `lma-effort-${stem}.json`);
   const saved = path.join(OUT, `lma-effort-${stem}.json`);
   await download.saveAs(saved);
+  const family = JSON.parse(readFileSync(saved, "utf8"));
+  assert.equal(family.factors?.length, 4, "the downloaded family has 4 factors");
+  assert.equal(family.samples, rows);
 
   // a new worker (after a cancel, after a crash) gets the user's family before it runs LMA
   await cancelLmaRun();
@@ -1214,4 +1317,11 @@ test("no page errors or console errors", () => {
   writeFileSync(path.join(OUT, "e2e-errors.json"), JSON.stringify({ pageErrors, consoleErrors }, null, 2));
   assert.deepEqual(pageErrors, [], "uncaught page errors");
   assert.deepEqual(consoleErrors, [], "console errors");
+});
+
+test("the whole run: every request to the page's origin, no CSP violation, no service worker", () => {
+  writeFileSync(path.join(OUT, "e2e-requests.json"), JSON.stringify({ requests, cspViolations, serviceWorkers }, null, 2));
+  assert.deepEqual(foreignRequests(requests), [], "requests to another origin");
+  assert.deepEqual(cspViolations, [], "Content-Security-Policy violations");
+  assert.deepEqual(serviceWorkers, [], "service workers");
 });
