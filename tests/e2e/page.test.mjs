@@ -15,7 +15,9 @@
 // model files named at their input, a DT-FCN trained in the browser epoch by epoch with its
 // refusals, plot, Stop, download and the file loaded back); the page's Content-Security-Policy (a
 // full use — load, every method, every export — requests nothing from another origin, page or
-// worker, and nothing is refused). Screenshots go to OUT_DIR (default <repo>/test-output).
+// worker, and nothing is refused) and text from files always shown as text (a file name, a model's
+// name and class labels, joint names: markup in them stays literal, nothing runs). Screenshots go
+// to OUT_DIR (default <repo>/test-output).
 //
 // Run: node page.test.mjs   (env: BASE_URL, OUT_DIR, FIXTURES, SAMPLE_BVH, E2E_TIMEOUT_MS)
 
@@ -1301,6 +1303,116 @@ test("a worker replaced after a fatal error: Run segments the take on screen aga
   const json = await exportSssm("e2e-after-fatal.json");
   assert.equal(json.file, shown, "Run segmented the take on screen");
   assert.equal(await page.locator("#error-banner").isVisible(), false, "the banner cleared after the good run");
+});
+
+// ---- text from files is text -------------------------------------------------------------------
+
+/** Markup as a file name, a joint name, a model's name and class labels: each must show literally. */
+const XSS = "<img src=x onerror=window.__xss=1>";
+/** tests/fixtures/xss-knn.model (how it was made: tests/fixtures/SOURCES.md): a k-NN model of the sample. */
+const XSS_MODEL = path.join(FIXTURES, "xss-knn.model");
+
+/** Asserts that markup from a file made no element and ran nothing. */
+async function assertNoInjection(where) {
+  const found = await page.evaluate(() => ({
+    xss: typeof window.__xss,
+    imgs: [...document.querySelectorAll("img")].map((e) => e.outerHTML),
+    handlers: [...document.querySelectorAll("[onerror],[onload],[onmouseover]")].map((e) => e.outerHTML),
+    svgs: document.querySelectorAll("#mocapseg-app svg").length,
+  }));
+  assert.deepEqual(found, { xss: "undefined", imgs: [], handlers: [], svgs: 0 }, `markup from a file ran or made elements (${where})`);
+}
+
+test("file names, a model's name and labels, and joint names show as text, never as markup", async () => {
+  // a k-NN model whose name and class labels are markup, under a file name that is markup too
+  const header = modelHeader(readFileSync(XSS_MODEL));
+  assert.deepEqual(header.classes, [XSS, "<b onmouseover=window.__xss=2>bold</b>"], "the fixture's labels");
+  assert.equal(header.name, "<svg onload=window.__xss=3>", "the fixture's name");
+  await page.click("#load-sample");
+  await waitReady(SAMPLE_HDR.name);
+  await page.setInputFiles("#knn-model-file", { name: `${XSS}.model`, mimeType: "application/octet-stream", buffer: readFileSync(XSS_MODEL) });
+  await waitData("knnModel", "done");
+  const status = page.locator("#knn-model-status");
+  const loaded = `Loaded ${XSS}.model: k-NN model \`${header.name}\`, 2 classes (${header.classes.join(", ")}), `
+    + "trained on 2465 labelled frames of sample.bvh.";
+  assert.ok((await status.textContent()).startsWith(loaded),
+    `the status line shows the file name, model name and labels as text: "${await status.textContent()}"`);
+  assert.equal(await status.evaluate((e) => e.children.length), 0, "no markup in the status line");
+  assert.equal(await page.inputValue("#knn-model"), header.name, "the model is chosen under its own name");
+  assert.ok((await page.locator("#knn-model option").allTextContents()).some((t) => t.includes(header.name)),
+    "the model choice names it as text");
+  // every frame labelled (threshold 0): the rows, the picture's caption and the export carry the labels as text
+  await waitData("knn", "done");
+  await page.fill("#knn-unknown_threshold", "0");
+  await runMethod("knn");
+  const json = await exportRun("knn", "e2e-knn-xss.json");
+  assert.equal(json.params.model, header.name);
+  assert.deepEqual([...new Set(json.segments.map((s) => s.label))].sort(), [...header.classes].sort(),
+    "the sample is labelled with both classes");
+  await assertLabelRow("knn", json, header); // each segment's text is its label, no child element
+  const shown = await page.locator("#row-knn-actions .ms-seg").allTextContents();
+  assert.ok(shown.includes(XSS) && shown.includes(header.classes[1]), `the row shows both labels literally: ${JSON.stringify(shown)}`);
+  const caption = await page.locator("#knn-panel figcaption").allTextContents();
+  assert.ok(caption.some((c) => c.includes(`${XSS}, ${header.classes[1]}`)), `the probabilities' caption names the classes: ${caption}`);
+  assert.equal(await page.locator("#knn-panel figcaption b").count(), 0, "only the caption's own <strong>");
+  await page.locator("#knn-panel").screenshot({ path: path.join(OUT, "e2e-xss-knn.png") });
+  await page.locator("#timeline").screenshot({ path: path.join(OUT, "e2e-xss-rows.png") });
+  await assertNoInjection("the k-NN model");
+  await page.fill("#knn-unknown_threshold", String(defaultThreshold.knn));
+  await page.selectOption("#knn-model", "exercises");
+
+  // a BVH whose file name is markup: the summary shows it as text, and every method runs on it
+  const name = `${XSS}.bvh`;
+  for (const m of METHODS) await watchMethod(m);
+  await page.setInputFiles("#file-input", { name, mimeType: "application/octet-stream", buffer: Buffer.from(DROPPED.text) });
+  await waitReady(name);
+  assert.equal(await text("#summary-name"), name, "#summary-name shows the file name as text");
+  assert.equal(await page.locator("#summary-name").evaluate((e) => e.children.length), 0, "no markup in the summary");
+  for (const m of METHODS) await waitRun(m);
+  const sssm = await exportRun("sssm", "e2e-xss-sssm.json");
+  assert.equal(sssm.file, name, "the export names the file as it is");
+  await assertNoInjection("the file name");
+
+  // the same by drag and drop
+  await dropFile(`${XSS} dropped.bvh`, DROPPED.text);
+  await waitReady(`${XSS} dropped.bvh`);
+  assert.equal(await text("#summary-name"), `${XSS} dropped.bvh`);
+  await assertNoInjection("a dropped file's name");
+
+  // joint names: the page shows them in the parser's warnings (a name used twice) and errors
+  const joint = "<img src=x onerror=window.__xss=4>";
+  const twice = DROPPED.text.replace(/JOINT LThumb\b/, `JOINT ${joint}`).replace(/JOINT RThumb\b/, `JOINT ${joint}`);
+  assert.equal(twice.split(joint).length, 3, "two joints renamed");
+  await page.setInputFiles("#file-input", { name: "joints.bvh", mimeType: "application/octet-stream", buffer: Buffer.from(twice) });
+  await waitReady("joints.bvh");
+  const warnings = await page.locator("#summary-warnings li").allTextContents();
+  assert.ok(warnings.some((w) => w.includes(`joint name \`${joint}\` is used again`)),
+    `the warning names the joint as text: ${JSON.stringify(warnings)}`);
+  assert.equal(await page.locator("#summary-warnings li *").count(), 0, "no markup in the warnings");
+  await assertNoInjection("a joint name in a warning");
+  const broken = ["HIERARCHY", "ROOT Hips", "{", "  OFFSET 0 0 0", "  CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation",
+    `  JOINT ${joint}`, "  {", "    OFFSET 0 5 0", "    CHANNELS 3 Zrotation Zrotation Xrotation", "    End Site", "    {",
+    "      OFFSET 0 5 0", "    }", "  }", "}", "MOTION", "Frames: 1", "Frame Time: 0.0333333", "0 0 0 0 0 0 0 0 0", ""].join("\n");
+  allowConsoleErrors = true;
+  try {
+    await page.setInputFiles("#file-input", { name: `${XSS} broken.bvh`, mimeType: "application/octet-stream", buffer: Buffer.from(broken) });
+    await page.waitForFunction(() => document.body.dataset.state === "error", null, { timeout: TIMEOUT });
+  } finally {
+    allowConsoleErrors = false;
+  }
+  const banner = await text("#error-banner");
+  assert.ok(banner.includes(`listed twice for joint \`${joint}\``), `the banner names the joint as text: "${banner}"`);
+  assert.equal(await page.locator("#error-message *").count(), 0, "no markup in the banner's message");
+  await shot("e2e-xss-banner.png");
+  await assertNoInjection("a joint name in an error");
+  await page.locator("#error-dismiss").click();
+
+  // the training inputs' file names
+  await page.setInputFiles("#lma-labels", { name: `${XSS}.csv`, mimeType: "text/csv", buffer: Buffer.from(`${LMA_HEADER}\n`) });
+  await page.waitForFunction((n) => document.querySelector("#lma-labels-name")?.textContent === n, `${XSS}.csv`);
+  await pickLabels(`${XSS}.csv`, labelCsv("joints.bvh", [[0, 99, XSS], [100, 199, "b"]]));
+  assert.equal(await page.locator("#lma-labels-name *, #dtfcn-train-labels-name *").count(), 0, "no markup in the file names");
+  await assertNoInjection("the label files' names");
 });
 
 test("load sample button", async () => {
