@@ -7,6 +7,7 @@
 //! Data flow: BVH text → [`bvh::Bvh`] (hierarchy + channel values) → [`motion::Motion`]
 //! (skeleton + world joint positions per frame) → motion image / segmentations.
 
+pub mod asfamc;
 pub mod bvh;
 pub mod dtfcn;
 pub mod features;

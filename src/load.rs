@@ -151,10 +151,96 @@ pub fn load_bytes_with_budget(
 /// Reads and loads a file from disk (native only).
 #[cfg(not(target_arch = "wasm32"))]
 pub fn load_path(path: &std::path::Path) -> Result<Loaded, LoadError> {
-    let file = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| path.display().to_string());
-    let bytes =
-        std::fs::read(path).map_err(|e| LoadError::Io { file: path.display().to_string(), message: e.to_string() })?;
-    load_bytes(&file, &bytes, &mut |_| {})
+    let extension = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match extension.as_deref() {
+        Some("amc") => {
+            let asf = asf_beside(path)?;
+            let amc_bytes = read(path)?;
+            let asf_bytes = read(&asf)?;
+            load_asf_amc((&file_name(&asf), &asf_bytes), (&file_name(path), &amc_bytes), &MemoryBudget::default())
+        }
+        Some("asf") => Err(LoadError::Io {
+            file: file_name(path),
+            message: "an ASF file is a skeleton with no motion: give its AMC motion (the ASF beside it is found)"
+                .into(),
+        }),
+        _ => load_bytes(&file_name(path), &read(path)?, &mut |_| {}),
+    }
+}
+
+fn file_name(path: &std::path::Path) -> String {
+    path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| path.display().to_string())
+}
+
+fn read(path: &std::path::Path) -> Result<Vec<u8>, LoadError> {
+    std::fs::read(path).map_err(|e| LoadError::Io { file: path.display().to_string(), message: e.to_string() })
+}
+
+/// The ASF skeleton of an AMC motion: `<subject>.asf` beside `<subject>_<trial>.amc` (the CMU
+/// naming), else the only `.asf` in its folder.
+pub fn asf_beside(amc: &std::path::Path) -> Result<std::path::PathBuf, LoadError> {
+    let folder = amc.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+    let stem = amc.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let subject = stem.split('_').next().unwrap_or(&stem);
+    for candidate in [format!("{subject}.asf"), format!("{stem}.asf")] {
+        let path = folder.join(&candidate);
+        if path.is_file() {
+            return Ok(path);
+        }
+    }
+    let mut found: Vec<std::path::PathBuf> = std::fs::read_dir(folder)
+        .map(|entries| {
+            entries
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("asf")))
+                .collect()
+        })
+        .unwrap_or_default();
+    if found.len() == 1 {
+        return Ok(found.remove(0));
+    }
+    Err(LoadError::Io {
+        file: file_name(amc),
+        message: format!(
+            "an AMC motion needs its ASF skeleton: expected {subject}.asf beside it{}",
+            if found.is_empty() {
+                String::new()
+            } else {
+                format!(" (found {} other .asf files; which one?)", found.len())
+            }
+        ),
+    })
+}
+
+/// Reads an ASF skeleton and an AMC motion, each `(file name, bytes)`, into a take at the CMU
+/// rate (120 fps; AMC files carry no frame rate), through the same [`Bvh`] and [`Motion`] as
+/// a BVH file and within the same memory budget. Errors name the file they are in.
+pub fn load_asf_amc(asf: (&str, &[u8]), amc: (&str, &[u8]), budget: &MemoryBudget) -> Result<Loaded, LoadError> {
+    use crate::asfamc;
+    let limits = budget.parse_limits();
+    let (asf_text, asf_warning) = decode(asf.1);
+    let skeleton =
+        asfamc::parse_asf(&asf_text, &limits).map_err(|source| LoadError::Parse { file: asf.0.to_string(), source })?;
+    let (nodes, channels) = asfamc::convert::size(&skeleton);
+    let (amc_text, amc_warning) = decode(amc.1);
+    let fps = asfamc::CMU_FPS;
+    // the AMC's text and values, then the BVH values and the frame's cost once loaded
+    let motion = asfamc::parse_amc(&amc_text, &skeleton, &limits, channels * 8, nodes, 1.0 / fps)
+        .map_err(|source| LoadError::Parse { file: amc.0.to_string(), source })?;
+    let mut bvh = asfamc::to_bvh(&skeleton, &motion, fps, asf.0, amc.0);
+    for (name, w) in [(amc.0, amc_warning), (asf.0, asf_warning)] {
+        if let Some(w) = w {
+            bvh.warnings.insert(0, Warning { line: 0, message: format!("{name}: {w}") });
+        }
+    }
+    bvh.warnings.push(Warning {
+        line: 0,
+        message: format!("{}: AMC files carry no frame rate; {fps} fps (the CMU rate) assumed", amc.0),
+    });
+    budget.check(amc.0, bvh.frames(), bvh.joints.len())?;
+    let motion =
+        Motion::from_bvh(amc.0, &bvh).map_err(|source| LoadError::Motion { file: amc.0.to_string(), source })?;
+    Ok(Loaded { bvh, motion })
 }
 
 #[cfg(test)]

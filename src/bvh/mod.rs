@@ -8,7 +8,8 @@ mod parse;
 mod write;
 
 pub use error::{BvhError, Warning};
-pub use parse::{parse, parse_with_progress, ParseLimits};
+pub(crate) use parse::FrameBudget;
+pub use parse::{parse, parse_with_progress, ParseLimits, NO_MOTION_FRAME_TIME};
 pub use write::write;
 
 use serde::{Deserialize, Serialize};

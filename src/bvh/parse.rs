@@ -195,8 +195,8 @@ fn skeleton_only(
 
 /// How many frames fit in [`ParseLimits::max_bytes`], and the words to say so when a file has more.
 #[derive(Debug, Clone, Copy)]
-struct FrameBudget {
-    max_frames: usize,
+pub(crate) struct FrameBudget {
+    pub(crate) max_frames: usize,
     frame_bytes: usize,
     max_bytes: usize,
     nodes: usize,
@@ -204,14 +204,14 @@ struct FrameBudget {
 }
 
 impl FrameBudget {
-    fn new(text_bytes: usize, channels: usize, nodes: usize, frame_time: f64, limits: &ParseLimits) -> Self {
+    pub(crate) fn new(text_bytes: usize, channels: usize, nodes: usize, frame_time: f64, limits: &ParseLimits) -> Self {
         let frame_bytes = channels.saturating_mul(8).saturating_add(nodes.saturating_mul(limits.bytes_per_node_frame));
         let room = limits.max_bytes.saturating_sub(text_bytes);
         let max_frames = if limits.max_bytes == usize::MAX { usize::MAX } else { room / frame_bytes.max(1) };
         FrameBudget { max_frames, frame_bytes, max_bytes: limits.max_bytes, nodes, frame_time }
     }
 
-    fn message(&self) -> String {
+    pub(crate) fn message(&self) -> String {
         let minutes = self.max_frames as f64 * self.frame_time / 60.0;
         format!(
             "the take is too large for the memory budget of {} MiB: a frame of this {}-node skeleton needs about {} bytes \
@@ -868,11 +868,7 @@ impl<'a> RowReader<'a> {
     ) -> Self {
         // Never trust `Frames:` for the allocation: a value takes at least two bytes ("0 ").
         let by_size = (text.len() - pos) / 2 + 1;
-        let capacity = declared
-            .min(budget.max_frames)
-            .saturating_mul(channels)
-            .min(by_size)
-            .min(limits.max_values);
+        let capacity = declared.min(budget.max_frames).saturating_mul(channels).min(by_size).min(limits.max_values);
         RowReader { text, pos, line, channels, max_values: limits.max_values, capacity, budget }
     }
 
