@@ -9,6 +9,7 @@
 
 pub mod asfamc;
 pub mod bvh;
+pub mod clips;
 pub mod dtfcn;
 pub mod features;
 pub mod image;
