@@ -23,6 +23,8 @@ pub enum ClipError {
     Nothing(String),
     #[error("cannot move the clip to the origin: {0}")]
     Origin(String),
+    #[error("cannot write the zip: {0}")]
+    Zip(String),
 }
 
 /// Which segments become clips.
@@ -216,6 +218,19 @@ pub fn clips(
             Ok(Clip { file: clip_file_name(stem, i, chosen.len(), &s.label), segment: (*s).clone(), bvh: clip })
         })
         .collect()
+}
+
+/// Every clip as BVH text in one zip (deflated), named by [`Clip::file`].
+pub fn zip(clips: &[Clip]) -> Result<Vec<u8>, ClipError> {
+    use std::io::Write;
+    let zip_error = |e: &dyn std::fmt::Display| ClipError::Zip(e.to_string());
+    let mut writer = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    let options = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+    for clip in clips {
+        writer.start_file(clip.file.as_str(), options).map_err(|e| zip_error(&e))?;
+        writer.write_all(crate::bvh::write(&clip.bvh).as_bytes()).map_err(|e| zip_error(&e))?;
+    }
+    Ok(writer.finish().map_err(|e| zip_error(&e))?.into_inner())
 }
 
 #[cfg(test)]

@@ -97,3 +97,30 @@ fn clips_are_refused_for_another_take_or_an_empty_choice() {
     assert_eq!(e, "the segmentation has no primitive segments");
     assert!(cut(&loaded.bvh, 5, 1102).unwrap_err().to_string().contains("not inside the take (0–1101)"));
 }
+
+#[test]
+fn every_clip_in_one_zip_reads_back() {
+    use std::io::Read;
+    let loaded = load_path(&fixture("131_03.bvh")).unwrap();
+    let seg = Segmentation {
+        file: "131_03.bvh".into(),
+        fps: 120.0,
+        frames: 1102,
+        method: "test".into(),
+        params: serde_json::json!({}),
+        segments: vec![segment(0, 299, Level::Action, "start"), segment(300, 1101, Level::Action, "hop")],
+    };
+    let all = clips(&loaded.bvh, &loaded.motion, &seg, "131_03", &ClipOptions::default()).unwrap();
+    let bytes = mocapseg::clips::zip(&all).unwrap();
+    let text_size: usize = all.iter().map(|c| bvh::write(&c.bvh).len()).sum();
+    assert!(bytes.len() < text_size / 2, "deflated: {} of {text_size} bytes", bytes.len());
+    let mut archive = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
+    assert_eq!(archive.len(), 2);
+    for (i, clip) in all.iter().enumerate() {
+        let mut file = archive.by_index(i).unwrap();
+        assert_eq!(file.name().unwrap(), clip.file);
+        let mut text = String::new();
+        file.read_to_string(&mut text).unwrap();
+        assert_eq!(bvh::parse(&text).unwrap(), clip.bvh);
+    }
+}
