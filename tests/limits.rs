@@ -62,7 +62,8 @@ fn peak_during<T>(f: impl FnOnce() -> T) -> (T, usize) {
 fn cmu_take(frames: usize) -> String {
     let text = include_str!("fixtures/12_01.bvh");
     let head = &text[..text.find("MOTION").unwrap()];
-    let channels: usize = head.lines().filter_map(|l| l.trim().strip_prefix("CHANNELS ")).map(|c| c[..1].parse::<usize>().unwrap()).sum();
+    let channels: usize =
+        head.lines().filter_map(|l| l.trim().strip_prefix("CHANNELS ")).map(|c| c[..1].parse::<usize>().unwrap()).sum();
     let row = format!("{}\n", vec!["1.5"; channels].join(" "));
     let mut out = String::with_capacity(head.len() + 64 + row.len() * frames);
     out += head;

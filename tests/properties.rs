@@ -41,9 +41,9 @@ struct NodeSpec {
 
 /// A channel list: any subset of `from` in any order.
 fn channel_list(from: &'static [Channel]) -> impl Strategy<Value = Vec<Channel>> {
-    Just(from.to_vec()).prop_shuffle().prop_flat_map(move |order| {
-        (0..=order.len()).prop_map(move |n| order[..n].to_vec())
-    })
+    Just(from.to_vec())
+        .prop_shuffle()
+        .prop_flat_map(move |order| (0..=order.len()).prop_map(move |n| order[..n].to_vec()))
 }
 
 fn offset() -> impl Strategy<Value = [f64; 3]> {
@@ -55,23 +55,26 @@ fn offset() -> impl Strategy<Value = [f64; 3]> {
 /// chain), or none (another root); End Sites are leaves. With `rotations_below_root`, only
 /// roots carry position channels.
 fn hierarchy(rotations_below_root: bool) -> impl Strategy<Value = Vec<NodeSpec>> {
-    prop::collection::vec((any::<prop::sample::Index>(), 0u8..10, channel_list(&ALL), channel_list(&ROTATIONS), offset()), 1..24)
-        .prop_map(move |raw| {
-            let mut nodes: Vec<NodeSpec> = Vec::new();
-            for (i, (pick, kind, any_channels, rotations, offset)) in raw.into_iter().enumerate() {
-                // parents: joints (not End Sites) before this node; node 0 is a root
-                let joints: Vec<usize> = (0..i).filter(|&j| !nodes[j].end_site).collect();
-                let parent = if joints.is_empty() || kind == 0 { None } else { Some(joints[pick.index(joints.len())]) };
-                let end_site = parent.is_some() && kind >= 7;
-                let channels = match (end_site, parent, rotations_below_root) {
-                    (true, _, _) => vec![],
-                    (false, Some(_), true) => rotations,
-                    _ => any_channels,
-                };
-                nodes.push(NodeSpec { parent, end_site, channels, offset });
-            }
-            nodes
-        })
+    prop::collection::vec(
+        (any::<prop::sample::Index>(), 0u8..10, channel_list(&ALL), channel_list(&ROTATIONS), offset()),
+        1..24,
+    )
+    .prop_map(move |raw| {
+        let mut nodes: Vec<NodeSpec> = Vec::new();
+        for (i, (pick, kind, any_channels, rotations, offset)) in raw.into_iter().enumerate() {
+            // parents: joints (not End Sites) before this node; node 0 is a root
+            let joints: Vec<usize> = (0..i).filter(|&j| !nodes[j].end_site).collect();
+            let parent = if joints.is_empty() || kind == 0 { None } else { Some(joints[pick.index(joints.len())]) };
+            let end_site = parent.is_some() && kind >= 7;
+            let channels = match (end_site, parent, rotations_below_root) {
+                (true, _, _) => vec![],
+                (false, Some(_), true) => rotations,
+                _ => any_channels,
+            };
+            nodes.push(NodeSpec { parent, end_site, channels, offset });
+        }
+        nodes
+    })
 }
 
 /// The nodes in the order a file lists them: depth first from each root, roots in order.
@@ -109,7 +112,11 @@ fn build(nodes: &[NodeSpec], frames: usize, values: &[f64], frame_time: f64) -> 
             let count = end_sites.entry(spec.parent.unwrap()).or_insert(0);
             *count += 1;
             let parent_name: &BvhJoint = parent;
-            if *count == 1 { format!("{}_End", parent_name.name) } else { format!("{}_End{count}", parent_name.name) }
+            if *count == 1 {
+                format!("{}_End", parent_name.name)
+            } else {
+                format!("{}_End{count}", parent_name.name)
+            }
         } else {
             format!("J{n}")
         };
@@ -152,12 +159,7 @@ fn value() -> impl Strategy<Value = f64> {
 }
 
 fn frame_time() -> impl Strategy<Value = f64> {
-    prop_oneof![
-        Just(1.0 / 120.0),
-        Just(0.0417083750417),
-        Just(0.008333),
-        (1e-4f64..1.0),
-    ]
+    prop_oneof![Just(1.0 / 120.0), Just(0.0417083750417), Just(0.008333), (1e-4f64..1.0),]
 }
 
 fn take(rotations_below_root: bool) -> impl Strategy<Value = Bvh> {
@@ -264,7 +266,14 @@ fn check_inside(s: &Segmentation, frames: usize, name: &str) -> Result<(), TestC
         let mut level: Vec<_> = s.segments.iter().filter(|x| (x.level == Level::Primitive) == primitive).collect();
         level.sort_by_key(|x| x.start);
         for w in level.windows(2) {
-            prop_assert!(w[0].end < w[1].start, "{name}: segments {}–{} and {}–{} overlap", w[0].start, w[0].end, w[1].start, w[1].end);
+            prop_assert!(
+                w[0].end < w[1].start,
+                "{name}: segments {}–{} and {}–{} overlap",
+                w[0].start,
+                w[0].end,
+                w[1].start,
+                w[1].end
+            );
         }
     }
     Ok(())
