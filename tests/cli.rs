@@ -510,3 +510,78 @@ fn features_writes_the_end_effector_features_at_the_working_rate() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("02_01.bvh"), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+#[test]
+fn clips_cuts_each_action_as_a_bvh_that_reads_back_as_its_frames() {
+    let take = fixture("131_03.bvh");
+    let dir = out_dir().join("clips");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let seg_path = dir.join("seg.json");
+    let seg = run(&["segment", "--method", "velocity", take.to_str().unwrap()]);
+    assert!(seg.status.success(), "{}", String::from_utf8_lossy(&seg.stderr));
+    std::fs::write(&seg_path, &seg.stdout).unwrap();
+    let segmentation = mocapseg::segment::Segmentation::from_json(std::str::from_utf8(&seg.stdout).unwrap()).unwrap();
+    let level = mocapseg::segment::metrics::scored_level(&segmentation);
+    let expected: Vec<_> = segmentation.level(level).cloned().collect();
+    assert!(expected.len() >= 2, "velocity finds gestures on 131_03");
+    let which = if level == mocapseg::segment::Level::Action { "action" } else { "primitive" };
+    let out = run(&[
+        "clips",
+        seg_path.to_str().unwrap(),
+        take.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+        "--level",
+        which,
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let listed = String::from_utf8_lossy(&out.stdout).lines().count();
+    assert_eq!(listed, expected.len());
+    let whole = mocapseg::load::load_path(&take).unwrap().motion;
+    let mut clips: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "bvh"))
+        .collect();
+    clips.sort();
+    assert_eq!(clips.len(), expected.len());
+    for (path, s) in clips.iter().zip(&expected) {
+        assert!(path.file_name().unwrap().to_string_lossy().starts_with("131_03_"), "{}", path.display());
+        let clip = mocapseg::load::load_path(path).unwrap().motion;
+        let j = whole.joints();
+        assert_eq!(clip.positions, whole.positions[s.start * j..(s.end + 1) * j], "{}", path.display());
+    }
+    // a zip and an error for a segmentation of another take
+    let out = run(&[
+        "clips",
+        seg_path.to_str().unwrap(),
+        take.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+        "--level",
+        which,
+        "--zip",
+        "--origin",
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(dir.join("131_03_clips.zip").is_file());
+    let out = run(&[
+        "clips",
+        seg_path.to_str().unwrap(),
+        fixture("02_01.bvh").to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("take of 1102 frames, this take has 343"), "{err}");
+}
+
+#[test]
+fn an_amc_take_is_read_with_its_asf() {
+    let v = stdout_json(&run(&["info", fixture("02_01.amc").to_str().unwrap()]));
+    assert_eq!((v["frames"].as_u64(), v["joints"].as_u64(), v["end_sites"].as_u64()), (Some(343), Some(31), Some(7)));
+    assert_eq!(v["units"], "cmu_asf");
+    assert!(v["warnings"].to_string().contains("120 fps (the CMU rate) assumed"), "{v}");
+}

@@ -10,6 +10,8 @@
 //! mocapseg segment --method NAME [--param NAME=VALUE]… DIR_OR_FILES… --out DIR   batch, all cores
 //! mocapseg eval SEG.json… --truth GT.csv      scores against ground truth (one table for many)
 //! mocapseg splice --bvh TAKES… --labels GT.csv… -o OUT.bvh   a take with known gesture boundaries
+//! mocapseg clips SEG.json TAKE.bvh --out DIR [--level action|primitive|all] [--origin] [--zip]
+//!                                             each segment as a BVH clip of its own
 //! mocapseg bench [FILE.bvh] [--reps N]        parse + forward-kinematics throughput
 //! ```
 //! Errors go to stderr as `error: FILE: line L, column C: what was expected`, exit code 1.
@@ -294,6 +296,26 @@ mod cli {
             #[arg(long, short)]
             out: PathBuf,
         },
+        /// Cut each segment of a segmentation out of its take as a BVH clip of its own (the take's
+        /// hierarchy, channel order and frame time; the segment's frames unchanged).
+        Clips {
+            /// The segmentation JSON (`mocapseg segment`, or the page's export).
+            segmentation: PathBuf,
+            /// The take it was made from (`.bvh`, or `.amc` with its `.asf` beside it).
+            take: PathBuf,
+            /// Folder for the clips (`<take>_<nn>_<label>.bvh`), created if needed.
+            #[arg(long, short)]
+            out: PathBuf,
+            /// Which segments: action (transitions left out), primitive, or all.
+            #[arg(long, default_value = "action", value_parser = ["action", "primitive", "all"])]
+            level: String,
+            /// Start each clip at the origin facing +Z (the root moved and turned; heights kept).
+            #[arg(long)]
+            origin: bool,
+            /// One zip `<take>_clips.zip` in the folder instead of one file per clip.
+            #[arg(long)]
+            zip: bool,
+        },
         /// Measure parse and forward-kinematics throughput (MB/s, frames/s) on a take.
         Bench {
             /// The take to measure (default: ../shared/data/cmu/86/86_01.bvh, else the bundled sample).
@@ -388,11 +410,46 @@ mod cli {
                 splice(&bvh, &labels, SpliceOptions { pieces, seed, min_s, max_s, blend_s }, &out)
             }
             Command::Bench { file, reps } => bench(file, reps),
+            Command::Clips { segmentation, take, out, level, origin, zip } => {
+                clips(&segmentation, &take, &out, &level, origin, zip)
+            }
             Command::Eval { predictions, truth, trial, first_frame, row_offset, json } => {
                 eval(&predictions, &truth, trial, TruthOptions { first_frame, bvh_row_offset: row_offset }, json)
             }
         }
         .map(|()| Outcome::Ok)
+    }
+
+    fn clips(segmentation: &Path, take: &Path, out: &Path, level: &str, origin: bool, zip: bool) -> Result<(), String> {
+        use mocapseg::clips::{ClipOptions, Which};
+        let seg = Segmentation::from_json(&read_text(segmentation)?)
+            .map_err(|e| format!("{}: {e}", segmentation.display()))?;
+        let loaded = load(take)?;
+        let which = match level {
+            "primitive" => Which::Primitives,
+            "all" => Which::All,
+            _ => Which::Actions,
+        };
+        let stem = take.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "take".into());
+        let options = ClipOptions { which, to_origin: origin };
+        let cut = mocapseg::clips::clips(&loaded.bvh, &loaded.motion, &seg, &stem, &options)
+            .map_err(|e| format!("{} with {}: {e}", segmentation.display(), take.display()))?;
+        std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+        if zip {
+            let path = out.join(format!("{stem}_clips.zip"));
+            let bytes = mocapseg::clips::zip(&cut).map_err(|e| e.to_string())?;
+            std::fs::write(&path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+            eprintln!("wrote {} ({} clips, {} bytes)", path.display(), cut.len(), bytes.len());
+            return Ok(());
+        }
+        for clip in &cut {
+            let path = out.join(&clip.file);
+            std::fs::write(&path, mocapseg::bvh::write(&clip.bvh)).map_err(|e| format!("{}: {e}", path.display()))?;
+            let s = &clip.segment;
+            println!("{}\t{}–{}\t{}", path.display(), s.start, s.end, s.label);
+        }
+        eprintln!("wrote {} clips to {}", cut.len(), out.display());
+        Ok(())
     }
 
     /// `segment --param model=FILE`: a model file given by path is read and installed under its
