@@ -11,6 +11,11 @@ fn fixture(name: &str) -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures").join(name)
 }
 
+/// The largest difference of any coordinate of any joint in any frame.
+fn largest_difference(a: &mocapseg::motion::Motion, b: &mocapseg::motion::Motion) -> f32 {
+    a.positions.iter().zip(&b.positions).map(|(p, q)| (*p - *q).abs().max_element()).fold(0.0, f32::max)
+}
+
 #[test]
 fn asf_amc_gives_the_positions_of_its_bvh_conversion() {
     let amc = load_path(&fixture("02_01.amc")).expect("the AMC loads with the ASF beside it");
@@ -25,10 +30,7 @@ fn asf_amc_gives_the_positions_of_its_bvh_conversion() {
     let ends = |m: &mocapseg::motion::Motion| m.skeleton.is_end_site.clone();
     assert_eq!(ends(a), ends(b));
     assert_eq!(&a.skeleton.names[..3], ["root", "lhipjoint", "lfemur"]);
-    let mut worst = 0.0f32;
-    for (pa, pb) in a.positions.iter().zip(&b.positions) {
-        worst = worst.max((*pa - *pb).abs().max_element());
-    }
+    let worst = largest_difference(a, b);
     eprintln!("ASF/AMC vs BVH conversion: largest position difference {worst} units");
     // the BVH prints 4 decimals (degrees and ASF units; a body is ~ 30 units tall): 8e-5 measured
     assert!(worst < 5e-4, "largest difference {worst} units");
@@ -152,8 +154,7 @@ fn every_asf_amc_of_the_shared_data_matches_its_bvh_conversion() {
             let a = load_path(&amc).unwrap_or_else(|e| panic!("{e}")).motion;
             let b = load_path(&amc.with_extension("bvh")).unwrap_or_else(|e| panic!("{e}")).motion;
             assert_eq!((a.frames(), a.joints()), (b.frames(), b.joints()), "{}", amc.display());
-            let worst =
-                a.positions.iter().zip(&b.positions).map(|(p, q)| (*p - *q).abs().max_element()).fold(0.0, f32::max);
+            let worst = largest_difference(&a, &b);
             assert!(worst < 5e-4, "{}: largest difference {worst} units", amc.display());
             compared += 1;
         }

@@ -19,14 +19,7 @@ use mocapseg::segment::{Level, Segmentation};
 use proptest::prelude::*;
 use proptest::test_runner::Config;
 
-const ALL: [Channel; 6] = [
-    Channel::Xposition,
-    Channel::Yposition,
-    Channel::Zposition,
-    Channel::Xrotation,
-    Channel::Yrotation,
-    Channel::Zrotation,
-];
+const ALL: [Channel; 6] = Channel::ALL;
 const ROTATIONS: [Channel; 3] = [Channel::Xrotation, Channel::Yrotation, Channel::Zrotation];
 
 /// One node to be: its parent among the nodes before it (a root when `None`), whether it is an

@@ -26,6 +26,16 @@ pub enum Channel {
 }
 
 impl Channel {
+    /// The six channels, positions then rotations, X Y Z.
+    pub const ALL: [Channel; 6] = [
+        Channel::Xposition,
+        Channel::Yposition,
+        Channel::Zposition,
+        Channel::Xrotation,
+        Channel::Yrotation,
+        Channel::Zrotation,
+    ];
+
     /// The name as written in a BVH file.
     pub fn name(self) -> &'static str {
         match self {

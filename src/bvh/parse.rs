@@ -671,15 +671,7 @@ fn read_offset(lx: &mut Lexer<'_>) -> Result<[f64; 3], BvhError> {
 }
 
 fn parse_channel(s: &str) -> Option<Channel> {
-    const ALL: [Channel; 6] = [
-        Channel::Xposition,
-        Channel::Yposition,
-        Channel::Zposition,
-        Channel::Xrotation,
-        Channel::Yrotation,
-        Channel::Zrotation,
-    ];
-    ALL.into_iter().find(|c| c.name().eq_ignore_ascii_case(s))
+    Channel::ALL.into_iter().find(|c| c.name().eq_ignore_ascii_case(s))
 }
 
 /// Reads `n c1 … cn` after `CHANNELS`.
