@@ -9,6 +9,8 @@
 #   make setup   install the toolchain (scripts/setup.sh; idempotent, seconds when done)
 #   make web     build the page into dist/ (release wasm + wasm-bindgen + wasm-opt + assets;
 #                wasm-bindgen and wasm-opt only run again when the wasm changed)
+#   make fuzz    the cargo-fuzz targets (fuzz/) one after another, FUZZ_S seconds each (default 60;
+#                FUZZ_TARGETS="a b" picks some), then a table of executions; not part of make test
 #
 # scripts/setup.sh writes .toolchain.env, which says how to drive cargo (Route S: rustup;
 # Route D: Debian rustc-web with -Zbuild-std). The top-level targets run setup first and then
@@ -56,10 +58,10 @@ BENCH_BVH ?= $(firstword $(wildcard $(abspath $(CURDIR)/../shared/data/cmu/86/86
                 $(abspath $(shell ls -S tests/fixtures/*.bvh 2>/dev/null | head -n 1)))
 
 .PHONY: help setup demo test bench web serve check-toolchain \
-        test-native test-wasm test-e2e bench-native bench-wasm bench-peers bench-table
+        test-native test-wasm test-e2e bench-native bench-wasm bench-peers bench-table fuzz
 
 help:
-	@sed -n '3,10p' Makefile | sed 's/^# \{0,1\}//'
+	@sed -n '3,/^#$$/{/^#$$/!p}' Makefile | sed 's/^# \{0,1\}//'
 
 setup:
 	scripts/setup.sh
@@ -87,6 +89,13 @@ bench: setup
 	@if [ -d "$(BENCH_DATA)/labels" ]; then $(MAKE) bench-peers; \
 	else echo "note: $(BENCH_DATA) is absent: the peer libraries (bench/peers) are not run"; fi
 	$(MAKE) bench-table
+
+# The cargo-fuzz targets (fuzz/, README "Fuzzing"): FUZZ_S seconds each, one fuzzer process at a
+# time, built into fuzz/target. Neither `make test` nor CI runs or builds them.
+FUZZ_S ?= 60
+FUZZ_TARGETS ?=
+fuzz:
+	FUZZ_S="$(FUZZ_S)" FUZZ_TARGETS="$(FUZZ_TARGETS)" scripts/fuzz.sh
 
 check-toolchain:
 	@test -f .toolchain.env || { echo "No .toolchain.env: run 'make setup' first." >&2; exit 1; }
