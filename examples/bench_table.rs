@@ -56,6 +56,8 @@ mod table {
         }
         let mut records = Vec::new();
         let mut read = Vec::new();
+        // when the newest results were written (not when the table is printed)
+        let mut newest = std::time::UNIX_EPOCH;
         for f in &files {
             match std::fs::read_to_string(f) {
                 Ok(text) => {
@@ -64,6 +66,9 @@ mod table {
                         records.push(v);
                     }
                     read.push(f.as_str());
+                    if let Ok(t) = std::fs::metadata(f).and_then(|m| m.modified()) {
+                        newest = newest.max(t);
+                    }
                 }
                 Err(e) => eprintln!("note: {f}: {e} (its column stays empty)"),
             }
@@ -74,8 +79,8 @@ mod table {
         let threads = find(&records, "native", |r| r["what"] == "batch").and_then(|r| num(r, "threads"));
         println!();
         println!(
-            "## make bench — {} UTC, {} (native: release build, all cores; wasm: headless Chromium, one thread; medians)",
-            chrono_like_now(),
+            "## make bench — measured up to {} UTC, {} (native: release build, all cores; wasm: headless Chromium, one thread; medians)",
+            utc_text(newest),
             match threads {
                 Some(t) => format!("{t} cores"),
                 None => format!("{} cores", std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1)),
@@ -173,10 +178,9 @@ mod table {
         Ok(())
     }
 
-    /// The current UTC time as `YYYY-MM-DD HH:MM` (no date crate: days from the epoch, civil calendar).
-    fn chrono_like_now() -> String {
-        let secs =
-            std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs() as i64).unwrap_or(0);
+    /// `t` in UTC as `YYYY-MM-DD HH:MM` (no date crate: days from the epoch, civil calendar).
+    fn utc_text(t: std::time::SystemTime) -> String {
+        let secs = t.duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs() as i64).unwrap_or(0);
         let (days, rem) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
         // Howard Hinnant's civil_from_days
         let z = days + 719_468;
