@@ -18,15 +18,24 @@ impl Clock {
     /// The frame to show at `now_ms`, having shown `frame` of `frames` at the previous tick;
     /// playback wraps around at the end.
     pub fn tick(&mut self, now_ms: f64, frame: usize, frames: usize, fps: f64, speed: f64) -> usize {
+        let steps = self.steps(now_ms, fps, speed);
+        if frames == 0 {
+            return 0;
+        }
+        (frame + steps) % frames
+    }
+
+    /// How many whole frames to move at `now_ms` (in either direction: the caller decides which).
+    pub fn steps(&mut self, now_ms: f64, fps: f64, speed: f64) -> usize {
         let elapsed_s = self.last_ms.map_or(0.0, |last| ((now_ms - last) / 1000.0).clamp(0.0, MAX_STEP_S));
         self.last_ms = Some(now_ms);
-        if frames == 0 || fps.is_nan() || fps <= 0.0 || speed.is_nan() || speed <= 0.0 {
+        if fps.is_nan() || fps <= 0.0 || speed.is_nan() || speed <= 0.0 {
             return 0;
         }
         let advance = elapsed_s * fps * speed + self.carry;
         let whole = advance.floor();
         self.carry = advance - whole;
-        (frame + whole as usize) % frames
+        whole as usize
     }
 }
 
@@ -62,5 +71,14 @@ mod tests {
         clock.tick(0.0, 0, 10, 100.0, 1.0);
         assert_eq!(clock.tick(50.0, 8, 10, 100.0, 1.0), 3); // 8 + 5, wrapped
         assert_eq!(clock.tick(60_050.0, 3, 10, 100.0, 1.0), (3 + 25) % 10); // capped at 0.25 s
+    }
+
+    #[test]
+    fn steps_count_frames_at_eight_times_speed() {
+        // J/K/L at 8×: 120 fps for 62.5 ms is 60 frames
+        let mut clock = Clock::default();
+        assert_eq!(clock.steps(0.0, 120.0, 8.0), 0);
+        assert_eq!(clock.steps(62.5, 120.0, 8.0), 60);
+        assert_eq!(clock.steps(100.0, 120.0, 0.0), 0);
     }
 }

@@ -1,5 +1,7 @@
-//! The little maths the page's player needs, kept out of the web layer so it is tested natively:
-//! the orbiting perspective camera and the playback clock.
+//! The little maths the page needs, kept out of the web layer so it is tested natively:
+//! the orbiting perspective camera, the playback clock and the timeline (window, ruler, readout,
+//! segment navigation, keyboard).
 
 pub mod camera;
 pub mod clock;
+pub mod timeline;
