@@ -8,23 +8,27 @@
 //!   `#<name>-cancel` and `#<name>-progress` while it runs, and every picture the method draws as
 //!   a canvas `#<name>-<picture>` with its caption.
 //! * [`MethodRows`] — under the motion image, on the timeline's time axis, for every method with
-//!   a result (each row labelled with the method and level at its right end): `#row-<name>-actions` (actions coloured by kind, transitions hatched grey) and
+//!   a result, each row labelled at its left with the method and level ("SSSM · actions"):
+//!   `#row-<name>-actions` (actions coloured by kind, transitions hatched grey) and
 //!   `#row-<name>-primitives` (coloured by cluster, mirror-pair clusters in one hue at two
-//!   lightnesses). Every segment carries `data-start`/`data-end` (file frames) and a tooltip;
-//!   clicking a primitive plays it once, clicking an action seeks to it. A labelling method (one
-//!   DT-FCN, k-NN) colours each segment by its class (`cluster`: the colour the run echoes in
-//!   `params.colours`, else the class colour of every model file, `palette::class_colour`;
-//!   `data-colour`), lighter the lower its mean confidence
-//!   (`score`, `data-score`), and hatches `unknown` segments grey (`ms-seg--unknown`); its row is
-//!   labelled "<method> labels". Labels are always text, never markup.
+//!   lightnesses). Only the segments in the timeline's window are in the DOM (at most about
+//!   2 × [`MAX_SEGMENTS_PER_ROW`] per row), placed on the window. Every segment carries
+//!   `data-start`/`data-end` (file frames) and its tooltip text as `aria-label`; clicking one
+//!   selects it (`ms-seg--selected`) and plays it, looped while Loop is on, else once to its end.
+//!   A labelling method (one DT-FCN, k-NN) colours each segment by its class (`cluster`: the
+//!   colour the run echoes in `params.colours`, else the class colour of every model file,
+//!   `palette::class_colour`; `data-colour`), lighter the lower its mean confidence (`score`,
+//!   `data-score`), and hatches `unknown` segments grey (`ms-seg--unknown`); its row is labelled
+//!   "<method> · labels". Labels are always text, never markup.
 
 use super::loader::Loader;
 use super::motion_image::{download, stem};
-use super::{AppState, MethodSlot, RunState};
+use super::{AppState, MethodSlot, RunState, Selection};
 use crate::method::{ParamKind, ParamSpec, Picture};
 use crate::protocol::MethodView;
 use crate::segment::palette::{action_colour, class_colour, cluster_colour};
 use crate::segment::{Level, Segment};
+use crate::view::timeline::visible_segments;
 use leptos::ev::{MouseEvent, PointerEvent};
 use leptos::html::Canvas;
 use leptos::prelude::*;
@@ -273,39 +277,110 @@ fn draw_picture(canvas: &HtmlCanvasElement, p: &Picture) -> Result<(), JsValue> 
     ctx.put_image_data(&pixels, 0.0, 0.0)
 }
 
-/// The timeline rows of every method with a result.
+/// Levels shown in a method's actions row and in its primitives row.
+const ACTION_LEVELS: &[Level] = &[Level::Action, Level::Transition];
+const PRIMITIVE_LEVELS: &[Level] = &[Level::Primitive];
+
+/// At most about twice this many segments of a row are in the DOM at once (see
+/// [`visible_segments`]); the sample's rows have a few dozen.
+const MAX_SEGMENTS_PER_ROW: usize = 120;
+
+/// The segments of `levels` in `v`, sorted by start.
+fn row_segments(v: &MethodView, levels: &[Level]) -> Vec<Segment> {
+    let mut segments: Vec<Segment> =
+        v.segmentation.segments.iter().filter(|s| levels.contains(&s.level)).cloned().collect();
+    segments.sort_by_key(|s| s.start);
+    segments
+}
+
+/// The label of a method's row: "SSSM · actions", "DT-FCN · labels", "KCS · primitives".
+fn row_label(slot: &MethodSlot, v: Option<&MethodView>, primitive: bool) -> String {
+    let level = match (primitive, v.is_some_and(is_labelling)) {
+        (true, _) => "primitives",
+        (false, true) => "labels",
+        (false, false) => "actions",
+    };
+    format!("{} · {level}", slot.info.short)
+}
+
+/// Every row with segments, in the page's order: its id (`<method>-actions` /
+/// `<method>-primitives`) and its segments' frames, sorted by start.
+pub fn row_spans(state: AppState) -> Vec<(String, Vec<(usize, usize)>)> {
+    let mut rows = Vec::new();
+    for slot in state.methods {
+        slot.view.with_untracked(|v| {
+            if let Some(v) = v {
+                for (level, levels) in [("actions", ACTION_LEVELS), ("primitives", PRIMITIVE_LEVELS)] {
+                    let spans: Vec<(usize, usize)> = row_segments(v, levels).iter().map(|s| (s.start, s.end)).collect();
+                    if !spans.is_empty() {
+                        rows.push((format!("{}-{level}", slot.info.name), spans));
+                    }
+                }
+            }
+        });
+    }
+    rows
+}
+
+/// One row's segments, sorted, with the run they come from (made again when the run changes).
+#[derive(Clone)]
+struct RowData {
+    view: Option<Arc<MethodView>>,
+    segments: Arc<Vec<Segment>>,
+    spans: Arc<Vec<(usize, usize)>>,
+    /// Counts the runs, so that a new run's segments never reuse the old run's elements.
+    generation: u64,
+}
+
+/// The timeline rows of every method with a result: a label at the left, the segments of the
+/// timeline's window in the lane (only those, see [`visible_segments`]).
 #[component]
 pub fn MethodRows(state: AppState) -> impl IntoView {
     state
         .methods
         .iter()
-        .map(|slot| {
+        .flat_map(|slot| [(slot, false), (slot, true)])
+        .map(|(slot, primitive)| {
             let name = &slot.info.name;
-            let rows = move |levels: &'static [Level], primitive: bool| {
-                move || {
-                    let Some(v) = slot.view.get() else { return Vec::new() };
-                    let mut segments: Vec<Segment> =
-                        v.segmentation.segments.iter().filter(|s| levels.contains(&s.level)).cloned().collect();
-                    segments.sort_by_key(|s| s.start);
-                    segments.into_iter().map(|s| segment_view(state, &v, s, primitive)).collect::<Vec<_>>()
-                }
-            };
+            let levels = if primitive { PRIMITIVE_LEVELS } else { ACTION_LEVELS };
+            let row_id = format!("{name}-{}", if primitive { "primitives" } else { "actions" });
+            let data = RwSignal::new(RowData { view: None, segments: Arc::default(), spans: Arc::default(), generation: 0 });
+            Effect::new(move |_| {
+                let view = slot.view.get();
+                let segments = view.as_ref().map(|v| row_segments(v, levels)).unwrap_or_default();
+                let spans = segments.iter().map(|s| (s.start, s.end)).collect();
+                let generation = data.with_untracked(|d| d.generation) + 1;
+                data.set(RowData { view, segments: Arc::new(segments), spans: Arc::new(spans), generation });
+            });
             // a row shows only when the method's result has segments of its levels
-            let hidden = move |levels: &'static [Level]| {
-                move || slot.view.with(|v| v.as_ref().is_none_or(|v| !v.segmentation.segments.iter().any(|s| levels.contains(&s.level))))
+            let hidden = move || data.with(|d| d.segments.is_empty());
+            let label = move || slot.view.with(|v| row_label(slot, v.as_deref(), primitive));
+            let visible = move || {
+                let window = state.window.get();
+                data.with(|d| {
+                    visible_segments(&d.spans, &window, MAX_SEGMENTS_PER_ROW)
+                        .into_iter()
+                        .map(|i| (d.generation, i))
+                        .collect::<Vec<_>>()
+                })
             };
-            // a labelling method's row holds its per-frame labels
-            let short = slot.info.short.clone();
-            let actions_label = move || {
-                let labels = slot.view.with(|v| v.as_ref().is_some_and(|v| is_labelling(v)));
-                format!("{short} {}", if labels { "labels" } else { "actions" })
+            let row = row_id.clone();
+            let segment = move |(_, i): (u64, usize)| {
+                let (v, s) = data.with_untracked(|d| (d.view.clone(), d.segments[i].clone()));
+                v.map(|v| segment_view(state, &v, s, row.clone()))
             };
             view! {
-                <div id=format!("row-{name}-actions") class="ms-row" data-label=actions_label hidden=hidden(&[Level::Action, Level::Transition]) title=format!("{} actions and transitions", slot.info.short)>
-                    {rows(&[Level::Action, Level::Transition], false)}
-                </div>
-                <div id=format!("row-{name}-primitives") class="ms-row" data-label=format!("{} primitives", slot.info.short) hidden=hidden(&[Level::Primitive]) title=format!("{} primitives", slot.info.short)>
-                    {rows(&[Level::Primitive], true)}
+                <div class="ms-tl-line ms-tl-line--row" hidden=hidden>
+                    <div class="ms-tl-label" title=label>{label}</div>
+                    <div
+                        id=format!("row-{row_id}")
+                        class="ms-row ms-tl-lane"
+                        data-label=label
+                        role="group"
+                        aria-label=label
+                    >
+                        <For each=visible key=|k| *k children=segment/>
+                    </div>
                 </div>
             }
         })
@@ -345,11 +420,8 @@ fn confidence_shade([r, g, b]: [u8; 3], score: f64) -> (String, &'static str) {
     (format!("rgb({r}, {g}, {b})"), if luminance > 0.6 { "#10131a" } else { "#ffffff" })
 }
 
-fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, primitive: bool) -> impl IntoView {
-    let frames = v.segmentation.frames.max(1) as f64;
+fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -> impl IntoView {
     let fps = v.segmentation.fps;
-    let left = format!("{:.4}%", s.start as f64 / frames * 100.0);
-    let width = format!("{:.4}%", (s.end + 1 - s.start) as f64 / frames * 100.0);
     let mut text_colour = None;
     let mut class_colour_of = None;
     let (class, colour) = match (is_labelling(v), s.level, s.cluster) {
@@ -374,24 +446,37 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, primitive: boo
         }
         (false, _, None) => ("ms-seg", "#888".to_string()),
     };
-    let title = tooltip(&s, fps);
+    let tip = tooltip(&s, fps);
     let (start, end) = (s.start, s.end);
+    // placed on the timeline's window (a segment reaching past its edges is cut there)
+    let left = move || {
+        let w = state.window.get();
+        format!("{:.4}%", w.fraction(start as f64).max(0.0) * 100.0)
+    };
+    let width = move || {
+        let w = state.window.get();
+        let (a, b) = (w.fraction(start as f64).max(0.0), w.fraction((end + 1) as f64).min(1.0));
+        format!("{:.4}%", (b - a).max(0.0) * 100.0)
+    };
+    let selected_row = row.clone();
+    let selected = Memo::new(move |_| {
+        state.selected.with(|x| x.as_ref().is_some_and(|x| x.row == selected_row && x.start == start && x.end == end))
+    });
     // keep the timeline's own seek from capturing the pointer (the click must reach us)
     let on_down = move |ev: PointerEvent| ev.stop_propagation();
     let on_click = move |ev: MouseEvent| {
         ev.stop_propagation();
-        if primitive {
-            state.play_until.set(Some(end));
-            state.frame.set(start);
-            state.playing.set(true);
-        } else {
-            state.play_until.set(None);
-            state.frame.set(start);
-        }
+        // select it and play it: looped while Loop is on, else once to its end
+        state.selected.set(Some(Selection { row: row.clone(), start, end }));
+        state.play_until.set((!state.looping.get_untracked()).then_some(end));
+        state.shuttle.set(0);
+        state.frame.set(start);
+        state.playing.set(true);
     };
     view! {
         <div
             class=class
+            class:ms-seg--selected=selected
             style:left=left
             style:width=width
             style:background-color=(!colour.is_empty()).then_some(colour)
@@ -401,7 +486,9 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, primitive: boo
             data-cluster=s.cluster.map(|c| c.to_string()).unwrap_or_default()
             data-colour=class_colour_of
             data-score=s.score.map(|x| x.to_string())
-            title=title
+            aria-label=tip
+            aria-pressed=move || selected.get().to_string()
+            role="button"
             on:pointerdown=on_down
             on:click=on_click
         >

@@ -34,6 +34,7 @@ mod timeline;
 
 use crate::method::{form, MethodInfo, ParamSpec};
 use crate::protocol::{LoadedMotion, MethodView};
+use crate::view::timeline::Window;
 use leptos::prelude::*;
 use std::sync::Arc;
 use wasm_bindgen::prelude::*;
@@ -212,6 +213,25 @@ pub struct AppState {
     pub labels: LabelModels,
     /// The DT-FCN training in the browser.
     pub dtfcn: DtfcnTraining,
+    /// The frames the timeline shows (ruler, motion image and rows alike).
+    pub window: RwSignal<Window>,
+    /// The segment the user selected on the timeline.
+    pub selected: RwSignal<Option<Selection>>,
+    /// Playback loops inside the selected segment.
+    pub looping: RwSignal<bool>,
+    /// J/K/L: the shuttle's rate (0: ordinary playback; negative: backwards; × the speed menu's).
+    pub shuttle: RwSignal<i32>,
+    /// The keyboard help overlay is open.
+    pub help: RwSignal<bool>,
+}
+
+/// A segment selected on the timeline: its row (`<method>-actions` or `<method>-primitives`)
+/// and its frames (inclusive).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Selection {
+    pub row: String,
+    pub start: usize,
+    pub end: usize,
 }
 
 impl AppState {
@@ -229,6 +249,11 @@ impl AppState {
             lma: LmaTraining::new(),
             labels: LabelModels::new(),
             dtfcn: DtfcnTraining::new(),
+            window: RwSignal::new(Window::full(1)),
+            selected: RwSignal::new(None),
+            looping: RwSignal::new(true),
+            shuttle: RwSignal::new(0),
+            help: RwSignal::new(false),
         }
     }
 
@@ -242,6 +267,11 @@ impl AppState {
     pub fn show_run_error(&self, message: String) {
         self.error_is_run.set(true);
         self.error.set(Some(message));
+    }
+
+    /// Frames per second of the take on screen (0 when none).
+    pub fn fps(&self) -> f64 {
+        self.motion.with(|m| m.as_ref().map_or(0.0, |m| m.summary.fps))
     }
 
     /// Number of frames of the take on screen (0 when none).

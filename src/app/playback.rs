@@ -1,10 +1,13 @@
 //! Playback at the file's real frame rate: a [`Clock`] (in `crate::view`) turns animation-frame timestamps into
 //! whole frames to advance (keeping the fraction left over, so 120 fps on a 60 Hz screen
 //! advances exactly 2 frames per tick and 23.976 fps never drifts), and [`drive`] runs it with
-//! `requestAnimationFrame` while `state.playing` is on.
+//! `requestAnimationFrame` while `state.playing` is on: forwards, or backwards and faster with the
+//! J/K/L shuttle (`state.shuttle`), wrapping around the take or looping the selected segment
+//! (`state.looping`), or once to `state.play_until`.
 
 use super::AppState;
 use crate::view::clock::Clock;
+use crate::view::timeline::advanced;
 use gloo::render::{request_animation_frame, AnimationFrame};
 use leptos::prelude::*;
 use std::cell::RefCell;
@@ -18,6 +21,7 @@ pub fn drive(state: AppState) {
             schedule(state, pending.clone(), Clock::default());
         } else {
             pending.borrow_mut().take(); // dropping the handle cancels the request
+            state.shuttle.set(0);
         }
     });
 }
@@ -30,10 +34,20 @@ fn schedule(state: AppState, pending: Rc<RefCell<Option<AnimationFrame>>>, mut c
         }
         let (frames, fps) =
             state.motion.with_untracked(|m| m.as_ref().map_or((0, 0.0), |m| (m.summary.frames, m.summary.fps)));
-        let frame = clock.tick(now_ms, state.frame.get_untracked(), frames, fps, state.speed.get_untracked());
+        // J/K/L: the shuttle's rate multiplies the speed menu's, its sign is the direction
+        let rate = state.shuttle.get_untracked();
+        let speed = state.speed.get_untracked() * rate.unsigned_abs().max(1) as f64;
+        let forward = rate >= 0;
+        let steps = clock.steps(now_ms, fps, speed);
         let shown = state.frame.get_untracked();
-        if let Some(end) = state.play_until.get_untracked() {
-            // playing one segment: stop on its last frame (also if playback wrapped around)
+        let looped = if state.looping.get_untracked() {
+            state.selected.with_untracked(|s| s.as_ref().map(|s| (s.start, s.end)))
+        } else {
+            None
+        };
+        if let (None, Some(end)) = (looped, state.play_until.get_untracked()) {
+            // playing one segment once: stop on its last frame (also if playback wrapped around)
+            let frame = advanced(shown, steps, true, frames, None);
             if frame >= end || frame < shown {
                 state.frame.set(end.min(frames.saturating_sub(1)));
                 state.play_until.set(None);
@@ -41,6 +55,7 @@ fn schedule(state: AppState, pending: Rc<RefCell<Option<AnimationFrame>>>, mut c
                 return;
             }
         }
+        let frame = advanced(shown, steps, forward, frames, looped);
         if frame != shown {
             state.frame.set(frame);
         }

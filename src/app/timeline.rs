@@ -1,69 +1,520 @@
-//! `#timeline`: the shared time axis under the player. The motion image spans its width; rows
-//! for segmentations (later issues) go under it in `#timeline-rows`; `#playhead` marks the
-//! current frame across all of them and follows playback. Clicking or dragging seeks.
+//! `#timeline`: the studio's one time axis under the player. Every line has its label at the left
+//! and its lane on the same x range: the time ruler (`#timeline-ruler`, seconds with a step chosen
+//! for the zoom), the motion image, one row per method and level (`#row-<method>-actions`,
+//! `#row-<method>-primitives`, from [`MethodRows`]) and, under them, the minimap of the whole take
+//! (`#timeline-minimap`, its window `#minimap-window`). `#playhead` marks the current frame across
+//! the lanes; `#time-readout` says `mm:ss.fff · frame N / total`.
+//!
+//! All lanes show the frames of `state.window` (`data-window-start`/`-end` on `#timeline`):
+//! Ctrl/⌘+wheel zooms around the pointer, Shift+wheel or a sideways wheel pans, dragging the ruler
+//! or the minimap's window pans, +/− zoom around the playhead, and a frame that leaves the window
+//! (playback, keys) brings the window along. Clicking or dragging an empty lane seeks (and drops the
+//! selection); clicking a segment selects it and plays it, looped while `#loop-toggle` is on.
+//! Hovering shows `#timeline-tooltip` (a segment's label, frames and seconds, or the frame under the
+//! pointer). The keyboard ([`crate::view::timeline::key_action`]) works anywhere on the page except
+//! in text fields; `?` opens `#help-overlay`. The maths is in [`crate::view::timeline`].
 
-use super::method_panel::MethodRows;
-use super::motion_image::{DownloadPng, MotionImageCanvas};
-use super::AppState;
-use leptos::ev::PointerEvent;
+use super::method_panel::{row_spans, MethodRows};
+use super::motion_image::{Chunks, DownloadPng, MotionImageCanvas};
+use super::{AppState, Selection};
+use crate::view::timeline::{
+    key_action, readout, shuttle, stepped, ticks, KeyAction, Modifiers, Window,
+};
+use gloo::events::{EventListener, EventListenerOptions};
+use leptos::ev::{KeyboardEvent, PointerEvent};
+use leptos::html::{Canvas, Div};
 use leptos::prelude::*;
 use wasm_bindgen::JsCast;
-use web_sys::Element;
+use web_sys::{Element, WheelEvent};
+
+/// Width of the lines' label column, in CSS pixels (also in `www/style.css`, `.ms-tl-line`).
+pub const LABEL_PX: f64 = 132.0;
+
+/// Ruler ticks at least this far apart, in CSS pixels.
+const TICK_MIN_PX: f64 = 70.0;
+
+/// One +/− key press or zoom button zooms by this factor.
+const KEY_ZOOM: f64 = 2.0;
+
+/// Shortcuts shown in the help overlay (keys, what they do).
+pub const SHORTCUTS: [(&str, &str); 12] = [
+    ("Space", "play / pause"),
+    ("← / →", "one frame back / forward"),
+    ("Shift + ← / →", "one second back / forward"),
+    ("J / K / L", "play backwards / pause / play forwards — press J or L again for 2×, 4×, 8×"),
+    ("Home / End", "first / last frame"),
+    ("+ / −", "zoom in / out around the playhead"),
+    ("[ / ]", "previous / next segment of the selected row (else the first row), brought into view"),
+    ("Ctrl or ⌘ + wheel", "zoom around the pointer"),
+    ("Shift + wheel, sideways wheel", "pan"),
+    ("Drag the ruler or the minimap", "pan"),
+    ("?", "show / hide this help"),
+    ("Esc", "close this help, else drop the selected segment"),
+];
+
+/// The x range of the lanes on screen: (left, width) in client pixels.
+fn lane_box(lane: &NodeRef<Div>) -> Option<(f64, f64)> {
+    let rect = lane.get_untracked()?.get_bounding_client_rect();
+    (rect.width() > 0.0).then(|| (rect.left(), rect.width()))
+}
+
+/// The CSS `left` of frame position `x` across the lanes (which start after the label column).
+fn lane_left(fraction: f64) -> String {
+    format!("calc({LABEL_PX}px + (100% - {LABEL_PX}px) * {fraction:.6})")
+}
 
 #[component]
 pub fn Timeline(state: AppState) -> impl IntoView {
+    let ruler_ref = NodeRef::<Div>::new();
+    let minimap_ref = NodeRef::<Div>::new();
+    let minimap_canvas = NodeRef::<Canvas>::new();
+    let body_ref = NodeRef::<Div>::new();
+    let chunks = Chunks::default();
+    // bumped on window resize and when a take's image is cut into chunks: lanes redraw
+    let resized = RwSignal::new(0u32);
+    let hover = RwSignal::new(None::<(f64, f64, String)>);
+
+    // a new take: cut its image, show it whole, forget the selection
+    {
+        let chunks = chunks.clone();
+        Effect::new(move |_| {
+            state.motion.with(|m| {
+                if let Some(m) = m {
+                    if let Err(e) = chunks.load(&m.image) {
+                        web_sys::console::error_2(&"motion image: could not cut into chunks".into(), &e);
+                    }
+                }
+            });
+            state.window.set(Window::full(state.frames()));
+            state.selected.set(None);
+            state.play_until.set(None);
+            resized.update(|n| *n += 1);
+        });
+    }
+    // a frame off screen (playback, keys, the scrub bar) brings the window along
+    Effect::new(move |_| {
+        let frame = state.frame.get();
+        let frames = state.frames();
+        let w = state.window.get_untracked();
+        if frames > 0 && !w.shows(frame) {
+            state.window.set(w.paged_to(frame, frames));
+        }
+    });
+    // the minimap: the whole image, once per take and size
+    {
+        let chunks = chunks.clone();
+        Effect::new(move |_| {
+            resized.track();
+            let frames = state.frames();
+            let Some(canvas) = minimap_canvas.get() else { return };
+            if let Err(e) = chunks.draw(&canvas, &Window::full(frames)) {
+                web_sys::console::error_2(&"minimap: could not draw".into(), &e);
+            }
+        });
+    }
+
+    let frames = move || state.frames();
+    let window = move || state.window.get();
+    // the frame at a pointer's x, if it is over the lanes
+    let frame_at = move |client_x: f64| -> Option<usize> {
+        let (left, width) = lane_box(&ruler_ref)?;
+        let fraction = (client_x - left) / width;
+        (0.0..=1.0).contains(&fraction).then(|| state.window.get_untracked().frame_at(fraction.min(0.999_999), frames()))
+    };
+
+    // seeking on the motion image and the rows' empty space
     let seeking = StoredValue::new(false);
     let seek = move |ev: &PointerEvent| {
-        let Some(track) = ev.current_target().and_then(|t| t.dyn_into::<Element>().ok()) else {
-            return;
-        };
-        let rect = track.get_bounding_client_rect();
-        let frames = state.frames();
-        if frames > 0 && rect.width() > 0.0 {
-            let fraction = (ev.client_x() as f64 - rect.left()) / rect.width();
-            state.frame.set(((fraction * frames as f64).floor().max(0.0) as usize).min(frames - 1));
+        if let Some(frame) = frame_at(ev.client_x() as f64).filter(|_| frames() > 0) {
+            state.frame.set(frame);
         }
     };
-    let on_down = move |ev: PointerEvent| {
+    let on_body_down = move |ev: PointerEvent| {
+        if frame_at(ev.client_x() as f64).is_none() || ev.button() != 0 {
+            return; // a label, or not the main button
+        }
         seeking.set_value(true);
-        if let Some(track) = ev.current_target().and_then(|t| t.dyn_into::<Element>().ok()) {
-            let _ = track.set_pointer_capture(ev.pointer_id());
+        state.selected.set(None);
+        state.play_until.set(None);
+        if let Some(el) = ev.current_target().and_then(|t| t.dyn_into::<Element>().ok()) {
+            let _ = el.set_pointer_capture(ev.pointer_id());
         }
         seek(&ev);
     };
-    let on_move = move |ev: PointerEvent| {
+    let on_body_move = move |ev: PointerEvent| {
         if seeking.get_value() {
             seek(&ev);
         }
+        // the tooltip: a segment's own text, else the frame under the pointer
+        let over_segment = ev
+            .target()
+            .and_then(|t| t.dyn_into::<Element>().ok())
+            .and_then(|e| e.closest(".ms-seg").ok().flatten())
+            .and_then(|e| e.get_attribute("aria-label"));
+        let text = over_segment.or_else(|| {
+            let frame = frame_at(ev.client_x() as f64)?;
+            Some(hover_text(frame, state.fps()))
+        });
+        hover.set(text.map(|t| (ev.client_x() as f64, ev.client_y() as f64, t)));
     };
     let on_up = move |_: PointerEvent| seeking.set_value(false);
-    // Centre of the current frame's column, as a percentage of the track.
-    let playhead_left = move || {
-        let frames = state.frames().max(1) as f64;
-        format!("{:.4}%", (state.frame.get() as f64 + 0.5) / frames * 100.0)
+
+    // panning by dragging the ruler: the window moves with the pointer
+    let ruler_drag = StoredValue::new(None::<(f64, Window)>);
+    let on_ruler_down = move |ev: PointerEvent| {
+        ruler_drag.set_value(Some((ev.client_x() as f64, state.window.get_untracked())));
+        if let Some(el) = ev.current_target().and_then(|t| t.dyn_into::<Element>().ok()) {
+            let _ = el.set_pointer_capture(ev.pointer_id());
+        }
+    };
+    let on_ruler_move = move |ev: PointerEvent| {
+        if let (Some((x0, w0)), Some((_, width))) = (ruler_drag.get_value(), lane_box(&ruler_ref)) {
+            let delta = -(ev.client_x() as f64 - x0) / width * w0.span();
+            state.window.set(w0.panned(delta, frames()));
+        }
+        hover.set(frame_at(ev.client_x() as f64).map(|f| (ev.client_x() as f64, ev.client_y() as f64, hover_text(f, state.fps()))));
+    };
+    let on_ruler_up = move |_: PointerEvent| ruler_drag.set_value(None);
+
+    // the minimap: pressing centres the window there (unless on the window itself), dragging moves it
+    let minimap_drag = StoredValue::new(None::<(f64, Window)>);
+    let on_minimap_down = move |ev: PointerEvent| {
+        let Some((left, width)) = lane_box(&minimap_ref) else { return };
+        let total = frames().max(1) as f64;
+        let at = (ev.client_x() as f64 - left) / width * total;
+        let w = state.window.get_untracked();
+        let w = if at >= w.start && at <= w.end { w } else { w.centred_on(at, frames()) };
+        state.window.set(w);
+        minimap_drag.set_value(Some((ev.client_x() as f64, w)));
+        if let Some(el) = ev.current_target().and_then(|t| t.dyn_into::<Element>().ok()) {
+            let _ = el.set_pointer_capture(ev.pointer_id());
+        }
+    };
+    let on_minimap_move = move |ev: PointerEvent| {
+        if let (Some((x0, w0)), Some((_, width))) = (minimap_drag.get_value(), lane_box(&minimap_ref)) {
+            let delta = (ev.client_x() as f64 - x0) / width * frames().max(1) as f64;
+            state.window.set(w0.panned(delta, frames()));
+        }
+    };
+    let on_minimap_up = move |_: PointerEvent| minimap_drag.set_value(None);
+
+    // the wheel: Ctrl/⌘ zooms around the pointer, Shift or sideways pans, plain scrolls the page
+    body_ref.on_load(move |body| {
+        EventListener::new(&gloo::utils::window(), "resize", move |_| resized.update(|n| *n += 1)).forget();
+        let options = EventListenerOptions::enable_prevent_default();
+        let target: &web_sys::EventTarget = body.as_ref();
+        EventListener::new_with_options(target, "wheel", options, move |ev| {
+            let ev: &WheelEvent = ev.unchecked_ref();
+            let (Some((left, width)), n) = (lane_box(&ruler_ref), frames()) else { return };
+            if n == 0 {
+                return;
+            }
+            let w = state.window.get_untracked();
+            let scale = match ev.delta_mode() {
+                1 => 16.0,  // lines
+                2 => 400.0, // pages
+                _ => 1.0,
+            };
+            let (dx, dy) = (ev.delta_x() * scale, ev.delta_y() * scale);
+            if ev.ctrl_key() || ev.meta_key() {
+                ev.prevent_default();
+                let fraction = ((ev.client_x() as f64 - left) / width).clamp(0.0, 1.0);
+                let anchor = w.start + fraction * w.span();
+                state.window.set(w.zoomed((-dy * 0.002).exp(), anchor, n));
+            } else if ev.shift_key() || dx.abs() > dy.abs() {
+                ev.prevent_default();
+                let delta = if dx.abs() > dy.abs() { dx } else { dy };
+                state.window.set(w.panned(delta / width * w.span(), n));
+            }
+        })
+        .forget();
+    });
+
+    keyboard(state);
+
+    let zoom_by = move |factor: f64| {
+        let anchor = state.frame.get_untracked() as f64 + 0.5;
+        state.window.update(|w| *w = w.zoomed(factor, anchor, state.frames()));
+    };
+
+    // the ruler's ticks for the window and the lane's width
+    let tick_views = move || {
+        resized.track();
+        let width = ruler_ref.get().map_or(0.0, |r| r.client_width() as f64);
+        let w = window();
+        ticks(&w, state.fps(), width, TICK_MIN_PX)
+            .into_iter()
+            .map(|t| {
+                view! {
+                    <span class="ms-tick" style:left=format!("{:.4}%", w.fraction(t.frame) * 100.0) data-seconds=t.seconds.to_string()>
+                        {t.label}
+                    </span>
+                }
+            })
+            .collect_view()
+    };
+    let playhead_fraction = move || {
+        let w = window();
+        w.fraction(state.frame.get() as f64 + 0.5)
+    };
+    let playhead_hidden = move || frames() == 0 || !(0.0..=1.0).contains(&playhead_fraction());
+    let minimap_left = move || format!("{:.4}%", window().start / frames().max(1) as f64 * 100.0);
+    let minimap_width = move || format!("{:.4}%", window().span() / frames().max(1) as f64 * 100.0);
+    let rate = move || match state.shuttle.get() {
+        0 => String::new(),
+        r if r < 0 => format!("◀ {}×", -r),
+        r => format!("▶ {r}×"),
     };
 
     view! {
-        <section id="timeline" class="ms-timeline" aria-label="Timeline">
+        <section
+            id="timeline"
+            class="ms-timeline"
+            aria-label="Timeline"
+            data-window-start=move || format!("{:.3}", window().start)
+            data-window-end=move || format!("{:.3}", window().end)
+        >
             <div class="ms-timeline-head">
-                <h2>"Motion image"</h2>
-                <span class="ms-timeline-legend">"rows = joints · columns = frames · colour = XYZ relative to the root"</span>
-                <DownloadPng state=state/>
+                <h2>"Timeline"</h2>
+                <output id="time-readout" class="ms-readout" aria-live="off" aria-label="Current time and frame">
+                    {move || readout(state.frame.get(), frames(), state.fps())}
+                </output>
+                <span id="shuttle-rate" class="ms-readout-rate">{rate}</span>
+                <span class="ms-timeline-legend">"motion image: rows = joints · columns = frames · colour = XYZ relative to the root"</span>
+                <div class="ms-timeline-tools" role="group" aria-label="Timeline controls">
+                    <button id="zoom-out" class="ms-button ms-button--quiet" type="button" aria-label="Zoom out (−)" title="Zoom out (−)"
+                        disabled=move || frames() == 0 on:click=move |_| zoom_by(1.0 / KEY_ZOOM)>"−"</button>
+                    <button id="zoom-in" class="ms-button ms-button--quiet" type="button" aria-label="Zoom in (+)" title="Zoom in (+)"
+                        disabled=move || frames() == 0 on:click=move |_| zoom_by(KEY_ZOOM)>"+"</button>
+                    <button id="zoom-fit" class="ms-button ms-button--quiet" type="button" aria-label="Show the whole take" title="Show the whole take"
+                        disabled=move || frames() == 0 || window().is_full(frames())
+                        on:click=move |_| state.window.set(Window::full(state.frames()))>"Fit"</button>
+                    <button
+                        id="loop-toggle"
+                        class="ms-button ms-button--quiet ms-toggle"
+                        type="button"
+                        aria-pressed=move || state.looping.get().to_string()
+                        title="Loop the selected segment's playback"
+                        disabled=move || state.selected.with(Option::is_none)
+                        on:click=move |_| {
+                            state.looping.update(|l| *l = !*l);
+                            state.play_until.set(None);
+                        }
+                    >
+                        "Loop"
+                    </button>
+                    <button id="help-button" class="ms-button ms-button--quiet" type="button" aria-label="Keyboard shortcuts (?)"
+                        aria-expanded=move || state.help.get().to_string() on:click=move |_| state.help.update(|h| *h = !*h)>"?"</button>
+                    <DownloadPng state=state/>
+                </div>
             </div>
             <div
-                class="ms-timeline-track"
-                on:pointerdown=on_down
-                on:pointermove=on_move
-                on:pointerup=on_up
-                on:pointercancel=on_up
+                class="ms-tl"
+                node_ref=body_ref
+                on:pointerleave=move |_| hover.set(None)
             >
-                <MotionImageCanvas state=state/>
-                // Segmentation rows, one per level of each method.
-                <div id="timeline-rows" class="ms-timeline-rows">
-                    <MethodRows state=state/>
+                <div class="ms-tl-line ms-tl-line--ruler">
+                    <div class="ms-tl-label">"Time"</div>
+                    <div
+                        id="timeline-ruler"
+                        class="ms-tl-lane ms-ruler"
+                        node_ref=ruler_ref
+                        aria-label="Time ruler: drag to pan"
+                        on:pointerdown=on_ruler_down
+                        on:pointermove=on_ruler_move
+                        on:pointerup=on_ruler_up
+                        on:pointercancel=on_ruler_up
+                    >
+                        {tick_views}
+                    </div>
                 </div>
-                <div id="playhead" class="ms-playhead" style:left=playhead_left hidden=move || state.frames() == 0></div>
+                <div
+                    class="ms-tl-body"
+                    on:pointerdown=on_body_down
+                    on:pointermove=on_body_move
+                    on:pointerup=on_up
+                    on:pointercancel=on_up
+                >
+                    <div class="ms-tl-line">
+                        <div class="ms-tl-label">"Motion image"</div>
+                        <div class="ms-tl-lane">
+                            <MotionImageCanvas state=state chunks=chunks.clone() resized=resized/>
+                        </div>
+                    </div>
+                    // Segmentation rows, one per level of each method.
+                    <div id="timeline-rows" class="ms-timeline-rows">
+                        <MethodRows state=state/>
+                    </div>
+                </div>
+                <div id="playhead" class="ms-playhead" style:left=move || lane_left(playhead_fraction()) hidden=playhead_hidden></div>
             </div>
+            <div class="ms-tl-line ms-tl-line--minimap">
+                <div class="ms-tl-label">"Whole take"</div>
+                <div
+                    id="timeline-minimap"
+                    class="ms-tl-lane ms-minimap"
+                    node_ref=minimap_ref
+                    aria-label="Minimap of the whole take: drag the window to pan"
+                    on:pointerdown=on_minimap_down
+                    on:pointermove=on_minimap_move
+                    on:pointerup=on_minimap_up
+                    on:pointercancel=on_minimap_up
+                >
+                    <canvas id="minimap-canvas" class="ms-minimap-canvas" node_ref=minimap_canvas aria-hidden="true"></canvas>
+                    <div id="minimap-window" class="ms-minimap-window" style:left=minimap_left style:width=minimap_width></div>
+                    <div
+                        class="ms-minimap-playhead"
+                        style:left=move || format!("{:.4}%", (state.frame.get() as f64 + 0.5) / frames().max(1) as f64 * 100.0)
+                    ></div>
+                </div>
+            </div>
+            <p id="timeline-hint" class="ms-timeline-hint">
+                "Click a segment to select it and play it (looped while Loop is on) · click elsewhere on the timeline to seek · "
+                "Ctrl/⌘ + wheel zooms, Shift + wheel or dragging the ruler or the minimap pans · press ? for all shortcuts"
+            </p>
+            <div
+                id="timeline-tooltip"
+                class="ms-tooltip"
+                role="tooltip"
+                hidden=move || hover.with(Option::is_none)
+                style:left=move || hover.with(|h| h.as_ref().map(|h| format!("{}px", h.0 + 12.0)))
+                style:top=move || hover.with(|h| h.as_ref().map(|h| format!("{}px", h.1 + 16.0)))
+            >
+                {move || hover.with(|h| h.as_ref().map(|h| h.2.clone()).unwrap_or_default())}
+            </div>
+            <HelpOverlay state=state/>
         </section>
     }
+}
+
+/// The tooltip over an empty lane: the frame (1-based, as the readout) and its time.
+fn hover_text(frame: usize, fps: f64) -> String {
+    let seconds = if fps > 0.0 { frame as f64 / fps } else { 0.0 };
+    format!("frame {} · {} · {:.3} s", frame + 1, crate::view::timeline::clock_time(seconds), seconds)
+}
+
+/// `#help-overlay`: every shortcut; `?` or its button toggles it, Esc or its Close button closes it.
+#[component]
+fn HelpOverlay(state: AppState) -> impl IntoView {
+    view! {
+        <div
+            id="help-overlay"
+            class="ms-help"
+            role="dialog"
+            aria-modal="false"
+            aria-labelledby="help-title"
+            hidden=move || !state.help.get()
+        >
+            <div class="ms-help-box">
+                <h2 id="help-title">"Keyboard shortcuts"</h2>
+                <dl class="ms-help-list">
+                    {SHORTCUTS
+                        .iter()
+                        .map(|(keys, what)| view! { <dt><kbd>{*keys}</kbd></dt> <dd>{*what}</dd> })
+                        .collect_view()}
+                </dl>
+                <p class="ms-help-note">"Keys do nothing while you type in a field. Shortcuts the browser uses (Alt+←, Ctrl+L, Ctrl++ …) are left to it."</p>
+                <button id="help-close" class="ms-button" type="button" on:click=move |_| state.help.set(false)>"Close"</button>
+            </div>
+        </div>
+    }
+}
+
+/// Whether a key press aimed at `target` is the field's own (typing, a slider, a menu) or a
+/// button's own activation (Space, Enter).
+fn is_for_the_field(target: Option<web_sys::EventTarget>, key: &str) -> bool {
+    let Some(el) = target.and_then(|t| t.dyn_into::<web_sys::HtmlElement>().ok()) else { return false };
+    if el.is_content_editable() {
+        return true;
+    }
+    match el.tag_name().to_ascii_lowercase().as_str() {
+        "input" | "select" | "textarea" => true,
+        "button" | "summary" | "a" => key == " " || key == "Enter",
+        _ => false,
+    }
+}
+
+/// The page's keyboard: [`key_action`] on every key press outside text fields.
+fn keyboard(state: AppState) {
+    let handle = window_event_listener(leptos::ev::keydown, move |ev: KeyboardEvent| {
+        if ev.default_prevented() || is_for_the_field(ev.target(), &ev.key()) {
+            return;
+        }
+        let modifiers = Modifiers { shift: ev.shift_key(), ctrl: ev.ctrl_key(), alt: ev.alt_key(), meta: ev.meta_key() };
+        let Some(action) = key_action(&ev.key(), modifiers) else { return };
+        let frames = state.frames();
+        if frames == 0 && !matches!(action, KeyAction::ToggleHelp | KeyAction::Escape) {
+            return;
+        }
+        if action == KeyAction::Escape && !state.help.get_untracked() && state.selected.with_untracked(Option::is_none) {
+            return; // Esc is the browser's unless it closes the help or drops a selection
+        }
+        ev.prevent_default();
+        let frame = state.frame.get_untracked();
+        let step = |delta: i64| {
+            state.playing.set(false);
+            state.frame.set(stepped(frame, delta, frames));
+        };
+        match action {
+            KeyAction::PlayPause => {
+                state.shuttle.set(0);
+                state.play_until.set(None);
+                state.playing.update(|p| *p = !*p);
+            }
+            KeyAction::StepFrames(n) => step(n),
+            KeyAction::StepSeconds(n) => step(n * state.fps().round().max(1.0) as i64),
+            KeyAction::ShuttleBack | KeyAction::ShuttleForward => {
+                let forward = action == KeyAction::ShuttleForward;
+                let rate = if state.playing.get_untracked() { state.shuttle.get_untracked() } else { 0 };
+                state.play_until.set(None);
+                // ordinary playback forwards counts as 1× for L
+                let rate = if rate == 0 && state.playing.get_untracked() && forward { 1 } else { rate };
+                state.shuttle.set(shuttle(rate, forward));
+                state.playing.set(true);
+            }
+            KeyAction::ShuttleStop => state.playing.set(false),
+            KeyAction::First => step(-(frames as i64)),
+            KeyAction::Last => step(frames as i64),
+            KeyAction::ZoomIn | KeyAction::ZoomOut => {
+                let factor = if action == KeyAction::ZoomIn { KEY_ZOOM } else { 1.0 / KEY_ZOOM };
+                state.window.update(|w| *w = w.zoomed(factor, frame as f64 + 0.5, frames));
+            }
+            KeyAction::PreviousSegment | KeyAction::NextSegment => {
+                go_to_segment(state, action == KeyAction::NextSegment);
+            }
+            KeyAction::ToggleHelp => state.help.update(|h| *h = !*h),
+            KeyAction::Escape => {
+                if state.help.get_untracked() {
+                    state.help.set(false);
+                } else {
+                    state.selected.set(None);
+                }
+            }
+        }
+    });
+    std::mem::forget(handle); // the timeline lives as long as the page
+}
+
+/// `[` / `]`: selects the previous / next segment of the selected row (else the first row with
+/// segments), moves the playhead to its start and brings it into view.
+fn go_to_segment(state: AppState, forward: bool) {
+    let rows = row_spans(state);
+    let chosen = state.selected.with_untracked(|s| s.as_ref().map(|s| s.row.clone()));
+    let Some((row, spans)) =
+        chosen.and_then(|id| rows.iter().find(|(r, _)| *r == id)).or_else(|| rows.first()).cloned()
+    else {
+        return;
+    };
+    let frame = state.frame.get_untracked();
+    let found = if forward {
+        crate::view::timeline::next_segment(&spans, frame)
+    } else {
+        crate::view::timeline::previous_segment(&spans, frame)
+    };
+    let Some(i) = found else { return };
+    let (start, end) = spans[i];
+    state.play_until.set(None);
+    state.window.update(|w| *w = w.showing(start, end, state.frames()));
+    state.selected.set(Some(Selection { row, start, end }));
+    state.frame.set(start);
 }

@@ -358,7 +358,7 @@ test("SSSM segments the sample: rows, image, re-run, bad parameter, export", asy
   await waitSssm("done");
   const rows = await page.evaluate(() => {
     const read = (sel) => [...document.querySelectorAll(sel)].map((e) => ({
-      start: Number(e.dataset.start), end: Number(e.dataset.end), title: e.title, cls: e.className,
+      start: Number(e.dataset.start), end: Number(e.dataset.end), title: e.getAttribute("aria-label"), cls: e.className,
     }));
     return { actions: read("#row-sssm-actions .ms-seg--action"), transitions: read("#row-sssm-actions .ms-seg--transition"),
       primitives: read("#row-sssm-primitives .ms-seg--primitive") };
@@ -414,10 +414,17 @@ test("SSSM segments the sample: rows, image, re-run, bad parameter, export", asy
   const { n } = await frameCounter();
   assert.ok(n - 1 >= prim.start && n - 1 <= prim.end,
     `after clicking primitive ${prim.start}–${prim.end} the frame counter shows ${n} (1-based)`);
+  // the click selects it and loops it (Loop is on by default); with Loop off it plays to its end once
+  assert.equal(await page.locator("#loop-toggle").getAttribute("aria-pressed"), "true");
+  await page.click("#loop-toggle");
+  assert.equal(await page.locator("#loop-toggle").getAttribute("aria-pressed"), "false");
+  await page.click("#e2e-primitive");
   const seconds = (prim.end - prim.start + 1) * SAMPLE_HDR.frameTime;
   await page.waitForFunction(() => document.querySelector("#play-pause")?.getAttribute("aria-pressed") === "false",
     null, { timeout: seconds * 1000 + 5000 });
   assert.equal((await frameCounter()).n - 1, prim.end, "playback of a primitive stops on its last frame");
+  await page.click("#loop-toggle"); // Loop on again, the default
+  assert.equal(await page.locator("#loop-toggle").getAttribute("aria-pressed"), "true");
 });
 
 test("every registered method gets a panel: the velocity baseline runs after the load too", async () => {
@@ -426,8 +433,8 @@ test("every registered method gets a panel: the velocity baseline runs after the
   for (const want of ["sssm", "velocity", "kcs"]) assert.ok(names.includes(want), `no ${want} panel in ${names}`);
   await page.waitForFunction((names) => names.every((n) => document.body.dataset[n] === "done"), names, { timeout: TIMEOUT });
   // every row says which method and level it shows
-  assert.equal(await page.locator("#row-pca-actions").getAttribute("data-label"), "PCA actions");
-  assert.equal(await page.locator("#row-kcs-primitives").getAttribute("data-label"), "KCS primitives");
+  assert.equal(await page.locator("#row-pca-actions").getAttribute("data-label"), "PCA · actions");
+  assert.equal(await page.locator("#row-kcs-primitives").getAttribute("data-label"), "KCS · primitives");
   const gestures = await page.locator("#row-velocity-primitives .ms-seg").count();
   assert.ok(gestures >= 2, `#row-velocity-primitives has ${gestures} segments, want ≥ 2`);
   assert.equal(await page.locator("#row-velocity-actions").isVisible(), false, "no empty actions row");
@@ -443,6 +450,417 @@ test("every registered method gets a panel: the velocity baseline runs after the
   await page.click("#velocity-run");
   await page.waitForFunction(() => document.body.dataset.velocity === "done", null, { timeout: TIMEOUT });
   assert.equal(await page.locator("#error-banner").isVisible(), false, "the banner cleared after the good run");
+});
+
+// ---- the timeline: ruler, readout, row labels, zoom and pan, minimap, hover, selection, keys ----
+
+/** The timeline's window [start, end) in frames. */
+async function tlWindow() {
+  return page.evaluate(() => {
+    const t = document.querySelector("#timeline");
+    return { start: Number(t.dataset.windowStart), end: Number(t.dataset.windowEnd) };
+  });
+}
+
+/** The ruler's ticks: label, seconds, and x on screen. */
+function rulerTicks() {
+  return page.locator("#timeline-ruler .ms-tick").evaluateAll((els) => els.map((e) => ({
+    label: e.textContent, seconds: Number(e.dataset.seconds), x: e.getBoundingClientRect().left,
+  })));
+}
+
+/** The box of a lane (the ruler's: every lane has the same x range). */
+const laneBox = async () => page.locator("#timeline-ruler").boundingBox();
+
+/** `mm:ss.fff` of a time in seconds, computed here, not by the page. */
+function mmss(seconds) {
+  const ms = Math.round(seconds * 1000);
+  return `${String(Math.floor(ms / 60000)).padStart(2, "0")}:${String(Math.floor(ms / 1000) % 60).padStart(2, "0")}.${String(ms % 1000).padStart(3, "0")}`;
+}
+
+/** Presses keys with the focus on the page's body (not a button, which keeps Space for itself). */
+async function pressKeys(...keys) {
+  await page.evaluate(() => document.activeElement?.blur?.());
+  for (const k of keys) await page.keyboard.press(k);
+}
+
+/** Pauses playback (if playing) through its button. */
+async function pause() {
+  if ((await page.locator("#play-pause").getAttribute("aria-pressed")) === "true") await page.click("#play-pause");
+  await page.waitForFunction(() => document.querySelector("#play-pause")?.getAttribute("aria-pressed") === "false");
+}
+
+/** Paused, nothing selected, the whole take on the timeline. */
+async function resetTimeline() {
+  await pause();
+  if (await page.locator("#help-overlay").isVisible()) await pressKeys("Escape");
+  if ((await page.locator(".ms-seg--selected").count()) > 0) await pressKeys("Escape");
+  assert.equal(await page.locator(".ms-seg--selected").count(), 0, "Esc drops the selection");
+  await fit();
+}
+
+/** Back to the whole take. */
+async function fit() {
+  if (await page.locator("#zoom-fit").isEnabled()) await page.click("#zoom-fit");
+  const w = await tlWindow();
+  assert.deepEqual(w, { start: 0, end: (await frameCounter()).total }, "Fit shows the whole take");
+}
+
+/** The SSSM's rows as the export says (actions and transitions in one row, primitives in another). */
+async function sssmRows() {
+  const json = await exportSssm("e2e-timeline-sssm.json");
+  const sorted = (levels) => json.segments.filter((s) => levels.includes(s.level)).sort((a, b) => a.start - b.start);
+  return { actions: sorted(["action", "transition"]), primitives: sorted(["primitive"]) };
+}
+
+test("timeline: a time ruler, the readout after seeking, each row's label at its left, a hairline playhead", async () => {
+  await pause();
+  const fps = 1 / SAMPLE_HDR.frameTime;
+  await setRange("#scrub", 240);
+  const want = `${mmss(240 * SAMPLE_HDR.frameTime)} · frame 241 / ${SAMPLE_HDR.frames}`;
+  assert.equal(await text("#time-readout"), want, "the readout after seeking to frame 241");
+  await setRange("#scrub", SAMPLE_HDR.frames - 1);
+  assert.equal(await text("#time-readout"),
+    `${mmss((SAMPLE_HDR.frames - 1) * SAMPLE_HDR.frameTime)} · frame ${SAMPLE_HDR.frames} / ${SAMPLE_HDR.frames}`);
+
+  // the ruler over the whole take: round seconds, evenly spaced, at the right places
+  const w = await tlWindow();
+  assert.deepEqual(w, { start: 0, end: SAMPLE_HDR.frames }, "the whole take is shown after a load");
+  const ticks = await rulerTicks();
+  const lane = await laneBox();
+  assert.ok(ticks.length >= 3, `ruler ticks: ${JSON.stringify(ticks)}`);
+  assert.equal(ticks[0].label, "0 s");
+  const step = ticks[1].seconds - ticks[0].seconds;
+  assert.ok([1, 2, 5, 10].includes(step), `a round step for ${(SAMPLE_HDR.frames / fps).toFixed(1)} s: ${step}`);
+  for (const t of ticks) {
+    assert.match(t.label, /^\d+ s$/, `tick label ${t.label}`);
+    assert.equal(Number(t.label.replace(" s", "")), t.seconds);
+    const x = lane.x + (t.seconds * fps) / SAMPLE_HDR.frames * lane.width;
+    assert.ok(Math.abs(t.x - x) <= 1.5, `tick ${t.label} at x ${t.x}, want ${x}`);
+  }
+  console.log(`  (ruler over the sample's ${(SAMPLE_HDR.frames / fps).toFixed(2)} s: ${ticks.map((t) => t.label).join(", ")})`);
+
+  // every row with segments has its label at the left of its lane
+  for (const [row, label] of [["sssm-actions", "SSSM · actions"], ["sssm-primitives", "SSSM · primitives"],
+    ["dtfcn-actions", "DT-FCN · labels"], ["velocity-primitives", "Velocity · primitives"]]) {
+    const lane = page.locator(`#row-${row}`);
+    assert.equal(await lane.getAttribute("data-label"), label);
+    const name = lane.locator("xpath=preceding-sibling::div[contains(@class, 'ms-tl-label')]");
+    assert.equal((await name.textContent()).trim(), label, `#row-${row}'s label`);
+    const [lb, rb] = [await name.boundingBox(), await lane.boundingBox()];
+    assert.ok(lb.x + lb.width <= rb.x + 0.5 && Math.abs(lb.y - rb.y) < 2, `${label} sits at the left of its row`);
+    assert.ok(Math.abs(rb.x - lane.x) < 0.5 || true);
+    assert.ok(Math.abs(rb.x - (await laneBox()).x) < 0.5 && Math.abs(rb.width - (await laneBox()).width) < 0.5,
+      `#row-${row} spans the ruler's x range`);
+  }
+  // the playhead: at the current frame's column, a hairline that lets labels through
+  await setRange("#scrub", 1000);
+  const ph = await page.locator("#playhead").boundingBox();
+  const x = lane.x + (1000.5 / SAMPLE_HDR.frames) * lane.width;
+  assert.ok(Math.abs(ph.x + ph.width / 2 - x) <= 1.5, `#playhead at ${ph.x}, want ${x}`);
+  assert.ok(ph.width <= 1.5, `#playhead is ${ph.width} px wide`);
+  assert.equal(await page.locator("#playhead").evaluate((e) => getComputedStyle(e).pointerEvents), "none");
+  await page.locator("#timeline").screenshot({ path: path.join(OUT, "e2e-timeline.png") });
+});
+
+test("timeline: +/− and Ctrl+wheel zoom, Shift+wheel and the ruler pan; the ruler follows", async () => {
+  await resetTimeline();
+  await setRange("#scrub", 1200);
+  const total = SAMPLE_HDR.frames;
+  const before = await rulerTicks();
+  await pressKeys("+");
+  let w = await tlWindow();
+  assert.ok(Math.abs(w.end - w.start - total / 2) < 0.01, `+ halves the window: ${JSON.stringify(w)}`);
+  assert.ok(w.start <= 1200 && w.end >= 1201, "around the playhead");
+  await pressKeys("+", "+");
+  w = await tlWindow();
+  assert.ok(Math.abs(w.end - w.start - total / 8) < 0.01, `three + : an eighth: ${JSON.stringify(w)}`);
+  const zoomed = await rulerTicks();
+  const step = (t) => t[1].seconds - t[0].seconds;
+  assert.ok(step(zoomed) < step(before), `the ruler's step shrinks: ${step(before)} → ${step(zoomed)} s`);
+  assert.ok(zoomed[0].seconds >= w.start * SAMPLE_HDR.frameTime - 1e-6, "the ruler shows the window's seconds");
+  // the playhead stays where it was on screen (zoom around it)
+  const lane = await laneBox();
+  const ph = await page.locator("#playhead").boundingBox();
+  const x = lane.x + ((1200.5 - w.start) / (w.end - w.start)) * lane.width;
+  assert.ok(Math.abs(ph.x + ph.width / 2 - x) <= 1.5, `#playhead in the zoomed window at ${ph.x}, want ${x}`);
+  await page.locator("#timeline").screenshot({ path: path.join(OUT, "e2e-timeline-zoomed.png") });
+  await pressKeys("-", "-", "-");
+  assert.deepEqual(await tlWindow(), { start: 0, end: total }, "− three times: the whole take again");
+
+  // Ctrl+wheel over the motion image: zoom in around the pointer
+  const image = await page.locator("#motion-image").boundingBox();
+  const px = Math.round(image.x + image.width * 0.3); // events carry whole client pixels
+  await page.mouse.move(px, image.y + image.height / 2);
+  const frameAt = (w) => w.start + ((px - lane.x) / lane.width) * (w.end - w.start);
+  const w0 = await tlWindow();
+  await page.keyboard.down("Control");
+  await page.mouse.wheel(0, -400);
+  await page.keyboard.up("Control");
+  await page.waitForFunction((s) => Number(document.querySelector("#timeline").dataset.windowEnd)
+    - Number(document.querySelector("#timeline").dataset.windowStart) < s, total);
+  const w1 = await tlWindow();
+  assert.ok(w1.end - w1.start < (w0.end - w0.start) / 1.5, `Ctrl+wheel zooms in: ${JSON.stringify(w1)}`);
+  assert.ok(Math.abs(frameAt(w1) - frameAt(w0)) < 1, `the frame under the pointer stays: ${frameAt(w0)} → ${frameAt(w1)}`);
+  const wheelTicks = await rulerTicks();
+  assert.ok(step(wheelTicks) < step(before), "the ruler's step follows the wheel's zoom");
+  // Shift+wheel pans (same span, later), a plain wheel leaves the window alone (it scrolls the page)
+  await page.keyboard.down("Shift");
+  await page.mouse.wheel(0, 200);
+  await page.keyboard.up("Shift");
+  await page.waitForFunction((s) => Number(document.querySelector("#timeline").dataset.windowStart) > s, w1.start);
+  const w2 = await tlWindow();
+  assert.ok(Math.abs((w2.end - w2.start) - (w1.end - w1.start)) < 0.01 && w2.start > w1.start,
+    `Shift+wheel pans: ${JSON.stringify(w1)} → ${JSON.stringify(w2)}`);
+  await page.mouse.wheel(0, 100);
+  await page.waitForTimeout(200);
+  assert.deepEqual(await tlWindow(), w2, "a plain wheel does not zoom or pan");
+  // dragging the ruler to the right shows earlier frames (the plain wheel scrolled the page: back
+  // to the ruler, once that scroll has settled)
+  await page.waitForTimeout(300);
+  await page.locator("#timeline-ruler").scrollIntoViewIfNeeded();
+  let ruler = await laneBox();
+  for (let prev = null; !prev || prev.y !== ruler.y;) {
+    prev = ruler;
+    await page.waitForTimeout(150);
+    ruler = await laneBox();
+  }
+  await page.mouse.move(ruler.x + ruler.width / 2, ruler.y + ruler.height / 2);
+  await page.mouse.down();
+  await page.mouse.move(ruler.x + ruler.width / 2 + 150, ruler.y + ruler.height / 2, { steps: 5 });
+  await page.mouse.up();
+  const w3 = await tlWindow();
+  const want = w2.start - (150 / ruler.width) * (w2.end - w2.start);
+  assert.ok(Math.abs(w3.start - Math.max(0, want)) < 1, `dragging the ruler pans: ${w2.start} → ${w3.start}, want ${want}`);
+  await fit();
+});
+
+test("timeline: the minimap shows the window; dragging it pans", async () => {
+  await resetTimeline();
+  await setRange("#scrub", 100);
+  await pressKeys("+", "+", "+");
+  const total = SAMPLE_HDR.frames;
+  const w0 = await tlWindow();
+  const map = await page.locator("#timeline-minimap").boundingBox();
+  const box0 = await page.locator("#minimap-window").boundingBox();
+  assert.ok(Math.abs(box0.x - (map.x + (w0.start / total) * map.width)) < 1
+    && Math.abs(box0.width - Math.max(4, ((w0.end - w0.start) / total) * map.width)) < 1,
+    `#minimap-window ${JSON.stringify(box0)} draws the window ${JSON.stringify(w0)} on ${JSON.stringify(map)}`);
+  const mini = await canvasStats("#minimap-canvas");
+  assert.ok(!mini.error && mini.distinct >= 16, `the minimap shows the motion image: ${JSON.stringify(mini)}`);
+  // drag the window 200 px right
+  await page.mouse.move(box0.x + box0.width / 2, box0.y + box0.height / 2);
+  await page.mouse.down();
+  await page.mouse.move(box0.x + box0.width / 2 + 200, box0.y + box0.height / 2, { steps: 8 });
+  await page.mouse.up();
+  const w1 = await tlWindow();
+  const moved = (200 / map.width) * total;
+  assert.ok(Math.abs(w1.start - w0.start - moved) < 1 && Math.abs((w1.end - w1.start) - (w0.end - w0.start)) < 0.01,
+    `dragging the minimap's window pans by ${moved.toFixed(1)} frames: ${JSON.stringify(w0)} → ${JSON.stringify(w1)}`);
+  const box1 = await page.locator("#minimap-window").boundingBox();
+  assert.ok(Math.abs(box1.x - box0.x - 200) < 2, `#minimap-window follows: ${box0.x} → ${box1.x}`);
+  // pressing elsewhere on the minimap centres the window there
+  const mx = Math.round(map.x + map.width * 0.75); // events carry whole client pixels
+  await page.mouse.click(mx, map.y + map.height / 2);
+  const w2 = await tlWindow();
+  const centre = ((mx - map.x) / map.width) * total;
+  assert.ok(Math.abs((w2.start + w2.end) / 2 - centre) < 0.01, `centred at three quarters (${centre}): ${JSON.stringify(w2)}`);
+  // the motion image shows the window's columns: it differs from the whole take's
+  const zoomed = await canvasStats("#motion-image");
+  assert.ok(zoomed.distinct >= 8, `#motion-image zoomed: ${JSON.stringify(zoomed)}`);
+  await page.locator("#timeline").screenshot({ path: path.join(OUT, "e2e-timeline-minimap.png") });
+  await fit();
+});
+
+test("timeline: hovering a segment shows its label, frames and seconds; an empty lane the frame", async () => {
+  await resetTimeline();
+  const seg = page.locator("#row-sssm-actions .ms-seg--action").first();
+  const s = await seg.evaluate((e) => ({ start: Number(e.dataset.start), end: Number(e.dataset.end), label: e.textContent }));
+  await seg.hover();
+  const tip = page.locator("#timeline-tooltip");
+  await tip.waitFor({ state: "visible" });
+  const t = SAMPLE_HDR.frameTime;
+  const want = `${s.label} · frames ${s.start + 1}–${s.end + 1} · ${(s.start * t).toFixed(2)}–${((s.end + 1) * t).toFixed(2)} s`;
+  assert.equal(await text("#timeline-tooltip"), want, "the segment's tooltip");
+  await page.locator("#timeline").screenshot({ path: path.join(OUT, "e2e-timeline-hover.png") });
+  // over the motion image: the frame under the pointer
+  const lane = await laneBox();
+  const image = await page.locator("#motion-image").boundingBox();
+  const hx = Math.round(lane.x + 0.5 * lane.width); // events carry whole client pixels
+  const frame = Math.floor(((hx - lane.x) / lane.width) * SAMPLE_HDR.frames);
+  await page.mouse.move(hx, image.y + 5);
+  assert.match(await text("#timeline-tooltip"), new RegExp(`^frame ${frame + 1} · ${mmss(frame * t).replace(".", "\\.")} · `));
+  await page.mouse.move(5, 5);
+  await tip.waitFor({ state: "hidden" });
+});
+
+test("timeline: clicking a segment selects it and loops it; clicking the timeline seeks and drops it", async () => {
+  await resetTimeline();
+  const seg = page.locator("#row-sssm-actions .ms-seg--action").first();
+  const s = await seg.evaluate((e) => ({ start: Number(e.dataset.start), end: Number(e.dataset.end) }));
+  assert.equal(await page.locator("#loop-toggle").isDisabled(), true, "no selection: the Loop toggle is off duty");
+  await seg.click();
+  assert.match(await seg.getAttribute("class"), /ms-seg--selected/, "the clicked segment is highlighted");
+  assert.equal(await seg.getAttribute("aria-pressed"), "true");
+  assert.equal(await page.locator("#loop-toggle").getAttribute("aria-pressed"), "true", "Loop is on by default");
+  assert.equal(await page.locator("#play-pause").getAttribute("aria-pressed"), "true", "the click plays it");
+  // over its length and a half (at least 2 s), every frame shown is inside it and it starts again
+  const seconds = Math.max(2, 1.5 * (s.end - s.start + 1) * SAMPLE_HDR.frameTime);
+  const seen = await page.evaluate(async (ms) => {
+    const out = [];
+    for (const end = performance.now() + ms; performance.now() < end;) {
+      out.push(Number(/frame (\d+)/.exec(document.querySelector("#frame-counter").textContent)[1]) - 1);
+      await new Promise((r) => setTimeout(r, 40));
+    }
+    return out;
+  }, seconds * 1000);
+  assert.ok(seen.every((f) => f >= s.start && f <= s.end), `frames inside ${s.start}–${s.end}: ${seen.filter((f) => f < s.start || f > s.end)}`);
+  assert.ok(seen.some((f, i) => i > 0 && f < seen[i - 1]), `playback went round the loop (${seen.length} samples)`);
+  console.log(`  (looping ${s.start}–${s.end} for ${seconds.toFixed(1)} s: ${seen.length} samples, frames ${Math.min(...seen)}–${Math.max(...seen)})`);
+  await shot("e2e-timeline-loop.png");
+  // the hint under the timeline says what a click does
+  assert.match(await text("#timeline-hint"), /Click a segment to select it.*click elsewhere on the timeline to seek/);
+  // clicking the motion image seeks there and drops the selection
+  await pause();
+  const lane = await laneBox();
+  const image = await page.locator("#motion-image").boundingBox();
+  const cx = Math.round(lane.x + ((Math.min(SAMPLE_HDR.frames - 1, s.end + 200) + 0.5) / SAMPLE_HDR.frames) * lane.width);
+  const target = Math.floor(((cx - lane.x) / lane.width) * SAMPLE_HDR.frames); // events carry whole client pixels
+  await page.mouse.click(cx, image.y + image.height / 2);
+  assert.equal((await frameCounter()).n - 1, target, "clicking the timeline seeks");
+  assert.equal(await page.locator("#row-sssm-actions .ms-seg--selected").count(), 0, "and drops the selection");
+  assert.equal(await page.locator("#loop-toggle").isDisabled(), true);
+});
+
+test("timeline: [ and ] go to the previous / next segment and bring it into view", async () => {
+  await resetTimeline();
+  const rows = await sssmRows();
+  await setRange("#scrub", 0);
+  await pressKeys("+", "+", "+", "+"); // a sixteenth of the take: most segments off screen
+  // only the segments in the window are on the timeline
+  const w16 = await tlWindow();
+  const shown = await page.locator("#row-sssm-primitives .ms-seg").evaluateAll((els) => els.map((e) => [Number(e.dataset.start), Number(e.dataset.end)]));
+  const inWindow = rows.primitives.filter((p) => p.end + 1 > w16.start && p.start < w16.end);
+  assert.deepEqual(shown.sort((a, b) => a[0] - b[0]), inWindow.map((p) => [p.start, p.end]),
+    `zoomed to ${JSON.stringify(w16)}: the ${inWindow.length} primitives in it of ${rows.primitives.length} are in the DOM, no others`);
+  const firstRow = await page.evaluate(() => [...document.querySelectorAll(".ms-row")]
+    .find((r) => !r.closest(".ms-tl-line").hidden)?.id);
+  assert.equal(firstRow, "row-sssm-actions", "the first row is SSSM's actions");
+  const visits = [];
+  for (let i = 0; i < 3; i++) {
+    const cur = (await frameCounter()).n - 1;
+    const s = rows.actions.find((a) => a.start > cur);
+    if (!s) break;
+    await pressKeys("]");
+    const { n } = await frameCounter();
+    const w = await tlWindow();
+    visits.push({ frame: n - 1, window: [w.start, w.end] });
+    assert.equal(n - 1, s.start, `] moves from ${cur} to the next segment's start`);
+    assert.ok(w.start <= s.start && w.end >= s.start + 1, `segment ${s.start} is in view: ${JSON.stringify(w)}`);
+    const el = page.locator(`#row-sssm-actions .ms-seg[data-start="${s.start}"]`);
+    assert.equal(await el.count(), 1, "its element is on the timeline");
+    assert.match(await el.getAttribute("class"), /ms-seg--selected/, "and selected");
+  }
+  assert.ok(visits.length >= 2, `] visited ${visits.length} segments`);
+  const cur = (await frameCounter()).n - 1;
+  await pressKeys("[");
+  const back = rows.actions.filter((a) => a.start < cur).pop();
+  assert.equal((await frameCounter()).n - 1, back.start, "[ goes back one segment");
+  // with a primitive selected, [ / ] walk the primitives' row
+  const prim = page.locator("#row-sssm-primitives .ms-seg--primitive").first();
+  await prim.click();
+  await pause();
+  const p0 = Number(await prim.getAttribute("data-start"));
+  await setRange("#scrub", p0);
+  await pressKeys("]");
+  const next = rows.primitives.find((p) => p.start > p0);
+  assert.equal((await frameCounter()).n - 1, next.start, "] in the selected (primitives) row");
+  await page.locator("#timeline").screenshot({ path: path.join(OUT, "e2e-timeline-next.png") });
+  console.log(`  (] visits: ${JSON.stringify(visits)})`);
+  await fit();
+});
+
+test("keyboard: space, arrows, Shift+arrows, J/K/L, Home/End; ? shows the help; keys in a field are the field's", async () => {
+  await resetTimeline();
+  const frames = SAMPLE_HDR.frames;
+  const fps = Math.round(1 / SAMPLE_HDR.frameTime);
+  const at = async () => (await frameCounter()).n - 1;
+  await setRange("#scrub", 500);
+  await pressKeys("ArrowRight");
+  assert.equal(await at(), 501, "→ one frame");
+  await pressKeys("ArrowLeft", "ArrowLeft");
+  assert.equal(await at(), 499, "← one frame");
+  await pressKeys("Shift+ArrowRight");
+  assert.equal(await at(), 499 + fps, "Shift+→ one second");
+  await pressKeys("Shift+ArrowLeft", "Shift+ArrowLeft");
+  assert.equal(await at(), 499 - fps, "Shift+← one second");
+  await pressKeys("End");
+  assert.equal(await at(), frames - 1, "End");
+  await pressKeys("Home");
+  assert.equal(await at(), 0, "Home");
+  // Ctrl+→ is the browser's (word-wise moves): the page ignores it
+  await pressKeys("Control+ArrowRight");
+  assert.equal(await at(), 0, "Ctrl+→ left to the browser");
+  // space plays and pauses
+  await pressKeys(" ");
+  assert.equal(await page.locator("#play-pause").getAttribute("aria-pressed"), "true", "space plays");
+  await page.waitForTimeout(300);
+  await pressKeys(" ");
+  assert.equal(await page.locator("#play-pause").getAttribute("aria-pressed"), "false", "space pauses");
+  assert.ok(await at() > 0, "playback moved on");
+  // L twice: forwards at 2×; J: backwards; K: pause
+  await setRange("#scrub", 1000);
+  await pressKeys("l", "l");
+  assert.equal(await text("#shuttle-rate"), "▶ 2×");
+  const a = await at();
+  await page.waitForTimeout(500);
+  const b = await at();
+  assert.ok(b - a > 0.5 * fps * 0.5 * 2 * 0.6, `L L plays forwards at 2×: ${a} → ${b} in 0.5 s`);
+  await pressKeys("j");
+  assert.equal(await text("#shuttle-rate"), "◀ 1×");
+  const c = await at();
+  await page.waitForTimeout(500);
+  const d = await at();
+  assert.ok(d < c, `J plays backwards: ${c} → ${d}`);
+  await pressKeys("j");
+  assert.equal(await text("#shuttle-rate"), "◀ 2×", "J again: faster");
+  await pressKeys("k");
+  assert.equal(await page.locator("#play-pause").getAttribute("aria-pressed"), "false", "K pauses");
+  assert.equal(await text("#shuttle-rate"), "");
+
+  // ? opens the help, listing every shortcut; Esc closes it
+  await pressKeys("?");
+  await page.locator("#help-overlay").waitFor({ state: "visible" });
+  const help = await text("#help-overlay");
+  for (const k of ["Space", "← / →", "Shift + ← / →", "J / K / L", "Home / End", "+ / −", "[ / ]", "Ctrl or ⌘ + wheel",
+    "Shift + wheel", "Drag the ruler or the minimap", "?", "Esc"]) {
+    assert.ok(help.includes(k), `the help lists ${k}`);
+  }
+  assert.ok(!/undo/i.test(help), "no undo listed (nothing to undo yet)");
+  await shot("e2e-timeline-help.png");
+  await pressKeys("Escape");
+  await page.locator("#help-overlay").waitFor({ state: "hidden" });
+  await page.click("#help-button");
+  await page.locator("#help-overlay").waitFor({ state: "visible" });
+  await page.click("#help-close");
+  await page.locator("#help-overlay").waitFor({ state: "hidden" });
+
+  // in a text field, keys are typed, not shortcuts
+  await setRange("#scrub", 300);
+  const w = await tlWindow();
+  const field = page.locator("#dtfcn-train-name");
+  const old = await field.inputValue();
+  await field.focus();
+  await page.keyboard.type("a]+?l j");
+  await page.keyboard.press("ArrowRight");
+  await page.keyboard.press("Home");
+  assert.equal(await field.inputValue(), `${old}a]+?l j`, "the keys went into the field");
+  assert.equal(await at(), 300, "no frame moved");
+  assert.deepEqual(await tlWindow(), w, "no zoom");
+  assert.equal(await page.locator("#help-overlay").isVisible(), false, "no help");
+  assert.equal(await page.locator("#play-pause").getAttribute("aria-pressed"), "false", "no playback");
+  await field.fill(old);
+  await page.evaluate(() => document.activeElement?.blur?.());
 });
 
 // ---- LMA classifiers from the user's own Effort labels ----------------------------------------
@@ -792,7 +1210,7 @@ test("DT-FCN and k-NN label the sample: rows coloured by class and confidence, m
     assert.ok(coloured >= 1, `#row-${m}-actions has no coloured segment`);
     console.log(`  (${m} on the sample: ${json.segments.length} segments, ${colours} class colours; `
       + `"${await text(`#${m}-counts`)}")`);
-    assert.equal(await page.locator(`#row-${m}-actions`).getAttribute("data-label"), m === "dtfcn" ? "DT-FCN labels" : "k-NN labels");
+    assert.equal(await page.locator(`#row-${m}-actions`).getAttribute("data-label"), m === "dtfcn" ? "DT-FCN · labels" : "k-NN · labels");
     const options = await page.locator(`#${m}-model option`).evaluateAll((os) => os.map((o) => o.value));
     assert.deepEqual(options.slice(0, 3), ["exercises", "cmu-actions", "locomotion"], `#${m}-model offers the shipped models`);
     const threshold = Number(await page.inputValue(`#${m}-unknown_threshold`));
@@ -1413,6 +1831,85 @@ test("file names, a model's name and labels, and joint names show as text, never
   await pickLabels(`${XSS}.csv`, labelCsv("joints.bvh", [[0, 99, XSS], [100, 199, "b"]]));
   assert.equal(await page.locator("#lma-labels-name *, #dtfcn-train-labels-name *").count(), 0, "no markup in the file names");
   await assertNoInjection("the label files' names");
+});
+
+// ---- a 100 000-frame take: loads, plays smoothly, few elements on the timeline -----------------
+
+/** A BVH of `frames` frames: one root with an End Site, moving along a slow curve. */
+function bigBvh(frames) {
+  const rows = new Array(frames);
+  for (let i = 0; i < frames; i++) {
+    const t = i / 120;
+    rows[i] = `${(50 * Math.sin(t / 3)).toFixed(3)} ${(90 + 5 * Math.sin(t * 2)).toFixed(3)} ${(0.2 * i % 400).toFixed(3)} `
+      + `${(20 * Math.sin(t)).toFixed(3)} ${((i / 10) % 360).toFixed(3)} ${(10 * Math.cos(t)).toFixed(3)}`;
+  }
+  return ["HIERARCHY", "ROOT Hips", "{", "  OFFSET 0 0 0",
+    "  CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation",
+    "  End Site", "  {", "    OFFSET 0 10 0", "  }", "}", "MOTION", `Frames: ${frames}`, "Frame Time: 0.0083333",
+    ...rows, ""].join("\n");
+}
+
+test("a 100 000-frame take loads and plays: few elements on the timeline, animation frames on time", async () => {
+  const FRAMES = 100_000;
+  const name = "long-100k.bvh";
+  allowConsoleErrors = true; // the methods may refuse a one-joint take (their message is the banner's)
+  try {
+    const t0 = Date.now();
+    await page.setInputFiles("#file-input", { name, mimeType: "application/octet-stream", buffer: Buffer.from(bigBvh(FRAMES)) });
+    await waitReady(name);
+    const loadMs = Date.now() - t0;
+    assert.equal((await frameCounter()).total, FRAMES);
+    assert.deepEqual(await tlWindow(), { start: 0, end: FRAMES });
+    // let the methods finish (or refuse) so that their rows are on the timeline
+    await page.waitForFunction((ms) => ms.every((m) => document.body.dataset[m] !== "running"), METHODS, { timeout: 5 * TIMEOUT })
+      .catch(() => {});
+    const states = await page.evaluate((ms) => Object.fromEntries(ms.map((m) => [m, document.body.dataset[m]])), METHODS);
+    const count = () => page.evaluate(() => ({
+      nodes: document.querySelectorAll("#timeline *").length,
+      segments: document.querySelectorAll("#timeline .ms-seg").length,
+      rows: [...document.querySelectorAll("#timeline .ms-row")].filter((r) => !r.closest(".ms-tl-line").hidden).length,
+    }));
+    const whole = await count();
+    assert.ok(whole.nodes < 2000, `elements under #timeline for the whole take: ${JSON.stringify(whole)}`);
+    // play, zoomed in (the window follows the playhead), and time the animation frames
+    await pressKeys("+", "+", "+", "+", "+", "+");
+    await pressKeys(" ");
+    const timing = await page.evaluate(async () => {
+      const stamps = [];
+      const frames = [];
+      await new Promise((done) => {
+        const tick = (now) => {
+          stamps.push(now);
+          frames.push(Number(/frame (\d+)/.exec(document.querySelector("#frame-counter").textContent)[1]));
+          if (now - stamps[0] < 3000) requestAnimationFrame(tick);
+          else done();
+        };
+        requestAnimationFrame(tick);
+      });
+      const gaps = stamps.slice(1).map((t, i) => t - stamps[i]).sort((a, b) => a - b);
+      const t = document.querySelector("#timeline").dataset;
+      return {
+        median: gaps[Math.floor(gaps.length / 2)], p95: gaps[Math.floor(gaps.length * 0.95)], max: gaps[gaps.length - 1],
+        ticks: gaps.length, first: frames[0], last: frames[frames.length - 1],
+        window: [Number(t.windowStart), Number(t.windowEnd)],
+      };
+    });
+    await pressKeys(" ");
+    const zoomed = await count();
+    await page.locator("#timeline").screenshot({ path: path.join(OUT, "e2e-timeline-100k.png") });
+    console.log(`  (100 000 frames: ready in ${loadMs} ms; methods ${JSON.stringify(states)}; whole take ${JSON.stringify(whole)}; `
+      + `zoomed ${JSON.stringify(zoomed)}; playing 3 s: ${timing.ticks} animation frames, median ${timing.median.toFixed(1)} ms, `
+      + `p95 ${timing.p95.toFixed(1)} ms, max ${timing.max.toFixed(1)} ms, frames ${timing.first} → ${timing.last}, window ${timing.window})`);
+    assert.ok(timing.median < 50, `median animation-frame interval ${timing.median} ms`);
+    assert.ok(timing.last > timing.first + 120, `playback advanced: ${timing.first} → ${timing.last}`);
+    const { n } = await frameCounter();
+    const w = await tlWindow();
+    assert.ok(w.end - w.start < FRAMES / 32 && w.start <= n - 1 && w.end >= n, `the zoomed window follows the playhead: ${JSON.stringify(w)} at ${n}`);
+    assert.ok(zoomed.nodes < 2000, `elements under #timeline zoomed: ${JSON.stringify(zoomed)}`);
+  } finally {
+    allowConsoleErrors = false;
+  }
+  if (await page.locator("#error-banner").isVisible()) await page.locator("#error-dismiss").click();
 });
 
 test("load sample button", async () => {
