@@ -70,6 +70,12 @@ fn bad_asf_and_amc_are_refused_naming_file_line_and_column() {
             "bone `lfoot` has two parents",
         ),
         (
+            asf.replace("name lfemur", "name l{femur"),
+            amc.clone(),
+            String::from("02.asf: line "),
+            "a bone's name cannot contain `{` or `}`",
+        ),
+        (
             asf.replace(":hierarchy", ":hierarchy_x"),
             amc.clone(),
             String::from("02.asf: line "),

@@ -325,6 +325,10 @@ pub fn parse_asf(text: &str, limits: &ParseLimits) -> Result<Asf, BvhError> {
                         if t.eq_ignore_ascii_case("root") {
                             return Err(err(n, c, "a bone cannot be called `root` (the root is not a bone)"));
                         }
+                        if let Some(at) = t.find(['{', '}']) {
+                            let col = c + t[..at].chars().count();
+                            return Err(err(n, col, format!("a bone's name cannot contain `{{` or `}}` (it would not survive as a BVH joint name), found `{t}`")));
+                        }
                         d.name = Some(t.to_string());
                     }
                     "direction" => d.direction = Some(numbers::<3>(n, &toks, "direction")?),
