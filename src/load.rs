@@ -168,16 +168,19 @@ pub fn load_path(path: &std::path::Path) -> Result<Loaded, LoadError> {
     }
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 fn file_name(path: &std::path::Path) -> String {
     path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| path.display().to_string())
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 fn read(path: &std::path::Path) -> Result<Vec<u8>, LoadError> {
     std::fs::read(path).map_err(|e| LoadError::Io { file: path.display().to_string(), message: e.to_string() })
 }
 
 /// The ASF skeleton of an AMC motion: `<subject>.asf` beside `<subject>_<trial>.amc` (the CMU
 /// naming), else the only `.asf` in its folder.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn asf_beside(amc: &std::path::Path) -> Result<std::path::PathBuf, LoadError> {
     let folder = amc.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
     let stem = amc.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
