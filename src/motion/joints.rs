@@ -356,7 +356,9 @@ fn find_trunk(n: &Namer, shoulders: [Option<usize>; 2], notes: &mut Vec<String>)
     let Some(path) = head.and_then(|h| s.path_from(hips, h)) else {
         return Trunk { hips, spine: None, chest: None, neck: None, head };
     };
-    let interior = &path[1..path.len() - 1];
+    // the joints strictly between the hips and the head: none when the head is the hips (a root
+    // named `Head`, found by fuzzing) or its child
+    let interior = path.get(1..path.len().saturating_sub(1)).unwrap_or(&[]);
     let neck_pos = interior.iter().position(|&j| n.cores[j].contains("neck")).or_else(|| {
         let p = interior.len().checked_sub(1)?;
         notes.push(format!("Neck: no joint named like a neck; using '{}', the parent of Head", s.names[interior[p]]));
