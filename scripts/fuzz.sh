@@ -7,7 +7,7 @@
 #
 # Settings (environment):
 #   FUZZ_S          seconds per target (default 60)
-#   FUZZ_TARGETS    targets to run, in order (default: all six)
+#   FUZZ_TARGETS    targets to run, in order (default: all seven)
 #   FUZZ_MALLOC_MB  allocation budget in MiB: one allocation or the live heap past it is a finding
 #                   (default 256; given to libFuzzer as -malloc_limit_mb and to the targets'
 #                   own allocator, which enforces it: see fuzz/src/lib.rs)
@@ -27,7 +27,7 @@ cd "$root"
 export PATH="${HOME}/.cargo/bin:${PATH}"
 
 CARGO_FUZZ_VERSION=0.13.2
-ALL_TARGETS="bvh_parse bvh_grammar load_pipeline labels_import segmentation_json model_file"
+ALL_TARGETS="bvh_parse bvh_grammar load_pipeline labels_import segmentation_json model_file asf_amc"
 FUZZ_S="${FUZZ_S:-60}"
 FUZZ_TARGETS="${FUZZ_TARGETS:-$ALL_TARGETS}"
 FUZZ_MALLOC_MB="${FUZZ_MALLOC_MB:-256}"
