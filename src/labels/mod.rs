@@ -11,7 +11,7 @@
 
 pub mod gait;
 
-use crate::segment::truth::{load_csv, TruthOptions};
+use crate::segment::truth::{load_all_csv, TruthOptions};
 
 /// One labelled segment of a take.
 #[derive(Debug, Clone, PartialEq)]
@@ -73,23 +73,9 @@ pub fn read_csv(text: &str, source: &str) -> Result<Vec<LabelRow>, String> {
 /// file `<trial>.bvh`, frames made 0-based BVH rows; and why each other trial could not be read
 /// (the shared data lists trials whose motion it lacks, some with incomplete rows).
 pub fn from_truth_csv(text: &str, options: TruthOptions) -> Result<(Vec<LabelRow>, Vec<String>), String> {
-    let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).flexible(true).from_reader(text.as_bytes());
-    let trial_column = reader
-        .headers()
-        .map_err(|e| e.to_string())?
-        .iter()
-        .position(|h| h == "trial")
-        .ok_or("the ground truth has no `trial` column")?;
-    let mut trials: Vec<String> = Vec::new();
-    for record in reader.records() {
-        let r = record.map_err(|e| e.to_string())?;
-        if let Some(t) = r.get(trial_column).filter(|t| !trials.iter().any(|x| x == t)) {
-            trials.push(t.to_string());
-        }
-    }
     let (mut rows, mut skipped) = (Vec::new(), Vec::new());
-    for trial in &trials {
-        match load_csv(text, trial, options) {
+    for (trial, truth) in load_all_csv(text, options).map_err(|e| e.to_string())? {
+        match truth {
             Ok(truth) => rows.extend(truth.segments.iter().map(|s| LabelRow {
                 file: format!("{trial}.bvh"),
                 start_frame: s.start,

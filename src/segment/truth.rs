@@ -145,6 +145,39 @@ fn shifted(row: usize, offset: usize, what: &str, line: usize) -> Result<usize, 
 /// commas, quotes and line breaks; blank lines are skipped; extra columns are ignored).
 /// Errors name the file's line.
 pub fn load_csv(text: &str, trial: &str, options: TruthOptions) -> Result<Truth, TruthError> {
+    let (mut trials, present) = read_trials(text, options, Some(trial))?;
+    match trials.pop() {
+        Some((_, truth)) => truth,
+        None => Err(TruthError::NoTrial { trial: trial.to_string(), present: present.join(", ") }),
+    }
+}
+
+/// Every trial of a ground-truth CSV, in the order the file first names them, each read as
+/// [`load_csv`] reads it (a trial with a bad row gets that row's error) — in one pass over the
+/// file, however many trials it has. Errors that concern the whole file (its header, a row too
+/// short or not CSV) are the `Err`.
+pub fn load_all_csv(text: &str, options: TruthOptions) -> Result<TrialTruths, TruthError> {
+    Ok(read_trials(text, options, None)?.0)
+}
+
+/// Each trial's name and its ground truth, or why it could not be read.
+pub type TrialTruths = Vec<(String, Result<Truth, TruthError>)>;
+
+/// One trial being read.
+struct Reading {
+    segments: Vec<TruthSegment>,
+    frames: Option<usize>,
+    /// Its first bad row's error; its later rows are not read.
+    error: Option<TruthError>,
+}
+
+/// The trials of the file (only `only` when given, its first bad row failing the call) and the
+/// names of all trials the file has.
+fn read_trials(
+    text: &str,
+    options: TruthOptions,
+    only: Option<&str>,
+) -> Result<(TrialTruths, Vec<String>), TruthError> {
     let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).flexible(true).from_reader(text.as_bytes());
     let headers = reader.headers().map_err(|e| csv_error(&e))?.clone();
     let position = |name: &str| headers.iter().position(|h| h == name);
@@ -153,9 +186,9 @@ pub fn load_csv(text: &str, trial: &str, options: TruthOptions) -> Result<Truth,
         width = width.max(position(name).ok_or(TruthError::MissingColumn(name))? + 1);
     }
 
-    let mut trials_seen: Vec<String> = Vec::new();
-    let mut segments = Vec::new();
-    let mut frames: Option<usize> = None;
+    let mut names: Vec<String> = Vec::new();
+    let mut index: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
+    let mut reading: Vec<Reading> = Vec::new();
     let mut record = csv::StringRecord::new();
     loop {
         match reader.read_record(&mut record) {
@@ -171,48 +204,77 @@ pub fn load_csv(text: &str, trial: &str, options: TruthOptions) -> Result<Truth,
             return Err(line_error(line, format!("expected at least {width} fields, found {}", record.len())));
         }
         let row: Row = record.deserialize(Some(&headers)).map_err(|e| csv_error(&e))?;
-        if !trials_seen.contains(&row.trial) {
-            trials_seen.push(row.trial.clone());
-        }
-        if row.trial != trial {
+        let at = match index.get(&row.trial) {
+            Some(&at) => at,
+            None => {
+                index.insert(row.trial.clone(), names.len());
+                names.push(row.trial.clone());
+                reading.push(Reading { segments: Vec::new(), frames: None, error: None });
+                names.len() - 1
+            }
+        };
+        if only.is_some_and(|t| t != row.trial) || reading[at].error.is_some() {
             continue;
         }
-        let number = |raw: &str, what: &str| -> Result<usize, TruthError> {
-            let n = frame_number(raw, what, options.first_frame, line)?;
-            shifted(n, options.bvh_row_offset, what, line)
-        };
-        let (start, end) = (number(&row.start_frame, "start_frame")?, number(&row.end_frame, "end_frame")?);
-        if end < start {
-            return Err(line_error(line, "end_frame is before start_frame".to_string()));
-        }
-        let end_window = match (row.end_window_lo.as_deref(), row.end_window_hi.as_deref()) {
-            (Some(lo), Some(hi)) if !lo.is_empty() && !hi.is_empty() => {
-                let (a, b) = (number(lo, "end_window_lo")?, number(hi, "end_window_hi")?);
-                Some((a.min(b), a.max(b)))
+        if let Err(e) = read_row(&row, line, options, &mut reading[at]) {
+            if only.is_some() {
+                return Err(e);
             }
-            _ => None,
-        };
-        if let Some(raw) = row.trial_frames.as_deref().filter(|r| !r.is_empty()) {
-            let n: usize = raw
-                .parse()
-                .map_err(|_| line_error(line, format!("expected a frame count in `trial_frames`, found `{raw}`")))?;
-            frames = Some(n.checked_add(options.bvh_row_offset).filter(|&f| f <= MAX_FRAMES).ok_or_else(|| {
-                line_error(
-                    line,
-                    format!("`trial_frames` = {raw} is past the longest take this tool reads ({MAX_FRAMES} frames)"),
-                )
-            })?);
+            reading[at].error = Some(e);
         }
-        segments.push(TruthSegment { start, end, label: row.label, end_window });
     }
-    if segments.is_empty() {
-        return Err(TruthError::NoTrial { trial: trial.to_string(), present: trials_seen.join(", ") });
+    let trials = names
+        .iter()
+        .zip(reading)
+        .filter(|(name, r)| only.is_none_or(|t| t == name.as_str()) && (r.error.is_some() || !r.segments.is_empty()))
+        .map(|(name, r)| (name.clone(), finish(name, r)))
+        .collect();
+    Ok((trials, names))
+}
+
+/// Adds one row of a trial.
+fn read_row(row: &Row, line: usize, options: TruthOptions, trial: &mut Reading) -> Result<(), TruthError> {
+    let number = |raw: &str, what: &str| -> Result<usize, TruthError> {
+        let n = frame_number(raw, what, options.first_frame, line)?;
+        shifted(n, options.bvh_row_offset, what, line)
+    };
+    let (start, end) = (number(&row.start_frame, "start_frame")?, number(&row.end_frame, "end_frame")?);
+    if end < start {
+        return Err(line_error(line, "end_frame is before start_frame".to_string()));
     }
+    let end_window = match (row.end_window_lo.as_deref(), row.end_window_hi.as_deref()) {
+        (Some(lo), Some(hi)) if !lo.is_empty() && !hi.is_empty() => {
+            let (a, b) = (number(lo, "end_window_lo")?, number(hi, "end_window_hi")?);
+            Some((a.min(b), a.max(b)))
+        }
+        _ => None,
+    };
+    if let Some(raw) = row.trial_frames.as_deref().filter(|r| !r.is_empty()) {
+        let n: usize = raw
+            .parse()
+            .map_err(|_| line_error(line, format!("expected a frame count in `trial_frames`, found `{raw}`")))?;
+        trial.frames = Some(n.checked_add(options.bvh_row_offset).filter(|&f| f <= MAX_FRAMES).ok_or_else(|| {
+            line_error(
+                line,
+                format!("`trial_frames` = {raw} is past the longest take this tool reads ({MAX_FRAMES} frames)"),
+            )
+        })?);
+    }
+    trial.segments.push(TruthSegment { start, end, label: row.label.clone(), end_window });
+    Ok(())
+}
+
+/// A trial read: its segments in order and its frames, or its first bad row's error.
+fn finish(name: &str, r: Reading) -> Result<Truth, TruthError> {
+    if let Some(e) = r.error {
+        return Err(e);
+    }
+    let mut segments = r.segments;
     segments.sort_by_key(|s| s.start);
     // every end < MAX_FRAMES, so + 1 cannot overflow
     let last_end = segments.iter().map(|s| s.end).max().unwrap_or(0);
-    let frames = frames.unwrap_or(last_end + 1).max(last_end + 1);
-    Ok(Truth { trial: trial.to_string(), frames, segments })
+    let frames = r.frames.unwrap_or(last_end + 1).max(last_end + 1);
+    Ok(Truth { trial: name.to_string(), frames, segments })
 }
 
 #[cfg(test)]
@@ -235,6 +297,20 @@ mod tests {
         let last = &both.segments[2];
         assert_eq!((last.start, last.end, last.label.as_str()), (4579, 4579 + 1009, "walk"));
         assert_eq!(last.end_window, Some((4579 + 979, 4579 + 1099)));
+    }
+
+    #[test]
+    fn all_trials_in_one_pass_read_as_each_alone_and_a_bad_row_fails_only_its_trial() {
+        let text = format!("{CMU}86_03,0,walk,0,10,11,,,,,120,no,\n86_04,0,run,5,9,5,,,,20,120,no,\n");
+        let all = load_all_csv(&text, TruthOptions::default()).unwrap();
+        let names: Vec<&str> = all.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["86_01", "86_02", "86_03", "86_04"]);
+        for (name, truth) in &all {
+            assert_eq!(truth, &load_csv(&text, name, TruthOptions::default()), "{name}");
+        }
+        let bad = all[2].1.as_ref().unwrap_err().to_string();
+        assert!(bad.contains("line 5") && bad.contains("before the first frame 1"), "{bad}");
+        assert_eq!(all[3].1.as_ref().unwrap().frames, 20);
     }
 
     #[test]
