@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # scripts/e2e.sh [DIST] — serve the built page (default: dist/) on a free loopback port, run the
-# Playwright end-to-end test (tests/e2e/page.test.mjs) against it, and always stop the server.
-# Screenshots and the server log go to test-output/.
+# Playwright end-to-end tests (every tests/e2e/*.test.mjs, one file after another, each with its
+# own browser) against it, and always stop the server. Screenshots and the server log go to
+# test-output/. E2E_FILES="labels.test.mjs" runs only the files named; a node --test filter can be
+# passed through E2E_NAME (a test name pattern, e.g. E2E_NAME="timeline").
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -37,5 +39,13 @@ cd "$ROOT/tests/e2e"
 for bin in "$ROOT"/.tools/node/node_modules/node-linux-*/bin; do
     [ -x "$bin/node" ] && PATH="$bin:$PATH"
 done
-BASE_URL="http://127.0.0.1:$PORT/" OUT_DIR="$OUT" FIXTURES="$ROOT/tests/fixtures" SAMPLE_BVH="$DIST/www/sample.bvh" \
-    node page.test.mjs
+files=${E2E_FILES:-$(ls *.test.mjs | sort)}
+filter=()
+[ -n "${E2E_NAME:-}" ] && filter=(--test-name-pattern="$E2E_NAME")
+failed=0
+for f in $files; do
+    echo "e2e: $f"
+    BASE_URL="http://127.0.0.1:$PORT/" OUT_DIR="$OUT" FIXTURES="$ROOT/tests/fixtures" SAMPLE_BVH="$DIST/www/sample.bvh" \
+        node "${filter[@]}" "$f" || failed=1
+done
+exit "$failed"
