@@ -21,14 +21,17 @@ pub enum ClipError {
     Outside { start: usize, end: usize, last: usize },
     #[error("the segmentation has no {0} segments")]
     Nothing(String),
+    #[error("the segmentation has no {which} segment at frames {start}–{end}")]
+    NoSegment { which: String, start: usize, end: usize },
     #[error("cannot move the clip to the origin: {0}")]
     Origin(String),
     #[error("cannot write the zip: {0}")]
     Zip(String),
 }
 
-/// Which segments become clips.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Which segments become clips (and rows of a label CSV: [`crate::labels::from_segmentation`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Which {
     /// Actions (transitions between them are left out).
     Actions,
@@ -38,7 +41,8 @@ pub enum Which {
 }
 
 impl Which {
-    fn takes(self, level: Level) -> bool {
+    /// Whether a segment of `level` is chosen.
+    pub fn takes(self, level: Level) -> bool {
         match self {
             Which::Actions => level == Level::Action,
             Which::Primitives => level == Level::Primitive,
@@ -180,6 +184,21 @@ fn to_origin(clip: &mut Bvh, motion: &Motion, first: usize) -> Result<(), ClipEr
     Ok(())
 }
 
+/// The stem clips of the file `name` are named after: its name without folders and extension
+/// (`take` when nothing is left).
+pub fn stem_of(name: &str) -> String {
+    let base = name.rsplit(['/', '\\']).next().unwrap_or(name);
+    let stem = match base.rsplit_once('.') {
+        Some((stem, _)) if !stem.is_empty() => stem,
+        _ => base,
+    };
+    if stem.is_empty() {
+        "take".to_string()
+    } else {
+        stem.to_string()
+    }
+}
+
 /// A file name for a clip: `<stem>_<nn>_<label>.bvh`, the label reduced to letters, digits, `-`
 /// and `_` (so any label is a safe file name).
 pub fn clip_file_name(stem: &str, index: usize, count: usize, label: &str) -> String {
@@ -188,6 +207,16 @@ pub fn clip_file_name(stem: &str, index: usize, count: usize, label: &str) -> St
     let width = count.to_string().len().max(2);
     let label = if safe.trim_matches('_').is_empty() { "segment".to_string() } else { safe };
     format!("{stem}_{:0width$}_{label}.bvh", index + 1)
+}
+
+/// The segments `which` chooses, in order of their frames (the clips' numbering).
+fn chosen(segmentation: &Segmentation, which: Which) -> Result<Vec<&Segment>, ClipError> {
+    let mut chosen: Vec<&Segment> = segmentation.segments.iter().filter(|s| which.takes(s.level)).collect();
+    chosen.sort_by_key(|s| (s.start, s.end));
+    if chosen.is_empty() {
+        return Err(ClipError::Nothing(which.name().to_string()));
+    }
+    Ok(chosen)
 }
 
 /// Every chosen segment of `segmentation` as a clip of the take (`bvh`, its `motion`), named
@@ -202,11 +231,7 @@ pub fn clips(
     if segmentation.frames != bvh.frames() {
         return Err(ClipError::OtherTake { segmentation: segmentation.frames, take: bvh.frames() });
     }
-    let mut chosen: Vec<&Segment> = segmentation.segments.iter().filter(|s| options.which.takes(s.level)).collect();
-    chosen.sort_by_key(|s| (s.start, s.end));
-    if chosen.is_empty() {
-        return Err(ClipError::Nothing(options.which.name().to_string()));
-    }
+    let chosen = chosen(segmentation, options.which)?;
     chosen
         .iter()
         .enumerate()
@@ -233,6 +258,56 @@ pub fn zip(clips: &[Clip]) -> Result<Vec<u8>, ClipError> {
     Ok(writer.finish().map_err(|e| zip_error(&e))?.into_inner())
 }
 
+/// What [`export`] makes: one file to save.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Export {
+    /// The file's name: `<stem>_<which>_clips.zip`, or the one clip's own name.
+    pub file: String,
+    pub bytes: Vec<u8>,
+    /// How many clips it holds.
+    pub clips: usize,
+}
+
+/// The chosen segments of `segmentation` as one file: every clip in a zip, or — `only` naming a
+/// segment's frames `(start, end)` — that segment's clip alone as a BVH (named as in the zip).
+/// What the page's clip exports save; the command line writes the same clips (`mocapseg clips`).
+pub fn export(
+    bvh: &Bvh,
+    motion: &Motion,
+    segmentation: &Segmentation,
+    stem: &str,
+    options: &ClipOptions,
+    only: Option<(usize, usize)>,
+) -> Result<Export, ClipError> {
+    match only {
+        None => {
+            let all = clips(bvh, motion, segmentation, stem, options)?;
+            let name = match options.which.name() {
+                "" => "all".to_string(),
+                level => format!("{level}s"),
+            };
+            Ok(Export { file: format!("{stem}_{name}_clips.zip"), bytes: zip(&all)?, clips: all.len() })
+        }
+        Some((start, end)) => {
+            if segmentation.frames != bvh.frames() {
+                return Err(ClipError::OtherTake { segmentation: segmentation.frames, take: bvh.frames() });
+            }
+            let chosen = chosen(segmentation, options.which)?;
+            let (index, segment) = chosen
+                .iter()
+                .enumerate()
+                .find(|(_, s)| s.start == start && s.end == end)
+                .ok_or_else(|| ClipError::NoSegment { which: options.which.name().to_string(), start, end })?;
+            let mut clip = cut(bvh, start, end)?;
+            if options.to_origin {
+                to_origin(&mut clip, motion, start)?;
+            }
+            let file = clip_file_name(stem, index, chosen.len(), &segment.label);
+            Ok(Export { file, bytes: crate::bvh::write(&clip).into_bytes(), clips: 1 })
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -247,6 +322,14 @@ mod tests {
             assert!(back.dot(q).abs() > 1.0 - 1e-12, "{axes:?}");
         }
         assert!(euler_degrees(q, [0, 0, 1]).is_none());
+    }
+
+    #[test]
+    fn a_stem_leaves_out_folders_and_the_extension() {
+        assert_eq!(stem_of("86_01.bvh"), "86_01");
+        assert_eq!(stem_of("a/b\\c.d.amc"), "c.d");
+        assert_eq!(stem_of(".bvh"), ".bvh");
+        assert_eq!(stem_of("dir/"), "take");
     }
 
     #[test]

@@ -96,26 +96,32 @@ impl MotionImage {
     /// PNG encoding (8-bit RGBA), or why it cannot be encoded: no pixels, more columns or rows
     /// than PNG allows (2^31 − 1), RGBA bytes that do not match the size, or an encoder error.
     pub fn try_to_png(&self) -> Result<Vec<u8>, ImageError> {
-        let (width, height) = (self.width, self.height);
-        if width == 0 || height == 0 {
-            return Err(ImageError::Empty { width, height });
-        }
-        let (w, h) = match (u32::try_from(width), u32::try_from(height)) {
-            (Ok(w), Ok(h)) if w <= i32::MAX as u32 && h <= i32::MAX as u32 => (w, h),
-            _ => return Err(ImageError::TooLarge { width, height }),
-        };
-        let expected = width.checked_mul(height).and_then(|n| n.checked_mul(4));
-        if expected != Some(self.rgba.len()) {
-            let Some(expected) = expected else { return Err(ImageError::TooLarge { width, height }) };
-            return Err(ImageError::SizeMismatch { width, height, len: self.rgba.len(), expected });
-        }
-        let mut out = Vec::new();
-        let mut enc = png::Encoder::new(&mut out, w, h);
-        enc.set_color(png::ColorType::Rgba);
-        enc.set_depth(png::BitDepth::Eight);
-        let mut writer = enc.write_header()?;
-        writer.write_image_data(&self.rgba)?;
-        writer.finish()?;
-        Ok(out)
+        rgba_png(self.width, self.height, &self.rgba)
     }
+}
+
+/// PNG encoding (8-bit RGBA) of `width × height` pixels, row-major, or why they cannot be
+/// encoded: no pixels, more columns or rows than PNG allows (2^31 − 1), bytes that do not match
+/// the size, or an encoder error. The motion image and every method's pictures use it.
+pub fn rgba_png(width: usize, height: usize, rgba: &[u8]) -> Result<Vec<u8>, ImageError> {
+    if width == 0 || height == 0 {
+        return Err(ImageError::Empty { width, height });
+    }
+    let (w, h) = match (u32::try_from(width), u32::try_from(height)) {
+        (Ok(w), Ok(h)) if w <= i32::MAX as u32 && h <= i32::MAX as u32 => (w, h),
+        _ => return Err(ImageError::TooLarge { width, height }),
+    };
+    let expected = width.checked_mul(height).and_then(|n| n.checked_mul(4));
+    if expected != Some(rgba.len()) {
+        let Some(expected) = expected else { return Err(ImageError::TooLarge { width, height }) };
+        return Err(ImageError::SizeMismatch { width, height, len: rgba.len(), expected });
+    }
+    let mut out = Vec::new();
+    let mut enc = png::Encoder::new(&mut out, w, h);
+    enc.set_color(png::ColorType::Rgba);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut writer = enc.write_header()?;
+    writer.write_image_data(rgba)?;
+    writer.finish()?;
+    Ok(out)
 }

@@ -246,8 +246,63 @@ pub fn load_asf_amc(asf: (&str, &[u8]), amc: (&str, &[u8]), budget: &MemoryBudge
     Ok(Loaded { bvh, motion })
 }
 
+/// What a set of files dropped or picked together is: one take's file, or an ASF skeleton and
+/// its AMC motion (indices into the names given).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Opening {
+    One(usize),
+    AsfAmc { asf: usize, amc: usize },
+}
+
+/// Reads the names of the files the user dropped or picked at once: a single file is a take (a
+/// BVH, or anything the parser will judge), an `.asf` with an `.amc` is a CMU original; anything
+/// else is refused with what to drop instead.
+pub fn opening(names: &[&str]) -> Result<Opening, String> {
+    let kind = |name: &str| name.rsplit_once('.').map(|(_, e)| e.to_ascii_lowercase()).unwrap_or_default();
+    match names {
+        [] => Err("no file was dropped".into()),
+        [one] => match kind(one).as_str() {
+            "asf" => Err(format!(
+                "{one} is an ASF skeleton without motion: drop or pick it together with one of its AMC motions"
+            )),
+            "amc" => Err(format!(
+                "{one} is an AMC motion without its skeleton: drop or pick it together with its ASF file \
+                 (for CMU takes `<subject>.asf`, e.g. 02.asf for 02_01.amc)"
+            )),
+            _ => Ok(Opening::One(0)),
+        },
+        [a, b] => match (kind(a).as_str(), kind(b).as_str()) {
+            ("asf", "amc") => Ok(Opening::AsfAmc { asf: 0, amc: 1 }),
+            ("amc", "asf") => Ok(Opening::AsfAmc { asf: 1, amc: 0 }),
+            _ => Err(format!(
+                "{a} and {b}: two files are read together only as an ASF skeleton and its AMC motion; \
+                 drop one BVH at a time"
+            )),
+        },
+        _ => Err(format!(
+            "{} files at once: drop one take at a time — a BVH file, or an ASF skeleton with its AMC motion",
+            names.len()
+        )),
+    }
+}
+
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn files_dropped_together_are_one_take_or_an_asf_amc_pair() {
+        assert_eq!(opening(&["a.bvh"]), Ok(Opening::One(0)));
+        assert_eq!(opening(&["noext"]), Ok(Opening::One(0)));
+        assert_eq!(opening(&["02.ASF", "02_01.amc"]), Ok(Opening::AsfAmc { asf: 0, amc: 1 }));
+        assert_eq!(opening(&["02_01.amc", "02.asf"]), Ok(Opening::AsfAmc { asf: 1, amc: 0 }));
+        let alone = opening(&["02_01.amc"]).unwrap_err();
+        assert!(alone.starts_with("02_01.amc is an AMC motion without its skeleton") && alone.contains("02.asf"));
+        assert!(opening(&["02.asf"]).unwrap_err().contains("ASF skeleton without motion"));
+        assert!(opening(&["a.bvh", "b.bvh"]).unwrap_err().contains("drop one BVH at a time"));
+        assert!(opening(&["a.asf", "b.asf"]).unwrap_err().starts_with("a.asf and b.asf"));
+        assert!(opening(&["a", "b", "c"]).unwrap_err().starts_with("3 files at once"));
+        assert!(opening(&[]).is_err());
+    }
     use super::*;
 
     #[test]

@@ -28,6 +28,7 @@
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
+use crate::bvh::Bvh;
 use crate::dtfcn::corpus::{class_labels, model_from, rows_without_takes, ModelMeta};
 use crate::dtfcn::input::NetworkInput;
 use crate::dtfcn::model::{data_hash, Model, ModelKind};
@@ -58,6 +59,11 @@ pub enum Request {
         /// Buffer 0.
         #[serde(skip)]
         bytes: Vec<u8>,
+        /// An AMC motion's ASF skeleton: its file name (`name` is the AMC's); its bytes are buffer 1.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        skeleton: Option<String>,
+        #[serde(skip)]
+        skeleton_bytes: Vec<u8>,
     },
     /// Segment take `take` with `method` (a registry name) and `params` (JSON, fields optional).
     Segment { take: TakeId, run: RunId, method: String, params: serde_json::Value },
@@ -113,9 +119,37 @@ pub enum Request {
     /// Ends the training `run` after the epochs so far: the best model so far is kept, installed
     /// and sent (`dtfcn_trained` with `stopped`). Ignored when that training is over.
     StopTraining { take: TakeId, run: RunId },
+    /// Cut the segments of `segmentation` (a run's result on take `take`) that `which` chooses
+    /// as BVH clips of the held take ([`crate::clips::export`]): every clip in one zip, or with
+    /// `only` (a segment's first and last frame) that segment's clip alone; `to_origin` starts
+    /// each clip at the origin facing +Z. Answer: `clips`.
+    Clips {
+        take: TakeId,
+        run: RunId,
+        segmentation: Box<crate::segment::Segmentation>,
+        which: crate::clips::Which,
+        to_origin: bool,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        only: Option<(usize, usize)>,
+    },
 }
 
 impl Request {
+    /// The run id the request names (`None` for a load).
+    pub fn run_id(&self) -> Option<RunId> {
+        match self {
+            Request::Load { .. } => None,
+            Request::Segment { run, .. }
+            | Request::TrainLma { run, .. }
+            | Request::UseLmaModel { run, .. }
+            | Request::UseLabelModel { run, .. }
+            | Request::TrainDtfcn { run, .. }
+            | Request::ContinueTraining { run, .. }
+            | Request::StopTraining { run, .. }
+            | Request::Clips { run, .. } => Some(*run),
+        }
+    }
+
     /// The take the request is about.
     pub fn take(&self) -> TakeId {
         match self {
@@ -126,7 +160,8 @@ impl Request {
             | Request::UseLabelModel { take, .. }
             | Request::TrainDtfcn { take, .. }
             | Request::ContinueTraining { take, .. }
-            | Request::StopTraining { take, .. } => *take,
+            | Request::StopTraining { take, .. }
+            | Request::Clips { take, .. } => *take,
         }
     }
 }
@@ -526,6 +561,15 @@ pub enum Response {
         #[serde(skip)]
         bytes: Vec<u8>,
     },
+    /// A `clips` request's file: `file` to save, `clips` clips in it; its bytes are buffer 0.
+    Clips {
+        take: TakeId,
+        run: RunId,
+        file: String,
+        clips: usize,
+        #[serde(skip)]
+        bytes: Vec<u8>,
+    },
     /// A load (`run: None`) or a run failed.
     Failed {
         take: TakeId,
@@ -571,14 +615,21 @@ impl Request {
     pub fn into_packet(self) -> Packet {
         let json = serde_json::to_string(&self).unwrap_or_default();
         let buffers = match self {
-            Request::Load { bytes, .. } => vec![bytes],
+            Request::Load { bytes, skeleton_bytes, skeleton, .. } => {
+                if skeleton.is_some() {
+                    vec![bytes, skeleton_bytes]
+                } else {
+                    vec![bytes]
+                }
+            }
             Request::UseLmaModel { model, .. } => model.into_iter().map(String::into_bytes).collect(),
             Request::UseLabelModel { bytes, .. } => vec![bytes],
             Request::TrainDtfcn { bytes, .. } => bytes,
             Request::Segment { .. }
             | Request::TrainLma { .. }
             | Request::ContinueTraining { .. }
-            | Request::StopTraining { .. } => Vec::new(),
+            | Request::StopTraining { .. }
+            | Request::Clips { .. } => Vec::new(),
         };
         Packet { json, buffers }
     }
@@ -588,8 +639,12 @@ impl Request {
         let mut request: Request = serde_json::from_str(&packet.json).map_err(|e| json_error("worker request", e))?;
         let mut buffers = packet.buffers.into_iter();
         match &mut request {
-            Request::Load { bytes, .. } => {
+            Request::Load { bytes, skeleton, skeleton_bytes, .. } => {
                 *bytes = buffers.next().ok_or("worker request: a load without the file's bytes")?;
+                if skeleton.is_some() {
+                    *skeleton_bytes =
+                        buffers.next().ok_or("worker request: an AMC without its ASF skeleton's bytes")?;
+                }
             }
             Request::UseLmaModel { model, .. } => {
                 *model = buffers.next().map(|b| utf8(b, "the LMA family")).transpose()?;
@@ -610,7 +665,8 @@ impl Request {
             Request::Segment { .. }
             | Request::TrainLma { .. }
             | Request::ContinueTraining { .. }
-            | Request::StopTraining { .. } => {}
+            | Request::StopTraining { .. }
+            | Request::Clips { .. } => {}
         }
         Ok(request)
     }
@@ -634,6 +690,7 @@ impl Response {
             }
             Response::Trained { model, .. } => buffers.push(std::mem::take(model).into_bytes()),
             Response::DtfcnTrained { bytes, .. } => buffers.push(std::mem::take(bytes)),
+            Response::Clips { bytes, .. } => buffers.push(std::mem::take(bytes)),
             _ => {}
         }
         Packet { json: serde_json::to_string(&this).unwrap_or_default(), buffers }
@@ -669,6 +726,7 @@ impl Response {
                 model.check()?;
             }
             Response::LabelModelInUse { model, .. } => model.check()?,
+            Response::Clips { bytes, .. } => *bytes = next("the clips")?,
             _ => {}
         }
         Ok(response)
@@ -680,7 +738,8 @@ impl Response {
 /// are tested natively.
 #[derive(Debug, Default)]
 pub struct WorkerState {
-    held: Option<(TakeId, Motion)>,
+    /// The take loaded last: its id, its motion and its parsed file (clips are cut from it).
+    held: Option<(TakeId, Motion, Bvh)>,
     /// How `train_lma` trains (the trainer's defaults).
     training: TrainConfig,
     /// The DT-FCN training under way (one at a time: a new one replaces it).
@@ -799,14 +858,19 @@ impl WorkerState {
 
     /// The take the worker holds.
     pub fn held(&self) -> Option<TakeId> {
-        self.held.as_ref().map(|(t, _)| *t)
+        self.held.as_ref().map(|(t, _, _)| *t)
     }
 
     /// The held take if it is `take`, else the `not_loaded` message.
     fn motion(&self, take: TakeId) -> Result<&Motion, String> {
+        self.held_take(take).map(|(motion, _)| motion)
+    }
+
+    /// The held take's motion and file if it is `take`, else the `not_loaded` message.
+    fn held_take(&self, take: TakeId) -> Result<(&Motion, &Bvh), String> {
         match &self.held {
-            Some((held, motion)) if *held == take => Ok(motion),
-            Some((held, _)) => Err(format!("take {take} is not loaded in the worker (it holds take {held})")),
+            Some((held, motion, bvh)) if *held == take => Ok((motion, bvh)),
+            Some((held, _, _)) => Err(format!("take {take} is not loaded in the worker (it holds take {held})")),
             None => Err(format!("take {take} is not loaded in the worker (it holds none)")),
         }
     }
@@ -814,10 +878,11 @@ impl WorkerState {
     /// Answers `request`, posting progress and the final response through `post`.
     pub fn handle(&mut self, request: Request, post: &mut dyn FnMut(Response)) {
         match request {
-            Request::Load { take, name, restore, bytes } => {
+            Request::Load { take, name, restore, bytes, skeleton, skeleton_bytes } => {
                 let mut progress =
                     |f: f64| post(Response::Progress { take, run: None, stage: "parsing".into(), fraction: Some(f) });
-                let response = match self.load(take, &name, &bytes, &mut progress) {
+                let asf = skeleton.as_deref().map(|n| (n, &skeleton_bytes[..]));
+                let response = match self.load(take, &name, &bytes, asf, &mut progress) {
                     Ok(motion) if restore => {
                         drop(motion);
                         Response::Restored { take }
@@ -860,6 +925,9 @@ impl WorkerState {
                     job.trainer.stop();
                     self.finish_dtfcn(post);
                 }
+            }
+            Request::Clips { take, run, segmentation, which, to_origin, only } => {
+                post(self.clips(take, run, &segmentation, crate::clips::ClipOptions { which, to_origin }, only))
             }
         }
     }
@@ -1000,15 +1068,44 @@ impl WorkerState {
         take: TakeId,
         name: &str,
         bytes: &[u8],
+        asf: Option<(&str, &[u8])>,
         progress: &mut dyn FnMut(f64),
     ) -> Result<Box<LoadedMotion>, String> {
-        let loaded = crate::load::load_bytes(name, bytes, progress).map_err(|e| e.to_string())?;
-        let motion = loaded.motion;
+        let loaded = match asf {
+            None => crate::load::load_bytes(name, bytes, progress),
+            Some(asf) => crate::load::load_asf_amc(asf, (name, bytes), &crate::load::MemoryBudget::default()),
+        }
+        .map_err(|e| e.to_string())?;
+        let crate::load::Loaded { bvh, motion } = loaded;
         let image = MotionImage::from_motion(&motion);
         let png = image.try_to_png().map_err(|e| format!("{name}: motion image: {e}"))?;
         let view = Box::new(LoadedMotion::new(&motion, &image, png));
-        self.held = Some((take, motion));
+        self.held = Some((take, motion, bvh));
         Ok(view)
+    }
+
+    /// Clips of the held take `take` cut at the segments of `segmentation`.
+    fn clips(
+        &self,
+        take: TakeId,
+        run: RunId,
+        segmentation: &crate::segment::Segmentation,
+        options: crate::clips::ClipOptions,
+        only: Option<(usize, usize)>,
+    ) -> Response {
+        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, field: None };
+        let (motion, bvh) = match self.held_take(take) {
+            Ok(held) => held,
+            Err(message) => return fail(message, FailureKind::NotLoaded),
+        };
+        if let Err(e) = segmentation.validate() {
+            return fail(format!("clips: {e}"), FailureKind::Input);
+        }
+        let stem = crate::clips::stem_of(&segmentation.file);
+        match crate::clips::export(bvh, motion, segmentation, &stem, &options, only) {
+            Ok(e) => Response::Clips { take, run, file: e.file, clips: e.clips, bytes: e.bytes },
+            Err(e) => fail(format!("clips of {}: {e}", segmentation.file), FailureKind::Input),
+        }
     }
 
     fn segment(
@@ -1225,7 +1322,14 @@ mod tests {
 
     #[test]
     fn requests_round_trip_with_their_bytes_in_a_buffer() {
-        let load = Request::Load { take: 3, name: "a b.bvh".into(), restore: true, bytes: b"HIERARCHY".to_vec() };
+        let load = Request::Load {
+            take: 3,
+            name: "a b.bvh".into(),
+            restore: true,
+            bytes: b"HIERARCHY".to_vec(),
+            skeleton: None,
+            skeleton_bytes: Vec::new(),
+        };
         let packet = load.clone().into_packet();
         assert_eq!(packet.buffers, vec![b"HIERARCHY".to_vec()]);
         assert!(!packet.json.contains("HIERARCHY"), "bytes travel as a buffer: {}", packet.json);
@@ -1342,13 +1446,84 @@ mod tests {
     }
 
     #[test]
+    fn an_amc_load_carries_its_asf_skeleton_as_a_second_buffer_and_the_worker_cuts_clips_of_it() {
+        let asf = include_bytes!("../tests/fixtures/02.asf").to_vec();
+        let amc = include_bytes!("../tests/fixtures/02_01.amc").to_vec();
+        let load = Request::Load {
+            take: 1,
+            name: "02_01.amc".into(),
+            restore: false,
+            bytes: amc.clone(),
+            skeleton: Some("02.asf".into()),
+            skeleton_bytes: asf.clone(),
+        };
+        let packet = load.clone().into_packet();
+        assert_eq!(packet.buffers, vec![amc.clone(), asf]);
+        assert_eq!(Request::from_packet(packet.clone()).unwrap(), load);
+        let lost = Packet { buffers: vec![amc], ..packet };
+        assert!(Request::from_packet(lost).unwrap_err().contains("without its ASF skeleton's bytes"));
+
+        let mut w = WorkerState::default();
+        let Some(Response::Loaded { take: 1, motion }) = ask(&mut w, load).pop() else { panic!("not loaded") };
+        let frames = motion.summary.frames;
+        let Some(Response::Segmented { view, .. }) = ask(&mut w, segment(1, 2)).pop() else { panic!("not segmented") };
+        let seg = view.segmentation.clone();
+        assert!(seg.level(crate::segment::Level::Action).count() >= 1, "{seg:?}");
+        let clips = |take, which, only| Request::Clips {
+            take,
+            run: 3,
+            segmentation: Box::new(seg.clone()),
+            which,
+            to_origin: false,
+            only,
+        };
+        // the request travels (no buffers), the answer's bytes in buffer 0
+        let asked = clips(1, crate::clips::Which::Actions, None);
+        assert_eq!(Request::from_packet(asked.clone().into_packet()).unwrap(), asked);
+        let Some(zipped) = ask(&mut w, asked).pop() else { panic!() };
+        let back = Response::from_packet(zipped.clone().into_packet()).unwrap();
+        assert_eq!(back, zipped);
+        let Response::Clips { file, clips: n, bytes, .. } = zipped else { panic!("{zipped:?}") };
+        assert_eq!((file.as_str(), n), ("02_01_actions_clips.zip", seg.level(crate::segment::Level::Action).count()));
+        assert!(bytes.starts_with(b"PK\x03\x04"));
+        // one segment: its BVH, as many frames as it spans
+        let first = seg.level(crate::segment::Level::Action).min_by_key(|s| s.start).unwrap().clone();
+        let Some(Response::Clips { file, bytes, clips: 1, .. }) =
+            ask(&mut w, clips(1, crate::clips::Which::Actions, Some((first.start, first.end)))).pop()
+        else {
+            panic!("no clip")
+        };
+        assert!(file.starts_with("02_01_01_") && file.ends_with(".bvh"), "{file}");
+        let clip = crate::bvh::parse(std::str::from_utf8(&bytes).unwrap()).unwrap();
+        assert_eq!(clip.frames(), first.end - first.start + 1);
+        // another take: not loaded; frames no segment has: a message
+        let other = ask(&mut w, clips(9, crate::clips::Which::Actions, None));
+        assert!(matches!(other.last(), Some(Response::Failed { kind: FailureKind::NotLoaded, run: Some(3), .. })));
+        let none = ask(&mut w, clips(1, crate::clips::Which::Actions, Some((0, frames - 1))));
+        let Some(Response::Failed { kind: FailureKind::Input, message, .. }) = none.last() else { panic!("{none:?}") };
+        assert!(
+            message.starts_with("clips of 02_01.amc: the segmentation has no action segment at frames 0–"),
+            "{message}"
+        );
+    }
+
+    #[test]
     fn the_worker_segments_only_the_take_a_request_names() {
         let mut w = WorkerState::default();
         let none = ask(&mut w, segment(1, 1));
         assert!(matches!(&none[..], [Response::Failed { kind: FailureKind::NotLoaded, run: Some(1), .. }]), "{none:?}");
 
-        let load =
-            ask(&mut w, Request::Load { take: 1, name: "12_01.bvh".into(), restore: false, bytes: take_bytes() });
+        let load = ask(
+            &mut w,
+            Request::Load {
+                take: 1,
+                name: "12_01.bvh".into(),
+                restore: false,
+                bytes: take_bytes(),
+                skeleton: None,
+                skeleton_bytes: Vec::new(),
+            },
+        );
         assert!(matches!(load.first(), Some(Response::Progress { take: 1, run: None, .. })));
         assert!(matches!(load.last(), Some(Response::Loaded { take: 1, .. })));
         assert_eq!(w.held(), Some(1));
@@ -1356,7 +1531,14 @@ mod tests {
         // a bad file (take 2) fails and leaves take 1 held
         let bad = ask(
             &mut w,
-            Request::Load { take: 2, name: "bad.bvh".into(), restore: false, bytes: b"HIERARCHY\nROOT".to_vec() },
+            Request::Load {
+                take: 2,
+                name: "bad.bvh".into(),
+                restore: false,
+                bytes: b"HIERARCHY\nROOT".to_vec(),
+                skeleton: None,
+                skeleton_bytes: Vec::new(),
+            },
         );
         let Some(Response::Failed { take: 2, run: None, message, kind: FailureKind::Input, .. }) = bad.last() else {
             panic!("{bad:?}")
@@ -1374,8 +1556,17 @@ mod tests {
         assert_eq!(view.details.pictures.len(), 1);
 
         // a restore answers without the bulk data; a bad parameter names itself
-        let restored =
-            ask(&mut w, Request::Load { take: 4, name: "12_01.bvh".into(), restore: true, bytes: take_bytes() });
+        let restored = ask(
+            &mut w,
+            Request::Load {
+                take: 4,
+                name: "12_01.bvh".into(),
+                restore: true,
+                bytes: take_bytes(),
+                skeleton: None,
+                skeleton_bytes: Vec::new(),
+            },
+        );
         assert_eq!(restored.last(), Some(&Response::Restored { take: 4 }));
         let bad = ask(
             &mut w,
@@ -1483,7 +1674,17 @@ mod tests {
         let mut w = WorkerState::with_training(config);
         let mine = format!("{HEADER}{}", label_rows("12_01.bvh", 12, 30, 120));
         assert_eq!(failure(ask(&mut w, train(1, 1, mine.clone()))).0, FailureKind::NotLoaded);
-        ask(&mut w, Request::Load { take: 1, name: "12_01.bvh".into(), restore: false, bytes: take_bytes() });
+        ask(
+            &mut w,
+            Request::Load {
+                take: 1,
+                name: "12_01.bvh".into(),
+                restore: false,
+                bytes: take_bytes(),
+                skeleton: None,
+                skeleton_bytes: Vec::new(),
+            },
+        );
 
         // what the user gets wrong is named: the line, the take and the files the rows name, too few rows
         let typo = mine.replacen("neutral", "nuetral", 1);
@@ -1818,7 +2019,17 @@ mod tests {
         assert_eq!(back.header.provenance.epochs_run, 2);
 
         // the installed model labels the held take by its name
-        ask(&mut w, Request::Load { take: 1, name: "12_01.bvh".into(), restore: false, bytes: take_bytes() });
+        ask(
+            &mut w,
+            Request::Load {
+                take: 1,
+                name: "12_01.bvh".into(),
+                restore: false,
+                bytes: take_bytes(),
+                skeleton: None,
+                skeleton_bytes: Vec::new(),
+            },
+        );
         let run = ask(
             &mut w,
             Request::Segment {
@@ -1920,7 +2131,17 @@ mod tests {
         );
         assert!(ask(&mut w, Request::StopTraining { take: 1, run: 3 }).is_empty(), "a second stop is ignored");
         // and the stopped model is installed
-        ask(&mut w, Request::Load { take: 1, name: "12_01.bvh".into(), restore: false, bytes: take_bytes() });
+        ask(
+            &mut w,
+            Request::Load {
+                take: 1,
+                name: "12_01.bvh".into(),
+                restore: false,
+                bytes: take_bytes(),
+                skeleton: None,
+                skeleton_bytes: Vec::new(),
+            },
+        );
         let run = ask(
             &mut w,
             Request::Segment {

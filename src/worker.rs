@@ -62,12 +62,16 @@ fn take_of(json: &str) -> u32 {
 
 /// The page's message for `request` and its transfer list: the request's own buffers (a
 /// family's JSON text, a model file, training takes), or for a load whose file is `bytes`, that
-/// `ArrayBuffer` (transferred; `Request::Load`'s own `bytes` are left empty).
+/// `ArrayBuffer` (transferred; `Request::Load`'s own `bytes` are left empty), followed by an AMC's
+/// ASF skeleton (`skeleton_bytes`, copied: it is small).
 pub fn request_message(request: &Request, bytes: Option<&ArrayBuffer>) -> (JsValue, Array) {
     match bytes {
         Some(b) => {
             let json = serde_json::to_string(request).unwrap_or_default();
             let buffers = Array::of1(b);
+            if let Request::Load { skeleton: Some(_), skeleton_bytes, .. } = request {
+                buffers.push(&Uint8Array::from(&skeleton_bytes[..]).buffer());
+            }
             (message(&json, &buffers), buffers)
         }
         None => packet_to_js(request.clone().into_packet()),

@@ -124,3 +124,72 @@ fn every_clip_in_one_zip_reads_back() {
         assert_eq!(bvh::parse(&text).unwrap(), clip.bvh);
     }
 }
+
+#[test]
+fn the_page_s_export_is_the_zip_of_every_clip_or_one_clip_under_its_zip_name() {
+    use mocapseg::clips::{export, ClipError};
+    let loaded = load_path(&fixture("131_03.bvh")).unwrap();
+    let m = &loaded.motion;
+    let seg = Segmentation {
+        file: "131_03.bvh".into(),
+        fps: m.fps,
+        frames: m.frames(),
+        method: "test".into(),
+        params: serde_json::json!({}),
+        segments: vec![
+            segment(0, 299, Level::Action, "start"),
+            segment(300, 699, Level::Action, "hop"),
+            segment(700, 1101, Level::Transition, "transition"),
+        ],
+    };
+    for to_origin in [false, true] {
+        let options = ClipOptions { which: Which::Actions, to_origin };
+        let all = clips(&loaded.bvh, m, &seg, "131_03", &options).unwrap();
+        let zipped = export(&loaded.bvh, m, &seg, "131_03", &options, None).unwrap();
+        assert_eq!(zipped.file, "131_03_actions_clips.zip");
+        assert_eq!(zipped.clips, 2);
+        assert_eq!(zipped.bytes, mocapseg::clips::zip(&all).unwrap(), "the same zip as `mocapseg clips --zip`");
+        let one = export(&loaded.bvh, m, &seg, "131_03", &options, Some((300, 699))).unwrap();
+        assert_eq!((one.file.as_str(), one.clips), ("131_03_02_hop.bvh", 1));
+        assert_eq!(one.bytes, bvh::write(&all[1].bvh).into_bytes(), "the second clip of the zip, origin {to_origin}");
+    }
+    let every = ClipOptions { which: Which::All, to_origin: false };
+    assert_eq!(export(&loaded.bvh, m, &seg, "131_03", &every, None).unwrap().file, "131_03_all_clips.zip");
+    // a transition is not an action; frames that are no segment's
+    let actions = ClipOptions::default();
+    let e = export(&loaded.bvh, m, &seg, "131_03", &actions, Some((700, 1101))).unwrap_err();
+    assert_eq!(e, ClipError::NoSegment { which: "action".into(), start: 700, end: 1101 });
+    assert_eq!(e.to_string(), "the segmentation has no action segment at frames 700–1101");
+    let other = Segmentation { frames: 50, segments: vec![segment(0, 49, Level::Action, "x")], ..seg.clone() };
+    assert!(matches!(
+        export(&loaded.bvh, m, &other, "131_03", &actions, Some((0, 49))),
+        Err(ClipError::OtherTake { segmentation: 50, take: 1102 })
+    ));
+}
+
+#[test]
+fn a_row_as_a_label_csv_reads_back_as_the_same_rows() {
+    use mocapseg::labels::{from_segmentation, read_csv, to_csv};
+    let seg = Segmentation {
+        file: "a, \"b\".bvh".into(),
+        fps: 120.0,
+        frames: 1000,
+        method: "test".into(),
+        params: serde_json::json!({}),
+        segments: vec![
+            segment(500, 999, Level::Action, "jump, high"),
+            segment(0, 199, Level::Action, "walk"),
+            segment(200, 499, Level::Transition, ""),
+            segment(0, 99, Level::Primitive, "c1"),
+        ],
+    };
+    let actions = from_segmentation(&seg, Which::Actions);
+    assert_eq!(actions.iter().map(|r| (r.start_frame, r.end_frame)).collect::<Vec<_>>(), [(0, 199), (500, 999)]);
+    assert!(actions.iter().all(|r| r.file == seg.file));
+    let all = from_segmentation(&seg, Which::All);
+    assert_eq!(all.len(), 4);
+    assert_eq!(all[2].label, "unlabelled", "an empty label would not read back");
+    for rows in [actions, all, from_segmentation(&seg, Which::Primitives)] {
+        assert_eq!(read_csv(&to_csv(&rows), "x.csv").unwrap(), rows);
+    }
+}

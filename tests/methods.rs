@@ -41,6 +41,14 @@ fn every_method_runs_with_its_defaults_and_echoes_them() {
         for p in &out.details.pictures {
             assert_eq!(p.rgba.len(), p.width * p.height * 4, "{}: picture {}", info.name, p.id);
             assert!(p.width > 0 && !p.caption.is_empty());
+            // its PNG (the page's download) decodes to the same pixels
+            let png = p.to_png().unwrap();
+            let decoder = png::Decoder::new(&png[..]);
+            let mut reader = decoder.read_info().unwrap();
+            let mut pixels = vec![0; reader.output_buffer_size()];
+            let frame = reader.next_frame(&mut pixels).unwrap();
+            assert_eq!((frame.width as usize, frame.height as usize), (p.width, p.height), "{}: {}", info.name, p.id);
+            assert_eq!(&pixels[..frame.buffer_size()], &p.rgba[..], "{}: picture {} as PNG", info.name, p.id);
         }
         for c in &out.details.curves {
             assert_eq!(c.values.len(), seg.frames, "{}: curve {}", info.name, c.id);

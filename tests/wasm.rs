@@ -60,7 +60,14 @@ mod worker {
     #[wasm_bindgen_test]
     fn a_load_and_a_run_reach_the_page_intact_and_other_takes_are_refused() {
         let take = include_bytes!("fixtures/12_01.bvh");
-        let load = Request::Load { take: 7, name: "12_01.bvh".into(), restore: false, bytes: Vec::new() };
+        let load = Request::Load {
+            take: 7,
+            name: "12_01.bvh".into(),
+            restore: false,
+            bytes: Vec::new(),
+            skeleton: None,
+            skeleton_bytes: Vec::new(),
+        };
         let posted = ask(load, Some(take));
         assert!(posted
             .iter()
@@ -93,7 +100,17 @@ mod worker {
     #[wasm_bindgen_test]
     fn an_lma_family_trained_in_the_worker_reaches_the_page_and_goes_back_to_a_worker() {
         let take = include_bytes!("fixtures/12_01.bvh");
-        ask(Request::Load { take: 11, name: "12_01.bvh".into(), restore: false, bytes: Vec::new() }, Some(take));
+        ask(
+            Request::Load {
+                take: 11,
+                name: "12_01.bvh".into(),
+                restore: false,
+                bytes: Vec::new(),
+                skeleton: None,
+                skeleton_bytes: Vec::new(),
+            },
+            Some(take),
+        );
         let classes = ["indulging", "neutral", "condensing"];
         let mut labels = "file,start_frame,end_frame,space,time,weight,flow\n".to_string();
         for k in 0..12 {
@@ -138,16 +155,34 @@ mod worker {
     #[wasm_bindgen_test]
     fn bad_files_and_parameters_come_back_as_messages_naming_them() {
         let bad = include_bytes!("fixtures/bad.bvh");
-        let posted =
-            ask(Request::Load { take: 1, name: "bad.bvh".into(), restore: false, bytes: Vec::new() }, Some(bad));
+        let posted = ask(
+            Request::Load {
+                take: 1,
+                name: "bad.bvh".into(),
+                restore: false,
+                bytes: Vec::new(),
+                skeleton: None,
+                skeleton_bytes: Vec::new(),
+            },
+            Some(bad),
+        );
         let Some(Response::Failed { kind: FailureKind::Input, message, .. }) = posted.last() else { panic!() };
         assert!(message.starts_with("bad.bvh: line 9, column 34"), "{message}");
         // a Latin-1 file decodes through the shared loader, with its warning
         let mut latin1 = include_bytes!("fixtures/12_01.bvh").to_vec();
         let at = latin1.windows(4).position(|w| w == b"Hips").unwrap();
         latin1[at + 1] = 0xe4;
-        let posted =
-            ask(Request::Load { take: 2, name: "l1.bvh".into(), restore: false, bytes: Vec::new() }, Some(&latin1));
+        let posted = ask(
+            Request::Load {
+                take: 2,
+                name: "l1.bvh".into(),
+                restore: false,
+                bytes: Vec::new(),
+                skeleton: None,
+                skeleton_bytes: Vec::new(),
+            },
+            Some(&latin1),
+        );
         let Some(Response::Loaded { motion, .. }) = posted.last() else { panic!("{:?}", posted.last()) };
         assert!(motion.skeleton.names.iter().any(|n| n == "H\u{e4}ps"), "{:?}", &motion.skeleton.names[..3]);
         assert!(motion.summary.warnings.iter().any(|w| w.contains("Latin-1")), "{:?}", motion.summary.warnings);

@@ -1,5 +1,7 @@
 //! Where files come in: drag-and-drop on `#drop-zone`, the file picker `#file-input`, and the
-//! `#load-sample` button (the bundled sample, also loaded on start).
+//! `#load-sample` button (the bundled sample, also loaded on start). A BVH comes alone; a CMU
+//! original comes as its ASF skeleton and AMC motion, dropped or picked together
+//! ([`crate::load::opening`]).
 
 use super::loader::Loader;
 use super::AppState;
@@ -20,8 +22,9 @@ pub fn DropZone(state: AppState, loader: Loader) -> impl IntoView {
         move |ev: DragEvent| {
             ev.prevent_default();
             depth.set(0);
-            if let Some(file) = first_file(ev.data_transfer().and_then(|d| d.files())) {
-                loader.load_file(file);
+            let files = all_files(ev.data_transfer().and_then(|d| d.files()));
+            if !files.is_empty() {
+                loader.load_files(files);
             }
         }
     };
@@ -31,8 +34,9 @@ pub fn DropZone(state: AppState, loader: Loader) -> impl IntoView {
             let Some(input) = ev.target().and_then(|t| t.dyn_into::<HtmlInputElement>().ok()) else {
                 return;
             };
-            if let Some(file) = first_file(input.files()) {
-                loader.load_file(file);
+            let files = all_files(input.files());
+            if !files.is_empty() {
+                loader.load_files(files);
             }
             // Picking the same file again must load it again.
             input.set_value("");
@@ -59,14 +63,19 @@ pub fn DropZone(state: AppState, loader: Loader) -> impl IntoView {
             on:dragleave=move |_| depth.update(|d| *d = (*d - 1).max(0))
             on:drop=on_drop
         >
-            <p class="ms-drop-hint">"Drop a " <code>".bvh"</code> " motion-capture file here, or"</p>
+            <p class="ms-drop-hint">
+                "Drop a " <code>".bvh"</code> " motion-capture file here — or a CMU " <code>".asf"</code>
+                " skeleton with its " <code>".amc"</code> " motion, both at once — or"
+            </p>
             <div class="ms-drop-actions">
                 <label class="ms-button" for="file-input">"Choose a file…"</label>
                 <input
                     id="file-input"
                     class="ms-visually-hidden"
                     type="file"
-                    accept=".bvh,.BVH"
+                    accept=".bvh,.BVH,.asf,.ASF,.amc,.AMC"
+                    multiple=true
+                    aria-label="Choose a BVH file, or an ASF and its AMC file"
                     on:change=on_pick
                 />
                 <button id="load-sample" class="ms-button ms-button--quiet" type="button" on:click=on_sample>
@@ -77,6 +86,6 @@ pub fn DropZone(state: AppState, loader: Loader) -> impl IntoView {
     }
 }
 
-fn first_file(files: Option<FileList>) -> Option<File> {
-    files.and_then(|f| f.get(0))
+fn all_files(files: Option<FileList>) -> Vec<File> {
+    files.map(|f| (0..f.length()).filter_map(|i| f.get(i)).collect()).unwrap_or_default()
 }

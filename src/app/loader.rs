@@ -23,9 +23,11 @@
 use super::dtfcn_training::{model_file_name, TrainAsk, TrainState, TrainedFile};
 use super::label_models::{describe, kind_of, LoadStatus, UserModel};
 use super::lma_training::{self, TrainingState, UserFamily};
+use super::motion_image::download;
 use super::{AppState, LoadState, MethodSlot, RunState};
 use crate::dtfcn::model::ModelKind;
 use crate::dtfcn::training::EpochReport;
+use crate::load::Opening;
 use crate::protocol::{
     kind_short, FactorSummary, FailureKind, LabelModelInfo, Request, Response, RunId, TakeId, TrainField,
 };
@@ -72,6 +74,8 @@ struct Take {
     id: TakeId,
     name: String,
     bytes: ArrayBuffer,
+    /// An AMC motion's ASF skeleton: its name and bytes.
+    skeleton: Option<(String, Vec<u8>)>,
 }
 
 /// A run asked of the worker: its request, and whether it was already repeated after a
@@ -153,6 +157,9 @@ struct Inner {
     dtfcn_job: RefCell<Option<DtfcnJob>>,
     /// Keeps the worker's event handlers alive.
     handlers: RefCell<Vec<Handler>>,
+    /// Clip exports asked of the worker: the request (sent again once after `not_loaded`), the
+    /// method whose panel asked, and whether it was sent again already.
+    clip_jobs: RefCell<Vec<(Request, usize, bool)>>,
 }
 
 impl Loader {
@@ -172,6 +179,7 @@ impl Loader {
             model_sync: RefCell::new(Vec::new()),
             dtfcn_job: RefCell::new(None),
             handlers: RefCell::new(Vec::new()),
+            clip_jobs: RefCell::new(Vec::new()),
         });
         spawn_worker(&inner);
         Loader(inner)
@@ -190,22 +198,44 @@ impl Loader {
         });
     }
 
-    /// Loads a file the user dropped or picked.
-    pub fn load_file(&self, file: File) {
+    /// Loads the files the user dropped or picked at once: one take's file, or an ASF skeleton
+    /// with its AMC motion ([`crate::load::opening`] says which, or why neither).
+    pub fn load_files(&self, files: Vec<File>) {
         let inner = self.0.clone();
-        let name = file.name();
+        let names: Vec<String> = files.iter().map(File::name).collect();
+        let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+        let opening = crate::load::opening(&refs);
+        let (motion, skeleton) = match opening {
+            Ok(Opening::One(i)) => (files[i].clone(), None),
+            Ok(Opening::AsfAmc { asf, amc }) => (files[amc].clone(), Some(files[asf].clone())),
+            Err(message) => {
+                let id = begin(&inner, names.first().map_or("", String::as_str));
+                return fail_load(&inner, id, message);
+            }
+        };
+        let name = motion.name();
         let id = begin(&inner, &name);
-        if file.size() > MAX_FILE_BYTES {
-            let mib = file.size() / 1024.0 / 1024.0;
+        if let Some(big) = files.iter().find(|f| f.size() > MAX_FILE_BYTES) {
+            let mib = big.size() / 1024.0 / 1024.0;
             return fail_load(
                 &inner,
                 id,
-                format!("{name}: {mib:.0} MiB is more than the page reads (512 MiB); cut the take"),
+                format!("{}: {mib:.0} MiB is more than the page reads (512 MiB); cut the take", big.name()),
             );
         }
         wasm_bindgen_futures::spawn_local(async move {
-            match JsFuture::from(file.array_buffer()).await {
-                Ok(bytes) => send_load(&inner, id, &name, bytes.unchecked_ref()),
+            let skeleton = match skeleton {
+                None => None,
+                Some(asf) => match JsFuture::from(asf.array_buffer()).await {
+                    Ok(b) => Some((asf.name(), js_sys::Uint8Array::new(&b).to_vec())),
+                    Err(e) => {
+                        let message = format!("{}: could not read the file: {}", asf.name(), js_message(&e));
+                        return fail_load(&inner, id, message);
+                    }
+                },
+            };
+            match JsFuture::from(motion.array_buffer()).await {
+                Ok(bytes) => send_load_with(&inner, id, &name, bytes.unchecked_ref(), skeleton),
                 Err(e) => fail_load(&inner, id, format!("{name}: could not read the file: {}", js_message(&e))),
             }
         });
@@ -240,6 +270,31 @@ impl Loader {
     pub fn use_lma_model(&self, model: Option<(String, String)>) {
         self.0.state.lma.state.set(TrainingState::Switching);
         start_lma_job(&self.0, LmaAsk::Use(model));
+    }
+
+    /// Cuts the take on screen at the segments `which` chooses of method `index`'s last run and
+    /// saves the clips (a zip, or with `only` that segment's BVH); the panel's export status says
+    /// how it went.
+    pub fn export_clips(
+        &self,
+        index: usize,
+        which: crate::clips::Which,
+        to_origin: bool,
+        only: Option<(usize, usize)>,
+    ) {
+        let inner = &self.0;
+        let slot = &inner.state.methods[index];
+        let (Some(view), Some(take)) = (slot.view.get_untracked(), inner.shown.borrow().as_ref().map(|t| t.id)) else {
+            return slot.export_status.set(Some((true, "run the method on a take first".into())));
+        };
+        let run = next_id(inner);
+        let request =
+            Request::Clips { take, run, segmentation: Box::new(view.segmentation.clone()), which, to_origin, only };
+        slot.export_status.set(Some((false, "cutting the clips…".into())));
+        match post(inner, &request, None) {
+            Ok(()) => inner.clip_jobs.borrow_mut().push((request, index, false)),
+            Err(message) => slot.export_status.set(Some((true, message))),
+        }
     }
 
     /// Stops a training: the worker is replaced, and the new one gets the family the page holds.
@@ -338,22 +393,35 @@ fn post(inner: &Rc<Inner>, request: &Request, bytes: Option<&ArrayBuffer>) -> Re
 
 /// Sends a load of `bytes` as take `id` (the page keeps a copy, to send it again if needed).
 fn send_load(inner: &Rc<Inner>, id: TakeId, name: &str, bytes: &ArrayBuffer) {
+    send_load_with(inner, id, name, bytes, None);
+}
+
+/// [`send_load`] of an AMC motion with its ASF `skeleton` (name, bytes), or of any file without.
+fn send_load_with(inner: &Rc<Inner>, id: TakeId, name: &str, bytes: &ArrayBuffer, skeleton: Option<(String, Vec<u8>)>) {
     if inner.current.get() != id {
         return;
     }
-    let take = Take { id, name: name.to_string(), bytes: bytes.slice(0) };
+    let take = Take { id, name: name.to_string(), bytes: bytes.slice(0), skeleton };
+    let request = load_request(&take, false);
     *inner.pending.borrow_mut() = Some(take);
-    let request = Request::Load { take: id, name: name.to_string(), restore: false, bytes: Vec::new() };
     if let Err(e) = post(inner, &request, Some(bytes)) {
         fail_load(inner, id, format!("{name}: {e}"));
     }
 }
 
+/// The load request of `take` (its bytes go as the transferred buffer).
+fn load_request(take: &Take, restore: bool) -> Request {
+    let (skeleton, skeleton_bytes) = match &take.skeleton {
+        Some((name, bytes)) => (Some(name.clone()), bytes.clone()),
+        None => (None, Vec::new()),
+    };
+    Request::Load { take: take.id, name: take.name.clone(), restore, bytes: Vec::new(), skeleton, skeleton_bytes }
+}
+
 /// Sends the take on screen to the worker again (it answers `restored`).
 fn restore(inner: &Rc<Inner>) -> Result<(), String> {
     let take = inner.shown.borrow().clone().ok_or("no take is loaded")?;
-    let request = Request::Load { take: take.id, name: take.name.clone(), restore: true, bytes: Vec::new() };
-    post(inner, &request, Some(&take.bytes.slice(0)))
+    post(inner, &load_request(&take, true), Some(&take.bytes.slice(0)))
 }
 
 fn fail_load(inner: &Inner, id: TakeId, message: String) {
@@ -910,6 +978,7 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
             for slot in state.methods {
                 slot.view.set(None);
                 slot.run.set(RunState::Idle);
+                slot.export_status.set(None);
             }
             inner.runs.borrow_mut().iter_mut().for_each(|r| *r = None);
             state.motion.set(Some(Arc::new(*motion)));
@@ -931,6 +1000,37 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                     state.error.set(None);
                 }
                 slot.run.set(RunState::Done);
+            }
+        }
+        Response::Clips { run, file, clips, bytes, .. } => {
+            let job = take_clip_job(inner, run);
+            if let Some(index) = job.map(|(_, index, _)| index) {
+                let status = match download(&bytes, clip_mime(&file), &file) {
+                    Ok(()) => (false, format!("saved {file} ({clips} clip{})", if clips == 1 { "" } else { "s" })),
+                    Err(e) => (true, format!("could not save {file}: {}", js_message(&e))),
+                };
+                state.methods[index].export_status.set(Some(status));
+            }
+        }
+        Response::Failed { run: Some(run), message, kind, .. }
+            if inner.clip_jobs.borrow().iter().any(|(r, _, _)| r.run_id() == Some(run)) =>
+        {
+            let Some((request, index, retried)) = take_clip_job(inner, run) else { return };
+            let slot = &state.methods[index];
+            match kind {
+                FailureKind::NotLoaded if !retried => {
+                    let sent = restore(inner).and_then(|()| post(inner, &request, None));
+                    match sent {
+                        Ok(()) => inner.clip_jobs.borrow_mut().push((request, index, true)),
+                        Err(e) => slot.export_status.set(Some((true, e))),
+                    }
+                }
+                _ => {
+                    slot.export_status.set(Some((true, message)));
+                    if kind == FailureKind::Internal {
+                        replace_worker(inner);
+                    }
+                }
             }
         }
         Response::Trained { run, model, report, origin, used_rows, ignored_rows, .. } if is_lma_job(inner, run) => {
@@ -1023,6 +1123,22 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
             }
         }
         _ => {} // about a load that has been superseded
+    }
+}
+
+/// Removes and returns the clip export `run`.
+fn take_clip_job(inner: &Inner, run: RunId) -> Option<(Request, usize, bool)> {
+    let mut jobs = inner.clip_jobs.borrow_mut();
+    let i = jobs.iter().position(|(r, _, _)| r.run_id() == Some(run))?;
+    Some(jobs.remove(i))
+}
+
+/// The type of a clip export's file.
+fn clip_mime(file: &str) -> &'static str {
+    if file.ends_with(".zip") {
+        "application/zip"
+    } else {
+        "application/octet-stream"
     }
 }
 

@@ -24,6 +24,7 @@
 use super::loader::Loader;
 use super::motion_image::{download, stem};
 use super::{AppState, MethodSlot, RunState, Selection};
+use crate::clips::Which;
 use crate::method::{ParamKind, ParamSpec, Picture};
 use crate::protocol::MethodView;
 use crate::segment::palette::{action_colour, class_colour, cluster_colour};
@@ -166,6 +167,7 @@ pub fn MethodPanel(
         ev.prevent_default();
         run_loader.run(index);
     };
+    let export_loader = loader.clone();
     let on_cancel = move |_| loader.cancel(index);
     let export_name = name.clone();
     let on_export = move |_| {
@@ -180,6 +182,7 @@ pub fn MethodPanel(
         })
     };
     let counts = move || slot.view.with(|v| v.as_ref().map(|v| v.details.summary.clone()).unwrap_or_default());
+    let exports = view! { <Exports state=state method=slot index=index loader=export_loader/> };
     let fields = || slot.specs.iter().zip(&slot.fields).zip(&slot.choices);
     let basic: Vec<AnyView> =
         fields().filter(|((s, _), _)| s.basic).map(|((s, v), c)| field(&name, s, *v, *c)).collect();
@@ -238,29 +241,179 @@ pub fn MethodPanel(
                     <span class="ms-progress-label">{move || format!("{short}: {}…", progress().0)}</span>
                 </div>
             </form>
+            {exports}
             {extra}
             <div class="ms-method-body">{pictures}</div>
         </section>
     }
 }
 
+/// The level a row's selected segment `(start, end)` of `v` has, as the clips' choice: an action
+/// among the actions, a primitive among the primitives, a transition among every segment.
+fn which_of(v: &MethodView, start: usize, end: usize) -> Option<Which> {
+    let s = v.segmentation.segments.iter().find(|s| s.start == start && s.end == end)?;
+    Some(match s.level {
+        Level::Action => Which::Actions,
+        Level::Primitive => Which::Primitives,
+        Level::Transition => Which::All,
+    })
+}
+
+/// `#<name>-exports`: the run's segments as the label CSV (`#<name>-export-csv`), as BVH clips
+/// in one zip (`#<name>-export-clips`) or the selected segment's clip alone
+/// (`#<name>-export-clip`), choosing the segments (`#<name>-export-which`: actions,
+/// primitives, all) and whether clips start at the origin facing +Z (`#<name>-export-origin`);
+/// `#<name>-export-status` says what was saved or why not.
+#[component]
+fn Exports(state: AppState, method: &'static MethodSlot, index: usize, loader: Loader) -> impl IntoView {
+    let slot = method;
+    let name = slot.info.name.clone();
+    let which = RwSignal::new(Which::Actions);
+    let origin = RwSignal::new(false);
+    let has = move |level: Level| {
+        slot.view.with(|v| v.as_ref().is_some_and(|v| v.segmentation.level(level).next().is_some()))
+    };
+    // a new run: the choice stays if the run has such segments, else actions, else all
+    Effect::new(move |_| {
+        if slot.view.with(Option::is_none) {
+            return;
+        }
+        let (a, p) = (has(Level::Action), has(Level::Primitive));
+        let w = which.get_untracked();
+        if (w == Which::Actions && !a) || (w == Which::Primitives && !p) {
+            which.set(if a { Which::Actions } else { Which::All });
+        }
+    });
+    let on_csv = move |_| {
+        slot.view.with_untracked(|v| {
+            let Some(v) = v else { return };
+            let rows = crate::labels::from_segmentation(&v.segmentation, which.get_untracked());
+            let file =
+                format!("{}_{}_{}.csv", stem(&v.segmentation.file), slot.info.name, which_name(which.get_untracked()));
+            let status = if rows.is_empty() {
+                (true, "no segments of that kind to save".to_string())
+            } else {
+                match download(crate::labels::to_csv(&rows).as_bytes(), "text/csv", &file) {
+                    Ok(()) => (false, format!("saved {file} ({} rows)", rows.len())),
+                    Err(e) => (true, format!("could not save {file}: {e:?}")),
+                }
+            };
+            slot.export_status.set(Some(status));
+        })
+    };
+    let clips_loader = loader.clone();
+    let on_clips = move |_| clips_loader.export_clips(index, which.get_untracked(), origin.get_untracked(), None);
+    let mine = {
+        let prefix = format!("{name}-");
+        move || state.selected.with(|s| s.as_ref().filter(|s| s.row.starts_with(&prefix)).map(|s| (s.start, s.end)))
+    };
+    let selected = mine.clone();
+    let on_clip = move |_| {
+        let Some((start, end)) = selected() else { return };
+        let Some(w) = slot.view.with_untracked(|v| v.as_ref().and_then(|v| which_of(v, start, end))) else { return };
+        loader.export_clips(index, w, origin.get_untracked(), Some((start, end)));
+    };
+    let none = move || slot.view.with(Option::is_none);
+    let options = move || {
+        [(Which::Actions, Level::Action, "actions"), (Which::Primitives, Level::Primitive, "primitives")]
+            .into_iter()
+            .filter(|(_, level, _)| has(*level))
+            .map(|(w, _, label)| view! { <option value=which_name(w) selected=move || which.get() == w>{label}</option> })
+            .collect_view()
+    };
+    let on_which = move |ev: leptos::ev::Event| {
+        which.set(match event_target_value(&ev).as_str() {
+            "actions" => Which::Actions,
+            "primitives" => Which::Primitives,
+            _ => Which::All,
+        })
+    };
+    let status = move || slot.export_status.get();
+    view! {
+        <div id=format!("{name}-exports") class="ms-exports" role="group" aria-label=format!("Export {}", slot.info.short)>
+            <label class="ms-exports-field">
+                "Segments "
+                <select id=format!("{name}-export-which") disabled=none on:change=on_which>
+                    {options}
+                    <option value="all" selected=move || which.get() == Which::All>"all"</option>
+                </select>
+            </label>
+            <button id=format!("{name}-export-csv") class="ms-button ms-button--quiet" type="button" disabled=none on:click=on_csv>
+                "CSV"
+            </button>
+            <button id=format!("{name}-export-clips") class="ms-button ms-button--quiet" type="button" disabled=none on:click=on_clips
+                title="Every chosen segment as its own BVH file, cut from the original with its hierarchy, channel order and frame time, in one zip">
+                "BVH clips (zip)"
+            </button>
+            <button id=format!("{name}-export-clip") class="ms-button ms-button--quiet" type="button"
+                disabled=move || mine().is_none()
+                on:click=on_clip
+                title="Select a segment of this method on the timeline to save it alone">
+                "Selected segment as BVH"
+            </button>
+            <label class="ms-exports-field">
+                <input id=format!("{name}-export-origin") type="checkbox"
+                    prop:checked=move || origin.get()
+                    on:change=move |ev| origin.set(event_target_checked(&ev))/>
+                " clips start at the origin facing +Z"
+            </label>
+            <span
+                id=format!("{name}-export-status")
+                class="ms-exports-status"
+                class:ms-exports-status--error=move || status().is_some_and(|(e, _)| e)
+                role="status"
+                aria-live="polite"
+            >
+                {move || status().map(|(_, m)| m).unwrap_or_default()}
+            </span>
+        </div>
+    }
+}
+
+/// The name of a choice of segments in file names and the select's values.
+fn which_name(w: Which) -> &'static str {
+    match w {
+        Which::Actions => "actions",
+        Which::Primitives => "primitives",
+        Which::All => "all",
+    }
+}
+
 /// Picture `k` of `view` on a canvas, one canvas pixel per picture pixel (CSS scales it).
 fn picture_view(slot: &'static MethodSlot, view: Arc<MethodView>, k: usize) -> impl IntoView {
+    let view_of_canvas = view.clone();
     let p: &Picture = &view.details.pictures[k];
     let id = format!("{}-{}", slot.info.name, p.id);
     let (title, caption) = (p.title.clone(), p.caption.clone());
     let canvas_ref = NodeRef::<Canvas>::new();
     Effect::new(move |_| {
         if let Some(canvas) = canvas_ref.get() {
-            if let Err(e) = draw_picture(&canvas, &view.details.pictures[k]) {
+            if let Err(e) = draw_picture(&canvas, &view_of_canvas.details.pictures[k]) {
                 web_sys::console::error_2(&"could not draw a picture".into(), &e);
             }
         }
     });
+    let png_id = format!("{id}-png");
+    let on_png = move |_| {
+        let p = &view.details.pictures[k];
+        let file = format!("{}_{}_{}.png", stem(&view.segmentation.file), slot.info.name, p.id);
+        let saved = p
+            .to_png()
+            .map_err(|e| e.to_string())
+            .and_then(|png| download(&png, "image/png", &file).map_err(|e| format!("{e:?}")));
+        slot.export_status.set(Some(match saved {
+            Ok(()) => (false, format!("saved {file}")),
+            Err(e) => (true, format!("could not save {file}: {e}")),
+        }));
+    };
     view! {
         <figure class="ms-method-figure">
             <canvas id=id class="ms-method-picture" node_ref=canvas_ref aria-label=title.clone()></canvas>
-            <figcaption class="ms-method-legend"><strong>{title}". "</strong>{caption}</figcaption>
+            <figcaption class="ms-method-legend">
+                <strong>{title.clone()}". "</strong>{caption}" "
+                <button id=png_id class="ms-button ms-button--quiet ms-button--small" type="button"
+                    aria-label=format!("Save {title} as PNG") on:click=on_png>"PNG"</button>
+            </figcaption>
         </figure>
     }
 }
@@ -344,7 +497,8 @@ pub fn MethodRows(state: AppState) -> impl IntoView {
             let name = &slot.info.name;
             let levels = if primitive { PRIMITIVE_LEVELS } else { ACTION_LEVELS };
             let row_id = format!("{name}-{}", if primitive { "primitives" } else { "actions" });
-            let data = RwSignal::new(RowData { view: None, segments: Arc::default(), spans: Arc::default(), generation: 0 });
+            let data =
+                RwSignal::new(RowData { view: None, segments: Arc::default(), spans: Arc::default(), generation: 0 });
             Effect::new(move |_| {
                 let view = slot.view.get();
                 let segments = view.as_ref().map(|v| row_segments(v, levels)).unwrap_or_default();

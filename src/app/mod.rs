@@ -115,6 +115,8 @@ pub struct MethodSlot {
     pub run: RwSignal<RunState>,
     /// The last finished run on the take on screen.
     pub view: RwSignal<Option<Arc<MethodView>>>,
+    /// What the last export of the panel did: (failed, message), shown beside its controls.
+    pub export_status: RwSignal<Option<(bool, String)>>,
 }
 
 impl MethodSlot {
@@ -135,6 +137,7 @@ impl MethodSlot {
             choices,
             run: RwSignal::new(RunState::Idle),
             view: RwSignal::new(None),
+            export_status: RwSignal::new(None),
         }
     }
 

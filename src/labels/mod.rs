@@ -11,7 +11,9 @@
 
 pub mod gait;
 
+use crate::clips::Which;
 use crate::segment::truth::{load_all_csv, TruthOptions};
+use crate::segment::Segmentation;
 
 /// One labelled segment of a take.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,6 +32,24 @@ pub fn to_csv(rows: &[LabelRow]) -> String {
         let _ = w.write_record([r.file.as_str(), &r.start_frame.to_string(), &r.end_frame.to_string(), &r.label]);
     }
     String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default()
+}
+
+/// The segments of `segmentation` that `which` chooses as label rows of its file, in frame
+/// order (what the page's "CSV" export saves: the same rows `train-dtfcn` and the page's training read).
+pub fn from_segmentation(segmentation: &Segmentation, which: Which) -> Vec<LabelRow> {
+    let mut rows: Vec<LabelRow> = segmentation
+        .segments
+        .iter()
+        .filter(|s| which.takes(s.level))
+        .map(|s| LabelRow {
+            file: segmentation.file.clone(),
+            start_frame: s.start,
+            end_frame: s.end,
+            label: if s.label.is_empty() { "unlabelled".to_string() } else { s.label.clone() },
+        })
+        .collect();
+    rows.sort_by_key(|r| (r.start_frame, r.end_frame));
+    rows
 }
 
 /// Reads a label CSV (the header is required; errors name `source` and the line).

@@ -124,6 +124,13 @@ pub struct Picture {
     pub rgba: Vec<u8>,
 }
 
+impl Picture {
+    /// The picture as a PNG file (what the page's "PNG" button under each picture saves).
+    pub fn to_png(&self) -> Result<Vec<u8>, crate::image::ImageError> {
+        crate::image::rgba_png(self.width, self.height, &self.rgba)
+    }
+}
+
 /// A per-frame score (confidence, effort value, …) at the file's frame rate.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Curve {
