@@ -97,6 +97,6 @@ fn a_skeleton_without_arms_is_refused_by_name() {
             .run_json(&motion, &serde_json::json!({}), &RunOptions::default(), &mut NoProgress)
             .unwrap_err()
             .to_string();
-        assert!(err.contains("no joint found for") && err.contains("LeftHand"), "{name}: {err}");
+        assert!(err.contains("missing (") && err.contains("LeftHand"), "{name}: {err}");
     }
 }

@@ -647,12 +647,35 @@ fn unmappable_skeleton_names_the_missing_joints() {
     );
     let msg = err.to_string();
     assert!(
-        msg.starts_with(
-            "cannot map the skeleton to the canonical joints: no joint found for Spine, Chest, LeftShoulder"
-        ),
+        msg.starts_with("cannot map the skeleton to the 17 canonical joints: 6 found (Hips, Neck as Torso, Head, ")
+            && msg.contains(", 11 missing (Spine, Chest, LeftShoulder,"),
         "{msg}"
     );
-    assert!(msg.contains("RightFoot (joints in the file: Hips, Torso, Head, LeftUpLeg, LeftLeg, LeftFoot)"), "{msg}");
+    assert!(msg.contains("RightFoot). Joints are matched by name"), "{msg}");
+    assert!(msg.ends_with("Joints in the file: Hips, Torso, Head, LeftUpLeg, LeftLeg, LeftFoot"), "{msg}");
+    assert_eq!(err.found.len() + err.missing.len(), 17);
+}
+
+#[test]
+fn a_joint_named_like_a_missing_one_is_explained_not_contradicted() {
+    // a left hand beside the arm, not below its elbow: LeftHand is missing though a joint of that
+    // name is in the file, and the message says how joints are matched
+    let nodes = [
+        node("Hips", None, [0.0; 3], &[XP, YP, ZP]),
+        node("LeftArm", Some(0), [0.2, 0.5, 0.0], &[ZR]),
+        node("LeftForeArm", Some(1), [0.3, 0.0, 0.0], &[ZR]),
+        node("LeftHand", Some(0), [0.3, 0.5, 0.0], &[ZR]),
+        node("Head", Some(0), [0.0, 0.6, 0.0], &[ZR]),
+    ];
+    let m = motion(&nodes, 0.1, &[vec![0.0; 7]]);
+    let err = map_joints(&m.skeleton).unwrap_err();
+    assert!(err.missing.contains(&Canonical::LeftHand), "{err}");
+    assert!(err.found.contains(&(Canonical::LeftElbow, "LeftForeArm".to_string())), "{err}");
+    assert!(!err.found.iter().any(|(_, name)| name == "LeftHand"), "{:?}", err.found);
+    let msg = err.to_string();
+    assert!(msg.contains("LeftElbow as LeftForeArm"), "{msg}");
+    assert!(msg.contains("each below the one before it in its chain when that one is found"), "{msg}");
+    assert!(msg.ends_with("Joints in the file: Hips, LeftArm, LeftForeArm, LeftHand, Head"), "{msg}");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1093,15 +1116,17 @@ fn real_skeletons_without_a_body_name_what_is_missing() {
     assert!(!err.missing.contains(&Canonical::Head) && !err.missing.contains(&Canonical::Hips));
     assert_eq!(
         err.to_string(),
-        "cannot map the skeleton to the canonical joints: no joint found for Spine, Chest, Neck, LeftShoulder, \
-         LeftElbow, LeftHand, RightShoulder, RightElbow, RightHand, LeftHip, LeftKnee, LeftFoot, RightHip, \
-         RightKnee, RightFoot (joints in the file: Hips, Head)"
+        "cannot map the skeleton to the 17 canonical joints: 2 found (Hips, Head), 15 missing (Spine, Chest, Neck, \
+         LeftShoulder, LeftElbow, LeftHand, RightShoulder, RightElbow, RightHand, LeftHip, LeftKnee, LeftFoot, \
+         RightHip, RightKnee, RightFoot). Joints are matched by name, each below the one before it in its chain when \
+         that one is found (hips, spine, chest, neck, head; shoulder, elbow, hand; hip, knee, foot), so a joint \
+         named like a missing one may sit elsewhere. Joints in the file: Hips, Head"
     );
     let m = fixture("bvh_anim_test_simple.bvh"); // Base → End
     let err = map_joints(&m.skeleton).unwrap_err();
     assert_eq!(err.missing.len(), 16);
-    assert!(err.to_string().contains("no joint found for Spine, Chest, Neck, Head, LeftShoulder"), "{err}");
-    assert!(err.to_string().ends_with("(joints in the file: Base, End)"), "{err}");
+    assert!(err.to_string().contains("16 missing (Spine, Chest, Neck, Head, LeftShoulder"), "{err}");
+    assert!(err.to_string().ends_with("Joints in the file: Base, End"), "{err}");
 }
 
 #[test]

@@ -438,6 +438,8 @@ fn start_run(inner: &Rc<Inner>, index: usize) {
         Ok(p) => p,
         Err(message) => return fail_run(inner, index, message),
     };
+    slot.field_error.set(None);
+    slot.failure.set(None);
     let id = next_id(inner);
     inner.runs.borrow_mut()[index] = Some(Run { id, method: slot.info.name.clone(), params, retried: false });
     slot.run.set(RunState::Running { stage: "starting".into(), fraction: 0.0 });
@@ -457,10 +459,19 @@ fn send_run(inner: &Rc<Inner>, index: usize) -> Result<(), String> {
     post(inner, &request, None)
 }
 
+/// A run failed: a refusal that names one of the method's parameters shows at that field, any
+/// other message in the banner.
 fn fail_run(inner: &Inner, index: usize, message: String) {
     inner.runs.borrow_mut()[index] = None;
-    inner.state.show_run_error(message);
-    inner.state.methods[index].run.set(RunState::Failed);
+    let slot = &inner.state.methods[index];
+    match crate::method::form::param_named(&slot.specs, &message) {
+        Some(param) => slot.field_error.set(Some((param.to_string(), message))),
+        None => {
+            slot.failure.set(Some(message.clone()));
+            inner.state.show_run_error(message);
+        }
+    }
+    slot.run.set(RunState::Failed);
 }
 
 /// The method whose current run is `run`.
@@ -979,6 +990,8 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                 slot.view.set(None);
                 slot.run.set(RunState::Idle);
                 slot.export_status.set(None);
+                slot.failure.set(None);
+                slot.field_error.set(None);
             }
             inner.runs.borrow_mut().iter_mut().for_each(|r| *r = None);
             state.motion.set(Some(Arc::new(*motion)));

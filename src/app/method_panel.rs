@@ -126,6 +126,30 @@ fn field(method: &str, spec: &ParamSpec, value: RwSignal<String>, choices: RwSig
     }
 }
 
+/// A parameter's field with the place for its refusal: `#<method>-<param>-error` under it holds
+/// the message of the last run refused for this parameter (an alert; the field is outlined red).
+fn checked_field(
+    slot: &'static MethodSlot,
+    spec: &ParamSpec,
+    value: RwSignal<String>,
+    choices: RwSignal<Vec<String>>,
+) -> AnyView {
+    let param = spec.name.clone();
+    let mine = move || slot.field_error.with(|e| e.as_ref().filter(|(p, _)| *p == param).map(|(_, m)| m.clone()));
+    let invalid = mine.clone();
+    let shown = mine.clone();
+    let error_id = format!("{}-{}-error", slot.info.name, spec.name);
+    view! {
+        <div class="ms-field" class:ms-field--invalid=move || invalid().is_some()>
+            {field(&slot.info.name, spec, value, choices)}
+            <span id=error_id class="ms-field-error" role="alert" hidden=move || shown().is_none()>
+                {move || mine().unwrap_or_default()}
+            </span>
+        </div>
+    }
+    .into_any()
+}
+
 /// A number field with its bounds and step (`any` or `1`) as hints; the method checks the value.
 fn number_input(
     id: String,
@@ -185,9 +209,30 @@ pub fn MethodPanel(
     let exports = view! { <Exports state=state method=slot index=index loader=export_loader/> };
     let fields = || slot.specs.iter().zip(&slot.fields).zip(&slot.choices);
     let basic: Vec<AnyView> =
-        fields().filter(|((s, _), _)| s.basic).map(|((s, v), c)| field(&name, s, *v, *c)).collect();
+        fields().filter(|((s, _), _)| s.basic).map(|((s, v), c)| checked_field(slot, s, *v, *c)).collect();
     let advanced: Vec<AnyView> =
-        fields().filter(|((s, _), _)| !s.basic).map(|((s, v), c)| field(&name, s, *v, *c)).collect();
+        fields().filter(|((s, _), _)| !s.basic).map(|((s, v), c)| checked_field(slot, s, *v, *c)).collect();
+    // a refusal of an advanced parameter opens "Advanced"; the wrong field gets the focus
+    let advanced_open = move || {
+        slot.field_error.with(|e| {
+            e.as_ref().is_some_and(|(p, _)| slot.specs.iter().any(|s| !s.basic && &s.name == p))
+        })
+    };
+    {
+        let name = name.clone();
+        Effect::new(move |_| {
+            let Some((param, _)) = slot.field_error.get() else { return };
+            let id = format!("{name}-{param}");
+            if let Some(el) = web_sys::window()
+                .and_then(|w| w.document())
+                .and_then(|d| d.get_element_by_id(&id))
+                .and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
+            {
+                el.scroll_into_view_with_bool(false);
+                let _ = el.focus();
+            }
+        });
+    }
     let has_advanced = !advanced.is_empty();
     let extra = extra.map(|e| view! { <div class="ms-method-extra">{e}</div> });
     let short = slot.info.short.clone();
@@ -215,7 +260,7 @@ pub fn MethodPanel(
             </div>
             <form id=format!("{name}-params") class="ms-method-params" novalidate=true on:submit=on_run>
                 {basic}
-                <details class="ms-method-advanced" hidden=!has_advanced>
+                <details class="ms-method-advanced" hidden=!has_advanced prop:open=advanced_open>
                     <summary>"Advanced"</summary>
                     {advanced}
                 </details>
@@ -241,6 +286,14 @@ pub fn MethodPanel(
                     <span class="ms-progress-label">{move || format!("{short}: {}…", progress().0)}</span>
                 </div>
             </form>
+            <p
+                id=format!("{name}-failure")
+                class="ms-method-failure"
+                role="status"
+                hidden=move || slot.failure.with(Option::is_none)
+            >
+                {move || slot.failure.get().unwrap_or_default()}
+            </p>
             {exports}
             {extra}
             <div class="ms-method-body">{pictures}</div>
@@ -330,7 +383,13 @@ fn Exports(state: AppState, method: &'static MethodSlot, index: usize, loader: L
     };
     let status = move || slot.export_status.get();
     view! {
-        <div id=format!("{name}-exports") class="ms-exports" role="group" aria-label=format!("Export {}", slot.info.short)>
+        <div
+            id=format!("{name}-exports")
+            class="ms-exports"
+            role="group"
+            aria-label=format!("Export {}", slot.info.short)
+            hidden=none
+        >
             <label class="ms-exports-field">
                 "Segments "
                 <select id=format!("{name}-export-which") disabled=none on:change=on_which>

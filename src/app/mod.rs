@@ -117,6 +117,10 @@ pub struct MethodSlot {
     pub view: RwSignal<Option<Arc<MethodView>>>,
     /// What the last export of the panel did: (failed, message), shown beside its controls.
     pub export_status: RwSignal<Option<(bool, String)>>,
+    /// The last run's refusal when it names a parameter: (parameter, message), shown at its field.
+    pub field_error: RwSignal<Option<(String, String)>>,
+    /// The last run's failure when it is about the take (not a field): shown in the panel too.
+    pub failure: RwSignal<Option<String>>,
 }
 
 impl MethodSlot {
@@ -138,6 +142,8 @@ impl MethodSlot {
             run: RwSignal::new(RunState::Idle),
             view: RwSignal::new(None),
             export_status: RwSignal::new(None),
+            field_error: RwSignal::new(None),
+            failure: RwSignal::new(None),
         }
     }
 

@@ -194,9 +194,9 @@ impl Method for Labelling {
         let unknown = file.iter().filter(|f| f.0.is_none()).count();
         let mean = file.iter().map(|f| f.1 as f64).sum::<f64>() / file.len().max(1) as f64;
         let summary = format!(
-            "{} segments · {} classes of model `{}` · mean confidence {:.2} · {:.0} % unknown (below {:.2})",
-            segmentation.segments.len(),
-            header.classes.len(),
+            "{} · {} of model `{}` · mean confidence {:.2} · {:.0} % unknown (below {:.2})",
+            crate::method::counted(segmentation.segments.len(), "segment"),
+            crate::method::counted(header.classes.len(), "class"),
             header.name,
             mean,
             100.0 * unknown as f64 / file.len().max(1) as f64,

@@ -104,7 +104,11 @@ impl Method for Kcs {
                 &cut_frames,
             ));
         }
-        let summary = format!("{} swings · {} cuts", segmentation.segments.len(), cut_frames.len());
+        let summary = format!(
+            "{} · {}",
+            crate::method::counted(segmentation.segments.len(), "swing"),
+            crate::method::counted(cut_frames.len(), "cut")
+        );
         let curves = curves
             .iter()
             .zip(limbs)

@@ -324,13 +324,13 @@ pub fn segment_with(
     }
     let count = |a: Arms| merged.iter().filter(|m| m.arms == a).count();
     let summary = format!(
-        "{} gestures ({} both arms, {} left, {} right) · {} search, {} candidate segments assessed by {} classifiers",
-        segments.len(),
+        "{} ({} both arms, {} left, {} right) · {} search, {} assessed by {} classifiers",
+        crate::method::counted(segments.len(), "gesture"),
         count(Arms::Both),
         count(Arms::First),
         count(Arms::Second),
         if params.exhaustive { "exhaustive" } else { "pruned" },
-        assessed,
+        crate::method::counted(assessed, "candidate segment"),
         model.shifts()
     );
     let segmentation = Segmentation {

@@ -46,6 +46,28 @@ pub fn params_from_form(short: &str, specs: &[ParamSpec], texts: &[String]) -> R
     Ok(serde_json::Value::Object(params))
 }
 
+/// The parameter a refusal is about: the spec whose name `message` names first as a whole word
+/// (`radius`, `horizon_s`; not `radius` inside `radius_max`), so the page can show the message at
+/// that field. `None` when it names none (the message is about the take, not a field).
+pub fn param_named<'a>(specs: &'a [ParamSpec], message: &str) -> Option<&'a str> {
+    let word = |c: char| c.is_alphanumeric() || c == '_';
+    specs
+        .iter()
+        .filter_map(|spec| {
+            let name = spec.name.as_str();
+            message
+                .match_indices(name)
+                .find(|(at, _)| {
+                    let before = message[..*at].chars().next_back();
+                    let after = message[at + name.len()..].chars().next();
+                    !before.is_some_and(word) && !after.is_some_and(word)
+                })
+                .map(|(at, _)| (at, name))
+        })
+        .min_by_key(|(at, _)| *at)
+        .map(|(_, name)| name)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -63,6 +85,32 @@ mod tests {
             let checked = m.check_json(&params).unwrap();
             assert_eq!(checked.echo(), &m.defaults(), "{}", m.info().name);
         }
+    }
+
+    #[test]
+    fn a_refusal_is_placed_at_the_parameter_it_names_first_as_a_whole_word() {
+        let m = method::find("sssm").unwrap();
+        let specs = m.param_specs();
+        // what the method and the form really say
+        for (params, want) in [
+            (serde_json::json!({"radius": -1}), "radius"),
+            (serde_json::json!({"horizon_s": 2}), "horizon_s"),
+        ] {
+            let e = m.check_json(&params).unwrap_err().to_string();
+            assert_eq!(param_named(&specs, &e), Some(want), "{e}");
+        }
+        let mut texts = texts_of(&specs);
+        let at = specs.iter().position(|s| s.name == "offsets").unwrap();
+        texts[at] = "-10,x".into();
+        let e = params_from_form("SSSM", &specs, &texts).unwrap_err();
+        assert_eq!(param_named(&specs, &e), Some("offsets"), "{e}");
+        // whole words only, the first named wins, none when none is named
+        let spec = |name: &str| ParamSpec { name: name.into(), ..specs[0].clone() };
+        let two = [spec("radius"), spec("radius_max"), spec("k")];
+        assert_eq!(param_named(&two, "radius_max 3 is below radius 5"), Some("radius_max"));
+        assert_eq!(param_named(&two, "the take is shorter than k frames"), Some("k"));
+        assert_eq!(param_named(&two, "kradius and radiusk"), None);
+        assert_eq!(param_named(&two, "SSSM needs 2 s of motion"), None);
     }
 
     #[test]

@@ -296,6 +296,25 @@ fn misread<P: DeserializeOwned>(short: &str, params: &serde_json::Value, e: serd
     }
 }
 
+/// `n` and the English noun `word` in its number, as summaries print counts: "1 action",
+/// "3 actions", "1 boundary", "2 boundaries", "1 class", "4 classes".
+pub fn counted(n: usize, word: &str) -> String {
+    if n == 1 {
+        return format!("1 {word}");
+    }
+    let consonant_y = word.ends_with('y') && !word.ends_with(['a', 'e', 'i', 'o', 'u']) && {
+        let before = word.chars().rev().nth(1);
+        before.is_some_and(|c| !"aeiou".contains(c))
+    };
+    if consonant_y {
+        format!("{n} {}ies", &word[..word.len() - 1])
+    } else if word.ends_with("s") || word.ends_with("sh") || word.ends_with("ch") || word.ends_with('x') {
+        format!("{n} {word}es")
+    } else {
+        format!("{n} {word}s")
+    }
+}
+
 /// Every method, in the order the page shows them. One line per method.
 pub fn registry() -> &'static [&'static dyn DynMethod] {
     &[
@@ -346,6 +365,18 @@ pub fn params_from_overrides(method: &dyn DynMethod, overrides: &[String]) -> Re
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn counts_are_in_the_noun_s_number() {
+        use super::counted;
+        assert_eq!(counted(1, "action"), "1 action");
+        assert_eq!(counted(0, "action"), "0 actions");
+        assert_eq!(counted(2, "boundary"), "2 boundaries");
+        assert_eq!(counted(1, "boundary"), "1 boundary");
+        assert_eq!(counted(3, "class"), "3 classes");
+        assert_eq!(counted(5, "day"), "5 days");
+        assert_eq!(counted(7, "search"), "7 searches");
+    }
+
     use super::*;
 
     #[test]

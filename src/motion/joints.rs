@@ -191,14 +191,40 @@ impl JointMap {
     }
 }
 
-/// The skeleton lacks some canonical joints.
+/// The skeleton lacks some canonical joints. The message says which were found (and as which of
+/// the file's joints), which were not, and that joints are matched along their chains, so a file
+/// joint named like a missing one (a `LeftHand` not below the left elbow) reads as what it is.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("cannot map the skeleton to the canonical joints: no joint found for {} (joints in the file: {})", list_canonical(.missing), list_names(.joint_names))]
+#[error(
+    "cannot map the skeleton to the {} canonical joints: {} found{}, {} missing ({}). Joints are matched by \
+     name, each below the one before it in its chain when that one is found (hips, spine, chest, neck, head; \
+     shoulder, elbow, hand; hip, knee, foot), so a joint named like a missing one may sit elsewhere. Joints in \
+     the file: {}",
+    Canonical::ALL.len(),
+    .found.len(),
+    list_found(.found),
+    .missing.len(),
+    list_canonical(.missing),
+    list_names(.joint_names)
+)]
 pub struct MissingJoints {
+    /// The canonical joints that were found, with the file joint each is, in [`Canonical::ALL`] order.
+    pub found: Vec<(Canonical, String)>,
     /// Every canonical joint that could not be found, in [`Canonical::ALL`] order.
     pub missing: Vec<Canonical>,
     /// The names of the file's joints (End Sites excluded), to help the user.
     pub joint_names: Vec<String>,
+}
+
+fn list_found(found: &[(Canonical, String)]) -> String {
+    if found.is_empty() {
+        return String::new();
+    }
+    let pairs: Vec<String> = found
+        .iter()
+        .map(|(c, name)| if c.name() == name { name.clone() } else { format!("{} as {name}", c.name()) })
+        .collect();
+    format!(" ({})", pairs.join(", "))
 }
 
 fn list_canonical(c: &[Canonical]) -> String {
@@ -426,7 +452,9 @@ pub fn map_joints(s: &Skeleton) -> Result<JointMap, MissingJoints> {
         Canonical::ALL.iter().zip(found).filter(|(_, f)| f.is_none()).map(|(c, _)| *c).collect();
     if !missing.is_empty() {
         let joint_names = n.joints().map(|j| s.names[j].clone()).collect();
-        return Err(MissingJoints { missing, joint_names });
+        let found =
+            Canonical::ALL.iter().zip(found).filter_map(|(c, f)| f.map(|j| (*c, s.names[j].clone()))).collect();
+        return Err(MissingJoints { found, missing, joint_names });
     }
     let f = found.map(|x| x.unwrap_or(0));
     Ok(JointMap {

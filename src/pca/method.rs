@@ -91,10 +91,10 @@ impl Method for Pca {
         }
         let dims: Vec<String> = s.dims.iter().map(usize::to_string).collect();
         let summary = format!(
-            "{} behaviours · {} cuts · {} pose dimensions · segment dimensions {}",
-            segmentation.segments.len(),
-            s.cuts.len(),
-            p.dim,
+            "{} · {} · {} · segment dimensions {}",
+            crate::method::counted(segmentation.segments.len(), "behaviour"),
+            crate::method::counted(s.cuts.len(), "cut"),
+            crate::method::counted(p.dim, "pose dimension"),
             dims.join(", ")
         );
         Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves } })

@@ -3,7 +3,7 @@
 //! clusters and mirror pairs) and the SSSM picture of [`super::image`].
 
 use super::{Span, SssmError, SssmOutcome, SssmParams, ValidParams};
-use crate::method::{Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions};
+use crate::method::{counted, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions};
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
 use crate::segment::{Level, Segment, Segmentation};
@@ -61,14 +61,14 @@ impl Method for Sssm {
         let o = &result.outcome;
         let s = &result.segmentation;
         let summary = format!(
-            "{} actions · {} transitions · {} primitives in {} clusters · SSSM of {} frames at {} Hz",
-            s.level(Level::Action).count(),
-            s.level(Level::Transition).count(),
-            s.level(Level::Primitive).count(),
-            o.clusters.len(),
-            o.frames,
+            "{} · {} · {} in {} · SSSM of {} at {} Hz",
+            counted(s.level(Level::Action).count(), "action"),
+            counted(s.level(Level::Transition).count(), "transition"),
+            counted(s.level(Level::Primitive).count(), "primitive"),
+            counted(o.clusters.len(), "cluster"),
+            counted(o.frames, "frame"),
             o.fps
-        );
+        ) + &no_action_reason(s.level(Level::Action).count(), o.frames, o.fps, params);
         let mut pictures = Vec::new();
         if options.pictures {
             progress.step("image", 0.99)?;
@@ -129,4 +129,21 @@ pub(crate) fn to_segmentation(motion: &Motion, params: &ValidParams, o: &SssmOut
         params: params.to_json(),
         segments,
     }
+}
+
+/// Why a run found no action, for its summary (empty when it found some): an action is a stretch
+/// of frames that come back (§IV-B: a block of off-diagonal SSSM entries), so a take in which no
+/// movement repeats — one too short to hold a movement twice — has none.
+fn no_action_reason(actions: usize, frames: usize, fps: f64, params: &ValidParams) -> String {
+    if actions > 0 {
+        return String::new();
+    }
+    format!(
+        " — no action found: SSSM finds an action where the movement repeats, a block of more than {} neighbour \
+         pairs at least {} apart; nothing in these {:.1} s repeats that much (a take needs a movement done at least \
+         twice, usually several seconds)",
+        params.min_action_entries(),
+        counted(params.band_frames(), "frame"),
+        frames as f64 / fps
+    )
 }

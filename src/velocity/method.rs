@@ -93,9 +93,9 @@ impl Method for Velocity {
             pictures.push(plot(&speeds, &cuts, params));
         }
         let summary = format!(
-            "{} gestures · {} boundaries · hand speed up to {:.0} in/s",
-            segmentation.segments.len(),
-            cuts.len(),
+            "{} · {} · hand speed up to {:.0} in/s",
+            crate::method::counted(segmentation.segments.len(), "gesture"),
+            crate::method::counted(cuts.len(), "boundary"),
             speeds.iter().flatten().fold(0.0f32, |a, &b| a.max(b))
         );
         Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves } })

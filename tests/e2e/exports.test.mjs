@@ -172,3 +172,16 @@ test("an ASF skeleton picked with its AMC motion opens the take its BVH conversi
   assert.match(await text(page, "#summary-name"), /02_01\.amc/);
   assertClean(opened);
 });
+
+test("a skeleton the joint mapping cannot cover: each panel says why, without a contradiction or an empty box", async () => {
+  await loadFile(page, "pybvh_full_precision_frame_time.bvh"); // Hips → Head only
+  await waitData(page, "sssm", "error");
+  const failure = await text(page, "#sssm-failure");
+  assert.match(failure, /2 found \(Hips, Head\), 15 missing \(Spine,/);
+  assert.match(failure, /Joints are matched by name, each below the one before it in its chain/);
+  assert.equal(await page.locator("#sssm-exports").isVisible(), false, "no export box without a result");
+  await shot(page, "e2e-exports-unmapped-skeleton.png");
+  await gotoApp(page);
+  await waitData(page, "sssm", "done");
+  assert.equal(await page.locator("#sssm-failure").isVisible(), false, "a later good run clears the message");
+});

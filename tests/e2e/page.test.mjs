@@ -391,13 +391,18 @@ test("SSSM segments the sample: rows, image, re-run, bad parameter, export", asy
   assert.equal(json.frames, SAMPLE_HDR.frames);
   assert.ok(json.segments.some((s) => s.level === "primitive"), "the export has primitives");
 
-  // a bad parameter: the core's message names it, the previous result stays on screen
+  // a bad parameter: the core's message names it and shows at that field (not in the banner), the
+  // field has the focus, the previous result stays on screen
   await runSssm(-1, "error");
-  await page.locator("#error-banner").waitFor({ state: "visible", timeout: TIMEOUT });
-  assert.match(await text("#error-banner"), /radius/, "the error banner names the bad parameter");
+  await page.locator("#sssm-radius-error").waitFor({ state: "visible", timeout: TIMEOUT });
+  assert.match(await text("#sssm-radius-error"), /radius/, "the message at the field names the bad parameter");
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "a refused parameter is not a banner");
+  assert.equal(await page.evaluate(() => document.activeElement?.id), "sssm-radius", "the wrong field has the focus");
   await page.fill("#sssm-horizon_s", "2");
   await runSssm(19, "error");
-  assert.match(await text("#error-banner"), /horizon_s.*at least 5 seconds/, "the banner names the bad horizon");
+  assert.equal(await page.locator("#sssm-radius-error").isVisible(), false, "the radius is fine now");
+  assert.match(await text("#sssm-horizon_s-error"), /horizon_s.*at least 5 seconds/, "the bad horizon at its field");
+  await shot("e2e-sssm-refused-parameter.png");
   await page.fill("#sssm-horizon_s", "20");
   assert.ok((await page.locator("#row-sssm-primitives .ms-seg--primitive").count()) >= 2, "rows kept after a failed run");
   await runSssm(19, "done");
@@ -445,7 +450,8 @@ test("every registered method gets a panel: the velocity baseline runs after the
   await page.fill("#velocity-high_speed", "5");
   await page.click("#velocity-run");
   await page.waitForFunction(() => document.body.dataset.velocity === "error", null, { timeout: TIMEOUT });
-  assert.match(await text("#error-banner"), /high_speed = 5: expected at least low_speed/);
+  assert.match(await text("#velocity-high_speed-error"), /high_speed = 5: expected at least low_speed/,
+    "the refusal shows at the field it names");
   await page.fill("#velocity-high_speed", "30");
   await page.click("#velocity-run");
   await page.waitForFunction(() => document.body.dataset.velocity === "done", null, { timeout: TIMEOUT });
@@ -1239,7 +1245,7 @@ test("DT-FCN and k-NN label the sample: rows coloured by class and confidence, m
   await page.selectOption("#knn-model", "exercises");
   await page.fill("#knn-unknown_threshold", "1.5");
   await runMethod("knn", "error");
-  assert.match(await text("#error-banner"), /unknown_threshold = 1\.5/, "the method names the bad threshold");
+  assert.match(await text("#knn-unknown_threshold-error"), /unknown_threshold = 1\.5/, "the method names the bad threshold at its field");
   await page.fill("#knn-unknown_threshold", String(defaultThreshold.knn));
   await runMethod("knn");
   assert.equal(await page.locator("#error-banner").isVisible(), false);
