@@ -134,7 +134,9 @@ pub fn encode(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for b in s.bytes() {
         match b {
-            b'A'..=b'Z' | b'a'..=b'z' | b'0'..=b'9' | b'-' | b'_' | b'.' | b'~' | b'/' | b':' | b',' => out.push(b as char),
+            b'A'..=b'Z' | b'a'..=b'z' | b'0'..=b'9' | b'-' | b'_' | b'.' | b'~' | b'/' | b':' | b',' => {
+                out.push(b as char)
+            }
             _ => out.push_str(&format!("%{b:02X}")),
         }
     }
@@ -183,7 +185,8 @@ fn parse_methods(value: &str, known: &[&str]) -> (Vec<String>, Vec<String>) {
     if !unknown.is_empty() {
         let names = unknown.iter().map(|u| format!("`{u}`")).collect::<Vec<_>>().join(", ");
         let what = if unknown.len() == 1 { "unknown method" } else { "unknown methods" };
-        let runs = if methods.is_empty() { "no method runs".to_string() } else { format!("runs {}", methods.join(", ")) };
+        let runs =
+            if methods.is_empty() { "no method runs".to_string() } else { format!("runs {}", methods.join(", ")) };
         messages.push(format!("methods={value}: {what} {names} ({runs}); the known methods are {}", known.join(", ")));
     }
     (methods, messages)
@@ -449,7 +452,10 @@ mod tests {
 
     #[test]
     fn src_is_decoded_and_may_be_an_http_url() {
-        assert_eq!(p("src=https%3A%2F%2Fa.org%2Fmy%20take.bvh").params.src.as_deref(), Some("https://a.org/my take.bvh"));
+        assert_eq!(
+            p("src=https%3A%2F%2Fa.org%2Fmy%20take.bvh").params.src.as_deref(),
+            Some("https://a.org/my take.bvh")
+        );
         assert_eq!(p("src=my+take.bvh").params.src.as_deref(), Some("my take.bvh"));
         assert_eq!(p("src=http://a.org/x.bvh?v=2").params.src.as_deref(), Some("http://a.org/x.bvh?v=2"));
         assert_eq!(p("src=//a.org/x.bvh").params.src.as_deref(), Some("//a.org/x.bvh"));
@@ -470,7 +476,11 @@ mod tests {
             let parsed = p(q);
             assert_eq!(parsed.params.src, None, "{q}");
             assert_eq!(parsed.messages.len(), 1, "{q}");
-            assert!(parsed.messages[0].contains(word) && parsed.messages[0].contains("http(s)"), "{:?}", parsed.messages);
+            assert!(
+                parsed.messages[0].contains(word) && parsed.messages[0].contains("http(s)"),
+                "{:?}",
+                parsed.messages
+            );
         }
         let parsed = p("src=&t=1");
         assert_eq!(parsed.params.src, None);
@@ -506,9 +516,16 @@ mod tests {
 
     #[test]
     fn times_in_every_form() {
-        for (v, want) in
-            [("12.5", 12.5), ("0", 0.0), ("12.5s", 12.5), ("1:02.5", 62.5), ("1:00:05", 3605.0), (" 3 ", 3.0), ("07", 7.0), (".5", 0.5)]
-        {
+        for (v, want) in [
+            ("12.5", 12.5),
+            ("0", 0.0),
+            ("12.5s", 12.5),
+            ("1:02.5", 62.5),
+            ("1:00:05", 3605.0),
+            (" 3 ", 3.0),
+            ("07", 7.0),
+            (".5", 0.5),
+        ] {
             assert_eq!(parse_time(v), Ok(want), "{v}");
             assert_eq!(p(&format!("t={v}")).params.t, Some(want), "{v}");
         }
@@ -533,7 +550,17 @@ mod tests {
 
     #[test]
     fn flags() {
-        for (v, want) in [("1", true), ("true", true), ("YES", true), ("on", true), ("", true), ("0", false), ("false", false), ("off", false), ("no", false)] {
+        for (v, want) in [
+            ("1", true),
+            ("true", true),
+            ("YES", true),
+            ("on", true),
+            ("", true),
+            ("0", false),
+            ("false", false),
+            ("off", false),
+            ("no", false),
+        ] {
             assert_eq!(p(&format!("autoplay={v}")).params.autoplay, want, "autoplay={v}");
             assert_eq!(p(&format!("embed={v}")).params.embed, want, "embed={v}");
         }
@@ -555,7 +582,10 @@ mod tests {
         let parsed = p("method=sssm&T=2&t=3");
         assert_eq!(parsed.params.t, Some(3.0), "names are case-insensitive, the last wins");
         assert_eq!(parsed.messages.len(), 2, "{:?}", parsed.messages);
-        assert_eq!(parsed.messages[0], "unknown parameter `method` ignored; the page reads src, methods, t, autoplay, embed");
+        assert_eq!(
+            parsed.messages[0],
+            "unknown parameter `method` ignored; the page reads src, methods, t, autoplay, embed"
+        );
         assert_eq!(parsed.messages[1], "t is given more than once; the last one (t=3) is used");
     }
 
@@ -644,6 +674,9 @@ mod tests {
         assert!(m.contains("Access-Control-Allow-Origin: http://127.0.0.1:8080"), "{m}");
         let m = fetch_failed("a.bvh", None, "Failed to fetch");
         assert_eq!(m, "src=a.bvh: not loaded (Failed to fetch): the server could not be reached");
-        assert_eq!(load_failed("a.bvh", "a.bvh: line 1: expected HIERARCHY"), "src=a.bvh: a.bvh: line 1: expected HIERARCHY");
+        assert_eq!(
+            load_failed("a.bvh", "a.bvh: line 1: expected HIERARCHY"),
+            "src=a.bvh: a.bvh: line 1: expected HIERARCHY"
+        );
     }
 }
