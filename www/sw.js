@@ -10,8 +10,8 @@
 //
 // What it answers: the build's files from the cache (a page whatever its query, so
 // index.html?src=…&t=… works offline); any other file of this origin (a take named by src=)
-// from the network, kept for offline use; other origins are left to the browser (CORS, the
-// page's Content-Security-Policy).
+// from the network, kept for offline use; a worker's script for a page it does not control from
+// the network; other origins are left to the browser (CORS, the page's Content-Security-Policy).
 
 const VERSION = "__MOCAPSEG_VERSION__";
 const ASSETS = /*__MOCAPSEG_ASSETS__*/ {};
@@ -77,8 +77,32 @@ self.addEventListener("fetch", (event) => {
   if (request.method !== "GET") return;
   const url = new URL(request.url);
   if (url.origin !== self.location.origin) return;
+  // A worker's script is asked of the service worker by scope, even for a page it does not control
+  // (the first visit, a page opened before this version): such a page runs the network's files,
+  // and its worker must be of the same build, so it comes from the network too.
+  if (request.destination === "worker" || request.destination === "sharedworker") {
+    event.respondWith(controls(event.clientId).then((yes) => (yes ? answer(request, url) : fromNetwork(request))));
+    return;
+  }
   event.respondWith(answer(request, url));
 });
+
+/** Whether the client `id` (a worker's page) is one this service worker controls. */
+async function controls(id) {
+  if (!id) return false;
+  return (await self.clients.matchAll({ includeUncontrolled: false })).some((c) => c.id === id);
+}
+
+/** The network's answer, else (offline) the cached one. */
+async function fromNetwork(request) {
+  try {
+    return await fetch(request);
+  } catch (err) {
+    const kept = await caches.match(request, { cacheName: CACHE });
+    if (kept) return kept;
+    throw err;
+  }
+}
 
 async function answer(request, url) {
   const cache = await caches.open(CACHE);

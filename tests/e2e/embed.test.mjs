@@ -251,9 +251,13 @@ test("offline: after the first visit the app loads and runs a method with the ne
   try {
     await off.page.goto(BASE_URL);
     await waitTake(off.page, "sample.bvh");
+    const fromNetwork = []; // the service worker's own requests of the worker's script
+    off.context.on("request", (r) => { if (r.serviceWorker() && r.url().endsWith("/www/worker.js")) fromNetwork.push(r.url()); });
     const scope = await waitControlled(off.page);
     assert.equal(scope, BASE_URL, "the scope is the app's root");
     await waitTake(off.page, "sample.bvh");
+    await waitData(off.page, "sssm", "done");
+    assert.deepEqual(fromNetwork, [], "a controlled page's worker script comes from the cache");
     const sw = await off.page.evaluate(() => navigator.serviceWorker.controller.scriptURL);
     assert.equal(sw, new URL("sw.js", BASE_URL).href);
     const version = versionOf(readFileSync(path.join(DIST, "sw.js"), "utf8"));
