@@ -105,6 +105,7 @@ check-toolchain:
 # The page: release wasm of the lib with the `web` feature → wasm-bindgen → wasm-opt → dist/.
 # dist/.wasm-sum records the checksum of the wasm it was made from: an unchanged build skips
 # wasm-bindgen and wasm-opt (the slow part) and only refreshes the static files.
+# dist/sw.js (the service worker, from www/sw.js) lists every file with its sha256: its version.
 web: check-toolchain
 	$(CARGO) build $(WASM_CARGO_FLAGS) --lib --release --target $(WASM_TARGET) --features web
 	@tdir=$$($(CARGO) metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])'); \
@@ -126,6 +127,7 @@ web: check-toolchain
 	fi; \
 	cp index.html $(DIST)/; \
 	rm -rf $(DIST)/www && cp -r www $(DIST)/www; \
+	python3 scripts/service-worker.py $(DIST); \
 	echo "built $(DIST)/: $$(du -h $(DIST)/pkg/$(CRATE)_bg.wasm | cut -f1) wasm"
 
 serve:

@@ -3,6 +3,49 @@
 // Paths are relative to this file: dist/www/main.js loads dist/pkg/mocapseg.js.
 import init, { mount_app } from "../pkg/mocapseg.js";
 
+// The service worker (dist/sw.js, README "Offline"): the app works offline after this visit.
+// Only where the browser offers service workers (not on file://, not in some private modes); the
+// page works the same without one.
+function registerServiceWorker() {
+  if (!("serviceWorker" in navigator) || !window.isSecureContext) return;
+  let updating = false;
+  // a new build installed while this page runs an older one: offer to switch (never by itself:
+  // the page would change version under the user's hands)
+  const offer = (worker) => {
+    if (!navigator.serviceWorker.controller || document.getElementById("sw-update")) return;
+    const bar = document.createElement("div");
+    bar.id = "sw-update";
+    bar.className = "ms-sw-update";
+    bar.setAttribute("role", "status");
+    bar.append("A new version of mocapseg is ready. ");
+    const button = document.createElement("button");
+    button.id = "sw-update-reload";
+    button.type = "button";
+    button.textContent = "Reload to update";
+    button.addEventListener("click", () => {
+      updating = true;
+      worker.postMessage({ type: "skip-waiting" });
+    });
+    bar.append(button);
+    document.body.append(bar);
+  };
+  navigator.serviceWorker.addEventListener("controllerchange", () => {
+    if (updating) location.reload();
+  });
+  navigator.serviceWorker
+    .register(new URL("../sw.js", import.meta.url), { scope: new URL("../", import.meta.url).pathname })
+    .then((registration) => {
+      if (registration.waiting) offer(registration.waiting);
+      registration.addEventListener("updatefound", () => {
+        const worker = registration.installing;
+        worker?.addEventListener("statechange", () => {
+          if (worker.state === "installed") offer(worker);
+        });
+      });
+    })
+    .catch((err) => console.info(`mocapseg works without offline use here: ${err?.message ?? err}`));
+}
+
 try {
   await init();
   mount_app();
@@ -12,3 +55,4 @@ try {
   root.textContent = "mocapseg could not start: " + err;
   throw err;
 }
+registerServiceWorker();

@@ -160,6 +160,11 @@ struct Inner {
     /// Clip exports asked of the worker: the request (sent again once after `not_loaded`), the
     /// method whose panel asked, and whether it was sent again already.
     clip_jobs: RefCell<Vec<(Request, usize, bool)>>,
+    /// The methods that run after each load (URL parameter `methods`); `None`: those whose
+    /// `auto_run` is set.
+    auto_run: RefCell<Option<Vec<String>>>,
+    /// The load of the page's `src=` file and its URL (a failure to parse it names the URL).
+    src_take: RefCell<Option<(TakeId, String)>>,
 }
 
 impl Loader {
@@ -180,6 +185,8 @@ impl Loader {
             dtfcn_job: RefCell::new(None),
             handlers: RefCell::new(Vec::new()),
             clip_jobs: RefCell::new(Vec::new()),
+            auto_run: RefCell::new(None),
+            src_take: RefCell::new(None),
         });
         spawn_worker(&inner);
         Loader(inner)
@@ -194,6 +201,34 @@ impl Loader {
             match fetch_bytes(&url).await {
                 Ok(bytes) => send_load(&inner, id, &name, &bytes),
                 Err(message) => fail_load(&inner, id, format!("{name}: could not load the sample: {message}")),
+            }
+        });
+    }
+
+    /// Runs only the methods named (registry names) after each load, instead of those whose
+    /// `auto_run` is set (the URL parameter `methods`).
+    pub fn set_auto_run(&self, methods: Vec<String>) {
+        *self.0.auto_run.borrow_mut() = Some(methods);
+    }
+
+    /// Loads the file at `url` (the URL parameter `src`), shown as `name`: `fetch` gets its bytes
+    /// or the message to show (naming the URL); the parser's refusal is shown naming the URL too.
+    pub fn load_src(
+        &self,
+        url: String,
+        name: String,
+        fetch: impl std::future::Future<Output = Result<ArrayBuffer, String>> + 'static,
+    ) {
+        let inner = self.0.clone();
+        let id = begin(&inner, &name);
+        *inner.src_take.borrow_mut() = Some((id, url));
+        wasm_bindgen_futures::spawn_local(async move {
+            match fetch.await {
+                Ok(bytes) => send_load(&inner, id, &name, &bytes),
+                Err(message) => {
+                    inner.src_take.borrow_mut().take();
+                    fail_load(&inner, id, message)
+                }
             }
         });
     }
@@ -425,6 +460,10 @@ fn restore(inner: &Rc<Inner>) -> Result<(), String> {
 }
 
 fn fail_load(inner: &Inner, id: TakeId, message: String) {
+    let message = match inner.src_take.borrow().as_ref() {
+        Some((take, url)) if *take == id => crate::view::url_params::load_failed(url, &message),
+        _ => message,
+    };
     if inner.current.get() == id {
         *inner.pending.borrow_mut() = None;
         inner.state.show_error(message);
@@ -997,8 +1036,10 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
             state.motion.set(Some(Arc::new(*motion)));
             state.error.set(None);
             state.load.set(LoadState::Ready);
+            let auto_run = inner.auto_run.borrow().clone();
             for (index, slot) in state.methods.iter().enumerate() {
-                if slot.info.auto_run {
+                let wanted = auto_run.as_ref().map_or(slot.info.auto_run, |names| names.contains(&slot.info.name));
+                if wanted {
                     start_run(inner, index);
                 }
             }

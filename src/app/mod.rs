@@ -17,9 +17,12 @@
 //! LMA's classifiers on the user's own Effort labels (`data-lma-training`). The DT-FCN and k-NN
 //! panels take the user's model files ([`label_models`]), and the DT-FCN panel trains a network in
 //! the worker one epoch at a time ([`dtfcn_training`], `data-dtfcn-training`).
+//! The URL parameters (`src`, `methods`, `t`, `autoplay`, `embed`) are read once ([`embed`]);
+//! `embed=1` shows the player and the timeline only.
 
 mod drop_zone;
 mod dtfcn_training;
+mod embed;
 mod error_banner;
 mod label_models;
 mod lma_training;
@@ -42,6 +45,7 @@ use wasm_bindgen::JsCast;
 
 use drop_zone::DropZone;
 use dtfcn_training::{DtfcnTraining, DtfcnTrainingPanel};
+use embed::{EmbedBar, Launch, UrlNotice};
 use error_banner::ErrorBanner;
 use label_models::{LabelModelFile, LabelModels};
 use lma_training::{LmaTraining, LmaTrainingPanel};
@@ -304,14 +308,18 @@ pub fn mount_app() -> Result<(), JsValue> {
         None => document.body().ok_or("no <body>")?,
     };
     let urls = Urls::from_root(&root);
-    leptos::mount::mount_to(root, move || view! { <App urls=urls/> }).forget();
+    let launch = Launch::from_location();
+    launch.mark(&root);
+    leptos::mount::mount_to(root, move || view! { <App urls=urls launch=launch/> }).forget();
     Ok(())
 }
 
 #[component]
-fn App(urls: Urls) -> impl IntoView {
+fn App(urls: Urls, launch: Launch) -> impl IntoView {
     let state = AppState::new();
-    let loader = Loader::new(state, urls);
+    let loader = Loader::new(state, urls.clone());
+    let notice = RwSignal::new(launch.messages.clone());
+    let full = !launch.params.embed;
 
     Effect::new(move |_| {
         let value = state.load.with(LoadState::body_state);
@@ -328,24 +336,32 @@ fn App(urls: Urls) -> impl IntoView {
             }
         });
     }
-    loader.load_sample();
+    embed::start(state, &loader, &urls, &launch, notice);
+    // the loader (and the worker it owns) lives as long as the page, even when no component holds
+    // it (embed mode has no drop zone or method panels); the app is mounted once, never unmounted
+    std::mem::forget(loader.clone());
 
+    // embed mode: no header, drop zone, summary or method panels (README "Embedding")
     view! {
-        <header class="ms-header">
-            <h1>"mocapseg"</h1>
-            <p class="ms-tagline">"Motion-capture segmentation in the browser — BVH in, motion out."</p>
-        </header>
+        {full.then(|| view! {
+            <header class="ms-header">
+                <h1>"mocapseg"</h1>
+                <p class="ms-tagline">"Motion-capture segmentation in the browser — BVH in, motion out."</p>
+            </header>
+        })}
+        {(!full).then(|| view! { <EmbedBar state=state full_page=launch.full_page.clone()/> })}
         <ErrorBanner state=state/>
+        <UrlNotice messages=notice/>
         <section class="ms-input">
-            <DropZone state=state loader=loader.clone()/>
+            {full.then(|| view! { <DropZone state=state loader=loader.clone()/> })}
             <Progress state=state/>
         </section>
-        <Summary state=state/>
+        {full.then(|| view! { <Summary state=state/> })}
         <main class="ms-workspace">
             <Player state=state/>
             <Timeline state=state/>
         </main>
-        {state
+        {full.then(|| state
             .methods
             .iter()
             .map(|slot| match label_models::kind_of(&slot.info.name) {
@@ -371,6 +387,6 @@ fn App(urls: Urls) -> impl IntoView {
                     .into_any()
                 }
             })
-            .collect_view()}
+            .collect_view())}
     }
 }

@@ -65,7 +65,7 @@ const pageErrors = []; // uncaught exceptions: never allowed
 const consoleErrors = []; // console.error: not allowed outside the bad-file step
 let allowConsoleErrors = false;
 const requests = []; // the URL of every request the page and its workers made, in order
-const serviceWorkers = []; // service workers the page registered: none expected
+const serviceWorkers = []; // service workers the page registered: the app's own sw.js only (README "Offline")
 const cspViolations = []; // securitypolicyviolation events and the console's CSP messages: never allowed
 
 before(async () => {
@@ -313,7 +313,7 @@ test("a full use of the page under its Content-Security-Policy: every request to
   assert.ok(requests.filter((u) => u.endsWith("/pkg/mocapseg_bg.wasm")).length >= 2,
     `the wasm fetched by the page and by the worker: ${JSON.stringify(requests)}`);
   assert.ok(requests.some((u) => u.endsWith("/www/sample.bvh")), "the sample was fetched");
-  assert.deepEqual(serviceWorkers, [], "no service worker");
+  assert.deepEqual(serviceWorkers, [new URL("sw.js", BASE_URL).href], "the app's own service worker only");
   assert.deepEqual(cspViolations, [], `Content-Security-Policy violations: ${JSON.stringify(cspViolations)}`);
   console.log(`  (${requests.length} requests, all to ${new URL(BASE_URL).origin}; no CSP violation)`);
 
@@ -1970,9 +1970,9 @@ test("no page errors or console errors", () => {
   assert.deepEqual(consoleErrors, [], "console errors");
 });
 
-test("the whole run: every request to the page's origin, no CSP violation, no service worker", () => {
+test("the whole run: every request to the page's origin, no CSP violation, the app's own service worker only", () => {
   writeFileSync(path.join(OUT, "e2e-requests.json"), JSON.stringify({ requests, cspViolations, serviceWorkers }, null, 2));
   assert.deepEqual(foreignRequests(requests), [], "requests to another origin");
   assert.deepEqual(cspViolations, [], "Content-Security-Policy violations");
-  assert.deepEqual(serviceWorkers, [], "service workers");
+  assert.deepEqual(serviceWorkers, [new URL("sw.js", BASE_URL).href], "service workers");
 });
