@@ -167,6 +167,16 @@ fn rate(fps: f64) -> String {
     }
 }
 
+/// The trials a shared-data CSV names, in the order it first names them (empty for any other
+/// file, or one that cannot be read).
+pub fn csv_trials(text: &str) -> Vec<String> {
+    let body = text.trim_start_matches('\u{feff}');
+    match header(body) {
+        Ok(Header::Trials) => load_csv_lines(body, "", TruthOptions::default()).map(|(_, names)| names).unwrap_or_default(),
+        _ => Vec::new(),
+    }
+}
+
 /// The ground truth read, and how.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Imported {
@@ -694,6 +704,13 @@ mod tests {
         let i = import_truth(&one, &take("sample.bvh", 300, 120.0), &ImportOptions::default()).unwrap();
         assert_eq!(i.applied.trial, Some(("13_30".to_string(), TrialChoice::OnlyOne)));
         assert!(i.applied.describe(2).contains("trial 13_30 (the file's only trial"), "{}", i.applied.describe(2));
+    }
+
+    #[test]
+    fn the_trials_of_a_shared_data_csv_are_listed() {
+        assert_eq!(csv_trials(MOCAP6), ["13_30", "13_31"]);
+        assert!(csv_trials("start_frame,end_frame,label\n1,2,a\n").is_empty());
+        assert!(csv_trials("{}").is_empty());
     }
 
     #[test]
