@@ -82,7 +82,9 @@ impl GroundTruth {
     pub fn row_spans(&self) -> Vec<(String, Vec<(usize, usize)>)> {
         self.view.with_untracked(|v| {
             v.as_ref()
-                .map(|v| vec![("truth".to_string(), v.segmentation.segments.iter().map(|s| (s.start, s.end)).collect())])
+                .map(|v| {
+                    vec![("truth".to_string(), v.segmentation.segments.iter().map(|s| (s.start, s.end)).collect())]
+                })
                 .unwrap_or_default()
         })
     }
@@ -147,7 +149,10 @@ fn as_view(truth: &Truth, take: &Take) -> MethodView {
 async fn read_text(file: &File) -> Result<String, String> {
     let name = file.name();
     if file.size() > MAX_BYTES {
-        return Err(format!("{name}: {:.0} MiB is more than the page reads as ground truth (32 MiB)", file.size() / 1048576.0));
+        return Err(format!(
+            "{name}: {:.0} MiB is more than the page reads as ground truth (32 MiB)",
+            file.size() / 1048576.0
+        ));
     }
     let text = JsFuture::from(file.text()).await.map_err(|e| format!("{name}: could not read the file: {e:?}"))?;
     text.as_string().ok_or_else(|| format!("{name}: the file is not text"))
@@ -238,13 +243,19 @@ pub fn GroundTruthPanel(state: AppState) -> impl IntoView {
     };
     let error = move || truth.state.with(|s| if let TruthState::Failed(m) = s { m.clone() } else { String::new() });
     // the choices of a CSV do not apply to the JSON (0-based, its own fps)
-    let is_json = move || truth.file.with(|f| f.as_ref().is_some_and(|(_, t)| t.trim_start_matches('\u{feff}').trim_start().starts_with('{')));
-    let chosen_trial = move || truth.truth().and_then(|i| i.applied.trial.as_ref().map(|t| t.0.clone())).unwrap_or_default();
+    let is_json = move || {
+        truth
+            .file
+            .with(|f| f.as_ref().is_some_and(|(_, t)| t.trim_start_matches('\u{feff}').trim_start().starts_with('{')))
+    };
+    let chosen_trial =
+        move || truth.truth().and_then(|i| i.applied.trial.as_ref().map(|t| t.0.clone())).unwrap_or_default();
     let trial_options = move || truth.trials.get();
-    let take_fps = move || state.motion.with(|m| m.as_ref().map(|m| format!("{:.2}", m.summary.fps)).unwrap_or_default());
+    let take_fps =
+        move || state.motion.with(|m| m.as_ref().map(|m| format!("{:.2}", m.summary.fps)).unwrap_or_default());
 
     view! {
-        <section id="truth-panel" class="ms-method ms-truth" aria-label="Ground truth">
+        <section id="truth-panel" class="ms-panel-box ms-truth" aria-label="Ground truth">
             <div class="ms-timeline-head">
                 <h2>"Ground truth"</h2>
                 <span class="ms-timeline-legend">"labels to score the methods against — shown as the first timeline row"</span>

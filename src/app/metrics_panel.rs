@@ -10,7 +10,7 @@
 //! and the segments, except the Hungarian matching (cubic in the number of clusters, a few
 //! dozen), cheaper than a round trip to the worker, which may be busy with a method's run.
 //! `document.body.dataset.metrics` is `none` (no truth or no row), `done` or `error`, and
-//! `data-metrics-row` names the row scored.
+//! `data-metrics-row` names the row scored, `data-metrics-ms` how long the scores took.
 
 use super::AppState;
 use crate::segment::metrics::{evaluate, Scores, Tolerances};
@@ -128,12 +128,20 @@ fn scorable_rows(state: AppState) -> Vec<(String, String, Segmentation)> {
             let Some(v) = v else { return };
             let seg = &v.segmentation;
             if seg.segments.iter().any(|s| s.level != Level::Primitive) {
-                rows.push((format!("{}-actions", slot.info.name), format!("{} · actions", slot.info.short), seg.clone()));
+                rows.push((
+                    format!("{}-actions", slot.info.name),
+                    format!("{} · actions", slot.info.short),
+                    seg.clone(),
+                ));
             }
             if seg.segments.iter().any(|s| s.level == Level::Primitive) {
                 let mut primitives = seg.clone();
                 primitives.segments.retain(|s| s.level == Level::Primitive);
-                rows.push((format!("{}-primitives", slot.info.name), format!("{} · primitives", slot.info.short), primitives));
+                rows.push((
+                    format!("{}-primitives", slot.info.name),
+                    format!("{} · primitives", slot.info.short),
+                    primitives,
+                ));
             }
         });
     }
@@ -145,7 +153,8 @@ fn scorable_rows(state: AppState) -> Vec<(String, String, Segmentation)> {
 enum Outcome {
     /// Why there is nothing to score.
     Nothing(String),
-    Scored(String, std::sync::Arc<Scores>),
+    /// The row, its scores and how long they took (ms).
+    Scored(String, std::sync::Arc<Scores>, f64),
     Failed(String),
 }
 
@@ -153,12 +162,17 @@ enum Outcome {
 pub fn MetricsPanel(state: AppState) -> impl IntoView {
     let chosen = RwSignal::new(String::new());
     let rows = Memo::new(move |_| {
-        scorable_rows(state).into_iter().map(|(id, label, seg)| (id, label, std::sync::Arc::new(seg))).collect::<Vec<_>>()
+        scorable_rows(state)
+            .into_iter()
+            .map(|(id, label, seg)| (id, label, std::sync::Arc::new(seg)))
+            .collect::<Vec<_>>()
     });
     // the row scored: the one chosen while it exists, else the first
     let row_id = Memo::new(move |_| {
         let wanted = chosen.get();
-        rows.with(|r| r.iter().find(|(id, _, _)| *id == wanted).or(r.first()).map(|(id, _, _)| id.clone()).unwrap_or_default())
+        rows.with(|r| {
+            r.iter().find(|(id, _, _)| *id == wanted).or(r.first()).map(|(id, _, _)| id.clone()).unwrap_or_default()
+        })
     });
     let outcome = Memo::new(move |_| {
         let Some(imported) = state.truth.truth() else {
@@ -168,20 +182,23 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
         let Some(seg) = rows.with(|r| r.iter().find(|(i, _, _)| *i == id).map(|(_, _, s)| s.clone())) else {
             return Outcome::Nothing("Run a method to score its rows against the ground truth.".into());
         };
+        let now = || web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now());
+        let started = now();
         match evaluate(&seg, &imported.truth, &Tolerances::default()) {
-            Ok(scores) => Outcome::Scored(id, std::sync::Arc::new(scores)),
+            Ok(scores) => Outcome::Scored(id, std::sync::Arc::new(scores), now() - started),
             Err(e) => Outcome::Failed(format!("{id}: {e}")),
         }
     });
     Effect::new(move |_| {
-        let (value, row) = outcome.with(|o| match o {
-            Outcome::Nothing(_) => ("none", String::new()),
-            Outcome::Scored(id, _) => ("done", id.clone()),
-            Outcome::Failed(_) => ("error", String::new()),
+        let (value, row, ms) = outcome.with(|o| match o {
+            Outcome::Nothing(_) => ("none", String::new(), String::new()),
+            Outcome::Scored(id, _, ms) => ("done", id.clone(), format!("{ms:.1}")),
+            Outcome::Failed(_) => ("error", String::new(), String::new()),
         });
         if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
             let _ = body.set_attribute("data-metrics", value);
             let _ = body.set_attribute("data-metrics-row", &row);
+            let _ = body.set_attribute("data-metrics-ms", &ms);
         }
     });
 
@@ -205,7 +222,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
     let is_error = move || outcome.with(|o| matches!(o, Outcome::Failed(_)));
     let table = move || {
         outcome.with(|o| match o {
-            Outcome::Scored(id, scores) => {
+            Outcome::Scored(id, scores, _) => {
                 let caption = format!("{} against {}", id, scores.trial);
                 let body = lines(scores)
                     .into_iter()
@@ -239,7 +256,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
     };
 
     view! {
-        <section id="metrics-panel" class="ms-method ms-metrics" aria-label="Metrics against the ground truth">
+        <section id="metrics-panel" class="ms-panel-box ms-metrics" aria-label="Metrics against the ground truth">
             <div class="ms-timeline-head">
                 <h2>"Metrics"</h2>
                 <span class="ms-timeline-legend">"a row scored against the ground truth — the numbers " <code>"mocapseg eval"</code> " prints"</span>

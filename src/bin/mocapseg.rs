@@ -958,7 +958,9 @@ mod cli {
             let take = Take { name: seg.file.clone(), frames: seg.frames, fps: seg.fps };
             let imported =
                 import_truth(&truth_text, &take, options).map_err(|e| format!("{}: {e}", truth_path.display()))?;
-            if imported.applied.converted || imported.applied.trial.as_ref().is_some_and(|t| t.1 == TrialChoice::OnlyOne) {
+            if imported.applied.converted
+                || imported.applied.trial.as_ref().is_some_and(|t| t.1 == TrialChoice::OnlyOne)
+            {
                 let segments = imported.truth.segments.len();
                 eprintln!("note: {}: {}", truth_path.display(), imported.applied.describe(segments));
             }

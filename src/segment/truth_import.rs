@@ -172,7 +172,9 @@ fn rate(fps: f64) -> String {
 pub fn csv_trials(text: &str) -> Vec<String> {
     let body = text.trim_start_matches('\u{feff}');
     match header(body) {
-        Ok(Header::Trials) => load_csv_lines(body, "", TruthOptions::default()).map(|(_, names)| names).unwrap_or_default(),
+        Ok(Header::Trials) => {
+            load_csv_lines(body, "", TruthOptions::default()).map(|(_, names)| names).unwrap_or_default()
+        }
         _ => Vec::new(),
     }
 }
@@ -310,11 +312,19 @@ pub fn import_truth(text: &str, take: &Take, options: &ImportOptions) -> Result<
             applied.format = TruthFormat::Trials;
             let (raws, trial, frames_given) = read_trial(body, take, options, &mut applied)?;
             if let Some(frames) = frames_given {
-                check_length(format!("trial `{trial}` (its `trial_frames`)"), rates.frames(frames), take, options, rates)?;
+                check_length(
+                    format!("trial `{trial}` (its `trial_frames`)"),
+                    rates.frames(frames),
+                    take,
+                    options,
+                    rates,
+                )?;
             }
             (raws, trial)
         }
-        Header::Spans { columns, has_header } => (read_spans(body, columns, has_header, options.first_frame)?, take.stem()),
+        Header::Spans { columns, has_header } => {
+            (read_spans(body, columns, has_header, options.first_frame)?, take.stem())
+        }
     };
     if raws.is_empty() {
         return Err(ImportError::Empty { what: "the file" });
@@ -327,7 +337,13 @@ pub fn import_truth(text: &str, take: &Take, options: &ImportOptions) -> Result<
 }
 
 /// The take's length against the one the file gives (converted), within one label frame.
-fn check_length(what: String, frames: usize, take: &Take, options: &ImportOptions, rates: Rates) -> Result<(), ImportError> {
+fn check_length(
+    what: String,
+    frames: usize,
+    take: &Take,
+    options: &ImportOptions,
+    rates: Rates,
+) -> Result<(), ImportError> {
     let frames = frames.saturating_add(options.bvh_row_offset);
     if (frames as f64 - take.frames as f64).abs() >= rates.slack() {
         return Err(ImportError::Length {
@@ -344,7 +360,10 @@ fn check_length(what: String, frames: usize, take: &Take, options: &ImportOption
 enum Header {
     Trials,
     /// Column indices of start_frame, end_frame, label.
-    Spans { columns: [usize; 3], has_header: bool },
+    Spans {
+        columns: [usize; 3],
+        has_header: bool,
+    },
 }
 
 fn reader(text: &str) -> csv::Reader<&[u8]> {
@@ -361,7 +380,10 @@ fn header(text: &str) -> Result<Header, TruthError> {
     let mut record = csv::StringRecord::new();
     loop {
         if !reader.read_record(&mut record).map_err(|e| csv_error(&e))? {
-            return Err(TruthError::Line { line: 1, message: "the file is empty: expected `start_frame,end_frame,label` rows".into() });
+            return Err(TruthError::Line {
+                line: 1,
+                message: "the file is empty: expected `start_frame,end_frame,label` rows".into(),
+            });
         }
         if !record.iter().all(str::is_empty) {
             break;
@@ -423,7 +445,10 @@ fn read_spans(text: &str, columns: [usize; 3], has_header: bool, first: usize) -
             return Err(TruthError::Line { line, message: format!("end_frame {e} is before start_frame {s}") });
         }
         if l.is_empty() {
-            return Err(TruthError::Line { line, message: "expected a label in the `label` field, found nothing".into() });
+            return Err(TruthError::Line {
+                line,
+                message: "expected a label in the `label` field, found nothing".into(),
+            });
         }
         raws.push(Raw { start, end, label: l.to_string(), window: None, origin: Origin::Line(line) });
     }
@@ -460,7 +485,13 @@ fn read_trial(
         .segments
         .into_iter()
         .zip(read.lines)
-        .map(|(s, line)| Raw { start: s.start, end: s.end, label: s.label, window: s.end_window, origin: Origin::Line(line) })
+        .map(|(s, line)| Raw {
+            start: s.start,
+            end: s.end,
+            label: s.label,
+            window: s.end_window,
+            origin: Origin::Line(line),
+        })
         .collect();
     Ok((raws, name, frames))
 }
@@ -474,7 +505,13 @@ fn import_json(text: &str, take: &Take, options: &ImportOptions) -> Result<Impor
     })?;
     seg.validate().map_err(ImportError::Schema)?;
     let rates = Rates::new(seg.fps, take.fps);
-    check_length(format!("the segmentation ({} frames at {} fps)", seg.frames, rate(seg.fps)), rates.frames(seg.frames), take, options, rates)?;
+    check_length(
+        format!("the segmentation ({} frames at {} fps)", seg.frames, rate(seg.fps)),
+        rates.frames(seg.frames),
+        take,
+        options,
+        rates,
+    )?;
     let level = scored_level(&seg);
     let raws: Vec<Raw> = seg
         .segments
@@ -538,8 +575,13 @@ fn convert(
         let start = shift(rates.at(raw.start));
         let first_of_last = shift(rates.within(raw.end));
         let past_end = |what: &str, number: usize, row: usize| {
-            let (first, fps) = (if matches!(raw.origin, Origin::Line(_)) { options.first_frame } else { 0 }, applied.label_fps);
-            let converted = if rates.same { String::new() } else { format!(" (at {} fps: take frame {row} counting from 0)", rate(fps)) };
+            let (first, fps) =
+                (if matches!(raw.origin, Origin::Line(_)) { options.first_frame } else { 0 }, applied.label_fps);
+            let converted = if rates.same {
+                String::new()
+            } else {
+                format!(" (at {} fps: take frame {row} counting from 0)", rate(fps))
+            };
             let message = format!(
                 "{what} {}{converted} is past the end of the take `{}` ({} frames at {} fps, the last numbered {})",
                 number + first,
@@ -551,10 +593,18 @@ fn convert(
             origin_error(raw.origin, &raw.label, message)
         };
         if start > last {
-            return Err(past_end(if matches!(raw.origin, Origin::Line(_)) { "`start_frame` =" } else { "start" }, raw.start, start));
+            return Err(past_end(
+                if matches!(raw.origin, Origin::Line(_)) { "`start_frame` =" } else { "start" },
+                raw.start,
+                start,
+            ));
         }
         if first_of_last > last {
-            return Err(past_end(if matches!(raw.origin, Origin::Line(_)) { "`end_frame` =" } else { "end" }, raw.end, first_of_last));
+            return Err(past_end(
+                if matches!(raw.origin, Origin::Line(_)) { "`end_frame` =" } else { "end" },
+                raw.end,
+                first_of_last,
+            ));
         }
         let end_exclusive = shift(rates.at(raw.end.saturating_add(1)));
         if end_exclusive <= start {
@@ -615,7 +665,8 @@ mod tests {
         // no header, columns reordered by a header, extra columns ignored, blank lines skipped
         let bare = import_truth("0,39,walk\n\n40,99,jump\n", &t, &opts(0, None)).unwrap();
         assert_eq!(spans(&bare.truth), spans(&a.truth));
-        let reordered = import_truth("label,note,end_frame,start_frame\njump,x,100,41\nwalk,y,40,1\n", &t, &opts(1, None)).unwrap();
+        let reordered =
+            import_truth("label,note,end_frame,start_frame\njump,x,100,41\nwalk,y,40,1\n", &t, &opts(1, None)).unwrap();
         assert_eq!(spans(&reordered.truth), spans(&a.truth));
         assert_eq!(
             a.applied.describe(2),
@@ -632,7 +683,11 @@ mod tests {
         // label frame 616 starts at take frame 2464, the last: the segment is cut there
         assert_eq!(spans(&i.truth), [(0, 399, "a"), (400, 1199, "b"), (1200, 2464, "c")]);
         assert!(i.applied.converted && i.applied.clamped);
-        assert!(i.applied.describe(3).contains("labels at 30 fps converted to the take's 120 fps"), "{}", i.applied.describe(3));
+        assert!(
+            i.applied.describe(3).contains("labels at 30 fps converted to the take's 120 fps"),
+            "{}",
+            i.applied.describe(3)
+        );
         // label frame 617 starts past the take: an error naming the line and the conversion
         let e = import_truth(&csv.replace("616", "617"), &t, &opts(0, Some(30.0))).unwrap_err().to_string();
         assert_eq!(
@@ -663,14 +718,29 @@ mod tests {
     fn bad_lines_say_what_was_expected() {
         let t = take("t.bvh", 100, 10.0);
         let cases = [
-            ("start_frame,end_frame,label\n1,10,a\n11,x,b\n", "ground truth CSV line 3: expected a frame number in `end_frame`, found `x`"),
-            ("start_frame,end_frame,label\n1,10,a\n20,11,b\n", "ground truth CSV line 3: end_frame 11 is before start_frame 20"),
-            ("start_frame,end_frame,label\n1,10\n", "ground truth CSV line 2: expected 3 fields (start_frame,end_frame,label), found 2"),
-            ("start_frame,end_frame,label\n1,10,\n", "ground truth CSV line 2: expected a label in the `label` field, found nothing"),
+            (
+                "start_frame,end_frame,label\n1,10,a\n11,x,b\n",
+                "ground truth CSV line 3: expected a frame number in `end_frame`, found `x`",
+            ),
+            (
+                "start_frame,end_frame,label\n1,10,a\n20,11,b\n",
+                "ground truth CSV line 3: end_frame 11 is before start_frame 20",
+            ),
+            (
+                "start_frame,end_frame,label\n1,10\n",
+                "ground truth CSV line 2: expected 3 fields (start_frame,end_frame,label), found 2",
+            ),
+            (
+                "start_frame,end_frame,label\n1,10,\n",
+                "ground truth CSV line 2: expected a label in the `label` field, found nothing",
+            ),
             ("start_frame,end_frame\n1,10\n", "ground truth CSV: missing column `label` in the header line"),
             ("\n\nfrom,to,what\n", "ground truth CSV line 3: expected a header `start_frame,end_frame,label`"),
             ("", "ground truth CSV line 1: the file is empty"),
-            ("start_frame,end_frame,label\n0,10,a\n", "ground truth CSV line 2: `start_frame` = 0 is before the first frame 1"),
+            (
+                "start_frame,end_frame,label\n0,10,a\n",
+                "ground truth CSV line 2: `start_frame` = 0 is before the first frame 1",
+            ),
         ];
         for (text, want) in cases {
             let e = import_truth(text, &t, &opts(1, None)).unwrap_err().to_string();
@@ -678,10 +748,14 @@ mod tests {
         }
         assert_eq!(import_truth("1,2,a\n", &t, &opts(2, None)).unwrap_err(), ImportError::BadBase(2));
         assert_eq!(import_truth("1,2,a\n", &t, &opts(1, Some(0.0))).unwrap_err(), ImportError::BadRate(0.0));
-        assert_eq!(import_truth("start_frame,end_frame,label\n", &t, &opts(1, None)).unwrap_err(), ImportError::Empty { what: "the file" });
+        assert_eq!(
+            import_truth("start_frame,end_frame,label\n", &t, &opts(1, None)).unwrap_err(),
+            ImportError::Empty { what: "the file" }
+        );
     }
 
-    const MOCAP6: &str = "trial,seg_index,label_id,label,start_block,end_block,start_frame,end_frame,trial_frames,fps,mocap_in_repo\n\
+    const MOCAP6: &str =
+        "trial,seg_index,label_id,label,start_block,end_block,start_frame,end_frame,trial_frames,fps,mocap_in_repo\n\
 13_30,0,1,JumpJack,1,20,1,240,300,120,yes\n\
 13_30,1,2,Jog,21,25,241,300,300,120,yes\n\
 13_31,0,3,Squat,1,10,1,120,120,120,yes\n";
@@ -716,7 +790,12 @@ mod tests {
     #[test]
     fn shared_data_csv_length_must_be_the_takes() {
         let e = import_truth(MOCAP6, &take("13_30.bvh", 301, 120.0), &ImportOptions::default()).unwrap_err();
-        assert!(e.to_string().starts_with("trial `13_30` (its `trial_frames`) covers 300 take frames but the take `13_30.bvh` has 301"), "{e}");
+        assert!(
+            e.to_string().starts_with(
+                "trial `13_30` (its `trial_frames`) covers 300 take frames but the take `13_30.bvh` has 301"
+            ),
+            "{e}"
+        );
         // a T-pose row: the offset makes it fit and shifts every segment
         let o = ImportOptions { bvh_row_offset: 1, ..ImportOptions::default() };
         let i = import_truth(MOCAP6, &take("13_30.bvh", 301, 120.0), &o).unwrap();
@@ -738,13 +817,24 @@ mod tests {
         let i = import_truth(json, &t, &ImportOptions::default()).unwrap();
         assert_eq!(spans(&i.truth), [(0, 39, "walk"), (50, 99, "#1")]);
         assert_eq!(i.applied.format, TruthFormat::Segmentation);
-        assert_eq!(i.applied.describe(2), "segmentation JSON (sssm actions) · frames counted from 0 · at the take's rate (10 fps) · 2 segments");
+        assert_eq!(
+            i.applied.describe(2),
+            "segmentation JSON (sssm actions) · frames counted from 0 · at the take's rate (10 fps) · 2 segments"
+        );
         // another take's length
         let e = import_truth(json, &take("b.bvh", 90, 10.0), &ImportOptions::default()).unwrap_err();
-        assert!(e.to_string().starts_with("the segmentation (100 frames at 10 fps) covers 100 take frames but the take `b.bvh` has 90"), "{e}");
+        assert!(
+            e.to_string().starts_with(
+                "the segmentation (100 frames at 10 fps) covers 100 take frames but the take `b.bvh` has 90"
+            ),
+            "{e}"
+        );
         // broken JSON names line and column; a broken schema says which segment
         let e = import_truth("{\n  \"file\": \"a.bvh\",\n  \"fps\": x\n}", &t, &ImportOptions::default()).unwrap_err();
-        assert!(e.to_string().starts_with("segmentation JSON line 3, column 10: expected the segmentation JSON"), "{e}");
+        assert!(
+            e.to_string().starts_with("segmentation JSON line 3, column 10: expected the segmentation JSON"),
+            "{e}"
+        );
         let e = import_truth(&json.replace("\"end\": 39", "\"end\": 139"), &t, &ImportOptions::default()).unwrap_err();
         assert_eq!(e.to_string(), "segmentation JSON: segment 0: end 139 is past the last frame 99");
     }
