@@ -170,6 +170,9 @@ test("the metrics of SSSM's rows are the numbers mocapseg eval prints for the sa
   const cli = cliEval(seg.path, SHARED_CSV);
   assert.equal(cli.trial, "13_30");
   await assertSameAsCli(cli, "sssm-actions vs the shared CSV");
+  const ms = Number(await page.evaluate(() => document.body.dataset.metricsMs));
+  assert.ok(Number.isFinite(ms) && ms >= 0, `data-metrics-ms is a duration: ${ms}`);
+  console.log(`  (metrics of sssm-actions on the page thread: ${ms} ms for ${json.frames} frames)`);
   await shot(page, "truth-4-metrics-actions.png");
   await page.locator(".ms-truth-metrics").screenshot({ path: path.join(OUT, "truth-4-panels.png") });
   // the primitives row: the CLI on the export's primitives alone
