@@ -3,8 +3,9 @@
 // frame-rate choices change the row as the core's conversion says, read again without picking the
 // file again; a bad file names its file and line at the import control; the metrics panel shows,
 // for SSSM's rows, exactly the numbers `mocapseg eval` prints for the exported JSON and the same
-// truth file with the same choices; a segmentation JSON imports as the truth. Screenshots of each
-// state go to OUT.
+// truth file with the same choices; a segmentation JSON imports as the truth; a CSV of several
+// trials offers its Trial menu; another take reads the kept file again. Screenshots of each state
+// go to OUT.
 //
 // Needs the native CLI (MOCAPSEG_BIN, default $CARGO_TARGET_DIR/debug/mocapseg, else
 // target/debug/mocapseg; `cargo build --bin mocapseg`). Run: scripts/e2e.sh with
@@ -233,5 +234,40 @@ test("a segmentation JSON imports as the truth: its actions, scored as the CLI s
   await page.click("#truth-clear");
   await waitData(page, "truth", "none");
   await waitData(page, "metrics", "none");
+  assertClean(opened);
+});
+
+test("a shared-data CSV of several trials: none named like the take, the Trial menu picks one", async () => {
+  const lines = readFileSync(SHARED_CSV, "utf8").trimEnd().split("\n");
+  const other = lines.slice(1, 3).map((l) => l.replace(/^13_30,/, "13_29,"));
+  const several = path.join(OUT, "truth-two-trials.csv");
+  writeFileSync(several, [lines[0], ...other, ...lines.slice(1)].join("\n") + "\n");
+  await importTruth(several, "error");
+  assert.equal(await text(page, "#truth-error"),
+    "truth-two-trials.csv: ground truth CSV: no rows for trial `sample` (trials present: 13_29, 13_30)");
+  assert.ok(await page.locator("#truth-trial").isVisible(), "the Trial menu is offered");
+  assert.deepEqual(await page.$$eval("#truth-trial option", (os) => os.map((o) => o.value)), ["", "13_29", "13_30"]);
+  await choose("#truth-trial", "13_30");
+  assert.match(await text(page, "#truth-applied"), /shared-data CSV · trial 13_30 · frames counted from 1/);
+  assert.equal((await truthRow()).length, 5);
+  await waitData(page, "metrics", "done");
+  const seg = path.join(OUT, "truth-sssm.json");
+  await assertSameAsCli(cliEval(seg, several, ["--trial", "13_30"]), "sssm-actions vs trial 13_30 picked in the menu");
+});
+
+test("another take reads the kept file again: its length is checked against the new take", async () => {
+  await page.setInputFiles("#file-input", path.join(FIXTURES, "02_01.bvh"));
+  await page.waitForFunction(() => document.body.dataset.state === "ready"
+    && (document.querySelector("#summary-name")?.textContent ?? "").includes("02_01.bvh"));
+  await waitData(page, "truth", "error");
+  // the trial is looked for by the new take's name again
+  assert.equal(await text(page, "#truth-error"),
+    "truth-two-trials.csv: ground truth CSV: no rows for trial `02_01` (trials present: 13_29, 13_30)");
+  // picked by hand, 13_30's length is not this take's
+  await choose("#truth-trial", "13_30", "error");
+  assert.match(await text(page, "#truth-error"),
+    /^truth-two-trials\.csv: trial `13_30` \(its `trial_frames`\) covers 2465 take frames but the take `02_01\.bvh` has 343: is it the same take\?/);
+  assert.equal(await page.locator("#row-truth .ms-seg").count(), 0);
+  await shot(page, "truth-8-other-take.png");
   assertClean(opened);
 });
