@@ -42,6 +42,8 @@ done
 files=${E2E_FILES:-$(ls *.test.mjs | sort)}
 filter=()
 [ -n "${E2E_NAME:-}" ] && filter=(--test-name-pattern="$E2E_NAME")
+# the native CLI, for the tests that compare the page's numbers with `mocapseg eval` (truth.test.mjs)
+export MOCAPSEG_BIN="${MOCAPSEG_BIN:-${CARGO_TARGET_DIR:-$ROOT/target}/debug/mocapseg}"
 failed=0
 for f in $files; do
     echo "e2e: $f"

@@ -300,6 +300,54 @@ fn eval_scores_a_segmentation_against_truth() {
 }
 
 #[test]
+fn eval_reads_simple_csv_and_json_truth_with_the_pages_choices() {
+    let dir = out_dir().join("eval-import");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    // a 120 fps take of 400 frames cut at frame 200
+    let seg = serde_json::json!({
+        "file": "take.bvh", "fps": 120.0, "frames": 400, "method": "hand", "params": {},
+        "segments": [
+            {"start": 0, "end": 199, "label": "walk", "level": "action", "cluster": 0, "score": null},
+            {"start": 200, "end": 399, "label": "jump", "level": "action", "cluster": 1, "score": null}
+        ]
+    });
+    let seg_path = dir.join("take.json");
+    std::fs::write(&seg_path, seg.to_string()).unwrap();
+    let eval = |truth: &std::path::Path, flags: &[&str]| {
+        run(&[&["eval", seg_path.to_str().unwrap(), "--truth", truth.to_str().unwrap()][..], flags].concat())
+    };
+    // labels at 30 fps, 0-based: frame 50 at 30 fps is take frame 200
+    let spans = dir.join("spans.csv");
+    std::fs::write(&spans, "start_frame,end_frame,label\n0,49,walk\n50,99,jump\n").unwrap();
+    let out = eval(&spans, &["--first-frame", "0", "--label-fps", "30"]);
+    let v = stdout_json(&out);
+    assert_eq!((v["trial"].as_str(), v["true_boundaries"].as_u64()), (Some("take"), Some(1)));
+    assert_eq!((v["boundaries"][0]["f1"].as_f64(), v["covering"].as_f64()), (Some(1.0), Some(1.0)));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("labels at 30 fps converted to the take's 120 fps"));
+    // read 1-based (the default) frame 0 does not exist
+    let out = eval(&spans, &["--label-fps", "30"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("line 2: `start_frame` = 0 is before the first frame 1"));
+    // … and 1-based numbers one higher score the same, boundary for boundary
+    std::fs::write(&spans, "start_frame,end_frame,label\n1,50,walk\n51,100,jump\n").unwrap();
+    let v = stdout_json(&eval(&spans, &["--label-fps", "30"]));
+    assert_eq!((v["boundaries"][0]["f1"].as_f64(), v["covering"].as_f64()), (Some(1.0), Some(1.0)));
+    // a label past the take's end names its line
+    std::fs::write(&spans, "0,49,walk\n50,100,jump\n").unwrap();
+    let out = eval(&spans, &["--first-frame", "0", "--label-fps", "30"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("spans.csv: ground truth CSV line 2: `end_frame` = 100 (at 30 fps: take frame 400 counting from 0) is past the end"),
+        "{err}"
+    );
+    // a segmentation JSON as the truth: scored against itself, perfect
+    let v = stdout_json(&eval(&seg_path, &[]));
+    assert_eq!((v["hungarian_accuracy"].as_f64(), v["segments"]["similarity"].as_f64()), (Some(1.0), Some(2.0)));
+}
+
+#[test]
 fn splice_writes_a_take_and_its_ground_truth_that_eval_reads() {
     let dir = out_dir().join("splice");
     let _ = std::fs::remove_dir_all(&dir);

@@ -490,7 +490,7 @@ fn draw_picture(canvas: &HtmlCanvasElement, p: &Picture) -> Result<(), JsValue> 
 }
 
 /// Levels shown in a method's actions row and in its primitives row.
-const ACTION_LEVELS: &[Level] = &[Level::Action, Level::Transition];
+pub(super) const ACTION_LEVELS: &[Level] = &[Level::Action, Level::Transition];
 const PRIMITIVE_LEVELS: &[Level] = &[Level::Primitive];
 
 /// At most about twice this many segments of a row are in the DOM at once (see
@@ -515,10 +515,10 @@ fn row_label(slot: &MethodSlot, v: Option<&MethodView>, primitive: bool) -> Stri
     format!("{} · {level}", slot.info.short)
 }
 
-/// Every row with segments, in the page's order: its id (`<method>-actions` /
+/// Every row with segments, in the page's order: its id (`truth`, `<method>-actions` /
 /// `<method>-primitives`) and its segments' frames, sorted by start.
 pub fn row_spans(state: AppState) -> Vec<(String, Vec<(usize, usize)>)> {
-    let mut rows = Vec::new();
+    let mut rows = state.truth.row_spans();
     for slot in state.methods {
         slot.view.with_untracked(|v| {
             if let Some(v) = v {
@@ -553,51 +553,62 @@ pub fn MethodRows(state: AppState) -> impl IntoView {
         .iter()
         .flat_map(|slot| [(slot, false), (slot, true)])
         .map(|(slot, primitive)| {
-            let name = &slot.info.name;
             let levels = if primitive { PRIMITIVE_LEVELS } else { ACTION_LEVELS };
-            let row_id = format!("{name}-{}", if primitive { "primitives" } else { "actions" });
-            let data =
-                RwSignal::new(RowData { view: None, segments: Arc::default(), spans: Arc::default(), generation: 0 });
-            Effect::new(move |_| {
-                let view = slot.view.get();
-                let segments = view.as_ref().map(|v| row_segments(v, levels)).unwrap_or_default();
-                let spans = segments.iter().map(|s| (s.start, s.end)).collect();
-                let generation = data.with_untracked(|d| d.generation) + 1;
-                data.set(RowData { view, segments: Arc::new(segments), spans: Arc::new(spans), generation });
-            });
-            // a row shows only when the method's result has segments of its levels
-            let hidden = move || data.with(|d| d.segments.is_empty());
-            let label = move || slot.view.with(|v| row_label(slot, v.as_deref(), primitive));
-            let visible = move || {
-                let window = state.window.get();
-                data.with(|d| {
-                    visible_segments(&d.spans, &window, MAX_SEGMENTS_PER_ROW)
-                        .into_iter()
-                        .map(|i| (d.generation, i))
-                        .collect::<Vec<_>>()
-                })
-            };
-            let row = row_id.clone();
-            let segment = move |(_, i): (u64, usize)| {
-                let (v, s) = data.with_untracked(|d| (d.view.clone(), d.segments[i].clone()));
-                v.map(|v| segment_view(state, &v, s, row.clone()))
-            };
-            view! {
-                <div class="ms-tl-line ms-tl-line--row" hidden=hidden>
-                    <div class="ms-tl-label" title=label>{label}</div>
-                    <div
-                        id=format!("row-{row_id}")
-                        class="ms-row ms-tl-lane"
-                        data-label=label
-                        role="group"
-                        aria-label=label
-                    >
-                        <For each=visible key=|k| *k children=segment/>
-                    </div>
-                </div>
-            }
+            let row_id = format!("{}-{}", slot.info.name, if primitive { "primitives" } else { "actions" });
+            let label = Signal::derive(move || slot.view.with(|v| row_label(slot, v.as_deref(), primitive)));
+            view! { <SegmentRow state=state row_id=row_id source=slot.view.into() levels=levels label=label/> }
         })
         .collect_view()
+}
+
+/// One timeline row `#row-<row_id>`: `label` at the left, the segments of `levels` of `source`
+/// in the window (hidden while it has none). Method rows and the ground truth's draw alike.
+#[component]
+pub fn SegmentRow(
+    state: AppState,
+    row_id: String,
+    source: Signal<Option<Arc<MethodView>>>,
+    levels: &'static [Level],
+    label: Signal<String>,
+) -> impl IntoView {
+    let data = RwSignal::new(RowData { view: None, segments: Arc::default(), spans: Arc::default(), generation: 0 });
+    Effect::new(move |_| {
+        let view = source.get();
+        let segments = view.as_ref().map(|v| row_segments(v, levels)).unwrap_or_default();
+        let spans = segments.iter().map(|s| (s.start, s.end)).collect();
+        let generation = data.with_untracked(|d| d.generation) + 1;
+        data.set(RowData { view, segments: Arc::new(segments), spans: Arc::new(spans), generation });
+    });
+    // a row shows only when its source has segments of its levels
+    let hidden = move || data.with(|d| d.segments.is_empty());
+    let visible = move || {
+        let window = state.window.get();
+        data.with(|d| {
+            visible_segments(&d.spans, &window, MAX_SEGMENTS_PER_ROW)
+                .into_iter()
+                .map(|i| (d.generation, i))
+                .collect::<Vec<_>>()
+        })
+    };
+    let row = row_id.clone();
+    let segment = move |(_, i): (u64, usize)| {
+        let (v, s) = data.with_untracked(|d| (d.view.clone(), d.segments[i].clone()));
+        v.map(|v| segment_view(state, &v, s, row.clone()))
+    };
+    view! {
+        <div class="ms-tl-line ms-tl-line--row" hidden=hidden>
+            <div class="ms-tl-label" title=label>{label}</div>
+            <div
+                id=format!("row-{row_id}")
+                class="ms-row ms-tl-lane"
+                data-label=label
+                role="group"
+                aria-label=label
+            >
+                <For each=visible key=|k| *k children=segment/>
+            </div>
+        </div>
+    }
 }
 
 /// Whether `v` is a labelling method's run (DT-FCN, k-NN): its segments are per-frame class labels.

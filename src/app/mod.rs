@@ -16,7 +16,9 @@
 //! `idle`, `running`, `done`, `error` or `cancelled`. Under the LMA panel, [`lma_training`] trains
 //! LMA's classifiers on the user's own Effort labels (`data-lma-training`). The DT-FCN and k-NN
 //! panels take the user's model files ([`label_models`]), and the DT-FCN panel trains a network in
-//! the worker one epoch at a time ([`dtfcn_training`], `data-dtfcn-training`).
+//! the worker one epoch at a time ([`dtfcn_training`], `data-dtfcn-training`). Under the
+//! timeline, [`ground_truth`] imports labels (`data-truth`, row `#row-truth`) and
+//! [`metrics_panel`] scores any row against them as `mocapseg eval` does (`data-metrics`).
 //! The URL parameters (`src`, `methods`, `t`, `autoplay`, `embed`) are read once ([`embed`]);
 //! `embed=1` shows the player and the timeline only.
 
@@ -24,10 +26,12 @@ mod drop_zone;
 mod dtfcn_training;
 mod embed;
 mod error_banner;
+mod ground_truth;
 mod label_models;
 mod lma_training;
 mod loader;
 mod method_panel;
+mod metrics_panel;
 mod motion_image;
 mod playback;
 mod player;
@@ -47,10 +51,12 @@ use drop_zone::DropZone;
 use dtfcn_training::{DtfcnTraining, DtfcnTrainingPanel};
 use embed::{EmbedBar, Launch, UrlNotice};
 use error_banner::ErrorBanner;
+use ground_truth::{GroundTruth, GroundTruthPanel};
 use label_models::{LabelModelFile, LabelModels};
 use lma_training::{LmaTraining, LmaTrainingPanel};
 use loader::{Loader, Urls};
 use method_panel::MethodPanel;
+use metrics_panel::MetricsPanel;
 use player::Player;
 use progress::Progress;
 use summary::Summary;
@@ -236,6 +242,8 @@ pub struct AppState {
     pub shuttle: RwSignal<i32>,
     /// The keyboard help overlay is open.
     pub help: RwSignal<bool>,
+    /// The imported ground truth ([`ground_truth`]; scored in [`metrics_panel`]).
+    pub truth: GroundTruth,
 }
 
 /// A segment selected on the timeline: its row (`<method>-actions` or `<method>-primitives`)
@@ -267,6 +275,7 @@ impl AppState {
             looping: RwSignal::new(true),
             shuttle: RwSignal::new(0),
             help: RwSignal::new(false),
+            truth: GroundTruth::new(),
         }
     }
 
@@ -361,6 +370,9 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
             <Player state=state/>
             <Timeline state=state/>
         </main>
+        {full.then(|| view! {
+            <section class="ms-truth-metrics"><GroundTruthPanel state=state/><MetricsPanel state=state/></section>
+        })}
         {full.then(|| state
             .methods
             .iter()

@@ -14,6 +14,7 @@
 //! pointer). The keyboard ([`crate::view::timeline::key_action`]) works anywhere on the page except
 //! in text fields; `?` opens `#help-overlay`. The maths is in [`crate::view::timeline`].
 
+use super::ground_truth::TruthRow;
 use super::method_panel::{row_spans, MethodRows};
 use super::motion_image::{Chunks, DownloadPng, MotionImageCanvas};
 use super::{AppState, Selection};
@@ -343,6 +344,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                     </div>
                     // Segmentation rows, one per level of each method.
                     <div id="timeline-rows" class="ms-timeline-rows">
+                        <TruthRow state=state/>
                         <MethodRows state=state/>
                     </div>
                 </div>

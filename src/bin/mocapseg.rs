@@ -8,7 +8,8 @@
 //! mocapseg methods                            the segmentation methods and their parameters
 //! mocapseg segment --method NAME [--param NAME=VALUE]… FILE.bvh      segmentation JSON on stdout
 //! mocapseg segment --method NAME [--param NAME=VALUE]… DIR_OR_FILES… --out DIR   batch, all cores
-//! mocapseg eval SEG.json… --truth GT.csv      scores against ground truth (one table for many)
+//! mocapseg eval SEG.json… --truth GT.csv|GT.json [--first-frame 0|1] [--label-fps F] [--trial T]
+//!                                             scores against ground truth (one table for many)
 //! mocapseg splice --bvh TAKES… --labels GT.csv… -o OUT.bvh   a take with known gesture boundaries
 //! mocapseg clips SEG.json TAKE.bvh --out DIR [--level action|primitive|all] [--origin] [--zip]
 //!                                             each segment as a BVH clip of its own
@@ -48,6 +49,7 @@ mod cli {
     use mocapseg::segment::metrics::{evaluate, Tolerances};
     use mocapseg::segment::report::{self, Row};
     use mocapseg::segment::truth::{load_csv, TruthOptions};
+    use mocapseg::segment::truth_import::{import_truth, ImportOptions, Take, TrialChoice};
     use mocapseg::segment::{Level, Segmentation};
     use mocapseg::splice::{Source, SpliceOptions};
     use mocapseg::stats;
@@ -247,22 +249,29 @@ mod cli {
         },
         /// Print a model file's header: kind, classes, colours, joint set, rate, how it was trained.
         ModelInfo { file: PathBuf },
-        /// Score segmentation JSON against ground truth CSV (boundary P/R/F1 at 0.5 s and 1 s, covering,
-        /// Hungarian frame accuracy, strict/tolerant accuracy). One file: JSON; several files or a
-        /// folder of predictions: one markdown table with the mean (--json for JSON).
+        /// Score segmentation JSON against ground truth (boundary P/R/F1 at 0.5 s and 1 s, covering,
+        /// Hungarian frame accuracy, strict/tolerant accuracy, edit, F1@k, segment score). One file: JSON;
+        /// several files or a folder of predictions: one markdown table with the mean (--json for JSON).
+        /// The truth is read as the page's ground-truth import reads it (the same core function).
         Eval {
             /// Segmentation JSON files and/or folders of them (the schema every method prints).
             #[arg(required = true)]
             predictions: Vec<PathBuf>,
-            /// Ground truth CSV with columns trial,label,start_frame,end_frame[,trial_frames,end_window_lo,end_window_hi].
+            /// Ground truth: a CSV `start_frame,end_frame,label`, the shared data's CSV
+            /// trial,label,start_frame,end_frame[,trial_frames,end_window_lo,end_window_hi], or a segmentation JSON.
             #[arg(long)]
             truth: PathBuf,
-            /// Trial id in the CSV (default: each segmentation's file name without extension).
+            /// Trial id in a shared-data CSV (default: each segmentation's file name without
+            /// extension, else the file's only trial).
             #[arg(long)]
             trial: Option<String>,
-            /// The number the CSV gives the first frame (1 for CMU AMC frame numbers).
+            /// The number the CSV gives the first frame: 1 (CMU AMC frame numbers) or 0.
             #[arg(long, default_value_t = 1)]
             first_frame: usize,
+            /// The rate the CSV's frame numbers count at (default: the take's, from the
+            /// segmentation); other rates are converted by time to the take's frames.
+            #[arg(long)]
+            label_fps: Option<f64>,
             /// BVH rows before the CSV's first frame (1 when the BVH prepends a T-pose row).
             #[arg(long, default_value_t = 0)]
             row_offset: usize,
@@ -413,8 +422,9 @@ mod cli {
             Command::Clips { segmentation, take, out, level, origin, zip } => {
                 clips(&segmentation, &take, &out, &level, origin, zip)
             }
-            Command::Eval { predictions, truth, trial, first_frame, row_offset, json } => {
-                eval(&predictions, &truth, trial, TruthOptions { first_frame, bvh_row_offset: row_offset }, json)
+            Command::Eval { predictions, truth, trial, first_frame, label_fps, row_offset, json } => {
+                let options = ImportOptions { first_frame, label_fps, bvh_row_offset: row_offset, trial };
+                eval(&predictions, &truth, &options, json)
             }
         }
         .map(|()| Outcome::Ok)
@@ -936,13 +946,7 @@ mod cli {
         Ok(if failed > 0 { Outcome::Partial } else { Outcome::Ok })
     }
 
-    fn eval(
-        predictions: &[PathBuf],
-        truth_path: &Path,
-        trial: Option<String>,
-        options: TruthOptions,
-        json: bool,
-    ) -> Result<(), String> {
+    fn eval(predictions: &[PathBuf], truth_path: &Path, options: &ImportOptions, json: bool) -> Result<(), String> {
         let files = collect_files(predictions, "json")?;
         if files.is_empty() {
             return Err("no segmentation .json files in the inputs".into());
@@ -951,8 +955,16 @@ mod cli {
         let mut rows = Vec::new();
         for path in &files {
             let seg = Segmentation::from_json(&read_text(path)?).map_err(|e| format!("{}: {e}", path.display()))?;
-            let id = trial.clone().unwrap_or_else(|| stem(Path::new(&seg.file)));
-            let truth = load_csv(&truth_text, &id, options).map_err(|e| format!("{}: {e}", truth_path.display()))?;
+            let take = Take { name: seg.file.clone(), frames: seg.frames, fps: seg.fps };
+            let imported =
+                import_truth(&truth_text, &take, options).map_err(|e| format!("{}: {e}", truth_path.display()))?;
+            if imported.applied.converted
+                || imported.applied.trial.as_ref().is_some_and(|t| t.1 == TrialChoice::OnlyOne)
+            {
+                let segments = imported.truth.segments.len();
+                eprintln!("note: {}: {}", truth_path.display(), imported.applied.describe(segments));
+            }
+            let truth = imported.truth;
             let scores =
                 evaluate(&seg, &truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", path.display()))?;
             rows.push(Row { scores, found_actions: report::scored_segments(&seg), seconds: None });

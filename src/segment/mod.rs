@@ -17,6 +17,7 @@ pub mod metrics;
 pub mod palette;
 pub mod report;
 pub mod truth;
+pub mod truth_import;
 
 use serde::{Deserialize, Serialize};
 

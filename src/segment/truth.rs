@@ -111,7 +111,7 @@ fn csv_error(e: &csv::Error) -> TruthError {
 
 /// A whole frame number (`550`, or `550.0` as spreadsheets write it; a fraction is cut) that
 /// is at least `first` and at most `first +` [`MAX_FRAMES`].
-fn frame_number(raw: &str, what: &str, first: usize, line: usize) -> Result<usize, TruthError> {
+pub(super) fn frame_number(raw: &str, what: &str, first: usize, line: usize) -> Result<usize, TruthError> {
     let value = match raw.parse::<u64>() {
         Ok(v) => v as f64,
         Err(_) => match raw.parse::<f64>() {
@@ -145,10 +145,35 @@ fn shifted(row: usize, offset: usize, what: &str, line: usize) -> Result<usize, 
 /// commas, quotes and line breaks; blank lines are skipped; extra columns are ignored).
 /// Errors name the file's line.
 pub fn load_csv(text: &str, trial: &str, options: TruthOptions) -> Result<Truth, TruthError> {
-    let (mut trials, present) = read_trials(text, options, Some(trial))?;
+    match load_csv_lines(text, trial, options)? {
+        (Some(read), _) => Ok(read.truth),
+        (None, present) => Err(TruthError::NoTrial { trial: trial.to_string(), present: present.join(", ") }),
+    }
+}
+
+/// One trial as [`load_csv_lines`] reads it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrialRead {
+    pub truth: Truth,
+    /// The file line of each segment, in the order of [`Truth::segments`].
+    pub lines: Vec<usize>,
+    /// Whether the file gives the trial's length (`trial_frames`); else `truth.frames` is the
+    /// last segment's end + 1.
+    pub frames_given: bool,
+}
+
+/// [`load_csv`] that also says where each segment comes from ([`TrialRead`]), or `None` when
+/// the file has no rows for `trial`; and the names of every trial the file has, in the order
+/// it first names them.
+pub fn load_csv_lines(
+    text: &str,
+    trial: &str,
+    options: TruthOptions,
+) -> Result<(Option<TrialRead>, Vec<String>), TruthError> {
+    let (mut trials, present) = read_trials_lines(text, options, Some(trial))?;
     match trials.pop() {
-        Some((_, truth)) => truth,
-        None => Err(TruthError::NoTrial { trial: trial.to_string(), present: present.join(", ") }),
+        Some((_, read)) => Ok((Some(read?), present)),
+        None => Ok((None, present)),
     }
 }
 
@@ -157,7 +182,8 @@ pub fn load_csv(text: &str, trial: &str, options: TruthOptions) -> Result<Truth,
 /// file, however many trials it has. Errors that concern the whole file (its header, a row too
 /// short or not CSV) are the `Err`.
 pub fn load_all_csv(text: &str, options: TruthOptions) -> Result<TrialTruths, TruthError> {
-    Ok(read_trials(text, options, None)?.0)
+    let (trials, _) = read_trials_lines(text, options, None)?;
+    Ok(trials.into_iter().map(|(name, read)| (name, read.map(|r| r.truth))).collect())
 }
 
 /// Each trial's name and its ground truth, or why it could not be read.
@@ -166,6 +192,8 @@ pub type TrialTruths = Vec<(String, Result<Truth, TruthError>)>;
 /// One trial being read.
 struct Reading {
     segments: Vec<TruthSegment>,
+    /// The file line of each segment.
+    lines: Vec<usize>,
     frames: Option<usize>,
     /// Its first bad row's error; its later rows are not read.
     error: Option<TruthError>,
@@ -173,11 +201,13 @@ struct Reading {
 
 /// The trials of the file (only `only` when given, its first bad row failing the call) and the
 /// names of all trials the file has.
-fn read_trials(
+type TrialLines = Vec<(String, Result<TrialRead, TruthError>)>;
+
+fn read_trials_lines(
     text: &str,
     options: TruthOptions,
     only: Option<&str>,
-) -> Result<(TrialTruths, Vec<String>), TruthError> {
+) -> Result<(TrialLines, Vec<String>), TruthError> {
     let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).flexible(true).from_reader(text.as_bytes());
     let headers = reader.headers().map_err(|e| csv_error(&e))?.clone();
     let position = |name: &str| headers.iter().position(|h| h == name);
@@ -209,7 +239,7 @@ fn read_trials(
             None => {
                 index.insert(row.trial.clone(), names.len());
                 names.push(row.trial.clone());
-                reading.push(Reading { segments: Vec::new(), frames: None, error: None });
+                reading.push(Reading { segments: Vec::new(), lines: Vec::new(), frames: None, error: None });
                 names.len() - 1
             }
         };
@@ -261,20 +291,22 @@ fn read_row(row: &Row, line: usize, options: TruthOptions, trial: &mut Reading) 
         })?);
     }
     trial.segments.push(TruthSegment { start, end, label: row.label.clone(), end_window });
+    trial.lines.push(line);
     Ok(())
 }
 
-/// A trial read: its segments in order and its frames, or its first bad row's error.
-fn finish(name: &str, r: Reading) -> Result<Truth, TruthError> {
+/// A trial read: its segments in order with their lines, and its frames, or its first bad row's error.
+fn finish(name: &str, r: Reading) -> Result<TrialRead, TruthError> {
     if let Some(e) = r.error {
         return Err(e);
     }
-    let mut segments = r.segments;
-    segments.sort_by_key(|s| s.start);
+    let mut pairs: Vec<(TruthSegment, usize)> = r.segments.into_iter().zip(r.lines).collect();
+    pairs.sort_by_key(|(s, _)| s.start);
+    let (segments, lines): (Vec<TruthSegment>, Vec<usize>) = pairs.into_iter().unzip();
     // every end < MAX_FRAMES, so + 1 cannot overflow
     let last_end = segments.iter().map(|s| s.end).max().unwrap_or(0);
     let frames = r.frames.unwrap_or(last_end + 1).max(last_end + 1);
-    Ok(Truth { trial: name.to_string(), frames, segments })
+    Ok(TrialRead { truth: Truth { trial: name.to_string(), frames, segments }, lines, frames_given: r.frames.is_some() })
 }
 
 #[cfg(test)]

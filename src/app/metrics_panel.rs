@@ -1,0 +1,282 @@
+//! `#metrics-panel`: any timeline row scored against the imported ground truth, with the core's
+//! [`evaluate`] — the function `mocapseg eval` prints — so the page and the command line give the
+//! same numbers for the same segmentation and truth.
+//!
+//! `#metrics-row` picks the row: `<method>-actions` scores the method's whole segmentation (what
+//! its `#<method>-export` saves: actions with transitions split between them, strict/tolerant
+//! accuracy on its primitives), `<method>-primitives` its primitives alone. `#metrics-table` has
+//! one line per score (`data-metric`), its value rounded as shown and in full in `data-value`,
+//! and a hint of what it means. The scores run on the page thread: they are linear in the frames
+//! and the segments, except the Hungarian matching (cubic in the number of clusters, a few
+//! dozen), cheaper than a round trip to the worker, which may be busy with a method's run.
+//! `document.body.dataset.metrics` is `none` (no truth or no row), `done` or `error`, and
+//! `data-metrics-row` names the row scored, `data-metrics-ms` how long the scores took.
+
+use super::AppState;
+use crate::segment::metrics::{evaluate, Scores, Tolerances};
+use crate::segment::{Level, Segmentation};
+use leptos::prelude::*;
+
+/// One line of the table: key, name, value, decimals shown, what it means.
+struct Line {
+    key: &'static str,
+    name: &'static str,
+    value: f64,
+    digits: usize,
+    hint: String,
+}
+
+fn lines(s: &Scores) -> Vec<Line> {
+    let mut out = Vec::new();
+    for (key, b) in ["boundary_f1_0.5s", "boundary_f1_1s"].iter().zip(&s.boundaries) {
+        out.push(Line {
+            key,
+            name: if b.tolerance_s == 0.5 { "Boundary F1 @ 0.5 s" } else { "Boundary F1 @ 1 s" },
+            value: b.f1,
+            digits: 3,
+            hint: format!(
+                "cuts within {} s of a true cut, matched one to one: precision {:.3}, recall {:.3} ({} of {} found, {} true)",
+                b.tolerance_s, b.precision, b.recall, b.matched, s.predicted_boundaries, s.true_boundaries
+            ),
+        });
+    }
+    let l = &s.labelling;
+    let seg = &s.segments;
+    out.extend([
+        Line {
+            key: "covering",
+            name: "Covering",
+            value: s.covering,
+            digits: 3,
+            hint: "how well each true segment is covered by its best-overlapping found one (1 = the same segments)".into(),
+        },
+        Line {
+            key: "hungarian_accuracy",
+            name: "Hungarian frame accuracy",
+            value: s.hungarian_accuracy,
+            digits: 3,
+            hint: "share of frames right once each found cluster is matched to one true label".into(),
+        },
+        Line {
+            key: "strict_accuracy",
+            name: "Strict accuracy",
+            value: s.strict_accuracy,
+            digits: 3,
+            hint: "share of frames whose primitive's cluster maps to their true label (many clusters may map to one)".into(),
+        },
+        Line {
+            key: "tolerant_accuracy",
+            name: "Tolerant accuracy",
+            value: s.tolerant_accuracy,
+            digits: 3,
+            hint: "strict accuracy that also accepts frames in the uncertainty window around a true cut".into(),
+        },
+        Line {
+            key: "frame_accuracy",
+            name: "Frame accuracy (labels)",
+            value: l.frame_accuracy,
+            digits: 3,
+            hint: "share of frames with the true label (labels by name, else by the Hungarian matching)".into(),
+        },
+        Line {
+            key: "edit",
+            name: "Edit score",
+            value: l.edit,
+            digits: 2,
+            hint: "0–100: how close the order of labelled segments is to the truth's (100 = same sequence)".into(),
+        },
+        Line {
+            key: "f1_10",
+            name: "F1@10",
+            value: l.f1[0],
+            digits: 2,
+            hint: "0–100: segments with the right label overlapping a true one by at least 10 % (IoU)".into(),
+        },
+        Line {
+            key: "f1_25",
+            name: "F1@25",
+            value: l.f1[1],
+            digits: 2,
+            hint: "0–100: the same at 25 % overlap".into(),
+        },
+        Line {
+            key: "f1_50",
+            name: "F1@50",
+            value: l.f1[2],
+            digits: 2,
+            hint: "0–100: the same at 50 % overlap".into(),
+        },
+        Line {
+            key: "segment_score",
+            name: "Segment score (Bouchard–Badler)",
+            value: seg.similarity,
+            digits: 1,
+            hint: format!(
+                "matched − (unmatched found + unmatched true) / 2, both ends within {} s: {} matched, {} found and {} true unmatched",
+                seg.tolerance_s, seg.matched, seg.unmatched_found, seg.unmatched_true
+            ),
+        },
+    ]);
+    out
+}
+
+/// The rows that can be scored: (row id, label, the segmentation scored).
+fn scorable_rows(state: AppState) -> Vec<(String, String, Segmentation)> {
+    let mut rows = Vec::new();
+    for slot in state.methods {
+        slot.view.with(|v| {
+            let Some(v) = v else { return };
+            let seg = &v.segmentation;
+            if seg.segments.iter().any(|s| s.level != Level::Primitive) {
+                rows.push((
+                    format!("{}-actions", slot.info.name),
+                    format!("{} · actions", slot.info.short),
+                    seg.clone(),
+                ));
+            }
+            if seg.segments.iter().any(|s| s.level == Level::Primitive) {
+                let mut primitives = seg.clone();
+                primitives.segments.retain(|s| s.level == Level::Primitive);
+                rows.push((
+                    format!("{}-primitives", slot.info.name),
+                    format!("{} · primitives", slot.info.short),
+                    primitives,
+                ));
+            }
+        });
+    }
+    rows
+}
+
+/// What the panel shows.
+#[derive(Clone, PartialEq)]
+enum Outcome {
+    /// Why there is nothing to score.
+    Nothing(String),
+    /// The row, its scores and how long they took (ms).
+    Scored(String, std::sync::Arc<Scores>, f64),
+    Failed(String),
+}
+
+#[component]
+pub fn MetricsPanel(state: AppState) -> impl IntoView {
+    let chosen = RwSignal::new(String::new());
+    let rows = Memo::new(move |_| {
+        scorable_rows(state)
+            .into_iter()
+            .map(|(id, label, seg)| (id, label, std::sync::Arc::new(seg)))
+            .collect::<Vec<_>>()
+    });
+    // the row scored: the one chosen while it exists, else the first
+    let row_id = Memo::new(move |_| {
+        let wanted = chosen.get();
+        rows.with(|r| {
+            r.iter().find(|(id, _, _)| *id == wanted).or(r.first()).map(|(id, _, _)| id.clone()).unwrap_or_default()
+        })
+    });
+    let outcome = Memo::new(move |_| {
+        let Some(imported) = state.truth.truth() else {
+            return Outcome::Nothing("Import a ground truth above to score the rows against it.".into());
+        };
+        let id = row_id.get();
+        let Some(seg) = rows.with(|r| r.iter().find(|(i, _, _)| *i == id).map(|(_, _, s)| s.clone())) else {
+            return Outcome::Nothing("Run a method to score its rows against the ground truth.".into());
+        };
+        let now = || web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now());
+        let started = now();
+        match evaluate(&seg, &imported.truth, &Tolerances::default()) {
+            Ok(scores) => Outcome::Scored(id, std::sync::Arc::new(scores), now() - started),
+            Err(e) => Outcome::Failed(format!("{id}: {e}")),
+        }
+    });
+    Effect::new(move |_| {
+        let (value, row, ms) = outcome.with(|o| match o {
+            Outcome::Nothing(_) => ("none", String::new(), String::new()),
+            Outcome::Scored(id, _, ms) => ("done", id.clone(), format!("{ms:.1}")),
+            Outcome::Failed(_) => ("error", String::new(), String::new()),
+        });
+        if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
+            let _ = body.set_attribute("data-metrics", value);
+            let _ = body.set_attribute("data-metrics-row", &row);
+            let _ = body.set_attribute("data-metrics-ms", &ms);
+        }
+    });
+
+    let options = move || {
+        let current = row_id.get();
+        rows.with(|r| {
+            r.iter()
+                .map(|(id, label, _)| {
+                    let selected = *id == current;
+                    view! { <option value=id.clone() prop:selected=selected>{label.clone()}</option> }
+                })
+                .collect_view()
+        })
+    };
+    let message = move || {
+        outcome.with(|o| match o {
+            Outcome::Nothing(m) | Outcome::Failed(m) => m.clone(),
+            Outcome::Scored(..) => String::new(),
+        })
+    };
+    let is_error = move || outcome.with(|o| matches!(o, Outcome::Failed(_)));
+    let table = move || {
+        outcome.with(|o| match o {
+            Outcome::Scored(id, scores, _) => {
+                let caption = format!("{} against {}", id, scores.trial);
+                let body = lines(scores)
+                    .into_iter()
+                    .map(|l| {
+                        let shown = format!("{:.*}", l.digits, l.value);
+                        view! {
+                            <tr data-metric=l.key>
+                                <th scope="row">{l.name}</th>
+                                <td class="ms-metric-value" data-value=l.value.to_string() data-digits=l.digits.to_string()>{shown}</td>
+                                <td class="ms-metric-hint">{l.hint}</td>
+                            </tr>
+                        }
+                    })
+                    .collect_view();
+                Some(view! {
+                    <table id="metrics-table" class="ms-metrics-table">
+                        <caption>{caption}</caption>
+                        <thead>
+                            <tr>
+                                <th scope="col">"Metric"</th>
+                                <th scope="col">"Value"</th>
+                                <th scope="col">"What it means"</th>
+                            </tr>
+                        </thead>
+                        <tbody>{body}</tbody>
+                    </table>
+                })
+            }
+            _ => None,
+        })
+    };
+
+    view! {
+        <section id="metrics-panel" class="ms-panel-box ms-metrics" aria-label="Metrics against the ground truth">
+            <div class="ms-timeline-head">
+                <h2>"Metrics"</h2>
+                <span class="ms-timeline-legend">"a row scored against the ground truth — the numbers " <code>"mocapseg eval"</code> " prints"</span>
+            </div>
+            <div class="ms-method-params">
+                <label>
+                    "Row to score "
+                    <select
+                        id="metrics-row"
+                        disabled=move || rows.with(Vec::is_empty)
+                        on:change=move |ev| chosen.set(event_target_value(&ev))
+                    >
+                        {options}
+                    </select>
+                </label>
+            </div>
+            <p id="metrics-status" class="ms-metrics-status" class:ms-truth-error=is_error role="status" hidden=move || message().is_empty()>
+                {message}
+            </p>
+            {table}
+        </section>
+    }
+}

@@ -1,0 +1,273 @@
+// Ground truth and metrics on the page (issue 12, "Ground truth and metrics"): a ground-truth
+// CSV imported for the bundled sample (CMU 13_30) shows as `#row-truth`; the frame-base and
+// frame-rate choices change the row as the core's conversion says, read again without picking the
+// file again; a bad file names its file and line at the import control; the metrics panel shows,
+// for SSSM's rows, exactly the numbers `mocapseg eval` prints for the exported JSON and the same
+// truth file with the same choices; a segmentation JSON imports as the truth; a CSV of several
+// trials offers its Trial menu; another take reads the kept file again. Screenshots of each state
+// go to OUT.
+//
+// Needs the native CLI (MOCAPSEG_BIN, default $CARGO_TARGET_DIR/debug/mocapseg, else
+// target/debug/mocapseg; `cargo build --bin mocapseg`). Run: scripts/e2e.sh with
+// E2E_FILES=truth.test.mjs.
+
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import { execFileSync } from "node:child_process";
+import { existsSync, readFileSync, writeFileSync } from "node:fs";
+import path from "node:path";
+import {
+  ROOT, OUT, FIXTURES, openPage, closePage, shot, text, waitData, gotoApp, download, until, assertClean,
+} from "./harness.mjs";
+
+const BIN = process.env.MOCAPSEG_BIN
+  ?? path.join(process.env.CARGO_TARGET_DIR ?? path.join(ROOT, "target"), "debug/mocapseg");
+const SHARED_CSV = path.join(FIXTURES, "mocap6_13_30_gt.csv"); // trial,…,start_frame,end_frame,… (1-based, 120 fps)
+const LABELS_30 = path.join(FIXTURES, "13_30_labels_30fps.csv"); // start_frame,end_frame,label (1-based, 30 fps)
+
+let opened;
+let page;
+
+before(async () => {
+  assert.ok(existsSync(BIN), `the native CLI is missing at ${BIN}: run 'cargo build --bin mocapseg' `
+    + "(or set MOCAPSEG_BIN to its path); the metrics are checked against its 'eval'");
+  opened = await openPage({ viewport: { width: 1440, height: 900 } });
+  page = opened.page;
+  await gotoApp(page);
+});
+
+after(async () => {
+  await closePage(opened, "truth-final.png");
+});
+
+/** `mocapseg eval` on `seg` against `truth` with `flags`: its JSON scores. */
+function cliEval(seg, truth, flags = []) {
+  const out = execFileSync(BIN, ["eval", seg, "--truth", truth, ...flags], { encoding: "utf8" });
+  return JSON.parse(out);
+}
+
+/** The truth row's segments as [start, end, label]. */
+async function truthRow() {
+  return page.$$eval("#row-truth .ms-seg", (els) => els.map((e) => [Number(e.dataset.start), Number(e.dataset.end), e.textContent.trim()]));
+}
+
+/** Picks `file` in the ground-truth import control and waits for data-truth = `want`. */
+async function importTruth(file, want = "loaded") {
+  await page.evaluate(() => { document.body.dataset.truth = "pending"; });
+  await page.setInputFiles("#truth-file", file);
+  await waitData(page, "truth", want);
+}
+
+/** Sets a choice (select or field) and waits for the import to be read again. */
+async function choose(sel, value, want = "loaded") {
+  await page.evaluate(() => { document.body.dataset.truth = "pending"; });
+  if (await page.locator(sel).evaluate((e) => e.tagName === "SELECT")) {
+    await page.selectOption(sel, value);
+  } else {
+    await page.fill(sel, value);
+  }
+  await waitData(page, "truth", want);
+}
+
+/** The metrics table as { key: { shown, value, digits } }. */
+async function panelMetrics() {
+  return page.$$eval("#metrics-table tr[data-metric]", (rows) => Object.fromEntries(rows.map((r) => {
+    const td = r.querySelector(".ms-metric-value");
+    return [r.dataset.metric, { shown: td.textContent.trim(), value: Number(td.dataset.value), digits: Number(td.dataset.digits) }];
+  })));
+}
+
+/** The CLI's scores under the panel's keys. */
+function cliMetrics(s) {
+  return {
+    "boundary_f1_0.5s": s.boundaries[0].f1,
+    "boundary_f1_1s": s.boundaries[1].f1,
+    covering: s.covering,
+    hungarian_accuracy: s.hungarian_accuracy,
+    strict_accuracy: s.strict_accuracy,
+    tolerant_accuracy: s.tolerant_accuracy,
+    frame_accuracy: s.labelling.frame_accuracy,
+    edit: s.labelling.edit,
+    f1_10: s.labelling.f1[0],
+    f1_25: s.labelling.f1[1],
+    f1_50: s.labelling.f1[2],
+    segment_score: s.segments.similarity,
+  };
+}
+
+/** The panel shows the CLI's numbers: exactly in data-value, and to the digits shown. */
+async function assertSameAsCli(cli, what) {
+  const shown = await panelMetrics();
+  const want = cliMetrics(cli);
+  assert.deepEqual(Object.keys(shown).sort(), Object.keys(want).sort(), `${what}: the panel's metrics`);
+  for (const [key, v] of Object.entries(want)) {
+    const m = shown[key];
+    assert.equal(m.value, v, `${what}: ${key} data-value ${m.value} vs the CLI's ${v}`);
+    const half = 0.5 * 10 ** -m.digits + 1e-12;
+    assert.ok(Math.abs(Number(m.shown) - v) <= half, `${what}: ${key} shows ${m.shown}, the CLI's ${v}`);
+    assert.equal(m.shown.split(".")[1]?.length ?? 0, m.digits, `${what}: ${key} shows ${m.digits} decimals`);
+  }
+}
+
+test("before any import: no truth row, the metrics panel says what to do", async () => {
+  assert.equal(await page.evaluate(() => document.body.dataset.truth), "none");
+  assert.equal(await page.evaluate(() => document.body.dataset.metrics), "none");
+  assert.equal(await page.locator("#row-truth .ms-seg").count(), 0);
+  assert.match(await text(page, "#metrics-status"), /Import a ground truth/);
+  // every control has an accessible name
+  for (const sel of ["#truth-file", "#truth-base", "#truth-fps", "#truth-trial", "#truth-clear", "#metrics-row"]) {
+    const name = await page.locator(sel).evaluate((e) => e.getAttribute("aria-label") || e.labels?.[0]?.textContent?.trim() || e.textContent.trim());
+    assert.ok(name && name.length > 2, `${sel} has an accessible name`);
+  }
+  await shot(page, "truth-1-none.png");
+});
+
+test("a 30 fps start_frame,end_frame,label CSV: the frame-rate and frame-base choices change the row", async () => {
+  // defaults: frames from 1, at the take's rate (120 fps)
+  await importTruth(LABELS_30);
+  assert.deepEqual(await truthRow(), [
+    [0, 53, "JumpJack"], [54, 200, "Twist"], [201, 353, "KneeRaise"], [354, 482, "Squat"], [483, 615, "Jog"],
+  ]);
+  assert.match(await text(page, "#truth-applied"), /13_30_labels_30fps\.csv: CSV start_frame,end_frame,label · frames counted from 1 · at the take's rate \(120 fps\) · 5 segments/);
+  // at 30 fps: ×4 (label frame f starts at take frame round(f · 120.0048/30))
+  await choose("#truth-fps", "30");
+  assert.deepEqual(await truthRow(), [
+    [0, 215, "JumpJack"], [216, 803, "Twist"], [804, 1415, "KneeRaise"], [1416, 1931, "Squat"], [1932, 2463, "Jog"],
+  ]);
+  assert.match(await text(page, "#truth-applied"), /labels at 30 fps converted to the take's 120 fps/);
+  await shot(page, "truth-2-csv-30fps.png");
+  // counted from 0, the same numbers are one label frame (4 take frames) later; the last reaches past
+  // the take's end by the conversion only and is cut there
+  await choose("#truth-base", "0");
+  assert.deepEqual(await truthRow(), [
+    [4, 219, "JumpJack"], [220, 807, "Twist"], [808, 1419, "KneeRaise"], [1420, 1935, "Squat"], [1936, 2464, "Jog"],
+  ]);
+  assert.match(await text(page, "#truth-applied"), /frames counted from 0 .*the last cut at the take's end/);
+  await shot(page, "truth-3-csv-base0.png");
+  await choose("#truth-base", "1");
+  // a rate that is not a number is refused at the control
+  await choose("#truth-fps", "-3", "error");
+  assert.match(await text(page, "#truth-error"), /13_30_labels_30fps\.csv: the labels' frame rate: expected a positive number of frames per second, found `-3`/);
+  await choose("#truth-fps", "30");
+});
+
+test("the metrics of SSSM's rows are the numbers mocapseg eval prints for the same files", async () => {
+  await waitData(page, "sssm", "done");
+  await waitData(page, "metrics", "done");
+  assert.equal(await page.evaluate(() => document.body.dataset.metricsRow), "sssm-actions");
+  const seg = await download(page, "#sssm-export", "truth-sssm.json");
+  const json = JSON.parse(seg.bytes.toString("utf8"));
+  assert.equal(json.file, "sample.bvh");
+  // the 30 fps labels, read from 1 at 30 fps, on the page and in the CLI
+  await assertSameAsCli(cliEval(seg.path, LABELS_30, ["--first-frame", "1", "--label-fps", "30"]), "sssm-actions vs the 30 fps CSV");
+  // the shared data's CSV: its only trial (13_30; the take is named "sample"), 1-based at 120 fps
+  await choose("#truth-fps", "");
+  await importTruth(SHARED_CSV);
+  assert.match(await text(page, "#truth-applied"), /shared-data CSV · trial 13_30 \(the file's only trial; the take's name is not in it\) · frames counted from 1/);
+  assert.deepEqual(await truthRow(), [
+    [0, 215, "JumpJack"], [216, 803, "Twist"], [804, 1415, "KneeRaise"], [1416, 1931, "Squat"], [1932, 2464, "Jog"],
+  ]);
+  await waitData(page, "metrics", "done");
+  const cli = cliEval(seg.path, SHARED_CSV);
+  assert.equal(cli.trial, "13_30");
+  await assertSameAsCli(cli, "sssm-actions vs the shared CSV");
+  const ms = Number(await page.evaluate(() => document.body.dataset.metricsMs));
+  assert.ok(Number.isFinite(ms) && ms >= 0, `data-metrics-ms is a duration: ${ms}`);
+  console.log(`  (metrics of sssm-actions on the page thread: ${ms} ms for ${json.frames} frames)`);
+  await shot(page, "truth-4-metrics-actions.png");
+  await page.locator(".ms-truth-metrics").screenshot({ path: path.join(OUT, "truth-4-panels.png") });
+  // the primitives row: the CLI on the export's primitives alone
+  await page.selectOption("#metrics-row", "sssm-primitives");
+  await until(async () => (await page.evaluate(() => document.body.dataset.metricsRow)) === "sssm-primitives", "the primitives row scored");
+  const primitives = { ...json, segments: json.segments.filter((s) => s.level === "primitive") };
+  assert.ok(primitives.segments.length > 1, "SSSM found primitives");
+  const primPath = path.join(OUT, "truth-sssm-primitives.json");
+  writeFileSync(primPath, JSON.stringify(primitives));
+  await assertSameAsCli(cliEval(primPath, SHARED_CSV), "sssm-primitives vs the shared CSV");
+  assert.match(await text(page, "#metrics-table caption"), /sssm-primitives against 13_30/);
+  await shot(page, "truth-5-metrics-primitives.png");
+  await page.selectOption("#metrics-row", "sssm-actions");
+  assertClean(opened);
+});
+
+test("a bad file names its file and line at the import control; the row and metrics go away", async () => {
+  const bad = path.join(OUT, "truth-bad.csv");
+  writeFileSync(bad, "start_frame,end_frame,label\n1,54,JumpJack\n55,2O1,Twist\n");
+  await importTruth(bad, "error");
+  const error = page.locator("#truth-panel #truth-error");
+  assert.ok(await error.isVisible(), "the error shows in the import panel");
+  assert.equal(await text(page, "#truth-error"), "truth-bad.csv: ground truth CSV line 3: expected a frame number in `end_frame`, found `2O1`");
+  assert.equal(await page.locator("#row-truth .ms-seg").count(), 0);
+  await waitData(page, "metrics", "none");
+  // the error sits by the control, not far away: right under it
+  const [control, message] = await Promise.all([page.locator("#truth-panel .ms-truth-controls").boundingBox(), error.boundingBox()]);
+  assert.ok(message.y - (control.y + control.height) < 40, `error ${message.y} right under the control (ends ${control.y + control.height})`);
+  assert.equal(await page.locator("#error-banner:visible").count(), 0, "no banner far away");
+  await shot(page, "truth-6-bad-line.png");
+  await page.locator("#truth-panel").screenshot({ path: path.join(OUT, "truth-6-panel.png") });
+  // labels past the take's end: the line and what the take has
+  const past = path.join(OUT, "truth-past-end.csv");
+  writeFileSync(past, "start_frame,end_frame,label\n1,1000,a\n1001,2466,b\n");
+  await importTruth(past, "error");
+  assert.equal(await text(page, "#truth-error"),
+    "truth-past-end.csv: ground truth CSV line 3: `end_frame` = 2466 is past the end of the take `sample.bvh` (2465 frames at 120 fps, the last numbered 2465)");
+  // not JSON
+  const broken = path.join(OUT, "truth-broken.json");
+  writeFileSync(broken, '{\n  "file": "sample.bvh",\n  "fps": "fast"\n}\n');
+  await importTruth(broken, "error");
+  assert.match(await text(page, "#truth-error"), /^truth-broken\.json: segmentation JSON line 3, column \d+: expected the segmentation JSON/);
+  assertClean(opened);
+});
+
+test("a segmentation JSON imports as the truth: its actions, scored as the CLI scores it", async () => {
+  const seg = path.join(OUT, "truth-sssm.json");
+  const json = JSON.parse(readFileSync(seg, "utf8"));
+  await importTruth(seg);
+  const actions = json.segments.filter((s) => s.level === "action").map((s) => [s.start, s.end]);
+  assert.deepEqual((await truthRow()).map(([s, e]) => [s, e]), actions);
+  assert.match(await text(page, "#truth-applied"), /segmentation JSON \(sssm actions\) · frames counted from 0/);
+  assert.ok(await page.locator("#truth-base").isDisabled(), "the CSV's frame base does not apply to the JSON");
+  await waitData(page, "metrics", "done");
+  await assertSameAsCli(cliEval(seg, seg), "sssm-actions vs its own JSON");
+  await shot(page, "truth-7-json.png");
+  // Clear: no truth again
+  await page.click("#truth-clear");
+  await waitData(page, "truth", "none");
+  await waitData(page, "metrics", "none");
+  assertClean(opened);
+});
+
+test("a shared-data CSV of several trials: none named like the take, the Trial menu picks one", async () => {
+  const lines = readFileSync(SHARED_CSV, "utf8").trimEnd().split("\n");
+  const other = lines.slice(1, 3).map((l) => l.replace(/^13_30,/, "13_29,"));
+  const several = path.join(OUT, "truth-two-trials.csv");
+  writeFileSync(several, [lines[0], ...other, ...lines.slice(1)].join("\n") + "\n");
+  await importTruth(several, "error");
+  assert.equal(await text(page, "#truth-error"),
+    "truth-two-trials.csv: ground truth CSV: no rows for trial `sample` (trials present: 13_29, 13_30)");
+  assert.ok(await page.locator("#truth-trial").isVisible(), "the Trial menu is offered");
+  assert.deepEqual(await page.$$eval("#truth-trial option", (os) => os.map((o) => o.value)), ["", "13_29", "13_30"]);
+  await choose("#truth-trial", "13_30");
+  assert.match(await text(page, "#truth-applied"), /shared-data CSV · trial 13_30 · frames counted from 1/);
+  assert.equal((await truthRow()).length, 5);
+  await waitData(page, "metrics", "done");
+  const seg = path.join(OUT, "truth-sssm.json");
+  await assertSameAsCli(cliEval(seg, several, ["--trial", "13_30"]), "sssm-actions vs trial 13_30 picked in the menu");
+});
+
+test("another take reads the kept file again: its length is checked against the new take", async () => {
+  await page.setInputFiles("#file-input", path.join(FIXTURES, "02_01.bvh"));
+  await page.waitForFunction(() => document.body.dataset.state === "ready"
+    && (document.querySelector("#summary-name")?.textContent ?? "").includes("02_01.bvh"));
+  await waitData(page, "truth", "error");
+  // the trial is looked for by the new take's name again
+  assert.equal(await text(page, "#truth-error"),
+    "truth-two-trials.csv: ground truth CSV: no rows for trial `02_01` (trials present: 13_29, 13_30)");
+  // picked by hand, 13_30's length is not this take's
+  await choose("#truth-trial", "13_30", "error");
+  assert.match(await text(page, "#truth-error"),
+    /^truth-two-trials\.csv: trial `13_30` \(its `trial_frames`\) covers 2465 take frames but the take `02_01\.bvh` has 343: is it the same take\?/);
+  assert.equal(await page.locator("#row-truth .ms-seg").count(), 0);
+  await shot(page, "truth-8-other-take.png");
+  assertClean(opened);
+});
