@@ -1,7 +1,8 @@
 //! The little maths the page needs, kept out of the web layer so it is tested natively:
 //! the orbiting perspective camera, the playback clock and the timeline (window, ruler, readout,
-//! segment navigation, keyboard).
+//! segment navigation, keyboard) and the "my labels" row's edit model.
 
 pub mod camera;
 pub mod clock;
+pub mod my_labels;
 pub mod timeline;
