@@ -233,7 +233,12 @@ impl MyLabels {
         self.spans
             .iter()
             .filter(|s| !s.label.is_empty())
-            .map(|s| LabelRow { file: file.to_string(), start_frame: s.start, end_frame: s.end, label: s.label.clone() })
+            .map(|s| LabelRow {
+                file: file.to_string(),
+                start_frame: s.start,
+                end_frame: s.end,
+                label: s.label.clone(),
+            })
             .collect()
     }
 
@@ -252,8 +257,10 @@ impl MyLabels {
         if self.frames == 0 {
             return Err(EditError::NoFrames);
         }
-        let copied =
-            normalised(spans.iter().map(|(s, e, l)| LabelSpan { start: *s, end: *e, label: l.clone() }).collect(), self.frames);
+        let copied = normalised(
+            spans.iter().map(|(s, e, l)| LabelSpan { start: *s, end: *e, label: l.clone() }).collect(),
+            self.frames,
+        );
         if copied.is_empty() {
             return Err(EditError::NothingToCopy);
         }
@@ -401,7 +408,8 @@ impl MyLabels {
     /// Does again the last edit undone.
     pub fn redo(&mut self) -> Result<(), EditError> {
         let after = self.redo.pop().ok_or(EditError::NothingToRedo)?;
-        self.undo.push_back(Snapshot { spans: std::mem::replace(&mut self.spans, after.spans), selected: self.selected });
+        self.undo
+            .push_back(Snapshot { spans: std::mem::replace(&mut self.spans, after.spans), selected: self.selected });
         self.selected = after.selected;
         Ok(())
     }
@@ -756,7 +764,11 @@ mod tests {
         assert_eq!(snap_tolerance(SNAP_PX, 2000.0, 1000.0), 16.0);
         assert!((snap_tolerance(SNAP_PX, 100.0, 1000.0) - 0.8).abs() < 1e-12);
         assert_eq!(snap_tolerance(SNAP_PX, 100.0, 0.0), 0.0);
-        assert_eq!(snap(12.0, &targets, snap_tolerance(SNAP_PX, 100.0, 1000.0)), 12, "zoomed in: no snap 2 frames away");
+        assert_eq!(
+            snap(12.0, &targets, snap_tolerance(SNAP_PX, 100.0, 1000.0)),
+            12,
+            "zoomed in: no snap 2 frames away"
+        );
     }
 
     #[test]
@@ -778,13 +790,14 @@ mod tests {
         assert!(err(r#"{"format":"mocapseg-my-labels","version":2,"frames":100,"segments":[]}"#)
             .contains("version 2; this page reads version 1"));
         assert!(err(r#"{"format":"mocapseg-my-labels","version":1,"frames":100}"#).contains("expected fields"));
-        assert!(err(r#"{"format":"mocapseg-my-labels","version":1,"frames":100,"segments":[{"start":-1,"end":3,"label":""}]}"#)
-            .contains("expected fields"));
-        assert_eq!(
-            MyLabels::from_json(&json, 99).unwrap_err(),
-            StoreError::Frames { stored: 100, frames: 99 }
-        );
-        let seg = |list: &str| err(&format!(r#"{{"format":"mocapseg-my-labels","version":1,"frames":100,"segments":[{list}]}}"#));
+        assert!(err(
+            r#"{"format":"mocapseg-my-labels","version":1,"frames":100,"segments":[{"start":-1,"end":3,"label":""}]}"#
+        )
+        .contains("expected fields"));
+        assert_eq!(MyLabels::from_json(&json, 99).unwrap_err(), StoreError::Frames { stored: 100, frames: 99 });
+        let seg = |list: &str| {
+            err(&format!(r#"{{"format":"mocapseg-my-labels","version":1,"frames":100,"segments":[{list}]}}"#))
+        };
         assert_eq!(seg(r#"{"start":5,"end":3,"label":""}"#), "stored segment 0: start 5 is after end 3");
         assert_eq!(seg(r#"{"start":5,"end":100,"label":""}"#), "stored segment 0: end 100 is past the last frame 99");
         assert_eq!(
