@@ -16,7 +16,8 @@
 //! `idle`, `running`, `done`, `error` or `cancelled`. Under the LMA panel, [`lma_training`] trains
 //! LMA's classifiers on the user's own Effort labels (`data-lma-training`). The DT-FCN and k-NN
 //! panels take the user's model files ([`label_models`]), and the DT-FCN panel trains a network in
-//! the worker one epoch at a time ([`dtfcn_training`], `data-dtfcn-training`).
+//! the worker one epoch at a time ([`dtfcn_training`], `data-dtfcn-training`). The timeline's
+//! "my labels" row ([`my_labels`], `data-my-labels`) holds the user's own corrections.
 
 mod drop_zone;
 mod dtfcn_training;
@@ -26,6 +27,7 @@ mod lma_training;
 mod loader;
 mod method_panel;
 mod motion_image;
+mod my_labels;
 mod playback;
 mod player;
 mod progress;

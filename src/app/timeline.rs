@@ -16,6 +16,7 @@
 
 use super::method_panel::{row_spans, MethodRows};
 use super::motion_image::{Chunks, DownloadPng, MotionImageCanvas};
+use super::my_labels::{MyLabelsRow, MyLabelsTools, MyRow};
 use super::{AppState, Selection};
 use crate::view::timeline::{
     key_action, readout, shuttle, stepped, ticks, KeyAction, Modifiers, Window,
@@ -231,6 +232,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
     });
 
     keyboard(state);
+    let mine = MyRow::new(state);
 
     let zoom_by = move |factor: f64| {
         let anchor = state.frame.get_untracked() as f64 + 0.5;
@@ -344,10 +346,12 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                     // Segmentation rows, one per level of each method.
                     <div id="timeline-rows" class="ms-timeline-rows">
                         <MethodRows state=state/>
+                        <MyLabelsRow mine=mine/>
                     </div>
                 </div>
                 <div id="playhead" class="ms-playhead" style:left=move || lane_left(playhead_fraction()) hidden=playhead_hidden></div>
             </div>
+            <MyLabelsTools mine=mine/>
             <div class="ms-tl-line ms-tl-line--minimap">
                 <div class="ms-tl-label">"Whole take"</div>
                 <div
@@ -410,6 +414,7 @@ fn HelpOverlay(state: AppState) -> impl IntoView {
                 <dl class="ms-help-list">
                     {SHORTCUTS
                         .iter()
+                        .chain(super::my_labels::SHORTCUTS.iter())
                         .map(|(keys, what)| view! { <dt><kbd>{*keys}</kbd></dt> <dd>{*what}</dd> })
                         .collect_view()}
                 </dl>
@@ -422,7 +427,7 @@ fn HelpOverlay(state: AppState) -> impl IntoView {
 
 /// Whether a key press aimed at `target` is the field's own (typing, a slider, a menu) or a
 /// button's own activation (Space, Enter).
-fn is_for_the_field(target: Option<web_sys::EventTarget>, key: &str) -> bool {
+pub(super) fn is_for_the_field(target: Option<web_sys::EventTarget>, key: &str) -> bool {
     let Some(el) = target.and_then(|t| t.dyn_into::<web_sys::HtmlElement>().ok()) else { return false };
     if el.is_content_editable() {
         return true;
