@@ -18,7 +18,9 @@
 //!   the DT-FCN panel's options), `#my-labels-train-stop`, `#my-labels-clear`, and
 //!   `#my-labels-status` (what the last edit did, or why it was refused).
 //! * Keys ([`SHORTCUTS`], in the help overlay): Ctrl/⌘+Z undo, Ctrl/⌘+Shift+Z or Ctrl+Y redo, S
-//!   split, M merge, Delete/Backspace delete — never while typing in a field.
+//!   split, M merge, Delete/Backspace delete, and `[` / `]` move the selection along my row when
+//!   one of my segments is selected (the row's listener comes before the timeline's) — never
+//!   while typing in a field.
 //! * Every edit is saved in the browser's local storage under
 //!   [`storage_key`] (file name, frames, frame rate, joints); opening the same file again restores
 //!   the segments (not the history). Clear removes them (undoable until the page is left). Stored
@@ -54,12 +56,13 @@ pub const ROW: &str = "my-labels";
 const MAX_SEGMENTS: usize = 120;
 
 /// Shortcuts of the row, listed in the help overlay after the timeline's.
-pub const SHORTCUTS: [(&str, &str); 5] = [
+pub const SHORTCUTS: [(&str, &str); 6] = [
     ("Ctrl or ⌘ + Z", "undo the last edit of my labels"),
     ("Ctrl or ⌘ + Shift + Z, Ctrl + Y", "redo it"),
     ("S", "my labels: split the segment under the playhead at the playhead"),
     ("M", "my labels: merge the selected segment with the next one"),
     ("Delete / Backspace", "my labels: delete the selected segment (its frames become a gap)"),
+    ("Drag a boundary of my labels", "move it; it snaps to the other rows' boundaries within 8 px"),
 ];
 
 #[wasm_bindgen]
@@ -343,6 +346,22 @@ impl MyRow {
         );
     }
 
+    /// `[` / `]` with one of my segments selected: selects the previous / next one, moves the
+    /// playhead to its start and brings it into view.
+    fn step(self, forward: bool) {
+        let Some((start, end)) = self.model.with_untracked(|m| {
+            let i = m.selected()?;
+            let j = if forward { i + 1 } else { i.checked_sub(1)? };
+            m.spans().get(j).map(|s| (s.start, s.end))
+        }) else {
+            return;
+        };
+        self.model.update(|m| m.select(m.index_of(start, end)));
+        self.state.play_until.set(None);
+        self.state.window.update(|w| *w = w.showing(start, end, self.state.frames()));
+        self.state.frame.set(start);
+    }
+
     fn undo(self) {
         self.edit(Model::undo, None);
     }
@@ -472,6 +491,8 @@ impl MyRow {
                 "s" | "S" if started => Some(MyRow::split),
                 "m" | "M" if selected => Some(MyRow::merge),
                 "Delete" | "Backspace" if selected => Some(MyRow::delete),
+                "]" if selected => Some(|row: MyRow| row.step(true)),
+                "[" if selected => Some(|row: MyRow| row.step(false)),
                 _ => None,
             };
             if let Some(run) = run {
@@ -641,6 +662,7 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
                 data-dragging=move || mine.dragging.get().is_some().to_string()
                 role="group"
                 aria-label="My labels"
+                title="Click one of my segments to select it (the playhead goes where you click, nothing plays); drag a boundary to move it"
             >
                 <span class="ms-my-empty" hidden=move || !empty()>
                     "No labels of mine yet: copy a row or start empty with the tools below the timeline"

@@ -231,8 +231,8 @@ pub fn Timeline(state: AppState) -> impl IntoView {
         .forget();
     });
 
+    let mine = MyRow::new(state); // first: its keys ([ ] on my row) before the timeline's
     keyboard(state);
-    let mine = MyRow::new(state);
 
     let zoom_by = move |factor: f64| {
         let anchor = state.frame.get_untracked() as f64 + 0.5;

@@ -153,6 +153,16 @@ test("the row starts empty, its tools named and disabled until there is somethin
   assert.match((await mine())[0].classes, /ms-seg--unlabelled/);
   assert.equal(await page.locator("#my-labels-train").isDisabled(), true, "nothing labelled: nothing to train on");
   await timelineShot("e2e-labels-empty.png");
+  // one label is not enough to train on: said in the status line, nothing starts
+  assert.ok((await mine())[0].selected, "the new segment is selected");
+  await page.fill("#my-labels-label", "walk");
+  await page.click("#my-labels-apply");
+  await until(async () => (await spans())[0].label === "walk", "labelled walk");
+  await page.click("#my-labels-train");
+  await page.waitForFunction(() => /at least two different labels \(now walk\)/.test(document.querySelector("#my-labels-status")?.textContent ?? ""));
+  assert.equal(await page.evaluate(() => document.body.dataset.dtfcnTraining), "idle", "no training started");
+  await page.click("#my-labels-undo");
+  await until(async () => (await spans())[0]?.label === "", "undo: unlabelled again");
   await page.click("#my-labels-undo");
   await waitCount(0);
   assertClean(opened);
@@ -307,6 +317,15 @@ test("split at the playhead, merge, relabel with suggestions, delete; undo/redo 
   assert.ok(after.every((x) => x.end < gone.start || x.start > gone.end), "no segment covers the deleted one's frames");
   assert.deepEqual(after, relabelled.filter((_, j) => j !== target));
   await timelineShot("e2e-labels-deleted.png");
+  // the gap filled again with an unlabelled segment, then undone
+  await seek(gone.start + 1);
+  await page.locator("#my-labels-fill:not([disabled])").waitFor();
+  assert.equal(await page.locator("#my-labels-split").isDisabled(), true, "nothing to split in a gap");
+  await page.click("#my-labels-fill");
+  await waitCount(relabelled.length);
+  assert.deepEqual((await spans())[target], { start: gone.start, end: gone.end, label: "" }, "the gap filled, unlabelled");
+  await page.click("#my-labels-undo");
+  await waitCount(after.length);
 
   // undo / redo: buttons, Ctrl+Z, Ctrl+Shift+Z, Ctrl+Y
   await page.click("#my-labels-undo");
@@ -335,6 +354,16 @@ test("split at the playhead, merge, relabel with suggestions, delete; undo/redo 
   await keys("Delete");
   await waitCount(relabelled.length - 1);
   assert.deepEqual(await spans(), after, "the Delete key deletes the selected segment");
+  // ] and [ move along my row when one of my segments is selected
+  const j = after.findIndex((x, n) => x.end - x.start >= 60 && n + 1 < after.length);
+  await page.locator(`#row-my-labels .ms-seg--mine[data-start="${after[j].start}"]`).click();
+  await keys("]");
+  await until(async () => (await mine())[j + 1].selected, "] selects my next segment");
+  assert.equal(await frame(), after[j + 1].start, "] moves the playhead to its start");
+  await keys("[");
+  await until(async () => (await mine())[j].selected, "[ selects my previous segment");
+  assert.equal(await frame(), after[j].start);
+  assert.equal(await page.locator(".ms-seg--selected").count(), 1, "one selection on the page");
   await timelineShot("e2e-labels-undo-redo.png");
   assertClean(opened);
 });
