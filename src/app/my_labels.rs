@@ -22,7 +22,8 @@
 //!   one of my segments is selected (the row's listener comes before the timeline's) — never
 //!   while typing in a field.
 //! * Every edit is saved in the browser's local storage under
-//!   [`storage_key`] (file name, frames, frame rate, joints); opening the same file again restores
+//!   [`storage_key`] (file name, frames, frame rate, joints, a fingerprint of the first and last
+//!   frames' positions); opening the same file again restores
 //!   the segments (not the history). Clear removes them (undoable until the page is left). Stored
 //!   data that cannot be read is reported in the status line and left alone until the next edit.
 //!   `document.body.dataset.myLabels` (`data-my-labels`): the number of segments.
@@ -38,7 +39,7 @@ use crate::segment::palette::{action_colour, class_colour, cluster_colour};
 use crate::segment::Level;
 use crate::view::my_labels::MyLabels as Model;
 use crate::view::my_labels::{
-    cuts_of, label_class, snap, snap_tolerance, storage_key, suggestions, EditError, SNAP_PX,
+    cuts_of, fingerprint, label_class, snap, snap_tolerance, storage_key, suggestions, EditError, SNAP_PX,
 };
 use crate::view::timeline::visible_segments;
 use gloo::events::EventListener;
@@ -226,7 +227,9 @@ impl MyRow {
             let take = state.motion.with(|m| {
                 m.as_ref().map(|m| {
                     let s = &m.summary;
-                    (storage_key(&s.name, s.frames, s.fps, s.joints), s.frames)
+                    let last = s.frames.saturating_sub(1);
+                    let print = fingerprint(m.frame(0).chain(m.frame(last)).flat_map(|p| p.to_array()));
+                    (storage_key(&s.name, s.frames, s.fps, s.joints, print), s.frames)
                 })
             });
             row.drag.set_value(None);

@@ -29,7 +29,7 @@
 //! * **Storage**: [`MyLabels::to_json`] / [`MyLabels::from_json`] (format [`FORMAT`], version
 //!   [`VERSION`]; the segments only, not the history), with a clear error when stored data is
 //!   corrupt or for another take; the key is [`storage_key`] (file name, frames, frame rate,
-//!   joints).
+//!   joints, a [`fingerprint`] of the motion).
 
 use crate::labels::LabelRow;
 use std::collections::VecDeque;
@@ -510,9 +510,23 @@ pub fn snap(at: f64, targets: &[usize], tolerance: f64) -> usize {
 }
 
 /// The browser-storage key of my labels for a take: its file name, frames, frame rate (to the
-/// thousandth) and joints, so that the same file opened again finds them and another one does not.
-pub fn storage_key(name: &str, frames: usize, fps: f64, joints: usize) -> String {
-    format!("mocapseg.my-labels.v{VERSION}:{name}:{frames}f:{fps:.3}fps:{joints}j")
+/// thousandth), joints and a [`fingerprint`] of its motion, so that the same file opened again
+/// finds them and another one — even of the same name and length — does not.
+pub fn storage_key(name: &str, frames: usize, fps: f64, joints: usize, print: u32) -> String {
+    format!("mocapseg.my-labels.v{VERSION}:{name}:{frames}f:{fps:.3}fps:{joints}j:{print:08x}")
+}
+
+/// A cheap fingerprint of a take (FNV-1a over the bits of `values`: the page passes the positions
+/// of its first and last frames).
+pub fn fingerprint(values: impl IntoIterator<Item = f32>) -> u32 {
+    let mut h: u32 = 0x811c_9dc5;
+    for v in values {
+        for b in v.to_bits().to_le_bytes() {
+            h ^= b as u32;
+            h = h.wrapping_mul(0x0100_0193);
+        }
+    }
+    h
 }
 
 /// A stable class index for a label no other row shows (FNV-1a of its text): the same label has
@@ -810,11 +824,18 @@ mod tests {
 
     #[test]
     fn storage_keys_tell_takes_apart_and_labels_make_csv_rows() {
-        let a = storage_key("13_30.bvh", 2465, 120.0, 31);
-        assert_eq!(a, "mocapseg.my-labels.v1:13_30.bvh:2465f:120.000fps:31j");
-        assert_ne!(a, storage_key("13_30.bvh", 2464, 120.0, 31));
-        assert_ne!(a, storage_key("13_30.bvh", 2465, 60.0, 31));
-        assert_ne!(a, storage_key("13_31.bvh", 2465, 120.0, 31));
+        let print = fingerprint([0.0, 1.5, -2.25]);
+        let a = storage_key("13_30.bvh", 2465, 120.0, 31, print);
+        assert_eq!(a, format!("mocapseg.my-labels.v1:13_30.bvh:2465f:120.000fps:31j:{print:08x}"));
+        assert_ne!(a, storage_key("13_30.bvh", 2464, 120.0, 31, print));
+        assert_ne!(a, storage_key("13_30.bvh", 2465, 60.0, 31, print));
+        assert_ne!(a, storage_key("13_31.bvh", 2465, 120.0, 31, print));
+        assert_ne!(a, storage_key("13_30.bvh", 2465, 120.0, 32, print));
+        // the same numbers give the same print; any change (even -0.0 for 0.0) another
+        assert_eq!(print, fingerprint([0.0, 1.5, -2.25]));
+        assert_ne!(print, fingerprint([-0.0, 1.5, -2.25]));
+        assert_ne!(print, fingerprint([0.0, 1.5]));
+        assert_eq!(fingerprint([]), 0x811c_9dc5);
         let mut m = sample();
         m.select(Some(1));
         m.relabel("").unwrap();

@@ -12,7 +12,7 @@ import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import path from "node:path";
 import {
-  OUT, TIMEOUT, assertClean, closePage, gotoApp, openPage, shot, text, until, waitData, waitReady,
+  OUT, TIMEOUT, assertClean, closePage, gotoApp, loadFile, openPage, shot, text, until, waitData, waitReady,
 } from "./harness.mjs";
 
 let opened;
@@ -371,7 +371,7 @@ test("split at the playhead, merge, relabel with suggestions, delete; undo/redo 
 test("the edits survive a reload; corrupt stored labels are reported, never a crash", async () => {
   const kept = await spans();
   const key = await storedKey();
-  assert.match(key ?? "", /^mocapseg\.my-labels\.v1:sample\.bvh:\d+f:[\d.]+fps:\d+j$/, "the storage key names the take");
+  assert.match(key ?? "", /^mocapseg\.my-labels\.v1:sample\.bvh:\d+f:[\d.]+fps:\d+j:[0-9a-f]{8}$/, "the storage key names the take");
   const stored = JSON.parse(await page.evaluate((k) => localStorage.getItem(k), key));
   assert.equal(stored.format, "mocapseg-my-labels");
   assert.equal(stored.version, 1);
@@ -383,6 +383,14 @@ test("the edits survive a reload; corrupt stored labels are reported, never a cr
   assert.match(await text(page, "#my-labels-status"), new RegExp(`Restored ${kept.length} segments saved in this browser`));
   assert.equal(await page.locator("#my-labels-undo").isDisabled(), true, "the history is not kept across a reload");
   await timelineShot("e2e-labels-reloaded.png");
+  // labels are per take: another file shows none, the sample again shows mine
+  await loadFile(page, "02_01.bvh");
+  await waitCount(0);
+  assert.match(await text(page, "#row-my-labels"), /No labels of mine yet/);
+  await page.click("#load-sample");
+  await waitReady(page, "sample");
+  await waitCount(kept.length);
+  assert.deepEqual(await spans(), kept, "the sample's labels again");
 
   // corrupt data: the message, an empty row, the page working
   const good = await page.evaluate((k) => localStorage.getItem(k), key);
