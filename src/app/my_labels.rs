@@ -626,9 +626,15 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
         let active = mine.dragging.get();
         let frames = state.frames();
         mine.model.with(|m| {
-            m.boundaries()
+            // the boundaries of the segments on screen only (a long take's row stays light)
+            let spans: Vec<(usize, usize)> = m.spans().iter().map(|s| (s.start, s.end)).collect();
+            let mut cuts: Vec<usize> = visible_segments(&spans, &w, MAX_SEGMENTS)
                 .into_iter()
+                .flat_map(|i| [spans[i].0, spans[i].1 + 1])
                 .filter(|c| (*c as f64) >= w.start && (*c as f64) <= w.end)
+                .collect();
+            cuts.dedup();
+            cuts.into_iter()
                 .map(|cut| {
                     let label = if cut >= frames {
                         format!("End of my last segment, after frame {cut}: drag to move")
