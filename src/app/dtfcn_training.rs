@@ -16,6 +16,10 @@
 //! * a refusal shows at the input that is wrong: `#dtfcn-train-error-<field>` (`labels`, `takes`,
 //!   `name`, `epochs`, `label_noise`, `mask_frames`, `width`, `filters`, `crop_frames`).
 //!
+//! The "my labels" row asks for a training through [`DtfcnTraining::request`] ([`TrainRequest`]):
+//! its rows as the label CSV (shown as the chosen labels), trained with this form's options, or a
+//! stop.
+//!
 //! The trained model is installed in the worker, becomes the DT-FCN method's model and DT-FCN runs
 //! again on the take on screen. `document.body.dataset.dtfcnTraining` (`data-dtfcn-training`):
 //! `idle`, `training`, `stopping`, `done` or `error`.
@@ -78,6 +82,16 @@ pub struct TrainedFile {
     pub bytes: Arc<Vec<u8>>,
 }
 
+/// A training asked from elsewhere on the page (the "my labels" row).
+#[derive(Debug, Clone, PartialEq)]
+pub enum TrainRequest {
+    /// Train on `csv` (a label CSV named `labels_name`) with the form's options; `model_name`
+    /// unless the user typed a name.
+    Labels { labels_name: String, csv: String, model_name: String },
+    /// Stop the training under way (as the Stop button).
+    Stop,
+}
+
 /// The training's state, as signals (part of [`AppState`]).
 #[derive(Debug, Clone, Copy)]
 pub struct DtfcnTraining {
@@ -90,6 +104,8 @@ pub struct DtfcnTraining {
     pub errors: RwSignal<Vec<(TrainField, String)>>,
     /// The last trained model.
     pub trained: RwSignal<Option<TrainedFile>>,
+    /// What another part of the page asks (taken by the panel).
+    pub request: RwSignal<Option<TrainRequest>>,
 }
 
 impl DtfcnTraining {
@@ -100,6 +116,7 @@ impl DtfcnTraining {
             reports: RwSignal::new(Vec::new()),
             errors: RwSignal::new(Vec::new()),
             trained: RwSignal::new(None),
+            request: RwSignal::new(None),
         }
     }
 
@@ -230,8 +247,7 @@ pub fn DtfcnTrainingPanel(state: AppState, loader: Loader) -> impl IntoView {
     };
 
     let start_loader = loader.clone();
-    let on_start = move |ev: leptos::ev::SubmitEvent| {
-        ev.prevent_default();
+    let start = move || {
         if busy() {
             return;
         }
@@ -295,6 +311,30 @@ pub fn DtfcnTrainingPanel(state: AppState, loader: Loader) -> impl IntoView {
             options,
         });
     };
+    let on_start = {
+        let start = start.clone();
+        move |ev: leptos::ev::SubmitEvent| {
+            ev.prevent_default();
+            start();
+        }
+    };
+    // the "my labels" row's requests: its rows as the chosen labels, trained at once; or Stop
+    let request_loader = loader.clone();
+    Effect::new(move |_| {
+        let Some(request) = t.request.get() else { return };
+        t.request.set(None);
+        match request {
+            TrainRequest::Labels { labels_name, csv, model_name } => {
+                clear(TrainField::Labels);
+                if !named.get_untracked() {
+                    name.set(model_name);
+                }
+                labels.set(Some((labels_name, csv)));
+                start();
+            }
+            TrainRequest::Stop => request_loader.stop_dtfcn_training(),
+        }
+    });
     let stop_loader = loader.clone();
     let on_stop = move |_| stop_loader.stop_dtfcn_training();
     let on_download = move |_| {

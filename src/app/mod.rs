@@ -21,6 +21,8 @@
 //! [`metrics_panel`] scores any row against them as `mocapseg eval` does (`data-metrics`).
 //! The URL parameters (`src`, `methods`, `t`, `autoplay`, `embed`) are read once ([`embed`]);
 //! `embed=1` shows the player and the timeline only.
+//! The timeline's "my labels" row ([`my_labels`], `data-my-labels`) holds the user's own
+//! corrections.
 
 mod drop_zone;
 mod dtfcn_training;
@@ -33,6 +35,7 @@ mod loader;
 mod method_panel;
 mod metrics_panel;
 mod motion_image;
+mod my_labels;
 mod playback;
 mod player;
 mod progress;

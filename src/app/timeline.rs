@@ -17,6 +17,7 @@
 use super::ground_truth::TruthRow;
 use super::method_panel::{row_spans, MethodRows};
 use super::motion_image::{Chunks, DownloadPng, MotionImageCanvas};
+use super::my_labels::{MyLabelsRow, MyLabelsTools, MyRow};
 use super::{AppState, Selection};
 use crate::view::timeline::{
     key_action, readout, shuttle, stepped, ticks, KeyAction, Modifiers, Window,
@@ -231,6 +232,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
         .forget();
     });
 
+    let mine = MyRow::new(state); // first: its keys ([ ] on my row) before the timeline's
     keyboard(state);
 
     let zoom_by = move |factor: f64| {
@@ -346,10 +348,12 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                     <div id="timeline-rows" class="ms-timeline-rows">
                         <TruthRow state=state/>
                         <MethodRows state=state/>
+                        <MyLabelsRow mine=mine/>
                     </div>
                 </div>
                 <div id="playhead" class="ms-playhead" style:left=move || lane_left(playhead_fraction()) hidden=playhead_hidden></div>
             </div>
+            <MyLabelsTools mine=mine/>
             <div class="ms-tl-line ms-tl-line--minimap">
                 <div class="ms-tl-label">"Whole take"</div>
                 <div
@@ -412,6 +416,7 @@ fn HelpOverlay(state: AppState) -> impl IntoView {
                 <dl class="ms-help-list">
                     {SHORTCUTS
                         .iter()
+                        .chain(super::my_labels::SHORTCUTS.iter())
                         .map(|(keys, what)| view! { <dt><kbd>{*keys}</kbd></dt> <dd>{*what}</dd> })
                         .collect_view()}
                 </dl>
@@ -424,7 +429,7 @@ fn HelpOverlay(state: AppState) -> impl IntoView {
 
 /// Whether a key press aimed at `target` is the field's own (typing, a slider, a menu) or a
 /// button's own activation (Space, Enter).
-fn is_for_the_field(target: Option<web_sys::EventTarget>, key: &str) -> bool {
+pub(super) fn is_for_the_field(target: Option<web_sys::EventTarget>, key: &str) -> bool {
     let Some(el) = target.and_then(|t| t.dyn_into::<web_sys::HtmlElement>().ok()) else { return false };
     if el.is_content_editable() {
         return true;
