@@ -65,6 +65,9 @@ impl Urls {
     }
 }
 
+/// A row's export status line: (failed, message).
+type ExportStatus = RwSignal<Option<(bool, String)>>;
+
 /// A worker event handler, kept alive as long as the worker it listens to.
 type Handler = Closure<dyn FnMut(JsValue)>;
 
@@ -158,8 +161,8 @@ struct Inner {
     /// Keeps the worker's event handlers alive.
     handlers: RefCell<Vec<Handler>>,
     /// Clip exports asked of the worker: the request (sent again once after `not_loaded`), the
-    /// method whose panel asked, and whether it was sent again already.
-    clip_jobs: RefCell<Vec<(Request, usize, bool)>>,
+    /// status line of the row that asked, and whether it was sent again already.
+    clip_jobs: RefCell<Vec<(Request, ExportStatus, bool)>>,
     /// The methods that run after each load (URL parameter `methods`); `None`: those whose
     /// `auto_run` is set.
     auto_run: RefCell<Option<Vec<String>>>,
@@ -310,25 +313,35 @@ impl Loader {
     /// Cuts the take on screen at the segments `which` chooses of method `index`'s last run and
     /// saves the clips (a zip, or with `only` that segment's BVH); the panel's export status says
     /// how it went.
-    pub fn export_clips(
+    pub fn export_clips(&self, index: usize, which: crate::clips::Which, to_origin: bool, only: Option<(usize, usize)>) {
+        let slot = &self.0.state.methods[index];
+        match slot.view.get_untracked() {
+            Some(view) => self.export_clips_of(&view.segmentation, which, to_origin, only, slot.export_status),
+            None => slot.export_status.set(Some((true, "run the method on a take first".into()))),
+        }
+    }
+
+    /// Cuts the take on screen at the segments `which` chooses of `segmentation` (any row's) and
+    /// saves the clips; `status` says how it went.
+    pub fn export_clips_of(
         &self,
-        index: usize,
+        segmentation: &crate::segment::Segmentation,
         which: crate::clips::Which,
         to_origin: bool,
         only: Option<(usize, usize)>,
+        status: ExportStatus,
     ) {
         let inner = &self.0;
-        let slot = &inner.state.methods[index];
-        let (Some(view), Some(take)) = (slot.view.get_untracked(), inner.shown.borrow().as_ref().map(|t| t.id)) else {
-            return slot.export_status.set(Some((true, "run the method on a take first".into())));
+        let Some(take) = inner.shown.borrow().as_ref().map(|t| t.id) else {
+            return status.set(Some((true, "no take is loaded".into())));
         };
         let run = next_id(inner);
-        let request =
-            Request::Clips { take, run, segmentation: Box::new(view.segmentation.clone()), which, to_origin, only };
-        slot.export_status.set(Some((false, "cutting the clips…".into())));
+        let segmentation = Box::new(segmentation.clone());
+        let request = Request::Clips { take, run, segmentation, which, to_origin, only };
+        status.set(Some((false, "cutting the clips…".into())));
         match post(inner, &request, None) {
-            Ok(()) => inner.clip_jobs.borrow_mut().push((request, index, false)),
-            Err(message) => slot.export_status.set(Some((true, message))),
+            Ok(()) => inner.clip_jobs.borrow_mut().push((request, status, false)),
+            Err(message) => status.set(Some((true, message))),
         }
     }
 
@@ -1057,30 +1070,28 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
             }
         }
         Response::Clips { run, file, clips, bytes, .. } => {
-            let job = take_clip_job(inner, run);
-            if let Some(index) = job.map(|(_, index, _)| index) {
-                let status = match download(&bytes, clip_mime(&file), &file) {
-                    Ok(()) => (false, format!("saved {file} ({clips} clip{})", if clips == 1 { "" } else { "s" })),
+            if let Some((_, status, _)) = take_clip_job(inner, run) {
+                let said = match download(&bytes, clip_mime(&file), &file) {
+                    Ok(()) => (false, format!("saved {file} ({})", crate::method::counted(clips, "clip"))),
                     Err(e) => (true, format!("could not save {file}: {}", js_message(&e))),
                 };
-                state.methods[index].export_status.set(Some(status));
+                status.set(Some(said));
             }
         }
         Response::Failed { run: Some(run), message, kind, .. }
             if inner.clip_jobs.borrow().iter().any(|(r, _, _)| r.run_id() == Some(run)) =>
         {
-            let Some((request, index, retried)) = take_clip_job(inner, run) else { return };
-            let slot = &state.methods[index];
+            let Some((request, status, retried)) = take_clip_job(inner, run) else { return };
             match kind {
                 FailureKind::NotLoaded if !retried => {
                     let sent = restore(inner).and_then(|()| post(inner, &request, None));
                     match sent {
-                        Ok(()) => inner.clip_jobs.borrow_mut().push((request, index, true)),
-                        Err(e) => slot.export_status.set(Some((true, e))),
+                        Ok(()) => inner.clip_jobs.borrow_mut().push((request, status, true)),
+                        Err(e) => status.set(Some((true, e))),
                     }
                 }
                 _ => {
-                    slot.export_status.set(Some((true, message)));
+                    status.set(Some((true, message)));
                     if kind == FailureKind::Internal {
                         replace_worker(inner);
                     }
@@ -1181,7 +1192,7 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
 }
 
 /// Removes and returns the clip export `run`.
-fn take_clip_job(inner: &Inner, run: RunId) -> Option<(Request, usize, bool)> {
+fn take_clip_job(inner: &Inner, run: RunId) -> Option<(Request, ExportStatus, bool)> {
     let mut jobs = inner.clip_jobs.borrow_mut();
     let i = jobs.iter().position(|(r, _, _)| r.run_id() == Some(run))?;
     Some(jobs.remove(i))

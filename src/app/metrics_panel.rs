@@ -123,6 +123,9 @@ fn lines(s: &Scores) -> Vec<Line> {
 /// The rows that can be scored: (row id, label, the segmentation scored).
 fn scorable_rows(state: AppState) -> Vec<(String, String, Segmentation)> {
     let mut rows = Vec::new();
+    if let Some(mine) = state.mine.get() {
+        rows.push(("my-labels".to_string(), "My labels".to_string(), (*mine).clone()));
+    }
     for slot in state.methods {
         slot.view.with(|v| {
             let Some(v) = v else { return };

@@ -247,6 +247,8 @@ pub struct AppState {
     pub help: RwSignal<bool>,
     /// The imported ground truth ([`ground_truth`]; scored in [`metrics_panel`]).
     pub truth: GroundTruth,
+    /// The "my labels" row as a segmentation (`None` while it is empty): scored and exported.
+    pub mine: RwSignal<Option<Arc<crate::segment::Segmentation>>>,
 }
 
 /// A segment selected on the timeline: its row (`<method>-actions` or `<method>-primitives`)
@@ -279,6 +281,7 @@ impl AppState {
             shuttle: RwSignal::new(0),
             help: RwSignal::new(false),
             truth: GroundTruth::new(),
+            mine: RwSignal::new(None),
         }
     }
 
@@ -330,6 +333,8 @@ pub fn mount_app() -> Result<(), JsValue> {
 fn App(urls: Urls, launch: Launch) -> impl IntoView {
     let state = AppState::new();
     let loader = Loader::new(state, urls.clone());
+    // the rows that export clips without a method panel (my labels) find the worker here
+    provide_context(StoredValue::new_local(loader.clone()));
     let notice = RwSignal::new(launch.messages.clone());
     let full = !launch.params.embed;
 

@@ -32,6 +32,7 @@
 //!   joints, a [`fingerprint`] of the motion).
 
 use crate::labels::LabelRow;
+use crate::segment::{Level, Segment, Segmentation};
 use std::collections::VecDeque;
 
 /// Edits the history keeps (older ones are forgotten).
@@ -240,6 +241,32 @@ impl MyLabels {
                 label: s.label.clone(),
             })
             .collect()
+    }
+
+    /// The row as a segmentation of `file` at `fps` (method `my-labels`): labelled segments are
+    /// actions, unlabelled ones transitions — what the metrics panel scores and the exports save.
+    pub fn to_segmentation(&self, file: &str, fps: f64) -> Segmentation {
+        Segmentation {
+            file: file.to_string(),
+            fps,
+            frames: self.frames,
+            method: "my-labels".into(),
+            params: serde_json::json!({}),
+            segments: self
+                .spans
+                .iter()
+                .map(|s| Segment {
+                    start: s.start,
+                    end: s.end,
+                    label: if s.label.is_empty() { "unlabelled".into() } else { s.label.clone() },
+                    level: if s.label.is_empty() { Level::Transition } else { Level::Action },
+                    cluster: None,
+                    score: None,
+                    mirror_of: None,
+                    effort: None,
+                })
+                .collect(),
+        }
     }
 
     /// Records the state before an edit (forgetting the oldest past [`HISTORY_LIMIT`]) and clears redo.
@@ -543,6 +570,18 @@ pub fn label_class(label: &str) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_row_as_a_segmentation_has_labelled_actions_and_unlabelled_transitions() {
+        let mut m = MyLabels::new(100);
+        m.copy_from(&[(0, 39, "walk".into()), (40, 59, String::new()), (70, 99, "run".into())]).unwrap();
+        let seg = m.to_segmentation("a.bvh", 120.0);
+        seg.validate().unwrap();
+        assert_eq!((seg.file.as_str(), seg.frames, seg.method.as_str()), ("a.bvh", 100, "my-labels"));
+        let levels: Vec<_> = seg.segments.iter().map(|s| (s.start, s.end, s.level)).collect();
+        assert_eq!(levels, [(0, 39, Level::Action), (40, 59, Level::Transition), (70, 99, Level::Action)]);
+        assert_eq!(Segmentation::from_json(&seg.to_json()).unwrap(), seg);
+    }
 
     fn spans(m: &MyLabels) -> Vec<(usize, usize, &str)> {
         m.spans().iter().map(|s| (s.start, s.end, s.label.as_str())).collect()

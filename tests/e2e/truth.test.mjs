@@ -271,3 +271,40 @@ test("another take reads the kept file again: its length is checked against the 
   await shot(page, "truth-8-other-take.png");
   assertClean(opened);
 });
+
+test("my labels start from the ground truth, score as it against itself, and export as the CLI reads them", async () => {
+  await gotoApp(page);
+  await waitData(page, "sssm", "done");
+  await importTruth(SHARED_CSV);
+  const truth = await truthRow();
+  assert.ok(truth.length >= 2, "the truth row is drawn");
+  const sources = await page.$$eval("#my-labels-source option", (os) => os.map((o) => o.value));
+  assert.equal(sources[0], "truth", `the truth is the first row to copy: ${sources}`);
+  await page.selectOption("#my-labels-source", "truth");
+  await page.click("#my-labels-copy");
+  await until(async () => Number(await page.evaluate(() => document.body.dataset.myLabels)) > 0, "my labels copied");
+  // my labels are a row the metrics panel scores: against the truth they came from, perfect
+  await page.selectOption("#metrics-row", "my-labels");
+  await until(async () => (await page.evaluate(() => document.body.dataset.metricsRow)) === "my-labels", "my labels scored");
+  const m = await panelMetrics();
+  for (const key of ["boundary_f1_0.5s", "boundary_f1_1s", "covering", "hungarian_accuracy"]) {
+    assert.equal(m[key].value, 1, `my labels copied from the truth: ${key} = ${m[key].value}`);
+  }
+  // exported as segmentation JSON, the CLI scores them as the panel does
+  const d = await download(page, "#my-labels-export-json");
+  assert.match(d.name, /_my-labels\.json$/);
+  const json = JSON.parse(d.bytes.toString("utf8"));
+  assert.equal(json.method, "my-labels");
+  await assertSameAsCli(cliEval(d.path, SHARED_CSV), "my labels vs the shared CSV");
+  // as the label CSV: one row per labelled segment
+  const csv = await download(page, "#my-labels-export-csv");
+  const labelled = json.segments.filter((s) => s.level === "action");
+  assert.equal(csv.bytes.toString("utf8").trim().split(/\r?\n/).length - 1, labelled.length);
+  // as BVH clips: one per labelled segment, in one zip
+  const zip = await download(page, "#my-labels-export-clips");
+  assert.equal(zip.bytes.subarray(0, 4).toString("binary"), "PK\u0003\u0004");
+  assert.match(await text(page, "#my-labels-export-status"), new RegExp(`\\(${labelled.length} clips?\\)`));
+  await shot(page, "truth-7-my-labels-from-truth.png");
+  await page.click("#my-labels-clear");
+  assertClean(opened);
+});
