@@ -141,3 +141,18 @@ fn every_method_stops_when_cancelled() {
         }
     }
 }
+
+#[test]
+fn a_take_too_short_to_repeat_a_movement_says_why_sssm_found_no_action() {
+    let whole = take();
+    let short = whole.slice(0, (whole.fps * 0.8) as usize); // under a second: no movement comes back
+    let m = method::find("sssm").unwrap();
+    let out = m.run_json(&short, &serde_json::json!({}), &RunOptions::default(), &mut NoProgress).unwrap();
+    assert!(out.segmentation.segments.iter().all(|s| s.level != mocapseg::segment::Level::Action));
+    let summary = &out.details.summary;
+    assert!(summary.starts_with("0 actions · "), "{summary}");
+    assert!(summary.contains("no action found: SSSM finds an action where the movement repeats"), "{summary}");
+    // on the whole walk it finds actions and says nothing of the kind
+    let out = m.run_json(&whole, &serde_json::json!({}), &RunOptions::default(), &mut NoProgress).unwrap();
+    assert!(!out.details.summary.contains("no action found"), "{}", out.details.summary);
+}
