@@ -238,7 +238,7 @@ pub fn MethodPanel(
     let short = slot.info.short.clone();
     let pictures = move || {
         slot.view.with(|v| match v {
-            Some(v) => (0..v.details.pictures.len()).map(|k| picture_view(slot, v.clone(), k)).collect::<Vec<_>>(),
+            Some(v) => (0..v.details.pictures.len()).map(|k| picture_view(state, slot, v.clone(), k)).collect::<Vec<_>>(),
             None => Vec::new(),
         })
     };
@@ -439,8 +439,38 @@ fn which_name(w: Which) -> &'static str {
 }
 
 /// Picture `k` of `view` on a canvas, one canvas pixel per picture pixel (CSS scales it).
-fn picture_view(slot: &'static MethodSlot, view: Arc<MethodView>, k: usize) -> impl IntoView {
+fn picture_view(state: AppState, slot: &'static MethodSlot, view: Arc<MethodView>, k: usize) -> impl IntoView {
     let view_of_canvas = view.clone();
+    // a picture of frame pairs (the SSSM): a click goes to the row's frame and offers the column's
+    let pair = RwSignal::new(None::<(usize, usize)>);
+    let pairs = p_pairs(&view, k);
+    let view_of_click = view.clone();
+    let on_pick = move |ev: MouseEvent| {
+        let p = &view_of_click.details.pictures[k];
+        let Some(canvas) = ev.target().and_then(|t| t.dyn_into::<HtmlCanvasElement>().ok()) else { return };
+        let (w, h) = (canvas.client_width().max(1) as f64, canvas.client_height().max(1) as f64);
+        let x = ((ev.offset_x() as f64 / w) * p.width as f64).floor().max(0.0) as usize;
+        let y = ((ev.offset_y() as f64 / h) * p.height as f64).floor().max(0.0) as usize;
+        let frames = view_of_click.segmentation.frames;
+        if let (Some(i), Some(j)) = (p.frame_at(y, frames), p.frame_at(x, frames)) {
+            state.playing.set(false);
+            state.frame.set(i);
+            pair.set(Some((i, j)));
+        }
+    };
+    let fps = view.segmentation.fps;
+    let pair_text = move || {
+        pair.get().map(|(i, j)| {
+            format!(
+                "frame {} ↔ frame {} ({:.2} s ↔ {:.2} s): at frame {} now",
+                i + 1,
+                j + 1,
+                i as f64 / fps,
+                j as f64 / fps,
+                i + 1
+            )
+        })
+    };
     let p: &Picture = &view.details.pictures[k];
     let id = format!("{}-{}", slot.info.name, p.id);
     let (title, caption) = (p.title.clone(), p.caption.clone());
@@ -465,9 +495,32 @@ fn picture_view(slot: &'static MethodSlot, view: Arc<MethodView>, k: usize) -> i
             Err(e) => (true, format!("could not save {file}: {e}")),
         }));
     };
+    let pair_id = format!("{id}-pair");
+    let other_id = format!("{id}-pair-other");
+    let go_other = move |_| {
+        if let Some((i, j)) = pair.get_untracked() {
+            state.playing.set(false);
+            state.frame.set(j);
+            pair.set(Some((j, i)));
+        }
+    };
     view! {
         <figure class="ms-method-figure">
-            <canvas id=id class="ms-method-picture" node_ref=canvas_ref aria-label=title.clone()></canvas>
+            <canvas
+                id=id
+                class="ms-method-picture"
+                class:ms-method-picture--pairs=pairs
+                node_ref=canvas_ref
+                aria-label=title.clone()
+                title=pairs.then_some("Click a pixel to go to its pair of frames")
+                on:click=move |ev| if pairs { on_pick(ev) }
+            ></canvas>
+            <p id=pair_id class="ms-picture-pair" role="status" aria-live="polite" hidden=move || pair.with(Option::is_none)>
+                {pair_text}" "
+                <button id=other_id class="ms-button ms-button--quiet ms-button--small" type="button" on:click=go_other>
+                    "Go to the other frame"
+                </button>
+            </p>
             <figcaption class="ms-method-legend">
                 <strong>{title.clone()}". "</strong>{caption}" "
                 <button id=png_id class="ms-button ms-button--quiet ms-button--small" type="button"
@@ -475,6 +528,11 @@ fn picture_view(slot: &'static MethodSlot, view: Arc<MethodView>, k: usize) -> i
             </figcaption>
         </figure>
     }
+}
+
+/// Whether picture `k` of `view` is of frame pairs (clickable).
+fn p_pairs(view: &MethodView, k: usize) -> bool {
+    view.details.pictures[k].frames_per_pixel.is_some()
 }
 
 fn draw_picture(canvas: &HtmlCanvasElement, p: &Picture) -> Result<(), JsValue> {

@@ -21,12 +21,53 @@ const SPEEDS: [(f64, &str); 5] = [(0.25, "0.25×"), (0.5, "0.5×"), (1.0, "1×")
 /// Radians of orbit per pixel of drag.
 const ORBIT_PER_PIXEL: f32 = 0.008;
 
-const BACKGROUND: &str = "#f7f8fa";
-const GRID: &str = "#d5dae1";
-const SHADOW: &str = "rgba(30, 40, 60, 0.13)";
-const BONE: &str = "#1f4e79";
-const JOINT: &str = "#0d2a45";
-const ROOT: &str = "#c2410c";
+/// The player's colours: background, floor grid, shadow, bones, joints, root.
+struct Colours {
+    background: &'static str,
+    grid: &'static str,
+    shadow: &'static str,
+    bone: &'static str,
+    joint: &'static str,
+    root: &'static str,
+}
+
+const LIGHT: Colours = Colours {
+    background: "#f7f8fa",
+    grid: "#d5dae1",
+    shadow: "rgba(30, 40, 60, 0.13)",
+    bone: "#1f4e79",
+    joint: "#0d2a45",
+    root: "#c2410c",
+};
+
+const DARK: Colours = Colours {
+    background: "#161b24",
+    grid: "#2e3746",
+    shadow: "rgba(0, 0, 0, 0.35)",
+    bone: "#8ab4f8",
+    joint: "#dbe7ff",
+    root: "#fb923c",
+};
+
+/// The colours of the system's theme (`prefers-color-scheme`, as www/style.css follows it).
+fn colours() -> &'static Colours {
+    // window.matchMedia(query).matches, through js_sys (no extra web-sys feature for one call)
+    let dark = (|| {
+        let window: wasm_bindgen::JsValue = web_sys::window()?.into();
+        let match_media = js_sys::Reflect::get(&window, &"matchMedia".into()).ok()?;
+        let list = match_media
+            .dyn_ref::<js_sys::Function>()?
+            .call1(&window, &"(prefers-color-scheme: dark)".into())
+            .ok()?;
+        js_sys::Reflect::get(&list, &"matches".into()).ok()?.as_bool()
+    })()
+    .unwrap_or(false);
+    if dark {
+        &DARK
+    } else {
+        &LIGHT
+    }
+}
 
 #[component]
 pub fn Player(state: AppState) -> impl IntoView {
@@ -196,25 +237,26 @@ fn draw(canvas: &HtmlCanvasElement, m: &LoadedMotion, frame: usize, orbit: &Orbi
     let size = fit_backing_store(canvas);
     let Some(ctx) = context(canvas) else { return };
     let scale = (size.y / 400.0).max(0.5) as f64;
-    ctx.set_fill_style_str(BACKGROUND);
+    let c = colours();
+    ctx.set_fill_style_str(c.background);
     ctx.fill_rect(0.0, 0.0, size.x as f64, size.y as f64);
     let projector = Projector::new(orbit, basis, size);
     let points: Vec<Vec3> = m.frame(frame).collect();
     let bones: Vec<(Vec3, Vec3)> =
         m.skeleton.parents.iter().enumerate().filter_map(|(i, p)| p.map(|p| (points[p], points[i]))).collect();
 
-    stroke_segments(&ctx, &projector, grid.lines.iter().copied(), GRID, scale);
+    stroke_segments(&ctx, &projector, grid.lines.iter().copied(), c.grid, scale);
     let shadows = bones.iter().map(|(a, b)| (basis.on_floor(*a, grid.height), basis.on_floor(*b, grid.height)));
-    stroke_segments(&ctx, &projector, shadows, SHADOW, 3.0 * scale);
+    stroke_segments(&ctx, &projector, shadows, c.shadow, 3.0 * scale);
     ctx.set_line_cap("round");
-    stroke_segments(&ctx, &projector, bones.iter().copied(), BONE, 2.5 * scale);
+    stroke_segments(&ctx, &projector, bones.iter().copied(), c.bone, 2.5 * scale);
     for (i, p) in points.iter().enumerate() {
         let (is_root, is_end) = (m.skeleton.parents[i].is_none(), m.skeleton.is_end_site[i]);
         if is_end {
             continue;
         }
         if let Some(q) = projector.point(*p) {
-            ctx.set_fill_style_str(if is_root { ROOT } else { JOINT });
+            ctx.set_fill_style_str(if is_root { c.root } else { c.joint });
             ctx.begin_path();
             let r = if is_root { 4.0 } else { 2.5 } * scale;
             let _ = ctx.arc(q.x as f64, q.y as f64, r, 0.0, std::f64::consts::TAU);

@@ -7,11 +7,17 @@ use crate::motion::{Units, UpAxis};
 use crate::protocol::Summary as Facts;
 use leptos::prelude::*;
 
+/// The bundled sample's file name and frame count (CMU 13_30, www/SOURCES.md).
+const SAMPLE_FILE: &str = "sample.bvh";
+const SAMPLE_FRAMES: usize = 2465;
+
 #[component]
 pub fn Summary(state: AppState) -> impl IntoView {
     let facts = move || state.motion.with(|m| m.as_ref().map(|m| m.summary.clone()));
     let text = move |f: fn(&Facts) -> String| move || facts().map(|s| f(&s)).unwrap_or_default();
     let warnings = move || facts().map(|s| s.warnings).unwrap_or_default();
+    // the bundled sample is named `sample.bvh` (www/SOURCES.md says what it is)
+    let is_sample = move || facts().is_some_and(|s| s.name == SAMPLE_FILE && s.frames == SAMPLE_FRAMES);
 
     view! {
         <section class="ms-summary" hidden=move || facts().is_none()>
@@ -33,6 +39,12 @@ pub fn Summary(state: AppState) -> impl IntoView {
                 <span id="summary-units" title=text(|s| s.units.label().to_string())>
                     {text(|s| format!("{} ({})", units_short(s.units), up_label(s.up_axis)))}
                 </span>
+            </p>
+            <p id="summary-sample" class="ms-sample-credit" hidden=move || !is_sample()>
+                "The bundled sample: CMU 13_30, an exercise sequence (jumping jacks, twists, squats…) from the CMU
+                Graphics Lab Motion Capture Database (mocap.cs.cmu.edu), free for research and commercial use; labels
+                from the mocap6 set (Hughes; Fox et al. 2014). "
+                <a href="./www/SOURCES.md" target="_blank" rel="noopener">"Source and licence"</a>
             </p>
             <ul id="summary-warnings" class="ms-warnings" hidden=move || warnings().is_empty()>
                 {move || warnings().into_iter().map(|w| view! { <li>{w}</li> }).collect_view()}

@@ -327,6 +327,7 @@ fn probability_picture(p: &Probabilities, colours: &[String], classes: &[String]
         width: w,
         height: h,
         rgba,
+        frames_per_pixel: None,
     }
 }
 

@@ -428,6 +428,7 @@ fn deviance_picture(arm: Side, map: &DevianceMap, segments: &[(usize, usize)]) -
         width: side,
         height: side,
         rgba,
+        frames_per_pixel: None,
     }
 }
 
@@ -465,5 +466,6 @@ fn effort_picture(segments: &[Segment], frames: usize) -> Picture {
         width,
         height,
         rgba,
+        frames_per_pixel: None,
     }
 }

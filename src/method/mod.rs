@@ -122,9 +122,21 @@ pub struct Picture {
     /// `width × height × 4` bytes; moved as a transferred buffer, not in the JSON.
     #[serde(skip)]
     pub rgba: Vec<u8>,
+    /// For a picture of frame pairs (both axes the take's time, first frame top left, as the
+    /// SSSM): how many of the file's frames one pixel spans, so that the page can turn a click
+    /// into the pair of frames (pixel `p` starts at frame `⌊p × frames_per_pixel⌋`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frames_per_pixel: Option<f64>,
 }
 
 impl Picture {
+    /// The file frame pixel `p` of a frame-pair picture starts at (`None` for other pictures),
+    /// clamped to the take's `frames`.
+    pub fn frame_at(&self, p: usize, frames: usize) -> Option<usize> {
+        let per = self.frames_per_pixel.filter(|f| f.is_finite() && *f > 0.0)?;
+        Some(((p as f64 * per).floor() as usize).min(frames.saturating_sub(1)))
+    }
+
     /// The picture as a PNG file (what the page's "PNG" button under each picture saves).
     pub fn to_png(&self) -> Result<Vec<u8>, crate::image::ImageError> {
         crate::image::rgba_png(self.width, self.height, &self.rgba)

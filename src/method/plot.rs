@@ -56,6 +56,7 @@ pub fn lines(id: &str, title: &str, caption: &str, series: &[Series], thresholds
         width,
         height: HEIGHT,
         rgba,
+        frames_per_pixel: None,
     }
 }
 

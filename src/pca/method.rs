@@ -155,6 +155,7 @@ fn plot(s: &Scan, params: &ValidParams) -> Picture {
         width,
         height: PLOT_HEIGHT,
         rgba,
+        frames_per_pixel: None,
     }
 }
 

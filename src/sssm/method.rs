@@ -80,13 +80,16 @@ impl Method for Sssm {
                     "Frame i down, frame j across ({} Hz{}). Grey: neighbours within the search radius, darker = \
                      closer. Coloured squares: actions (colour = kind of action); orange squares: transitions; blue \
                      lines: primitive cuts; red lines: cuts found only in the mirrored features. Farther apart than \
-                     the search horizon, only the blocks of actions that may repeat each other are searched.",
+                     the search horizon, only the blocks of actions that may repeat each other are searched. Click a \
+                     pixel to go to its pair of frames.",
                     o.fps,
                     if image.block > 1 { format!(", {} frames per pixel", image.block) } else { String::new() }
                 ),
                 width: image.size,
                 height: image.size,
                 rgba: image.rgba,
+                // a pixel spans `block` working frames, each `file fps / working fps` file frames
+                frames_per_pixel: Some(image.block as f64 * motion.fps / o.fps),
             });
         }
         Ok(MethodOutput {

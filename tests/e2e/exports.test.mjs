@@ -185,3 +185,60 @@ test("a skeleton the joint mapping cannot cover: each panel says why, without a 
   await waitData(page, "sssm", "done");
   assert.equal(await page.locator("#sssm-failure").isVisible(), false, "a later good run clears the message");
 });
+
+test("a dark system theme gives the dark page and player; light gives light", async () => {
+  const look = () => page.evaluate(() => {
+    const bg = getComputedStyle(document.querySelector(".mocapseg")).backgroundColor;
+    const canvas = document.querySelector("#player-canvas, .ms-player canvas");
+    const copy = document.createElement("canvas");
+    copy.width = 4;
+    copy.height = 4;
+    copy.getContext("2d").drawImage(canvas, 0, 0, 4, 4, 0, 0, 4, 4);
+    const [r, g, b] = copy.getContext("2d").getImageData(0, 0, 1, 1).data;
+    const lum = (c) => c.match(/\d+/g).slice(0, 3).map(Number).reduce((a, v) => a + v, 0) / 3;
+    return { page: lum(bg), player: (r + g + b) / 3 };
+  });
+  await page.emulateMedia({ colorScheme: "dark" });
+  await page.click("#load-sample");
+  await waitData(page, "state", "ready");
+  await new Promise((r) => setTimeout(r, 300));
+  const dark = await look();
+  assert.ok(dark.page < 60 && dark.player < 60, `dark: ${JSON.stringify(dark)}`);
+  await shot(page, "e2e-theme-dark.png");
+  await page.emulateMedia({ colorScheme: "light" });
+  await page.click("#load-sample");
+  await waitData(page, "state", "ready");
+  await new Promise((r) => setTimeout(r, 300));
+  const light = await look();
+  assert.ok(light.page > 200 && light.player > 200, `light: ${JSON.stringify(light)}`);
+});
+
+test("the bundled sample is named with its source and licence; another take is not", async () => {
+  await gotoApp(page);
+  assert.match(await text(page, "#summary-sample"), /CMU 13_30.*mocap\.cs\.cmu\.edu/s);
+  assert.equal(await page.getAttribute("#summary-sample a", "href"), "./www/SOURCES.md");
+  await loadFile(page, "02_01.bvh");
+  assert.equal(await page.locator("#summary-sample").isVisible(), false);
+  await gotoApp(page);
+});
+
+test("clicking the SSSM picture goes to the pixel's pair of frames", async () => {
+  await waitData(page, "sssm", "done");
+  const canvas = page.locator("#sssm-image");
+  const box = await canvas.boundingBox();
+  const { width, height } = await canvas.evaluate((c) => ({ width: c.width, height: c.height }));
+  const frames = Number(/\/\s*(\d+)/.exec(await text(page, "#frame-counter"))[1]);
+  const [fx, fy] = [0.3, 0.7];
+  await canvas.click({ position: { x: box.width * fx, y: box.height * fy } });
+  await page.locator("#sssm-image-pair").waitFor({ state: "visible" });
+  const frameNow = async () => Number(/frame\s+(\d+)/.exec(await text(page, "#frame-counter"))[1]) - 1;
+  // two pixels' frames: a pixel spans whole blocks of working frames, so the last one may pass the end
+  const span = (2 * frames) / Math.min(width, height) + 1;
+  const i = await frameNow();
+  assert.ok(Math.abs(i - fy * frames) <= span, `the row's frame: ${i}, want about ${fy * frames}`);
+  assert.match(await text(page, "#sssm-image-pair"), new RegExp(`frame ${i + 1} ↔ frame \\d+`));
+  await page.click("#sssm-image-pair-other");
+  const j = await frameNow();
+  assert.ok(Math.abs(j - fx * frames) <= span, `the column's frame: ${j}, want about ${fx * frames}`);
+  await shot(page, "e2e-sssm-picture-pair.png");
+});

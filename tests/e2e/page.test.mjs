@@ -1954,6 +1954,47 @@ test("a 100 000-frame take loads and plays: few elements on the timeline, animat
   if (await page.locator("#error-banner").isVisible()) await page.locator("#error-dismiss").click();
 });
 
+test("every method runs on a 10 000-frame take in the worker while the page keeps animating", async () => {
+  const FRAMES = 10_000;
+  const name = "long-10k.bvh";
+  allowConsoleErrors = true;
+  try {
+    // count animation frames from before the load until every method has finished, playing meanwhile
+    await page.evaluate(() => {
+      window.__raf = { stamps: [], busy: [], done: false };
+      const tick = (now) => {
+        const r = window.__raf;
+        r.stamps.push(now);
+        r.busy.push(["sssm", "velocity", "kcs", "pca", "lma", "knn", "dtfcn"].filter((m) => document.body.dataset[m] === "running").length);
+        if (!r.done) requestAnimationFrame(tick);
+      };
+      requestAnimationFrame(tick);
+    });
+    await page.setInputFiles("#file-input", { name, mimeType: "application/octet-stream", buffer: Buffer.from(bigBvh(FRAMES)) });
+    await waitReady(name);
+    await pressKeys(" ");
+    await page.waitForFunction((ms) => ms.every((m) => !["running", "idle"].includes(document.body.dataset[m])), METHODS, { timeout: 5 * TIMEOUT });
+    await pressKeys(" ");
+    const r = await page.evaluate(() => {
+      const { stamps, busy } = window.__raf;
+      window.__raf.done = true;
+      // the intervals that ended while at least one method was running in the worker
+      const gaps = stamps.slice(1).map((t, i) => [t - stamps[i], busy[i + 1]]).filter(([, b]) => b > 0).map(([g]) => g);
+      gaps.sort((a, b) => a - b);
+      return { ticks: gaps.length, median: gaps[Math.floor(gaps.length / 2)], p95: gaps[Math.floor(gaps.length * 0.95)],
+        max: gaps[gaps.length - 1], runningMs: gaps.reduce((a, g) => a + g, 0) };
+    });
+    const states = await page.evaluate((ms) => Object.fromEntries(ms.map((m) => [m, document.body.dataset[m]])), METHODS);
+    console.log(`  (10 000 frames, all methods ${JSON.stringify(states)}: while they ran (${(r.runningMs / 1000).toFixed(1)} s), `
+      + `${r.ticks} animation frames, median ${r.median?.toFixed(1)} ms, p95 ${r.p95?.toFixed(1)} ms, max ${r.max?.toFixed(1)} ms)`);
+    assert.ok(r.ticks >= 10, `animation frames while the methods ran: ${r.ticks}`);
+    assert.ok(r.median < 50, `median animation-frame interval while the methods ran: ${r.median} ms`);
+  } finally {
+    allowConsoleErrors = false;
+  }
+  if (await page.locator("#error-banner").isVisible()) await page.locator("#error-dismiss").click();
+});
+
 test("load sample button", async () => {
   await page.click("#load-sample");
   await page.waitForFunction(
