@@ -1,0 +1,125 @@
+// The page's layout at the sizes it is made for, and the README's screenshots (issue 12, "Looks"):
+// at 1440×900 the player, the motion image and the methods' rows are on the first screen; at
+// 1024 px wide nothing scrolls sideways and the player and timeline are still side by side or
+// stacked in full; light and dark. Each state is saved as a JPEG in OUT/screenshots/ (README
+// "Screenshots": the images in docs/screenshots/ are copies of these).
+//
+// Run through scripts/e2e.sh (E2E_FILES=screenshots.test.mjs scripts/e2e.sh).
+
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import { mkdirSync } from "node:fs";
+import path from "node:path";
+import { BASE_URL, FIXTURES, OUT, closePage, gotoApp, loadFile, openPage, waitData } from "./harness.mjs";
+
+const SHOTS = path.join(OUT, "screenshots");
+mkdirSync(SHOTS, { recursive: true });
+const METHODS = ["sssm", "velocity", "kcs", "pca", "lma", "knn", "dtfcn"];
+
+let opened;
+let page;
+
+before(async () => {
+  opened = await openPage({ viewport: { width: 1440, height: 900 }, allowConsole: /line \d+|expected/ });
+  page = opened.page;
+});
+
+after(() => closePage(opened));
+
+const jpeg = (name, options = {}) => page.screenshot({ path: path.join(SHOTS, `${name}.jpg`), type: "jpeg", quality: 72, ...options });
+
+/** Every method finished (done or error) on the take on screen. */
+const allRun = () => page.waitForFunction((ms) => ms.every((m) => ["done", "error"].includes(document.body.dataset[m])), METHODS);
+
+/** Whether the element's box lies within the first screen. */
+const onFirstScreen = (sel) => page.locator(sel).evaluate((e) => {
+  const r = e.getBoundingClientRect();
+  return r.top >= 0 && r.top < window.innerHeight && r.width > 0;
+});
+
+const noSideScroll = () => page.evaluate(() => document.documentElement.scrollWidth <= window.innerWidth + 1);
+
+test("1440×900: the take is understood at a glance — player, motion image and rows on the first screen", async () => {
+  await gotoApp(page);
+  await allRun();
+  for (const sel of ["#player-canvas", "#timeline", "#row-sssm-actions"]) {
+    assert.ok(await onFirstScreen(sel), `${sel} is on the first screen at 1440×900`);
+  }
+  assert.ok(await noSideScroll(), "no sideways scroll at 1440 px");
+  await jpeg("01-sample-1440");
+});
+
+test("the dark theme follows the system", async () => {
+  await page.emulateMedia({ colorScheme: "dark" });
+  await page.click("#load-sample");
+  await waitData(page, "state", "ready");
+  await allRun();
+  await jpeg("02-sample-dark");
+  await page.emulateMedia({ colorScheme: "light" });
+});
+
+test("1024 px wide: nothing scrolls sideways and every control stays reachable", async () => {
+  await page.setViewportSize({ width: 1024, height: 768 });
+  await page.click("#load-sample");
+  await waitData(page, "state", "ready");
+  await allRun();
+  assert.ok(await noSideScroll(), "no sideways scroll at 1024 px");
+  for (const sel of ["#player-canvas", "#timeline", "#sssm-run", "#my-labels-tools", "#truth-panel", "#metrics-panel"]) {
+    const box = await page.locator(sel).boundingBox();
+    assert.ok(box && box.x >= 0 && box.x + box.width <= 1024 + 1, `${sel} fits in 1024 px: ${JSON.stringify(box)}`);
+  }
+  await jpeg("03-sample-1024");
+  await page.setViewportSize({ width: 1440, height: 900 });
+});
+
+test("the studio's states: my labels, ground truth and metrics, exports, a refused parameter, a bad file", async () => {
+  // my labels copied from SSSM, ground truth imported, metrics of a row
+  await page.selectOption("#my-labels-source", "sssm-actions");
+  await page.click("#my-labels-copy");
+  await page.setInputFiles("#truth-file", path.join(FIXTURES, "mocap6_13_30_gt.csv"));
+  await waitData(page, "truth", "loaded");
+  await page.locator("#timeline").scrollIntoViewIfNeeded();
+  await jpeg("04-my-labels-and-truth");
+  await page.locator("#metrics-panel").scrollIntoViewIfNeeded();
+  await waitData(page, "metrics", "done");
+  await jpeg("05-truth-and-metrics");
+  // a selected segment and the exports under SSSM's form
+  await page.locator("#row-sssm-actions .ms-seg--action").nth(1).click();
+  await page.locator("#sssm-exports").scrollIntoViewIfNeeded();
+  await jpeg("06-sssm-panel-exports");
+  // a parameter the method refuses: the message at its field
+  await page.fill("#sssm-radius", "-1");
+  await page.click("#sssm-run");
+  await page.locator("#sssm-radius-error").waitFor({ state: "visible" });
+  await jpeg("07-refused-parameter");
+  await page.fill("#sssm-radius", "");
+  // a broken file: the parser's message, the take on screen kept
+  await page.setInputFiles("#file-input", path.join(FIXTURES, "bad.bvh"));
+  await waitData(page, "state", "error");
+  await page.evaluate(() => window.scrollTo(0, 0));
+  await jpeg("08-bad-file");
+  await page.click("#my-labels-clear");
+});
+
+test("embedded in a documentation page, 640×400", async () => {
+  await page.setViewportSize({ width: 640, height: 400 });
+  await page.goto(new URL("index.html?embed=1&src=www/02_01.bvh&methods=velocity,kcs&t=1", BASE_URL).href);
+  await waitData(page, "state", "ready");
+  await waitData(page, "velocity", "done");
+  assert.ok(await noSideScroll(), "no sideways scroll in the 640×400 embed");
+  await jpeg("09-embed-640x400");
+  await page.setViewportSize({ width: 1440, height: 900 });
+  await page.goto(new URL("www/embed.html", BASE_URL).href);
+  await page.waitForTimeout(1500);
+  await jpeg("10-embed-page", { fullPage: true });
+});
+
+test("a CMU original: ASF skeleton and AMC motion picked together", async () => {
+  await gotoApp(page);
+  await page.setInputFiles("#file-input", [path.join(FIXTURES, "02.asf"), path.join(FIXTURES, "02_01.amc")]);
+  await page.waitForFunction(() => (document.querySelector("#summary-name")?.textContent ?? "").includes("02_01.amc")
+    && document.body.dataset.state === "ready");
+  await allRun();
+  await jpeg("11-asf-amc");
+  await loadFile(page, "02_01.bvh");
+});
