@@ -11,7 +11,9 @@
 //! applied, `#truth-error` (at the control) why it could not be read, with the file, the line and
 //! what was expected. `document.body.dataset.truth` is `none`, `loaded` or `error`.
 
-use super::method_panel::{SegmentRow, ACTION_LEVELS};
+use super::method_panel::{class_css, is_labelling, SegmentRow, ACTION_LEVELS};
+use crate::segment::palette::class_colour;
+use crate::view::my_labels::label_class;
 use super::AppState;
 use crate::method::Details;
 use crate::protocol::MethodView;
@@ -111,8 +113,9 @@ fn options(truth: &GroundTruth) -> Result<ImportOptions, String> {
 }
 
 /// The truth as the segmentation of a timeline row: one action per labelled segment, its
-/// cluster the label's index in order of first appearance (the colour follows the label).
-fn as_view(truth: &Truth, take: &Take) -> MethodView {
+/// cluster the label's index in order of first appearance, drawn as a labelling row in its
+/// label's colour (`params.colours`, [`label_colours`]).
+fn as_view(truth: &Truth, take: &Take, state: AppState) -> MethodView {
     let mut labels: Vec<&str> = Vec::new();
     let segments = truth
         .segments
@@ -134,15 +137,36 @@ fn as_view(truth: &Truth, take: &Take) -> MethodView {
             }
         })
         .collect();
+    let colours = label_colours(state, &labels);
     let segmentation = Segmentation {
         file: take.name.clone(),
         fps: take.fps,
         frames: take.frames,
         method: "truth".into(),
-        params: serde_json::json!({}),
+        params: serde_json::json!({ "colours": colours }),
         segments,
     };
     MethodView { method: "truth".into(), segmentation, details: Details::default() }
+}
+
+/// The colour of each label, so that a class has one colour on every row and take: the colour a
+/// labelling method's row on the page (DT-FCN, k-NN: its model's class colours) gives that label,
+/// else the colour of the label's text (`label_class`, as "my labels" colours a new label).
+fn label_colours(state: AppState, labels: &[&str]) -> Vec<String> {
+    labels
+        .iter()
+        .map(|label| {
+            let from_a_model = state.methods.iter().find_map(|slot| {
+                // tracked: the truth is read again when a labelling method's run arrives
+                slot.view.with(|v| {
+                    let v = v.as_ref().filter(|v| is_labelling(v))?;
+                    let s = v.segmentation.segments.iter().find(|s| s.label == *label)?;
+                    s.cluster.map(|c| class_css(v, c))
+                })
+            });
+            from_a_model.unwrap_or_else(|| class_colour(label_class(label)))
+        })
+        .collect()
 }
 
 /// The text of `file`, or why it cannot be read.
@@ -185,7 +209,7 @@ pub fn GroundTruthPanel(state: AppState) -> impl IntoView {
             (None, _) => Err(format!("{name}: load a take first: the ground truth is read against its frames")),
             (_, Err(e)) => Err(format!("{name}: {e}")),
             (Some(take), Ok(options)) => import_truth(&text, &take, &options)
-                .map(|i| (Arc::new(as_view(&i.truth, &take)), Arc::new(i)))
+                .map(|i| (Arc::new(as_view(&i.truth, &take, state)), Arc::new(i)))
                 .map_err(|e| format!("{name}: {e}")),
         };
         match result {

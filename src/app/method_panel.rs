@@ -670,13 +670,13 @@ pub fn SegmentRow(
 }
 
 /// Whether `v` is a labelling method's run (DT-FCN, k-NN): its segments are per-frame class labels.
-fn is_labelling(v: &MethodView) -> bool {
+pub(super) fn is_labelling(v: &MethodView) -> bool {
     super::label_models::kind_of(&v.method).is_some() || v.segmentation.params.get("colours").is_some()
 }
 
 /// The CSS colour of class `cluster` in a labelling method's run: the one the run echoes in
 /// `params.colours` if it does, else the class colour every model file gives that class index.
-fn class_css(v: &MethodView, cluster: usize) -> String {
+pub(super) fn class_css(v: &MethodView, cluster: usize) -> String {
     v.segmentation
         .params
         .get("colours")

@@ -274,7 +274,7 @@ test("another take reads the kept file again: its length is checked against the 
 
 test("my labels start from the ground truth, score as it against itself, and export as the CLI reads them", async () => {
   await gotoApp(page);
-  await waitData(page, "sssm", "done");
+  for (const m of ["sssm", "knn", "dtfcn"]) await waitData(page, m, "done");
   await importTruth(SHARED_CSV);
   const truth = await truthRow();
   assert.ok(truth.length >= 2, "the truth row is drawn");
@@ -283,6 +283,24 @@ test("my labels start from the ground truth, score as it against itself, and exp
   await page.selectOption("#my-labels-source", "truth");
   await page.click("#my-labels-copy");
   await until(async () => Number(await page.evaluate(() => document.body.dataset.myLabels)) > 0, "my labels copied");
+  // one colour per class: a label has the same colour in the truth row and in my labels
+  const colours = await page.evaluate(() => {
+    const of = (sel, label) => [...document.querySelectorAll(sel)].map((e) => [label(e), getComputedStyle(e).backgroundColor]);
+    return {
+      truth: of("#row-truth .ms-seg", (e) => e.textContent.trim()),
+      mine: of("#row-my-labels .ms-seg[data-label]", (e) => e.dataset.label),
+    };
+  });
+  const truthColour = new Map();
+  for (const [label, colour] of colours.truth) {
+    if (truthColour.has(label)) assert.equal(truthColour.get(label), colour, `truth: one colour for ${label}`);
+    truthColour.set(label, colour);
+  }
+  assert.ok(truthColour.size >= 2, `the truth has several labels: ${[...truthColour.keys()]}`);
+  assert.ok(new Set(truthColour.values()).size >= 2, "different labels, different colours");
+  const compared = colours.mine.filter(([label]) => truthColour.has(label));
+  assert.ok(compared.length >= 2, `my labels carry the truth's labels: ${JSON.stringify(colours.mine.slice(0, 3))}`);
+  for (const [label, colour] of compared) assert.equal(colour, truthColour.get(label), `${label}: my labels' colour is the truth's`);
   // my labels are a row the metrics panel scores: against the truth they came from, perfect
   await page.selectOption("#metrics-row", "my-labels");
   await until(async () => (await page.evaluate(() => document.body.dataset.metricsRow)) === "my-labels", "my labels scored");
@@ -305,6 +323,16 @@ test("my labels start from the ground truth, score as it against itself, and exp
   assert.equal(zip.bytes.subarray(0, 4).toString("binary"), "PK\u0003\u0004");
   assert.match(await text(page, "#my-labels-export-status"), new RegExp(`\\(${labelled.length} clips?\\)`));
   await shot(page, "truth-7-my-labels-from-truth.png");
+  // the colour is the label's, not its place in the file: the same labels in the other order keep theirs
+  const [first, second] = [...truthColour.keys()];
+  const swapped = path.join(OUT, "truth-swapped.csv");
+  writeFileSync(swapped, `start_frame,end_frame,label\n1,100,${second}\n101,200,${first}\n`);
+  await page.fill("#truth-fps", "");
+  await importTruth(swapped);
+  const again = new Map(await page.evaluate(() => [...document.querySelectorAll("#row-truth .ms-seg")]
+    .map((e) => [e.textContent.trim(), getComputedStyle(e).backgroundColor])));
+  assert.equal(again.get(first), truthColour.get(first), `${first} keeps its colour in another file`);
+  assert.equal(again.get(second), truthColour.get(second), `${second} keeps its colour in another file`);
   await page.click("#my-labels-clear");
   assertClean(opened);
 });
