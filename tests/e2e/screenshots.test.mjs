@@ -54,6 +54,9 @@ test("the dark theme follows the system", async () => {
   await page.click("#load-sample");
   await waitData(page, "state", "ready");
   await allRun();
+  const background = await page.evaluate(() => getComputedStyle(document.querySelector(".mocapseg")).backgroundColor);
+  const lum = background.match(/\d+/g).slice(0, 3).map(Number).reduce((a, v) => a + v, 0) / 3;
+  assert.ok(lum < 60, `the page is dark under a dark system theme: ${background}`);
   await jpeg("02-sample-dark");
   await page.emulateMedia({ colorScheme: "light" });
 });
