@@ -14,6 +14,11 @@
 #   FUZZ_RSS_MB     libFuzzer's -rss_limit_mb for the whole process (default 1024)
 #   FUZZ_TIMEOUT_S  one input taking longer is a hang (-timeout, default 10)
 #   FUZZ_MAX_LEN    -max_len (default: libFuzzer's, the largest seed or 4096)
+#   FUZZ_NO_CMP     targets built with --no-trace-compares, into fuzz/target-notc (default:
+#                   load_pipeline; "" for none). Its time goes to the numeric crates under the
+#                   methods (burn's matmul, kiddo, nalgebra): their comparisons' hooks took 60 % of
+#                   it, for no guidance worth having — the bytes it mutates are the BVH grammar's,
+#                   whose comparisons bvh_parse and bvh_grammar trace. Without them it runs ~3× faster.
 #
 # One fuzzer process at a time (no -jobs/-workers: the machines have two cores, shared). Builds
 # with RUSTC_BOOTSTRAP=1 on the stable toolchain (cargo-fuzz needs nightly flags) into
@@ -34,6 +39,7 @@ FUZZ_MALLOC_MB="${FUZZ_MALLOC_MB:-256}"
 FUZZ_RSS_MB="${FUZZ_RSS_MB:-1024}"
 FUZZ_TIMEOUT_S="${FUZZ_TIMEOUT_S:-10}"
 FUZZ_MAX_LEN="${FUZZ_MAX_LEN:-}"
+FUZZ_NO_CMP="${FUZZ_NO_CMP-load_pipeline}"
 
 for t in $FUZZ_TARGETS; do
     [[ " $ALL_TARGETS " == *" $t "* ]] || { echo "unknown fuzz target '$t' (known: $ALL_TARGETS)" >&2; exit 2; }
@@ -51,10 +57,15 @@ unset CARGO_TARGET_DIR
 export RUSTC_BOOTSTRAP=1
 triple="$(rustc -vV | sed -n 's/^host: //p')"
 echo "building the fuzz targets ($FUZZ_TARGETS) with --sanitizer none, debug assertions on"
+no_cmp() { [[ " $FUZZ_NO_CMP " == *" $1 "* ]]; }
+bin_dir_of() { if no_cmp "$1"; then echo "fuzz/target-notc/$triple/release"; else echo "fuzz/target/$triple/release"; fi; }
 for t in $FUZZ_TARGETS; do
-    cargo fuzz build --sanitizer none --debug-assertions "$t"
+    if no_cmp "$t"; then
+        cargo fuzz build --sanitizer none --debug-assertions --no-trace-compares --target-dir fuzz/target-notc "$t"
+    else
+        cargo fuzz build --sanitizer none --debug-assertions "$t"
+    fi
 done
-bin_dir="fuzz/target/$triple/release"
 
 stamp="$(date -u +%Y-%m-%dT%H:%MZ)"
 results="fuzz/artifacts/results-$(date -u +%Y%m%dT%H%M%SZ).txt"
@@ -63,6 +74,7 @@ rows=()
 failed=0
 for t in $FUZZ_TARGETS; do
     corpus="fuzz/corpus/$t"
+    bin_dir="$(bin_dir_of "$t")"
     artifacts="fuzz/artifacts/$t"
     mkdir -p "$corpus" "$artifacts"
     log="fuzz/artifacts/$t.log"
@@ -97,7 +109,7 @@ for t in $FUZZ_TARGETS; do
 done
 
 {
-    echo "fuzz run $stamp: FUZZ_S=$FUZZ_S, -rss_limit_mb=$FUZZ_RSS_MB, -malloc_limit_mb=$FUZZ_MALLOC_MB, -timeout=$FUZZ_TIMEOUT_S, --sanitizer none"
+    echo "fuzz run $stamp: FUZZ_S=$FUZZ_S, -rss_limit_mb=$FUZZ_RSS_MB, -malloc_limit_mb=$FUZZ_MALLOC_MB, -timeout=$FUZZ_TIMEOUT_S, --sanitizer none, --no-trace-compares for: ${FUZZ_NO_CMP:-none}"
     echo
     echo "| target            |  executions |  exec/s |      s |   corpus | rss MB | findings |"
     echo "|-------------------|-------------|---------|--------|----------|--------|----------|"

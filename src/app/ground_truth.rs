@@ -9,8 +9,11 @@
 //! (`#truth-fps`, empty = the take's own). The file's text is kept, so changing a choice (or
 //! loading another take) reads it again without picking it again; `#truth-applied` says what was
 //! applied, `#truth-error` (at the control) why it could not be read, with the file, the line and
-//! what was expected. `document.body.dataset.truth` is `none`, `loaded` or `error`.
+//! what was expected. `#truth-export-json`, `-csv` and `-clips` save the truth as read against the
+//! take (its frames, at the take's rate) as segmentation JSON, label CSV or BVH clips
+//! ([`RowExports`]). `document.body.dataset.truth` is `none`, `loaded` or `error`.
 
+use super::row_exports::RowExports;
 use super::method_panel::{class_css, is_labelling, SegmentRow, ACTION_LEVELS};
 use crate::segment::palette::class_colour;
 use crate::view::my_labels::label_class;
@@ -278,6 +281,9 @@ pub fn GroundTruthPanel(state: AppState) -> impl IntoView {
     let take_fps =
         move || state.motion.with(|m| m.as_ref().map(|m| format!("{:.2}", m.summary.fps)).unwrap_or_default());
 
+    // the truth as it reads against the take on screen (its frames, the take's rate)
+    let row = Signal::derive(move || truth.view.with(|v| v.as_ref().map(|v| Arc::new(v.segmentation.clone()))));
+
     view! {
         <section id="truth-panel" class="ms-panel-box ms-truth" aria-label="Ground truth">
             <div class="ms-timeline-head">
@@ -349,6 +355,7 @@ pub fn GroundTruthPanel(state: AppState) -> impl IntoView {
             </div>
             <p id="truth-error" class="ms-truth-error" role="alert" hidden=move || error().is_empty()>{error}</p>
             <p id="truth-applied" class="ms-truth-applied" aria-live="polite" hidden=move || applied().is_empty()>{applied}</p>
+            <RowExports id="truth" what="the ground truth" row=row/>
         </section>
     }
 }

@@ -39,6 +39,7 @@ mod my_labels;
 mod playback;
 mod player;
 mod progress;
+mod row_exports;
 mod summary;
 mod timeline;
 

@@ -30,7 +30,8 @@
 
 use super::dtfcn_training::{TrainRequest, TrainState};
 use super::label_models::kind_of;
-use super::motion_image::{download, stem};
+use super::motion_image::stem;
+use super::row_exports::RowExports;
 use super::timeline::is_for_the_field;
 use super::{AppState, Selection};
 use crate::labels::to_csv;
@@ -708,33 +709,6 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
 pub fn MyLabelsTools(mine: MyRow) -> impl IntoView {
     let state = mine.state;
     let t = state.dtfcn;
-    // exports: the row as segmentation JSON, label CSV, BVH clips (cut by the worker)
-    let exported = RwSignal::new(None::<(bool, String)>);
-    let no_export = move || state.mine.with(Option::is_none);
-    let save = move |bytes: &[u8], mime: &str, file: String| {
-        exported.set(Some(match download(bytes, mime, &file) {
-            Ok(()) => (false, format!("saved {file}")),
-            Err(e) => (true, format!("could not save {file}: {e:?}")),
-        }));
-    };
-    let on_json = move |_| {
-        if let Some(seg) = state.mine.get_untracked() {
-            save(seg.to_json().as_bytes(), "application/json", format!("{}_my-labels.json", stem(&seg.file)));
-        }
-    };
-    let on_csv = move |_| {
-        if let Some(seg) = state.mine.get_untracked() {
-            let rows = crate::labels::from_segmentation(&seg, crate::clips::Which::Actions);
-            save(to_csv(&rows).as_bytes(), "text/csv", format!("{}_my-labels.csv", stem(&seg.file)));
-        }
-    };
-    let loader = use_context::<StoredValue<super::loader::Loader, LocalStorage>>();
-    let on_clips = move |_| match (state.mine.get_untracked(), loader) {
-        (Some(seg), Some(loader)) => loader.with_value(|l| {
-            l.export_clips_of(&seg, crate::clips::Which::Actions, false, None, exported)
-        }),
-        _ => exported.set(Some((true, "nothing to cut".into()))),
-    };
     let loaded = move || state.frames() > 0;
     let selected = move || mine.model.with(|m| m.selected().is_some());
     let in_segment = move || {
@@ -872,21 +846,7 @@ pub fn MyLabelsTools(mine: MyRow) -> impl IntoView {
                         mine.edit(|m| { m.clear(); Ok(()) }, Some("Cleared: nothing of this take is stored any more (Undo brings the labels back)".into()));
                     }>"Clear"</button>
             </div>
-            <div class="ms-my-group" role="group" aria-label="Export my labels">
-                <button id="my-labels-export-json" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Save my labels as segmentation JSON" disabled=no_export on:click=on_json>"JSON"</button>
-                <button id="my-labels-export-csv" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Save my labelled segments as a label CSV" disabled=no_export on:click=on_csv>"CSV"</button>
-                <button id="my-labels-export-clips" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Save each labelled segment as its own BVH clip, in one zip"
-                    title="Each labelled segment as its own BVH clip cut from the original file, in one zip"
-                    disabled=no_export on:click=on_clips>"BVH clips (zip)"</button>
-                <span id="my-labels-export-status" class="ms-exports-status"
-                    class:ms-exports-status--error=move || exported.get().is_some_and(|(e, _)| e)
-                    role="status" aria-live="polite">
-                    {move || exported.get().map(|(_, m)| m).unwrap_or_default()}
-                </span>
-            </div>
+            <RowExports id="my-labels" what="my labels" row=state.mine.into()/>
             <span id="my-labels-train-status" class="ms-my-status" role="status" aria-live="polite" hidden=move || train_text().is_empty()>
                 {train_text}
             </span>

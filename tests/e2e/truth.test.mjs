@@ -115,7 +115,11 @@ test("before any import: no truth row, the metrics panel says what to do", async
   assert.equal(await page.locator("#row-truth .ms-seg").count(), 0);
   assert.match(await text(page, "#metrics-status"), /Import a ground truth/);
   // every control has an accessible name
-  for (const sel of ["#truth-file", "#truth-base", "#truth-fps", "#truth-trial", "#truth-clear", "#metrics-row"]) {
+  for (const sel of ["#truth-export-json", "#truth-export-csv", "#truth-export-clips"]) {
+    assert.ok(await page.isDisabled(sel), `${sel} is disabled while there is no truth`);
+  }
+  for (const sel of ["#truth-file", "#truth-base", "#truth-fps", "#truth-trial", "#truth-clear", "#metrics-row",
+    "#truth-export-json", "#truth-export-csv", "#truth-export-clips"]) {
     const name = await page.locator(sel).evaluate((e) => e.getAttribute("aria-label") || e.labels?.[0]?.textContent?.trim() || e.textContent.trim());
     assert.ok(name && name.length > 2, `${sel} has an accessible name`);
   }
@@ -149,6 +153,51 @@ test("a 30 fps start_frame,end_frame,label CSV: the frame-rate and frame-base ch
   await choose("#truth-fps", "-3", "error");
   assert.match(await text(page, "#truth-error"), /13_30_labels_30fps\.csv: the labels' frame rate: expected a positive number of frames per second, found `-3`/);
   await choose("#truth-fps", "30");
+});
+
+test("the ground truth exports as read against the take: JSON the CLI scores as the file, the label CSV, BVH clips", async () => {
+  // the 30 fps CSV as the previous test left it: read from 1, at 30 fps, so in take frames ×4
+  const row = await truthRow();
+  assert.equal(row.length, 5);
+  const d = await download(page, "#truth-export-json", "truth-exported.json");
+  assert.match(d.name, /^sample_truth\.json$/);
+  const json = JSON.parse(d.bytes.toString("utf8"));
+  assert.equal(json.method, "truth");
+  assert.equal(json.file, "sample.bvh");
+  assert.deepEqual(json.segments.map((s) => [s.start, s.end, s.label]), row, "the JSON holds the row in take frames");
+  // scored by the CLI against the file it came from, read with the same choices: perfect
+  const self = cliEval(d.path, LABELS_30, ["--first-frame", "1", "--label-fps", "30"]);
+  assert.equal(self.boundaries[0].f1, 1);
+  assert.equal(self.boundaries[1].f1, 1);
+  assert.equal(self.segments.matched, 5);
+  assert.equal(self.labelling.frame_accuracy, 1);
+  assert.equal(self.labelling.edit, 100);
+  // the file leaves the take's last frame unlabelled, and a prediction's last action is scored as
+  // reaching the take's end: covering misses that one frame, nothing more
+  // (the truth's frames over the take's 2465, the last segment's Jaccard with the stretched one)
+  const last = row[4][1] - row[4][0] + 1;
+  const want = (row[4][1] + 1 - last + last * (last / (last + 1))) / 2465;
+  assert.ok(Math.abs(self.covering - want) < 1e-12, `covering ${self.covering} vs ${want}`);
+  // the label CSV: a header and one row per segment, in take frames
+  const csv = await download(page, "#truth-export-csv");
+  assert.match(csv.name, /^sample_truth\.csv$/);
+  const lines = csv.bytes.toString("utf8").trim().split(/\r?\n/);
+  assert.equal(lines[0], "file,start_frame,end_frame,label");
+  assert.deepEqual(lines.slice(1).map((l) => l.split(",").slice(1)).map(([a, b, c]) => [Number(a), Number(b), c]), row);
+  assert.match(await text(page, "#truth-export-status"), /saved sample_truth\.csv \(5 rows\)/);
+  // BVH clips: one per segment, each as long as its segment (read by Python's zipfile)
+  const zip = await download(page, "#truth-export-clips");
+  assert.equal(zip.bytes.subarray(0, 4).toString("binary"), "PK\u0003\u0004", "a zip file");
+  const script = "import json,sys,zipfile\nz=zipfile.ZipFile(sys.argv[1])\n"
+    + "print(json.dumps([[i.filename, z.read(i).decode('utf-8')] for i in z.infolist()]))";
+  const files = JSON.parse(execFileSync("python3", ["-c", script, zip.path], { maxBuffer: 1 << 28 }).toString());
+  assert.equal(files.length, row.length, "one clip per segment");
+  files.forEach(([name, body], i) => {
+    assert.ok(name.includes(row[i][2]), `${name} is named after its label ${row[i][2]}`);
+    assert.equal(Number(body.match(/^Frames:\s*(\d+)/m)[1]), row[i][1] - row[i][0] + 1, `${name}: Frames`);
+  });
+  assert.match(await text(page, "#truth-export-status"), /\(5 clips\)/);
+  assertClean(opened);
 });
 
 test("the metrics of SSSM's rows are the numbers mocapseg eval prints for the same files", async () => {

@@ -1,0 +1,67 @@
+//! A row's exports, for the rows that are not a method's run ("my labels", the ground truth): the
+//! row as segmentation JSON (`#<id>-export-json`), as the label CSV `file,start_frame,end_frame,label`
+//! (`#<id>-export-csv`), and each of its labelled segments (its actions: an unlabelled stretch of
+//! "my labels" is a transition) as a BVH clip cut from the file on screen, in one
+//! zip (`#<id>-export-clips`, cut by the worker: [`Loader::export_clips_of`]).
+//! `#<id>-export-status` says what was saved or why not. The buttons are disabled while the row
+//! is empty. A method's panel has its own exports (choosing actions or primitives, a selected
+//! segment, clips at the origin): `method_panel::Exports`.
+
+use super::loader::Loader;
+use super::motion_image::{download, stem};
+use crate::clips::Which;
+use crate::labels::{from_segmentation, to_csv};
+use crate::segment::Segmentation;
+use leptos::prelude::*;
+use std::sync::Arc;
+
+/// The export buttons of a row whose segmentation `row` holds (`None`: nothing to save). `id` is
+/// the prefix of the elements' ids and of the files' names (`<take>_<id>.json`); `what` names the
+/// row in the buttons' labels ("my labels", "the ground truth").
+#[component]
+pub fn RowExports(id: &'static str, what: &'static str, row: Signal<Option<Arc<Segmentation>>>) -> impl IntoView {
+    let status = RwSignal::new(None::<(bool, String)>);
+    let empty = move || row.with(|r| r.as_ref().is_none_or(|s| s.segments.is_empty()));
+    let save = move |bytes: &[u8], mime: &str, file: String, rows: Option<usize>| {
+        status.set(Some(match download(bytes, mime, &file) {
+            Ok(()) => (false, rows.map_or_else(|| format!("saved {file}"), |n| format!("saved {file} ({n} rows)"))),
+            Err(e) => (true, format!("could not save {file}: {e:?}")),
+        }));
+    };
+    let on_json = move |_| {
+        if let Some(seg) = row.get_untracked() {
+            save(seg.to_json().as_bytes(), "application/json", format!("{}_{id}.json", stem(&seg.file)), None);
+        }
+    };
+    let on_csv = move |_| {
+        if let Some(seg) = row.get_untracked() {
+            let rows = from_segmentation(&seg, Which::Actions);
+            if rows.is_empty() {
+                return status.set(Some((true, "no labelled segments to save".into())));
+            }
+            save(to_csv(&rows).as_bytes(), "text/csv", format!("{}_{id}.csv", stem(&seg.file)), Some(rows.len()));
+        }
+    };
+    let loader = use_context::<StoredValue<Loader, LocalStorage>>();
+    let on_clips = move |_| match (row.get_untracked(), loader) {
+        (Some(seg), Some(loader)) => loader.with_value(|l| l.export_clips_of(&seg, Which::Actions, false, None, status)),
+        _ => status.set(Some((true, "nothing to cut".into()))),
+    };
+    view! {
+        <div class="ms-my-group" role="group" aria-label=format!("Export {what}")>
+            <button id=format!("{id}-export-json") class="ms-button ms-button--quiet" type="button"
+                aria-label=format!("Save {what} as segmentation JSON") disabled=empty on:click=on_json>"JSON"</button>
+            <button id=format!("{id}-export-csv") class="ms-button ms-button--quiet" type="button"
+                aria-label=format!("Save {what} as a label CSV") disabled=empty on:click=on_csv>"CSV"</button>
+            <button id=format!("{id}-export-clips") class="ms-button ms-button--quiet" type="button"
+                aria-label=format!("Save each segment of {what} as its own BVH clip, in one zip")
+                title="Each segment as its own BVH clip cut from the original file, in one zip"
+                disabled=empty on:click=on_clips>"BVH clips (zip)"</button>
+            <span id=format!("{id}-export-status") class="ms-exports-status"
+                class:ms-exports-status--error=move || status.get().is_some_and(|(e, _)| e)
+                role="status" aria-live="polite">
+                {move || status.get().map(|(_, m)| m).unwrap_or_default()}
+            </span>
+        </div>
+    }
+}
