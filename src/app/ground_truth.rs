@@ -13,16 +13,16 @@
 //! take (its frames, at the take's rate) as segmentation JSON, label CSV or BVH clips
 //! ([`RowExports`]). `document.body.dataset.truth` is `none`, `loaded` or `error`.
 
-use super::row_exports::RowExports;
 use super::method_panel::{class_css, is_labelling, SegmentRow, ACTION_LEVELS};
-use crate::segment::palette::class_colour;
-use crate::view::my_labels::label_class;
+use super::row_exports::RowExports;
 use super::AppState;
 use crate::method::Details;
 use crate::protocol::MethodView;
+use crate::segment::palette::class_colour;
 use crate::segment::truth::Truth;
 use crate::segment::truth_import::{csv_trials, import_truth, ImportOptions, Imported, Take};
 use crate::segment::{Level, Segment, Segmentation};
+use crate::view::my_labels::label_class;
 use leptos::prelude::*;
 use std::sync::Arc;
 use wasm_bindgen::JsCast;

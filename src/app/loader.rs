@@ -313,7 +313,13 @@ impl Loader {
     /// Cuts the take on screen at the segments `which` chooses of method `index`'s last run and
     /// saves the clips (a zip, or with `only` that segment's BVH); the panel's export status says
     /// how it went.
-    pub fn export_clips(&self, index: usize, which: crate::clips::Which, to_origin: bool, only: Option<(usize, usize)>) {
+    pub fn export_clips(
+        &self,
+        index: usize,
+        which: crate::clips::Which,
+        to_origin: bool,
+        only: Option<(usize, usize)>,
+    ) {
         let slot = &self.0.state.methods[index];
         match slot.view.get_untracked() {
             Some(view) => self.export_clips_of(&view.segmentation, which, to_origin, only, slot.export_status),

@@ -214,9 +214,7 @@ pub fn MethodPanel(
         fields().filter(|((s, _), _)| !s.basic).map(|((s, v), c)| checked_field(slot, s, *v, *c)).collect();
     // a refusal of an advanced parameter opens "Advanced"; the wrong field gets the focus
     let advanced_open = move || {
-        slot.field_error.with(|e| {
-            e.as_ref().is_some_and(|(p, _)| slot.specs.iter().any(|s| !s.basic && &s.name == p))
-        })
+        slot.field_error.with(|e| e.as_ref().is_some_and(|(p, _)| slot.specs.iter().any(|s| !s.basic && &s.name == p)))
     };
     {
         let name = name.clone();
@@ -238,7 +236,9 @@ pub fn MethodPanel(
     let short = slot.info.short.clone();
     let pictures = move || {
         slot.view.with(|v| match v {
-            Some(v) => (0..v.details.pictures.len()).map(|k| picture_view(state, slot, v.clone(), k)).collect::<Vec<_>>(),
+            Some(v) => {
+                (0..v.details.pictures.len()).map(|k| picture_view(state, slot, v.clone(), k)).collect::<Vec<_>>()
+            }
             None => Vec::new(),
         })
     };

@@ -8,10 +8,10 @@ use super::AppState;
 use crate::protocol::ImageData as Pixels;
 use crate::view::timeline::Window;
 use js_sys::{Array, Uint8Array};
-use std::cell::RefCell;
-use std::rc::Rc;
 use leptos::html::Canvas;
 use leptos::prelude::*;
+use std::cell::RefCell;
+use std::rc::Rc;
 use wasm_bindgen::{Clamped, JsCast, JsValue};
 use web_sys::{Blob, BlobPropertyBag, CanvasRenderingContext2d, HtmlAnchorElement, HtmlCanvasElement, Url};
 
@@ -68,8 +68,10 @@ impl Chunks {
     /// its CSS box × device pixels).
     pub fn draw(&self, canvas: &HtmlCanvasElement, window: &Window) -> Result<(), JsValue> {
         let dpr = gloo::utils::window().device_pixel_ratio().max(1.0);
-        let (w, h) =
-            (((canvas.client_width() as f64) * dpr).max(1.0).round(), ((canvas.client_height() as f64) * dpr).max(1.0).round());
+        let (w, h) = (
+            ((canvas.client_width() as f64) * dpr).max(1.0).round(),
+            ((canvas.client_height() as f64) * dpr).max(1.0).round(),
+        );
         if canvas.width() != w as u32 || canvas.height() != h as u32 {
             canvas.set_width(w as u32);
             canvas.set_height(h as u32);

@@ -39,7 +39,6 @@ use crate::protocol::MethodView;
 use crate::segment::palette::{action_colour, class_colour, cluster_colour};
 use crate::segment::Level;
 use crate::view::my_labels::MyLabels as Model;
-use std::sync::Arc;
 use crate::view::my_labels::{
     cuts_of, fingerprint, label_class, snap, snap_tolerance, storage_key, suggestions, EditError, SNAP_PX,
 };
@@ -49,6 +48,7 @@ use leptos::ev::{KeyboardEvent, MouseEvent, PointerEvent};
 use leptos::html::Div;
 use leptos::prelude::*;
 use std::collections::HashMap;
+use std::sync::Arc;
 use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
 

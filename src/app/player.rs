@@ -55,10 +55,8 @@ fn colours() -> &'static Colours {
     let dark = (|| {
         let window: wasm_bindgen::JsValue = web_sys::window()?.into();
         let match_media = js_sys::Reflect::get(&window, &"matchMedia".into()).ok()?;
-        let list = match_media
-            .dyn_ref::<js_sys::Function>()?
-            .call1(&window, &"(prefers-color-scheme: dark)".into())
-            .ok()?;
+        let list =
+            match_media.dyn_ref::<js_sys::Function>()?.call1(&window, &"(prefers-color-scheme: dark)".into()).ok()?;
         js_sys::Reflect::get(&list, &"matches".into()).ok()?.as_bool()
     })()
     .unwrap_or(false);

@@ -44,7 +44,9 @@ pub fn RowExports(id: &'static str, what: &'static str, row: Signal<Option<Arc<S
     };
     let loader = use_context::<StoredValue<Loader, LocalStorage>>();
     let on_clips = move |_| match (row.get_untracked(), loader) {
-        (Some(seg), Some(loader)) => loader.with_value(|l| l.export_clips_of(&seg, Which::Actions, false, None, status)),
+        (Some(seg), Some(loader)) => {
+            loader.with_value(|l| l.export_clips_of(&seg, Which::Actions, false, None, status))
+        }
         _ => status.set(Some((true, "nothing to cut".into()))),
     };
     view! {

@@ -19,9 +19,7 @@ use super::method_panel::{row_spans, MethodRows};
 use super::motion_image::{Chunks, DownloadPng, MotionImageCanvas};
 use super::my_labels::{MyLabelsRow, MyLabelsTools, MyRow};
 use super::{AppState, Selection};
-use crate::view::timeline::{
-    key_action, readout, shuttle, stepped, ticks, KeyAction, Modifiers, Window,
-};
+use crate::view::timeline::{key_action, readout, shuttle, stepped, ticks, KeyAction, Modifiers, Window};
 use gloo::events::{EventListener, EventListenerOptions};
 use leptos::ev::{KeyboardEvent, PointerEvent};
 use leptos::html::{Canvas, Div};
@@ -121,7 +119,9 @@ pub fn Timeline(state: AppState) -> impl IntoView {
     let frame_at = move |client_x: f64| -> Option<usize> {
         let (left, width) = lane_box(&ruler_ref)?;
         let fraction = (client_x - left) / width;
-        (0.0..=1.0).contains(&fraction).then(|| state.window.get_untracked().frame_at(fraction.min(0.999_999), frames()))
+        (0.0..=1.0)
+            .contains(&fraction)
+            .then(|| state.window.get_untracked().frame_at(fraction.min(0.999_999), frames()))
     };
 
     // seeking on the motion image and the rows' empty space
@@ -174,7 +174,10 @@ pub fn Timeline(state: AppState) -> impl IntoView {
             let delta = -(ev.client_x() as f64 - x0) / width * w0.span();
             state.window.set(w0.panned(delta, frames()));
         }
-        hover.set(frame_at(ev.client_x() as f64).map(|f| (ev.client_x() as f64, ev.client_y() as f64, hover_text(f, state.fps()))));
+        hover.set(
+            frame_at(ev.client_x() as f64)
+                .map(|f| (ev.client_x() as f64, ev.client_y() as f64, hover_text(f, state.fps()))),
+        );
     };
     let on_ruler_up = move |_: PointerEvent| ruler_drag.set_value(None);
 
@@ -447,13 +450,15 @@ fn keyboard(state: AppState) {
         if ev.default_prevented() || is_for_the_field(ev.target(), &ev.key()) {
             return;
         }
-        let modifiers = Modifiers { shift: ev.shift_key(), ctrl: ev.ctrl_key(), alt: ev.alt_key(), meta: ev.meta_key() };
+        let modifiers =
+            Modifiers { shift: ev.shift_key(), ctrl: ev.ctrl_key(), alt: ev.alt_key(), meta: ev.meta_key() };
         let Some(action) = key_action(&ev.key(), modifiers) else { return };
         let frames = state.frames();
         if frames == 0 && !matches!(action, KeyAction::ToggleHelp | KeyAction::Escape) {
             return;
         }
-        if action == KeyAction::Escape && !state.help.get_untracked() && state.selected.with_untracked(Option::is_none) {
+        if action == KeyAction::Escape && !state.help.get_untracked() && state.selected.with_untracked(Option::is_none)
+        {
             return; // Esc is the browser's unless it closes the help or drops a selection
         }
         ev.prevent_default();

@@ -92,10 +92,9 @@ mod tests {
         let m = method::find("sssm").unwrap();
         let specs = m.param_specs();
         // what the method and the form really say
-        for (params, want) in [
-            (serde_json::json!({"radius": -1}), "radius"),
-            (serde_json::json!({"horizon_s": 2}), "horizon_s"),
-        ] {
+        for (params, want) in
+            [(serde_json::json!({"radius": -1}), "radius"), (serde_json::json!({"horizon_s": 2}), "horizon_s")]
+        {
             let e = m.check_json(&params).unwrap_err().to_string();
             assert_eq!(param_named(&specs, &e), Some(want), "{e}");
         }

@@ -452,8 +452,7 @@ pub fn map_joints(s: &Skeleton) -> Result<JointMap, MissingJoints> {
         Canonical::ALL.iter().zip(found).filter(|(_, f)| f.is_none()).map(|(c, _)| *c).collect();
     if !missing.is_empty() {
         let joint_names = n.joints().map(|j| s.names[j].clone()).collect();
-        let found =
-            Canonical::ALL.iter().zip(found).filter_map(|(c, f)| f.map(|j| (*c, s.names[j].clone()))).collect();
+        let found = Canonical::ALL.iter().zip(found).filter_map(|(c, f)| f.map(|j| (*c, s.names[j].clone()))).collect();
         return Err(MissingJoints { found, missing, joint_names });
     }
     let f = found.map(|x| x.unwrap_or(0));

@@ -306,7 +306,11 @@ fn finish(name: &str, r: Reading) -> Result<TrialRead, TruthError> {
     // every end < MAX_FRAMES, so + 1 cannot overflow
     let last_end = segments.iter().map(|s| s.end).max().unwrap_or(0);
     let frames = r.frames.unwrap_or(last_end + 1).max(last_end + 1);
-    Ok(TrialRead { truth: Truth { trial: name.to_string(), frames, segments }, lines, frames_given: r.frames.is_some() })
+    Ok(TrialRead {
+        truth: Truth { trial: name.to_string(), frames, segments },
+        lines,
+        frames_given: r.frames.is_some(),
+    })
 }
 
 #[cfg(test)]

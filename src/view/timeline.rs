@@ -114,8 +114,8 @@ pub struct Tick {
 
 /// Tick steps the ruler chooses from, in seconds.
 const STEPS_S: [f64; 20] = [
-    0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 15.0, 30.0, 60.0, 120.0, 300.0,
-    600.0, 1800.0,
+    0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 15.0, 30.0, 60.0, 120.0, 300.0, 600.0,
+    1800.0,
 ];
 
 /// The ruler's step: the smallest of [`STEPS_S`] at least `min_px` pixels apart when the window
