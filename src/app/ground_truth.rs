@@ -355,7 +355,7 @@ pub fn GroundTruthPanel(state: AppState) -> impl IntoView {
             </div>
             <p id="truth-error" class="ms-truth-error" role="alert" hidden=move || error().is_empty()>{error}</p>
             <p id="truth-applied" class="ms-truth-applied" aria-live="polite" hidden=move || applied().is_empty()>{applied}</p>
-            <RowExports id="truth" what="the ground truth" row=row/>
+            <RowExports state=state id="truth" what="the ground truth" row=row/>
         </section>
     }
 }

@@ -846,7 +846,7 @@ pub fn MyLabelsTools(mine: MyRow) -> impl IntoView {
                         mine.edit(|m| { m.clear(); Ok(()) }, Some("Cleared: nothing of this take is stored any more (Undo brings the labels back)".into()));
                     }>"Clear"</button>
             </div>
-            <RowExports id="my-labels" what="my labels" row=state.mine.into()/>
+            <RowExports state=state id="my-labels" what="my labels" row=state.mine.into()/>
             <span id="my-labels-train-status" class="ms-my-status" role="status" aria-live="polite" hidden=move || train_text().is_empty()>
                 {train_text}
             </span>

@@ -2,13 +2,16 @@
 //! row as segmentation JSON (`#<id>-export-json`), as the label CSV `file,start_frame,end_frame,label`
 //! (`#<id>-export-csv`), and each of its labelled segments (its actions: an unlabelled stretch of
 //! "my labels" is a transition) as a BVH clip cut from the file on screen, in one
-//! zip (`#<id>-export-clips`, cut by the worker: [`Loader::export_clips_of`]).
+//! zip (`#<id>-export-clips`, cut by the worker: [`Loader::export_clips_of`]), or the segment
+//! selected on the row (its timeline row's id starts with `<id>`) alone as a BVH
+//! (`#<id>-export-clip`); `#<id>-export-origin` starts each clip at the origin facing +Z.
 //! `#<id>-export-status` says what was saved or why not. The buttons are disabled while the row
-//! is empty. A method's panel has its own exports (choosing actions or primitives, a selected
-//! segment, clips at the origin): `method_panel::Exports`.
+//! is empty. A method's panel has its own exports (choosing actions or primitives):
+//! `method_panel::Exports`.
 
 use super::loader::Loader;
 use super::motion_image::{download, stem};
+use super::AppState;
 use crate::clips::Which;
 use crate::labels::{from_segmentation, to_csv};
 use crate::segment::Segmentation;
@@ -19,8 +22,14 @@ use std::sync::Arc;
 /// the prefix of the elements' ids and of the files' names (`<take>_<id>.json`); `what` names the
 /// row in the buttons' labels ("my labels", "the ground truth").
 #[component]
-pub fn RowExports(id: &'static str, what: &'static str, row: Signal<Option<Arc<Segmentation>>>) -> impl IntoView {
+pub fn RowExports(
+    state: AppState,
+    id: &'static str,
+    what: &'static str,
+    row: Signal<Option<Arc<Segmentation>>>,
+) -> impl IntoView {
     let status = RwSignal::new(None::<(bool, String)>);
+    let origin = RwSignal::new(false);
     let empty = move || row.with(|r| r.as_ref().is_none_or(|s| s.segments.is_empty()));
     let save = move |bytes: &[u8], mime: &str, file: String, rows: Option<usize>| {
         status.set(Some(match download(bytes, mime, &file) {
@@ -43,14 +52,26 @@ pub fn RowExports(id: &'static str, what: &'static str, row: Signal<Option<Arc<S
         }
     };
     let loader = use_context::<StoredValue<Loader, LocalStorage>>();
-    let on_clips = move |_| match (row.get_untracked(), loader) {
+    let cut = move |which: Which, only: Option<(usize, usize)>| match (row.get_untracked(), loader) {
         (Some(seg), Some(loader)) => {
-            loader.with_value(|l| l.export_clips_of(&seg, Which::Actions, false, None, status))
+            loader.with_value(|l| l.export_clips_of(&seg, which, origin.get_untracked(), only, status))
         }
         _ => status.set(Some((true, "nothing to cut".into()))),
     };
+    let on_clips = move |_| cut(Which::Actions, None);
+    // the segment selected on this row, if it is one of the row's
+    let selected = move || {
+        let picked = state.selected.with(|s| s.as_ref().filter(|s| s.row.starts_with(id)).map(|s| (s.start, s.end)))?;
+        row.with(|r| r.as_ref().is_some_and(|r| r.segments.iter().any(|s| (s.start, s.end) == picked)))
+            .then_some(picked)
+    };
+    let on_clip = move |_| {
+        if let Some(picked) = selected() {
+            cut(Which::All, Some(picked));
+        }
+    };
     view! {
-        <div class="ms-my-group" role="group" aria-label=format!("Export {what}")>
+        <div class="ms-my-group ms-row-exports" role="group" aria-label=format!("Export {what}")>
             <button id=format!("{id}-export-json") class="ms-button ms-button--quiet" type="button"
                 aria-label=format!("Save {what} as segmentation JSON") disabled=empty on:click=on_json>"JSON"</button>
             <button id=format!("{id}-export-csv") class="ms-button ms-button--quiet" type="button"
@@ -59,6 +80,17 @@ pub fn RowExports(id: &'static str, what: &'static str, row: Signal<Option<Arc<S
                 aria-label=format!("Save each segment of {what} as its own BVH clip, in one zip")
                 title="Each segment as its own BVH clip cut from the original file, in one zip"
                 disabled=empty on:click=on_clips>"BVH clips (zip)"</button>
+            <button id=format!("{id}-export-clip") class="ms-button ms-button--quiet" type="button"
+                aria-label=format!("Save the segment selected on the row of {what} as a BVH clip")
+                title="Select a segment of this row on the timeline to save it alone"
+                disabled=move || selected().is_none() on:click=on_clip>"Selected segment as BVH"</button>
+            <label class="ms-exports-field">
+                <input id=format!("{id}-export-origin") type="checkbox"
+                    aria-label=format!("Clips of {what} start at the origin facing +Z")
+                    prop:checked=move || origin.get()
+                    on:change=move |ev| origin.set(event_target_checked(&ev))/>
+                " clips start at the origin facing +Z"
+            </label>
             <span id=format!("{id}-export-status") class="ms-exports-status"
                 class:ms-exports-status--error=move || status.get().is_some_and(|(e, _)| e)
                 role="status" aria-live="polite">

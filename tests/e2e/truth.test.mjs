@@ -197,6 +197,18 @@ test("the ground truth exports as read against the take: JSON the CLI scores as 
     assert.equal(Number(body.match(/^Frames:\s*(\d+)/m)[1]), row[i][1] - row[i][0] + 1, `${name}: Frames`);
   });
   assert.match(await text(page, "#truth-export-status"), /\(5 clips\)/);
+  // the segment selected on the truth row alone, at the origin: its frames, its root over (0, y, 0)
+  assert.ok(await page.isDisabled("#truth-export-clip"), "nothing selected: the button is disabled");
+  await page.locator("#row-truth .ms-seg").nth(2).click();
+  await page.locator("#truth-export-clip:not([disabled])").waitFor();
+  await page.check("#truth-export-origin");
+  const one = await download(page, "#truth-export-clip", "truth-selected.bvh");
+  assert.match(one.name, /KneeRaise\.bvh$/);
+  const body = one.bytes.toString("utf8");
+  assert.equal(Number(body.match(/^Frames:\s*(\d+)/m)[1]), row[2][1] - row[2][0] + 1, "the selected segment's frames");
+  const first = body.split(/\r?\n/)[body.split(/\r?\n/).findIndex((l) => l.startsWith("Frame Time")) + 1].trim().split(/\s+/).map(Number);
+  assert.ok(Math.abs(first[0]) < 1e-3 && Math.abs(first[2]) < 1e-3, `the clip starts over the origin: ${first.slice(0, 3)}`);
+  await page.uncheck("#truth-export-origin");
   assertClean(opened);
 });
 
@@ -371,6 +383,13 @@ test("my labels start from the ground truth, score as it against itself, and exp
   const zip = await download(page, "#my-labels-export-clips");
   assert.equal(zip.bytes.subarray(0, 4).toString("binary"), "PK\u0003\u0004");
   assert.match(await text(page, "#my-labels-export-status"), new RegExp(`\\(${labelled.length} clips?\\)`));
+  // one of my segments alone, as a BVH clip of its frames
+  const mine = page.locator("#row-my-labels .ms-seg[data-label]").nth(1);
+  const [ms, me] = [Number(await mine.getAttribute("data-start")), Number(await mine.getAttribute("data-end"))];
+  await mine.click();
+  await page.locator("#my-labels-export-clip:not([disabled])").waitFor();
+  const clip = await download(page, "#my-labels-export-clip", "truth-my-labels-selected.bvh");
+  assert.equal(Number(clip.bytes.toString("utf8").match(/^Frames:\s*(\d+)/m)[1]), me - ms + 1, "my selected segment's frames");
   await shot(page, "truth-7-my-labels-from-truth.png");
   // the colour is the label's, not its place in the file: the same labels in the other order keep theirs
   const [first, second] = [...truthColour.keys()];
