@@ -9,7 +9,10 @@
 //!   selected one outlined (`ms-seg--selected`). Each boundary is a handle `.ms-my-handle`
 //!   (`data-cut`: the first frame after it) with a resize cursor: dragging it moves it (a shared
 //!   boundary moves both segments), snapping to the other rows' boundaries within
-//!   [`SNAP_PX`] pixels. Clicking a segment selects it and moves the playhead to the frame clicked.
+//!   [`SNAP_PX`] pixels. A handle takes the focus (Tab): ← / → move it one frame, with Shift one
+//!   second (a focusable `separator` with `aria-valuenow`, as the ARIA window-splitter pattern
+//!   has it), each step an undoable edit. Clicking a segment selects it and moves the playhead to
+//!   the frame clicked.
 //! * `#my-labels-tools` (under the timeline): `#my-labels-source` + `#my-labels-copy` (copy a row),
 //!   `#my-labels-empty`, `#my-labels-split` (at the playhead), `#my-labels-merge` (with the next),
 //!   `#my-labels-fill` (the gap under the playhead), `#my-labels-label` (with the labels of every
@@ -59,13 +62,14 @@ pub const ROW: &str = "my-labels";
 const MAX_SEGMENTS: usize = 120;
 
 /// Shortcuts of the row, listed in the help overlay after the timeline's.
-pub const SHORTCUTS: [(&str, &str); 6] = [
+pub const SHORTCUTS: [(&str, &str); 7] = [
     ("Ctrl or ⌘ + Z", "undo the last edit of my labels"),
     ("Ctrl or ⌘ + Shift + Z, Ctrl + Y", "redo it"),
     ("S", "my labels: split the segment under the playhead at the playhead"),
     ("M", "my labels: merge the selected segment with the next one"),
     ("Delete / Backspace", "my labels: delete the selected segment (its frames become a gap)"),
     ("Drag a boundary of my labels", "move it; it snaps to the other rows' boundaries within 8 px"),
+    ("Tab to a boundary of my labels, ← / →", "move it one frame (with Shift: one second)"),
 ];
 
 #[wasm_bindgen]
@@ -444,6 +448,34 @@ impl MyRow {
         Some((w.start + (client_x - rect.left()) / rect.width() * w.span(), rect.width()))
     }
 
+    /// Moves boundary `cut` by `by` frames from the keyboard (one undoable edit) and keeps the
+    /// focus on its handle, drawn again at its new frame.
+    fn nudge(self, cut: usize, by: isize) {
+        let to = cut.saturating_add_signed(by);
+        let mut landed = cut;
+        let moved = self.edit(
+            |m| {
+                landed = m.move_boundary(cut, to)?;
+                Ok(())
+            },
+            None,
+        );
+        if !moved {
+            return;
+        }
+        let limit = if landed == cut { " (as far as it goes)" } else { "" };
+        self.say(false, format!("Boundary before frame {}{limit}", landed + 1));
+        // the handles are drawn again after this event: focus the new one then
+        gloo::timers::callback::Timeout::new(0, move || {
+            let selector = format!("#row-my-labels .ms-my-handle[data-cut=\"{landed}\"]");
+            let handle = gloo::utils::document().query_selector(&selector).ok().flatten();
+            if let Some(h) = handle.and_then(|h| h.dyn_into::<web_sys::HtmlElement>().ok()) {
+                let _ = h.focus();
+            }
+        })
+        .forget();
+    }
+
     /// Starts dragging boundary `cut`.
     fn grab(self, cut: usize, ev: &PointerEvent) {
         if ev.button() != 0 {
@@ -658,9 +690,24 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
             cuts.into_iter()
                 .map(|cut| {
                     let label = if cut >= frames {
-                        format!("End of my last segment, after frame {cut}: drag to move")
+                        format!("End of my last segment, after frame {cut}: drag, or ← / → (Shift: 1 s), to move")
                     } else {
-                        format!("Boundary before frame {}: drag to move", cut + 1)
+                        format!("Boundary before frame {}: drag, or ← / → (Shift: 1 s), to move", cut + 1)
+                    };
+                    let on_key = move |ev: KeyboardEvent| {
+                        let step = if ev.shift_key() { state.fps().round().max(1.0) as isize } else { 1 };
+                        let by = match ev.key().as_str() {
+                            "ArrowLeft" => -step,
+                            "ArrowRight" => step,
+                            _ => return,
+                        };
+                        if ev.ctrl_key() || ev.meta_key() || ev.alt_key() {
+                            return;
+                        }
+                        // the timeline's own ← / → (a frame, a second) must not act as well
+                        ev.prevent_default();
+                        ev.stop_propagation();
+                        mine.nudge(cut, by);
                     };
                     view! {
                         <div
@@ -670,9 +717,14 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
                             data-cut=cut.to_string()
                             role="separator"
                             aria-orientation="vertical"
+                            tabindex="0"
+                            aria-valuemin="1"
+                            aria-valuemax=(frames + 1).to_string()
+                            aria-valuenow=(cut + 1).to_string()
                             aria-label=label.clone()
                             title=label
                             on:pointerdown=move |ev: PointerEvent| mine.grab(cut, &ev)
+                            on:keydown=on_key
                         ></div>
                     }
                 })

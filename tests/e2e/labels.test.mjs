@@ -243,6 +243,46 @@ test("drag a boundary with the mouse: it moves by the frames dragged, and snaps 
   assertClean(opened);
 });
 
+test("a boundary moves from the keyboard: its handle takes the focus, ← / → a frame, Shift a second, each step undoable", async () => {
+  const { cut, left, right } = await sharedBoundary(40);
+  const pair = async () => {
+    const s = await spans();
+    return [s.find((x) => x.start === left.start), s.find((x) => x.end === right.end)];
+  };
+  await seek(cut);
+  const handle = (c) => page.locator(`#row-my-labels .ms-my-handle[data-cut="${c}"]`);
+  assert.equal(await handle(cut).getAttribute("tabindex"), "0", "the handle is in the tab order");
+  assert.equal(await handle(cut).getAttribute("aria-valuenow"), String(cut + 1), "its value is the frame after it (1-based)");
+  await handle(cut).focus();
+  await page.keyboard.press("ArrowRight");
+  await until(async () => (await pair())[1]?.start === cut + 1, "one frame right");
+  // the focus stays on the handle, now one frame on, so the next key moves it again
+  assert.equal(await page.evaluate(() => document.activeElement?.dataset.cut), String(cut + 1), "the moved handle keeps the focus");
+  await page.keyboard.press("ArrowRight");
+  await until(async () => (await pair())[1]?.start === cut + 2, "two frames right");
+  // Shift: one second (the sample runs at 120 fps), towards the longer neighbour
+  const fps = 120;
+  const sign = left.end - left.start > fps + 4 ? -1 : 1;
+  assert.ok(sign < 0 || right.end - (cut + 2) > fps + 4, "room for a second's step");
+  const to = cut + 2 + sign * fps;
+  await page.keyboard.press(sign < 0 ? "Shift+ArrowLeft" : "Shift+ArrowRight");
+  await until(async () => (await pair())[1]?.start === to, "a second's step");
+  const [l, r] = await pair();
+  assert.deepEqual(l, { ...left, end: to - 1 }, "the left segment ends before the boundary");
+  assert.deepEqual(r, { ...right, start: to }, "the right segment starts at it");
+  assert.match(await text(page, "#my-labels-status"), new RegExp(`Boundary before frame ${to + 1}\\b`));
+  assert.equal(await handle(to).getAttribute("aria-valuenow"), String(to + 1));
+  // the timeline's own ← / → did not act: the playhead stayed where it was
+  assert.equal(await frame(), cut, "the playhead did not step with the handle");
+  // three steps, three undos
+  for (const want of [cut + 2, cut + 1, cut]) {
+    await page.click("#my-labels-undo");
+    await until(async () => (await pair())[1]?.start === want, `undo back to ${want}`);
+  }
+  assert.deepEqual(await pair(), [left, right]);
+  assertClean(opened);
+});
+
 test("split at the playhead, merge, relabel with suggestions, delete; undo/redo with buttons and keys", async () => {
   const before = await spans();
   // segments wide enough to click at the whole take's zoom (besides their boundary handles)
