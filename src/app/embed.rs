@@ -73,7 +73,19 @@ pub fn start(state: AppState, loader: &Loader, urls: &Urls, launch: &Launch, not
     let expected = match &params.src {
         Some(src) => {
             let name = url_params::file_name(src);
-            loader.load_src(src.clone(), name.clone(), fetch_src(src.clone()));
+            let (src, asf) = (src.clone(), params.asf.clone());
+            let fetch = async move {
+                // an AMC's skeleton first: its failure is the one to report
+                let skeleton = match asf {
+                    Some(asf) => {
+                        let bytes = fetch_src("asf", asf.clone()).await?;
+                        Some((url_params::file_name(&asf), js_sys::Uint8Array::new(&bytes).to_vec()))
+                    }
+                    None => None,
+                };
+                Ok((fetch_src("src", src).await?, skeleton))
+            };
+            loader.load_src(params.src.clone().unwrap_or_default(), name.clone(), fetch);
             name
         }
         None => {
@@ -113,32 +125,34 @@ pub fn start(state: AppState, loader: &Loader, urls: &Urls, launch: &Launch, not
     });
 }
 
-/// Fetches the `src=` file: refused before asking when the page's Content-Security-Policy does
-/// not allow its origin; every failure says what happened, naming the URL.
-async fn fetch_src(src: String) -> Result<ArrayBuffer, String> {
+/// Fetches the file of parameter `param` (`src`, `asf`): refused before asking when the page's
+/// Content-Security-Policy does not allow its origin; every failure says what happened, naming
+/// the parameter and its URL.
+async fn fetch_src(param: &'static str, src: String) -> Result<ArrayBuffer, String> {
     let href = location_part("href");
     let page_origin = location_part("origin");
-    let url =
-        web_sys::Url::new_with_base(&src, &href).map_err(|e| format!("src={src}: not a URL ({})", js_message(&e)))?;
+    let url = web_sys::Url::new_with_base(&src, &href)
+        .map_err(|e| format!("{param}={src}: not a URL ({})", js_message(&e)))?;
     let origin = url.origin();
     let cross = origin != page_origin;
     if cross && !url_params::connect_src_allows(&page_csp(), &page_origin, &origin) {
-        return Err(url_params::csp_refused(&src, &origin, &page_origin));
+        return Err(url_params::csp_refused(param, &src, &origin, &page_origin));
     }
     let cross_origin = cross.then_some((origin.as_str(), page_origin.as_str()));
     let window = web_sys::window().ok_or("no window")?;
     let response: FetchResponse = JsFuture::from(window.fetch_with_str(&url.href()))
         .await
-        .map_err(|e| url_params::fetch_failed(&src, cross_origin, &js_message(&e)))?
+        .map_err(|e| url_params::fetch_failed(param, &src, cross_origin, &js_message(&e)))?
         .unchecked_into();
     if !response.ok() {
-        return Err(url_params::http_failed(&src, response.status(), &response.status_text()));
+        return Err(url_params::http_failed(param, &src, response.status(), &response.status_text()));
     }
-    let body = response.array_buffer().map_err(|e| url_params::fetch_failed(&src, cross_origin, &js_message(&e)))?;
+    let body =
+        response.array_buffer().map_err(|e| url_params::fetch_failed(param, &src, cross_origin, &js_message(&e)))?;
     JsFuture::from(body)
         .await
         .map(JsCast::unchecked_into)
-        .map_err(|e| url_params::fetch_failed(&src, cross_origin, &js_message(&e)))
+        .map_err(|e| url_params::fetch_failed(param, &src, cross_origin, &js_message(&e)))
 }
 
 /// The content of the page's Content-Security-Policy `<meta>` (empty when it has none).

@@ -215,19 +215,20 @@ impl Loader {
     }
 
     /// Loads the file at `url` (the URL parameter `src`), shown as `name`: `fetch` gets its bytes
-    /// or the message to show (naming the URL); the parser's refusal is shown naming the URL too.
+    /// (and, for an AMC motion, its ASF skeleton's name and bytes: the parameter `asf`) or the
+    /// message to show (naming the URL); the parser's refusal is shown naming the URL too.
     pub fn load_src(
         &self,
         url: String,
         name: String,
-        fetch: impl std::future::Future<Output = Result<ArrayBuffer, String>> + 'static,
+        fetch: impl std::future::Future<Output = Result<(ArrayBuffer, Option<(String, Vec<u8>)>), String>> + 'static,
     ) {
         let inner = self.0.clone();
         let id = begin(&inner, &name);
         *inner.src_take.borrow_mut() = Some((id, url));
         wasm_bindgen_futures::spawn_local(async move {
             match fetch.await {
-                Ok(bytes) => send_load(&inner, id, &name, &bytes),
+                Ok((bytes, skeleton)) => send_load_with(&inner, id, &name, &bytes, skeleton),
                 Err(message) => {
                     inner.src_take.borrow_mut().take();
                     fail_load(&inner, id, message)

@@ -6,6 +6,10 @@
 //!   Content-Security-Policy (`connect-src`, checked by [`connect_src_allows`] before fetching)
 //!   and must answer with CORS headers; the messages ([`fetch_failed`], [`csp_refused`],
 //!   [`http_failed`]) say which of these went wrong.
+//! * `asf` — with an AMC motion in `src`, its ASF skeleton (a path or URL, as `src`): the CMU
+//!   originals open from a URL as they do when both files are dropped
+//!   (`?src=data/02_01.amc&asf=data/02.asf`). An AMC without `asf`, or an `asf` without an AMC,
+//!   is refused with a message saying what to add ([`Parsed::messages`]).
 //! * `methods` — the registry names of the methods that run after the load (comma separated);
 //!   absent: every method whose `auto_run` is set; empty: none.
 //! * `t` — where playback starts, in seconds (`12.5`, `12.5s` or `0:12.5`); a time past the end
@@ -17,13 +21,15 @@
 //! [`Parsed::messages`] says why, naming the parameter and what it accepts.
 
 /// The parameters the page knows, in the order the messages list them.
-pub const KNOWN: [&str; 5] = ["src", "methods", "t", "autoplay", "embed"];
+pub const KNOWN: [&str; 6] = ["src", "asf", "methods", "t", "autoplay", "embed"];
 
 /// What the URL asks of the page.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct UrlParams {
     /// The file to load (as written, trimmed); `None`: the bundled sample.
     pub src: Option<String>,
+    /// The ASF skeleton of the AMC motion `src` (as written, trimmed); only with an `.amc` `src`.
+    pub asf: Option<String>,
     /// Registry names of the methods to run after a load, each once, in the URL's order;
     /// `None`: the methods whose `auto_run` is set.
     pub methods: Option<Vec<String>>,
@@ -52,13 +58,17 @@ pub fn parse(query: &str, known_methods: &[&str]) -> Parsed {
         }
         seen.push(name.clone());
         match name.as_str() {
-            "src" => match check_src(&value) {
-                Ok(src) => out.params.src = Some(src),
-                Err(message) => {
-                    out.params.src = None;
-                    out.messages.push(message);
+            "src" | "asf" => {
+                let checked = check_url(&name, &value);
+                let slot = if name == "src" { &mut out.params.src } else { &mut out.params.asf };
+                match checked {
+                    Ok(url) => *slot = Some(url),
+                    Err(message) => {
+                        *slot = None;
+                        out.messages.push(message);
+                    }
                 }
-            },
+            }
             "methods" => {
                 let (methods, messages) = parse_methods(&value, known_methods);
                 out.params.methods = Some(methods);
@@ -88,7 +98,40 @@ pub fn parse(query: &str, known_methods: &[&str]) -> Parsed {
             _ => out.messages.push(format!("unknown parameter `{key}` ignored; the page reads {}", KNOWN.join(", "))),
         }
     }
+    pair_amc_with_asf(&mut out);
     out
+}
+
+/// Whether `url` names an AMC motion (by its file name's extension).
+fn is_amc(url: &str) -> bool {
+    file_name(url).to_ascii_lowercase().ends_with(".amc")
+}
+
+/// An AMC motion is read with its ASF skeleton: both or neither. What is missing is said, and
+/// the half given is dropped (the bundled sample is shown instead of a lone AMC).
+fn pair_amc_with_asf(out: &mut Parsed) {
+    let params = &mut out.params;
+    match (&params.src, &params.asf) {
+        (Some(src), None) if is_amc(src) => {
+            out.messages.push(format!(
+                "src={src} is an AMC motion, which needs its skeleton: add asf= with the URL of its .asf file                  (e.g. ?src=02_01.amc&asf=02.asf). The bundled sample is shown"
+            ));
+            params.src = None;
+        }
+        (None, Some(asf)) => {
+            out.messages.push(format!(
+                "asf={asf} is ignored: it is the skeleton of an AMC motion, and no src= names one                  (e.g. ?src=02_01.amc&asf=02.asf)"
+            ));
+            params.asf = None;
+        }
+        (Some(src), Some(asf)) if !is_amc(src) => {
+            out.messages.push(format!(
+                "asf={asf} is ignored: a skeleton is read only with an AMC motion, and src={src} is not an .amc file"
+            ));
+            params.asf = None;
+        }
+        _ => {}
+    }
 }
 
 /// The `key=value` pairs of a query, decoded as `URLSearchParams` does (`+` is a space, `%XX`
@@ -152,15 +195,19 @@ fn scheme(url: &str) -> Option<&str> {
     (first.is_ascii_alphabetic() && chars.all(|c| c.is_ascii_alphanumeric() || "+-.".contains(c))).then_some(head)
 }
 
-fn check_src(value: &str) -> Result<String, String> {
-    let src = value.trim();
-    if src.is_empty() {
-        return Err("src is empty: give the file to load, e.g. src=www/sample.bvh; the bundled sample is shown".into());
+/// The file parameter `name` (`src`, `asf`): a path on this site or an http(s) URL.
+fn check_url(name: &str, value: &str) -> Result<String, String> {
+    let url = value.trim();
+    if url.is_empty() {
+        return Err(format!(
+            "{name} is empty: give the file to load, e.g. {name}=www/sample.{}; the bundled sample is shown",
+            if name == "asf" { "asf" } else { "bvh" }
+        ));
     }
-    match scheme(src).map(str::to_ascii_lowercase).as_deref() {
-        None | Some("http") | Some("https") => Ok(src.to_string()),
+    match scheme(url).map(str::to_ascii_lowercase).as_deref() {
+        None | Some("http") | Some("https") => Ok(url.to_string()),
         Some(other) => Err(format!(
-            "src={src}: a `{other}:` URL cannot be loaded; give a path on this site (www/take.bvh) or an http(s) URL. \
+            "{name}={url}: a `{other}:` URL cannot be loaded; give a path on this site (www/take.bvh) or an http(s) URL. \
              The bundled sample is shown"
         )),
     }
@@ -376,18 +423,19 @@ fn default_port(scheme: &str) -> String {
     }
 }
 
-/// The message when the page's Content-Security-Policy does not allow fetching `url` (on
+/// The message when the page's Content-Security-Policy does not allow fetching `url` (given as
+/// parameter `param`, `src` or `asf`; on
 /// `origin`) from a page on `page_origin`.
-pub fn csp_refused(url: &str, origin: &str, page_origin: &str) -> String {
+pub fn csp_refused(param: &str, url: &str, origin: &str, page_origin: &str) -> String {
     format!(
-        "src={url}: not loaded: {origin} is another origin, and this page's Content-Security-Policy lets it fetch \
+        "{param}={url}: not loaded: {origin} is another origin, and this page's Content-Security-Policy lets it fetch \
          files from {page_origin} only (connect-src). Copy the file next to the page, or, on a site you host, add \
          {origin} to connect-src in index.html (README, \"Embedding\")"
     )
 }
 
 /// The message when the server answered `url` with an HTTP error.
-pub fn http_failed(url: &str, status: u16, status_text: &str) -> String {
+pub fn http_failed(param: &str, url: &str, status: u16, status_text: &str) -> String {
     let what = match status {
         404 | 410 => "there is no such file",
         401 | 403 => "the server refuses to give it",
@@ -395,18 +443,18 @@ pub fn http_failed(url: &str, status: u16, status_text: &str) -> String {
         _ => "the server refused the request",
     };
     let text = if status_text.is_empty() { String::new() } else { format!(" {status_text}") };
-    format!("src={url}: not loaded: HTTP {status}{text} ({what})")
+    format!("{param}={url}: not loaded: HTTP {status}{text} ({what})")
 }
 
 /// The message when fetching `url` failed without an answer (`error`: the browser's words):
 /// for another origin, most often a server that sends no CORS header for this page.
-pub fn fetch_failed(url: &str, cross_origin: Option<(&str, &str)>, error: &str) -> String {
+pub fn fetch_failed(param: &str, url: &str, cross_origin: Option<(&str, &str)>, error: &str) -> String {
     match cross_origin {
         Some((origin, page_origin)) => format!(
-            "src={url}: not loaded ({error}): {origin} did not let this page read the file — it must answer with \
+            "{param}={url}: not loaded ({error}): {origin} did not let this page read the file — it must answer with \
              Access-Control-Allow-Origin: {page_origin} (or *) — or it could not be reached"
         ),
-        None => format!("src={url}: not loaded ({error}): the server could not be reached"),
+        None => format!("{param}={url}: not loaded ({error}): the server could not be reached"),
     }
 }
 
@@ -441,6 +489,7 @@ mod tests {
             parsed.params,
             UrlParams {
                 src: Some("www/02_01.bvh".into()),
+                asf: None,
                 methods: Some(vec!["sssm".into(), "dtfcn".into()]),
                 t: Some(12.5),
                 autoplay: true,
@@ -448,6 +497,36 @@ mod tests {
             }
         );
         assert!(parsed.messages.is_empty(), "{:?}", parsed.messages);
+    }
+
+    #[test]
+    fn an_amc_src_needs_its_asf_and_an_asf_needs_an_amc() {
+        let both = p("?src=data/02_01.AMC&asf=https://a.org/02.asf");
+        assert_eq!(both.params.src.as_deref(), Some("data/02_01.AMC"));
+        assert_eq!(both.params.asf.as_deref(), Some("https://a.org/02.asf"));
+        assert!(both.messages.is_empty(), "{:?}", both.messages);
+        // in either order
+        assert_eq!(p("asf=02.asf&src=02_01.amc").params, both_of("02_01.amc", "02.asf"));
+        // an AMC alone: the sample, and what to add
+        let alone = p("src=02_01.amc");
+        assert_eq!(alone.params.src, None);
+        assert!(alone.messages[0].contains("src=02_01.amc is an AMC motion") && alone.messages[0].contains("asf="));
+        // a skeleton without an AMC: ignored, saying why
+        let lone = p("asf=02.asf");
+        assert_eq!((lone.params.src.clone(), lone.params.asf.clone()), (None, None));
+        assert!(lone.messages[0].starts_with("asf=02.asf is ignored") && lone.messages[0].contains("no src="));
+        let with_bvh = p("src=a.bvh&asf=02.asf");
+        assert_eq!((with_bvh.params.src.as_deref(), with_bvh.params.asf.clone()), (Some("a.bvh"), None));
+        assert!(with_bvh.messages[0].contains("src=a.bvh is not an .amc file"), "{:?}", with_bvh.messages);
+        // an asf that cannot be fetched is refused as src is, by its own name; then the AMC is alone
+        let bad = p("src=02_01.amc&asf=data:x");
+        assert!(bad.messages[0].starts_with("asf=data:x: a `data:` URL cannot be loaded"), "{:?}", bad.messages);
+        assert_eq!(bad.params.src, None);
+        assert!(p("src=a.amc&asf=").messages[0].starts_with("asf is empty"));
+    }
+
+    fn both_of(src: &str, asf: &str) -> UrlParams {
+        UrlParams { src: Some(src.into()), asf: Some(asf.into()), ..UrlParams::default() }
     }
 
     #[test]
@@ -584,7 +663,7 @@ mod tests {
         assert_eq!(parsed.messages.len(), 2, "{:?}", parsed.messages);
         assert_eq!(
             parsed.messages[0],
-            "unknown parameter `method` ignored; the page reads src, methods, t, autoplay, embed"
+            "unknown parameter `method` ignored; the page reads src, asf, methods, t, autoplay, embed"
         );
         assert_eq!(parsed.messages[1], "t is given more than once; the last one (t=3) is used");
     }
@@ -665,14 +744,15 @@ mod tests {
 
     #[test]
     fn messages_name_the_url_and_what_happened() {
-        let m = http_failed("www/none.bvh", 404, "File not found");
+        let m = http_failed("src", "www/none.bvh", 404, "File not found");
         assert_eq!(m, "src=www/none.bvh: not loaded: HTTP 404 File not found (there is no such file)");
-        assert!(http_failed("x", 500, "").contains("HTTP 500 (the server failed)"));
-        let m = csp_refused("http://localhost:8080/a.bvh", "http://localhost:8080", PAGE);
+        assert!(http_failed("src", "x", 500, "").contains("HTTP 500 (the server failed)"));
+        assert!(http_failed("asf", "02.asf", 404, "").starts_with("asf=02.asf: not loaded: HTTP 404"));
+        let m = csp_refused("src", "http://localhost:8080/a.bvh", "http://localhost:8080", PAGE);
         assert!(m.starts_with("src=http://localhost:8080/a.bvh: not loaded:") && m.contains("connect-src"), "{m}");
-        let m = fetch_failed("https://a.org/a.bvh", Some(("https://a.org", PAGE)), "Failed to fetch");
+        let m = fetch_failed("src", "https://a.org/a.bvh", Some(("https://a.org", PAGE)), "Failed to fetch");
         assert!(m.contains("Access-Control-Allow-Origin: http://127.0.0.1:8080"), "{m}");
-        let m = fetch_failed("a.bvh", None, "Failed to fetch");
+        let m = fetch_failed("src", "a.bvh", None, "Failed to fetch");
         assert_eq!(m, "src=a.bvh: not loaded (Failed to fetch): the server could not be reached");
         assert_eq!(
             load_failed("a.bvh", "a.bvh: line 1: expected HIERARCHY"),

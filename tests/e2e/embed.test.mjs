@@ -11,12 +11,12 @@
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { execFileSync } from "node:child_process";
-import { appendFileSync, cpSync, mkdtempSync, readFileSync, rmSync, statSync } from "node:fs";
+import { appendFileSync, copyFileSync, cpSync, mkdirSync, mkdtempSync, readFileSync, rmSync, statSync } from "node:fs";
 import http from "node:http";
 import os from "node:os";
 import path from "node:path";
 import {
-  BASE_URL, OUT, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, openPage, shot, text, until, waitData,
+  BASE_URL, FIXTURES, OUT, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, openPage, shot, text, until, waitData,
 } from "./harness.mjs";
 
 const METHODS = ["sssm", "velocity", "kcs", "pca", "lma", "knn", "dtfcn"];
@@ -164,6 +164,32 @@ test("a bad src= says which URL and what happened", async () => {
   // a scheme that is not http(s): refused in the notice, the sample instead
   await open(page, "?src=javascript:alert(1)&methods=", "sample.bvh");
   assert.match(await notice(page), /src=javascript:alert\(1\): a `javascript:` URL cannot be loaded/);
+  assertClean(opened);
+});
+
+test("src= an AMC with asf= its skeleton opens the CMU original (its BVH conversion's frames); a missing half is named", async () => {
+  // the fixtures served next to the page for this test only (the app's own files are untouched)
+  const dir = path.join(DIST, "e2e-data");
+  mkdirSync(dir, { recursive: true });
+  for (const f of ["02.asf", "02_01.amc"]) copyFileSync(path.join(FIXTURES, f), path.join(dir, f));
+  try {
+    await open(page, "?src=e2e-data/02_01.amc&asf=e2e-data/02.asf&methods=velocity&t=1.5", "02_01.amc");
+    // the same take as www/02_01.bvh (CMU 02_01 converted): its frames, at 120 fps
+    assert.match(await text(page, "#summary-frames"), new RegExp(`\\b${WALK_FRAMES}\\b`));
+    assert.deepEqual(await frameCounter(page), { n: 181, of: WALK_FRAMES });
+    await waitData(page, "velocity", "done");
+    assert.equal(await notice(page), "", "no notice");
+    await shot(page, "e2e-embed-asf-amc.png");
+    // an AMC alone: the sample, and the notice says to add asf=
+    await open(page, "?src=e2e-data/02_01.amc&methods=", "sample.bvh");
+    assert.match(await notice(page), /src=e2e-data\/02_01\.amc is an AMC motion, which needs its skeleton: add asf=/);
+    // a skeleton that is not there: named by its own parameter
+    await page.goto(url("?src=e2e-data/02_01.amc&asf=e2e-data/none.asf&methods="));
+    await waitData(page, "state", "error");
+    assert.match(await text(page, "#error-message"), /^asf=e2e-data\/none\.asf: not loaded: HTTP 404/);
+  } finally {
+    rmSync(dir, { recursive: true, force: true });
+  }
   assertClean(opened);
 });
 
