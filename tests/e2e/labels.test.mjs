@@ -258,6 +258,7 @@ test("a boundary moves from the keyboard: its handle takes the focus, ← / → 
   await until(async () => (await pair())[1]?.start === cut + 1, "one frame right");
   // the focus stays on the handle, now one frame on, so the next key moves it again
   assert.equal(await page.evaluate(() => document.activeElement?.dataset.cut), String(cut + 1), "the moved handle keeps the focus");
+  assert.equal(await page.evaluate(() => getComputedStyle(document.activeElement).outlineStyle), "solid", "the focused handle shows its focus");
   await page.keyboard.press("ArrowRight");
   await until(async () => (await pair())[1]?.start === cut + 2, "two frames right");
   // Shift: one second (the sample runs at 120 fps), towards the longer neighbour
