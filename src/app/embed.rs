@@ -73,7 +73,7 @@ pub fn start(state: AppState, loader: &Loader, urls: &Urls, launch: &Launch, not
     let expected = match &params.src {
         Some(src) => {
             let name = url_params::file_name(src);
-            let (src, asf) = (src.clone(), params.asf.clone());
+            let (url, asf) = (src.clone(), params.asf.clone());
             let fetch = async move {
                 // an AMC's skeleton first: its failure is the one to report
                 let skeleton = match asf {
@@ -83,9 +83,9 @@ pub fn start(state: AppState, loader: &Loader, urls: &Urls, launch: &Launch, not
                     }
                     None => None,
                 };
-                Ok((fetch_src("src", src).await?, skeleton))
+                Ok((fetch_src("src", url).await?, skeleton))
             };
-            loader.load_src(params.src.clone().unwrap_or_default(), name.clone(), fetch);
+            loader.load_src(src.clone(), name.clone(), fetch);
             name
         }
         None => {

@@ -192,19 +192,20 @@ async function sharedBoundary(minLen) {
   const s = await spans();
   for (let i = 0; i + 1 < s.length; i++) {
     if (s[i].end + 1 === s[i + 1].start && s[i].end - s[i].start >= minLen && s[i + 1].end - s[i + 1].start >= minLen) {
-      return { i, cut: s[i + 1].start, left: s[i], right: s[i + 1] };
+      const [left, right] = [s[i], s[i + 1]];
+      // the two segments now, found by their outer ends (only the segments in the window are on screen)
+      const pair = async () => {
+        const now = await spans();
+        return [now.find((x) => x.start === left.start), now.find((x) => x.end === right.end)];
+      };
+      return { i, cut: right.start, left, right, pair };
     }
   }
   throw new Error(`no shared boundary between segments of ${minLen} frames: ${JSON.stringify(s)}`);
 }
 
 test("drag a boundary with the mouse: it moves by the frames dragged, and snaps to another row's boundary", async () => {
-  const { cut, left, right } = await sharedBoundary(40);
-  // the two segments, found by their outer ends (only the segments in the window are on screen)
-  const pair = async () => {
-    const s = await spans();
-    return [s.find((x) => x.start === left.start), s.find((x) => x.end === right.end)];
-  };
+  const { cut, left, right, pair } = await sharedBoundary(40);
   // zoomed in around the boundary: 8 px of snapping is a couple of frames
   await seek(cut);
   await keys("+", "+", "+");
@@ -244,11 +245,7 @@ test("drag a boundary with the mouse: it moves by the frames dragged, and snaps 
 });
 
 test("a boundary moves from the keyboard: its handle takes the focus, ← / → a frame, Shift a second, each step undoable", async () => {
-  const { cut, left, right } = await sharedBoundary(40);
-  const pair = async () => {
-    const s = await spans();
-    return [s.find((x) => x.start === left.start), s.find((x) => x.end === right.end)];
-  };
+  const { cut, left, right, pair } = await sharedBoundary(40);
   await seek(cut);
   const handle = (c) => page.locator(`#row-my-labels .ms-my-handle[data-cut="${c}"]`);
   assert.equal(await handle(cut).getAttribute("tabindex"), "0", "the handle is in the tab order");
