@@ -226,7 +226,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
     let table = move || {
         outcome.with(|o| match o {
             Outcome::Scored(id, scores, _) => {
-                let caption = format!("{} against {}", id, scores.trial);
+                let caption = format!("{} against {} — scored as {}", id, scores.trial, scores.scored_as.describe());
                 let body = lines(scores)
                     .into_iter()
                     .map(|l| {

@@ -11,8 +11,12 @@
 //!   outside every primitive are wrong); *tolerantly* correct also when it lies in an uncertainty window of the truth
 //!   (the annotators' `end_window_lo..hi`, or ± [`Tolerances::uncertain_s`] around a boundary where none is given).
 //!
-//! Action-level scores see the action and transition segments with every transition split at its middle between its
-//! neighbours (a leading transition goes to the first action, a trailing one to the last).
+//! **What is scored** ([`ScoredView`]): a segmentation with actions is scored as a *tiling* of the take — its action and
+//! transition segments with every transition split at its middle between its neighbours (a leading transition goes to
+//! the first action, a trailing one to the last); that is how action labels are annotated. A segmentation without
+//! actions (the gesture methods: velocity, KCS, LMA) is scored *as given*: its primitives as they are, gaps staying
+//! gaps and overlapping segments (LMA's two arms) overlapping; its boundaries are every segment's start and the frame
+//! after its end. The truth's boundaries are read the same way, so a gapped truth (spliced gestures) keeps its gaps.
 
 use std::collections::BTreeMap;
 
@@ -66,10 +70,37 @@ pub struct SegmentScore {
     pub similarity: f64,
 }
 
+/// How the scored segments were read from the segmentation (see the module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ScoredView {
+    /// Actions as a tiling of the take: transitions split at their middle, gaps stretched, the first action starting
+    /// at frame 0 and the last ending at the take's end.
+    Tiling,
+    /// The primitives exactly as given: gaps stay gaps, overlaps stay overlaps.
+    AsGiven,
+}
+
+impl ScoredView {
+    /// One line saying what was scored, for the page and the command line.
+    pub fn describe(self) -> &'static str {
+        match self {
+            ScoredView::Tiling => {
+                "actions as a tiling of the take (transitions split at their middle, gaps stretched to the neighbours)"
+            }
+            ScoredView::AsGiven => "primitives as given (gaps stay gaps, overlapping segments overlap)",
+        }
+    }
+}
+
 /// Every score of one segmentation against one truth.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Scores {
     pub trial: String,
+    /// How the scored segments were read: a tiling of actions, or primitives as given.
+    pub scored_as: ScoredView,
+    /// Segments of the truth.
+    pub true_segments: usize,
     pub true_boundaries: usize,
     pub predicted_boundaries: usize,
     pub boundaries: Vec<BoundaryScore>,
@@ -184,9 +215,23 @@ fn action_spans(seg: &Segmentation) -> Vec<Span> {
     spans
 }
 
-/// Frame indices where a new segment starts (all but the first segment's start).
-fn boundaries(starts: impl Iterator<Item = usize>) -> Vec<usize> {
-    let mut b: Vec<usize> = starts.filter(|&s| s > 0).collect();
+/// A segmentation without actions: its primitives exactly as given, in time order.
+fn primitive_spans(seg: &Segmentation) -> Vec<Span> {
+    let mut spans: Vec<Span> =
+        seg.level(Level::Primitive).map(|s| Span { start: s.start, end: s.end, key: cluster_key(s) }).collect();
+    spans.sort_by_key(|s| (s.start, s.end));
+    spans
+}
+
+/// The boundaries of intervals `(start, end)` as given: every start and every frame after an end, except the take's
+/// own first frame and the frame past its end. For a tiling these are the starts after the first; a gap between two
+/// segments gives two boundaries, one where it begins and one where it ends.
+fn boundaries(intervals: &[(usize, usize)], frames: usize) -> Vec<usize> {
+    let mut b: Vec<usize> = intervals
+        .iter()
+        .flat_map(|&(start, end)| [start, end.saturating_add(1)])
+        .filter(|&f| f > 0 && f < frames)
+        .collect();
     b.sort_unstable();
     b.dedup();
     b
@@ -230,16 +275,23 @@ fn jaccard(a: (usize, usize), b: (usize, usize)) -> f64 {
     inter as f64 / union as f64
 }
 
-/// Covering of the truth by the prediction (ClaSP / TSSB definition).
-fn covering(truth: &[(usize, usize)], pred: &[(usize, usize)], frames: usize) -> f64 {
+/// Covering of the truth by the prediction (ClaSP / TSSB definition): Σ over true segments of |g|·max Jaccard(g, p),
+/// divided by the frames the truth labels (the take's length when the truth tiles it, as in those papers).
+fn covering(truth: &[(usize, usize)], pred: &[(usize, usize)]) -> f64 {
+    let length = |g: (usize, usize)| (g.1 - g.0 + 1) as f64;
     let total: f64 = truth
         .iter()
         .map(|&g| {
             let best = pred.iter().map(|&p| jaccard(g, p)).fold(0.0, f64::max);
-            (g.1 - g.0 + 1) as f64 * best
+            length(g) * best
         })
         .sum();
-    total / frames.max(1) as f64
+    let labelled: f64 = truth.iter().map(|&g| length(g)).sum();
+    if labelled > 0.0 {
+        total / labelled
+    } else {
+        0.0
+    }
 }
 
 /// Per-frame keys of spans (None where no span covers the frame).
@@ -431,29 +483,35 @@ pub fn evaluate(seg: &Segmentation, truth: &Truth, tol: &Tolerances) -> Result<S
         return Err(MetricsError::LengthMismatch { seg: seg.frames, truth: truth.frames });
     }
     check_inputs(seg, truth)?;
-    let spans = action_spans(seg);
-    if spans.is_empty() && seg.level(Level::Primitive).next().is_none() {
+    let (scored_as, spans) = match scored_level(seg) {
+        Level::Action => (ScoredView::Tiling, action_spans(seg)),
+        _ => (ScoredView::AsGiven, primitive_spans(seg)),
+    };
+    if spans.is_empty() {
         return Err(MetricsError::Empty);
     }
-    let pred_b = boundaries(spans.iter().map(|s| s.start));
-    let true_b = boundaries(truth.segments.iter().map(|s| s.start));
-    let boundaries = tol.boundary_s.iter().map(|&t| boundary_score(&pred_b, &true_b, t, seg.fps)).collect();
-
     let true_iv: Vec<(usize, usize)> = truth.segments.iter().map(|s| (s.start, s.end)).collect();
     let pred_iv: Vec<(usize, usize)> = spans.iter().map(|s| (s.start, s.end)).collect();
-    let covering = covering(&true_iv, &pred_iv, truth.frames);
+    let pred_b = boundaries(&pred_iv, truth.frames);
+    let true_b = boundaries(&true_iv, truth.frames);
+    let boundaries = tol.boundary_s.iter().map(|&t| boundary_score(&pred_b, &true_b, t, seg.fps)).collect();
+
+    let covering = covering(&true_iv, &pred_iv);
     let segments = segment_score(&pred_iv, &true_iv, tol.boundary_s[0], seg.fps);
 
     let (truth_keys, labels) = truth_frames(truth);
+    let labelled = truth_keys.iter().flatten().count();
     let pred_keys = per_frame(&spans, truth.frames);
     let n_pred = pred_keys.iter().flatten().max().map_or(0, |m| m + 1);
     let table = contingency(&pred_keys, &truth_keys, n_pred, labels.len());
-    let hungarian_accuracy = hungarian_agreement(&table) as f64 / truth.frames.max(1) as f64;
+    let hungarian_accuracy = hungarian_agreement(&table) as f64 / labelled.max(1) as f64;
     let (strict_accuracy, tolerant_accuracy) = strict_tolerant(seg, truth, &truth_keys, labels.len(), tol);
     let labelling = labelling::score(&mapped_labels(&spans, &pred_keys, &labels, &table), &truth_keys);
 
     Ok(Scores {
         trial: truth.trial.clone(),
+        scored_as,
+        true_segments: truth.segments.len(),
         true_boundaries: true_b.len(),
         predicted_boundaries: pred_b.len(),
         boundaries,
@@ -661,6 +719,64 @@ mod tests {
         let scores = evaluate(&s, &truth, &Tolerances::default()).unwrap();
         assert_eq!((scores.predicted_boundaries, scores.boundaries[0].matched), (1, 1));
         assert!(scores.covering > 0.9, "{}", scores.covering);
+    }
+
+    #[test]
+    fn gestures_equal_to_the_truths_spans_with_gaps_score_as_given() {
+        // The case: three gestures equal to the truth's three spans, 2 s gaps (20 frames at
+        // 10 fps) between them. As given, every segment matches: s = 3 (the number of segments),
+        // boundary F1 1 at both tolerances, covering 1. (Stretched into a tiling, as `eval` used to
+        // score every level, none matched and s was −3.)
+        let t = truth(150, &[(10, 39, "reach"), (60, 89, "wave"), (110, 139, "reach")]);
+        let s = seg(
+            150,
+            &[
+                (10, 39, Level::Primitive, Some(0)),
+                (60, 89, Level::Primitive, Some(1)),
+                (110, 139, Level::Primitive, Some(0)),
+            ],
+        );
+        let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
+        assert_eq!(sc.scored_as, ScoredView::AsGiven);
+        assert_eq!(
+            (sc.segments.matched, sc.segments.unmatched_found, sc.segments.unmatched_true, sc.segments.similarity),
+            (3, 0, 0, 3.0)
+        );
+        // boundaries where each gesture starts and after each one ends: 10, 40, 60, 90, 110, 140
+        assert_eq!((sc.true_boundaries, sc.predicted_boundaries), (6, 6));
+        assert!(sc.boundaries.iter().all(|b| b.f1 == 1.0), "{:?}", sc.boundaries);
+        assert_eq!(sc.covering, 1.0);
+        // gaps are unlabelled on both sides: every labelled frame agrees
+        assert_eq!(sc.hungarian_accuracy, 1.0);
+    }
+
+    #[test]
+    fn overlapping_arms_are_scored_as_given_and_actions_as_a_tiling() {
+        // Two arms' gestures overlap (LMA): both are matched, neither is cut by the other.
+        let t = truth(100, &[(0, 49, "a"), (50, 99, "b")]);
+        let s = seg(100, &[(0, 49, Level::Primitive, None), (20, 79, Level::Primitive, None)]);
+        let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
+        // boundaries as given: 20, 50 and 80 (0 and 100 are the take's own ends), truth 50: P 1/3, R 1
+        assert_eq!((sc.predicted_boundaries, sc.boundaries[0].matched), (3, 1));
+        assert!((sc.boundaries[0].f1 - 0.5).abs() < 1e-12);
+        // (0,49) matches (0,49); (20,79) ends 20 frames from 99: s = 1 − (1 + 1)/2 = 0
+        assert_eq!(sc.segments.similarity, 0.0);
+        // covering: a by (0,49) → 50·1; b by (20,79): Jaccard 30/80 → 50·0.375; over 100 frames
+        assert!((sc.covering - (50.0 + 50.0 * 0.375) / 100.0).abs() < 1e-12, "{}", sc.covering);
+        // Actions with a gap between them are a tiling: the gap is split, the first starts at 0.
+        let s = seg(100, &[(5, 39, Level::Action, Some(0)), (60, 99, Level::Action, Some(1))]);
+        let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
+        assert_eq!(sc.scored_as, ScoredView::Tiling);
+        assert_eq!(sc.predicted_boundaries, 1); // at 50, the gap 40..=59 split in its middle
+        assert_eq!(sc.boundaries[0].f1, 1.0);
+        assert_eq!(sc.covering, 1.0);
+    }
+
+    #[test]
+    fn boundaries_as_given_are_starts_and_frames_after_ends() {
+        assert_eq!(boundaries(&[(0, 9), (10, 19), (20, 29)], 30), vec![10, 20]);
+        assert_eq!(boundaries(&[(5, 9), (20, 29)], 30), vec![5, 10, 20]);
+        assert_eq!(boundaries(&[(0, usize::MAX - 1)], usize::MAX), Vec::<usize>::new());
     }
 
     #[test]

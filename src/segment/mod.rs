@@ -15,6 +15,7 @@ pub mod frames;
 pub mod labelling;
 pub mod metrics;
 pub mod palette;
+pub mod reference;
 pub mod report;
 pub mod truth;
 pub mod truth_import;

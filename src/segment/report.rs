@@ -1,7 +1,7 @@
 //! Scores of several takes as one markdown table with their mean (what `mocapseg eval` prints for
 //! a folder of predictions and the lab's `eval_data` example prints for the shared takes).
 
-use super::metrics::Scores;
+use super::metrics::{ScoredView, Scores};
 use super::Segmentation;
 
 /// The segments a segmentation is scored on: its actions, or its primitives when it finds no
@@ -86,7 +86,7 @@ pub fn markdown(rows: &[Row], extra: &[Row]) -> String {
         format!(
             "| {} | {} / {} | {} |{time}\n",
             r.scores.trial,
-            r.scores.true_boundaries + 1,
+            r.scores.true_segments,
             r.found_actions,
             cells.join(" | ")
         )
@@ -101,6 +101,14 @@ pub fn markdown(rows: &[Row], extra: &[Row]) -> String {
     for r in extra {
         out += &line(r);
     }
+    // say how the rows were read (a tiling of actions, or primitives as given)
+    let mut views: Vec<ScoredView> = rows.iter().chain(extra).map(|r| r.scores.scored_as).collect();
+    views.dedup();
+    views.sort_by_key(|v| *v as u8);
+    views.dedup();
+    for v in views {
+        out += &format!("\nScored as {}.\n", v.describe());
+    }
     out
 }
 
@@ -114,6 +122,8 @@ mod tests {
         Row {
             scores: Scores {
                 trial: trial.into(),
+                scored_as: ScoredView::Tiling,
+                true_segments: 5,
                 true_boundaries: 4,
                 predicted_boundaries: 5,
                 boundaries: vec![b, b],
@@ -137,7 +147,8 @@ mod tests {
     fn table_has_a_line_per_take_and_their_mean() {
         let table = markdown(&[row("a", 1.0, 0.5), row("b", 0.5, 0.25)], &[row("a+b", 0.1, 0.1)]);
         let lines: Vec<&str> = table.lines().collect();
-        assert_eq!(lines.len(), 6, "{table}");
+        assert_eq!(lines.len(), 8, "{table}");
+        assert_eq!(lines[7], format!("Scored as {}.", ScoredView::Tiling.describe()));
         assert_eq!(
             lines[2],
             "| a | 5 / 6 | 1.00 | 1.00 | 0.50 | 0.50 | 0.25 | 1.00 | 0.50 | 80.00 | 90.00 | 70.00 | 50.00 |"

@@ -107,6 +107,10 @@ async function assertSameAsCli(cli, what) {
     assert.ok(Math.abs(Number(m.shown) - v) <= half, `${what}: ${key} shows ${m.shown}, the CLI's ${v}`);
     assert.equal(m.shown.split(".")[1]?.length ?? 0, m.digits, `${what}: ${key} shows ${m.digits} decimals`);
   }
+  // the panel says how it read the row, as the CLI's `scored_as` does
+  const view = { tiling: /scored as actions as a tiling of the take/, as_given: /scored as primitives as given/ }[cli.scored_as];
+  assert.ok(view, `${what}: the CLI says how it scored (${cli.scored_as})`);
+  assert.match(await text(page, "#metrics-table caption"), view, `${what}: the caption says the view`);
 }
 
 test("before any import: no truth row, the metrics panel says what to do", async () => {
