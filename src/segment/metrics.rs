@@ -121,8 +121,6 @@ pub enum MetricsError {
         "the segmentation has {seg} frames but the truth has {truth}: is it the same take at the same frame rate?"
     )]
     LengthMismatch { seg: usize, truth: usize },
-    #[error("the segmentation has no action, transition or primitive segments")]
-    Empty,
     #[error("segmentation: {0}")]
     Schema(#[from] SchemaError),
     #[error("ground truth segment {index} (`{label}`): {problem}")]
@@ -164,6 +162,14 @@ struct Span {
     start: usize,
     end: usize,
     key: String,
+    /// The segment's label (what a labelling method names the class).
+    label: String,
+}
+
+impl Span {
+    fn of(s: &Segment) -> Span {
+        Span { start: s.start, end: s.end, key: cluster_key(s), label: s.label.clone() }
+    }
 }
 
 fn cluster_key(s: &Segment) -> String {
@@ -195,10 +201,7 @@ fn action_spans(seg: &Segmentation) -> Vec<Span> {
     if actions.is_empty() {
         return Vec::new();
     }
-    let mut spans: Vec<Span> = actions
-        .iter()
-        .map(|&i| Span { start: parts[i].start, end: parts[i].end, key: cluster_key(parts[i]) })
-        .collect();
+    let mut spans: Vec<Span> = actions.iter().map(|&i| Span::of(parts[i])).collect();
     // Stretch neighbouring actions over the gaps between them (transitions or unlabelled frames), meeting in the middle.
     for k in 0..spans.len().saturating_sub(1) {
         let (a_end, b_start) = (spans[k].end, spans[k + 1].start);
@@ -217,8 +220,7 @@ fn action_spans(seg: &Segmentation) -> Vec<Span> {
 
 /// A segmentation without actions: its primitives exactly as given, in time order.
 fn primitive_spans(seg: &Segmentation) -> Vec<Span> {
-    let mut spans: Vec<Span> =
-        seg.level(Level::Primitive).map(|s| Span { start: s.start, end: s.end, key: cluster_key(s) }).collect();
+    let mut spans: Vec<Span> = seg.level(Level::Primitive).map(Span::of).collect();
     spans.sort_by_key(|s| (s.start, s.end));
     spans
 }
@@ -320,7 +322,7 @@ fn truth_frames(truth: &Truth) -> (Vec<Option<usize>>, Vec<String>) {
             if !labels.contains(&s.label) {
                 labels.push(s.label.clone());
             }
-            Span { start: s.start, end: s.end, key: s.label.clone() }
+            Span { start: s.start, end: s.end, key: s.label.clone(), label: s.label.clone() }
         })
         .collect();
     // Index keys by first appearance so that `labels[k]` names key k.
@@ -356,7 +358,23 @@ fn mapped_labels(spans: &[Span], pred: &[Option<usize>], labels: &[String], tabl
             names.push(&s.key);
         }
     }
-    let by_name: Option<Vec<usize>> = names.iter().map(|n| labels.iter().position(|l| l == n)).collect();
+    // by name when every key's segments carry a true label (a labeller's `#3` named `Jog`), or, for frames a labeller
+    // left `unknown`, no label at all (past the true ones: wrong)
+    let label_of = |key: &str| spans.iter().find(|s| s.key == key).map(|s| s.label.as_str());
+    let named = names.iter().any(|n| label_of(n).is_some_and(|l| labels.iter().any(|t| t == l)));
+    let by_name: Option<Vec<usize>> = named
+        .then(|| {
+            names
+                .iter()
+                .enumerate()
+                .map(|(k, n)| match label_of(n) {
+                    Some(l) if l == crate::dtfcn::method::UNKNOWN => Some(labels.len() + k),
+                    Some(l) => labels.iter().position(|t| t == l),
+                    None => None,
+                })
+                .collect()
+        })
+        .flatten();
     let map: Vec<usize> = match by_name {
         Some(map) => map,
         None => {
@@ -421,10 +439,9 @@ fn strict_tolerant(
     n_labels: usize,
     tol: &Tolerances,
 ) -> (f64, f64) {
-    let mut prims: Vec<Span> =
-        seg.level(Level::Primitive).map(|s| Span { start: s.start, end: s.end, key: cluster_key(s) }).collect();
+    let mut prims: Vec<Span> = seg.level(Level::Primitive).map(Span::of).collect();
     if prims.is_empty() {
-        prims = seg.level(Level::Action).map(|s| Span { start: s.start, end: s.end, key: cluster_key(s) }).collect();
+        prims = seg.level(Level::Action).map(Span::of).collect();
     }
     let frames = truth.frames;
     let pred = per_frame(&prims, frames);
@@ -487,9 +504,7 @@ pub fn evaluate(seg: &Segmentation, truth: &Truth, tol: &Tolerances) -> Result<S
         Level::Action => (ScoredView::Tiling, action_spans(seg)),
         _ => (ScoredView::AsGiven, primitive_spans(seg)),
     };
-    if spans.is_empty() {
-        return Err(MetricsError::Empty);
-    }
+    // A method that found nothing is scored as finding nothing (every true segment and boundary missed), not refused.
     let true_iv: Vec<(usize, usize)> = truth.segments.iter().map(|s| (s.start, s.end)).collect();
     let pred_iv: Vec<(usize, usize)> = spans.iter().map(|s| (s.start, s.end)).collect();
     let pred_b = boundaries(&pred_iv, truth.frames);
@@ -595,6 +610,26 @@ mod tests {
         assert!((sc.labelling.frame_accuracy - 0.7).abs() < 1e-12, "{:?}", sc.labelling);
         // one `walk` run against walk, jump, walk: distance 2 over 3
         assert!((sc.labelling.edit - 100.0 / 3.0).abs() < 1e-9, "{:?}", sc.labelling);
+    }
+
+    #[test]
+    fn a_labellers_classes_are_scored_by_their_names_and_unknown_frames_are_wrong() {
+        // DT-FCN / k-NN segments carry the class index as their cluster and its name as their label: scored by name,
+        // not remapped by the Hungarian matching (which would turn a `jump` called `walk` into a right answer).
+        let t = truth(100, &[(0, 39, "walk"), (40, 69, "jump"), (70, 99, "walk")]);
+        let mut s = seg(
+            100,
+            &[(0, 39, Level::Action, Some(1)), (40, 59, Level::Action, Some(1)), (60, 69, Level::Action, None)],
+        );
+        s.segments.push(s.segments[0].clone());
+        s.segments[3].start = 70;
+        s.segments[3].end = 99;
+        for (seg, label) in s.segments.iter_mut().zip(["walk", "walk", "unknown", "walk"]) {
+            seg.label = label.into();
+        }
+        let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
+        // walk on 0..=59 and 70..=99: right on 70 frames; 40..=59 (walk for jump) and 60..=69 (unknown) wrong
+        assert!((sc.labelling.frame_accuracy - 0.7).abs() < 1e-12, "{:?}", sc.labelling);
     }
 
     #[test]
@@ -770,6 +805,16 @@ mod tests {
         assert_eq!(sc.predicted_boundaries, 1); // at 50, the gap 40..=59 split in its middle
         assert_eq!(sc.boundaries[0].f1, 1.0);
         assert_eq!(sc.covering, 1.0);
+    }
+
+    #[test]
+    fn a_method_that_found_nothing_scores_nothing() {
+        let t = truth(100, &[(0, 49, "a"), (50, 99, "b")]);
+        let sc = evaluate(&seg(100, &[]), &t, &Tolerances::default()).unwrap();
+        assert_eq!(sc.scored_as, ScoredView::AsGiven);
+        assert_eq!((sc.predicted_boundaries, sc.boundaries[1].f1, sc.covering), (0, 0.0, 0.0));
+        assert_eq!(sc.segments.similarity, -1.0); // two true segments missed: 0 − 2/2
+        assert_eq!((sc.hungarian_accuracy, sc.labelling.frame_accuracy), (0.0, 0.0));
     }
 
     #[test]
