@@ -265,7 +265,8 @@ fn eval_scores_a_folder_of_predictions_in_one_table() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let table = String::from_utf8_lossy(&out.stdout);
     let lines: Vec<&str> = table.lines().collect();
-    assert_eq!(lines.len(), 5, "{table}");
+    assert_eq!(lines.len(), 7, "{table}");
+    assert_eq!(lines[6], "Scored as actions as a tiling of the take (transitions split at their middle, gaps stretched to the neighbours).");
     assert!(lines[2].starts_with("| a | 2 / 2 | 1.00 | 1.00 | 1.00 | 1.00 |"), "{table}");
     // b's boundary is 3 s off: no boundary match; covering ½·50/80 + ½·20/50 = 0.51
     assert!(lines[3].starts_with("| b | 2 / 2 | 0.00 | 0.00 | 0.51 |"), "{table}");
@@ -407,7 +408,7 @@ fn example(name: &str) -> PathBuf {
 
 #[test]
 fn eval_data_says_clearly_when_the_data_is_absent() {
-    for name in ["eval_data", "eval_splice"] {
+    for name in ["eval_data", "eval_splice", "accuracy"] {
         let out = Command::new(example(name)).args(["--data", "/no/such/folder"]).output().unwrap();
         assert_eq!(out.status.code(), Some(1), "{name}");
         assert!(String::from_utf8_lossy(&out.stderr).contains("no shared data here"), "{name}");
