@@ -9,6 +9,9 @@
 #   make setup   install the toolchain (scripts/setup.sh; idempotent, seconds when done)
 #   make web     build the page into dist/ (release wasm + wasm-bindgen + wasm-opt + assets;
 #                wasm-bindgen and wasm-opt only run again when the wasm changed)
+#   make accuracy  the scoreboard: every method on every labelled take of ../shared/data, in-sample and
+#                nested leave-one-take-out side by side, beside chance and oracle-K; writes docs/accuracy.md,
+#                docs/accuracy.json and the README's scoreboard block (examples/accuracy.rs; not part of make test)
 #   make fuzz    the cargo-fuzz targets (fuzz/) one after another, FUZZ_S seconds each (default 60;
 #                FUZZ_TARGETS="a b" picks some), then a table of executions; not part of make test
 #
@@ -57,7 +60,7 @@ BENCH_BVH ?= $(firstword $(wildcard $(abspath $(CURDIR)/../shared/data/cmu/86/86
                 /work/shared/data/cmu/86/86_01.bvh $(CURDIR)/www/sample.bvh) \
                 $(abspath $(shell ls -S tests/fixtures/*.bvh 2>/dev/null | head -n 1)))
 
-.PHONY: help setup demo test bench web serve check-toolchain \
+.PHONY: help setup demo test bench web serve check-toolchain accuracy \
         test-native test-wasm test-e2e bench-native bench-wasm bench-peers bench-table fuzz
 
 help:
@@ -96,6 +99,13 @@ FUZZ_S ?= 60
 FUZZ_TARGETS ?=
 fuzz:
 	FUZZ_S="$(FUZZ_S)" FUZZ_TARGETS="$(FUZZ_TARGETS)" scripts/fuzz.sh
+
+# The scoreboard (README "Scoreboard"). Says what is missing and fails when the shared data is absent.
+ACCURACY_DATA ?= $(abspath $(CURDIR)/../shared/data)
+accuracy: setup
+	$(MAKE) check-toolchain
+	@test -d "$(ACCURACY_DATA)/labels" || { echo "make accuracy: $(ACCURACY_DATA) is absent (the shared data: cmu/ and labels/ with 86_01 and the mocap6 takes); set ACCURACY_DATA=DIR" >&2; exit 1; }
+	$(CARGO) run --release --example accuracy -- --data "$(ACCURACY_DATA)" --out docs --readme README.md
 
 check-toolchain:
 	@test -f .toolchain.env || { echo "No .toolchain.env: run 'make setup' first." >&2; exit 1; }

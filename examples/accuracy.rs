@@ -1,0 +1,642 @@
+//! `make accuracy`: the scoreboard. Every registered method on every labelled take of the shared data, scored as it
+//! is (`segment::metrics::evaluate`: actions as a tiling, gestures as given), **in-sample and nested leave-one-take-out
+//! side by side**, beside the *chance* and *oracle-K* references (`segment::reference`). Written as one markdown table
+//! per benchmark (`docs/accuracy.md`), one JSON (`docs/accuracy.json`), and the README's block between
+//! `<!-- accuracy:begin -->` and `<!-- accuracy:end -->`.
+//!
+//! * **Actions** — CMU 86_01 (Barbič/Zhou labels) and the mocap6 takes 13_29, 13_30, 13_31, 14_14 (Fox/Hughes). Columns:
+//!   - *defaults*: the method as shipped (its defaults; for DT-FCN and the k-NN the shipped models, trained on these
+//!     takes — in-sample by construction);
+//!   - *in-sample best*: the grid setting best on all takes, scored on those same takes (what tuning on the reported
+//!     takes would claim);
+//!   - *held out*: for each take, the grid setting best on the **other** takes scored on it (nested: nothing is
+//!     chosen on the reported take); each fold's choice is printed and kept in the JSON. DT-FCN and the k-NN are
+//!     trained on the other mocap6 takes, their settings chosen on inner validation takes of those
+//!     (`dtfcn::corpus::predict_held_out`; the k-NN's k by an inner leave-one-take-out); 86_01 has no other take with
+//!     its labels, so they have no held-out score there.
+//!   - *oracle-K*: per take, the grid setting whose number of segments is closest to the true one (a method told K).
+//!   Selection: the mean of F1@1s and covering.
+//! * **Gestures** — spliced takes with known boundaries (`mocapseg splice`): nested = leave one *source* take out
+//!   (choose on splices of the other four, seeds 1–2, 30 pieces; score a splice of the held-out source, 20 pieces);
+//!   in-sample = the best setting on splices of all five (seeds 1–3, 40 pieces), scored on them. Selection:
+//!   Bouchard & Badler's s@0.5s.
+//!
+//! Says what is missing and fails when the shared data is absent.
+//!
+//! ```text
+//! cargo run --release --example accuracy -- [--data ../shared/data] [--out docs] [--readme README.md] [--seeds 20]
+//! ```
+
+#[cfg(target_arch = "wasm32")]
+fn main() {}
+
+#[cfg(not(target_arch = "wasm32"))]
+#[allow(dead_code)] // each example uses part of it
+mod common;
+
+#[cfg(not(target_arch = "wasm32"))]
+fn main() -> std::process::ExitCode {
+    use clap::Parser;
+    common::exit(lab::run(lab::Args::parse()))
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+mod lab {
+    use std::fmt::Write as _;
+    use std::path::PathBuf;
+    use std::time::Instant;
+
+    use mocapseg::bvh::{self, Bvh};
+    use mocapseg::dtfcn::corpus::{fit_knn, predict_held_out, DEFAULT_UNKNOWN_THRESHOLD};
+    use mocapseg::dtfcn::method::runs;
+    use mocapseg::dtfcn::training::TrainOptions;
+    use mocapseg::knn::KnnParams;
+    use mocapseg::method::{self, NoProgress, RunOptions};
+    use mocapseg::motion::Motion;
+    use mocapseg::segment::labelling;
+    use mocapseg::segment::metrics::{evaluate, Tolerances};
+    use mocapseg::segment::reference::{chance_scores, equal_parts, prior, MeanScores, Prior};
+    use mocapseg::segment::report::scored_segments;
+    use mocapseg::segment::truth::{load_csv, Truth, TruthOptions};
+    use mocapseg::segment::{Level, Segmentation};
+    use mocapseg::splice::{splice, Source, SpliceOptions};
+    use serde_json::{json, Value};
+
+    #[derive(clap::Parser)]
+    #[command(about = "The scoreboard: every method in-sample and held out, beside chance")]
+    pub struct Args {
+        /// The shared data folder (with cmu/ and labels/).
+        #[arg(long, default_value = "../shared/data")]
+        data: PathBuf,
+        /// Where accuracy.md and accuracy.json are written.
+        #[arg(long, default_value = "docs")]
+        out: PathBuf,
+        /// The README whose `<!-- accuracy:begin -->…<!-- accuracy:end -->` block is replaced ("" = none).
+        #[arg(long, default_value = "README.md")]
+        readme: String,
+        /// Seeds the chance row is averaged over.
+        #[arg(long, default_value_t = 20)]
+        seeds: u64,
+        /// Leave out the gesture benchmark (spliced takes).
+        #[arg(long)]
+        no_splice: bool,
+    }
+
+    /// A labelled take: its motion, its truth and the label set it belongs to.
+    struct Take {
+        name: String,
+        motion: Motion,
+        truth: Truth,
+        set: &'static str,
+    }
+
+    /// One setting's result on one take.
+    #[derive(Clone)]
+    struct Cell {
+        scores: MeanScores,
+        found: usize,
+        truth_segments: usize,
+    }
+
+    /// The grid each method's parameters are chosen over (the first setting is the defaults). Small on purpose: with
+    /// five takes, a big grid overfits.
+    fn grid(method: &str) -> Vec<Vec<String>> {
+        let axes: Vec<(&str, Vec<&str>)> = match method {
+            "sssm" => vec![("radius", vec!["19", "13", "25"]), ("relative_gate", vec!["1.5", "0"])],
+            "velocity" => {
+                vec![("low_speed", vec!["12", "8", "16", "24"]), ("high_speed", vec!["30", "20", "45", "60"])]
+            }
+            "kcs" => vec![("drop", vec!["2", "4", "8", "16"]), ("min_segment_s", vec!["0.2", "0.5", "1.0", "2.0"])],
+            "pca" => vec![("k_sigma", vec!["3", "2", "4"]), ("tau", vec!["0.9", "0.95"])],
+            "lma" => vec![("min_rise", vec!["0.4", "0.2", "0.6"]), ("merge_s", vec!["0.67", "0.33"])],
+            _ => vec![],
+        };
+        let mut settings: Vec<Vec<String>> = vec![vec![]];
+        for (name, values) in axes {
+            settings = settings
+                .iter()
+                .flat_map(|s| values.iter().map(move |v| [s.clone(), vec![format!("{name}={v}")]].concat()))
+                .collect();
+        }
+        // combinations the method refuses (a low speed above the high one) are left out
+        let m = method::find(method).ok();
+        settings
+            .retain(|s| m.is_none_or(|m| method::params_from_overrides(m, s).and_then(|p| m.check_json(&p)).is_ok()));
+        settings
+    }
+
+    fn label(setting: &[String]) -> String {
+        if setting.is_empty() {
+            "defaults".into()
+        } else {
+            setting.join(" ")
+        }
+    }
+
+    fn cell(seg: &Segmentation, truth: &Truth) -> Result<Cell, String> {
+        let s = evaluate(seg, truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", truth.trial))?;
+        let found = scored_segments(seg);
+        Ok(Cell { scores: MeanScores::of(&s, found), found, truth_segments: truth.segments.len() })
+    }
+
+    /// The selection criterion of the action benchmark: the mean of F1@1s and covering.
+    fn action_criterion(c: &Cell) -> f64 {
+        0.5 * (c.scores.f1_1 + c.scores.covering)
+    }
+
+    /// The selection criterion of the gesture benchmark: Bouchard & Badler's s@0.5s.
+    fn gesture_criterion(c: &Cell) -> f64 {
+        c.scores.similarity
+    }
+
+    fn run_method(name: &str, setting: &[String], motion: &Motion) -> Result<Segmentation, String> {
+        let m = method::find(name).map_err(|e| e.to_string())?;
+        let params = method::params_from_overrides(m, setting).map_err(|e| e.to_string())?;
+        let out = m
+            .run_json(motion, &params, &RunOptions::default(), &mut NoProgress)
+            .map_err(|e| format!("{name} {} on {}: {e}", label(setting), motion.name))?;
+        Ok(out.segmentation)
+    }
+
+    /// `cells[s][t]` of every grid setting on every take.
+    fn grid_cells(name: &str, settings: &[Vec<String>], takes: &[(&Motion, &Truth)]) -> Result<Vec<Vec<Cell>>, String> {
+        settings.iter().map(|s| takes.iter().map(|(m, t)| cell(&run_method(name, s, m)?, t)).collect()).collect()
+    }
+
+    /// The setting with the best mean criterion over the takes `among` (ties: the earlier, so the defaults win them).
+    fn best(cells: &[Vec<Cell>], among: &[usize], criterion: fn(&Cell) -> f64) -> usize {
+        let mean = |s: usize| among.iter().map(|&t| criterion(&cells[s][t])).sum::<f64>() / among.len().max(1) as f64;
+        (0..cells.len()).fold(0, |b, s| if mean(s) > mean(b) + 1e-12 { s } else { b })
+    }
+
+    /// One method's row of a benchmark.
+    struct MethodRow {
+        method: String,
+        defaults: Option<MeanScores>,
+        in_sample: Option<(String, MeanScores)>,
+        held_out: Option<MeanScores>,
+        oracle_k: Option<MeanScores>,
+        /// Per take: (take, held-out choice, held-out scores).
+        folds: Vec<(String, String, MeanScores)>,
+        note: String,
+        seconds: f64,
+    }
+
+    fn mean_of(cells: &[&Cell]) -> MeanScores {
+        MeanScores::mean(&cells.iter().map(|c| c.scores.clone()).collect::<Vec<_>>())
+    }
+
+    /// Defaults, in-sample best, nested held-out choice and oracle-K of a grid method over `takes`.
+    fn grid_row(
+        name: &str,
+        takes: &[(&Motion, &Truth)],
+        criterion: fn(&Cell) -> f64,
+        tuned_on: impl Fn(usize) -> Vec<usize>,
+    ) -> Result<MethodRow, String> {
+        let started = Instant::now();
+        let settings = grid(name);
+        let cells = grid_cells(name, &settings, takes)?;
+        let all: Vec<usize> = (0..takes.len()).collect();
+        let defaults = mean_of(&all.iter().map(|&t| &cells[0][t]).collect::<Vec<_>>());
+        let b = best(&cells, &all, criterion);
+        let in_sample = mean_of(&all.iter().map(|&t| &cells[b][t]).collect::<Vec<_>>());
+        let mut folds = Vec::new();
+        for t in 0..takes.len() {
+            let s = best(&cells, &tuned_on(t), criterion);
+            println!("  {name}: held out {} — chose {} on the others", takes[t].1.trial, label(&settings[s]));
+            folds.push((takes[t].1.trial.clone(), label(&settings[s]), cells[s][t].scores.clone()));
+        }
+        let held_out = MeanScores::mean(&folds.iter().map(|f| f.2.clone()).collect::<Vec<_>>());
+        let oracle: Vec<&Cell> = (0..takes.len())
+            .map(|t| {
+                let s = (0..settings.len())
+                    .min_by_key(|&s| cells[s][t].found.abs_diff(cells[s][t].truth_segments))
+                    .unwrap_or(0);
+                &cells[s][t]
+            })
+            .collect();
+        Ok(MethodRow {
+            method: name.into(),
+            defaults: Some(defaults),
+            in_sample: Some((label(&settings[b]), in_sample)),
+            held_out: Some(held_out),
+            oracle_k: Some(mean_of(&oracle)),
+            folds,
+            note: format!("grid of {} settings", settings.len()),
+            seconds: started.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Per-frame class indices of a truth over `classes` (extended with its new labels).
+    fn class_frames(truth: &Truth, classes: &mut Vec<String>) -> Vec<Option<usize>> {
+        let mut out = vec![None; truth.frames];
+        for s in &truth.segments {
+            let c = classes.iter().position(|c| *c == s.label).unwrap_or_else(|| {
+                classes.push(s.label.clone());
+                classes.len() - 1
+            });
+            out[s.start..=s.end].iter_mut().for_each(|l| *l = Some(c));
+        }
+        out
+    }
+
+    /// A labeller's per-file-frame (class, confidence) as the method turns them into segments (below the unknown
+    /// threshold: `unknown`).
+    fn labelled_segmentation(motion: &Motion, pred: &[(usize, f32)], classes: &[String], method: &str) -> Segmentation {
+        let file: Vec<(Option<usize>, f32)> = pred
+            .iter()
+            .map(|&(c, p)| (if p as f64 >= DEFAULT_UNKNOWN_THRESHOLD { Some(c) } else { None }, p))
+            .collect();
+        Segmentation {
+            file: motion.name.clone(),
+            fps: motion.fps,
+            frames: motion.frames(),
+            method: method.into(),
+            params: Value::Null,
+            segments: runs(&file, classes),
+        }
+    }
+
+    /// The k-NN's k: chosen per fold by leave-one-take-out frame accuracy on the training takes alone.
+    const KS: [usize; 5] = [5, 1, 3, 9, 15];
+
+    fn knn_predict(
+        train: &[(&Motion, &[Option<usize>])],
+        k: usize,
+        motion: &Motion,
+    ) -> Result<Vec<(usize, f32)>, String> {
+        fit_knn(train, KnnParams { k, ..KnnParams::default() })?.predict(motion)
+    }
+
+    /// DT-FCN and k-NN rows on the mocap6 takes: the shipped models in-sample (`exercises`; `cmu-actions` on 86_01),
+    /// and nested held-out predictions trained on the other mocap6 takes.
+    fn labeller_rows(takes: &[Take]) -> Result<Vec<MethodRow>, String> {
+        let mocap6: Vec<&Take> = takes.iter().filter(|t| t.set == "mocap6").collect();
+        let mut classes = Vec::new();
+        let labels: Vec<Vec<Option<usize>>> = mocap6.iter().map(|t| class_frames(&t.truth, &mut classes)).collect();
+        let motions: Vec<Motion> = mocap6.iter().map(|t| t.motion.clone()).collect();
+        let mut rows = Vec::new();
+        for name in ["knn", "dtfcn"] {
+            let started = Instant::now();
+            // in-sample: the shipped models on the takes they were trained on
+            let shipped: Vec<Cell> = takes
+                .iter()
+                .map(|t| {
+                    let model = if t.set == "mocap6" { "exercises" } else { "cmu-actions" };
+                    cell(&run_method(name, &[format!("model=\"{model}\"")], &t.motion)?, &t.truth)
+                })
+                .collect::<Result<_, String>>()?;
+            let defaults = mean_of(&shipped.iter().collect::<Vec<_>>());
+            let mut folds = Vec::new();
+            if mocap6.len() >= 3 {
+                for h in 0..mocap6.len() {
+                    let (pred, chosen) = if name == "knn" {
+                        let train: Vec<usize> = (0..mocap6.len()).filter(|&i| i != h).collect();
+                        let mut top = (KS[0], f64::MIN);
+                        for k in KS {
+                            let mut acc = 0.0;
+                            for &v in &train {
+                                let fit: Vec<(&Motion, &[Option<usize>])> = train
+                                    .iter()
+                                    .filter(|&&i| i != v)
+                                    .map(|&i| (&motions[i], labels[i].as_slice()))
+                                    .collect();
+                                let p = knn_predict(&fit, k, &motions[v])?;
+                                let p: Vec<Option<usize>> = p.iter().map(|x| Some(x.0)).collect();
+                                acc += labelling::score(&p, &labels[v]).frame_accuracy / train.len() as f64;
+                            }
+                            if acc > top.1 + 1e-12 {
+                                top = (k, acc);
+                            }
+                        }
+                        let fit: Vec<(&Motion, &[Option<usize>])> =
+                            train.iter().map(|&i| (&motions[i], labels[i].as_slice())).collect();
+                        (knn_predict(&fit, top.0, &motions[h])?, format!("k={} (inner accuracy {:.3})", top.0, top.1))
+                    } else {
+                        let mut top: Option<(Vec<(usize, f32)>, String, f64)> = None;
+                        for (width, augment) in [(2, true), (2, false), (3, true)] {
+                            let mut options = TrainOptions { width, ..TrainOptions::default() };
+                            if !augment {
+                                options.augment = mocapseg::dtfcn::augment::Augment::none();
+                            }
+                            let p = predict_held_out(&motions, &labels, h, &classes, &options, &mut |_| true)?;
+                            let what = format!(
+                                "width={width} augment={} epochs={} (validation {} accuracy {:.3})",
+                                if augment { "all" } else { "none" },
+                                p.best_epoch,
+                                motions[p.validation].name,
+                                p.validation_accuracy
+                            );
+                            if top.as_ref().is_none_or(|t| p.validation_accuracy > t.2 + 1e-12) {
+                                top = Some((p.network, what, p.validation_accuracy));
+                            }
+                        }
+                        let (pred, what, _) = top.ok_or("no DT-FCN setting")?;
+                        (pred, what)
+                    };
+                    let seg = labelled_segmentation(&motions[h], &pred, &classes, name);
+                    let c = cell(&seg, &mocap6[h].truth)?;
+                    println!("  {name}: held out {} — chose {chosen}", mocap6[h].name);
+                    folds.push((mocap6[h].name.clone(), chosen, c.scores));
+                }
+            }
+            let held_out =
+                (!folds.is_empty()).then(|| MeanScores::mean(&folds.iter().map(|f| f.2.clone()).collect::<Vec<_>>()));
+            rows.push(MethodRow {
+                method: name.into(),
+                defaults: Some(defaults),
+                in_sample: None,
+                held_out,
+                oracle_k: None,
+                folds,
+                note:
+                    "defaults: the shipped models (in-sample); held out: mocap6 takes only, trained on the other three"
+                        .into(),
+                seconds: started.elapsed().as_secs_f64(),
+            });
+        }
+        Ok(rows)
+    }
+
+    fn reference_rows(
+        takes: &[(&Motion, &Truth)],
+        priors: &[Prior],
+        level: Level,
+        seeds: u64,
+    ) -> Result<Vec<MethodRow>, String> {
+        let mut chance = Vec::new();
+        let mut oracle = Vec::new();
+        for (i, (m, t)) in takes.iter().enumerate() {
+            chance.push(chance_scores(t, m.fps, &priors[i], level, seeds).map_err(|e| e.to_string())?);
+            oracle.push(cell(&equal_parts(t.frames, m.fps, t.segments.len(), level), t)?.scores);
+        }
+        let row = |method: &str, all: Vec<MeanScores>, note: String| MethodRow {
+            method: method.into(),
+            defaults: None,
+            in_sample: None,
+            held_out: Some(MeanScores::mean(&all)),
+            oracle_k: None,
+            folds: takes.iter().zip(&all).map(|((_, t), s)| (t.trial.clone(), String::new(), s.clone())).collect(),
+            note,
+            seconds: 0.0,
+        };
+        Ok(vec![
+            row(
+                "chance",
+                chance,
+                format!(
+                    "cuts every mean true segment length from a random phase, labels drawn from the training prior; \
+                     mean of {seeds} seeds"
+                ),
+            ),
+            row(
+                "oracle-K (equal parts)",
+                oracle,
+                "the take cut into as many equal parts as it has true segments".into(),
+            ),
+        ])
+    }
+
+    fn num(v: Option<f64>, digits: usize) -> String {
+        match v {
+            Some(x) if x.is_finite() => format!("{x:.digits$}"),
+            _ => "—".into(),
+        }
+    }
+
+    fn table(title: &str, rows: &[MethodRow], gestures: bool) -> String {
+        let mut out = format!("#### {title}\n\n");
+        let (a, b, an, bn) = if gestures { ("s@0.5s", "F1@0.5s", 1, 2) } else { ("F1@1s", "covering", 2, 2) };
+        let pick = |m: &MeanScores| if gestures { (m.similarity, m.f1_05) } else { (m.f1_1, m.covering) };
+        let _ = writeln!(
+            out,
+            "| method | {a} defaults | {a} in-sample best | **{a} held out** | {a} oracle-K | {b} defaults | {b} in-sample best | **{b} held out** | frame acc. defaults | **frame acc. held out** | segments found (defaults) |"
+        );
+        out += "|---|---|---|---|---|---|---|---|---|---|---|\n";
+        for r in rows {
+            let d = r.defaults.as_ref().map(pick);
+            let i = r.in_sample.as_ref().map(|x| pick(&x.1));
+            let h = r.held_out.as_ref().map(pick);
+            let o = r.oracle_k.as_ref().map(pick);
+            let _ = writeln!(
+                out,
+                "| {} | {} | {} | **{}** | {} | {} | {} | **{}** | {} | **{}** | {} |",
+                r.method,
+                num(d.map(|x| x.0), an),
+                num(i.map(|x| x.0), an),
+                num(h.map(|x| x.0), an),
+                num(o.map(|x| x.0), an),
+                num(d.map(|x| x.1), bn),
+                num(i.map(|x| x.1), bn),
+                num(h.map(|x| x.1), bn),
+                num(r.defaults.as_ref().map(|m| m.frame_accuracy), 2),
+                num(r.held_out.as_ref().map(|m| m.frame_accuracy), 2),
+                num(r.defaults.as_ref().map(|m| m.segments), 1),
+            );
+        }
+        out += "\nWhat each held-out fold chose (never on the take it reports):\n\n";
+        for r in rows.iter().filter(|r| r.folds.iter().any(|f| !f.1.is_empty())) {
+            let _ = writeln!(out, "- **{}** ({}):", r.method, r.note);
+            for (take, chose, s) in &r.folds {
+                let (x, y) = pick(s);
+                let _ = writeln!(out, "  - {take}: {chose} → {a} {x:.2}, {b} {y:.2}");
+            }
+        }
+        out
+    }
+
+    fn scores_json(m: &Option<MeanScores>) -> Value {
+        m.as_ref().map_or(Value::Null, |m| serde_json::to_value(m).unwrap_or(Value::Null))
+    }
+
+    fn rows_json(rows: &[MethodRow]) -> Value {
+        Value::Array(
+            rows.iter()
+                .map(|r| {
+                    json!({
+                        "method": r.method,
+                        "note": r.note,
+                        "defaults": scores_json(&r.defaults),
+                        "in_sample_best": r.in_sample.as_ref().map(|(s, m)| json!({"setting": s, "scores": m})),
+                        "held_out": scores_json(&r.held_out),
+                        "oracle_k": scores_json(&r.oracle_k),
+                        "folds": r.folds.iter().map(|(t, c, s)| json!({"take": t, "chose": c, "scores": s})).collect::<Vec<_>>(),
+                        "seconds": r.seconds,
+                    })
+                })
+                .collect(),
+        )
+    }
+
+    /// A spliced take with its truth.
+    fn spliced(sources: &[Source], seed: u64, pieces: usize) -> Result<(Motion, Truth), String> {
+        let s = splice(sources, &SpliceOptions { pieces, seed, ..Default::default() }).map_err(|e| e.to_string())?;
+        let name = format!("splice{seed}-{}", sources.iter().map(|s| s.name).collect::<Vec<_>>().join("+"));
+        let truth = load_csv(&s.truth_csv(&name), &name, TruthOptions::default()).map_err(|e| e.to_string())?;
+        let motion = Motion::from_bvh(&name, &s.bvh).map_err(|e| e.to_string())?;
+        Ok((motion, truth))
+    }
+
+    /// The gesture benchmark: leave one source take out on spliced takes.
+    fn gesture_rows(loaded: &[(String, Bvh, Truth)], seeds: u64) -> Result<Vec<MethodRow>, String> {
+        let sources: Vec<Source> = loaded.iter().map(|(n, b, t)| Source { name: n, bvh: b, truth: t }).collect();
+        // in-sample: splices of all five; held out: for each source, tune on splices of the others, test on its own
+        let all: Vec<(Motion, Truth)> = (1..=3).map(|seed| spliced(&sources, seed, 40)).collect::<Result<_, _>>()?;
+        let mut folds: Vec<(Vec<(Motion, Truth)>, (Motion, Truth))> = Vec::new();
+        for k in 0..sources.len() {
+            let others: Vec<Source> =
+                sources.iter().enumerate().filter(|(i, _)| *i != k).map(|(_, s)| Source { ..*s }).collect();
+            let tuning = [1, 2].iter().map(|&seed| spliced(&others, seed, 30)).collect::<Result<_, _>>()?;
+            folds.push((tuning, spliced(&sources[k..=k], 1, 20)?));
+        }
+        let mut rows = Vec::new();
+        for name in ["velocity", "kcs", "pca", "lma"] {
+            let started = Instant::now();
+            let settings = grid(name);
+            let refs: Vec<(&Motion, &Truth)> = all.iter().map(|(m, t)| (m, t)).collect();
+            let cells = grid_cells(name, &settings, &refs)?;
+            let every: Vec<usize> = (0..all.len()).collect();
+            let b = best(&cells, &every, gesture_criterion);
+            let mut fold_rows = Vec::new();
+            for (k, (tuning, test)) in folds.iter().enumerate() {
+                let refs: Vec<(&Motion, &Truth)> = tuning.iter().map(|(m, t)| (m, t)).collect();
+                let c = grid_cells(name, &settings, &refs)?;
+                let s = best(&c, &(0..refs.len()).collect::<Vec<_>>(), gesture_criterion);
+                let scored = cell(&run_method(name, &settings[s], &test.0)?, &test.1)?;
+                println!("  {name} (splices): held out {} — chose {}", sources[k].name, label(&settings[s]));
+                fold_rows.push((sources[k].name.to_string(), label(&settings[s]), scored.scores));
+            }
+            let oracle: Vec<&Cell> = (0..all.len())
+                .map(|t| {
+                    let s = (0..settings.len())
+                        .min_by_key(|&s| cells[s][t].found.abs_diff(cells[s][t].truth_segments))
+                        .unwrap_or(0);
+                    &cells[s][t]
+                })
+                .collect();
+            rows.push(MethodRow {
+                method: name.into(),
+                defaults: Some(mean_of(&every.iter().map(|&t| &cells[0][t]).collect::<Vec<_>>())),
+                in_sample: Some((
+                    label(&settings[b]),
+                    mean_of(&every.iter().map(|&t| &cells[b][t]).collect::<Vec<_>>()),
+                )),
+                held_out: Some(MeanScores::mean(&fold_rows.iter().map(|f| f.2.clone()).collect::<Vec<_>>())),
+                oracle_k: Some(mean_of(&oracle)),
+                folds: fold_rows,
+                note: format!("grid of {} settings", settings.len()),
+                seconds: started.elapsed().as_secs_f64(),
+            });
+        }
+        // references on the held-out splices (the takes the held-out column scores)
+        let tests: Vec<(&Motion, &Truth)> = folds.iter().map(|(_, (m, t))| (m, t)).collect();
+        let priors: Vec<Prior> = tests.iter().map(|(_, t)| prior(&[t])).collect();
+        rows.extend(reference_rows(&tests, &priors, Level::Primitive, seeds)?);
+        Ok(rows)
+    }
+
+    fn replace_block(text: &str, block: &str) -> Option<String> {
+        let (begin, end) = ("<!-- accuracy:begin -->", "<!-- accuracy:end -->");
+        let a = text.find(begin)? + begin.len();
+        let b = text[a..].find(end)? + a;
+        Some(format!("{}\n{}\n{}", &text[..a], block.trim_end(), &text[b..]))
+    }
+
+    pub fn run(args: Args) -> Result<(), String> {
+        let started = Instant::now();
+        let listed = crate::common::labelled_takes(&args.data)?;
+        let mut takes = Vec::new();
+        let mut loaded: Vec<(String, Bvh, Truth)> = Vec::new();
+        for t in listed {
+            let text = std::fs::read_to_string(&t.bvh).map_err(|e| format!("{}: {e}", t.bvh.display()))?;
+            let b = bvh::parse(&text).map_err(|e| format!("{}: {e}", t.bvh.display()))?;
+            let motion = Motion::from_bvh(t.trial, &b).map_err(|e| format!("{}: {e}", t.bvh.display()))?;
+            let set = if t.trial.starts_with("86_") { "cmu86" } else { "mocap6" };
+            loaded.push((t.trial.to_string(), b, t.truth.clone()));
+            takes.push(Take { name: t.trial.to_string(), motion, truth: t.truth, set });
+        }
+        let missing: Vec<&str> = ["86_01", "13_29", "13_30", "13_31", "14_14"]
+            .into_iter()
+            .filter(|n| !takes.iter().any(|t| t.name == *n))
+            .collect();
+        if !missing.is_empty() {
+            eprintln!(
+                "note: missing from {}: {} — the scoreboard covers the rest",
+                args.data.display(),
+                missing.join(", ")
+            );
+        }
+        let refs: Vec<(&Motion, &Truth)> = takes.iter().map(|t| (&t.motion, &t.truth)).collect();
+        // nested: a take's parameters are chosen on every other take
+        let others = |t: usize| (0..takes.len()).filter(|&i| i != t).collect::<Vec<_>>();
+        let mut actions = Vec::new();
+        for name in ["sssm", "pca", "velocity", "kcs", "lma"] {
+            println!("actions: {name}");
+            actions.push(grid_row(name, &refs, action_criterion, others)?);
+        }
+        println!("actions: knn, dtfcn");
+        actions.extend(labeller_rows(&takes)?);
+        // the training prior: the labels of the other takes of the same label set (86_01 has none: its own)
+        let priors: Vec<Prior> = (0..takes.len())
+            .map(|t| {
+                let same: Vec<&Truth> = takes
+                    .iter()
+                    .enumerate()
+                    .filter(|(i, o)| *i != t && o.set == takes[t].set)
+                    .map(|(_, o)| &o.truth)
+                    .collect();
+                if same.is_empty() {
+                    prior(&[&takes[t].truth])
+                } else {
+                    prior(&same)
+                }
+            })
+            .collect();
+        actions.extend(reference_rows(&refs, &priors, Level::Action, args.seeds)?);
+        let gestures = if args.no_splice {
+            Vec::new()
+        } else {
+            println!("gestures (spliced takes)");
+            gesture_rows(&loaded, args.seeds)?
+        };
+
+        let take_names: Vec<&str> = takes.iter().map(|t| t.name.as_str()).collect();
+        let mut md =
+            String::from("<!-- generated by `make accuracy` (examples/accuracy.rs); do not edit by hand -->\n\n");
+        let _ = writeln!(
+            md,
+            "Takes: {}. Every score is a mean over takes; *held out* chooses each take's parameters (or trains its model) \
+             on the other takes only. Actions are scored as a tiling, gestures as given (`mocapseg eval`). *frame acc.*: \
+             per-frame labelling accuracy (a labeller's classes by name; other methods' clusters mapped one-to-one \
+             onto the true labels).\n",
+            take_names.join(", ")
+        );
+        md += &table("Actions (action labels of the shared takes)", &actions, false);
+        if !gestures.is_empty() {
+            md += "\n";
+            md += &table("Gestures (spliced takes with known boundaries)", &gestures, true);
+        }
+        let _ = writeln!(md, "\n({:.0} s to generate.)", started.elapsed().as_secs_f64());
+        std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+        let md_path = args.out.join("accuracy.md");
+        std::fs::write(&md_path, &md).map_err(|e| format!("{}: {e}", md_path.display()))?;
+        let json = json!({
+            "takes": take_names,
+            "actions": rows_json(&actions),
+            "gestures": rows_json(&gestures),
+            "seconds": started.elapsed().as_secs_f64(),
+        });
+        let json_path = args.out.join("accuracy.json");
+        std::fs::write(&json_path, serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?)
+            .map_err(|e| format!("{}: {e}", json_path.display()))?;
+        if !args.readme.is_empty() {
+            let text = std::fs::read_to_string(&args.readme).map_err(|e| format!("{}: {e}", args.readme))?;
+            let new = replace_block(&text, &md)
+                .ok_or_else(|| format!("{}: no <!-- accuracy:begin --> … <!-- accuracy:end --> block", args.readme))?;
+            std::fs::write(&args.readme, new).map_err(|e| format!("{}: {e}", args.readme))?;
+        }
+        print!("{md}");
+        eprintln!("wrote {} and {}", md_path.display(), json_path.display());
+        Ok(())
+    }
+}
