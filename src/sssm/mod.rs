@@ -27,6 +27,7 @@ pub mod method;
 pub mod neighbours;
 pub mod params;
 pub mod primitives;
+pub mod refine;
 pub mod symmetry;
 
 use serde::{Deserialize, Serialize};
@@ -197,7 +198,7 @@ pub fn segment_features(
             limit: MAX_ENTRIES,
         });
     }
-    let radius = params.search_radius();
+    let (radius, near_radius) = search_radii(base, params);
     let mut search = None;
     let (mut sssm, mut mirror_sssm) = if params.bundling || params.neighbour_search == NeighbourSearchKind::KdTree {
         let mut stacked = features::stack(base, &params.offsets);
@@ -237,7 +238,15 @@ pub fn segment_features(
     // neighbours (see `primitive_radius`). Natively the kinds and the nearer neighbours are found
     // at once (`parallel::join`), as are the searches on the plain and on the mirror graph below.
     progress("activities", 0.5)?;
-    let activities = region_growing(params, &sssm, mirror_sssm.as_ref()).activities(params.boundary_rule);
+    let mut activities = region_growing(params, &sssm, mirror_sssm.as_ref()).activities(params.boundary_rule);
+    if params.pose_merge > 0.0 || params.boundary_window_frames() > 0 {
+        let band = params.band_frames();
+        let merged = refine::merge_same_poses(base, &activities.actions, band, band, params.pose_merge);
+        // body speed smoothed over ±0.1 s
+        let speed = refine::body_speed(base, (params.fps * 0.1).round() as usize);
+        activities.actions = refine::refine_boundaries(&merged, &speed, params.boundary_window_frames());
+        activities.transitions = activities::gaps(base.frames(), &activities.actions);
+    }
     let mut far_pairs = Vec::new();
     if let (Some(search), Some(horizon)) = (&search, params.horizon_frames()) {
         if horizon.saturating_add(1) < base.frames() {
@@ -245,7 +254,6 @@ pub fn segment_features(
             // each long action), then kinds and clusters on the SSSM with them
             let grow = region_growing(params, &sssm, mirror_sssm.as_ref());
             let limits: Vec<Option<f32>> = activities.actions.iter().map(|&a| grow.repeat_limit(a)).collect();
-            let near_radius = params.primitive_search_radius() as f32;
             let far = FarSearch::new(search, horizon, radius as f32, params.max_neighbours, near_radius, params.fps);
             progress("far blocks", 0.5)?;
             let entries = far.search(&activities.actions, &limits, &mut |f| progress("far blocks", 0.5 + 0.08 * f))?;
@@ -258,7 +266,6 @@ pub fn segment_features(
     }
     progress("kinds", 0.58)?;
     let grow = region_growing(params, &sssm, mirror_sssm.as_ref());
-    let near_radius = params.primitive_search_radius() as f32;
     let (kinds, (near, mirror_near)) = parallel::join(
         || grow.kinds(&activities.actions, grow.relative),
         || (sssm.within(near_radius), mirror_sssm.as_ref().map(|m| m.within(near_radius))),
@@ -311,6 +318,25 @@ pub fn segment_features(
         clusters,
         far_pairs,
     })
+}
+
+/// The search radius of the SSSM and that of the primitive and cluster graphs: `R·√|w|` and
+/// `R_p·√|w|`, or with `radius_quantile` the take's own radius (`neighbours::take_radius`) times
+/// `radius_factor`, the primitive radius scaled by the same ratio.
+fn search_radii(base: &FeatureMatrix, params: &ValidParams) -> (f64, f32) {
+    let fixed = params.search_radius();
+    let near = params.primitive_search_radius();
+    if params.radius_quantile <= 0.0 {
+        return (fixed, near as f32);
+    }
+    let stacked = features::stack(base, &params.offsets);
+    match neighbours::take_radius(&stacked, params.band_frames(), params.horizon_frames(), params.radius_quantile) {
+        Some(r) if r > 0.0 => {
+            let r = r as f64 * params.radius_factor;
+            (r, (near * r / fixed) as f32)
+        }
+        _ => (fixed, near as f32),
+    }
 }
 
 /// Region growing (§IV-B) over `sssm` (and `mirror`, if `mirror_activities`) with `params`.
