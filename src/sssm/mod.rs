@@ -11,6 +11,7 @@
 //! | feature bundling (optional) | §III | [`bundling`] |
 //! | radius search → sparse self-similarity matrix | §IV-A | [`neighbours`] |
 //! | forward/backward region growing → actions, transitions | §IV-B | [`activities`] |
+//! | merging actions by poses, boundaries at low motion (not in the paper) | after §IV-B | [`refine`] |
 //! | neighbourhood graph, warping paths → primitives | §IV-C | [`primitives`] |
 //! | mirrored features → phase-shifted primitives | §V | [`symmetry`] |
 //! | cluster graph, strongly connected components | §VI | [`clustering`] |
@@ -198,7 +199,8 @@ pub fn segment_features(
             limit: MAX_ENTRIES,
         });
     }
-    let (radius, near_radius) = search_radii(base, params);
+    let radius = params.search_radius();
+    let near_radius = params.primitive_search_radius() as f32;
     let mut search = None;
     let (mut sssm, mut mirror_sssm) = if params.bundling || params.neighbour_search == NeighbourSearchKind::KdTree {
         let mut stacked = features::stack(base, &params.offsets);
@@ -318,25 +320,6 @@ pub fn segment_features(
         clusters,
         far_pairs,
     })
-}
-
-/// The search radius of the SSSM and that of the primitive and cluster graphs: `R·√|w|` and
-/// `R_p·√|w|`, or with `radius_quantile` the take's own radius (`neighbours::take_radius`) times
-/// `radius_factor`, the primitive radius scaled by the same ratio.
-fn search_radii(base: &FeatureMatrix, params: &ValidParams) -> (f64, f32) {
-    let fixed = params.search_radius();
-    let near = params.primitive_search_radius();
-    if params.radius_quantile <= 0.0 {
-        return (fixed, near as f32);
-    }
-    let stacked = features::stack(base, &params.offsets);
-    match neighbours::take_radius(&stacked, params.band_frames(), params.horizon_frames(), params.radius_quantile) {
-        Some(r) if r > 0.0 => {
-            let r = r as f64 * params.radius_factor;
-            (r, (near * r / fixed) as f32)
-        }
-        _ => (fixed, near as f32),
-    }
 }
 
 /// Region growing (§IV-B) over `sssm` (and `mirror`, if `mirror_activities`) with `params`.

@@ -160,12 +160,6 @@ pub struct SssmParams {
     /// Boundary refinement (not in the paper; 0 = off): every action boundary moves to the frame
     /// of least body speed within this many seconds of it (see `refine`).
     pub boundary_window_s: f64,
-    /// Radius from the take (not in the paper; 0 = off, `radius` is used): the search radius is
-    /// `radius_factor ×` this quantile of every frame's distance to its nearest repeat at least
-    /// `diagonal_band_s` away (see `neighbours::take_radius`); `primitive_radius` scales with it.
-    pub radius_quantile: f64,
-    /// Factor on the take's radius (with `radius_quantile`).
-    pub radius_factor: f64,
 }
 
 impl Default for SssmParams {
@@ -196,8 +190,6 @@ impl Default for SssmParams {
             horizon_s: 20.0,
             pose_merge: 2.0,
             boundary_window_s: 0.0,
-            radius_quantile: 0.0,
-            radius_factor: 1.0,
         }
     }
 }
@@ -269,10 +261,6 @@ impl SssmParams {
         pose_merge: f64,
         /// Sets the window of the boundary refinement in seconds (0 = off).
         boundary_window_s: f64,
-        /// Sets the quantile of the radius from the take (0 = off).
-        radius_quantile: f64,
-        /// Sets the factor on the radius from the take.
-        radius_factor: f64,
     }
 
     /// Sets the stacked frame offsets.
@@ -375,12 +363,6 @@ impl SssmParams {
         if !(BOUNDARY_WINDOW_S.0..=BOUNDARY_WINDOW_S.1).contains(&p.boundary_window_s) {
             return bad("boundary_window_s", p.boundary_window_s, "a window between 0 (off) and 10 seconds");
         }
-        if !(p.radius_quantile == 0.0 || (RADIUS_QUANTILE.0..=RADIUS_QUANTILE.1).contains(&p.radius_quantile)) {
-            return bad("radius_quantile", p.radius_quantile, "0 (off) or a quantile between 0.01 and 1");
-        }
-        if !(RADIUS_FACTOR.0..=RADIUS_FACTOR.1).contains(&p.radius_factor) {
-            return bad("radius_factor", p.radius_factor, "a factor between 0.1 and 10");
-        }
         Ok(ValidParams(p))
     }
 }
@@ -417,9 +399,6 @@ pub const BUNDLING_K: (usize, usize) = (2, 256);
 const POSE_MERGE: (f64, f64) = (1.0, 100.0);
 /// Seconds; 10 s is longer than any transition of the shared takes.
 const BOUNDARY_WINDOW_S: (f64, f64) = (0.0, 10.0);
-/// Beside 0 (off).
-const RADIUS_QUANTILE: (f64, f64) = (0.01, 1.0);
-const RADIUS_FACTOR: (f64, f64) = (0.1, 10.0);
 /// `bundling_variance` and `cluster_coverage`.
 const FRACTION: (f64, f64) = (0.01, 1.0);
 
@@ -585,20 +564,6 @@ pub fn param_specs() -> Vec<ParamSpec> {
             Some("s"),
             false,
         ),
-        spec(
-            "radius_quantile",
-            "Radius from the take: this quantile of nearest-repeat distances (0 = off, radius is used).",
-            number((0.0, RADIUS_QUANTILE.1)),
-            None,
-            false,
-        ),
-        spec(
-            "radius_factor",
-            "Factor on the radius from the take (with radius_quantile).",
-            number(RADIUS_FACTOR),
-            None,
-            false,
-        ),
     ]
 }
 
@@ -704,8 +669,6 @@ mod tests {
         assert!(err_of(SssmParams::new().pose_merge(0.5)).contains("pose_merge"));
         assert!(err_of(SssmParams::new().pose_merge(f64::NAN)).contains("pose_merge"));
         assert!(err_of(SssmParams::new().boundary_window_s(-0.1)).contains("boundary_window_s"));
-        assert!(err_of(SssmParams::new().radius_quantile(0.001)).contains("radius_quantile"));
-        assert!(err_of(SssmParams::new().radius_factor(0.0)).contains("radius_factor"));
         assert!(SssmParams::new().pose_merge(0.0).boundary_window_s(0.0).check().is_ok());
         assert!(err_of(SssmParams::new().primitive_radius(25.0)).contains("at most `radius`"));
         assert!(SssmParams::new().relative_gate(0.0).check().is_ok());
@@ -719,7 +682,7 @@ mod tests {
         ok(SssmParams::new().stop_window(300).max_neighbours(5000).min_action_entries_per_fps(1000.0));
         ok(SssmParams::new().relative_gate(100.0).nu(100.0).min_path_frames(3000).min_cut_distance(3000));
         ok(SssmParams::new().bundling_k(256).bundling_variance(0.01).cluster_coverage(0.01).horizon_s(3600.0));
-        ok(SssmParams::new().pose_merge(100.0).boundary_window_s(10.0).radius_quantile(1.0).radius_factor(10.0));
+        ok(SssmParams::new().pose_merge(100.0).boundary_window_s(10.0));
         let refused = [
             (SssmParams::new().radius(1000.5), "radius"),
             (SssmParams::new().radius(0.09).primitive_radius(0.09), "radius"),
@@ -743,8 +706,6 @@ mod tests {
             (SssmParams::new().pose_merge(100.5), "pose_merge"),
             (SssmParams::new().boundary_window_s(10.5), "boundary_window_s"),
             (SssmParams::new().boundary_window_s(f64::INFINITY), "boundary_window_s"),
-            (SssmParams::new().radius_quantile(1.5), "radius_quantile"),
-            (SssmParams::new().radius_factor(10.5), "radius_factor"),
         ];
         for (p, name) in refused {
             let e = err_of(p);
@@ -774,7 +735,7 @@ mod tests {
         let specs = param_specs();
         let fields = serde_json::to_value(SssmParams::default()).unwrap();
         let names: Vec<&str> = specs.iter().map(|s| s.name.as_str()).collect();
-        assert_eq!(names.len(), 27);
+        assert_eq!(names.len(), 25);
         assert_eq!(names.len(), fields.as_object().unwrap().len());
         let basic: Vec<&str> = specs.iter().filter(|s| s.basic).map(|s| s.name.as_str()).collect();
         assert_eq!(basic, ["offsets", "radius", "bundling", "mirror", "horizon_s"]);

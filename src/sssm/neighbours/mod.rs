@@ -31,37 +31,6 @@ const PROGRESS_ROWS: usize = 64;
 /// Number of leading principal coordinates the kd-tree indexes.
 pub const TREE_DIMS: usize = 4;
 
-/// At most this many frames (evenly spread) are sampled by [`take_radius`].
-pub const RADIUS_SAMPLES: usize = 400;
-
-/// A search radius taken from the take itself (not in the paper, which fixes `R`): the
-/// `quantile` of the distances from each sampled frame of `stacked` to its nearest frame at least
-/// `band` frames away (and at most `horizon` frames, if given). Frames inside a repeated action
-/// find a repeat close by, frames of one-off movements only far away, so a high quantile is a
-/// radius within which the take's repetitions fall, whatever the body, the units or the
-/// activities. `None` if no sampled frame has a frame `band` away.
-pub fn take_radius(stacked: &FeatureMatrix, band: usize, horizon: Option<usize>, quantile: f64) -> Option<f32> {
-    let n = stacked.frames();
-    let band = band.max(1);
-    let step = n.div_ceil(RADIUS_SAMPLES).max(1);
-    let mut nearest: Vec<f32> = (0..n)
-        .step_by(step)
-        .filter_map(|i| {
-            let reach = horizon.unwrap_or(n);
-            let (lo, hi) = (i.saturating_sub(reach), (i + reach).min(n - 1));
-            (lo..=hi)
-                .filter(|&j| j.abs_diff(i) >= band)
-                .map(|j| stacked.row(i).iter().zip(stacked.row(j)).map(|(x, y)| (x - y) * (x - y)).sum::<f32>())
-                .min_by(f32::total_cmp)
-        })
-        .collect();
-    if nearest.is_empty() {
-        return None;
-    }
-    let k = ((quantile.clamp(0.0, 1.0) * (nearest.len() - 1) as f64).round() as usize).min(nearest.len() - 1);
-    Some(nearest.select_nth_unstable_by(k, f32::total_cmp).1.sqrt())
-}
-
 /// A sparse self-similarity matrix: for each frame `i`, its neighbours `j` (ascending) and the
 /// distances `d_ij`, in compressed-row form.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
