@@ -221,7 +221,7 @@ mod tests {
         // the minimum is far inside a short action: it may shrink to one frame, not vanish
         let speed: Vec<f32> = (0..30).map(|i| if i == 0 { 0.0 } else { 1.0 + i as f32 }).collect();
         let actions = [span(0, 4), span(5, 29)];
-        assert_eq!(refine_boundaries(&actions, &speed, 20), vec![span(0, 0), span(1, 25)]);
+        assert_eq!(refine_boundaries(&actions, &speed, 20), vec![span(0, 0), span(1, 29)]);
         // flat speed: nothing moves (ties go to the old boundary)
         let flat = vec![1.0; 30];
         assert_eq!(refine_boundaries(&actions, &flat, 10), actions.to_vec());
