@@ -55,6 +55,16 @@ mod lab {
         /// Leave-one-take-out choice of parameters over this grid: NAME=V1,V2,… (JSON values); repeatable.
         #[arg(long = "grid", value_name = "NAME=V1,V2,…")]
         grid: Vec<String>,
+        /// What the leave-one-take-out choice maximises: the mean F1@1s (`f1`) or the mean of
+        /// F1@1s and covering (`f1+covering`), over the other takes.
+        #[arg(long, default_value = "f1", value_parser = ["f1", "f1+covering"])]
+        select: String,
+        /// With --grid: also print every setting's per-take F1@1s / covering.
+        #[arg(long)]
+        all: bool,
+        /// Without --grid: also print each take's true and found action boundaries (seconds).
+        #[arg(long)]
+        detail: bool,
     }
 
     /// The labelled takes that are present, with their motion and ground truth.
@@ -110,24 +120,46 @@ mod lab {
             scores.push(row);
         }
         let n = takes.len();
-        let mean_f1 = |s: usize, skip: Option<usize>| {
-            let kept: Vec<f64> = (0..n).filter(|&t| Some(t) != skip).map(|t| scores[s][t].0).collect();
+        let with_covering = args.select == "f1+covering";
+        let mean_of = |s: usize, skip: Option<usize>, pick: &dyn Fn((f64, f64)) -> f64| {
+            let kept: Vec<f64> = (0..n).filter(|&t| Some(t) != skip).map(|t| pick(scores[s][t])).collect();
             kept.iter().sum::<f64>() / kept.len() as f64
         };
+        let mean_f1 = |s: usize, skip: Option<usize>| mean_of(s, skip, &|(f1, _)| f1);
+        let objective = |s: usize, skip: Option<usize>| {
+            if with_covering {
+                mean_of(s, skip, &|(f1, cov)| (f1 + cov) / 2.0)
+            } else {
+                mean_f1(s, skip)
+            }
+        };
+        // ties go to the first setting of the grid
         let best = |skip: Option<usize>| {
-            (0..settings.len()).fold(0, |b, s| if mean_f1(s, skip) > mean_f1(b, skip) + 1e-12 { s } else { b })
+            (0..settings.len()).fold(0, |b, s| if objective(s, skip) > objective(b, skip) + 1e-12 { s } else { b })
         };
         let label = |s: usize| {
             let grid_part = &settings[s][args.params.len()..];
             grid_part.join(" ")
         };
         println!(
-            "leave-one-take-out over {} settings ({}), {} takes, method {}",
+            "leave-one-take-out over {} settings ({}), {} takes, method {}, choosing by mean {}",
             settings.len(),
             args.grid.join("; "),
             n,
-            args.method
+            args.method,
+            if with_covering { "(F1@1s + covering) / 2" } else { "F1@1s" }
         );
+        if args.all {
+            let header: Vec<&str> = takes.iter().map(|(_, t)| t.trial.as_str()).collect();
+            println!("| setting | {} | mean |", header.join(" | "));
+            println!("|---|{}---|", "---|".repeat(n));
+            for (s, row) in scores.iter().enumerate() {
+                let cells: Vec<String> = row.iter().map(|(f1, cov)| format!("{f1:.2} / {cov:.2}")).collect();
+                let mean_cov = row.iter().map(|r| r.1).sum::<f64>() / n as f64;
+                println!("| {} | {} | {:.3} / {mean_cov:.3} |", label(s), cells.join(" | "), mean_f1(s, None));
+            }
+            println!();
+        }
         println!("| held-out take | chosen on the other takes | F1@1s held out | covering held out |");
         println!("|---|---|---|---|");
         let (mut held_f1, mut held_cov) = (0.0, 0.0);
@@ -146,6 +178,36 @@ mod lab {
         Ok(())
     }
 
+    /// The found action boundaries (first frame of every action but the first, transitions split
+    /// at their middle, as the scores read them) beside the true ones, in seconds, with the
+    /// found actions' kinds.
+    fn print_boundaries(seg: &mocapseg::segment::Segmentation, truth: &Truth) {
+        use mocapseg::segment::Level;
+        let mut actions: Vec<(usize, usize, String)> = seg
+            .segments
+            .iter()
+            .filter(|s| s.level == Level::Action)
+            .map(|s| (s.start, s.end, s.label.clone()))
+            .collect();
+        actions.sort();
+        let s = |f: usize| f as f64 / seg.fps;
+        let mut found = Vec::new();
+        for w in actions.windows(2) {
+            let (a_end, b_start) = (w[0].1, w[1].0);
+            let split = if b_start > a_end + 1 { a_end + 1 + (b_start - a_end - 1) / 2 } else { b_start };
+            found.push(format!("{:.1}", s(split)));
+        }
+        let kinds: Vec<String> = actions.iter().map(|(a, b, l)| format!("{l}[{:.1}-{:.1}]", s(*a), s(*b))).collect();
+        let true_b: Vec<String> =
+            truth.segments.iter().filter(|t| t.start > 0).map(|t| format!("{:.1}", s(t.start))).collect();
+        let true_l: Vec<String> =
+            truth.segments.iter().map(|t| format!("{}[{:.1}-{:.1}]", t.label, s(t.start), s(t.end))).collect();
+        println!("{}: true  {}", truth.trial, true_b.join(" "));
+        println!("{}: found {}", truth.trial, found.join(" "));
+        println!("{}: true actions  {}", truth.trial, true_l.join(" "));
+        println!("{}: found actions {}", truth.trial, kinds.join(" "));
+    }
+
     pub fn eval_data(args: Args) -> Result<(), String> {
         let data = &args.data;
         if !args.grid.is_empty() {
@@ -161,6 +223,9 @@ mod lab {
                 .map_err(|e| format!("{}: {e}", motion.name))?;
             let seconds = started.elapsed().as_secs_f64();
             let seg = output.segmentation;
+            if args.detail {
+                print_boundaries(&seg, truth);
+            }
             let scores = evaluate(&seg, truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", truth.trial))?;
             Ok(Row { scores, found_actions: report::scored_segments(&seg), seconds: Some(seconds) })
         };

@@ -132,6 +132,26 @@ fn two_periodic_activities_back_to_back_give_one_cut_at_the_switch() {
 }
 
 #[test]
+fn arm_circles_reversed_halfway_are_one_action_when_merging_by_poses() {
+    // circles forward, then the same circles backward (the stacked features see two activities,
+    // the poses one), then squats
+    let poses: Vec<Pose> = (0..1500)
+        .map(|t| match t {
+            0..600 => arm_circles(t as f32, 31.3),
+            600..1000 => arm_circles(-(t as f32), 31.3),
+            _ => squats(t as f32, 43.7),
+        })
+        .collect();
+    let base = matrix(&poses, &mut Noise::new(7), 1.0);
+    let paper = run(&base, true, SssmParams::new().pose_merge(0.0));
+    assert_eq!(paper.actions.len(), 3, "without merging: {:?}", paper.actions);
+    let merged = run(&base, true, SssmParams::new());
+    assert_eq!(merged.actions.len(), 2, "with merging: {:?}", merged.actions);
+    let b = action_boundaries(&merged);
+    assert!(b[0].abs_diff(1000) <= 15, "boundary at {} instead of 1000", b[0]);
+}
+
+#[test]
 fn a_periodic_motion_is_cut_into_primitives_of_its_period() {
     let period = 40.0;
     let poses: Vec<Pose> = (0..900).map(|t| squats(t as f32, period)).collect();

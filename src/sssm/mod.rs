@@ -11,6 +11,7 @@
 //! | feature bundling (optional) | §III | [`bundling`] |
 //! | radius search → sparse self-similarity matrix | §IV-A | [`neighbours`] |
 //! | forward/backward region growing → actions, transitions | §IV-B | [`activities`] |
+//! | merging actions by poses, boundaries at low motion (not in the paper) | after §IV-B | [`refine`] |
 //! | neighbourhood graph, warping paths → primitives | §IV-C | [`primitives`] |
 //! | mirrored features → phase-shifted primitives | §V | [`symmetry`] |
 //! | cluster graph, strongly connected components | §VI | [`clustering`] |
@@ -27,6 +28,7 @@ pub mod method;
 pub mod neighbours;
 pub mod params;
 pub mod primitives;
+pub mod refine;
 pub mod symmetry;
 
 use serde::{Deserialize, Serialize};
@@ -198,6 +200,7 @@ pub fn segment_features(
         });
     }
     let radius = params.search_radius();
+    let near_radius = params.primitive_search_radius() as f32;
     let mut search = None;
     let (mut sssm, mut mirror_sssm) = if params.bundling || params.neighbour_search == NeighbourSearchKind::KdTree {
         let mut stacked = features::stack(base, &params.offsets);
@@ -237,7 +240,15 @@ pub fn segment_features(
     // neighbours (see `primitive_radius`). Natively the kinds and the nearer neighbours are found
     // at once (`parallel::join`), as are the searches on the plain and on the mirror graph below.
     progress("activities", 0.5)?;
-    let activities = region_growing(params, &sssm, mirror_sssm.as_ref()).activities(params.boundary_rule);
+    let mut activities = region_growing(params, &sssm, mirror_sssm.as_ref()).activities(params.boundary_rule);
+    if params.pose_merge > 0.0 || params.boundary_window_frames() > 0 {
+        let band = params.band_frames();
+        let merged = refine::merge_same_poses(base, &activities.actions, band, band, params.pose_merge);
+        // body speed smoothed over ±0.1 s
+        let speed = refine::body_speed(base, (params.fps * 0.1).round() as usize);
+        activities.actions = refine::refine_boundaries(&merged, &speed, params.boundary_window_frames());
+        activities.transitions = activities::gaps(base.frames(), &activities.actions);
+    }
     let mut far_pairs = Vec::new();
     if let (Some(search), Some(horizon)) = (&search, params.horizon_frames()) {
         if horizon.saturating_add(1) < base.frames() {
@@ -245,7 +256,6 @@ pub fn segment_features(
             // each long action), then kinds and clusters on the SSSM with them
             let grow = region_growing(params, &sssm, mirror_sssm.as_ref());
             let limits: Vec<Option<f32>> = activities.actions.iter().map(|&a| grow.repeat_limit(a)).collect();
-            let near_radius = params.primitive_search_radius() as f32;
             let far = FarSearch::new(search, horizon, radius as f32, params.max_neighbours, near_radius, params.fps);
             progress("far blocks", 0.5)?;
             let entries = far.search(&activities.actions, &limits, &mut |f| progress("far blocks", 0.5 + 0.08 * f))?;
@@ -258,7 +268,6 @@ pub fn segment_features(
     }
     progress("kinds", 0.58)?;
     let grow = region_growing(params, &sssm, mirror_sssm.as_ref());
-    let near_radius = params.primitive_search_radius() as f32;
     let (kinds, (near, mirror_near)) = parallel::join(
         || grow.kinds(&activities.actions, grow.relative),
         || (sssm.within(near_radius), mirror_sssm.as_ref().map(|m| m.within(near_radius))),
