@@ -12,7 +12,8 @@
 //!   - *held out*: for each take, the grid setting best on the **other** takes scored on it (nested: nothing is
 //!     chosen on the reported take); each fold's choice is printed and kept in the JSON. DT-FCN and the k-NN are
 //!     trained on the other mocap6 takes, their settings chosen on inner validation takes of those
-//!     (`dtfcn::corpus::predict_held_out`; the k-NN's k by an inner leave-one-take-out); 86_01 has no other take with
+//!     (`dtfcn::corpus::predict_held_out`: width, augmentation, epochs, and the unknown threshold on the validation
+//!     take's labels; the k-NN's k and unknown threshold by an inner leave-one-take-out); 86_01 has no other take with
 //!     its labels, so they have no held-out score there.
 //!   - *oracle-K*: per take, the grid setting whose number of segments is closest to the true one (a method told K).
 //!   Selection: the mean of F1@1s and covering.
@@ -99,10 +100,15 @@ mod lab {
     }
 
     /// The grid each method's parameters are chosen over (the first setting is the defaults). Small on purpose: with
-    /// five takes, a big grid overfits.
+    /// five takes, a big grid overfits. SSSM's: its radius, and each departure from the paper that region growing
+    /// depends on switched on or off (the relative gate, merging by poses).
     fn grid(method: &str) -> Vec<Vec<String>> {
         let axes: Vec<(&str, Vec<&str>)> = match method {
-            "sssm" => vec![("radius", vec!["19", "13", "25"]), ("relative_gate", vec!["1.5", "0"])],
+            "sssm" => vec![
+                ("radius", vec!["19", "13", "25"]),
+                ("relative_gate", vec!["1.5", "0"]),
+                ("pose_merge", vec!["2", "0"]),
+            ],
             "velocity" => {
                 vec![("low_speed", vec!["12", "8", "16", "24"]), ("high_speed", vec!["30", "20", "45", "60"])]
             }
@@ -240,13 +246,37 @@ mod lab {
         out
     }
 
+    /// The unknown thresholds a fold chooses from (the method's default first, so it wins ties).
+    const THRESHOLDS: [f64; 3] = [DEFAULT_UNKNOWN_THRESHOLD, 0.5, 0.0];
+
+    /// Per-frame labels under an unknown threshold (`None` below it).
+    fn thresholded(pred: &[(usize, f32)], threshold: f64) -> Vec<Option<usize>> {
+        pred.iter().map(|&(c, p)| (p as f64 >= threshold).then_some(c)).collect()
+    }
+
+    /// The threshold with the best frame accuracy (unknown frames wrong) of `pred` against `truth`, and that accuracy.
+    fn best_threshold(pred: &[(usize, f32)], truth: &[Option<usize>]) -> (f64, f64) {
+        THRESHOLDS.iter().fold((THRESHOLDS[0], f64::MIN), |best, &t| {
+            let acc = labelling::score(&thresholded(pred, t), truth).frame_accuracy;
+            if acc > best.1 + 1e-12 {
+                (t, acc)
+            } else {
+                best
+            }
+        })
+    }
+
     /// A labeller's per-file-frame (class, confidence) as the method turns them into segments (below the unknown
     /// threshold: `unknown`).
-    fn labelled_segmentation(motion: &Motion, pred: &[(usize, f32)], classes: &[String], method: &str) -> Segmentation {
-        let file: Vec<(Option<usize>, f32)> = pred
-            .iter()
-            .map(|&(c, p)| (if p as f64 >= DEFAULT_UNKNOWN_THRESHOLD { Some(c) } else { None }, p))
-            .collect();
+    fn labelled_segmentation(
+        motion: &Motion,
+        pred: &[(usize, f32)],
+        threshold: f64,
+        classes: &[String],
+        method: &str,
+    ) -> Segmentation {
+        let file: Vec<(Option<usize>, f32)> =
+            thresholded(pred, threshold).into_iter().zip(pred).map(|(c, &(_, p))| (c, p)).collect();
         Segmentation {
             file: motion.name.clone(),
             fps: motion.fps,
@@ -290,51 +320,67 @@ mod lab {
             let mut folds = Vec::new();
             if mocap6.len() >= 3 {
                 for h in 0..mocap6.len() {
-                    let (pred, chosen) = if name == "knn" {
+                    let (pred, threshold, chosen) = if name == "knn" {
                         let train: Vec<usize> = (0..mocap6.len()).filter(|&i| i != h).collect();
-                        let mut top = (KS[0], f64::MIN);
+                        // (k, threshold, mean inner accuracy)
+                        let mut top = (KS[0], THRESHOLDS[0], f64::MIN);
                         for k in KS {
-                            let mut acc = 0.0;
-                            for &v in &train {
-                                let fit: Vec<(&Motion, &[Option<usize>])> = train
+                            let inner: Vec<Vec<(usize, f32)>> = train
+                                .iter()
+                                .map(|&v| {
+                                    let fit: Vec<(&Motion, &[Option<usize>])> = train
+                                        .iter()
+                                        .filter(|&&i| i != v)
+                                        .map(|&i| (&motions[i], labels[i].as_slice()))
+                                        .collect();
+                                    knn_predict(&fit, k, &motions[v])
+                                })
+                                .collect::<Result<_, _>>()?;
+                            for t in THRESHOLDS {
+                                let acc = train
                                     .iter()
-                                    .filter(|&&i| i != v)
-                                    .map(|&i| (&motions[i], labels[i].as_slice()))
-                                    .collect();
-                                let p = knn_predict(&fit, k, &motions[v])?;
-                                let p: Vec<Option<usize>> = p.iter().map(|x| Some(x.0)).collect();
-                                acc += labelling::score(&p, &labels[v]).frame_accuracy / train.len() as f64;
-                            }
-                            if acc > top.1 + 1e-12 {
-                                top = (k, acc);
+                                    .zip(&inner)
+                                    .map(|(&v, p)| labelling::score(&thresholded(p, t), &labels[v]).frame_accuracy)
+                                    .sum::<f64>()
+                                    / train.len() as f64;
+                                if acc > top.2 + 1e-12 {
+                                    top = (k, t, acc);
+                                }
                             }
                         }
                         let fit: Vec<(&Motion, &[Option<usize>])> =
                             train.iter().map(|&i| (&motions[i], labels[i].as_slice())).collect();
-                        (knn_predict(&fit, top.0, &motions[h])?, format!("k={} (inner accuracy {:.3})", top.0, top.1))
+                        (
+                            knn_predict(&fit, top.0, &motions[h])?,
+                            top.1,
+                            format!("k={} unknown_threshold={} (inner accuracy {:.3})", top.0, top.1, top.2),
+                        )
                     } else {
-                        let mut top: Option<(Vec<(usize, f32)>, String, f64)> = None;
+                        // (held-out labels, threshold, what was chosen, validation accuracy)
+                        let mut top: Option<(Vec<(usize, f32)>, f64, String, f64)> = None;
                         for (width, augment) in [(2, true), (2, false), (3, true)] {
                             let mut options = TrainOptions { width, ..TrainOptions::default() };
                             if !augment {
                                 options.augment = mocapseg::dtfcn::augment::Augment::none();
                             }
                             let p = predict_held_out(&motions, &labels, h, &classes, &options, &mut |_| true)?;
+                            // the unknown threshold, on the validation take's labels by the network trained without it
+                            let (threshold, accuracy) = best_threshold(&p.validation_labels, &labels[p.validation]);
                             let what = format!(
-                                "width={width} augment={} epochs={} (validation {} accuracy {:.3})",
+                                "width={width} augment={} epochs={} unknown_threshold={threshold} (validation {} accuracy {:.3})",
                                 if augment { "all" } else { "none" },
                                 p.best_epoch,
                                 motions[p.validation].name,
-                                p.validation_accuracy
+                                accuracy
                             );
-                            if top.as_ref().is_none_or(|t| p.validation_accuracy > t.2 + 1e-12) {
-                                top = Some((p.network, what, p.validation_accuracy));
+                            if top.as_ref().is_none_or(|t| accuracy > t.3 + 1e-12) {
+                                top = Some((p.network, threshold, what, accuracy));
                             }
                         }
-                        let (pred, what, _) = top.ok_or("no DT-FCN setting")?;
-                        (pred, what)
+                        let (pred, threshold, what, _) = top.ok_or("no DT-FCN setting")?;
+                        (pred, threshold, what)
                     };
-                    let seg = labelled_segmentation(&motions[h], &pred, &classes, name);
+                    let seg = labelled_segmentation(&motions[h], &pred, threshold, &classes, name);
                     let c = cell(&seg, &mocap6[h].truth)?;
                     println!("  {name}: held out {} — chose {chosen}", mocap6[h].name);
                     folds.push((mocap6[h].name.clone(), chosen, c.scores));

@@ -236,6 +236,17 @@ pub struct FoldPrediction {
     pub validation_accuracy: f64,
     /// The validation take's index.
     pub validation: usize,
+    /// Per file frame of the validation take: class and confidence of the network trained without it (the
+    /// early-stopped one), so that settings applied after the network — the unknown threshold — can be chosen on it.
+    pub validation_labels: Vec<(usize, f32)>,
+}
+
+/// Per file frame of `motion`: the most probable class and its probability under a trained network.
+fn label_file_frames(trained: &Trained, motion: &Motion, classes: usize) -> Result<Vec<(usize, f32)>, String> {
+    let input = super::input::network_input(motion)?;
+    let probs = super::infer::predict_input(&trained.net, &trained.standardise, &input, classes);
+    let working: Vec<(usize, f32)> = (0..probs.frames).map(|f| probs.best(f)).collect();
+    Ok(TrainingTake::to_file_frames(&input.source_frames, motion.frames(), &working))
 }
 
 /// One fold of the nested protocol: take `held` is held out; of the others, the next one in turn
@@ -259,13 +270,11 @@ pub fn predict_held_out(
     let take = |i: usize| TrainingTake::new(&motions[i], &labels[i]);
     let inner: Vec<TrainingTake> = (0..n).filter(|&i| i != held && i != val).map(take).collect::<Result<_, _>>()?;
     let chosen = train(&inner, &[take(val)?], classes, options, &mut *on_epoch)?;
+    let validation_labels = label_file_frames(&chosen, &motions[val], classes.len())?;
     let all: Vec<TrainingTake> = (0..n).filter(|&i| i != held).map(take).collect::<Result<_, _>>()?;
     let again = TrainOptions { epochs: chosen.best_epoch, ..options.clone() };
     let trained = train(&all, &[], classes, &again, on_epoch)?;
-    let input = super::input::network_input(&motions[held])?;
-    let probs = super::infer::predict_input(&trained.net, &trained.standardise, &input, classes.len());
-    let working: Vec<(usize, f32)> = (0..probs.frames).map(|f| probs.best(f)).collect();
-    let network = TrainingTake::to_file_frames(&input.source_frames, motions[held].frames(), &working);
+    let network = label_file_frames(&trained, &motions[held], classes.len())?;
     let imperfect: Vec<Vec<Option<usize>>> =
         (0..n).map(|i| imperfect_labels(&labels[i], motions[i].fps, classes.len(), options, i as u64)).collect();
     let knn_train: Vec<(&Motion, &[Option<usize>])> =
@@ -280,6 +289,7 @@ pub fn predict_held_out(
         epochs_run: chosen.reports.len(),
         validation_accuracy,
         validation: val,
+        validation_labels,
     })
 }
 
