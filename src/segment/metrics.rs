@@ -16,7 +16,8 @@
 //! the first action, a trailing one to the last); that is how action labels are annotated. A segmentation without
 //! actions (the gesture methods: velocity, KCS, LMA) is scored *as given*: its primitives as they are, gaps staying
 //! gaps and overlapping segments (LMA's two arms) overlapping; its boundaries are every segment's start and the frame
-//! after its end. The truth's boundaries are read the same way, so a gapped truth (spliced gestures) keeps its gaps.
+//! after its end. The truth is read in the same view: as a tiling its boundaries are where its segments start; as given
+//! every start and every frame after an end, so a gapped truth (spliced gestures) keeps its gaps.
 
 use std::collections::BTreeMap;
 
@@ -508,7 +509,17 @@ pub fn evaluate(seg: &Segmentation, truth: &Truth, tol: &Tolerances) -> Result<S
     let true_iv: Vec<(usize, usize)> = truth.segments.iter().map(|s| (s.start, s.end)).collect();
     let pred_iv: Vec<(usize, usize)> = spans.iter().map(|s| (s.start, s.end)).collect();
     let pred_b = boundaries(&pred_iv, truth.frames);
-    let true_b = boundaries(&true_iv, truth.frames);
+    // the truth in the same view: as a tiling its boundaries are where segments start (an unlabelled tail or gap is
+    // not a cut of its own), as given every start and every frame after an end
+    let true_b = match scored_as {
+        ScoredView::Tiling => {
+            let mut starts: Vec<usize> = true_iv.iter().map(|g| g.0).filter(|&f| f > 0 && f < truth.frames).collect();
+            starts.sort_unstable();
+            starts.dedup();
+            starts
+        }
+        ScoredView::AsGiven => boundaries(&true_iv, truth.frames),
+    };
     let boundaries = tol.boundary_s.iter().map(|&t| boundary_score(&pred_b, &true_b, t, seg.fps)).collect();
 
     let covering = covering(&true_iv, &pred_iv);
@@ -805,6 +816,11 @@ mod tests {
         assert_eq!(sc.predicted_boundaries, 1); // at 50, the gap 40..=59 split in its middle
         assert_eq!(sc.boundaries[0].f1, 1.0);
         assert_eq!(sc.covering, 1.0);
+        // Against a truth that leaves the take's last frames unlabelled, the tiling's truth cuts only where its
+        // segments start: the unlabelled tail is no boundary of its own.
+        let t = truth(100, &[(0, 49, "a"), (50, 97, "b")]);
+        let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
+        assert_eq!((sc.true_boundaries, sc.boundaries[0].f1), (1, 1.0));
     }
 
     #[test]
