@@ -175,6 +175,20 @@ mod lab {
         (0..cells.len()).fold(0, |b, s| if mean(s) > mean(b) + 1e-12 { s } else { b })
     }
 
+    /// Oracle-K: per take, the cell of the setting whose number of segments is closest to the true one (ties: the
+    /// earlier setting).
+    fn oracle_k(cells: &[Vec<Cell>]) -> Vec<&Cell> {
+        let takes = cells.first().map_or(0, Vec::len);
+        (0..takes)
+            .map(|t| {
+                let s = (0..cells.len())
+                    .min_by_key(|&s| cells[s][t].found.abs_diff(cells[s][t].truth_segments))
+                    .unwrap_or(0);
+                &cells[s][t]
+            })
+            .collect()
+    }
+
     /// One method's row of a benchmark.
     struct MethodRow {
         method: String,
@@ -213,14 +227,7 @@ mod lab {
             folds.push((takes[t].1.trial.clone(), label(&settings[s]), cells[s][t].scores.clone()));
         }
         let held_out = MeanScores::mean(&folds.iter().map(|f| f.2.clone()).collect::<Vec<_>>());
-        let oracle: Vec<&Cell> = (0..takes.len())
-            .map(|t| {
-                let s = (0..settings.len())
-                    .min_by_key(|&s| cells[s][t].found.abs_diff(cells[s][t].truth_segments))
-                    .unwrap_or(0);
-                &cells[s][t]
-            })
-            .collect();
+        let oracle = oracle_k(&cells);
         Ok(MethodRow {
             method: name.into(),
             defaults: Some(defaults),
@@ -552,14 +559,7 @@ mod lab {
                 println!("  {name} (splices): held out {} — chose {}", sources[k].name, label(&settings[s]));
                 fold_rows.push((sources[k].name.to_string(), label(&settings[s]), scored.scores));
             }
-            let oracle: Vec<&Cell> = (0..all.len())
-                .map(|t| {
-                    let s = (0..settings.len())
-                        .min_by_key(|&s| cells[s][t].found.abs_diff(cells[s][t].truth_segments))
-                        .unwrap_or(0);
-                    &cells[s][t]
-                })
-                .collect();
+            let oracle = oracle_k(&cells);
             rows.push(MethodRow {
                 method: name.into(),
                 defaults: Some(mean_of(&every.iter().map(|&t| &cells[0][t]).collect::<Vec<_>>())),
