@@ -7,7 +7,8 @@
 #   make bench   one table: parse, FK, every method at 1×/2×/4× a take and the batch rate, native
 #                and in headless Chromium; with ../shared/data also the peer libraries (bench/peers)
 #   make setup   install the toolchain (scripts/setup.sh; idempotent, seconds when done)
-#   make web     build the page into dist/ (release wasm + wasm-bindgen + wasm-opt + assets;
+#   make web     build the page into dist/ (release wasm + wasm-bindgen + wasm-opt + assets, the
+#                shipped models in dist/models/, fetched by the page when a method first needs one;
 #                wasm-bindgen and wasm-opt only run again when the wasm changed)
 #   make accuracy  the scoreboard: every method on every labelled take of ../shared/data, in-sample and
 #                nested leave-one-take-out side by side, beside chance and oracle-K; writes docs/accuracy.md,
@@ -137,6 +138,7 @@ web: check-toolchain
 	fi; \
 	cp index.html $(DIST)/; \
 	rm -rf $(DIST)/www && cp -r www $(DIST)/www; \
+	rm -rf $(DIST)/models && mkdir -p $(DIST)/models && cp models/*.model models/*.json $(DIST)/models/; \
 	python3 scripts/service-worker.py $(DIST); \
 	echo "built $(DIST)/: $$(du -h $(DIST)/pkg/$(CRATE)_bg.wasm | cut -f1) wasm"
 

@@ -113,6 +113,17 @@ pub enum Request {
         #[serde(skip)]
         bytes: Vec<Vec<u8>>,
     },
+    /// Hand over the shipped model file `file` (its bytes as the page fetched them from beside
+    /// itself, buffer 0) after a `needs_model` answer; checked against this build's SHA-256
+    /// ([`crate::method::shipped::provide`]). Answer: `model_provided`, or `failed` naming the
+    /// file. Any worker accepts it, whatever take it holds.
+    ProvideModel {
+        take: TakeId,
+        run: RunId,
+        file: String,
+        #[serde(skip)]
+        bytes: Vec<u8>,
+    },
     /// Runs the next epoch of the training `run` (the worker's glue sends it to its own worker
     /// when [`WorkerState::next_step`] says so). Ignored when that training is over.
     ContinueTraining { take: TakeId, run: RunId },
@@ -143,6 +154,7 @@ impl Request {
             | Request::TrainLma { run, .. }
             | Request::UseLmaModel { run, .. }
             | Request::UseLabelModel { run, .. }
+            | Request::ProvideModel { run, .. }
             | Request::TrainDtfcn { run, .. }
             | Request::ContinueTraining { run, .. }
             | Request::StopTraining { run, .. }
@@ -158,6 +170,7 @@ impl Request {
             | Request::TrainLma { take, .. }
             | Request::UseLmaModel { take, .. }
             | Request::UseLabelModel { take, .. }
+            | Request::ProvideModel { take, .. }
             | Request::TrainDtfcn { take, .. }
             | Request::ContinueTraining { take, .. }
             | Request::StopTraining { take, .. }
@@ -561,6 +574,20 @@ pub enum Response {
         #[serde(skip)]
         bytes: Vec<u8>,
     },
+    /// The run `run` (a segment run, or a `use_lma_model` back to the shipped family) needs the
+    /// shipped model file `file`, which this worker does not hold yet: the page fetches it
+    /// (`models/FILE` beside the page), sends `provide_model` and asks again.
+    NeedsModel {
+        take: TakeId,
+        run: RunId,
+        file: String,
+    },
+    /// A `provide_model`: the worker holds the file now.
+    ModelProvided {
+        take: TakeId,
+        run: RunId,
+        file: String,
+    },
     /// A `clips` request's file: `file` to save, `clips` clips in it; its bytes are buffer 0.
     Clips {
         take: TakeId,
@@ -623,7 +650,7 @@ impl Request {
                 }
             }
             Request::UseLmaModel { model, .. } => model.into_iter().map(String::into_bytes).collect(),
-            Request::UseLabelModel { bytes, .. } => vec![bytes],
+            Request::UseLabelModel { bytes, .. } | Request::ProvideModel { bytes, .. } => vec![bytes],
             Request::TrainDtfcn { bytes, .. } => bytes,
             Request::Segment { .. }
             | Request::TrainLma { .. }
@@ -649,7 +676,7 @@ impl Request {
             Request::UseLmaModel { model, .. } => {
                 *model = buffers.next().map(|b| utf8(b, "the LMA family")).transpose()?;
             }
-            Request::UseLabelModel { bytes, .. } => {
+            Request::UseLabelModel { bytes, .. } | Request::ProvideModel { bytes, .. } => {
                 *bytes = buffers.next().ok_or("worker request: a model file without its bytes")?;
             }
             Request::TrainDtfcn { takes, bytes, .. } => {
@@ -903,6 +930,14 @@ impl WorkerState {
                 post(response);
             }
             Request::UseLmaModel { take, run, model } => post(use_lma_model(take, run, model.as_deref())),
+            Request::ProvideModel { take, run, file, bytes } => {
+                post(match crate::method::shipped::provide(&file, bytes) {
+                    Ok(()) => Response::ModelProvided { take, run, file },
+                    Err(message) => {
+                        Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, field: None }
+                    }
+                })
+            }
             Request::UseLabelModel { take, run, kind, file, bytes } => {
                 post(use_label_model(take, run, kind, &file, &bytes))
             }
@@ -1133,6 +1168,7 @@ impl WorkerState {
             Ok(output) => Response::Segmented { take, run, view: Box::new(output.into()) },
             Err(MethodError::Cancelled) => fail(format!("{short}: cancelled"), FailureKind::Cancelled),
             Err(e @ MethodError::Params(_)) => fail(e.to_string(), FailureKind::Input),
+            Err(MethodError::NeedsModel { file }) => Response::NeedsModel { take, run, file },
             Err(e) => fail(format!("{short} on {}: {e}", motion.name), FailureKind::Input),
         }
     }
@@ -1286,7 +1322,8 @@ fn use_lma_model(take: TakeId, run: RunId, model: Option<&str>) -> Response {
     }
     match crate::lma::model_in_use() {
         Ok((model, shipped)) => Response::ModelInUse { take, run, origin: model.origin.clone(), shipped },
-        Err(message) => fail(message),
+        Err(MethodError::NeedsModel { file }) => Response::NeedsModel { take, run, file },
+        Err(e) => fail(e.to_string()),
     }
 }
 
@@ -1443,6 +1480,34 @@ mod tests {
 
     fn segment(take: TakeId, run: RunId) -> Request {
         Request::Segment { take, run, method: "sssm".into(), params: serde_json::json!({}) }
+    }
+
+    /// The page hands a shipped model file over as buffer 0; the worker checks it against this
+    /// build's SHA-256 and answers `model_provided`, or `failed` naming the file.
+    #[test]
+    fn a_shipped_model_file_crosses_as_a_buffer_and_is_checked() {
+        let file = "knn-cmu-actions.model".to_string();
+        let good = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/models/knn-cmu-actions.model")).unwrap();
+        let request = Request::ProvideModel { take: 3, run: 4, file: file.clone(), bytes: good.clone() };
+        let packet = request.clone().into_packet();
+        assert_eq!(packet.buffers, vec![good.clone()]);
+        assert!(!packet.json.contains("bytes"), "the bytes travel as a buffer, not in the JSON");
+        assert_eq!(Request::from_packet(packet).unwrap(), request);
+        let mut worker = WorkerState::default();
+        assert_eq!(ask(&mut worker, request), vec![Response::ModelProvided { take: 3, run: 4, file: file.clone() }]);
+        let mut bad = good;
+        bad.truncate(1000);
+        let refused = ask(&mut worker, Request::ProvideModel { take: 3, run: 5, file, bytes: bad });
+        assert!(
+            matches!(&refused[..], [Response::Failed { run: Some(5), kind: FailureKind::Input, message, .. }]
+                if message.starts_with("models/knn-cmu-actions.model: 1000 bytes")),
+            "{refused:?}"
+        );
+        let unknown =
+            ask(&mut worker, Request::ProvideModel { take: 3, run: 6, file: "x.model".into(), bytes: vec![] });
+        assert!(
+            matches!(&unknown[..], [Response::Failed { message, .. }] if message.contains("not a shipped model file"))
+        );
     }
 
     #[test]

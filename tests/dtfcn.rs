@@ -23,6 +23,9 @@ use mocapseg::method::{find, NoProgress, RunOptions};
 use mocapseg::motion::Motion;
 use mocapseg::stats::Rng;
 
+#[path = "support/models.rs"]
+mod models;
+
 const WALK: &str = include_str!("fixtures/02_01.bvh");
 const OTHER: &str = include_str!("fixtures/35_01.bvh");
 
@@ -171,6 +174,7 @@ fn the_registered_methods_label_a_take_with_a_users_models() {
 
 #[test]
 fn every_shipped_model_loads_and_labels_a_walk() {
+    models::provide();
     let walk = motion("02_01.bvh", WALK);
     for kind in ["dtfcn", "knn"] {
         let m = find(kind).unwrap();

@@ -16,11 +16,19 @@ use mocapseg::lma::deviance::{exhaustive, pruned};
 use mocapseg::lma::features::Pool;
 use mocapseg::lma::method::{segment_with, LmaParams};
 use mocapseg::lma::network::TrainOptions;
-use mocapseg::lma::shipped_model;
 use mocapseg::lma::training::{train_family, TrainConfig};
 use mocapseg::method::{NoProgress, RunOptions};
 use mocapseg::motion::Motion;
 use mocapseg::segment::Level;
+
+#[path = "support/models.rs"]
+mod models;
+
+/// The shipped family (handed over first on the page's build).
+fn shipped_model() -> Result<&'static mocapseg::lma::classifier::EffortModel, String> {
+    models::provide();
+    mocapseg::lma::shipped_model()
+}
 
 const WALK: &str = include_str!("fixtures/131_01.bvh");
 const OTHER: &str = include_str!("fixtures/35_01.bvh");

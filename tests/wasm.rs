@@ -139,6 +139,20 @@ mod worker {
         let summary = lma_summary(13);
         assert!(summary.ends_with(&yours), "{summary}");
 
+        // the page hands the worker the shipped family's file (fetched from beside the page, as
+        // it is not in the wasm); a damaged copy is refused naming the file
+        let file = "lma-effort.json".to_string();
+        let good = include_bytes!("../models/lma-effort.json").to_vec();
+        let mut bad = good.clone();
+        bad[10] ^= 1;
+        let refused = ask(Request::ProvideModel { take: 11, run: 19, file: file.clone(), bytes: bad }, None);
+        assert!(
+            matches!(refused.last(), Some(Response::Failed { run: Some(19), message, .. }) if message.contains("models/lma-effort.json")),
+            "{refused:?}"
+        );
+        let taken = ask(Request::ProvideModel { take: 11, run: 20, file: file.clone(), bytes: good }, None);
+        assert_eq!(taken.last(), Some(&Response::ModelProvided { take: 11, run: 20, file }));
+
         // back to the shipped family, then the page's copy sent again, as to a new worker
         let shipped = ask(Request::UseLmaModel { take: 11, run: 14, model: None }, None);
         assert!(matches!(shipped.last(), Some(Response::ModelInUse { run: 14, shipped: true, .. })), "{shipped:?}");

@@ -19,6 +19,9 @@ use mocapseg::motion::{fk, Motion};
 use wasm_bindgen::prelude::*;
 use wasm_bindgen_test::*;
 
+#[path = "support/models.rs"]
+mod models;
+
 wasm_bindgen_test_configure!(run_in_browser);
 
 /// Absolute path of the benchmarked take, fixed at compile time.
@@ -188,6 +191,7 @@ const SSSM_RUNS: usize = 5;
 async fn lma_end_to_end() {
     use mocapseg::lma::method::{segment_with, LmaParams};
     use mocapseg::method::{NoProgress, RunOptions};
+    models::provide();
     let model = mocapseg::lma::shipped_model().expect("the shipped LMA family");
     let bvh = bvh::parse(SSSM_SEQUENCE).expect("the bench sequence parses");
     let full = Motion::from_bvh("bench sequence", &bvh).expect("motion");
@@ -229,6 +233,7 @@ async fn lma_end_to_end() {
 async fn dtfcn_end_to_end() {
     use mocapseg::dtfcn::bench::{inference, trainer, EXERCISE_FRAMES};
     use mocapseg::dtfcn::model::ModelKind;
+    models::provide();
     let bvh = bvh::parse(SSSM_SEQUENCE).expect("the bench sequence parses");
     let full = Motion::from_bvh("bench sequence", &bvh).expect("motion");
     let take = Motion::concatenate(std::slice::from_ref(&full), 3000).expect("3000 frames");
@@ -317,6 +322,7 @@ async fn methods_table() {
     let seq = bvh::parse(SSSM_SEQUENCE).expect("the bench sequence parses");
     let full = Motion::from_bvh("bench sequence", &seq).expect("motion");
     assert!(full.frames() >= 4 * TAKE_FRAMES, "the sequence holds 4 × {TAKE_FRAMES} frames");
+    models::provide();
     for m in method::registry() {
         let info = m.info();
         let checked = m.check_json(&serde_json::Value::Null).expect("default parameters");

@@ -10,11 +10,11 @@
 //! parameters.
 
 use super::loader::{Loader, Urls};
-use super::AppState;
+use super::{js_message, AppState};
 use crate::view::url_params::{self, UrlParams};
 use js_sys::ArrayBuffer;
 use leptos::prelude::*;
-use wasm_bindgen::{JsCast, JsValue};
+use wasm_bindgen::JsCast;
 use wasm_bindgen_futures::JsFuture;
 use web_sys::Response as FetchResponse;
 
@@ -162,14 +162,6 @@ fn page_csp() -> String {
         .and_then(|d| d.query_selector("meta[http-equiv='Content-Security-Policy' i]").ok().flatten())
         .and_then(|m| m.get_attribute("content"))
         .unwrap_or_default()
-}
-
-fn js_message(value: &JsValue) -> String {
-    value
-        .dyn_ref::<js_sys::Error>()
-        .map(|e| String::from(e.message()))
-        .or_else(|| value.as_string())
-        .unwrap_or_else(|| format!("{value:?}"))
 }
 
 /// `#url-notice`: the URL parameters that could not be used, each with why; dismissable.

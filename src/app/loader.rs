@@ -19,10 +19,15 @@
 //! request or a DT-FCN training under way is sent again to a new worker (the training then starts
 //! again from its first epoch). A training runs one epoch per message; Stop asks the worker to end
 //! it after the epoch under way and keep the best model so far.
+//!
+//! The shipped models are not in the wasm: a run that needs one the worker does not hold is
+//! answered `needs_model`, and [`super::model_files`] fetches it, hands it over and asks again.
 
 use super::dtfcn_training::{model_file_name, TrainAsk, TrainState, TrainedFile};
+use super::js_message;
 use super::label_models::{describe, kind_of, LoadStatus, UserModel};
 use super::lma_training::{self, TrainingState, UserFamily};
+use super::model_files::{self, ModelFiles};
 use super::motion_image::download;
 use super::{AppState, LoadState, MethodSlot, RunState};
 use crate::dtfcn::model::ModelKind;
@@ -45,18 +50,25 @@ use web_sys::{Event, File, MessageEvent, Response as FetchResponse, Worker, Work
 /// The largest file the page reads (the worker's memory budget then checks what it needs).
 pub const MAX_FILE_BYTES: f64 = 512.0 * 1024.0 * 1024.0;
 
-/// Where the worker script and the bundled sample are, relative to the page.
+/// Where the worker script, the bundled sample and the shipped models are, relative to the page.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Urls {
     pub worker: String,
     pub sample: String,
+    /// The folder of the shipped model files.
+    pub models: String,
 }
 
 impl Urls {
-    /// The defaults, overridden by the root element's `data-worker-url` / `data-sample-url`.
+    /// The defaults, overridden by the root element's `data-worker-url` / `data-sample-url` /
+    /// `data-models-url`.
     pub fn from_root(root: &web_sys::Element) -> Urls {
         let get = |name: &str, default: &str| root.get_attribute(name).unwrap_or_else(|| default.to_string());
-        Urls { worker: get("data-worker-url", "./www/worker.js"), sample: get("data-sample-url", "./www/sample.bvh") }
+        Urls {
+            worker: get("data-worker-url", "./www/worker.js"),
+            sample: get("data-sample-url", "./www/sample.bvh"),
+            models: get("data-models-url", "./models/"),
+        }
     }
 
     /// The file name at the end of the sample's URL.
@@ -168,10 +180,13 @@ struct Inner {
     auto_run: RefCell<Option<Vec<String>>>,
     /// The load of the page's `src=` file and its URL (a failure to parse it names the URL).
     src_take: RefCell<Option<(TakeId, String)>>,
+    /// The shipped model files fetched, and the runs waiting for one.
+    models: ModelFiles,
 }
 
 impl Loader {
     pub fn new(state: AppState, urls: Urls) -> Loader {
+        let models = ModelFiles::new(&urls.models);
         let inner = Rc::new(Inner {
             state,
             urls,
@@ -190,6 +205,7 @@ impl Loader {
             clip_jobs: RefCell::new(Vec::new()),
             auto_run: RefCell::new(None),
             src_take: RefCell::new(None),
+            models,
         });
         spawn_worker(&inner);
         Loader(inner)
@@ -570,6 +586,107 @@ fn spawn_worker(inner: &Rc<Inner>) {
     *inner.worker.borrow_mut() = Some(worker);
     send_family(inner);
     send_label_models(inner);
+    send_model_files(inner);
+}
+
+/// Hands a worker just started every shipped model file the page fetched (a worker starts with
+/// none), before any other request.
+fn send_model_files(inner: &Rc<Inner>) {
+    for (file, bytes) in inner.models.all() {
+        let run = next_id(inner);
+        give_model(inner, run, &file, &bytes);
+    }
+}
+
+/// Hands the shipped model file `file` to the worker; a refusal is the answer to `run`.
+fn give_model(inner: &Rc<Inner>, run: RunId, file: &str, bytes: &[u8]) {
+    let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
+    let request = Request::ProvideModel { take, run, file: file.to_string(), bytes: bytes.to_vec() };
+    if let Err(message) = post(inner, &request, None) {
+        fail_waiting(inner, run, message);
+    }
+}
+
+/// The worker needs the shipped model file `file` for `run` (a method's run or the LMA family
+/// request): fetched once, handed over, and `run` asked again.
+fn need_model(inner: &Rc<Inner>, run: RunId, file: String) {
+    if inner.family_sync.get() == Some(run) {
+        // a new worker told to use the shipped family: it does, and fetches nothing until a run
+        inner.family_sync.set(None);
+        return;
+    }
+    if run_index(inner, run).is_none() && !is_lma_job(inner, run) {
+        return; // superseded
+    }
+    if let Some(bytes) = inner.models.held(&file) {
+        // fetched while this worker was starting: hand it over and ask again
+        give_model(inner, run, &file, &bytes);
+        return ask_again(inner, run);
+    }
+    let size = crate::method::shipped::find(&file).map_or(0, |(_, f)| f.size);
+    show_fetching(inner, run, &file, size, 0.0);
+    if !inner.models.wait(run, &file) {
+        return; // on its way
+    }
+    let url = inner.models.url(&file);
+    let weak = Rc::downgrade(inner);
+    wasm_bindgen_futures::spawn_local(async move {
+        let progress = |fraction: f64| {
+            if let Some(inner) = Weak::upgrade(&weak) {
+                for run in inner.models.waiting_for(&file) {
+                    show_fetching(&inner, run, &file, size, fraction);
+                }
+            }
+        };
+        let fetched = model_files::fetch(&url, size, progress).await;
+        let Some(inner) = Weak::upgrade(&weak) else { return };
+        match fetched {
+            Ok(bytes) => {
+                let bytes = Rc::new(bytes);
+                for run in inner.models.arrived(&file, bytes.clone()) {
+                    give_model(&inner, run, &file, &bytes);
+                    ask_again(&inner, run);
+                }
+            }
+            Err(message) => {
+                for run in inner.models.take_waiting(&file) {
+                    fail_waiting(&inner, run, format!("could not fetch the model {url}: {message}"));
+                }
+            }
+        }
+    });
+}
+
+/// Shows on whatever `run` is that `file` is coming.
+fn show_fetching(inner: &Inner, run: RunId, file: &str, size: u64, fraction: f64) {
+    let stage = model_files::fetching_stage(file, size);
+    if let Some(index) = run_index(inner, run) {
+        inner.state.methods[index].run.set(RunState::Running { stage, fraction });
+    } else if is_lma_job(inner, run) {
+        inner.state.lma.state.set(TrainingState::Training { stage, fraction });
+    }
+}
+
+/// Sends `run` (a method's run or the LMA family request) again.
+fn ask_again(inner: &Rc<Inner>, run: RunId) {
+    if let Some(index) = run_index(inner, run) {
+        if let Err(message) = send_run(inner, index) {
+            fail_run(inner, index, message);
+        }
+    } else if is_lma_job(inner, run) {
+        if let Err(message) = send_lma_job(inner) {
+            fail_lma_job(inner, message);
+        }
+    }
+}
+
+/// `run` cannot have its model file.
+fn fail_waiting(inner: &Inner, run: RunId, message: String) {
+    if let Some(index) = run_index(inner, run) {
+        fail_run(inner, index, message);
+    } else if is_lma_job(inner, run) {
+        fail_lma_job(inner, message);
+    }
 }
 
 /// Gives a worker just started every DT-FCN and k-NN model the page holds (a worker knows only
@@ -1105,6 +1222,7 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                 }
             }
         }
+        Response::NeedsModel { run, file, .. } => need_model(inner, run, file),
         Response::Trained { run, model, report, origin, used_rows, ignored_rows, .. } if is_lma_job(inner, run) => {
             on_trained(inner, model, report, origin, (used_rows, ignored_rows));
         }
@@ -1223,13 +1341,4 @@ async fn fetch_bytes(url: &str) -> Result<ArrayBuffer, String> {
     }
     let body = response.array_buffer().map_err(|e| js_message(&e))?;
     JsFuture::from(body).await.map(JsCast::unchecked_into).map_err(|e| js_message(&e))
-}
-
-/// The message of a JS error (or the value itself, as text).
-fn js_message(value: &JsValue) -> String {
-    value
-        .dyn_ref::<js_sys::Error>()
-        .map(|e| String::from(e.message()))
-        .or_else(|| value.as_string())
-        .unwrap_or_else(|| format!("{value:?}"))
 }

@@ -34,6 +34,7 @@ mod lma_training;
 mod loader;
 mod method_panel;
 mod metrics_panel;
+mod model_files;
 mod motion_image;
 mod my_labels;
 mod playback;
@@ -309,12 +310,22 @@ impl AppState {
     }
 }
 
+/// The message of a JS error (or the value itself, as text).
+pub(crate) fn js_message(value: &JsValue) -> String {
+    value
+        .dyn_ref::<js_sys::Error>()
+        .map(|e| String::from(e.message()))
+        .or_else(|| value.as_string())
+        .unwrap_or_else(|| format!("{value:?}"))
+}
+
 /// Id of the element the page mounts into (falls back to `<body>`).
 const ROOT_ID: &str = "mocapseg-app";
 
 /// Mounts the page. Called by `index.html` after `init()`; the worker loads the same module
 /// and never calls it. The root element may override the asset locations with
-/// `data-worker-url` and `data-sample-url` (default `./www/worker.js`, `./www/sample.bvh`).
+/// `data-worker-url`, `data-sample-url` and `data-models-url` (default `./www/worker.js`,
+/// `./www/sample.bvh`, `./models/`).
 #[wasm_bindgen]
 pub fn mount_app() -> Result<(), JsValue> {
     console_error_panic_hook::set_once();

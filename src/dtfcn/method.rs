@@ -77,8 +77,9 @@ pub fn installed_names(kind: ModelKind) -> Vec<String> {
         .unwrap_or_default()
 }
 
-/// The model of `kind` called `name`: an installed one first, else a shipped one.
-pub fn resolve(kind: ModelKind, name: &str) -> Result<Arc<Model>, String> {
+/// The model of `kind` called `name`: an installed one first, else a shipped one (on the page,
+/// [`MethodError::NeedsModel`] until its file was fetched).
+pub fn resolve(kind: ModelKind, name: &str) -> Result<Arc<Model>, MethodError> {
     if let Ok(list) = installed().lock() {
         if let Some((_, m)) = list.iter().find(|(n, m)| n == name && m.header.kind == kind) {
             return Ok(m.clone());
@@ -149,7 +150,7 @@ impl Method for Labelling {
     }
 
     fn check(&self, params: LabelParams) -> Result<Checked, MethodError> {
-        let model = resolve(self.kind, params.model.trim()).map_err(|e| MethodError::Params(format!("model: {e}")))?;
+        let model = resolve(self.kind, params.model.trim())?;
         let t = params.unknown_threshold;
         if !(0.0..=1.0).contains(&t) {
             return Err(MethodError::Params(format!("unknown_threshold = {t}: expected a confidence from 0 to 1")));

@@ -1,44 +1,63 @@
-//! The models shipped with the app, built into the binary and the page (`include_bytes!`), each
-//! reproducible with the command in its header (`mocapseg model-info FILE` prints it) and in the
-//! README:
+//! The labelling models shipped with the app (`models/{dtfcn,knn}-NAME.model`, listed by
+//! [`crate::method::shipped`]: built into the command line, fetched by the page when first
+//! used), each reproducible with the command in its header (`mocapseg model-info NAME` prints
+//! it) and in `models/README.md`:
 //! * `exercises` — the four mocap6 exercise takes of the shared data (seven of mocap6's twelve
 //!   exercises);
 //! * `cmu-actions` — CMU 86_01's action labels (a small set: one take);
 //! * `locomotion` — gait phases (standing, begin/end left/right step, left/right step, turn) from
 //!   the heuristic gait labeller ([`crate::labels::gait`]) on the CMU walking clips.
 
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex};
 
 use super::model::{Model, ModelKind};
+use crate::method::{shipped, MethodError};
 
 /// Names of the shipped models, the default first.
 pub const NAMES: [&str; 3] = ["exercises", "cmu-actions", "locomotion"];
 
-const DTFCN: [&[u8]; 3] = [
-    include_bytes!("../../models/dtfcn-exercises.model"),
-    include_bytes!("../../models/dtfcn-cmu-actions.model"),
-    include_bytes!("../../models/dtfcn-locomotion.model"),
-];
+/// The file of the shipped model of `kind` called `name` (`dtfcn-exercises.model`).
+pub fn file_name(kind: ModelKind, name: &str) -> String {
+    format!("{}-{name}.model", kind.name())
+}
 
-const KNN: [&[u8]; 3] = [
-    include_bytes!("../../models/knn-exercises.model"),
-    include_bytes!("../../models/knn-cmu-actions.model"),
-    include_bytes!("../../models/knn-locomotion.model"),
-];
+/// The shipped model of `kind` called `name`, read once; [`MethodError::NeedsModel`] on the page
+/// until its file was handed over.
+pub fn model(kind: ModelKind, name: &str) -> Result<Arc<Model>, MethodError> {
+    static LOADED: Mutex<Vec<(String, Arc<Model>)>> = Mutex::new(Vec::new());
+    if !NAMES.contains(&name) {
+        return Err(MethodError::Params(format!(
+            "model: no {} model called `{name}`; shipped: {} (or load your own)",
+            kind.name(),
+            NAMES.join(", ")
+        )));
+    }
+    let file = file_name(kind, name);
+    if let Some((_, m)) = LOADED.lock().unwrap_or_else(|e| e.into_inner()).iter().find(|(f, _)| *f == file) {
+        return Ok(m.clone());
+    }
+    let bytes = shipped::bytes(&file)?;
+    let model = Arc::new(
+        Model::from_bytes(bytes, &format!("shipped model {}-{name}", kind.name())).map_err(MethodError::Failed)?,
+    );
+    LOADED.lock().unwrap_or_else(|e| e.into_inner()).push((file, model.clone()));
+    Ok(model)
+}
 
-type Slot = OnceLock<Result<Arc<Model>, String>>;
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-/// The shipped model of `kind` called `name`, read once.
-pub fn model(kind: ModelKind, name: &str) -> Result<Arc<Model>, String> {
-    static LOADED: [[Slot; 3]; 2] =
-        [[OnceLock::new(), OnceLock::new(), OnceLock::new()], [OnceLock::new(), OnceLock::new(), OnceLock::new()]];
-    let i = NAMES.iter().position(|n| *n == name).ok_or_else(|| {
-        format!("no {} model called `{name}`; shipped: {} (or load your own)", kind.name(), NAMES.join(", "))
-    })?;
-    let (slot, bytes) = match kind {
-        ModelKind::Dtfcn => (&LOADED[0][i], DTFCN[i]),
-        ModelKind::Knn => (&LOADED[1][i], KNN[i]),
-    };
-    slot.get_or_init(|| Model::from_bytes(bytes, &format!("shipped model {}-{name}", kind.name())).map(Arc::new))
-        .clone()
+    #[test]
+    fn every_shipped_name_has_a_file_of_both_kinds() {
+        for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
+            for name in NAMES {
+                let m = model(kind, name).unwrap();
+                assert_eq!(m.header.kind, kind);
+                assert!(shipped::find(&file_name(kind, name)).is_ok());
+            }
+        }
+        let err = model(ModelKind::Knn, "nope").unwrap_err().to_string();
+        assert!(err.contains("no knn model called `nope`") && err.contains("exercises"), "{err}");
+    }
 }

@@ -165,7 +165,7 @@ impl Method for Lma {
         options: &RunOptions,
         progress: &mut dyn Progress,
     ) -> Result<MethodOutput, MethodError> {
-        let (model, shipped) = model_in_use().map_err(MethodError::Failed)?;
+        let (model, shipped) = model_in_use()?;
         let mut out = segment_with(&model, motion, params, options, progress)?;
         if !shipped {
             out.details.summary += &format!(" · your classifiers ({})", model.origin);

@@ -30,21 +30,33 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use classifier::EffortModel;
 
-/// The shipped classifier family (built into the binary; read once).
+/// The shipped family's file in `models/` (built into the command line; fetched by the page
+/// when `lma` first runs: [`crate::method::shipped`]).
+pub const SHIPPED_FILE: &str = "lma-effort.json";
+
+/// The shipped classifier family (read once).
 pub fn shipped_model() -> Result<&'static EffortModel, String> {
-    shipped().map(|m| &**m)
+    shipped().map(|m| &**m).map_err(|e| e.to_string())
 }
 
-fn shipped() -> Result<&'static Arc<EffortModel>, String> {
+fn shipped() -> Result<&'static Arc<EffortModel>, crate::method::MethodError> {
+    use crate::method::MethodError;
     static MODEL: OnceLock<Result<Arc<EffortModel>, String>> = OnceLock::new();
-    MODEL
-        .get_or_init(|| {
-            EffortModel::from_json(include_str!("../../models/lma-effort.json"))
-                .map(Arc::new)
-                .map_err(|e| format!("the shipped LMA model is unusable ({e}); retrain it with `mocapseg train-lma`"))
-        })
-        .as_ref()
-        .map_err(Clone::clone)
+    if MODEL.get().is_none() {
+        // on the page, `NeedsModel` until the file was handed over (not remembered)
+        let bytes = crate::method::shipped::bytes(SHIPPED_FILE)?;
+        let read = std::str::from_utf8(bytes)
+            .map_err(|e| e.to_string())
+            .and_then(EffortModel::from_json)
+            .map(Arc::new)
+            .map_err(|e| format!("the shipped LMA model is unusable ({e}); retrain it with `mocapseg train-lma`"));
+        let _ = MODEL.set(read);
+    }
+    match MODEL.get() {
+        Some(Ok(model)) => Ok(model),
+        Some(Err(message)) => Err(MethodError::Failed(message.clone())),
+        None => Err(MethodError::Failed("the shipped LMA model could not be read".into())),
+    }
 }
 
 /// The family the registered `lma` method uses in this process: one the user trained or loaded
@@ -59,7 +71,7 @@ pub fn use_model(model: Option<EffortModel>) {
 }
 
 /// The family `lma` runs with now, and whether it is the shipped one.
-pub fn model_in_use() -> Result<(Arc<EffortModel>, bool), String> {
+pub fn model_in_use() -> Result<(Arc<EffortModel>, bool), crate::method::MethodError> {
     if let Some(m) = IN_USE.lock().unwrap_or_else(|e| e.into_inner()).as_ref() {
         return Ok((m.clone(), false));
     }

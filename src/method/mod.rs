@@ -16,6 +16,7 @@
 pub mod bounds;
 pub mod form;
 pub mod plot;
+pub mod shipped;
 pub mod spec;
 
 use std::any::Any;
@@ -86,6 +87,10 @@ pub enum MethodError {
     Failed(String),
     #[error("cancelled")]
     Cancelled,
+    /// The method needs a shipped model file this process does not hold yet (only on the page,
+    /// which fetches it and asks again: [`shipped`]).
+    #[error("the model file `{file}` is not loaded yet")]
+    NeedsModel { file: String },
 }
 
 impl From<Cancelled> for MethodError {

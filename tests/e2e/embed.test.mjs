@@ -305,6 +305,11 @@ test("offline: after the first visit the app loads and runs a method with the ne
     await off.page.reload();
     await waitTake(off.page, "sample.bvh");
     await waitData(off.page, "sssm", "done");
+    // the shipped models are not in the wasm: the ones DT-FCN, the k-NN and LMA fetch come from the cache
+    for (const f of ["models/dtfcn-exercises.model", "models/knn-exercises.model", "models/lma-effort.json"]) {
+      assert.ok(cached.includes(new URL(f, BASE_URL).href), `${f} is cached`);
+    }
+    for (const m of ["dtfcn", "knn", "lma"]) await waitData(off.page, m, "done");
     await shot(off.page, "e2e-embed-offline.png");
     // the URL parameters too: another cached take, embedded
     await off.page.goto(url("?embed=1&src=www/02_01.bvh&methods=velocity&t=1"));

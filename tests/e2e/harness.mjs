@@ -24,9 +24,10 @@ mkdirSync(OUT, { recursive: true });
 /**
  * Launches Chromium and opens one page (not yet navigated). Returns `{ browser, context, page,
  * pageErrors, consoleErrors, requests }`; the arrays fill as the page runs. Console errors
- * matching `allowConsole` (a RegExp) are logged and not recorded.
+ * matching `allowConsole` (a RegExp) are logged and not recorded. `contextOptions` go to
+ * Playwright's `browser.newContext` (e.g. `{ serviceWorkers: "block" }`).
  */
-export async function openPage({ viewport = { width: 1280, height: 900 }, allowConsole = null } = {}) {
+export async function openPage({ viewport = { width: 1280, height: 900 }, allowConsole = null, contextOptions = {} } = {}) {
   const browser = await chromium.launch({
     executablePath: "/usr/bin/chromium",
     headless: true,
@@ -40,7 +41,7 @@ export async function openPage({ viewport = { width: 1280, height: 900 }, allowC
       "--no-first-run",
     ],
   });
-  const context = await browser.newContext({ viewport, acceptDownloads: true });
+  const context = await browser.newContext({ viewport, acceptDownloads: true, ...contextOptions });
   const requests = [];
   context.on("request", (r) => requests.push(r.url()));
   const page = await context.newPage();

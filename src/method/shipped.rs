@@ -1,0 +1,180 @@
+//! The model files shipped with the app (`models/`): which they are, and their bytes.
+//!
+//! The command line and the native tests have every file built in. The page does not: its wasm
+//! would carry 6 MB of weights every visitor downloads whether or not a method ever uses them.
+//! There the files are served beside the page (`dist/models/`, precached by the service worker
+//! for offline use) and a method that needs one it does not hold yet fails with
+//! [`MethodError::NeedsModel`]; the page fetches the file (showing its progress), hands it to
+//! its worker with [`provide`] and runs the method again. Every file handed over is checked
+//! against the SHA-256 `build.rs` recorded when this build was made, so a stale or damaged file
+//! from a server or a cache is refused with a message rather than used.
+
+use sha2::{Digest, Sha256};
+
+use super::MethodError;
+
+/// A shipped model file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShippedFile {
+    /// Its name in `models/` (and in the page's `models/` folder).
+    pub file: &'static str,
+    /// The SHA-256 of its bytes (lowercase hex).
+    pub sha256: &'static str,
+    /// Its size in bytes.
+    pub size: u64,
+}
+
+include!(concat!(env!("OUT_DIR"), "/shipped_models.rs"));
+
+/// The shipped file called `file`, or a message listing them.
+pub fn find(file: &str) -> Result<(usize, &'static ShippedFile), String> {
+    FILES.iter().enumerate().find(|(_, f)| f.file == file).ok_or_else(|| {
+        format!(
+            "`{file}` is not a shipped model file; shipped: {}",
+            FILES.iter().map(|f| f.file).collect::<Vec<_>>().join(", ")
+        )
+    })
+}
+
+/// The files handed over with [`provide`] where they are not built in (kept for the life of the
+/// process — the page's worker: at most one copy of each of a handful of files).
+#[cfg_attr(embedded_models, allow(dead_code))]
+#[derive(Default)]
+struct Provided(Vec<(usize, &'static [u8])>);
+
+#[cfg_attr(embedded_models, allow(dead_code))]
+impl Provided {
+    fn get(&self, file: &str) -> Result<&'static [u8], MethodError> {
+        let (index, _) = find(file).map_err(MethodError::Failed)?;
+        self.0
+            .iter()
+            .find(|(i, _)| *i == index)
+            .map(|(_, b)| *b)
+            .ok_or_else(|| MethodError::NeedsModel { file: file.to_string() })
+    }
+
+    fn add(&mut self, file: &str, bytes: Vec<u8>) -> Result<(), String> {
+        let (index, shipped) = find(file)?;
+        check(shipped, &bytes)?;
+        if !self.0.iter().any(|(i, _)| *i == index) {
+            self.0.push((index, Box::leak(bytes.into_boxed_slice())));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(not(embedded_models))]
+static PROVIDED: std::sync::Mutex<Provided> = std::sync::Mutex::new(Provided(Vec::new()));
+
+/// The bytes of the shipped file `file`: built in, or handed over with [`provide`]; else
+/// [`MethodError::NeedsModel`] (only on the page).
+pub fn bytes(file: &str) -> Result<&'static [u8], MethodError> {
+    #[cfg(embedded_models)]
+    {
+        let (index, _) = find(file).map_err(MethodError::Failed)?;
+        Ok(EMBEDDED[index])
+    }
+    #[cfg(not(embedded_models))]
+    {
+        PROVIDED.lock().unwrap_or_else(|e| e.into_inner()).get(file)
+    }
+}
+
+/// Whether the bytes of `file` are at hand (built in, or provided).
+pub fn available(file: &str) -> bool {
+    bytes(file).is_ok()
+}
+
+/// Hands over the bytes of the shipped file `file` (fetched by the page). Refused, naming the
+/// file, when it is not a shipped file or its bytes are not this build's (another size or
+/// SHA-256). Where the files are built in, the bytes are only checked. Handing a file over again
+/// keeps the first copy.
+pub fn provide(file: &str, bytes: Vec<u8>) -> Result<(), String> {
+    #[cfg(embedded_models)]
+    {
+        let (_, shipped) = find(file)?;
+        check(shipped, &bytes)
+    }
+    #[cfg(not(embedded_models))]
+    {
+        PROVIDED.lock().unwrap_or_else(|e| e.into_inner()).add(file, bytes)
+    }
+}
+
+/// Checks `bytes` against what this build recorded of `shipped`.
+fn check(shipped: &ShippedFile, bytes: &[u8]) -> Result<(), String> {
+    let name = shipped.file;
+    if bytes.len() as u64 != shipped.size {
+        return Err(format!(
+            "models/{name}: {} bytes where this build's file has {}: the server or a cache gave another version (reload the page)",
+            bytes.len(),
+            shipped.size
+        ));
+    }
+    let sha: String = Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect();
+    if sha != shipped.sha256 {
+        return Err(format!(
+            "models/{name}: its SHA-256 is {sha}, not this build's {}: the file is damaged or of another version (reload the page)",
+            shipped.sha256
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_file_of_models_is_listed_with_its_size_and_hash() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
+        for f in FILES {
+            let on_disk = std::fs::read(dir.join(f.file)).unwrap();
+            assert_eq!(on_disk.len() as u64, f.size, "{}", f.file);
+            check(f, &on_disk).unwrap();
+            assert_eq!(bytes(f.file).unwrap(), &on_disk[..], "{}: the built-in bytes are the file's", f.file);
+        }
+        let names: Vec<&str> = FILES.iter().map(|f| f.file).collect();
+        for expected in ["dtfcn-exercises.model", "knn-locomotion.model", "lma-effort.json"] {
+            assert!(names.contains(&expected), "{expected} in {names:?}");
+        }
+    }
+
+    #[test]
+    fn another_version_of_a_file_is_refused_naming_it() {
+        let f = &FILES[0];
+        let mut bytes =
+            std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models").join(f.file)).unwrap();
+        bytes[100] ^= 1;
+        let err = provide(f.file, bytes.clone()).unwrap_err();
+        assert!(err.contains(f.file) && err.contains("SHA-256"), "{err}");
+        bytes.pop();
+        let err = provide(f.file, bytes).unwrap_err();
+        assert!(err.contains("bytes where this build's file has"), "{err}");
+        let err = provide("nope.model", vec![]).unwrap_err();
+        assert!(err.contains("not a shipped model file") && err.contains("lma-effort.json"), "{err}");
+        assert!(matches!(bytes("nope.model"), Err(MethodError::Failed(_))));
+    }
+
+    /// Where the files are not built in (the page's worker): a file is missing until handed
+    /// over, a damaged one is refused and leaves it missing, and the first good copy is kept.
+    #[test]
+    fn a_file_not_built_in_is_needed_until_handed_over() {
+        let f = &FILES[FILES.len() - 1];
+        let good = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models").join(f.file)).unwrap();
+        let mut store = Provided::default();
+        match store.get(f.file) {
+            Err(MethodError::NeedsModel { file }) => assert_eq!(file, f.file),
+            other => panic!("{other:?}"),
+        }
+        let mut bad = good.clone();
+        bad[0] ^= 0xff;
+        assert!(store.add(f.file, bad).is_err());
+        assert!(matches!(store.get(f.file), Err(MethodError::NeedsModel { .. })));
+        store.add(f.file, good.clone()).unwrap();
+        store.add(f.file, good.clone()).unwrap();
+        assert_eq!(store.0.len(), 1, "one copy");
+        assert_eq!(store.get(f.file).unwrap(), &good[..]);
+        assert!(matches!(store.get(FILES[0].file), Err(MethodError::NeedsModel { .. })), "the others still missing");
+    }
+}

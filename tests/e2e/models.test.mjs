@@ -1,0 +1,108 @@
+// End-to-end test of the shipped models as files beside the page (docs/page.md, "Models"): the
+// wasm carries no weights; a method fetches its model file the first time it needs it (showing
+// the fetch as its stage), only then and only once; a page that never runs DT-FCN, the k-NN or
+// LMA fetches no model; a damaged or missing file is refused with a message naming it, at the
+// method's model field, and the page keeps working. Offline use of the models is in
+// embed.test.mjs (the service worker precaches them).
+
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import { readFileSync, statSync } from "node:fs";
+import path from "node:path";
+import { gzipSync } from "node:zlib";
+import { BASE_URL, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, openPage, text, waitData } from "./harness.mjs";
+
+const DIST = path.dirname(path.dirname(SAMPLE)); // scripts/e2e.sh: SAMPLE_BVH=$DIST/www/sample.bvh
+// a refused fetch shows in the console; those steps expect it
+const ALLOW = /Failed to load resource|404|ERR_|net::/;
+
+let opened;
+let page;
+/** Model files the page (not its service worker) asked for, in order. */
+const fetched = [];
+
+before(async () => {
+  opened = await openPage({ allowConsole: ALLOW });
+  page = opened.page;
+  opened.context.on("request", (r) => {
+    if (!r.serviceWorker() && r.url().includes("/models/")) fetched.push(new URL(r.url()).pathname.split("/").pop());
+  });
+});
+
+after(async () => closePage(opened, "e2e-models-final.png"));
+
+const url = (query) => new URL(query, BASE_URL).href;
+
+/** Records every stage text the method's run shows (its progress line). */
+async function watchStages(p, method) {
+  await p.evaluate((m) => {
+    window.__stages = [];
+    const seen = () => {
+      const t = document.querySelector(`#${m}-progress .ms-progress-label`)?.textContent?.trim();
+      if (t && window.__stages[window.__stages.length - 1] !== t) window.__stages.push(t);
+    };
+    new MutationObserver(seen).observe(document.body, { subtree: true, childList: true, characterData: true, attributes: true });
+  }, method);
+}
+
+test("the wasm carries no model: under 2.5 MB gzipped, every shipped model a file beside it", () => {
+  const wasm = readFileSync(path.join(DIST, "pkg/mocapseg_bg.wasm"));
+  const gz = gzipSync(wasm, { level: 9 }).length;
+  console.log(`  (wasm ${(wasm.length / 1e6).toFixed(2)} MB, ${(gz / 1e6).toFixed(2)} MB gzipped)`);
+  assert.ok(gz <= 2.5e6, `the wasm is ${gz} bytes gzipped`);
+  for (const f of ["dtfcn-exercises.model", "knn-exercises.model", "lma-effort.json"]) {
+    assert.equal(statSync(path.join(DIST, "models", f)).size, statSync(path.join(ROOT, "models", f)).size, f);
+  }
+});
+
+test("a page that runs only SSSM fetches no model; DT-FCN fetches its model when first run, once", async () => {
+  await page.goto(url("?methods=sssm"));
+  await waitData(page, "sssm", "done");
+  assert.deepEqual(fetched, [], "no model fetched for SSSM");
+  await watchStages(page, "dtfcn");
+  await page.locator("#dtfcn-run:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await page.click("#dtfcn-run");
+  await waitData(page, "dtfcn", "done");
+  assert.deepEqual(fetched, ["dtfcn-exercises.model"], "the default model's file, fetched by the page");
+  const stages = await page.evaluate(() => window.__stages);
+  console.log(`  (DT-FCN's stages: ${JSON.stringify(stages)})`);
+  assert.ok(stages.some((s) => /fetching the model dtfcn-exercises\.model \(1\.5 MB\)/.test(s)), `the fetch is shown: ${JSON.stringify(stages)}`);
+  // again, and with another threshold: the file is held, not fetched again
+  await page.fill("#dtfcn-unknown_threshold", "0.3");
+  await page.click("#dtfcn-run");
+  await waitData(page, "dtfcn", "running").catch(() => {});
+  await waitData(page, "dtfcn", "done");
+  assert.deepEqual(fetched, ["dtfcn-exercises.model"], "fetched once");
+  // another model: its own file
+  await page.selectOption("#dtfcn-model", "locomotion");
+  await page.click("#dtfcn-run");
+  await waitData(page, "dtfcn", "done");
+  assert.deepEqual(fetched, ["dtfcn-exercises.model", "dtfcn-locomotion.model"]);
+  assert.match(await text(page, "#dtfcn-panel"), /locomotion/);
+  assertClean(opened);
+});
+
+test("a damaged or missing model file is named at the model's field; the page keeps working", async () => {
+  // the page's own network (no service worker, which would answer from its cache)
+  const bad = await openPage({ allowConsole: ALLOW, contextOptions: { serviceWorkers: "block" } });
+  try {
+    const real = readFileSync(path.join(DIST, "models/knn-exercises.model"));
+    await bad.page.route("**/models/knn-exercises.model", (r) => r.fulfill({ status: 200, body: real.subarray(0, 1000) }));
+    await bad.page.route("**/models/dtfcn-exercises.model", (r) => r.fulfill({ status: 404, body: "not found" }));
+    await bad.page.goto(url("?methods=knn,dtfcn,velocity"));
+    await waitData(bad.page, "knn", "error");
+    await waitData(bad.page, "dtfcn", "error");
+    await waitData(bad.page, "velocity", "done");
+    const knn = await text(bad.page, "#knn-model-error");
+    assert.match(knn, /models\/knn-exercises\.model: 1000 bytes where this build's file has \d+/, knn);
+    const dtfcn = await text(bad.page, "#dtfcn-model-error");
+    assert.match(dtfcn, /could not fetch the model .*models\/dtfcn-exercises\.model: HTTP 404/, dtfcn);
+    // another model still works
+    await bad.page.selectOption("#knn-model", "cmu-actions");
+    await bad.page.click("#knn-run");
+    await waitData(bad.page, "knn", "done");
+    assertClean(bad);
+  } finally {
+    await closePage(bad);
+  }
+});
