@@ -1,6 +1,6 @@
 //! The models shipped with the app, built into the binary and the page (`include_bytes!`), each
 //! reproducible with the command in its header (`mocapseg model-info FILE` prints it) and in the
-//! README:
+//! `models/README.md`:
 //! * `exercises` — the four mocap6 exercise takes of the shared data (seven of mocap6's twelve
 //!   exercises);
 //! * `cmu-actions` — CMU 86_01's action labels (a small set: one take);
