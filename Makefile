@@ -12,7 +12,9 @@
 #                wasm-bindgen and wasm-opt only run again when the wasm changed)
 #   make accuracy  the scoreboard: every method on every labelled take of ../shared/data, in-sample and
 #                nested leave-one-take-out side by side, beside chance and oracle-K; writes docs/accuracy.md,
-#                docs/accuracy.json and the README's scoreboard block (examples/accuracy.rs; not part of make test)
+#                docs/accuracy.json, each method's rows into its docs/methods/<method>.md and the held-out summary
+#                into README.md (examples/accuracy.rs; not part of make test). The markdown alone, again
+#                from the saved JSON: cargo run --example accuracy -- --from-json docs/accuracy.json
 #   make fuzz    the cargo-fuzz targets (fuzz/) one after another, FUZZ_S seconds each (default 60;
 #                FUZZ_TARGETS="a b" picks some), then a table of executions; not part of make test
 #
@@ -94,19 +96,20 @@ bench: setup
 	else echo "note: $(BENCH_DATA) is absent: the peer libraries (bench/peers) are not run"; fi
 	$(MAKE) bench-table
 
-# The cargo-fuzz targets (fuzz/, README "Fuzzing"): FUZZ_S seconds each, one fuzzer process at a
+# The cargo-fuzz targets (fuzz/, docs/development.md "Fuzzing"): FUZZ_S seconds each, one fuzzer process at a
 # time, built into fuzz/target. Neither `make test` nor CI runs or builds them.
 FUZZ_S ?= 60
 FUZZ_TARGETS ?=
 fuzz:
 	FUZZ_S="$(FUZZ_S)" FUZZ_TARGETS="$(FUZZ_TARGETS)" scripts/fuzz.sh
 
-# The scoreboard (README "Scoreboard"). Says what is missing and fails when the shared data is absent.
+# The scoreboard (docs/scoreboard.md). Says what is missing and fails when the shared data is absent.
 ACCURACY_DATA ?= $(abspath $(CURDIR)/../shared/data)
 accuracy: setup
 	$(MAKE) check-toolchain
 	@test -d "$(ACCURACY_DATA)/labels" || { echo "make accuracy: $(ACCURACY_DATA) is absent (the shared data: cmu/ and labels/ with 86_01 and the mocap6 takes); set ACCURACY_DATA=DIR" >&2; exit 1; }
-	$(CARGO) run --release --example accuracy -- --data "$(ACCURACY_DATA)" --out docs --readme README.md
+	$(CARGO) run --release --example accuracy -- --data "$(ACCURACY_DATA)" --out docs --readme README.md \
+	    --methods docs/methods
 
 check-toolchain:
 	@test -f .toolchain.env || { echo "No .toolchain.env: run 'make setup' first." >&2; exit 1; }

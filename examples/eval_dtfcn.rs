@@ -1,4 +1,4 @@
-//! Lab tool, not part of the product: the DT-FCN experiments of the README on the four mocap6
+//! Lab tool, not part of the product: the DT-FCN experiments of docs/methods/dtfcn.md on the four mocap6
 //! exercise takes of the shared data, every one leave-one-take-out with the epochs chosen on an
 //! inner validation take (never on the held-out take), the k-NN beside the network under the same
 //! labels:

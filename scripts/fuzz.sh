@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs the cargo-fuzz targets of fuzz/ one after another, FUZZ_S seconds each, and prints a table
-# of executions, exec/s, corpus size and findings per target (README, "Fuzzing").
+# of executions, exec/s, corpus size and findings per target (docs/development.md, "Fuzzing").
 #
 #   scripts/fuzz.sh                      every target, FUZZ_S (default 60) seconds each
 #   FUZZ_S=600 FUZZ_TARGETS="bvh_parse model_file" scripts/fuzz.sh

@@ -2,7 +2,7 @@
 //! in `tests/fixtures/` (CMU 13_30 — the page's bundled sample — and 13_31, with the mocap6 labels), scored as
 //! `mocapseg eval` scores them. Each floor sits a margin below the figure measured when it was set (printed by this
 //! test, `cargo test --test accuracy -- --nocapture`), so a change that makes a method worse fails CI instead of
-//! passing silently. The scoreboard (`make accuracy`, README "Scoreboard") says how good the methods are; this says
+//! passing silently. The scoreboard (`make accuracy`, docs/scoreboard.md) says how good the methods are; this says
 //! they did not get worse. The metrics themselves are checked against hand-computed values in
 //! `src/segment/metrics.rs`.
 

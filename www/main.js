@@ -3,7 +3,7 @@
 // Paths are relative to this file: dist/www/main.js loads dist/pkg/mocapseg.js.
 import init, { mount_app } from "../pkg/mocapseg.js";
 
-// The service worker (dist/sw.js, README "Offline"): the app works offline after this visit.
+// The service worker (dist/sw.js, docs/page.md "Offline"): the app works offline after this visit.
 // Only where the browser offers service workers (not on file://, not in some private modes); the
 // page works the same without one.
 function registerServiceWorker() {

@@ -1,4 +1,4 @@
-// mocapseg service worker: the app works offline after the first visit (README "Offline").
+// mocapseg service worker: the app works offline after the first visit (docs/page.md "Offline").
 // `make web` copies this file to dist/sw.js (the root of the site, so that its scope is the whole
 // app) and scripts/service-worker.py fills in VERSION and ASSETS there: every file of the build
 // (the page, the wasm and its JS glue, the worker, the styles, the samples, this page's docs)

@@ -1,4 +1,4 @@
-//! What the page's URL asks for (README "Embedding"): `?src=URL&methods=…&t=…&autoplay=1&embed=1`,
+//! What the page's URL asks for (docs/page.md, "Embedding"): `?src=URL&methods=…&t=…&autoplay=1&embed=1`,
 //! read once from `location.search` and checked by [`crate::view::url_params`].
 //!
 //! [`start`] loads the `src=` file (else the bundled sample), makes the loader run only the

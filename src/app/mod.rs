@@ -370,7 +370,7 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
     // it (embed mode has no drop zone or method panels); the app is mounted once, never unmounted
     std::mem::forget(loader.clone());
 
-    // embed mode: no header, drop zone, summary or method panels (README "Embedding")
+    // embed mode: no header, drop zone, summary or method panels (docs/page.md, "Embedding")
     view! {
         {full.then(|| view! {
             <header class="ms-header">

@@ -37,7 +37,7 @@
 use super::{Bvh, BvhError, BvhJoint, Channel, JointKind, Warning};
 
 /// Upper bounds that keep any input from allocating without bound, and what a take must have.
-/// The loader (`crate::load`) derives its limits from its memory budget; README "Limits" lists
+/// The loader (`crate::load`) derives its limits from its memory budget; docs/development.md "Limits" lists
 /// them all.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ParseLimits {

@@ -27,7 +27,7 @@ pub fn rows_without_takes(rows: &[LabelRow], takes: &[&Motion]) -> Vec<String> {
 }
 
 /// Confidence below which frames are `unknown` by default: chosen by the leave-one-class-out
-/// experiment (`cargo run --release --example eval_dtfcn -- unseen`, README) as the threshold
+/// experiment (`cargo run --release --example eval_dtfcn -- unseen`, docs/methods/dtfcn.md) as the threshold
 /// that calls the most never-seen-class frames unknown while calling at most 10 % of the
 /// seen-class frames unknown (0.80: 35 % of unseen, 10 % of seen frames on mocap6).
 pub const DEFAULT_UNKNOWN_THRESHOLD: f64 = 0.8;

@@ -27,7 +27,7 @@ pub mod training;
 
 /// The device every DT-FCN tensor lives on: burn's ndarray backend, as the user asked (burn
 /// 0.22 deprecates it in favour of its newer `flex` CPU backend, which we have not measured;
-/// the ndarray backend builds for wasm32 and is what the numbers in the README are for).
+/// the ndarray backend builds for wasm32 and is what the numbers in docs/methods/dtfcn.md are for).
 #[allow(deprecated)]
 pub fn device() -> burn::tensor::Device {
     burn::tensor::Device::ndarray()

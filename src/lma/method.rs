@@ -40,7 +40,7 @@ impl Default for LmaParams {
     /// hand moves below about one arm bone per second); `min_rise` and `merge_s` chosen, as the
     /// paper chose its granularity, by a grid search on `s` — on takes spliced from the five
     /// labelled takes (`cargo run --release --example tune_lma`, which also reports the
-    /// leave-one-take-out figure: README, "LMA").
+    /// leave-one-take-out figure: docs/methods/lma.md).
     fn default() -> Self {
         LmaParams {
             exhaustive: false,

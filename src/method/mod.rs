@@ -340,7 +340,7 @@ pub fn registry() -> &'static [&'static dyn DynMethod] {
         &crate::kcs::method::Kcs,
         &crate::pca::method::Pca,
         &crate::lma::method::Lma,
-        // the k-NN first: on clean labels it is the better labeller (README, DT-FCN accuracy)
+        // the k-NN first: on clean labels it is the better labeller (docs/methods/dtfcn.md, "Accuracy")
         &crate::dtfcn::method::KNN,
         &crate::dtfcn::method::DTFCN,
     ]

@@ -430,7 +430,7 @@ pub fn csp_refused(param: &str, url: &str, origin: &str, page_origin: &str) -> S
     format!(
         "{param}={url}: not loaded: {origin} is another origin, and this page's Content-Security-Policy lets it fetch \
          files from {page_origin} only (connect-src). Copy the file next to the page, or, on a site you host, add \
-         {origin} to connect-src in index.html (README, \"Embedding\")"
+         {origin} to connect-src in index.html (docs/page.md, \"Embedding\")"
     )
 }
 

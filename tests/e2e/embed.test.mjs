@@ -1,4 +1,4 @@
-// End-to-end test of embedding and offline use (README "Embedding", "Offline"), on headless
+// End-to-end test of embedding and offline use (docs/page.md "Embedding", "Offline"), on headless
 // Chromium against the built page: the URL parameters (src of a same-origin file, methods=… runs
 // only those, t= seeks and clamps past the end, autoplay=1 plays), a bad src (404, not a BVH, another
 // origin refused by the Content-Security-Policy, a scheme that is not http) and an unknown method

@@ -65,7 +65,7 @@ const pageErrors = []; // uncaught exceptions: never allowed
 const consoleErrors = []; // console.error: not allowed outside the bad-file step
 let allowConsoleErrors = false;
 const requests = []; // the URL of every request the page and its workers made, in order
-const serviceWorkers = []; // service workers the page registered: the app's own sw.js only (README "Offline")
+const serviceWorkers = []; // service workers the page registered: the app's own sw.js only (docs/page.md "Offline")
 const cspViolations = []; // securitypolicyviolation events and the console's CSP messages: never allowed
 
 before(async () => {

@@ -1,7 +1,7 @@
-// The page's layout at the sizes it is made for, and the README's screenshots (issue 12, "Looks"):
+// The page's layout at the sizes it is made for, and the screenshots of README.md and docs/page.md (issue 12, "Looks"):
 // at 1440×900 the player, the motion image and the methods' rows are on the first screen; at
 // 1024 px wide nothing scrolls sideways and the player and timeline are still side by side or
-// stacked in full; light and dark. Each state is saved as a JPEG in OUT/screenshots/ (README
+// stacked in full; light and dark. Each state is saved as a JPEG in OUT/screenshots/ (docs/page.md
 // "Screenshots": the images in docs/screenshots/ are copies of these).
 //
 // Run through scripts/e2e.sh (E2E_FILES=screenshots.test.mjs scripts/e2e.sh).

@@ -36,8 +36,8 @@
 //! of linked blocks joins every repetition of an activity. At most `(FAR_TRIES + 1) · actions`
 //! blocks between actions are searched, each costing the product of its two actions' lengths, so
 //! this stays linear in the take's length for actions of bounded length; the summaries cost
-//! `actions² · SUMMARY_POSES²` pose distances, small beside the search for realistic takes (README,
-//! "Benchmarks"). Of a far block only what the later steps use is kept: the entries within the
+//! `actions² · SUMMARY_POSES²` pose distances, small beside the search for realistic takes (docs/benchmarks.md,
+//! "SSSM in detail"). Of a far block only what the later steps use is kept: the entries within the
 //! primitive graph's radius and every frame's nearest repeat.
 
 use super::{cap_row, Sssm, SssmBuilder, StackedSearch};

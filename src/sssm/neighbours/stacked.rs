@@ -18,8 +18,8 @@
 //! Why not the kd-tree of [`super::NeighbourSearch`]: at the method's radius (`r = 19·√5`
 //! inches) about a sixth of all frame pairs of a repetitive take are neighbours, and a tree
 //! cannot prune a search whose ball covers much of the data: on 3000 frames of CMU 86_01
-//! repeated, the kd-tree searches took 301 ms and these 90 ms on one thread (README, "Neighbour
-//! search"). The kd-tree stays for features that
+//! repeated, the kd-tree searches took 301 ms and these 90 ms on one thread (docs/methods/sssm.md,
+//! "Neighbour search"). The kd-tree stays for features that
 //! are not a plain stack (after feature bundling, §III) and for cross searches.
 
 use super::{cap_tail, Sssm, UpperTriangle, PROGRESS_ROWS};
