@@ -634,3 +634,36 @@ fn an_amc_take_is_read_with_its_asf() {
     assert_eq!(v["units"], "cmu_asf");
     assert!(v["warnings"].to_string().contains("120 fps (the CMU rate) assumed"), "{v}");
 }
+
+#[test]
+fn model_info_reads_shipped_names_and_segment_takes_an_lma_family_file() {
+    // a shipped name, as `segment --model exercises` takes it: both kinds, or one
+    let both = stdout_json(&run(&["model-info", "exercises"]));
+    let kinds: Vec<&str> = both.as_array().unwrap().iter().map(|h| h["kind"].as_str().unwrap()).collect();
+    assert_eq!(kinds, ["dtfcn", "knn"]);
+    assert!(both.as_array().unwrap().iter().all(|h| h["name"] == "exercises"));
+    let knn = stdout_json(&run(&["model-info", "exercises", "--method", "knn"]));
+    assert_eq!((knn["kind"].as_str(), knn["name"].as_str()), (Some("knn"), Some("exercises")));
+    let file = stdout_json(&run(&["model-info", "dtfcn-locomotion.model"]));
+    assert_eq!((file["kind"].as_str(), file["name"].as_str()), (Some("dtfcn"), Some("locomotion")));
+    assert!(file["parameters"].as_u64().unwrap() > 0);
+    let out = run(&["model-info", "nope"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("nope: no such file, nor a shipped model") && err.contains("cmu-actions"), "{err}");
+
+    // --lma-model: a family file is read (the shipped one is a valid file); a bad one is named
+    let take = fixture("12_01.bvh");
+    let family = concat!(env!("CARGO_MANIFEST_DIR"), "/models/lma-effort.json");
+    let seg = stdout_json(&run(&["segment", "--method", "lma", "--lma-model", family, take.to_str().unwrap()]));
+    assert_eq!(seg["method"], "lma");
+    let dir = out_dir().join("lma-model");
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad-family.json");
+    std::fs::write(&bad, "{\"not\": \"a family\"}").unwrap();
+    let out = run(&["segment", "--method", "lma", "--lma-model", bad.to_str().unwrap(), take.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("bad-family.json"), "{err}");
+    let out = run(&["segment", "--method", "sssm", "--lma-model", family, take.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--lma-model is for --method lma"));
+}

@@ -133,6 +133,10 @@ mod cli {
             /// (the same as `--param model=…`).
             #[arg(long)]
             model: Option<String>,
+            /// LMA: the classifier family to use instead of the shipped one (a JSON file made by
+            /// `mocapseg train-lma`, or saved from the page's LMA panel).
+            #[arg(long, value_name = "FILE")]
+            lma_model: Option<PathBuf>,
         },
         /// Label the gait phases of takes by rule (standing, begin/end left/right step, left/right
         /// step, turn — the DT-FCN paper's locomotion labels; heuristic, from foot contacts and the
@@ -247,8 +251,16 @@ mod cli {
             #[arg(long, default_value_t = 2)]
             batch: usize,
         },
-        /// Print a model file's header: kind, classes, colours, joint set, rate, how it was trained.
-        ModelInfo { file: PathBuf },
+        /// Print a model's header: kind, classes, colours, joint set, rate, how it was trained. FILE is
+        /// a model file, or a shipped model's name (`exercises`: DT-FCN's and the k-NN's, or one of
+        /// them with --method; `dtfcn-exercises` / `dtfcn-exercises.model`: that one).
+        ModelInfo {
+            #[arg(value_name = "FILE|NAME")]
+            file: PathBuf,
+            /// With a shipped name: only this method's model (dtfcn or knn).
+            #[arg(long, value_parser = ["dtfcn", "knn"])]
+            method: Option<String>,
+        },
         /// Score segmentation JSON against ground truth (boundary P/R/F1 at 0.5 s and 1 s, covering,
         /// Hungarian frame accuracy, strict/tolerant accuracy, edit, F1@k, segment score). One file: JSON;
         /// several files or a folder of predictions: one markdown table with the mean (--json for JSON).
@@ -355,9 +367,18 @@ mod cli {
 
     fn run(command: Command) -> Result<Outcome, String> {
         match command {
-            Command::Segment { inputs, method, mut params, out, jobs, exhaustive, model } => {
+            Command::Segment { inputs, method, mut params, out, jobs, exhaustive, model, lma_model } => {
                 if exhaustive {
                     params.push("exhaustive=true".into());
+                }
+                if let Some(path) = lma_model {
+                    if method != "lma" {
+                        return Err(format!("--lma-model is for --method lma, not {method}"));
+                    }
+                    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+                    let family = mocapseg::lma::classifier::EffortModel::from_json(&text)
+                        .map_err(|e| format!("{}: {e}", path.display()))?;
+                    mocapseg::lma::use_model(Some(family));
                 }
                 if let Some(m) = model {
                     params.push(format!("model={m}"));
@@ -406,7 +427,7 @@ mod cli {
                 };
                 crate::dtfcn_cli::train(&bvh, &labels, options, out, &method, name, validation, cross_validate)
             }
-            Command::ModelInfo { file } => crate::dtfcn_cli::model_info(&file),
+            Command::ModelInfo { file, method } => crate::dtfcn_cli::model_info(&file, method.as_deref()),
             Command::Labels { truth, first_frame, row_offset, out } => {
                 labels(&truth, TruthOptions { first_frame, bvh_row_offset: row_offset }, out)
             }

@@ -153,7 +153,7 @@ mod tests {
         assert!(err.contains("bytes where this build's file has"), "{err}");
         let err = provide("nope.model", vec![]).unwrap_err();
         assert!(err.contains("not a shipped model file") && err.contains("lma-effort.json"), "{err}");
-        assert!(matches!(bytes("nope.model"), Err(MethodError::Failed(_))));
+        assert!(matches!(super::bytes("nope.model"), Err(MethodError::Failed(_))));
     }
 
     /// Where the files are not built in (the page's worker): a file is missing until handed

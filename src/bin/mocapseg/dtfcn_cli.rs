@@ -184,9 +184,50 @@ pub fn train(
     Ok(())
 }
 
-pub fn model_info(file: &Path) -> Result<(), String> {
-    let bytes = std::fs::read(file).map_err(|e| format!("{}: {e}", file.display()))?;
-    let model = Model::from_bytes(&bytes, &file.display().to_string())?;
+pub fn model_info(file: &Path, method: Option<&str>) -> Result<(), String> {
+    let models = if file.exists() {
+        let bytes = std::fs::read(file).map_err(|e| format!("{}: {e}", file.display()))?;
+        vec![std::sync::Arc::new(Model::from_bytes(&bytes, &file.display().to_string())?)]
+    } else {
+        shipped_named(&file.to_string_lossy(), method)?
+    };
+    let headers: Vec<serde_json::Value> = models.iter().map(|m| header_json(m)).collect::<Result<_, _>>()?;
+    let out = match &headers[..] {
+        [one] => serde_json::to_string_pretty(one),
+        many => serde_json::to_string_pretty(many),
+    };
+    println!("{}", out.map_err(|e| e.to_string())?);
+    Ok(())
+}
+
+/// The shipped models `name` names: `exercises` (both kinds, or `method`'s), `dtfcn-exercises`,
+/// `dtfcn-exercises.model`; a message listing the shipped names when it names none.
+fn shipped_named(name: &str, method: Option<&str>) -> Result<Vec<std::sync::Arc<Model>>, String> {
+    use mocapseg::dtfcn::model::ModelKind;
+    use mocapseg::dtfcn::shipped::{self, NAMES};
+    let stem = name.strip_suffix(".model").unwrap_or(name);
+    let mut found = Vec::new();
+    for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
+        if method.is_some_and(|m| m != kind.name()) {
+            continue;
+        }
+        let short = stem.strip_prefix(&format!("{}-", kind.name()));
+        let bare = NAMES.contains(&stem) && !stem.contains('/');
+        if let Some(n) = short.filter(|n| NAMES.contains(n)).or(bare.then_some(stem)) {
+            found.push(shipped::model(kind, n).map_err(|e| e.to_string())?);
+        }
+    }
+    if found.is_empty() {
+        return Err(format!(
+            "{name}: no such file, nor a shipped model (shipped: {}, each a DT-FCN and a k-NN model, e.g. `exercises`, `knn-exercises`)",
+            NAMES.join(", ")
+        ));
+    }
+    Ok(found)
+}
+
+/// A model's header as `model-info` prints it.
+fn header_json(model: &Model) -> Result<serde_json::Value, String> {
     let mut h = serde_json::to_value(&model.header).map_err(|e| e.to_string())?;
     if let Some(o) = h.as_object_mut() {
         o.remove("standardise");
@@ -195,6 +236,5 @@ pub fn model_info(file: &Path) -> Result<(), String> {
             o.insert("receptive_field_frames".into(), n.receptive_field().into());
         }
     }
-    println!("{}", serde_json::to_string_pretty(&h).map_err(|e| e.to_string())?);
-    Ok(())
+    Ok(h)
 }
