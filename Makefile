@@ -5,7 +5,8 @@
 #                tests in headless Chromium (one binary sharing the bundle's build), and the
 #                Playwright end-to-end test; prints each stage's time
 #   make bench   one table: parse, FK, every method at 1×/2×/4× a take and the batch rate, native
-#                and in headless Chromium; with ../shared/data also the peer libraries (bench/peers)
+#                and in headless Chromium; the page's load (bytes before the first result, time to it);
+#                with ../shared/data also the peer libraries (bench/peers)
 #   make setup   install the toolchain (scripts/setup.sh; idempotent, seconds when done)
 #   make web     build the page into dist/ (release wasm + wasm-bindgen + wasm-opt + assets, the
 #                shipped models in dist/models/, fetched by the page when a method first needs one;
@@ -64,7 +65,7 @@ BENCH_BVH ?= $(firstword $(wildcard $(abspath $(CURDIR)/../shared/data/cmu/86/86
                 $(abspath $(shell ls -S tests/fixtures/*.bvh 2>/dev/null | head -n 1)))
 
 .PHONY: help setup demo test bench web serve check-toolchain accuracy \
-        test-native test-wasm test-e2e bench-native bench-wasm bench-peers bench-table fuzz
+        test-native test-wasm test-e2e bench-native bench-wasm bench-page bench-peers bench-table fuzz
 
 help:
 	@sed -n '3,/^#$$/{/^#$$/!p}' Makefile | sed 's/^# \{0,1\}//'
@@ -92,6 +93,7 @@ test:
 bench: setup
 	$(MAKE) bench-native
 	$(MAKE) bench-wasm
+	$(MAKE) bench-page
 	@if [ -d "$(BENCH_DATA)/labels" ]; then $(MAKE) bench-peers; \
 	else echo "note: $(BENCH_DATA) is absent: the peer libraries (bench/peers) are not run"; fi
 	$(MAKE) bench-table
@@ -214,5 +216,12 @@ bench-peers: check-toolchain
 		--out "$(BENCH_DIR)/peers"
 
 # The one table, last: native beside wasm with the wasm/native time ratio.
+# The page as a visitor gets it (tests/e2e/page-load.bench.mjs): bytes fetched before the first
+# segmentation and in all, time to the first result, first and repeat visits, in headless Chromium.
+bench-page: check-toolchain
+	$(MAKE) web
+	@mkdir -p $(BENCH_DIR)
+	E2E_FILES="page-load.bench.mjs" scripts/e2e.sh 2>&1 | tee $(BENCH_DIR)/page-load.log
+
 bench-table: check-toolchain
 	@$(CARGO) run -q --release --example bench_table -- "$(BENCH_DIR)/results-native.jsonl" "$(BENCH_DIR)/results-wasm.jsonl"

@@ -55,4 +55,23 @@ try {
   root.textContent = "mocapseg could not start: " + err;
   throw err;
 }
-registerServiceWorker();
+// Registered once the page shows its first result (or after 10 s): the service worker then
+// precaches every file of the build, the models included (docs/page.md "Offline"), and that
+// download and its checks must not slow the first visit's own loading.
+const METHOD_DONE = /^(done|error)$/;
+const shown = () => Object.entries(document.body.dataset).some(([k, v]) => k !== "state" && METHOD_DONE.test(v))
+  || document.body.dataset.state === "error";
+if (shown()) {
+  registerServiceWorker();
+} else {
+  let registered = false;
+  const once = () => {
+    if (registered) return;
+    registered = true;
+    observer.disconnect();
+    registerServiceWorker();
+  };
+  const observer = new MutationObserver(() => { if (shown()) once(); });
+  observer.observe(document.body, { attributes: true });
+  setTimeout(once, 10_000);
+}

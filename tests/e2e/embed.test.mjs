@@ -279,6 +279,8 @@ test("offline: after the first visit the app loads and runs a method with the ne
   try {
     await off.page.goto(BASE_URL);
     await waitTake(off.page, "sample.bvh");
+    // the page registers its service worker after its first result; installed, it has precached the build
+    await off.page.evaluate(() => navigator.serviceWorker.ready);
     const fromNetwork = []; // the service worker's own requests of the worker's script
     off.context.on("request", (r) => { if (r.serviceWorker() && r.url().endsWith("/www/worker.js")) fromNetwork.push(r.url()); });
     const scope = await waitControlled(off.page);
