@@ -582,6 +582,16 @@ pub enum Response {
         run: RunId,
         file: String,
     },
+    /// The run `run` was refused its parameters (nothing ran): `message` says why, and `param`
+    /// is the method's parameter to blame, when one is (the page shows the message at that
+    /// field; it never searches the text for a name).
+    Refused {
+        take: TakeId,
+        run: RunId,
+        message: String,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        param: Option<String>,
+    },
     /// A `provide_model`: the worker holds the file now.
     ModelProvided {
         take: TakeId,
@@ -1167,7 +1177,7 @@ impl WorkerState {
         match m.run_json(motion, params, &RunOptions { pictures: true }, &mut progress) {
             Ok(output) => Response::Segmented { take, run, view: Box::new(output.into()) },
             Err(MethodError::Cancelled) => fail(format!("{short}: cancelled"), FailureKind::Cancelled),
-            Err(e @ MethodError::Params(_)) => fail(e.to_string(), FailureKind::Input),
+            Err(MethodError::Params { param, message }) => Response::Refused { take, run, message, param },
             Err(MethodError::NeedsModel { file }) => Response::NeedsModel { take, run, file },
             Err(e) => fail(format!("{short} on {}: {e}", motion.name), FailureKind::Input),
         }
@@ -1637,8 +1647,11 @@ mod tests {
             &mut w,
             Request::Segment { take: 4, run: 5, method: "sssm".into(), params: serde_json::json!({"radius": -1}) },
         );
-        let Some(Response::Failed { kind: FailureKind::Input, message, .. }) = bad.last() else { panic!("{bad:?}") };
+        let Some(Response::Refused { run: 5, message, param, .. }) = bad.last() else { panic!("{bad:?}") };
         assert!(message.contains("radius = -1"), "{message}");
+        assert_eq!(param.as_deref(), Some("radius"), "the refusal names its parameter, as data");
+        let packet = bad.last().unwrap().clone().into_packet();
+        assert_eq!(Response::from_packet(packet).as_ref(), Ok(bad.last().unwrap()));
         let unknown =
             ask(&mut w, Request::Segment { take: 4, run: 6, method: "nope".into(), params: serde_json::json!({}) });
         assert!(matches!(unknown.last(), Some(Response::Failed { kind: FailureKind::Input, .. })));

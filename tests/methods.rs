@@ -94,14 +94,21 @@ fn values_outside_the_announced_bounds_are_refused_by_name() {
                 match m.check_json(&params) {
                     Ok(_) => panic!("{name}: {} = {v} accepted, outside {:?}", s.name, s.kind),
                     Err(e) => {
-                        assert!(matches!(e, MethodError::Params(_)), "{name}: {e:?}");
+                        assert!(matches!(e, MethodError::Params { .. }), "{name}: {e:?}");
+                        assert_eq!(
+                            e.param_name(),
+                            Some(s.name.as_str()),
+                            "{name}: the refusal carries its parameter: {e:?}"
+                        );
                         let text = e.to_string();
                         assert!(text.contains(&s.name), "{name}: {} = {v}: {text}", s.name);
                     }
                 }
             }
         }
-        let unknown = m.check_json(&serde_json::json!({"no_such_parameter": 1})).unwrap_err().to_string();
+        let unknown = m.check_json(&serde_json::json!({"no_such_parameter": 1})).unwrap_err();
+        assert_eq!(unknown.param_name(), None, "{name}: an unknown name is none of the method's parameters");
+        let unknown = unknown.to_string();
         assert!(unknown.contains("no_such_parameter"), "{name}: {unknown}");
     }
 }

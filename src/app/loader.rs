@@ -511,7 +511,7 @@ fn start_run(inner: &Rc<Inner>, index: usize) {
     let slot: &MethodSlot = &inner.state.methods[index];
     let params = match slot.params() {
         Ok(p) => p,
-        Err(message) => return fail_run(inner, index, message),
+        Err(e) => return refuse_run(inner, index, e.to_string(), e.param_name().map(str::to_string)),
     };
     slot.field_error.set(None);
     slot.failure.set(None);
@@ -537,10 +537,16 @@ fn send_run(inner: &Rc<Inner>, index: usize) -> Result<(), String> {
 /// A run failed: a refusal that names one of the method's parameters shows at that field, any
 /// other message in the banner.
 fn fail_run(inner: &Inner, index: usize, message: String) {
+    refuse_run(inner, index, message, None)
+}
+
+/// A run failed or was refused: a refusal of one of the method's parameters (`param`, as the
+/// method named it) shows at that field, any other message in the banner.
+fn refuse_run(inner: &Inner, index: usize, message: String, param: Option<String>) {
     inner.runs.borrow_mut()[index] = None;
     let slot = &inner.state.methods[index];
-    match crate::method::form::param_named(&slot.specs, &message) {
-        Some(param) => slot.field_error.set(Some((param.to_string(), message))),
+    match param.filter(|p| slot.specs.iter().any(|s| s.name == *p)) {
+        Some(param) => slot.field_error.set(Some((param, message))),
         None => {
             slot.failure.set(Some(message.clone()));
             inner.state.show_run_error(message);
@@ -1223,6 +1229,11 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
             }
         }
         Response::NeedsModel { run, file, .. } => need_model(inner, run, file),
+        Response::Refused { run, message, param, .. } => {
+            if let Some(index) = run_index(inner, run) {
+                refuse_run(inner, index, message, param);
+            }
+        }
         Response::Trained { run, model, report, origin, used_rows, ignored_rows, .. } if is_lma_job(inner, run) => {
             on_trained(inner, model, report, origin, (used_rows, ignored_rows));
         }

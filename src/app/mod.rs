@@ -165,7 +165,7 @@ impl MethodSlot {
     /// The parameters the form holds now, as the worker reads them. An empty number field is the
     /// method's default: the parameter is left out of the JSON (every field is optional there),
     /// or `null` when its default is `null` (the method decides).
-    pub fn params(&self) -> Result<serde_json::Value, String> {
+    pub fn params(&self) -> Result<serde_json::Value, crate::method::MethodError> {
         use crate::method::ParamKind;
         let texts: Vec<String> = self.fields.iter().map(|f| f.get_untracked()).collect();
         let unset: Vec<bool> = self

@@ -153,7 +153,10 @@ impl Method for Labelling {
         let model = resolve(self.kind, params.model.trim())?;
         let t = params.unknown_threshold;
         if !(0.0..=1.0).contains(&t) {
-            return Err(MethodError::Params(format!("unknown_threshold = {t}: expected a confidence from 0 to 1")));
+            return Err(MethodError::param(
+                "unknown_threshold",
+                format!("unknown_threshold = {t}: expected a confidence from 0 to 1"),
+            ));
         }
         let threshold = t;
         Ok(Checked { name: params.model.trim().to_string(), model, threshold })

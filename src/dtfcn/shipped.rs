@@ -26,11 +26,14 @@ pub fn file_name(kind: ModelKind, name: &str) -> String {
 pub fn model(kind: ModelKind, name: &str) -> Result<Arc<Model>, MethodError> {
     static LOADED: Mutex<Vec<(String, Arc<Model>)>> = Mutex::new(Vec::new());
     if !NAMES.contains(&name) {
-        return Err(MethodError::Params(format!(
-            "model: no {} model called `{name}`; shipped: {} (or load your own)",
-            kind.name(),
-            NAMES.join(", ")
-        )));
+        return Err(MethodError::param(
+            "model",
+            format!(
+                "model: no {} model called `{name}`; shipped: {} (or load your own)",
+                kind.name(),
+                NAMES.join(", ")
+            ),
+        ));
     }
     let file = file_name(kind, name);
     if let Some((_, m)) = LOADED.lock().unwrap_or_else(|e| e.into_inner()).iter().find(|(f, _)| *f == file) {

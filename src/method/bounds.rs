@@ -56,7 +56,7 @@ pub fn shown(v: f64) -> String {
 
 /// `invalid <short> parameter <name> = <value>: expected <expected>`.
 pub fn refuse(short: &str, name: &str, value: f64, expected: &str) -> MethodError {
-    MethodError::Params(format!("invalid {short} parameter {name} = {}: expected {expected}", shown(value)))
+    MethodError::param(name, format!("invalid {short} parameter {name} = {}: expected {expected}", shown(value)))
 }
 
 /// Checks the value of every parameter of `table` (read by `value(name)`) against its range.
@@ -113,8 +113,9 @@ mod tests {
         assert!(check("X", &TABLE, ok).is_ok());
         let e = check("X", &TABLE, |n| if n == "a" { 1e300 } else { 2.0 }).unwrap_err().to_string();
         assert_eq!(e, "invalid X parameter a = 1e300: expected 0 to 1 s");
-        let e = check("X", &TABLE, |n| if n == "a" { 0.0 } else { f64::NAN }).unwrap_err().to_string();
-        assert_eq!(e, "invalid X parameter b = NaN: expected 2 to 3");
+        let e = check("X", &TABLE, |n| if n == "a" { 0.0 } else { f64::NAN }).unwrap_err();
+        assert_eq!(e.param_name(), Some("b"), "the refusal carries the parameter's name");
+        assert_eq!(e.to_string(), "invalid X parameter b = NaN: expected 2 to 3");
         let specs = specs(&TABLE, ok);
         assert_eq!((specs[0].unit.as_deref(), specs[1].unit.as_deref()), (Some("s"), None));
         assert_eq!(specs[1].default, 2.0);

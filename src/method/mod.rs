@@ -79,9 +79,11 @@ impl<F: FnMut(&str, f64)> Progress for F {
 pub enum MethodError {
     #[error("unknown method `{name}`; available: {known}")]
     Unknown { name: String, known: String },
-    /// A parameter is unknown, of the wrong type, or out of range; the message names it.
-    #[error("{0}")]
-    Params(String),
+    /// A parameter is unknown, of the wrong type, or out of range; the message names it, and
+    /// `param` is that parameter when it is one of the method's own (the page shows the message
+    /// at its field, the command line names it): carried, never searched for in the text.
+    #[error("{message}")]
+    Params { param: Option<String>, message: String },
     /// The take cannot be segmented (too short, missing joints, too large, …).
     #[error("{0}")]
     Failed(String),
@@ -91,6 +93,27 @@ pub enum MethodError {
     /// which fetches it and asks again: [`shipped`]).
     #[error("the model file `{file}` is not loaded yet")]
     NeedsModel { file: String },
+}
+
+impl MethodError {
+    /// The refusal of the method's parameter `param`.
+    pub fn param(param: &str, message: impl Into<String>) -> MethodError {
+        MethodError::Params { param: Some(param.to_string()), message: message.into() }
+    }
+
+    /// A refusal of the parameters as a whole (none of the method's own is to blame: an unknown
+    /// name, a malformed override).
+    pub fn params(message: impl Into<String>) -> MethodError {
+        MethodError::Params { param: None, message: message.into() }
+    }
+
+    /// The parameter a refusal names, if any.
+    pub fn param_name(&self) -> Option<&str> {
+        match self {
+            MethodError::Params { param, .. } => param.as_deref(),
+            _ => None,
+        }
+    }
 }
 
 impl From<Cancelled> for MethodError {
@@ -286,7 +309,7 @@ impl<M: Method> DynMethod for M {
         progress: &mut dyn Progress,
     ) -> Result<MethodOutput, MethodError> {
         let checked = params.inner.downcast_ref::<M::Checked>().ok_or_else(|| {
-            MethodError::Params(format!("parameters of `{}` given to `{}`", params.method, Method::info(self).name))
+            MethodError::params(format!("parameters of `{}` given to `{}`", params.method, Method::info(self).name))
         })?;
         if progress.cancelled() {
             return Err(MethodError::Cancelled);
@@ -307,9 +330,9 @@ fn misread<P: DeserializeOwned>(short: &str, params: &serde_json::Value, e: serd
     });
     match culprit {
         Some((name, value, e)) if !e.to_string().starts_with("unknown field") => {
-            MethodError::Params(format!("invalid {short} parameter {name} = {value}: {e}"))
+            MethodError::param(name, format!("invalid {short} parameter {name} = {value}: {e}"))
         }
-        _ => MethodError::Params(format!("{short} parameters: {e}")),
+        _ => MethodError::params(format!("{short} parameters: {e}")),
     }
 }
 
@@ -363,11 +386,11 @@ pub fn params_from_overrides(method: &dyn DynMethod, overrides: &[String]) -> Re
     let specs = method.param_specs();
     for o in overrides {
         let (name, raw) =
-            o.split_once('=').ok_or_else(|| MethodError::Params(format!("`{o}`: expected NAME=VALUE")))?;
+            o.split_once('=').ok_or_else(|| MethodError::params(format!("`{o}`: expected NAME=VALUE")))?;
         let name = name.trim().replace('-', "_");
         if !specs.iter().any(|s| s.name == name) {
             let known: Vec<&str> = specs.iter().map(|s| s.name.as_str()).collect();
-            return Err(MethodError::Params(format!(
+            return Err(MethodError::params(format!(
                 "unknown {} parameter `{name}`; known: {}",
                 info.short,
                 known.join(", ")

@@ -17,7 +17,7 @@ pub struct Sssm;
 impl From<SssmError> for MethodError {
     fn from(e: SssmError) -> Self {
         match e {
-            SssmError::InvalidParam { .. } => MethodError::Params(e.to_string()),
+            SssmError::InvalidParam { name, .. } => MethodError::param(name, e.to_string()),
             SssmError::Cancelled => MethodError::Cancelled,
             other => MethodError::Failed(other.to_string()),
         }

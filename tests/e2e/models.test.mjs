@@ -2,7 +2,7 @@
 // wasm carries no weights; a method fetches its model file the first time it needs it (showing
 // the fetch as its stage), only then and only once; a page that never runs DT-FCN, the k-NN or
 // LMA fetches no model; a damaged or missing file is refused with a message naming it, at the
-// method's model field, and the page keeps working. Offline use of the models is in
+// method's panel (its failure line), and the page keeps working. Offline use of the models is in
 // embed.test.mjs (the service worker precaches them).
 
 import { test, before, after } from "node:test";
@@ -82,7 +82,7 @@ test("a page that runs only SSSM fetches no model; DT-FCN fetches its model when
   assertClean(opened);
 });
 
-test("a damaged or missing model file is named at the model's field; the page keeps working", async () => {
+test("a damaged or missing model file is named in its method's panel; the page keeps working", async () => {
   // the page's own network (no service worker, which would answer from its cache)
   const bad = await openPage({ allowConsole: ALLOW, contextOptions: { serviceWorkers: "block" } });
   try {
@@ -93,9 +93,9 @@ test("a damaged or missing model file is named at the model's field; the page ke
     await waitData(bad.page, "knn", "error");
     await waitData(bad.page, "dtfcn", "error");
     await waitData(bad.page, "velocity", "done");
-    const knn = await text(bad.page, "#knn-model-error");
+    const knn = await text(bad.page, "#knn-failure");
     assert.match(knn, /models\/knn-exercises\.model: 1000 bytes where this build's file has \d+/, knn);
-    const dtfcn = await text(bad.page, "#dtfcn-model-error");
+    const dtfcn = await text(bad.page, "#dtfcn-failure");
     assert.match(dtfcn, /could not fetch the model .*models\/dtfcn-exercises\.model: HTTP 404/, dtfcn);
     // another model still works
     await bad.page.selectOption("#knn-model", "cmu-actions");
