@@ -32,5 +32,4 @@ pub mod view;
 
 #[cfg(feature = "web")]
 pub mod app;
-#[cfg(feature = "web")]
 pub mod worker;

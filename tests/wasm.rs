@@ -201,8 +201,13 @@ mod worker {
         assert!(motion.skeleton.names.iter().any(|n| n == "H\u{e4}ps"), "{:?}", &motion.skeleton.names[..3]);
         assert!(motion.summary.warnings.iter().any(|w| w.contains("Latin-1")), "{:?}", motion.summary.warnings);
         let run = Request::Segment { take: 2, run: 3, method: "sssm".into(), params: serde_json::json!({"radus": 3}) };
-        let Some(Response::Failed { message, .. }) = ask(run, None).pop() else { panic!() };
+        let Some(Response::Refused { message, param, .. }) = ask(run, None).pop() else { panic!() };
         assert!(message.starts_with("SSSM parameters: unknown field `radus`"), "{message}");
+        assert_eq!(param, None, "an unknown name is none of the method's parameters");
+        let run = Request::Segment { take: 2, run: 4, method: "sssm".into(), params: serde_json::json!({"radius": -3}) };
+        let Some(Response::Refused { message, param, .. }) = ask(run, None).pop() else { panic!() };
+        assert!(message.contains("radius = -3"), "{message}");
+        assert_eq!(param.as_deref(), Some("radius"), "the refusal names its parameter, through real JS values");
     }
 }
 

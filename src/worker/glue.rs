@@ -5,9 +5,10 @@
 //! the worker's messages with [`response_from_js`]. Messages are [`Packet`]s of
 //! [`crate::protocol`]: `{json: "<Request or Response>", buffers: [ArrayBuffer | Uint8Array, …]}`,
 //! whose buffers are transferred, never copied, across `postMessage`. All decisions (which take
-//! is held, what a request may do) are made by [`WorkerState`] in the core.
+//! is held, what a request may do) are made by [`WorkerState`] ([`super::state`]).
 
-use crate::protocol::{FailureKind, Packet, Request, Response, WorkerState};
+use super::WorkerState;
+use crate::protocol::{FailureKind, Packet, Request, Response};
 use js_sys::{Array, ArrayBuffer, Function, Object, Reflect, Uint8Array};
 use std::cell::RefCell;
 use wasm_bindgen::prelude::*;
