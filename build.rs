@@ -10,7 +10,10 @@ use std::path::Path;
 use sha2::{Digest, Sha256};
 
 fn main() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
+    // read at run time: a build script compiled in one clone may run for another (a shared
+    // build folder), and `env!` would point it at the first clone's files
+    let manifest = std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR");
+    let dir = Path::new(&manifest).join("models");
     println!("cargo:rerun-if-changed={}", dir.display());
     let mut files: Vec<_> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))

@@ -11,29 +11,22 @@
 //! repeats the request — so the page never segments a take other than the one on screen, even
 //! after a load that lost a race or a worker replaced after a crash or a cancel.
 //!
-//! The worker also holds the LMA classifier family its `lma` runs use: `train_lma` trains one on
-//! the user's Effort labels for the held take, `use_lma_model` loads one the user saved (or goes
-//! back to the shipped family). A worker starts with the shipped family, so the page sends the
-//! family it holds to every new worker before anything else.
-//!
-//! The same holds for the labelling models of `dtfcn` and `knn`: `use_label_model` installs a
-//! model file the user loaded (or the page holds from a training) under its name, and the page
-//! sends every model it holds to each new worker. `train_dtfcn` trains a DT-FCN **one epoch per
-//! message**: it prepares the trainer and runs epoch 1; each epoch answers `training_epoch`, and
-//! while more epochs are due [`WorkerState::next_step`] names the `continue_training` request the
-//! worker's glue (`www/worker.js`) schedules to itself with `setTimeout(0)`, so that a
-//! `stop_training` from the page is read between two epochs. When the run ends (its epochs done,
-//! or stopped: the best model so far is kept), the worker installs the model and answers
-//! `dtfcn_trained` with the model file as a buffer.
+//! The worker also holds the models of the supervised methods (DT-FCN, the k-NN, LMA: any method
+//! that declares [`crate::method::Supervision`]) in its [`crate::method::ModelStore`]: `use_model`
+//! stores a model file the user loaded (or the page holds from a training) under its name, and the
+//! page sends every model it holds to each new worker. `train` trains a model of any supervised
+//! method **one step per message**: it prepares the training and runs step 1; each step answers
+//! `training_step`, and while more steps are due [`crate::worker::WorkerState::next_step`] names
+//! the `continue_training` request the worker's glue (`www/worker.js`) schedules to itself with
+//! `setTimeout(0)`, so that a `stop_training` from the page is read between two steps. When the
+//! run ends (its steps done, or stopped: the best model so far is kept), the worker stores the
+//! model and answers `trained` with the model file as a buffer.
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
-use crate::dtfcn::model::{Model, ModelKind};
-use crate::dtfcn::training::{EpochReport, TrainOptions};
 use crate::image::MotionImage;
-use crate::lma::corpus::Sample;
-use crate::lma::training::FactorReport;
+use crate::method::supervised::{ModelInfo, StepReport, TrainingReport};
 use crate::method::{Details, MethodOutput};
 use crate::motion::{Motion, Units, UpAxis};
 use crate::segment::Segmentation;
@@ -64,48 +57,34 @@ pub enum Request {
     },
     /// Segment take `take` with `method` (a registry name) and `params` (JSON, fields optional).
     Segment { take: TakeId, run: RunId, method: String, params: serde_json::Value },
-    /// Train the LMA classifier family on the rows of `labels` (the text of the Effort labels CSV
-    /// `name`, `file,start_frame,end_frame,space,time,weight,flow`) that name take `take`; rows
-    /// for other files are counted and left out. The family then serves every later `lma` run.
-    TrainLma { take: TakeId, run: RunId, name: String, labels: String },
-    /// Make `model` (a family's JSON text, as `Trained` sends it or a user saved it) the family
-    /// of every later `lma` run; `None`: the shipped family again. Any worker accepts it, whatever
-    /// take it holds (`take` and `run` only name the answer).
-    UseLmaModel {
+    /// Store the model file `file` (its bytes) of the supervised method `method` under the name
+    /// it gives ([`crate::method::Supervised::read_model`]); refused with the method's message when
+    /// the bytes are not such a model. Any worker accepts it, whatever take it holds.
+    UseModel {
         take: TakeId,
         run: RunId,
-        /// Buffer 0 when present (UTF-8); no buffer means the shipped family.
-        #[serde(skip)]
-        model: Option<String>,
-    },
-    /// Install the labelling model file `file` (`Model::to_bytes`) for the method of `kind`
-    /// (`dtfcn` or `knn`): under the name in its header, or — when that is empty or a shipped
-    /// model's — under the file's stem. Refused with the core's message when the bytes are not
-    /// such a model, or a model of the other kind. Any worker accepts it, whatever take it holds.
-    UseLabelModel {
-        take: TakeId,
-        run: RunId,
-        kind: ModelKind,
+        method: String,
         /// The file's name (messages name it).
         file: String,
         /// Buffer 0.
         #[serde(skip)]
         bytes: Vec<u8>,
     },
-    /// Train a DT-FCN on the rows of the label CSV `labels` (its text; the file `labels_name`,
-    /// `file,start_frame,end_frame,label`, 0-based file frames) for the takes `takes` (file
-    /// names; their bytes are the buffers, in order — the page sends the take on screen first),
-    /// with `options`; the model is installed as `name`. Prepares the trainer and runs epoch 1
-    /// (answer: `training_epoch`); the epochs after it come with `continue_training`. Rows for
-    /// files not given are left out (and named in the answer). Any worker accepts it.
-    TrainDtfcn {
+    /// Train a model `name` of the supervised method `method` on the label CSV `labels` (its
+    /// text; the file `labels_name`) for the takes `takes` (file names; their bytes are the
+    /// buffers, in order — the take on screen first) with `options` (JSON, the method's training
+    /// table). Prepares the training and runs step 1 (answer: `training_step`); the steps after it
+    /// come with `continue_training`. A refusal names the option, `labels`, `takes` or `name`.
+    /// Any worker accepts it.
+    Train {
         take: TakeId,
         run: RunId,
+        method: String,
         name: String,
         labels_name: String,
         labels: String,
         takes: Vec<String>,
-        options: TrainOptions,
+        options: serde_json::Value,
         /// Buffers 0.., one per take.
         #[serde(skip)]
         bytes: Vec<Vec<u8>>,
@@ -121,11 +100,11 @@ pub enum Request {
         #[serde(skip)]
         bytes: Vec<u8>,
     },
-    /// Runs the next epoch of the training `run` (the worker's glue sends it to its own worker
+    /// Runs the next step of the training `run` (the worker's glue sends it to its own worker
     /// when [`WorkerState::next_step`] says so). Ignored when that training is over.
     ContinueTraining { take: TakeId, run: RunId },
-    /// Ends the training `run` after the epochs so far: the best model so far is kept, installed
-    /// and sent (`dtfcn_trained` with `stopped`). Ignored when that training is over.
+    /// Ends the training `run` after the steps so far: the best model so far is kept, stored
+    /// and sent (`trained`, its report `stopped`). Ignored when that training is over.
     StopTraining { take: TakeId, run: RunId },
     /// Cut the segments of `segmentation` (a run's result on take `take`) that `which` chooses
     /// as BVH clips of the held take ([`crate::clips::export`]): every clip in one zip, or with
@@ -148,11 +127,9 @@ impl Request {
         match self {
             Request::Load { .. } => None,
             Request::Segment { run, .. }
-            | Request::TrainLma { run, .. }
-            | Request::UseLmaModel { run, .. }
-            | Request::UseLabelModel { run, .. }
+            | Request::UseModel { run, .. }
             | Request::ProvideModel { run, .. }
-            | Request::TrainDtfcn { run, .. }
+            | Request::Train { run, .. }
             | Request::ContinueTraining { run, .. }
             | Request::StopTraining { run, .. }
             | Request::Clips { run, .. } => Some(*run),
@@ -164,11 +141,9 @@ impl Request {
         match self {
             Request::Load { take, .. }
             | Request::Segment { take, .. }
-            | Request::TrainLma { take, .. }
-            | Request::UseLmaModel { take, .. }
-            | Request::UseLabelModel { take, .. }
+            | Request::UseModel { take, .. }
             | Request::ProvideModel { take, .. }
-            | Request::TrainDtfcn { take, .. }
+            | Request::Train { take, .. }
             | Request::ContinueTraining { take, .. }
             | Request::StopTraining { take, .. }
             | Request::Clips { take, .. } => *take,
@@ -352,149 +327,6 @@ impl From<MethodOutput> for MethodView {
     }
 }
 
-/// How a trained LMA family did on one Effort factor (from the trainer's [`FactorReport`]).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct FactorSummary {
-    /// `space`, `time`, `weight` or `flow`.
-    pub factor: String,
-    /// The labelled segments per class: indulging, neutral, condensing.
-    pub segments: [usize; 3],
-    /// Hidden units of its networks.
-    pub hidden: usize,
-    /// The unshifted network's error rate on the training and the held-out validation segments.
-    pub train_error: f32,
-    pub validation_error: f32,
-    /// Mean validation error of the boundary-shifted networks on their shifted segments.
-    pub shifted_validation_error: f32,
-}
-
-impl FactorSummary {
-    pub(crate) fn new(report: &FactorReport, samples: &[Sample], factor: usize) -> FactorSummary {
-        let mut segments = [0; 3];
-        for s in samples {
-            if let Some(n) = segments.get_mut(s.classes[factor]) {
-                *n += 1;
-            }
-        }
-        FactorSummary {
-            factor: report.factor.name().to_string(),
-            segments,
-            hidden: report.hidden,
-            train_error: report.train_error,
-            validation_error: report.validation_error,
-            shifted_validation_error: report.shifted_validation_error,
-        }
-    }
-}
-
-/// The input of a DT-FCN training a refusal is about (the page shows the message there).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum TrainField {
-    /// The label CSV: a bad line, no row for any take given, fewer than 2 classes, a row past a
-    /// take's end.
-    Labels,
-    /// A take: it does not parse, is given twice, or lacks the joints the network reads.
-    Takes,
-    /// The model's name.
-    Name,
-    Epochs,
-    LabelNoise,
-    MaskFrames,
-    /// Kernel width.
-    Width,
-    /// Filters per layer (and the number of layers).
-    Filters,
-    CropFrames,
-    Batch,
-    LearningRate,
-    WeightDecay,
-}
-
-impl TrainField {
-    /// The field a refusal of the training options (`TrainOptions::check`, the network's check)
-    /// is about, from what its message names; `None` when it names none of them.
-    pub fn of_option_message(message: &str) -> Option<TrainField> {
-        let m = message.to_ascii_lowercase();
-        [
-            ("kernel width", TrainField::Width),
-            ("label noise", TrainField::LabelNoise),
-            ("learning rate", TrainField::LearningRate),
-            ("weight decay", TrainField::WeightDecay),
-            ("epochs", TrainField::Epochs),
-            ("mask", TrainField::MaskFrames),
-            ("crop", TrainField::CropFrames),
-            ("batch", TrainField::Batch),
-            ("layers", TrainField::Filters),
-            ("filters", TrainField::Filters),
-            ("classes", TrainField::Labels),
-        ]
-        .into_iter()
-        .find(|(word, _)| m.contains(word))
-        .map(|(_, field)| field)
-    }
-}
-
-/// A labelling model the worker installed (loaded from a file or just trained), as the page
-/// shows it and lists it among its method's models.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct LabelModelInfo {
-    /// The name it is installed under (the value of the method's `model` parameter).
-    pub name: String,
-    pub kind: ModelKind,
-    pub classes: Vec<String>,
-    /// CSS `#rrggbb`, one per class.
-    pub colours: Vec<String>,
-    /// Frames below this confidence are `unknown` unless the run says otherwise.
-    pub unknown_threshold: f32,
-    /// How it was made: the takes, labelled frames, epochs run and kept, the command.
-    pub takes: Vec<String>,
-    pub frames: usize,
-    pub epochs_run: usize,
-    pub best_epoch: usize,
-    pub command: String,
-}
-
-impl LabelModelInfo {
-    /// Refuses an info whose classes and colours do not pair up (so views can index freely).
-    fn check(&self) -> Result<(), String> {
-        if self.classes.len() == self.colours.len() {
-            Ok(())
-        } else {
-            Err(format!(
-                "worker message: model {} has {} classes but {} colours",
-                self.name,
-                self.classes.len(),
-                self.colours.len()
-            ))
-        }
-    }
-
-    pub(crate) fn new(name: &str, model: &Model) -> LabelModelInfo {
-        let h = &model.header;
-        LabelModelInfo {
-            name: name.to_string(),
-            kind: h.kind,
-            classes: h.classes.clone(),
-            colours: h.colours.clone(),
-            unknown_threshold: h.unknown_threshold,
-            takes: h.provenance.takes.clone(),
-            frames: h.provenance.frames,
-            epochs_run: h.provenance.epochs_run,
-            best_epoch: h.provenance.best_epoch,
-            command: h.provenance.command.clone(),
-        }
-    }
-}
-
-/// The method's name for a model kind, as headings show it.
-pub fn kind_short(kind: ModelKind) -> &'static str {
-    match kind {
-        ModelKind::Dtfcn => "DT-FCN",
-        ModelKind::Knn => "k-NN",
-    }
-}
-
 /// Worker → page.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
@@ -519,59 +351,31 @@ pub enum Response {
         run: RunId,
         view: Box<MethodView>,
     },
-    /// A `train_lma` run finished: `model` is the family's JSON (for the page to save and to send
-    /// to a new worker), now in use. `used_rows` named the take, `ignored_rows` other files.
+    /// A `use_model`: the model is stored, its method's runs may name it now.
+    ModelStored {
+        take: TakeId,
+        run: RunId,
+        model: ModelInfo,
+    },
+    /// One step of the training `run` is done; `more`: the worker goes on with the next.
+    TrainingStep {
+        take: TakeId,
+        run: RunId,
+        report: StepReport,
+        more: bool,
+    },
+    /// The training `run` ended (every step ran, or it was stopped: the best model so far is
+    /// kept); the model is stored as `model.name`.
     Trained {
         take: TakeId,
         run: RunId,
-        /// Buffer 0 (UTF-8).
-        #[serde(skip)]
-        model: String,
-        /// Space, Time, Weight, Flow.
-        report: Vec<FactorSummary>,
-        /// Where the labels came from, in words (as the `lma` summary shows it).
-        origin: String,
-        used_rows: usize,
-        ignored_rows: usize,
-    },
-    /// The family `lma` runs use now (after `use_lma_model`).
-    ModelInUse {
-        take: TakeId,
-        run: RunId,
-        origin: String,
-        shipped: bool,
-    },
-    /// A `use_label_model`: the model is installed, its method's runs may name it now.
-    LabelModelInUse {
-        take: TakeId,
-        run: RunId,
-        model: LabelModelInfo,
-    },
-    /// One epoch of the DT-FCN training `run` is done; `more`: the worker goes on with the next.
-    TrainingEpoch {
-        take: TakeId,
-        run: RunId,
-        report: EpochReport,
-        more: bool,
-    },
-    /// The DT-FCN training `run` ended (every epoch ran, or `stopped` by the page: the best model
-    /// so far is kept); the model is installed as `model.name`.
-    DtfcnTrained {
-        take: TakeId,
-        run: RunId,
-        model: LabelModelInfo,
-        reports: Vec<EpochReport>,
-        /// The epoch (1-based) whose weights were kept.
-        best_epoch: usize,
-        stopped: bool,
-        /// Label rows for the takes trained on, and the files rows name that were not given.
-        used_rows: usize,
-        left_out: Vec<String>,
-        /// Buffer 0: the model file (`Model::to_bytes`).
+        model: ModelInfo,
+        report: TrainingReport,
+        /// Buffer 0: the model file.
         #[serde(skip)]
         bytes: Vec<u8>,
     },
-    /// The run `run` (a segment run, or a `use_lma_model` back to the shipped family) needs the
+    /// The run `run` (a segment run) needs the
     /// shipped model file `file`, which this worker does not hold yet: the page fetches it
     /// (`models/FILE` beside the page), sends `provide_model` and asks again.
     NeedsModel {
@@ -610,11 +414,10 @@ pub enum Response {
         run: Option<RunId>,
         message: String,
         kind: FailureKind,
-        /// The input of the request that is wrong, when it is one of several (a DT-FCN training's
-        /// `labels`, `takes`, `name`, `epochs`, `label_noise`, `mask_frames`, `width`, `filters`,
-        /// …, see [`TrainField`]); left out otherwise.
+        /// The input of the request that is wrong, when it is one of several (a training's
+        /// `labels`, `takes`, `name`, or one of its options by name); left out otherwise.
         #[serde(default, skip_serializing_if = "Option::is_none")]
-        field: Option<TrainField>,
+        param: Option<String>,
     },
 }
 
@@ -636,10 +439,6 @@ fn bytes_f32(bytes: &[u8]) -> Result<Vec<f32>, String> {
     Ok(bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect())
 }
 
-fn utf8(bytes: Vec<u8>, what: &str) -> Result<String, String> {
-    String::from_utf8(bytes).map_err(|e| format!("worker message: {what} is not UTF-8 text ({e})"))
-}
-
 fn json_error(what: &str, e: serde_json::Error) -> String {
     format!("{what}: {e}")
 }
@@ -656,11 +455,9 @@ impl Request {
                     vec![bytes]
                 }
             }
-            Request::UseLmaModel { model, .. } => model.into_iter().map(String::into_bytes).collect(),
-            Request::UseLabelModel { bytes, .. } | Request::ProvideModel { bytes, .. } => vec![bytes],
-            Request::TrainDtfcn { bytes, .. } => bytes,
+            Request::UseModel { bytes, .. } | Request::ProvideModel { bytes, .. } => vec![bytes],
+            Request::Train { bytes, .. } => bytes,
             Request::Segment { .. }
-            | Request::TrainLma { .. }
             | Request::ContinueTraining { .. }
             | Request::StopTraining { .. }
             | Request::Clips { .. } => Vec::new(),
@@ -680,13 +477,10 @@ impl Request {
                         buffers.next().ok_or("worker request: an AMC without its ASF skeleton's bytes")?;
                 }
             }
-            Request::UseLmaModel { model, .. } => {
-                *model = buffers.next().map(|b| utf8(b, "the LMA family")).transpose()?;
-            }
-            Request::UseLabelModel { bytes, .. } | Request::ProvideModel { bytes, .. } => {
+            Request::UseModel { bytes, .. } | Request::ProvideModel { bytes, .. } => {
                 *bytes = buffers.next().ok_or("worker request: a model file without its bytes")?;
             }
-            Request::TrainDtfcn { takes, bytes, .. } => {
+            Request::Train { takes, bytes, .. } => {
                 *bytes = buffers.by_ref().take(takes.len()).collect();
                 if bytes.len() != takes.len() {
                     return Err(format!(
@@ -697,7 +491,6 @@ impl Request {
                 }
             }
             Request::Segment { .. }
-            | Request::TrainLma { .. }
             | Request::ContinueTraining { .. }
             | Request::StopTraining { .. }
             | Request::Clips { .. } => {}
@@ -722,8 +515,7 @@ impl Response {
                     buffers.push(std::mem::take(&mut p.rgba));
                 }
             }
-            Response::Trained { model, .. } => buffers.push(std::mem::take(model).into_bytes()),
-            Response::DtfcnTrained { bytes, .. } => buffers.push(std::mem::take(bytes)),
+            Response::Trained { bytes, .. } => buffers.push(std::mem::take(bytes)),
             Response::Clips { bytes, .. } => buffers.push(std::mem::take(bytes)),
             _ => {}
         }
@@ -754,12 +546,11 @@ impl Response {
                     return Err(format!("worker message: curve {} does not have one value per frame", c.id));
                 }
             }
-            Response::Trained { model, .. } => *model = utf8(next("the trained family")?, "the trained family")?,
-            Response::DtfcnTrained { bytes, model, .. } => {
+            Response::Trained { bytes, model, .. } => {
                 *bytes = next("the trained model")?;
-                model.check()?;
+                model.check().map_err(|e| format!("worker message: {e}"))?;
             }
-            Response::LabelModelInUse { model, .. } => model.check()?,
+            Response::ModelStored { model, .. } => model.check().map_err(|e| format!("worker message: {e}"))?,
             Response::Clips { bytes, .. } => *bytes = next("the clips")?,
             _ => {}
         }
@@ -801,6 +592,41 @@ mod tests {
             Request::Segment { take: 3, run: 9, method: "sssm".into(), params: serde_json::json!({"radius": 15}) };
         assert_eq!(Request::from_packet(seg.clone().into_packet()).unwrap(), seg);
         assert_eq!(seg.take(), 3);
+
+        let train = Request::Train {
+            take: 3,
+            run: 10,
+            method: "dtfcn".into(),
+            name: "mine".into(),
+            labels_name: "l.csv".into(),
+            labels: "file,start_frame,end_frame,label\n".into(),
+            takes: vec!["a.bvh".into(), "b.bvh".into()],
+            options: serde_json::json!({"epochs": 3}),
+            bytes: vec![b"A".to_vec(), b"B".to_vec()],
+        };
+        let packet = train.clone().into_packet();
+        assert_eq!(packet.buffers, vec![b"A".to_vec(), b"B".to_vec()]);
+        assert_eq!(Request::from_packet(packet.clone()).unwrap(), train);
+        let mut short = packet;
+        short.buffers.pop();
+        assert!(Request::from_packet(short).unwrap_err().contains("2 takes but the bytes of 1"));
+        let trained = Response::Trained {
+            take: 3,
+            run: 10,
+            model: crate::method::supervised::ModelInfo {
+                method: "dtfcn".into(),
+                name: "mine".into(),
+                classes: vec!["a".into(), "b".into()],
+                colours: vec!["#000000".into(), "#ffffff".into()],
+                origin: "2 classes".into(),
+                provenance: vec![("takes".into(), "a.bvh".into())],
+            },
+            report: TrainingReport { summary: "Trained".into(), ..TrainingReport::default() },
+            bytes: b"MODEL".to_vec(),
+        };
+        let packet = trained.clone().into_packet();
+        assert_eq!(packet.buffers, vec![b"MODEL".to_vec()]);
+        assert_eq!(Response::from_packet(packet).unwrap(), trained);
 
         let no_bytes =
             Packet { json: r#"{"type":"load","take":1,"name":"x","restore":false}"#.into(), buffers: vec![] };
@@ -863,20 +689,26 @@ mod tests {
                 run: Some(2),
                 message: "take 1 is not loaded".into(),
                 kind: FailureKind::NotLoaded,
-                field: None,
+                param: None,
             },
             Response::Failed {
                 take: 1,
                 run: None,
                 message: "x.bvh: line 3".into(),
                 kind: FailureKind::Input,
-                field: None,
+                param: Some("labels".into()),
             },
-            Response::ModelInUse {
+            Response::TrainingStep {
                 take: 2,
                 run: 6,
-                origin: "12 segments of a.bvh labelled in e.csv".into(),
-                shipped: false,
+                report: StepReport {
+                    step: 2,
+                    steps: 5,
+                    line: "epoch 2".into(),
+                    values: vec![("loss".into(), 0.5)],
+                    best: true,
+                },
+                more: true,
             },
         ] {
             let packet = r.clone().into_packet();

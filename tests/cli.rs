@@ -511,7 +511,8 @@ fn train_dtfcn_writes_a_model_that_segment_and_model_info_read_and_bad_models_ar
     // a model of the other kind
     let out = run(&["segment", "--method", "dtfcn", "--model", model.to_str().unwrap(), a.to_str().unwrap()]);
     assert!(
-        String::from_utf8_lossy(&out.stderr).contains("is a knn model"),
+        String::from_utf8_lossy(&out.stderr)
+            .contains("holds a k-NN model, not a DT-FCN model: use it with the k-NN method (knn)"),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
@@ -640,7 +641,7 @@ fn model_info_reads_shipped_names_and_segment_takes_an_lma_family_file() {
     // a shipped name, as `segment --model exercises` takes it: both kinds, or one
     let both = stdout_json(&run(&["model-info", "exercises"]));
     let kinds: Vec<&str> = both.as_array().unwrap().iter().map(|h| h["kind"].as_str().unwrap()).collect();
-    assert_eq!(kinds, ["dtfcn", "knn"]);
+    assert_eq!(kinds, ["knn", "dtfcn"], "every method that ships an `exercises`, in the registry's order");
     assert!(both.as_array().unwrap().iter().all(|h| h["name"] == "exercises"));
     let knn = stdout_json(&run(&["model-info", "exercises", "--method", "knn"]));
     assert_eq!((knn["kind"].as_str(), knn["name"].as_str()), (Some("knn"), Some("exercises")));
@@ -651,6 +652,17 @@ fn model_info_reads_shipped_names_and_segment_takes_an_lma_family_file() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
     assert!(err.contains("nope: no such file, nor a shipped model") && err.contains("cmu-actions"), "{err}");
+    // LMA's family too: the shipped one by name, a file by path (the same reader the page's worker uses)
+    let lma = stdout_json(&run(&["model-info", "shipped", "--method", "lma"]));
+    assert_eq!((lma["kind"].as_str(), lma["factors"].as_u64()), (Some("lma"), Some(4)));
+    let lma_file = stdout_json(&run(&["model-info", concat!(env!("CARGO_MANIFEST_DIR"), "/models/lma-effort.json")]));
+    assert_eq!((lma_file["name"].as_str(), &lma_file["samples"]), (Some("lma-effort"), &lma["samples"]));
+    let out = run(&["model-info", "exercises", "--method", "sssm"]);
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("not a method with models"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 
     // --lma-model: a family file is read (the shipped one is a valid file); a bad one is named
     let take = fixture("12_01.bvh");

@@ -14,11 +14,14 @@ use mocapseg::bvh;
 use mocapseg::dtfcn::augment::Augment;
 use mocapseg::dtfcn::corpus::{class_labels, fit_knn_model, train_model, ModelMeta};
 use mocapseg::dtfcn::infer::predict_input;
-use mocapseg::dtfcn::method::{install, label};
+use mocapseg::dtfcn::method::label;
 use mocapseg::dtfcn::model::{Labeller, Model};
 use mocapseg::dtfcn::shipped;
+use mocapseg::dtfcn::supervised::{model_info, shipped_names};
 use mocapseg::dtfcn::training::{boundary_mask, evaluate, noisy_labels, TrainOptions, TrainingTake};
 use mocapseg::labels::LabelRow;
+use mocapseg::method::supervised::{check_model_name, Loaded};
+use mocapseg::method::ModelStore;
 use mocapseg::method::{find, NoProgress, RunOptions};
 use mocapseg::motion::Motion;
 use mocapseg::stats::Rng;
@@ -136,7 +139,13 @@ fn noise_replaces_the_share_asked_and_masking_blanks_the_boundaries() {
 fn the_registered_methods_label_a_take_with_a_users_models() {
     let (motions, classes, takes) = two_takes();
     let net = train_model(&takes, &[], &classes, &small(3), &meta(), &mut |_| true).unwrap();
-    install("my-test-model", net).unwrap();
+    // the models a run may name are the caller's: a store, as the page's worker and a CLI run own
+    let mut store = ModelStore::new();
+    let stored = |m: mocapseg::dtfcn::model::Model| Loaded {
+        info: model_info("my-test-model", &m),
+        model: std::sync::Arc::new(m),
+    };
+    store.install(stored(net));
     let labels: Vec<Vec<Option<usize>>> = takes
         .iter()
         .zip(&motions)
@@ -144,11 +153,15 @@ fn the_registered_methods_label_a_take_with_a_users_models() {
         .collect();
     let knn_takes: Vec<(&Motion, &[Option<usize>])> =
         motions.iter().zip(&labels).map(|(m, l)| (m, l.as_slice())).collect();
-    install("my-test-model", fit_knn_model(&knn_takes, &classes, &meta()).unwrap()).unwrap();
+    store.install(stored(fit_knn_model(&knn_takes, &classes, &meta()).unwrap()));
     for name in ["dtfcn", "knn"] {
         let m = find(name).unwrap();
+        let run = |params: serde_json::Value, options: &RunOptions| {
+            let checked = m.check_json_in(&params, &store)?;
+            m.run_checked(&motions[0], &checked, options, &mut NoProgress)
+        };
         let params = serde_json::json!({ "model": "my-test-model", "unknown_threshold": 0.0 });
-        let out = m.run_json(&motions[0], &params, &RunOptions { pictures: true }, &mut NoProgress).unwrap();
+        let out = run(params, &RunOptions { pictures: true }).unwrap();
         let s = &out.segmentation;
         s.validate().unwrap();
         assert_eq!(s.segments.first().unwrap().start, 0);
@@ -159,17 +172,18 @@ fn the_registered_methods_label_a_take_with_a_users_models() {
         assert_eq!(out.details.pictures[0].height % 3, 0);
         // a threshold of 1 leaves nothing certain enough
         let params = serde_json::json!({ "model": "my-test-model", "unknown_threshold": 1.0 });
-        let out = m.run_json(&motions[0], &params, &RunOptions::default(), &mut NoProgress).unwrap();
+        let out = run(params, &RunOptions::default()).unwrap();
         assert!(out.segmentation.segments.iter().any(|g| g.label == "unknown"), "{name}");
         // a model that does not exist is refused by name, listing the shipped ones
-        let err =
-            m.run_json(&motions[0], &serde_json::json!({ "model": "nope" }), &RunOptions::default(), &mut NoProgress);
-        let err = err.unwrap_err().to_string();
+        let err = run(serde_json::json!({ "model": "nope" }), &RunOptions::default()).err().unwrap();
+        assert_eq!(err.param_name(), Some("model"));
+        let err = err.to_string();
         assert!(err.contains("`nope`") && err.contains("exercises"), "{err}");
+        // without the store (another process) the user's model is unknown
+        assert!(m.check_json(&serde_json::json!({ "model": "my-test-model" })).is_err(), "{name}");
     }
     // a shipped model's name cannot be taken
-    let again = train_model(&takes, &[], &classes, &small(1), &meta(), &mut |_| true).unwrap();
-    assert!(install("exercises", again).unwrap_err().contains("shipped"));
+    assert!(check_model_name("exercises", &shipped_names()).unwrap_err().contains("shipped"));
 }
 
 #[test]

@@ -85,6 +85,7 @@ fn values_outside_the_announced_bounds_are_refused_by_name() {
                 }
                 ParamKind::Choice { .. } => vec!["no-such-choice".into()],
                 ParamKind::Bool => vec!["maybe".into()],
+                ParamKind::Flags { .. } => vec![serde_json::json!(["no-such-flag"])],
                 ParamKind::IntegerList { max, max_len, .. } => {
                     vec![serde_json::json!([max + 1]), serde_json::json!(vec![0; max_len + 1])]
                 }

@@ -96,7 +96,6 @@ mod worker {
         assert!(matches!(posted.last(), Some(Response::Failed { take: 6, kind: FailureKind::NotLoaded, .. })));
     }
 
-    /// Changes the LMA family in use of this test binary, and leaves the shipped one at its end.
     #[wasm_bindgen_test]
     fn an_lma_family_trained_in_the_worker_reaches_the_page_and_goes_back_to_a_worker() {
         let take = include_bytes!("fixtures/12_01.bvh");
@@ -118,25 +117,39 @@ mod worker {
             labels += &format!("12_01.bvh,{},{},{},{},{},{}\n", 30 * k, 30 * k + 120, c(0), c(1), c(2), c(k));
         }
         labels += "35_01.bvh,0,90,neutral,neutral,neutral,neutral\n";
-        let posted = ask(Request::TrainLma { take: 11, run: 12, name: "mine.csv".into(), labels }, None);
+        // quick options (the defaults are the paper's 20 restarts), the take's file as a buffer
+        let options = serde_json::json!({"restarts": 2, "saliency_rounds": 4, "max_epochs": 40, "shift_epochs": 3});
+        let train = Request::Train {
+            take: 11,
+            run: 12,
+            method: "lma".into(),
+            name: "mine".into(),
+            labels_name: "mine.csv".into(),
+            labels,
+            takes: vec!["12_01.bvh".into()],
+            options,
+            bytes: vec![take.to_vec()],
+        };
+        let posted = ask(train, None);
         assert!(posted
             .iter()
             .any(|r| matches!(r, Response::Progress { run: Some(12), stage, .. } if stage == "flow shifted networks")));
-        let Some(Response::Trained { run: 12, model, report, origin, used_rows: 12, ignored_rows: 1, .. }) =
-            posted.last()
-        else {
+        let Some(Response::Trained { run: 12, model, report, bytes, .. }) = posted.last() else {
             panic!("{:?}", posted.last())
         };
-        assert_eq!(report.len(), 4);
-        let family = mocapseg::lma::classifier::EffortModel::from_json(model).expect("the family arrives whole");
-        assert_eq!((family.samples, &family.origin), (12, origin));
-        let lma_summary = |run| {
-            let request = Request::Segment { take: 11, run, method: "lma".into(), params: serde_json::json!({}) };
+        assert_eq!(report.rows.len(), 4);
+        assert!(report.summary.contains("(1 row for another file left out)"), "{}", report.summary);
+        let text = std::str::from_utf8(bytes).expect("the family arrives as text");
+        let family = mocapseg::lma::classifier::EffortModel::from_json(text).expect("the family arrives whole");
+        assert_eq!((family.samples, &family.origin), (12, &model.origin));
+        let lma_summary = |run, model: &str| {
+            let params = serde_json::json!({ "model": model });
+            let request = Request::Segment { take: 11, run, method: "lma".into(), params };
             let Some(Response::Segmented { view, .. }) = ask(request, None).pop() else { panic!("lma run {run}") };
             view.details.summary
         };
-        let yours = format!("your classifiers ({origin})");
-        let summary = lma_summary(13);
+        let yours = format!("your classifiers ({})", model.origin);
+        let summary = lma_summary(13, "mine");
         assert!(summary.ends_with(&yours), "{summary}");
 
         // the page hands the worker the shipped family's file (fetched from beside the page, as
@@ -153,17 +166,19 @@ mod worker {
         let taken = ask(Request::ProvideModel { take: 11, run: 20, file: file.clone(), bytes: good }, None);
         assert_eq!(taken.last(), Some(&Response::ModelProvided { take: 11, run: 20, file }));
 
-        // back to the shipped family, then the page's copy sent again, as to a new worker
-        let shipped = ask(Request::UseLmaModel { take: 11, run: 14, model: None }, None);
-        assert!(matches!(shipped.last(), Some(Response::ModelInUse { run: 14, shipped: true, .. })), "{shipped:?}");
-        assert!(!lma_summary(15).contains("your classifiers"));
-        let again = ask(Request::UseLmaModel { take: 0, run: 16, model: Some(model.clone()) }, None);
-        assert_eq!(
-            again.last(),
-            Some(&Response::ModelInUse { take: 0, run: 16, origin: origin.clone(), shipped: false })
-        );
-        assert!(lma_summary(17).ends_with(&yours));
-        ask(Request::UseLmaModel { take: 11, run: 18, model: None }, None);
+        // the shipped family by its name, and the page's copy stored again, as in a new worker
+        assert!(!lma_summary(15, "shipped").contains("your classifiers"));
+        let stored = Request::UseModel {
+            take: 0,
+            run: 16,
+            method: "lma".into(),
+            file: "mine-again.json".into(),
+            bytes: bytes.clone(),
+        };
+        let again = ask(stored, None);
+        let Some(Response::ModelStored { take: 0, run: 16, model: info }) = again.last() else { panic!("{again:?}") };
+        assert_eq!((info.name.as_str(), &info.origin), ("mine-again", &model.origin));
+        assert!(lma_summary(17, "mine-again").ends_with(&yours));
     }
 
     #[wasm_bindgen_test]
@@ -204,7 +219,8 @@ mod worker {
         let Some(Response::Refused { message, param, .. }) = ask(run, None).pop() else { panic!() };
         assert!(message.starts_with("SSSM parameters: unknown field `radus`"), "{message}");
         assert_eq!(param, None, "an unknown name is none of the method's parameters");
-        let run = Request::Segment { take: 2, run: 4, method: "sssm".into(), params: serde_json::json!({"radius": -3}) };
+        let run =
+            Request::Segment { take: 2, run: 4, method: "sssm".into(), params: serde_json::json!({"radius": -3}) };
         let Some(Response::Refused { message, param, .. }) = ask(run, None).pop() else { panic!() };
         assert!(message.contains("radius = -3"), "{message}");
         assert_eq!(param.as_deref(), Some("radius"), "the refusal names its parameter, through real JS values");

@@ -8,34 +8,25 @@
 //! or a cancel) answers `not_loaded`, and the page sends it the take on screen again and repeats
 //! the request once. A worker whose wasm trapped, or whose run the user cancels, is replaced.
 //!
-//! The LMA family works the same way: a training on the user's labels or a switch of family is
-//! one request under way at a time (repeated once after `not_loaded`, sent again to a new
-//! worker), and every worker the page starts first gets the user's family the page holds — a
-//! new worker starts with the shipped one, and LMA must not silently go back to it.
-//!
-//! So do the user's DT-FCN and k-NN models: a model file is installed in the worker
-//! (`use_label_model`, its answer adds it to the method's model choice and runs the method again),
-//! every model the page holds goes to each new worker before anything else, and a model file
-//! request or a DT-FCN training under way is sent again to a new worker (the training then starts
-//! again from its first epoch). A training runs one epoch per message; Stop asks the worker to end
-//! it after the epoch under way and keep the best model so far.
+//! The models of the supervised methods (any method that declares [`crate::method::Supervision`])
+//! are the page's too: a model file is stored in the worker (`use_model`, its answer adds it to
+//! the method's `model` choice and runs the method again), every model the page holds goes to
+//! each new worker before anything else, and a model file request or a training under way is sent
+//! again to a new worker (the training then starts again from its first step). A training runs
+//! one step per message; Stop asks the worker to end it after the step under way and keep the
+//! best model so far (before its first step, the worker is replaced).
 //!
 //! The shipped models are not in the wasm: a run that needs one the worker does not hold is
 //! answered `needs_model`, and [`super::model_files`] fetches it, hands it over and asks again.
 
-use super::dtfcn_training::{model_file_name, TrainAsk, TrainState, TrainedFile};
 use super::js_message;
-use super::label_models::{describe, kind_of, LoadStatus, UserModel};
-use super::lma_training::{self, TrainingState, UserFamily};
 use super::model_files::{self, ModelFiles};
 use super::motion_image::download;
+use super::training::{describe, LoadStatus, Supervised, TrainAsk, TrainState, TrainedFile, UserModel};
 use super::{AppState, LoadState, MethodSlot, RunState};
-use crate::dtfcn::model::ModelKind;
-use crate::dtfcn::training::EpochReport;
 use crate::load::Opening;
-use crate::protocol::{
-    kind_short, FactorSummary, FailureKind, LabelModelInfo, Request, Response, RunId, TakeId, TrainField,
-};
+use crate::method::supervised::{ModelInfo, StepReport, TrainingReport};
+use crate::protocol::{FailureKind, Request, Response, RunId, TakeId};
 use crate::worker::{request_message, response_from_js};
 use js_sys::ArrayBuffer;
 use leptos::prelude::*;
@@ -102,42 +93,27 @@ struct Run {
     retried: bool,
 }
 
-/// What the user asked of the LMA family.
-#[derive(Clone)]
-enum LmaAsk {
-    /// Train on the labels file `name` (its text).
-    Train { name: String, labels: String },
-    /// Use a family file's (name, JSON), or the shipped family (`None`).
-    Use(Option<(String, String)>),
-}
-
-/// The LMA family request under way.
-struct LmaJob {
+/// A model file the worker is asked to store.
+struct ModelJob {
     id: RunId,
-    ask: LmaAsk,
-    retried: bool,
-    /// The take it was last sent for.
-    take_name: String,
-    /// `performance.now()` when it was asked.
-    started: f64,
-}
-
-/// A model file the worker is asked to install.
-struct LabelJob {
-    id: RunId,
-    kind: ModelKind,
+    /// The method's slot.
+    index: usize,
     file: String,
     bytes: Arc<Vec<u8>>,
 }
 
-/// The DT-FCN training under way.
-struct DtfcnJob {
+/// The training under way.
+struct TrainJob {
     id: RunId,
+    /// The method's slot.
+    index: usize,
     ask: TrainAsk,
     /// `performance.now()` when it was (last) sent.
     started: f64,
     /// The take on screen it was sent with.
     take_name: String,
+    /// A step was reported (Stop is then read between two steps; before, it replaces the worker).
+    stepped: bool,
     /// Stop was pressed.
     stopping: bool,
 }
@@ -160,16 +136,12 @@ struct Inner {
     shown: RefCell<Option<Take>>,
     /// The current run of each method (by registry name).
     runs: RefCell<Vec<Option<Run>>>,
-    /// The LMA family request under way.
-    lma_job: RefCell<Option<LmaJob>>,
-    /// The request that gave the newest worker the user's family (its answer is checked).
-    family_sync: Cell<Option<RunId>>,
-    /// Model files being installed (one per method at a time).
-    label_jobs: RefCell<Vec<LabelJob>>,
-    /// The requests that gave the newest worker the user's models: run, kind and name.
-    model_sync: RefCell<Vec<(RunId, ModelKind, String)>>,
-    /// The DT-FCN training under way.
-    dtfcn_job: RefCell<Option<DtfcnJob>>,
+    /// Model files being stored (one per method at a time).
+    model_jobs: RefCell<Vec<ModelJob>>,
+    /// The requests that gave the newest worker the user's models: run, method slot and name.
+    model_sync: RefCell<Vec<(RunId, usize, String)>>,
+    /// The training under way (one at a time).
+    train_job: RefCell<Option<TrainJob>>,
     /// Keeps the worker's event handlers alive.
     handlers: RefCell<Vec<Handler>>,
     /// Clip exports asked of the worker: the request (sent again once after `not_loaded`), the
@@ -196,11 +168,9 @@ impl Loader {
             pending: RefCell::new(None),
             shown: RefCell::new(None),
             runs: RefCell::new(state.methods.iter().map(|_| None).collect()),
-            lma_job: RefCell::new(None),
-            family_sync: Cell::new(None),
-            label_jobs: RefCell::new(Vec::new()),
+            model_jobs: RefCell::new(Vec::new()),
             model_sync: RefCell::new(Vec::new()),
-            dtfcn_job: RefCell::new(None),
+            train_job: RefCell::new(None),
             handlers: RefCell::new(Vec::new()),
             clip_jobs: RefCell::new(Vec::new()),
             auto_run: RefCell::new(None),
@@ -312,21 +282,6 @@ impl Loader {
         replace_worker(inner);
     }
 
-    /// Trains the LMA family on the labels file `name` (its text) for the take on screen.
-    pub fn train_lma(&self, name: String, labels: String) {
-        let lma = self.0.state.lma;
-        lma.state.set(TrainingState::Training { stage: "starting".into(), fraction: 0.0 });
-        lma.status.set(format!("Training on the rows of {name} for the take on screen…"));
-        start_lma_job(&self.0, LmaAsk::Train { name, labels });
-    }
-
-    /// Makes the family of the file `name` (its JSON text) the one LMA runs with, or the shipped
-    /// family (`None`).
-    pub fn use_lma_model(&self, model: Option<(String, String)>) {
-        self.0.state.lma.state.set(TrainingState::Switching);
-        start_lma_job(&self.0, LmaAsk::Use(model));
-    }
-
     /// Cuts the take on screen at the segments `which` chooses of method `index`'s last run and
     /// saves the clips (a zip, or with `only` that segment's BVH); the panel's export status says
     /// how it went.
@@ -367,74 +322,86 @@ impl Loader {
             Err(message) => status.set(Some((true, message))),
         }
     }
-
-    /// Stops a training: the worker is replaced, and the new one gets the family the page holds.
-    pub fn cancel_lma_training(&self) {
-        let inner = &self.0;
-        if inner.lma_job.borrow_mut().take().is_none() {
-            return;
-        }
-        let lma = inner.state.lma;
-        let (state, status) = match lma.family.get_untracked() {
-            Some(f) => {
-                (TrainingState::Done, format!("Training cancelled; LMA still uses your classifiers ({}).", f.origin))
-            }
-            None => (TrainingState::Idle, "Training cancelled; LMA still uses the shipped classifiers.".to_string()),
-        };
-        lma.status.set(status);
-        lma.state.set(state);
-        replace_worker(inner);
-    }
 }
 
 impl Loader {
-    /// Installs the model file `file` (its bytes) for the method of `kind`; on success it becomes
-    /// the method's model and the method runs again on the take on screen.
-    pub fn use_label_model(&self, kind: ModelKind, file: String, bytes: Vec<u8>) {
+    /// Stores the model file `file` (its bytes) of the supervised method `index`; on success it
+    /// becomes the method's model and the method runs again on the take on screen.
+    pub fn use_model(&self, index: usize, file: String, bytes: Vec<u8>) {
         let inner = &self.0;
-        let input = inner.state.labels.input(kind);
-        input.state.set(LoadStatus::Loading);
-        input.status.set(format!("Checking {file}…"));
+        let Some(s) = supervised(inner, index) else { return };
+        s.file_state.set(LoadStatus::Loading);
+        s.file_status.set(format!("Checking {file}…"));
         let id = next_id(inner);
-        inner.label_jobs.borrow_mut().retain(|j| j.kind != kind);
-        inner.label_jobs.borrow_mut().push(LabelJob { id, kind, file, bytes: Arc::new(bytes) });
-        if let Err(message) = send_label_job(inner, id) {
-            fail_label_job(inner, id, message);
+        inner.model_jobs.borrow_mut().retain(|j| j.index != index);
+        inner.model_jobs.borrow_mut().push(ModelJob { id, index, file, bytes: Arc::new(bytes) });
+        if let Err(message) = send_model_job(inner, id) {
+            fail_model_job(inner, id, message);
         }
     }
 
-    /// Trains a DT-FCN in the worker on the take on screen (and the takes the ask adds).
-    pub fn train_dtfcn(&self, ask: TrainAsk) {
+    /// Trains a model of the supervised method `index` in the worker on the take on screen (and
+    /// the takes the ask adds).
+    pub fn train(&self, index: usize, ask: TrainAsk) {
         let inner = &self.0;
-        let t = inner.state.dtfcn;
-        t.errors.set(Vec::new());
-        t.reports.set(Vec::new());
-        t.state.set(TrainState::Training { stage: "starting".into(), epoch: 0, epochs: ask.options.epochs });
-        t.status.set(format!("Training `{}` on the rows of {}…", ask.name, ask.labels_name));
+        let Some(s) = supervised(inner, index) else { return };
+        if let Some(old) = inner.train_job.borrow().as_ref().filter(|j| j.index != index) {
+            // one training at a time: the worker replaces the one under way
+            if let Some(other) = supervised(inner, old.index) {
+                other.status.set("Not trained: another method's training replaced this one.".into());
+                other.state.set(TrainState::Failed);
+            }
+        }
+        s.errors.set(Vec::new());
+        s.steps.set(Vec::new());
+        s.report.set(None);
+        s.state.set(TrainState::Training { stage: "starting".into(), step: 0, steps: 1, fraction: 0.0 });
+        s.status.set(format!("Training `{}` on the rows of {}…", ask.name, ask.labels_name));
         let id = next_id(inner);
-        *inner.dtfcn_job.borrow_mut() =
-            Some(DtfcnJob { id, ask, started: now(), take_name: String::new(), stopping: false });
-        if let Err(message) = send_dtfcn_job(inner) {
-            fail_dtfcn_job(inner, message, None);
+        *inner.train_job.borrow_mut() = Some(TrainJob {
+            id,
+            index,
+            ask,
+            started: now(),
+            take_name: String::new(),
+            stepped: false,
+            stopping: false,
+        });
+        if let Err(message) = send_train_job(inner) {
+            fail_train_job(inner, message, None);
         }
     }
 
-    /// Asks the worker to end the training after the epoch under way (the best model so far is
-    /// kept and sent).
-    pub fn stop_dtfcn_training(&self) {
+    /// Stops the training of method `index`: after the step under way (the best model so far is
+    /// kept and sent), or — before its first step — at once, replacing the worker.
+    pub fn stop_training(&self, index: usize) {
         let inner = &self.0;
-        let id = {
-            let mut job = inner.dtfcn_job.borrow_mut();
-            let Some(job) = job.as_mut().filter(|j| !j.stopping) else { return };
+        let (id, stepped) = {
+            let mut job = inner.train_job.borrow_mut();
+            let Some(job) = job.as_mut().filter(|j| j.index == index && !j.stopping) else { return };
             job.stopping = true;
-            job.id
+            (job.id, job.stepped)
         };
-        inner.state.dtfcn.state.set(TrainState::Stopping);
+        let Some(s) = supervised(inner, index) else { return };
+        if !stepped {
+            inner.train_job.borrow_mut().take();
+            let short = &inner.state.methods[index].info.short;
+            s.status.set(format!("Training cancelled; {short} runs with the model chosen in its panel."));
+            s.state.set(TrainState::Cancelled);
+            return replace_worker(inner);
+        }
+        s.state.set(TrainState::Stopping);
         let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
         if let Err(message) = post(inner, &Request::StopTraining { take, run: id }, None) {
-            fail_dtfcn_job(inner, message, None);
+            fail_train_job(inner, message, None);
         }
     }
+}
+
+/// The training and models of method `index`, if it is supervised.
+fn supervised(inner: &Inner, index: usize) -> Option<&'static Supervised> {
+    let methods: &'static [MethodSlot] = inner.state.methods;
+    methods.get(index)?.supervised.as_ref()
 }
 
 fn next_id(inner: &Inner) -> u32 {
@@ -590,8 +557,7 @@ fn spawn_worker(inner: &Rc<Inner>) {
     worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
     *inner.handlers.borrow_mut() = vec![on_message, on_error];
     *inner.worker.borrow_mut() = Some(worker);
-    send_family(inner);
-    send_label_models(inner);
+    send_models(inner);
     send_model_files(inner);
 }
 
@@ -613,15 +579,10 @@ fn give_model(inner: &Rc<Inner>, run: RunId, file: &str, bytes: &[u8]) {
     }
 }
 
-/// The worker needs the shipped model file `file` for `run` (a method's run or the LMA family
+/// The worker needs the shipped model file `file` for `run` (a method's
 /// request): fetched once, handed over, and `run` asked again.
 fn need_model(inner: &Rc<Inner>, run: RunId, file: String) {
-    if inner.family_sync.get() == Some(run) {
-        // a new worker told to use the shipped family: it does, and fetches nothing until a run
-        inner.family_sync.set(None);
-        return;
-    }
-    if run_index(inner, run).is_none() && !is_lma_job(inner, run) {
+    if run_index(inner, run).is_none() {
         return; // superseded
     }
     if let Some(bytes) = inner.models.held(&file) {
@@ -668,20 +629,14 @@ fn show_fetching(inner: &Inner, run: RunId, file: &str, size: u64, fraction: f64
     let stage = model_files::fetching_stage(file, size);
     if let Some(index) = run_index(inner, run) {
         inner.state.methods[index].run.set(RunState::Running { stage, fraction });
-    } else if is_lma_job(inner, run) {
-        inner.state.lma.state.set(TrainingState::Training { stage, fraction });
     }
 }
 
-/// Sends `run` (a method's run or the LMA family request) again.
+/// Sends `run` (a method's run) again.
 fn ask_again(inner: &Rc<Inner>, run: RunId) {
     if let Some(index) = run_index(inner, run) {
         if let Err(message) = send_run(inner, index) {
             fail_run(inner, index, message);
-        }
-    } else if is_lma_job(inner, run) {
-        if let Err(message) = send_lma_job(inner) {
-            fail_lma_job(inner, message);
         }
     }
 }
@@ -690,28 +645,29 @@ fn ask_again(inner: &Rc<Inner>, run: RunId) {
 fn fail_waiting(inner: &Inner, run: RunId, message: String) {
     if let Some(index) = run_index(inner, run) {
         fail_run(inner, index, message);
-    } else if is_lma_job(inner, run) {
-        fail_lma_job(inner, message);
     }
 }
 
-/// Gives a worker just started every DT-FCN and k-NN model the page holds (a worker knows only
-/// the shipped ones), before any other request.
-fn send_label_models(inner: &Rc<Inner>) {
+/// Gives a worker just started every model of the supervised methods the page holds (a worker
+/// knows only the shipped ones), before any other request.
+fn send_models(inner: &Rc<Inner>) {
     inner.model_sync.borrow_mut().clear();
     let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
-    for m in inner.state.labels.models.get_untracked() {
-        let id = next_id(inner);
-        inner.model_sync.borrow_mut().push((id, m.info.kind, m.info.name.clone()));
-        let request = Request::UseLabelModel {
-            take,
-            run: id,
-            kind: m.info.kind,
-            file: m.file.clone(),
-            bytes: (*m.bytes).clone(),
-        };
-        if let Err(message) = post(inner, &request, None) {
-            drop_model(inner, id, message);
+    for (index, slot) in inner.state.methods.iter().enumerate() {
+        let Some(s) = slot.supervised.as_ref() else { continue };
+        for m in s.models.get_untracked() {
+            let id = next_id(inner);
+            inner.model_sync.borrow_mut().push((id, index, m.info.name.clone()));
+            let request = Request::UseModel {
+                take,
+                run: id,
+                method: slot.info.name.clone(),
+                file: m.file.clone(),
+                bytes: (*m.bytes).clone(),
+            };
+            if let Err(message) = post(inner, &request, None) {
+                drop_model(inner, id, message);
+            }
         }
     }
 }
@@ -724,42 +680,49 @@ fn drop_model(inner: &Inner, run: RunId, message: String) {
         let at = sync.iter().position(|(id, _, _)| *id == run);
         at.map(|at| sync.remove(at))
     };
-    let Some((_, kind, name)) = entry else { return };
-    inner.state.labels.remove(kind, &name);
-    let input = inner.state.labels.input(kind);
-    input.status.set(format!("The worker could not take your model `{name}` ({message}); it was dropped."));
-    input.state.set(LoadStatus::Failed);
+    let Some((_, index, name)) = entry else { return };
+    let Some(s) = supervised(inner, index) else { return };
+    s.remove(&name);
+    s.file_status.set(format!("The worker could not take your model `{name}` ({message}); it was dropped."));
+    s.file_state.set(LoadStatus::Failed);
 }
 
 /// Posts the model file request `id`.
-fn send_label_job(inner: &Rc<Inner>, id: RunId) -> Result<(), String> {
+fn send_model_job(inner: &Rc<Inner>, id: RunId) -> Result<(), String> {
     let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
     let request = {
-        let jobs = inner.label_jobs.borrow();
+        let jobs = inner.model_jobs.borrow();
         let job = jobs.iter().find(|j| j.id == id).ok_or("no model file request")?;
-        Request::UseLabelModel { take, run: id, kind: job.kind, file: job.file.clone(), bytes: (*job.bytes).clone() }
+        Request::UseModel {
+            take,
+            run: id,
+            method: inner.state.methods[job.index].info.name.clone(),
+            file: job.file.clone(),
+            bytes: (*job.bytes).clone(),
+        }
     };
     post(inner, &request, None)
 }
 
-/// The model file request `id` failed: its message shows next to the method's file input; the
-/// models the method had stay.
-fn fail_label_job(inner: &Inner, id: RunId, message: String) {
-    let job = {
-        let mut jobs = inner.label_jobs.borrow_mut();
-        let at = jobs.iter().position(|j| j.id == id);
-        at.map(|at| jobs.remove(at))
-    };
-    let Some(job) = job else { return };
-    let input = inner.state.labels.input(job.kind);
-    input.status.set(message);
-    input.state.set(LoadStatus::Failed);
+/// Removes and returns the model file request `id`.
+fn take_model_job(inner: &Inner, id: RunId) -> Option<ModelJob> {
+    let mut jobs = inner.model_jobs.borrow_mut();
+    let at = jobs.iter().position(|j| j.id == id)?;
+    Some(jobs.remove(at))
 }
 
-/// The model `name` of `kind` becomes its method's model (added to the choice if new), and the
+/// The model file request `id` failed: its message shows next to the method's file input; the
+/// models the method had stay.
+fn fail_model_job(inner: &Inner, id: RunId, message: String) {
+    let Some(job) = take_model_job(inner, id) else { return };
+    let Some(s) = supervised(inner, job.index) else { return };
+    s.file_status.set(message);
+    s.file_state.set(LoadStatus::Failed);
+}
+
+/// The model `name` becomes method `index`'s model (added to its `model` choice if new), and the
 /// method runs again on the take on screen.
-fn select_model(inner: &Rc<Inner>, kind: ModelKind, name: &str) {
-    let Some(index) = inner.state.methods.iter().position(|m| kind_of(&m.info.name) == Some(kind)) else { return };
+fn select_model(inner: &Rc<Inner>, index: usize, name: &str) {
     let slot = &inner.state.methods[index];
     if let Some((value, choices)) = slot.param("model") {
         choices.update(|c| {
@@ -774,36 +737,31 @@ fn select_model(inner: &Rc<Inner>, kind: ModelKind, name: &str) {
     }
 }
 
-/// The worker installed a model file the user loaded.
-fn on_label_model(inner: &Rc<Inner>, run: RunId, info: LabelModelInfo) {
-    let job = {
-        let mut jobs = inner.label_jobs.borrow_mut();
-        let at = jobs.iter().position(|j| j.id == run);
-        at.map(|at| jobs.remove(at))
-    };
-    let Some(job) = job else { return };
-    let input = inner.state.labels.input(job.kind);
+/// The worker stored a model file the user loaded.
+fn on_model_stored(inner: &Rc<Inner>, run: RunId, info: ModelInfo) {
+    let Some(job) = take_model_job(inner, run) else { return };
+    let Some(s) = supervised(inner, job.index) else { return };
+    let short = &inner.state.methods[job.index].info.short;
     let name = info.name.clone();
-    input.status.set(format!(
-        "Loaded {}: {} model `{name}`, {}. {} labels the take with it now.",
+    s.file_status.set(format!(
+        "Loaded {}: {short} model `{name}`, {}. {short} runs with it now.",
         job.file,
-        kind_short(info.kind),
         describe(&info),
-        kind_short(info.kind)
     ));
-    input.state.set(LoadStatus::Done);
-    inner.state.labels.add(UserModel { info, file: job.file, bytes: job.bytes });
-    select_model(inner, job.kind, &name);
+    s.file_state.set(LoadStatus::Done);
+    s.add(UserModel { info, file: job.file, bytes: job.bytes });
+    select_model(inner, job.index, &name);
 }
 
-/// Posts the DT-FCN training under way: the take on screen first, then the takes the user added.
-fn send_dtfcn_job(inner: &Rc<Inner>) -> Result<(), String> {
+/// Posts the training under way: the take on screen first, then the takes the user added.
+fn send_train_job(inner: &Rc<Inner>) -> Result<(), String> {
     let shown = inner.shown.borrow().clone().ok_or("load a take before training")?;
     let request = {
-        let mut job = inner.dtfcn_job.borrow_mut();
+        let mut job = inner.train_job.borrow_mut();
         let job = job.as_mut().ok_or("no training")?;
         job.take_name = shown.name.clone();
         job.started = now();
+        job.stepped = false;
         let ask = &job.ask;
         let mut takes = vec![shown.name.clone()];
         let mut bytes = vec![js_sys::Uint8Array::new(&shown.bytes).to_vec()];
@@ -811,9 +769,10 @@ fn send_dtfcn_job(inner: &Rc<Inner>) -> Result<(), String> {
             takes.push(name.clone());
             bytes.push((**b).clone());
         }
-        Request::TrainDtfcn {
+        Request::Train {
             take: shown.id,
             run: job.id,
+            method: inner.state.methods[job.index].info.name.clone(),
             name: ask.name.clone(),
             labels_name: ask.labels_name.clone(),
             labels: ask.labels.clone(),
@@ -825,230 +784,64 @@ fn send_dtfcn_job(inner: &Rc<Inner>) -> Result<(), String> {
     post(inner, &request, None)
 }
 
-fn is_dtfcn_job(inner: &Inner, run: RunId) -> bool {
-    inner.dtfcn_job.borrow().as_ref().is_some_and(|j| j.id == run)
+/// The supervised slot of the training `run`, when it is the one under way.
+fn train_slot(inner: &Inner, run: RunId) -> Option<&'static Supervised> {
+    let index = inner.train_job.borrow().as_ref().filter(|j| j.id == run).map(|j| j.index)?;
+    supervised(inner, index)
 }
 
-/// The DT-FCN training under way failed or was refused: the message shows at `field` (or in the
-/// status line); the model in use stays.
-fn fail_dtfcn_job(inner: &Inner, message: String, field: Option<TrainField>) {
-    inner.dtfcn_job.borrow_mut().take();
-    let t = inner.state.dtfcn;
-    match field {
-        Some(field) => {
-            t.refuse(field, message);
-            t.status.set("Not trained: see the message at the input marked below.".into());
+/// The training under way failed or was refused: the message shows at the input it names (or in
+/// the status line); the models stay.
+fn fail_train_job(inner: &Inner, message: String, param: Option<String>) {
+    let Some(job) = inner.train_job.borrow_mut().take() else { return };
+    let Some(s) = supervised(inner, job.index) else { return };
+    match param.filter(|p| s.has_input(p)) {
+        Some(input) => {
+            s.refuse(&input, message);
+            s.status.set("Not trained: see the message at the input marked below.".into());
         }
-        None => t.status.set(format!("Not trained: {message}")),
+        None => s.status.set(format!("Not trained: {message}")),
     }
-    t.state.set(TrainState::Failed);
+    s.state.set(TrainState::Failed);
 }
 
-/// One more epoch of the training under way.
-fn on_training_epoch(inner: &Inner, report: EpochReport) {
-    let stopping = inner.dtfcn_job.borrow().as_ref().is_some_and(|j| j.stopping);
-    let t = inner.state.dtfcn;
-    let (epoch, epochs) = (report.epoch, report.epochs);
-    t.reports.update(|r| {
-        // a training started again on a new worker begins with epoch 1
-        r.retain(|old| old.epoch < epoch);
+/// One more step of the training under way.
+fn on_training_step(inner: &Inner, report: StepReport) {
+    let Some(s) = inner
+        .train_job
+        .borrow_mut()
+        .as_mut()
+        .and_then(|job| {
+            job.stepped = true;
+            (!job.stopping).then_some(job.index)
+        })
+        .and_then(|index| supervised(inner, index))
+    else {
+        return;
+    };
+    let (step, steps) = (report.step, report.steps);
+    s.steps.update(|r| {
+        // a training started again on a new worker begins with step 1
+        r.retain(|old| old.step < step);
         r.push(report);
     });
-    if !stopping {
-        t.state.set(TrainState::Training { stage: "training".into(), epoch, epochs });
-    }
+    s.state.set(TrainState::Training { stage: "training".into(), step, steps, fraction: 0.0 });
 }
 
-/// The DT-FCN training ended with a model, installed in the worker: the page keeps it (for the
-/// download and for new workers), makes it DT-FCN's model and runs DT-FCN again.
-fn on_dtfcn_trained(inner: &Rc<Inner>, trained: Trained) {
-    let Some(job) = inner.dtfcn_job.borrow_mut().take() else { return };
+/// The training ended with a model, stored in the worker: the page keeps it (for the download and
+/// for new workers), makes it the method's model and runs the method again.
+fn on_trained(inner: &Rc<Inner>, model: ModelInfo, report: TrainingReport, bytes: Vec<u8>) {
+    let Some(job) = inner.train_job.borrow_mut().take() else { return };
+    let Some(s) = supervised(inner, job.index) else { return };
     let seconds = (now() - job.started) / 1000.0;
-    let Trained { model, reports, best_epoch, stopped, used_rows, left_out, bytes } = trained;
     let bytes = Arc::new(bytes);
     let name = model.name.clone();
-    let t = inner.state.dtfcn;
-    let ran = reports.len();
-    t.reports.set(reports);
-    t.trained.set(Some(TrainedFile { name: name.clone(), bytes: bytes.clone() }));
-    let how = if stopped {
-        format!("stopped after {ran} of {} epochs", job.ask.options.epochs)
-    } else {
-        format!("{ran} epochs")
-    };
-    let left = if left_out.is_empty() {
-        String::new()
-    } else {
-        format!(" (rows for {} left out: not loaded)", left_out.join(", "))
-    };
-    t.status.set(format!(
-        "Trained `{name}` on {used_rows} rows of {}{left}: {} classes ({}), {how} in {seconds:.1} s, the weights of epoch \
-         {best_epoch} kept. DT-FCN labels {} with it now.",
-        job.ask.labels_name,
-        model.classes.len(),
-        model.classes.join(", "),
-        job.take_name
-    ));
-    t.state.set(TrainState::Done);
-    inner.state.labels.add(UserModel { file: model_file_name(&name), info: model, bytes });
-    select_model(inner, ModelKind::Dtfcn, &name);
-}
-
-/// What `dtfcn_trained` brings.
-struct Trained {
-    model: LabelModelInfo,
-    reports: Vec<EpochReport>,
-    best_epoch: usize,
-    stopped: bool,
-    used_rows: usize,
-    left_out: Vec<String>,
-    bytes: Vec<u8>,
-}
-
-/// Gives a worker just started the user's family the page holds (a worker starts with the
-/// shipped one), before any other request.
-fn send_family(inner: &Rc<Inner>) {
-    inner.family_sync.set(None);
-    let Some(family) = inner.state.lma.family.get_untracked() else { return };
-    let id = next_id(inner);
-    inner.family_sync.set(Some(id));
-    let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
-    let request = Request::UseLmaModel { take, run: id, model: Some(family.json.clone()) };
-    if let Err(message) = post(inner, &request, None) {
-        drop_family(inner, message);
-    }
-}
-
-/// The worker would not take the user's family: the page drops it (so that no worker is asked
-/// again) and says so; LMA runs with the shipped family.
-fn drop_family(inner: &Inner, message: String) {
-    inner.family_sync.set(None);
-    let lma = inner.state.lma;
-    lma.family.set(None);
-    lma.report.set(Vec::new());
-    lma.status.set(format!("The worker could not take your classifiers ({message}); LMA uses the shipped ones."));
-    lma.state.set(TrainingState::Failed);
-}
-
-fn start_lma_job(inner: &Rc<Inner>, ask: LmaAsk) {
-    let id = next_id(inner);
-    let started = now();
-    *inner.lma_job.borrow_mut() = Some(LmaJob { id, ask, retried: false, take_name: String::new(), started });
-    if let Err(message) = send_lma_job(inner) {
-        fail_lma_job(inner, message);
-    }
-}
-
-/// Posts the LMA family request under way, for the take on screen.
-fn send_lma_job(inner: &Rc<Inner>) -> Result<(), String> {
-    let (take, take_name) = inner.shown.borrow().as_ref().map(|t| (t.id, t.name.clone())).unzip();
-    let request = {
-        let mut job = inner.lma_job.borrow_mut();
-        let job = job.as_mut().ok_or("no LMA request")?;
-        job.take_name = take_name.unwrap_or_default();
-        match &job.ask {
-            LmaAsk::Train { name, labels } => Request::TrainLma {
-                take: take.ok_or("load a take before training")?,
-                run: job.id,
-                name: name.clone(),
-                labels: labels.clone(),
-            },
-            LmaAsk::Use(model) => Request::UseLmaModel {
-                take: take.unwrap_or(0),
-                run: job.id,
-                model: model.as_ref().map(|(_, json)| json.clone()),
-            },
-        }
-    };
-    post(inner, &request, None)
-}
-
-/// The LMA family request under way failed: the status line says why; the family in use stays.
-fn fail_lma_job(inner: &Inner, message: String) {
-    let job = inner.lma_job.borrow_mut().take();
-    let message = match job.map(|j| j.ask) {
-        Some(LmaAsk::Use(Some((name, _)))) => format!("{name}: {message}"),
-        _ => message,
-    };
-    let lma = inner.state.lma;
-    lma.status.set(message);
-    lma.state.set(TrainingState::Failed);
-}
-
-/// Whether `run` is the LMA family request under way.
-fn is_lma_job(inner: &Inner, run: RunId) -> bool {
-    inner.lma_job.borrow().as_ref().is_some_and(|j| j.id == run)
-}
-
-/// LMA runs again on the take on screen (after its family changed).
-fn rerun_lma(inner: &Rc<Inner>) {
-    let index = inner.state.methods.iter().position(|m| m.info.name == lma_training::METHOD);
-    if let (Some(index), true) = (index, inner.shown.borrow().is_some()) {
-        start_run(inner, index);
-    }
-}
-
-/// The worker trained the user's family and uses it.
-fn on_trained(inner: &Rc<Inner>, model: String, report: Vec<FactorSummary>, origin: String, rows: (usize, usize)) {
-    let Some(job) = inner.lma_job.borrow_mut().take() else { return };
-    let seconds = (now() - job.started) / 1000.0;
-    let file = match &job.ask {
-        LmaAsk::Train { name, .. } => name.clone(),
-        LmaAsk::Use(_) => String::new(),
-    };
-    let (used, ignored) = rows;
-    let left_out = match ignored {
-        0 => String::new(),
-        1 => " (1 row for another file left out)".to_string(),
-        n => format!(" ({n} rows for other files left out)"),
-    };
-    let lma = inner.state.lma;
-    lma.family.set(Some(Arc::new(UserFamily { json: model, origin, trained_on: Some(job.take_name.clone()) })));
-    lma.report.set(report);
-    lma.status.set(format!(
-        "Trained on {used} rows of {file} for {} in {seconds:.2} s{left_out}. LMA runs with your classifiers now.",
-        job.take_name
-    ));
-    lma.state.set(TrainingState::Done);
-    rerun_lma(inner);
-}
-
-/// The worker switched to the family the user asked for.
-fn on_model_in_use(inner: &Rc<Inner>, origin: String, shipped: bool) {
-    let Some(job) = inner.lma_job.borrow_mut().take() else { return };
-    let lma = inner.state.lma;
-    lma.report.set(Vec::new());
-    match job.ask {
-        LmaAsk::Use(Some((name, json))) if !shipped => {
-            lma.status.set(format!("Loaded {name}: LMA runs with your classifiers ({origin})."));
-            lma.family.set(Some(Arc::new(UserFamily { json, origin, trained_on: None })));
-            lma.state.set(TrainingState::Done);
-        }
-        _ => {
-            lma.family.set(None);
-            lma.status
-                .set("Back to the shipped classifiers (trained on stand-in labels); LMA runs with them now.".into());
-            lma.state.set(TrainingState::Idle);
-        }
-    }
-    rerun_lma(inner);
-}
-
-fn on_lma_job_failed(inner: &Rc<Inner>, message: String, kind: FailureKind) {
-    match kind {
-        FailureKind::NotLoaded => {
-            let first = inner.lma_job.borrow_mut().as_mut().is_some_and(|j| !std::mem::replace(&mut j.retried, true));
-            let resent = first && restore(inner).and_then(|()| send_lma_job(inner)).is_ok();
-            if !resent {
-                fail_lma_job(inner, message);
-            }
-        }
-        FailureKind::Internal => {
-            fail_lma_job(inner, message);
-            replace_worker(inner);
-        }
-        FailureKind::Input | FailureKind::Cancelled => fail_lma_job(inner, message),
-    }
+    s.trained.set(Some(TrainedFile { name: name.clone(), bytes: bytes.clone() }));
+    s.status.set(format!("{} ({seconds:.1} s in this tab, on {})", report.summary, job.take_name));
+    s.report.set(Some(report));
+    s.state.set(TrainState::Done);
+    s.add(UserModel { file: s.file_name(&name), info: model, bytes });
+    select_model(inner, job.index, &name);
 }
 
 /// Milliseconds since the page started.
@@ -1072,32 +865,28 @@ fn replace_worker(inner: &Rc<Inner>) {
             }
         }
     }
-    let asked = inner.lma_job.borrow().is_some();
-    if asked {
-        if let Err(message) = send_lma_job(inner) {
-            fail_lma_job(inner, message);
+    let model_jobs: Vec<RunId> = inner.model_jobs.borrow().iter().map(|j| j.id).collect();
+    for id in model_jobs {
+        if let Err(message) = send_model_job(inner, id) {
+            fail_model_job(inner, id, message);
         }
     }
-    let label_jobs: Vec<RunId> = inner.label_jobs.borrow().iter().map(|j| j.id).collect();
-    for id in label_jobs {
-        if let Err(message) = send_label_job(inner, id) {
-            fail_label_job(inner, id, message);
-        }
-    }
-    let training = inner.dtfcn_job.borrow().as_ref().map(|j| j.stopping);
+    let training = inner.train_job.borrow().as_ref().map(|j| (j.stopping, j.index));
     match training {
-        Some(true) => {
-            fail_dtfcn_job(inner, "the worker was replaced before it sent the stopped model; train again".into(), None)
+        Some((true, _)) => {
+            fail_train_job(inner, "the worker was replaced before it sent the stopped model; train again".into(), None)
         }
-        Some(false) => {
-            let t = inner.state.dtfcn;
-            t.reports.set(Vec::new());
-            let epochs = inner.dtfcn_job.borrow().as_ref().map_or(1, |j| j.ask.options.epochs);
-            t.state.set(TrainState::Training { stage: "starting again".into(), epoch: 0, epochs });
-            t.status
-                .set("The worker was replaced (a cancel or a crash): the training starts again from epoch 1.".into());
-            if let Err(message) = send_dtfcn_job(inner) {
-                fail_dtfcn_job(inner, message, None);
+        Some((false, index)) => {
+            if let Some(s) = supervised(inner, index) {
+                let step_name = s.decl.step_name.clone();
+                s.steps.set(Vec::new());
+                s.state.set(TrainState::Training { stage: "starting again".into(), step: 0, steps: 1, fraction: 0.0 });
+                s.status.set(format!(
+                    "The worker was replaced (a cancel or a crash): the training starts again from {step_name} 1."
+                ));
+            }
+            if let Err(message) = send_train_job(inner) {
+                fail_train_job(inner, message, None);
             }
         }
         None => {}
@@ -1120,16 +909,11 @@ fn on_worker_error(inner: &Rc<Inner>, event: Event) {
             fail_run(inner, index, format!("the worker failed: {message}"));
         }
     }
-    if inner.lma_job.borrow().is_some() {
-        fail_lma_job(inner, format!("the worker failed: {message}"));
+    let model_jobs: Vec<RunId> = inner.model_jobs.borrow().iter().map(|j| j.id).collect();
+    for id in model_jobs {
+        fail_model_job(inner, id, format!("the worker failed: {message}"));
     }
-    let label_jobs: Vec<RunId> = inner.label_jobs.borrow().iter().map(|j| j.id).collect();
-    for id in label_jobs {
-        fail_label_job(inner, id, format!("the worker failed: {message}"));
-    }
-    if inner.dtfcn_job.borrow().is_some() {
-        fail_dtfcn_job(inner, format!("the worker failed: {message}"), None);
-    }
+    fail_train_job(inner, format!("the worker failed: {message}"), None);
     if let Some(worker) = inner.worker.borrow_mut().take() {
         worker.terminate();
     }
@@ -1153,12 +937,11 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
         Response::Progress { run: Some(run), stage, fraction, .. } => {
             if let Some(index) = run_index(inner, run) {
                 state.methods[index].run.set(RunState::Running { stage, fraction: fraction.unwrap_or(0.0) });
-            } else if is_lma_job(inner, run) {
-                state.lma.state.set(TrainingState::Training { stage, fraction: fraction.unwrap_or(0.0) });
-            } else if is_dtfcn_job(inner, run) && !inner.dtfcn_job.borrow().as_ref().is_some_and(|j| j.stopping) {
-                state.dtfcn.state.update(|s| {
-                    if let TrainState::Training { stage: st, .. } = s {
-                        *st = stage;
+            } else if let Some(s) = train_slot(inner, run) {
+                s.state.update(|st| {
+                    if let TrainState::Training { stage: old, fraction: f, .. } = st {
+                        *old = stage;
+                        *f = fraction.unwrap_or(0.0);
                     }
                 });
             }
@@ -1234,14 +1017,7 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                 refuse_run(inner, index, message, param);
             }
         }
-        Response::Trained { run, model, report, origin, used_rows, ignored_rows, .. } if is_lma_job(inner, run) => {
-            on_trained(inner, model, report, origin, (used_rows, ignored_rows));
-        }
-        Response::ModelInUse { run, origin, shipped, .. } if is_lma_job(inner, run) => {
-            on_model_in_use(inner, origin, shipped);
-        }
-        Response::ModelInUse { run, .. } if inner.family_sync.get() == Some(run) => inner.family_sync.set(None),
-        Response::LabelModelInUse { run, model, .. } => {
+        Response::ModelStored { run, model, .. } => {
             let synced = {
                 let mut sync = inner.model_sync.borrow_mut();
                 let before = sync.len();
@@ -1249,25 +1025,25 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                 sync.len() != before
             };
             if !synced {
-                on_label_model(inner, run, model);
+                on_model_stored(inner, run, model);
             }
         }
-        Response::TrainingEpoch { run, report, .. } if is_dtfcn_job(inner, run) => on_training_epoch(inner, report),
-        Response::DtfcnTrained { run, model, reports, best_epoch, stopped, used_rows, left_out, bytes, .. }
-            if is_dtfcn_job(inner, run) =>
-        {
-            on_dtfcn_trained(inner, Trained { model, reports, best_epoch, stopped, used_rows, left_out, bytes });
+        Response::TrainingStep { run, report, .. } if train_slot(inner, run).is_some() => {
+            on_training_step(inner, report)
         }
-        Response::Failed { run: Some(run), message, kind, field, .. } if is_dtfcn_job(inner, run) => {
-            fail_dtfcn_job(inner, message, field);
+        Response::Trained { run, model, report, bytes, .. } if train_slot(inner, run).is_some() => {
+            on_trained(inner, model, report, bytes);
+        }
+        Response::Failed { run: Some(run), message, kind, param, .. } if train_slot(inner, run).is_some() => {
+            fail_train_job(inner, message, param);
             if kind == FailureKind::Internal {
                 replace_worker(inner);
             }
         }
         Response::Failed { run: Some(run), message, kind, .. }
-            if inner.label_jobs.borrow().iter().any(|j| j.id == run) =>
+            if inner.model_jobs.borrow().iter().any(|j| j.id == run) =>
         {
-            fail_label_job(inner, run, message);
+            fail_model_job(inner, run, message);
             if kind == FailureKind::Internal {
                 replace_worker(inner);
             }
@@ -1276,15 +1052,6 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
             if inner.model_sync.borrow().iter().any(|(id, _, _)| *id == run) =>
         {
             drop_model(inner, run, message);
-            if kind == FailureKind::Internal {
-                replace_worker(inner);
-            }
-        }
-        Response::Failed { run: Some(run), message, kind, .. } if is_lma_job(inner, run) => {
-            on_lma_job_failed(inner, message, kind);
-        }
-        Response::Failed { run: Some(run), message, kind, .. } if inner.family_sync.get() == Some(run) => {
-            drop_family(inner, message);
             if kind == FailureKind::Internal {
                 replace_worker(inner);
             }

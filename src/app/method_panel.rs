@@ -63,8 +63,14 @@ fn field_label(spec: &ParamSpec) -> String {
     }
 }
 
-/// One form field for `spec`, bound to `value` (a choice offers `choices`).
-fn field(method: &str, spec: &ParamSpec, value: RwSignal<String>, choices: RwSignal<Vec<String>>) -> AnyView {
+/// One form field for `spec`, bound to `value` (a choice offers `choices`); its id is
+/// `<prefix>-<param>` (`<prefix>-<param>-<option>` for each box of a set of flags).
+pub(super) fn field(
+    method: &str,
+    spec: &ParamSpec,
+    value: RwSignal<String>,
+    choices: RwSignal<Vec<String>>,
+) -> AnyView {
     let id = format!("{method}-{}", spec.name);
     let help = spec.help.clone();
     let label = field_label(spec);
@@ -123,6 +129,50 @@ fn field(method: &str, spec: &ParamSpec, value: RwSignal<String>, choices: RwSig
             </label>
         }
         .into_any(),
+        ParamKind::Flags { options } => {
+            // one box per option; the value is the chosen options, comma-separated
+            let boxes = options
+                .iter()
+                .map(|option| {
+                    let on = {
+                        let option = option.clone();
+                        move || value.with(|v| v.split(',').any(|o| o.trim() == option))
+                    };
+                    let toggled = option.clone();
+                    let on_change = move |ev: leptos::ev::Event| {
+                        let checked = ev
+                            .target()
+                            .and_then(|t| t.dyn_into::<web_sys::HtmlInputElement>().ok())
+                            .is_some_and(|i| i.checked());
+                        value.update(|v| {
+                            let mut chosen: Vec<String> = v
+                                .split(',')
+                                .map(|o| o.trim().to_string())
+                                .filter(|o| !o.is_empty() && *o != toggled)
+                                .collect();
+                            if checked {
+                                chosen.push(toggled.clone());
+                            }
+                            *v = chosen.join(",");
+                        });
+                    };
+                    view! {
+                        <label>
+                            <input id=format!("{id}-{option}") type="checkbox" prop:checked=on on:change=on_change/>
+                            " "
+                            {option.clone()}
+                        </label>
+                    }
+                })
+                .collect_view();
+            view! {
+                <span class="ms-flags" role="group" title=help aria-label=label.trim().to_string()>
+                    <span class="ms-lma-file">{label.clone()}</span>
+                    {boxes}
+                </span>
+            }
+            .into_any()
+        }
     }
 }
 
@@ -172,8 +222,7 @@ pub fn MethodPanel(
     state: AppState,
     method: &'static MethodSlot,
     loader: Loader,
-    /// What the method adds under its form (DT-FCN, k-NN: model files and training).
-    #[prop(optional)]
+    /// What the method adds under its form (a supervised method: model files and training).
     extra: Option<AnyView>,
 ) -> impl IntoView {
     let slot = method;
@@ -671,7 +720,7 @@ pub fn SegmentRow(
 
 /// Whether `v` is a labelling method's run (DT-FCN, k-NN): its segments are per-frame class labels.
 pub(super) fn is_labelling(v: &MethodView) -> bool {
-    super::label_models::kind_of(&v.method).is_some() || v.segmentation.params.get("colours").is_some()
+    super::training::labels_classes(&v.method) || v.segmentation.params.get("colours").is_some()
 }
 
 /// The CSS colour of class `cluster` in a labelling method's run: the one the run echoes in

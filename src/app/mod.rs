@@ -13,10 +13,11 @@
 //! After each successful load the worker runs every method whose `auto_run` is set with the
 //! parameters in its form ([`method_panel`]: one generic panel per registered method, built from
 //! the registry); `document.body.dataset.<method>` (e.g. `data-sssm`) says where each stands:
-//! `idle`, `running`, `done`, `error` or `cancelled`. Under the LMA panel, [`lma_training`] trains
-//! LMA's classifiers on the user's own Effort labels (`data-lma-training`). The DT-FCN and k-NN
-//! panels take the user's model files ([`label_models`]), and the DT-FCN panel trains a network in
-//! the worker one epoch at a time ([`dtfcn_training`], `data-dtfcn-training`). Under the
+//! `idle`, `running`, `done`, `error` or `cancelled`. The panel of every supervised method (one
+//! that declares [`crate::method::Supervision`]: DT-FCN, the k-NN, LMA) takes the user's model
+//! files and trains a model in the worker one step at a time on the user's labels
+//! ([`training`], `data-<method>-model`, `data-<method>-training`) — built from what the method
+//! declares, never from its name. Under the
 //! timeline, [`ground_truth`] imports labels (`data-truth`, row `#row-truth`) and
 //! [`metrics_panel`] scores any row against them as `mocapseg eval` does (`data-metrics`).
 //! The URL parameters (`src`, `methods`, `t`, `autoplay`, `embed`) are read once ([`embed`]);
@@ -25,12 +26,9 @@
 //! corrections.
 
 mod drop_zone;
-mod dtfcn_training;
 mod embed;
 mod error_banner;
 mod ground_truth;
-mod label_models;
-mod lma_training;
 mod loader;
 mod method_panel;
 mod metrics_panel;
@@ -43,6 +41,7 @@ mod progress;
 mod row_exports;
 mod summary;
 mod timeline;
+mod training;
 
 use crate::method::{form, MethodInfo, ParamSpec};
 use crate::protocol::{LoadedMotion, MethodView};
@@ -53,12 +52,9 @@ use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
 
 use drop_zone::DropZone;
-use dtfcn_training::{DtfcnTraining, DtfcnTrainingPanel};
 use embed::{EmbedBar, Launch, UrlNotice};
 use error_banner::ErrorBanner;
 use ground_truth::{GroundTruth, GroundTruthPanel};
-use label_models::{LabelModelFile, LabelModels};
-use lma_training::{LmaTraining, LmaTrainingPanel};
 use loader::{Loader, Urls};
 use method_panel::MethodPanel;
 use metrics_panel::MetricsPanel;
@@ -66,6 +62,7 @@ use player::Player;
 use progress::Progress;
 use summary::Summary;
 use timeline::Timeline;
+use training::{ModelFile, Supervised, TrainingPanel};
 
 /// Where loading stands.
 #[derive(Debug, Clone, PartialEq)]
@@ -125,8 +122,10 @@ pub struct MethodSlot {
     /// The form's text, one field per parameter (booleans as `true` / `false`).
     pub fields: Vec<RwSignal<String>>,
     /// The options of each choice parameter (empty for the others): the method's own, then the
-    /// user's models the page added (DT-FCN, k-NN).
+    /// user's models the page added (a supervised method's `model`).
     pub choices: Vec<RwSignal<Vec<String>>>,
+    /// A supervised method's training and models.
+    pub supervised: Option<Supervised>,
     pub run: RwSignal<RunState>,
     /// The last finished run on the take on screen.
     pub view: RwSignal<Option<Arc<MethodView>>>,
@@ -149,8 +148,10 @@ impl MethodSlot {
                 _ => RwSignal::new(Vec::new()),
             })
             .collect();
+        let info = method.info();
         MethodSlot {
-            info: method.info(),
+            supervised: method.supervision().map(|decl| Supervised::new(decl, &info.name)),
+            info,
             specs,
             fields,
             choices,
@@ -231,12 +232,6 @@ pub struct AppState {
     pub error_is_run: RwSignal<bool>,
     /// Every registered method, in the registry's order (made once per page).
     pub methods: &'static [MethodSlot],
-    /// LMA's classifiers from the user's own labels.
-    pub lma: LmaTraining,
-    /// The user's DT-FCN and k-NN models (loaded or trained).
-    pub labels: LabelModels,
-    /// The DT-FCN training in the browser.
-    pub dtfcn: DtfcnTraining,
     /// The frames the timeline shows (ruler, motion image and rows alike).
     pub window: RwSignal<Window>,
     /// The segment the user selected on the timeline.
@@ -274,9 +269,6 @@ impl AppState {
             play_until: RwSignal::new(None),
             error_is_run: RwSignal::new(false),
             methods: Box::leak(crate::method::registry().iter().map(|m| MethodSlot::new(*m)).collect()),
-            lma: LmaTraining::new(),
-            labels: LabelModels::new(),
-            dtfcn: DtfcnTraining::new(),
             window: RwSignal::new(Window::full(1)),
             selected: RwSignal::new(None),
             looping: RwSignal::new(true),
@@ -396,28 +388,17 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
         {full.then(|| state
             .methods
             .iter()
-            .map(|slot| match label_models::kind_of(&slot.info.name) {
-                // DT-FCN and k-NN take the user's model files; DT-FCN also trains in the browser
-                Some(kind) => {
-                    let training = (kind == crate::dtfcn::model::ModelKind::Dtfcn)
-                        .then(|| view! { <DtfcnTrainingPanel state=state loader=loader.clone()/> });
-                    let extra = view! {
-                        <LabelModelFile state=state loader=loader.clone() kind=kind/>
-                        {training}
-                    }
-                    .into_any();
-                    view! { <MethodPanel state=state method=slot loader=loader.clone() extra=extra/> }.into_any()
-                }
-                None => {
-                    // LMA's panel is followed by the training of its classifiers
-                    let training = (slot.info.name == lma_training::METHOD)
-                        .then(|| view! { <LmaTrainingPanel state=state loader=loader.clone()/> });
+            .enumerate()
+            .map(|(index, slot)| {
+                // a supervised method's panel takes the user's model files and trains in the browser
+                let extra = slot.supervised.is_some().then(|| {
                     view! {
-                        <MethodPanel state=state method=slot loader=loader.clone()/>
-                        {training}
+                        <ModelFile state=state loader=loader.clone() index=index/>
+                        <TrainingPanel state=state loader=loader.clone() index=index/>
                     }
                     .into_any()
-                }
+                });
+                view! { <MethodPanel state=state method=slot loader=loader.clone() extra=extra/> }.into_any()
             })
             .collect_view())}
     }

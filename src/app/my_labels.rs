@@ -31,11 +31,10 @@
 //!   data that cannot be read is reported in the status line and left alone until the next edit.
 //!   `document.body.dataset.myLabels` (`data-my-labels`): the number of segments.
 
-use super::dtfcn_training::{TrainRequest, TrainState};
-use super::label_models::kind_of;
 use super::motion_image::stem;
 use super::row_exports::RowExports;
 use super::timeline::is_for_the_field;
+use super::training::{my_labels_trainer, TrainRequest, TrainState};
 use super::{AppState, Selection};
 use crate::labels::to_csv;
 use crate::protocol::MethodView;
@@ -114,7 +113,7 @@ struct OtherRow {
 
 /// Whether `v` is a labelling method's run (its segments are classes: DT-FCN, k-NN).
 fn is_labelling(v: &MethodView) -> bool {
-    kind_of(&v.method).is_some() || v.segmentation.params.get("colours").is_some()
+    super::training::labels_classes(&v.method) || v.segmentation.params.get("colours").is_some()
 }
 
 /// The colour a segment has in its method's row (as `method_panel` draws it; `None`: hatched).
@@ -419,11 +418,12 @@ impl MyRow {
         let name = self.take_name();
         let rows = self.model.with_untracked(|m| m.label_rows(&name));
         let classes = suggestions(rows.iter().map(|r| r.label.as_str()));
+        let Some((short, trainer)) = my_labels_trainer(self.state) else { return };
         if classes.len() < 2 {
             self.say(
                 true,
                 format!(
-                    "DT-FCN learns to tell labels apart: give my segments at least two different labels (now {})",
+                    "{short} learns to tell labels apart: give my segments at least two different labels (now {})",
                     if classes.is_empty() { "none".to_string() } else { classes.join(", ") }
                 ),
             );
@@ -431,7 +431,7 @@ impl MyRow {
         }
         self.training.set(true);
         self.note.set(None);
-        self.state.dtfcn.request.set(Some(TrainRequest::Labels {
+        trainer.request.set(Some(TrainRequest::Labels {
             labels_name: format!("my labels of {name}"),
             csv: to_csv(&rows),
             model_name: format!("{}-my-labels", stem(&name)),
@@ -760,7 +760,10 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
 #[component]
 pub fn MyLabelsTools(mine: MyRow) -> impl IntoView {
     let state = mine.state;
-    let t = state.dtfcn;
+    // the method my labels train (DT-FCN declares it); without one the buttons stay hidden
+    let trainer = my_labels_trainer(state);
+    let short = trainer.map_or("", |(short, _)| short);
+    let t = trainer.map(|(_, t)| t);
     let loaded = move || state.frames() > 0;
     let selected = move || mine.model.with(|m| m.selected().is_some());
     let in_segment = move || {
@@ -771,7 +774,8 @@ pub fn MyLabelsTools(mine: MyRow) -> impl IntoView {
     let can_fill = move || loaded() && in_segment().is_none();
     let can_merge = move || mine.model.with(|m| m.selected().is_some_and(|i| i + 1 < m.spans().len()));
     let labelled = move || mine.model.with(|m| m.spans().iter().any(|s| !s.label.is_empty()));
-    let busy = move || t.state.with(TrainState::busy);
+    let busy = move || t.is_some_and(|t| t.state.with(TrainState::busy));
+    let stopping = move || t.is_some_and(|t| t.state.with(|s| *s == TrainState::Stopping));
     let offered = Memo::new(move |_| {
         let mut all: Vec<String> =
             mine.others.with(|rows| rows.iter().flat_map(|r| r.segments.iter().map(|s| s.2.clone())).collect());
@@ -790,14 +794,13 @@ pub fn MyLabelsTools(mine: MyRow) -> impl IntoView {
         })
     };
     let train_text = move || {
-        if !mine.training.get() {
-            return String::new();
-        }
+        let Some(t) = t.filter(|_| mine.training.get()) else { return String::new() };
+        let step = &t.decl.step_name;
         t.state.with(|s| match s {
-            TrainState::Training { stage, epoch: 0, .. } => format!("DT-FCN on my labels: {stage}…"),
-            TrainState::Training { epoch, epochs, .. } => format!("DT-FCN on my labels: epoch {epoch} of {epochs}"),
-            TrainState::Stopping => "DT-FCN on my labels: stopping after this epoch…".to_string(),
-            TrainState::Done | TrainState::Failed => t.status.get(),
+            TrainState::Training { stage, step: 0, .. } => format!("{short} on my labels: {stage}…"),
+            TrainState::Training { step: done, steps, .. } => format!("{short} on my labels: {step} {done} of {steps}"),
+            TrainState::Stopping => format!("{short} on my labels: stopping after this {step}…"),
+            TrainState::Done | TrainState::Failed | TrainState::Cancelled => t.status.get(),
             TrainState::Idle => String::new(),
         })
     };
@@ -882,14 +885,15 @@ pub fn MyLabelsTools(mine: MyRow) -> impl IntoView {
             </div>
             <div class="ms-my-group" role="group" aria-label="Use my labels">
                 <button id="my-labels-train" class="ms-button" type="button"
-                    aria-label="Train a DT-FCN on my labels (with the DT-FCN panel's options)"
-                    title="Train a DT-FCN on my labels, in this tab, with the DT-FCN panel's options"
-                    disabled=move || busy() || !labelled() on:click=move |_| mine.train()>"Train DT-FCN"</button>
+                    aria-label=format!("Train a {short} model on my labels (with the {short} panel's options)")
+                    title=format!("Train a {short} model on my labels, in this tab, with the {short} panel's options")
+                    hidden=t.is_none()
+                    disabled=move || busy() || !labelled() on:click=move |_| mine.train()>{format!("Train {short}")}</button>
                 <button id="my-labels-train-stop" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Stop the DT-FCN training after the epoch under way"
+                    aria-label=format!("Stop the {short} training after the step under way")
                     hidden=move || !(mine.training.get() && busy())
-                    disabled=move || t.state.with(|s| *s == TrainState::Stopping)
-                    on:click=move |_| t.request.set(Some(TrainRequest::Stop))>"Stop"</button>
+                    disabled=stopping
+                    on:click=move |_| { if let Some(t) = t { t.request.set(Some(TrainRequest::Stop)) } }>"Stop"</button>
                 <button id="my-labels-clear" class="ms-button ms-button--quiet" type="button"
                     aria-label="Clear my labels and remove them from this browser (Undo brings them back)"
                     title="Clear my labels and remove them from this browser (Undo brings them back)"

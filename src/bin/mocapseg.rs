@@ -252,13 +252,14 @@ mod cli {
             batch: usize,
         },
         /// Print a model's header: kind, classes, colours, joint set, rate, how it was trained. FILE is
-        /// a model file, or a shipped model's name (`exercises`: DT-FCN's and the k-NN's, or one of
-        /// them with --method; `dtfcn-exercises` / `dtfcn-exercises.model`: that one).
+        /// a model file of any method with models, or a shipped model's name (`exercises`: every
+        /// method's of that name, or one with --method; `dtfcn-exercises` / `dtfcn-exercises.model`,
+        /// `lma-shipped`: that one).
         ModelInfo {
             #[arg(value_name = "FILE|NAME")]
             file: PathBuf,
-            /// With a shipped name: only this method's model (dtfcn or knn).
-            #[arg(long, value_parser = ["dtfcn", "knn"])]
+            /// Only this method's model (a method with models: dtfcn, knn, lma).
+            #[arg(long)]
             method: Option<String>,
         },
         /// Score segmentation JSON against ground truth (boundary P/R/F1 at 0.5 s and 1 s, covering,
@@ -375,16 +376,14 @@ mod cli {
                     if method != "lma" {
                         return Err(format!("--lma-model is for --method lma, not {method}"));
                     }
-                    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-                    let family = mocapseg::lma::classifier::EffortModel::from_json(&text)
-                        .map_err(|e| format!("{}: {e}", path.display()))?;
-                    mocapseg::lma::use_model(Some(family));
+                    params.push(format!("model={}", path.display()));
                 }
                 if let Some(m) = model {
                     params.push(format!("model={m}"));
                 }
-                install_model_files(&method, &params)?;
-                return segment(&inputs, &method, &params, out, jobs);
+                let mut models = method::ModelStore::new();
+                store_model_files(&method, &mut params, &mut models)?;
+                return segment(&inputs, &method, &params, &models, out, jobs);
             }
             Command::TrainLma { inputs, labels, seed, restarts, out } => {
                 train_lma(&inputs, labels, seed, restarts, &out)
@@ -483,28 +482,26 @@ mod cli {
         Ok(())
     }
 
-    /// `segment --param model=FILE`: a model file given by path is read and installed under its
-    /// path, so the method finds it by that name.
-    fn install_model_files(method: &str, params: &[String]) -> Result<(), String> {
-        if method != "dtfcn" && method != "knn" {
-            return Ok(());
-        }
-        for p in params {
-            if let Some(path) = p.strip_prefix("model=") {
-                let path = path.trim();
-                if mocapseg::dtfcn::shipped::NAMES.contains(&path) {
-                    continue;
-                }
-                let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
-                let model = mocapseg::dtfcn::model::Model::from_bytes(&bytes, path)?;
-                if model.header.kind.name() != method {
-                    return Err(format!(
-                        "{path} is a {} model; --method {method} needs a {method} model",
-                        model.header.kind.name()
-                    ));
-                }
-                mocapseg::dtfcn::method::install(path, model)?;
+    /// `segment --model FILE` (`--param model=FILE`) of a supervised method: a model file given by
+    /// path is read by the method itself into `models`, and the parameter names the model it is
+    /// stored under.
+    fn store_model_files(
+        method_name: &str,
+        params: &mut [String],
+        models: &mut method::ModelStore,
+    ) -> Result<(), String> {
+        let m = method::find(method_name).map_err(|e| e.to_string())?;
+        let (Some(supervised), Some(declared)) = (m.supervised(), m.supervision()) else { return Ok(()) };
+        for p in params.iter_mut() {
+            let Some(value) = p.strip_prefix("model=") else { continue };
+            let value = value.trim().to_string();
+            if declared.shipped.contains(&value) || !Path::new(&value).is_file() {
+                continue;
             }
+            let bytes = std::fs::read(&value).map_err(|e| format!("{value}: {e}"))?;
+            let loaded = supervised.read_model(&value, &bytes).map_err(|e| e.to_string())?;
+            *p = format!("model={}", loaded.info.name);
+            models.install(loaded);
         }
         Ok(())
     }
@@ -603,6 +600,7 @@ mod cli {
             ParamKind::IntegerList { min, max, max_len } => {
                 format!("list of at most {max_len} whole numbers in [{min}, {max}], e.g. [-5,0,5]")
             }
+            ParamKind::Flags { options } => format!("list of any of {}, e.g. [\"{}\"]", options.join(", "), options[0]),
         }
     }
 
@@ -853,12 +851,13 @@ mod cli {
         inputs: &[PathBuf],
         method_name: &str,
         overrides: &[String],
+        models: &method::ModelStore,
         out: Option<PathBuf>,
         jobs: Option<usize>,
     ) -> Result<Outcome, String> {
         let method = method::find(method_name).map_err(|e| e.to_string())?;
         let params = method::params_from_overrides(method, overrides).map_err(|e| e.to_string())?;
-        let checked = method.check_json(&params).map_err(|e| e.to_string())?;
+        let checked = method.check_json_in(&params, models).map_err(|e| e.to_string())?;
         let files = collect_files(inputs, "bvh")?;
         let single = inputs.len() == 1 && !inputs[0].is_dir();
         match out {

@@ -5,7 +5,7 @@
 //! shipped models' settings.
 
 use super::corpus::{model_from, ModelMeta};
-use super::method::{label, resolve};
+use super::method::label;
 use super::model::ModelKind;
 use super::training::{TrainOptions, Trainer, TrainingTake};
 use crate::method::NoProgress;
@@ -16,7 +16,7 @@ pub const EXERCISE_FRAMES: usize = 3682;
 
 /// Labels every frame of `take` with the shipped model `name` of `kind`; the number of segments.
 pub fn inference(take: &Motion, kind: ModelKind, name: &str) -> Result<usize, String> {
-    let model = resolve(kind, name).map_err(|e| e.to_string())?;
+    let model = super::shipped::model(kind, name).map_err(|e| e.to_string())?;
     let labelled = label(&model, take, &mut NoProgress).map_err(|e| e.to_string())?;
     Ok(labelled.per_file_frame.windows(2).filter(|w| w[0].0 != w[1].0).count() + 1)
 }

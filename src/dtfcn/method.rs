@@ -4,7 +4,7 @@
 //! labelled `unknown`. Pictures: the class probabilities over time, as the paper's figures draw
 //! them. Curve: the confidence of every frame.
 
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
@@ -13,8 +13,10 @@ use super::infer::{predict_blocks, Probabilities, BLOCK_FRAMES};
 use super::input::network_input;
 use super::model::{Labeller, Model, ModelKind};
 use super::shipped;
+use crate::method::supervised::{Loaded, Training, TrainingAsk};
 use crate::method::{
-    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamKind, ParamSpec, Picture, Progress, RunOptions,
+    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ModelStore, ParamKind, ParamSpec, Picture, Progress,
+    RunOptions, Supervised, Supervision,
 };
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -47,45 +49,32 @@ pub struct Checked {
     threshold: f64,
 }
 
-/// Models installed by the user (trained or loaded in the page, or `--model FILE` on the
-/// command line), by name, one list per kind.
-type Installed = Mutex<Vec<(String, Arc<Model>)>>;
-
-fn installed() -> &'static Installed {
-    static USER: OnceLock<Installed> = OnceLock::new();
-    USER.get_or_init(|| Mutex::new(Vec::new()))
-}
-
-/// Makes `model` available to the method of its kind under `name` (replacing one of that name
-/// and kind). Refuses the names of shipped models.
-pub fn install(name: &str, model: Model) -> Result<(), String> {
-    if shipped::NAMES.contains(&name) {
-        return Err(format!("`{name}` is the name of a shipped model; choose another name"));
-    }
-    let kind = model.header.kind;
-    let mut list = installed().lock().map_err(|_| "the model list is unavailable".to_string())?;
-    list.retain(|(n, m)| !(n == name && m.header.kind == kind));
-    list.push((name.to_string(), Arc::new(model)));
-    Ok(())
-}
-
-/// Names of the installed models of `kind`.
-pub fn installed_names(kind: ModelKind) -> Vec<String> {
-    installed()
-        .lock()
-        .map(|l| l.iter().filter(|(_, m)| m.header.kind == kind).map(|(n, _)| n.clone()).collect())
-        .unwrap_or_default()
-}
-
-/// The model of `kind` called `name`: an installed one first, else a shipped one (on the page,
-/// [`MethodError::NeedsModel`] until its file was fetched).
-pub fn resolve(kind: ModelKind, name: &str) -> Result<Arc<Model>, MethodError> {
-    if let Ok(list) = installed().lock() {
-        if let Some((_, m)) = list.iter().find(|(n, m)| n == name && m.header.kind == kind) {
-            return Ok(m.clone());
-        }
+/// The model of `kind` called `name`: one of `models` (a user's, trained or loaded) first, else a
+/// shipped one (on the page, [`MethodError::NeedsModel`] until its file was fetched).
+pub fn resolve(kind: ModelKind, name: &str, models: &ModelStore) -> Result<Arc<Model>, MethodError> {
+    if let Some(m) = models.get::<Model>(kind.name(), name) {
+        return Ok(m);
     }
     shipped::model(kind, name)
+}
+
+impl Supervised for Labelling {
+    fn read_model(&self, file: &str, bytes: &[u8]) -> Result<Loaded, MethodError> {
+        super::supervised::read_model(self.kind, file, bytes)
+    }
+
+    fn start_training(&self, ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Box<dyn Training>, MethodError> {
+        super::supervised::start_training(self.kind, ask, progress)
+    }
+
+    fn shipped_model(&self, name: &str) -> Result<Loaded, MethodError> {
+        let model = shipped::model(self.kind, name)?;
+        Ok(Loaded { info: super::supervised::model_info(name, &model), model })
+    }
+
+    fn model_details(&self, model: &Loaded) -> serde_json::Value {
+        model.model.downcast_ref::<Model>().map_or(serde_json::Value::Null, super::supervised::header_json)
+    }
 }
 
 /// A labelling method over models of one kind.
@@ -125,8 +114,8 @@ impl Method for Labelling {
     }
 
     fn param_specs(&self) -> Vec<ParamSpec> {
-        let mut options: Vec<String> = shipped::NAMES.iter().map(|s| s.to_string()).collect();
-        options.extend(installed_names(self.kind));
+        // the shipped models; a page adds the ones it stored
+        let options: Vec<String> = shipped::NAMES.iter().map(|s| s.to_string()).collect();
         vec![
             ParamSpec {
                 name: "model".into(),
@@ -150,7 +139,11 @@ impl Method for Labelling {
     }
 
     fn check(&self, params: LabelParams) -> Result<Checked, MethodError> {
-        let model = resolve(self.kind, params.model.trim())?;
+        self.check_in(params, &ModelStore::default())
+    }
+
+    fn check_in(&self, params: LabelParams, models: &ModelStore) -> Result<Checked, MethodError> {
+        let model = resolve(self.kind, params.model.trim(), models)?;
         let t = params.unknown_threshold;
         if !(0.0..=1.0).contains(&t) {
             return Err(MethodError::param(
@@ -160,6 +153,14 @@ impl Method for Labelling {
         }
         let threshold = t;
         Ok(Checked { name: params.model.trim().to_string(), model, threshold })
+    }
+
+    fn supervision(&self) -> Option<Supervision> {
+        Some(super::supervised::supervision(self.kind))
+    }
+
+    fn supervised(&self) -> Option<&dyn Supervised> {
+        Some(self)
     }
 
     fn echo(&self, params: &Checked) -> serde_json::Value {

@@ -12,6 +12,7 @@
 //! | labelling a take, blockwise | [`infer`] |
 //! | model files: classes, colours, joint set, rate, training command, weights | [`model`] |
 //! | the registered `dtfcn` method | [`method`] |
+//! | training and model files behind the supervised shape | [`supervised`] |
 
 pub mod augment;
 pub mod bench;
@@ -23,6 +24,7 @@ pub mod model;
 pub mod network;
 pub mod normrelu;
 pub mod shipped;
+pub mod supervised;
 pub mod training;
 
 /// The device every DT-FCN tensor lives on: burn's ndarray backend, as the user asked (burn

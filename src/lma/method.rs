@@ -8,10 +8,14 @@ use super::body::{upper_body, Side};
 use super::classifier::{effort, EffortModel, Outputs};
 use super::deviance::{exhaustive, pruned, slow_frames};
 use super::features::{Kinematics, Pool};
-use super::model_in_use;
 use super::search::{merge_arms, pair, smooth, troughs, Arms, DevianceMap};
+use super::supervised::resolve;
 use crate::method::bounds::{self, NumberParam, Valid};
-use crate::method::{Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions};
+use crate::method::supervised::{Loaded, Training, TrainingAsk};
+use crate::method::{
+    Details, Method, MethodError, MethodInfo, MethodOutput, ModelStore, ParamKind, ParamSpec, Picture, Progress,
+    RunOptions, Supervised, Supervision,
+};
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
 use crate::segment::{Effort, Level, Segment, Segmentation};
@@ -33,6 +37,8 @@ pub struct LmaParams {
     pub min_rise: f64,
     /// The two arms' segments whose both ends lie within this many seconds are merged.
     pub merge_s: f64,
+    /// The classifier family: `shipped`, or the name a user's family was stored under.
+    pub model: String,
 }
 
 impl Default for LmaParams {
@@ -50,9 +56,13 @@ impl Default for LmaParams {
             smooth_s: 0.1,
             min_rise: 0.4,
             merge_s: 0.67,
+            model: SHIPPED_NAME.into(),
         }
     }
 }
+
+/// The `model` parameter's name for the shipped family.
+pub const SHIPPED_NAME: &str = "shipped";
 
 /// [`LmaParams`] that passed the check.
 pub type ValidParams = Valid<LmaParams>;
@@ -128,7 +138,7 @@ pub struct Lma;
 
 impl Method for Lma {
     type Params = LmaParams;
-    type Checked = ValidParams;
+    type Checked = Checked;
 
     fn info(&self) -> MethodInfo {
         MethodInfo {
@@ -147,31 +157,94 @@ impl Method for Lma {
         let mut specs = bounds::specs(&PARAMS, |n| d.value(n));
         let help = "Assess every candidate segment (slower) instead of only those between slow-hand frames.";
         specs.insert(0, bounds::switch("exhaustive", help, d.exhaustive, true));
+        specs.insert(
+            0,
+            ParamSpec {
+                name: "model".into(),
+                help: "The Effort classifier family: the one shipped with the app, or one you trained or loaded."
+                    .into(),
+                // the shipped family; a page adds the ones it stored
+                kind: ParamKind::Choice { options: vec![SHIPPED_NAME.into()] },
+                default: serde_json::json!(SHIPPED_NAME),
+                unit: None,
+                basic: true,
+            },
+        );
         specs
     }
 
-    fn check(&self, params: LmaParams) -> Result<ValidParams, MethodError> {
-        params.check()
+    fn check(&self, params: LmaParams) -> Result<Checked, MethodError> {
+        self.check_in(params, &ModelStore::default())
     }
 
-    fn echo(&self, params: &ValidParams) -> serde_json::Value {
-        serde_json::to_value(&**params).unwrap_or_default()
+    fn check_in(&self, params: LmaParams, models: &ModelStore) -> Result<Checked, MethodError> {
+        let (model, shipped) = resolve(params.model.trim(), models)?;
+        Ok(Checked { params: params.check()?, model, shipped })
+    }
+
+    fn supervision(&self) -> Option<Supervision> {
+        Some(super::supervised::supervision())
+    }
+
+    fn supervised(&self) -> Option<&dyn Supervised> {
+        Some(self)
+    }
+
+    fn echo(&self, params: &Checked) -> serde_json::Value {
+        serde_json::to_value(&*params.params).unwrap_or_default()
     }
 
     fn run(
         &self,
         motion: &Motion,
-        params: &ValidParams,
+        params: &Checked,
         options: &RunOptions,
         progress: &mut dyn Progress,
     ) -> Result<MethodOutput, MethodError> {
-        let (model, shipped) = model_in_use()?;
-        let mut out = segment_with(&model, motion, params, options, progress)?;
-        if !shipped {
-            out.details.summary += &format!(" · your classifiers ({})", model.origin);
+        let mut out = segment_with(&params.model, motion, &params.params, options, progress)?;
+        if !params.shipped {
+            out.details.summary += &format!(" · your classifiers ({})", params.model.origin);
         }
         Ok(out)
     }
+}
+
+impl Supervised for Lma {
+    fn read_model(&self, file: &str, bytes: &[u8]) -> Result<Loaded, MethodError> {
+        super::supervised::read_model(file, bytes)
+    }
+
+    fn start_training(&self, ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Box<dyn Training>, MethodError> {
+        super::supervised::start_training(ask, progress)
+    }
+
+    fn shipped_model(&self, name: &str) -> Result<Loaded, MethodError> {
+        let (model, _) = resolve(name, &ModelStore::default())?;
+        Ok(Loaded { info: super::supervised::model_info(name, &model), model })
+    }
+
+    fn model_details(&self, model: &Loaded) -> serde_json::Value {
+        let Some(m) = model.model.downcast_ref::<EffortModel>() else { return serde_json::Value::Null };
+        serde_json::json!({
+            "kind": "lma",
+            "name": model.info.name,
+            "origin": m.origin,
+            "fps": m.fps,
+            "samples": m.samples,
+            "max_shift": m.max_shift,
+            "classifiers_per_factor": m.shifts(),
+            "segment_frames": [m.min_len, m.max_len],
+            "factors": m.factors.len(),
+        })
+    }
+}
+
+/// Checked LMA parameters: the search's, and the family they name.
+pub struct Checked {
+    pub params: ValidParams,
+    pub model: std::sync::Arc<EffortModel>,
+    /// The family is the shipped one.
+    pub shipped: bool,
 }
 
 /// What the classifiers say about a take: both arms' feature pools and deviance maps at the

@@ -12,6 +12,7 @@
 //! | §4.2 / Fig. 5 deviance map, pruned and exhaustive | [`deviance`] |
 //! | §4.2 / Fig. 6 profiles, troughs, culling, start–end pairing, arm merging | [`search`] |
 //! | the registered `lma` method | [`method`] |
+//! | training and family files behind the supervised shape | [`supervised`] |
 //!
 //! The trained family ships in `models/lma-effort.json` (made by `mocapseg train-lma`).
 
@@ -24,9 +25,10 @@ pub mod features;
 pub mod method;
 pub mod network;
 pub mod search;
+pub mod supervised;
 pub mod training;
 
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::{Arc, OnceLock};
 
 use classifier::EffortModel;
 
@@ -39,7 +41,7 @@ pub fn shipped_model() -> Result<&'static EffortModel, String> {
     shipped().map(|m| &**m).map_err(|e| e.to_string())
 }
 
-fn shipped() -> Result<&'static Arc<EffortModel>, crate::method::MethodError> {
+pub(crate) fn shipped() -> Result<&'static Arc<EffortModel>, crate::method::MethodError> {
     use crate::method::MethodError;
     static MODEL: OnceLock<Result<Arc<EffortModel>, String>> = OnceLock::new();
     if MODEL.get().is_none() {
@@ -57,23 +59,4 @@ fn shipped() -> Result<&'static Arc<EffortModel>, crate::method::MethodError> {
         Some(Err(message)) => Err(MethodError::Failed(message.clone())),
         None => Err(MethodError::Failed("the shipped LMA model could not be read".into())),
     }
-}
-
-/// The family the registered `lma` method uses in this process: one the user trained or loaded
-/// ([`use_model`]), else the shipped one.
-static IN_USE: Mutex<Option<Arc<EffortModel>>> = Mutex::new(None);
-
-/// Makes `model` the family of every later `lma` run in this process (`None`: the shipped one
-/// again). The page's worker calls it after training on the user's labels or loading their file;
-/// the command line after `--lma-model`.
-pub fn use_model(model: Option<EffortModel>) {
-    *IN_USE.lock().unwrap_or_else(|e| e.into_inner()) = model.map(Arc::new);
-}
-
-/// The family `lma` runs with now, and whether it is the shipped one.
-pub fn model_in_use() -> Result<(Arc<EffortModel>, bool), crate::method::MethodError> {
-    if let Some(m) = IN_USE.lock().unwrap_or_else(|e| e.into_inner()).as_ref() {
-        return Ok((m.clone(), false));
-    }
-    shipped().map(|m| (m.clone(), true))
 }

@@ -41,6 +41,10 @@ pub fn params_from_form(short: &str, specs: &[ParamSpec], texts: &[String]) -> R
             ParamKind::Integer { .. } => serde_json::json!(t.parse::<i64>().map_err(|_| bad("a whole number"))?),
             ParamKind::Bool => serde_json::json!(t.parse::<bool>().map_err(|_| bad("true or false"))?),
             ParamKind::Choice { .. } => serde_json::json!(t),
+            ParamKind::Flags { .. } => serde_json::json!(t
+                .split(|c: char| c == ',' || c.is_whitespace())
+                .filter(|s| !s.is_empty())
+                .collect::<Vec<_>>()),
             ParamKind::IntegerList { .. } => {
                 let items: Result<Vec<i64>, _> = t
                     .split(|c: char| c == ',' || c.is_whitespace())

@@ -18,6 +18,7 @@ pub mod form;
 pub mod plot;
 pub mod shipped;
 pub mod spec;
+pub mod supervised;
 
 use std::any::Any;
 use std::sync::Arc;
@@ -28,6 +29,7 @@ use serde::{Deserialize, Serialize};
 use crate::motion::Motion;
 use crate::segment::Segmentation;
 pub use spec::{ParamKind, ParamSpec};
+pub use supervised::{ModelStore, Supervised, Supervision};
 
 /// The caller asked a running method to stop (the method returns as soon as it next reports).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -216,6 +218,20 @@ pub trait Method: Send + Sync + 'static {
     fn param_specs(&self) -> Vec<ParamSpec>;
     /// Validates `params`; the message of a refusal names the parameter and what is accepted.
     fn check(&self, params: Self::Params) -> Result<Self::Checked, MethodError>;
+    /// [`Method::check`] where the parameters may name a model of `models` (a supervised
+    /// method's `model`); the others ignore the store.
+    fn check_in(&self, params: Self::Params, models: &ModelStore) -> Result<Self::Checked, MethodError> {
+        let _ = models;
+        self.check(params)
+    }
+    /// What a supervised method declares about its training and models (`None`: unsupervised).
+    fn supervision(&self) -> Option<Supervision> {
+        None
+    }
+    /// Training and model files, for a method that declares [`Method::supervision`].
+    fn supervised(&self) -> Option<&dyn Supervised> {
+        None
+    }
     /// The checked parameters as they are echoed in a segmentation's `params`.
     fn echo(&self, params: &Self::Checked) -> serde_json::Value;
     /// Segments `motion`; draws the method's pictures only if `options.pictures`.
@@ -257,7 +273,15 @@ pub trait DynMethod: Send + Sync {
     fn defaults(&self) -> serde_json::Value;
     /// Reads `params` (a JSON object; missing fields take their defaults, unknown ones are
     /// refused) and checks them.
-    fn check_json(&self, params: &serde_json::Value) -> Result<CheckedParams, MethodError>;
+    fn check_json(&self, params: &serde_json::Value) -> Result<CheckedParams, MethodError> {
+        self.check_json_in(params, &ModelStore::default())
+    }
+    /// [`DynMethod::check_json`] where a `model` parameter may name a model of `models`.
+    fn check_json_in(&self, params: &serde_json::Value, models: &ModelStore) -> Result<CheckedParams, MethodError>;
+    /// What a supervised method declares (`None`: unsupervised).
+    fn supervision(&self) -> Option<Supervision>;
+    /// Its training and model files, when it is supervised.
+    fn supervised(&self) -> Option<&dyn Supervised>;
     /// Runs on `motion` with parameters from [`DynMethod::check_json`] of this method.
     fn run_checked(
         &self,
@@ -292,12 +316,20 @@ impl<M: Method> DynMethod for M {
         serde_json::to_value(M::Params::default()).unwrap_or(serde_json::Value::Null)
     }
 
-    fn check_json(&self, params: &serde_json::Value) -> Result<CheckedParams, MethodError> {
+    fn supervision(&self) -> Option<Supervision> {
+        Method::supervision(self)
+    }
+
+    fn supervised(&self) -> Option<&dyn Supervised> {
+        Method::supervised(self)
+    }
+
+    fn check_json_in(&self, params: &serde_json::Value, models: &ModelStore) -> Result<CheckedParams, MethodError> {
         let info = Method::info(self);
         let params = if params.is_null() { serde_json::json!({}) } else { params.clone() };
         let typed: M::Params =
             serde_json::from_value(params.clone()).map_err(|e| misread::<M::Params>(&info.short, &params, e))?;
-        let checked = self.check(typed)?;
+        let checked = self.check_in(typed, models)?;
         Ok(CheckedParams { method: info.name, echo: self.echo(&checked), inner: Arc::new(checked) })
     }
 

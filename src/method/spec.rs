@@ -37,6 +37,10 @@ pub enum ParamKind {
     Choice {
         options: Vec<String>,
     },
+    /// Any of `options` (a list of their names; the form's text joins them with commas).
+    Flags {
+        options: Vec<String>,
+    },
     /// A list of at most `max_len` integers, each within `[min, max]`.
     IntegerList {
         min: i64,

@@ -777,6 +777,10 @@ mod tests {
                     options.iter().for_each(|o| pass(json!(o)));
                     fail(json!("none of them"));
                 }
+                ParamKind::Flags { options } => {
+                    pass(json!(options));
+                    fail(json!(["none of them"]));
+                }
                 ParamKind::Bool => {
                     pass(json!(true));
                     pass(json!(false));

@@ -35,7 +35,7 @@ pub fn worker_handle(message: JsValue, post: &Function) {
         Ok(request) => STATE.with_borrow_mut(|state| state.handle(request, &mut send)),
         Err(message) => {
             let take = take_of(&message);
-            send(Response::Failed { take, run: None, message, kind: FailureKind::Input, field: None })
+            send(Response::Failed { take, run: None, message, kind: FailureKind::Input, param: None })
         }
     }
 }

@@ -1,146 +1,78 @@
-//! The worker's side of the protocol ([`crate::protocol`]): the take it holds, what a request
-//! may do, and each request's work — pure Rust, tested natively; `super::glue` (feature `web`)
-//! only converts `postMessage` packets.
+//! The worker's side of the protocol ([`crate::protocol`]): the take it holds, the models it
+//! stores, the training under way, and each request's work — pure Rust, tested natively;
+//! `super::glue` (feature `web`) only converts `postMessage` packets. It knows methods only
+//! through the registry ([`crate::method`]): a supervised method's training and model files come
+//! from what it declares, never from its name.
 
 use crate::bvh::Bvh;
-use crate::dtfcn::corpus::{class_labels, model_from, rows_without_takes, ModelMeta};
-use crate::dtfcn::input::NetworkInput;
-use crate::dtfcn::model::{data_hash, Model, ModelKind};
-use crate::dtfcn::training::{TrainOptions, Trainer, TrainingTake};
 use crate::image::MotionImage;
-use crate::lma::classifier::EffortModel;
-use crate::lma::corpus::{parse_labels, Corpus, CorpusConfig, EffortLabel};
-use crate::lma::training::{train_family, TrainConfig};
-use crate::method::{MethodError, RunOptions};
+use crate::method::supervised::{Training, TrainingAsk};
+use crate::method::{MethodError, ModelStore, Progress, RunOptions};
 use crate::motion::Motion;
 use crate::protocol::*;
 
-/// The worker's side of the protocol: holds the take loaded last and answers requests. Pure
-/// Rust (the wasm entry point in `super::glue` only converts packets), so the take checks
-/// are tested natively.
+/// The worker's side of the protocol: holds the take loaded last, the models the page gave it or
+/// it trained, and answers requests. Pure Rust (the wasm entry point in `super::glue` only
+/// converts packets), so the take checks are tested natively.
 #[derive(Debug, Default)]
 pub struct WorkerState {
     /// The take loaded last: its id, its motion and its parsed file (clips are cut from it).
     held: Option<(TakeId, Motion, Bvh)>,
-    /// How `train_lma` trains (the trainer's defaults).
-    training: TrainConfig,
-    /// The DT-FCN training under way (one at a time: a new one replaces it).
-    dtfcn: Option<DtfcnJob>,
+    /// The models of the supervised methods besides the shipped ones.
+    models: ModelStore,
+    /// The training under way (one at a time: a new one replaces it).
+    job: Option<Job>,
 }
 
-/// A DT-FCN training under way in the worker, between two epochs.
-struct DtfcnJob {
+/// A training under way in the worker, between two steps.
+struct Job {
     take: TakeId,
     run: RunId,
-    trainer: Trainer,
-    /// The takes trained on, without their motion images (what the model's provenance needs).
-    takes: Vec<TrainingTake>,
-    classes: Vec<String>,
-    options: TrainOptions,
-    name: String,
-    command: String,
-    data_hash: String,
-    used_rows: usize,
-    left_out: Vec<String>,
+    method: String,
+    training: Box<dyn Training>,
 }
 
-impl std::fmt::Debug for DtfcnJob {
+impl std::fmt::Debug for Job {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "DtfcnJob(run {} of take {}, model {}, {} epochs done)",
-            self.run,
-            self.take,
-            self.name,
-            self.trainer.reports().len()
-        )
+        write!(f, "Job({} training, run {} of take {})", self.method, self.run, self.take)
     }
 }
 
-/// The longest model name accepted.
-const MAX_MODEL_NAME: usize = 64;
-
-/// Refuses a name a user model cannot be installed under (empty, too long, control characters,
-/// a shipped model's).
-fn check_model_name(name: &str) -> Result<(), String> {
-    if name.is_empty() {
-        return Err("the model needs a name".into());
-    }
-    if name.chars().count() > MAX_MODEL_NAME {
-        return Err(format!("the model name has {} characters; at most {MAX_MODEL_NAME}", name.chars().count()));
-    }
-    if name.chars().any(char::is_control) {
-        return Err("the model name has a control character".into());
-    }
-    if crate::dtfcn::shipped::NAMES.contains(&name) {
-        return Err(format!("`{name}` is the name of a shipped model; choose another name"));
-    }
-    Ok(())
+/// Progress posted as `run`'s; it never cancels (a page stops a training between two steps, and
+/// anything else by replacing the worker).
+struct Posting<'a> {
+    take: TakeId,
+    run: RunId,
+    post: &'a mut dyn FnMut(Response),
 }
 
-/// `text` as one shell word (quoted when it holds a space), as the command line's provenance shows it.
-fn shell_word(text: &str) -> String {
-    if text.is_empty() || text.contains(|c: char| c.is_whitespace() || "'\"$`\\".contains(c)) {
-        format!("'{}'", text.replace('\'', "'\\''"))
-    } else {
-        text.to_string()
+impl Progress for Posting<'_> {
+    fn report(&mut self, stage: &str, fraction: f64) {
+        (self.post)(Response::Progress {
+            take: self.take,
+            run: Some(self.run),
+            stage: stage.into(),
+            fraction: Some(fraction),
+        })
     }
-}
-
-/// The `mocapseg train-dtfcn` command that trains the same model natively.
-fn train_command(takes: &[String], labels: &str, name: &str, o: &TrainOptions) -> String {
-    let d = TrainOptions::default();
-    let mut words = vec!["mocapseg train-dtfcn --bvh".to_string()];
-    words.extend(takes.iter().map(|t| shell_word(t)));
-    words.push(format!(
-        "--labels {} --epochs {} --seed {} --noise {} --mask {} --augment {} --width {}",
-        shell_word(labels),
-        o.epochs,
-        o.seed,
-        o.label_noise,
-        o.mask_frames,
-        o.augment.describe(),
-        o.width
-    ));
-    if o.crop_frames != d.crop_frames {
-        words.push(format!("--crop {}", o.crop_frames));
-    }
-    if o.batch != d.batch {
-        words.push(format!("--batch {}", o.batch));
-    }
-    if o.learning_rate != d.learning_rate {
-        words.push(format!("--learning-rate {}", o.learning_rate));
-    }
-    if o.weight_decay != d.weight_decay {
-        words.push(format!("--weight-decay {}", o.weight_decay));
-    }
-    words.push(format!("--name {} -o {}", shell_word(name), shell_word(&format!("{name}.model"))));
-    let mut command = words.join(" ");
-    command += " (trained in the browser";
-    if o.filters != d.filters {
-        let filters: Vec<String> = o.filters.iter().map(usize::to_string).collect();
-        command += &format!(", filters {}", filters.join(","));
-    }
-    command += ")";
-    command
 }
 
 impl WorkerState {
-    /// A worker that trains LMA families with `training` instead of the defaults.
-    pub fn with_training(training: TrainConfig) -> WorkerState {
-        WorkerState { held: None, training, dtfcn: None }
-    }
-
     /// The request the worker should send itself next (after a `setTimeout(0)`, so that the
-    /// page's messages are read first): the next epoch of the DT-FCN training under way.
+    /// page's messages are read first): the next step of the training under way.
     pub fn next_step(&self) -> Option<Request> {
-        let job = self.dtfcn.as_ref()?;
-        (!job.trainer.done()).then_some(Request::ContinueTraining { take: job.take, run: job.run })
+        let job = self.job.as_ref()?;
+        (!job.training.done()).then_some(Request::ContinueTraining { take: job.take, run: job.run })
     }
 
     /// The take the worker holds.
     pub fn held(&self) -> Option<TakeId> {
         self.held.as_ref().map(|(t, _, _)| *t)
+    }
+
+    /// The models stored so far.
+    pub fn models(&self) -> &ModelStore {
+        &self.models
     }
 
     /// The held take if it is `take`, else the `not_loaded` message.
@@ -171,7 +103,7 @@ impl WorkerState {
                     }
                     Ok(motion) => Response::Loaded { take, motion },
                     Err(message) => {
-                        Response::Failed { take, run: None, message, kind: FailureKind::Input, field: None }
+                        Response::Failed { take, run: None, message, kind: FailureKind::Input, param: None }
                     }
                 };
                 post(response);
@@ -180,40 +112,34 @@ impl WorkerState {
                 let response = self.segment(take, run, &method, &params, post);
                 post(response);
             }
-            Request::TrainLma { take, run, name, labels } => {
-                let response = self.train_lma(take, run, &name, &labels, post);
-                post(response);
-            }
-            Request::UseLmaModel { take, run, model } => post(use_lma_model(take, run, model.as_deref())),
             Request::ProvideModel { take, run, file, bytes } => {
                 post(match crate::method::shipped::provide(&file, bytes) {
                     Ok(()) => Response::ModelProvided { take, run, file },
                     Err(message) => {
-                        Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, field: None }
+                        Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, param: None }
                     }
                 })
             }
-            Request::UseLabelModel { take, run, kind, file, bytes } => {
-                post(use_label_model(take, run, kind, &file, &bytes))
+            Request::UseModel { take, run, method, file, bytes } => {
+                post(self.use_model(take, run, &method, &file, &bytes))
             }
-            Request::TrainDtfcn { take, run, name, labels_name, labels, takes, options, bytes } => {
-                let ask = DtfcnAsk { name, labels_name, labels, takes, options, bytes };
-                match self.start_dtfcn(take, run, ask, post) {
-                    Ok(()) => self.dtfcn_epoch(post),
-                    Err((message, field)) => {
-                        post(Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, field })
-                    }
+            Request::Train { take, run, method, name, labels_name, labels, takes, options, bytes } => {
+                let ask =
+                    TrainingAsk { name, labels_name, labels, takes: takes.into_iter().zip(bytes).collect(), options };
+                match self.start_training(take, run, &method, ask, post) {
+                    Ok(()) => self.training_step(post),
+                    Err(e) => post(refusal(take, run, &method, e)),
                 }
             }
             Request::ContinueTraining { run, .. } => {
-                if self.dtfcn.as_ref().is_some_and(|j| j.run == run) {
-                    self.dtfcn_epoch(post);
+                if self.job.as_ref().is_some_and(|j| j.run == run) {
+                    self.training_step(post);
                 }
             }
             Request::StopTraining { run, .. } => {
-                if let Some(job) = self.dtfcn.as_mut().filter(|j| j.run == run) {
-                    job.trainer.stop();
-                    self.finish_dtfcn(post);
+                if let Some(job) = self.job.as_mut().filter(|j| j.run == run) {
+                    job.training.stop();
+                    self.finish_training(post);
                 }
             }
             Request::Clips { take, run, segmentation, which, to_origin, only } => {
@@ -222,134 +148,74 @@ impl WorkerState {
         }
     }
 
-    /// Checks a DT-FCN training request and prepares its trainer (the job under way from now
-    /// on); a refusal names the input that is wrong.
-    fn start_dtfcn(
+    /// Stores the model file `file` of `method`.
+    fn use_model(&mut self, take: TakeId, run: RunId, method: &str, file: &str, bytes: &[u8]) -> Response {
+        let read = supervised_method(method).and_then(|m| {
+            m.supervised()
+                .ok_or_else(|| MethodError::Failed(format!("{method} has no models")))?
+                .read_model(file, bytes)
+        });
+        match read {
+            Ok(loaded) => {
+                let model = loaded.info.clone();
+                self.models.install(loaded);
+                Response::ModelStored { take, run, model }
+            }
+            Err(e) => refusal(take, run, method, e),
+        }
+    }
+
+    /// Checks a training request and prepares its training (the job under way from now on).
+    fn start_training(
         &mut self,
         take: TakeId,
         run: RunId,
-        ask: DtfcnAsk,
+        method: &str,
+        ask: TrainingAsk,
         post: &mut dyn FnMut(Response),
-    ) -> Result<(), (String, Option<TrainField>)> {
+    ) -> Result<(), MethodError> {
         // a new training replaces the one under way
-        self.dtfcn = None;
-        let DtfcnAsk { name, labels_name, labels, takes: names, options, bytes } = ask;
-        let name = name.trim().to_string();
-        check_model_name(&name).map_err(|m| (m, Some(TrainField::Name)))?;
-        let option_field = |m: String| {
-            let field = TrainField::of_option_message(&m);
-            (m, field)
-        };
-        options.check().map_err(option_field)?;
-        let rows = crate::labels::read_csv(&labels, &labels_name).map_err(|m| (m, Some(TrainField::Labels)))?;
-        if rows.is_empty() {
-            return Err((format!("{labels_name} has no rows, only its header"), Some(TrainField::Labels)));
-        }
-        let takes_field = |m: String| (m, Some(TrainField::Takes));
-        for (i, a) in names.iter().enumerate() {
-            if names[..i].iter().any(|b| crate::lma::corpus::same_file(a, b)) {
-                return Err(takes_field(format!("{a} is given twice")));
-            }
-        }
-        // the takes some row names, parsed
-        let mut motions: Vec<Motion> = Vec::new();
-        let mut hashed: Vec<(String, Vec<u8>)> = Vec::new();
-        let named: Vec<usize> = (0..names.len())
-            .filter(|&i| rows.iter().any(|r| crate::lma::corpus::same_file(&r.file, &names[i])))
-            .collect();
-        if named.is_empty() {
-            let files: Vec<&str> = rows.iter().map(|r| r.file.as_str()).collect();
-            return Err((no_rows_for_takes(&labels_name, &names, &files), Some(TrainField::Labels)));
-        }
-        let mut bytes: Vec<Option<Vec<u8>>> = bytes.into_iter().map(Some).collect();
-        for (k, &i) in named.iter().enumerate() {
-            post(Response::Progress {
-                take,
-                run: Some(run),
-                stage: format!("reading {}", names[i]),
-                fraction: Some(k as f64 / named.len() as f64 * 0.5),
-            });
-            let file = bytes[i].take().unwrap_or_default();
-            let loaded =
-                crate::load::load_bytes(&names[i], &file, &mut |_| {}).map_err(|e| takes_field(e.to_string()))?;
-            motions.push(loaded.motion);
-            // kept for the data hash of the model's provenance
-            hashed.push((names[i].clone(), file));
-        }
-        drop(bytes);
-        let refs: Vec<&Motion> = motions.iter().collect();
-        let left_out = rows_without_takes(&rows, &refs);
-        let used_rows =
-            rows.iter().filter(|r| refs.iter().any(|m| crate::lma::corpus::same_file(&m.name, &r.file))).count();
-        let (classes, labels_per_take) =
-            class_labels(&rows, &refs).map_err(|m| (format!("{labels_name}: {m}"), Some(TrainField::Labels)))?;
-        options.network(classes.len()).check().map_err(option_field)?;
-        post(Response::Progress { take, run: Some(run), stage: "motion images".into(), fraction: Some(0.5) });
-        let mut training = Vec::with_capacity(motions.len());
-        for (m, l) in motions.iter().zip(&labels_per_take) {
-            training.push(TrainingTake::new(m, l).map_err(|e| takes_field(format!("{}: {e}", m.name)))?);
-        }
-        let light: Vec<TrainingTake> = training
-            .iter()
-            .map(|t| TrainingTake {
-                name: t.name.clone(),
-                input: NetworkInput { values: Vec::new(), frames: 0, source_frames: Vec::new() },
-                labels: t.labels.clone(),
-            })
-            .collect();
-        let trainer = Trainer::new(training, Vec::new(), classes.clone(), options.clone()).map_err(|m| {
-            let field = TrainField::of_option_message(&m).or(Some(TrainField::Labels));
-            (format!("{labels_name}: {m}"), field)
-        })?;
-        let used_names: Vec<String> = motions.iter().map(|m| m.name.clone()).collect();
-        post(Response::Progress { take, run: Some(run), stage: "epoch 1".into(), fraction: Some(0.0) });
-        self.dtfcn = Some(DtfcnJob {
-            take,
-            run,
-            trainer,
-            takes: light,
-            classes,
-            command: train_command(&used_names, &labels_name, &name, &options),
-            options,
-            data_hash: data_hash(&hashed, labels.as_bytes()),
-            name,
-            used_rows,
-            left_out,
-        });
+        self.job = None;
+        let m = supervised_method(method)?;
+        let supervised = m.supervised().ok_or_else(|| MethodError::Failed(format!("{method} does not train")))?;
+        let training = supervised.start_training(ask, &mut Posting { take, run, post })?;
+        self.job = Some(Job { take, run, method: m.info().name, training });
         Ok(())
     }
 
-    /// Runs the next epoch of the training under way and answers with its report; ends the run
+    /// Runs the next step of the training under way and answers with its report; ends the run
     /// when it was the last.
-    fn dtfcn_epoch(&mut self, post: &mut dyn FnMut(Response)) {
-        let Some(job) = self.dtfcn.as_mut() else { return };
+    fn training_step(&mut self, post: &mut dyn FnMut(Response)) {
+        let Some(job) = self.job.as_mut() else { return };
         let (take, run) = (job.take, job.run);
-        match job.trainer.epoch() {
+        match job.training.step(&mut Posting { take, run, post }) {
             Ok(report) => {
-                let more = !job.trainer.done();
-                post(Response::TrainingEpoch { take, run, report, more });
+                let more = !job.training.done();
+                post(Response::TrainingStep { take, run, report, more });
                 if !more {
-                    self.finish_dtfcn(post);
+                    self.finish_training(post);
                 }
             }
-            Err(message) => {
-                self.dtfcn = None;
-                post(Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, field: None });
+            Err(e) => {
+                let method = job.method.clone();
+                self.job = None;
+                post(refusal(take, run, &method, e));
             }
         }
     }
 
-    /// Ends the training under way: its model (the best epoch's) is installed and sent.
-    fn finish_dtfcn(&mut self, post: &mut dyn FnMut(Response)) {
-        let Some(job) = self.dtfcn.take() else { return };
+    /// Ends the training under way: its model (the best so far) is stored and sent.
+    fn finish_training(&mut self, post: &mut dyn FnMut(Response)) {
+        let Some(job) = self.job.take() else { return };
         let (take, run) = (job.take, job.run);
-        let response = job.finish().unwrap_or_else(|message| Response::Failed {
-            take,
-            run: Some(run),
-            message,
-            kind: FailureKind::Input,
-            field: None,
-        });
+        let response = match job.training.finish() {
+            Ok(trained) => {
+                let model = trained.model.info.clone();
+                self.models.install(trained.model);
+                Response::Trained { take, run, model, report: trained.report, bytes: trained.bytes }
+            }
+            Err(e) => refusal(take, run, &job.method, e),
+        };
         post(response);
     }
 
@@ -383,7 +249,7 @@ impl WorkerState {
         options: crate::clips::ClipOptions,
         only: Option<(usize, usize)>,
     ) -> Response {
-        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, field: None };
+        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, param: None };
         let (motion, bvh) = match self.held_take(take) {
             Ok(held) => held,
             Err(message) => return fail(message, FailureKind::NotLoaded),
@@ -406,7 +272,7 @@ impl WorkerState {
         params: &serde_json::Value,
         post: &mut dyn FnMut(Response),
     ) -> Response {
-        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, field: None };
+        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, param: None };
         let motion = match self.motion(take) {
             Ok(motion) => motion,
             Err(message) => return fail(message, FailureKind::NotLoaded),
@@ -416,10 +282,11 @@ impl WorkerState {
             Err(e) => return fail(e.to_string(), FailureKind::Input),
         };
         let short = m.info().short;
-        let mut progress = |stage: &str, fraction: f64| {
-            post(Response::Progress { take, run: Some(run), stage: stage.into(), fraction: Some(fraction) })
-        };
-        match m.run_json(motion, params, &RunOptions { pictures: true }, &mut progress) {
+        let mut progress = Posting { take, run, post };
+        let output = m
+            .check_json_in(params, &self.models)
+            .and_then(|checked| m.run_checked(motion, &checked, &RunOptions { pictures: true }, &mut progress));
+        match output {
             Ok(output) => Response::Segmented { take, run, view: Box::new(output.into()) },
             Err(MethodError::Cancelled) => fail(format!("{short}: cancelled"), FailureKind::Cancelled),
             Err(MethodError::Params { param, message }) => Response::Refused { take, run, message, param },
@@ -427,185 +294,32 @@ impl WorkerState {
             Err(e) => fail(format!("{short} on {}: {e}", motion.name), FailureKind::Input),
         }
     }
+}
 
-    /// Trains the LMA family on the rows of the labels file `name` that name the held take (the
-    /// others are counted), reporting progress as run `run`, and makes it the family in use.
-    /// Like a segment run it is stopped by replacing the worker, so its progress never cancels.
-    fn train_lma(
-        &self,
-        take: TakeId,
-        run: RunId,
-        name: &str,
-        labels: &str,
-        post: &mut dyn FnMut(Response),
-    ) -> Response {
-        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, field: None };
-        let motion = match self.motion(take) {
-            Ok(motion) => motion,
-            Err(message) => return fail(message, FailureKind::NotLoaded),
-        };
-        let rows = match parse_labels(labels, name) {
-            Ok(rows) => rows,
-            Err(message) => return fail(message, FailureKind::Input),
-        };
-        let (used, ignored): (Vec<EffortLabel>, Vec<EffortLabel>) =
-            rows.into_iter().partition(|row| crate::lma::corpus::same_file(&row.file, &motion.name));
-        if used.is_empty() {
-            return fail(no_rows_for(name, &motion.name, &ignored), FailureKind::Input);
-        }
-        let mut corpus = match Corpus::from_labels(&[motion], &used, CorpusConfig::default()) {
-            Ok(corpus) => corpus,
-            Err(message) => return fail(format!("{name}: {message}"), FailureKind::Input),
-        };
-        corpus.origin = format!("{} segments of {} labelled in {name}", corpus.samples.len(), motion.name);
-        let mut progress = |stage: &str, fraction: f64| {
-            post(Response::Progress { take, run: Some(run), stage: stage.into(), fraction: Some(fraction) });
-            Ok(())
-        };
-        let (model, reports) = match train_family(&corpus, &self.training, &mut progress) {
-            Ok(trained) => trained,
-            Err(message) => return fail(format!("{name}: {message}"), FailureKind::Input),
-        };
-        let report = reports.iter().enumerate().map(|(f, r)| FactorSummary::new(r, &corpus.samples, f)).collect();
-        let json = model.to_json();
-        let origin = model.origin.clone();
-        crate::lma::use_model(Some(model));
-        Response::Trained { take, run, model: json, report, origin, used_rows: used.len(), ignored_rows: ignored.len() }
+/// The supervised method called `method`.
+fn supervised_method(method: &str) -> Result<&'static dyn crate::method::DynMethod, MethodError> {
+    let m = crate::method::find(method)?;
+    if m.supervised().is_none() {
+        return Err(MethodError::Failed(format!("{} is not a supervised method: it has no models", m.info().short)));
     }
+    Ok(m)
 }
 
-/// What a `train_dtfcn` request asks, once its ids are taken out.
-struct DtfcnAsk {
-    name: String,
-    labels_name: String,
-    labels: String,
-    takes: Vec<String>,
-    options: TrainOptions,
-    bytes: Vec<Vec<u8>>,
-}
-
-impl DtfcnJob {
-    /// The model of the finished run, installed, as the answer to the page.
-    fn finish(self) -> Result<Response, String> {
-        let trained = self.trainer.finish()?;
-        let (reports, best_epoch, stopped) = (trained.reports.clone(), trained.best_epoch, trained.stopped);
-        let meta = ModelMeta { name: self.name.clone(), command: self.command, data_hash: self.data_hash };
-        let model = model_from(trained, &self.takes, &self.classes, &self.options, &meta);
-        let bytes = model.to_bytes()?;
-        let info = LabelModelInfo::new(&self.name, &model);
-        crate::dtfcn::method::install(&self.name, model)?;
-        Ok(Response::DtfcnTrained {
-            take: self.take,
-            run: self.run,
-            model: info,
-            reports,
-            best_epoch,
-            stopped,
-            used_rows: self.used_rows,
-            left_out: self.left_out,
-            bytes,
-        })
-    }
-}
-
-/// Installs the labelling model file `file` (its bytes) for the method of `kind`.
-fn use_label_model(take: TakeId, run: RunId, kind: ModelKind, file: &str, bytes: &[u8]) -> Response {
-    let fail =
-        |message: String| Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, field: None };
-    let model = match Model::from_bytes(bytes, file) {
-        Ok(model) => model,
-        Err(message) => return fail(message),
+/// A training's or a model file's failure as the page gets it: the message, and the input to
+/// blame when there is one.
+fn refusal(take: TakeId, run: RunId, method: &str, e: MethodError) -> Response {
+    let param = e.param_name().map(str::to_string);
+    let kind = if e == MethodError::Cancelled { FailureKind::Cancelled } else { FailureKind::Input };
+    let message = match e {
+        MethodError::Cancelled => format!("{method}: cancelled"),
+        e => e.to_string(),
     };
-    if model.header.kind != kind {
-        return fail(format!(
-            "{file} holds a {} model, not a {} model: load it in the {} panel",
-            kind_short(model.header.kind),
-            kind_short(kind),
-            kind_short(model.header.kind)
-        ));
-    }
-    let inner = model.header.name.trim().to_string();
-    let name = if check_model_name(&inner).is_ok() {
-        inner
-    } else {
-        let base = file.rsplit(['/', '\\']).next().unwrap_or(file);
-        let stem = base.rsplit_once('.').map_or(base, |(stem, _)| stem).trim().to_string();
-        if let Err(message) = check_model_name(&stem) {
-            return fail(format!("{file}: the model is called `{inner}` and the file `{stem}`: {message}"));
-        }
-        stem
-    };
-    let info = LabelModelInfo::new(&name, &model);
-    match crate::dtfcn::method::install(&name, model) {
-        Ok(()) => Response::LabelModelInUse { take, run, model: info },
-        Err(message) => fail(format!("{file}: {message}")),
-    }
-}
-
-/// Why a label CSV gives nothing to train on from the takes `takes`: its rows (naming `files`)
-/// name none of them.
-fn no_rows_for_takes(name: &str, takes: &[String], files: &[&str]) -> String {
-    let mut named: Vec<&str> = Vec::new();
-    for f in files {
-        if !named.contains(f) {
-            named.push(f);
-        }
-    }
-    const SHOWN: usize = 5;
-    let mut list = named.iter().take(SHOWN).map(|f| format!("`{f}`")).collect::<Vec<_>>().join(", ");
-    if named.len() > SHOWN {
-        list += &format!(" and {} more", named.len() - SHOWN);
-    }
-    let given = match takes {
-        [] => "no take is given".to_string(),
-        [one] => format!("no row is for the loaded take `{one}`"),
-        [first, rest @ ..] => format!(
-            "no row is for the loaded take `{first}` or the other takes given ({})",
-            rest.iter().map(|t| format!("`{t}`")).collect::<Vec<_>>().join(", ")
-        ),
-    };
-    format!("{name}: {given}; its rows name {list}")
-}
-
-/// Makes the family `model` (JSON text; `None`: the shipped one) the one `lma` runs use.
-fn use_lma_model(take: TakeId, run: RunId, model: Option<&str>) -> Response {
-    let fail =
-        |message: String| Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, field: None };
-    match model.map(EffortModel::from_json).transpose() {
-        Ok(model) => crate::lma::use_model(model),
-        Err(message) => return fail(message),
-    }
-    match crate::lma::model_in_use() {
-        Ok((model, shipped)) => Response::ModelInUse { take, run, origin: model.origin.clone(), shipped },
-        Err(MethodError::NeedsModel { file }) => Response::NeedsModel { take, run, file },
-        Err(e) => fail(e.to_string()),
-    }
-}
-
-/// Why a labels file gives nothing to learn from the take `take`: no rows at all, or only rows
-/// for other files (a few of which it names).
-fn no_rows_for(name: &str, take: &str, others: &[EffortLabel]) -> String {
-    if others.is_empty() {
-        return format!("{name} has no rows, only its header");
-    }
-    let mut files: Vec<&str> = Vec::new();
-    for row in others {
-        if !files.contains(&row.file.as_str()) {
-            files.push(&row.file);
-        }
-    }
-    const SHOWN: usize = 5;
-    let mut named = files.iter().take(SHOWN).map(|f| format!("`{f}`")).collect::<Vec<_>>().join(", ");
-    if files.len() > SHOWN {
-        named += &format!(" and {} more", files.len() - SHOWN);
-    }
-    format!("{name}: no row is for the loaded take `{take}`; its rows name {named}")
+    Response::Failed { take, run: Some(run), message, kind, param }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dtfcn::training::EpochReport;
 
     fn take_bytes() -> Vec<u8> {
         include_bytes!("../../tests/fixtures/12_01.bvh").to_vec()
@@ -787,56 +501,6 @@ mod tests {
         assert!(matches!(unknown.last(), Some(Response::Failed { kind: FailureKind::Input, .. })));
     }
 
-    #[test]
-    fn lma_families_travel_as_buffers_and_labels_as_text() {
-        let train = Request::TrainLma { take: 2, run: 3, name: "e.csv".into(), labels: "file,start_frame\n".into() };
-        let packet = train.clone().into_packet();
-        assert!(packet.buffers.is_empty());
-        assert_eq!(Request::from_packet(packet).unwrap(), train);
-        assert_eq!(train.take(), 2);
-
-        let family = r#"{"fps": 30.0, "factors": []}"#.to_string();
-        let mine = Request::UseLmaModel { take: 2, run: 4, model: Some(family.clone()) };
-        let packet = mine.clone().into_packet();
-        assert_eq!(packet.buffers, vec![family.clone().into_bytes()]);
-        assert!(!packet.json.contains("factors"), "the family travels as a buffer: {}", packet.json);
-        assert_eq!(Request::from_packet(packet).unwrap(), mine);
-        let shipped = Request::UseLmaModel { take: 2, run: 5, model: None };
-        let packet = shipped.clone().into_packet();
-        assert!(packet.buffers.is_empty(), "no buffer: the shipped family");
-        assert_eq!(Request::from_packet(packet).unwrap(), shipped);
-        let garbled =
-            Packet { json: r#"{"type":"use_lma_model","take":2,"run":5}"#.into(), buffers: vec![vec![0xff, 0xfe]] };
-        assert!(Request::from_packet(garbled).unwrap_err().contains("the LMA family is not UTF-8"));
-
-        let report = vec![FactorSummary {
-            factor: "space".into(),
-            segments: [4, 5, 3],
-            hidden: 3,
-            train_error: 0.1,
-            validation_error: 0.5,
-            shifted_validation_error: 0.45,
-        }];
-        let trained = Response::Trained {
-            take: 2,
-            run: 3,
-            model: family.clone(),
-            report,
-            origin: "12 segments".into(),
-            used_rows: 12,
-            ignored_rows: 1,
-        };
-        let packet = trained.clone().into_packet();
-        assert_eq!(packet.buffers, vec![family.into_bytes()]);
-        assert!(!packet.json.contains("factors"), "{}", packet.json);
-        let v: serde_json::Value = serde_json::from_str(&packet.json).unwrap();
-        assert_eq!((v["type"].as_str(), v["report"][0]["segments"][1].as_u64()), (Some("trained"), Some(5)));
-        assert_eq!(Response::from_packet(packet.clone()).unwrap(), trained);
-        let mut missing = packet;
-        missing.buffers.clear();
-        assert!(Response::from_packet(missing).unwrap_err().contains("no buffer for the trained family"));
-    }
-
     /// Effort labels CSV rows `file,start,end,class×4`, classes cycling through the three elements.
     fn label_rows(file: &str, rows: usize, step: usize, length: usize) -> String {
         (0..rows)
@@ -849,156 +513,20 @@ mod tests {
 
     const HEADER: &str = "file,start_frame,end_frame,space,time,weight,flow\n";
 
-    fn train(take: TakeId, run: RunId, labels: String) -> Request {
-        Request::TrainLma { take, run, name: "mine.csv".into(), labels }
-    }
-
-    fn failure(posted: Vec<Response>) -> (FailureKind, String) {
-        match posted.last() {
-            Some(Response::Failed { kind, message, .. }) => (*kind, message.clone()),
-            other => panic!("expected a failure, got {other:?}"),
-        }
-    }
-
-    fn lma_summary(worker: &mut WorkerState, take: TakeId, run: RunId) -> String {
-        let posted = ask(worker, Request::Segment { take, run, method: "lma".into(), params: serde_json::json!({}) });
-        let Some(Response::Segmented { view, .. }) = posted.last() else { panic!("{:?}", posted.last()) };
-        view.details.summary.clone()
-    }
-
-    /// The only test in this process that changes the LMA family in use (it is per process,
-    /// as it is per worker in the browser).
-    #[test]
-    fn the_worker_trains_an_lma_family_on_the_rows_for_its_take_and_uses_it_until_told_otherwise() {
-        let quick =
-            crate::lma::network::TrainOptions { max_epochs: 40, learning_rate: 0.02, weight_decay: 1e-4, patience: 10 };
-        let config = TrainConfig {
-            restarts: 2,
-            saliency_rounds: 4,
-            options: quick,
-            shift_options: crate::lma::network::TrainOptions { max_epochs: 3, ..quick },
-            ..TrainConfig::default()
-        };
-        let mut w = WorkerState::with_training(config);
-        let mine = format!("{HEADER}{}", label_rows("12_01.bvh", 12, 30, 120));
-        assert_eq!(failure(ask(&mut w, train(1, 1, mine.clone()))).0, FailureKind::NotLoaded);
-        ask(
-            &mut w,
-            Request::Load {
-                take: 1,
-                name: "12_01.bvh".into(),
-                restore: false,
-                bytes: take_bytes(),
-                skeleton: None,
-                skeleton_bytes: Vec::new(),
-            },
-        );
-
-        // what the user gets wrong is named: the line, the take and the files the rows name, too few rows
-        let typo = mine.replacen("neutral", "nuetral", 1);
-        let (kind, message) = failure(ask(&mut w, train(1, 2, typo)));
-        assert_eq!(kind, FailureKind::Input);
-        assert!(message.contains("mine.csv line 2") && message.contains("`nuetral`"), "{message}");
-        let elsewhere = format!("{HEADER}{}{}", label_rows("35_01.bvh", 9, 20, 90), label_rows("nope", 1, 0, 50));
-        let (kind, message) = failure(ask(&mut w, train(1, 3, elsewhere)));
-        assert_eq!(kind, FailureKind::Input);
-        assert!(message.contains("loaded take `12_01.bvh`") && message.contains("`35_01.bvh`, `nope`"), "{message}");
-        let (_, message) = failure(ask(&mut w, train(1, 4, HEADER.to_string())));
-        assert!(message.contains("no rows"), "{message}");
-        let (_, message) = failure(ask(&mut w, train(1, 5, format!("{HEADER}{}", label_rows("12_01", 5, 30, 120)))));
-        assert!(message.contains("too few to train on"), "{message}");
-        let long =
-            format!("{HEADER}{}12_01,400,600,neutral,neutral,neutral,neutral\n", label_rows("12_01", 9, 30, 120));
-        let (_, message) = failure(ask(&mut w, train(1, 6, long)));
-        assert!(message.contains("line 11") && message.contains("do not fit"), "{message}");
-        assert!(!lma_summary(&mut w, 1, 7).contains("your classifiers"), "failed trainings leave the shipped family");
-
-        // rows for the take (named in any case, with or without folder and extension) train the
-        // family; the other file's rows are counted and left out
-        let rows = label_rows("12_01.bvh", 12, 30, 120).replacen("12_01.bvh", "takes/12_01.BVH", 1).replacen(
-            "12_01.bvh",
-            "12_01",
-            1,
-        );
-        let labels = format!("{HEADER}{rows}{}", label_rows("35_01.bvh", 3, 20, 90));
-        let posted = ask(&mut w, train(1, 8, labels));
-        let stages: Vec<&str> = posted
-            .iter()
-            .filter_map(|r| match r {
-                Response::Progress { run: Some(8), stage, fraction: Some(f), .. } if (0.0..=1.0).contains(f) => {
-                    Some(stage.as_str())
-                }
-                _ => None,
-            })
-            .collect();
-        assert!(stages.contains(&"space saliency") && stages.contains(&"flow shifted networks"), "{stages:?}");
-        let Some(Response::Trained { take: 1, run: 8, model, report, origin, used_rows: 12, ignored_rows: 3 }) =
-            posted.last()
-        else {
-            panic!("{:?}", posted.last())
-        };
-        assert_eq!(report.iter().map(|r| r.factor.as_str()).collect::<Vec<_>>(), ["space", "time", "weight", "flow"]);
-        for r in report {
-            assert_eq!(r.segments.iter().sum::<usize>(), 12, "{r:?}");
-            assert!((0.0..=1.0).contains(&r.validation_error) && r.hidden >= 1, "{r:?}");
-        }
-        assert_eq!(report[0].segments, [4, 4, 4]);
-        assert_eq!(origin, "12 segments of 12_01.bvh labelled in mine.csv");
-        let family = EffortModel::from_json(model).unwrap();
-        assert_eq!((family.samples, &family.origin), (12, origin));
-        let yours = format!(" · your classifiers ({origin})");
-        assert!(lma_summary(&mut w, 1, 9).ends_with(&yours), "{}", lma_summary(&mut w, 1, 9));
-
-        // a bad family file is refused with what is wrong, and the family in use stays
-        let not_json = ask(&mut w, Request::UseLmaModel { take: 1, run: 10, model: Some("{\"fps\": 30".into()) });
-        let (kind, message) = failure(not_json);
-        assert!(kind == FailureKind::Input && message.contains("not an LMA effort model"), "{message}");
-        let mut three: serde_json::Value = serde_json::from_str(model).unwrap();
-        three["factors"].as_array_mut().unwrap().pop();
-        let short = ask(&mut w, Request::UseLmaModel { take: 1, run: 11, model: Some(three.to_string()) });
-        assert!(failure(short).1.contains("3 factors, expected 4"));
-        assert!(lma_summary(&mut w, 1, 12).ends_with(&yours));
-
-        // back to the shipped family, and the saved one again (whatever take the worker holds)
-        let shipped = ask(&mut w, Request::UseLmaModel { take: 1, run: 13, model: None });
-        let Some(Response::ModelInUse { shipped: true, origin: shipped_origin, .. }) = shipped.last() else {
-            panic!("{shipped:?}")
-        };
-        assert!(shipped_origin.starts_with("stand-in labels"), "{shipped_origin}");
-        assert!(!lma_summary(&mut w, 1, 14).contains("your classifiers"));
-        let again = ask(&mut w, Request::UseLmaModel { take: 99, run: 15, model: Some(model.clone()) });
-        assert_eq!(
-            again.last(),
-            Some(&Response::ModelInUse { take: 99, run: 15, origin: origin.clone(), shipped: false })
-        );
-        assert!(lma_summary(&mut w, 1, 16).ends_with(&yours));
-        ask(&mut w, Request::UseLmaModel { take: 1, run: 17, model: None });
-    }
-
-    // ---- DT-FCN / k-NN models and training ------------------------------------------------
-
-    fn tiny_options(epochs: usize) -> TrainOptions {
-        TrainOptions { filters: vec![8, 8], crop_frames: 64, epochs, ..Default::default() }
-    }
-
-    const LABELS_HEADER: &str = "file,start_frame,end_frame,label\n";
-
-    /// Label rows for 12_01.bvh (524 frames): three classes in turn.
-    fn walk_labels() -> String {
-        format!("{LABELS_HEADER}12_01.bvh,0,179,stand\n12_01.bvh,180,359,walk\n12_01.bvh,360,523,<b>turn</b>\n")
-    }
-
-    fn train_dtfcn(
+    /// A training of `method`'s model `name` on `labels` (the file `labels.csv`) and `takes`.
+    fn train(
+        method: &str,
         run: RunId,
         name: &str,
         labels: String,
-        options: TrainOptions,
+        options: serde_json::Value,
         takes: Vec<(&str, Vec<u8>)>,
     ) -> Request {
         let (names, bytes): (Vec<String>, Vec<Vec<u8>>) = takes.into_iter().map(|(n, b)| (n.to_string(), b)).unzip();
-        Request::TrainDtfcn {
+        Request::Train {
             take: 1,
             run,
+            method: method.into(),
             name: name.into(),
             labels_name: "labels.csv".into(),
             labels,
@@ -1008,156 +536,38 @@ mod tests {
         }
     }
 
-    fn refusal(posted: Vec<Response>) -> (String, Option<TrainField>) {
+    /// LMA's options that train in a second (the defaults are the paper's 20 restarts).
+    fn quick_lma() -> serde_json::Value {
+        serde_json::json!({"restarts": 2, "saliency_rounds": 4, "max_epochs": 40, "shift_epochs": 3})
+    }
+
+    /// The last answer, a refusal: its message and the input it names.
+    fn refusal(posted: Vec<Response>) -> (String, Option<String>) {
         match posted.last() {
-            Some(Response::Failed { kind: FailureKind::Input, message, field, .. }) => (message.clone(), *field),
+            Some(Response::Failed { kind: FailureKind::Input, message, param, .. }) => (message.clone(), param.clone()),
             other => panic!("expected a refusal, got {other:?}"),
         }
     }
 
-    #[test]
-    fn label_model_requests_and_answers_carry_their_bytes_as_buffers() {
-        let use_model = Request::UseLabelModel {
-            take: 2,
-            run: 3,
-            kind: ModelKind::Knn,
-            file: "mine.model".into(),
-            bytes: b"mocapseg-model\n\x01".to_vec(),
-        };
-        let packet = use_model.clone().into_packet();
-        assert_eq!(packet.buffers, vec![b"mocapseg-model\n\x01".to_vec()]);
-        let v: serde_json::Value = serde_json::from_str(&packet.json).unwrap();
-        assert_eq!((v["type"].as_str(), v["kind"].as_str()), (Some("use_label_model"), Some("knn")));
-        assert_eq!(Request::from_packet(packet).unwrap(), use_model);
-        let without = Packet {
-            json: r#"{"type":"use_label_model","take":2,"run":3,"kind":"dtfcn","file":"x"}"#.into(),
-            buffers: vec![],
-        };
-        assert!(Request::from_packet(without).unwrap_err().contains("without its bytes"));
-
-        let train =
-            train_dtfcn(4, "mine", walk_labels(), tiny_options(2), vec![("12_01.bvh", vec![1, 2]), ("b.bvh", vec![3])]);
-        let packet = train.clone().into_packet();
-        assert_eq!(packet.buffers, vec![vec![1, 2], vec![3]]);
-        let v: serde_json::Value = serde_json::from_str(&packet.json).unwrap();
-        assert_eq!(v["options"]["filters"], serde_json::json!([8, 8]));
-        assert_eq!(v["takes"], serde_json::json!(["12_01.bvh", "b.bvh"]));
-        assert_eq!(Request::from_packet(packet.clone()).unwrap(), train);
-        assert_eq!(train.take(), 1);
-        let mut short = packet;
-        short.buffers.pop();
-        assert!(Request::from_packet(short).unwrap_err().contains("2 takes but the bytes of 1"));
-        // the page may leave options out: the defaults
-        let bare = Packet {
-            json: r#"{"type":"train_dtfcn","take":1,"run":2,"name":"m","labels_name":"l.csv","labels":"","takes":[],"options":{"epochs":3}}"#.into(),
-            buffers: vec![],
-        };
-        let Request::TrainDtfcn { options, .. } = Request::from_packet(bare).unwrap() else { panic!() };
-        assert_eq!(options, TrainOptions { epochs: 3, ..TrainOptions::default() });
-        for r in [Request::ContinueTraining { take: 1, run: 5 }, Request::StopTraining { take: 1, run: 5 }] {
-            let packet = r.clone().into_packet();
-            assert!(packet.buffers.is_empty());
-            assert_eq!(Request::from_packet(packet).unwrap(), r);
-        }
-
-        let info = LabelModelInfo {
-            name: "mine".into(),
-            kind: ModelKind::Dtfcn,
-            classes: vec!["a".into(), "b".into()],
-            colours: vec!["#ff0000".into(), "#00ff00".into()],
-            unknown_threshold: 0.5,
-            takes: vec!["12_01.bvh".into()],
-            frames: 131,
-            epochs_run: 2,
-            best_epoch: 2,
-            command: "mocapseg train-dtfcn".into(),
-        };
-        let report = EpochReport {
-            epoch: 1,
-            epochs: 2,
-            loss: 1.1,
-            train_accuracy: 0.4,
-            validation_loss: None,
-            validation_accuracy: None,
-            best: true,
-        };
-        for r in [
-            Response::LabelModelInUse { take: 1, run: 2, model: info.clone() },
-            Response::TrainingEpoch { take: 1, run: 2, report: report.clone(), more: true },
-            Response::Failed {
-                take: 1,
-                run: Some(2),
-                message: "epochs 0".into(),
-                kind: FailureKind::Input,
-                field: Some(TrainField::Epochs),
+    fn load_walk(w: &mut WorkerState, take: TakeId) {
+        let posted = ask(
+            w,
+            Request::Load {
+                take,
+                name: "12_01.bvh".into(),
+                restore: false,
+                bytes: take_bytes(),
+                skeleton: None,
+                skeleton_bytes: Vec::new(),
             },
-        ] {
-            let packet = r.clone().into_packet();
-            assert!(packet.buffers.is_empty());
-            assert_eq!(Response::from_packet(packet).unwrap(), r);
-        }
-        let failed =
-            Response::Failed { take: 1, run: None, message: "x".into(), kind: FailureKind::Input, field: None };
-        assert!(!failed.into_packet().json.contains("field"), "no field: left out");
-        let v: serde_json::Value = serde_json::from_str(
-            &Response::Failed {
-                take: 1,
-                run: Some(2),
-                message: "x".into(),
-                kind: FailureKind::Input,
-                field: Some(TrainField::LabelNoise),
-            }
-            .into_packet()
-            .json,
-        )
-        .unwrap();
-        assert_eq!(v["field"], "label_noise");
-        // worker.js's own failure message has no field
-        let glue = Packet {
-            json: r#"{"type":"failed","take":0,"run":7,"message":"internal error: x","kind":"internal"}"#.into(),
-            buffers: vec![],
-        };
-        assert!(matches!(
-            Response::from_packet(glue).unwrap(),
-            Response::Failed { field: None, kind: FailureKind::Internal, .. }
-        ));
-
-        let trained = Response::DtfcnTrained {
-            take: 1,
-            run: 2,
-            model: info.clone(),
-            reports: vec![report],
-            best_epoch: 1,
-            stopped: true,
-            used_rows: 3,
-            left_out: vec!["86_01.bvh".into()],
-            bytes: b"mocapseg-model\nweights".to_vec(),
-        };
-        let packet = trained.clone().into_packet();
-        assert_eq!(packet.buffers, vec![b"mocapseg-model\nweights".to_vec()]);
-        assert!(!packet.json.contains("weights"), "{}", packet.json);
-        assert_eq!(Response::from_packet(packet.clone()).unwrap(), trained);
-        let mut missing = packet;
-        missing.buffers.clear();
-        assert!(Response::from_packet(missing).unwrap_err().contains("no buffer for the trained model"));
-        let mut odd = info;
-        odd.colours.pop();
-        let bad = Response::LabelModelInUse { take: 1, run: 2, model: odd }.into_packet();
-        assert!(Response::from_packet(bad).unwrap_err().contains("2 classes but 1 colours"));
+        );
+        assert!(matches!(posted.last(), Some(Response::Loaded { .. })), "{:?}", posted.last());
     }
 
-    #[test]
-    fn option_refusals_name_their_field() {
-        let field = |o: TrainOptions| TrainField::of_option_message(&o.check().unwrap_err());
-        assert_eq!(field(TrainOptions { epochs: 0, ..Default::default() }), Some(TrainField::Epochs));
-        assert_eq!(field(TrainOptions { label_noise: 1.5, ..Default::default() }), Some(TrainField::LabelNoise));
-        assert_eq!(field(TrainOptions { mask_frames: 999, ..Default::default() }), Some(TrainField::MaskFrames));
-        assert_eq!(field(TrainOptions { crop_frames: 1, ..Default::default() }), Some(TrainField::CropFrames));
-        assert_eq!(field(TrainOptions { learning_rate: 0.0, ..Default::default() }), Some(TrainField::LearningRate));
-        let network = |o: TrainOptions| TrainField::of_option_message(&o.network(3).check().unwrap_err());
-        assert_eq!(network(TrainOptions { width: 9, ..Default::default() }), Some(TrainField::Width));
-        assert_eq!(network(TrainOptions { filters: vec![], ..Default::default() }), Some(TrainField::Filters));
-        assert_eq!(network(TrainOptions { filters: vec![0, 4], ..Default::default() }), Some(TrainField::Filters));
+    fn run_method(w: &mut WorkerState, run: RunId, method: &str, params: serde_json::Value) -> Box<MethodView> {
+        let posted = ask(w, Request::Segment { take: 1, run, method: method.into(), params });
+        let Some(Response::Segmented { view, .. }) = posted.last() else { panic!("{:?}", posted.last()) };
+        view.clone()
     }
 
     /// Trains through the worker as the page does: the request, then every `continue_training`
@@ -1172,82 +582,192 @@ mod tests {
     }
 
     #[test]
-    fn the_worker_trains_a_dtfcn_one_epoch_per_message_installs_it_and_sends_the_file() {
+    fn the_worker_trains_an_lma_family_on_the_rows_for_its_take_stores_it_and_runs_it_by_name() {
+        let mut w = WorkerState::default();
+        load_walk(&mut w, 1);
+        let mine = format!("{HEADER}{}", label_rows("12_01.bvh", 12, 30, 120));
+        let walk = || vec![("12_01.bvh", take_bytes())];
+
+        // what the user gets wrong is named: the line, the take and the files the rows name, too few rows
+        let typo = mine.replacen("neutral", "nuetral", 1);
+        let (message, param) = refusal(ask(&mut w, train("lma", 2, "mine", typo, quick_lma(), walk())));
+        assert!(message.contains("labels.csv line 2") && message.contains("`nuetral`"), "{message}");
+        assert_eq!(param.as_deref(), Some("labels"));
+        let elsewhere = format!("{HEADER}{}{}", label_rows("35_01.bvh", 9, 20, 90), label_rows("nope", 1, 0, 50));
+        let (message, _) = refusal(ask(&mut w, train("lma", 3, "mine", elsewhere, quick_lma(), walk())));
+        assert!(message.contains("loaded take `12_01.bvh`") && message.contains("`35_01.bvh`, `nope`"), "{message}");
+        let (message, _) = refusal(ask(&mut w, train("lma", 4, "mine", HEADER.to_string(), quick_lma(), walk())));
+        assert!(message.contains("no rows"), "{message}");
+        let few = format!("{HEADER}{}", label_rows("12_01", 5, 30, 120));
+        let (message, _) = refusal(train_to_the_end(&mut w, train("lma", 5, "mine", few, quick_lma(), walk())));
+        assert!(message.contains("too few to train on"), "{message}");
+        let long =
+            format!("{HEADER}{}12_01,400,600,neutral,neutral,neutral,neutral\n", label_rows("12_01", 9, 30, 120));
+        let (message, _) = refusal(ask(&mut w, train("lma", 6, "mine", long, quick_lma(), walk())));
+        assert!(message.contains("line 11") && message.contains("do not fit"), "{message}");
+        let (message, param) =
+            refusal(ask(&mut w, train("lma", 6, "mine", mine.clone(), serde_json::json!({"restarts": 0}), walk())));
+        assert_eq!(param.as_deref(), Some("restarts"), "{message}");
+        let (_, param) = refusal(ask(&mut w, train("lma", 6, "shipped", mine.clone(), quick_lma(), walk())));
+        assert_eq!(param.as_deref(), Some("name"));
+        assert!(!run_method(&mut w, 7, "lma", serde_json::json!({})).details.summary.contains("your classifiers"));
+
+        // rows for the take (named in any case, with or without folder and extension) train the
+        // family; the other file's rows are counted and left out
+        let rows = label_rows("12_01.bvh", 12, 30, 120).replacen("12_01.bvh", "takes/12_01.BVH", 1).replacen(
+            "12_01.bvh",
+            "12_01",
+            1,
+        );
+        let labels = format!("{HEADER}{rows}{}", label_rows("35_01.bvh", 3, 20, 90));
+        let posted = train_to_the_end(&mut w, train("lma", 8, "mine", labels, quick_lma(), walk()));
+        let stages: Vec<&str> = posted
+            .iter()
+            .filter_map(|r| match r {
+                Response::Progress { run: Some(8), stage, fraction: Some(f), .. } if (0.0..=1.0).contains(f) => {
+                    Some(stage.as_str())
+                }
+                _ => None,
+            })
+            .collect();
+        assert!(stages.contains(&"space saliency") && stages.contains(&"flow shifted networks"), "{stages:?}");
+        let Some(Response::Trained { take: 1, run: 8, model, report, bytes }) = posted.last() else {
+            panic!("{:?}", posted.last())
+        };
+        assert!(
+            report
+                .summary
+                .starts_with("Trained on 12 rows of labels.csv for 12_01.bvh (3 rows for other files left out)"),
+            "{}",
+            report.summary
+        );
+        assert_eq!(report.rows.iter().map(|r| r[0].as_str()).collect::<Vec<_>>(), ["space", "time", "weight", "flow"]);
+        assert_eq!(report.rows[0][1], "4 / 4 / 4");
+        assert_eq!((model.method.as_str(), model.name.as_str()), ("lma", "mine"));
+        assert_eq!(model.origin, "12 segments of 12_01.bvh labelled in labels.csv");
+        let family = crate::lma::classifier::EffortModel::from_json(std::str::from_utf8(bytes).unwrap()).unwrap();
+        assert_eq!(family.samples, 12);
+        let yours = format!(" · your classifiers ({})", model.origin);
+        let view = run_method(&mut w, 9, "lma", serde_json::json!({"model": "mine"}));
+        assert!(view.details.summary.ends_with(&yours), "{}", view.details.summary);
+        assert_eq!(view.segmentation.params["model"], "mine");
+        assert!(!run_method(&mut w, 10, "lma", serde_json::json!({})).details.summary.contains("your classifiers"));
+        let unknown = ask(
+            &mut w,
+            Request::Segment { take: 1, run: 11, method: "lma".into(), params: serde_json::json!({"model": "nope"}) },
+        );
+        let Some(Response::Refused { param, message, .. }) = unknown.last() else { panic!("{unknown:?}") };
+        assert_eq!(param.as_deref(), Some("model"));
+        assert!(message.contains("known: shipped, mine"), "{message}");
+
+        // the file loads back in a new worker under its stem; a bad file is refused naming it
+        let mut fresh = WorkerState::default();
+        let stored = ask(
+            &mut fresh,
+            Request::UseModel {
+                take: 9,
+                run: 12,
+                method: "lma".into(),
+                file: "saved-family.json".into(),
+                bytes: bytes.clone(),
+            },
+        );
+        let Some(Response::ModelStored { take: 9, run: 12, model: info }) = stored.last() else { panic!("{stored:?}") };
+        assert_eq!((info.name.as_str(), info.origin.as_str()), ("saved-family", model.origin.as_str()));
+        assert_eq!(fresh.models().names("lma"), vec!["saved-family"]);
+        let (message, _) = refusal(ask(
+            &mut fresh,
+            Request::UseModel {
+                take: 9,
+                run: 13,
+                method: "lma".into(),
+                file: "broken.json".into(),
+                bytes: b"{\"fps\": 30}".to_vec(),
+            },
+        ));
+        assert!(message.starts_with("broken.json: not an LMA effort model"), "{message}");
+        let mut three: serde_json::Value = serde_json::from_slice(bytes).unwrap();
+        three["factors"].as_array_mut().unwrap().pop();
+        let (message, _) = refusal(ask(
+            &mut fresh,
+            Request::UseModel {
+                take: 9,
+                run: 14,
+                method: "lma".into(),
+                file: "three.json".into(),
+                bytes: three.to_string().into_bytes(),
+            },
+        ));
+        assert!(message.contains("3 factors, expected 4"), "{message}");
+        // methods without models are said to have none
+        let (message, _) = refusal(ask(
+            &mut fresh,
+            Request::UseModel { take: 9, run: 15, method: "sssm".into(), file: "x".into(), bytes: vec![] },
+        ));
+        assert!(message.contains("SSSM is not a supervised method"), "{message}");
+    }
+
+    // ---- DT-FCN / k-NN models and training ------------------------------------------------
+
+    fn tiny_options(epochs: usize) -> serde_json::Value {
+        serde_json::json!({"filters": [8, 8], "crop_frames": 64, "epochs": epochs})
+    }
+
+    const LABELS_HEADER: &str = "file,start_frame,end_frame,label\n";
+
+    /// Label rows for 12_01.bvh (524 frames): three classes in turn.
+    fn walk_labels() -> String {
+        format!("{LABELS_HEADER}12_01.bvh,0,179,stand\n12_01.bvh,180,359,walk\n12_01.bvh,360,523,<b>turn</b>\n")
+    }
+
+    #[test]
+    fn the_worker_trains_a_dtfcn_one_epoch_per_message_stores_it_and_sends_the_file() {
         let mut w = WorkerState::default();
         assert!(w.next_step().is_none(), "nothing to continue before a training");
         let labels = format!("{}86_01.bvh,0,99,walk\n", walk_labels());
         let first =
-            ask(&mut w, train_dtfcn(7, "tiny-trained", labels, tiny_options(2), vec![("12_01.bvh", take_bytes())]));
+            ask(&mut w, train("dtfcn", 7, "tiny-trained", labels, tiny_options(2), vec![("12_01.bvh", take_bytes())]));
         // epoch 1 answers, and the worker asks for epoch 2 (it does not run it by itself)
-        let Some(Response::TrainingEpoch { take: 1, run: 7, report, more: true }) = first.last() else {
+        let Some(Response::TrainingStep { take: 1, run: 7, report, more: true }) = first.last() else {
             panic!("{first:?}")
         };
-        assert_eq!((report.epoch, report.epochs), (1, 2));
-        assert!(report.loss.is_finite() && (0.0..=1.0).contains(&report.train_accuracy), "{report:?}");
+        assert_eq!((report.step, report.steps), (1, 2));
+        assert!(report.line.starts_with("Epoch 1 of 2 · loss "), "{}", report.line);
+        assert!(report.values.iter().all(|(_, v)| (0.0..=1.0).contains(v)), "{report:?}");
         assert!(first.iter().any(|r| matches!(r, Response::Progress { run: Some(7), .. })));
         assert_eq!(w.next_step(), Some(Request::ContinueTraining { take: 1, run: 7 }));
         // a continue for another training is ignored
         assert!(ask(&mut w, Request::ContinueTraining { take: 1, run: 99 }).is_empty());
         let second = ask(&mut w, Request::ContinueTraining { take: 1, run: 7 });
         assert!(
-            matches!(&second[0], Response::TrainingEpoch { run: 7, more: false, report, .. } if report.epoch == 2),
+            matches!(&second[0], Response::TrainingStep { run: 7, more: false, report, .. } if report.step == 2),
             "{second:?}"
         );
-        let Some(Response::DtfcnTrained {
-            run: 7,
-            model,
-            reports,
-            best_epoch,
-            stopped: false,
-            used_rows: 3,
-            left_out,
-            bytes,
-            ..
-        }) = second.last()
-        else {
-            panic!("{second:?}")
-        };
+        let Some(Response::Trained { run: 7, model, report, bytes, .. }) = second.last() else { panic!("{second:?}") };
         assert!(w.next_step().is_none(), "the training is over");
-        assert_eq!(reports.len(), 2);
-        assert_eq!(*best_epoch, 2, "without validation takes the last epoch is kept");
-        assert_eq!(left_out, &vec!["86_01.bvh".to_string()]);
-        assert_eq!((model.name.as_str(), model.kind), ("tiny-trained", ModelKind::Dtfcn));
+        assert!(!report.stopped);
+        assert!(
+            report.summary.starts_with("Trained `tiny-trained` on 3 rows of labels.csv (rows for 86_01.bvh left out: not loaded): 3 classes (stand, walk, <b>turn</b>), 2 epochs, the weights of epoch 2 kept."),
+            "{}",
+            report.summary
+        );
+        assert_eq!((model.name.as_str(), model.method.as_str()), ("tiny-trained", "dtfcn"));
         assert_eq!(model.classes, vec!["stand", "walk", "<b>turn</b>"]);
         assert_eq!(model.colours.len(), 3);
-        assert_eq!(model.takes, vec!["12_01.bvh"]);
+        let command = &model.provenance.iter().find(|(k, _)| k == "command").unwrap().1;
         assert!(
-            model.command.starts_with("mocapseg train-dtfcn --bvh 12_01.bvh --labels labels.csv --epochs 2"),
-            "{}",
-            model.command
+            command.starts_with("mocapseg train-dtfcn --bvh 12_01.bvh --labels labels.csv --epochs 2"),
+            "{command}"
         );
-        assert!(model.command.contains("filters 8,8"), "{}", model.command);
+        assert!(command.contains("filters 8,8"), "{command}");
         assert!(bytes.starts_with(b"mocapseg-model\n"));
-        let back = Model::from_bytes(bytes, "tiny-trained.model").unwrap();
+        let back = crate::dtfcn::model::Model::from_bytes(bytes, "tiny-trained.model").unwrap();
         assert_eq!(back.header.classes, model.classes);
         assert_eq!(back.header.provenance.epochs_run, 2);
 
-        // the installed model labels the held take by its name
-        ask(
-            &mut w,
-            Request::Load {
-                take: 1,
-                name: "12_01.bvh".into(),
-                restore: false,
-                bytes: take_bytes(),
-                skeleton: None,
-                skeleton_bytes: Vec::new(),
-            },
-        );
-        let run = ask(
-            &mut w,
-            Request::Segment {
-                take: 1,
-                run: 8,
-                method: "dtfcn".into(),
-                params: serde_json::json!({"model": "tiny-trained"}),
-            },
-        );
-        let Some(Response::Segmented { view, .. }) = run.last() else { panic!("{:?}", run.last()) };
+        // the stored model labels the held take by its name
+        load_walk(&mut w, 1);
+        let view = run_method(&mut w, 8, "dtfcn", serde_json::json!({"model": "tiny-trained"}));
         assert_eq!(view.segmentation.params["model"], "tiny-trained");
         for s in &view.segmentation.segments {
             let label = s.cluster.map_or("unknown", |c| model.classes[c].as_str());
@@ -1258,24 +778,22 @@ mod tests {
         // the file loads back (under the name in it), not as a k-NN model
         let again = ask(
             &mut w,
-            Request::UseLabelModel {
+            Request::UseModel {
                 take: 5,
                 run: 9,
-                kind: ModelKind::Dtfcn,
+                method: "dtfcn".into(),
                 file: "renamed.model".into(),
                 bytes: bytes.clone(),
             },
         );
-        let Some(Response::LabelModelInUse { take: 5, run: 9, model: loaded }) = again.last() else {
-            panic!("{again:?}")
-        };
+        let Some(Response::ModelStored { take: 5, run: 9, model: loaded }) = again.last() else { panic!("{again:?}") };
         assert_eq!(loaded, model);
         let (message, _) = refusal(ask(
             &mut w,
-            Request::UseLabelModel {
+            Request::UseModel {
                 take: 5,
                 run: 10,
-                kind: ModelKind::Knn,
+                method: "knn".into(),
                 file: "renamed.model".into(),
                 bytes: bytes.clone(),
             },
@@ -1293,23 +811,39 @@ mod tests {
             ("noise.bin", random, "noise.bin: not a mocapseg model file"),
             ("empty.model", Vec::new(), "empty.model: not a mocapseg model file"),
         ] {
-            let (message, field) = refusal(ask(
+            let (message, param) = refusal(ask(
                 &mut w,
-                Request::UseLabelModel { take: 5, run: 11, kind: ModelKind::Dtfcn, file: file.into(), bytes: bad },
+                Request::UseModel { take: 5, run: 11, method: "dtfcn".into(), file: file.into(), bytes: bad },
             ));
             assert!(message.starts_with(says), "{message}");
-            assert_eq!(field, None);
+            assert_eq!(param, None);
         }
-        let run = ask(
+        let view =
+            run_method(&mut w, 12, "dtfcn", serde_json::json!({"model": "tiny-trained", "unknown_threshold": 0.99}));
+        assert!(!view.segmentation.segments.is_empty());
+    }
+
+    #[test]
+    fn the_worker_fits_a_knn_in_one_step_from_the_same_shape() {
+        let mut w = WorkerState::default();
+        let posted = train_to_the_end(
             &mut w,
-            Request::Segment {
-                take: 1,
-                run: 12,
-                method: "dtfcn".into(),
-                params: serde_json::json!({"model": "tiny-trained", "unknown_threshold": 0.99}),
-            },
+            train("knn", 2, "my-knn", walk_labels(), serde_json::json!({}), vec![("12_01.bvh", take_bytes())]),
         );
-        assert!(matches!(run.last(), Some(Response::Segmented { .. })), "{:?}", run.last());
+        let steps = posted.iter().filter(|r| matches!(r, Response::TrainingStep { .. })).count();
+        assert_eq!(steps, 1, "{posted:?}");
+        let Some(Response::Trained { model, report, .. }) = posted.last() else { panic!("{:?}", posted.last()) };
+        assert_eq!((model.method.as_str(), model.name.as_str()), ("knn", "my-knn"));
+        assert!(report.summary.contains("k-NN labels the take with it now"), "{}", report.summary);
+        load_walk(&mut w, 1);
+        let view = run_method(&mut w, 3, "knn", serde_json::json!({"model": "my-knn"}));
+        assert!(view.segmentation.segments.iter().any(|s| s.label == "walk"), "{:?}", view.segmentation.segments);
+        let (message, param) = refusal(ask(
+            &mut w,
+            train("knn", 4, "k", walk_labels(), serde_json::json!({"epochs": 3}), vec![("12_01.bvh", take_bytes())]),
+        ));
+        assert_eq!(param, None);
+        assert!(message.contains("no training options"), "{message}");
     }
 
     #[test]
@@ -1317,56 +851,40 @@ mod tests {
         let mut w = WorkerState::default();
         let first = ask(
             &mut w,
-            train_dtfcn(3, "tiny-stopped", walk_labels(), tiny_options(50), vec![("12_01.bvh", take_bytes())]),
+            train("dtfcn", 3, "tiny-stopped", walk_labels(), tiny_options(50), vec![("12_01.bvh", take_bytes())]),
         );
-        assert!(matches!(first.last(), Some(Response::TrainingEpoch { more: true, .. })), "{first:?}");
+        assert!(matches!(first.last(), Some(Response::TrainingStep { more: true, .. })), "{first:?}");
         // the page's stop is read before the worker's own continue
         assert!(
             ask(&mut w, Request::StopTraining { take: 1, run: 99 }).is_empty(),
             "another training's stop is ignored"
         );
         let stopped = ask(&mut w, Request::StopTraining { take: 1, run: 3 });
-        let [Response::DtfcnTrained { stopped: true, reports, best_epoch: 1, model, bytes, .. }] = &stopped[..] else {
-            panic!("{stopped:?}")
-        };
-        assert_eq!(reports.len(), 1);
-        assert_eq!(model.epochs_run, 1);
-        assert!(Model::from_bytes(bytes, "s.model").is_ok());
+        let [Response::Trained { report, bytes, .. }] = &stopped[..] else { panic!("{stopped:?}") };
+        assert!(report.stopped);
+        assert!(
+            report.summary.contains("stopped after 1 of 50 epochs, the weights of epoch 1 kept"),
+            "{}",
+            report.summary
+        );
+        let back = crate::dtfcn::model::Model::from_bytes(bytes, "s.model").unwrap();
+        assert_eq!(back.header.provenance.epochs_run, 1);
         assert!(w.next_step().is_none());
         assert!(
             ask(&mut w, Request::ContinueTraining { take: 1, run: 3 }).is_empty(),
             "the continue after a stop is ignored"
         );
         assert!(ask(&mut w, Request::StopTraining { take: 1, run: 3 }).is_empty(), "a second stop is ignored");
-        // and the stopped model is installed
-        ask(
-            &mut w,
-            Request::Load {
-                take: 1,
-                name: "12_01.bvh".into(),
-                restore: false,
-                bytes: take_bytes(),
-                skeleton: None,
-                skeleton_bytes: Vec::new(),
-            },
-        );
-        let run = ask(
-            &mut w,
-            Request::Segment {
-                take: 1,
-                run: 4,
-                method: "dtfcn".into(),
-                params: serde_json::json!({"model": "tiny-stopped"}),
-            },
-        );
-        assert!(matches!(run.last(), Some(Response::Segmented { .. })), "{:?}", run.last());
+        // and the stopped model is stored
+        load_walk(&mut w, 1);
+        run_method(&mut w, 4, "dtfcn", serde_json::json!({"model": "tiny-stopped"}));
         // a whole run after a stop: a new request replaces nothing left over
         let posted = train_to_the_end(
             &mut w,
-            train_dtfcn(5, "tiny-stopped", walk_labels(), tiny_options(1), vec![("12_01.bvh", take_bytes())]),
+            train("dtfcn", 5, "tiny-stopped", walk_labels(), tiny_options(1), vec![("12_01.bvh", take_bytes())]),
         );
         assert!(
-            matches!(posted.last(), Some(Response::DtfcnTrained { run: 5, stopped: false, .. })),
+            matches!(posted.last(), Some(Response::Trained { run: 5, report, .. }) if !report.stopped),
             "{:?}",
             posted.last()
         );
@@ -1376,60 +894,75 @@ mod tests {
     fn training_refusals_name_the_input_that_is_wrong() {
         let mut w = WorkerState::default();
         let walk = || vec![("12_01.bvh", take_bytes())];
-        let mut check = |request: Request, field: TrainField, says: &[&str]| {
-            let (message, f) = refusal(ask(&mut w, request));
-            assert_eq!(f, Some(field), "{message}");
+        let mut check = |request: Request, param: &str, says: &[&str]| {
+            let (message, p) = refusal(ask(&mut w, request));
+            assert_eq!(p.as_deref(), Some(param), "{message}");
             for s in says {
                 assert!(message.contains(s), "{message} should say {s}");
             }
             assert!(w.next_step().is_none(), "no training after a refusal");
         };
+        let t = |labels: String, options: serde_json::Value| train("dtfcn", 1, "m", labels, options, walk());
         let bad_line = walk_labels().replace("180,359", "180,abc");
-        check(
-            train_dtfcn(1, "m", bad_line, tiny_options(2), walk()),
-            TrainField::Labels,
-            &["labels.csv line 3", "`abc`"],
-        );
+        check(t(bad_line, tiny_options(2)), "labels", &["labels.csv line 3", "`abc`"]);
         let elsewhere = format!("{LABELS_HEADER}86_01.bvh,0,99,walk\n86_01.bvh,100,199,run\n");
-        check(
-            train_dtfcn(1, "m", elsewhere, tiny_options(2), walk()),
-            TrainField::Labels,
-            &["no row is for the loaded take `12_01.bvh`", "`86_01.bvh`"],
-        );
-        check(train_dtfcn(1, "m", LABELS_HEADER.into(), tiny_options(2), walk()), TrainField::Labels, &["no rows"]);
+        check(t(elsewhere, tiny_options(2)), "labels", &["no row is for the loaded take `12_01.bvh`", "`86_01.bvh`"]);
+        check(t(LABELS_HEADER.into(), tiny_options(2)), "labels", &["no rows"]);
         let one = format!("{LABELS_HEADER}12_01.bvh,0,523,walk\n");
-        check(train_dtfcn(1, "m", one, tiny_options(2), walk()), TrainField::Labels, &["1 class", "at least 2"]);
+        check(t(one, tiny_options(2)), "labels", &["1 class", "at least 2"]);
         let past = format!("{LABELS_HEADER}12_01.bvh,0,99,walk\n12_01.bvh,100,900,run\n");
-        check(
-            train_dtfcn(1, "m", past, tiny_options(2), walk()),
-            TrainField::Labels,
-            &["past the take's last frame 523"],
-        );
-        check(train_dtfcn(1, "m", walk_labels(), tiny_options(0), walk()), TrainField::Epochs, &["epochs 0"]);
-        check(
-            train_dtfcn(1, "m", walk_labels(), TrainOptions { label_noise: 2.0, ..tiny_options(2) }, walk()),
-            TrainField::LabelNoise,
-            &["label noise 2"],
-        );
-        check(
-            train_dtfcn(1, "m", walk_labels(), TrainOptions { mask_frames: 1000, ..tiny_options(2) }, walk()),
-            TrainField::MaskFrames,
-            &["mask 1000"],
-        );
-        check(
-            train_dtfcn(1, "m", walk_labels(), TrainOptions { width: 1, ..tiny_options(2) }, walk()),
-            TrainField::Width,
-            &["kernel width 1"],
-        );
-        check(train_dtfcn(1, "  ", walk_labels(), tiny_options(2), walk()), TrainField::Name, &["needs a name"]);
-        check(
-            train_dtfcn(1, "exercises", walk_labels(), tiny_options(2), walk()),
-            TrainField::Name,
-            &["shipped model"],
-        );
+        check(t(past, tiny_options(2)), "labels", &["past the take's last frame 523"]);
+        check(t(walk_labels(), tiny_options(0)), "epochs", &["epochs 0"]);
+        check(t(walk_labels(), serde_json::json!({"label_noise": 2.0})), "label_noise", &["label noise 2"]);
+        check(t(walk_labels(), serde_json::json!({"mask_frames": 1000})), "mask_frames", &["mask frames 1000"]);
+        check(t(walk_labels(), serde_json::json!({"width": 1})), "width", &["width 1"]);
+        check(t(walk_labels(), serde_json::json!({"filters": [8, 0]})), "filters", &["filters 8,0"]);
+        check(train("dtfcn", 1, "  ", walk_labels(), tiny_options(2), walk()), "name", &["needs a name"]);
+        check(train("dtfcn", 1, "exercises", walk_labels(), tiny_options(2), walk()), "name", &["shipped model"]);
         let broken = vec![("12_01.bvh", b"HIERARCHY\nROOT".to_vec())];
-        check(train_dtfcn(1, "m", walk_labels(), tiny_options(2), broken), TrainField::Takes, &["12_01.bvh: line"]);
+        check(train("dtfcn", 1, "m", walk_labels(), tiny_options(2), broken), "takes", &["12_01.bvh: line"]);
         let twice = vec![("12_01.bvh", take_bytes()), ("takes/12_01.BVH", take_bytes())];
-        check(train_dtfcn(1, "m", walk_labels(), tiny_options(2), twice), TrainField::Takes, &["given twice"]);
+        check(train("dtfcn", 1, "m", walk_labels(), tiny_options(2), twice), "takes", &["given twice"]);
+        // a method that does not train is said so, naming no input
+        let (message, param) =
+            refusal(ask(&mut w, train("sssm", 1, "m", walk_labels(), serde_json::json!({}), walk())));
+        assert!(message.contains("SSSM is not a supervised method") && param.is_none(), "{message}");
+    }
+
+    #[test]
+    fn a_refusal_names_its_input_as_data_and_the_glue_s_own_failure_none() {
+        let failed =
+            Response::Failed { take: 1, run: None, message: "x".into(), kind: FailureKind::Input, param: None };
+        assert!(!failed.into_packet().json.contains("param"), "no param: left out");
+        let named = Response::Failed {
+            take: 1,
+            run: Some(2),
+            message: "x".into(),
+            kind: FailureKind::Input,
+            param: Some("label_noise".into()),
+        };
+        let v: serde_json::Value = serde_json::from_str(&named.clone().into_packet().json).unwrap();
+        assert_eq!(v["param"], "label_noise");
+        assert_eq!(Response::from_packet(named.clone().into_packet()).unwrap(), named);
+        // worker.js's own failure message has no param
+        let glue = Packet {
+            json: r#"{"type":"failed","take":0,"run":7,"message":"internal error: x","kind":"internal"}"#.into(),
+            buffers: vec![],
+        };
+        assert!(matches!(
+            Response::from_packet(glue).unwrap(),
+            Response::Failed { param: None, kind: FailureKind::Internal, .. }
+        ));
+        let mut odd = crate::method::supervised::ModelInfo {
+            method: "dtfcn".into(),
+            name: "mine".into(),
+            classes: vec!["a".into(), "b".into()],
+            colours: vec!["#ff0000".into(), "#00ff00".into()],
+            origin: String::new(),
+            provenance: Vec::new(),
+        };
+        odd.colours.pop();
+        let bad = Response::ModelStored { take: 1, run: 2, model: odd }.into_packet();
+        assert!(Response::from_packet(bad).unwrap_err().contains("2 classes but 1 colours"));
     }
 }

@@ -887,21 +887,24 @@ function effortCsv(file, rows, extra = []) {
 
 const lmaTraining = () => page.evaluate(() => document.body.dataset.lmaTraining ?? "");
 
-/** Starts recording every value body[data-lma-training] and body[data-lma] take. */
+/** Starts recording every value body[data-lma-training], body[data-lma-model] and body[data-lma] take. */
 async function watchLma() {
   await page.evaluate(() => {
     window.__lmaTraining = [];
+    window.__lmaModel = [];
     window.__lma = [];
     window.__lmaObserver?.disconnect();
     window.__lmaObserver = new MutationObserver(() => {
       window.__lmaTraining.push(document.body.dataset.lmaTraining ?? "");
+      window.__lmaModel.push(document.body.dataset.lmaModel ?? "");
       window.__lma.push(document.body.dataset.lma ?? "");
     });
-    window.__lmaObserver.observe(document.body, { attributes: true, attributeFilter: ["data-lma-training", "data-lma"] });
+    window.__lmaObserver.observe(document.body,
+      { attributes: true, attributeFilter: ["data-lma-training", "data-lma-model", "data-lma"] });
   });
 }
 
-/** Waits until body[data-lma-training] went through `busy` (training, switching) and is `want`. */
+/** Waits until body[data-lma-training] went through `busy` and is `want`. */
 async function waitTraining(busy, want) {
   try {
     await page.waitForFunction(([b, w]) => window.__lmaTraining.includes(b) && document.body.dataset.lmaTraining === w,
@@ -914,23 +917,24 @@ async function waitTraining(busy, want) {
   }
 }
 
-/** Picks `csv` as the labels file `name`, clicks Train and waits for `want`; returns the milliseconds. */
+/** Picks `csv` as the training's labels file `name`, clicks Train and waits for `want`; returns the milliseconds. */
 async function train(name, csv, want) {
-  await page.setInputFiles("#lma-labels", { name, mimeType: "text/csv", buffer: Buffer.from(csv) });
-  await page.waitForFunction((n) => document.querySelector("#lma-labels-name")?.textContent === n, name);
-  await page.locator("#lma-train:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await page.setInputFiles("#lma-train-labels", { name, mimeType: "text/csv", buffer: Buffer.from(csv) });
+  await page.waitForFunction((n) => document.querySelector("#lma-train-labels-name")?.textContent === n, name);
+  await page.locator("#lma-train-start:not([disabled])").waitFor({ timeout: TIMEOUT });
   await watchLma();
   const started = Date.now();
-  await page.click("#lma-train");
+  await page.click("#lma-train-start");
   await waitTraining("training", want);
   return Date.now() - started;
 }
 
-/** Picks a family file (a path, or {name, mimeType, buffer}) and waits for `want`. */
+/** Picks a family file (a path, or {name, mimeType, buffer}) and waits for body[data-lma-model] to be `want`. */
 async function loadFamily(file, want) {
   await watchLma();
   await page.setInputFiles("#lma-model-file", file);
-  await waitTraining("switching", want);
+  await page.waitForFunction((w) => window.__lmaModel.includes("loading") && document.body.dataset.lmaModel === w,
+    want, { timeout: TIMEOUT });
 }
 
 /**
@@ -969,27 +973,30 @@ async function rerunLma(yours) {
   return waitLmaRun(yours);
 }
 
-test("LMA trains on the user's Effort labels in the browser, saves, reloads and drops its classifiers", async () => {
+test("LMA trains on the user's Effort labels in the browser, saves, reloads and goes back to its shipped classifiers", async () => {
   await page.waitForFunction(() => document.body.dataset.lma === "done", null, { timeout: TIMEOUT });
-  assert.equal(await lmaTraining(), "idle", "the shipped family at start");
-  assert.match(await text("#lma-train-status"), /shipped classifiers/);
-  assert.equal(await page.locator("#lma-model-shipped").isDisabled(), true, "nothing to go back from");
+  assert.equal(await lmaTraining(), "idle", "nothing trained at start");
+  assert.equal(await page.inputValue("#lma-model"), "shipped", "the shipped family at start");
+  assert.match(await text("#lma-model-status"), /Shipped LMA models: shipped\. Load a model file/);
   assert.doesNotMatch(await text("#lma-counts"), /your classifiers/);
-  // the panel sits right under the LMA panel
-  assert.equal(await page.evaluate(() => document.querySelector("#lma-panel")?.nextElementSibling?.id), "lma-training");
+  // the training is part of LMA's panel, built from what LMA declares: its CSV's header
+  assert.equal(await page.locator("#lma-panel #lma-training").count(), 1, "#lma-training in #lma-panel");
+  assert.match(await text("#lma-training"), /file,start_frame,end_frame,space,time,weight,flow/);
+  assert.equal(await page.locator("#lma-train-takes").count(), 0, "LMA trains on the take on screen only");
+  assert.equal(await page.inputValue("#lma-train-restarts"), "20", "the paper's 20 restarts by default");
 
-  // errors show in the status line, the page stays usable and the shipped family stays in use
+  // errors show at the labels input, the page stays usable and the shipped family stays in use
   const rows = 14;
   const bad = effortCsv(SAMPLE_HDR.name, rows).replace(/\n(.*?),neutral,/, "\n$1,nuetral,");
   const badLine = bad.split("\n").findIndex((l) => l.includes("nuetral")) + 1;
   await train("bad-value.csv", bad, "error");
-  assert.match(await text("#lma-train-status"), new RegExp(`bad-value\\.csv line ${badLine}\\b.*nuetral`),
-    "the status line names the bad line");
+  assert.match(await text("#lma-train-error-labels"), new RegExp(`bad-value\\.csv line ${badLine}\\b.*nuetral`),
+    "the labels' error names the bad line");
   await train("elsewhere.csv", effortCsv("86_01.bvh", rows), "error");
-  assert.match(await text("#lma-train-status"), new RegExp(`${SAMPLE_HDR.name.replace(".", "\\.")}.*86_01\\.bvh`),
-    "the status line names the loaded take and the file the rows name");
+  assert.match(await text("#lma-train-error-labels"), new RegExp(`${SAMPLE_HDR.name.replace(".", "\\.")}.*86_01\\.bvh`),
+    "the labels' error names the loaded take and the file the rows name");
   await train("few.csv", effortCsv(SAMPLE_HDR.name, 5), "error");
-  assert.match(await text("#lma-train-status"), /too few to train on/);
+  assert.match(await text("#lma-train-error-labels"), /too few to train on/);
   assert.equal(await page.locator("#lma-train-report").isVisible(), false, "no report without a training");
   await shot("e2e-lma-train-error.png");
 
@@ -1008,18 +1015,16 @@ test("LMA trains on the user's Effort labels in the browser, saves, reloads and 
     assert.equal(r[1].split("/").reduce((a, n) => a + Number(n), 0), rows, `segments per class of ${r[0]}: ${r[1]}`);
     assert.match(r[4], /^\d+ %$/, `validation error of ${r[0]}: ${r[4]}`);
   }
-  // LMA ran again by itself, with the user's classifiers
+  // the trained family is chosen in LMA's form and LMA ran again by itself with it
+  assert.equal(await page.inputValue("#lma-model"), "effort-lma", "the trained family is chosen by its name");
   await waitLmaRun(true);
   await shot("e2e-lma-trained.png");
   await page.locator("#lma-training").screenshot({ path: path.join(OUT, "e2e-lma-training-panel.png") });
 
-  // the download: a Blob URL of the family's JSON, named after the take (read from the saved
-  // file: the page's connect-src 'self' does not let a script fetch a blob: URL)
-  assert.match(await page.locator("#lma-model-download").getAttribute("href"), /^blob:/);
-  const stem = SAMPLE_HDR.name.replace(/\.bvh$/i, "");
-  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#lma-model-download")]);
-  assert.equal(download.suggestedFilename(), `lma-effort-${stem}.json`);
-  const saved = path.join(OUT, `lma-effort-${stem}.json`);
+  // the download: the family's JSON, named after the model
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#lma-train-download")]);
+  assert.equal(download.suggestedFilename(), "effort-lma.json");
+  const saved = path.join(OUT, "effort-lma.json");
   await download.saveAs(saved);
   const family = JSON.parse(readFileSync(saved, "utf8"));
   assert.equal(family.factors?.length, 4, "the downloaded family has 4 factors");
@@ -1055,41 +1060,38 @@ test("LMA trains on the user's Effort labels in the browser, saves, reloads and 
   assert.match(await text("#error-banner"), /internal error: simulated trap/, "the banner says the worker broke");
   await rerunLma(true);
 
-  // a training cancelled at once: the worker is replaced, the user's family stays in use
-  await page.setInputFiles("#lma-labels", { name: "effort.csv", mimeType: "text/csv", buffer: Buffer.from(csv) });
+  // a training stopped before its first step: the worker is replaced, the user's family stays
+  await page.setInputFiles("#lma-train-labels", { name: "effort.csv", mimeType: "text/csv", buffer: Buffer.from(csv) });
   await page.waitForFunction(() => /effort\.csv: ready to train/.test(document.querySelector("#lma-train-status")?.textContent));
-  await page.locator("#lma-train:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await page.locator("#lma-train-start:not([disabled])").waitFor({ timeout: TIMEOUT });
   await page.evaluate(() => {
-    document.querySelector("#lma-train").click();
-    document.querySelector("#lma-train-cancel").click();
+    document.querySelector("#lma-train-start").click();
+    document.querySelector("#lma-train-stop").click();
   });
-  await page.waitForFunction(() => document.body.dataset.lmaTraining === "done", null, { timeout: TIMEOUT });
-  assert.match(await text("#lma-train-status"), /Training cancelled; LMA still uses your classifiers/);
+  await page.waitForFunction(() => document.body.dataset.lmaTraining === "cancelled", null, { timeout: TIMEOUT });
+  assert.match(await text("#lma-train-status"), /Training cancelled; LMA runs with the model chosen in its panel/);
   await rerunLma(true);
 
-  // back to the shipped family: LMA runs again without the user's classifiers
-  await watchLma();
-  await page.click("#lma-model-shipped");
-  await waitTraining("switching", "idle");
-  await waitLmaRun(false);
-  assert.equal(await page.locator("#lma-model-download").isVisible(), false, "no download without a trained family");
+  // back to the shipped family: chosen in LMA's form, LMA runs without the user's classifiers
+  await page.selectOption("#lma-model", "shipped");
+  await rerunLma(false);
 
-  // a bad family file is refused with what is wrong; the shipped family stays
+  // a bad family file is refused with what is wrong; the family chosen stays
   await loadFamily({ name: "broken.json", mimeType: "application/json", buffer: Buffer.from('{"fps": 30}') }, "error");
-  assert.match(await text("#lma-train-status"), /broken\.json: not an LMA effort model/);
+  assert.match(await text("#lma-model-status"), /broken\.json: not an LMA effort model/);
+  assert.equal(await page.inputValue("#lma-model"), "shipped");
 
-  // the downloaded family loads back
+  // the downloaded family loads back, is chosen and runs
   await loadFamily(saved, "done");
-  assert.match(await text("#lma-train-status"), new RegExp(`Loaded lma-effort-${stem}\\.json`));
+  assert.match(await text("#lma-model-status"), /Loaded effort-lma\.json: LMA model `effort-lma`/);
+  assert.equal(await page.inputValue("#lma-model"), "effort-lma");
   const counts = await waitLmaRun(true);
   assert.match(counts, new RegExp(`your classifiers \\(${rows} segments of ${SAMPLE_HDR.name.replace(".", "\\.")} `
     + "labelled in effort\\.csv\\)"));
 
   // and the shipped one again, for the tests that follow
-  await watchLma();
-  await page.click("#lma-model-shipped");
-  await waitTraining("switching", "idle");
-  await waitLmaRun(false);
+  await page.selectOption("#lma-model", "shipped");
+  await rerunLma(false);
   assert.equal(await page.locator("#error-banner").isVisible(), false, "no error banner from the training");
 });
 
@@ -1334,7 +1336,7 @@ test("DT-FCN trains in the browser: refusals at their field, progress and plot, 
   await page.click("#dtfcn-training summary");
   const paper = "64,64,128,256,512";
   assert.equal(await page.inputValue("#dtfcn-train-filters"), paper);
-  assert.equal(await page.inputValue("#dtfcn-train-epochs"), "20", "20 epochs by default");
+  assert.equal(await page.inputValue("#dtfcn-train-epochs"), "60", "60 epochs by default, as on the command line");
 
   // refusals show at the input that is wrong; nothing is trained
   const refusals = [
@@ -1343,15 +1345,15 @@ test("DT-FCN trains in the browser: refusals at their field, progress and plot, 
     [labelCsv(SAMPLE_HDR.name, [[0, 99, "a"], [100, 199, "a"]]), {}, "labels", /1 class.*at least 2/],
     [labelCsv(SAMPLE_HDR.name, [[0, 99, "a"], [100, F + 5, "b"]]), {}, "labels", /past the take's last frame/],
     [csv, { "#dtfcn-train-epochs": "0" }, "epochs", /epochs 0/],
-    [csv, { "#dtfcn-train-epochs": "2.5" }, "epochs", /`2\.5` is not a whole number/],
-    [csv, { "#dtfcn-train-noise": "1.5" }, "label_noise", /label noise 1\.5/],
+    [csv, { "#dtfcn-train-epochs": "2.5" }, "epochs", /epochs = "2\.5": expected a whole number/],
+    [csv, { "#dtfcn-train-label_noise": "1.5" }, "label_noise", /label noise 1\.5/],
     [csv, { "#dtfcn-train-name": "exercises" }, "name", /shipped model/],
     [csv, { "#dtfcn-train-filters": "16,x" }, "filters", /whole numbers/],
   ];
   for (const [labels, fields, field, message] of refusals) {
     await pickLabels("labels.csv", labels);
     await page.fill("#dtfcn-train-epochs", "2");
-    await page.fill("#dtfcn-train-noise", "0");
+    await page.fill("#dtfcn-train-label_noise", "0");
     await page.fill("#dtfcn-train-name", "e2e-dtfcn");
     await page.fill("#dtfcn-train-filters", paper);
     for (const [sel, value] of Object.entries(fields)) await page.fill(sel, value);
@@ -1369,10 +1371,10 @@ test("DT-FCN trains in the browser: refusals at their field, progress and plot, 
   // two epochs: progress, plot, the model becomes DT-FCN's and labels the take
   await page.fill("#dtfcn-train-filters", paper);
   await page.fill("#dtfcn-train-epochs", "2");
-  await page.fill("#dtfcn-train-noise", "0.1");
-  await page.fill("#dtfcn-train-mask", "4");
-  await page.uncheck("#dtfcn-train-aug-jitter");
-  await page.selectOption("#dtfcn-train-width", "2");
+  await page.fill("#dtfcn-train-label_noise", "0.1");
+  await page.fill("#dtfcn-train-mask_frames", "4");
+  await page.uncheck("#dtfcn-train-augment-jitter");
+  await page.fill("#dtfcn-train-width", "2");
   await page.fill("#dtfcn-train-name", "e2e-dtfcn");
   await pickLabels("labels.csv", csv);
   // a second take besides the one on screen
@@ -1832,10 +1834,10 @@ test("file names, a model's name and labels, and joint names show as text, never
   await page.locator("#error-dismiss").click();
 
   // the training inputs' file names
-  await page.setInputFiles("#lma-labels", { name: `${XSS}.csv`, mimeType: "text/csv", buffer: Buffer.from(`${LMA_HEADER}\n`) });
-  await page.waitForFunction((n) => document.querySelector("#lma-labels-name")?.textContent === n, `${XSS}.csv`);
+  await page.setInputFiles("#lma-train-labels", { name: `${XSS}.csv`, mimeType: "text/csv", buffer: Buffer.from(`${LMA_HEADER}\n`) });
+  await page.waitForFunction((n) => document.querySelector("#lma-train-labels-name")?.textContent === n, `${XSS}.csv`);
   await pickLabels(`${XSS}.csv`, labelCsv("joints.bvh", [[0, 99, XSS], [100, 199, "b"]]));
-  assert.equal(await page.locator("#lma-labels-name *, #dtfcn-train-labels-name *").count(), 0, "no markup in the file names");
+  assert.equal(await page.locator("#lma-train-labels-name *, #dtfcn-train-labels-name *").count(), 0, "no markup in the file names");
   await assertNoInjection("the label files' names");
 });
 

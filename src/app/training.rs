@@ -1,0 +1,797 @@
+//! What a supervised method adds to its panel, built from what it declares
+//! ([`crate::method::Supervision`]) — nothing here knows any method:
+//!
+//! * [`ModelFile`] — `#<method>-model-file` ("Load model file…") reads a model file of the method
+//!   (`.<ext>` as it declares); the worker reads it with the method's own reader and stores it;
+//!   the page adds it to the method's `model` choice (`#<method>-model`), chooses it and runs the
+//!   method again. `#<method>-model-status` says which models the method has, what was loaded,
+//!   or — for a bad file — the method's message (the model in use stays).
+//!   `document.body.dataset.<method>Model` (`data-<method>-model`): `idle`, `loading`, `done` or
+//!   `error`.
+//! * [`TrainingPanel`] — `#<method>-training`: the label CSV (`#<method>-train-labels`, its
+//!   header as the method declares it), more takes besides the one on screen when the method
+//!   can use them (`#<method>-train-takes`), the model's name (`#<method>-train-name`), every
+//!   training option of the method's table as a field `#<method>-train-<option>` (the basic ones
+//!   shown, the others under "More options"), Train (`#<method>-train-start`) and Stop
+//!   (`#<method>-train-stop`: after the step under way the best model so far is kept; before the
+//!   first step the worker is replaced), `#<method>-train-progress`, `#<method>-train-status`,
+//!   the method's report table `#<method>-train-report`, a plot of the values each step reports
+//!   `#<method>-train-plot`, and `#<method>-train-download` (the model file, `NAME.<ext>`).
+//!   A refusal shows at the input that is wrong: `#<method>-train-error-<input>` (`labels`,
+//!   `takes`, `name` or an option). `document.body.dataset.<method>Training`
+//!   (`data-<method>-training`): `idle`, `training`, `stopping`, `done`, `cancelled` or `error`.
+//!
+//! The page holds every model it was given or trained ([`UserModel`], its file's bytes) and the
+//! loader sends them to each worker it starts, so a worker replaced after a cancel or a crash still
+//! knows them. The "my labels" row trains the method that declares `trains_on_my_labels` through
+//! [`Supervised::request`] ([`TrainRequest`]).
+
+use super::loader::{Loader, MAX_FILE_BYTES};
+use super::method_panel::field;
+use super::motion_image::{download, stem};
+use super::AppState;
+use crate::method::supervised::{model_file_name, ModelInfo, StepReport, TrainingReport};
+use crate::method::{form, ParamSpec, Supervision};
+use js_sys::Uint8Array;
+use leptos::html::Canvas;
+use leptos::prelude::*;
+use std::sync::Arc;
+use wasm_bindgen::{JsCast, JsValue};
+use wasm_bindgen_futures::JsFuture;
+use web_sys::{CanvasRenderingContext2d, File, HtmlCanvasElement, HtmlInputElement};
+
+/// The largest label CSV the page reads.
+const MAX_LABELS_BYTES: f64 = 16.0 * 1024.0 * 1024.0;
+/// The largest model file the page reads (the core refuses weights over 256 MiB).
+const MAX_MODEL_BYTES: f64 = 300.0 * 1024.0 * 1024.0;
+
+/// Where a training stands.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TrainState {
+    /// Nothing trained yet.
+    Idle,
+    /// The worker prepares (`stage`, `step` 0) or trains (`step` of `steps` done).
+    Training { stage: String, step: usize, steps: usize, fraction: f64 },
+    /// Stop was pressed: the worker ends after the step under way.
+    Stopping,
+    /// The last training ended with a model.
+    Done,
+    /// The last training was cancelled before its first step (the worker was replaced).
+    Cancelled,
+    /// The last training was refused or failed.
+    Failed,
+}
+
+impl TrainState {
+    /// The value of `document.body.dataset.<method>Training`.
+    pub fn body_state(&self) -> &'static str {
+        match self {
+            TrainState::Idle => "idle",
+            TrainState::Training { .. } => "training",
+            TrainState::Stopping => "stopping",
+            TrainState::Done => "done",
+            TrainState::Cancelled => "cancelled",
+            TrainState::Failed => "error",
+        }
+    }
+
+    pub fn busy(&self) -> bool {
+        matches!(self, TrainState::Training { .. } | TrainState::Stopping)
+    }
+}
+
+/// Where the last model file load of one method stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LoadStatus {
+    Idle,
+    Loading,
+    Done,
+    Failed,
+}
+
+impl LoadStatus {
+    pub fn body_state(self) -> &'static str {
+        match self {
+            LoadStatus::Idle => "idle",
+            LoadStatus::Loading => "loading",
+            LoadStatus::Done => "done",
+            LoadStatus::Failed => "error",
+        }
+    }
+}
+
+/// A model the user gave the page or trained in it: what the worker said of it and its file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UserModel {
+    pub info: ModelInfo,
+    /// The file's name (a worker stores the model under the same name from it again).
+    pub file: String,
+    pub bytes: Arc<Vec<u8>>,
+}
+
+/// A trained model the page offers for download.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrainedFile {
+    pub name: String,
+    pub bytes: Arc<Vec<u8>>,
+}
+
+/// A training asked from elsewhere on the page (the "my labels" row).
+#[derive(Debug, Clone, PartialEq)]
+pub enum TrainRequest {
+    /// Train on `csv` (a label CSV named `labels_name`) with the form's options; `model_name`
+    /// unless the user typed a name.
+    Labels { labels_name: String, csv: String, model_name: String },
+    /// Stop the training under way (as the Stop button).
+    Stop,
+}
+
+/// What the user asked to train (the loader keeps it to send it again to a new worker).
+#[derive(Debug, Clone)]
+pub struct TrainAsk {
+    pub name: String,
+    pub labels_name: String,
+    pub labels: String,
+    /// Takes besides the one on screen: file names and bytes.
+    pub extra: Vec<(String, Arc<Vec<u8>>)>,
+    /// The options as the method's table reads them.
+    pub options: serde_json::Value,
+}
+
+/// A supervised method's training and models on the page, as signals (part of its
+/// [`super::MethodSlot`]).
+#[derive(Debug)]
+pub struct Supervised {
+    pub decl: Supervision,
+    /// The training options' form text, one per row of `decl.training`.
+    pub fields: Vec<RwSignal<String>>,
+    /// The model's name, and whether the user typed it.
+    pub name: RwSignal<String>,
+    pub named: RwSignal<bool>,
+    /// The chosen label CSV: its name and text.
+    pub labels: RwSignal<Option<(String, String)>>,
+    /// Takes besides the one on screen.
+    pub extra: RwSignal<Vec<(String, Arc<Vec<u8>>)>>,
+    pub state: RwSignal<TrainState>,
+    /// The status line.
+    pub status: RwSignal<String>,
+    /// The steps of the training under way or the last one.
+    pub steps: RwSignal<Vec<StepReport>>,
+    /// The last training's report.
+    pub report: RwSignal<Option<TrainingReport>>,
+    /// What is wrong with which input (shown next to it).
+    pub errors: RwSignal<Vec<(String, String)>>,
+    /// The last trained model.
+    pub trained: RwSignal<Option<TrainedFile>>,
+    /// What another part of the page asks (taken by the panel).
+    pub request: RwSignal<Option<TrainRequest>>,
+    /// Every model the user gave the page or trained in it, in the order given (one per name).
+    pub models: RwSignal<Vec<Arc<UserModel>>>,
+    /// The model file input: where its last load stands and its status line.
+    pub file_state: RwSignal<LoadStatus>,
+    pub file_status: RwSignal<String>,
+}
+
+impl Supervised {
+    pub fn new(decl: Supervision, method: &str) -> Supervised {
+        let fields = decl.training.iter().map(|s| RwSignal::new(form::field_text(&s.default))).collect();
+        Supervised {
+            decl,
+            fields,
+            name: RwSignal::new(format!("my-{method}")),
+            named: RwSignal::new(false),
+            labels: RwSignal::new(None),
+            extra: RwSignal::new(Vec::new()),
+            state: RwSignal::new(TrainState::Idle),
+            status: RwSignal::new(String::new()),
+            steps: RwSignal::new(Vec::new()),
+            report: RwSignal::new(None),
+            errors: RwSignal::new(Vec::new()),
+            trained: RwSignal::new(None),
+            request: RwSignal::new(None),
+            models: RwSignal::new(Vec::new()),
+            file_state: RwSignal::new(LoadStatus::Idle),
+            file_status: RwSignal::new(String::new()),
+        }
+    }
+
+    /// Shows `message` at the input `input`.
+    pub fn refuse(&self, input: &str, message: String) {
+        self.errors.update(|e| {
+            e.retain(|(i, _)| i != input);
+            e.push((input.to_string(), message));
+        });
+    }
+
+    /// Whether `input` is one the form shows a message at.
+    pub fn has_input(&self, input: &str) -> bool {
+        matches!(input, "labels" | "name")
+            || (input == "takes" && self.decl.more_takes)
+            || self.decl.training.iter().any(|s| s.name == input)
+    }
+
+    /// Adds `model` (replacing one of its name).
+    pub fn add(&self, model: UserModel) {
+        self.models.update(|list| {
+            list.retain(|m| m.info.name != model.info.name);
+            list.push(Arc::new(model));
+        });
+    }
+
+    /// Drops the model called `name`.
+    pub fn remove(&self, name: &str) {
+        self.models.update(|list| list.retain(|m| m.info.name != name));
+    }
+
+    /// The model file name of the model `name`.
+    pub fn file_name(&self, name: &str) -> String {
+        model_file_name(name, &self.decl.model_extension)
+    }
+}
+
+/// The supervised method the "my labels" row trains (the first that declares
+/// `trains_on_my_labels`): its short name and its training.
+pub fn my_labels_trainer(state: AppState) -> Option<(&'static str, &'static Supervised)> {
+    let methods: &'static [super::MethodSlot] = state.methods;
+    methods
+        .iter()
+        .find_map(|m| m.supervised.as_ref().filter(|s| s.decl.trains_on_my_labels).map(|s| (m.info.short.as_str(), s)))
+}
+
+/// Whether the method called `method` labels every frame with its model's classes (as it declares).
+pub fn labels_classes(method: &str) -> bool {
+    crate::method::find(method).ok().and_then(|m| m.supervision()).is_some_and(|s| s.labels_classes)
+}
+
+/// How a model was made, in a few words.
+pub fn describe(info: &ModelInfo) -> String {
+    info.origin.clone()
+}
+
+/// The bytes of `file`, or why it cannot be read.
+pub async fn read_bytes(file: &File, limit: f64) -> Result<Vec<u8>, String> {
+    let name = file.name();
+    if file.size() > limit {
+        let mib = file.size() / 1024.0 / 1024.0;
+        return Err(format!("{name}: {mib:.0} MiB is more than the page reads ({:.0} MiB)", limit / 1024.0 / 1024.0));
+    }
+    let buffer =
+        JsFuture::from(file.array_buffer()).await.map_err(|e| format!("{name}: could not read the file: {e:?}"))?;
+    Ok(Uint8Array::new(&buffer).to_vec())
+}
+
+/// The text of `file`, or why it cannot be read.
+async fn read_text(file: &File, limit: f64) -> Result<String, String> {
+    let name = file.name();
+    if file.size() > limit {
+        let mib = file.size() / 1024.0 / 1024.0;
+        return Err(format!("{name}: {mib:.0} MiB is more than the page reads ({:.0} MiB)", limit / 1024.0 / 1024.0));
+    }
+    let text = JsFuture::from(file.text()).await.map_err(|e| format!("{name}: could not read the file: {e:?}"))?;
+    text.as_string().ok_or_else(|| format!("{name}: the file is not text"))
+}
+
+/// The files an `<input type=file>` change picked (and the input emptied, so that picking the
+/// same file again reads it again).
+pub fn picked_files(ev: &leptos::ev::Event) -> Vec<File> {
+    let Some(input) = ev.target().and_then(|t| t.dyn_into::<HtmlInputElement>().ok()) else { return Vec::new() };
+    let files = input.files().map(|list| (0..list.length()).filter_map(|i| list.get(i)).collect()).unwrap_or_default();
+    input.set_value("");
+    files
+}
+
+/// Sets `data-<name>` on `<body>` to what `value` says, whenever it changes.
+fn body_data(name: String, value: impl Fn() -> &'static str + 'static) {
+    Effect::new(move |_| {
+        let value = value();
+        if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
+            let _ = body.set_attribute(&name, value);
+        }
+    });
+}
+
+/// `#<method>-model-file` and its status line.
+#[component]
+pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView {
+    let slot = &state.methods[index];
+    let Some(s) = slot.supervised.as_ref() else { return ().into_any() };
+    let method = slot.info.name.clone();
+    let short = slot.info.short.clone();
+    body_data(format!("data-{method}-model"), move || s.file_state.get().body_state());
+
+    let on_file = move |ev: leptos::ev::Event| {
+        let Some(file) = picked_files(&ev).into_iter().next() else { return };
+        let loader = loader.clone();
+        s.file_state.set(LoadStatus::Loading);
+        s.file_status.set(format!("Reading {}…", file.name()));
+        wasm_bindgen_futures::spawn_local(async move {
+            match read_bytes(&file, MAX_MODEL_BYTES).await {
+                Ok(bytes) => loader.use_model(index, file.name(), bytes),
+                Err(message) => {
+                    s.file_status.set(message);
+                    s.file_state.set(LoadStatus::Failed);
+                }
+            }
+        });
+    };
+    // the status line: the last load's outcome, else the models the method has
+    let status = move || {
+        let text = s.file_status.get();
+        if !text.is_empty() {
+            return text;
+        }
+        let mine: Vec<String> = s.models.with(|l| l.iter().map(|m| m.info.name.clone()).collect());
+        let shipped = s.decl.shipped.join(", ");
+        if mine.is_empty() {
+            format!("Shipped {short} models: {shipped}. Load a model file to add your own.")
+        } else {
+            format!("Shipped {short} models: {shipped}; yours: {}.", mine.join(", "))
+        }
+    };
+    let id = format!("{method}-model-file");
+    let accept = format!(".{},application/octet-stream,application/json", s.decl.model_extension);
+    view! {
+        <div class="ms-method-params ms-model-file">
+            <label class="ms-button ms-button--quiet" for=id.clone()>"Load model file…"</label>
+            <input
+                id=id
+                class="ms-visually-hidden"
+                type="file"
+                accept=accept
+                disabled=move || s.file_state.get() == LoadStatus::Loading
+                on:change=on_file
+            />
+            <span
+                id=format!("{method}-model-status")
+                class="ms-model-status"
+                class:ms-field-error=move || s.file_state.get() == LoadStatus::Failed
+                role="status"
+                aria-live="polite"
+            >
+                {status}
+            </span>
+        </div>
+    }
+    .into_any()
+}
+
+/// One training option's field with the place for its refusal.
+fn option_field(method: &str, s: &'static Supervised, spec: &ParamSpec, value: RwSignal<String>) -> AnyView {
+    let input = spec.name.clone();
+    let message = move || s.errors.with(|e| e.iter().find(|(i, _)| *i == input).map(|(_, m)| m.clone()));
+    let shown = message.clone();
+    view! {
+        {field(&format!("{method}-train"), spec, value, RwSignal::new(Vec::new()))}
+        <span id=format!("{method}-train-error-{}", spec.name) class="ms-field-error" role="alert" hidden=move || shown().is_none()>
+            {move || message().unwrap_or_default()}
+        </span>
+    }
+    .into_any()
+}
+
+#[component]
+pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl IntoView {
+    let slot = &state.methods[index];
+    let Some(s) = slot.supervised.as_ref() else { return ().into_any() };
+    let method = slot.info.name.clone();
+    let short = slot.info.short.clone();
+    let step_name = s.decl.step_name.clone();
+    let busy = move || s.state.with(TrainState::busy);
+    body_data(format!("data-{method}-training"), move || s.state.with(TrainState::body_state));
+
+    let clear = move |input: &str| s.errors.update(|e| e.retain(|(i, _)| i != input));
+    let on_labels = move |ev: leptos::ev::Event| {
+        let Some(file) = picked_files(&ev).into_iter().next() else { return };
+        clear("labels");
+        let method = slot.info.name.clone();
+        wasm_bindgen_futures::spawn_local(async move {
+            match read_text(&file, MAX_LABELS_BYTES).await {
+                Ok(text) => {
+                    if !s.named.get_untracked() {
+                        s.name.set(format!("{}-{method}", stem(&file.name())));
+                    }
+                    if !s.state.with_untracked(TrainState::busy) {
+                        s.status.set(format!("{}: ready to train on the take on screen.", file.name()));
+                    }
+                    s.labels.set(Some((file.name(), text)));
+                }
+                Err(message) => {
+                    s.labels.set(None);
+                    s.refuse("labels", message);
+                }
+            }
+        });
+    };
+    let on_takes = move |ev: leptos::ev::Event| {
+        let files = picked_files(&ev);
+        if files.is_empty() {
+            return;
+        }
+        clear("takes");
+        wasm_bindgen_futures::spawn_local(async move {
+            let mut read = Vec::new();
+            for file in files {
+                match read_bytes(&file, MAX_FILE_BYTES).await {
+                    Ok(bytes) => read.push((file.name(), Arc::new(bytes))),
+                    Err(message) => {
+                        s.refuse("takes", message);
+                        return;
+                    }
+                }
+            }
+            s.extra.update(|list| {
+                for (n, b) in read {
+                    list.retain(|(m, _)| *m != n);
+                    list.push((n, b));
+                }
+            });
+        });
+    };
+    let on_clear_takes = move |_| {
+        s.extra.set(Vec::new());
+        clear("takes");
+    };
+
+    let start_loader = loader.clone();
+    let start = move || {
+        if busy() {
+            return;
+        }
+        let Some((labels_name, text)) = s.labels.get_untracked() else {
+            s.refuse("labels", "choose a label CSV first".into());
+            return;
+        };
+        s.errors.set(Vec::new());
+        let texts: Vec<String> = s.fields.iter().map(|f| f.get_untracked()).collect();
+        let options = match form::params_from_form(&slot.info.short, &s.decl.training, &texts) {
+            Ok(options) => options,
+            Err(e) => {
+                let input = e.param_name().unwrap_or("labels").to_string();
+                s.refuse(&input, e.to_string());
+                s.state.set(TrainState::Failed);
+                s.status.set("Not trained: an option below cannot be read.".into());
+                return;
+            }
+        };
+        start_loader.train(
+            index,
+            TrainAsk {
+                name: s.name.get_untracked().trim().to_string(),
+                labels_name,
+                labels: text,
+                extra: if s.decl.more_takes { s.extra.get_untracked() } else { Vec::new() },
+                options,
+            },
+        );
+    };
+    let on_start = {
+        let start = start.clone();
+        move |ev: leptos::ev::SubmitEvent| {
+            ev.prevent_default();
+            start();
+        }
+    };
+    // the "my labels" row's requests: its rows as the chosen labels, trained at once; or Stop
+    let request_loader = loader.clone();
+    Effect::new(move |_| {
+        let Some(request) = s.request.get() else { return };
+        s.request.set(None);
+        match request {
+            TrainRequest::Labels { labels_name, csv, model_name } => {
+                clear("labels");
+                if !s.named.get_untracked() {
+                    s.name.set(model_name);
+                }
+                s.labels.set(Some((labels_name, csv)));
+                start();
+            }
+            TrainRequest::Stop => request_loader.stop_training(index),
+        }
+    });
+    let stop_loader = loader.clone();
+    let on_stop = move |_| stop_loader.stop_training(index);
+    let on_download = move |_| {
+        if let Some(file) = s.trained.get_untracked() {
+            let file_name = s.file_name(&file.name);
+            if let Err(e) = download(&file.bytes, "application/octet-stream", &file_name) {
+                state.show_error(format!("could not save {file_name}: {e:?}"));
+            }
+        }
+    };
+
+    let error = move |input: &'static str| {
+        let id = format!("{}-train-error-{input}", slot.info.name);
+        let text = move || s.errors.with(|e| e.iter().find(|(i, _)| i == input).map(|(_, m)| m.clone()));
+        view! {
+            <span id=id class="ms-field-error" role="alert" hidden=move || text().is_none()>
+                {move || text().unwrap_or_default()}
+            </span>
+        }
+    };
+    let progress = move || {
+        s.state.with(|st| match st {
+            TrainState::Training { stage, step, steps, fraction } => (stage.clone(), *step, *steps, *fraction),
+            _ => (String::new(), 0, 1, 0.0),
+        })
+    };
+    let progress_label = {
+        let step_name = step_name.clone();
+        move || {
+            if s.state.with(|st| *st == TrainState::Stopping) {
+                return format!("Stopping after this {step_name}…");
+            }
+            let (stage, step, _, _) = progress();
+            match (step, s.steps.with(|r| r.last().map(|r| r.line.clone()))) {
+                (0, _) | (_, None) => format!("Training: {stage}…"),
+                (_, Some(line)) => line,
+            }
+        }
+    };
+    // the bar: steps done of steps while stepping, else the stage's own fraction
+    let bar = move || {
+        let (_, step, steps, fraction) = progress();
+        if step > 0 && steps > 1 {
+            (step as f64 / steps as f64).clamp(0.0, 1.0)
+        } else {
+            fraction.clamp(0.0, 1.0)
+        }
+    };
+    let takes_text = move || {
+        s.extra.with(|list| {
+            if list.is_empty() {
+                "only the take on screen".to_string()
+            } else {
+                format!(
+                    "the take on screen and {}",
+                    list.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(", ")
+                )
+            }
+        })
+    };
+    let options = || s.decl.training.iter().zip(&s.fields);
+    let basic: Vec<AnyView> =
+        options().filter(|(spec, _)| spec.basic).map(|(spec, v)| option_field(&slot.info.name, s, spec, *v)).collect();
+    let advanced: Vec<AnyView> =
+        options().filter(|(spec, _)| !spec.basic).map(|(spec, v)| option_field(&slot.info.name, s, spec, *v)).collect();
+    let has_advanced = !advanced.is_empty();
+    // a refusal of an option under "More options" opens it (and nothing closes what the user opened)
+    let details_ref = NodeRef::<leptos::html::Details>::new();
+    Effect::new(move |_| {
+        let refused =
+            s.errors.with(|e| e.iter().any(|(i, _)| s.decl.training.iter().any(|spec| !spec.basic && spec.name == *i)));
+        if let Some(details) = details_ref.get().filter(|_| refused) {
+            details.set_open(true);
+        }
+    });
+    let more_takes = s.decl.more_takes.then(|| {
+        let id = format!("{method}-train-takes");
+        view! {
+            <div class="ms-method-params">
+                <label class="ms-button ms-button--quiet" for=id.clone()>"More takes…"</label>
+                <input id=id class="ms-visually-hidden" type="file" multiple=true accept=".bvh" on:change=on_takes/>
+                <span id=format!("{method}-train-takes-names") class="ms-lma-file">{takes_text}</span>
+                <button
+                    id=format!("{method}-train-takes-clear")
+                    class="ms-button ms-button--quiet"
+                    type="button"
+                    hidden=move || s.extra.with(Vec::is_empty)
+                    on:click=on_clear_takes
+                >
+                    "Only the take on screen"
+                </button>
+                {error("takes")}
+            </div>
+        }
+    });
+    let report_rows = move || {
+        s.report.with(|r| {
+            r.as_ref()
+                .map(|r| {
+                    r.rows
+                        .iter()
+                        .map(|row| {
+                            let mut cells = row.iter();
+                            let head = cells.next().cloned().unwrap_or_default();
+                            let rest = cells.map(|c| view! { <td>{c.clone()}</td> }).collect_view();
+                            view! { <tr><th scope="row">{head}</th>{rest}</tr> }
+                        })
+                        .collect_view()
+                })
+                .unwrap_or_default()
+        })
+    };
+    let report_head = move || {
+        s.report.with(|r| {
+            r.as_ref()
+                .map(|r| r.columns.iter().map(|c| view! { <th scope="col">{c.clone()}</th> }).collect_view())
+                .unwrap_or_default()
+        })
+    };
+    let no_report = move || s.report.with(|r| r.as_ref().is_none_or(|r| r.rows.is_empty()));
+    let stopping = move || s.state.with(|st| *st == TrainState::Stopping);
+    let labels_id = format!("{method}-train-labels");
+    let labels_accept = ".csv,text/csv";
+
+    view! {
+        <section id=format!("{method}-training") class="ms-dtfcn-training" aria-label=format!("Train a {short} model on your labels")>
+            <h3>{format!("Train a {short} model on your labels")}</h3>
+            <p class="ms-lma-help">
+                "A CSV with the header " <code>{s.decl.labels_header.clone()}</code> ". " {s.decl.labels_help.clone()}
+            </p>
+            <form id=format!("{method}-train-form") class="ms-dtfcn-train-form" novalidate=true on:submit=on_start>
+                <div class="ms-method-params">
+                    <label class="ms-button ms-button--quiet" for=labels_id.clone()>"Label CSV…"</label>
+                    <input id=labels_id class="ms-visually-hidden" type="file" accept=labels_accept on:change=on_labels/>
+                    <span id=format!("{method}-train-labels-name") class="ms-lma-file">
+                        {move || s.labels.with(|l| l.as_ref().map_or("no file chosen".to_string(), |(n, _)| n.clone()))}
+                    </span>
+                    {error("labels")}
+                </div>
+                {more_takes}
+                <div class="ms-method-params">
+                    {basic}
+                    <label title="The model's name in the model choice, and its file's name.">
+                        "model name "
+                        <input
+                            id=format!("{method}-train-name")
+                            type="text"
+                            size="14"
+                            bind:value=s.name
+                            on:input=move |_| s.named.set(true)
+                        />
+                    </label>
+                    {error("name")}
+                </div>
+                <details class="ms-method-advanced" hidden=!has_advanced node_ref=details_ref>
+                    <summary>"More options"</summary>
+                    <div class="ms-method-params">{advanced}</div>
+                </details>
+                <div class="ms-method-params">
+                    <button
+                        id=format!("{method}-train-start")
+                        class="ms-button"
+                        type="submit"
+                        disabled=move || busy() || s.labels.with(Option::is_none) || state.motion.with(Option::is_none)
+                    >
+                        "Train"
+                    </button>
+                    <button
+                        id=format!("{method}-train-stop")
+                        class="ms-button ms-button--quiet"
+                        type="button"
+                        hidden=move || !busy()
+                        disabled=stopping
+                        on:click=on_stop
+                    >
+                        "Stop"
+                    </button>
+                    <div id=format!("{method}-train-progress") class="ms-progress" role="status" aria-live="polite" hidden=move || !busy()>
+                        <progress max="1" value=move || bar().to_string()></progress>
+                        <span class="ms-progress-label">{progress_label}</span>
+                    </div>
+                    <button
+                        id=format!("{method}-train-download")
+                        class="ms-button ms-button--quiet"
+                        type="button"
+                        hidden=move || s.trained.with(Option::is_none)
+                        on:click=on_download
+                    >
+                        {move || s.trained.with(|f| f.as_ref().map(|f| format!("Download {}", s.file_name(&f.name))).unwrap_or_default())}
+                    </button>
+                </div>
+            </form>
+            <p
+                id=format!("{method}-train-status")
+                class="ms-lma-status"
+                class:ms-lma-status--error=move || s.state.with(|st| *st == TrainState::Failed)
+                role="status"
+                aria-live="polite"
+                hidden=move || s.status.with(String::is_empty)
+            >
+                {move || s.status.get()}
+            </p>
+            <table id=format!("{method}-train-report") class="ms-lma-report" hidden=no_report>
+                <thead><tr>{report_head}</tr></thead>
+                <tbody>{report_rows}</tbody>
+            </table>
+            <TrainingPlot method=method.clone() supervised=s/>
+        </section>
+    }
+    .into_any()
+}
+
+/// `#<method>-train-plot`: every value the steps report (each in 0–1) over the steps so far,
+/// redrawn after each; a dot marks the step whose model is kept.
+#[component]
+fn TrainingPlot(method: String, supervised: &'static Supervised) -> impl IntoView {
+    let s = supervised;
+    let canvas_ref = NodeRef::<Canvas>::new();
+    Effect::new(move |_| {
+        let Some(canvas) = canvas_ref.get() else { return };
+        s.steps.with(|steps| {
+            if let Err(e) = draw_plot(&canvas, steps) {
+                web_sys::console::error_2(&"could not draw the training plot".into(), &e);
+            }
+        });
+    });
+    let empty = move || s.steps.with(|steps| steps.iter().all(|r| r.values.is_empty()));
+    let names = move || {
+        s.steps.with(|steps| {
+            let Some(last) = steps.last() else { return String::new() };
+            last.values
+                .iter()
+                .enumerate()
+                .map(|(k, (name, _))| format!("{}: {name}", COLOURS[k % COLOURS.len()].1))
+                .collect::<Vec<_>>()
+                .join(", ")
+        })
+    };
+    view! {
+        <figure class="ms-method-figure" hidden=empty>
+            <canvas id=format!("{method}-train-plot") class="ms-train-plot" width="560" height="200" node_ref=canvas_ref
+                aria-label="The training's values per step"></canvas>
+            <figcaption class="ms-method-legend">
+                <strong>"Training. "</strong>
+                {move || format!("Steps across, each value from 0 to its largest so far up ({}). A larger dot marks the step whose model is kept.", names())}
+            </figcaption>
+        </figure>
+    }
+}
+
+/// The plot's colours and their names.
+const COLOURS: [(&str, &str); 4] =
+    [("#1d4ed8", "blue"), ("#c2410c", "orange"), ("#15803d", "green"), ("#7e22ce", "purple")];
+
+fn draw_plot(canvas: &HtmlCanvasElement, steps: &[StepReport]) -> Result<(), JsValue> {
+    let ctx: CanvasRenderingContext2d = canvas.get_context("2d")?.ok_or("no 2d context")?.dyn_into()?;
+    let (w, h) = (canvas.width() as f64, canvas.height() as f64);
+    let (left, right, top, bottom) = (44.0, w - 44.0, 12.0, h - 26.0);
+    ctx.set_fill_style_str("#ffffff");
+    ctx.fill_rect(0.0, 0.0, w, h);
+    let Some(last) = steps.last() else { return Ok(()) };
+    let n = last.steps.max(steps.len()).max(2);
+    let x = |step: usize| left + (step as f64 - 1.0) / (n as f64 - 1.0) * (right - left);
+    let y = |share: f64| bottom - share.clamp(0.0, 1.0) * (bottom - top);
+    ctx.set_stroke_style_str("#d7dbe2");
+    ctx.set_line_width(1.0);
+    for k in 0..=4 {
+        let yy = y(k as f64 / 4.0);
+        ctx.begin_path();
+        ctx.move_to(left, yy);
+        ctx.line_to(right, yy);
+        ctx.stroke();
+    }
+    ctx.set_font("11px sans-serif");
+    ctx.set_fill_style_str("#555b66");
+    ctx.set_text_align("center");
+    ctx.fill_text("1", x(1), h - 8.0)?;
+    ctx.fill_text(&n.to_string(), x(n), h - 8.0)?;
+    let kept = steps.iter().rev().find(|r| r.best).map(|r| r.step);
+    for (k, (name, _)) in last.values.iter().enumerate() {
+        let colour = COLOURS[k % COLOURS.len()].0;
+        let value = |r: &StepReport| r.values.iter().find(|(v, _)| v == name).map(|(_, v)| *v);
+        ctx.set_stroke_style_str(colour);
+        ctx.set_fill_style_str(colour);
+        ctx.set_line_width(2.0);
+        ctx.begin_path();
+        let mut first = true;
+        for r in steps {
+            let Some(v) = value(r) else { continue };
+            if first {
+                ctx.move_to(x(r.step), y(v));
+                first = false;
+            } else {
+                ctx.line_to(x(r.step), y(v));
+            }
+        }
+        ctx.stroke();
+        for r in steps {
+            let Some(v) = value(r) else { continue };
+            ctx.begin_path();
+            let radius = if Some(r.step) == kept { 4.0 } else { 2.0 };
+            let _ = ctx.arc(x(r.step), y(v), radius, 0.0, std::f64::consts::TAU);
+            ctx.fill();
+        }
+    }
+    Ok(())
+}

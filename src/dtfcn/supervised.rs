@@ -1,0 +1,633 @@
+//! DT-FCN and the k-NN as supervised methods ([`crate::method::supervised`]): their training
+//! options as one table, reading model files, and a training from a label CSV and takes — an
+//! epoch per step for the network, one fit for the k-NN — ending in a model file with its
+//! provenance (the command that trains the same model natively).
+
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use super::augment::Augment;
+use super::corpus::{class_labels, fit_knn_model, model_from, rows_without_takes, ModelMeta};
+use super::input::NetworkInput;
+use super::model::{data_hash, Model, ModelKind};
+use super::shipped;
+use super::training::{EpochReport, TrainOptions, Trainer, TrainingTake};
+use crate::lma::corpus::same_file;
+use crate::method::supervised::{
+    check_model_name, read_options, Loaded, ModelInfo, StepReport, Supervision, Trained, Training, TrainingAsk,
+    TrainingReport,
+};
+use crate::method::{counted, MethodError, ParamKind, ParamSpec, Progress};
+use crate::motion::Motion;
+
+/// The names of the shipped models, as the store and the forms want them.
+pub fn shipped_names() -> Vec<String> {
+    shipped::NAMES.iter().map(|s| s.to_string()).collect()
+}
+
+/// The augmentations the `augment` option can name.
+const AUGMENTATIONS: [&str; 5] = ["mirror", "yaw", "warp", "scale", "jitter"];
+
+fn spec(
+    name: &str,
+    help: &str,
+    kind: ParamKind,
+    default: serde_json::Value,
+    unit: Option<&str>,
+    basic: bool,
+) -> ParamSpec {
+    ParamSpec { name: name.into(), help: help.into(), kind, default, unit: unit.map(str::to_string), basic }
+}
+
+/// DT-FCN's training options: the table the page's form, the command line's provenance and
+/// [`options_from_json`] read.
+pub fn training_specs() -> Vec<ParamSpec> {
+    let d = TrainOptions::default();
+    let int = |min: i64, max: i64| ParamKind::Integer { min, max };
+    vec![
+        spec("epochs", "Most epochs; Stop ends earlier.", int(1, 10_000), d.epochs.into(), None, true),
+        spec(
+            "label_noise",
+            "Share of training frames given a random label (the paper's Table 3), 0–1.",
+            ParamKind::Number { min: 0.0, max: 1.0 },
+            d.label_noise.into(),
+            None,
+            true,
+        ),
+        spec(
+            "mask_frames",
+            "w_transition: frames around each label change whose loss is zeroed (the paper's Table 4; 0 = none).",
+            int(0, 301),
+            d.mask_frames.into(),
+            Some("frames"),
+            true,
+        ),
+        spec(
+            "augment",
+            "Augmentations of the training crops: mirror (left ↔ right), yaw ±15°, time warp 0.8–1.2×, scale 0.9–1.1×, jitter.",
+            ParamKind::Flags { options: AUGMENTATIONS.iter().map(|s| s.to_string()).collect() },
+            augment_names(&d.augment).into(),
+            None,
+            true,
+        ),
+        spec("width", "Kernel width w: the receptive field is w⁵ frames at 30 Hz.", int(2, 3), d.width.into(), None, true),
+        spec(
+            "filters",
+            "Filters of each dilated layer (the paper's: 64,64,128,256,512).",
+            ParamKind::IntegerList { min: 1, max: 2048, max_len: 6 },
+            serde_json::json!(d.filters),
+            None,
+            false,
+        ),
+        spec("crop_frames", "Frames of each training crop the loss is taken on.", int(16, 4096), d.crop_frames.into(), Some("frames"), false),
+        spec("batch", "Crops per optimiser step.", int(1, 64), d.batch.into(), None, false),
+        spec(
+            "learning_rate",
+            "Adam's learning rate.",
+            ParamKind::Number { min: 1e-6, max: 0.5 },
+            d.learning_rate.into(),
+            None,
+            false,
+        ),
+        spec(
+            "weight_decay",
+            "Adam's L2 weight decay (0 = none).",
+            ParamKind::Number { min: 0.0, max: 0.5 },
+            d.weight_decay.into(),
+            None,
+            false,
+        ),
+        spec("seed", "Seed of the initial weights, crops and augmentations.", int(0, 1 << 31), d.seed.into(), None, false),
+    ]
+}
+
+/// The augmentations turned on, by name.
+fn augment_names(a: &Augment) -> Vec<String> {
+    [a.mirror, a.yaw, a.time_warp, a.scale, a.jitter]
+        .iter()
+        .zip(AUGMENTATIONS)
+        .filter(|(on, _)| **on)
+        .map(|(_, n)| n.to_string())
+        .collect()
+}
+
+/// The training options as JSON (one field per [`training_specs`] row).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+struct OptionsJson {
+    epochs: i64,
+    label_noise: f64,
+    mask_frames: i64,
+    augment: Vec<String>,
+    width: i64,
+    filters: Vec<i64>,
+    crop_frames: i64,
+    batch: i64,
+    learning_rate: f64,
+    weight_decay: f64,
+    seed: i64,
+}
+
+impl Default for OptionsJson {
+    fn default() -> Self {
+        let d = TrainOptions::default();
+        OptionsJson {
+            epochs: d.epochs as i64,
+            label_noise: d.label_noise,
+            mask_frames: d.mask_frames as i64,
+            augment: augment_names(&d.augment),
+            width: d.width as i64,
+            filters: d.filters.iter().map(|&f| f as i64).collect(),
+            crop_frames: d.crop_frames as i64,
+            batch: d.batch as i64,
+            learning_rate: d.learning_rate,
+            weight_decay: d.weight_decay,
+            seed: d.seed as i64,
+        }
+    }
+}
+
+/// Reads and checks training options against [`training_specs`]: a refusal names the option.
+pub fn options_from_json(value: &serde_json::Value) -> Result<TrainOptions, MethodError> {
+    let o: OptionsJson = read_options(value, &training_specs(), "DT-FCN")?;
+    let augment = Augment::parse(&o.augment.join(",")).map_err(|m| MethodError::param("augment", m))?;
+    let options = TrainOptions {
+        epochs: o.epochs as usize,
+        learning_rate: o.learning_rate,
+        weight_decay: o.weight_decay,
+        seed: o.seed as u64,
+        label_noise: o.label_noise,
+        mask_frames: o.mask_frames as usize,
+        augment,
+        crop_frames: o.crop_frames as usize,
+        batch: o.batch as usize,
+        width: o.width as usize,
+        filters: o.filters.iter().map(|&f| f as usize).collect(),
+        ..TrainOptions::default()
+    };
+    // what the table cannot say (learning rate below 1, …) is still the trainer's to refuse
+    options.check().map_err(MethodError::params)?;
+    Ok(options)
+}
+
+/// The declaration of the labelling method of `kind`.
+pub fn supervision(kind: ModelKind) -> Supervision {
+    Supervision {
+        labels_header: "file,start_frame,end_frame,label".into(),
+        labels_help:
+            "Frames of the file (0-based, inclusive), any label. Its rows for the take on screen and the takes \
+                      you add train a model in this tab; the model then labels the take on screen."
+                .into(),
+        more_takes: true,
+        model_extension: "model".into(),
+        shipped: shipped_names(),
+        training: match kind {
+            ModelKind::Dtfcn => training_specs(),
+            ModelKind::Knn => Vec::new(),
+        },
+        step_name: match kind {
+            ModelKind::Dtfcn => "epoch".into(),
+            ModelKind::Knn => "fit".into(),
+        },
+        trains_on_my_labels: kind == ModelKind::Dtfcn,
+        labels_classes: true,
+    }
+}
+
+/// The method's name for a model kind, as headings show it.
+pub fn kind_short(kind: ModelKind) -> &'static str {
+    match kind {
+        ModelKind::Dtfcn => "DT-FCN",
+        ModelKind::Knn => "k-NN",
+    }
+}
+
+/// What the page and `model-info` show of `model`, stored as `name`.
+pub fn model_info(name: &str, model: &Model) -> ModelInfo {
+    let h = &model.header;
+    let p = &h.provenance;
+    let mut origin = format!("{} ({})", counted(h.classes.len(), "class"), h.classes.join(", "));
+    if !p.takes.is_empty() {
+        origin += &format!(", trained on {} labelled frames of {}", p.frames, p.takes.join(", "));
+    }
+    if h.kind == ModelKind::Dtfcn && p.epochs_run > 0 {
+        origin += &format!(", epoch {} of {} kept", p.best_epoch, p.epochs_run);
+    }
+    ModelInfo {
+        method: h.kind.name().into(),
+        name: name.into(),
+        classes: h.classes.clone(),
+        colours: h.colours.clone(),
+        origin,
+        provenance: vec![
+            ("takes".into(), p.takes.join(", ")),
+            ("unknown below".into(), format!("{:.2}", h.unknown_threshold)),
+            ("command".into(), p.command.clone()),
+            ("data hash".into(), p.data_hash.clone()),
+        ],
+    }
+}
+
+/// A model's header as `mocapseg model-info` prints it: without the input's standardisation,
+/// with the network's parameter count and receptive field.
+pub fn header_json(model: &Model) -> serde_json::Value {
+    let mut h = serde_json::to_value(&model.header).unwrap_or_default();
+    if let Some(o) = h.as_object_mut() {
+        o.remove("standardise");
+        if let Some(n) = &model.header.network {
+            o.insert("parameters".into(), n.parameter_count().into());
+            o.insert("receptive_field_frames".into(), n.receptive_field().into());
+        }
+    }
+    h
+}
+
+/// Reads a model file of `kind` (`file` names it): stored under the name inside it, or its stem.
+pub fn read_model(kind: ModelKind, file: &str, bytes: &[u8]) -> Result<Loaded, MethodError> {
+    let model = Model::from_bytes(bytes, file).map_err(MethodError::Failed)?;
+    if model.header.kind != kind {
+        return Err(MethodError::Failed(format!(
+            "{file} holds a {} model, not a {} model: use it with the {} method ({})",
+            kind_short(model.header.kind),
+            kind_short(kind),
+            kind_short(model.header.kind),
+            model.header.kind.name()
+        )));
+    }
+    let name = crate::method::supervised::stored_name(&model.header.name, file, &shipped_names())
+        .map_err(MethodError::Failed)?;
+    Ok(Loaded { info: model_info(&name, &model), model: Arc::new(model) })
+}
+
+/// `text` as one shell word (quoted when it holds a space), as the command line's provenance shows it.
+fn shell_word(text: &str) -> String {
+    if text.is_empty() || text.contains(|c: char| c.is_whitespace() || "'\"$`\\".contains(c)) {
+        format!("'{}'", text.replace('\'', "'\\''"))
+    } else {
+        text.to_string()
+    }
+}
+
+/// The `mocapseg train-dtfcn` command that trains the same model natively (options that are not
+/// the defaults of its flags named after the table's rows).
+pub fn train_command(kind: ModelKind, takes: &[String], labels: &str, name: &str, o: &TrainOptions) -> String {
+    let mut words = vec![format!("mocapseg train-{} --bvh", kind.name())];
+    words.extend(takes.iter().map(|t| shell_word(t)));
+    words.push(format!("--labels {}", shell_word(labels)));
+    if kind == ModelKind::Dtfcn {
+        let d = TrainOptions::default();
+        words.push(format!(
+            "--epochs {} --seed {} --noise {} --mask {} --augment {} --width {}",
+            o.epochs,
+            o.seed,
+            o.label_noise,
+            o.mask_frames,
+            o.augment.describe(),
+            o.width
+        ));
+        if o.crop_frames != d.crop_frames {
+            words.push(format!("--crop {}", o.crop_frames));
+        }
+        if o.batch != d.batch {
+            words.push(format!("--batch {}", o.batch));
+        }
+        if o.learning_rate != d.learning_rate {
+            words.push(format!("--learning-rate {}", o.learning_rate));
+        }
+        if o.weight_decay != d.weight_decay {
+            words.push(format!("--weight-decay {}", o.weight_decay));
+        }
+    }
+    words.push(format!("--name {} -o {}", shell_word(name), shell_word(&format!("{name}.model"))));
+    let mut command = words.join(" ");
+    command += " (trained in the browser";
+    if o.filters != TrainOptions::default().filters {
+        let filters: Vec<String> = o.filters.iter().map(usize::to_string).collect();
+        command += &format!(", filters {}", filters.join(","));
+    }
+    command += ")";
+    command
+}
+
+/// Why a label CSV gives nothing to train on from the takes `takes`: its rows (naming `files`)
+/// name none of them.
+fn no_rows_for_takes(name: &str, takes: &[String], files: &[&str]) -> String {
+    let mut named: Vec<&str> = Vec::new();
+    for f in files {
+        if !named.contains(f) {
+            named.push(f);
+        }
+    }
+    const SHOWN: usize = 5;
+    let mut list = named.iter().take(SHOWN).map(|f| format!("`{f}`")).collect::<Vec<_>>().join(", ");
+    if named.len() > SHOWN {
+        list += &format!(" and {} more", named.len() - SHOWN);
+    }
+    let given = match takes {
+        [] => "no take is given".to_string(),
+        [one] => format!("no row is for the loaded take `{one}`"),
+        [first, rest @ ..] => format!(
+            "no row is for the loaded take `{first}` or the other takes given ({})",
+            rest.iter().map(|t| format!("`{t}`")).collect::<Vec<_>>().join(", ")
+        ),
+    };
+    format!("{name}: {given}; its rows name {list}")
+}
+
+/// A label CSV matched to the takes it names: what both trainings start from.
+struct Prepared {
+    name: String,
+    labels_name: String,
+    motions: Vec<Motion>,
+    classes: Vec<String>,
+    labels_per_take: Vec<Vec<Option<usize>>>,
+    data_hash: String,
+    used_rows: usize,
+    left_out: Vec<String>,
+}
+
+/// Checks the name, reads the label CSV and the takes it names; a refusal names `name`, `labels`
+/// or `takes`.
+fn prepare(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Prepared, MethodError> {
+    let TrainingAsk { name, labels_name, labels, takes, .. } = ask;
+    let name = name.trim().to_string();
+    check_model_name(&name, &shipped_names()).map_err(|m| MethodError::param("name", m))?;
+    let bad_labels = |m: String| MethodError::param("labels", m);
+    let bad_takes = |m: String| MethodError::param("takes", m);
+    let rows = crate::labels::read_csv(&labels, &labels_name).map_err(bad_labels)?;
+    if rows.is_empty() {
+        return Err(bad_labels(format!("{labels_name} has no rows, only its header")));
+    }
+    let names: Vec<String> = takes.iter().map(|(n, _)| n.clone()).collect();
+    for (i, a) in names.iter().enumerate() {
+        if names[..i].iter().any(|b| same_file(a, b)) {
+            return Err(bad_takes(format!("{a} is given twice")));
+        }
+    }
+    let named: Vec<usize> = (0..names.len()).filter(|&i| rows.iter().any(|r| same_file(&r.file, &names[i]))).collect();
+    if named.is_empty() {
+        let files: Vec<&str> = rows.iter().map(|r| r.file.as_str()).collect();
+        return Err(bad_labels(no_rows_for_takes(&labels_name, &names, &files)));
+    }
+    let mut motions: Vec<Motion> = Vec::new();
+    let mut hashed: Vec<(String, Vec<u8>)> = Vec::new();
+    let mut takes: Vec<Option<(String, Vec<u8>)>> = takes.into_iter().map(Some).collect();
+    for (k, &i) in named.iter().enumerate() {
+        progress.step(&format!("reading {}", names[i]), k as f64 / named.len() as f64 * 0.5)?;
+        let (file_name, bytes) = takes[i].take().unwrap_or_default();
+        let loaded = crate::load::load_bytes(&file_name, &bytes, &mut |_| {}).map_err(|e| bad_takes(e.to_string()))?;
+        motions.push(loaded.motion);
+        // kept for the data hash of the model's provenance
+        hashed.push((file_name, bytes));
+    }
+    let refs: Vec<&Motion> = motions.iter().collect();
+    let left_out = rows_without_takes(&rows, &refs);
+    let used_rows = rows.iter().filter(|r| refs.iter().any(|m| same_file(&m.name, &r.file))).count();
+    let (classes, labels_per_take) =
+        class_labels(&rows, &refs).map_err(|m| bad_labels(format!("{labels_name}: {m}")))?;
+    Ok(Prepared {
+        name,
+        data_hash: data_hash(&hashed, labels.as_bytes()),
+        labels_name,
+        motions,
+        classes,
+        labels_per_take,
+        used_rows,
+        left_out,
+    })
+}
+
+impl Prepared {
+    fn meta(&self, kind: ModelKind, options: &TrainOptions) -> ModelMeta {
+        let takes: Vec<String> = self.motions.iter().map(|m| m.name.clone()).collect();
+        ModelMeta {
+            name: self.name.clone(),
+            command: train_command(kind, &takes, &self.labels_name, &self.name, options),
+            data_hash: self.data_hash.clone(),
+        }
+    }
+
+    /// The status line of the finished training (`how`: "20 epochs", "stopped after 3 of 20 epochs").
+    fn summary(&self, kind: ModelKind, how: &str, kept: Option<usize>) -> String {
+        let left = if self.left_out.is_empty() {
+            String::new()
+        } else {
+            format!(" (rows for {} left out: not loaded)", self.left_out.join(", "))
+        };
+        let kept = kept.map(|e| format!(", the weights of epoch {e} kept")).unwrap_or_default();
+        format!(
+            "Trained `{}` on {} of {}{left}: {} ({}), {how}{kept}. {} labels the take with it now.",
+            self.name,
+            counted(self.used_rows, "row"),
+            self.labels_name,
+            counted(self.classes.len(), "class"),
+            self.classes.join(", "),
+            kind_short(kind)
+        )
+    }
+}
+
+/// Starts the training of a model of `kind` on `ask`.
+pub fn start_training(
+    kind: ModelKind,
+    ask: TrainingAsk,
+    progress: &mut dyn Progress,
+) -> Result<Box<dyn Training>, MethodError> {
+    let options = match kind {
+        ModelKind::Dtfcn => options_from_json(&ask.options)?,
+        ModelKind::Knn => {
+            if ask.options.as_object().is_some_and(|o| !o.is_empty()) {
+                return Err(MethodError::params("the k-NN has no training options"));
+            }
+            TrainOptions::default()
+        }
+    };
+    let prepared = prepare(ask, progress)?;
+    match kind {
+        ModelKind::Knn => Ok(Box::new(KnnTraining { prepared, model: None, done: false })),
+        ModelKind::Dtfcn => {
+            let bad_option = |m: String| MethodError::params(m);
+            options.network(prepared.classes.len()).check().map_err(bad_option)?;
+            progress.step("motion images", 0.5)?;
+            let mut training = Vec::with_capacity(prepared.motions.len());
+            for (m, l) in prepared.motions.iter().zip(&prepared.labels_per_take) {
+                training.push(
+                    TrainingTake::new(m, l).map_err(|e| MethodError::param("takes", format!("{}: {e}", m.name)))?,
+                );
+            }
+            let light: Vec<TrainingTake> = training
+                .iter()
+                .map(|t| TrainingTake {
+                    name: t.name.clone(),
+                    input: NetworkInput { values: Vec::new(), frames: 0, source_frames: Vec::new() },
+                    labels: t.labels.clone(),
+                })
+                .collect();
+            let trainer = Trainer::new(training, Vec::new(), prepared.classes.clone(), options.clone())
+                .map_err(|m| MethodError::param("labels", format!("{}: {m}", prepared.labels_name)))?;
+            progress.step("epoch 1", 0.0)?;
+            Ok(Box::new(DtfcnTraining { prepared, trainer, takes: light, options, largest_loss: 0.0 }))
+        }
+    }
+}
+
+/// A DT-FCN training: one epoch per step.
+struct DtfcnTraining {
+    prepared: Prepared,
+    trainer: Trainer,
+    /// The takes trained on, without their motion images (what the model's provenance needs).
+    takes: Vec<TrainingTake>,
+    options: TrainOptions,
+    largest_loss: f64,
+}
+
+/// An epoch's report as a step's.
+fn epoch_step(r: &EpochReport, largest_loss: f64) -> StepReport {
+    StepReport {
+        step: r.epoch,
+        steps: r.epochs,
+        line: format!(
+            "Epoch {} of {} · loss {:.3} · accuracy {:.0} %",
+            r.epoch,
+            r.epochs,
+            r.loss,
+            100.0 * r.train_accuracy
+        ),
+        values: vec![
+            ("loss".into(), if largest_loss > 0.0 { r.loss / largest_loss } else { 0.0 }),
+            ("accuracy".into(), r.train_accuracy),
+        ],
+        best: r.best,
+    }
+}
+
+impl Training for DtfcnTraining {
+    fn step(&mut self, _progress: &mut dyn Progress) -> Result<StepReport, MethodError> {
+        let report = self.trainer.epoch().map_err(MethodError::Failed)?;
+        if report.loss.is_finite() {
+            self.largest_loss = self.largest_loss.max(report.loss);
+        }
+        Ok(epoch_step(&report, self.largest_loss))
+    }
+
+    fn done(&self) -> bool {
+        self.trainer.done()
+    }
+
+    fn stop(&mut self) {
+        self.trainer.stop();
+    }
+
+    fn finish(self: Box<Self>) -> Result<Trained, MethodError> {
+        let DtfcnTraining { prepared, trainer, takes, options, .. } = *self;
+        let trained = trainer.finish().map_err(MethodError::Failed)?;
+        let (ran, best, stopped) = (trained.reports.len(), trained.best_epoch, trained.stopped);
+        let meta = prepared.meta(ModelKind::Dtfcn, &options);
+        let model = model_from(trained, &takes, &prepared.classes, &options, &meta);
+        let bytes = model.to_bytes().map_err(MethodError::Failed)?;
+        let how = if stopped {
+            format!("stopped after {ran} of {} epochs", options.epochs)
+        } else {
+            format!("{ran} epoch{}", if ran == 1 { "" } else { "s" })
+        };
+        let report = TrainingReport {
+            summary: prepared.summary(ModelKind::Dtfcn, &how, Some(best)),
+            columns: Vec::new(),
+            rows: Vec::new(),
+            stopped,
+        };
+        Ok(Trained {
+            model: Loaded { info: model_info(&prepared.name, &model), model: Arc::new(model) },
+            bytes,
+            report,
+        })
+    }
+}
+
+/// A k-NN fit: one step.
+struct KnnTraining {
+    prepared: Prepared,
+    model: Option<Model>,
+    done: bool,
+}
+
+impl Training for KnnTraining {
+    fn step(&mut self, _progress: &mut dyn Progress) -> Result<StepReport, MethodError> {
+        let p = &self.prepared;
+        let takes: Vec<(&Motion, &[Option<usize>])> =
+            p.motions.iter().zip(&p.labels_per_take).map(|(m, l)| (m, &l[..])).collect();
+        let meta = p.meta(ModelKind::Knn, &TrainOptions::default());
+        let model = fit_knn_model(&takes, &p.classes, &meta)
+            .map_err(|m| MethodError::param("labels", format!("{}: {m}", p.labels_name)))?;
+        let frames = model.header.provenance.frames;
+        self.model = Some(model);
+        self.done = true;
+        Ok(StepReport {
+            step: 1,
+            steps: 1,
+            line: format!("Fitted on {frames} labelled frames"),
+            values: Vec::new(),
+            best: true,
+        })
+    }
+
+    fn done(&self) -> bool {
+        self.done
+    }
+
+    fn stop(&mut self) {
+        self.done = true;
+    }
+
+    fn finish(self: Box<Self>) -> Result<Trained, MethodError> {
+        let KnnTraining { prepared, model, .. } = *self;
+        let model = model.ok_or_else(|| MethodError::Failed("the k-NN was stopped before its fit".into()))?;
+        let bytes = model.to_bytes().map_err(MethodError::Failed)?;
+        let report = TrainingReport {
+            summary: prepared.summary(ModelKind::Knn, "fitted", None),
+            columns: Vec::new(),
+            rows: Vec::new(),
+            stopped: false,
+        };
+        Ok(Trained {
+            model: Loaded { info: model_info(&prepared.name, &model), model: Arc::new(model) },
+            bytes,
+            report,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_options_table_reads_its_own_defaults_and_names_what_it_refuses() {
+        let defaults: serde_json::Map<String, serde_json::Value> =
+            training_specs().into_iter().map(|s| (s.name, s.default)).collect();
+        assert_eq!(options_from_json(&serde_json::Value::Object(defaults)).unwrap(), TrainOptions::default());
+        assert_eq!(options_from_json(&serde_json::json!({})).unwrap(), TrainOptions::default());
+        for (json, param) in [
+            (serde_json::json!({"epochs": 0}), "epochs"),
+            (serde_json::json!({"label_noise": 2}), "label_noise"),
+            (serde_json::json!({"mask_frames": 400}), "mask_frames"),
+            (serde_json::json!({"width": 5}), "width"),
+            (serde_json::json!({"filters": []}), "filters"),
+            (serde_json::json!({"filters": [8, 0]}), "filters"),
+            (serde_json::json!({"crop_frames": 8}), "crop_frames"),
+            (serde_json::json!({"batch": 0}), "batch"),
+            (serde_json::json!({"augment": ["spin"]}), "augment"),
+            (serde_json::json!({"epochs": "many"}), "epochs"),
+        ] {
+            let e = options_from_json(&json).unwrap_err();
+            assert_eq!(e.param_name(), Some(param), "{json}: {e}");
+            assert!(e.to_string().contains(&param.replace('_', " ")) || param == "augment", "{e}");
+        }
+        let e = options_from_json(&serde_json::json!({"nope": 1})).unwrap_err();
+        assert_eq!(e.param_name(), None);
+        let o = options_from_json(&serde_json::json!({"augment": ["mirror", "warp"], "filters": [8, 8]})).unwrap();
+        assert!(o.augment.mirror && o.augment.time_warp && !o.augment.yaw);
+        assert_eq!(o.filters, vec![8, 8]);
+    }
+}

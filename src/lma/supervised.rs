@@ -1,0 +1,344 @@
+//! LMA as a supervised method ([`crate::method::supervised`]): its families are JSON files, a
+//! training reads an Effort label CSV for the take on screen (§4's training data: the user's
+//! own labels) and trains the whole family in one step ([`super::training::train_family`]),
+//! reporting each factor's networks.
+
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use super::classifier::EffortModel;
+use super::corpus::{parse_labels, same_file, Corpus, CorpusConfig, EffortLabel, Sample};
+use super::method::SHIPPED_NAME;
+use super::network::TrainOptions as NetOptions;
+use super::training::{train_family, FactorReport, TrainConfig};
+use crate::method::supervised::{
+    check_model_name, read_options, Loaded, ModelInfo, StepReport, Supervision, Trained, Training, TrainingAsk,
+    TrainingReport,
+};
+use crate::method::{counted, MethodError, ParamKind, ParamSpec, Progress};
+
+/// The family `name` names: the shipped one, or one of `models`; and whether it is the shipped one.
+pub fn resolve(name: &str, models: &crate::method::ModelStore) -> Result<(Arc<EffortModel>, bool), MethodError> {
+    if name == SHIPPED_NAME {
+        return super::shipped().map(|m| (m.clone(), true));
+    }
+    models.get::<EffortModel>("lma", name).map(|m| (m, false)).ok_or_else(|| {
+        let mut known = vec![SHIPPED_NAME.to_string()];
+        known.extend(models.names("lma"));
+        MethodError::param("model", format!("model: no LMA family called `{name}`; known: {}", known.join(", ")))
+    })
+}
+
+fn spec(name: &str, help: &str, kind: ParamKind, default: serde_json::Value, basic: bool) -> ParamSpec {
+    ParamSpec { name: name.into(), help: help.into(), kind, default, unit: None, basic }
+}
+
+/// LMA's training options (the trainer's defaults are the paper's where it gives them).
+pub fn training_specs() -> Vec<ParamSpec> {
+    let d = TrainConfig::default();
+    let int = |min: i64, max: i64| ParamKind::Integer { min, max };
+    vec![
+        spec(
+            "restarts",
+            "Random initialisations of each unshifted network (the paper: 20).",
+            int(1, 50),
+            d.restarts.into(),
+            true,
+        ),
+        spec(
+            "validation",
+            "Share of the labelled segments held out to measure each factor's error.",
+            ParamKind::Number { min: 0.0, max: 0.5 },
+            d.validation.into(),
+            false,
+        ),
+        spec(
+            "saliency_rounds",
+            "Random feature subsets the saliency ranks features on.",
+            int(1, 200),
+            d.saliency_rounds.into(),
+            false,
+        ),
+        spec("max_epochs", "Most epochs of each unshifted network.", int(1, 5000), d.options.max_epochs.into(), false),
+        spec(
+            "shift_epochs",
+            "Most epochs fine-tuning each boundary-shifted network.",
+            int(1, 1000),
+            d.shift_options.max_epochs.into(),
+            false,
+        ),
+        spec(
+            "seed",
+            "Seed of the validation split and the networks' initial weights.",
+            int(0, 1 << 31),
+            d.seed.into(),
+            false,
+        ),
+    ]
+}
+
+/// The training options as JSON (one field per [`training_specs`] row).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+struct OptionsJson {
+    restarts: i64,
+    validation: f64,
+    saliency_rounds: i64,
+    max_epochs: i64,
+    shift_epochs: i64,
+    seed: i64,
+}
+
+impl Default for OptionsJson {
+    fn default() -> Self {
+        let d = TrainConfig::default();
+        OptionsJson {
+            restarts: d.restarts as i64,
+            validation: d.validation,
+            saliency_rounds: d.saliency_rounds as i64,
+            max_epochs: d.options.max_epochs as i64,
+            shift_epochs: d.shift_options.max_epochs as i64,
+            seed: d.seed as i64,
+        }
+    }
+}
+
+/// Reads and checks the training options: a refusal names the option.
+pub fn config_from_json(value: &serde_json::Value) -> Result<TrainConfig, MethodError> {
+    let o: OptionsJson = read_options(value, &training_specs(), "LMA")?;
+    let d = TrainConfig::default();
+    Ok(TrainConfig {
+        seed: o.seed as u64,
+        restarts: o.restarts as usize,
+        saliency_rounds: o.saliency_rounds as usize,
+        validation: o.validation,
+        options: NetOptions { max_epochs: o.max_epochs as usize, ..d.options },
+        shift_options: NetOptions { max_epochs: o.shift_epochs as usize, ..d.shift_options },
+        ..d
+    })
+}
+
+/// LMA's declaration.
+pub fn supervision() -> Supervision {
+    Supervision {
+        labels_header: "file,start_frame,end_frame,space,time,weight,flow".into(),
+        labels_help: "Frames of the file (0-based, inclusive) and each Effort factor's element (indirect / direct, \
+                      sustained / sudden, light / strong, free / bound, or neutral). Its rows for the take on screen \
+                      train the 121 classifiers of each factor in this tab; LMA then runs with them."
+            .into(),
+        more_takes: false,
+        model_extension: "json".into(),
+        shipped: vec![SHIPPED_NAME.into()],
+        training: training_specs(),
+        step_name: "training".into(),
+        trains_on_my_labels: false,
+        labels_classes: false,
+    }
+}
+
+/// What the page and `model-info` show of the family `model`, stored as `name`.
+pub fn model_info(name: &str, model: &EffortModel) -> ModelInfo {
+    ModelInfo {
+        method: "lma".into(),
+        name: name.into(),
+        classes: Vec::new(),
+        colours: Vec::new(),
+        origin: model.origin.clone(),
+        provenance: vec![("segments".into(), model.samples.to_string()), ("rate".into(), format!("{} Hz", model.fps))],
+    }
+}
+
+/// Reads a family file (`file` names it): stored under the file's stem.
+pub fn read_model(file: &str, bytes: &[u8]) -> Result<Loaded, MethodError> {
+    let text = std::str::from_utf8(bytes)
+        .map_err(|_| MethodError::Failed(format!("{file}: not an LMA effort model (not text)")))?;
+    let model = EffortModel::from_json(text).map_err(|m| MethodError::Failed(format!("{file}: {m}")))?;
+    let name =
+        crate::method::supervised::stored_name("", file, &[SHIPPED_NAME.to_string()]).map_err(MethodError::Failed)?;
+    Ok(Loaded { info: model_info(&name, &model), model: Arc::new(model) })
+}
+
+/// Why a labels file gives nothing to learn from the take `take`: no rows at all, or only rows
+/// for other files (a few of which it names).
+fn no_rows_for(name: &str, take: &str, others: &[EffortLabel]) -> String {
+    if others.is_empty() {
+        return format!("{name} has no rows, only its header");
+    }
+    let mut files: Vec<&str> = Vec::new();
+    for row in others {
+        if !files.contains(&row.file.as_str()) {
+            files.push(&row.file);
+        }
+    }
+    const SHOWN: usize = 5;
+    let mut named = files.iter().take(SHOWN).map(|f| format!("`{f}`")).collect::<Vec<_>>().join(", ");
+    if files.len() > SHOWN {
+        named += &format!(" and {} more", files.len() - SHOWN);
+    }
+    format!("{name}: no row is for the loaded take `{take}`; its rows name {named}")
+}
+
+/// Starts a training of the family on the rows of `ask`'s labels for its first take.
+pub fn start_training(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Box<dyn Training>, MethodError> {
+    let config = config_from_json(&ask.options)?;
+    let name = ask.name.trim().to_string();
+    check_model_name(&name, &[SHIPPED_NAME.to_string()]).map_err(|m| MethodError::param("name", m))?;
+    let bad_labels = |m: String| MethodError::param("labels", m);
+    let Some((take_name, bytes)) = ask.takes.into_iter().next() else {
+        return Err(MethodError::param("takes", "no take to train on"));
+    };
+    let rows = parse_labels(&ask.labels, &ask.labels_name).map_err(bad_labels)?;
+    let (used, ignored): (Vec<EffortLabel>, Vec<EffortLabel>) =
+        rows.into_iter().partition(|row| same_file(&row.file, &take_name));
+    if used.is_empty() {
+        return Err(bad_labels(no_rows_for(&ask.labels_name, &take_name, &ignored)));
+    }
+    progress.step(&format!("reading {take_name}"), 0.0)?;
+    let motion = crate::load::load_bytes(&take_name, &bytes, &mut |_| {})
+        .map_err(|e| MethodError::param("takes", e.to_string()))?
+        .motion;
+    let mut corpus = Corpus::from_labels(&[&motion], &used, CorpusConfig::default())
+        .map_err(|m| bad_labels(format!("{}: {m}", ask.labels_name)))?;
+    corpus.origin = format!("{} segments of {} labelled in {}", corpus.samples.len(), motion.name, ask.labels_name);
+    Ok(Box::new(LmaTraining {
+        name,
+        labels_name: ask.labels_name,
+        take: motion.name.clone(),
+        corpus,
+        config,
+        used: used.len(),
+        ignored: ignored.len(),
+        trained: None,
+        stopped: false,
+    }))
+}
+
+/// The family's training: one step.
+struct LmaTraining {
+    name: String,
+    labels_name: String,
+    take: String,
+    corpus: Corpus,
+    config: TrainConfig,
+    used: usize,
+    ignored: usize,
+    trained: Option<(EffortModel, Vec<FactorReport>)>,
+    stopped: bool,
+}
+
+/// `share` as a whole percentage.
+fn percent(share: f32) -> String {
+    format!("{:.0} %", 100.0 * share)
+}
+
+/// One report row per factor: its segments per class, hidden units and errors.
+fn factor_row(report: &FactorReport, samples: &[Sample], factor: usize) -> Vec<String> {
+    let mut segments = [0usize; 3];
+    for s in samples {
+        if let Some(n) = segments.get_mut(s.classes[factor]) {
+            *n += 1;
+        }
+    }
+    vec![
+        report.factor.name().to_string(),
+        format!("{} / {} / {}", segments[0], segments[1], segments[2]),
+        report.hidden.to_string(),
+        percent(report.train_error),
+        percent(report.validation_error),
+        percent(report.shifted_validation_error),
+    ]
+}
+
+impl Training for LmaTraining {
+    fn step(&mut self, progress: &mut dyn Progress) -> Result<StepReport, MethodError> {
+        let mut report = |stage: &str, fraction: f64| progress.step(stage, fraction);
+        let trained = train_family(&self.corpus, &self.config, &mut report).map_err(|m| {
+            if m == "cancelled" {
+                MethodError::Cancelled
+            } else {
+                MethodError::param("labels", format!("{}: {m}", self.labels_name))
+            }
+        })?;
+        self.trained = Some(trained);
+        Ok(StepReport {
+            step: 1,
+            steps: 1,
+            line: format!("Trained on {} labelled segments", self.corpus.samples.len()),
+            values: Vec::new(),
+            best: true,
+        })
+    }
+
+    fn done(&self) -> bool {
+        self.trained.is_some() || self.stopped
+    }
+
+    fn stop(&mut self) {
+        self.stopped = true;
+    }
+
+    fn finish(self: Box<Self>) -> Result<Trained, MethodError> {
+        let LmaTraining { name, labels_name, take, corpus, config, used, ignored, trained, .. } = *self;
+        let (model, reports) =
+            trained.ok_or_else(|| MethodError::Failed("the training was stopped before it ran".into()))?;
+        let left_out = match ignored {
+            0 => String::new(),
+            1 => " (1 row for another file left out)".to_string(),
+            n => format!(" ({n} rows for other files left out)"),
+        };
+        let report = TrainingReport {
+            summary: format!(
+                "Trained on {} of {labels_name} for {take}{left_out}; {}% of them held out to measure the errors. \
+                 LMA runs with your classifiers now.",
+                counted(used, "row"),
+                (100.0 * config.validation).round()
+            ),
+            columns: [
+                "factor",
+                "segments (indulging / neutral / condensing)",
+                "hidden units",
+                "training error",
+                "validation error",
+                "shifted validation error",
+            ]
+            .iter()
+            .map(|s| s.to_string())
+            .collect(),
+            rows: reports.iter().enumerate().map(|(f, r)| factor_row(r, &corpus.samples, f)).collect(),
+            stopped: false,
+        };
+        let bytes = model.to_json().into_bytes();
+        Ok(Trained { model: Loaded { info: model_info(&name, &model), model: Arc::new(model) }, bytes, report })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_options_table_reads_its_defaults_and_names_what_it_refuses() {
+        let defaults: serde_json::Map<String, serde_json::Value> =
+            training_specs().into_iter().map(|s| (s.name, s.default)).collect();
+        assert_eq!(config_from_json(&serde_json::Value::Object(defaults)).unwrap(), TrainConfig::default());
+        for (json, param) in [
+            (serde_json::json!({"restarts": 0}), "restarts"),
+            (serde_json::json!({"validation": 0.9}), "validation"),
+            (serde_json::json!({"max_epochs": "x"}), "max_epochs"),
+        ] {
+            assert_eq!(config_from_json(&json).unwrap_err().param_name(), Some(param), "{json}");
+        }
+        assert_eq!(config_from_json(&serde_json::json!({"nope": 1})).unwrap_err().param_name(), None);
+    }
+
+    #[test]
+    fn a_family_file_is_read_under_its_stem_and_a_bad_one_is_named() {
+        let shipped = crate::method::shipped::bytes(super::super::SHIPPED_FILE).unwrap();
+        let loaded = read_model("dir/my-family.json", shipped).unwrap();
+        assert_eq!(loaded.info.name, "my-family");
+        assert_eq!(loaded.info.method, "lma");
+        let e = read_model("broken.json", b"{\"fps\": 30}").unwrap_err().to_string();
+        assert!(e.starts_with("broken.json: not an LMA effort model"), "{e}");
+    }
+}

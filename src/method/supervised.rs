@@ -1,0 +1,375 @@
+//! What a supervised method adds to the one shape ([`super::Method`]): it learns from takes and
+//! labels, its models are files, and its runs name the model they use.
+//!
+//! * A supervised method declares [`Supervision`] in its [`super::MethodInfo`]: the label file it
+//!   reads (its CSV header), whether it trains on more takes than the one on screen, its model
+//!   files' extension, the models it ships, and its training options as a parameter table
+//!   ([`ParamSpec`]s, the same kind of table its run parameters have) — so the page's training
+//!   form, the worker and the command line all come from what it declares, never from its name.
+//! * It implements [`Supervised`] (reached through [`super::DynMethod::supervised`]): read a
+//!   model file into a [`Loaded`] model, and start a [`Training`] that runs step by step (an epoch
+//!   at a time, so a page can stop it between two steps) and ends in a [`Trained`] model with its
+//!   file's bytes and a report.
+//! * The models a process has (read from files, or trained) live in a [`ModelStore`] owned by who
+//!   runs methods — the page's worker, one command-line run — and are looked up by method and
+//!   name when parameters are checked ([`super::DynMethod::check_in`]). A supervised method's run
+//!   parameters have a `model` field naming a shipped model or one in the store.
+
+use std::any::Any;
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use super::{MethodError, ParamKind, ParamSpec, Progress};
+
+/// What a supervised method declares about its training and models.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Supervision {
+    /// The label CSV's header (`file,start_frame,end_frame,label`).
+    pub labels_header: String,
+    /// How to read the label file, in a sentence or two (the training form shows it).
+    pub labels_help: String,
+    /// It can train on takes besides the one on screen (their files go with the request).
+    pub more_takes: bool,
+    /// Its model files' extension, without the dot (`model`, `json`).
+    pub model_extension: String,
+    /// The names of the models it ships (its `model` parameter's default is the first).
+    pub shipped: Vec<String>,
+    /// The training options, with their bounds and defaults (the form's fields, the command
+    /// line's flags and the model file's provenance all read this table).
+    pub training: Vec<ParamSpec>,
+    /// What one training step is called in progress lines (`epoch`, `stage`).
+    pub step_name: String,
+    /// Whether the page trains on the user's labels of the take on screen ("my labels") with it.
+    pub trains_on_my_labels: bool,
+    /// Its runs label every frame with one of its model's classes (the page colours them by class).
+    pub labels_classes: bool,
+}
+
+/// A model as the page lists it and the command line describes it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModelInfo {
+    /// The method it belongs to (a registry name).
+    pub method: String,
+    /// The name it is stored under: the value of that method's `model` parameter.
+    pub name: String,
+    /// The classes it labels, and their CSS colours (empty for a method without classes).
+    pub classes: Vec<String>,
+    pub colours: Vec<String>,
+    /// Where it came from, in one line ("4 takes, 12,400 labelled frames, epoch 18 of 20").
+    pub origin: String,
+    /// Its provenance as labelled lines (the command that made it, the data's hash, …).
+    pub provenance: Vec<(String, String)>,
+}
+
+impl ModelInfo {
+    /// Refuses an info whose classes and colours do not pair up (so views can index freely).
+    pub fn check(&self) -> Result<(), String> {
+        if self.classes.len() == self.colours.len() {
+            Ok(())
+        } else {
+            Err(format!("model {} has {} classes but {} colours", self.name, self.classes.len(), self.colours.len()))
+        }
+    }
+
+    /// The file name a model saves to (`NAME.EXT`, characters a file name cannot hold replaced).
+    pub fn file_name(&self, extension: &str) -> String {
+        model_file_name(&self.name, extension)
+    }
+}
+
+/// `NAME.EXT` for a model called `name` (characters a file name cannot hold replaced).
+pub fn model_file_name(name: &str, extension: &str) -> String {
+    let safe: String =
+        name.chars().map(|c| if c.is_control() || "/\\:*?\"<>|".contains(c) { '_' } else { c }).collect();
+    format!("{}.{extension}", safe.trim_matches('.'))
+}
+
+/// A model ready for a [`ModelStore`]: what it is, and the method's own model value.
+#[derive(Clone)]
+pub struct Loaded {
+    pub info: ModelInfo,
+    pub model: Arc<dyn Any + Send + Sync>,
+}
+
+impl std::fmt::Debug for Loaded {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Loaded({} {})", self.info.method, self.info.name)
+    }
+}
+
+/// The longest model name accepted.
+pub const MAX_MODEL_NAME: usize = 64;
+
+/// Refuses a name a user's model cannot be stored under (empty, too long, control characters, a
+/// shipped model's).
+pub fn check_model_name(name: &str, shipped: &[String]) -> Result<(), String> {
+    if name.is_empty() {
+        return Err("the model needs a name".into());
+    }
+    if name.chars().count() > MAX_MODEL_NAME {
+        return Err(format!("the model name has {} characters; at most {MAX_MODEL_NAME}", name.chars().count()));
+    }
+    if name.chars().any(char::is_control) {
+        return Err("the model name has a control character".into());
+    }
+    if shipped.iter().any(|s| s == name) {
+        return Err(format!("`{name}` is the name of a shipped model; choose another name"));
+    }
+    Ok(())
+}
+
+/// The name a model read from `file` is stored under: the name inside it, or — when that is empty
+/// or a shipped model's — the file's stem.
+pub fn stored_name(inner: &str, file: &str, shipped: &[String]) -> Result<String, String> {
+    let inner = inner.trim();
+    if check_model_name(inner, shipped).is_ok() {
+        return Ok(inner.to_string());
+    }
+    let base = file.rsplit(['/', '\\']).next().unwrap_or(file);
+    let stem = base.rsplit_once('.').map_or(base, |(stem, _)| stem).trim().to_string();
+    check_model_name(&stem, shipped)
+        .map_err(|m| format!("{file}: the model is called `{inner}` and the file `{stem}`: {m}"))?;
+    Ok(stem)
+}
+
+/// The models a process holds besides the shipped ones, by method and name (the page's worker owns
+/// one, a command-line run another).
+#[derive(Default, Clone)]
+pub struct ModelStore {
+    models: Vec<Loaded>,
+}
+
+impl std::fmt::Debug for ModelStore {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.models.iter().map(|m| (&m.info.method, &m.info.name))).finish()
+    }
+}
+
+impl ModelStore {
+    pub fn new() -> ModelStore {
+        ModelStore::default()
+    }
+
+    /// Stores `model` under its method and name, replacing one stored there before.
+    pub fn install(&mut self, model: Loaded) {
+        self.models.retain(|m| !(m.info.method == model.info.method && m.info.name == model.info.name));
+        self.models.push(model);
+    }
+
+    /// The model of `method` called `name`, if stored and of type `T`.
+    pub fn get<T: Any + Send + Sync>(&self, method: &str, name: &str) -> Option<Arc<T>> {
+        let m = self.models.iter().find(|m| m.info.method == method && m.info.name == name)?;
+        m.model.clone().downcast::<T>().ok()
+    }
+
+    /// What is stored for `method`, in the order it was stored.
+    pub fn infos(&self, method: &str) -> Vec<&ModelInfo> {
+        self.models.iter().filter(|m| m.info.method == method).map(|m| &m.info).collect()
+    }
+
+    /// The names stored for `method`.
+    pub fn names(&self, method: &str) -> Vec<String> {
+        self.infos(method).into_iter().map(|i| i.name.clone()).collect()
+    }
+}
+
+/// Reads `value` (a JSON object; missing fields take their defaults) as the training options `T`
+/// that the table `specs` describes, and checks every field against its row's bounds: a refusal
+/// names the option (`what` names the method in a message about the object as a whole).
+pub fn read_options<T: serde::de::DeserializeOwned + Serialize>(
+    value: &serde_json::Value,
+    specs: &[ParamSpec],
+    what: &str,
+) -> Result<T, MethodError> {
+    let value = if value.is_null() { serde_json::json!({}) } else { value.clone() };
+    let options: T = serde_json::from_value(value.clone()).map_err(|e| {
+        // serde's message names no field: find the one that is not of its kind
+        let culprit = value.as_object().and_then(|fields| {
+            fields.iter().find(|(name, v)| {
+                specs.iter().any(|s| s.name == **name)
+                    && serde_json::from_value::<T>(serde_json::json!({ name.as_str(): v })).is_err()
+            })
+        });
+        match culprit {
+            Some((name, v)) => MethodError::param(name, format!("{name} = {v}: {e}")),
+            None => MethodError::params(format!("{what} training options: {e}")),
+        }
+    })?;
+    let read = serde_json::to_value(&options).map_err(|e| MethodError::params(e.to_string()))?;
+    for spec in specs {
+        if let Some(v) = read.get(&spec.name) {
+            check_option(spec, v)?;
+        }
+    }
+    Ok(options)
+}
+
+/// Refuses `value` of the option `spec` when it is outside the row's bounds, naming it.
+pub fn check_option(spec: &ParamSpec, value: &serde_json::Value) -> Result<(), MethodError> {
+    let words = spec.name.replace('_', " ");
+    let refuse = |expected: String| {
+        let shown = match value {
+            serde_json::Value::Array(items) => items
+                .iter()
+                .map(|i| i.as_str().map_or_else(|| i.to_string(), str::to_string))
+                .collect::<Vec<_>>()
+                .join(","),
+            other => other.to_string(),
+        };
+        Err(MethodError::param(&spec.name, format!("{words} {shown}: expected {expected}")))
+    };
+    match &spec.kind {
+        ParamKind::Number { min, max } => match value.as_f64() {
+            Some(v) if v.is_finite() && (*min..=*max).contains(&v) => Ok(()),
+            _ => refuse(format!("a number from {min} to {max}")),
+        },
+        ParamKind::Integer { min, max } => match value.as_i64() {
+            Some(v) if (*min..=*max).contains(&v) => Ok(()),
+            _ => refuse(format!("a whole number from {min} to {max}")),
+        },
+        ParamKind::IntegerList { min, max, max_len } => {
+            let items = value.as_array().map(|a| a.iter().map(serde_json::Value::as_i64).collect::<Option<Vec<_>>>());
+            match items.flatten() {
+                Some(list)
+                    if !list.is_empty() && list.len() <= *max_len && list.iter().all(|v| (min..=max).contains(&v)) =>
+                {
+                    Ok(())
+                }
+                _ => refuse(format!("1 to {max_len} whole numbers from {min} to {max}, separated by commas")),
+            }
+        }
+        ParamKind::Flags { options } => {
+            let items = value.as_array().map(|a| a.iter().map(serde_json::Value::as_str).collect::<Option<Vec<_>>>());
+            match items.flatten() {
+                Some(list) if list.iter().all(|v| options.iter().any(|o| o == v)) => Ok(()),
+                _ => refuse(format!("any of {}", options.join(", "))),
+            }
+        }
+        ParamKind::Choice { options } => match value.as_str() {
+            Some(v) if options.iter().any(|o| o == v) => Ok(()),
+            _ => refuse(format!("one of {}", options.join(", "))),
+        },
+        ParamKind::Bool => match value.as_bool() {
+            Some(_) => Ok(()),
+            None => refuse("true or false".into()),
+        },
+    }
+}
+
+/// What a training is asked to learn from.
+#[derive(Debug, Clone, Default)]
+pub struct TrainingAsk {
+    /// The model's name (checked: not empty, not a shipped model's).
+    pub name: String,
+    /// The label file's name and text.
+    pub labels_name: String,
+    pub labels: String,
+    /// The takes' files (name, bytes), the one on screen first.
+    pub takes: Vec<(String, Vec<u8>)>,
+    /// The training options as JSON (missing fields take the declared defaults).
+    pub options: serde_json::Value,
+}
+
+/// One step of a training done.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StepReport {
+    /// 1-based, of `steps` at most.
+    pub step: usize,
+    pub steps: usize,
+    /// The step in a line ("epoch 3 of 20 · loss 0.412 · accuracy 81 %").
+    pub line: String,
+    /// Named values a page can plot over the steps, each in `[0, 1]` after dividing by the
+    /// largest of its kind so far (`loss`, `accuracy`).
+    pub values: Vec<(String, f64)>,
+    /// The model as of this step is the one kept so far.
+    pub best: bool,
+}
+
+/// How a training went, as the page shows it when it ends.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct TrainingReport {
+    /// The status line ("Trained on 14 rows of effort.csv · 1 row for another file left out").
+    pub summary: String,
+    /// A table of results (one row per class or factor), if the method has one.
+    pub columns: Vec<String>,
+    pub rows: Vec<Vec<String>>,
+    /// It was stopped before its last step (the best model so far is kept).
+    pub stopped: bool,
+}
+
+/// A finished training: the model (to store), its file's bytes (to save) and its report.
+#[derive(Debug, Clone)]
+pub struct Trained {
+    pub model: Loaded,
+    pub bytes: Vec<u8>,
+    pub report: TrainingReport,
+}
+
+/// A training under way, between two steps.
+pub trait Training: Send {
+    /// Runs the next step.
+    fn step(&mut self, progress: &mut dyn Progress) -> Result<StepReport, MethodError>;
+    /// No step is left (every step ran, or [`Training::stop`]).
+    fn done(&self) -> bool;
+    /// Ends the training after the steps so far (the best model so far is kept).
+    fn stop(&mut self);
+    /// The model and its report (after the last step, or a stop).
+    fn finish(self: Box<Self>) -> Result<Trained, MethodError>;
+}
+
+/// What a supervised method can do besides running (see the module documentation).
+pub trait Supervised: Send + Sync {
+    /// Reads a model file (`file` names it in messages) of this method.
+    fn read_model(&self, file: &str, bytes: &[u8]) -> Result<Loaded, MethodError>;
+    /// The shipped model `name` (one of [`Supervision::shipped`]); on the page
+    /// [`MethodError::NeedsModel`] until its file was handed over.
+    fn shipped_model(&self, name: &str) -> Result<Loaded, MethodError>;
+    /// Everything about `model` but its weights, as `mocapseg model-info` prints it.
+    fn model_details(&self, model: &Loaded) -> serde_json::Value;
+    /// Checks `ask` and prepares its training (reading the takes and labels, reporting to
+    /// `progress`); a refusal names the option, or `labels`, `takes` or `name`.
+    fn start_training(&self, ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Box<dyn Training>, MethodError>;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn info(method: &str, name: &str) -> ModelInfo {
+        ModelInfo {
+            method: method.into(),
+            name: name.into(),
+            classes: vec![],
+            colours: vec![],
+            origin: String::new(),
+            provenance: vec![],
+        }
+    }
+
+    #[test]
+    fn the_store_holds_models_by_method_and_name_and_replaces_them() {
+        let mut store = ModelStore::new();
+        store.install(Loaded { info: info("a", "m"), model: Arc::new(1u32) });
+        store.install(Loaded { info: info("b", "m"), model: Arc::new(2u32) });
+        store.install(Loaded { info: info("a", "m"), model: Arc::new(3u32) });
+        assert_eq!(store.get::<u32>("a", "m").as_deref(), Some(&3));
+        assert_eq!(store.get::<u32>("b", "m").as_deref(), Some(&2));
+        assert!(store.get::<u64>("a", "m").is_none(), "of another type");
+        assert!(store.get::<u32>("a", "x").is_none());
+        assert_eq!(store.names("a"), vec!["m".to_string()]);
+    }
+
+    #[test]
+    fn model_names_are_checked_and_files_give_their_stem() {
+        let shipped = vec!["exercises".to_string()];
+        assert!(check_model_name("", &shipped).is_err());
+        assert!(check_model_name("exercises", &shipped).unwrap_err().contains("shipped"));
+        assert!(check_model_name(&"x".repeat(65), &shipped).is_err());
+        assert!(check_model_name("a\u{7}", &shipped).is_err());
+        assert_eq!(stored_name("mine", "f.model", &shipped).unwrap(), "mine");
+        assert_eq!(stored_name("exercises", "dir/walks.model", &shipped).unwrap(), "walks");
+        assert!(stored_name("", "exercises.model", &shipped).unwrap_err().contains("shipped"));
+        assert_eq!(model_file_name("a/b", "model"), "a_b.model");
+    }
+}
