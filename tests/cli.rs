@@ -679,3 +679,109 @@ fn model_info_reads_shipped_names_and_segment_takes_an_lma_family_file() {
     let out = run(&["segment", "--method", "sssm", "--lma-model", family, take.to_str().unwrap()]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("--lma-model is for --method lma"));
 }
+
+/// `mocapseg train --method M`: any method with models trains from what it declares — the label
+/// CSV, the training options as `--option NAME=VALUE` checked against its table — as the page's
+/// worker trains it, and `segment --model FILE` and `model-info` read the file it writes.
+#[test]
+fn train_trains_any_method_with_models_from_its_declared_options() {
+    let dir = out_dir().join("train");
+    std::fs::create_dir_all(&dir).unwrap();
+    let labels = dir.join("labels.csv");
+    std::fs::write(
+        &labels,
+        "file,start_frame,end_frame,label\n02_01.bvh,0,170,start\n02_01.bvh,171,342,walk\n\
+         35_01.bvh,0,178,start\n35_01.bvh,179,357,walk\n",
+    )
+    .unwrap();
+    let (a, b) = (fixture("02_01.bvh"), fixture("35_01.bvh"));
+    let arg = |p: &std::path::Path| p.to_str().unwrap().to_string();
+    for (method, options) in [("knn", vec![]), ("dtfcn", vec!["--option", "epochs=2", "--option", "filters=8,8"])] {
+        let model = dir.join(format!("mine-{method}.model"));
+        let mut args = vec!["train".to_string(), "--method".into(), method.into(), arg(&a), arg(&b)];
+        args.extend(["--labels".into(), arg(&labels), "-o".into(), arg(&model)]);
+        args.extend(options.iter().map(|s| s.to_string()));
+        let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = run(&refs);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{method}: {err}");
+        assert!(err.contains(&format!("Trained `mine-{method}` on 4 rows of labels.csv")), "{err}");
+        let info = stdout_json(&run(&["model-info", model.to_str().unwrap()]));
+        assert_eq!((info["kind"].as_str(), info["name"].as_str()), (Some(method), Some(&*format!("mine-{method}"))));
+        assert!(info["provenance"]["command"].as_str().unwrap().contains("train --method"), "{info}");
+        if method == "dtfcn" {
+            assert_eq!(info["provenance"]["epochs_run"], 2);
+            assert_eq!(info["network"]["filters"], serde_json::json!([8, 8]));
+        }
+        let seg = stdout_json(&run(&["segment", "--method", method, "--model", &arg(&model), &arg(&a)]));
+        assert_eq!(seg["params"]["model"], format!("mine-{method}"));
+    }
+    // LMA: its own CSV and options; the family file segments a take
+    let effort = dir.join("effort.csv");
+    let mut rows = "file,start_frame,end_frame,space,time,weight,flow\n".to_string();
+    let classes = ["indulging", "neutral", "condensing"];
+    for k in 0..12 {
+        let c = |f: usize| classes[(k + f) % 3];
+        rows += &format!("12_01.bvh,{},{},{},{},{},{}\n", 30 * k, 30 * k + 120, c(0), c(1), c(2), c(k));
+    }
+    std::fs::write(&effort, rows).unwrap();
+    let family = dir.join("family.json");
+    let take = fixture("12_01.bvh");
+    let out = run(&[
+        "train",
+        "--method",
+        "lma",
+        &arg(&take),
+        "--labels",
+        &arg(&effort),
+        "-o",
+        &arg(&family),
+        "--option",
+        "restarts=2",
+        "--option",
+        "saliency_rounds=4",
+        "--option",
+        "max_epochs=40",
+        "--option",
+        "shift_epochs=3",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("Trained on 12 rows of effort.csv for 12_01.bvh") && err.contains("space |"), "{err}");
+    let seg = stdout_json(&run(&["segment", "--method", "lma", "--model", &arg(&family), &arg(&take)]));
+    assert_eq!(seg["params"]["model"], "family");
+    // what is wrong is named: an option not in the table, one out of its range, a method without models
+    let out = run(&[
+        "train",
+        "--method",
+        "knn",
+        &arg(&a),
+        "--labels",
+        &arg(&labels),
+        "-o",
+        "/dev/null",
+        "--option",
+        "epochs=2",
+    ]);
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("not a k-NN training option"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = run(&[
+        "train",
+        "--method",
+        "dtfcn",
+        &arg(&a),
+        "--labels",
+        &arg(&labels),
+        "-o",
+        "/dev/null",
+        "--option",
+        "width=9",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("width: width 9: expected a whole number from 2 to 3"), "{err}");
+    let out = run(&["train", "--method", "sssm", &arg(&a), "--labels", &arg(&labels), "-o", "/dev/null"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("SSSM has no models to train"));
+}

@@ -174,6 +174,28 @@ mod cli {
             #[arg(long, short)]
             out: Option<PathBuf>,
         },
+        /// Train a model of any method with models (`mocapseg methods` lists them with their label CSV
+        /// and training options) on labelled takes, exactly as the page's training panel does, and
+        /// write its model file (`segment --method M --model FILE` reads it).
+        Train {
+            /// The method (dtfcn, knn, lma).
+            #[arg(long)]
+            method: String,
+            /// The takes (BVH files and/or folders); a method that trains on one take uses the first.
+            #[arg(required = true)]
+            inputs: Vec<PathBuf>,
+            /// The label CSV, with the header the method declares.
+            #[arg(long)]
+            labels: PathBuf,
+            /// A training option of the method's table: NAME=VALUE (JSON, or a word), repeatable.
+            #[arg(long = "option", value_name = "NAME=VALUE")]
+            options: Vec<String>,
+            /// The model's name (default: the output file's stem).
+            #[arg(long)]
+            name: Option<String>,
+            #[arg(long, short)]
+            out: PathBuf,
+        },
         /// Train the LMA Effort classifier family (121 boundary-shifted classifiers × 4 networks) and
         /// write it as JSON. Without --labels the labels are the stand-in Effort descriptors' terciles
         /// over the takes' segments between hand-speed minima (how the shipped models/lma-effort.json is made).
@@ -384,6 +406,9 @@ mod cli {
                 let mut models = method::ModelStore::new();
                 store_model_files(&method, &mut params, &mut models)?;
                 return segment(&inputs, &method, &params, &models, out, jobs);
+            }
+            Command::Train { method, inputs, labels, options, name, out } => {
+                train(&method, &inputs, &labels, &options, name, &out)
             }
             Command::TrainLma { inputs, labels, seed, restarts, out } => {
                 train_lma(&inputs, labels, seed, restarts, &out)
@@ -619,13 +644,124 @@ mod cli {
                 "{} — {} ({})\n  {}\n  parameters (--param NAME=VALUE):",
                 info.name, info.short, info.paper, info.summary
             );
-            for p in m.param_specs() {
-                let unit = p.unit.as_deref().map(|u| format!(" {u}")).unwrap_or_default();
-                println!("    {:<28} default {}{unit}; {}", p.name, p.default, kind_text(&p.kind));
-                println!("    {:<28} {}", "", p.help);
+            let show = |specs: Vec<method::ParamSpec>| {
+                for p in specs {
+                    let unit = p.unit.as_deref().map(|u| format!(" {u}")).unwrap_or_default();
+                    println!("    {:<28} default {}{unit}; {}", p.name, p.default, kind_text(&p.kind));
+                    println!("    {:<28} {}", "", p.help);
+                }
+            };
+            show(m.param_specs());
+            if let Some(decl) = m.supervision() {
+                println!(
+                    "  trains on a label CSV `{}` (mocapseg train --method {} …), models `.{}`, shipped: {}",
+                    decl.labels_header,
+                    info.name,
+                    decl.model_extension,
+                    decl.shipped.join(", ")
+                );
+                if !decl.training.is_empty() {
+                    println!("  training options (--option NAME=VALUE):");
+                    show(decl.training);
+                }
             }
             println!();
         }
+        Ok(())
+    }
+
+    /// `mocapseg train`: the method's own training, as the page's worker runs it (step by step,
+    /// here without pause), on the takes and labels given; writes the model file.
+    fn train(
+        method_name: &str,
+        inputs: &[PathBuf],
+        labels: &Path,
+        options: &[String],
+        name: Option<String>,
+        out: &Path,
+    ) -> Result<(), String> {
+        let m = method::find(method_name).map_err(|e| e.to_string())?;
+        let (Some(supervised), Some(decl)) = (m.supervised(), m.supervision()) else {
+            return Err(format!("{} has no models to train", m.info().short));
+        };
+        // the options as the method's table reads them (names checked against it)
+        let mut json = serde_json::Map::new();
+        for o in options {
+            let (key, raw) = o.split_once('=').ok_or_else(|| format!("--option {o}: expected NAME=VALUE"))?;
+            let key = key.trim().replace('-', "_");
+            let Some(spec) = decl.training.iter().find(|s| s.name == key) else {
+                let known: Vec<&str> = decl.training.iter().map(|s| s.name.as_str()).collect();
+                return Err(format!(
+                    "--option {key}: not a {} training option; known: {}",
+                    m.info().short,
+                    known.join(", ")
+                ));
+            };
+            let text = [raw.trim().to_string()];
+            let value = method::form::params_from_form(&m.info().short, std::slice::from_ref(spec), &text)
+                .map_err(|e| e.to_string())?;
+            json.insert(key, value[&spec.name].clone());
+        }
+        let files = collect_files(inputs, "bvh")?;
+        let mut takes = Vec::new();
+        for f in &files {
+            let file_name = f.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+            takes.push((file_name, std::fs::read(f).map_err(|e| format!("{}: {e}", f.display()))?));
+        }
+        if !decl.more_takes {
+            takes.truncate(1);
+        }
+        let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
+        let ask = mocapseg::method::supervised::TrainingAsk {
+            name: name.unwrap_or(stem),
+            labels_name: labels
+                .file_name()
+                .map_or_else(|| labels.display().to_string(), |n| n.to_string_lossy().into_owned()),
+            labels: read_text(labels)?,
+            takes,
+            options: serde_json::Value::Object(json),
+            command: Some(std::env::args().collect::<Vec<_>>().join(" ")),
+        };
+        let started = Instant::now();
+        let bar = ProgressBar::new(1000);
+        bar.set_style(
+            ProgressStyle::with_template("{bar:40} {msg}  {elapsed_precise}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        let mut progress = |stage: &str, fraction: f64| {
+            bar.set_message(stage.to_string());
+            bar.set_position((fraction.clamp(0.0, 1.0) * 1000.0) as u64);
+        };
+        let named = |e: method::MethodError| match e.param_name() {
+            Some(p) => format!("{p}: {e}"),
+            None => e.to_string(),
+        };
+        let mut training = supervised.start_training(ask, &mut progress).map_err(named)?;
+        while !training.done() {
+            let step = training.step(&mut progress).map_err(named)?;
+            bar.suspend(|| eprintln!("{}", step.line));
+            if step.steps > 1 {
+                bar.set_position((step.step as f64 / step.steps as f64 * 1000.0) as u64);
+            }
+        }
+        bar.finish_and_clear();
+        let trained = training.finish().map_err(named)?;
+        std::fs::write(out, &trained.bytes).map_err(|e| format!("{}: {e}", out.display()))?;
+        eprintln!("{}", trained.report.summary);
+        if !trained.report.rows.is_empty() {
+            eprintln!("{}", trained.report.columns.join(" | "));
+            for row in &trained.report.rows {
+                eprintln!("{}", row.join(" | "));
+            }
+        }
+        eprintln!(
+            "wrote {} ({} `{}`, {} bytes) in {:.1} s",
+            out.display(),
+            m.info().short,
+            trained.model.info.name,
+            trained.bytes.len(),
+            started.elapsed().as_secs_f64()
+        );
         Ok(())
     }
 

@@ -338,6 +338,8 @@ fn no_rows_for_takes(name: &str, takes: &[String], files: &[&str]) -> String {
 /// A label CSV matched to the takes it names: what both trainings start from.
 struct Prepared {
     name: String,
+    /// The command that asked for the training, if not the page.
+    command: Option<String>,
     labels_name: String,
     motions: Vec<Motion>,
     classes: Vec<String>,
@@ -350,7 +352,7 @@ struct Prepared {
 /// Checks the name, reads the label CSV and the takes it names; a refusal names `name`, `labels`
 /// or `takes`.
 fn prepare(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Prepared, MethodError> {
-    let TrainingAsk { name, labels_name, labels, takes, .. } = ask;
+    let TrainingAsk { name, labels_name, labels, takes, command, .. } = ask;
     let name = name.trim().to_string();
     check_model_name(&name, &shipped_names()).map_err(|m| MethodError::param("name", m))?;
     let bad_labels = |m: String| MethodError::param("labels", m);
@@ -388,6 +390,7 @@ fn prepare(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Prepared, Me
         class_labels(&rows, &refs).map_err(|m| bad_labels(format!("{labels_name}: {m}")))?;
     Ok(Prepared {
         name,
+        command,
         data_hash: data_hash(&hashed, labels.as_bytes()),
         labels_name,
         motions,
@@ -403,7 +406,10 @@ impl Prepared {
         let takes: Vec<String> = self.motions.iter().map(|m| m.name.clone()).collect();
         ModelMeta {
             name: self.name.clone(),
-            command: train_command(kind, &takes, &self.labels_name, &self.name, options),
+            command: self
+                .command
+                .clone()
+                .unwrap_or_else(|| train_command(kind, &takes, &self.labels_name, &self.name, options)),
             data_hash: self.data_hash.clone(),
         }
     }

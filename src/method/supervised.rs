@@ -269,6 +269,9 @@ pub struct TrainingAsk {
     pub takes: Vec<(String, Vec<u8>)>,
     /// The training options as JSON (missing fields take the declared defaults).
     pub options: serde_json::Value,
+    /// The command that asked for it, for the model's provenance (the command line as typed);
+    /// `None` on the page: the method writes the command that trains the same model natively.
+    pub command: Option<String>,
 }
 
 /// One step of a training done.

@@ -124,8 +124,14 @@ impl WorkerState {
                 post(self.use_model(take, run, &method, &file, &bytes))
             }
             Request::Train { take, run, method, name, labels_name, labels, takes, options, bytes } => {
-                let ask =
-                    TrainingAsk { name, labels_name, labels, takes: takes.into_iter().zip(bytes).collect(), options };
+                let ask = TrainingAsk {
+                    name,
+                    labels_name,
+                    labels,
+                    takes: takes.into_iter().zip(bytes).collect(),
+                    options,
+                    command: None,
+                };
                 match self.start_training(take, run, &method, ask, post) {
                     Ok(()) => self.training_step(post),
                     Err(e) => post(refusal(take, run, &method, e)),

@@ -8,7 +8,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use mocapseg::dtfcn::corpus::{
     class_labels, fit_knn_model, leave_one_take_out, rows_without_takes, train_model, ModelMeta,
 };
-use mocapseg::dtfcn::model::{data_hash, Model};
+use mocapseg::dtfcn::model::data_hash;
 use mocapseg::dtfcn::training::{EpochReport, TrainOptions, TrainingTake};
 use mocapseg::labels::read_csv;
 use mocapseg::lma::corpus::same_file;
