@@ -53,11 +53,11 @@ mod lab {
     use std::time::Instant;
 
     use mocapseg::bvh::{self, Bvh};
-    use mocapseg::dtfcn::corpus::{fit_knn, predict_held_out, DEFAULT_UNKNOWN_THRESHOLD};
-    use mocapseg::dtfcn::method::runs;
-    use mocapseg::dtfcn::training::TrainOptions;
-    use mocapseg::knn::KnnParams;
     use mocapseg::method::{self, NoProgress, RunOptions};
+    use mocapseg::methods::dtfcn::corpus::{fit_knn, predict_held_out, DEFAULT_UNKNOWN_THRESHOLD};
+    use mocapseg::methods::dtfcn::method::runs;
+    use mocapseg::methods::dtfcn::training::TrainOptions;
+    use mocapseg::methods::knn::KnnParams;
     use mocapseg::motion::Motion;
     use mocapseg::segment::labelling;
     use mocapseg::segment::metrics::{evaluate, Tolerances};
@@ -137,7 +137,7 @@ mod lab {
                 .collect();
         }
         // combinations the method refuses (a low speed above the high one) are left out
-        let m = method::find(method).ok();
+        let m = mocapseg::methods::find(method).ok();
         settings
             .retain(|s| m.is_none_or(|m| method::params_from_overrides(m, s).and_then(|p| m.check_json(&p)).is_ok()));
         settings
@@ -168,7 +168,7 @@ mod lab {
     }
 
     fn run_method(name: &str, setting: &[String], motion: &Motion) -> Result<Segmentation, String> {
-        let m = method::find(name).map_err(|e| e.to_string())?;
+        let m = mocapseg::methods::find(name).map_err(|e| e.to_string())?;
         let params = method::params_from_overrides(m, setting).map_err(|e| e.to_string())?;
         let out = m
             .run_json(motion, &params, &RunOptions::default(), &mut NoProgress)
@@ -381,7 +381,7 @@ mod lab {
                         for (width, augment) in [(2, true), (2, false), (3, true)] {
                             let mut options = TrainOptions { width, ..TrainOptions::default() };
                             if !augment {
-                                options.augment = mocapseg::dtfcn::augment::Augment::none();
+                                options.augment = mocapseg::methods::dtfcn::augment::Augment::none();
                             }
                             let p = predict_held_out(&motions, &labels, h, &classes, &options, &mut |_| true)?;
                             // the unknown threshold, on the validation take's labels by the network trained without it

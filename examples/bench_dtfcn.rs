@@ -1,5 +1,5 @@
 //! Benchmark of DT-FCN and its k-NN baseline, native (the same workloads as `make bench-wasm`
-//! times in Chromium, `mocapseg::dtfcn::bench`): labelling 3000 frames at 30 Hz with the shipped
+//! times in Chromium, `mocapseg::methods::dtfcn::bench`): labelling 3000 frames at 30 Hz with the shipped
 //! `exercises` models, 20 epochs of training on 3682 frames (the exercises set's size), and —
 //! when the shared data is there — training the shipped exercises model itself. Prints times,
 //! not a test.
@@ -24,8 +24,8 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(not(target_arch = "wasm32"))]
 fn run() -> Result<(), String> {
-    use mocapseg::dtfcn::bench::{inference, train_epochs, EXERCISE_FRAMES};
-    use mocapseg::dtfcn::model::ModelKind;
+    use mocapseg::methods::dtfcn::bench::{inference, train_epochs, EXERCISE_FRAMES};
+    use mocapseg::methods::dtfcn::model::ModelKind;
     use mocapseg::motion::Motion;
     use std::time::Instant;
 

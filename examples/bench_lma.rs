@@ -23,8 +23,8 @@ fn main() -> std::process::ExitCode {
 
 #[cfg(not(target_arch = "wasm32"))]
 fn run() -> Result<(), String> {
-    use mocapseg::lma::method::{segment_with, LmaParams};
     use mocapseg::method::{NoProgress, RunOptions};
+    use mocapseg::methods::lma::method::{segment_with, LmaParams};
     use mocapseg::motion::Motion;
     use std::time::Instant;
 
@@ -37,7 +37,7 @@ fn run() -> Result<(), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
     let bvh = mocapseg::bvh::parse(&text).map_err(|e| format!("{path}: {e}"))?;
     let full = Motion::from_bvh("bench sequence", &bvh).map_err(|e| e.to_string())?;
-    let model = mocapseg::lma::shipped_model()?;
+    let model = mocapseg::methods::lma::shipped_model()?;
     for exhaustive in [false, true] {
         let params = LmaParams { exhaustive, ..LmaParams::default() };
         let mut base = None;

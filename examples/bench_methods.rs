@@ -35,7 +35,7 @@ mod lab {
     use std::time::Instant;
 
     use mocapseg::bvh;
-    use mocapseg::method::{self, NoProgress, RunOptions};
+    use mocapseg::method::{NoProgress, RunOptions};
     use mocapseg::motion::{fk, Motion};
     use serde_json::json;
 
@@ -136,7 +136,7 @@ mod lab {
             "bench methods native: every method, default parameters, on 1×, 2×, 4× {TAKE_FRAMES} frames @30 Hz of {}",
             a.sequence.display()
         );
-        for m in method::registry() {
+        for m in mocapseg::methods::registry() {
             let info = m.info();
             if only.as_ref().is_some_and(|o| !o.contains(&info.name)) {
                 continue;

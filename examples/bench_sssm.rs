@@ -28,9 +28,9 @@ mod lab {
 
     use mocapseg::bvh;
     use mocapseg::method;
+    use mocapseg::methods::sssm::{self, SssmParams};
     use mocapseg::motion::Motion;
     use mocapseg::segment::Level;
-    use mocapseg::sssm::{self, SssmParams};
 
     #[derive(clap::Parser)]
     #[command(about = "Time SSSM end to end on 1×, 2× and 4× a 30 Hz sequence built from CMU takes")]
@@ -128,7 +128,7 @@ mod lab {
             println!("wrote the 4× sequence ({} frames at 30 Hz) to {}", longest.frames(), path.display());
         }
         let full = Motion::from_bvh("bench sequence", &longest).map_err(|e| e.to_string())?;
-        let method = method::find("sssm").map_err(|e| e.to_string())?;
+        let method = mocapseg::methods::find("sssm").map_err(|e| e.to_string())?;
         let json = method::params_from_overrides(method, overrides).map_err(|e| e.to_string())?;
         let params: SssmParams = serde_json::from_value(json).map_err(|e| format!("SSSM parameters: {e}"))?;
         let names: Vec<String> =

@@ -101,7 +101,7 @@ mod lab {
         if takes.len() < 2 {
             return Err("leave-one-take-out needs at least two labelled takes".into());
         }
-        let method = method::find(&args.method).map_err(|e| e.to_string())?;
+        let method = mocapseg::methods::find(&args.method).map_err(|e| e.to_string())?;
         let settings = grid_settings(&args.params, &args.grid)?;
         // scores[s][t] = (F1@1s, covering) of setting s on take t
         let mut scores = Vec::new();
@@ -213,7 +213,7 @@ mod lab {
         if !args.grid.is_empty() {
             return leave_one_take_out(&args);
         }
-        let method = method::find(&args.method).map_err(|e| e.to_string())?;
+        let method = mocapseg::methods::find(&args.method).map_err(|e| e.to_string())?;
         let params = method::params_from_overrides(method, &args.params).map_err(|e| e.to_string())?;
         let checked = method.check_json(&params).map_err(|e| e.to_string())?;
         let score = |motion: &Motion, truth: &Truth| -> Result<Row, String> {

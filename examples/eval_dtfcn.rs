@@ -31,10 +31,10 @@ fn main() -> std::process::ExitCode {
 mod lab {
     use std::path::PathBuf;
 
-    use mocapseg::dtfcn::augment::Augment;
-    use mocapseg::dtfcn::corpus::{class_labels, leave_one_take_out, predict_held_out};
-    use mocapseg::dtfcn::training::TrainOptions;
     use mocapseg::labels::{from_truth_csv, LabelRow};
+    use mocapseg::methods::dtfcn::augment::Augment;
+    use mocapseg::methods::dtfcn::corpus::{class_labels, leave_one_take_out, predict_held_out};
+    use mocapseg::methods::dtfcn::training::TrainOptions;
     use mocapseg::motion::Motion;
     use mocapseg::segment::truth::TruthOptions;
 
@@ -115,7 +115,9 @@ mod lab {
                     };
                     let folds = leave_one_take_out(&motions, &labels, &classes, &options, &mut |_, _| true)?;
                     let n = folds.len() as f64;
-                    let m = |f: &dyn Fn(&mocapseg::dtfcn::corpus::Fold) -> f64| folds.iter().map(f).sum::<f64>() / n;
+                    let m = |f: &dyn Fn(&mocapseg::methods::dtfcn::corpus::Fold) -> f64| {
+                        folds.iter().map(f).sum::<f64>() / n
+                    };
                     println!(
                         "| {} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} |",
                         if noise { format!("{:.0} %", level * 100.0) } else { format!("{level}") },

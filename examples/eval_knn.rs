@@ -1,4 +1,4 @@
-//! Lab tool, not part of the product: the k-NN labeller (`mocapseg::knn`, the baseline the DT-FCN
+//! Lab tool, not part of the product: the k-NN labeller (`mocapseg::methods::knn`, the baseline the DT-FCN
 //! must beat) scored leave-one-take-out on the four mocap6 exercise takes of the shared data:
 //! fit on three, label the fourth, score its frames against the ground truth (frame accuracy,
 //! edit, F1@{10,25,50}, mean vote share). Nothing is tuned: the window (±1 s, every 5th frame),
@@ -27,7 +27,7 @@ mod lab {
     use std::path::PathBuf;
     use std::time::Instant;
 
-    use mocapseg::knn::{Knn, KnnParams, Labelled};
+    use mocapseg::methods::knn::{Knn, KnnParams, Labelled};
     use mocapseg::motion::Motion;
     use mocapseg::segment::labelling;
 

@@ -67,10 +67,10 @@ mod lab {
         let sources: Vec<Source> = loaded.iter().map(|(n, b, t)| Source { name: n, bvh: b, truth: t }).collect();
         // every method with its defaults, LMA's exhaustive search, and SSSM's primitives on their own
         let mut runs: Vec<(String, &dyn method::DynMethod, serde_json::Value)> =
-            method::registry().iter().map(|&m| (m.info().name, m, serde_json::json!({}))).collect();
+            mocapseg::methods::registry().iter().map(|&m| (m.info().name, m, serde_json::json!({}))).collect();
         runs.push((
             "lma exhaustive".into(),
-            method::find("lma").map_err(|e| e.to_string())?,
+            mocapseg::methods::find("lma").map_err(|e| e.to_string())?,
             serde_json::json!({"exhaustive": true}),
         ));
         let mut rows: Vec<(String, Sums)> = runs.iter().map(|r| (r.0.clone(), Sums::default())).collect();

@@ -29,9 +29,9 @@ mod lab {
     use std::path::PathBuf;
 
     use mocapseg::bvh::{self, Bvh};
-    use mocapseg::lma::classifier::EffortModel;
-    use mocapseg::lma::method::{analyse, Analysis, LmaParams};
     use mocapseg::method::NoProgress;
+    use mocapseg::methods::lma::classifier::EffortModel;
+    use mocapseg::methods::lma::method::{analyse, Analysis, LmaParams};
     use mocapseg::motion::Motion;
     use mocapseg::segment::metrics::{evaluate, Tolerances};
     use mocapseg::segment::truth::{load_csv, Truth, TruthOptions};
@@ -148,7 +148,7 @@ mod lab {
     }
 
     pub fn run(args: Args) -> Result<(), String> {
-        let model = mocapseg::lma::shipped_model()?;
+        let model = mocapseg::methods::lma::shipped_model()?;
         let mut loaded: Vec<(&str, Bvh, Truth)> = Vec::new();
         for take in crate::common::labelled_takes(&args.data)? {
             let text = std::fs::read_to_string(&take.bvh).map_err(|e| format!("{}: {e}", take.bvh.display()))?;

@@ -10,24 +10,18 @@
 pub mod asfamc;
 pub mod bvh;
 pub mod clips;
-pub mod dtfcn;
 pub mod features;
 pub mod image;
-pub mod kcs;
-pub mod knn;
 pub mod labels;
-pub mod lma;
 pub mod load;
 pub mod method;
+pub mod methods;
 pub mod motion;
 pub mod parallel;
-pub mod pca;
 pub mod protocol;
 pub mod segment;
 pub mod splice;
-pub mod sssm;
 pub mod stats;
-pub mod velocity;
 pub mod view;
 
 #[cfg(feature = "web")]

@@ -562,7 +562,7 @@ impl Response {
 mod tests {
     use super::*;
     use crate::load::load_bytes;
-    use crate::method::{self, NoProgress, RunOptions};
+    use crate::method::{NoProgress, RunOptions};
 
     fn walk() -> Motion {
         load_bytes("12_01.bvh", include_bytes!("../tests/fixtures/12_01.bvh"), &mut |_| {}).unwrap().motion
@@ -664,7 +664,7 @@ mod tests {
     #[test]
     fn a_segmentation_round_trips_with_its_pictures_in_buffers() {
         let motion = walk();
-        let m = method::find("sssm").unwrap();
+        let m = crate::methods::find("sssm").unwrap();
         let output =
             m.run_json(&motion, &serde_json::json!({}), &RunOptions { pictures: true }, &mut NoProgress).unwrap();
         let picture_bytes: Vec<usize> = output.details.pictures.iter().map(|p| p.rgba.len()).collect();

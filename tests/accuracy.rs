@@ -70,7 +70,7 @@ const FLOORS: &[Floor] = &[
 ];
 
 fn score(name: &str, overrides: &[&str], motion: &Motion, truth: &Truth) -> Scores {
-    let m = method::find(name).unwrap();
+    let m = mocapseg::methods::find(name).unwrap();
     let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
     let params = method::params_from_overrides(m, &overrides).unwrap();
     let out = m.run_json(motion, &params, &RunOptions::default(), &mut NoProgress).unwrap();
@@ -81,12 +81,12 @@ fn score(name: &str, overrides: &[&str], motion: &Motion, truth: &Truth) -> Scor
 fn every_method_and_shipped_model_stays_above_its_floor() {
     let takes = takes();
     // every registered method has a floor with its defaults
-    for m in method::registry() {
+    for m in mocapseg::methods::registry() {
         let name = m.info().name;
         assert!(FLOORS.iter().any(|f| f.method == name), "no accuracy floor for `{name}`");
     }
     // every shipped model has one
-    for model in mocapseg::dtfcn::shipped::NAMES {
+    for model in mocapseg::methods::dtfcn::shipped::NAMES {
         for kind in ["dtfcn", "knn"] {
             let wanted = format!("model=\"{model}\"");
             assert!(

@@ -6,7 +6,7 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 use mocapseg::bvh;
-use mocapseg::method::{self, MethodError, NoProgress, RunOptions};
+use mocapseg::method::{MethodError, NoProgress, RunOptions};
 use mocapseg::motion::Motion;
 
 const WALK: &str = include_str!("fixtures/12_01.bvh");
@@ -55,7 +55,7 @@ fn takes() -> Vec<(String, Motion)> {
 #[test]
 fn every_method_segments_degenerate_takes_or_says_why() {
     let mut runs = Vec::new();
-    for m in method::registry() {
+    for m in mocapseg::methods::registry() {
         runs.push((m.info().name, *m, serde_json::json!({})));
         if m.info().name == "lma" {
             runs.push(("lma exhaustive".into(), *m, serde_json::json!({"exhaustive": true})));
@@ -92,7 +92,7 @@ fn every_method_segments_degenerate_takes_or_says_why() {
 fn a_skeleton_without_arms_is_refused_by_name() {
     let (_, motion) = takes().into_iter().find(|(n, _)| n == "hips and head only").unwrap();
     for name in ["lma", "velocity", "sssm"] {
-        let err = method::find(name)
+        let err = mocapseg::methods::find(name)
             .unwrap()
             .run_json(&motion, &serde_json::json!({}), &RunOptions::default(), &mut NoProgress)
             .unwrap_err()

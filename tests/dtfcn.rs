@@ -11,18 +11,19 @@
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use mocapseg::bvh;
-use mocapseg::dtfcn::augment::Augment;
-use mocapseg::dtfcn::corpus::{class_labels, fit_knn_model, train_model, ModelMeta};
-use mocapseg::dtfcn::infer::predict_input;
-use mocapseg::dtfcn::method::label;
-use mocapseg::dtfcn::model::{Labeller, Model};
-use mocapseg::dtfcn::shipped;
-use mocapseg::dtfcn::supervised::{model_info, shipped_names};
-use mocapseg::dtfcn::training::{boundary_mask, evaluate, noisy_labels, TrainOptions, TrainingTake};
 use mocapseg::labels::LabelRow;
 use mocapseg::method::supervised::{check_model_name, Loaded};
 use mocapseg::method::ModelStore;
-use mocapseg::method::{find, NoProgress, RunOptions};
+use mocapseg::method::{NoProgress, RunOptions};
+use mocapseg::methods::dtfcn::augment::Augment;
+use mocapseg::methods::dtfcn::corpus::{class_labels, fit_knn_model, train_model, ModelMeta};
+use mocapseg::methods::dtfcn::infer::predict_input;
+use mocapseg::methods::dtfcn::method::label;
+use mocapseg::methods::dtfcn::model::{Labeller, Model};
+use mocapseg::methods::dtfcn::shipped;
+use mocapseg::methods::dtfcn::supervised::{model_info, shipped_names};
+use mocapseg::methods::dtfcn::training::{boundary_mask, evaluate, noisy_labels, TrainOptions, TrainingTake};
+use mocapseg::methods::find;
 use mocapseg::motion::Motion;
 use mocapseg::stats::Rng;
 
@@ -110,7 +111,7 @@ fn a_saved_model_loads_and_labels_exactly_as_before() {
     // blockwise inference gives the whole take's result
     let (Labeller::Network(net), Some(s)) = (&model.labeller, model.header.standardise.as_ref()) else { panic!() };
     let whole = predict_input(net, s, &takes[0].input, 3);
-    let blocks = mocapseg::dtfcn::infer::predict_blocks(net, s, &takes[0].input, 3, 17, &mut |_| {});
+    let blocks = mocapseg::methods::dtfcn::infer::predict_blocks(net, s, &takes[0].input, 3, 17, &mut |_| {});
     for (x, y) in whole.values.iter().zip(&blocks.values) {
         assert!((x - y).abs() < 1e-5, "{x} vs {y}");
     }
@@ -141,7 +142,7 @@ fn the_registered_methods_label_a_take_with_a_users_models() {
     let net = train_model(&takes, &[], &classes, &small(3), &meta(), &mut |_| true).unwrap();
     // the models a run may name are the caller's: a store, as the page's worker and a CLI run own
     let mut store = ModelStore::new();
-    let stored = |m: mocapseg::dtfcn::model::Model| Loaded {
+    let stored = |m: mocapseg::methods::dtfcn::model::Model| Loaded {
         info: model_info("my-test-model", &m),
         model: std::sync::Arc::new(m),
     };

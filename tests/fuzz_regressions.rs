@@ -4,7 +4,7 @@
 
 use mocapseg::image::MotionImage;
 use mocapseg::load::load_bytes;
-use mocapseg::method::{self, MethodError, NoProgress, RunOptions};
+use mocapseg::method::{MethodError, NoProgress, RunOptions};
 
 fn fixture(name: &str) -> Vec<u8> {
     std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/fuzz").join(name))
@@ -23,7 +23,7 @@ fn a_root_named_head_loads_and_every_method_answers() {
     assert_eq!((motion.frames(), motion.joints()), (1, 2));
     assert_eq!(motion.skeleton.names[0], "Head");
     assert_eq!(MotionImage::from_motion(motion).width, 1);
-    for m in method::registry() {
+    for m in mocapseg::methods::registry() {
         let name = m.info().name;
         match m.run_json(motion, &serde_json::Value::Null, &RunOptions::default(), &mut NoProgress) {
             Ok(out) => assert_eq!(out.segmentation.frames, 1, "{name}"),

@@ -10,14 +10,14 @@
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use mocapseg::bvh;
-use mocapseg::lma::body::upper_body;
-use mocapseg::lma::corpus::{parse_labels, Corpus, CorpusConfig};
-use mocapseg::lma::deviance::{exhaustive, pruned};
-use mocapseg::lma::features::Pool;
-use mocapseg::lma::method::{segment_with, LmaParams};
-use mocapseg::lma::network::TrainOptions;
-use mocapseg::lma::training::{train_family, TrainConfig};
 use mocapseg::method::{NoProgress, RunOptions};
+use mocapseg::methods::lma::body::upper_body;
+use mocapseg::methods::lma::corpus::{parse_labels, Corpus, CorpusConfig};
+use mocapseg::methods::lma::deviance::{exhaustive, pruned};
+use mocapseg::methods::lma::features::Pool;
+use mocapseg::methods::lma::method::{segment_with, LmaParams};
+use mocapseg::methods::lma::network::TrainOptions;
+use mocapseg::methods::lma::training::{train_family, TrainConfig};
 use mocapseg::motion::Motion;
 use mocapseg::segment::Level;
 
@@ -25,9 +25,9 @@ use mocapseg::segment::Level;
 mod models;
 
 /// The shipped family (handed over first on the page's build).
-fn shipped_model() -> Result<&'static mocapseg::lma::classifier::EffortModel, String> {
+fn shipped_model() -> Result<&'static mocapseg::methods::lma::classifier::EffortModel, String> {
     models::provide();
-    mocapseg::lma::shipped_model()
+    mocapseg::methods::lma::shipped_model()
 }
 
 const WALK: &str = include_str!("fixtures/131_01.bvh");
@@ -147,7 +147,7 @@ fn a_take_shorter_than_the_shortest_segment_gives_none() {
 }
 
 /// A quick family (few restarts, short training) on two fixture takes.
-fn quick(corpus: &Corpus, seed: u64) -> mocapseg::lma::classifier::EffortModel {
+fn quick(corpus: &Corpus, seed: u64) -> mocapseg::methods::lma::classifier::EffortModel {
     let options = TrainOptions { max_epochs: 40, learning_rate: 0.02, weight_decay: 1e-4, patience: 10 };
     let config = TrainConfig {
         seed,

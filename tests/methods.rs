@@ -4,7 +4,7 @@
 #![cfg(not(target_arch = "wasm32"))]
 
 use mocapseg::load::load_bytes;
-use mocapseg::method::{self, MethodError, NoProgress, ParamKind, Progress, RunOptions};
+use mocapseg::method::{MethodError, NoProgress, ParamKind, Progress, RunOptions};
 use mocapseg::motion::Motion;
 use mocapseg::segment::Segmentation;
 
@@ -15,7 +15,7 @@ fn take() -> Motion {
 #[test]
 fn every_method_runs_with_its_defaults_and_echoes_them() {
     let motion = take();
-    for m in method::registry() {
+    for m in mocapseg::methods::registry() {
         let info = m.info();
         let defaults = m.defaults();
         let checked =
@@ -63,15 +63,17 @@ fn every_method_runs_with_its_defaults_and_echoes_them() {
 #[test]
 fn sssm_on_the_registry_is_sssm_itself() {
     let motion = take();
-    let direct = mocapseg::sssm::segment(&motion, &mocapseg::sssm::SssmParams::default()).unwrap().segmentation;
-    let m = method::find("sssm").unwrap();
+    let direct = mocapseg::methods::sssm::segment(&motion, &mocapseg::methods::sssm::SssmParams::default())
+        .unwrap()
+        .segmentation;
+    let m = mocapseg::methods::find("sssm").unwrap();
     let via = m.run_json(&motion, &serde_json::json!({}), &RunOptions::default(), &mut NoProgress).unwrap();
     assert_eq!(via.segmentation, direct);
 }
 
 #[test]
 fn values_outside_the_announced_bounds_are_refused_by_name() {
-    for m in method::registry() {
+    for m in mocapseg::methods::registry() {
         let name = m.info().name;
         for s in m.param_specs() {
             let outside: Vec<serde_json::Value> = match &s.kind {
@@ -134,7 +136,7 @@ impl Progress for CancelAfter {
 #[test]
 fn every_method_stops_when_cancelled() {
     let motion = take();
-    for m in method::registry() {
+    for m in mocapseg::methods::registry() {
         let checked = m.check_json(&serde_json::json!({})).unwrap();
         for after in [0, 2] {
             let mut progress = CancelAfter { reports: 0, after, stages: Vec::new() };
@@ -154,7 +156,7 @@ fn every_method_stops_when_cancelled() {
 fn a_take_too_short_to_repeat_a_movement_says_why_sssm_found_no_action() {
     let whole = take();
     let short = whole.slice(0, (whole.fps * 0.8) as usize); // under a second: no movement comes back
-    let m = method::find("sssm").unwrap();
+    let m = mocapseg::methods::find("sssm").unwrap();
     let out = m.run_json(&short, &serde_json::json!({}), &RunOptions::default(), &mut NoProgress).unwrap();
     assert!(out.segmentation.segments.iter().all(|s| s.level != mocapseg::segment::Level::Action));
     let summary = &out.details.summary;

@@ -13,7 +13,7 @@
 use glam::{Quat, Vec3};
 use mocapseg::bvh::{self, Bvh, BvhJoint, Channel, JointKind};
 use mocapseg::image::MotionImage;
-use mocapseg::method::{self, NoProgress, RunOptions};
+use mocapseg::method::{NoProgress, RunOptions};
 use mocapseg::motion::{Motion, UpAxis};
 use mocapseg::segment::{Level, Segmentation};
 use proptest::prelude::*;
@@ -288,7 +288,7 @@ proptest! {
     ) {
         let take = real_take();
         let there = moved(take, yaw, [x, z]);
-        for m in method::registry() {
+        for m in mocapseg::methods::registry() {
             let name = m.info().name;
             let run = |motion: &Motion| {
                 m.run_json(motion, &serde_json::json!({}), &RunOptions::default(), &mut NoProgress)

@@ -11,11 +11,13 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 #[cfg(target_arch = "wasm32")]
 wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 
+use mocapseg::methods::sssm::activities::{RegionGrowing, Span};
+use mocapseg::methods::sssm::neighbours::{FarSearch, StackedSearch};
+use mocapseg::methods::sssm::primitives::{NeighbourhoodGraph, PrimitiveSearch};
+use mocapseg::methods::sssm::{
+    segment, segment_features, FeatureMatrix, MirrorMap, Sssm, SssmError, SssmOutcome, SssmParams,
+};
 use mocapseg::segment::Level;
-use mocapseg::sssm::activities::{RegionGrowing, Span};
-use mocapseg::sssm::neighbours::{FarSearch, StackedSearch};
-use mocapseg::sssm::primitives::{NeighbourhoodGraph, PrimitiveSearch};
-use mocapseg::sssm::{segment, segment_features, FeatureMatrix, MirrorMap, Sssm, SssmError, SssmOutcome, SssmParams};
 use std::f32::consts::TAU;
 
 /// Deterministic noise in [-0.5, 0.5).
@@ -195,7 +197,7 @@ fn a_mirrored_gait_alternates_between_two_mirror_clusters() {
     }
     assert_eq!(o.clusters[a].mirror_of, Some(b));
     assert_eq!(o.clusters[b].mirror_of, Some(a));
-    assert_eq!(o.actions[0].symmetry, mocapseg::sssm::SymmetryKind::PhaseShifted);
+    assert_eq!(o.actions[0].symmetry, mocapseg::methods::sssm::SymmetryKind::PhaseShifted);
 }
 
 #[test]
@@ -220,7 +222,7 @@ fn region_growing_on_hand_made_lists() {
     assert_eq!(forward.len(), 1);
     // scan line i counts j in [0, i − 10]: i − 20 for i in 30..=59, i − 40 for i in 50..=59
     assert_eq!((forward[0].seed, forward[0].end, forward[0].entries), (0, 59, 40));
-    let act = grow.activities(mocapseg::sssm::BoundaryRule::Paper);
+    let act = grow.activities(mocapseg::methods::sssm::BoundaryRule::Paper);
     assert_eq!(act.backward_starts, vec![10]);
     assert_eq!(act.actions, vec![Span { start: 10, end: 59 }]);
     assert_eq!(act.transitions, vec![Span { start: 0, end: 9 }, Span { start: 60, end: 99 }]);
@@ -306,7 +308,7 @@ fn tiny_still_and_huge_inputs_are_handled() {
 fn segmenting_a_take_gives_a_valid_segmentation_at_the_file_rate() {
     let motion = &load("131_01.bvh", include_bytes!("fixtures/131_01.bvh"));
     let mut stages = Vec::new();
-    let r = mocapseg::sssm::segment_with_progress(motion, &SssmParams::new(), &mut |s, f| {
+    let r = mocapseg::methods::sssm::segment_with_progress(motion, &SssmParams::new(), &mut |s, f| {
         stages.push((s.to_string(), f));
         Ok(())
     })
@@ -372,8 +374,8 @@ fn features_are_in_inches_whatever_the_file_units() {
     let metres = load("scaled.bvh", include_bytes!("fixtures/cmu_131_01_scaled_meters.bvh"));
     for body_scale in [false, true] {
         let valid = SssmParams::new().body_scale(body_scale).check().unwrap();
-        let a = mocapseg::sssm::features::from_motion(&asf, &valid).unwrap();
-        let m = mocapseg::sssm::features::from_motion(&metres, &valid).unwrap();
+        let a = mocapseg::methods::sssm::features::from_motion(&asf, &valid).unwrap();
+        let m = mocapseg::methods::sssm::features::from_motion(&metres, &valid).unwrap();
         assert_eq!(a.base.dim(), 15);
         assert_eq!(a.base.frames(), 249, "994 frames at 120 Hz → 249 at 30 Hz");
         let (ma, mm) = (mean_abs(&a.base), mean_abs(&m.base));
@@ -383,7 +385,7 @@ fn features_are_in_inches_whatever_the_file_units() {
     }
     // without body scaling the factor is inches per ASF unit (1/0.45)
     let valid = SssmParams::new().body_scale(false).check().unwrap();
-    let a = mocapseg::sssm::features::from_motion(&asf, &valid).unwrap();
+    let a = mocapseg::methods::sssm::features::from_motion(&asf, &valid).unwrap();
     assert!((a.scale - 0.056444 / 0.0254).abs() < 1e-9, "{}", a.scale);
 }
 
@@ -416,7 +418,7 @@ fn the_bundled_sample_is_cut_where_its_annotation_says() {
 
 #[test]
 fn the_stacked_search_and_the_kd_tree_give_the_same_segmentation() {
-    use mocapseg::sssm::NeighbourSearchKind;
+    use mocapseg::methods::sssm::NeighbourSearchKind;
     let motion = load("sample.bvh", include_bytes!("../www/sample.bvh"));
     // the kd-tree searches every pair: compare with the stacked search without a horizon
     let stacked = segment(&motion, &SssmParams::new().horizon_s(0.0)).unwrap();
@@ -429,7 +431,7 @@ fn the_stacked_search_and_the_kd_tree_give_the_same_segmentation() {
     assert!(a.dists().iter().zip(b.dists()).all(|(x, y)| (x - y).abs() < 1e-3));
     let (ma, mb) = (stacked.outcome.mirror_sssm.as_ref().unwrap(), tree.outcome.mirror_sssm.as_ref().unwrap());
     assert_eq!(ma.cols(), mb.cols());
-    let spans = |r: &mocapseg::sssm::SssmResult| -> Vec<(usize, usize, Level)> {
+    let spans = |r: &mocapseg::methods::sssm::SssmResult| -> Vec<(usize, usize, Level)> {
         r.segmentation.segments.iter().map(|s| (s.start, s.end, s.level)).collect()
     };
     assert_eq!(spans(&stacked), spans(&tree));
@@ -500,7 +502,7 @@ fn a_callback_that_cancels_stops_the_run_at_once() {
     // inside the stacked neighbour search (its first report past the stage boundary at 0.3),
     // inside the far blocks of a 10 s horizon, inside the kd-tree search and inside the
     // bundling: the callback is never called again, no later stage runs
-    let kd = SssmParams::new().neighbour_search(mocapseg::sssm::NeighbourSearchKind::KdTree);
+    let kd = SssmParams::new().neighbour_search(mocapseg::methods::sssm::NeighbourSearchKind::KdTree);
     let cases = [
         ("neighbours", 0.3, SssmParams::new()),
         ("far blocks", 0.5, SssmParams::new().horizon_s(10.0)),
@@ -518,7 +520,7 @@ fn a_callback_that_cancels_stops_the_run_at_once() {
     // a take, cancelled at the first report after the neighbour search: the run ends there
     let motion = load("131_01.bvh", include_bytes!("fixtures/131_01.bvh"));
     let mut after = Vec::new();
-    let e = mocapseg::sssm::segment_with_progress(&motion, &SssmParams::new(), &mut |s, _| {
+    let e = mocapseg::methods::sssm::segment_with_progress(&motion, &SssmParams::new(), &mut |s, _| {
         if s == "features" || s == "neighbours" {
             return Ok(());
         }
@@ -560,5 +562,5 @@ fn the_bundling_neighbours_count_in_the_entry_budget() {
     let valid = SssmParams::new().bundling(true).bundling_k(256).check().unwrap();
     let e = segment_features(&long, None, &valid, &mut |_, _| Ok(())).unwrap_err();
     assert!(matches!(e, SssmError::TooLarge { frames: 24_000, max_neighbours: 600, bundling_k: 256, .. }), "{e}");
-    const { assert!(24_000 * 600 <= mocapseg::sssm::MAX_ENTRIES) };
+    const { assert!(24_000 * 600 <= mocapseg::methods::sssm::MAX_ENTRIES) };
 }

@@ -140,7 +140,8 @@ mod worker {
         assert_eq!(report.rows.len(), 4);
         assert!(report.summary.contains("(1 row for another file left out)"), "{}", report.summary);
         let text = std::str::from_utf8(bytes).expect("the family arrives as text");
-        let family = mocapseg::lma::classifier::EffortModel::from_json(text).expect("the family arrives whole");
+        let family =
+            mocapseg::methods::lma::classifier::EffortModel::from_json(text).expect("the family arrives whole");
         assert_eq!((family.samples, &family.origin), (12, &model.origin));
         let lma_summary = |run, model: &str| {
             let params = serde_json::json!({ "model": model });

@@ -111,7 +111,7 @@ const SSSM_SEQUENCE: &str = include_str!(env!(
 /// paper's all-pairs SSSM), and 1300 frames (so that 4× is still distinct material).
 #[wasm_bindgen_test]
 async fn sssm_end_to_end() {
-    use mocapseg::sssm::SssmParams;
+    use mocapseg::methods::sssm::SssmParams;
     let bvh = bvh::parse(SSSM_SEQUENCE).expect("the SSSM bench sequence parses");
     let full = Motion::from_bvh("bench sequence", &bvh).expect("motion");
     assert!((full.fps - 30.0).abs() < 1e-6, "the sequence is at 30 Hz");
@@ -131,9 +131,9 @@ async fn yield_to_browser() {
     wasm_bindgen_futures::JsFuture::from(promise).await.expect("timeout promise");
 }
 
-async fn sssm_series(full: &Motion, frames: usize, params: &mocapseg::sssm::SssmParams, what: &str) {
+async fn sssm_series(full: &Motion, frames: usize, params: &mocapseg::methods::sssm::SssmParams, what: &str) {
+    use mocapseg::methods::sssm::segment_with_progress;
     use mocapseg::segment::Level;
-    use mocapseg::sssm::segment_with_progress;
     console_log!("wasm bench | sssm, {what}:");
     let mut base = None;
     for factor in [1usize, 2, 4] {
@@ -189,10 +189,10 @@ const SSSM_RUNS: usize = 5;
 /// and the exhaustive one (one run each: it is the slow one, and how it grows is the point).
 #[wasm_bindgen_test]
 async fn lma_end_to_end() {
-    use mocapseg::lma::method::{segment_with, LmaParams};
     use mocapseg::method::{NoProgress, RunOptions};
+    use mocapseg::methods::lma::method::{segment_with, LmaParams};
     models::provide();
-    let model = mocapseg::lma::shipped_model().expect("the shipped LMA family");
+    let model = mocapseg::methods::lma::shipped_model().expect("the shipped LMA family");
     let bvh = bvh::parse(SSSM_SEQUENCE).expect("the bench sequence parses");
     let full = Motion::from_bvh("bench sequence", &bvh).expect("motion");
     for exhaustive in [false, true] {
@@ -231,8 +231,8 @@ async fn lma_end_to_end() {
 /// --example bench_dtfcn`.
 #[wasm_bindgen_test]
 async fn dtfcn_end_to_end() {
-    use mocapseg::dtfcn::bench::{inference, trainer, EXERCISE_FRAMES};
-    use mocapseg::dtfcn::model::ModelKind;
+    use mocapseg::methods::dtfcn::bench::{inference, trainer, EXERCISE_FRAMES};
+    use mocapseg::methods::dtfcn::model::ModelKind;
     models::provide();
     let bvh = bvh::parse(SSSM_SEQUENCE).expect("the bench sequence parses");
     let full = Motion::from_bvh("bench sequence", &bvh).expect("motion");
@@ -323,7 +323,7 @@ async fn methods_table() {
     let full = Motion::from_bvh("bench sequence", &seq).expect("motion");
     assert!(full.frames() >= 4 * TAKE_FRAMES, "the sequence holds 4 × {TAKE_FRAMES} frames");
     models::provide();
-    for m in method::registry() {
+    for m in mocapseg::methods::registry() {
         let info = m.info();
         let checked = m.check_json(&serde_json::Value::Null).expect("default parameters");
         for factor in [1usize, 2, 4] {

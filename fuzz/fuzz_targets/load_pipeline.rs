@@ -10,7 +10,7 @@
 use libfuzzer_sys::fuzz_target;
 use mocapseg::image::MotionImage;
 use mocapseg::load::{load_bytes_with_budget, MemoryBudget};
-use mocapseg::method::{self, MethodError, NoProgress, RunOptions};
+use mocapseg::method::{MethodError, NoProgress, RunOptions};
 
 /// The loader's memory budget here (the page's is 1 GiB).
 const BUDGET: MemoryBudget = MemoryBudget { max_bytes: 4 << 20 };
@@ -48,7 +48,7 @@ fuzz_target!(init: mocapseg_fuzz::init(seeds), |data: &[u8]| {
     if !(working <= MAX_WORKING) {
         return;
     }
-    for m in method::registry() {
+    for m in mocapseg::methods::registry() {
         let name = m.info().name;
         match m.run_json(motion, &serde_json::Value::Null, &RunOptions { pictures: true }, &mut NoProgress) {
             Ok(out) => {

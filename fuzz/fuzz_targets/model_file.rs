@@ -15,12 +15,12 @@
 use std::sync::OnceLock;
 
 use libfuzzer_sys::fuzz_target;
-use mocapseg::dtfcn::input::{joint_names, Standardise, CHANNELS, NETWORK_FPS};
-use mocapseg::dtfcn::model::{sha256_hex, Labeller, Model, ModelHeader, ModelKind, Provenance, MAGIC, FORMAT};
-use mocapseg::dtfcn::network::DtFcnConfig;
-use mocapseg::dtfcn::training::TrainOptions;
-use mocapseg::knn::{Knn, KnnParams, Labelled};
-use mocapseg::lma::classifier::EffortModel;
+use mocapseg::methods::dtfcn::input::{joint_names, Standardise, CHANNELS, NETWORK_FPS};
+use mocapseg::methods::dtfcn::model::{sha256_hex, Labeller, Model, ModelHeader, ModelKind, Provenance, MAGIC, FORMAT};
+use mocapseg::methods::dtfcn::network::DtFcnConfig;
+use mocapseg::methods::dtfcn::training::TrainOptions;
+use mocapseg::methods::knn::{Knn, KnnParams, Labelled};
+use mocapseg::methods::lma::classifier::EffortModel;
 use mocapseg::method::{NoProgress, RunOptions};
 use mocapseg::motion::Motion;
 
@@ -87,7 +87,7 @@ fn split(header: &ModelHeader, payload: &[u8]) -> Vec<u8> {
 /// and split (mode 2); and the shipped LMA family cut to its unshifted classifiers (mode 1).
 fn seeds() -> Vec<(String, Vec<u8>)> {
     let mut out = Vec::new();
-    let device = mocapseg::dtfcn::device();
+    let device = mocapseg::methods::dtfcn::device();
     device.seed(7);
     let config = DtFcnConfig { channels: CHANNELS, classes: 3, width: 3, filters: vec![4, 8] };
     let net = config.init(&device);
@@ -110,7 +110,7 @@ fn seeds() -> Vec<(String, Vec<u8>)> {
     out.push(("knn-tiny.model".into(), [&[0u8][..], &framed(h.clone(), &payload)].concat()));
     out.push(("knn-tiny.split".into(), split(&h, &payload)));
 
-    let mut lma = mocapseg::lma::shipped_model().expect("the shipped LMA family").clone();
+    let mut lma = mocapseg::methods::lma::shipped_model().expect("the shipped LMA family").clone();
     let centre = lma.shift_index(0, 0);
     for f in &mut lma.factors {
         f.nets = vec![f.nets[centre].clone()];
@@ -140,7 +140,7 @@ fn labelling_model(bytes: &[u8]) {
     let back = Model::from_bytes(&written, "again.model").unwrap_or_else(|e| panic!("a written model does not load: {e}"));
     assert_eq!(model.header.classes, back.header.classes);
     assert_eq!(model.header.kind, back.header.kind);
-    if let Ok(l) = mocapseg::dtfcn::method::label(&model, take(), &mut NoProgress) {
+    if let Ok(l) = mocapseg::methods::dtfcn::method::label(&model, take(), &mut NoProgress) {
         assert_eq!(l.per_file_frame.len(), take().frames());
         assert!(l.per_file_frame.iter().all(|&(c, _)| c < model.header.classes.len()));
     }
@@ -154,8 +154,8 @@ fuzz_target!(init: mocapseg_fuzz::init(seeds), |data: &[u8]| {
             let Ok(model) = EffortModel::from_json(&String::from_utf8_lossy(rest)) else { return };
             let back = EffortModel::from_json(&model.to_json()).unwrap_or_else(|e| panic!("its own JSON: {e}"));
             assert_eq!(model, back);
-            let params = mocapseg::lma::method::LmaParams::default();
-            let _ = mocapseg::lma::method::segment_with(&model, take(), &params, &RunOptions::default(), &mut NoProgress);
+            let params = mocapseg::methods::lma::method::LmaParams::default();
+            let _ = mocapseg::methods::lma::method::segment_with(&model, take(), &params, &RunOptions::default(), &mut NoProgress);
         }
         2 => {
             let Some((len, rest)) = rest.split_first_chunk::<4>() else { return };

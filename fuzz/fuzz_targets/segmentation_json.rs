@@ -7,7 +7,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use mocapseg::method::{self, NoProgress, RunOptions};
+use mocapseg::method::{NoProgress, RunOptions};
 use mocapseg::motion::Motion;
 use mocapseg::segment::metrics::{evaluate, Tolerances};
 use mocapseg::segment::report;
@@ -22,7 +22,7 @@ fn seeds() -> Vec<(String, Vec<u8>)> {
     let take = mocapseg_fuzz::small_take("12_01.bvh", 480);
     let motion = Motion::from_bvh("12_01.bvh", &take).expect("the fixture's motion");
     let mut out = Vec::new();
-    for m in method::registry() {
+    for m in mocapseg::methods::registry() {
         if let Ok(o) = m.run_json(&motion, &serde_json::Value::Null, &RunOptions::default(), &mut NoProgress) {
             out.push((format!("{}.json", m.info().name), o.segmentation.to_json().into_bytes()));
         }

@@ -32,7 +32,7 @@ impl Launch {
     /// Reads `location.search`.
     pub fn from_location() -> Launch {
         let search = location_part("search");
-        let names: Vec<String> = crate::method::registry().iter().map(|m| m.info().name).collect();
+        let names: Vec<String> = crate::methods::registry().iter().map(|m| m.info().name).collect();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let parsed = url_params::parse(&search, &names);
         let path = location_part("pathname");

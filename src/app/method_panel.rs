@@ -1,5 +1,5 @@
 //! One generic panel per registered method, built from the registry
-//! ([`crate::method::registry`]): nothing here knows any method.
+//! ([`crate::methods::registry`]): nothing here knows any method.
 //!
 //! * [`MethodPanel`] — `#<name>-panel`: heading with the paper, the result's one-line summary
 //!   `#<name>-counts`, `#<name>-export` (saves the segmentation JSON as `<take>_<name>.json`),

@@ -268,7 +268,7 @@ impl AppState {
             speed: RwSignal::new(1.0),
             play_until: RwSignal::new(None),
             error_is_run: RwSignal::new(false),
-            methods: Box::leak(crate::method::registry().iter().map(|m| MethodSlot::new(*m)).collect()),
+            methods: Box::leak(crate::methods::registry().iter().map(|m| MethodSlot::new(*m)).collect()),
             window: RwSignal::new(Window::full(1)),
             selected: RwSignal::new(None),
             looping: RwSignal::new(true),

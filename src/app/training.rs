@@ -240,7 +240,7 @@ pub fn my_labels_trainer(state: AppState) -> Option<(&'static str, &'static Supe
 
 /// Whether the method called `method` labels every frame with its model's classes (as it declares).
 pub fn labels_classes(method: &str) -> bool {
-    crate::method::find(method).ok().and_then(|m| m.supervision()).is_some_and(|s| s.labels_classes)
+    crate::methods::find(method).ok().and_then(|m| m.supervision()).is_some_and(|s| s.labels_classes)
 }
 
 /// How a model was made, in a few words.

@@ -434,8 +434,8 @@ mod cli {
                 crop,
                 batch,
             } => {
-                let augment = mocapseg::dtfcn::augment::Augment::parse(&augment)?;
-                let options = mocapseg::dtfcn::training::TrainOptions {
+                let augment = mocapseg::methods::dtfcn::augment::Augment::parse(&augment)?;
+                let options = mocapseg::methods::dtfcn::training::TrainOptions {
                     epochs,
                     seed,
                     label_noise: noise,
@@ -515,7 +515,7 @@ mod cli {
         params: &mut [String],
         models: &mut method::ModelStore,
     ) -> Result<(), String> {
-        let m = method::find(method_name).map_err(|e| e.to_string())?;
+        let m = mocapseg::methods::find(method_name).map_err(|e| e.to_string())?;
         let (Some(supervised), Some(declared)) = (m.supervised(), m.supervision()) else { return Ok(()) };
         for p in params.iter_mut() {
             let Some(value) = p.strip_prefix("model=") else { continue };
@@ -631,14 +631,14 @@ mod cli {
 
     fn methods(json: bool) -> Result<(), String> {
         if json {
-            let list: Vec<_> = method::registry()
+            let list: Vec<_> = mocapseg::methods::registry()
                 .iter()
                 .map(|m| serde_json::json!({"info": m.info(), "params": m.param_specs()}))
                 .collect();
             println!("{}", serde_json::to_string_pretty(&list).map_err(|e| e.to_string())?);
             return Ok(());
         }
-        for m in method::registry() {
+        for m in mocapseg::methods::registry() {
             let info = m.info();
             println!(
                 "{} — {} ({})\n  {}\n  parameters (--param NAME=VALUE):",
@@ -680,7 +680,7 @@ mod cli {
         name: Option<String>,
         out: &Path,
     ) -> Result<(), String> {
-        let m = method::find(method_name).map_err(|e| e.to_string())?;
+        let m = mocapseg::methods::find(method_name).map_err(|e| e.to_string())?;
         let (Some(supervised), Some(decl)) = (m.supervised(), m.supervision()) else {
             return Err(format!("{} has no models to train", m.info().short));
         };
@@ -879,8 +879,8 @@ mod cli {
         restarts: usize,
         out: &Path,
     ) -> Result<(), String> {
-        use mocapseg::lma::corpus::{parse_labels, Corpus, CorpusConfig};
-        use mocapseg::lma::training::{train_family, TrainConfig};
+        use mocapseg::methods::lma::corpus::{parse_labels, Corpus, CorpusConfig};
+        use mocapseg::methods::lma::training::{train_family, TrainConfig};
         let started = Instant::now();
         let files = collect_files(inputs, "bvh")?;
         let mut motions = Vec::new();
@@ -895,7 +895,7 @@ mod cli {
         // takes without arms are skipped (and said), the others learnt from
         let usable: Vec<&mocapseg::motion::Motion> = takes
             .into_iter()
-            .filter(|m| match mocapseg::lma::body::upper_body(m, config.fps) {
+            .filter(|m| match mocapseg::methods::lma::body::upper_body(m, config.fps) {
                 Ok(_) => true,
                 Err(e) => {
                     eprintln!("skipped {}: {e}", m.name);
@@ -991,7 +991,7 @@ mod cli {
         out: Option<PathBuf>,
         jobs: Option<usize>,
     ) -> Result<Outcome, String> {
-        let method = method::find(method_name).map_err(|e| e.to_string())?;
+        let method = mocapseg::methods::find(method_name).map_err(|e| e.to_string())?;
         let params = method::params_from_overrides(method, overrides).map_err(|e| e.to_string())?;
         let checked = method.check_json_in(&params, models).map_err(|e| e.to_string())?;
         let files = collect_files(inputs, "bvh")?;

@@ -4,7 +4,7 @@
 //! principal axes the kd-tree searches (§IV-A) and the feature bundling (§III) rotate onto.
 //!
 //! Which features a method computes from a take is the method's own business (the SSSM's are in
-//! [`crate::sssm::features`]); this module only holds and transforms them.
+//! [`crate::methods::sssm::features`]); this module only holds and transforms them.
 
 pub mod end_effectors;
 pub mod kinematics;

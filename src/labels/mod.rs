@@ -109,17 +109,17 @@ pub fn from_truth_csv(text: &str, options: TruthOptions) -> Result<(Vec<LabelRow
 }
 
 /// The parts of `rows` inside the segments of `spans` labelled `label` (same file by
-/// [`crate::lma::corpus::same_file`]), each row clipped to them: the gait phases of the walking
+/// [`crate::methods::lma::corpus::same_file`]), each row clipped to them: the gait phases of the walking
 /// parts of a take whose actions are labelled (`mocapseg gait --within actions.csv --label walk`).
 /// Rows of files `spans` does not name at all are kept whole (walking clips are walks throughout).
 pub fn within(rows: &[LabelRow], spans: &[LabelRow], label: &str) -> Vec<LabelRow> {
     let mut out = Vec::new();
     for r in rows {
-        if !spans.iter().any(|s| crate::lma::corpus::same_file(&s.file, &r.file)) {
+        if !spans.iter().any(|s| crate::methods::lma::corpus::same_file(&s.file, &r.file)) {
             out.push(r.clone());
             continue;
         }
-        for s in spans.iter().filter(|s| s.label == label && crate::lma::corpus::same_file(&s.file, &r.file)) {
+        for s in spans.iter().filter(|s| s.label == label && crate::methods::lma::corpus::same_file(&s.file, &r.file)) {
             let (a, b) = (r.start_frame.max(s.start_frame), r.end_frame.min(s.end_frame));
             if a <= b {
                 out.push(LabelRow { start_frame: a, end_frame: b, ..r.clone() });

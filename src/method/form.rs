@@ -62,7 +62,6 @@ pub fn params_from_form(short: &str, specs: &[ParamSpec], texts: &[String]) -> R
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::method;
 
     fn texts_of(specs: &[ParamSpec]) -> Vec<String> {
         specs.iter().map(|s| field_text(&s.default)).collect()
@@ -70,7 +69,7 @@ mod tests {
 
     #[test]
     fn the_defaults_read_back_as_the_defaults_for_every_method() {
-        for m in method::registry() {
+        for m in crate::methods::registry() {
             let specs = m.param_specs();
             let params = params_from_form(&m.info().short, &specs, &texts_of(&specs)).unwrap();
             let checked = m.check_json(&params).unwrap();
@@ -80,7 +79,7 @@ mod tests {
 
     #[test]
     fn a_refusal_carries_the_parameter_it_is_about() {
-        let m = method::find("sssm").unwrap();
+        let m = crate::methods::find("sssm").unwrap();
         let specs = m.param_specs();
         // the method's refusals and the form's, as data (the page places them by it)
         for (params, want) in
@@ -101,7 +100,7 @@ mod tests {
 
     #[test]
     fn fields_that_cannot_be_read_are_named() {
-        let m = method::find("sssm").unwrap();
+        let m = crate::methods::find("sssm").unwrap();
         let specs = m.param_specs();
         let mut texts = texts_of(&specs);
         let at = |name: &str| specs.iter().position(|s| s.name == name).unwrap();

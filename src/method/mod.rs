@@ -6,12 +6,14 @@
 //!   [`Method::run`] from a [`Motion`] and checked parameters to a [`Segmentation`] plus the
 //!   method's own [`Details`] (pictures, per-frame scores), reporting progress to a
 //!   [`Progress`] sink that can also ask it to stop;
-//! * the [`registry`] lists the methods. The command line (`segment --method NAME --param k=v`),
-//!   the web worker (one generic "segment" request) and the page (one generic method panel)
-//!   only ever go through it, as [`DynMethod`]: parameters as JSON in, the same output out.
+//! * the registry ([`crate::methods::registry`]) lists the methods. The command line (`segment
+//!   --method NAME --param k=v`), the web worker (one generic "segment" request) and the page (one
+//!   generic method panel) only ever go through it, as [`DynMethod`]: parameters as JSON in, the
+//!   same output out;
+//! * a supervised method also declares its training and models ([`supervised`]).
 //!
-//! Adding a method is one folder (its paper's modules plus a `method.rs` implementing
-//! [`Method`]) and one line in [`registry`].
+//! Adding a method is one folder under `src/methods/` (its paper's modules plus a `method.rs`
+//! implementing [`Method`]) and one line in the registry. This module knows no method.
 
 pub mod bounds;
 pub mod form;
@@ -387,29 +389,6 @@ pub fn counted(n: usize, word: &str) -> String {
     }
 }
 
-/// Every method, in the order the page shows them. One line per method.
-pub fn registry() -> &'static [&'static dyn DynMethod] {
-    &[
-        &crate::sssm::method::Sssm,
-        &crate::velocity::method::Velocity,
-        &crate::kcs::method::Kcs,
-        &crate::pca::method::Pca,
-        &crate::lma::method::Lma,
-        // the k-NN first: on clean labels it is the better labeller (docs/methods/dtfcn.md, "Accuracy")
-        &crate::dtfcn::method::KNN,
-        &crate::dtfcn::method::DTFCN,
-    ]
-}
-
-/// The method called `name`.
-pub fn find(name: &str) -> Result<&'static dyn DynMethod, MethodError> {
-    let name = name.trim().to_ascii_lowercase();
-    registry().iter().copied().find(|m| m.info().name == name).ok_or_else(|| MethodError::Unknown {
-        name,
-        known: registry().iter().map(|m| m.info().name).collect::<Vec<_>>().join(", "),
-    })
-}
-
 /// Applies `NAME=VALUE` overrides (values as JSON; anything that is not JSON is a string) to
 /// the defaults of `method`, naming the known parameters when one is unknown.
 pub fn params_from_overrides(method: &dyn DynMethod, overrides: &[String]) -> Result<serde_json::Value, MethodError> {
@@ -450,6 +429,8 @@ mod tests {
     }
 
     use super::*;
+
+    use crate::methods::{find, registry};
 
     #[test]
     fn names_are_unique_and_found_case_insensitively() {

@@ -283,7 +283,7 @@ impl WorkerState {
             Ok(motion) => motion,
             Err(message) => return fail(message, FailureKind::NotLoaded),
         };
-        let m = match crate::method::find(method) {
+        let m = match crate::methods::find(method) {
             Ok(m) => m,
             Err(e) => return fail(e.to_string(), FailureKind::Input),
         };
@@ -304,7 +304,7 @@ impl WorkerState {
 
 /// The supervised method called `method`.
 fn supervised_method(method: &str) -> Result<&'static dyn crate::method::DynMethod, MethodError> {
-    let m = crate::method::find(method)?;
+    let m = crate::methods::find(method)?;
     if m.supervised().is_none() {
         return Err(MethodError::Failed(format!("{} is not a supervised method: it has no models", m.info().short)));
     }
@@ -651,7 +651,8 @@ mod tests {
         assert_eq!(report.rows[0][1], "4 / 4 / 4");
         assert_eq!((model.method.as_str(), model.name.as_str()), ("lma", "mine"));
         assert_eq!(model.origin, "12 segments of 12_01.bvh labelled in labels.csv");
-        let family = crate::lma::classifier::EffortModel::from_json(std::str::from_utf8(bytes).unwrap()).unwrap();
+        let family =
+            crate::methods::lma::classifier::EffortModel::from_json(std::str::from_utf8(bytes).unwrap()).unwrap();
         assert_eq!(family.samples, 12);
         let yours = format!(" · your classifiers ({})", model.origin);
         let view = run_method(&mut w, 9, "lma", serde_json::json!({"model": "mine"}));
@@ -767,7 +768,7 @@ mod tests {
         );
         assert!(command.contains("filters 8,8"), "{command}");
         assert!(bytes.starts_with(b"mocapseg-model\n"));
-        let back = crate::dtfcn::model::Model::from_bytes(bytes, "tiny-trained.model").unwrap();
+        let back = crate::methods::dtfcn::model::Model::from_bytes(bytes, "tiny-trained.model").unwrap();
         assert_eq!(back.header.classes, model.classes);
         assert_eq!(back.header.provenance.epochs_run, 2);
 
@@ -873,7 +874,7 @@ mod tests {
             "{}",
             report.summary
         );
-        let back = crate::dtfcn::model::Model::from_bytes(bytes, "s.model").unwrap();
+        let back = crate::methods::dtfcn::model::Model::from_bytes(bytes, "s.model").unwrap();
         assert_eq!(back.header.provenance.epochs_run, 1);
         assert!(w.next_step().is_none());
         assert!(

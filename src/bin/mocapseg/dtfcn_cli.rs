@@ -1,18 +1,18 @@
 //! `mocapseg train-dtfcn` and `mocapseg model-info`: the DT-FCN and k-NN models on the command
-//! line (the training itself is the library's, `mocapseg::dtfcn`).
+//! line (the training itself is the library's, `mocapseg::methods::dtfcn`).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
-use mocapseg::dtfcn::corpus::{
+use mocapseg::labels::read_csv;
+use mocapseg::load::load_path;
+use mocapseg::methods::dtfcn::corpus::{
     class_labels, fit_knn_model, leave_one_take_out, rows_without_takes, train_model, ModelMeta,
 };
-use mocapseg::dtfcn::model::data_hash;
-use mocapseg::dtfcn::training::{EpochReport, TrainOptions, TrainingTake};
-use mocapseg::labels::read_csv;
-use mocapseg::lma::corpus::same_file;
-use mocapseg::load::load_path;
+use mocapseg::methods::dtfcn::model::data_hash;
+use mocapseg::methods::dtfcn::training::{EpochReport, TrainOptions, TrainingTake};
+use mocapseg::methods::lma::corpus::same_file;
 use mocapseg::motion::Motion;
 
 /// The command line as typed (for the model's provenance).
@@ -189,7 +189,8 @@ pub fn train(
 /// shipping one of that name, or `method`'s), `dtfcn-exercises`, `dtfcn-exercises.model` — from
 /// what each supervised method declares.
 pub fn model_info(file: &Path, method: Option<&str>) -> Result<(), String> {
-    use mocapseg::method::{registry, DynMethod};
+    use mocapseg::method::DynMethod;
+    use mocapseg::methods::registry;
     let methods: Vec<&dyn DynMethod> = registry()
         .iter()
         .copied()

@@ -42,7 +42,7 @@
 
 use super::{cap_row, Sssm, SssmBuilder, StackedSearch};
 use crate::method::Cancelled;
-use crate::sssm::activities::Span;
+use crate::methods::sssm::activities::Span;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Blocks of an action that may fail to link before it gets no more.
@@ -199,7 +199,7 @@ impl<'a> FarSearch<'a> {
 
     /// Searches the blocks of the candidate pairs in order (see the module documentation).
     /// `limits[a]` is how near a frame must come to action `a` to repeat it (the kinds' test,
-    /// [`RegionGrowing::kinds`](crate::sssm::activities::RegionGrowing::kinds); `None`: `a`
+    /// [`RegionGrowing::kinds`](crate::methods::sssm::activities::RegionGrowing::kinds); `None`: `a`
     /// does not repeat itself and links to nothing). Reports the fraction done before the
     /// first block, every 256 rows of a block and after each block, and stops as
     /// soon as `progress` returns `Err(Cancelled)`.
@@ -461,7 +461,7 @@ impl Sssm {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sssm::features::{stack, FeatureMatrix, MirrorMap};
+    use crate::methods::sssm::features::{stack, FeatureMatrix, MirrorMap};
 
     /// 15 values per frame: a periodic motion of `period` frames and `shape` (different shapes
     /// are different activities), with a little deterministic wobble.
@@ -613,7 +613,7 @@ mod tests {
         for i in 910..1200u32 {
             let mut nearest = row_of(&all, i);
             assert!(nearest.len() > 7, "row {i} needs more than 7 neighbours, has {}", nearest.len());
-            crate::sssm::neighbours::cap_row(&mut nearest, 7);
+            crate::methods::sssm::neighbours::cap_row(&mut nearest, 7);
             assert_eq!(row_of(&capped, i), nearest, "row {i}");
         }
         // progress: rising, ending at 1

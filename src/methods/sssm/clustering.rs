@@ -108,7 +108,7 @@ impl ClusterSearch {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sssm::neighbours::Sssm;
+    use crate::methods::sssm::neighbours::Sssm;
 
     #[test]
     fn strongly_connected_components_are_the_clusters() {

@@ -13,12 +13,12 @@ use super::input::NetworkInput;
 use super::model::{data_hash, Model, ModelKind};
 use super::shipped;
 use super::training::{EpochReport, TrainOptions, Trainer, TrainingTake};
-use crate::lma::corpus::same_file;
 use crate::method::supervised::{
     check_model_name, read_options, Loaded, ModelInfo, StepReport, Supervision, Trained, Training, TrainingAsk,
     TrainingReport,
 };
 use crate::method::{counted, MethodError, ParamKind, ParamSpec, Progress};
+use crate::methods::lma::corpus::same_file;
 use crate::motion::Motion;
 
 /// The names of the shipped models, as the store and the forms want them.

@@ -7,7 +7,7 @@
 //! * [`exhaustive`]: every candidate. Each segment the family reads (every start, every length
 //!   from `min_len − 2s` to `max_len + 2s`) is projected once, a start row at a time, and every
 //!   network of the family reads a whole row of candidates in one batched pass
-//!   ([`crate::lma::network::Net::forward_batch`]) — the paper's "more than 3 hours" for a 25-second
+//!   ([`crate::methods::lma::network::Net::forward_batch`]) — the paper's "more than 3 hours" for a 25-second
 //!   take become seconds.
 
 use std::collections::VecDeque;

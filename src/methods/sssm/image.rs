@@ -10,7 +10,7 @@
 //! Takes longer than [`MAX_SIZE`] working frames are shrunk by square blocks (the darkest entry
 //! of a block wins), so the image never exceeds `MAX_SIZE × MAX_SIZE` pixels.
 
-use crate::sssm::SssmOutcome;
+use crate::methods::sssm::SssmOutcome;
 
 /// Largest side of the image in pixels; longer takes are drawn in blocks of frames.
 pub const MAX_SIZE: usize = 1500;
@@ -133,7 +133,7 @@ pub fn render_max(outcome: &SssmOutcome, max_size: usize) -> SssmImage {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sssm::{Action, Activities, Span, Sssm, SymmetryKind};
+    use crate::methods::sssm::{Action, Activities, Span, Sssm, SymmetryKind};
 
     /// 8 working frames: frames 0–3 and 4–7 repeat each other (an action with one cut at 4 and
     /// a mirror-only cut at 6); frame 0 is also a neighbour of frame 4 at half the radius.

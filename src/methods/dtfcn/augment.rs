@@ -266,7 +266,7 @@ pub fn time_warp(input: &NetworkInput, speed: f32) -> (NetworkInput, Vec<usize>)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dtfcn::input::CHANNELS;
+    use crate::methods::dtfcn::input::CHANNELS;
 
     fn input(frames: usize) -> NetworkInput {
         let values = (0..CHANNELS * frames).map(|i| (i % 97) as f32 * 0.1).collect();

@@ -5,17 +5,19 @@
 //! (nalgebra), searched with a kiddo kd-tree. The confidence of a frame is the share of votes its
 //! label won.
 //!
-//! It is a registered method (`knn`, [`crate::dtfcn::method`]) reading the same model files and
-//! label CSVs as the network.
+//! It is a registered method (`knn`, [`method`]) reading the same model files and label CSVs as
+//! the network.
 //! `cargo run --release --example eval_knn` scores it leave-one-take-out on the shared takes.
+
+pub mod method;
 
 use kiddo::immutable::float::kdtree::ImmutableKdTree;
 use kiddo::SquaredEuclidean;
 
-use crate::dtfcn::infer::Probabilities;
 use crate::features::end_effectors::canonical_joints;
 use crate::features::pca::principal_axes;
 use crate::features::{stack, FeatureMatrix};
+use crate::methods::dtfcn::infer::Probabilities;
 use crate::motion::joints::Canonical;
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -43,7 +45,7 @@ impl Default for KnnParams {
 impl KnnParams {
     /// Refuses windows and votes the labeller cannot use (as read from a model file).
     pub fn check(&self) -> Result<(), String> {
-        if (self.fps - crate::dtfcn::input::NETWORK_FPS).abs() > 1e-9 {
+        if (self.fps - crate::methods::dtfcn::input::NETWORK_FPS).abs() > 1e-9 {
             return Err(format!("k-NN at {} Hz; this mocapseg's k-NN works at 30 Hz", self.fps));
         }
         if !(0..=300).contains(&self.half_window) || !(1..=300).contains(&self.stride) {
@@ -243,9 +245,9 @@ mod tests {
 
     #[test]
     fn a_take_is_labelled_as_its_copy_in_other_units_was_taught() {
-        let taught = motion("131_01.bvh", include_str!("../../tests/fixtures/131_01.bvh"));
+        let taught = motion("131_01.bvh", include_str!("../../../tests/fixtures/131_01.bvh"));
         // the same take written in metres: the reference-body scaling makes it the same frames
-        let asked = motion("metres.bvh", include_str!("../../tests/fixtures/cmu_131_01_scaled_meters.bvh"));
+        let asked = motion("metres.bvh", include_str!("../../../tests/fixtures/cmu_131_01_scaled_meters.bvh"));
         let half = taught.frames() / 2;
         let labels: Vec<usize> = (0..taught.frames()).map(|f| usize::from(f >= half)).collect();
         let knn = Knn::fit(&[Labelled { motion: &taught, labels: &labels }], KnnParams::default()).unwrap();
@@ -261,7 +263,7 @@ mod tests {
         assert!(Knn::from_bytes(&knn.to_bytes(), knn.params(), 1).unwrap_err().contains("label 1"));
         assert!(Knn::from_bytes(&knn.to_bytes()[..100], knn.params(), 2).is_err());
         // a take without the canonical joints is refused by name
-        let stick = motion("stick.bvh", include_str!("../../tests/fixtures/bvh_anim_test_simple.bvh"));
+        let stick = motion("stick.bvh", include_str!("../../../tests/fixtures/bvh_anim_test_simple.bvh"));
         assert!(knn.predict(&stick).unwrap_err().starts_with("stick.bvh:"));
     }
 }

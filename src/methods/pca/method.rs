@@ -167,7 +167,7 @@ mod tests {
     #[test]
     fn a_walk_is_one_behaviour_at_the_file_rate_with_its_curve_plot_and_progress() {
         let motion =
-            load_bytes("12_01.bvh", include_bytes!("../../tests/fixtures/12_01.bvh"), &mut |_| {}).unwrap().motion;
+            load_bytes("12_01.bvh", include_bytes!("../../../tests/fixtures/12_01.bvh"), &mut |_| {}).unwrap().motion;
         let params = PcaParams::default().check().unwrap();
         let mut stages: Vec<String> = Vec::new();
         let mut progress = |stage: &str, _: f64| stages.push(stage.to_string());
@@ -194,7 +194,7 @@ mod tests {
         use crate::motion::normalize::body_size;
         use crate::motion::units::UpAxis;
         let walk =
-            load_bytes("12_01.bvh", include_bytes!("../../tests/fixtures/12_01.bvh"), &mut |_| {}).unwrap().motion;
+            load_bytes("12_01.bvh", include_bytes!("../../../tests/fixtures/12_01.bvh"), &mut |_| {}).unwrap().motion;
         // the same walk again with both hands a third of the body higher
         let map = walk.joint_map().unwrap();
         let up = match walk.up_axis {

@@ -27,7 +27,7 @@ mod tests {
 
     #[test]
     fn each_frame_is_divided_by_its_largest_positive_channel() {
-        let device = crate::dtfcn::device();
+        let device = crate::methods::dtfcn::device();
         // one take, 3 channels, 2 frames: frame 0 = (2, −1, 4), frame 1 = (−3, −1, 0)
         let x = Tensor::<1>::from_floats([2.0, -3.0, -1.0, -1.0, 4.0, 0.0], &device).reshape([1, 3, 2]);
         let y: Vec<f32> = norm_relu(x).into_data().try_to_vec::<f32>().unwrap();

@@ -304,7 +304,7 @@ mod tests {
 #[cfg(test)]
 mod pool_tests {
     use super::*;
-    use crate::lma::body::{Arm, Side};
+    use crate::methods::lma::body::{Arm, Side};
     use glam::DVec3;
 
     #[test]

@@ -6,9 +6,9 @@
 use super::input::{joint_names, NETWORK_FPS};
 use super::model::{Labeller, Model, ModelHeader, ModelKind, Provenance};
 use super::training::{train, EpochReport, TrainOptions, Trained, TrainingTake};
-use crate::knn::{Knn, KnnParams, Labelled as KnnTake};
 use crate::labels::LabelRow;
-use crate::lma::corpus::same_file;
+use crate::methods::knn::{Knn, KnnParams, Labelled as KnnTake};
+use crate::methods::lma::corpus::same_file;
 use crate::motion::Motion;
 use crate::segment::labelling::{self, LabellingScores};
 

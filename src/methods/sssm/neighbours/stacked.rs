@@ -24,8 +24,8 @@
 
 use super::{cap_tail, Sssm, UpperTriangle, PROGRESS_ROWS};
 use crate::method::Cancelled;
-use crate::sssm::features::{FeatureMatrix, MirrorMap};
-use crate::sssm::SssmError;
+use crate::methods::sssm::features::{FeatureMatrix, MirrorMap};
+use crate::methods::sssm::SssmError;
 
 /// Per-frame features prepared for the stacked search.
 pub struct StackedSearch {
@@ -44,7 +44,7 @@ pub struct StackedSearch {
 
 impl StackedSearch {
     /// Prepares per-frame features `base` stacked at `offsets` (as in
-    /// [`stack`](crate::sssm::features::stack)), with their mirror map if the mirror SSSM is
+    /// [`stack`](crate::methods::sssm::features::stack)), with their mirror map if the mirror SSSM is
     /// wanted.
     pub fn new(base: &FeatureMatrix, offsets: &[i32], mirror: Option<&MirrorMap>) -> Result<Self, SssmError> {
         let (n, dim) = (base.frames(), base.dim());
@@ -353,16 +353,16 @@ impl RowRing {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sssm::features::stack;
-    use crate::sssm::neighbours::NeighbourSearch;
+    use crate::methods::sssm::features::stack;
+    use crate::methods::sssm::neighbours::NeighbourSearch;
 
     fn walk(n: usize, d: usize, seed: u64) -> FeatureMatrix {
-        crate::sssm::neighbours::tests::walk(n, d, seed, 0.9)
+        crate::methods::sssm::neighbours::tests::walk(n, d, seed, 0.9)
     }
 
     /// For every row of `a`, its rows of `b` within `r`.
     fn brute_force(a: &FeatureMatrix, b: &FeatureMatrix, r: f32) -> Vec<Vec<(u32, f32)>> {
-        crate::sssm::neighbours::tests::brute_force(b, a, r)
+        crate::methods::sssm::neighbours::tests::brute_force(b, a, r)
     }
 
     /// Same neighbours and distances, allowing for pairs within rounding of the radius.

@@ -83,10 +83,16 @@ pub struct Labelling {
     kind: ModelKind,
 }
 
-/// The DT-FCN method.
-pub const DTFCN: Labelling = Labelling { kind: ModelKind::Dtfcn };
-/// The k-NN method.
-pub const KNN: Labelling = Labelling { kind: ModelKind::Knn };
+impl Labelling {
+    /// The labelling method over models of `kind`.
+    pub const fn of(kind: ModelKind) -> Labelling {
+        Labelling { kind }
+    }
+}
+
+/// The DT-FCN method (the k-NN's, the same labelling over k-NN models, is
+/// [`crate::methods::knn::method::KNN`]).
+pub const DTFCN: Labelling = Labelling::of(ModelKind::Dtfcn);
 
 impl Method for Labelling {
     type Params = LabelParams;

@@ -241,7 +241,7 @@ mod tests {
 
     #[test]
     fn broken_model_files_are_refused_with_what_is_wrong() {
-        let shipped = crate::lma::shipped_model().unwrap();
+        let shipped = crate::methods::lma::shipped_model().unwrap();
         assert_eq!(EffortModel::from_json(&shipped.to_json()).as_ref(), Ok(shipped));
         let mut bad = shipped.clone();
         bad.factors[1].nets[7].w1.pop();

@@ -18,7 +18,7 @@ use sha2::{Digest, Sha256};
 use super::input::{joint_names, Standardise, NETWORK_FPS};
 use super::network::{DtFcn, DtFcnConfig};
 use super::training::TrainOptions;
-use crate::knn::{Knn, KnnParams};
+use crate::methods::knn::{Knn, KnnParams};
 
 /// The first bytes of every model file.
 pub const MAGIC: &[u8] = b"mocapseg-model\n";
@@ -35,7 +35,7 @@ const MAX_PAYLOAD: u64 = 256 << 20;
 pub enum ModelKind {
     /// The DT-FCN network ([`super::network`]).
     Dtfcn,
-    /// The k-nearest-neighbour labeller ([`crate::knn`]).
+    /// The k-nearest-neighbour labeller ([`crate::methods::knn`]).
     Knn,
 }
 
@@ -308,12 +308,12 @@ pub fn check_header(h: &ModelHeader) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dtfcn::input::CHANNELS;
+    use crate::methods::dtfcn::input::CHANNELS;
 
     fn tiny() -> Model {
         let classes: Vec<String> = vec!["a".into(), "b".into(), "c".into()];
         let network = DtFcnConfig { channels: CHANNELS, classes: 3, width: 3, filters: vec![4, 8] };
-        let device = crate::dtfcn::device();
+        let device = crate::methods::dtfcn::device();
         device.seed(3);
         let net = network.init(&device);
         Model {

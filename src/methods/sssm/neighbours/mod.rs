@@ -664,7 +664,7 @@ mod tests {
     #[test]
     fn mirror_search_matches_brute_force_and_is_symmetric() {
         let f = noisy(300, 15, 5);
-        let map = crate::sssm::features::MirrorMap::end_effectors();
+        let map = crate::methods::sssm::features::MirrorMap::end_effectors();
         let m = map.apply(&f).unwrap();
         let s = NeighbourSearch::new(&f);
         let mirror = s.mirror_similarity(&m, 14.0, 10_000).unwrap();

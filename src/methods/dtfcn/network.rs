@@ -210,13 +210,13 @@ mod tests {
         assert_eq!(DtFcnConfig { width: 5, ..c.clone() }.receptive_field(), 3125);
         // 51·3·64+64 + 64·3·64+64 + 64·3·128+128 + 128·3·256+256 + 256·3·512+512 + 512·10+10
         assert_eq!(c.parameter_count(), 9856 + 12352 + 24704 + 98560 + 393728 + 5130);
-        let net = c.init(&crate::dtfcn::device());
+        let net = c.init(&crate::methods::dtfcn::device());
         assert_eq!(net.num_params(), c.parameter_count());
     }
 
     #[test]
     fn any_length_in_the_same_length_out_and_probabilities_sum_to_one() {
-        let device = crate::dtfcn::device();
+        let device = crate::methods::dtfcn::device();
         let c = DtFcnConfig { channels: 6, classes: 3, width: 3, filters: vec![4, 8, 8] };
         let net = c.init(&device);
         for frames in [1, 2, 7, 40] {
@@ -231,7 +231,7 @@ mod tests {
     #[test]
     fn the_matrix_product_layer_equals_burns_dilated_conv1d() {
         use burn::nn::PaddingConfig1d;
-        let device = crate::dtfcn::device();
+        let device = crate::methods::dtfcn::device();
         let conv =
             Conv1dConfig::new(5, 7, 3).with_dilation(4).with_padding(PaddingConfig1d::Explicit(4, 4)).init(&device);
         let ours =
@@ -247,7 +247,7 @@ mod tests {
 
     #[test]
     fn an_impulse_changes_exactly_the_receptive_field() {
-        let device = crate::dtfcn::device();
+        let device = crate::methods::dtfcn::device();
         // positive weights: nothing is cut by a ReLU, so every frame the impulse reaches changes
         let c = DtFcnConfig { channels: 2, classes: 2, width: 3, filters: vec![3, 3, 3] };
         let rfs = c.receptive_field();

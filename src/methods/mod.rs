@@ -1,0 +1,49 @@
+//! The segmentation methods, one folder each, named as their papers name them, and the registry
+//! that lists them: the only place that knows which methods exist. Everything else — the command
+//! line, the worker, the page — goes through [`registry`] and [`find`] as
+//! [`crate::method::DynMethod`] (the shape every method has: [`crate::method`]).
+//!
+//! | method | paper | folder |
+//! |---|---|---|
+//! | SSSM: sparse self-similarity segmentation | Krüger et al. 2017 | [`sssm`] |
+//! | velocity baseline | (zero crossings of joint speeds) | [`velocity`] |
+//! | KCS baseline | (kinematic chain space) | [`kcs`] |
+//! | PCA baseline | Barbič et al. 2004 | [`pca`] |
+//! | LMA Effort classifiers | Bouchard & Badler | [`lma`] |
+//! | k-NN labeller | baseline for Cheema et al. 2019 | [`knn`] |
+//! | DT-FCN | Cheema et al. 2019 | [`dtfcn`] |
+//!
+//! Adding a method: its folder here, `pub mod` below, and one line in [`registry`].
+
+pub mod dtfcn;
+pub mod kcs;
+pub mod knn;
+pub mod lma;
+pub mod pca;
+pub mod sssm;
+pub mod velocity;
+
+use crate::method::{DynMethod, MethodError};
+
+/// Every method, in the order the page shows them. One line per method.
+pub fn registry() -> &'static [&'static dyn DynMethod] {
+    &[
+        &sssm::method::Sssm,
+        &velocity::method::Velocity,
+        &kcs::method::Kcs,
+        &pca::method::Pca,
+        &lma::method::Lma,
+        // the k-NN first: on clean labels it is the better labeller (docs/methods/dtfcn.md, "Accuracy")
+        &knn::method::KNN,
+        &dtfcn::method::DTFCN,
+    ]
+}
+
+/// The method called `name`.
+pub fn find(name: &str) -> Result<&'static dyn DynMethod, MethodError> {
+    let name = name.trim().to_ascii_lowercase();
+    registry().iter().copied().find(|m| m.info().name == name).ok_or_else(|| MethodError::Unknown {
+        name,
+        known: registry().iter().map(|m| m.info().name).collect::<Vec<_>>().join(", "),
+    })
+}
