@@ -720,7 +720,7 @@ pub fn SegmentRow(
 
 /// Whether `v` is a labelling method's run (DT-FCN, k-NN): its segments are per-frame class labels.
 pub(super) fn is_labelling(v: &MethodView) -> bool {
-    super::training::labels_classes(&v.method) || v.segmentation.params.get("colours").is_some()
+    super::supervised::labels_classes(&v.method) || v.segmentation.params.get("colours").is_some()
 }
 
 /// The CSS colour of class `cluster` in a labelling method's run: the one the run echoes in

@@ -29,6 +29,7 @@ mod drop_zone;
 mod embed;
 mod error_banner;
 mod ground_truth;
+mod keys;
 mod loader;
 mod method_panel;
 mod metrics_panel;
@@ -40,6 +41,7 @@ mod player;
 mod progress;
 mod row_exports;
 mod summary;
+mod supervised;
 mod timeline;
 mod training;
 
@@ -61,8 +63,9 @@ use metrics_panel::MetricsPanel;
 use player::Player;
 use progress::Progress;
 use summary::Summary;
+use supervised::Supervised;
 use timeline::Timeline;
-use training::{ModelFile, Supervised, TrainingPanel};
+use training::{ModelFile, TrainingPanel};
 
 /// Where loading stands.
 #[derive(Debug, Clone, PartialEq)]

@@ -31,10 +31,10 @@
 //!   data that cannot be read is reported in the status line and left alone until the next edit.
 //!   `document.body.dataset.myLabels` (`data-my-labels`): the number of segments.
 
+use super::keys::is_for_the_field;
 use super::motion_image::stem;
 use super::row_exports::RowExports;
-use super::timeline::is_for_the_field;
-use super::training::{my_labels_trainer, TrainRequest, TrainState};
+use super::supervised::{my_labels_trainer, TrainRequest, TrainState};
 use super::{AppState, Selection};
 use crate::labels::to_csv;
 use crate::protocol::MethodView;
@@ -113,7 +113,7 @@ struct OtherRow {
 
 /// Whether `v` is a labelling method's run (its segments are classes: DT-FCN, k-NN).
 fn is_labelling(v: &MethodView) -> bool {
-    super::training::labels_classes(&v.method) || v.segmentation.params.get("colours").is_some()
+    super::supervised::labels_classes(&v.method) || v.segmentation.params.get("colours").is_some()
 }
 
 /// The colour a segment has in its method's row (as `method_panel` draws it; `None`: hatched).

@@ -15,6 +15,7 @@
 //! in text fields; `?` opens `#help-overlay`. The maths is in [`crate::view::timeline`].
 
 use super::ground_truth::TruthRow;
+use super::keys::is_for_the_field;
 use super::method_panel::{row_spans, MethodRows};
 use super::motion_image::{Chunks, DownloadPng, MotionImageCanvas};
 use super::my_labels::{MyLabelsRow, MyLabelsTools, MyRow};
@@ -427,20 +428,6 @@ fn HelpOverlay(state: AppState) -> impl IntoView {
                 <button id="help-close" class="ms-button" type="button" on:click=move |_| state.help.set(false)>"Close"</button>
             </div>
         </div>
-    }
-}
-
-/// Whether a key press aimed at `target` is the field's own (typing, a slider, a menu) or a
-/// button's own activation (Space, Enter).
-pub(super) fn is_for_the_field(target: Option<web_sys::EventTarget>, key: &str) -> bool {
-    let Some(el) = target.and_then(|t| t.dyn_into::<web_sys::HtmlElement>().ok()) else { return false };
-    if el.is_content_editable() {
-        return true;
-    }
-    match el.tag_name().to_ascii_lowercase().as_str() {
-        "input" | "select" | "textarea" => true,
-        "button" | "summary" | "a" => key == " " || key == "Enter",
-        _ => false,
     }
 }
 

@@ -56,6 +56,18 @@ use serde::{Deserialize, Serialize};
 use super::neighbours::Sssm;
 use super::params::BoundaryRule;
 
+/// An absent index (a frame in no span).
+pub(crate) const NONE: u32 = u32::MAX;
+
+/// For each frame, the index of the span containing it ([`NONE`] outside all spans).
+pub(crate) fn frame_lookup(n: usize, spans: &[Span]) -> Vec<u32> {
+    let mut of = vec![NONE; n];
+    for (k, s) in spans.iter().enumerate() {
+        of[s.start..=s.end.min(n.saturating_sub(1))].iter_mut().for_each(|a| *a = k as u32);
+    }
+    of
+}
+
 /// Frames `start..=end` (0-based, inclusive) at the working rate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Span {
@@ -404,7 +416,7 @@ impl RegionGrowing<'_> {
         // One pass over the neighbour lists: for every frame of an action, its nearest repeat
         // in each action (the same as `nearest_in` per pair, but O(entries) for all pairs).
         let count = actions.len();
-        let action_of = super::primitives::frame_lookup(self.sssm.frames(), actions);
+        let action_of = frame_lookup(self.sssm.frames(), actions);
         let mut nearest = vec![f32::INFINITY; count];
         let mut touched: Vec<usize> = Vec::new();
         let mut own: Vec<Vec<f32>> = vec![Vec::new(); count];

@@ -16,8 +16,9 @@ use petgraph::algo::tarjan_scc;
 use petgraph::graph::{DiGraph, NodeIndex};
 use serde::{Deserialize, Serialize};
 
+use super::activities::frame_lookup;
 use super::activities::Span;
-use super::primitives::{frame_lookup, Blocks, NeighbourhoodGraph};
+use super::primitives::{Blocks, NeighbourhoodGraph};
 
 /// Settings of the cluster graph (from the checked parameters).
 #[derive(Debug, Clone, Copy)]

@@ -19,10 +19,11 @@
 use petgraph::unionfind::UnionFind;
 use serde::{Deserialize, Serialize};
 
-use super::activities::Span;
+use super::activities::{frame_lookup, Span};
 use super::neighbours::Sssm;
 
-const NONE: u32 = u32::MAX;
+/// An absent entry (a frame in no span, no predecessor).
+pub(crate) const NONE: u32 = super::activities::NONE;
 
 /// The neighbourhood graph `G` of an SSSM: the predecessors of every entry under the steps
 /// (1,1), (1,0), (0,1).
@@ -363,15 +364,6 @@ impl PrimitiveSearch {
         kept.sort_by_key(|c| c.frame);
         kept
     }
-}
-
-/// For each frame, the index of the span containing it (`NONE` outside all spans).
-pub(crate) fn frame_lookup(n: usize, spans: &[Span]) -> Vec<u32> {
-    let mut of = vec![NONE; n];
-    for (k, s) in spans.iter().enumerate() {
-        of[s.start..=s.end.min(n.saturating_sub(1))].iter_mut().for_each(|a| *a = k as u32);
-    }
-    of
 }
 
 /// Splits `action` at `cuts` (frames that start a new primitive, ascending, inside the action).

@@ -19,13 +19,14 @@
 //! The shipped models are not in the wasm: a run that needs one the worker does not hold is
 //! answered `needs_model`, and [`super::model_files`] fetches it, hands it over and asks again.
 
+mod clips;
+mod shipped;
+mod training;
+
 use super::js_message;
-use super::model_files::{self, ModelFiles};
-use super::motion_image::download;
-use super::training::{describe, LoadStatus, Supervised, TrainAsk, TrainState, TrainedFile, UserModel};
+use super::model_files::ModelFiles;
 use super::{AppState, LoadState, MethodSlot, RunState};
 use crate::load::Opening;
-use crate::method::supervised::{ModelInfo, StepReport, TrainingReport};
 use crate::protocol::{FailureKind, Request, Response, RunId, TakeId};
 use crate::worker::{request_message, response_from_js};
 use js_sys::ArrayBuffer;
@@ -93,31 +94,6 @@ struct Run {
     retried: bool,
 }
 
-/// A model file the worker is asked to store.
-struct ModelJob {
-    id: RunId,
-    /// The method's slot.
-    index: usize,
-    file: String,
-    bytes: Arc<Vec<u8>>,
-}
-
-/// The training under way.
-struct TrainJob {
-    id: RunId,
-    /// The method's slot.
-    index: usize,
-    ask: TrainAsk,
-    /// `performance.now()` when it was (last) sent.
-    started: f64,
-    /// The take on screen it was sent with.
-    take_name: String,
-    /// A step was reported (Stop is then read between two steps; before, it replaces the worker).
-    stepped: bool,
-    /// Stop was pressed.
-    stopping: bool,
-}
-
 /// A handle on the worker; cheap to clone.
 #[derive(Clone)]
 pub struct Loader(Rc<Inner>);
@@ -137,11 +113,11 @@ struct Inner {
     /// The current run of each method (by registry name).
     runs: RefCell<Vec<Option<Run>>>,
     /// Model files being stored (one per method at a time).
-    model_jobs: RefCell<Vec<ModelJob>>,
+    model_jobs: RefCell<Vec<training::ModelJob>>,
     /// The requests that gave the newest worker the user's models: run, method slot and name.
     model_sync: RefCell<Vec<(RunId, usize, String)>>,
     /// The training under way (one at a time).
-    train_job: RefCell<Option<TrainJob>>,
+    train_job: RefCell<Option<training::TrainJob>>,
     /// Keeps the worker's event handlers alive.
     handlers: RefCell<Vec<Handler>>,
     /// Clip exports asked of the worker: the request (sent again once after `not_loaded`), the
@@ -281,127 +257,6 @@ impl Loader {
         inner.state.methods[index].run.set(RunState::Cancelled);
         replace_worker(inner);
     }
-
-    /// Cuts the take on screen at the segments `which` chooses of method `index`'s last run and
-    /// saves the clips (a zip, or with `only` that segment's BVH); the panel's export status says
-    /// how it went.
-    pub fn export_clips(
-        &self,
-        index: usize,
-        which: crate::clips::Which,
-        to_origin: bool,
-        only: Option<(usize, usize)>,
-    ) {
-        let slot = &self.0.state.methods[index];
-        match slot.view.get_untracked() {
-            Some(view) => self.export_clips_of(&view.segmentation, which, to_origin, only, slot.export_status),
-            None => slot.export_status.set(Some((true, "run the method on a take first".into()))),
-        }
-    }
-
-    /// Cuts the take on screen at the segments `which` chooses of `segmentation` (any row's) and
-    /// saves the clips; `status` says how it went.
-    pub fn export_clips_of(
-        &self,
-        segmentation: &crate::segment::Segmentation,
-        which: crate::clips::Which,
-        to_origin: bool,
-        only: Option<(usize, usize)>,
-        status: ExportStatus,
-    ) {
-        let inner = &self.0;
-        let Some(take) = inner.shown.borrow().as_ref().map(|t| t.id) else {
-            return status.set(Some((true, "no take is loaded".into())));
-        };
-        let run = next_id(inner);
-        let segmentation = Box::new(segmentation.clone());
-        let request = Request::Clips { take, run, segmentation, which, to_origin, only };
-        status.set(Some((false, "cutting the clips…".into())));
-        match post(inner, &request, None) {
-            Ok(()) => inner.clip_jobs.borrow_mut().push((request, status, false)),
-            Err(message) => status.set(Some((true, message))),
-        }
-    }
-}
-
-impl Loader {
-    /// Stores the model file `file` (its bytes) of the supervised method `index`; on success it
-    /// becomes the method's model and the method runs again on the take on screen.
-    pub fn use_model(&self, index: usize, file: String, bytes: Vec<u8>) {
-        let inner = &self.0;
-        let Some(s) = supervised(inner, index) else { return };
-        s.file_state.set(LoadStatus::Loading);
-        s.file_status.set(format!("Checking {file}…"));
-        let id = next_id(inner);
-        inner.model_jobs.borrow_mut().retain(|j| j.index != index);
-        inner.model_jobs.borrow_mut().push(ModelJob { id, index, file, bytes: Arc::new(bytes) });
-        if let Err(message) = send_model_job(inner, id) {
-            fail_model_job(inner, id, message);
-        }
-    }
-
-    /// Trains a model of the supervised method `index` in the worker on the take on screen (and
-    /// the takes the ask adds).
-    pub fn train(&self, index: usize, ask: TrainAsk) {
-        let inner = &self.0;
-        let Some(s) = supervised(inner, index) else { return };
-        if let Some(old) = inner.train_job.borrow().as_ref().filter(|j| j.index != index) {
-            // one training at a time: the worker replaces the one under way
-            if let Some(other) = supervised(inner, old.index) {
-                other.status.set("Not trained: another method's training replaced this one.".into());
-                other.state.set(TrainState::Failed);
-            }
-        }
-        s.errors.set(Vec::new());
-        s.steps.set(Vec::new());
-        s.report.set(None);
-        s.state.set(TrainState::Training { stage: "starting".into(), step: 0, steps: 1, fraction: 0.0 });
-        s.status.set(format!("Training `{}` on the rows of {}…", ask.name, ask.labels_name));
-        let id = next_id(inner);
-        *inner.train_job.borrow_mut() = Some(TrainJob {
-            id,
-            index,
-            ask,
-            started: now(),
-            take_name: String::new(),
-            stepped: false,
-            stopping: false,
-        });
-        if let Err(message) = send_train_job(inner) {
-            fail_train_job(inner, message, None);
-        }
-    }
-
-    /// Stops the training of method `index`: after the step under way (the best model so far is
-    /// kept and sent), or — before its first step — at once, replacing the worker.
-    pub fn stop_training(&self, index: usize) {
-        let inner = &self.0;
-        let (id, stepped) = {
-            let mut job = inner.train_job.borrow_mut();
-            let Some(job) = job.as_mut().filter(|j| j.index == index && !j.stopping) else { return };
-            job.stopping = true;
-            (job.id, job.stepped)
-        };
-        let Some(s) = supervised(inner, index) else { return };
-        if !stepped {
-            inner.train_job.borrow_mut().take();
-            let short = &inner.state.methods[index].info.short;
-            s.status.set(format!("Training cancelled; {short} runs with the model chosen in its panel."));
-            s.state.set(TrainState::Cancelled);
-            return replace_worker(inner);
-        }
-        s.state.set(TrainState::Stopping);
-        let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
-        if let Err(message) = post(inner, &Request::StopTraining { take, run: id }, None) {
-            fail_train_job(inner, message, None);
-        }
-    }
-}
-
-/// The training and models of method `index`, if it is supervised.
-fn supervised(inner: &Inner, index: usize) -> Option<&'static Supervised> {
-    let methods: &'static [MethodSlot] = inner.state.methods;
-    methods.get(index)?.supervised.as_ref()
 }
 
 fn next_id(inner: &Inner) -> u32 {
@@ -557,291 +412,8 @@ fn spawn_worker(inner: &Rc<Inner>) {
     worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
     *inner.handlers.borrow_mut() = vec![on_message, on_error];
     *inner.worker.borrow_mut() = Some(worker);
-    send_models(inner);
-    send_model_files(inner);
-}
-
-/// Hands a worker just started every shipped model file the page fetched (a worker starts with
-/// none), before any other request.
-fn send_model_files(inner: &Rc<Inner>) {
-    for (file, bytes) in inner.models.all() {
-        let run = next_id(inner);
-        give_model(inner, run, &file, &bytes);
-    }
-}
-
-/// Hands the shipped model file `file` to the worker; a refusal is the answer to `run`.
-fn give_model(inner: &Rc<Inner>, run: RunId, file: &str, bytes: &[u8]) {
-    let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
-    let request = Request::ProvideModel { take, run, file: file.to_string(), bytes: bytes.to_vec() };
-    if let Err(message) = post(inner, &request, None) {
-        fail_waiting(inner, run, message);
-    }
-}
-
-/// The worker needs the shipped model file `file` for `run` (a method's
-/// request): fetched once, handed over, and `run` asked again.
-fn need_model(inner: &Rc<Inner>, run: RunId, file: String) {
-    if run_index(inner, run).is_none() {
-        return; // superseded
-    }
-    if let Some(bytes) = inner.models.held(&file) {
-        // fetched while this worker was starting: hand it over and ask again
-        give_model(inner, run, &file, &bytes);
-        return ask_again(inner, run);
-    }
-    let size = crate::method::shipped::find(&file).map_or(0, |(_, f)| f.size);
-    show_fetching(inner, run, &file, size, 0.0);
-    if !inner.models.wait(run, &file) {
-        return; // on its way
-    }
-    let url = inner.models.url(&file);
-    let weak = Rc::downgrade(inner);
-    wasm_bindgen_futures::spawn_local(async move {
-        let progress = |fraction: f64| {
-            if let Some(inner) = Weak::upgrade(&weak) {
-                for run in inner.models.waiting_for(&file) {
-                    show_fetching(&inner, run, &file, size, fraction);
-                }
-            }
-        };
-        let fetched = model_files::fetch(&url, size, progress).await;
-        let Some(inner) = Weak::upgrade(&weak) else { return };
-        match fetched {
-            Ok(bytes) => {
-                let bytes = Rc::new(bytes);
-                for run in inner.models.arrived(&file, bytes.clone()) {
-                    give_model(&inner, run, &file, &bytes);
-                    ask_again(&inner, run);
-                }
-            }
-            Err(message) => {
-                for run in inner.models.take_waiting(&file) {
-                    fail_waiting(&inner, run, format!("could not fetch the model {url}: {message}"));
-                }
-            }
-        }
-    });
-}
-
-/// Shows on whatever `run` is that `file` is coming.
-fn show_fetching(inner: &Inner, run: RunId, file: &str, size: u64, fraction: f64) {
-    let stage = model_files::fetching_stage(file, size);
-    if let Some(index) = run_index(inner, run) {
-        inner.state.methods[index].run.set(RunState::Running { stage, fraction });
-    }
-}
-
-/// Sends `run` (a method's run) again.
-fn ask_again(inner: &Rc<Inner>, run: RunId) {
-    if let Some(index) = run_index(inner, run) {
-        if let Err(message) = send_run(inner, index) {
-            fail_run(inner, index, message);
-        }
-    }
-}
-
-/// `run` cannot have its model file.
-fn fail_waiting(inner: &Inner, run: RunId, message: String) {
-    if let Some(index) = run_index(inner, run) {
-        fail_run(inner, index, message);
-    }
-}
-
-/// Gives a worker just started every model of the supervised methods the page holds (a worker
-/// knows only the shipped ones), before any other request.
-fn send_models(inner: &Rc<Inner>) {
-    inner.model_sync.borrow_mut().clear();
-    let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
-    for (index, slot) in inner.state.methods.iter().enumerate() {
-        let Some(s) = slot.supervised.as_ref() else { continue };
-        for m in s.models.get_untracked() {
-            let id = next_id(inner);
-            inner.model_sync.borrow_mut().push((id, index, m.info.name.clone()));
-            let request = Request::UseModel {
-                take,
-                run: id,
-                method: slot.info.name.clone(),
-                file: m.file.clone(),
-                bytes: (*m.bytes).clone(),
-            };
-            if let Err(message) = post(inner, &request, None) {
-                drop_model(inner, id, message);
-            }
-        }
-    }
-}
-
-/// The worker would not take one of the user's models: the page drops it (so that no worker is
-/// asked again) and says so next to its method's file input.
-fn drop_model(inner: &Inner, run: RunId, message: String) {
-    let entry = {
-        let mut sync = inner.model_sync.borrow_mut();
-        let at = sync.iter().position(|(id, _, _)| *id == run);
-        at.map(|at| sync.remove(at))
-    };
-    let Some((_, index, name)) = entry else { return };
-    let Some(s) = supervised(inner, index) else { return };
-    s.remove(&name);
-    s.file_status.set(format!("The worker could not take your model `{name}` ({message}); it was dropped."));
-    s.file_state.set(LoadStatus::Failed);
-}
-
-/// Posts the model file request `id`.
-fn send_model_job(inner: &Rc<Inner>, id: RunId) -> Result<(), String> {
-    let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
-    let request = {
-        let jobs = inner.model_jobs.borrow();
-        let job = jobs.iter().find(|j| j.id == id).ok_or("no model file request")?;
-        Request::UseModel {
-            take,
-            run: id,
-            method: inner.state.methods[job.index].info.name.clone(),
-            file: job.file.clone(),
-            bytes: (*job.bytes).clone(),
-        }
-    };
-    post(inner, &request, None)
-}
-
-/// Removes and returns the model file request `id`.
-fn take_model_job(inner: &Inner, id: RunId) -> Option<ModelJob> {
-    let mut jobs = inner.model_jobs.borrow_mut();
-    let at = jobs.iter().position(|j| j.id == id)?;
-    Some(jobs.remove(at))
-}
-
-/// The model file request `id` failed: its message shows next to the method's file input; the
-/// models the method had stay.
-fn fail_model_job(inner: &Inner, id: RunId, message: String) {
-    let Some(job) = take_model_job(inner, id) else { return };
-    let Some(s) = supervised(inner, job.index) else { return };
-    s.file_status.set(message);
-    s.file_state.set(LoadStatus::Failed);
-}
-
-/// The model `name` becomes method `index`'s model (added to its `model` choice if new), and the
-/// method runs again on the take on screen.
-fn select_model(inner: &Rc<Inner>, index: usize, name: &str) {
-    let slot = &inner.state.methods[index];
-    if let Some((value, choices)) = slot.param("model") {
-        choices.update(|c| {
-            if !c.iter().any(|o| o == name) {
-                c.push(name.to_string());
-            }
-        });
-        value.set(name.to_string());
-    }
-    if inner.shown.borrow().is_some() {
-        start_run(inner, index);
-    }
-}
-
-/// The worker stored a model file the user loaded.
-fn on_model_stored(inner: &Rc<Inner>, run: RunId, info: ModelInfo) {
-    let Some(job) = take_model_job(inner, run) else { return };
-    let Some(s) = supervised(inner, job.index) else { return };
-    let short = &inner.state.methods[job.index].info.short;
-    let name = info.name.clone();
-    s.file_status.set(format!(
-        "Loaded {}: {short} model `{name}`, {}. {short} runs with it now.",
-        job.file,
-        describe(&info),
-    ));
-    s.file_state.set(LoadStatus::Done);
-    s.add(UserModel { info, file: job.file, bytes: job.bytes });
-    select_model(inner, job.index, &name);
-}
-
-/// Posts the training under way: the take on screen first, then the takes the user added.
-fn send_train_job(inner: &Rc<Inner>) -> Result<(), String> {
-    let shown = inner.shown.borrow().clone().ok_or("load a take before training")?;
-    let request = {
-        let mut job = inner.train_job.borrow_mut();
-        let job = job.as_mut().ok_or("no training")?;
-        job.take_name = shown.name.clone();
-        job.started = now();
-        job.stepped = false;
-        let ask = &job.ask;
-        let mut takes = vec![shown.name.clone()];
-        let mut bytes = vec![js_sys::Uint8Array::new(&shown.bytes).to_vec()];
-        for (name, b) in &ask.extra {
-            takes.push(name.clone());
-            bytes.push((**b).clone());
-        }
-        Request::Train {
-            take: shown.id,
-            run: job.id,
-            method: inner.state.methods[job.index].info.name.clone(),
-            name: ask.name.clone(),
-            labels_name: ask.labels_name.clone(),
-            labels: ask.labels.clone(),
-            takes,
-            options: ask.options.clone(),
-            bytes,
-        }
-    };
-    post(inner, &request, None)
-}
-
-/// The supervised slot of the training `run`, when it is the one under way.
-fn train_slot(inner: &Inner, run: RunId) -> Option<&'static Supervised> {
-    let index = inner.train_job.borrow().as_ref().filter(|j| j.id == run).map(|j| j.index)?;
-    supervised(inner, index)
-}
-
-/// The training under way failed or was refused: the message shows at the input it names (or in
-/// the status line); the models stay.
-fn fail_train_job(inner: &Inner, message: String, param: Option<String>) {
-    let Some(job) = inner.train_job.borrow_mut().take() else { return };
-    let Some(s) = supervised(inner, job.index) else { return };
-    match param.filter(|p| s.has_input(p)) {
-        Some(input) => {
-            s.refuse(&input, message);
-            s.status.set("Not trained: see the message at the input marked below.".into());
-        }
-        None => s.status.set(format!("Not trained: {message}")),
-    }
-    s.state.set(TrainState::Failed);
-}
-
-/// One more step of the training under way.
-fn on_training_step(inner: &Inner, report: StepReport) {
-    let Some(s) = inner
-        .train_job
-        .borrow_mut()
-        .as_mut()
-        .and_then(|job| {
-            job.stepped = true;
-            (!job.stopping).then_some(job.index)
-        })
-        .and_then(|index| supervised(inner, index))
-    else {
-        return;
-    };
-    let (step, steps) = (report.step, report.steps);
-    s.steps.update(|r| {
-        // a training started again on a new worker begins with step 1
-        r.retain(|old| old.step < step);
-        r.push(report);
-    });
-    s.state.set(TrainState::Training { stage: "training".into(), step, steps, fraction: 0.0 });
-}
-
-/// The training ended with a model, stored in the worker: the page keeps it (for the download and
-/// for new workers), makes it the method's model and runs the method again.
-fn on_trained(inner: &Rc<Inner>, model: ModelInfo, report: TrainingReport, bytes: Vec<u8>) {
-    let Some(job) = inner.train_job.borrow_mut().take() else { return };
-    let Some(s) = supervised(inner, job.index) else { return };
-    let seconds = (now() - job.started) / 1000.0;
-    let bytes = Arc::new(bytes);
-    let name = model.name.clone();
-    s.trained.set(Some(TrainedFile { name: name.clone(), bytes: bytes.clone() }));
-    s.status.set(format!("{} ({seconds:.1} s in this tab, on {})", report.summary, job.take_name));
-    s.report.set(Some(report));
-    s.state.set(TrainState::Done);
-    s.add(UserModel { file: s.file_name(&name), info: model, bytes });
-    select_model(inner, job.index, &name);
+    training::send_models(inner);
+    shipped::send_model_files(inner);
 }
 
 /// Milliseconds since the page started.
@@ -865,32 +437,7 @@ fn replace_worker(inner: &Rc<Inner>) {
             }
         }
     }
-    let model_jobs: Vec<RunId> = inner.model_jobs.borrow().iter().map(|j| j.id).collect();
-    for id in model_jobs {
-        if let Err(message) = send_model_job(inner, id) {
-            fail_model_job(inner, id, message);
-        }
-    }
-    let training = inner.train_job.borrow().as_ref().map(|j| (j.stopping, j.index));
-    match training {
-        Some((true, _)) => {
-            fail_train_job(inner, "the worker was replaced before it sent the stopped model; train again".into(), None)
-        }
-        Some((false, index)) => {
-            if let Some(s) = supervised(inner, index) {
-                let step_name = s.decl.step_name.clone();
-                s.steps.set(Vec::new());
-                s.state.set(TrainState::Training { stage: "starting again".into(), step: 0, steps: 1, fraction: 0.0 });
-                s.status.set(format!(
-                    "The worker was replaced (a cancel or a crash): the training starts again from {step_name} 1."
-                ));
-            }
-            if let Err(message) = send_train_job(inner) {
-                fail_train_job(inner, message, None);
-            }
-        }
-        None => {}
-    }
+    training::resend(inner);
 }
 
 /// The worker script could not load or threw outside a request: report it and drop the worker
@@ -909,11 +456,7 @@ fn on_worker_error(inner: &Rc<Inner>, event: Event) {
             fail_run(inner, index, format!("the worker failed: {message}"));
         }
     }
-    let model_jobs: Vec<RunId> = inner.model_jobs.borrow().iter().map(|j| j.id).collect();
-    for id in model_jobs {
-        fail_model_job(inner, id, format!("the worker failed: {message}"));
-    }
-    fail_train_job(inner, format!("the worker failed: {message}"), None);
+    training::fail_all(inner, &format!("the worker failed: {message}"));
     if let Some(worker) = inner.worker.borrow_mut().take() {
         worker.terminate();
     }
@@ -924,6 +467,8 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
         Ok(r) => r,
         Err(message) => return fail_load(inner, inner.current.get(), message),
     };
+    // the answers to the clip exports and to the supervised methods' jobs are theirs
+    let Some(response) = clips::handle(inner, response).and_then(|r| training::handle(inner, r)) else { return };
     let state = inner.state;
     match response {
         Response::Progress { take, run: None, stage, fraction } if take == inner.current.get() => {
@@ -937,13 +482,8 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
         Response::Progress { run: Some(run), stage, fraction, .. } => {
             if let Some(index) = run_index(inner, run) {
                 state.methods[index].run.set(RunState::Running { stage, fraction: fraction.unwrap_or(0.0) });
-            } else if let Some(s) = train_slot(inner, run) {
-                s.state.update(|st| {
-                    if let TrainState::Training { stage: old, fraction: f, .. } = st {
-                        *old = stage;
-                        *f = fraction.unwrap_or(0.0);
-                    }
-                });
+            } else {
+                training::progress(inner, run, stage, fraction);
             }
         }
         Response::Loaded { take, motion } if take == inner.current.get() => {
@@ -982,78 +522,10 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                 slot.run.set(RunState::Done);
             }
         }
-        Response::Clips { run, file, clips, bytes, .. } => {
-            if let Some((_, status, _)) = take_clip_job(inner, run) {
-                let said = match download(&bytes, clip_mime(&file), &file) {
-                    Ok(()) => (false, format!("saved {file} ({})", crate::method::counted(clips, "clip"))),
-                    Err(e) => (true, format!("could not save {file}: {}", js_message(&e))),
-                };
-                status.set(Some(said));
-            }
-        }
-        Response::Failed { run: Some(run), message, kind, .. }
-            if inner.clip_jobs.borrow().iter().any(|(r, _, _)| r.run_id() == Some(run)) =>
-        {
-            let Some((request, status, retried)) = take_clip_job(inner, run) else { return };
-            match kind {
-                FailureKind::NotLoaded if !retried => {
-                    let sent = restore(inner).and_then(|()| post(inner, &request, None));
-                    match sent {
-                        Ok(()) => inner.clip_jobs.borrow_mut().push((request, status, true)),
-                        Err(e) => status.set(Some((true, e))),
-                    }
-                }
-                _ => {
-                    status.set(Some((true, message)));
-                    if kind == FailureKind::Internal {
-                        replace_worker(inner);
-                    }
-                }
-            }
-        }
-        Response::NeedsModel { run, file, .. } => need_model(inner, run, file),
+        Response::NeedsModel { run, file, .. } => shipped::need_model(inner, run, file),
         Response::Refused { run, message, param, .. } => {
             if let Some(index) = run_index(inner, run) {
                 refuse_run(inner, index, message, param);
-            }
-        }
-        Response::ModelStored { run, model, .. } => {
-            let synced = {
-                let mut sync = inner.model_sync.borrow_mut();
-                let before = sync.len();
-                sync.retain(|(id, _, _)| *id != run);
-                sync.len() != before
-            };
-            if !synced {
-                on_model_stored(inner, run, model);
-            }
-        }
-        Response::TrainingStep { run, report, .. } if train_slot(inner, run).is_some() => {
-            on_training_step(inner, report)
-        }
-        Response::Trained { run, model, report, bytes, .. } if train_slot(inner, run).is_some() => {
-            on_trained(inner, model, report, bytes);
-        }
-        Response::Failed { run: Some(run), message, kind, param, .. } if train_slot(inner, run).is_some() => {
-            fail_train_job(inner, message, param);
-            if kind == FailureKind::Internal {
-                replace_worker(inner);
-            }
-        }
-        Response::Failed { run: Some(run), message, kind, .. }
-            if inner.model_jobs.borrow().iter().any(|j| j.id == run) =>
-        {
-            fail_model_job(inner, run, message);
-            if kind == FailureKind::Internal {
-                replace_worker(inner);
-            }
-        }
-        Response::Failed { run: Some(run), message, kind, .. }
-            if inner.model_sync.borrow().iter().any(|(id, _, _)| *id == run) =>
-        {
-            drop_model(inner, run, message);
-            if kind == FailureKind::Internal {
-                replace_worker(inner);
             }
         }
         Response::Failed { take, run: None, message, kind, .. } => {
@@ -1091,22 +563,6 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
             }
         }
         _ => {} // about a load that has been superseded
-    }
-}
-
-/// Removes and returns the clip export `run`.
-fn take_clip_job(inner: &Inner, run: RunId) -> Option<(Request, ExportStatus, bool)> {
-    let mut jobs = inner.clip_jobs.borrow_mut();
-    let i = jobs.iter().position(|(r, _, _)| r.run_id() == Some(run))?;
-    Some(jobs.remove(i))
-}
-
-/// The type of a clip export's file.
-fn clip_mime(file: &str) -> &'static str {
-    if file.ends_with(".zip") {
-        "application/zip"
-    } else {
-        "application/octet-stream"
     }
 }
 

@@ -1,0 +1,105 @@
+//! The clip exports' jobs: a row asks for BVH clips of the take on screen, the worker cuts them,
+//! the page saves the file; a worker that lost the take gets it again once.
+
+use super::super::js_message;
+use super::super::motion_image::download;
+use super::{next_id, post, replace_worker, restore, ExportStatus, Inner, Loader};
+use crate::protocol::{FailureKind, Request, Response, RunId};
+use leptos::prelude::*;
+use std::rc::Rc;
+
+impl Loader {
+    /// Cuts the take on screen at the segments `which` chooses of method `index`'s last run and
+    /// saves the clips (a zip, or with `only` that segment's BVH); the panel's export status says
+    /// how it went.
+    pub fn export_clips(
+        &self,
+        index: usize,
+        which: crate::clips::Which,
+        to_origin: bool,
+        only: Option<(usize, usize)>,
+    ) {
+        let slot = &self.0.state.methods[index];
+        match slot.view.get_untracked() {
+            Some(view) => self.export_clips_of(&view.segmentation, which, to_origin, only, slot.export_status),
+            None => slot.export_status.set(Some((true, "run the method on a take first".into()))),
+        }
+    }
+
+    /// Cuts the take on screen at the segments `which` chooses of `segmentation` (any row's) and
+    /// saves the clips; `status` says how it went.
+    pub fn export_clips_of(
+        &self,
+        segmentation: &crate::segment::Segmentation,
+        which: crate::clips::Which,
+        to_origin: bool,
+        only: Option<(usize, usize)>,
+        status: ExportStatus,
+    ) {
+        let inner = &self.0;
+        let Some(take) = inner.shown.borrow().as_ref().map(|t| t.id) else {
+            return status.set(Some((true, "no take is loaded".into())));
+        };
+        let run = next_id(inner);
+        let segmentation = Box::new(segmentation.clone());
+        let request = Request::Clips { take, run, segmentation, which, to_origin, only };
+        status.set(Some((false, "cutting the clips…".into())));
+        match post(inner, &request, None) {
+            Ok(()) => inner.clip_jobs.borrow_mut().push((request, status, false)),
+            Err(message) => status.set(Some((true, message))),
+        }
+    }
+}
+
+/// Handles `response` when it answers a clip export; gives it back otherwise.
+pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> {
+    match response {
+        Response::Clips { run, file, clips, bytes, .. } => {
+            if let Some((_, status, _)) = take_clip_job(inner, run) {
+                let said = match download(&bytes, clip_mime(&file), &file) {
+                    Ok(()) => (false, format!("saved {file} ({})", crate::method::counted(clips, "clip"))),
+                    Err(e) => (true, format!("could not save {file}: {}", js_message(&e))),
+                };
+                status.set(Some(said));
+            }
+        }
+        Response::Failed { run: Some(run), message, kind, .. }
+            if inner.clip_jobs.borrow().iter().any(|(r, _, _)| r.run_id() == Some(run)) =>
+        {
+            let Some((request, status, retried)) = take_clip_job(inner, run) else { return None };
+            match kind {
+                FailureKind::NotLoaded if !retried => {
+                    let sent = restore(inner).and_then(|()| post(inner, &request, None));
+                    match sent {
+                        Ok(()) => inner.clip_jobs.borrow_mut().push((request, status, true)),
+                        Err(e) => status.set(Some((true, e))),
+                    }
+                }
+                _ => {
+                    status.set(Some((true, message)));
+                    if kind == FailureKind::Internal {
+                        replace_worker(inner);
+                    }
+                }
+            }
+        }
+        other => return Some(other),
+    }
+    None
+}
+
+/// Removes and returns the clip export `run`.
+fn take_clip_job(inner: &Inner, run: RunId) -> Option<(Request, ExportStatus, bool)> {
+    let mut jobs = inner.clip_jobs.borrow_mut();
+    let i = jobs.iter().position(|(r, _, _)| r.run_id() == Some(run))?;
+    Some(jobs.remove(i))
+}
+
+/// The type of a clip export's file.
+fn clip_mime(file: &str) -> &'static str {
+    if file.ends_with(".zip") {
+        "application/zip"
+    } else {
+        "application/octet-stream"
+    }
+}

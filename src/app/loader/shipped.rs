@@ -1,0 +1,98 @@
+//! The shipped model files' jobs: a run that needs a file the worker does not hold waits for it;
+//! the page fetches it once (with progress), hands it over and asks again; a new worker gets every
+//! file fetched so far.
+
+use super::super::model_files;
+use super::super::RunState;
+use super::post;
+use super::{fail_run, next_id, run_index, send_run, Inner};
+use crate::protocol::{Request, RunId};
+use leptos::prelude::*;
+use std::rc::{Rc, Weak};
+
+/// Hands a worker just started every shipped model file the page fetched (a worker starts with
+/// none), before any other request.
+pub(super) fn send_model_files(inner: &Rc<Inner>) {
+    for (file, bytes) in inner.models.all() {
+        let run = next_id(inner);
+        give_model(inner, run, &file, &bytes);
+    }
+}
+
+/// Hands the shipped model file `file` to the worker; a refusal is the answer to `run`.
+pub(super) fn give_model(inner: &Rc<Inner>, run: RunId, file: &str, bytes: &[u8]) {
+    let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
+    let request = Request::ProvideModel { take, run, file: file.to_string(), bytes: bytes.to_vec() };
+    if let Err(message) = post(inner, &request, None) {
+        fail_waiting(inner, run, message);
+    }
+}
+
+/// The worker needs the shipped model file `file` for `run` (a method's
+/// request): fetched once, handed over, and `run` asked again.
+pub(super) fn need_model(inner: &Rc<Inner>, run: RunId, file: String) {
+    if run_index(inner, run).is_none() {
+        return; // superseded
+    }
+    if let Some(bytes) = inner.models.held(&file) {
+        // fetched while this worker was starting: hand it over and ask again
+        give_model(inner, run, &file, &bytes);
+        return ask_again(inner, run);
+    }
+    let size = crate::method::shipped::find(&file).map_or(0, |(_, f)| f.size);
+    show_fetching(inner, run, &file, size, 0.0);
+    if !inner.models.wait(run, &file) {
+        return; // on its way
+    }
+    let url = inner.models.url(&file);
+    let weak = Rc::downgrade(inner);
+    wasm_bindgen_futures::spawn_local(async move {
+        let progress = |fraction: f64| {
+            if let Some(inner) = Weak::upgrade(&weak) {
+                for run in inner.models.waiting_for(&file) {
+                    show_fetching(&inner, run, &file, size, fraction);
+                }
+            }
+        };
+        let fetched = model_files::fetch(&url, size, progress).await;
+        let Some(inner) = Weak::upgrade(&weak) else { return };
+        match fetched {
+            Ok(bytes) => {
+                let bytes = Rc::new(bytes);
+                for run in inner.models.arrived(&file, bytes.clone()) {
+                    give_model(&inner, run, &file, &bytes);
+                    ask_again(&inner, run);
+                }
+            }
+            Err(message) => {
+                for run in inner.models.take_waiting(&file) {
+                    fail_waiting(&inner, run, format!("could not fetch the model {url}: {message}"));
+                }
+            }
+        }
+    });
+}
+
+/// Shows on whatever `run` is that `file` is coming.
+pub(super) fn show_fetching(inner: &Inner, run: RunId, file: &str, size: u64, fraction: f64) {
+    let stage = model_files::fetching_stage(file, size);
+    if let Some(index) = run_index(inner, run) {
+        inner.state.methods[index].run.set(RunState::Running { stage, fraction });
+    }
+}
+
+/// Sends `run` (a method's run) again.
+pub(super) fn ask_again(inner: &Rc<Inner>, run: RunId) {
+    if let Some(index) = run_index(inner, run) {
+        if let Err(message) = send_run(inner, index) {
+            fail_run(inner, index, message);
+        }
+    }
+}
+
+/// `run` cannot have its model file.
+pub(super) fn fail_waiting(inner: &Inner, run: RunId, message: String) {
+    if let Some(index) = run_index(inner, run) {
+        fail_run(inner, index, message);
+    }
+}

@@ -1,0 +1,412 @@
+//! The supervised methods' jobs: model files the user loads (`use_model`), trainings (`train`,
+//! one step per message, Stop), the user's models given to every new worker, and the answers to
+//! each — for every method that declares [`crate::method::Supervision`], by its slot, never by name.
+
+use super::super::supervised::{describe, LoadStatus, Supervised, TrainAsk, TrainState, TrainedFile, UserModel};
+use super::super::MethodSlot;
+use super::{next_id, now, post, replace_worker, start_run, Inner, Loader};
+use crate::method::supervised::{ModelInfo, StepReport, TrainingReport};
+use crate::protocol::{FailureKind, Request, Response, RunId};
+use leptos::prelude::*;
+use std::rc::Rc;
+use std::sync::Arc;
+
+/// A model file the worker is asked to store.
+pub(super) struct ModelJob {
+    id: RunId,
+    /// The method's slot.
+    index: usize,
+    file: String,
+    bytes: Arc<Vec<u8>>,
+}
+
+/// The training under way.
+pub(super) struct TrainJob {
+    id: RunId,
+    /// The method's slot.
+    index: usize,
+    ask: TrainAsk,
+    /// `performance.now()` when it was (last) sent.
+    started: f64,
+    /// The take on screen it was sent with.
+    take_name: String,
+    /// A step was reported (Stop is then read between two steps; before, it replaces the worker).
+    stepped: bool,
+    /// Stop was pressed.
+    stopping: bool,
+}
+
+impl Loader {
+    /// Stores the model file `file` (its bytes) of the supervised method `index`; on success it
+    /// becomes the method's model and the method runs again on the take on screen.
+    pub fn use_model(&self, index: usize, file: String, bytes: Vec<u8>) {
+        let inner = &self.0;
+        let Some(s) = supervised(inner, index) else { return };
+        s.file_state.set(LoadStatus::Loading);
+        s.file_status.set(format!("Checking {file}…"));
+        let id = next_id(inner);
+        inner.model_jobs.borrow_mut().retain(|j| j.index != index);
+        inner.model_jobs.borrow_mut().push(ModelJob { id, index, file, bytes: Arc::new(bytes) });
+        if let Err(message) = send_model_job(inner, id) {
+            fail_model_job(inner, id, message);
+        }
+    }
+
+    /// Trains a model of the supervised method `index` in the worker on the take on screen (and
+    /// the takes the ask adds).
+    pub fn train(&self, index: usize, ask: TrainAsk) {
+        let inner = &self.0;
+        let Some(s) = supervised(inner, index) else { return };
+        if let Some(old) = inner.train_job.borrow().as_ref().filter(|j| j.index != index) {
+            // one training at a time: the worker replaces the one under way
+            if let Some(other) = supervised(inner, old.index) {
+                other.status.set("Not trained: another method's training replaced this one.".into());
+                other.state.set(TrainState::Failed);
+            }
+        }
+        s.errors.set(Vec::new());
+        s.steps.set(Vec::new());
+        s.report.set(None);
+        s.state.set(TrainState::Training { stage: "starting".into(), step: 0, steps: 1, fraction: 0.0 });
+        s.status.set(format!("Training `{}` on the rows of {}…", ask.name, ask.labels_name));
+        let id = next_id(inner);
+        *inner.train_job.borrow_mut() = Some(TrainJob {
+            id,
+            index,
+            ask,
+            started: now(),
+            take_name: String::new(),
+            stepped: false,
+            stopping: false,
+        });
+        if let Err(message) = send_train_job(inner) {
+            fail_train_job(inner, message, None);
+        }
+    }
+
+    /// Stops the training of method `index`: after the step under way (the best model so far is
+    /// kept and sent), or — before its first step — at once, replacing the worker.
+    pub fn stop_training(&self, index: usize) {
+        let inner = &self.0;
+        let (id, stepped) = {
+            let mut job = inner.train_job.borrow_mut();
+            let Some(job) = job.as_mut().filter(|j| j.index == index && !j.stopping) else { return };
+            job.stopping = true;
+            (job.id, job.stepped)
+        };
+        let Some(s) = supervised(inner, index) else { return };
+        if !stepped {
+            inner.train_job.borrow_mut().take();
+            let short = &inner.state.methods[index].info.short;
+            s.status.set(format!("Training cancelled; {short} runs with the model chosen in its panel."));
+            s.state.set(TrainState::Cancelled);
+            return replace_worker(inner);
+        }
+        s.state.set(TrainState::Stopping);
+        let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
+        if let Err(message) = post(inner, &Request::StopTraining { take, run: id }, None) {
+            fail_train_job(inner, message, None);
+        }
+    }
+}
+
+/// The training and models of method `index`, if it is supervised.
+pub(super) fn supervised(inner: &Inner, index: usize) -> Option<&'static Supervised> {
+    let methods: &'static [MethodSlot] = inner.state.methods;
+    methods.get(index)?.supervised.as_ref()
+}
+
+/// Gives a worker just started every model of the supervised methods the page holds (a worker
+/// knows only the shipped ones), before any other request.
+pub(super) fn send_models(inner: &Rc<Inner>) {
+    inner.model_sync.borrow_mut().clear();
+    let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
+    for (index, slot) in inner.state.methods.iter().enumerate() {
+        let Some(s) = slot.supervised.as_ref() else { continue };
+        for m in s.models.get_untracked() {
+            let id = next_id(inner);
+            inner.model_sync.borrow_mut().push((id, index, m.info.name.clone()));
+            let request = Request::UseModel {
+                take,
+                run: id,
+                method: slot.info.name.clone(),
+                file: m.file.clone(),
+                bytes: (*m.bytes).clone(),
+            };
+            if let Err(message) = post(inner, &request, None) {
+                drop_model(inner, id, message);
+            }
+        }
+    }
+}
+
+/// The worker would not take one of the user's models: the page drops it (so that no worker is
+/// asked again) and says so next to its method's file input.
+pub(super) fn drop_model(inner: &Inner, run: RunId, message: String) {
+    let entry = {
+        let mut sync = inner.model_sync.borrow_mut();
+        let at = sync.iter().position(|(id, _, _)| *id == run);
+        at.map(|at| sync.remove(at))
+    };
+    let Some((_, index, name)) = entry else { return };
+    let Some(s) = supervised(inner, index) else { return };
+    s.remove(&name);
+    s.file_status.set(format!("The worker could not take your model `{name}` ({message}); it was dropped."));
+    s.file_state.set(LoadStatus::Failed);
+}
+
+/// Posts the model file request `id`.
+pub(super) fn send_model_job(inner: &Rc<Inner>, id: RunId) -> Result<(), String> {
+    let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
+    let request = {
+        let jobs = inner.model_jobs.borrow();
+        let job = jobs.iter().find(|j| j.id == id).ok_or("no model file request")?;
+        Request::UseModel {
+            take,
+            run: id,
+            method: inner.state.methods[job.index].info.name.clone(),
+            file: job.file.clone(),
+            bytes: (*job.bytes).clone(),
+        }
+    };
+    post(inner, &request, None)
+}
+
+/// Removes and returns the model file request `id`.
+pub(super) fn take_model_job(inner: &Inner, id: RunId) -> Option<ModelJob> {
+    let mut jobs = inner.model_jobs.borrow_mut();
+    let at = jobs.iter().position(|j| j.id == id)?;
+    Some(jobs.remove(at))
+}
+
+/// The model file request `id` failed: its message shows next to the method's file input; the
+/// models the method had stay.
+pub(super) fn fail_model_job(inner: &Inner, id: RunId, message: String) {
+    let Some(job) = take_model_job(inner, id) else { return };
+    let Some(s) = supervised(inner, job.index) else { return };
+    s.file_status.set(message);
+    s.file_state.set(LoadStatus::Failed);
+}
+
+/// The model `name` becomes method `index`'s model (added to its `model` choice if new), and the
+/// method runs again on the take on screen.
+pub(super) fn select_model(inner: &Rc<Inner>, index: usize, name: &str) {
+    let slot = &inner.state.methods[index];
+    if let Some((value, choices)) = slot.param("model") {
+        choices.update(|c| {
+            if !c.iter().any(|o| o == name) {
+                c.push(name.to_string());
+            }
+        });
+        value.set(name.to_string());
+    }
+    if inner.shown.borrow().is_some() {
+        start_run(inner, index);
+    }
+}
+
+/// The worker stored a model file the user loaded.
+pub(super) fn on_model_stored(inner: &Rc<Inner>, run: RunId, info: ModelInfo) {
+    let Some(job) = take_model_job(inner, run) else { return };
+    let Some(s) = supervised(inner, job.index) else { return };
+    let short = &inner.state.methods[job.index].info.short;
+    let name = info.name.clone();
+    s.file_status.set(format!(
+        "Loaded {}: {short} model `{name}`, {}. {short} runs with it now.",
+        job.file,
+        describe(&info),
+    ));
+    s.file_state.set(LoadStatus::Done);
+    s.add(UserModel { info, file: job.file, bytes: job.bytes });
+    select_model(inner, job.index, &name);
+}
+
+/// Posts the training under way: the take on screen first, then the takes the user added.
+pub(super) fn send_train_job(inner: &Rc<Inner>) -> Result<(), String> {
+    let shown = inner.shown.borrow().clone().ok_or("load a take before training")?;
+    let request = {
+        let mut job = inner.train_job.borrow_mut();
+        let job = job.as_mut().ok_or("no training")?;
+        job.take_name = shown.name.clone();
+        job.started = now();
+        job.stepped = false;
+        let ask = &job.ask;
+        let mut takes = vec![shown.name.clone()];
+        let mut bytes = vec![js_sys::Uint8Array::new(&shown.bytes).to_vec()];
+        for (name, b) in &ask.extra {
+            takes.push(name.clone());
+            bytes.push((**b).clone());
+        }
+        Request::Train {
+            take: shown.id,
+            run: job.id,
+            method: inner.state.methods[job.index].info.name.clone(),
+            name: ask.name.clone(),
+            labels_name: ask.labels_name.clone(),
+            labels: ask.labels.clone(),
+            takes,
+            options: ask.options.clone(),
+            bytes,
+        }
+    };
+    post(inner, &request, None)
+}
+
+/// The supervised slot of the training `run`, when it is the one under way.
+pub(super) fn train_slot(inner: &Inner, run: RunId) -> Option<&'static Supervised> {
+    let index = inner.train_job.borrow().as_ref().filter(|j| j.id == run).map(|j| j.index)?;
+    supervised(inner, index)
+}
+
+/// The training under way failed or was refused: the message shows at the input it names (or in
+/// the status line); the models stay.
+pub(super) fn fail_train_job(inner: &Inner, message: String, param: Option<String>) {
+    let Some(job) = inner.train_job.borrow_mut().take() else { return };
+    let Some(s) = supervised(inner, job.index) else { return };
+    match param.filter(|p| s.has_input(p)) {
+        Some(input) => {
+            s.refuse(&input, message);
+            s.status.set("Not trained: see the message at the input marked below.".into());
+        }
+        None => s.status.set(format!("Not trained: {message}")),
+    }
+    s.state.set(TrainState::Failed);
+}
+
+/// One more step of the training under way.
+pub(super) fn on_training_step(inner: &Inner, report: StepReport) {
+    let Some(s) = inner
+        .train_job
+        .borrow_mut()
+        .as_mut()
+        .and_then(|job| {
+            job.stepped = true;
+            (!job.stopping).then_some(job.index)
+        })
+        .and_then(|index| supervised(inner, index))
+    else {
+        return;
+    };
+    let (step, steps) = (report.step, report.steps);
+    s.steps.update(|r| {
+        // a training started again on a new worker begins with step 1
+        r.retain(|old| old.step < step);
+        r.push(report);
+    });
+    s.state.set(TrainState::Training { stage: "training".into(), step, steps, fraction: 0.0 });
+}
+
+/// The training ended with a model, stored in the worker: the page keeps it (for the download and
+/// for new workers), makes it the method's model and runs the method again.
+pub(super) fn on_trained(inner: &Rc<Inner>, model: ModelInfo, report: TrainingReport, bytes: Vec<u8>) {
+    let Some(job) = inner.train_job.borrow_mut().take() else { return };
+    let Some(s) = supervised(inner, job.index) else { return };
+    let seconds = (now() - job.started) / 1000.0;
+    let bytes = Arc::new(bytes);
+    let name = model.name.clone();
+    s.trained.set(Some(TrainedFile { name: name.clone(), bytes: bytes.clone() }));
+    s.status.set(format!("{} ({seconds:.1} s in this tab, on {})", report.summary, job.take_name));
+    s.report.set(Some(report));
+    s.state.set(TrainState::Done);
+    s.add(UserModel { file: s.file_name(&name), info: model, bytes });
+    select_model(inner, job.index, &name);
+}
+
+/// Sends a new worker what the old one had of the supervised methods' jobs: the model file
+/// requests, and the training under way (from its first step).
+pub(super) fn resend(inner: &Rc<Inner>) {
+    let model_jobs: Vec<RunId> = inner.model_jobs.borrow().iter().map(|j| j.id).collect();
+    for id in model_jobs {
+        if let Err(message) = send_model_job(inner, id) {
+            fail_model_job(inner, id, message);
+        }
+    }
+    let training = inner.train_job.borrow().as_ref().map(|j| (j.stopping, j.index));
+    match training {
+        Some((true, _)) => {
+            fail_train_job(inner, "the worker was replaced before it sent the stopped model; train again".into(), None)
+        }
+        Some((false, index)) => {
+            if let Some(s) = supervised(inner, index) {
+                let step_name = s.decl.step_name.clone();
+                s.steps.set(Vec::new());
+                s.state.set(TrainState::Training { stage: "starting again".into(), step: 0, steps: 1, fraction: 0.0 });
+                s.status.set(format!(
+                    "The worker was replaced (a cancel or a crash): the training starts again from {step_name} 1."
+                ));
+            }
+            if let Err(message) = send_train_job(inner) {
+                fail_train_job(inner, message, None);
+            }
+        }
+        None => {}
+    }
+}
+
+/// Every job fails with `message` (the worker could not run).
+pub(super) fn fail_all(inner: &Inner, message: &str) {
+    let model_jobs: Vec<RunId> = inner.model_jobs.borrow().iter().map(|j| j.id).collect();
+    for id in model_jobs {
+        fail_model_job(inner, id, message.to_string());
+    }
+    fail_train_job(inner, message.to_string(), None);
+}
+
+/// The training `run` is at `stage` (unless it is stopping).
+pub(super) fn progress(inner: &Inner, run: RunId, stage: String, fraction: Option<f64>) {
+    if let Some(s) = train_slot(inner, run) {
+        s.state.update(|st| {
+            if let TrainState::Training { stage: old, fraction: f, .. } = st {
+                *old = stage;
+                *f = fraction.unwrap_or(0.0);
+            }
+        });
+    }
+}
+
+/// Handles `response` when it answers a supervised method's job; gives it back otherwise.
+pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> {
+    match response {
+        Response::ModelStored { run, model, .. } => {
+            let synced = {
+                let mut sync = inner.model_sync.borrow_mut();
+                let before = sync.len();
+                sync.retain(|(id, _, _)| *id != run);
+                sync.len() != before
+            };
+            if !synced {
+                on_model_stored(inner, run, model);
+            }
+        }
+        Response::TrainingStep { run, report, .. } if train_slot(inner, run).is_some() => {
+            on_training_step(inner, report)
+        }
+        Response::Trained { run, model, report, bytes, .. } if train_slot(inner, run).is_some() => {
+            on_trained(inner, model, report, bytes);
+        }
+        Response::Failed { run: Some(run), message, kind, param, .. } if train_slot(inner, run).is_some() => {
+            fail_train_job(inner, message, param);
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
+            }
+        }
+        Response::Failed { run: Some(run), message, kind, .. }
+            if inner.model_jobs.borrow().iter().any(|j| j.id == run) =>
+        {
+            fail_model_job(inner, run, message);
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
+            }
+        }
+        Response::Failed { run: Some(run), message, kind, .. }
+            if inner.model_sync.borrow().iter().any(|(id, _, _)| *id == run) =>
+        {
+            drop_model(inner, run, message);
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
+            }
+        }
+        other => return Some(other),
+    }
+    None
+}

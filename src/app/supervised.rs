@@ -1,0 +1,212 @@
+//! A supervised method's training and models on the page, as state (part of its
+//! [`super::MethodSlot`]): where a training stands, the user's models, the options' form text —
+//! what the panels ([`super::training`]) show and the loader's jobs (`super::loader`) update.
+
+use super::AppState;
+use crate::method::supervised::{model_file_name, ModelInfo, StepReport, TrainingReport};
+use crate::method::{form, Supervision};
+use leptos::prelude::*;
+use std::sync::Arc;
+
+/// Where a training stands.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TrainState {
+    /// Nothing trained yet.
+    Idle,
+    /// The worker prepares (`stage`, `step` 0) or trains (`step` of `steps` done).
+    Training { stage: String, step: usize, steps: usize, fraction: f64 },
+    /// Stop was pressed: the worker ends after the step under way.
+    Stopping,
+    /// The last training ended with a model.
+    Done,
+    /// The last training was cancelled before its first step (the worker was replaced).
+    Cancelled,
+    /// The last training was refused or failed.
+    Failed,
+}
+
+impl TrainState {
+    /// The value of `document.body.dataset.<method>Training`.
+    pub fn body_state(&self) -> &'static str {
+        match self {
+            TrainState::Idle => "idle",
+            TrainState::Training { .. } => "training",
+            TrainState::Stopping => "stopping",
+            TrainState::Done => "done",
+            TrainState::Cancelled => "cancelled",
+            TrainState::Failed => "error",
+        }
+    }
+
+    pub fn busy(&self) -> bool {
+        matches!(self, TrainState::Training { .. } | TrainState::Stopping)
+    }
+}
+
+/// Where the last model file load of one method stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LoadStatus {
+    Idle,
+    Loading,
+    Done,
+    Failed,
+}
+
+impl LoadStatus {
+    pub fn body_state(self) -> &'static str {
+        match self {
+            LoadStatus::Idle => "idle",
+            LoadStatus::Loading => "loading",
+            LoadStatus::Done => "done",
+            LoadStatus::Failed => "error",
+        }
+    }
+}
+
+/// A model the user gave the page or trained in it: what the worker said of it and its file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UserModel {
+    pub info: ModelInfo,
+    /// The file's name (a worker stores the model under the same name from it again).
+    pub file: String,
+    pub bytes: Arc<Vec<u8>>,
+}
+
+/// A trained model the page offers for download.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrainedFile {
+    pub name: String,
+    pub bytes: Arc<Vec<u8>>,
+}
+
+/// A training asked from elsewhere on the page (the "my labels" row).
+#[derive(Debug, Clone, PartialEq)]
+pub enum TrainRequest {
+    /// Train on `csv` (a label CSV named `labels_name`) with the form's options; `model_name`
+    /// unless the user typed a name.
+    Labels { labels_name: String, csv: String, model_name: String },
+    /// Stop the training under way (as the Stop button).
+    Stop,
+}
+
+/// What the user asked to train (the loader keeps it to send it again to a new worker).
+#[derive(Debug, Clone)]
+pub struct TrainAsk {
+    pub name: String,
+    pub labels_name: String,
+    pub labels: String,
+    /// Takes besides the one on screen: file names and bytes.
+    pub extra: Vec<(String, Arc<Vec<u8>>)>,
+    /// The options as the method's table reads them.
+    pub options: serde_json::Value,
+}
+
+/// A supervised method's training and models on the page, as signals (part of its
+/// [`super::MethodSlot`]).
+#[derive(Debug)]
+pub struct Supervised {
+    pub decl: Supervision,
+    /// The training options' form text, one per row of `decl.training`.
+    pub fields: Vec<RwSignal<String>>,
+    /// The model's name, and whether the user typed it.
+    pub name: RwSignal<String>,
+    pub named: RwSignal<bool>,
+    /// The chosen label CSV: its name and text.
+    pub labels: RwSignal<Option<(String, String)>>,
+    /// Takes besides the one on screen.
+    pub extra: RwSignal<Vec<(String, Arc<Vec<u8>>)>>,
+    pub state: RwSignal<TrainState>,
+    /// The status line.
+    pub status: RwSignal<String>,
+    /// The steps of the training under way or the last one.
+    pub steps: RwSignal<Vec<StepReport>>,
+    /// The last training's report.
+    pub report: RwSignal<Option<TrainingReport>>,
+    /// What is wrong with which input (shown next to it).
+    pub errors: RwSignal<Vec<(String, String)>>,
+    /// The last trained model.
+    pub trained: RwSignal<Option<TrainedFile>>,
+    /// What another part of the page asks (taken by the panel).
+    pub request: RwSignal<Option<TrainRequest>>,
+    /// Every model the user gave the page or trained in it, in the order given (one per name).
+    pub models: RwSignal<Vec<Arc<UserModel>>>,
+    /// The model file input: where its last load stands and its status line.
+    pub file_state: RwSignal<LoadStatus>,
+    pub file_status: RwSignal<String>,
+}
+
+impl Supervised {
+    pub fn new(decl: Supervision, method: &str) -> Supervised {
+        let fields = decl.training.iter().map(|s| RwSignal::new(form::field_text(&s.default))).collect();
+        Supervised {
+            decl,
+            fields,
+            name: RwSignal::new(format!("my-{method}")),
+            named: RwSignal::new(false),
+            labels: RwSignal::new(None),
+            extra: RwSignal::new(Vec::new()),
+            state: RwSignal::new(TrainState::Idle),
+            status: RwSignal::new(String::new()),
+            steps: RwSignal::new(Vec::new()),
+            report: RwSignal::new(None),
+            errors: RwSignal::new(Vec::new()),
+            trained: RwSignal::new(None),
+            request: RwSignal::new(None),
+            models: RwSignal::new(Vec::new()),
+            file_state: RwSignal::new(LoadStatus::Idle),
+            file_status: RwSignal::new(String::new()),
+        }
+    }
+
+    /// Shows `message` at the input `input`.
+    pub fn refuse(&self, input: &str, message: String) {
+        self.errors.update(|e| {
+            e.retain(|(i, _)| i != input);
+            e.push((input.to_string(), message));
+        });
+    }
+
+    /// Whether `input` is one the form shows a message at.
+    pub fn has_input(&self, input: &str) -> bool {
+        matches!(input, "labels" | "name")
+            || (input == "takes" && self.decl.more_takes)
+            || self.decl.training.iter().any(|s| s.name == input)
+    }
+
+    /// Adds `model` (replacing one of its name).
+    pub fn add(&self, model: UserModel) {
+        self.models.update(|list| {
+            list.retain(|m| m.info.name != model.info.name);
+            list.push(Arc::new(model));
+        });
+    }
+
+    /// Drops the model called `name`.
+    pub fn remove(&self, name: &str) {
+        self.models.update(|list| list.retain(|m| m.info.name != name));
+    }
+
+    /// The model file name of the model `name`.
+    pub fn file_name(&self, name: &str) -> String {
+        model_file_name(name, &self.decl.model_extension)
+    }
+}
+
+/// The supervised method the "my labels" row trains (the first that declares
+/// `trains_on_my_labels`): its short name and its training.
+pub fn my_labels_trainer(state: AppState) -> Option<(&'static str, &'static Supervised)> {
+    let methods: &'static [super::MethodSlot] = state.methods;
+    methods
+        .iter()
+        .find_map(|m| m.supervised.as_ref().filter(|s| s.decl.trains_on_my_labels).map(|s| (m.info.short.as_str(), s)))
+}
+
+/// Whether the method called `method` labels every frame with its model's classes (as it declares).
+pub fn labels_classes(method: &str) -> bool {
+    crate::methods::find(method).ok().and_then(|m| m.supervision()).is_some_and(|s| s.labels_classes)
+}
+
+/// How a model was made, in a few words.
+pub fn describe(info: &ModelInfo) -> String {
+    info.origin.clone()
+}
