@@ -59,7 +59,7 @@ impl Method for Sssm {
         options: &RunOptions,
         progress: &mut dyn Progress,
     ) -> Result<MethodOutput, MethodError> {
-        let result = super::segment_with_progress(motion, params, &mut |stage, f| progress.step(stage, f))?;
+        let result = super::segment_valid(motion, params, &mut |stage, f| progress.step(stage, f))?;
         let o = &result.outcome;
         let s = &result.segmentation;
         let summary = format!(

@@ -171,11 +171,20 @@ pub fn segment_with_progress(
     params: &SssmParams,
     progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
 ) -> Result<SssmResult, SssmError> {
-    let valid = params.clone().check()?;
+    segment_valid(motion, &params.clone().check()?, progress)
+}
+
+/// [`segment_with_progress`] on parameters already checked (the registered method's: checked
+/// once by the registry, not again here).
+pub fn segment_valid(
+    motion: &Motion,
+    valid: &ValidParams,
+    progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
+) -> Result<SssmResult, SssmError> {
     progress("features", 0.0)?;
-    let features = features::from_motion(motion, &valid)?;
-    let outcome = segment_features(&features.base, Some(&features.mirror), &valid, progress)?;
-    let segmentation = to_segmentation(motion, &valid, &outcome, &features.source_frames);
+    let features = features::from_motion(motion, valid)?;
+    let outcome = segment_features(&features.base, Some(&features.mirror), valid, progress)?;
+    let segmentation = to_segmentation(motion, valid, &outcome, &features.source_frames);
     Ok(SssmResult { segmentation, outcome, source_frames: features.source_frames, feature_scale: features.scale })
 }
 
