@@ -46,9 +46,28 @@ function registerServiceWorker() {
     .catch((err) => console.info(`mocapseg works without offline use here: ${err?.message ?? err}`));
 }
 
+// The wasm is compiled once, here, and the same compiled module goes to the page's web worker
+// (src/app/loader: `globalThis.__mocapsegWasm`, posted as the worker's first message), which would
+// otherwise fetch and compile its 6 MB again while the page waits for its first result.
+async function compileWasm() {
+  const url = new URL("../pkg/mocapseg_bg.wasm", import.meta.url);
+  try {
+    return await WebAssembly.compileStreaming(fetch(url));
+  } catch {
+    // a server that does not send application/wasm: compile from the bytes
+    const response = await fetch(url);
+    if (!response.ok) throw new Error(`${url}: HTTP ${response.status}`);
+    return WebAssembly.compile(await response.arrayBuffer());
+  }
+}
+
 try {
-  await init();
+  const module = await compileWasm();
+  performance.mark("mocapseg:wasm-compiled"); // make bench-page reports when (tests/e2e/page-load.bench.mjs)
+  globalThis.__mocapsegWasm = module;
+  await init({ module_or_path: module });
   mount_app();
+  performance.mark("mocapseg:mounted");
 } catch (err) {
   document.body.dataset.state = "error";
   const root = document.getElementById("mocapseg-app");

@@ -5,10 +5,14 @@
 // Paths are relative to this file: dist/www/worker.js loads dist/pkg/mocapseg.js.
 import init, { worker_handle, worker_next } from "../pkg/mocapseg.js";
 
-// Start loading the module at once, but register the handler synchronously so that no message
-// sent while the wasm is still compiling is lost.
-const ready = init();
-ready.catch(() => {}); // reported with the first request instead
+// The page sends the wasm it compiled as the first message ({wasmModule}); a worker started
+// without one (another page) fetches and compiles it itself on its first request. The handler is
+// registered synchronously so that no message sent while the wasm is being set up is lost.
+let ready = null;
+const start = (module) => {
+  ready = init(module ? { module_or_path: module } : undefined);
+  ready.catch(() => {}); // reported with the first request instead
+};
 
 const post = (message, transfer) => self.postMessage(message, transfer);
 
@@ -34,4 +38,11 @@ const handle = async (event) => {
   }
 };
 
-self.onmessage = handle;
+self.onmessage = (event) => {
+  if (event.data?.wasmModule instanceof WebAssembly.Module) {
+    if (!ready) start(event.data.wasmModule);
+    return;
+  }
+  if (!ready) start();
+  handle(event);
+};

@@ -410,6 +410,15 @@ fn spawn_worker(inner: &Rc<Inner>) {
     });
     worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
     worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
+    // the wasm the page compiled (www/main.js), so that the worker need not fetch and compile it
+    if let Ok(module) = js_sys::Reflect::get(&js_sys::global(), &"__mocapsegWasm".into()) {
+        if module.is_instance_of::<js_sys::WebAssembly::Module>() {
+            let message = js_sys::Object::new();
+            if js_sys::Reflect::set(&message, &"wasmModule".into(), &module).is_ok() {
+                let _ = worker.post_message(&message);
+            }
+        }
+    }
     *inner.handlers.borrow_mut() = vec![on_message, on_error];
     *inner.worker.borrow_mut() = Some(worker);
     training::send_models(inner);
