@@ -166,3 +166,45 @@ fn a_take_too_short_to_repeat_a_movement_says_why_sssm_found_no_action() {
     let out = m.run_json(&whole, &serde_json::json!({}), &RunOptions::default(), &mut NoProgress).unwrap();
     assert!(!out.details.summary.contains("no action found"), "{}", out.details.summary);
 }
+
+/// Every supervised method's training options, from its declared table: the defaults read back
+/// through the page's form reader are accepted, and every value outside a row's bounds is refused
+/// naming that option — before any take or label is read.
+#[test]
+fn every_training_option_is_read_from_the_declared_table_and_refused_by_name() {
+    use mocapseg::method::form::{field_text, params_from_form};
+    use mocapseg::method::supervised::TrainingAsk;
+    let mut supervised = 0;
+    for m in mocapseg::methods::registry() {
+        let (Some(s), Some(decl)) = (m.supervised(), m.supervision()) else { continue };
+        supervised += 1;
+        let name = m.info().name;
+        assert!(!decl.shipped.is_empty() && !decl.labels_header.is_empty(), "{name}: {decl:?}");
+        let ask = |options: serde_json::Value| TrainingAsk { options, ..TrainingAsk::default() };
+        // the defaults, as the form shows and reads them: the options pass; the empty ask fails later, at its name
+        let texts: Vec<String> = decl.training.iter().map(|o| field_text(&o.default)).collect();
+        let options = params_from_form(&m.info().short, &decl.training, &texts).unwrap();
+        let e = s.start_training(ask(options), &mut NoProgress).err().expect("an empty ask trains nothing");
+        assert_eq!(e.param_name(), Some("name"), "{name}: the defaults pass, the missing name is refused: {e}");
+        for o in &decl.training {
+            let outside: Vec<serde_json::Value> = match &o.kind {
+                ParamKind::Number { min, max } => vec![(min - 1.0).into(), (max + 1.0).into()],
+                ParamKind::Integer { min, max } => vec![serde_json::json!(max + 1), serde_json::json!(min - 1)],
+                ParamKind::IntegerList { max, max_len, .. } => {
+                    vec![serde_json::json!([max + 1]), serde_json::json!(vec![1; max_len + 1]), serde_json::json!([])]
+                }
+                ParamKind::Flags { .. } => vec![serde_json::json!(["no-such-flag"])],
+                ParamKind::Choice { .. } => vec!["no-such-choice".into()],
+                ParamKind::Bool => vec!["maybe".into()],
+            };
+            for v in outside {
+                let e = s.start_training(ask(serde_json::json!({ o.name.clone(): v.clone() })), &mut NoProgress);
+                let e = e.err().unwrap_or_else(|| panic!("{name}: {} = {v} accepted", o.name));
+                assert_eq!(e.param_name(), Some(o.name.as_str()), "{name}: {} = {v}: {e}", o.name);
+            }
+        }
+        let e = s.start_training(ask(serde_json::json!({"no_such_option": 1})), &mut NoProgress).err().unwrap();
+        assert_eq!(e.param_name(), None, "{name}: an unknown option is none of the table's: {e}");
+    }
+    assert_eq!(supervised, 3, "LMA, the k-NN and DT-FCN declare their training");
+}
