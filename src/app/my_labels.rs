@@ -32,6 +32,7 @@
 //!   `document.body.dataset.myLabels` (`data-my-labels`): the number of segments.
 
 use super::keys::is_for_the_field;
+use super::method_panel::is_labelling;
 use super::motion_image::stem;
 use super::row_exports::RowExports;
 use super::supervised::{my_labels_trainer, TrainRequest, TrainState};
@@ -109,11 +110,6 @@ struct OtherRow {
     id: String,
     name: String,
     segments: Vec<(usize, usize, String, Option<String>)>,
-}
-
-/// Whether `v` is a labelling method's run (its segments are classes: DT-FCN, k-NN).
-fn is_labelling(v: &MethodView) -> bool {
-    super::supervised::labels_classes(&v.method) || v.segmentation.params.get("colours").is_some()
 }
 
 /// The colour a segment has in its method's row (as `method_panel` draws it; `None`: hatched).

@@ -245,6 +245,65 @@ mod tests {
         }
     }
 
+    /// burn's `Conv1d` with the padding the shipped layers use: `d·(k − 1)` zeros, ⌊half⌋ before and
+    /// ⌈half⌉ after — asymmetric for kernel 2 at odd dilations (1 frame after, none before).
+    fn burns_layer(layer: &TemporalConv, device: &Device) -> burn::nn::conv::Conv1d {
+        use burn::nn::PaddingConfig1d;
+        let [out, inputs, k] = layer.weight.dims();
+        let pad = layer.dilation * (k - 1);
+        let mut conv = Conv1dConfig::new(inputs, out, k)
+            .with_dilation(layer.dilation)
+            .with_padding(PaddingConfig1d::Explicit(pad / 2, pad - pad / 2))
+            .init(device);
+        conv.weight = layer.weight.clone();
+        conv.bias = Some(layer.bias.clone());
+        conv
+    }
+
+    fn assert_same_output(layer: &TemporalConv, frames: usize, what: &str) {
+        let device = crate::methods::dtfcn::device();
+        let conv = burns_layer(layer, &device);
+        let [_, inputs, _] = layer.weight.dims();
+        let x = Tensor::<3>::random([2, inputs, frames], burn::tensor::Distribution::Normal(0.0, 1.0), &device);
+        let a: Vec<f32> = conv.forward(x.clone()).into_data().try_to_vec::<f32>().unwrap();
+        let b: Vec<f32> = layer.forward(x).into_data().try_to_vec::<f32>().unwrap();
+        assert_eq!(a.len(), b.len(), "{what}: one output per frame");
+        let scale = a.iter().fold(1f32, |m, v| m.max(v.abs()));
+        for (i, (x, y)) in a.iter().zip(&b).enumerate() {
+            assert!((x - y).abs() <= 1e-4 * scale, "{what}: value {i}: burn {x}, ours {y}");
+        }
+    }
+
+    #[test]
+    fn kernel_2_layers_with_their_asymmetric_padding_equal_burns_conv1d() {
+        let device = crate::methods::dtfcn::device();
+        for (k, d) in [(2, 1), (2, 2), (2, 4), (2, 8), (2, 16), (3, 1), (3, 9)] {
+            let layer = TemporalConv::new(5, 7, k, d, &device);
+            for frames in [1, 2, 17, 64] {
+                assert_same_output(&layer, frames, &format!("kernel {k}, dilation {d}, {frames} frames"));
+            }
+        }
+    }
+
+    /// Every layer of every shipped DT-FCN model (kernel 2, dilations 1–16, its trained weights)
+    /// computes what burn's own `Conv1d` computes with the same padding.
+    #[test]
+    fn the_shipped_models_layers_equal_burns_conv1d() {
+        use crate::methods::dtfcn::model::{Labeller, ModelKind};
+        for name in crate::methods::dtfcn::shipped::NAMES {
+            let model = crate::methods::dtfcn::shipped::model(ModelKind::Dtfcn, name).unwrap();
+            let Labeller::Network(net) = &model.labeller else { panic!("{name}: not a network") };
+            assert!(net.layers.iter().any(|l| l.kernel_size == 2), "{name}: the shipped models use kernel 2");
+            for (i, layer) in net.layers.iter().chain([&net.classifier]).enumerate() {
+                assert_same_output(
+                    layer,
+                    48,
+                    &format!("{name} layer {i} (kernel {}, dilation {})", layer.kernel_size, layer.dilation),
+                );
+            }
+        }
+    }
+
     #[test]
     fn an_impulse_changes_exactly_the_receptive_field() {
         let device = crate::methods::dtfcn::device();
