@@ -1,9 +1,9 @@
 # mocapseg — build, serve, test and benchmark (plain make; no trunk).
 #
 #   make demo    set up, build the page and serve it on http://localhost:8080
-#   make test    set up, then every test (scripts/test.sh): native (cargo test) while the release page
-#                bundle and the wasm test binary build beside it, the wasm tests in headless Chromium, and
-#                the Playwright end-to-end test; prints each stage's time
+#   make test    set up, then every test: native (cargo test), the release page bundle, the wasm
+#                tests in headless Chromium (one binary sharing the bundle's build), and the
+#                Playwright end-to-end test; prints each stage's time
 #   make bench   one table: parse, FK, every method at 1×/2×/4× a take and the batch rate, native
 #                and in headless Chromium; the page's load (bytes before the first result, time to it);
 #                with ../shared/data also the peer libraries (bench/peers)
@@ -65,7 +65,7 @@ BENCH_BVH ?= $(firstword $(wildcard $(abspath $(CURDIR)/../shared/data/cmu/86/86
                 $(abspath $(shell ls -S tests/fixtures/*.bvh 2>/dev/null | head -n 1)))
 
 .PHONY: help setup demo test bench web serve check-toolchain accuracy \
-        test-native test-wasm build-test-wasm test-e2e bench-native bench-wasm bench-page bench-peers bench-table fuzz
+        test-native test-wasm test-e2e bench-native bench-wasm bench-page bench-peers bench-table fuzz
 
 help:
 	@sed -n '3,/^#$$/{/^#$$/!p}' Makefile | sed 's/^# \{0,1\}//'
@@ -77,10 +77,16 @@ demo: setup
 	$(MAKE) web
 	$(MAKE) serve
 
-# The stages (scripts/test.sh): setup; the native tests while the page bundle and the wasm test binary build in
-# the background; the wasm tests in headless Chromium (reusing the release library `web` built); the e2e tests.
+# Stages in the order that builds least: the wasm tests reuse the release library `web` built.
 test:
-	@scripts/test.sh
+	@mkdir -p test-output && : >$(STAGE_TIMES)
+	@scripts/stage.sh setup scripts/setup.sh
+	@scripts/stage.sh native $(MAKE) test-native
+	@scripts/stage.sh web $(MAKE) web
+	@scripts/stage.sh wasm $(MAKE) test-wasm
+	@scripts/stage.sh e2e $(MAKE) test-e2e
+	@echo; echo "make test: all stages passed (native, web bundle, wasm in headless Chromium, e2e). Times:"
+	@cat $(STAGE_TIMES)
 
 # The detailed outputs first, then the peers (when the shared data is there), and last the one
 # table (bench_table, from the JSON lines the native and the wasm benchmarks wrote).
@@ -158,10 +164,6 @@ test-native: check-toolchain
 test-wasm: check-toolchain
 	WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
 	$(CARGO) test $(WASM_CARGO_FLAGS) --release --target $(WASM_TARGET) --features web --test wasm
-
-# The same wasm test binary compiled only (make test builds it in the background while the native tests run).
-build-test-wasm: check-toolchain
-	$(CARGO) test $(WASM_CARGO_FLAGS) --release --target $(WASM_TARGET) --features web --test wasm --no-run
 
 # Playwright against dist/ served on a free loopback port (needs `make web` first).
 test-e2e:
