@@ -55,6 +55,9 @@ mod lab {
     use mocapseg::bvh::{self, Bvh};
     use mocapseg::method::{self, NoProgress, RunOptions};
     use mocapseg::methods::dtfcn::corpus::{fit_knn, predict_held_out, DEFAULT_UNKNOWN_THRESHOLD};
+    use mocapseg::methods::dtfcn::decode::{file_labels, Decoding};
+    use mocapseg::methods::dtfcn::infer::Probabilities;
+    use mocapseg::methods::dtfcn::input::NETWORK_FPS;
     use mocapseg::methods::dtfcn::method::runs;
     use mocapseg::methods::dtfcn::training::TrainOptions;
     use mocapseg::methods::knn::KnnParams;
@@ -269,53 +272,86 @@ mod lab {
     /// The unknown thresholds a fold chooses from (the method's default first, so it wins ties).
     const THRESHOLDS: [f64; 3] = [DEFAULT_UNKNOWN_THRESHOLD, 0.5, 0.0];
 
-    /// Per-frame labels under an unknown threshold (`None` below it).
-    fn thresholded(pred: &[(usize, f32)], threshold: f64) -> Vec<Option<usize>> {
-        pred.iter().map(|&(c, p)| (p as f64 >= threshold).then_some(c)).collect()
-    }
-
-    /// The threshold with the best frame accuracy (unknown frames wrong) of `pred` against `truth`, and that accuracy.
-    fn best_threshold(pred: &[(usize, f32)], truth: &[Option<usize>]) -> (f64, f64) {
-        THRESHOLDS.iter().fold((THRESHOLDS[0], f64::MIN), |best, &t| {
-            let acc = labelling::score(&thresholded(pred, t), truth).frame_accuracy;
-            if acc > best.1 + 1e-12 {
-                (t, acc)
-            } else {
-                best
-            }
-        })
-    }
-
-    /// A labeller's per-file-frame (class, confidence) as the method turns them into segments (below the unknown
-    /// threshold: `unknown`).
-    fn labelled_segmentation(
-        motion: &Motion,
-        pred: &[(usize, f32)],
-        threshold: f64,
-        classes: &[String],
-        method: &str,
-    ) -> Segmentation {
-        let file: Vec<(Option<usize>, f32)> =
-            thresholded(pred, threshold).into_iter().zip(pred).map(|(c, &(_, p))| (c, p)).collect();
+    /// A labeller's per-file-frame labels (`None`: unknown) as a segmentation, as the method turns them into segments.
+    fn labelled_segmentation(motion: &Motion, file: &[(Option<usize>, f32)], classes: &[String], method: &str) -> Segmentation {
         Segmentation {
             file: motion.name.clone(),
             fps: motion.fps,
             frames: motion.frames(),
             method: method.into(),
             params: Value::Null,
-            segments: runs(&file, classes),
+            segments: runs(file, classes),
         }
+    }
+
+    /// A labeller's output on one take: per working frame every class's probability, each working frame's file
+    /// position and the working rate.
+    struct Labelled {
+        probabilities: Probabilities,
+        source: Vec<f64>,
+        fps: f64,
+    }
+
+    impl Labelled {
+        /// Per file frame of `motion`: the label (`None`: unknown) under `decoding` and `threshold`.
+        fn file(&self, motion: &Motion, decoding: &Decoding, threshold: f64) -> Vec<(Option<usize>, f32)> {
+            file_labels(&self.probabilities, &self.source, self.fps, motion.frames(), decoding, threshold)
+        }
+
+        fn labels(&self, motion: &Motion, decoding: &Decoding, threshold: f64) -> Vec<Option<usize>> {
+            self.file(motion, decoding, threshold).into_iter().map(|x| x.0).collect()
+        }
+    }
+
+    /// The decodings of the per-frame probabilities the labellers choose between (the first: raw per-frame labels).
+    const DECODINGS: [Decoding; 10] = [
+        Decoding::RAW,
+        Decoding { min_duration_s: 1.0, switch_cost: 0.0 },
+        Decoding { min_duration_s: 2.0, switch_cost: 0.0 },
+        Decoding { min_duration_s: 4.0, switch_cost: 0.0 },
+        Decoding { min_duration_s: 8.0, switch_cost: 0.0 },
+        Decoding { min_duration_s: 0.0, switch_cost: 10.0 },
+        Decoding { min_duration_s: 2.0, switch_cost: 10.0 },
+        Decoding { min_duration_s: 2.0, switch_cost: 40.0 },
+        Decoding { min_duration_s: 4.0, switch_cost: 40.0 },
+        Decoding { min_duration_s: 2.0, switch_cost: 150.0 },
+    ];
+
+    fn decoding_label(d: &Decoding) -> String {
+        format!("min_duration_s={} switch_cost={}", d.min_duration_s, d.switch_cost)
+    }
+
+    /// What chooses a decoding: the mean of frame accuracy (%), edit and F1@50 — the labelling targets.
+    fn labelling_criterion(s: &labelling::LabellingScores) -> f64 {
+        (100.0 * s.frame_accuracy + s.edit + s.f1[2]) / 3.0
+    }
+
+    /// The unknown threshold and decoding with the best mean criterion over `takes` (labelled by a model that never
+    /// saw them), and that criterion. The threshold is chosen with the decoding: a decoded run is unknown as a whole.
+    fn best_decoding(takes: &[(&Motion, &Labelled, &[Option<usize>])]) -> (f64, Decoding, f64) {
+        let mut best = (THRESHOLDS[0], DECODINGS[0], f64::MIN);
+        for d in &DECODINGS {
+            for &t in &THRESHOLDS {
+                let c = takes
+                    .iter()
+                    .map(|(m, l, truth)| labelling_criterion(&labelling::score(&l.labels(m, d, t), truth)))
+                    .sum::<f64>()
+                    / takes.len().max(1) as f64;
+                if c > best.2 + 1e-9 {
+                    best = (t, *d, c);
+                }
+            }
+        }
+        best
     }
 
     /// The k-NN's k: chosen per fold by leave-one-take-out frame accuracy on the training takes alone.
     const KS: [usize; 5] = [5, 1, 3, 9, 15];
 
-    fn knn_predict(
-        train: &[(&Motion, &[Option<usize>])],
-        k: usize,
-        motion: &Motion,
-    ) -> Result<Vec<(usize, f32)>, String> {
-        fit_knn(train, KnnParams { k, ..KnnParams::default() })?.predict(motion)
+    fn knn_labelled(train: &[(&Motion, &[Option<usize>])], k: usize, motion: &Motion, classes: usize) -> Result<Labelled, String> {
+        let params = KnnParams { k, ..KnnParams::default() };
+        let (probabilities, source) = fit_knn(train, params)?.probabilities_at(motion, classes)?;
+        Ok(Labelled { probabilities, source, fps: params.fps })
     }
 
     /// DT-FCN and k-NN rows on the mocap6 takes: the shipped models in-sample (`exercises`; `cmu-actions` on 86_01),
@@ -338,14 +374,17 @@ mod lab {
                 .collect::<Result<_, String>>()?;
             let defaults = mean_of(&shipped.iter().collect::<Vec<_>>());
             let mut folds = Vec::new();
+            // every take's labels by the model its fold trained without it: what the shipped model's decoding is
+            // chosen on (`train-dtfcn --min-duration-s --switch-cost`, models/README.md)
+            let mut out_of_fold: Vec<(usize, Labelled)> = Vec::new();
             if mocap6.len() >= 3 {
                 for h in 0..mocap6.len() {
-                    let (pred, threshold, chosen) = if name == "knn" {
+                    let (labelled, threshold, decoding, chosen) = if name == "knn" {
                         let train: Vec<usize> = (0..mocap6.len()).filter(|&i| i != h).collect();
-                        // (k, threshold, mean inner accuracy)
-                        let mut top = (KS[0], THRESHOLDS[0], f64::MIN);
+                        // (k, threshold, mean inner accuracy, the inner takes' labels) on the raw labels
+                        let mut top: (usize, f64, f64, Vec<Labelled>) = (KS[0], THRESHOLDS[0], f64::MIN, Vec::new());
                         for k in KS {
-                            let inner: Vec<Vec<(usize, f32)>> = train
+                            let inner: Vec<Labelled> = train
                                 .iter()
                                 .map(|&v| {
                                     let fit: Vec<(&Motion, &[Option<usize>])> = train
@@ -353,58 +392,109 @@ mod lab {
                                         .filter(|&&i| i != v)
                                         .map(|&i| (&motions[i], labels[i].as_slice()))
                                         .collect();
-                                    knn_predict(&fit, k, &motions[v])
+                                    knn_labelled(&fit, k, &motions[v], classes.len())
                                 })
                                 .collect::<Result<_, _>>()?;
+                            let mut best_here = (THRESHOLDS[0], f64::MIN);
                             for t in THRESHOLDS {
                                 let acc = train
                                     .iter()
                                     .zip(&inner)
-                                    .map(|(&v, p)| labelling::score(&thresholded(p, t), &labels[v]).frame_accuracy)
+                                    .map(|(&v, l)| {
+                                        labelling::score(&l.labels(&motions[v], &Decoding::RAW, t), &labels[v])
+                                            .frame_accuracy
+                                    })
                                     .sum::<f64>()
                                     / train.len() as f64;
-                                if acc > top.2 + 1e-12 {
-                                    top = (k, t, acc);
+                                if acc > best_here.1 + 1e-12 {
+                                    best_here = (t, acc);
                                 }
                             }
+                            if best_here.1 > top.2 + 1e-12 {
+                                top = (k, best_here.0, best_here.1, inner);
+                            }
                         }
+                        // then the decoding, on the same inner predictions
+                        let inner: Vec<(&Motion, &Labelled, &[Option<usize>])> =
+                            train.iter().zip(&top.3).map(|(&v, l)| (&motions[v], l, labels[v].as_slice())).collect();
+                        let (threshold, decoding, criterion) = best_decoding(&inner);
                         let fit: Vec<(&Motion, &[Option<usize>])> =
                             train.iter().map(|&i| (&motions[i], labels[i].as_slice())).collect();
                         (
-                            knn_predict(&fit, top.0, &motions[h])?,
-                            top.1,
-                            format!("k={} unknown_threshold={} (inner accuracy {:.3})", top.0, top.1, top.2),
+                            knn_labelled(&fit, top.0, &motions[h], classes.len())?,
+                            threshold,
+                            decoding,
+                            format!(
+                                "k={} (inner accuracy {:.3}) unknown_threshold={threshold} {} (inner criterion {criterion:.1})",
+                                top.0,
+                                top.2,
+                                decoding_label(&decoding)
+                            ),
                         )
                     } else {
-                        // (held-out labels, threshold, what was chosen, validation accuracy)
-                        let mut top: Option<(Vec<(usize, f32)>, f64, String, f64)> = None;
+                        // (held-out labels, threshold, decoding, what was chosen, validation accuracy)
+                        let mut top: Option<(Labelled, f64, Decoding, String, f64)> = None;
                         for (width, augment) in [(2, true), (2, false), (3, true)] {
                             let mut options = TrainOptions { width, ..TrainOptions::default() };
                             if !augment {
                                 options.augment = mocapseg::methods::dtfcn::augment::Augment::none();
                             }
                             let p = predict_held_out(&motions, &labels, h, &classes, &options, &mut |_| true)?;
-                            // the unknown threshold, on the validation take's labels by the network trained without it
-                            let (threshold, accuracy) = best_threshold(&p.validation_labels, &labels[p.validation]);
+                            // the unknown threshold and the decoding, on the validation take's labels by the network
+                            // trained without it
+                            let val = Labelled {
+                                probabilities: p.validation_probabilities,
+                                source: p.validation_source,
+                                fps: NETWORK_FPS,
+                            };
+                            let vm = &motions[p.validation];
+                            let accuracy = THRESHOLDS
+                                .iter()
+                                .map(|&t| {
+                                    labelling::score(&val.labels(vm, &Decoding::RAW, t), &labels[p.validation])
+                                        .frame_accuracy
+                                })
+                                .fold(f64::MIN, f64::max);
+                            let (threshold, decoding, criterion) =
+                                best_decoding(&[(vm, &val, labels[p.validation].as_slice())]);
                             let what = format!(
-                                "width={width} augment={} epochs={} unknown_threshold={threshold} (validation {} accuracy {:.3})",
+                                "width={width} augment={} epochs={} unknown_threshold={threshold} {} (validation {} accuracy {:.3}, criterion {criterion:.1})",
                                 if augment { "all" } else { "none" },
                                 p.best_epoch,
-                                motions[p.validation].name,
+                                decoding_label(&decoding),
+                                vm.name,
                                 accuracy
                             );
-                            if top.as_ref().is_none_or(|t| accuracy > t.3 + 1e-12) {
-                                top = Some((p.network, threshold, what, accuracy));
+                            if top.as_ref().is_none_or(|t| accuracy > t.4 + 1e-12) {
+                                let held = Labelled {
+                                    probabilities: p.network_probabilities,
+                                    source: p.network_source,
+                                    fps: NETWORK_FPS,
+                                };
+                                top = Some((held, threshold, decoding, what, accuracy));
                             }
                         }
-                        let (pred, threshold, what, _) = top.ok_or("no DT-FCN setting")?;
-                        (pred, threshold, what)
+                        let (held, threshold, decoding, what, _) = top.ok_or("no DT-FCN setting")?;
+                        (held, threshold, decoding, what)
                     };
-                    let seg = labelled_segmentation(&motions[h], &pred, threshold, &classes, name);
+                    let file = labelled.file(&motions[h], &decoding, threshold);
+                    let seg = labelled_segmentation(&motions[h], &file, &classes, name);
+                    out_of_fold.push((h, labelled));
                     let c = cell(&seg, &mocap6[h].truth)?;
                     println!("  {name}: held out {} — chose {chosen}", mocap6[h].name);
                     folds.push((mocap6[h].name.clone(), chosen, c.scores));
                 }
+            }
+            if !out_of_fold.is_empty() {
+                let all: Vec<(&Motion, &Labelled, &[Option<usize>])> =
+                    out_of_fold.iter().map(|(h, l)| (&motions[*h], l, labels[*h].as_slice())).collect();
+                let (t, d, c) = best_decoding(&all);
+                println!(
+                    "  {name}: the shipped exercises model's decoding, chosen on all {} takes' out-of-fold labels: \
+                     unknown_threshold={t} {} (criterion {c:.1})",
+                    all.len(),
+                    decoding_label(&d)
+                );
             }
             let held_out =
                 (!folds.is_empty()).then(|| MeanScores::mean(&folds.iter().map(|f| f.2.clone()).collect::<Vec<_>>()));
@@ -508,6 +598,52 @@ mod lab {
                 let _ = writeln!(out, "  - {take}: {chose} → {a} {x:.2}, {b} {y:.2}");
             }
         }
+        out
+    }
+
+    /// The labellers' own scores (frame accuracy, edit, F1@50, segments found) on the takes they are held out on,
+    /// beside chance on the same takes and each take's true segment count (empty without labeller rows).
+    fn labeller_table(heading: &str, rows: &[MethodRow]) -> String {
+        let labellers: Vec<&MethodRow> =
+            rows.iter().filter(|r| matches!(r.method.as_str(), "knn" | "dtfcn") && r.held_out.is_some()).collect();
+        let Some(first) = labellers.first() else { return String::new() };
+        let takes: Vec<&str> = first.folds.iter().map(|f| f.0.as_str()).collect();
+        // a reference row's mean over the labellers' takes only
+        let over_takes = |method: &str| -> Option<MeanScores> {
+            let r = rows.iter().find(|r| r.method == method)?;
+            let picked: Vec<MeanScores> =
+                r.folds.iter().filter(|f| takes.contains(&f.0.as_str())).map(|f| f.2.clone()).collect();
+            (!picked.is_empty()).then(|| MeanScores::mean(&picked))
+        };
+        let truth = over_takes("oracle-K (equal parts)").map(|m| m.segments);
+        let mut out = format!(
+            "{heading} Labellers (per-frame labels, on the takes held out: {})\n\n\
+             Segmental scores as MS-TCN reports them (edit, F1@50 in %). *defaults*: the shipped models with the \
+             method's default parameters on the takes they were trained on; *held out*: trained on the other takes, \
+             every setting (k, network, unknown threshold, decoding) chosen on inner folds. True segments per take: \
+             {}.\n\n",
+            takes.join(", "),
+            num(truth, 1)
+        );
+        out += "| method | frame acc. defaults | **frame acc. held out** | edit defaults | **edit held out** | F1@50 defaults | **F1@50 held out** | segments (defaults) | **segments held out** |\n";
+        out += "|---|---|---|---|---|---|---|---|---|\n";
+        let line = |name: &str, d: Option<&MeanScores>, h: Option<&MeanScores>| {
+            format!(
+                "| {name} | {} | **{}** | {} | **{}** | {} | **{}** | {} | **{}** |\n",
+                num(d.map(|m| m.frame_accuracy), 2),
+                num(h.map(|m| m.frame_accuracy), 2),
+                num(d.map(|m| m.edit), 0),
+                num(h.map(|m| m.edit), 0),
+                num(d.map(|m| m.f1_50), 0),
+                num(h.map(|m| m.f1_50), 0),
+                num(d.map(|m| m.segments), 1),
+                num(h.map(|m| m.segments), 1),
+            )
+        };
+        for r in &labellers {
+            out += &line(&r.method, r.defaults.as_ref(), r.held_out.as_ref());
+        }
+        out += &line("chance", None, over_takes("chance").as_ref());
         out
     }
 
@@ -731,6 +867,11 @@ mod lab {
             take_names.join(", ")
         );
         md += &table("####", "Actions (action labels of the shared takes)", actions, false);
+        let labellers = labeller_table("####", actions);
+        if !labellers.is_empty() {
+            md += "\n";
+            md += &labellers;
+        }
         if !gestures.is_empty() {
             md += "\n";
             md += &table("####", "Gestures (spliced takes with known boundaries)", gestures, true);
@@ -764,6 +905,13 @@ mod lab {
                 .collect();
             md += &table("###", title, &mine, *gestures);
             md += "\n";
+            if !*gestures {
+                let labellers = labeller_table("###", &mine);
+                if !labellers.is_empty() {
+                    md += &labellers;
+                    md += "\n";
+                }
+            }
         }
         md
     }

@@ -72,7 +72,7 @@ fn two_takes() -> (Vec<Motion>, Vec<String>, Vec<TrainingTake>) {
 }
 
 fn meta() -> ModelMeta {
-    ModelMeta { name: "test".into(), command: "tests/dtfcn.rs".into(), data_hash: "-".into() }
+    ModelMeta { name: "test".into(), command: "tests/dtfcn.rs".into(), data_hash: "-".into(), decoding: None }
 }
 
 #[test]
@@ -201,4 +201,38 @@ fn every_shipped_model_loads_and_labels_a_walk() {
             assert!(!out.segmentation.segments.is_empty());
         }
     }
+}
+
+/// The nested protocol never reads the held-out take's labels (issue 23): the same fold with that take's labels
+/// scrambled — shifted by half the take, and a class no other take has — trains the same networks and the same k-NN,
+/// and predicts exactly the same probabilities for the held-out take and its validation take.
+#[test]
+fn scrambling_the_held_out_takes_labels_changes_no_prediction() {
+    use mocapseg::methods::dtfcn::corpus::predict_held_out;
+    let takes = vec![motion("02_01.bvh", WALK), motion("35_01.bvh", OTHER), motion("02_01-copy.bvh", WALK)];
+    let classes: Vec<String> = ["a", "b", "c"].iter().map(|s| s.to_string()).collect();
+    let labels: Vec<Vec<Option<usize>>> = takes
+        .iter()
+        .enumerate()
+        .map(|(i, m)| (0..m.frames()).map(|f| Some(if f < m.frames() / 2 { 0 } else { 1 + i % 2 })).collect())
+        .collect();
+    let options = small(2);
+    let before = predict_held_out(&takes, &labels, 0, &classes, &options, &mut |_| true).unwrap();
+    let mut scrambled = labels.clone();
+    let n = scrambled[0].len();
+    scrambled[0] = (0..n).map(|f| Some(if (f + n / 2) % n < n / 3 { 2 } else { 0 })).collect();
+    scrambled[0][5] = None;
+    assert_ne!(scrambled[0], labels[0]);
+    let after = predict_held_out(&takes, &scrambled, 0, &classes, &options, &mut |_| true).unwrap();
+    assert_eq!(before.network_probabilities, after.network_probabilities);
+    assert_eq!(before.validation_probabilities, after.validation_probabilities);
+    assert_eq!(before.network, after.network);
+    assert_eq!(before.knn, after.knn);
+    assert_eq!(before.best_epoch, after.best_epoch);
+    // the validation take's labels do matter (they choose the epoch and are what it is scored on): the fold is
+    // not blind to everything
+    let mut other = labels.clone();
+    other[before.validation] = other[before.validation].iter().map(|l| l.map(|c| (c + 1) % 3)).collect();
+    let moved = predict_held_out(&takes, &other, 0, &classes, &options, &mut |_| true).unwrap();
+    assert_ne!(before.validation_accuracy, moved.validation_accuracy);
 }

@@ -272,6 +272,13 @@ mod cli {
             /// Crops per optimiser step.
             #[arg(long, default_value_t = 2)]
             batch: usize,
+            /// The model's decoding (its runs' default, `--param decoding=model`): shortest run of one label in
+            /// seconds (0 with --switch-cost 0: raw per-frame labels).
+            #[arg(long, default_value_t = 0.0)]
+            min_duration_s: f64,
+            /// The model's decoding: cost of a change of label, in nats.
+            #[arg(long, default_value_t = 0.0)]
+            switch_cost: f64,
         },
         /// Print a model's header: kind, classes, colours, joint set, rate, how it was trained. FILE is
         /// a model file of any method with models, or a shipped model's name (`exercises`: every
@@ -433,6 +440,8 @@ mod cli {
                 patience,
                 crop,
                 batch,
+                min_duration_s,
+                switch_cost,
             } => {
                 let augment = mocapseg::methods::dtfcn::augment::Augment::parse(&augment)?;
                 let options = mocapseg::methods::dtfcn::training::TrainOptions {
@@ -449,7 +458,18 @@ mod cli {
                     batch,
                     ..Default::default()
                 };
-                crate::dtfcn_cli::train(&bvh, &labels, options, out, &method, name, validation, cross_validate)
+                let decoding = mocapseg::methods::dtfcn::decode::Decoding { min_duration_s, switch_cost };
+                crate::dtfcn_cli::train(
+                    &bvh,
+                    &labels,
+                    options,
+                    decoding,
+                    out,
+                    &method,
+                    name,
+                    validation,
+                    cross_validate,
+                )
             }
             Command::ModelInfo { file, method } => crate::dtfcn_cli::model_info(&file, method.as_deref()),
             Command::Labels { truth, first_frame, row_offset, out } => {

@@ -1,6 +1,8 @@
 //! `mocapseg train-dtfcn` and `mocapseg model-info`: the DT-FCN and k-NN models on the command
 //! line (the training itself is the library's, `mocapseg::methods::dtfcn`).
 
+use mocapseg::methods::dtfcn::decode::Decoding;
+use mocapseg::methods::dtfcn::method::MAX_MIN_DURATION_S;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -28,6 +30,7 @@ pub fn train(
     inputs: &[PathBuf],
     labels_path: &Path,
     options: TrainOptions,
+    decoding: Decoding,
     out: Option<PathBuf>,
     method: &str,
     name: Option<String>,
@@ -38,6 +41,12 @@ pub fn train(
         return Err(format!("--method {method}: expected dtfcn or knn"));
     }
     options.check()?;
+    if !(0.0..=MAX_MIN_DURATION_S).contains(&decoding.min_duration_s) || !(0.0..=1000.0).contains(&decoding.switch_cost) {
+        return Err(format!(
+            "--min-duration-s {} --switch-cost {}: expected 0 to {MAX_MIN_DURATION_S} s and 0 to 1000",
+            decoding.min_duration_s, decoding.switch_cost
+        ));
+    }
     let started = Instant::now();
     let label_bytes = std::fs::read(labels_path).map_err(|e| format!("{}: {e}", labels_path.display()))?;
     let rows = read_csv(&String::from_utf8_lossy(&label_bytes), &labels_path.display().to_string())?;
@@ -145,6 +154,7 @@ pub fn train(
         name: name.unwrap_or_else(|| out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()),
         command: command_line(),
         data_hash: data_hash(&hashed, &label_bytes),
+        decoding: (decoding.min_duration_s > 0.0 || decoding.switch_cost > 0.0).then_some(decoding),
     };
     let model = if method == "knn" {
         let takes: Vec<(&Motion, &[Option<usize>])> =

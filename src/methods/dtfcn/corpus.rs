@@ -75,6 +75,8 @@ pub struct ModelMeta {
     pub name: String,
     pub command: String,
     pub data_hash: String,
+    /// The decoding a run with `decoding = "model"` uses (none: raw per-frame labels).
+    pub decoding: Option<super::decode::Decoding>,
 }
 
 fn header(kind: ModelKind, classes: &[String], meta: &ModelMeta, provenance: Provenance) -> ModelHeader {
@@ -86,6 +88,7 @@ fn header(kind: ModelKind, classes: &[String], meta: &ModelMeta, provenance: Pro
         joints: joint_names(),
         fps: NETWORK_FPS,
         unknown_threshold: DEFAULT_UNKNOWN_THRESHOLD as f32,
+        decoding: meta.decoding,
         network: None,
         standardise: None,
         knn: None,
@@ -239,14 +242,31 @@ pub struct FoldPrediction {
     /// Per file frame of the validation take: class and confidence of the network trained without it (the
     /// early-stopped one), so that settings applied after the network — the unknown threshold — can be chosen on it.
     pub validation_labels: Vec<(usize, f32)>,
+    /// The same network's class probabilities per working frame of the validation take, and their file positions
+    /// (what a decoding is chosen on).
+    pub validation_probabilities: super::infer::Probabilities,
+    pub validation_source: Vec<f64>,
+    /// The held-out take's class probabilities per working frame by the network trained on all other takes, and
+    /// their file positions.
+    pub network_probabilities: super::infer::Probabilities,
+    pub network_source: Vec<f64>,
 }
 
-/// Per file frame of `motion`: the most probable class and its probability under a trained network.
-fn label_file_frames(trained: &Trained, motion: &Motion, classes: usize) -> Result<Vec<(usize, f32)>, String> {
+/// Per working frame of `motion`: the class probabilities under a trained network, and the frames' file positions.
+fn probabilities(
+    trained: &Trained,
+    motion: &Motion,
+    classes: usize,
+) -> Result<(super::infer::Probabilities, Vec<f64>), String> {
     let input = super::input::network_input(motion)?;
     let probs = super::infer::predict_input(&trained.net, &trained.standardise, &input, classes);
+    Ok((probs, input.source_frames))
+}
+
+/// Per file frame of `motion`: the most probable class and its probability, from [`probabilities`].
+fn file_frames_of(probs: &super::infer::Probabilities, source: &[f64], motion: &Motion) -> Vec<(usize, f32)> {
     let working: Vec<(usize, f32)> = (0..probs.frames).map(|f| probs.best(f)).collect();
-    Ok(TrainingTake::to_file_frames(&input.source_frames, motion.frames(), &working))
+    TrainingTake::to_file_frames(source, motion.frames(), &working)
 }
 
 /// One fold of the nested protocol: take `held` is held out; of the others, the next one in turn
@@ -270,11 +290,13 @@ pub fn predict_held_out(
     let take = |i: usize| TrainingTake::new(&motions[i], &labels[i]);
     let inner: Vec<TrainingTake> = (0..n).filter(|&i| i != held && i != val).map(take).collect::<Result<_, _>>()?;
     let chosen = train(&inner, &[take(val)?], classes, options, &mut *on_epoch)?;
-    let validation_labels = label_file_frames(&chosen, &motions[val], classes.len())?;
+    let (validation_probabilities, validation_source) = probabilities(&chosen, &motions[val], classes.len())?;
+    let validation_labels = file_frames_of(&validation_probabilities, &validation_source, &motions[val]);
     let all: Vec<TrainingTake> = (0..n).filter(|&i| i != held).map(take).collect::<Result<_, _>>()?;
     let again = TrainOptions { epochs: chosen.best_epoch, ..options.clone() };
     let trained = train(&all, &[], classes, &again, on_epoch)?;
-    let network = label_file_frames(&trained, &motions[held], classes.len())?;
+    let (network_probabilities, network_source) = probabilities(&trained, &motions[held], classes.len())?;
+    let network = file_frames_of(&network_probabilities, &network_source, &motions[held]);
     let imperfect: Vec<Vec<Option<usize>>> =
         (0..n).map(|i| imperfect_labels(&labels[i], motions[i].fps, classes.len(), options, i as u64)).collect();
     let knn_train: Vec<(&Motion, &[Option<usize>])> =
@@ -290,6 +312,10 @@ pub fn predict_held_out(
         validation_accuracy,
         validation: val,
         validation_labels,
+        validation_probabilities,
+        validation_source,
+        network_probabilities,
+        network_source,
     })
 }
 

@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::corpus::DEFAULT_UNKNOWN_THRESHOLD;
+use super::decode::{file_labels, Decoding};
 use super::infer::{predict_blocks, Probabilities, BLOCK_FRAMES};
 use super::input::network_input;
 use super::model::{Labeller, Model, ModelKind};
@@ -31,13 +31,39 @@ pub const UNKNOWN: &str = "unknown";
 pub struct LabelParams {
     /// A shipped model's name, or the name a user model was installed under.
     pub model: String,
-    /// Frames whose confidence is below this are `unknown` (0 = never).
+    /// Frames whose confidence is below this are `unknown` (0 = never); with a decoding, whole runs.
     pub unknown_threshold: f64,
+    /// `model` (the decoding the model was made with — raw per-frame labels if none), `raw`, or `custom`
+    /// (`min_duration_s` and `switch_cost`).
+    pub decoding: String,
+    /// With `decoding = "custom"`: shortest run of one label, in seconds ([`super::decode`]).
+    pub min_duration_s: f64,
+    /// With `decoding = "custom"`: cost of a change of label, in nats of summed log-probability.
+    pub switch_cost: f64,
 }
+
+/// The ways a run may decode its labels.
+pub const DECODINGS: [&str; 3] = ["model", "raw", "custom"];
+
+/// The unknown threshold in force unless asked otherwise: what every fold of the scoreboard's nested validation
+/// chose, with the decoding (`make accuracy`, docs/methods/dtfcn.md).
+pub const DEFAULT_THRESHOLD: f64 = 0.5;
+
+/// The custom decoding's defaults (what most folds chose: a 2 s minimum run).
+pub const CUSTOM_DECODING: Decoding = Decoding { min_duration_s: 2.0, switch_cost: 0.0 };
+
+/// The longest minimum duration a user may ask for, in seconds.
+pub const MAX_MIN_DURATION_S: f64 = 30.0;
 
 impl Default for LabelParams {
     fn default() -> Self {
-        LabelParams { model: shipped::NAMES[0].into(), unknown_threshold: DEFAULT_UNKNOWN_THRESHOLD }
+        LabelParams {
+            model: shipped::NAMES[0].into(),
+            unknown_threshold: DEFAULT_THRESHOLD,
+            decoding: DECODINGS[0].into(),
+            min_duration_s: CUSTOM_DECODING.min_duration_s,
+            switch_cost: CUSTOM_DECODING.switch_cost,
+        }
     }
 }
 
@@ -47,6 +73,11 @@ pub struct Checked {
     name: String,
     model: Arc<Model>,
     threshold: f64,
+    /// As asked (`model`, `raw`, `custom`) and the custom setting, echoed as given.
+    asked: String,
+    custom: Decoding,
+    /// The decoding in force.
+    decoding: Decoding,
 }
 
 /// The model of `kind` called `name`: one of `models` (a user's, trained or loaded) first, else a
@@ -137,9 +168,40 @@ impl Method for Labelling {
                 name: "unknown_threshold".into(),
                 help: "Frames whose confidence is below this are labelled `unknown` (0: never).".into(),
                 kind: ParamKind::Number { min: 0.0, max: 1.0 },
-                default: serde_json::json!(DEFAULT_UNKNOWN_THRESHOLD),
+                default: serde_json::json!(DEFAULT_THRESHOLD),
                 unit: None,
                 basic: true,
+            },
+            ParamSpec {
+                name: "decoding".into(),
+                help: "How per-frame probabilities become labels: `model` — as the model was validated to (one path \
+                       through the classes whose runs last at least its minimum, a semi-Markov Viterbi, so a few \
+                       wavering frames do not cut a segment; each frame's own label if the model has none), `raw` — \
+                       each frame's most probable class, `custom` — the minimum run and switch cost below."
+                    .into(),
+                kind: ParamKind::Choice { options: DECODINGS.iter().map(|s| s.to_string()).collect() },
+                default: serde_json::json!(DECODINGS[0]),
+                unit: None,
+                basic: true,
+            },
+            ParamSpec {
+                name: "min_duration_s".into(),
+                help: "With the custom decoding: shortest run of one label (0 with a switch cost of 0: raw labels)."
+                    .into(),
+                kind: ParamKind::Number { min: 0.0, max: MAX_MIN_DURATION_S },
+                default: serde_json::json!(CUSTOM_DECODING.min_duration_s),
+                unit: Some("s".into()),
+                basic: false,
+            },
+            ParamSpec {
+                name: "switch_cost".into(),
+                help: "With the custom decoding: what a change of label costs the path, in nats of summed \
+                       log-probability (higher: fewer, longer segments)."
+                    .into(),
+                kind: ParamKind::Number { min: 0.0, max: 1000.0 },
+                default: serde_json::json!(CUSTOM_DECODING.switch_cost),
+                unit: None,
+                basic: false,
             },
         ]
     }
@@ -158,7 +220,38 @@ impl Method for Labelling {
             ));
         }
         let threshold = t;
-        Ok(Checked { name: params.model.trim().to_string(), model, threshold })
+        let (d, cost) = (params.min_duration_s, params.switch_cost);
+        if !(0.0..=MAX_MIN_DURATION_S).contains(&d) {
+            return Err(MethodError::param(
+                "min_duration_s",
+                format!("min_duration_s = {d}: expected seconds from 0 to {MAX_MIN_DURATION_S}"),
+            ));
+        }
+        if !(0.0..=1000.0).contains(&cost) {
+            return Err(MethodError::param(
+                "switch_cost",
+                format!("switch_cost = {cost}: expected a cost from 0 to 1000"),
+            ));
+        }
+        let decoding = match params.decoding.trim() {
+            "model" => model.header.decoding.unwrap_or(Decoding::RAW),
+            "raw" => Decoding::RAW,
+            "custom" => Decoding { min_duration_s: d, switch_cost: cost },
+            other => {
+                return Err(MethodError::param(
+                    "decoding",
+                    format!("decoding = `{other}`: expected one of {}", DECODINGS.join(", ")),
+                ))
+            }
+        };
+        Ok(Checked {
+            name: params.model.trim().to_string(),
+            model,
+            threshold,
+            asked: params.decoding.trim().to_string(),
+            custom: Decoding { min_duration_s: d, switch_cost: cost },
+            decoding,
+        })
     }
 
     fn supervision(&self) -> Option<Supervision> {
@@ -175,6 +268,9 @@ impl Method for Labelling {
         serde_json::json!({
             "model": params.name,
             "unknown_threshold": params.threshold,
+            "decoding": params.asked,
+            "min_duration_s": params.custom.min_duration_s,
+            "switch_cost": params.custom.switch_cost,
         })
     }
 
@@ -188,11 +284,14 @@ impl Method for Labelling {
         progress.step("motion image", 0.0)?;
         let labelled = label(&params.model, motion, progress)?;
         let header = &params.model.header;
-        let file: Vec<(Option<usize>, f32)> = labelled
-            .per_file_frame
-            .iter()
-            .map(|&(c, p)| (if p as f64 >= params.threshold { Some(c) } else { None }, p))
-            .collect();
+        let file = file_labels(
+            &labelled.probabilities,
+            &labelled.source,
+            labelled.fps,
+            motion.frames(),
+            &params.decoding,
+            params.threshold,
+        );
         let segments = runs(&file, &header.classes);
         let segmentation = Segmentation {
             file: motion.name.clone(),
@@ -205,13 +304,21 @@ impl Method for Labelling {
         let unknown = file.iter().filter(|f| f.0.is_none()).count();
         let mean = file.iter().map(|f| f.1 as f64).sum::<f64>() / file.len().max(1) as f64;
         let summary = format!(
-            "{} · {} of model `{}` · mean confidence {:.2} · {:.0} % unknown (below {:.2})",
+            "{} · {} of model `{}` · mean confidence {:.2} · {:.0} % unknown (below {:.2}) · {}",
             crate::method::counted(segmentation.segments.len(), "segment"),
             crate::method::counted(header.classes.len(), "class"),
             header.name,
             mean,
             100.0 * unknown as f64 / file.len().max(1) as f64,
-            params.threshold
+            params.threshold,
+            if params.decoding.is_raw(labelled.fps) {
+                "raw per-frame labels".to_string()
+            } else {
+                format!(
+                    "decoded: runs ≥ {} s, switch cost {}",
+                    params.decoding.min_duration_s, params.decoding.switch_cost
+                )
+            }
         );
         let curves = vec![Curve {
             id: "confidence".into(),
@@ -231,14 +338,18 @@ impl Method for Labelling {
 pub struct Labelled {
     /// Per working frame (30 Hz): every class's probability (a vote share for k-NN).
     pub probabilities: Probabilities,
-    /// Per file frame: the most probable class and its probability.
+    /// The file position of each working frame.
+    pub source: Vec<f64>,
+    /// The working frames' rate.
+    pub fps: f64,
+    /// Per file frame: the most probable class and its probability (the raw labels).
     pub per_file_frame: Vec<(usize, f32)>,
 }
 
 /// Labels every frame of `motion` with `model`.
 pub fn label(model: &Model, motion: &Motion, progress: &mut dyn Progress) -> Result<Labelled, MethodError> {
     let classes = model.header.classes.len();
-    let probabilities = match &model.labeller {
+    let (probabilities, source, fps) = match &model.labeller {
         Labeller::Network(net) => {
             let input = network_input(motion).map_err(MethodError::Failed)?;
             let standardise = model
@@ -255,23 +366,27 @@ pub fn label(model: &Model, motion: &Motion, progress: &mut dyn Progress) -> Res
             if cancelled {
                 return Err(MethodError::Cancelled);
             }
-            let frames = WorkingFrames { source: &input.source_frames, file_frames: motion.frames() };
-            let per_file = (0..motion.frames()).map(|f| p.best(frames.working_frame(f))).collect();
-            return Ok(Labelled { probabilities: p, per_file_frame: per_file });
+            (p, input.source_frames, super::input::NETWORK_FPS)
         }
         Labeller::Knn(knn) => {
             progress.step("neighbours", 0.1)?;
-            knn.probabilities(motion, classes).map_err(MethodError::Failed)?
+            let (p, source) = knn.probabilities_at(motion, classes).map_err(MethodError::Failed)?;
+            (p, source, knn.params().fps)
         }
     };
-    let input_frames = probabilities.frames;
-    let source = crate::motion::resample::source_positions(motion.frames(), motion.fps, super::input::NETWORK_FPS)
-        .map_err(|e| MethodError::Failed(e.to_string()))?;
+    if probabilities.frames == 0 || source.len() != probabilities.frames {
+        return Err(MethodError::Failed(format!(
+            "{}: {} working frames labelled for {} file positions",
+            motion.name,
+            probabilities.frames,
+            source.len()
+        )));
+    }
     let frames = WorkingFrames { source: &source, file_frames: motion.frames() };
     let per_file = (0..motion.frames())
-        .map(|f| probabilities.best(frames.working_frame(f).min(input_frames.saturating_sub(1))))
+        .map(|f| probabilities.best(frames.working_frame(f).min(probabilities.frames - 1)))
         .collect();
-    Ok(Labelled { probabilities, per_file_frame: per_file })
+    Ok(Labelled { probabilities, source, fps, per_file_frame: per_file })
 }
 
 /// One segment per run of equal labels (`None` = unknown), scored by mean confidence.

@@ -10,6 +10,7 @@
 //! | §3 training: cross-entropy, Adam, label noise (Table 3), boundary masking (Table 4) | [`training`] |
 //! | (not in the paper) augmentation for small labelled sets | [`augment`] |
 //! | labelling a take, blockwise | [`infer`] |
+//! | (not in the paper) labels as one path with a minimum duration, not per-frame argmax | [`decode`] |
 //! | model files: classes, colours, joint set, rate, training command, weights | [`model`] |
 //! | the registered `dtfcn` method | [`method`] |
 //! | training and model files behind the supervised shape | [`supervised`] |
@@ -17,6 +18,7 @@
 pub mod augment;
 pub mod bench;
 pub mod corpus;
+pub mod decode;
 pub mod infer;
 pub mod input;
 pub mod method;

@@ -80,6 +80,10 @@ pub struct ModelHeader {
     pub fps: f64,
     /// Frames below this confidence are labelled `unknown` by default.
     pub unknown_threshold: f32,
+    /// How its per-frame probabilities are decoded into labels when a run asks for the model's decoding
+    /// ([`super::decode`]; chosen by validation when it was made; none: the raw per-frame labels).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub decoding: Option<super::decode::Decoding>,
     /// The network's shape (DT-FCN).
     #[serde(default)]
     pub network: Option<DtFcnConfig>,
@@ -325,6 +329,7 @@ mod tests {
                 joints: joint_names(),
                 fps: NETWORK_FPS,
                 unknown_threshold: 0.5,
+                decoding: None,
                 network: Some(network),
                 standardise: Some(Standardise { mean: vec![0.0; CHANNELS], spread: vec![1.0; CHANNELS] }),
                 knn: None,

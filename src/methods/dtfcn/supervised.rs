@@ -223,6 +223,13 @@ pub fn model_info(name: &str, model: &Model) -> ModelInfo {
         provenance: vec![
             ("takes".into(), p.takes.join(", ")),
             ("unknown below".into(), format!("{:.2}", h.unknown_threshold)),
+            (
+                "decoding".into(),
+                h.decoding.map_or_else(
+                    || "raw per-frame labels".to_string(),
+                    |d| format!("runs ≥ {} s, switch cost {}", d.min_duration_s, d.switch_cost),
+                ),
+            ),
             ("command".into(), p.command.clone()),
             ("data hash".into(), p.data_hash.clone()),
         ],
@@ -411,6 +418,7 @@ impl Prepared {
                 .clone()
                 .unwrap_or_else(|| train_command(kind, &takes, &self.labels_name, &self.name, options)),
             data_hash: self.data_hash.clone(),
+            decoding: None,
         }
     }
 

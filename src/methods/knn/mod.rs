@@ -199,6 +199,10 @@ impl Knn {
     }
 
     /// [`Knn::probabilities`] and the file position of each working frame.
+    pub fn probabilities_at(&self, motion: &Motion, classes: usize) -> Result<(Probabilities, Vec<f64>), String> {
+        self.vote(motion, classes)
+    }
+
     fn vote(&self, motion: &Motion, classes: usize) -> Result<(Probabilities, Vec<f64>), String> {
         let (w, source) = windows(motion, &self.params)?;
         let k = self.params.k.max(1);
