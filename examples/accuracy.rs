@@ -15,7 +15,7 @@
 //!   - *held out*: for each take, the grid setting best on the **other** takes scored on it (nested: nothing is
 //!     chosen on the reported take); each fold's choice is printed and kept in the JSON. DT-FCN and the k-NN are
 //!     trained on the other mocap6 takes, their settings chosen on inner validation takes of those
-//!     (`dtfcn::corpus::predict_held_out`: width, augmentation, epochs, and the unknown threshold on the validation
+//!     (`dtfcn::corpus::predict_held_out`: receptive field (w and layers), padding, epochs, and the unknown threshold on the validation
 //!     take's labels; the k-NN's k and unknown threshold by an inner leave-one-take-out); 86_01 has no other take with
 //!     its labels, so they have no held-out score there.
 //!   - *oracle-K*: per take, the grid setting whose number of segments is closest to the true one (a method told K).
@@ -54,11 +54,12 @@ mod lab {
 
     use mocapseg::bvh::{self, Bvh};
     use mocapseg::method::{self, NoProgress, RunOptions};
-    use mocapseg::methods::dtfcn::corpus::{fit_knn, predict_held_out, DEFAULT_UNKNOWN_THRESHOLD};
+    use mocapseg::methods::dtfcn::corpus::{fit_knn, predict_held_out};
     use mocapseg::methods::dtfcn::decode::{file_labels, Decoding};
     use mocapseg::methods::dtfcn::infer::Probabilities;
     use mocapseg::methods::dtfcn::input::NETWORK_FPS;
     use mocapseg::methods::dtfcn::method::runs;
+    use mocapseg::methods::dtfcn::network::{paper_filters, Padding};
     use mocapseg::methods::dtfcn::training::TrainOptions;
     use mocapseg::methods::knn::KnnParams;
     use mocapseg::motion::Motion;
@@ -270,7 +271,7 @@ mod lab {
     }
 
     /// The unknown thresholds a fold chooses from (the method's default first, so it wins ties).
-    const THRESHOLDS: [f64; 3] = [DEFAULT_UNKNOWN_THRESHOLD, 0.5, 0.0];
+    const THRESHOLDS: [f64; 3] = [0.8, 0.5, 0.0];
 
     /// A labeller's per-file-frame labels (`None`: unknown) as a segmentation, as the method turns them into segments.
     fn labelled_segmentation(motion: &Motion, file: &[(Option<usize>, f32)], classes: &[String], method: &str) -> Segmentation {
@@ -434,11 +435,12 @@ mod lab {
                     } else {
                         // (held-out labels, threshold, decoding, what was chosen, validation accuracy)
                         let mut top: Option<(Labelled, f64, Decoding, String, f64)> = None;
-                        for (width, augment) in [(2, true), (2, false), (3, true)] {
-                            let mut options = TrainOptions { width, ..TrainOptions::default() };
-                            if !augment {
-                                options.augment = mocapseg::methods::dtfcn::augment::Augment::none();
-                            }
+                        // receptive fields of 1.07 s (w = 2, 5 layers), 2.13 s (2, 6) and 2.7 s (3, 4) at 30 Hz
+                        for (width, layers, padding) in
+                            [(2, 5, Padding::Zero), (2, 6, Padding::Edge), (3, 4, Padding::Zero), (3, 4, Padding::Edge)]
+                        {
+                            let options =
+                                TrainOptions { width, filters: paper_filters(layers), padding, ..TrainOptions::default() };
                             let p = predict_held_out(&motions, &labels, h, &classes, &options, &mut |_| true)?;
                             // the unknown threshold and the decoding, on the validation take's labels by the network
                             // trained without it
@@ -458,8 +460,8 @@ mod lab {
                             let (threshold, decoding, criterion) =
                                 best_decoding(&[(vm, &val, labels[p.validation].as_slice())]);
                             let what = format!(
-                                "width={width} augment={} epochs={} unknown_threshold={threshold} {} (validation {} accuracy {:.3}, criterion {criterion:.1})",
-                                if augment { "all" } else { "none" },
+                                "width={width} layers={layers} padding={} epochs={} unknown_threshold={threshold} {} (validation {} accuracy {:.3}, criterion {criterion:.1})",
+                                padding.name(),
                                 p.best_epoch,
                                 decoding_label(&decoding),
                                 vm.name,

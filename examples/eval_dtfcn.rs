@@ -1,16 +1,17 @@
 //! Lab tool, not part of the product: the DT-FCN experiments of docs/methods/dtfcn.md on the four mocap6
 //! exercise takes of the shared data, every one leave-one-take-out with the epochs chosen on an
-//! inner validation take (never on the held-out take), the k-NN beside the network under the same
-//! labels:
+//! inner validation take (never on the held-out take, and with the same noise and masking as the
+//! training labels), the k-NN beside the network under the same labels, its k chosen on the same
+//! validation take:
 //!
 //! * `noise` — training-label noise 0–90 % (the paper's Table 3);
-//! * `mask` — boundary masking w_transition 0/11/21/31 frames (Table 4, lower half);
+//! * `mask` — boundary masking w_transition 0/11/21/31 frames at the paper's 72 Hz (Table 4, lower half);
 //! * `unseen` — leave one class out: each fold's held-out take's largest class is removed from
 //!   training; mean confidence on its frames (never seen) against the other frames, and how well
 //!   each unknown threshold separates them (what chose the default threshold).
 //!
 //! ```text
-//! cargo run --release --example eval_dtfcn -- noise|mask|unseen [--data ../shared/data] [--width 2] …
+//! cargo run --release --example eval_dtfcn -- noise|mask|unseen [--data ../shared/data] [--width 3] [--layers 4] …
 //! ```
 //! Says so and fails when the shared data is absent.
 
@@ -47,8 +48,10 @@ mod lab {
         data: PathBuf,
         #[arg(long, default_value_t = 60)]
         epochs: usize,
-        #[arg(long, default_value_t = 2)]
+        #[arg(long, default_value_t = 3)]
         width: usize,
+        #[arg(long, default_value_t = 4)]
+        layers: usize,
         #[arg(long, default_value_t = 2)]
         batch: usize,
         #[arg(long, default_value_t = 128)]
@@ -81,6 +84,7 @@ mod lab {
         let base = TrainOptions {
             epochs: args.epochs,
             width: args.width,
+            filters: mocapseg::methods::dtfcn::network::paper_filters(args.layers),
             batch: args.batch,
             crop_frames: args.crop,
             augment: Augment::parse(&args.augment)?,
@@ -89,9 +93,10 @@ mod lab {
         };
         println!(
             "mocap6, 4 takes, leave one take out (epochs ≤ {} chosen on an inner validation take, then retrained on all \
-             training takes); w = {}, batch {}, crops {}, augmentation {}, seed {}",
+             training takes); w = {}, {} layers, batch {}, crops {}, augmentation {}, seed {}",
             base.epochs,
             base.width,
+            base.filters.len(),
             base.batch,
             base.crop_frames,
             base.augment.describe(),
@@ -101,17 +106,17 @@ mod lab {
             "noise" | "mask" => {
                 let noise = args.experiment == "noise";
                 let levels: Vec<f64> =
-                    if noise { (0..10).map(|i| i as f64 / 10.0).collect() } else { vec![0.0, 11.0, 21.0, 31.0] };
+                    if noise { (0..10).map(|i| i as f64 / 10.0).collect() } else { vec![0.0, 11.0, 21.0, 31.0] }; // w_transition in the paper's 72 Hz frames
                 println!(
                     "| {} | DT-FCN acc | edit | F1@10 | F1@25 | F1@50 | k-NN acc | edit | F1@10 | F1@25 | F1@50 |",
-                    if noise { "label noise" } else { "w_transition (frames, masked)" }
+                    if noise { "label noise" } else { "w_transition (frames at the paper's 72 Hz, masked)" }
                 );
                 println!("|---|---|---|---|---|---|---|---|---|---|---|");
                 for level in levels {
                     let options = if noise {
                         TrainOptions { label_noise: level, ..base.clone() }
                     } else {
-                        TrainOptions { mask_frames: level as usize, ..base.clone() }
+                        TrainOptions { mask_s: level / 72.0, ..base.clone() }
                     };
                     let folds = leave_one_take_out(&motions, &labels, &classes, &options, &mut |_, _| true)?;
                     let n = folds.len() as f64;
@@ -140,20 +145,75 @@ mod lab {
         }
     }
 
-    /// Leave one class out (see the module docs).
+    /// Per working frame of a take: (confidence, novelty, whether its true class is the one left out), for its
+    /// labelled frames.
+    fn frames_of(
+        probabilities: &mocapseg::methods::dtfcn::infer::Probabilities,
+        novelty: &[f32],
+        source: &[f64],
+        truth: &[Option<usize>],
+        gone: usize,
+    ) -> Vec<(f32, f32, bool)> {
+        (0..probabilities.frames)
+            .filter_map(|t| {
+                let f = (source[t].round() as usize).min(truth.len().saturating_sub(1));
+                truth[f].map(|l| (probabilities.best(t).1, novelty[t], l == gone))
+            })
+            .collect()
+    }
+
+    /// Unseen frames called unknown, and seen frames called unknown, by `unknown(frame)`.
+    fn rates(frames: &[(f32, f32, bool)], unknown: &dyn Fn(&(f32, f32, bool)) -> bool) -> (f64, f64) {
+        let unseen = frames.iter().filter(|f| f.2).count().max(1) as f64;
+        let seen = frames.iter().filter(|f| !f.2).count().max(1) as f64;
+        let tp = frames.iter().filter(|f| f.2 && unknown(f)).count() as f64;
+        let fp = frames.iter().filter(|f| !f.2 && unknown(f)).count() as f64;
+        (tp / unseen, fp / seen)
+    }
+
+    /// The threshold of `grid` that calls the most unseen frames unknown while calling at most 10 % of the seen
+    /// ones (the least false alarms if none does).
+    fn choose(frames: &[(f32, f32, bool)], grid: &[f32], unknown: &dyn Fn(&(f32, f32, bool), f32) -> bool) -> f32 {
+        let mut best: Option<(f64, f64, f32)> = None;
+        for &t in grid {
+            let (tpr, fpr) = rates(frames, &|f| unknown(f, t));
+            let better = match best {
+                None => true,
+                Some((btpr, bfpr, _)) => {
+                    if fpr <= 0.10 {
+                        bfpr > 0.10 || tpr > btpr
+                    } else {
+                        bfpr > 0.10 && fpr < bfpr
+                    }
+                }
+            };
+            if better {
+                best = Some((tpr, fpr, t));
+            }
+        }
+        best.map_or(grid[0], |b| b.2)
+    }
+
+    /// Leave one class out (see the module docs): in each fold the held-out take's largest class is removed from
+    /// training altogether. Two unknowns are compared on the held-out take: max-softmax below a threshold, and the
+    /// novelty score (Mahalanobis distance before NormReLU, `dtfcn::novelty`) above one — each threshold chosen on
+    /// the fold's validation take (whose frames of the removed class the validation network never saw either),
+    /// never on the held-out take. AUROC pooled over the held-out takes.
     fn unseen(
         motions: &[Motion],
         labels: &[Vec<Option<usize>>],
         classes: &[String],
         base: &TrainOptions,
     ) -> Result<(), String> {
-        let thresholds: Vec<f32> = (2..=19).map(|i| i as f32 * 0.05).collect();
-        // per method: (confidence, unseen?) of every held-out frame
-        let mut pooled: [Vec<(f32, bool)>; 2] = [Vec::new(), Vec::new()];
-        println!(
-            "| held-out take | class left out | DT-FCN confidence unseen / seen | k-NN vote share unseen / seen |"
-        );
-        println!("|---|---|---|---|");
+        use mocapseg::methods::dtfcn::novelty::auroc;
+        let confidence_grid: Vec<f32> = (1..=39).map(|i| i as f32 * 0.025).collect();
+        let novelty_grid: Vec<f32> = (0..=80).map(|i| 0.5 + i as f32 * 0.05).collect();
+        let mut pooled: Vec<(f32, f32, bool)> = Vec::new();
+        let mut knn_pooled: Vec<(f32, bool)> = Vec::new();
+        // (take, class left out, chosen confidence threshold, its TPR, FPR, chosen novelty threshold, its TPR, FPR)
+        println!("| held-out take | class left out | max-softmax: threshold (chosen on) → unseen / seen called unknown | novelty: threshold → unseen / seen called unknown | AUROC max-softmax / novelty |");
+        println!("|---|---|---|---|---|");
+        let (mut tpr_c, mut fpr_c, mut tpr_n, mut fpr_n) = (0.0, 0.0, 0.0, 0.0);
         for held in 0..motions.len() {
             let mut counts = vec![0usize; classes.len()];
             labels[held].iter().flatten().for_each(|&c| counts[c] += 1);
@@ -161,62 +221,51 @@ mod lab {
             let without: Vec<Vec<Option<usize>>> =
                 labels.iter().map(|l| l.iter().map(|x| x.filter(|&c| c != gone)).collect()).collect();
             let p = predict_held_out(motions, &without, held, classes, base, &mut |_| true)?;
-            let (per_file, kp) = (p.network, p.knn);
-            let mut line = format!("| {} | {} |", motions[held].name, classes[gone]);
-            for (m, pred) in [per_file.as_slice(), kp.as_slice()].iter().enumerate() {
-                let (mut u, mut nu, mut s, mut ns) = (0.0, 0, 0.0, 0);
-                for (f, l) in labels[held].iter().enumerate() {
-                    let Some(l) = l else { continue };
-                    let c = pred[f].1;
-                    pooled[m].push((c, *l == gone));
-                    if *l == gone {
-                        u += c as f64;
-                        nu += 1;
-                    } else {
-                        s += c as f64;
-                        ns += 1;
-                    }
+            let val = frames_of(&p.validation_probabilities, &p.validation_novelty, &p.validation_source, &labels[p.validation], gone);
+            let out = frames_of(&p.network_probabilities, &p.network_novelty, &p.network_source, &labels[held], gone);
+            let conf = |f: &(f32, f32, bool), t: f32| f.0 < t;
+            let nov = |f: &(f32, f32, bool), t: f32| f.1 > t;
+            let tc = choose(&val, &confidence_grid, &conf);
+            let tn = choose(&val, &novelty_grid, &nov);
+            let (a, b) = rates(&out, &|f| conf(f, tc));
+            let (c, d) = rates(&out, &|f| nov(f, tn));
+            let auc_c = auroc(&out.iter().map(|f| (-f.0, f.2)).collect::<Vec<_>>());
+            let auc_n = auroc(&out.iter().map(|f| (f.1, f.2)).collect::<Vec<_>>());
+            println!(
+                "| {} | {} | {tc:.3} ({}) → {:.0} % / {:.0} % | {tn:.2} → {:.0} % / {:.0} % | {auc_c:.2} / {auc_n:.2} |",
+                motions[held].name,
+                classes[gone],
+                motions[p.validation].name,
+                a * 100.0,
+                b * 100.0,
+                c * 100.0,
+                d * 100.0
+            );
+            let n = motions.len() as f64;
+            tpr_c += a / n;
+            fpr_c += b / n;
+            tpr_n += c / n;
+            fpr_n += d / n;
+            pooled.extend(out);
+            for (f, l) in labels[held].iter().enumerate() {
+                if let Some(l) = l {
+                    knn_pooled.push((-p.knn[f].1, *l == gone));
                 }
-                line += &format!(" {:.2} / {:.2} |", u / nu.max(1) as f64, s / ns.max(1) as f64);
             }
-            println!("{line}");
         }
-        println!();
-        println!("Frames called `unknown` (confidence below the threshold), all folds pooled:");
-        println!("| threshold | DT-FCN: unseen called unknown | seen called unknown | k-NN: unseen called unknown | seen called unknown |");
-        println!("|---|---|---|---|---|");
-        let mut best = [(0.0f64, 0.0f32); 2];
-        // the default: the most unseen frames caught while at most 10 % of seen frames are lost
-        let mut default = [(0.0f64, 0.0f32); 2];
-        for &t in &thresholds {
-            let mut line = format!("| {t:.2} |");
-            for m in 0..2 {
-                let unseen: Vec<&(f32, bool)> = pooled[m].iter().filter(|p| p.1).collect();
-                let seen: Vec<&(f32, bool)> = pooled[m].iter().filter(|p| !p.1).collect();
-                let tpr = unseen.iter().filter(|p| p.0 < t).count() as f64 / unseen.len().max(1) as f64;
-                let fpr = seen.iter().filter(|p| p.0 < t).count() as f64 / seen.len().max(1) as f64;
-                let balanced = (tpr + 1.0 - fpr) / 2.0;
-                if balanced > best[m].0 {
-                    best[m] = (balanced, t);
-                }
-                if fpr <= 0.10 && tpr > default[m].0 {
-                    default[m] = (tpr, t);
-                }
-                line += &format!(" {:.0} % | {:.0} % |", tpr * 100.0, fpr * 100.0);
-            }
-            println!("{line}");
-        }
+        let auc_c = auroc(&pooled.iter().map(|f| (-f.0, f.2)).collect::<Vec<_>>());
+        let auc_n = auroc(&pooled.iter().map(|f| (f.1, f.2)).collect::<Vec<_>>());
         println!(
-            "Best balanced accuracy of `unknown`: DT-FCN {:.2} at threshold {:.2}; k-NN {:.2} at {:.2}",
-            best[0].0, best[0].1, best[1].0, best[1].1
+            "| **mean** | | → **{:.0} % / {:.0} %** | → **{:.0} % / {:.0} %** | pooled **{auc_c:.2} / {auc_n:.2}** |",
+            tpr_c * 100.0,
+            fpr_c * 100.0,
+            tpr_n * 100.0,
+            fpr_n * 100.0
         );
+        println!();
         println!(
-            "Most unseen frames called unknown while at most 10 % of seen frames are: DT-FCN threshold {:.2} ({:.0} %); \
-             k-NN {:.2} ({:.0} %)",
-            default[0].1,
-            default[0].0 * 100.0,
-            default[1].1,
-            default[1].0 * 100.0
+            "k-NN vote share as the score, pooled over the held-out takes: AUROC {:.2}",
+            auroc(&knn_pooled)
         );
         Ok(())
     }

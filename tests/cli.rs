@@ -444,6 +444,47 @@ fn gait_labels_tile_a_walk_as_a_label_csv() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("FAIL"));
 }
 
+/// The paper's network to the parameter (five layers, the image resized to 224 rows), edge padding and a layer
+/// count: the flags reach the model file, and the shape line says the paper's 663,562.
+#[test]
+fn train_dtfcn_builds_the_papers_network_and_other_shapes_from_its_flags() {
+    let dir = out_dir().join("dtfcn-shapes");
+    std::fs::create_dir_all(&dir).unwrap();
+    let labels = dir.join("labels.csv");
+    std::fs::write(&labels, "file,start_frame,end_frame,label
+02_01.bvh,0,170,start
+02_01.bvh,171,342,walk
+").unwrap();
+    let model = dir.join("paper.model");
+    let walk = fixture("02_01.bvh");
+    let args = |extra: &[&str]| {
+        let mut a = vec!["train-dtfcn", "--bvh", walk.to_str().unwrap(), "--labels", labels.to_str().unwrap()];
+        a.extend_from_slice(&["--epochs", "1", "--out", model.to_str().unwrap()]);
+        a.extend_from_slice(extra);
+        a.into_iter().map(str::to_string).collect::<Vec<_>>()
+    };
+    let owned = args(&["--layers", "5", "--image-rows", "224", "--padding", "edge"]);
+    let out = run(&owned.iter().map(String::as_str).collect::<Vec<_>>());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("receptive field 243 frames = 8.10 s") && err.contains("layer 1 reads 672 values per frame (the image resized to 224 rows)"), "{err}");
+    assert!(err.contains("(663562 with the paper's 10 classes"), "{err}");
+    let info = stdout_json(&run(&["model-info", model.to_str().unwrap()]));
+    let network = &info["network"];
+    assert_eq!((network["image_rows"].as_u64(), network["padding"].as_str()), (Some(224), Some("edge")), "{info}");
+    assert_eq!(network["filters"], serde_json::json!([64, 64, 128, 256, 512]));
+    // it labels a take (the resize and the edge padding at inference too)
+    let seg = stdout_json(&run(&["segment", "--method", "dtfcn", "--model", model.to_str().unwrap(), walk.to_str().unwrap()]));
+    assert!(!seg["segments"].as_array().unwrap().is_empty());
+    // refusals name the flag
+    for (bad, says) in [(vec!["--layers", "9"], "--layers 9"), (vec!["--padding", "mirror"], "padding `mirror`")] {
+        let owned = args(&bad);
+        let out = run(&owned.iter().map(String::as_str).collect::<Vec<_>>());
+        assert!(!out.status.success());
+        assert!(String::from_utf8_lossy(&out.stderr).contains(says), "{}", String::from_utf8_lossy(&out.stderr));
+    }
+}
+
 #[test]
 fn train_dtfcn_writes_a_model_that_segment_and_model_info_read_and_bad_models_are_named() {
     let dir = out_dir().join("dtfcn");
@@ -479,7 +520,12 @@ fn train_dtfcn_writes_a_model_that_segment_and_model_info_read_and_bad_models_ar
         assert!(out.status.success(), "{method}: {err}");
         assert!(err.contains("elsewhere.bvh"), "the row of a take not given is said: {err}");
         if method == "dtfcn" {
-            assert!(err.contains("parameters (the paper's: 663,562"), "{err}");
+            // the shape, with the receptive field in seconds and the parameters beside the paper's
+            assert!(
+                err.contains("receptive field 16 frames = 0.53 s at 30 Hz")
+                    && err.contains("352962 parameters (357066 with the paper's 10 classes; the paper's network: 663562"),
+                "{err}"
+            );
         }
         let info = stdout_json(&run(&["model-info", model.to_str().unwrap()]));
         assert_eq!(info["kind"], method);

@@ -12,7 +12,9 @@
 //! `document.body.dataset.metrics` is `none` (no truth or no row), `done` or `error`, and
 //! `data-metrics-row` names the row scored, `data-metrics-ms` how long the scores took.
 
+use super::summary::{is_bundled_sample, SAMPLE_TRAINED};
 use super::AppState;
+use crate::methods::dtfcn::method::IN_SAMPLE;
 use crate::segment::metrics::{evaluate, Scores, Tolerances};
 use crate::segment::{Level, Segmentation};
 use leptos::prelude::*;
@@ -120,21 +122,43 @@ fn lines(s: &Scores) -> Vec<Line> {
     out
 }
 
-/// The rows that can be scored: (row id, label, the segmentation scored).
-fn scorable_rows(state: AppState) -> Vec<(String, String, Segmentation)> {
+/// Why a method's row on this take is in-sample, if it is: its run said so (the take is one of its model's
+/// training takes), or the take is the bundled sample and the row is by a model it trained.
+fn in_sample(view: &crate::protocol::MethodView, sample: bool) -> Option<String> {
+    let summary = &view.details.summary;
+    if let Some(at) = summary.find(IN_SAMPLE) {
+        return Some(summary[at..].to_string());
+    }
+    let model = view.segmentation.params.get("model").and_then(|m| m.as_str());
+    (sample && model == Some(SAMPLE_TRAINED)).then(|| {
+        format!(
+            "{IN_SAMPLE} the bundled sample (CMU 13_30) is one of the takes model `{SAMPLE_TRAINED}` was trained on, \
+             so these scores are not what it does on a take it has not seen (held-out scores: docs/accuracy.md)"
+        )
+    })
+}
+
+/// A row that can be scored: id, label, the segmentation scored, and why it is in-sample (if it is).
+type Row = (String, String, Segmentation, Option<String>);
+
+/// The rows that can be scored.
+fn scorable_rows(state: AppState) -> Vec<Row> {
     let mut rows = Vec::new();
     if let Some(mine) = state.mine.get() {
-        rows.push(("my-labels".to_string(), "My labels".to_string(), (*mine).clone()));
+        rows.push(("my-labels".to_string(), "My labels".to_string(), (*mine).clone(), None));
     }
+    let sample = state.motion.with(|m| m.as_ref().is_some_and(|m| is_bundled_sample(&m.summary.name, m.summary.frames)));
     for slot in state.methods {
         slot.view.with(|v| {
             let Some(v) = v else { return };
             let seg = &v.segmentation;
+            let note = in_sample(v, sample);
             if seg.segments.iter().any(|s| s.level != Level::Primitive) {
                 rows.push((
                     format!("{}-actions", slot.info.name),
                     format!("{} · actions", slot.info.short),
                     seg.clone(),
+                    note.clone(),
                 ));
             }
             if seg.segments.iter().any(|s| s.level == Level::Primitive) {
@@ -144,6 +168,7 @@ fn scorable_rows(state: AppState) -> Vec<(String, String, Segmentation)> {
                     format!("{}-primitives", slot.info.name),
                     format!("{} · primitives", slot.info.short),
                     primitives,
+                    note.clone(),
                 ));
             }
         });
@@ -167,14 +192,14 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
     let rows = Memo::new(move |_| {
         scorable_rows(state)
             .into_iter()
-            .map(|(id, label, seg)| (id, label, std::sync::Arc::new(seg)))
+            .map(|(id, label, seg, note)| (id, label, std::sync::Arc::new(seg), note))
             .collect::<Vec<_>>()
     });
     // the row scored: the one chosen while it exists, else the first
     let row_id = Memo::new(move |_| {
         let wanted = chosen.get();
         rows.with(|r| {
-            r.iter().find(|(id, _, _)| *id == wanted).or(r.first()).map(|(id, _, _)| id.clone()).unwrap_or_default()
+            r.iter().find(|(id, ..)| *id == wanted).or(r.first()).map(|(id, ..)| id.clone()).unwrap_or_default()
         })
     });
     let outcome = Memo::new(move |_| {
@@ -182,7 +207,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
             return Outcome::Nothing("Import a ground truth above to score the rows against it.".into());
         };
         let id = row_id.get();
-        let Some(seg) = rows.with(|r| r.iter().find(|(i, _, _)| *i == id).map(|(_, _, s)| s.clone())) else {
+        let Some(seg) = rows.with(|r| r.iter().find(|(i, ..)| *i == id).map(|(_, _, s, _)| s.clone())) else {
             return Outcome::Nothing("Run a method to score its rows against the ground truth.".into());
         };
         let now = || web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now());
@@ -209,7 +234,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
         let current = row_id.get();
         rows.with(|r| {
             r.iter()
-                .map(|(id, label, _)| {
+                .map(|(id, label, ..)| {
                     let selected = *id == current;
                     view! { <option value=id.clone() prop:selected=selected>{label.clone()}</option> }
                 })
@@ -223,6 +248,12 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
         })
     };
     let is_error = move || outcome.with(|o| matches!(o, Outcome::Failed(_)));
+    // the scored row's in-sample warning, beside its scores
+    let note = move || {
+        let id = row_id.get();
+        let scored = outcome.with(|o| matches!(o, Outcome::Scored(..)));
+        rows.with(|r| r.iter().find(|(i, ..)| *i == id).and_then(|(.., n)| n.clone())).filter(|_| scored)
+    };
     let table = move || {
         outcome.with(|o| match o {
             Outcome::Scored(id, scores, _) => {
@@ -278,6 +309,9 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
             </div>
             <p id="metrics-status" class="ms-metrics-status" class:ms-truth-error=is_error role="status" hidden=move || message().is_empty()>
                 {message}
+            </p>
+            <p id="metrics-in-sample" class="ms-metrics-status ms-in-sample" hidden=move || note().is_none()>
+                {move || note().unwrap_or_default()}
             </p>
             {table}
         </section>

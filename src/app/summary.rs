@@ -11,13 +11,21 @@ use leptos::prelude::*;
 const SAMPLE_FILE: &str = "sample.bvh";
 const SAMPLE_FRAMES: usize = 2465;
 
+/// Whether a take is the bundled sample.
+pub fn is_bundled_sample(name: &str, frames: usize) -> bool {
+    name == SAMPLE_FILE && frames == SAMPLE_FRAMES
+}
+
+/// The shipped models the bundled sample trained (CMU 13_30 is a mocap6 take).
+pub const SAMPLE_TRAINED: &str = "exercises";
+
 #[component]
 pub fn Summary(state: AppState) -> impl IntoView {
     let facts = move || state.motion.with(|m| m.as_ref().map(|m| m.summary.clone()));
     let text = move |f: fn(&Facts) -> String| move || facts().map(|s| f(&s)).unwrap_or_default();
     let warnings = move || facts().map(|s| s.warnings).unwrap_or_default();
     // the bundled sample is named `sample.bvh` (www/SOURCES.md says what it is)
-    let is_sample = move || facts().is_some_and(|s| s.name == SAMPLE_FILE && s.frames == SAMPLE_FRAMES);
+    let is_sample = move || facts().is_some_and(|s| is_bundled_sample(&s.name, s.frames));
 
     view! {
         <section class="ms-summary" hidden=move || facts().is_none()>
@@ -43,7 +51,10 @@ pub fn Summary(state: AppState) -> impl IntoView {
             <p id="summary-sample" class="ms-sample-credit" hidden=move || !is_sample()>
                 "The bundled sample: CMU 13_30, an exercise sequence (jumping jacks, twists, squats…) from the CMU
                 Graphics Lab Motion Capture Database (mocap.cs.cmu.edu), free for research and commercial use; labels
-                from the mocap6 set (Hughes; Fox et al. 2014). "
+                from the mocap6 set (Hughes; Fox et al. 2014). It is one of the takes the shipped "
+                <code>"exercises"</code>
+                " models (DT-FCN, k-NN) were trained on: their labels here are in-sample, not what they do on a new take
+                (held-out scores: docs/accuracy.md). "
                 <a href="./www/SOURCES.md" target="_blank" rel="noopener">"Source and licence"</a>
             </p>
             <ul id="summary-warnings" class="ms-warnings" hidden=move || warnings().is_empty()>

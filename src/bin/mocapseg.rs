@@ -244,9 +244,10 @@ mod cli {
             /// Share of training frames given a random label (the paper's Table 3), 0–1.
             #[arg(long, default_value_t = 0.0)]
             noise: f64,
-            /// w_transition: frames around each label change whose loss is zeroed (Table 4; 0 = none).
-            #[arg(long, default_value_t = 0)]
-            mask: usize,
+            /// w_transition in seconds: the span around each label change whose loss is zeroed
+            /// (Table 4: the paper's 11/21/31 frames at 72 Hz are 0.15/0.29/0.43 s; 0 = none).
+            #[arg(long, default_value_t = 0.0)]
+            mask_s: f64,
             /// `all`, `none`, or a list of mirror,yaw,warp,scale,jitter.
             #[arg(long, default_value = "all")]
             augment: String,
@@ -260,9 +261,23 @@ mod cli {
             learning_rate: f64,
             #[arg(long, default_value_t = 1e-4)]
             weight_decay: f64,
-            /// Kernel width w (receptive field w⁵ frames).
+            /// Kernel width w (receptive field w^L frames at 30 Hz, L the layer count).
             #[arg(long, default_value_t = 3)]
             width: usize,
+            /// Layers L, filters in the paper's pattern (doubling from 64 to 512; 5 = 64,64,128,256,512).
+            /// Default 4 (64,128,256,512): with w = 3, 81 frames = 2.7 s at 30 Hz, the paper's 3.4 s at 72 Hz.
+            #[arg(long, conflicts_with = "filters")]
+            layers: Option<usize>,
+            /// Filters of each layer, comma-separated (their count is L).
+            #[arg(long, value_delimiter = ',')]
+            filters: Option<Vec<usize>>,
+            /// What the convolutions read beyond the take's ends: zero or edge.
+            #[arg(long, default_value = "zero")]
+            padding: String,
+            /// The paper's input: the motion image resized to this many rows before layer 1
+            /// (224: the paper's 663,562 parameters with its 10 classes).
+            #[arg(long)]
+            image_rows: Option<usize>,
             /// Epochs without a better validation loss before stopping.
             #[arg(long, default_value_t = 12)]
             patience: usize,
@@ -430,29 +445,44 @@ mod cli {
                 name,
                 seed,
                 noise,
-                mask,
+                mask_s,
                 augment,
                 validation,
                 cross_validate,
                 learning_rate,
                 weight_decay,
                 width,
+                layers,
+                filters,
+                padding,
+                image_rows,
                 patience,
                 crop,
                 batch,
                 min_duration_s,
                 switch_cost,
             } => {
+                use mocapseg::methods::dtfcn::network::{paper_filters, Padding};
+                let filters = match (layers, filters) {
+                    (Some(l), _) if !(1..=6).contains(&l) => return Err(format!("--layers {l}: expected 1 to 6")),
+                    (Some(l), _) => paper_filters(l),
+                    (None, Some(f)) => f,
+                    (None, None) => mocapseg::methods::dtfcn::training::TrainOptions::default().filters,
+                };
+                let padding = Padding::parse(&padding).map_err(|e| format!("--{e}"))?;
                 let augment = mocapseg::methods::dtfcn::augment::Augment::parse(&augment)?;
                 let options = mocapseg::methods::dtfcn::training::TrainOptions {
                     epochs,
                     seed,
                     label_noise: noise,
-                    mask_frames: mask,
+                    mask_s,
                     augment,
                     learning_rate,
                     weight_decay,
                     width,
+                    filters,
+                    padding,
+                    image_rows,
                     patience,
                     crop_frames: crop,
                     batch,

@@ -921,7 +921,7 @@ mod tests {
         check(t(past, tiny_options(2)), "labels", &["past the take's last frame 523"]);
         check(t(walk_labels(), tiny_options(0)), "epochs", &["epochs 0"]);
         check(t(walk_labels(), serde_json::json!({"label_noise": 2.0})), "label_noise", &["label noise 2"]);
-        check(t(walk_labels(), serde_json::json!({"mask_frames": 1000})), "mask_frames", &["mask frames 1000"]);
+        check(t(walk_labels(), serde_json::json!({"mask_s": 1000.0})), "mask_s", &["mask s 1000", "0 to 10"]);
         check(t(walk_labels(), serde_json::json!({"width": 1})), "width", &["width 1"]);
         check(t(walk_labels(), serde_json::json!({"filters": [8, 0]})), "filters", &["filters 8,0"]);
         check(train("dtfcn", 1, "  ", walk_labels(), tiny_options(2), walk()), "name", &["needs a name"]);

@@ -1332,10 +1332,11 @@ test("DT-FCN trains in the browser: refusals at their field, progress and plot, 
   const F = SAMPLE_HDR.frames; // 2465 frames of the sample
   const rows = [[0, 599, "stand"], [600, 1199, "<i>kick</i>"], [1200, 1799, "reach"], [1800, F - 1, "stand"]];
   const csv = labelCsv(SAMPLE_HDR.name, rows, ["86_01.bvh,0,99,walk", "35_01.bvh,0,199,stand", "35_01.bvh,200,357,reach"]);
-  // the form's network is the paper's (64,64,128,256,512 filters, kernel width 3)
+  // the form's network is the paper's w = 3 with the paper's receptive field in seconds (4 layers: 2.7 s at 30 Hz)
   await page.click("#dtfcn-training summary");
-  const paper = "64,64,128,256,512";
+  const paper = "64,128,256,512";
   assert.equal(await page.inputValue("#dtfcn-train-filters"), paper);
+  assert.equal(await page.inputValue("#dtfcn-train-width"), "3");
   assert.equal(await page.inputValue("#dtfcn-train-epochs"), "60", "60 epochs by default, as on the command line");
 
   // refusals show at the input that is wrong; nothing is trained
@@ -1372,7 +1373,7 @@ test("DT-FCN trains in the browser: refusals at their field, progress and plot, 
   await page.fill("#dtfcn-train-filters", paper);
   await page.fill("#dtfcn-train-epochs", "2");
   await page.fill("#dtfcn-train-label_noise", "0.1");
-  await page.fill("#dtfcn-train-mask_frames", "4");
+  await page.fill("#dtfcn-train-mask_s", "0.15");
   await page.uncheck("#dtfcn-train-augment-jitter");
   await page.fill("#dtfcn-train-width", "2");
   await page.fill("#dtfcn-train-name", "e2e-dtfcn");

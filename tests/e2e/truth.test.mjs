@@ -17,7 +17,7 @@ import { execFileSync } from "node:child_process";
 import { existsSync, readFileSync, writeFileSync } from "node:fs";
 import path from "node:path";
 import {
-  ROOT, OUT, FIXTURES, openPage, closePage, shot, text, waitData, gotoApp, download, until, assertClean,
+  ROOT, OUT, FIXTURES, TIMEOUT, openPage, closePage, shot, text, waitData, gotoApp, download, until, assertClean,
 } from "./harness.mjs";
 
 const BIN = process.env.MOCAPSEG_BIN
@@ -252,6 +252,15 @@ test("the metrics of SSSM's rows are the numbers mocapseg eval prints for the sa
   await assertSameAsCli(cliEval(primPath, SHARED_CSV), "sssm-primitives vs the shared CSV");
   assert.match(await text(page, "#metrics-table caption"), /sssm-primitives against 13_30/);
   await shot(page, "truth-5-metrics-primitives.png");
+  assert.equal(await page.locator("#metrics-in-sample").isVisible(), false, "SSSM learns nothing: no in-sample warning");
+  // a model trained on the sample: its scores say they are in-sample
+  await page.locator("#dtfcn-run:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await page.click("#dtfcn-run");
+  await waitData(page, "dtfcn", "done");
+  await page.selectOption("#metrics-row", "dtfcn-actions");
+  await until(async () => (await page.evaluate(() => document.body.dataset.metricsRow)) === "dtfcn-actions", "the DT-FCN row scored");
+  assert.match(await text(page, "#metrics-in-sample"), /^in-sample: the bundled sample \(CMU 13_30\) is one of the takes model `exercises` was trained on/);
+  assert.match(await text(page, "#summary-sample"), /takes the shipped exercises models \(DT-FCN, k-NN\) were trained on/);
   await page.selectOption("#metrics-row", "sssm-actions");
   assertClean(opened);
 });

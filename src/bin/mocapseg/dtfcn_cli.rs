@@ -25,6 +25,25 @@ fn command_line() -> String {
     shown.join(" ")
 }
 
+/// The network's shape in one line: receptive field in seconds and parameters, beside the paper's.
+fn network_summary(options: &TrainOptions, classes: usize) -> String {
+    use mocapseg::methods::dtfcn::input::NETWORK_FPS;
+    let net = options.network(classes);
+    let ten = options.network(10).parameter_count();
+    format!(
+        "network: w = {}, {} layers ({}), receptive field {} frames = {:.2} s at {NETWORK_FPS} Hz, {} padding, layer 1 reads {} values per frame{}; {} parameters ({ten} with the paper's 10 classes; the paper's network: 663562, reading 224 rows)",
+        net.width,
+        net.filters.len(),
+        net.filters.iter().map(|f| f.to_string()).collect::<Vec<_>>().join(","),
+        net.receptive_field(),
+        net.receptive_field_s(NETWORK_FPS),
+        net.padding.name(),
+        net.first_layer_inputs(),
+        net.image_rows.map(|r| format!(" (the image resized to {r} rows)")).unwrap_or_default(),
+        net.parameter_count(),
+    )
+}
+
 #[allow(clippy::too_many_arguments)]
 pub fn train(
     inputs: &[PathBuf],
@@ -74,6 +93,9 @@ pub fn train(
     let (classes, labels) = class_labels(&rows, &refs)?;
     let frames: usize = labels.iter().map(|l| l.iter().flatten().count()).sum();
     eprintln!("{} takes, {} labelled frames, {} classes: {}", motions.len(), frames, classes.len(), classes.join(", "));
+    if method == "dtfcn" {
+        eprintln!("{}", network_summary(&options, classes.len()));
+    }
     let on_epoch = |bar: &ProgressBar, take: &str, r: &EpochReport| {
         bar.set_position(r.epoch as u64);
         let val = match (r.validation_loss, r.validation_accuracy) {
@@ -106,15 +128,19 @@ pub fn train(
         })?;
         bar.finish_and_clear();
         println!(
-            "Leave one take out ({} takes; epochs chosen on the next take in turn, at most {}; augmentation {}; noise {}; mask {}):",
+            "Leave one take out ({} takes; epochs chosen on the next take in turn, at most {}; augmentation {}; noise {}; mask {} s; w = {}, {} layers: receptive field {:.2} s, {} padding):",
             folds.len(),
             options.epochs,
             options.augment.describe(),
             options.label_noise,
-            options.mask_frames
+            options.mask_s,
+            options.width,
+            options.filters.len(),
+            options.network(2).receptive_field_s(mocapseg::methods::dtfcn::input::NETWORK_FPS),
+            options.padding.name()
         );
-        println!("| held-out take | validation take (its accuracy) | epoch kept / run | DT-FCN acc | edit | F1@10 | F1@25 | F1@50 | confidence | k-NN acc | edit | F1@10 | F1@25 | F1@50 | time |");
-        println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+        println!("| held-out take | validation take (its accuracy) | epoch kept / run | DT-FCN acc | edit | F1@10 | F1@25 | F1@50 | confidence | k-NN k | acc | edit | F1@10 | F1@25 | F1@50 | time |");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
         let mut mean = [0.0f64; 11];
         let inner = folds.iter().map(|f| f.validation_accuracy).sum::<f64>() / folds.len().max(1) as f64;
         for f in &folds {
@@ -136,13 +162,13 @@ pub fn train(
             }
             let validation = format!("{} ({:.3})", f.validation_take, f.validation_accuracy);
             println!(
-                "| {} | {} | {} / {} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} | {:.0} s |",
+                "| {} | {} | {} / {} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} | {} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} | {:.0} s |",
                 f.take, validation, f.best_epoch, f.epochs_run, row[0], row[1], row[2], row[3], row[4], row[5],
-                row[6], row[7], row[8], row[9], row[10], f.seconds
+                f.knn_k, row[6], row[7], row[8], row[9], row[10], f.seconds
             );
         }
         println!(
-            "| **mean** | ({inner:.3}) | | **{:.3}** | **{:.1}** | **{:.1}** | **{:.1}** | **{:.1}** | **{:.2}** | **{:.3}** | **{:.1}** | **{:.1}** | **{:.1}** | **{:.1}** | {:.0} s |",
+            "| **mean** | ({inner:.3}) | | **{:.3}** | **{:.1}** | **{:.1}** | **{:.1}** | **{:.1}** | **{:.2}** | | **{:.3}** | **{:.1}** | **{:.1}** | **{:.1}** | **{:.1}** | {:.0} s |",
             mean[0], mean[1], mean[2], mean[3], mean[4], mean[5], mean[6], mean[7], mean[8], mean[9], mean[10],
             started.elapsed().as_secs_f64()
         );
@@ -183,13 +209,6 @@ pub fn train(
     };
     let bytes = model.to_bytes()?;
     std::fs::write(&out, &bytes).map_err(|e| format!("{}: {e}", out.display()))?;
-    if let Some(n) = &model.header.network {
-        eprintln!(
-            "network: {} parameters (the paper's: 663,562 for 10 classes), receptive field {} frames",
-            n.parameter_count(),
-            n.receptive_field()
-        );
-    }
     eprintln!("wrote {} ({} bytes) in {:.1} s", out.display(), bytes.len(), started.elapsed().as_secs_f64());
     Ok(())
 }

@@ -16,7 +16,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::input::{channel_of, mirrored, NetworkInput, HIP_ROW, JOINTS};
+use super::input::{channel_of, mirrored, NetworkInput, HIP_ROW, JOINTS, TURN_ROW};
 use crate::stats::Rng;
 
 /// Which augmentations training applies.
@@ -193,11 +193,8 @@ pub fn augment(input: NetworkInput, a: &Augment, rng: &mut Rng) -> Augmented {
     }
     let n = out.input.frames;
     if a.scale {
-        for j in 0..JOINTS {
+        for j in (0..JOINTS).filter(|&j| j != TURN_ROW) {
             for axis in 0..3 {
-                if j == HIP_ROW && axis == 1 {
-                    continue; // turning rate
-                }
                 let c = channel_of(axis, j);
                 out.input.values[c * n..(c + 1) * n].iter_mut().for_each(|v| *v *= scale);
             }
@@ -205,7 +202,7 @@ pub fn augment(input: NetworkInput, a: &Augment, rng: &mut Rng) -> Augmented {
     }
     if a.jitter {
         let mut r = Rng::new(jitter_seed);
-        for j in (0..JOINTS).filter(|&j| j != HIP_ROW) {
+        for j in (0..JOINTS).filter(|&j| j != HIP_ROW && j != TURN_ROW) {
             for axis in 0..3 {
                 let c = channel_of(axis, j);
                 out.input.values[c * n..(c + 1) * n].iter_mut().for_each(|v| *v += 0.3 * normal(&mut r));
@@ -216,11 +213,11 @@ pub fn augment(input: NetworkInput, a: &Augment, rng: &mut Rng) -> Augmented {
 }
 
 /// Turns the body frame by `angle` about the vertical: every joint's (x, z) and the root's
-/// (lateral, forward) speed.
+/// (lateral, forward) speed (not the turning rate).
 fn turn(input: &mut NetworkInput, angle: f32) {
     let (sin, cos) = angle.sin_cos();
     let n = input.frames;
-    for j in 0..JOINTS {
+    for j in (0..JOINTS).filter(|&j| j != TURN_ROW) {
         let (cx, cz) = (channel_of(0, j), channel_of(2, j));
         for t in 0..n {
             let (x, z) = (input.values[cx * n + t], input.values[cz * n + t]);
@@ -256,8 +253,7 @@ pub fn time_warp(input: &NetworkInput, speed: f32) -> (NetworkInput, Vec<usize>)
         frame_of.push(nearest);
         source_frames.push(input.source_frames.get(nearest).copied().unwrap_or(0.0));
     }
-    for axis in 0..3 {
-        let c = channel_of(axis, HIP_ROW);
+    for c in [0, 1, 2].map(|axis| channel_of(axis, HIP_ROW)).into_iter().chain([channel_of(0, TURN_ROW)]) {
         values[c * m..(c + 1) * m].iter_mut().for_each(|v| *v *= speed);
     }
     (NetworkInput { values, frames: m, source_frames }, frame_of)
@@ -271,6 +267,24 @@ mod tests {
     fn input(frames: usize) -> NetworkInput {
         let values = (0..CHANNELS * frames).map(|i| (i % 97) as f32 * 0.1).collect();
         NetworkInput { values, frames, source_frames: (0..frames).map(|f| f as f64).collect() }
+    }
+
+    /// The turning row is a rate, not a position: turning the body frame or scaling the body leaves
+    /// it, playing faster scales it; the root's speeds turn with the frame and scale with the body.
+    #[test]
+    fn the_turning_rate_is_not_turned_or_scaled_but_warped() {
+        use crate::methods::dtfcn::input::TURN_ROW;
+        let x = input(50);
+        let turning = channel_of(0, TURN_ROW);
+        let mut turned = x.clone();
+        turn(&mut turned, 0.3);
+        assert_eq!(turned.channel(turning), x.channel(turning));
+        assert_ne!(turned.channel(channel_of(0, HIP_ROW)), x.channel(channel_of(0, HIP_ROW)));
+        let scaled = augment(x.clone(), &Augment { scale: true, ..Augment::none() }, &mut Rng::new(3));
+        assert_eq!(scaled.input.channel(turning), x.channel(turning));
+        assert_ne!(scaled.input.channel(channel_of(1, HIP_ROW)), x.channel(channel_of(1, HIP_ROW)));
+        let (fast, _) = time_warp(&x, 2.0);
+        assert!((fast.at(turning, 3) - 2.0 * x.at(turning, 6)).abs() < 1e-5);
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! model file, and leave-one-take-out cross-validation with the epochs chosen inside the
 //! training takes (nested: the held-out take never chooses anything).
 
-use super::input::{joint_names, NETWORK_FPS};
+use super::input::NETWORK_FPS;
 use super::model::{Labeller, Model, ModelHeader, ModelKind, Provenance};
 use super::training::{train, EpochReport, TrainOptions, Trained, TrainingTake};
 use crate::labels::LabelRow;
@@ -25,12 +25,6 @@ pub fn rows_without_takes(rows: &[LabelRow], takes: &[&Motion]) -> Vec<String> {
     }
     out
 }
-
-/// Confidence below which frames are `unknown` by default: chosen by the leave-one-class-out
-/// experiment (`cargo run --release --example eval_dtfcn -- unseen`, docs/methods/dtfcn.md) as the threshold
-/// that calls the most never-seen-class frames unknown while calling at most 10 % of the
-/// seen-class frames unknown (0.80: 35 % of unseen, 10 % of seen frames on mocap6).
-pub const DEFAULT_UNKNOWN_THRESHOLD: f64 = 0.8;
 
 /// The classes of `rows` in order of first appearance, and each take's per-file-frame labels
 /// (`None` where no row covers a frame). Rows naming no given take are left out
@@ -85,9 +79,9 @@ fn header(kind: ModelKind, classes: &[String], meta: &ModelMeta, provenance: Pro
         name: meta.name.clone(),
         classes: classes.to_vec(),
         colours: class_colours(classes.len()),
-        joints: joint_names(),
+        joints: super::model::joint_names_of(kind),
         fps: NETWORK_FPS,
-        unknown_threshold: DEFAULT_UNKNOWN_THRESHOLD as f32,
+        unknown_threshold: super::method::DEFAULT_THRESHOLD as f32,
         decoding: meta.decoding,
         network: None,
         standardise: None,
@@ -199,7 +193,7 @@ pub fn imperfect_labels(
 ) -> Vec<Option<usize>> {
     let mut rng = crate::stats::Rng::new(options.seed ^ (salt.wrapping_mul(0x9e37_79b9)));
     let mut out = super::training::noisy_labels(labels, classes, options.label_noise, &mut rng);
-    let w = (options.mask_frames as f64 * fps / NETWORK_FPS).round() as usize;
+    let w = (options.mask_s * fps).round() as usize;
     let mask = super::training::boundary_mask(labels, w);
     for (l, m) in out.iter_mut().zip(mask) {
         if m == 0.0 {
@@ -215,6 +209,8 @@ pub struct Fold {
     pub take: String,
     pub network: LabellingScores,
     pub knn: LabellingScores,
+    /// The k-NN's k, chosen on the validation take.
+    pub knn_k: usize,
     /// Mean confidence the network gave the held-out frames.
     pub confidence: f64,
     /// Epoch chosen on the inner validation take.
@@ -232,6 +228,8 @@ pub struct FoldPrediction {
     /// Per file frame of the held-out take: class and confidence (network) / vote share (k-NN).
     pub network: Vec<(usize, f32)>,
     pub knn: Vec<(usize, f32)>,
+    /// The k-NN's k, chosen on the validation take like the network's epoch.
+    pub knn_k: usize,
     /// The epoch the validation take chose, of how many run.
     pub best_epoch: usize,
     pub epochs_run: usize,
@@ -250,6 +248,33 @@ pub struct FoldPrediction {
     /// their file positions.
     pub network_probabilities: super::infer::Probabilities,
     pub network_source: Vec<f64>,
+    /// [`super::novelty`] scores per working frame: of the validation take under the early-stopped network
+    /// (fitted on its training takes), and of the held-out take under the retrained one.
+    pub validation_novelty: Vec<f32>,
+    pub network_novelty: Vec<f32>,
+}
+
+/// The novelty score of every working frame of `motion` under `trained`, fitted on the labelled frames of
+/// `takes` (what it was trained on).
+fn novelty_scores(trained: &Trained, takes: &[TrainingTake], classes: usize, motion: &Motion) -> Result<Vec<f32>, String> {
+    use super::infer::predict_with_features;
+    let mut rows = Vec::new();
+    let mut labels = Vec::new();
+    let mut width = 0;
+    for t in takes {
+        let (_, f) = predict_with_features(&trained.net, &trained.standardise, &t.input, classes);
+        width = f.len() / t.input.frames.max(1);
+        for (i, l) in t.labels.iter().enumerate() {
+            if let Some(l) = l {
+                rows.extend_from_slice(&f[i * width..(i + 1) * width]);
+                labels.push(*l);
+            }
+        }
+    }
+    let novelty = super::novelty::Novelty::fit(&rows, width, &labels, classes, super::novelty::RANK)?;
+    let input = super::input::network_input(motion)?;
+    let (_, f) = predict_with_features(&trained.net, &trained.standardise, &input, classes);
+    Ok(novelty.scores(&f))
 }
 
 /// Per working frame of `motion`: the class probabilities under a trained network, and the frames' file positions.
@@ -269,11 +294,16 @@ fn file_frames_of(probs: &super::infer::Probabilities, source: &[f64], motion: &
     TrainingTake::to_file_frames(source, motion.frames(), &working)
 }
 
+/// The k-NN's votes the nested protocol chooses from on the validation take.
+pub const KNN_KS: [usize; 6] = [1, 3, 5, 9, 15, 25];
+
 /// One fold of the nested protocol: take `held` is held out; of the others, the next one in turn
 /// is the validation take that chooses the epoch (early stopping); the network is then trained
 /// again on all the others for that many epochs and labels the held-out take; the k-NN, fitted
-/// on the same takes under the same label noise and masking, labels it too. `labels` are the
-/// training labels (per file frame) of every take; the held-out take's are not used.
+/// on the same takes under the same label noise and masking, labels it too, its k chosen on the
+/// same validation take ([`KNN_KS`]). The validation take's labels carry the same noise and
+/// masking as the training takes' — a user validates on the labels they have. `labels` are the
+/// clean labels (per file frame) of every take; the held-out take's are not used.
 pub fn predict_held_out(
     motions: &[Motion],
     labels: &[Vec<Option<usize>>],
@@ -288,25 +318,47 @@ pub fn predict_held_out(
     }
     let val = (held + 1) % n;
     let take = |i: usize| TrainingTake::new(&motions[i], &labels[i]);
+    let imperfect: Vec<Vec<Option<usize>>> =
+        (0..n).map(|i| imperfect_labels(&labels[i], motions[i].fps, classes.len(), options, i as u64)).collect();
     let inner: Vec<TrainingTake> = (0..n).filter(|&i| i != held && i != val).map(take).collect::<Result<_, _>>()?;
-    let chosen = train(&inner, &[take(val)?], classes, options, &mut *on_epoch)?;
+    let validation = TrainingTake::new(&motions[val], &imperfect[val])?;
+    let chosen = train(&inner, &[validation], classes, options, &mut *on_epoch)?;
     let (validation_probabilities, validation_source) = probabilities(&chosen, &motions[val], classes.len())?;
+    let validation_novelty = novelty_scores(&chosen, &inner, classes.len(), &motions[val])?;
     let validation_labels = file_frames_of(&validation_probabilities, &validation_source, &motions[val]);
     let all: Vec<TrainingTake> = (0..n).filter(|&i| i != held).map(take).collect::<Result<_, _>>()?;
     let again = TrainOptions { epochs: chosen.best_epoch, ..options.clone() };
     let trained = train(&all, &[], classes, &again, on_epoch)?;
     let (network_probabilities, network_source) = probabilities(&trained, &motions[held], classes.len())?;
+    let network_novelty = novelty_scores(&trained, &all, classes.len(), &motions[held])?;
     let network = file_frames_of(&network_probabilities, &network_source, &motions[held]);
-    let imperfect: Vec<Vec<Option<usize>>> =
-        (0..n).map(|i| imperfect_labels(&labels[i], motions[i].fps, classes.len(), options, i as u64)).collect();
+    // the k-NN's k: fitted without the validation take, scored on its (noisy) labels
+    let knn_inner: Vec<(&Motion, &[Option<usize>])> =
+        (0..n).filter(|&i| i != held && i != val).map(|i| (&motions[i], imperfect[i].as_slice())).collect();
+    let mut knn_k = (KnnParams::default().k, f64::MIN);
+    for k in KNN_KS {
+        let votes = fit_knn(&knn_inner, KnnParams { k, ..KnnParams::default() })?.predict(&motions[val])?;
+        let (mut right, mut total) = (0usize, 0usize);
+        for (v, l) in votes.iter().zip(&imperfect[val]) {
+            if let Some(l) = l {
+                total += 1;
+                right += usize::from(v.0 == *l);
+            }
+        }
+        let accuracy = right as f64 / total.max(1) as f64;
+        if accuracy > knn_k.1 + 1e-12 {
+            knn_k = (k, accuracy);
+        }
+    }
     let knn_train: Vec<(&Motion, &[Option<usize>])> =
         (0..n).filter(|&i| i != held).map(|i| (&motions[i], imperfect[i].as_slice())).collect();
-    let knn = fit_knn(&knn_train, KnnParams::default())?.predict(&motions[held])?;
+    let knn = fit_knn(&knn_train, KnnParams { k: knn_k.0, ..KnnParams::default() })?.predict(&motions[held])?;
     let validation_accuracy =
         chosen.reports.iter().find(|r| r.epoch == chosen.best_epoch).and_then(|r| r.validation_accuracy).unwrap_or(0.0);
     Ok(FoldPrediction {
         network,
         knn,
+        knn_k: knn_k.0,
         best_epoch: chosen.best_epoch,
         epochs_run: chosen.reports.len(),
         validation_accuracy,
@@ -316,6 +368,8 @@ pub fn predict_held_out(
         validation_source,
         network_probabilities,
         network_source,
+        validation_novelty,
+        network_novelty,
     })
 }
 
@@ -343,6 +397,7 @@ pub fn leave_one_take_out(
             take: name,
             network: score(&p.network),
             knn: score(&p.knn),
+            knn_k: p.knn_k,
             confidence: p.network.iter().map(|p| p.1 as f64).sum::<f64>() / p.network.len().max(1) as f64,
             best_epoch: p.best_epoch,
             epochs_run: p.epochs_run,

@@ -47,6 +47,31 @@ pub fn predict_blocks(
     block: usize,
     done: &mut dyn FnMut(f64),
 ) -> Probabilities {
+    run_blocks(net, standardise, input, classes, block, None, done)
+}
+
+/// [`predict_input`] and the features of every frame ([`DtFcn::features`], frame-major: `frames ×
+/// features`), as [`super::novelty`] reads them.
+pub fn predict_with_features(
+    net: &DtFcn,
+    standardise: &Standardise,
+    input: &NetworkInput,
+    classes: usize,
+) -> (Probabilities, Vec<f32>) {
+    let mut features = Vec::new();
+    let p = run_blocks(net, standardise, input, classes, BLOCK_FRAMES, Some(&mut features), &mut |_| {});
+    (p, features)
+}
+
+fn run_blocks(
+    net: &DtFcn,
+    standardise: &Standardise,
+    input: &NetworkInput,
+    classes: usize,
+    block: usize,
+    mut features: Option<&mut Vec<f32>>,
+    done: &mut dyn FnMut(f64),
+) -> Probabilities {
     let n = input.frames;
     let z = standardise.apply(input);
     let device = super::device();
@@ -63,7 +88,17 @@ pub fn predict_blocks(
             x.extend_from_slice(&z[c * n + lo..c * n + hi]);
         }
         let x = Tensor::<1>::from_floats(x.as_slice(), &device).reshape([1, CHANNELS, m]);
-        let p: Vec<f32> = net.forward(x).into_data().try_to_vec::<f32>().unwrap_or_default();
+        let f = net.features(x);
+        if let Some(out) = features.as_deref_mut() {
+            let [_, width, _] = f.dims();
+            let values: Vec<f32> = f.clone().into_data().try_to_vec::<f32>().unwrap_or_default();
+            // values is [1, width, m]: frame-major rows for the frames of this block
+            for t in start..end {
+                out.extend((0..width).map(|k| values.get(k * m + (t - lo)).copied().unwrap_or(0.0)));
+            }
+        }
+        let p: Vec<f32> =
+            burn::tensor::activation::softmax(net.logits_of(f), 1).into_data().try_to_vec::<f32>().unwrap_or_default();
         // p is [1, classes, m]
         for f in start..end {
             for c in 0..classes {

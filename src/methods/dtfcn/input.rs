@@ -8,9 +8,11 @@
 //! of the reference body (the "local" coordinates of the paper's Fig. 2, made independent of
 //! where the actor stands, which way they face, their size and the file's units).
 //!
-//! The hips row is zero in those coordinates, so it carries the root's own motion instead:
-//! lateral speed, turning rate and forward speed in the body frame. Without it "turn" and
-//! "begin step" (the paper's labels) would have to be guessed from the limbs alone.
+//! The hips row is zero in those coordinates, so it carries the root's own motion instead: its
+//! velocity in the body frame (lateral, vertical, forward, inches per second). An 18th row,
+//! [`TURN_ROW`], carries the turning rate (degrees per second, in its X channel). Without them
+//! "turn", "begin step" (the paper's labels), a jump or a squat would have to be guessed from
+//! the limbs alone.
 //!
 //! Before the network sees it every channel is standardised with the mean and spread of the
 //! training frames ([`Standardise`], kept in the model file).
@@ -27,18 +29,31 @@ use crate::motion::Motion;
 /// receptive field at 8 s).
 pub const NETWORK_FPS: f64 = 30.0;
 
-/// Rows of the image: the canonical joints.
-pub const JOINTS: usize = Canonical::ALL.len();
+/// Rows of the image: the canonical joints and the turning row.
+pub const JOINTS: usize = Canonical::ALL.len() + 1;
 
-/// The image row of the hips (the root's motion, see the module docs).
+/// The image row of the hips (the root's velocity, see the module docs).
 pub const HIP_ROW: usize = 0;
+
+/// The image row of the turning rate (X channel; Y and Z are zero).
+pub const TURN_ROW: usize = Canonical::ALL.len();
+
+/// The name of [`TURN_ROW`] in model files.
+pub const TURN_ROW_NAME: &str = "turning";
 
 /// Channels per column: X, Y, Z of every row, channel-major (`channel · JOINTS + row`).
 pub const CHANNELS: usize = 3 * JOINTS;
 
+/// Names of the canonical joints (the k-NN's windows read these).
+pub fn canonical_names() -> Vec<String> {
+    Canonical::ALL.iter().map(|c| c.name().to_string()).collect()
+}
+
 /// Names of the image rows, as stored in model files (the joint set a model was trained on).
 pub fn joint_names() -> Vec<String> {
-    Canonical::ALL.iter().map(|c| c.name().to_string()).collect()
+    let mut names: Vec<String> = Canonical::ALL.iter().map(|c| c.name().to_string()).collect();
+    names.push(TURN_ROW_NAME.into());
+    names
 }
 
 /// A take's motion image at the network's rate.
@@ -78,7 +93,7 @@ pub fn network_input(motion: &Motion) -> Result<NetworkInput, String> {
     let mut values = vec![0f32; CHANNELS * frames];
     for t in 0..frames {
         let row = f.base.row(t);
-        for j in 0..JOINTS {
+        for j in 0..Canonical::ALL.len() {
             for axis in 0..3 {
                 values[channel_of(axis, j) * frames + t] = row[3 * j + axis];
             }
@@ -101,6 +116,7 @@ pub fn network_input(motion: &Motion) -> Result<NetworkInput, String> {
         let (s, c) = yaw.sin_cos();
         let lateral = c * v.x - s * v.z;
         let forward = s * v.x + c * v.z;
+        let vertical = v.y;
         let mut turn = yaws[b] - yaws[a];
         while turn > std::f32::consts::PI {
             turn -= 2.0 * std::f32::consts::PI;
@@ -111,8 +127,9 @@ pub fn network_input(motion: &Motion) -> Result<NetworkInput, String> {
         // degrees per second: of the order of the limbs' inches per second
         let turn = turn.to_degrees() / dt;
         values[channel_of(0, hip) * frames + t] = lateral;
-        values[channel_of(1, hip) * frames + t] = turn;
+        values[channel_of(1, hip) * frames + t] = vertical;
         values[channel_of(2, hip) * frames + t] = forward;
+        values[channel_of(0, TURN_ROW) * frames + t] = turn;
     }
     if let Some(k) = values.iter().position(|v| !v.is_finite()) {
         return Err(format!(
@@ -126,21 +143,21 @@ pub fn network_input(motion: &Motion) -> Result<NetworkInput, String> {
 }
 
 /// The image of the mirrored take (left and right swapped at the sagittal plane): rows of
-/// sided joints swap, the lateral channel and the turning rate change sign.
+/// sided joints swap, the lateral channel (and with it the turning rate) changes sign.
 pub fn mirrored(input: &NetworkInput) -> NetworkInput {
-    let partner: Vec<usize> = Canonical::ALL
+    let mut partner: Vec<usize> = Canonical::ALL
         .iter()
         .map(|c| {
             let m = c.mirror();
             Canonical::ALL.iter().position(|&o| o == m).unwrap_or(0)
         })
         .collect();
-    let hip = HIP_ROW;
+    partner.push(TURN_ROW);
     let n = input.frames;
     let mut values = vec![0f32; input.values.len()];
     for (j, &other) in partner.iter().enumerate() {
         for axis in 0..3 {
-            let sign = if axis == 0 || (j == hip && axis == 1) { -1.0 } else { 1.0 };
+            let sign = if axis == 0 { -1.0 } else { 1.0 };
             let from = channel_of(axis, other);
             let to = channel_of(axis, j);
             for t in 0..n {
@@ -231,7 +248,7 @@ mod tests {
     }
 
     #[test]
-    fn a_walk_becomes_a_17_row_image_at_30_hz_with_the_root_moving_forwards() {
+    fn a_walk_becomes_an_18_row_image_at_30_hz_with_the_root_moving_forwards() {
         let m = walk();
         let x = network_input(&m).unwrap();
         assert_eq!(x.values.len(), CHANNELS * x.frames);
@@ -244,6 +261,17 @@ mod tests {
         assert!(forward > 20.0 && forward < 120.0, "{forward}");
         let lateral: f32 = x.channel(channel_of(0, hip)).iter().sum::<f32>() / x.frames as f32;
         assert!(lateral.abs() < forward / 4.0, "{lateral}");
+        // the root bobs up and down as it walks (vertical speed), but does not climb
+        let vertical = x.channel(channel_of(1, hip));
+        let mean_up = vertical.iter().sum::<f32>() / x.frames as f32;
+        let bob = vertical.iter().map(|v| v.abs()).sum::<f32>() / x.frames as f32;
+        assert!(mean_up.abs() < 2.0 && bob > 0.5 && bob < forward / 2.0, "mean {mean_up}, mean |v| {bob}");
+        // a walk mostly straight ahead: little turning; the turning row's other channels are zero
+        let turning: f32 = x.channel(channel_of(0, TURN_ROW)).iter().sum::<f32>() / x.frames as f32;
+        assert!(turning.abs() < 30.0, "{turning} °/s");
+        assert!(x.channel(channel_of(1, TURN_ROW)).iter().chain(x.channel(channel_of(2, TURN_ROW))).all(|&v| v == 0.0));
+        assert_eq!(joint_names().len(), JOINTS);
+        assert_eq!(joint_names()[TURN_ROW], TURN_ROW_NAME);
         // the head is above the hips
         let head = Canonical::ALL.iter().position(|&c| c == Canonical::Head).unwrap();
         assert!(x.at(channel_of(1, head), 10) > 10.0);
@@ -258,6 +286,9 @@ mod tests {
         let rh = Canonical::ALL.iter().position(|&c| c == Canonical::RightHand).unwrap();
         assert_eq!(m.at(channel_of(0, lh), 5), -x.at(channel_of(0, rh), 5));
         assert_eq!(m.at(channel_of(1, lh), 5), x.at(channel_of(1, rh), 5));
+        // turning left becomes turning right; the root's vertical speed stays
+        assert_eq!(m.at(channel_of(0, TURN_ROW), 5), -x.at(channel_of(0, TURN_ROW), 5));
+        assert_eq!(m.at(channel_of(1, HIP_ROW), 5), x.at(channel_of(1, HIP_ROW), 5));
     }
 
     #[test]

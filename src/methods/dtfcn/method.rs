@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use super::decode::{file_labels, Decoding};
 use super::infer::{predict_blocks, Probabilities, BLOCK_FRAMES};
 use super::input::network_input;
-use super::model::{Labeller, Model, ModelKind};
+use super::model::{Labeller, Model, ModelHeader, ModelKind};
 use super::shipped;
 use crate::method::supervised::{Loaded, Training, TrainingAsk};
 use crate::method::{
@@ -48,6 +48,21 @@ pub const DECODINGS: [&str; 3] = ["model", "raw", "custom"];
 /// The unknown threshold in force unless asked otherwise: what every fold of the scoreboard's nested validation
 /// chose, with the decoding (`make accuracy`, docs/methods/dtfcn.md).
 pub const DEFAULT_THRESHOLD: f64 = 0.5;
+
+/// How a run's summary begins the sentence that says the take was one of the model's training takes
+/// (the metrics panel shows it beside the scores).
+pub const IN_SAMPLE: &str = "in-sample:";
+
+/// The warning a run on one of `header`'s own training takes carries: its scores there are not
+/// what the model does on a take it has not seen.
+pub fn in_sample_note(header: &ModelHeader, take: &str) -> Option<String> {
+    let trained = header.provenance.takes.iter().find(|t| crate::methods::lma::corpus::same_file(t, take))?;
+    Some(format!(
+        "{IN_SAMPLE} model `{}` was trained on this take ({trained}), so its labels and scores here are not what it \
+         does on a take it has not seen (held-out scores: docs/accuracy.md)",
+        header.name
+    ))
+}
 
 /// The custom decoding's defaults (what most folds chose: a 2 s minimum run).
 pub const CUSTOM_DECODING: Decoding = Decoding { min_duration_s: 2.0, switch_cost: 0.0 };
@@ -320,6 +335,10 @@ impl Method for Labelling {
                 )
             }
         );
+        let summary = match in_sample_note(header, &motion.name) {
+            Some(note) => format!("{summary} · {note}"),
+            None => summary,
+        };
         let curves = vec![Curve {
             id: "confidence".into(),
             title: "confidence (probability of the frame's label)".into(),
@@ -472,5 +491,18 @@ mod tests {
         assert_eq!((s[2].start, s[2].end, s[2].label.as_str()), (3, 3, "jump"));
         assert!(runs(&[], &classes).is_empty());
         assert_eq!(rgb("#ff8000"), [255, 128, 0]);
+    }
+
+    /// The bundled sample (13_30) is one of the `exercises` models' training takes: a run on it says so;
+    /// on a take they were not trained on (86_01), nothing is said.
+    #[test]
+    fn a_run_on_a_training_take_says_it_is_in_sample() {
+        let model = shipped::model(ModelKind::Dtfcn, "exercises").unwrap();
+        let note = in_sample_note(&model.header, "13_30.bvh").unwrap();
+        assert!(note.starts_with(IN_SAMPLE) && note.contains("`exercises`") && note.contains("13_30"), "{note}");
+        assert!(in_sample_note(&model.header, "86_01.bvh").is_none());
+        let cmu = shipped::model(ModelKind::Knn, "cmu-actions").unwrap();
+        assert!(in_sample_note(&cmu.header, "86_01.bvh").is_some());
+        assert!(in_sample_note(&cmu.header, "13_30.bvh").is_none());
     }
 }

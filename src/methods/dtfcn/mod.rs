@@ -10,6 +10,7 @@
 //! | §3 training: cross-entropy, Adam, label noise (Table 3), boundary masking (Table 4) | [`training`] |
 //! | (not in the paper) augmentation for small labelled sets | [`augment`] |
 //! | labelling a take, blockwise | [`infer`] |
+//! | (not in the paper) an unknown in feature space: Mahalanobis distance before NormReLU | [`novelty`] |
 //! | (not in the paper) labels as one path with a minimum duration, not per-frame argmax | [`decode`] |
 //! | model files: classes, colours, joint set, rate, training command, weights | [`model`] |
 //! | the registered `dtfcn` method | [`method`] |
@@ -25,6 +26,7 @@ pub mod method;
 pub mod model;
 pub mod network;
 pub mod normrelu;
+pub mod novelty;
 pub mod shipped;
 pub mod supervised;
 pub mod training;

@@ -15,7 +15,7 @@ use burn::tensor::Bytes;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use super::input::{joint_names, Standardise, NETWORK_FPS};
+use super::input::{canonical_names, joint_names, Standardise, CHANNELS, NETWORK_FPS};
 use super::network::{DtFcn, DtFcnConfig};
 use super::training::TrainOptions;
 use crate::methods::knn::{Knn, KnnParams};
@@ -260,6 +260,14 @@ fn read_header<'a>(bytes: &'a [u8], source: &str) -> Result<(ModelHeader, &'a [u
     Ok((header, payload))
 }
 
+/// The rows a model of `kind` reads: the network's image rows, or the k-NN's canonical joints.
+pub fn joint_names_of(kind: ModelKind) -> Vec<String> {
+    match kind {
+        ModelKind::Dtfcn => joint_names(),
+        ModelKind::Knn => canonical_names(),
+    }
+}
+
 /// What a header must say for this build to use the model.
 pub fn check_header(h: &ModelHeader) -> Result<(), String> {
     let k = h.classes.len();
@@ -272,11 +280,12 @@ pub fn check_header(h: &ModelHeader) -> Result<(), String> {
     if let Some(dup) = h.classes.iter().enumerate().find(|(i, c)| h.classes[..*i].contains(c)) {
         return Err(format!("class `{}` is listed twice", dup.1));
     }
-    let ours = joint_names();
+    let ours = joint_names_of(h.kind);
     if h.joints != ours {
         return Err(format!(
-            "trained on the joint set [{}], but this mocapseg's motion image has [{}]",
+            "trained on the image rows [{}], but this mocapseg's {} reads [{}]: train the model again with this version",
             h.joints.join(", "),
+            h.kind.name(),
             ours.join(", ")
         ));
     }
@@ -293,11 +302,11 @@ pub fn check_header(h: &ModelHeader) -> Result<(), String> {
             if n.classes != k {
                 return Err(format!("the network has {} outputs but the header lists {k} classes", n.classes));
             }
-            if n.channels != 3 * ours.len() {
+            if n.channels != CHANNELS {
                 return Err(format!(
                     "the network reads {} channels, expected {} (3 per joint)",
                     n.channels,
-                    3 * ours.len()
+                    CHANNELS
                 ));
             }
             h.standardise.as_ref().ok_or("a DT-FCN model without its input standardisation")?.check()?;
@@ -312,11 +321,11 @@ pub fn check_header(h: &ModelHeader) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::methods::dtfcn::input::CHANNELS;
 
     fn tiny() -> Model {
         let classes: Vec<String> = vec!["a".into(), "b".into(), "c".into()];
-        let network = DtFcnConfig { channels: CHANNELS, classes: 3, width: 3, filters: vec![4, 8] };
+        let network =
+            DtFcnConfig { channels: CHANNELS, classes: 3, width: 3, filters: vec![4, 8], ..DtFcnConfig::paper(CHANNELS, 3) };
         let device = crate::methods::dtfcn::device();
         device.seed(3);
         let net = network.init(&device);
@@ -326,7 +335,7 @@ mod tests {
                 name: "tiny".into(),
                 colours: vec!["#ff0000".into(), "#00ff00".into(), "#0000ff".into()],
                 classes,
-                joints: joint_names(),
+                joints: joint_names_of(ModelKind::Dtfcn),
                 fps: NETWORK_FPS,
                 unknown_threshold: 0.5,
                 decoding: None,
@@ -372,7 +381,7 @@ mod tests {
         let mut m = tiny();
         m.header.joints[3] = "Tail".into();
         let e = err(&m.to_bytes().unwrap());
-        assert!(e.contains("joint set") && e.contains("Tail"), "{e}");
+        assert!(e.contains("image rows") && e.contains("Tail") && e.contains("train the model again"), "{e}");
         let mut m = tiny();
         m.header.classes.push("d".into());
         m.header.colours.push("#000000".into());

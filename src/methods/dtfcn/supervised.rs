@@ -12,7 +12,8 @@ use super::corpus::{class_labels, fit_knn_model, model_from, rows_without_takes,
 use super::input::NetworkInput;
 use super::model::{data_hash, Model, ModelKind};
 use super::shipped;
-use super::training::{EpochReport, TrainOptions, Trainer, TrainingTake};
+use super::network::Padding;
+use super::training::{EpochReport, TrainOptions, Trainer, TrainingTake, MAX_MASK_S};
 use crate::method::supervised::{
     check_model_name, read_options, Loaded, ModelInfo, StepReport, Supervision, Trained, Training, TrainingAsk,
     TrainingReport,
@@ -56,11 +57,11 @@ pub fn training_specs() -> Vec<ParamSpec> {
             true,
         ),
         spec(
-            "mask_frames",
-            "w_transition: frames around each label change whose loss is zeroed (the paper's Table 4; 0 = none).",
-            int(0, 301),
-            d.mask_frames.into(),
-            Some("frames"),
+            "mask_s",
+            "w_transition: the span around each label change whose loss is zeroed (the paper's Table 4: 0.15–0.43 s; 0 = none).",
+            ParamKind::Number { min: 0.0, max: MAX_MASK_S },
+            d.mask_s.into(),
+            Some("s"),
             true,
         ),
         spec(
@@ -71,12 +72,35 @@ pub fn training_specs() -> Vec<ParamSpec> {
             None,
             true,
         ),
-        spec("width", "Kernel width w: the receptive field is w⁵ frames at 30 Hz.", int(2, 3), d.width.into(), None, true),
+        spec(
+            "width",
+            "Kernel width w: with L layers the receptive field is w^L frames at 30 Hz (w = 3, 4 layers: 2.7 s; w = 2, 6 layers: 2.1 s).",
+            int(2, 3),
+            d.width.into(),
+            None,
+            true,
+        ),
         spec(
             "filters",
-            "Filters of each dilated layer (the paper's: 64,64,128,256,512).",
+            "Filters of each layer; their count is the layer count L (the paper's five: 64,64,128,256,512; the default four give w = 3 a receptive field of 2.7 s).",
             ParamKind::IntegerList { min: 1, max: 2048, max_len: 6 },
             serde_json::json!(d.filters),
+            None,
+            false,
+        ),
+        spec(
+            "padding",
+            "What the convolutions read beyond the take's ends: zero (the paper's) or edge (the end frames repeated, so the take's start cannot be told from a held pose).",
+            ParamKind::Choice { options: vec!["zero".into(), "edge".into()] },
+            d.padding.name().into(),
+            None,
+            false,
+        ),
+        spec(
+            "image_rows",
+            "The paper's input: the motion image resized to this many rows before layer 1 (224 gives the paper's 663,562 parameters); 0 = the image's own rows.",
+            int(0, 512),
+            d.image_rows.unwrap_or(0).into(),
             None,
             false,
         ),
@@ -118,10 +142,12 @@ fn augment_names(a: &Augment) -> Vec<String> {
 struct OptionsJson {
     epochs: i64,
     label_noise: f64,
-    mask_frames: i64,
+    mask_s: f64,
     augment: Vec<String>,
     width: i64,
     filters: Vec<i64>,
+    padding: String,
+    image_rows: i64,
     crop_frames: i64,
     batch: i64,
     learning_rate: f64,
@@ -135,10 +161,12 @@ impl Default for OptionsJson {
         OptionsJson {
             epochs: d.epochs as i64,
             label_noise: d.label_noise,
-            mask_frames: d.mask_frames as i64,
+            mask_s: d.mask_s,
             augment: augment_names(&d.augment),
             width: d.width as i64,
             filters: d.filters.iter().map(|&f| f as i64).collect(),
+            padding: d.padding.name().into(),
+            image_rows: d.image_rows.unwrap_or(0) as i64,
             crop_frames: d.crop_frames as i64,
             batch: d.batch as i64,
             learning_rate: d.learning_rate,
@@ -158,12 +186,14 @@ pub fn options_from_json(value: &serde_json::Value) -> Result<TrainOptions, Meth
         weight_decay: o.weight_decay,
         seed: o.seed as u64,
         label_noise: o.label_noise,
-        mask_frames: o.mask_frames as usize,
+        mask_s: o.mask_s,
         augment,
         crop_frames: o.crop_frames as usize,
         batch: o.batch as usize,
         width: o.width as usize,
         filters: o.filters.iter().map(|&f| f as usize).collect(),
+        padding: Padding::parse(&o.padding).map_err(|m| MethodError::param("padding", m))?,
+        image_rows: (o.image_rows > 0).then_some(o.image_rows as usize),
         ..TrainOptions::default()
     };
     // what the table cannot say (learning rate below 1, …) is still the trainer's to refuse
@@ -285,14 +315,24 @@ pub fn train_command(kind: ModelKind, takes: &[String], labels: &str, name: &str
     if kind == ModelKind::Dtfcn {
         let d = TrainOptions::default();
         words.push(format!(
-            "--epochs {} --seed {} --noise {} --mask {} --augment {} --width {}",
+            "--epochs {} --seed {} --noise {} --mask-s {} --augment {} --width {}",
             o.epochs,
             o.seed,
             o.label_noise,
-            o.mask_frames,
+            o.mask_s,
             o.augment.describe(),
             o.width
         ));
+        if o.filters != d.filters {
+            let list: Vec<String> = o.filters.iter().map(|f| f.to_string()).collect();
+            words.push(format!("--filters {}", list.join(",")));
+        }
+        if o.padding != d.padding {
+            words.push(format!("--padding {}", o.padding.name()));
+        }
+        if let Some(r) = o.image_rows {
+            words.push(format!("--image-rows {r}"));
+        }
         if o.crop_frames != d.crop_frames {
             words.push(format!("--crop {}", o.crop_frames));
         }
@@ -625,7 +665,9 @@ mod tests {
         for (json, param) in [
             (serde_json::json!({"epochs": 0}), "epochs"),
             (serde_json::json!({"label_noise": 2}), "label_noise"),
-            (serde_json::json!({"mask_frames": 400}), "mask_frames"),
+            (serde_json::json!({"mask_s": 400}), "mask_s"),
+            (serde_json::json!({"padding": "mirror"}), "padding"),
+            (serde_json::json!({"image_rows": 1000}), "image_rows"),
             (serde_json::json!({"width": 5}), "width"),
             (serde_json::json!({"filters": []}), "filters"),
             (serde_json::json!({"filters": [8, 0]}), "filters"),
@@ -643,5 +685,8 @@ mod tests {
         let o = options_from_json(&serde_json::json!({"augment": ["mirror", "warp"], "filters": [8, 8]})).unwrap();
         assert!(o.augment.mirror && o.augment.time_warp && !o.augment.yaw);
         assert_eq!(o.filters, vec![8, 8]);
+        let o = options_from_json(&serde_json::json!({"padding": "edge", "image_rows": 224})).unwrap();
+        assert_eq!((o.padding, o.image_rows), (Padding::Edge, Some(224)));
+        assert_eq!(o.network(7).first_layer_inputs(), 672);
     }
 }

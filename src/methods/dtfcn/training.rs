@@ -24,8 +24,8 @@ use serde::{Deserialize, Serialize};
 
 use super::augment::{augment, mirror_classes, Augment};
 use super::infer::predict_input;
-use super::input::{network_input, NetworkInput, Standardise, CHANNELS};
-use super::network::{DtFcn, DtFcnConfig};
+use super::input::{network_input, NetworkInput, Standardise, CHANNELS, NETWORK_FPS};
+use super::network::{paper_filters, DtFcn, DtFcnConfig, Padding};
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
 use crate::stats::Rng;
@@ -42,8 +42,9 @@ pub struct TrainOptions {
     pub seed: u64,
     /// Share of training frames given a uniformly random label (Table 3's noise), 0–1.
     pub label_noise: f64,
-    /// `w_transition` of Table 4: frames around each label change whose loss is zeroed (0 = none).
-    pub mask_frames: usize,
+    /// `w_transition` of Table 4 in seconds: the span around each label change whose loss is
+    /// zeroed (0 = none; the paper's 11, 21, 31 frames at 72 Hz are 0.15, 0.29, 0.43 s).
+    pub mask_s: f64,
     pub augment: Augment,
     /// Frames of each crop the loss is taken on.
     pub crop_frames: usize,
@@ -53,9 +54,16 @@ pub struct TrainOptions {
     pub patience: usize,
     /// Kernel width `w`.
     pub width: usize,
-    /// Filters per layer.
+    /// Filters per layer (their count is the layer count L: receptive field `w^L` frames).
     pub filters: Vec<usize>,
+    /// What the convolutions read beyond the take's ends.
+    pub padding: Padding,
+    /// The motion image resized to this many rows before layer 1 (the paper's 224); None: as it is.
+    pub image_rows: Option<usize>,
 }
+
+/// The widest boundary mask, in seconds.
+pub const MAX_MASK_S: f64 = 10.0;
 
 impl Default for TrainOptions {
     fn default() -> Self {
@@ -65,13 +73,17 @@ impl Default for TrainOptions {
             weight_decay: 1e-4,
             seed: 1,
             label_noise: 0.0,
-            mask_frames: 0,
+            mask_s: 0.0,
             augment: Augment::all(),
             crop_frames: 128,
             batch: 2,
             patience: 12,
+            // the paper's w = 3 with the layers that give its receptive field in seconds: 3⁴ = 81
+            // frames = 2.7 s at 30 Hz (its 3⁵ = 243 frames were 3.4 s at 72 Hz)
             width: 3,
-            filters: vec![64, 64, 128, 256, 512],
+            filters: paper_filters(4),
+            padding: Padding::Zero,
+            image_rows: None,
         }
     }
 }
@@ -91,9 +103,10 @@ impl TrainOptions {
         if !(0.0..=1.0).contains(&self.label_noise) {
             return Err(format!("label noise {}: expected a share from 0 to 1", self.label_noise));
         }
-        if self.mask_frames > 301 {
-            return Err(format!("mask {} frames: expected 0 to 301", self.mask_frames));
+        if !(0.0..=MAX_MASK_S).contains(&self.mask_s) {
+            return Err(format!("mask {} s: expected 0 to {MAX_MASK_S} s", self.mask_s));
         }
+        self.network(2).check()?;
         if !(16..=4096).contains(&self.crop_frames) {
             return Err(format!("crop {} frames: expected 16 to 4096", self.crop_frames));
         }
@@ -105,7 +118,19 @@ impl TrainOptions {
 
     /// The network these options train for `classes` classes.
     pub fn network(&self, classes: usize) -> DtFcnConfig {
-        DtFcnConfig { channels: CHANNELS, classes, width: self.width, filters: self.filters.clone() }
+        DtFcnConfig {
+            channels: CHANNELS,
+            classes,
+            width: self.width,
+            filters: self.filters.clone(),
+            padding: self.padding,
+            image_rows: self.image_rows,
+        }
+    }
+
+    /// `w_transition` in the network's frames.
+    pub fn mask_frames(&self) -> usize {
+        (self.mask_s * NETWORK_FPS).round() as usize
     }
 }
 
@@ -299,7 +324,7 @@ impl Trainer {
         // the paper's noisy labels are drawn once, as a noisy annotation would be
         let trained_labels: Vec<Vec<Option<usize>>> =
             takes.iter().map(|t| noisy_labels(&t.labels, k, options.label_noise, &mut rng)).collect();
-        let masks: Vec<Vec<f32>> = takes.iter().map(|t| boundary_mask(&t.labels, options.mask_frames)).collect();
+        let masks: Vec<Vec<f32>> = takes.iter().map(|t| boundary_mask(&t.labels, options.mask_frames())).collect();
         let margin = network.receptive_field() / 2;
         Ok(Trainer {
             takes,
