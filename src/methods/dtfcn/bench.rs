@@ -21,9 +21,10 @@ pub fn inference(take: &Motion, kind: ModelKind, name: &str) -> Result<usize, St
     Ok(labelled.per_file_frame.windows(2).filter(|w| w[0].0 != w[1].0).count() + 1)
 }
 
-/// The shipped models' training settings (`--width 2 --batch 2 --crop 128`, every augmentation).
+/// The shipped models' training settings: the defaults (w = 3, four layers, batch 2, crops of 128,
+/// every augmentation).
 pub fn shipped_options(epochs: usize) -> TrainOptions {
-    TrainOptions { epochs, width: 2, ..TrainOptions::default() }
+    TrainOptions { epochs, ..TrainOptions::default() }
 }
 
 /// A training take of `take`'s first [`EXERCISE_FRAMES`] frames (at 30 Hz) labelled in 500-frame

@@ -12,6 +12,11 @@
 //!
 //! Scores are returned relative to the training frames': a score of 1 is the training frames'
 //! 95th percentile ([`Novelty::scale`]), so a threshold means the same for every model.
+//!
+//! **Measured, and not used by runs**: in the leave-one-class-out experiment (`cargo run --release
+//! --example eval_dtfcn -- unseen`, docs/methods/dtfcn.md) it ranks never-seen-class frames *below*
+//! new takes of known classes (AUROC 0.36; max-softmax 0.71), so the labels' unknown stays
+//! max-softmax. Kept for that experiment and the next attempt.
 
 use nalgebra::{DMatrix, SymmetricEigen};
 use serde::{Deserialize, Serialize};
