@@ -210,6 +210,7 @@ mod lab {
         let novelty_grid: Vec<f32> = (0..=80).map(|i| 0.5 + i as f32 * 0.05).collect();
         let mut pooled: Vec<(f32, f32, bool)> = Vec::new();
         let mut knn_pooled: Vec<(f32, bool)> = Vec::new();
+        let mut distance_pooled: Vec<(f32, bool)> = Vec::new();
         // (take, class left out, chosen confidence threshold, its TPR, FPR, chosen novelty threshold, its TPR, FPR)
         println!("| held-out take | class left out | max-softmax: threshold (chosen on) → unseen / seen called unknown | novelty: threshold → unseen / seen called unknown | AUROC max-softmax / novelty |");
         println!("|---|---|---|---|---|");
@@ -250,6 +251,7 @@ mod lab {
             for (f, l) in labels[held].iter().enumerate() {
                 if let Some(l) = l {
                     knn_pooled.push((-p.knn[f].1, *l == gone));
+                    distance_pooled.push((p.knn_distance[f], *l == gone));
                 }
             }
         }
@@ -264,8 +266,10 @@ mod lab {
         );
         println!();
         println!(
-            "k-NN vote share as the score, pooled over the held-out takes: AUROC {:.2}",
-            auroc(&knn_pooled)
+            "k-NN, pooled over the held-out takes: AUROC of the vote share {:.2}, of the distance to the nearest \
+             training window {:.2}",
+            auroc(&knn_pooled),
+            auroc(&distance_pooled)
         );
         Ok(())
     }

@@ -252,6 +252,8 @@ pub struct FoldPrediction {
     /// (fitted on its training takes), and of the held-out take under the retrained one.
     pub validation_novelty: Vec<f32>,
     pub network_novelty: Vec<f32>,
+    /// Per file frame of the held-out take: the k-NN's distance to the nearest training window.
+    pub knn_distance: Vec<f32>,
 }
 
 /// The novelty score of every working frame of `motion` under `trained`, fitted on the labelled frames of
@@ -352,7 +354,9 @@ pub fn predict_held_out(
     }
     let knn_train: Vec<(&Motion, &[Option<usize>])> =
         (0..n).filter(|&i| i != held).map(|i| (&motions[i], imperfect[i].as_slice())).collect();
-    let knn = fit_knn(&knn_train, KnnParams { k: knn_k.0, ..KnnParams::default() })?.predict(&motions[held])?;
+    let fitted = fit_knn(&knn_train, KnnParams { k: knn_k.0, ..KnnParams::default() })?;
+    let knn = fitted.predict(&motions[held])?;
+    let knn_distance = fitted.nearest_distances(&motions[held])?;
     let validation_accuracy =
         chosen.reports.iter().find(|r| r.epoch == chosen.best_epoch).and_then(|r| r.validation_accuracy).unwrap_or(0.0);
     Ok(FoldPrediction {
@@ -370,6 +374,7 @@ pub fn predict_held_out(
         network_source,
         validation_novelty,
         network_novelty,
+        knn_distance,
     })
 }
 

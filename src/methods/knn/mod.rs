@@ -224,6 +224,20 @@ impl Knn {
         Ok((Probabilities { frames: w.frames(), classes, values }, source))
     }
 
+    /// Per file frame of `motion`: the distance of its window to the nearest training window (in the
+    /// principal coordinates) — how unlike anything taught the frame is.
+    pub fn nearest_distances(&self, motion: &Motion) -> Result<Vec<f32>, String> {
+        let (w, source) = windows(motion, &self.params)?;
+        let working: Vec<f32> = (0..w.frames())
+            .map(|i| {
+                let q = project(w.row(i), &self.mean, &self.axes);
+                self.tree.nearest_one::<SquaredEuclidean>(&q).distance.sqrt()
+            })
+            .collect();
+        let frames = WorkingFrames { source: &source, file_frames: motion.frames() };
+        Ok((0..motion.frames()).map(|f| working[frames.working_frame(f)]).collect())
+    }
+
     /// Per file frame of `motion`: the voted label and the share of the `k` votes it won.
     pub fn predict(&self, motion: &Motion) -> Result<Vec<(usize, f32)>, String> {
         let classes = self.labels.iter().max().map_or(1, |m| m + 1);
@@ -269,5 +283,17 @@ mod tests {
         // a take without the canonical joints is refused by name
         let stick = motion("stick.bvh", include_str!("../../../tests/fixtures/bvh_anim_test_simple.bvh"));
         assert!(knn.predict(&stick).unwrap_err().starts_with("stick.bvh:"));
+        // the copy lies on the taught windows; a walk of another subject lies far from them
+        let near = knn.nearest_distances(&asked).unwrap();
+        assert_eq!(near.len(), asked.frames());
+        let walk = motion("02_01.bvh", include_str!("../../../tests/fixtures/02_01.bvh"));
+        let far = knn.nearest_distances(&walk).unwrap();
+        let median = |v: &[f32]| {
+            let mut v = v.to_vec();
+            v.sort_by(f32::total_cmp);
+            v[v.len() / 2]
+        };
+        assert!(median(&near) < 1e-2 * median(&far).max(1e-6) + 1e-3, "{} vs {}", median(&near), median(&far));
+        assert!(median(&far) > 0.0);
     }
 }
