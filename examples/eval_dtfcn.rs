@@ -34,8 +34,8 @@ mod lab {
 
     use mocapseg::labels::{from_truth_csv, LabelRow};
     use mocapseg::methods::dtfcn::augment::Augment;
-    use mocapseg::methods::dtfcn::corpus::{class_labels, leave_one_take_out, predict_held_out};
-    use mocapseg::methods::dtfcn::training::TrainOptions;
+    use mocapseg::methods::dtfcn::corpus::{class_labels, leave_one_take_out, novelty_scores, predict_held_out};
+    use mocapseg::methods::dtfcn::training::{TrainOptions, TrainingTake};
     use mocapseg::motion::Motion;
     use mocapseg::segment::truth::TruthOptions;
 
@@ -222,8 +222,20 @@ mod lab {
             let without: Vec<Vec<Option<usize>>> =
                 labels.iter().map(|l| l.iter().map(|x| x.filter(|&c| c != gone)).collect()).collect();
             let p = predict_held_out(motions, &without, held, classes, base, &mut |_| true)?;
-            let val = frames_of(&p.validation_probabilities, &p.validation_novelty, &p.validation_source, &labels[p.validation], gone);
-            let out = frames_of(&p.network_probabilities, &p.network_novelty, &p.network_source, &labels[held], gone);
+            // the novelty of each network, fitted on the takes it was trained on (labels without the class)
+            let takes = |skip: &[usize]| -> Result<Vec<TrainingTake>, String> {
+                (0..motions.len())
+                    .filter(|i| !skip.contains(i))
+                    .map(|i| TrainingTake::new(&motions[i], &without[i]))
+                    .collect()
+            };
+            let k = classes.len();
+            let validation_novelty =
+                novelty_scores(&p.validation_network, &takes(&[held, p.validation])?, k, &motions[p.validation])?;
+            let held_novelty = novelty_scores(&p.final_network, &takes(&[held])?, k, &motions[held])?;
+            let knn_distance = p.knn_model.nearest_distances(&motions[held])?;
+            let val = frames_of(&p.validation_probabilities, &validation_novelty, &p.validation_source, &labels[p.validation], gone);
+            let out = frames_of(&p.network_probabilities, &held_novelty, &p.network_source, &labels[held], gone);
             let conf = |f: &(f32, f32, bool), t: f32| f.0 < t;
             let nov = |f: &(f32, f32, bool), t: f32| f.1 > t;
             let tc = choose(&val, &confidence_grid, &conf);
@@ -251,7 +263,7 @@ mod lab {
             for (f, l) in labels[held].iter().enumerate() {
                 if let Some(l) = l {
                     knn_pooled.push((-p.knn[f].1, *l == gone));
-                    distance_pooled.push((p.knn_distance[f], *l == gone));
+                    distance_pooled.push((knn_distance[f], *l == gone));
                 }
             }
         }

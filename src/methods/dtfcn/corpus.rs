@@ -223,7 +223,6 @@ pub struct Fold {
 }
 
 /// The held-out take's labels in one fold of the nested protocol, by the network and the k-NN.
-#[derive(Debug, Clone)]
 pub struct FoldPrediction {
     /// Per file frame of the held-out take: class and confidence (network) / vote share (k-NN).
     pub network: Vec<(usize, f32)>,
@@ -248,17 +247,17 @@ pub struct FoldPrediction {
     /// their file positions.
     pub network_probabilities: super::infer::Probabilities,
     pub network_source: Vec<f64>,
-    /// [`super::novelty`] scores per working frame: of the validation take under the early-stopped network
-    /// (fitted on its training takes), and of the held-out take under the retrained one.
-    pub validation_novelty: Vec<f32>,
-    pub network_novelty: Vec<f32>,
-    /// Per file frame of the held-out take: the k-NN's distance to the nearest training window.
-    pub knn_distance: Vec<f32>,
+    /// The early-stopped network (trained without the validation take) and the one retrained on every take but
+    /// the held-out one, and the k-NN that labelled the held-out take: what an experiment measures further
+    /// (the leave-one-class-out's unknowns) without the protocol doing that work for every caller.
+    pub validation_network: Trained,
+    pub final_network: Trained,
+    pub knn_model: Knn,
 }
 
-/// The novelty score of every working frame of `motion` under `trained`, fitted on the labelled frames of
-/// `takes` (what it was trained on).
-fn novelty_scores(trained: &Trained, takes: &[TrainingTake], classes: usize, motion: &Motion) -> Result<Vec<f32>, String> {
+/// The novelty score ([`super::novelty`]) of every working frame of `motion` under `trained`, fitted on the
+/// labelled frames of `takes` (what it was trained on).
+pub fn novelty_scores(trained: &Trained, takes: &[TrainingTake], classes: usize, motion: &Motion) -> Result<Vec<f32>, String> {
     use super::infer::predict_with_features;
     let mut rows = Vec::new();
     let mut labels = Vec::new();
@@ -326,13 +325,11 @@ pub fn predict_held_out(
     let validation = TrainingTake::new(&motions[val], &imperfect[val])?;
     let chosen = train(&inner, &[validation], classes, options, &mut *on_epoch)?;
     let (validation_probabilities, validation_source) = probabilities(&chosen, &motions[val], classes.len())?;
-    let validation_novelty = novelty_scores(&chosen, &inner, classes.len(), &motions[val])?;
     let validation_labels = file_frames_of(&validation_probabilities, &validation_source, &motions[val]);
     let all: Vec<TrainingTake> = (0..n).filter(|&i| i != held).map(take).collect::<Result<_, _>>()?;
     let again = TrainOptions { epochs: chosen.best_epoch, ..options.clone() };
     let trained = train(&all, &[], classes, &again, on_epoch)?;
     let (network_probabilities, network_source) = probabilities(&trained, &motions[held], classes.len())?;
-    let network_novelty = novelty_scores(&trained, &all, classes.len(), &motions[held])?;
     let network = file_frames_of(&network_probabilities, &network_source, &motions[held]);
     // the k-NN's k: fitted without the validation take, scored on its (noisy) labels
     let knn_inner: Vec<(&Motion, &[Option<usize>])> =
@@ -356,7 +353,6 @@ pub fn predict_held_out(
         (0..n).filter(|&i| i != held).map(|i| (&motions[i], imperfect[i].as_slice())).collect();
     let fitted = fit_knn(&knn_train, KnnParams { k: knn_k.0, ..KnnParams::default() })?;
     let knn = fitted.predict(&motions[held])?;
-    let knn_distance = fitted.nearest_distances(&motions[held])?;
     let validation_accuracy =
         chosen.reports.iter().find(|r| r.epoch == chosen.best_epoch).and_then(|r| r.validation_accuracy).unwrap_or(0.0);
     Ok(FoldPrediction {
@@ -372,9 +368,9 @@ pub fn predict_held_out(
         validation_source,
         network_probabilities,
         network_source,
-        validation_novelty,
-        network_novelty,
-        knn_distance,
+        validation_network: chosen,
+        final_network: trained,
+        knn_model: fitted,
     })
 }
 

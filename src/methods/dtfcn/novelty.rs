@@ -96,23 +96,19 @@ impl Novelty {
         let mut novelty = Novelty { features, rank, projection, centres: vec![0f32; classes * rank], scale: 1.0 };
         let centres: Vec<f32> = (0..classes)
             .flat_map(|c| {
+                if counts[c] == 0 {
+                    // a class without frames can never be nearest
+                    return vec![f32::INFINITY; rank];
+                }
                 let mean: Vec<f32> = means[c * features..(c + 1) * features].iter().map(|&m| m as f32).collect();
                 novelty.project(&mean)
             })
             .collect();
         novelty.centres = centres;
-        // only classes that had frames are centres
-        let present: Vec<bool> = counts.iter().map(|&k| k > 0).collect();
-        let mut raw: Vec<f32> = (0..n).map(|i| novelty.raw_among(&rows[i * features..(i + 1) * features], &present)).collect();
+        let mut raw: Vec<f32> = rows.chunks(features).map(|f| novelty.raw(f)).collect();
         raw.sort_by(f32::total_cmp);
         let at = ((n - 1) as f64 * SCALE_PERCENTILE).round() as usize;
         novelty.scale = raw[at].max(1e-12);
-        // a class without frames can never be nearest
-        for (c, p) in present.iter().enumerate() {
-            if !p {
-                novelty.centres[c * rank..(c + 1) * rank].iter_mut().for_each(|v| *v = f32::INFINITY);
-            }
-        }
         Ok(novelty)
     }
 
@@ -122,14 +118,12 @@ impl Novelty {
             .collect()
     }
 
-    fn raw_among(&self, f: &[f32], present: &[bool]) -> f32 {
+    /// Whitened distance to the nearest class centre (classes without training frames are at infinity).
+    fn raw(&self, f: &[f32]) -> f32 {
         let z = self.project(f);
-        let classes = self.centres.len() / self.rank.max(1);
-        (0..classes)
-            .filter(|&c| present[c])
-            .map(|c| {
-                self.centres[c * self.rank..(c + 1) * self.rank].iter().zip(&z).map(|(m, v)| (v - m) * (v - m)).sum::<f32>()
-            })
+        self.centres
+            .chunks(self.rank.max(1))
+            .map(|m| m.iter().zip(&z).map(|(m, v)| (v - m) * (v - m)).sum::<f32>())
             .fold(f32::INFINITY, f32::min)
             .sqrt()
     }
@@ -137,9 +131,7 @@ impl Novelty {
     /// The score of one frame's features: its whitened distance to the nearest class mean over the
     /// training frames' 95th percentile (1 = as far as the farthest 5 % of training frames).
     pub fn score(&self, f: &[f32]) -> f32 {
-        let classes = self.centres.len() / self.rank.max(1);
-        let present: Vec<bool> = (0..classes).map(|c| self.centres[c * self.rank].is_finite()).collect();
-        self.raw_among(f, &present) / self.scale
+        self.raw(f) / self.scale
     }
 
     /// Scores of every frame of `rows` (frame-major).
