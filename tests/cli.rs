@@ -477,7 +477,7 @@ fn train_dtfcn_builds_the_papers_network_and_other_shapes_from_its_flags() {
     let seg = stdout_json(&run(&["segment", "--method", "dtfcn", "--model", model.to_str().unwrap(), walk.to_str().unwrap()]));
     assert!(!seg["segments"].as_array().unwrap().is_empty());
     // refusals name the flag
-    for (bad, says) in [(vec!["--layers", "9"], "--layers 9"), (vec!["--padding", "mirror"], "padding `mirror`")] {
+    for (bad, says) in [(vec!["--layers", "9"], "--layers 9"), (vec!["--padding", "mirror"], "--padding: padding \"mirror\"")] {
         let owned = args(&bad);
         let out = run(&owned.iter().map(String::as_str).collect::<Vec<_>>());
         assert!(!out.status.success());
@@ -500,22 +500,20 @@ fn train_dtfcn_writes_a_model_that_segment_and_model_info_read_and_bad_models_ar
     let model = dir.join("walk.model");
     let (a, b) = (fixture("02_01.bvh"), fixture("35_01.bvh"));
     for method in ["dtfcn", "knn"] {
-        let out = run(&[
-            "train-dtfcn",
-            "--method",
-            method,
-            "--bvh",
-            a.to_str().unwrap(),
-            b.to_str().unwrap(),
-            "--labels",
-            labels.to_str().unwrap(),
-            "--epochs",
-            "2",
-            "--width",
-            "2",
-            "--out",
-            model.to_str().unwrap(),
-        ]);
+        let command = format!("train-{method}");
+        let mut args =
+            vec![command.as_str(), "--bvh", a.to_str().unwrap(), b.to_str().unwrap(), "--labels", labels.to_str().unwrap()];
+        // the network's flags are rows of DT-FCN's table only: the k-NN's refuses them
+        let network = ["--epochs", "2", "--width", "2"];
+        if method == "dtfcn" {
+            args.extend(network);
+        } else {
+            let refused = run(&[args.clone(), network.to_vec()].concat());
+            assert!(!refused.status.success());
+            assert!(String::from_utf8_lossy(&refused.stderr).contains("--epochs"), "{refused:?}");
+        }
+        args.extend(["--out", model.to_str().unwrap()]);
+        let out = run(&args);
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(out.status.success(), "{method}: {err}");
         assert!(err.contains("elsewhere.bvh"), "the row of a take not given is said: {err}");
@@ -530,7 +528,7 @@ fn train_dtfcn_writes_a_model_that_segment_and_model_info_read_and_bad_models_ar
         let info = stdout_json(&run(&["model-info", model.to_str().unwrap()]));
         assert_eq!(info["kind"], method);
         assert_eq!(info["classes"], serde_json::json!(["start", "walk"]));
-        assert!(info["provenance"]["command"].as_str().unwrap().starts_with("mocapseg train-dtfcn"));
+        assert!(info["provenance"]["command"].as_str().unwrap().starts_with(&format!("mocapseg {command}")));
         let seg = stdout_json(&run(&[
             "segment",
             "--method",
@@ -830,4 +828,34 @@ fn train_trains_any_method_with_models_from_its_declared_options() {
     assert!(!out.status.success() && err.contains("width: width 9: expected a whole number from 2 to 3"), "{err}");
     let out = run(&["train", "--method", "sssm", &arg(&a), "--labels", &arg(&labels), "-o", "/dev/null"]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("SSSM has no models to train"));
+}
+
+/// `train-dtfcn`, `train-knn`, `train-lma`: a flag for every row of the method's training table (the page's form
+/// rows), with the row's help, bounds and default in `--help`, and a bad value refused naming the flag — the
+/// flags are made from the table, so a row added to it is a flag without a line here.
+#[test]
+fn every_training_option_is_a_flag_of_its_train_command() {
+    let mut seen = 0;
+    for m in mocapseg::methods::registry() {
+        let Some(decl) = m.supervision() else { continue };
+        let command = format!("train-{}", m.info().name);
+        let out = run(&[&command, "--help"]);
+        let help = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{command}: {}", String::from_utf8_lossy(&out.stderr));
+        for spec in &decl.training {
+            let flag = format!("--{} <VALUE>", spec.name.replace('_', "-"));
+            assert!(help.contains(&flag), "{command} --help lacks {flag}:\n{help}");
+            let default = format!("default {}", mocapseg::method::form::field_text(&spec.default));
+            assert!(help.contains(&default), "{command} --help lacks {default}:\n{help}");
+        }
+        seen += 1;
+    }
+    assert_eq!(seen, 3, "dtfcn, knn and lma have models");
+    let labels = fixture("12_01.bvh");
+    let out = run(&["train-dtfcn", "--bvh", labels.to_str().unwrap(), "--labels", "x.csv", "--epochs", "many", "-o", "/dev/null"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("--epochs"), "{err}");
+    let out = run(&["train-lma", "--bvh", labels.to_str().unwrap(), "--restarts", "0", "-o", "/dev/null"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("restarts"), "{err}");
 }

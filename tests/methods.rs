@@ -208,3 +208,43 @@ fn every_training_option_is_read_from_the_declared_table_and_refused_by_name() {
     }
     assert_eq!(supervised, 3, "LMA, the k-NN and DT-FCN declare their training");
 }
+
+/// The floor plan's rule (issue 22): the page, the worker and the message types reach methods only through the
+/// registry, so no file under `src/app/`, `src/worker/` or `src/protocol.rs` names a method's module
+/// (`methods::dtfcn`, `methods::lma::…`) — tests included. A new method then needs no line there.
+#[test]
+fn the_page_and_the_worker_name_no_method_module() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = vec![root.join("protocol.rs")];
+    for dir in ["app", "worker"] {
+        let mut stack = vec![root.join(dir)];
+        while let Some(d) = stack.pop() {
+            for entry in std::fs::read_dir(&d).unwrap() {
+                let path = entry.unwrap().path();
+                if path.is_dir() {
+                    stack.push(path);
+                } else if path.extension().is_some_and(|e| e == "rs") {
+                    files.push(path);
+                }
+            }
+        }
+    }
+    assert!(files.len() > 5, "the page's and the worker's sources were not found: {files:?}");
+    let modules: Vec<String> = mocapseg::methods::registry().iter().map(|m| format!("methods::{}", m.info().name)).collect();
+    let mut found = Vec::new();
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        for (n, line) in text.lines().enumerate() {
+            for module in &modules {
+                // `methods::knn` but not `methods::knnx`; `methods::registry` is not a method
+                let hit = line.match_indices(module.as_str()).any(|(at, _)| {
+                    !line[at + module.len()..].starts_with(|c: char| c.is_alphanumeric() || c == '_')
+                });
+                if hit {
+                    found.push(format!("{}:{}: {}", file.display(), n + 1, line.trim()));
+                }
+            }
+        }
+    }
+    assert!(found.is_empty(), "files of the page / worker name a method's module:\n{}", found.join("\n"));
+}

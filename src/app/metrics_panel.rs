@@ -14,7 +14,7 @@
 
 use super::summary::{is_bundled_sample, SAMPLE_TRAINED};
 use super::AppState;
-use crate::methods::dtfcn::method::IN_SAMPLE;
+use crate::method::supervised::IN_SAMPLE;
 use crate::segment::metrics::{evaluate, Scores, Tolerances};
 use crate::segment::{Level, Segmentation};
 use leptos::prelude::*;

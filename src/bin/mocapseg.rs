@@ -196,105 +196,6 @@ mod cli {
             #[arg(long, short)]
             out: PathBuf,
         },
-        /// Train the LMA Effort classifier family (121 boundary-shifted classifiers × 4 networks) and
-        /// write it as JSON. Without --labels the labels are the stand-in Effort descriptors' terciles
-        /// over the takes' segments between hand-speed minima (how the shipped models/lma-effort.json is made).
-        TrainLma {
-            /// BVH files and/or folders to learn from.
-            #[arg(required = true)]
-            inputs: Vec<PathBuf>,
-            /// Your own Effort labels: CSV `file,start_frame,end_frame,space,time,weight,flow`
-            /// (0-based inclusive file frames; indulging|neutral|condensing).
-            #[arg(long)]
-            labels: Option<PathBuf>,
-            /// Seed of every random choice (same seed, same model).
-            #[arg(long, default_value_t = 1)]
-            seed: u64,
-            /// Random initialisations of each unshifted network (the paper's 20).
-            #[arg(long, default_value_t = 20)]
-            restarts: usize,
-            #[arg(long, short)]
-            out: PathBuf,
-        },
-        /// Train a DT-FCN (or, with --method knn, fit the k-NN) on labelled takes and write the model
-        /// file `segment --method dtfcn --model FILE` reads. Labels: CSV `file,start_frame,end_frame,label`
-        /// (0-based inclusive file frames; `mocapseg labels` converts the shared data's ground truth).
-        /// With --cross-validate: leave-one-take-out, the epochs chosen on an inner validation take,
-        /// a table of frame accuracy, edit and F1@{10,25,50} per held-out take, network and k-NN side by side.
-        TrainDtfcn {
-            /// BVH files and/or folders (takes without label rows are skipped, and said).
-            #[arg(long = "bvh", required = true, num_args = 1..)]
-            bvh: Vec<PathBuf>,
-            #[arg(long)]
-            labels: PathBuf,
-            /// Most epochs (training stops earlier when the validation loss stops falling).
-            #[arg(long, default_value_t = 60)]
-            epochs: usize,
-            /// The model file to write.
-            #[arg(long, short)]
-            out: Option<PathBuf>,
-            /// `dtfcn` or `knn`.
-            #[arg(long, default_value = "dtfcn")]
-            method: String,
-            /// The model's name (default: the output file's stem).
-            #[arg(long)]
-            name: Option<String>,
-            #[arg(long, default_value_t = 1)]
-            seed: u64,
-            /// Share of training frames given a random label (the paper's Table 3), 0–1.
-            #[arg(long, default_value_t = 0.0)]
-            noise: f64,
-            /// w_transition in seconds: the span around each label change whose loss is zeroed
-            /// (Table 4: the paper's 11/21/31 frames at 72 Hz are 0.15/0.29/0.43 s; 0 = none).
-            #[arg(long, default_value_t = 0.0)]
-            mask_s: f64,
-            /// `all`, `none`, or a list of mirror,yaw,warp,scale,jitter.
-            #[arg(long, default_value = "all")]
-            augment: String,
-            /// The take whose validation loss chooses the epoch (early stopping); default none.
-            #[arg(long)]
-            validation: Option<String>,
-            /// Leave-one-take-out table instead of one model.
-            #[arg(long)]
-            cross_validate: bool,
-            #[arg(long, default_value_t = 1e-3)]
-            learning_rate: f64,
-            #[arg(long, default_value_t = 1e-4)]
-            weight_decay: f64,
-            /// Kernel width w (receptive field w^L frames at 30 Hz, L the layer count).
-            #[arg(long, default_value_t = 3)]
-            width: usize,
-            /// Layers L, filters in the paper's pattern (doubling from 64 to 512; 5 = 64,64,128,256,512).
-            /// Default 4 (64,128,256,512): with w = 3, 81 frames = 2.7 s at 30 Hz, the paper's 3.4 s at 72 Hz.
-            #[arg(long, conflicts_with = "filters")]
-            layers: Option<usize>,
-            /// Filters of each layer, comma-separated (their count is L).
-            #[arg(long, value_delimiter = ',')]
-            filters: Option<Vec<usize>>,
-            /// What the convolutions read beyond the take's ends: zero or edge.
-            #[arg(long, default_value = "zero")]
-            padding: String,
-            /// The paper's input: the motion image resized to this many rows before layer 1
-            /// (224: the paper's 663,562 parameters with its 10 classes).
-            #[arg(long)]
-            image_rows: Option<usize>,
-            /// Epochs without a better validation loss before stopping.
-            #[arg(long, default_value_t = 12)]
-            patience: usize,
-            /// Frames of each training crop the loss is taken on.
-            #[arg(long, default_value_t = 128)]
-            crop: usize,
-            /// Crops per optimiser step.
-            #[arg(long, default_value_t = 2)]
-            batch: usize,
-            /// The model's decoding (its runs' default, `--param decoding=model`): shortest run of one label in
-            /// seconds (0 with --switch-cost 0: raw per-frame labels).
-            #[arg(long, default_value_t = 0.0)]
-            min_duration_s: f64,
-            /// The model's decoding: cost of a change of label, in nats.
-            #[arg(long, default_value_t = 0.0)]
-            switch_cost: f64,
-        },
         /// Print a model's header: kind, classes, colours, joint set, rate, how it was trained. FILE is
         /// a model file of any method with models, or a shipped model's name (`exercises`: every
         /// method's of that name, or one with --method; `dtfcn-exercises` / `dtfcn-exercises.model`,
@@ -399,8 +300,16 @@ mod cli {
     }
 
     pub fn main() -> ExitCode {
-        let cli = Cli::parse();
-        match run(cli.command) {
+        use clap::{CommandFactory, FromArgMatches};
+        let matches = Cli::command().subcommands(training_commands()).get_matches();
+        let result = match matches.subcommand() {
+            Some((sub, m)) if sub.starts_with("train-") => train_from_flags(&sub["train-".len()..], m).map(|()| Outcome::Ok),
+            _ => match Cli::from_arg_matches(&matches) {
+                Ok(cli) => run(cli.command),
+                Err(e) => e.exit(),
+            },
+        };
+        match result {
             Ok(Outcome::Ok) => ExitCode::SUCCESS,
             Ok(Outcome::Partial) => ExitCode::from(2),
             Err(message) => {
@@ -432,75 +341,7 @@ mod cli {
             Command::Train { method, inputs, labels, options, name, out } => {
                 train(&method, &inputs, &labels, &options, name, &out)
             }
-            Command::TrainLma { inputs, labels, seed, restarts, out } => {
-                train_lma(&inputs, labels, seed, restarts, &out)
-            }
             Command::Gait { inputs, out, within, label } => gait(&inputs, out, within.zip(label)),
-            Command::TrainDtfcn {
-                bvh,
-                labels,
-                epochs,
-                out,
-                method,
-                name,
-                seed,
-                noise,
-                mask_s,
-                augment,
-                validation,
-                cross_validate,
-                learning_rate,
-                weight_decay,
-                width,
-                layers,
-                filters,
-                padding,
-                image_rows,
-                patience,
-                crop,
-                batch,
-                min_duration_s,
-                switch_cost,
-            } => {
-                use mocapseg::methods::dtfcn::network::{paper_filters, Padding};
-                let filters = match (layers, filters) {
-                    (Some(l), _) if !(1..=6).contains(&l) => return Err(format!("--layers {l}: expected 1 to 6")),
-                    (Some(l), _) => paper_filters(l),
-                    (None, Some(f)) => f,
-                    (None, None) => mocapseg::methods::dtfcn::training::TrainOptions::default().filters,
-                };
-                let padding = Padding::parse(&padding).map_err(|e| format!("--{e}"))?;
-                let augment = mocapseg::methods::dtfcn::augment::Augment::parse(&augment)?;
-                let options = mocapseg::methods::dtfcn::training::TrainOptions {
-                    epochs,
-                    seed,
-                    label_noise: noise,
-                    mask_s,
-                    augment,
-                    learning_rate,
-                    weight_decay,
-                    width,
-                    filters,
-                    padding,
-                    image_rows,
-                    patience,
-                    crop_frames: crop,
-                    batch,
-                    ..Default::default()
-                };
-                let decoding = mocapseg::methods::dtfcn::decode::Decoding { min_duration_s, switch_cost };
-                crate::dtfcn_cli::train(
-                    &bvh,
-                    &labels,
-                    options,
-                    decoding,
-                    out,
-                    &method,
-                    name,
-                    validation,
-                    cross_validate,
-                )
-            }
             Command::ModelInfo { file, method } => crate::dtfcn_cli::model_info(&file, method.as_deref()),
             Command::Labels { truth, first_frame, row_offset, out } => {
                 labels(&truth, TruthOptions { first_frame, bvh_row_offset: row_offset }, out)
@@ -679,6 +520,17 @@ mod cli {
         }
     }
 
+    /// What a flag of a training table takes (lists written as the page's form writes them: comma-separated).
+    fn flag_kind_text(kind: &ParamKind) -> String {
+        match kind {
+            ParamKind::IntegerList { min, max, max_len } => {
+                format!("at most {max_len} whole numbers in [{min}, {max}], comma-separated")
+            }
+            ParamKind::Flags { options } => format!("any of {}, comma-separated; none: empty", options.join(", ")),
+            other => kind_text(other),
+        }
+    }
+
     fn methods(json: bool) -> Result<(), String> {
         if json {
             let list: Vec<_> = mocapseg::methods::registry()
@@ -731,11 +583,11 @@ mod cli {
         out: &Path,
     ) -> Result<(), String> {
         let m = mocapseg::methods::find(method_name).map_err(|e| e.to_string())?;
-        let (Some(supervised), Some(decl)) = (m.supervised(), m.supervision()) else {
+        let Some(decl) = m.supervision() else {
             return Err(format!("{} has no models to train", m.info().short));
         };
         // the options as the method's table reads them (names checked against it)
-        let mut json = serde_json::Map::new();
+        let mut given = Vec::new();
         for o in options {
             let (key, raw) = o.split_once('=').ok_or_else(|| format!("--option {o}: expected NAME=VALUE"))?;
             let key = key.trim().replace('-', "_");
@@ -747,11 +599,24 @@ mod cli {
                     known.join(", ")
                 ));
             };
-            let text = [raw.trim().to_string()];
-            let value = method::form::params_from_form(&m.info().short, std::slice::from_ref(spec), &text)
-                .map_err(|e| e.to_string())?;
-            json.insert(key, value[&spec.name].clone());
+            given.push((spec, raw.trim().to_string()));
         }
+        let json = options_json(m, given.into_iter(), |name| format!("--option {name}"))?;
+        train_with(m, inputs, labels, json, name, out)
+    }
+
+    /// A training through the method's [`method::Supervised`] interface, as the page trains.
+    fn train_with(
+        m: &dyn DynMethod,
+        inputs: &[PathBuf],
+        labels: &Path,
+        options: serde_json::Value,
+        name: Option<String>,
+        out: &Path,
+    ) -> Result<(), String> {
+        let (Some(supervised), Some(decl)) = (m.supervised(), m.supervision()) else {
+            return Err(format!("{} has no models to train", m.info().short));
+        };
         let files = collect_files(inputs, "bvh")?;
         let mut takes = Vec::new();
         for f in &files {
@@ -769,7 +634,7 @@ mod cli {
                 .map_or_else(|| labels.display().to_string(), |n| n.to_string_lossy().into_owned()),
             labels: read_text(labels)?,
             takes,
-            options: serde_json::Value::Object(json),
+            options,
             command: Some(std::env::args().collect::<Vec<_>>().join(" ")),
         };
         let started = Instant::now();
@@ -813,6 +678,105 @@ mod cli {
             started.elapsed().as_secs_f64()
         );
         Ok(())
+    }
+
+    /// The `train-M` commands, one per method with models: the takes, the labels, the model file, and a
+    /// flag per row of the method's training table (`--NAME VALUE`; help, bounds and default from the row,
+    /// as the page's training form shows them), plus the method's own research flags
+    /// ([`crate::dtfcn_cli::research_flags`]).
+    fn training_commands() -> Vec<clap::Command> {
+        use clap::{value_parser, Arg};
+        mocapseg::methods::registry()
+            .iter()
+            .filter_map(|m| {
+                let decl = m.supervision()?;
+                let info = m.info();
+                let mut command = clap::Command::new(format!("train-{}", info.name))
+                    .about(format!(
+                        "Train {} on labelled takes and write its model file (`segment --method {} --model FILE` reads it). Every training option is a flag made from the method's table (`mocapseg methods` lists it; the page's training form has the same rows); `train --method {} --option NAME=VALUE` is the same training.",
+                        info.short, info.name, info.name
+                    ))
+                    .arg(
+                        Arg::new("bvh")
+                            .long("bvh")
+                            .required(true)
+                            .num_args(1..)
+                            .value_name("FILE|DIR")
+                            .value_parser(value_parser!(PathBuf))
+                            .help("BVH files and/or folders (takes the labels do not name are skipped, and said)"),
+                    )
+                    .arg(
+                        Arg::new("labels")
+                            .long("labels")
+                            .value_name("CSV")
+                            .value_parser(value_parser!(PathBuf))
+                            .help(format!("The label CSV `{}`", decl.labels_header)),
+                    )
+                    .arg(
+                        Arg::new("out")
+                            .long("out")
+                            .short('o')
+                            .value_name("FILE")
+                            .value_parser(value_parser!(PathBuf))
+                            .help("The model file to write"),
+                    )
+                    .arg(Arg::new("name").long("name").value_name("NAME").help("The model's name (default: the model file's stem)"));
+                for spec in &decl.training {
+                    let unit = spec.unit.as_deref().map(|u| format!(" {u}")).unwrap_or_default();
+                    command = command.arg(
+                        Arg::new(spec.name.clone())
+                            .long(spec.name.replace('_', "-"))
+                            .value_name("VALUE")
+                            .allow_negative_numbers(true)
+                            .help(format!(
+                                "{} [{}; default {}{unit}]",
+                                spec.help,
+                                flag_kind_text(&spec.kind),
+                                method::form::field_text(&spec.default)
+                            )),
+                    );
+                }
+                Some(crate::dtfcn_cli::research_flags(&info.name, command))
+            })
+            .collect()
+    }
+
+    /// The training options of `specs` given as NAME / text pairs, read as the page's form reads its fields
+    /// (`flag`: how a refusal names the option on this command line).
+    fn options_json<'a>(
+        m: &dyn DynMethod,
+        given: impl Iterator<Item = (&'a method::ParamSpec, String)>,
+        flag: impl Fn(&str) -> String,
+    ) -> Result<serde_json::Value, String> {
+        let mut json = serde_json::Map::new();
+        for (spec, text) in given {
+            let value = method::form::params_from_form(&m.info().short, std::slice::from_ref(spec), &[text])
+                .map_err(|e| format!("{}: {e}", flag(&spec.name)))?;
+            json.insert(spec.name.clone(), value[&spec.name].clone());
+        }
+        Ok(serde_json::Value::Object(json))
+    }
+
+    /// `mocapseg train-M …`: the table's flags read into the options JSON, then the method's training.
+    fn train_from_flags(method_name: &str, args: &clap::ArgMatches) -> Result<(), String> {
+        let m = mocapseg::methods::find(method_name).map_err(|e| e.to_string())?;
+        let decl = m.supervision().ok_or_else(|| format!("{method_name} has no models to train"))?;
+        let given = decl
+            .training
+            .iter()
+            .filter_map(|spec| args.get_one::<String>(&spec.name).map(|text| (spec, text.clone())));
+        let options = options_json(m, given, |name| format!("--{}", name.replace('_', "-")))?;
+        let bvh: Vec<PathBuf> = args.get_many::<PathBuf>("bvh").into_iter().flatten().cloned().collect();
+        let labels = args.get_one::<PathBuf>("labels").cloned();
+        let out = args.get_one::<PathBuf>("out").cloned();
+        let name = args.get_one::<String>("name").cloned();
+        if let Some(done) = crate::dtfcn_cli::research_training(method_name, &bvh, labels.as_deref(), &options, out.as_deref(), name.clone(), args) {
+            return done;
+        }
+        // a method without research flags: exactly the page's training
+        let labels = labels.ok_or("--labels FILE is needed")?;
+        let out = out.ok_or("--out FILE is needed")?;
+        train_with(m, &bvh, &labels, options, name, &out)
     }
 
     fn read_text(path: &Path) -> Result<String, String> {
@@ -922,15 +886,16 @@ mod cli {
         Ok(())
     }
 
-    fn train_lma(
+    /// `mocapseg train-lma`: the family trained on every take given (the page trains on the take on
+    /// screen), with the user's Effort labels or, without `labels`, the stand-in descriptors' terciles.
+    pub(crate) fn train_lma(
         inputs: &[PathBuf],
-        labels: Option<PathBuf>,
-        seed: u64,
-        restarts: usize,
+        labels: Option<&Path>,
+        train_config: mocapseg::methods::lma::training::TrainConfig,
         out: &Path,
     ) -> Result<(), String> {
         use mocapseg::methods::lma::corpus::{parse_labels, Corpus, CorpusConfig};
-        use mocapseg::methods::lma::training::{train_family, TrainConfig};
+        use mocapseg::methods::lma::training::train_family;
         let started = Instant::now();
         let files = collect_files(inputs, "bvh")?;
         let mut motions = Vec::new();
@@ -966,7 +931,6 @@ mod cli {
         bar.set_style(
             indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {msg}").map_err(|e| e.to_string())?,
         );
-        let train_config = TrainConfig { seed, restarts, ..TrainConfig::default() };
         let (model, reports) = train_family(&corpus, &train_config, &mut |stage, f| {
             bar.set_position((f * 1000.0) as u64);
             bar.set_message(stage.to_string());

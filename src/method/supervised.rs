@@ -22,6 +22,10 @@ use serde::{Deserialize, Serialize};
 
 use super::{MethodError, ParamKind, ParamSpec, Progress};
 
+/// How a supervised method's run summary begins the sentence that says the take was one of its
+/// model's training takes (the page's metrics panel finds it there and shows it beside the scores).
+pub const IN_SAMPLE: &str = "in-sample:";
+
 /// What a supervised method declares about its training and models.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Supervision {

@@ -570,6 +570,12 @@ mod tests {
         assert!(matches!(posted.last(), Some(Response::Loaded { .. })), "{:?}", posted.last());
     }
 
+    /// What `model-info` shows of a model file of `method`, read through the registry.
+    fn model_details(method: &str, bytes: &[u8], file: &str) -> serde_json::Value {
+        let supervised = crate::methods::find(method).unwrap().supervised().unwrap();
+        supervised.model_details(&supervised.read_model(file, bytes).unwrap())
+    }
+
     fn run_method(w: &mut WorkerState, run: RunId, method: &str, params: serde_json::Value) -> Box<MethodView> {
         let posted = ask(w, Request::Segment { take: 1, run, method: method.into(), params });
         let Some(Response::Segmented { view, .. }) = posted.last() else { panic!("{:?}", posted.last()) };
@@ -651,9 +657,7 @@ mod tests {
         assert_eq!(report.rows[0][1], "4 / 4 / 4");
         assert_eq!((model.method.as_str(), model.name.as_str()), ("lma", "mine"));
         assert_eq!(model.origin, "12 segments of 12_01.bvh labelled in labels.csv");
-        let family =
-            crate::methods::lma::classifier::EffortModel::from_json(std::str::from_utf8(bytes).unwrap()).unwrap();
-        assert_eq!(family.samples, 12);
+        assert_eq!(model_details("lma", bytes, "mine.json")["samples"], 12);
         let yours = format!(" · your classifiers ({})", model.origin);
         let view = run_method(&mut w, 9, "lma", serde_json::json!({"model": "mine"}));
         assert!(view.details.summary.ends_with(&yours), "{}", view.details.summary);
@@ -768,9 +772,9 @@ mod tests {
         );
         assert!(command.contains("filters 8,8"), "{command}");
         assert!(bytes.starts_with(b"mocapseg-model\n"));
-        let back = crate::methods::dtfcn::model::Model::from_bytes(bytes, "tiny-trained.model").unwrap();
-        assert_eq!(back.header.classes, model.classes);
-        assert_eq!(back.header.provenance.epochs_run, 2);
+        let back = model_details("dtfcn", bytes, "tiny-trained.model");
+        assert_eq!(back["classes"], serde_json::json!(model.classes));
+        assert_eq!(back["provenance"]["epochs_run"], 2);
 
         // the stored model labels the held take by its name
         load_walk(&mut w, 1);
@@ -850,7 +854,22 @@ mod tests {
             train("knn", 4, "k", walk_labels(), serde_json::json!({"epochs": 3}), vec![("12_01.bvh", take_bytes())]),
         ));
         assert_eq!(param, None);
-        assert!(message.contains("no training options"), "{message}");
+        assert!(message.contains("unknown field `epochs`"), "{message}");
+        // its table is the decoding's rows: the model keeps them
+        let posted = train_to_the_end(
+            &mut w,
+            train(
+                "knn",
+                5,
+                "decoded",
+                walk_labels(),
+                serde_json::json!({"min_duration_s": 1.5, "switch_cost": 20}),
+                vec![("12_01.bvh", take_bytes())],
+            ),
+        );
+        let Some(Response::Trained { model, .. }) = posted.last() else { panic!("{:?}", posted.last()) };
+        let decoding = &model.provenance.iter().find(|(k, _)| k == "decoding").unwrap().1;
+        assert_eq!(decoding, "runs ≥ 1.5 s, switch cost 20", "{:?}", model.provenance);
     }
 
     #[test]
@@ -874,8 +893,7 @@ mod tests {
             "{}",
             report.summary
         );
-        let back = crate::methods::dtfcn::model::Model::from_bytes(bytes, "s.model").unwrap();
-        assert_eq!(back.header.provenance.epochs_run, 1);
+        assert_eq!(model_details("dtfcn", bytes, "s.model")["provenance"]["epochs_run"], 1);
         assert!(w.next_step().is_none());
         assert!(
             ask(&mut w, Request::ContinueTraining { take: 1, run: 3 }).is_empty(),

@@ -1,8 +1,10 @@
-//! `mocapseg train-dtfcn` and `mocapseg model-info`: the DT-FCN and k-NN models on the command
-//! line (the training itself is the library's, `mocapseg::methods::dtfcn`).
+//! What `mocapseg train-dtfcn`, `train-knn` and `train-lma` add to the table's flags (the research
+//! flags: a validation take, leave-one-take-out, LMA's stand-in labels, several takes for LMA), and
+//! `mocapseg model-info` (the training itself is the library's, `mocapseg::methods::…`).
 
 use mocapseg::methods::dtfcn::decode::Decoding;
-use mocapseg::methods::dtfcn::method::MAX_MIN_DURATION_S;
+use mocapseg::methods::dtfcn::model::ModelKind;
+use mocapseg::methods::dtfcn::supervised::options_from_json;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -44,8 +46,91 @@ fn network_summary(options: &TrainOptions, classes: usize) -> String {
     )
 }
 
+/// `command` (a `train-M` command made from M's table) with M's research flags.
+pub fn research_flags(method: &str, command: clap::Command) -> clap::Command {
+    use clap::{Arg, ArgAction};
+    match method {
+        "dtfcn" | "knn" => command
+            .arg(
+                Arg::new("validation")
+                    .long("validation")
+                    .value_name("TAKE")
+                    .help("The take whose validation loss chooses the epoch (early stopping, --patience); default none"),
+            )
+            .arg(Arg::new("cross-validate").long("cross-validate").action(ArgAction::SetTrue).help(
+                "Leave-one-take-out table instead of one model: the epochs chosen on the next take in turn, the k-NN's k \
+                 on it too; frame accuracy, edit and F1@{10,25,50} per held-out take, network and k-NN side by side",
+            ))
+            .args((method == "dtfcn").then(|| {
+                Arg::new("layers")
+                    .long("layers")
+                    .value_name("L")
+                    .value_parser(clap::value_parser!(usize))
+                    .conflicts_with("filters")
+                    .help("Shorthand for --filters in the paper's pattern (doubling from 64 to 512): 4 = 64,128,256,512")
+            })),
+        "lma" => command.mut_arg("labels", |a| {
+            a.help(
+                "Your own Effort labels: CSV `file,start_frame,end_frame,space,time,weight,flow` (0-based inclusive \
+                 file frames; indulging|neutral|condensing). Without it the labels are the stand-in Effort descriptors' \
+                 terciles over the takes' segments between hand-speed minima (how models/lma-effort.json is made)",
+            )
+        }),
+        _ => command,
+    }
+}
+
+/// The training of `method` with its research flags, or `None` for a method without any (it then
+/// trains exactly as the page does). `options`: the table's flags, read.
+pub fn research_training(
+    method: &str,
+    bvh: &[PathBuf],
+    labels: Option<&Path>,
+    options: &serde_json::Value,
+    out: Option<&Path>,
+    name: Option<String>,
+    args: &clap::ArgMatches,
+) -> Option<Result<(), String>> {
+    let kind = match method {
+        "dtfcn" => ModelKind::Dtfcn,
+        "knn" => ModelKind::Knn,
+        "lma" => {
+            return Some((|| {
+                let config = mocapseg::methods::lma::supervised::config_from_json(options).map_err(|e| e.to_string())?;
+                crate::cli::train_lma(bvh, labels, config, out.ok_or("--out FILE is needed")?)
+            })())
+        }
+        _ => return None,
+    };
+    Some((|| {
+        let mut options = options.clone();
+        let layers = args.try_get_one::<usize>("layers").ok().flatten();
+        if let Some(&layers) = layers {
+            if !(1..=6).contains(&layers) {
+                return Err(format!("--layers {layers}: expected 1 to 6"));
+            }
+            options["filters"] = serde_json::json!(mocapseg::methods::dtfcn::network::paper_filters(layers));
+        }
+        let read = options_from_json(kind, &options).map_err(|e| match e.param_name() {
+            Some(p) => format!("--{}: {e}", p.replace('_', "-")),
+            None => e.to_string(),
+        })?;
+        train(
+            bvh,
+            labels.ok_or("--labels FILE is needed")?,
+            read.train,
+            read.decoding.unwrap_or(Decoding::RAW),
+            out.map(Path::to_path_buf),
+            kind.name(),
+            name,
+            args.get_one::<String>("validation").cloned(),
+            args.get_flag("cross-validate"),
+        )
+    })())
+}
+
 #[allow(clippy::too_many_arguments)]
-pub fn train(
+fn train(
     inputs: &[PathBuf],
     labels_path: &Path,
     options: TrainOptions,
@@ -56,16 +141,6 @@ pub fn train(
     validation: Option<String>,
     cross_validate: bool,
 ) -> Result<(), String> {
-    if method != "dtfcn" && method != "knn" {
-        return Err(format!("--method {method}: expected dtfcn or knn"));
-    }
-    options.check()?;
-    if !(0.0..=MAX_MIN_DURATION_S).contains(&decoding.min_duration_s) || !(0.0..=1000.0).contains(&decoding.switch_cost) {
-        return Err(format!(
-            "--min-duration-s {} --switch-cost {}: expected 0 to {MAX_MIN_DURATION_S} s and 0 to 1000",
-            decoding.min_duration_s, decoding.switch_cost
-        ));
-    }
     let started = Instant::now();
     let label_bytes = std::fs::read(labels_path).map_err(|e| format!("{}: {e}", labels_path.display()))?;
     let rows = read_csv(&String::from_utf8_lossy(&label_bytes), &labels_path.display().to_string())?;

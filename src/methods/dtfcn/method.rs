@@ -13,7 +13,7 @@ use super::infer::{predict_blocks, Probabilities, BLOCK_FRAMES};
 use super::input::network_input;
 use super::model::{Labeller, Model, ModelHeader, ModelKind};
 use super::shipped;
-use crate::method::supervised::{Loaded, Training, TrainingAsk};
+use crate::method::supervised::{Loaded, Training, TrainingAsk, IN_SAMPLE};
 use crate::method::{
     Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ModelStore, ParamKind, ParamSpec, Picture, Progress,
     RunOptions, Supervised, Supervision,
@@ -48,10 +48,6 @@ pub const DECODINGS: [&str; 3] = ["model", "raw", "custom"];
 /// The unknown threshold in force unless asked otherwise: what every fold of the scoreboard's nested validation
 /// chose, with the decoding (`make accuracy`, docs/methods/dtfcn.md).
 pub const DEFAULT_THRESHOLD: f64 = 0.5;
-
-/// How a run's summary begins the sentence that says the take was one of the model's training takes
-/// (the metrics panel shows it beside the scores).
-pub const IN_SAMPLE: &str = "in-sample:";
 
 /// The warning a run on one of `header`'s own training takes carries: its scores there are not
 /// what the model does on a take it has not seen.

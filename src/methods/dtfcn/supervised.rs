@@ -9,7 +9,9 @@ use serde::{Deserialize, Serialize};
 
 use super::augment::Augment;
 use super::corpus::{class_labels, fit_knn_model, model_from, rows_without_takes, ModelMeta};
+use super::decode::Decoding;
 use super::input::NetworkInput;
+use super::method::MAX_MIN_DURATION_S;
 use super::model::{data_hash, Model, ModelKind};
 use super::shipped;
 use super::network::Padding;
@@ -18,6 +20,7 @@ use crate::method::supervised::{
     check_model_name, read_options, Loaded, ModelInfo, StepReport, Supervision, Trained, Training, TrainingAsk,
     TrainingReport,
 };
+use crate::method::form::field_text;
 use crate::method::{counted, MethodError, ParamKind, ParamSpec, Progress};
 use crate::methods::lma::corpus::same_file;
 use crate::motion::Motion;
@@ -41,9 +44,42 @@ fn spec(
     ParamSpec { name: name.into(), help: help.into(), kind, default, unit: unit.map(str::to_string), basic }
 }
 
-/// DT-FCN's training options: the table the page's form, the command line's provenance and
-/// [`options_from_json`] read.
-pub fn training_specs() -> Vec<ParamSpec> {
+/// The most a change of label may cost in a model's decoding, in nats.
+pub const MAX_SWITCH_COST: f64 = 1000.0;
+
+/// The rows of the decoding a model keeps (its runs' `decoding=model`), common to both kinds.
+fn decoding_specs() -> Vec<ParamSpec> {
+    vec![
+        spec(
+            "min_duration_s",
+            "The model's decoding: the shortest run of one label its runs keep (0 with switch cost 0: the raw per-frame labels; the shipped exercises models: 2 s, chosen by nested validation).",
+            ParamKind::Number { min: 0.0, max: MAX_MIN_DURATION_S },
+            0.0.into(),
+            Some("s"),
+            false,
+        ),
+        spec(
+            "switch_cost",
+            "The model's decoding: the cost of a change of label, in nats of summed log-probability (0 = free).",
+            ParamKind::Number { min: 0.0, max: MAX_SWITCH_COST },
+            0.0.into(),
+            None,
+            false,
+        ),
+    ]
+}
+
+/// The training options of a model of `kind`: the one table the page's form, the command line's
+/// flags (`mocapseg train-dtfcn --NAME VALUE`), the model's provenance and [`options_from_json`] read.
+pub fn training_specs(kind: ModelKind) -> Vec<ParamSpec> {
+    match kind {
+        ModelKind::Dtfcn => network_specs().into_iter().chain(decoding_specs()).collect(),
+        ModelKind::Knn => decoding_specs(),
+    }
+}
+
+/// The network's rows of DT-FCN's table.
+fn network_specs() -> Vec<ParamSpec> {
     let d = TrainOptions::default();
     let int = |min: i64, max: i64| ParamKind::Integer { min, max };
     vec![
@@ -123,6 +159,14 @@ pub fn training_specs() -> Vec<ParamSpec> {
             false,
         ),
         spec("seed", "Seed of the initial weights, crops and augmentations.", int(0, 1 << 31), d.seed.into(), None, false),
+        spec(
+            "patience",
+            "With a validation take (the command line's --validation): epochs without a better validation loss before training stops.",
+            int(1, 10_000),
+            d.patience.into(),
+            Some("epochs"),
+            false,
+        ),
     ]
 }
 
@@ -153,6 +197,9 @@ struct OptionsJson {
     learning_rate: f64,
     weight_decay: f64,
     seed: i64,
+    patience: i64,
+    min_duration_s: f64,
+    switch_cost: f64,
 }
 
 impl Default for OptionsJson {
@@ -172,13 +219,48 @@ impl Default for OptionsJson {
             learning_rate: d.learning_rate,
             weight_decay: d.weight_decay,
             seed: d.seed as i64,
+            patience: d.patience as i64,
+            min_duration_s: 0.0,
+            switch_cost: 0.0,
         }
     }
 }
 
-/// Reads and checks training options against [`training_specs`]: a refusal names the option.
-pub fn options_from_json(value: &serde_json::Value) -> Result<TrainOptions, MethodError> {
-    let o: OptionsJson = read_options(value, &training_specs(), "DT-FCN")?;
+/// The k-NN's training options as JSON (its table is the decoding's rows).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+struct KnnOptionsJson {
+    min_duration_s: f64,
+    switch_cost: f64,
+}
+
+/// A training's options as read from its table: the trainer's, the decoding its model keeps, and
+/// every row's value as read (what the model's provenance repeats).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelOptions {
+    pub train: TrainOptions,
+    /// `None`: the model's runs label each frame by its most probable class.
+    pub decoding: Option<Decoding>,
+    pub read: serde_json::Value,
+}
+
+/// The decoding a model keeps, `None` for the raw labels.
+fn decoding_of(min_duration_s: f64, switch_cost: f64) -> Option<Decoding> {
+    (min_duration_s > 0.0 || switch_cost > 0.0).then_some(Decoding { min_duration_s, switch_cost })
+}
+
+/// Reads and checks the training options of a model of `kind` against [`training_specs`]: a
+/// refusal names the option.
+pub fn options_from_json(kind: ModelKind, value: &serde_json::Value) -> Result<ModelOptions, MethodError> {
+    let specs = training_specs(kind);
+    if kind == ModelKind::Knn {
+        let o: KnnOptionsJson = read_options(value, &specs, "k-NN")?;
+        let read = serde_json::to_value(&o).map_err(|e| MethodError::params(e.to_string()))?;
+        let decoding = decoding_of(o.min_duration_s, o.switch_cost);
+        return Ok(ModelOptions { train: TrainOptions::default(), decoding, read });
+    }
+    let o: OptionsJson = read_options(value, &specs, "DT-FCN")?;
+    let read = serde_json::to_value(&o).map_err(|e| MethodError::params(e.to_string()))?;
     let augment = Augment::parse(&o.augment.join(",")).map_err(|m| MethodError::param("augment", m))?;
     let options = TrainOptions {
         epochs: o.epochs as usize,
@@ -194,11 +276,12 @@ pub fn options_from_json(value: &serde_json::Value) -> Result<TrainOptions, Meth
         filters: o.filters.iter().map(|&f| f as usize).collect(),
         padding: Padding::parse(&o.padding).map_err(|m| MethodError::param("padding", m))?,
         image_rows: (o.image_rows > 0).then_some(o.image_rows as usize),
+        patience: o.patience as usize,
         ..TrainOptions::default()
     };
     // what the table cannot say (learning rate below 1, …) is still the trainer's to refuse
     options.check().map_err(MethodError::params)?;
-    Ok(options)
+    Ok(ModelOptions { train: options, decoding: decoding_of(o.min_duration_s, o.switch_cost), read })
 }
 
 /// The declaration of the labelling method of `kind`.
@@ -212,10 +295,7 @@ pub fn supervision(kind: ModelKind) -> Supervision {
         more_takes: true,
         model_extension: "model".into(),
         shipped: shipped_names(),
-        training: match kind {
-            ModelKind::Dtfcn => training_specs(),
-            ModelKind::Knn => Vec::new(),
-        },
+        training: training_specs(kind),
         step_name: match kind {
             ModelKind::Dtfcn => "epoch".into(),
             ModelKind::Knn => "fit".into(),
@@ -306,55 +386,20 @@ fn shell_word(text: &str) -> String {
     }
 }
 
-/// The `mocapseg train-dtfcn` command that trains the same model natively (options that are not
-/// the defaults of its flags named after the table's rows).
-pub fn train_command(kind: ModelKind, takes: &[String], labels: &str, name: &str, o: &TrainOptions) -> String {
+/// The `mocapseg train-dtfcn` (`train-knn`) command that trains the same model natively: a flag per
+/// row of the table that is basic or not at its default, as `read` holds it.
+pub fn train_command(kind: ModelKind, takes: &[String], labels: &str, name: &str, read: &serde_json::Value) -> String {
     let mut words = vec![format!("mocapseg train-{} --bvh", kind.name())];
     words.extend(takes.iter().map(|t| shell_word(t)));
     words.push(format!("--labels {}", shell_word(labels)));
-    if kind == ModelKind::Dtfcn {
-        let d = TrainOptions::default();
-        words.push(format!(
-            "--epochs {} --seed {} --noise {} --mask-s {} --augment {} --width {}",
-            o.epochs,
-            o.seed,
-            o.label_noise,
-            o.mask_s,
-            o.augment.describe(),
-            o.width
-        ));
-        if o.filters != d.filters {
-            let list: Vec<String> = o.filters.iter().map(|f| f.to_string()).collect();
-            words.push(format!("--filters {}", list.join(",")));
-        }
-        if o.padding != d.padding {
-            words.push(format!("--padding {}", o.padding.name()));
-        }
-        if let Some(r) = o.image_rows {
-            words.push(format!("--image-rows {r}"));
-        }
-        if o.crop_frames != d.crop_frames {
-            words.push(format!("--crop {}", o.crop_frames));
-        }
-        if o.batch != d.batch {
-            words.push(format!("--batch {}", o.batch));
-        }
-        if o.learning_rate != d.learning_rate {
-            words.push(format!("--learning-rate {}", o.learning_rate));
-        }
-        if o.weight_decay != d.weight_decay {
-            words.push(format!("--weight-decay {}", o.weight_decay));
+    for spec in training_specs(kind) {
+        let Some(value) = read.get(&spec.name) else { continue };
+        if spec.basic || *value != spec.default {
+            words.push(format!("--{} {}", spec.name.replace('_', "-"), shell_word(&field_text(value))));
         }
     }
     words.push(format!("--name {} -o {}", shell_word(name), shell_word(&format!("{name}.model"))));
-    let mut command = words.join(" ");
-    command += " (trained in the browser";
-    if o.filters != TrainOptions::default().filters {
-        let filters: Vec<String> = o.filters.iter().map(usize::to_string).collect();
-        command += &format!(", filters {}", filters.join(","));
-    }
-    command += ")";
-    command
+    words.join(" ") + " (trained in the browser)"
 }
 
 /// Why a label CSV gives nothing to train on from the takes `takes`: its rows (naming `files`)
@@ -449,16 +494,16 @@ fn prepare(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Prepared, Me
 }
 
 impl Prepared {
-    fn meta(&self, kind: ModelKind, options: &TrainOptions) -> ModelMeta {
+    fn meta(&self, kind: ModelKind, options: &ModelOptions) -> ModelMeta {
         let takes: Vec<String> = self.motions.iter().map(|m| m.name.clone()).collect();
         ModelMeta {
             name: self.name.clone(),
             command: self
                 .command
                 .clone()
-                .unwrap_or_else(|| train_command(kind, &takes, &self.labels_name, &self.name, options)),
+                .unwrap_or_else(|| train_command(kind, &takes, &self.labels_name, &self.name, &options.read)),
             data_hash: self.data_hash.clone(),
-            decoding: None,
+            decoding: options.decoding,
         }
     }
 
@@ -488,21 +533,13 @@ pub fn start_training(
     ask: TrainingAsk,
     progress: &mut dyn Progress,
 ) -> Result<Box<dyn Training>, MethodError> {
-    let options = match kind {
-        ModelKind::Dtfcn => options_from_json(&ask.options)?,
-        ModelKind::Knn => {
-            if ask.options.as_object().is_some_and(|o| !o.is_empty()) {
-                return Err(MethodError::params("the k-NN has no training options"));
-            }
-            TrainOptions::default()
-        }
-    };
+    let options = options_from_json(kind, &ask.options)?;
     let prepared = prepare(ask, progress)?;
     match kind {
-        ModelKind::Knn => Ok(Box::new(KnnTraining { prepared, model: None, done: false })),
+        ModelKind::Knn => Ok(Box::new(KnnTraining { prepared, options, model: None, done: false })),
         ModelKind::Dtfcn => {
             let bad_option = |m: String| MethodError::params(m);
-            options.network(prepared.classes.len()).check().map_err(bad_option)?;
+            options.train.network(prepared.classes.len()).check().map_err(bad_option)?;
             progress.step("motion images", 0.5)?;
             let mut training = Vec::with_capacity(prepared.motions.len());
             for (m, l) in prepared.motions.iter().zip(&prepared.labels_per_take) {
@@ -518,7 +555,7 @@ pub fn start_training(
                     labels: t.labels.clone(),
                 })
                 .collect();
-            let trainer = Trainer::new(training, Vec::new(), prepared.classes.clone(), options.clone())
+            let trainer = Trainer::new(training, Vec::new(), prepared.classes.clone(), options.train.clone())
                 .map_err(|m| MethodError::param("labels", format!("{}: {m}", prepared.labels_name)))?;
             progress.step("epoch 1", 0.0)?;
             Ok(Box::new(DtfcnTraining { prepared, trainer, takes: light, options, largest_loss: 0.0 }))
@@ -532,7 +569,7 @@ struct DtfcnTraining {
     trainer: Trainer,
     /// The takes trained on, without their motion images (what the model's provenance needs).
     takes: Vec<TrainingTake>,
-    options: TrainOptions,
+    options: ModelOptions,
     largest_loss: f64,
 }
 
@@ -578,10 +615,10 @@ impl Training for DtfcnTraining {
         let trained = trainer.finish().map_err(MethodError::Failed)?;
         let (ran, best, stopped) = (trained.reports.len(), trained.best_epoch, trained.stopped);
         let meta = prepared.meta(ModelKind::Dtfcn, &options);
-        let model = model_from(trained, &takes, &prepared.classes, &options, &meta);
+        let model = model_from(trained, &takes, &prepared.classes, &options.train, &meta);
         let bytes = model.to_bytes().map_err(MethodError::Failed)?;
         let how = if stopped {
-            format!("stopped after {ran} of {} epochs", options.epochs)
+            format!("stopped after {ran} of {} epochs", options.train.epochs)
         } else {
             format!("{ran} epoch{}", if ran == 1 { "" } else { "s" })
         };
@@ -602,6 +639,7 @@ impl Training for DtfcnTraining {
 /// A k-NN fit: one step.
 struct KnnTraining {
     prepared: Prepared,
+    options: ModelOptions,
     model: Option<Model>,
     done: bool,
 }
@@ -611,7 +649,7 @@ impl Training for KnnTraining {
         let p = &self.prepared;
         let takes: Vec<(&Motion, &[Option<usize>])> =
             p.motions.iter().zip(&p.labels_per_take).map(|(m, l)| (m, &l[..])).collect();
-        let meta = p.meta(ModelKind::Knn, &TrainOptions::default());
+        let meta = p.meta(ModelKind::Knn, &self.options);
         let model = fit_knn_model(&takes, &p.classes, &meta)
             .map_err(|m| MethodError::param("labels", format!("{}: {m}", p.labels_name)))?;
         let frames = model.header.provenance.frames;
@@ -658,10 +696,15 @@ mod tests {
 
     #[test]
     fn the_options_table_reads_its_own_defaults_and_names_what_it_refuses() {
-        let defaults: serde_json::Map<String, serde_json::Value> =
-            training_specs().into_iter().map(|s| (s.name, s.default)).collect();
-        assert_eq!(options_from_json(&serde_json::Value::Object(defaults)).unwrap(), TrainOptions::default());
-        assert_eq!(options_from_json(&serde_json::json!({})).unwrap(), TrainOptions::default());
+        let options_from_json = |v: &serde_json::Value| options_from_json(ModelKind::Dtfcn, v).map(|o| o.train);
+        for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
+            let defaults: serde_json::Map<String, serde_json::Value> =
+                training_specs(kind).into_iter().map(|s| (s.name, s.default)).collect();
+            let defaults = serde_json::Value::Object(defaults);
+            let read = super::options_from_json(kind, &defaults).unwrap();
+            assert_eq!((&read.train, read.decoding, &read.read), (&TrainOptions::default(), None, &defaults));
+            assert_eq!(super::options_from_json(kind, &serde_json::json!({})).unwrap(), read);
+        }
         for (json, param) in [
             (serde_json::json!({"epochs": 0}), "epochs"),
             (serde_json::json!({"label_noise": 2}), "label_noise"),
@@ -675,6 +718,9 @@ mod tests {
             (serde_json::json!({"batch": 0}), "batch"),
             (serde_json::json!({"augment": ["spin"]}), "augment"),
             (serde_json::json!({"epochs": "many"}), "epochs"),
+            (serde_json::json!({"patience": 0}), "patience"),
+            (serde_json::json!({"min_duration_s": 31}), "min_duration_s"),
+            (serde_json::json!({"switch_cost": -1}), "switch_cost"),
         ] {
             let e = options_from_json(&json).unwrap_err();
             assert_eq!(e.param_name(), Some(param), "{json}: {e}");
@@ -688,5 +734,32 @@ mod tests {
         let o = options_from_json(&serde_json::json!({"padding": "edge", "image_rows": 224})).unwrap();
         assert_eq!((o.padding, o.image_rows), (Padding::Edge, Some(224)));
         assert_eq!(o.network(7).first_layer_inputs(), 672);
+        // the decoding rows make the model's decoding, for the k-NN too; it has no network rows
+        let o = super::options_from_json(ModelKind::Knn, &serde_json::json!({"min_duration_s": 2, "switch_cost": 150}))
+            .unwrap();
+        assert_eq!(o.decoding, Some(Decoding { min_duration_s: 2.0, switch_cost: 150.0 }));
+        let e = super::options_from_json(ModelKind::Knn, &serde_json::json!({"epochs": 3})).unwrap_err();
+        assert!(e.to_string().contains("epochs"), "{e}");
+    }
+
+    #[test]
+    fn the_provenance_command_repeats_every_basic_row_and_every_changed_one_as_its_flag() {
+        let read = options_from_json(
+            ModelKind::Dtfcn,
+            &serde_json::json!({"epochs": 2, "filters": [8, 8], "switch_cost": 10, "augment": ["mirror"]}),
+        )
+        .unwrap()
+        .read;
+        let command = train_command(ModelKind::Dtfcn, &["a b.bvh".into()], "l.csv", "m", &read);
+        assert_eq!(
+            command,
+            "mocapseg train-dtfcn --bvh 'a b.bvh' --labels l.csv --epochs 2 --label-noise 0.0 --mask-s 0.0 --augment mirror \
+             --width 3 --filters 8,8 --switch-cost 10.0 --name m -o m.model (trained in the browser)"
+        );
+        let read = options_from_json(ModelKind::Knn, &serde_json::json!({})).unwrap().read;
+        assert_eq!(
+            train_command(ModelKind::Knn, &["t.bvh".into()], "l.csv", "k", &read),
+            "mocapseg train-knn --bvh t.bvh --labels l.csv --name k -o k.model (trained in the browser)"
+        );
     }
 }
