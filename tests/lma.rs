@@ -12,7 +12,9 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 use mocapseg::bvh;
 use mocapseg::method::{NoProgress, RunOptions};
 use mocapseg::methods::lma::body::upper_body;
-use mocapseg::methods::lma::corpus::{parse_labels, Corpus, CorpusConfig};
+use mocapseg::methods::lma::classifier::effort;
+use mocapseg::methods::lma::corpus::{parse_labels, Corpus, CorpusConfig, EffortLabel};
+use mocapseg::methods::lma::effort::Element;
 use mocapseg::methods::lma::deviance::{exhaustive, pruned};
 use mocapseg::methods::lma::features::Pool;
 use mocapseg::methods::lma::method::{segment_with, LmaParams};
@@ -63,8 +65,33 @@ fn the_shipped_family_is_the_papers_shape() {
     for f in &model.factors {
         assert_eq!(f.nets.len(), 121);
         assert!(f.components > 0 && f.components <= f.selected.len());
-        assert!(f.validation_error < 0.5, "a factor's validation error is {}", f.validation_error);
+        // on segments held out from every choice, well below chance (a random net's 3-class error under the
+        // paper's rule is about 0.67; measured 0.10-0.27 when the family was trained)
+        let test = f.test_error.expect("the shipped family reports its held-out error");
+        assert!(test < 0.4, "a factor's test error is {test}");
+        assert_differ(f);
     }
+}
+
+/// The 121 classifiers of a factor are networks of their own: none equals the unshifted one, and a typical one
+/// differs from it by most of its weights' size (a fine-tuned copy differed by 2-12 %).
+fn assert_differ(f: &mocapseg::methods::lma::classifier::FactorModel) {
+    let weights = |n: &mocapseg::methods::lma::network::Net| -> Vec<f32> {
+        n.w1.iter().chain(&n.b1).chain(&n.w2).chain(&n.b2).copied().collect()
+    };
+    let central = weights(&f.nets[f.nets.len() / 2]);
+    let norm = central.iter().map(|v| v * v).sum::<f32>().sqrt();
+    let mut differences: Vec<f32> = Vec::new();
+    for (k, net) in f.nets.iter().enumerate().filter(|(k, _)| *k != f.nets.len() / 2) {
+        let w = weights(net);
+        assert!(w != central, "classifier {k} is the unshifted network");
+        if w.len() == central.len() {
+            differences.push(w.iter().zip(&central).map(|(a, b)| (a - b).powi(2)).sum::<f32>().sqrt() / norm);
+        }
+    }
+    differences.sort_by(f32::total_cmp);
+    let median = differences.get(differences.len() / 2).copied().unwrap_or(f32::INFINITY);
+    assert!(median > 0.3, "the shifted networks differ from the unshifted one by a median {median}");
 }
 
 #[test]
@@ -83,6 +110,11 @@ fn the_batched_exhaustive_map_equals_the_classifiers_one_candidate_at_a_time() {
     let b: Vec<_> = slow.candidates().collect();
     assert_eq!(a.len(), b.len());
     assert!(a.len() > 1000, "{} candidates", a.len());
+    // and the pruned search's shared projections score a candidate as the family does, one at a time
+    for &(s, e, x) in b.iter().step_by(97) {
+        let direct = model.assess(&pool, s, e).0;
+        assert!((x - direct).abs() < 1e-5, "{s}..={e}: pruned {x}, assessed alone {direct}");
+    }
     for ((s, e, x), (s2, e2, y)) in a.into_iter().zip(b) {
         assert_eq!((s, e), (s2, e2));
         assert!((x - y).abs() < 1e-4, "{s}..={e}: batched {x}, direct {y}");
@@ -114,13 +146,11 @@ fn both_searches_segment_a_take_into_gestures_with_their_effort() {
         assert_eq!(ids, ["deviance-left", "deviance-right", "effort"]);
         for p in &out.details.pictures {
             assert_eq!(p.rgba.len(), p.width * p.height * 4);
-            // the pruned search may find no slow-hand frames in a walk: its maps may stay empty
+            // both searches fill their maps (the pruned one at every hand-speed minimum of both hands)
             let distinct: std::collections::HashSet<&[u8]> = p.rgba.chunks(4).collect();
-            assert!(!exhaustive || distinct.len() > 3, "{} is nearly blank", p.id);
+            assert!(distinct.len() > 3, "{} is nearly blank (exhaustive {exhaustive})", p.id);
         }
-        if exhaustive {
-            assert!(!seg.segments.is_empty(), "the exhaustive search found nothing in {} s", m.duration_s());
-        }
+        assert!(!seg.segments.is_empty(), "exhaustive {exhaustive}: nothing found in {} s", m.duration_s());
     }
 }
 
@@ -170,6 +200,9 @@ fn training_is_reproducible_and_reads_user_labels() {
     assert_eq!(a, quick(&corpus, 7), "same seed, same family");
     assert_ne!(a, quick(&corpus, 8));
     assert_eq!(a.shifts(), 121);
+    for f in &a.factors {
+        assert_differ(f);
+    }
     // the family it made segments a take
     let out = segment_with(&a, &takes[0], &LmaParams::default(), &RunOptions::default(), &mut NoProgress).unwrap();
     out.segmentation.validate().unwrap();
@@ -192,6 +225,28 @@ fn training_is_reproducible_and_reads_user_labels() {
     assert!(corpus.origin.contains("12 user-labelled segments"));
     let mine = quick(&corpus, 1);
     assert_eq!(mine.samples, 12);
+    // the labels are what is learnt: the same segments with indulging and condensing swapped give a family
+    // whose Effort on them agrees less with these labels
+    let swap = |e: Element| match e {
+        Element::Indulging => Element::Condensing,
+        Element::Condensing => Element::Indulging,
+        Element::Neutral => Element::Neutral,
+    };
+    let swapped: Vec<_> = rows.iter().map(|r| EffortLabel { classes: r.classes.map(swap), ..r.clone() }).collect();
+    let theirs = quick(&Corpus::from_labels(&refs, &swapped, CorpusConfig::default()).unwrap(), 1);
+    let agreement = |family: &mocapseg::methods::lma::classifier::EffortModel| {
+        let mut agree = 0;
+        for x in &corpus.samples {
+            let (_, mean) = family.assess(&corpus.sources[x.source].pool, x.start, x.end);
+            let e = effort(&mean);
+            for (f, v) in [e.space, e.time, e.weight, e.flow].into_iter().enumerate() {
+                agree += usize::from((x.classes[f] == 2 && v > 0.0) || (x.classes[f] == 0 && v < 0.0));
+            }
+        }
+        agree
+    };
+    let (ours, swapped_agree) = (agreement(&mine), agreement(&theirs));
+    assert!(ours > swapped_agree + 4, "agreement with the labels: {ours} learnt from them, {swapped_agree} swapped");
     // a row naming a take that is not loaded is refused with its line
     let stray = parse_labels(
         "file,start_frame,end_frame,space,time,weight,flow\nnope.bvh,0,50,neutral,neutral,neutral,neutral\n",
@@ -200,4 +255,50 @@ fn training_is_reproducible_and_reads_user_labels() {
     .unwrap();
     let err = Corpus::from_labels(&refs, &stray, CorpusConfig::default()).err().unwrap();
     assert!(err.contains("line 2") && err.contains("nope.bvh"), "{err}");
+}
+
+/// Stand-in labels are terciles of descriptors computed from the hand's trajectory; the features that tell them (the
+/// defining one and its near-duplicates, rank correlation >= `told`) are not the networks' to read, and the report
+/// says which were left out. With `told` = 1 nothing is left out and the defining feature is learnt from.
+#[test]
+fn the_features_that_tell_a_stand_in_label_are_left_out() {
+    let takes = [motion("131_01.bvh", WALK), motion("35_01.bvh", OTHER)];
+    let refs: Vec<&Motion> = takes.iter().collect();
+    let corpus = Corpus::from_descriptors(&refs, CorpusConfig::default()).unwrap();
+    assert_eq!(corpus.descriptors.len(), corpus.samples.len());
+    let options = TrainOptions { max_epochs: 30, learning_rate: 0.02, weight_decay: 1e-4, patience: 10 };
+    let config = TrainConfig {
+        restarts: 1,
+        saliency_rounds: 4,
+        options,
+        shift_options: TrainOptions { max_epochs: 2, ..options },
+        ..TrainConfig::default()
+    };
+    let (model, reports) = train_family(&corpus, &config, &mut |_, _| Ok(())).unwrap();
+    let index = |name: &str| (0..mocapseg::methods::lma::features::POOL_SIZE).find(|&k| Pool::name(k) == name).unwrap();
+    // Time is the tercile of the hand's peak acceleration, Weight of its peak kinetic energy (speed), Flow of its mean jerk
+    for (f, defining) in [(1, "hand acceleration, max"), (2, "hand speed, max"), (3, "hand jerk, mean")] {
+        let r = &reports[f];
+        assert!(r.told.iter().any(|(n, rho)| n == defining && *rho > 0.99), "{:?}: {:?}", r.factor, r.told);
+        for (name, rho) in &r.told {
+            assert!(rho.abs() >= config.told, "{name}: {rho}");
+            assert!(!model.factors[f].selected.contains(&(index(name) as u16)), "{name} is read by {:?}", r.factor);
+        }
+        // the test confusion counts every held-out segment once
+        let counted: usize = r.confusion.iter().flatten().sum();
+        assert_eq!(counted, r.split[2].iter().sum::<usize>());
+    }
+    // Space (directness) has no near-duplicate in the pool; with told = 1 nothing is left out
+    let (_, all) = train_family(&corpus, &TrainConfig { told: 1.0, ..config }, &mut |_, _| Ok(())).unwrap();
+    assert!(all.iter().all(|r| r.told.is_empty()));
+    // a user's labels are not descriptors: nothing is left out of them either
+    let rows = parse_labels(
+        &(0..12)
+            .map(|k| format!("35_01,{},{},neutral,condensing,indulging,neutral\n", 20 * k, 20 * k + 80))
+            .fold("file,start_frame,end_frame,space,time,weight,flow\n".to_string(), |a, b| a + &b),
+        "mine.csv",
+    )
+    .unwrap();
+    let mine = Corpus::from_labels(&refs, &rows, CorpusConfig::default()).unwrap();
+    assert!(mine.descriptors.is_empty());
 }

@@ -937,19 +937,27 @@ mod cli {
             Ok(())
         })?;
         bar.finish_and_clear();
-        println!("| factor | features kept | principal components | hidden units | train error | validation error | shifted nets' validation error | most salient features |");
-        println!("|---|---|---|---|---|---|---|---|");
+        println!("| factor | train / validation / test segments (i/n/c) | features left out (tell the label) | features kept | principal components | hidden units | train error | validation error | **test error** | shifted nets' test error | test confusion (true i · n · c → predicted i/n/c) | most salient features (saliency) |");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
         for r in &reports {
+            let split = r.split.map(|n| format!("{}/{}/{}", n[0], n[1], n[2])).join(" · ");
+            let told = match r.told.first() {
+                Some((name, rho)) => format!("{} (most: {name}, ρ = {rho:.2})", r.told.len()),
+                None => "0".into(),
+            };
+            let salient: Vec<String> = r.most_salient.iter().map(|(n, v)| format!("{n} ({v:.3})")).collect();
             println!(
-                "| {} | {} | {} | {} | {:.2} | {:.2} | {:.2} | {} |",
+                "| {} | {split} | {told} | {} | {} | {} | {:.2} | {:.2} | **{:.2}** | {:.2} | {} | {} |",
                 r.factor.name(),
                 r.selected,
                 r.components,
                 r.hidden,
                 r.train_error,
                 r.validation_error,
-                r.shifted_validation_error,
-                r.most_salient.join("; ")
+                r.test_error,
+                r.shifted_test_error,
+                mocapseg::methods::lma::supervised::confusion_text(&r.confusion),
+                salient.join("; ")
             );
         }
         let json = model.to_json();

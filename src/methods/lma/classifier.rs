@@ -36,8 +36,13 @@ pub struct FactorModel {
     pub components: usize,
     /// One network per shift, index `(i + s)·(2s + 1) + (j + s)`.
     pub nets: Vec<Net>,
-    /// The unshifted network's error on the validation segments (the paper's rule).
+    /// The unshifted network's error on the validation segments (the paper's rule), the segments
+    /// that chose its stopping epoch and its restart.
     pub validation_error: f32,
+    /// Its error on the test segments, held out from every choice (absent in families trained
+    /// before they were held out).
+    #[serde(default)]
+    pub test_error: Option<f32>,
 }
 
 impl FactorModel {

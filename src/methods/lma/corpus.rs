@@ -64,6 +64,10 @@ pub struct Corpus {
     pub samples: Vec<Sample>,
     /// Where the labels came from, in words (kept in the model).
     pub origin: String,
+    /// Stand-in labels: each sample's four descriptors (in [`Factor::ALL`] order), the quantities
+    /// its classes are terciles of — so training can leave out the pool features that tell them.
+    /// Empty for a user's labels.
+    pub descriptors: Vec<[f64; 4]>,
 }
 
 /// The candidate segments of one hand: from each local minimum of its speed (Gaussian-smoothed,
@@ -114,6 +118,7 @@ impl Corpus {
         }
         let cuts: Vec<(f64, f64)> =
             (0..4).map(|f| terciles(&spans.iter().map(|x| x.3[f]).collect::<Vec<_>>()).unwrap_or((0.0, 0.0))).collect();
+        let descriptors: Vec<[f64; 4]> = spans.iter().map(|x| x.3).collect();
         let samples = spans
             .iter()
             .map(|&(source, start, end, d)| Sample {
@@ -141,7 +146,7 @@ impl Corpus {
                 .collect::<Vec<_>>()
                 .join(", ")
         );
-        Ok(Corpus { config, sources, samples, origin })
+        Ok(Corpus { config, sources, samples, origin, descriptors })
     }
 
     /// The rows of a user's label file on `takes` (matched by file name).
@@ -175,7 +180,7 @@ impl Corpus {
             return Err("the label file has no rows".into());
         }
         let origin = format!("{} user-labelled segments of {} takes", samples.len(), takes.len());
-        Ok(Corpus { config, sources, samples, origin })
+        Ok(Corpus { config, sources, samples, origin, descriptors: Vec::new() })
     }
 }
 

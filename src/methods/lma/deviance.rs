@@ -24,7 +24,10 @@ pub fn slow_frames(speed: &[f64], threshold: f64) -> Vec<usize> {
         .collect()
 }
 
-/// The map over candidates whose both ends are in `boundaries`, lengths `min_len..=max_len`.
+/// The map over candidates whose both ends are in `boundaries`, lengths `min_len..=max_len`: each
+/// candidate as [`EffortModel::assess`] scores it, every shifted segment's projected inputs
+/// computed once — boundaries a few frames apart (the two hands slowing together) share most of
+/// their shifted segments. Only the segments a later start can still use are kept.
 pub fn pruned(
     model: &EffortModel,
     pool: &Pool,
@@ -33,10 +36,32 @@ pub fn pruned(
     progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
 ) -> Result<DevianceMap, Cancelled> {
     let mut map = DevianceMap::new(pool.frames(), min_len, max_len);
-    for (k, &s) in boundaries.iter().enumerate() {
-        progress(k as f64 / boundaries.len().max(1) as f64)?;
-        for &e in boundaries.iter().filter(|&&e| e >= s + min_len && e <= s + max_len) {
-            map.set(s, e, model.assess(pool, s, e).0);
+    let mut starts: Vec<usize> = boundaries.to_vec();
+    starts.sort_unstable();
+    starts.dedup();
+    let s = model.max_shift as isize;
+    let width = model.width();
+    // projected inputs of segment (a, b), while a start ≤ a + 2s may still come
+    let mut cache: std::collections::BTreeMap<(usize, usize), Vec<f32>> = std::collections::BTreeMap::new();
+    let mut outputs: Vec<Outputs> = Vec::with_capacity(model.shifts());
+    for (k, &start) in starts.iter().enumerate() {
+        progress(k as f64 / starts.len().max(1) as f64)?;
+        let oldest = start.saturating_sub(model.max_shift);
+        cache = cache.split_off(&(oldest, 0));
+        for &end in starts.iter().filter(|&&e| e >= start + min_len && e <= start + max_len) {
+            outputs.clear();
+            for i in -s..=s {
+                for j in -s..=s {
+                    let (a, b) = super::classifier::shifted(start, end, i, j, pool.frames());
+                    let z = cache.entry((a, b)).or_insert_with(|| {
+                        let mut z = vec![0.0; width];
+                        model.project(pool, a, b, &mut z);
+                        z
+                    });
+                    outputs.push(model.classify(model.shift_index(i, j), z));
+                }
+            }
+            map.set(start, end, deviance(&outputs).0);
         }
     }
     Ok(map)

@@ -29,7 +29,9 @@ pub struct LmaParams {
     /// Shortest and longest segment (seconds).
     pub min_s: f64,
     pub max_s: f64,
-    /// Pruned search: candidate boundaries are local minima of the hand's speed below this (arm bones per second).
+    /// Pruned search: candidate boundaries are the local minima of either hand's speed below this
+    /// (arm bones per second); the default is above any hand's speed, so every minimum of both
+    /// hands is a candidate — the paper's density (63 boundaries in its 25 s take).
     pub prune_speed: f64,
     /// Standard deviation (seconds) of the Gaussian that smooths the row and column profiles.
     pub smooth_s: f64,
@@ -42,8 +44,8 @@ pub struct LmaParams {
 }
 
 impl Default for LmaParams {
-    /// The paper's lengths (0.67–3.33 s) and hand-speed threshold from what bodies do (a resting
-    /// hand moves below about one arm bone per second); `min_rise` and `merge_s` chosen, as the
+    /// The paper's lengths (0.67–3.33 s) and pruning density (every hand-speed minimum of both
+    /// hands: `prune_speed` above any hand's speed); `min_rise` and `merge_s` chosen, as the
     /// paper chose its granularity, by a grid search on `s` — on takes spliced from the five
     /// labelled takes (`cargo run --release --example tune_lma`, which also reports the
     /// leave-one-take-out figure: docs/methods/lma.md).
@@ -52,7 +54,7 @@ impl Default for LmaParams {
             exhaustive: false,
             min_s: 0.67,
             max_s: 3.33,
-            prune_speed: 1.0,
+            prune_speed: 100.0,
             smooth_s: 0.1,
             min_rise: 0.4,
             merge_s: 0.67,
@@ -82,7 +84,7 @@ pub const PARAMS: [NumberParam; 6] = [
         min: 0.01,
         max: 100.0,
         unit: "bones/s",
-        help: "Pruned search: boundaries only where a hand's speed has a local minimum below this.",
+        help: "Pruned search: boundaries only where either hand's speed has a local minimum below this (the default, above any hand's speed: every minimum of both hands, the paper's density).",
         basic: true,
     },
     NumberParam {
@@ -287,6 +289,16 @@ pub fn analyse(
     let longest = max_len + 2 * model.max_shift + 1;
     let mut maps = Vec::new();
     let mut pools = Vec::new();
+    // the pruned search's boundaries: slow minima of either hand, for both arms' maps
+    let mut slow: Vec<usize> = Vec::new();
+    if !params.exhaustive {
+        for arm in &body.arms {
+            let speed = smooth(&Kinematics::speed(arm.hand(), fps), 0.1 * fps);
+            slow.extend(slow_frames(&speed, params.prune_speed));
+        }
+        slow.sort_unstable();
+        slow.dedup();
+    }
     for (k, arm) in body.arms.iter().enumerate() {
         let pool = Pool::of(arm, fps, longest);
         let base = 0.05 + 0.45 * k as f64;
@@ -295,8 +307,6 @@ pub fn analyse(
         let map = if params.exhaustive {
             exhaustive(model, &pool, (min_len, max_len), &mut report)?
         } else {
-            let speed = smooth(&Kinematics::speed(arm.hand(), fps), 0.1 * fps);
-            let slow = slow_frames(&speed, params.prune_speed);
             pruned(model, &pool, &slow, (min_len, max_len), &mut report)?
         };
         maps.push((arm.side, map));

@@ -54,6 +54,20 @@ pub fn training_specs() -> Vec<ParamSpec> {
             false,
         ),
         spec(
+            "test",
+            "Share of the labelled segments held out from every choice, to report each factor's error and confusion on.",
+            ParamKind::Number { min: 0.0, max: 0.5 },
+            d.test.into(),
+            false,
+        ),
+        spec(
+            "told",
+            "Stand-in labels only: a pool feature whose rank correlation with the descriptor a factor's label is cut from reaches this is left out of that factor's networks (1 keeps every feature).",
+            ParamKind::Number { min: 0.5, max: 1.0 },
+            d.told.into(),
+            false,
+        ),
+        spec(
             "saliency_rounds",
             "Random feature subsets the saliency ranks features on.",
             int(1, 200),
@@ -63,14 +77,21 @@ pub fn training_specs() -> Vec<ParamSpec> {
         spec("max_epochs", "Most epochs of each unshifted network.", int(1, 5000), d.options.max_epochs.into(), false),
         spec(
             "shift_epochs",
-            "Most epochs fine-tuning each boundary-shifted network.",
+            "Most epochs of each boundary-shifted network (each trained from its own random start).",
             int(1, 1000),
             d.shift_options.max_epochs.into(),
             false,
         ),
         spec(
+            "shift_restarts",
+            "Random initialisations of each boundary-shifted network (the best on validation kept).",
+            int(1, 20),
+            d.shift_restarts.into(),
+            false,
+        ),
+        spec(
             "seed",
-            "Seed of the validation split and the networks' initial weights.",
+            "Seed of the validation and test splits and the networks' initial weights.",
             int(0, 1 << 31),
             d.seed.into(),
             false,
@@ -84,9 +105,12 @@ pub fn training_specs() -> Vec<ParamSpec> {
 struct OptionsJson {
     restarts: i64,
     validation: f64,
+    test: f64,
+    told: f64,
     saliency_rounds: i64,
     max_epochs: i64,
     shift_epochs: i64,
+    shift_restarts: i64,
     seed: i64,
 }
 
@@ -96,9 +120,12 @@ impl Default for OptionsJson {
         OptionsJson {
             restarts: d.restarts as i64,
             validation: d.validation,
+            test: d.test,
+            told: d.told,
             saliency_rounds: d.saliency_rounds as i64,
             max_epochs: d.options.max_epochs as i64,
             shift_epochs: d.shift_options.max_epochs as i64,
+            shift_restarts: d.shift_restarts as i64,
             seed: d.seed as i64,
         }
     }
@@ -113,6 +140,9 @@ pub fn config_from_json(value: &serde_json::Value) -> Result<TrainConfig, Method
         restarts: o.restarts as usize,
         saliency_rounds: o.saliency_rounds as usize,
         validation: o.validation,
+        test: o.test,
+        told: o.told,
+        shift_restarts: o.shift_restarts as usize,
         options: NetOptions { max_epochs: o.max_epochs as usize, ..d.options },
         shift_options: NetOptions { max_epochs: o.shift_epochs as usize, ..d.shift_options },
         ..d
@@ -232,6 +262,12 @@ fn percent(share: f32) -> String {
     format!("{:.0} %", 100.0 * share)
 }
 
+/// A confusion matrix in one cell: per true class (indulging, neutral, condensing), the counts
+/// predicted as each.
+pub fn confusion_text(m: &[[usize; 3]; 3]) -> String {
+    m.iter().map(|r| format!("{}/{}/{}", r[0], r[1], r[2])).collect::<Vec<_>>().join(" · ")
+}
+
 /// One report row per factor: its segments per class, hidden units and errors.
 fn factor_row(report: &FactorReport, samples: &[Sample], factor: usize) -> Vec<String> {
     let mut segments = [0usize; 3];
@@ -246,7 +282,10 @@ fn factor_row(report: &FactorReport, samples: &[Sample], factor: usize) -> Vec<S
         report.hidden.to_string(),
         percent(report.train_error),
         percent(report.validation_error),
-        percent(report.shifted_validation_error),
+        percent(report.test_error),
+        percent(report.shifted_test_error),
+        confusion_text(&report.confusion),
+        if report.told.is_empty() { "—".into() } else { report.told.len().to_string() },
     ]
 }
 
@@ -289,10 +328,11 @@ impl Training for LmaTraining {
         };
         let report = TrainingReport {
             summary: format!(
-                "Trained on {} of {labels_name} for {take}{left_out}; {}% of them held out to measure the errors. \
-                 LMA runs with your classifiers now.",
+                "Trained on {} of {labels_name} for {take}{left_out}; per factor {}% of them chose the networks' \
+                 stopping points and {}% were held out to measure the errors. LMA runs with your classifiers now.",
                 counted(used, "row"),
-                (100.0 * config.validation).round()
+                (100.0 * config.validation).round(),
+                (100.0 * config.test).round()
             ),
             columns: [
                 "factor",
@@ -300,7 +340,10 @@ impl Training for LmaTraining {
                 "hidden units",
                 "training error",
                 "validation error",
-                "shifted validation error",
+                "test error",
+                "shifted networks' test error",
+                "test confusion (true indulging · neutral · condensing → predicted i/n/c)",
+                "features left out (they tell the label)",
             ]
             .iter()
             .map(|s| s.to_string())

@@ -1,20 +1,31 @@
 //! Training the Effort classifier family (Bouchard & Badler §4.1), from a [`Corpus`]:
 //!
-//! 1. a share of the segments is set aside for validation (seeded);
-//! 2. **saliency** (Ruck et al. 1990): "the saliency of each feature is computed using the average
+//! 1. per factor, the segments are split three ways, stratified by that factor's class (the paper's
+//!    validation set holds an indulging, a neutral and a condensing segment of each factor): the
+//!    training segments, the validation segments that choose each network's stopping epoch and
+//!    restart, and the test segments, held out from every choice, whose error and confusion are
+//!    reported;
+//! 2. with stand-in labels ([`Corpus::descriptors`]), the pool features that *tell* a factor's label
+//!    are left out of its network: every feature whose rank correlation with the descriptor the
+//!    label is a tercile of reaches `told` (the defining feature — Time is the hand's peak
+//!    acceleration, in the pool as "hand acceleration, max" — and its near-duplicates); otherwise the
+//!    network would learn a threshold on its own input and its deviance map would be a thresholded
+//!    kinematic-change detector;
+//! 3. **saliency** (Ruck et al. 1990): "the saliency of each feature is computed using the average
 //!    saliency of the feature over many random subsets of the potential features" — small networks
 //!    on random subsets of the standardised pool, each feature scored by the mean output
 //!    sensitivity to it, averaged over the subsets it was drawn in; the most salient are kept;
-//! 3. **PCA** of the kept features to 95 % of their variance;
-//! 4. **hidden units** (Park et al. 1996, as the paper): a wide network is trained, and the hidden
+//! 4. **PCA** of the kept features to 95 % of their variance;
+//! 5. **hidden units** (Park et al. 1996, as the paper): a wide network is trained, and the hidden
 //!    layer gets as many units as principal components of its hidden activations hold 98 % of
 //!    their variance;
-//! 5. the unshifted network: best validation error of `restarts` random initialisations, each
+//! 6. the unshifted network: best validation error of `restarts` random initialisations, each
 //!    stopped when its validation loss stops improving;
-//! 6. every other shift (i, j): the same labels on the segments `start + i ..= end + j`, trained
-//!    from the unshifted network's weights (one fine-tuning each instead of 20 restarts: the
-//!    family then shares one solution and differs where the shift matters — and 120 × 4 × 20
-//!    restarts would not fit a browser's patience).
+//! 7. every other shift (i, j): the same labels on the segments `start + i ..= end + j`, a network
+//!    of its own trained from its own random initialisation (`shift_restarts` of them, the best on
+//!    validation kept) — 121 classifiers that can disagree, as the paper's deviance needs, not one
+//!    network's sensitivity to a shift (120 × 4 × 20 restarts would not fit a browser's patience:
+//!    one restart each by default).
 
 use nalgebra::{DMatrix, SymmetricEigen};
 
@@ -42,11 +53,17 @@ pub struct TrainConfig {
     /// Random feature subsets for the saliency, and their size.
     pub saliency_rounds: usize,
     pub subset: usize,
-    /// Share of the segments kept for validation.
+    /// Share of the segments kept for validation (stopping epochs, restarts).
     pub validation: f64,
+    /// Share of the segments held out from every choice, to report errors on.
+    pub test: f64,
+    /// Stand-in labels: a pool feature whose rank correlation with a factor's descriptor reaches
+    /// this is left out of that factor's network (1 keeps every feature).
+    pub told: f64,
     pub options: TrainOptions,
-    /// Fine-tuning of the shifted networks.
+    /// Training of each shifted network, and its random initialisations.
     pub shift_options: TrainOptions,
+    pub shift_restarts: usize,
 }
 
 impl Default for TrainConfig {
@@ -61,8 +78,11 @@ impl Default for TrainConfig {
             saliency_rounds: 24,
             subset: 40,
             validation: 0.2,
+            test: 0.2,
+            told: 0.9,
             options: TrainOptions { max_epochs: 300, learning_rate: 0.02, weight_decay: 1e-4, patience: 25 },
-            shift_options: TrainOptions { max_epochs: 40, learning_rate: 0.01, weight_decay: 1e-4, patience: 8 },
+            shift_options: TrainOptions { max_epochs: 150, learning_rate: 0.02, weight_decay: 1e-4, patience: 25 },
+            shift_restarts: 1,
         }
     }
 }
@@ -74,13 +94,22 @@ pub struct FactorReport {
     pub selected: usize,
     pub components: usize,
     pub hidden: usize,
-    /// The unshifted network's error on the training and validation segments (the paper's rule).
+    /// The unshifted network's error on the training, validation and test segments (the paper's rule).
     pub train_error: f32,
     pub validation_error: f32,
-    /// Mean validation error of the shifted networks on their shifted segments.
-    pub shifted_validation_error: f32,
-    /// The five most salient features.
-    pub most_salient: Vec<String>,
+    pub test_error: f32,
+    /// Mean test error of the shifted networks on their shifted test segments.
+    pub shifted_test_error: f32,
+    /// The unshifted network on the test segments: `confusion[true][predicted]` over
+    /// [`super::effort::Element::ALL`] (predicted: the largest output).
+    pub confusion: [[usize; 3]; 3],
+    /// Segments per class in the training, validation and test sets.
+    pub split: [[usize; 3]; 3],
+    /// The five most salient features, with their saliency.
+    pub most_salient: Vec<(String, f64)>,
+    /// The pool features left out because they tell the stand-in label (rank correlation ≥ `told`
+    /// with its descriptor), most correlated first, with it.
+    pub told: Vec<(String, f64)>,
 }
 
 /// Features `which` of `samples` (shifted by `(i, j)`), row-major.
@@ -174,6 +203,76 @@ fn hidden_units(net: &Net, x: &[f32], share: f64) -> usize {
     principal_axes(&acts, h, share).0.max(2)
 }
 
+/// Average ranks of `v` (ties share their mean rank).
+fn ranks(v: &[f64]) -> Vec<f64> {
+    let mut order: Vec<usize> = (0..v.len()).collect();
+    order.sort_by(|&a, &b| v[a].total_cmp(&v[b]));
+    let mut out = vec![0.0; v.len()];
+    let mut k = 0;
+    while k < order.len() {
+        let mut end = k;
+        while end + 1 < order.len() && v[order[end + 1]] == v[order[k]] {
+            end += 1;
+        }
+        for &i in &order[k..=end] {
+            out[i] = (k + end) as f64 / 2.0;
+        }
+        k = end + 1;
+    }
+    out
+}
+
+/// Spearman's rank correlation of `a` and `b` (0 when either is constant).
+pub fn rank_correlation(a: &[f64], b: &[f64]) -> f64 {
+    let (ra, rb) = (ranks(a), ranks(b));
+    let n = ra.len().max(1) as f64;
+    let (ma, mb) = (ra.iter().sum::<f64>() / n, rb.iter().sum::<f64>() / n);
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for (x, y) in ra.iter().zip(&rb) {
+        sab += (x - ma) * (y - mb);
+        saa += (x - ma).powi(2);
+        sbb += (y - mb).powi(2);
+    }
+    if saa > 0.0 && sbb > 0.0 {
+        sab / (saa * sbb).sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// Indices of `samples` split into training, validation and test sets, stratified by the class of
+/// `factor`: each class gives `validation` and `test` of its segments (rounded, at least one each
+/// when it has three or more), in a seeded random order.
+fn stratified_split(samples: &[Sample], factor: usize, validation: f64, test: f64, rng: &mut Rng) -> [Vec<usize>; 3] {
+    let mut sets: [Vec<usize>; 3] = Default::default();
+    for class in 0..3 {
+        let mut members: Vec<usize> = (0..samples.len()).filter(|&k| samples[k].classes[factor] == class).collect();
+        for k in (1..members.len()).rev() {
+            members.swap(k, rng.below(k + 1));
+        }
+        let n = members.len();
+        let take = |share: f64| if n >= 3 { ((n as f64 * share).round() as usize).max(1) } else { 0 };
+        let (n_test, n_valid) = (take(test), take(validation));
+        let n_valid = n_valid.min(n.saturating_sub(n_test + 1));
+        sets[2].extend_from_slice(&members[..n_test]);
+        sets[1].extend_from_slice(&members[n_test..n_test + n_valid]);
+        sets[0].extend_from_slice(&members[n_test + n_valid..]);
+    }
+    sets
+}
+
+/// The unshifted network's test confusion, `[true][predicted]`.
+fn confusion(net: &Net, data: &Data) -> [[usize; 3]; 3] {
+    let mut out = vec![0.0; data.len() * net.outputs];
+    net.forward_batch(data.x, &mut out);
+    let mut m = [[0usize; 3]; 3];
+    for (o, y) in out.chunks_exact(net.outputs).zip(data.y.chunks_exact(3)) {
+        let arg = |v: &[f32]| (0..3).max_by(|&a, &b| v[a].total_cmp(&v[b])).unwrap_or(0);
+        m[arg(y)][arg(o)] += 1;
+    }
+    m
+}
+
 /// Trains the family on `corpus`; reports `(stage, fraction)` and stops when asked.
 pub fn train_family(
     corpus: &Corpus,
@@ -182,39 +281,63 @@ pub fn train_family(
 ) -> Result<(EffortModel, Vec<FactorReport>), String> {
     let cancelled = |_: Cancelled| "cancelled".to_string();
     let s = corpus.config.max_shift as isize;
-    // 1. the validation share
     let mut rng = Rng::new(config.seed);
-    let mut order: Vec<usize> = (0..corpus.samples.len()).collect();
-    for k in (1..order.len()).rev() {
-        order.swap(k, rng.below(k + 1));
-    }
-    let cut = ((corpus.samples.len() as f64 * config.validation).round() as usize).min(corpus.samples.len() / 2);
-    let valid: Vec<Sample> = order[..cut].iter().map(|&k| corpus.samples[k]).collect();
-    let train_set: Vec<Sample> = order[cut..].iter().map(|&k| corpus.samples[k]).collect();
-    if train_set.len() < 6 {
-        return Err(format!("{} segments are too few to train on (at least 8)", corpus.samples.len()));
-    }
     let all: Vec<u16> = (0..POOL_SIZE as u16).collect();
-    let pool_x = features(corpus, &train_set, &all, (0, 0));
-    let (pool_mean, pool_scale) = moments(&pool_x, POOL_SIZE);
-    let mut pool_std = pool_x.clone();
-    standardise(&mut pool_std, &pool_mean, &pool_scale);
     let steps = 4.0;
     let mut factors = Vec::new();
     let mut reports = Vec::new();
     for (f, factor) in Factor::ALL.into_iter().enumerate() {
         let base = f as f64 / steps;
+        // 1. the three sets, stratified by this factor's class
+        let [train_k, valid_k, test_k] = stratified_split(&corpus.samples, f, config.validation, config.test, &mut rng);
+        let pick = |ks: &[usize]| ks.iter().map(|&k| corpus.samples[k]).collect::<Vec<Sample>>();
+        let (train_set, valid, test) = (pick(&train_k), pick(&valid_k), pick(&test_k));
+        if train_set.len() < 6 {
+            return Err(format!(
+                "{} segments are too few to train on ({} for training after the validation and test shares; at least 6)",
+                corpus.samples.len(),
+                train_set.len()
+            ));
+        }
+        let split = [&train_set, &valid, &test].map(|set| {
+            let mut n = [0usize; 3];
+            set.iter().for_each(|x| n[x.classes[f]] += 1);
+            n
+        });
+        let pool_x = features(corpus, &train_set, &all, (0, 0));
+        let (pool_mean, pool_scale) = moments(&pool_x, POOL_SIZE);
+        let mut pool_std = pool_x.clone();
+        standardise(&mut pool_std, &pool_mean, &pool_scale);
+        // 2. the features that tell a stand-in label are not the network's to read
+        let mut told = Vec::new();
+        if corpus.descriptors.len() == corpus.samples.len() && config.told < 1.0 {
+            let descriptor: Vec<f64> = train_k.iter().map(|&k| corpus.descriptors[k][f]).collect();
+            for k in 0..POOL_SIZE {
+                let column: Vec<f64> = pool_x.chunks_exact(POOL_SIZE).map(|r| r[k] as f64).collect();
+                let rho = rank_correlation(&column, &descriptor);
+                if rho.abs() >= config.told {
+                    told.push((k, rho));
+                }
+            }
+            told.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+        }
+        let usable: Vec<usize> = (0..POOL_SIZE).filter(|k| !told.iter().any(|t| t.0 == *k)).collect();
+        if usable.is_empty() {
+            return Err(format!("every pool feature tells the stand-in {} label: nothing is left to learn it from", factor.name()));
+        }
         let y_train = one_hot(&train_set, f);
         let y_valid = one_hot(&valid, f);
-        // 2. saliency over random subsets
+        let y_test = one_hot(&test, f);
+        // 3. saliency over random subsets of the usable features
         progress(&format!("{} saliency", factor.name()), base).map_err(cancelled)?;
         let mut saliency = vec![0.0f64; POOL_SIZE];
         let mut drawn = vec![0usize; POOL_SIZE];
-        let subset = config.subset.min(POOL_SIZE);
+        let subset = config.subset.min(usable.len());
         for round in 0..config.saliency_rounds {
-            let mut pick: Vec<usize> = (0..POOL_SIZE).collect();
+            let mut pick = usable.clone();
+            let n = pick.len();
             for k in 0..subset {
-                pick.swap(k, k + rng.below(POOL_SIZE - k));
+                pick.swap(k, k + rng.below(n - k));
             }
             let pick = &pick[..subset];
             let x: Vec<f32> = pool_std.chunks_exact(POOL_SIZE).flat_map(|r| pick.iter().map(move |&k| r[k])).collect();
@@ -235,10 +358,10 @@ pub fn train_family(
         }
         let score: Vec<f64> =
             saliency.iter().zip(&drawn).map(|(s, &n)| if n > 0 { s / n as f64 } else { 0.0 }).collect();
-        let mut ranked: Vec<u16> = (0..POOL_SIZE as u16).collect();
+        let mut ranked: Vec<u16> = usable.iter().map(|&k| k as u16).collect();
         ranked.sort_by(|&a, &b| score[b as usize].total_cmp(&score[a as usize]));
-        let selected: Vec<u16> = ranked[..config.selected.clamp(1, POOL_SIZE)].to_vec();
-        // 3. PCA of the selected, standardised features
+        let selected: Vec<u16> = ranked[..config.selected.clamp(1, ranked.len())].to_vec();
+        // 4. PCA of the selected, standardised features
         let n_sel = selected.len();
         let (mean, scale) = (
             selected.iter().map(|&k| pool_mean[k as usize]).collect::<Vec<_>>(),
@@ -253,9 +376,11 @@ pub fn train_family(
         let (components, axes) = principal_axes(&x_train, n_sel, config.variance);
         let z_train = project(&x_train, n_sel, &axes, components);
         let z_valid = project(&inputs(&valid, (0, 0)), n_sel, &axes, components);
+        let z_test = project(&inputs(&test, (0, 0)), n_sel, &axes, components);
         let train_data = data(&z_train, &y_train);
         let valid_data = data(&z_valid, &y_valid);
-        // 4. hidden units (Park et al.)
+        let test_data = data(&z_test, &y_test);
+        // 5. hidden units (Park et al.)
         progress(&format!("{} network", factor.name()), base + 0.35 / steps).map_err(cancelled)?;
         let (wide, _) = train(
             Net::random(components, config.widest_hidden, 3, &mut rng),
@@ -264,7 +389,7 @@ pub fn train_family(
             &config.options,
         );
         let hidden = hidden_units(&wide, &z_train, config.hidden_variance).min(config.widest_hidden);
-        // 5. the unshifted network, best of the restarts
+        // 6. the unshifted network, best of the restarts
         let seed = config.seed.wrapping_mul(1000).wrapping_add(f as u64);
         let (central, _) = train_restarts(
             components,
@@ -276,27 +401,39 @@ pub fn train_family(
             config.restarts.max(1),
             seed,
         );
-        // 6. the shifted family, fine-tuned from it
+        // 7. every shifted classifier a network of its own
         let mut nets = Vec::with_capacity(((2 * s + 1) * (2 * s + 1)) as usize);
         let mut shifted_error = 0.0;
         for i in -s..=s {
             for j in -s..=s {
                 if i == 0 && j == 0 {
                     nets.push(central.clone());
-                    shifted_error += classification_error(&central, &valid_data);
+                    shifted_error += classification_error(&central, &test_data);
                     continue;
                 }
                 let zt = project(&inputs(&train_set, (i, j)), n_sel, &axes, components);
                 let zv = project(&inputs(&valid, (i, j)), n_sel, &axes, components);
-                let (td, vd) = (data(&zt, &y_train), data(&zv, &y_valid));
-                let (net, _) = train(central.clone(), &td, &vd, &config.shift_options);
-                shifted_error += classification_error(&net, &vd);
+                let ze = project(&inputs(&test, (i, j)), n_sel, &axes, components);
+                let (td, vd, ed) = (data(&zt, &y_train), data(&zv, &y_valid), data(&ze, &y_test));
+                let shift_seed = seed.wrapping_mul(131).wrapping_add(((i + s) * (2 * s + 1) + (j + s)) as u64 + 1);
+                let (net, _) = train_restarts(
+                    components,
+                    hidden,
+                    3,
+                    &td,
+                    &vd,
+                    &config.shift_options,
+                    config.shift_restarts.max(1),
+                    shift_seed,
+                );
+                shifted_error += classification_error(&net, &ed);
                 nets.push(net);
             }
             let fraction = base + (0.45 + 0.55 * (i + s + 1) as f64 / (2 * s + 1) as f64) / steps;
             progress(&format!("{} shifted networks", factor.name()), fraction).map_err(cancelled)?;
         }
         let validation_error = classification_error(&central, &valid_data);
+        let test_error = classification_error(&central, &test_data);
         reports.push(FactorReport {
             factor,
             selected: n_sel,
@@ -304,10 +441,23 @@ pub fn train_family(
             hidden,
             train_error: classification_error(&central, &train_data),
             validation_error,
-            shifted_validation_error: shifted_error / nets.len() as f32,
-            most_salient: selected.iter().take(5).map(|&k| Pool::name(k as usize)).collect(),
+            test_error,
+            shifted_test_error: shifted_error / nets.len() as f32,
+            confusion: confusion(&central, &test_data),
+            split,
+            most_salient: selected.iter().take(5).map(|&k| (Pool::name(k as usize), score[k as usize])).collect(),
+            told: told.iter().map(|&(k, rho)| (Pool::name(k), rho)).collect(),
         });
-        factors.push(FactorModel { selected, mean, scale, projection: axes, components, nets, validation_error });
+        factors.push(FactorModel {
+            selected,
+            mean,
+            scale,
+            projection: axes,
+            components,
+            nets,
+            validation_error,
+            test_error: Some(test_error),
+        });
     }
     let c = corpus.config;
     let model = EffortModel {
