@@ -859,3 +859,34 @@ fn every_training_option_is_a_flag_of_its_train_command() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("restarts"), "{err}");
 }
+
+/// `mocapseg effort`: LMA as a semantic layer (the paper's §6) — every segment of another method's segmentation gets
+/// an Effort in [-1, 1] per factor, the rest of the JSON unchanged; a segmentation of another take is refused naming
+/// both.
+#[test]
+fn effort_gives_every_segment_of_any_method_its_laban_effort() {
+    let dir = out_dir().join("effort");
+    std::fs::create_dir_all(&dir).unwrap();
+    let take = fixture("131_01.bvh");
+    let seg_path = dir.join("pca.json");
+    let out = run(&["segment", "--method", "pca", take.to_str().unwrap()]);
+    let before = stdout_json(&out);
+    std::fs::write(&seg_path, &out.stdout).unwrap();
+    let out = run(&["effort", seg_path.to_str().unwrap(), take.to_str().unwrap()]);
+    let after = stdout_json(&out);
+    let segments = after["segments"].as_array().unwrap();
+    assert!(!segments.is_empty());
+    assert_eq!(segments.len(), before["segments"].as_array().unwrap().len());
+    for (s, b) in segments.iter().zip(before["segments"].as_array().unwrap()) {
+        assert_eq!((&s["start"], &s["end"], &s["label"]), (&b["start"], &b["end"], &b["label"]));
+        for factor in ["space", "time", "weight", "flow"] {
+            let v = s["effort"][factor].as_f64().unwrap_or_else(|| panic!("no {factor} in {s}"));
+            assert!((-1.0..=1.0).contains(&v), "{s}");
+        }
+    }
+    assert!(String::from_utf8_lossy(&out.stderr).contains(&format!("{} of {} segments", segments.len(), segments.len())));
+    let other = fixture("12_01.bvh");
+    let out = run(&["effort", seg_path.to_str().unwrap(), other.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("pca.json") && err.contains("12_01.bvh"), "{err}");
+}

@@ -196,6 +196,22 @@ mod cli {
             #[arg(long, short)]
             out: PathBuf,
         },
+        /// Give every segment of a segmentation JSON (any method's, or labels made into one) its Laban Effort from the
+        /// LMA classifier family (Bouchard & Badler §6: LMA as a semantic layer over segments): the family's mean
+        /// output over its 121 shifted classifiers, on the arm whose hand travels further in the segment. Segments
+        /// that already carry one (LMA's own) keep it. Writes the segmentation JSON with `effort` filled.
+        Effort {
+            /// The segmentation JSON (`segment` writes it).
+            segmentation: PathBuf,
+            /// The take it segments (BVH, or AMC beside its ASF).
+            take: PathBuf,
+            /// The classifier family: a JSON file from `train-lma` or the page (default: the shipped one).
+            #[arg(long)]
+            lma_model: Option<PathBuf>,
+            /// Where to write (default: stdout).
+            #[arg(long, short)]
+            out: Option<PathBuf>,
+        },
         /// Print a model's header: kind, classes, colours, joint set, rate, how it was trained. FILE is
         /// a model file of any method with models, or a shipped model's name (`exercises`: every
         /// method's of that name, or one with --method; `dtfcn-exercises` / `dtfcn-exercises.model`,
@@ -342,6 +358,9 @@ mod cli {
                 train(&method, &inputs, &labels, &options, name, &out)
             }
             Command::Gait { inputs, out, within, label } => gait(&inputs, out, within.zip(label)),
+            Command::Effort { segmentation, take, lma_model, out } => {
+                effort(&segmentation, &take, lma_model.as_deref(), out.as_deref())
+            }
             Command::ModelInfo { file, method } => crate::dtfcn_cli::model_info(&file, method.as_deref()),
             Command::Labels { truth, first_frame, row_offset, out } => {
                 labels(&truth, TruthOptions { first_frame, bvh_row_offset: row_offset }, out)
@@ -777,6 +796,46 @@ mod cli {
         let labels = labels.ok_or("--labels FILE is needed")?;
         let out = out.ok_or("--out FILE is needed")?;
         train_with(m, &bvh, &labels, options, name, &out)
+    }
+
+    /// `mocapseg effort SEG.json TAKE [--lma-model FILE] [-o OUT]`.
+    fn effort(segmentation: &Path, take: &Path, family: Option<&Path>, out: Option<&Path>) -> Result<(), String> {
+        use mocapseg::methods::lma::classifier::EffortModel;
+        let text = read_text(segmentation)?;
+        let mut seg = Segmentation::from_json(&text).map_err(|e| format!("{}: {e}", segmentation.display()))?;
+        let motion = load(take)?.motion;
+        if seg.frames != motion.frames() {
+            return Err(format!(
+                "{} segments {} frames but {} has {}: give the take it was made from",
+                segmentation.display(),
+                seg.frames,
+                take.display(),
+                motion.frames()
+            ));
+        }
+        let owned;
+        let model: &EffortModel = match family {
+            Some(path) => {
+                owned = EffortModel::from_json(&read_text(path)?).map_err(|e| format!("{}: {e}", path.display()))?;
+                &owned
+            }
+            None => mocapseg::methods::lma::shipped_model()?,
+        };
+        let efforts = mocapseg::methods::lma::layer::effort_of(model, &motion, &seg.segments)?;
+        let mut given = 0;
+        for (s, e) in seg.segments.iter_mut().zip(efforts) {
+            if s.effort.is_none() {
+                s.effort = e;
+                given += usize::from(e.is_some());
+            }
+        }
+        let json = seg.to_json();
+        match out {
+            Some(path) => std::fs::write(path, json + "\n").map_err(|e| format!("{}: {e}", path.display()))?,
+            None => println!("{json}"),
+        }
+        eprintln!("{given} of {} segments given their Effort", seg.segments.len());
+        Ok(())
     }
 
     fn read_text(path: &Path) -> Result<String, String> {

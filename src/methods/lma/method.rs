@@ -427,7 +427,7 @@ pub fn segment_with(
     Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves: Vec::new() } })
 }
 
-fn rounded(e: Effort) -> Effort {
+pub(super) fn rounded(e: Effort) -> Effort {
     let r = |x: f64| (x * 1000.0).round() / 1000.0;
     Effort { space: r(e.space), time: r(e.time), weight: r(e.weight), flow: r(e.flow) }
 }

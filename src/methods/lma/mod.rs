@@ -12,6 +12,7 @@
 //! | §4.2 / Fig. 5 deviance map, pruned and exhaustive | [`deviance`] |
 //! | §4.2 / Fig. 6 profiles, troughs, culling, start–end pairing, arm merging | [`search`] |
 //! | the registered `lma` method | [`method`] |
+//! | §6 LMA as a semantic layer: the Effort of any segment of any method (`mocapseg effort`) | [`layer`] |
 //! | training and family files behind the supervised shape | [`supervised`] |
 //!
 //! The trained family ships in `models/lma-effort.json` (made by `mocapseg train-lma`).
@@ -22,6 +23,7 @@ pub mod corpus;
 pub mod deviance;
 pub mod effort;
 pub mod features;
+pub mod layer;
 pub mod method;
 pub mod network;
 pub mod search;

@@ -1,0 +1,83 @@
+//! Effort for every row — the paper's conclusion (§6): "the LMA classifier could act as a first pass for a more
+//! high-level, application-dependent classifier … Using the LMA segmentation as the middle layer in a hierarchical
+//! segmentation scheme". Here the other way round as well: any segment of any method (or of a user's labels) gets
+//! its Laban Effort from the classifier family — the family's mean output (eq. 2) over its 121 boundary-shifted
+//! classifiers on the segment, read on the arm whose hand travels further in it (as a user's Effort label row picks
+//! its arm, [`super::corpus`]). The classifiers learnt segments of 0.67–3.33 s; a longer segment's Effort is the
+//! same statistics over more frames, an extrapolation the caller should say.
+
+use super::body::upper_body;
+use super::classifier::{effort, EffortModel};
+use super::features::Pool;
+use super::method::rounded;
+use crate::motion::Motion;
+use crate::segment::{Effort, Segment};
+
+/// The Effort of each of `segments` (file frames of `motion`, inclusive), in order; `None` for a segment shorter
+/// than two frames at the family's rate. Fails only when the take has no arms to read.
+pub fn effort_of(model: &EffortModel, motion: &Motion, segments: &[Segment]) -> Result<Vec<Option<Effort>>, String> {
+    let fps = model.fps;
+    let body = upper_body(motion, fps).map_err(|e| format!("{}: {e}", motion.name))?;
+    let n = body.arms[0].hand().len();
+    let to_working = |f: usize| ((f as f64 * fps / motion.fps).round() as usize).min(n.saturating_sub(1));
+    let longest = segments.iter().map(|s| to_working(s.end).saturating_sub(to_working(s.start))).max().unwrap_or(0);
+    let pools: Vec<Pool> = body.arms.iter().map(|a| Pool::of(a, fps, longest + 2 * model.max_shift + 1)).collect();
+    Ok(segments
+        .iter()
+        .map(|s| {
+            let (a, b) = (to_working(s.start), to_working(s.end));
+            if b < a + 2 {
+                return None;
+            }
+            let travel = |k: usize| body.arms[k].hand()[a..=b].windows(2).map(|w| w[0].distance(w[1])).sum::<f64>();
+            let arm = if travel(0) >= travel(1) { 0 } else { 1 };
+            Some(rounded(effort(&model.assess(&pools[arm], a, b).1)))
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::segment::Level;
+
+    fn segment(start: usize, end: usize) -> Segment {
+        Segment {
+            start,
+            end,
+            label: "x".into(),
+            level: Level::Action,
+            cluster: None,
+            score: None,
+            mirror_of: None,
+            effort: None,
+        }
+    }
+
+    #[test]
+    fn every_segment_of_any_length_gets_the_familys_effort_and_a_too_short_one_none() {
+        let model = crate::methods::lma::shipped_model().unwrap();
+        let motion =
+            crate::load::load_bytes("12_01.bvh", include_bytes!("../../../tests/fixtures/12_01.bvh"), &mut |_| {})
+                .unwrap()
+                .motion;
+        let last = motion.frames() - 1;
+        let segments = [segment(0, 200), segment(100, 101), segment(0, last), segment(300, last)];
+        let efforts = effort_of(model, &motion, &segments).unwrap();
+        assert_eq!(efforts.len(), 4);
+        assert!(efforts[1].is_none(), "a segment of two file frames is under two working frames");
+        for e in [efforts[0], efforts[2], efforts[3]] {
+            let e = e.unwrap();
+            for v in [e.space, e.time, e.weight, e.flow] {
+                assert!((-1.0..=1.0).contains(&v), "{e:?}");
+            }
+        }
+        // what the family says of the segment on the arm that travels further, as it scores a candidate
+        let body = upper_body(&motion, model.fps).unwrap();
+        let (a, b) = (0, (200.0 * model.fps / motion.fps).round() as usize);
+        let pools: Vec<Pool> = body.arms.iter().map(|arm| Pool::of(arm, model.fps, 200)).collect();
+        let by_arm: Vec<Effort> = pools.iter().map(|p| rounded(effort(&model.assess(p, a, b).1))).collect();
+        assert!(by_arm.contains(&efforts[0].unwrap()), "{:?} not in {by_arm:?}", efforts[0]);
+        assert_eq!(effort_of(model, &motion, &segments).unwrap(), efforts, "deterministic");
+    }
+}
