@@ -48,7 +48,7 @@ pub fn training_specs() -> Vec<ParamSpec> {
         ),
         spec(
             "validation",
-            "Share of the labelled segments held out to measure each factor's error.",
+            "Share of the labelled segments (per factor, stratified by class) that choose each network's stopping epoch and restart.",
             ParamKind::Number { min: 0.0, max: 0.5 },
             d.validation.into(),
             false,
