@@ -99,7 +99,7 @@ bench: setup
 	$(MAKE) bench-table
 
 # The cargo-fuzz targets (fuzz/, docs/development.md "Fuzzing"): FUZZ_S seconds each, one fuzzer process at a
-# time, built into fuzz/target. Neither `make test` nor CI runs or builds them.
+# time, built into fuzz/target. `make test` type-checks them (`cargo check`) but does not run them.
 FUZZ_S ?= 60
 FUZZ_TARGETS ?=
 fuzz:
@@ -154,9 +154,11 @@ serve:
 
 # --- tests ------------------------------------------------------------------------------
 
-# Every native test: unit tests, integration tests (incl. the CLI), doc tests.
+# Every native test: unit tests, integration tests (incl. the CLI), doc tests; and the fuzz
+# targets type-checked (`cargo check`, not run: `make fuzz` runs them), so they cannot rot.
 test-native: check-toolchain
 	$(CARGO) test
+	$(CARGO) check --manifest-path fuzz/Cargo.toml --bins
 
 # One wasm test binary (tests/wasm.rs: the core, the SSSM suite, the worker's glue) in headless
 # Chromium, in the release profile with the `web` feature: it links the library `make web`

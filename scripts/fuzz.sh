@@ -7,7 +7,7 @@
 #
 # Settings (environment):
 #   FUZZ_S          seconds per target (default 60)
-#   FUZZ_TARGETS    targets to run, in order (default: all seven)
+#   FUZZ_TARGETS    targets to run, in order (default: all eight)
 #   FUZZ_MALLOC_MB  allocation budget in MiB: one allocation or the live heap past it is a finding
 #                   (default 256; given to libFuzzer as -malloc_limit_mb and to the targets'
 #                   own allocator, which enforces it: see fuzz/src/lib.rs)
@@ -15,7 +15,7 @@
 #   FUZZ_TIMEOUT_S  one input taking longer is a hang (-timeout, default 10)
 #   FUZZ_MAX_LEN    -max_len (default: libFuzzer's, the largest seed or 4096)
 #   FUZZ_NO_CMP     targets built with --no-trace-compares, into fuzz/target-notc (default:
-#                   load_pipeline; "" for none). Its time goes to the numeric crates under the
+#                   load_pipeline long_takes; "" for none). Its time goes to the numeric crates under the
 #                   methods (burn's matmul, kiddo, nalgebra): their comparisons' hooks took 60 % of
 #                   it, for no guidance worth having — the bytes it mutates are the BVH grammar's,
 #                   whose comparisons bvh_parse and bvh_grammar trace. Without them it runs ~3× faster.
@@ -32,14 +32,14 @@ cd "$root"
 export PATH="${HOME}/.cargo/bin:${PATH}"
 
 CARGO_FUZZ_VERSION=0.13.2
-ALL_TARGETS="bvh_parse bvh_grammar load_pipeline labels_import segmentation_json model_file asf_amc"
+ALL_TARGETS="bvh_parse bvh_grammar load_pipeline long_takes labels_import segmentation_json model_file asf_amc"
 FUZZ_S="${FUZZ_S:-60}"
 FUZZ_TARGETS="${FUZZ_TARGETS:-$ALL_TARGETS}"
 FUZZ_MALLOC_MB="${FUZZ_MALLOC_MB:-256}"
 FUZZ_RSS_MB="${FUZZ_RSS_MB:-1024}"
 FUZZ_TIMEOUT_S="${FUZZ_TIMEOUT_S:-10}"
 FUZZ_MAX_LEN="${FUZZ_MAX_LEN:-}"
-FUZZ_NO_CMP="${FUZZ_NO_CMP-load_pipeline}"
+FUZZ_NO_CMP="${FUZZ_NO_CMP-load_pipeline long_takes}"
 
 for t in $FUZZ_TARGETS; do
     [[ " $ALL_TARGETS " == *" $t "* ]] || { echo "unknown fuzz target '$t' (known: $ALL_TARGETS)" >&2; exit 2; }

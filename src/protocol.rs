@@ -666,7 +666,7 @@ mod tests {
         let motion = walk();
         let m = crate::methods::find("sssm").unwrap();
         let output =
-            m.run_json(&motion, &serde_json::json!({}), &RunOptions { pictures: true }, &mut NoProgress).unwrap();
+            m.run_json(&motion, &serde_json::json!({}), &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress).unwrap();
         let picture_bytes: Vec<usize> = output.details.pictures.iter().map(|p| p.rgba.len()).collect();
         assert!(!picture_bytes.is_empty());
         let response = Response::Segmented { take: 2, run: 7, view: Box::new(output.into()) };

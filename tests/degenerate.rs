@@ -65,7 +65,7 @@ fn every_method_segments_degenerate_takes_or_says_why() {
     for (take, motion) in takes() {
         for (name, m, params) in &runs {
             let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                m.run_json(&motion, params, &RunOptions { pictures: true }, &mut NoProgress)
+                m.run_json(&motion, params, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress)
             }));
             match outcome {
                 Err(_) => failures.push(format!("{name} panicked on {take}")),

@@ -162,7 +162,7 @@ fn the_registered_methods_label_a_take_with_a_users_models() {
             m.run_checked(&motions[0], &checked, options, &mut NoProgress)
         };
         let params = serde_json::json!({ "model": "my-test-model", "unknown_threshold": 0.0 });
-        let out = run(params, &RunOptions { pictures: true }).unwrap();
+        let out = run(params, &RunOptions { pictures: true, ..RunOptions::default() }).unwrap();
         let s = &out.segmentation;
         s.validate().unwrap();
         assert_eq!(s.segments.first().unwrap().start, 0);

@@ -118,3 +118,101 @@ fn a_take_past_the_budget_is_refused_before_allocating_past_it() {
     assert_eq!(loaded.expect("fits").motion.frames(), 20_000);
     assert!(peak + text.len() <= roomy.max_bytes, "peak {peak} bytes + text {} > budget", text.len());
 }
+
+/// CMU 13_31 (mocap6, 120 Hz) concatenated to `frames` frames at `fps` (30: resampled first).
+fn working_take(frames: usize, fps: f64) -> mocapseg::motion::Motion {
+    let loaded = mocapseg::load::load_bytes("13_31.bvh", include_bytes!("fixtures/13_31.bvh"), &mut |_| {}).unwrap();
+    let base = if fps == 120.0 { loaded.motion } else { loaded.motion.resample(fps).unwrap() };
+    mocapseg::motion::Motion::concatenate(std::slice::from_ref(&base), frames).unwrap()
+}
+
+/// Every method's own arrays, measured: the peak allocated during a run stays within the
+/// [`mocapseg::method::Work`] it declares (which the run is checked against before it starts),
+/// on takes of two lengths (so a per-frame figure too low for longer takes fails) at its working
+/// rate and at 4× it (the resampled copy counts too). The repeated take is SSSM's worst case: every
+/// frame has neighbours in every repetition.
+#[test]
+fn every_method_stays_within_the_work_it_declares() {
+    use mocapseg::method::{NoProgress, RunOptions};
+    let _one = MEASURING.lock().unwrap();
+    for m in mocapseg::methods::registry() {
+        let name = m.info().name;
+        let mut variants = vec![serde_json::json!({})];
+        if name == "lma" {
+            variants.push(serde_json::json!({"exhaustive": true}));
+        }
+        // LMA (its exhaustive search above all) is the slow one in the tests' build: shorter takes
+        let lengths: &[usize] = if name == "lma" { &[600, 1800] } else { &[1500, 6000] };
+        for params in &variants {
+            let checked = m.check_json(params).unwrap();
+            let work = m.work(&checked).unwrap();
+            for (k, &frames) in lengths.iter().enumerate() {
+                // the resampled copy counted once, on the shorter take
+                let rates: &[f64] = if k == 0 { &[30.0, 120.0] } else { &[30.0] };
+                for &fps in rates {
+                    let take = working_take(if fps == 120.0 { 4 * frames } else { frames }, fps);
+                    let (out, peak) =
+                        peak_during(|| m.run_checked(&take, &checked, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress));
+                    out.unwrap_or_else(|e| panic!("{name} {params} on {frames} frames at {fps} Hz: {e}"));
+                    let working = work.frames(&take);
+                    assert!(working.abs_diff(frames) <= 1, "{name}: {working} working frames of {frames}");
+                    let declared = work.bytes(working, take.joints());
+                    println!(
+                        "{name:8} {params} {frames:5} frames from {fps:3} Hz: peak {:6.1} MiB ({:5.0} B/frame), \
+                         declared {:6.1} MiB",
+                        peak as f64 / 1048576.0,
+                        peak as f64 / frames as f64,
+                        declared as f64 / 1048576.0
+                    );
+                    assert!(
+                        peak <= declared,
+                        "{name} {params}: {frames} frames from {fps} Hz took {peak} bytes at the peak, more than the \
+                         {declared} its Work declares"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// A CMU take's first `frames` rows with its Frame Time replaced.
+fn with_frame_time(frames: usize, frame_time: &str) -> String {
+    let text = include_str!("fixtures/35_01.bvh");
+    let (head, motion) = text.split_at(text.find("MOTION").unwrap());
+    let rows: Vec<&str> = motion.lines().skip(3).take(frames).collect();
+    format!("{head}MOTION\nFrames: {}\nFrame Time: {frame_time}\n{}\n", rows.len(), rows.join("\n"))
+}
+
+/// The issue's file (200 frames with `Frame Time: 100`, 5.5 hours long: 597,000 frames at 30 Hz,
+/// which ran past 300 s and 2.5 GB in LMA) and its siblings: every method refuses the ones below
+/// 1 Hz at once, naming the Frame Time, before allocating their working take; at 1 Hz (a
+/// minute of motion) every method finishes within what it declares.
+#[test]
+fn slow_frame_times_are_refused_or_run_within_the_budget() {
+    use mocapseg::method::{NoProgress, RunOptions};
+    let _one = MEASURING.lock().unwrap();
+    for (frame_time, refused) in [("100", true), ("10", true), ("1.5", true), ("1", false), ("0.5", false)] {
+        let text = with_frame_time(if refused { 200 } else { 61 }, frame_time);
+        let file = format!("ft{frame_time}.bvh");
+        let motion = mocapseg::load::load_bytes(&file, text.as_bytes(), &mut |_| {}).unwrap().motion;
+        for m in mocapseg::methods::registry() {
+            let name = m.info().name;
+            let checked = m.check_json(&serde_json::json!({})).unwrap();
+            let (out, peak) =
+                peak_during(|| m.run_checked(&motion, &checked, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress));
+            if refused {
+                let message = out.err().unwrap_or_else(|| panic!("{name} ran on {file}")).to_string();
+                assert!(
+                    message.starts_with(&format!("{file}: Frame Time {frame_time} s is ")) && message.contains("1 Hz or more"),
+                    "{name}: {message}"
+                );
+                assert!(peak < 1 << 20, "{name} allocated {peak} bytes before refusing {file}");
+            } else {
+                let out = out.unwrap_or_else(|e| panic!("{name} on {file}: {e}"));
+                assert_eq!(out.segmentation.frames, 61, "{name}");
+                let work = m.work(&checked).unwrap();
+                assert!(peak <= work.bytes(work.frames(&motion), motion.joints()), "{name}: {peak} bytes on {file}");
+            }
+        }
+    }
+}

@@ -127,7 +127,7 @@ fn both_searches_segment_a_take_into_gestures_with_their_effort() {
     let m = motion("131_01.bvh", WALK);
     for exhaustive in [false, true] {
         let params = LmaParams { exhaustive, ..LmaParams::default() };
-        let out = segment_with(model, &m, &params, &RunOptions { pictures: true }, &mut NoProgress).unwrap();
+        let out = segment_with(model, &m, &params, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress).unwrap();
         let seg = &out.segmentation;
         seg.validate().unwrap();
         assert_eq!(seg.method, "lma");
@@ -171,7 +171,7 @@ fn a_take_shorter_than_the_shortest_segment_gives_none() {
     let m = motion("short.bvh", &truncated(WALK, 60));
     for exhaustive in [false, true] {
         let params = LmaParams { exhaustive, ..LmaParams::default() };
-        let out = segment_with(model, &m, &params, &RunOptions { pictures: true }, &mut NoProgress).unwrap();
+        let out = segment_with(model, &m, &params, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress).unwrap();
         assert!(out.segmentation.segments.is_empty());
     }
 }

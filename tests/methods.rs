@@ -27,7 +27,7 @@ fn every_method_runs_with_its_defaults_and_echoes_them() {
         for s in &specs {
             assert_eq!(defaults[&s.name], s.default, "{}: spec {}", info.name, s.name);
         }
-        let out = m.run_checked(&motion, &checked, &RunOptions { pictures: true }, &mut NoProgress).unwrap();
+        let out = m.run_checked(&motion, &checked, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress).unwrap();
         let seg = &out.segmentation;
         seg.validate().unwrap();
         assert_eq!((seg.method.as_str(), seg.file.as_str(), seg.frames), (info.name.as_str(), "12_01.bvh", 524));

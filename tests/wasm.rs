@@ -228,6 +228,60 @@ mod worker {
     }
 }
 
+/// The work check in wasm (where the worker is one thread and a frozen method freezes the
+/// page's results): the 200-frame file with `Frame Time: 100` — 5.5 hours, 597,000
+/// frames at 30 Hz — is refused by every method at once, naming its Frame Time; the same frames
+/// at Frame Time 1 (under a minute at 1 Hz) run to the end in every method.
+mod work {
+    use mocapseg::method::{shipped, MethodError, NoProgress, RunOptions};
+    use wasm_bindgen_test::wasm_bindgen_test;
+
+    fn with_frame_time(frames: usize, frame_time: &str) -> Vec<u8> {
+        let text = include_str!("fixtures/35_01.bvh");
+        let (head, motion) = text.split_at(text.find("MOTION").unwrap());
+        let rows: Vec<&str> = motion.lines().skip(3).take(frames).collect();
+        format!("{head}MOTION\nFrames: {}\nFrame Time: {frame_time}\n{}\n", rows.len(), rows.join("\n")).into_bytes()
+    }
+
+    /// The shipped model files the default parameters name (the page fetches them; here they are built in).
+    fn provide(file: &str) {
+        let bytes: &[u8] = match file {
+            "lma-effort.json" => include_bytes!("../models/lma-effort.json"),
+            "knn-exercises.model" => include_bytes!("../models/knn-exercises.model"),
+            "dtfcn-exercises.model" => include_bytes!("../models/dtfcn-exercises.model"),
+            other => panic!("a default names {other}"),
+        };
+        shipped::provide(file, bytes.to_vec()).unwrap();
+    }
+
+    #[wasm_bindgen_test]
+    fn a_slow_frame_time_is_refused_by_every_method_and_a_slow_one_runs() {
+        for (frame_time, frames, refused) in [("100", 200, true), ("1", 61, false)] {
+            let file = format!("ft{frame_time}.bvh");
+            let bytes = with_frame_time(frames, frame_time);
+            let motion = mocapseg::load::load_bytes(&file, &bytes, &mut |_| {}).unwrap().motion;
+            for m in mocapseg::methods::registry() {
+                let name = m.info().name;
+                let checked = match m.check_json(&serde_json::json!({})) {
+                    Err(MethodError::NeedsModel { file }) => {
+                        provide(&file);
+                        m.check_json(&serde_json::json!({})).unwrap()
+                    }
+                    other => other.unwrap(),
+                };
+                let out = m.run_checked(&motion, &checked, &RunOptions::default(), &mut NoProgress);
+                if refused {
+                    let message = out.err().unwrap_or_else(|| panic!("{name} ran on {file}")).to_string();
+                    assert!(message.starts_with("ft100.bvh: Frame Time 100 s is 0.01 frames per second"), "{name}: {message}");
+                } else {
+                    let out = out.unwrap_or_else(|e| panic!("{name} on {file}: {e}"));
+                    assert_eq!(out.segmentation.frames, 61, "{name}");
+                }
+            }
+        }
+    }
+}
+
 use mocapseg::bvh::{self, Channel, JointKind};
 use mocapseg::image::MotionImage;
 use mocapseg::motion::{Motion, Units, UpAxis};

@@ -42,6 +42,7 @@ fn header(kind: ModelKind, classes: usize) -> ModelHeader {
         joints: joint_names(),
         fps: NETWORK_FPS,
         unknown_threshold: 0.5,
+        decoding: None,
         network: None,
         standardise: None,
         knn: None,
@@ -89,7 +90,14 @@ fn seeds() -> Vec<(String, Vec<u8>)> {
     let mut out = Vec::new();
     let device = mocapseg::methods::dtfcn::device();
     device.seed(7);
-    let config = DtFcnConfig { channels: CHANNELS, classes: 3, width: 3, filters: vec![4, 8] };
+    let config = DtFcnConfig {
+        channels: CHANNELS,
+        classes: 3,
+        width: 3,
+        filters: vec![4, 8],
+        padding: Default::default(),
+        image_rows: None,
+    };
     let net = config.init(&device);
     let mut h = header(ModelKind::Dtfcn, 3);
     h.network = Some(config);

@@ -10,7 +10,9 @@
 //!   --method NAME --param k=v`), the web worker (one generic "segment" request) and the page (one
 //!   generic method panel) only ever go through it, as [`DynMethod`]: parameters as JSON in, the
 //!   same output out;
-//! * a supervised method also declares its training and models ([`supervised`]).
+//! * a supervised method also declares its training and models ([`supervised`]);
+//! * every method declares the [`Work`] a run needs per working frame, and every run is checked
+//!   against the [`WorkLimits`] before it starts ([`work`]).
 //!
 //! Adding a method is one folder under `src/methods/` (its paper's modules plus a `method.rs`
 //! implementing [`Method`]) and one line in the registry. This module knows no method.
@@ -21,6 +23,7 @@ pub mod plot;
 pub mod shipped;
 pub mod spec;
 pub mod supervised;
+pub mod work;
 
 use std::any::Any;
 use std::sync::Arc;
@@ -32,6 +35,7 @@ use crate::motion::Motion;
 use crate::segment::Segmentation;
 pub use spec::{ParamKind, ParamSpec};
 pub use supervised::{ModelStore, Supervised, Supervision};
+pub use work::{Work, WorkLimits};
 
 /// The caller asked a running method to stop (the method returns as soon as it next reports).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -194,10 +198,13 @@ pub struct Details {
 }
 
 /// How a run should go besides its parameters.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct RunOptions {
     /// Draw the method's pictures (the page wants them; a batch on the command line does not).
     pub pictures: bool,
+    /// What the run may take ([`work`]): the page's and the command line's are the defaults; the
+    /// fuzzer's are small.
+    pub limits: WorkLimits,
 }
 
 /// A method's result on one take.
@@ -236,6 +243,9 @@ pub trait Method: Send + Sync + 'static {
     }
     /// The checked parameters as they are echoed in a segmentation's `params`.
     fn echo(&self, params: &Self::Checked) -> serde_json::Value;
+    /// What a run with `params` needs per working frame: checked against [`WorkLimits`] before
+    /// [`Method::run`] is called ([`crate::method::work`]), so `run` never starts on a take it cannot hold.
+    fn work(&self, params: &Self::Checked) -> Work;
     /// Segments `motion`; draws the method's pictures only if `options.pictures`.
     fn run(
         &self,
@@ -284,6 +294,8 @@ pub trait DynMethod: Send + Sync {
     fn supervision(&self) -> Option<Supervision>;
     /// Its training and model files, when it is supervised.
     fn supervised(&self) -> Option<&dyn Supervised>;
+    /// What a run with `params` (from [`DynMethod::check_json`] of this method) needs.
+    fn work(&self, params: &CheckedParams) -> Result<Work, MethodError>;
     /// Runs on `motion` with parameters from [`DynMethod::check_json`] of this method.
     fn run_checked(
         &self,
@@ -335,6 +347,10 @@ impl<M: Method> DynMethod for M {
         Ok(CheckedParams { method: info.name, echo: self.echo(&checked), inner: Arc::new(checked) })
     }
 
+    fn work(&self, params: &CheckedParams) -> Result<Work, MethodError> {
+        Ok(Method::work(self, self.downcast(params)?))
+    }
+
     fn run_checked(
         &self,
         motion: &Motion,
@@ -342,15 +358,25 @@ impl<M: Method> DynMethod for M {
         options: &RunOptions,
         progress: &mut dyn Progress,
     ) -> Result<MethodOutput, MethodError> {
-        let checked = params.inner.downcast_ref::<M::Checked>().ok_or_else(|| {
-            MethodError::params(format!("parameters of `{}` given to `{}`", params.method, Method::info(self).name))
-        })?;
+        let checked = self.downcast(params)?;
         if progress.cancelled() {
             return Err(MethodError::Cancelled);
         }
+        Method::work(self, checked).check(&Method::info(self).short, motion, &options.limits)?;
         self.run(motion, checked, options, progress)
     }
 }
+
+/// A registered method's own checked parameters.
+trait Downcast: Method {
+    fn downcast<'p>(&self, params: &'p CheckedParams) -> Result<&'p Self::Checked, MethodError> {
+        params.inner.downcast_ref::<Self::Checked>().ok_or_else(|| {
+            MethodError::params(format!("parameters of `{}` given to `{}`", params.method, Method::info(self).name))
+        })
+    }
+}
+
+impl<M: Method> Downcast for M {}
 
 /// Why `params` could not be read as `P`, naming the parameter whose value is of the wrong kind
 /// (serde's own message names no field); unknown fields keep serde's message, which lists the

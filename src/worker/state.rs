@@ -291,7 +291,7 @@ impl WorkerState {
         let mut progress = Posting { take, run, post };
         let output = m
             .check_json_in(params, &self.models)
-            .and_then(|checked| m.run_checked(motion, &checked, &RunOptions { pictures: true }, &mut progress));
+            .and_then(|checked| m.run_checked(motion, &checked, &RunOptions { pictures: true, ..RunOptions::default() }, &mut progress));
         match output {
             Ok(output) => Response::Segmented { take, run, view: Box::new(output.into()) },
             Err(MethodError::Cancelled) => fail(format!("{short}: cancelled"), FailureKind::Cancelled),

@@ -14,7 +14,7 @@ use super::input::network_input;
 use super::model::{Labeller, Model, ModelHeader, ModelKind};
 use super::shipped;
 use crate::method::supervised::{Loaded, Training, TrainingAsk, IN_SAMPLE};
-use crate::method::{
+use crate::method::{Work, 
     Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ModelStore, ParamKind, ParamSpec, Picture, Progress,
     RunOptions, Supervised, Supervision,
 };
@@ -283,6 +283,16 @@ impl Method for Labelling {
             "min_duration_s": params.custom.min_duration_s,
             "switch_cost": params.custom.switch_cost,
         })
+    }
+
+    fn work(&self, params: &Checked) -> Work {
+        // the motion image and the labeller's per-frame arrays (probabilities, decoding); the
+        // network's activations and the k-NN's windows: measured in tests/limits.rs
+        let bytes_per_frame = match self.kind {
+            ModelKind::Dtfcn => 2_000,
+            ModelKind::Knn => 4_000,
+        };
+        Work { fps: params.model.header.fps, bytes_per_frame, fixed_bytes: 24 << 20, advice: "" }
     }
 
     fn run(

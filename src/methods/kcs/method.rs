@@ -4,7 +4,7 @@ use super::{centroid, segment_limbs, KcsParams, ValidParams, PARAMS};
 use crate::features::end_effectors::canonical_joints;
 use crate::method::bounds;
 use crate::method::plot::{self, Series};
-use crate::method::{Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Progress, RunOptions};
+use crate::method::{Work, Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Progress, RunOptions};
 use crate::motion::joints::Canonical as C;
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -52,6 +52,11 @@ impl Method for Kcs {
 
     fn echo(&self, params: &ValidParams) -> serde_json::Value {
         serde_json::to_value(&**params).unwrap_or_default()
+    }
+
+    fn work(&self, params: &ValidParams) -> Work {
+        // bone vectors and the KCS distance curve: 1.0 kB per frame measured (tests/limits.rs)
+        Work { fps: params.fps, bytes_per_frame: 1_500, fixed_bytes: 1 << 20, advice: "" }
     }
 
     fn run(

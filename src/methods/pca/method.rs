@@ -4,7 +4,7 @@
 
 use super::{poses, scan, PcaParams, Scan, ValidParams, PARAMS};
 use crate::method::bounds;
-use crate::method::{
+use crate::method::{Work, 
     Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions,
 };
 use crate::motion::Motion;
@@ -49,6 +49,11 @@ impl Method for Pca {
 
     fn echo(&self, params: &ValidParams) -> serde_json::Value {
         serde_json::to_value(&**params).unwrap_or_default()
+    }
+
+    fn work(&self, params: &ValidParams) -> Work {
+        // the pose matrix and windows: 1.3 kB per frame measured (tests/limits.rs)
+        Work { fps: params.fps, bytes_per_frame: 2_000, fixed_bytes: 1 << 20, advice: "" }
     }
 
     fn run(
@@ -171,7 +176,7 @@ mod tests {
         let params = PcaParams::default().check().unwrap();
         let mut stages: Vec<String> = Vec::new();
         let mut progress = |stage: &str, _: f64| stages.push(stage.to_string());
-        let out = Pca.run(&motion, &params, &RunOptions { pictures: true }, &mut progress).unwrap();
+        let out = Pca.run(&motion, &params, &RunOptions { pictures: true, ..RunOptions::default() }, &mut progress).unwrap();
         // 524 frames at 120 Hz: 131 working frames, a single walk, no cut
         let seg = &out.segmentation;
         assert_eq!(seg.segments.len(), 1, "{:?}", seg.segments);

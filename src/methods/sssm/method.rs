@@ -3,7 +3,7 @@
 //! clusters and mirror pairs) and the SSSM picture of [`super::image`].
 
 use super::{Span, SssmError, SssmOutcome, SssmParams, ValidParams};
-use crate::method::{
+use crate::method::{Work, 
     counted, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions,
 };
 use crate::motion::Motion;
@@ -50,6 +50,21 @@ impl Method for Sssm {
 
     fn echo(&self, params: &ValidParams) -> serde_json::Value {
         params.to_json()
+    }
+
+    fn work(&self, params: &ValidParams) -> Work {
+        // features, kd-tree and refinement: 7.8 kB per frame measured on a repetitive take; and
+        // the SSSMs' entries (plain and mirror), up to max_neighbours (+ bundling_k) per frame at
+        // ~40 bytes each — reached on a take whose frames are all alike (tests/limits.rs: an
+        // interpolated 1 Hz take). Their worst case is what is checked: 10 minutes at the defaults.
+        let per_frame_entries = params.max_neighbours + if params.bundling { params.bundling_k } else { 0 };
+        let sssms = if params.mirror { 2 } else { 1 };
+        Work {
+            fps: params.fps,
+            bytes_per_frame: 8_000 + per_frame_entries * sssms * 48,
+            fixed_bytes: 4 << 20,
+            advice: "or lower max_neighbours",
+        }
     }
 
     fn run(

@@ -5,7 +5,7 @@ use super::{boundaries, hand_speed, ValidParams, VelocityParams, PARAMS};
 use crate::features::end_effectors::{end_effectors, LEFT_HAND, RIGHT_HAND};
 use crate::method::bounds;
 use crate::method::plot::{self, Series};
-use crate::method::{
+use crate::method::{Work, 
     Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions,
 };
 use crate::motion::Motion;
@@ -46,6 +46,11 @@ impl Method for Velocity {
 
     fn echo(&self, params: &ValidParams) -> serde_json::Value {
         serde_json::to_value(&**params).unwrap_or_default()
+    }
+
+    fn work(&self, params: &ValidParams) -> Work {
+        // end-effector positions and speeds: 1.0 kB per frame measured (tests/limits.rs)
+        Work { fps: params.fps, bytes_per_frame: 1_500, fixed_bytes: 1 << 20, advice: "" }
     }
 
     fn run(
