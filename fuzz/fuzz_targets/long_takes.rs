@@ -4,7 +4,7 @@
 //! parameters under small [`WorkLimits`]. A method must refuse before it allocates past them
 //! (the work check, `src/method/work.rs`) or finish within them: a panic, a hang (libFuzzer's
 //! `-timeout`) or the live heap passing the fuzz budget is a finding. What comes out must fit
-//! the schema and cover the take; a refusal must name the file.
+//! the schema and cover the take; a refusal must say why.
 #![no_main]
 
 use arbitrary::Arbitrary;

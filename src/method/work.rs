@@ -78,12 +78,12 @@ impl Work {
     }
 
     /// Ok if `method` (its short name, for the message) may run on `motion` within `limits`;
-    /// otherwise why not, naming the file, the take's duration and the limit passed.
+    /// otherwise why not, naming the take's duration and the limit passed (the command line and
+    /// the page put the file's name before a method's message).
     pub fn check(&self, method: &str, motion: &Motion, limits: &WorkLimits) -> Result<(), MethodError> {
-        let file = &motion.name;
         if !(motion.fps >= limits.min_file_fps) {
             return Err(MethodError::Failed(format!(
-                "{file}: Frame Time {} s is {} frames per second; {method} works at {} Hz and would make {} of \
+                "Frame Time {} s is {} frames per second; {method} works at {} Hz and would make {} of \
                  its frames out of every one of the file's. Motion capture is recorded at {} Hz or more: check \
                  the file's Frame Time",
                 round(1.0 / motion.fps),
@@ -97,7 +97,7 @@ impl Work {
         let frames = self.frames(motion);
         if seconds > limits.max_seconds {
             return Err(MethodError::Failed(format!(
-                "{file}: the take is {} long ({} frames at {} Hz); {method} segments at most {} at a time: cut \
+                "the take is {} long ({} frames at {} Hz); {method} segments at most {} at a time: cut \
                  the take",
                 duration(seconds),
                 motion.frames(),
@@ -110,7 +110,7 @@ impl Work {
             let per_second = self.bytes(self.fps.ceil() as usize, motion.joints()).max(1);
             let fits = limits.max_bytes.saturating_sub(self.fixed_bytes) as f64 / per_second as f64;
             return Err(MethodError::Failed(format!(
-                "{file}: the take is {} long, {frames} frames at {method}'s {} Hz, which need about {} MiB, \
+                "the take is {} long, {frames} frames at {method}'s {} Hz, which need about {} MiB, \
                  more than the budget of {} MiB: cut the take to at most {}{}",
                 duration(seconds),
                 round(self.fps),
@@ -174,7 +174,7 @@ mod tests {
         let err = LIGHT.check("SSSM", &m, &WorkLimits::default()).unwrap_err().to_string();
         assert_eq!(
             err,
-            "odd.bvh: Frame Time 100 s is 0.01 frames per second; SSSM works at 30 Hz and would make 3000 of its \
+            "Frame Time 100 s is 0.01 frames per second; SSSM works at 30 Hz and would make 3000 of its \
              frames out of every one of the file's. Motion capture is recorded at 1 Hz or more: check the file's \
              Frame Time"
         );
@@ -189,7 +189,7 @@ mod tests {
         let err = LIGHT.check("LMA", &take(602, 1.0), &limits).unwrap_err().to_string();
         assert_eq!(
             err,
-            "odd.bvh: the take is 10 min 1 s long (602 frames at 1 Hz); LMA segments at most 10 min 0 s at a time: \
+            "the take is 10 min 1 s long (602 frames at 1 Hz); LMA segments at most 10 min 0 s at a time: \
              cut the take"
         );
         assert_eq!(LIGHT.check("LMA", &take(601, 1.0), &limits), Ok(()));
@@ -201,7 +201,7 @@ mod tests {
         let err = heavy.check("PCA", &m, &limits).unwrap_err().to_string();
         assert_eq!(
             err,
-            "odd.bvh: the take is 39 min 59 s long, 71971 frames at PCA's 30 Hz, which need about 71 MiB, more than \
+            "the take is 39 min 59 s long, 71971 frames at PCA's 30 Hz, which need about 71 MiB, more than \
              the budget of 64 MiB: cut the take to at most 36 min 24 s or lower max_neighbours"
         );
     }
