@@ -6,17 +6,18 @@
 // www/embed.html with two players on different files; the service worker: the page loads with the
 // network off (Playwright's offline mode, then a server that is really gone) and a new build's
 // version replaces the old cache. The update test serves a copy of dist/ from its own static
-// server (node:http) so that it can rebuild sw.js there and stop the server. Screenshots in OUT.
+// server (harness.mjs `serve`) so that it can rebuild sw.js there and stop the server; two
+// deployments on one origin and what is kept besides the build are in offline.test.mjs.
+// Screenshots in OUT.
 
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { execFileSync } from "node:child_process";
-import { appendFileSync, copyFileSync, cpSync, mkdirSync, mkdtempSync, readFileSync, rmSync, statSync } from "node:fs";
-import http from "node:http";
+import { appendFileSync, copyFileSync, cpSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from "node:fs";
 import os from "node:os";
 import path from "node:path";
 import {
-  BASE_URL, FIXTURES, OUT, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, openPage, shot, text, until, waitData,
+  BASE_URL, FIXTURES, OUT, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, openPage, serve, shot, text, until, waitData,
 } from "./harness.mjs";
 
 const METHODS = ["sssm", "velocity", "kcs", "pca", "lma", "knn", "dtfcn"];
@@ -265,6 +266,8 @@ test("www/embed.html shows two players with different files, ready", async () =>
 
 /** The version a built sw.js carries. */
 const versionOf = (swText) => /const VERSION = "([0-9a-f]{16})"/.exec(swText)?.[1];
+/** The name of the cache of the build `version` deployed at the root of its origin (www/sw.js). */
+const buildCache = (version) => `mocapseg / ${version}`;
 
 /** Registered, then controlling after one reload (the service worker never claims a running page). */
 async function waitControlled(p) {
@@ -293,7 +296,7 @@ test("offline: after the first visit the app loads and runs a method with the ne
     const version = versionOf(readFileSync(path.join(DIST, "sw.js"), "utf8"));
     assert.ok(version, "dist/sw.js carries a version");
     const keys = await off.page.evaluate(() => caches.keys());
-    assert.deepEqual(keys, [`mocapseg-${version}`]);
+    assert.deepEqual(keys, [buildCache(version)]);
     const cached = await off.page.evaluate(async (k) => (await (await caches.open(k)).keys()).map((r) => r.url), keys[0]);
     for (const f of ["index.html", "pkg/mocapseg_bg.wasm", "pkg/mocapseg.js", "www/worker.js", "www/main.js", "www/style.css", "www/sample.bvh", "www/02_01.bvh"]) {
       assert.ok(cached.includes(new URL(f, BASE_URL).href), `${f} is cached: ${JSON.stringify(cached)}`);
@@ -324,30 +327,6 @@ test("offline: after the first visit the app loads and runs a method with the ne
   }
 });
 
-/** A static file server (any server will do: no server code) over `dir` on a free port. */
-async function serve(dir) {
-  const types = { ".html": "text/html", ".js": "text/javascript", ".wasm": "application/wasm", ".css": "text/css",
-    ".svg": "image/svg+xml", ".md": "text/markdown", ".bvh": "text/plain" };
-  const server = http.createServer((req, res) => {
-    let rel = decodeURIComponent(new URL(req.url, "http://x").pathname);
-    if (rel.endsWith("/")) rel += "index.html";
-    const file = path.join(dir, path.normalize(rel));
-    if (!file.startsWith(dir) || !statSync(file, { throwIfNoEntry: false })?.isFile()) {
-      res.writeHead(404).end("not found");
-      return;
-    }
-    res.writeHead(200, { "Content-Type": types[path.extname(file)] ?? "application/octet-stream", "Cache-Control": "no-cache" });
-    res.end(readFileSync(file));
-  });
-  const sockets = new Set();
-  server.on("connection", (s) => { sockets.add(s); s.on("close", () => sockets.delete(s)); });
-  await new Promise((done) => server.listen(0, "127.0.0.1", done));
-  return {
-    url: `http://127.0.0.1:${server.address().port}/`,
-    stop: () => new Promise((done) => { for (const s of sockets) s.destroy(); server.close(done); }),
-  };
-}
-
 test("a new build's service worker replaces the old cache; with the server gone the app still runs", async () => {
   const dir = mkdtempSync(path.join(os.tmpdir(), "mocapseg-sw-"));
   cpSync(DIST, dir, { recursive: true });
@@ -360,7 +339,7 @@ test("a new build's service worker replaces the old cache; with the server gone 
     await waitControlled(p);
     await waitTake(p, "sample.bvh");
     const v1 = versionOf(readFileSync(path.join(dir, "sw.js"), "utf8"));
-    assert.deepEqual(await p.evaluate(() => caches.keys()), [`mocapseg-${v1}`]);
+    assert.deepEqual(await p.evaluate(() => caches.keys()), [buildCache(v1)]);
 
     // a new build: a changed stylesheet, and sw.js made again by the build's own script
     appendFileSync(path.join(dir, "www/page.css"), "\n/* build 2 */\nbody { outline-color: rgb(1, 2, 3); }\n");
@@ -372,13 +351,13 @@ test("a new build's service worker replaces the old cache; with the server gone 
     // the browser finds it; it installs beside the old one and waits; the page offers to switch
     await p.evaluate(async () => (await navigator.serviceWorker.getRegistration()).update());
     await p.locator("#sw-update").waitFor({ state: "visible", timeout: TIMEOUT });
-    assert.deepEqual((await p.evaluate(() => caches.keys())).sort(), [`mocapseg-${v1}`, `mocapseg-${v2}`].sort());
+    assert.deepEqual((await p.evaluate(() => caches.keys())).sort(), [buildCache(v1), buildCache(v2)].sort());
     assert.notEqual(await p.evaluate(() => getComputedStyle(document.body).outlineColor), "rgb(1, 2, 3)", "still the old build");
     await shot(p, "e2e-embed-update-offered.png");
     await Promise.all([p.waitForEvent("load"), p.click("#sw-update-reload")]);
     await waitTake(p, "sample.bvh");
     await until(() => p.evaluate(() => caches.keys()).then((k) => k.length === 1), "the old cache deleted");
-    assert.deepEqual(await p.evaluate(() => caches.keys()), [`mocapseg-${v2}`]);
+    assert.deepEqual(await p.evaluate(() => caches.keys()), [buildCache(v2)]);
     assert.equal(await p.evaluate(() => getComputedStyle(document.body).outlineColor), "rgb(1, 2, 3)", "the new build's file");
 
     // the server is gone: the new version still loads and runs
