@@ -7,7 +7,8 @@
 // network off (Playwright's offline mode, then a server that is really gone) and a new build's
 // version replaces the old cache. The update test serves a copy of dist/ from its own static
 // server (harness.mjs `serve`) so that it can rebuild sw.js there and stop the server; two
-// deployments on one origin and what is kept besides the build are in offline.test.mjs.
+// deployments on one origin and what is kept besides the build are in offline.test.mjs. No console
+// error is allowed but the one a step provokes on purpose (a 404, a fetch offline), in that step.
 // Screenshots in OUT.
 
 import { test, before, after } from "node:test";
@@ -17,14 +18,17 @@ import { appendFileSync, copyFileSync, cpSync, mkdirSync, mkdtempSync, readFileS
 import os from "node:os";
 import path from "node:path";
 import {
-  BASE_URL, FIXTURES, OUT, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, openPage, serve, shot, text, until, waitData,
+  BASE_URL, FIXTURES, OUT, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, expectConsoleErrors, openPage, serve, shot, text,
+  until, waitData,
 } from "./harness.mjs";
 
 const METHODS = ["sssm", "velocity", "kcs", "pca", "lma", "knn", "dtfcn"];
 const DIST = path.dirname(path.dirname(SAMPLE)); // scripts/e2e.sh: SAMPLE_BVH=$DIST/www/sample.bvh
 const WALK_FRAMES = 343; // www/02_01.bvh (CMU 02_01 at 120 fps)
-// a fetch that fails shows in the console; those steps expect it
-const ALLOW = /Failed to load resource|404|ERR_|net::/;
+// The console errors a step provokes on purpose, expected in that step only (harness.mjs
+// `expectConsoleErrors`): anywhere else, any console error fails the test.
+const NOT_FOUND = /^Failed to load resource: the server responded with a status of 404 \(File not found\)$/;
+const OFFLINE_FETCH = /^Failed to load resource: net::ERR_FAILED$/;
 
 let opened;
 let page;
@@ -46,7 +50,7 @@ async function watchMethods(context) {
 }
 
 before(async () => {
-  opened = await openPage({ allowConsole: ALLOW });
+  opened = await openPage();
   page = opened.page;
   await watchMethods(opened.context);
 });
@@ -104,6 +108,7 @@ test("src= loads a file of the same origin, methods= runs only those, t= seeks",
   // (the user's own "my labels" row is not a method's)
   assert.deepEqual(rows.filter((id) => !/^row-(sssm|velocity)-/.test(id) && id !== "row-my-labels"), [],
     `no other method's row: ${rows}`);
+  assertClean(opened);
 });
 
 test("autoplay=1 plays from t=; methods= (empty) runs none", async () => {
@@ -116,6 +121,7 @@ test("autoplay=1 plays from t=; methods= (empty) runs none", async () => {
   const seen = await runs(page);
   for (const m of METHODS) assert.deepEqual(seen[m], ["idle"], `${m} did not run: ${JSON.stringify(seen[m])}`);
   await page.click("#play-pause");
+  assertClean(opened);
 });
 
 test("t= past the end starts at the last frame and says so", async () => {
@@ -124,6 +130,7 @@ test("t= past the end starts at the last frame and says so", async () => {
   assert.match(await notice(page), /t=99 is past the end of 02_01\.bvh \(343 frames, 2\.86 s\): playback starts at its last frame \(2\.850 s\)/);
   await page.click("#url-notice-dismiss");
   assert.equal(await page.locator("#url-notice").isVisible(), false, "the notice is dismissed");
+  assertClean(opened);
 });
 
 test("an unknown method and bad values are named; the sample loads and the known method runs", async () => {
@@ -138,6 +145,7 @@ test("an unknown method and bad values are named; the sample loads and the known
   assert.deepEqual(seen.velocity, ["idle"]);
   assert.equal((await frameCounter(page)).n, 1, "a bad t= starts at the first frame");
   await page.locator("#url-notice").screenshot({ path: path.join(OUT, "e2e-embed-notice.png") });
+  assertClean(opened);
 });
 
 test("a bad src= says which URL and what happened", async () => {
@@ -147,8 +155,9 @@ test("a bad src= says which URL and what happened", async () => {
     assert.ok(await page.locator("#error-banner").isVisible());
     return text(page, "#error-message");
   };
-  // no such file
-  assert.match(await failed("?src=www/missing.bvh"), /^src=www\/missing\.bvh: not loaded: HTTP 404 .*\(there is no such file\)$/);
+  // no such file (the browser reports the 404 in the console too)
+  const missing = await expectConsoleErrors(opened, "src= a missing file", NOT_FOUND, () => failed("?src=www/missing.bvh"));
+  assert.match(missing, /^src=www\/missing\.bvh: not loaded: HTTP 404 .*\(there is no such file\)$/);
   await shot(page, "e2e-embed-404.png");
   // not a BVH: the parser's message, naming the URL
   const notBvh = await failed("?src=www/favicon.svg");
@@ -185,8 +194,10 @@ test("src= an AMC with asf= its skeleton opens the CMU original (its BVH convers
     await open(page, "?src=e2e-data/02_01.amc&methods=", "sample.bvh");
     assert.match(await notice(page), /src=e2e-data\/02_01\.amc is an AMC motion, which needs its skeleton: add asf=/);
     // a skeleton that is not there: named by its own parameter
-    await page.goto(url("?src=e2e-data/02_01.amc&asf=e2e-data/none.asf&methods="));
-    await waitData(page, "state", "error");
+    await expectConsoleErrors(opened, "asf= a missing file", NOT_FOUND, async () => {
+      await page.goto(url("?src=e2e-data/02_01.amc&asf=e2e-data/none.asf&methods="));
+      await waitData(page, "state", "error");
+    });
     assert.match(await text(page, "#error-message"), /^asf=e2e-data\/none\.asf: not loaded: HTTP 404/);
   } finally {
     rmSync(dir, { recursive: true, force: true });
@@ -237,6 +248,7 @@ test("embed=1: the player and the timeline only, fitting 640×400, with a link t
   } finally {
     await page.setViewportSize({ width: 1280, height: 900 });
   }
+  assertClean(opened);
 });
 
 test("www/embed.html shows two players with different files, ready", async () => {
@@ -278,7 +290,7 @@ async function waitControlled(p) {
 }
 
 test("offline: after the first visit the app loads and runs a method with the network off", async () => {
-  const off = await openPage({ allowConsole: ALLOW });
+  const off = await openPage();
   try {
     await off.page.goto(BASE_URL);
     await waitTake(off.page, "sample.bvh");
@@ -305,7 +317,8 @@ test("offline: after the first visit the app loads and runs a method with the ne
 
     await off.context.setOffline(true);
     // the network is off for the page: a file outside the cache cannot be had
-    const outside = await off.page.evaluate(() => fetch(`www/not-cached-${Date.now()}.bvh`).then((r) => `HTTP ${r.status}`, (e) => e.name));
+    const outside = await expectConsoleErrors(off, "a file outside the cache, offline", OFFLINE_FETCH,
+      () => off.page.evaluate(() => fetch(`www/not-cached-${Date.now()}.bvh`).then((r) => `HTTP ${r.status}`, (e) => e.name)));
     assert.equal(outside, "TypeError", "offline for real");
     await off.page.reload();
     await waitTake(off.page, "sample.bvh");
@@ -331,7 +344,7 @@ test("a new build's service worker replaces the old cache; with the server gone 
   const dir = mkdtempSync(path.join(os.tmpdir(), "mocapseg-sw-"));
   cpSync(DIST, dir, { recursive: true });
   const server = await serve(dir);
-  const p2 = await openPage({ allowConsole: ALLOW });
+  const p2 = await openPage();
   try {
     const { page: p } = p2;
     await p.goto(server.url);

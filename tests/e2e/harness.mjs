@@ -169,10 +169,15 @@ export async function until(cond, what, ms = 10_000) {
   }
 }
 
-/** No uncaught exception and no console error so far. */
+/**
+ * No uncaught exception and no console error since the last check (those reported are forgotten,
+ * so that each test is charged with its own).
+ */
 export function assertClean(opened) {
-  assert.deepEqual(opened.pageErrors, [], "uncaught exceptions in the page");
-  assert.deepEqual(opened.consoleErrors, [], "console errors in the page");
+  const pageErrors = opened.pageErrors.splice(0);
+  const consoleErrors = opened.consoleErrors.splice(0);
+  assert.deepEqual(pageErrors, [], "uncaught exceptions in the page");
+  assert.deepEqual(consoleErrors, [], "console errors in the page");
 }
 
 /**
