@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """scripts/service-worker.py DIST — writes DIST/sw.js from the template DIST/www/sw.js (copied
 there from www/sw.js by `make web`, and removed): ASSETS becomes every file of the build (paths
-relative to DIST, hidden files left out) with its sha256, VERSION the first 16 hex digits of the
-sha256 of that list and of the template. Any change to the wasm, the page, a script, a style or
-a sample is a new sw.js, which browsers install as a new version (www/sw.js says how)."""
+relative to DIST, hidden files left out) with its sha256, as a list of [path, sha256] pairs (the
+template makes a Map of it, so that no path is looked up among an object's prototype keys),
+VERSION the first 16 hex digits of the sha256 of that list and of the template. Any change to the
+wasm, the page, a script, a style or a sample is a new sw.js, which browsers install as a new
+version (www/sw.js says how)."""
 
 import hashlib
 import json
@@ -15,7 +17,7 @@ def main(dist: str) -> None:
     template_path = os.path.join(dist, "www", "sw.js")
     with open(template_path, encoding="utf-8") as f:
         template = f.read()
-    version_mark, assets_mark = '"__MOCAPSEG_VERSION__"', "/*__MOCAPSEG_ASSETS__*/ {}"
+    version_mark, assets_mark = '"__MOCAPSEG_VERSION__"', "/*__MOCAPSEG_ASSETS__*/ []"
     for mark in (version_mark, assets_mark):
         if template.count(mark) != 1:
             sys.exit(f"service-worker.py: {template_path} must hold {mark} once")
@@ -34,7 +36,8 @@ def main(dist: str) -> None:
     version = hashlib.sha256((listing + template).encode()).hexdigest()[:16]
 
     text = template.replace(version_mark, json.dumps(version))
-    text = text.replace(assets_mark, json.dumps(dict(sorted(assets.items())), indent=2))
+    pairs = "".join(f"  {json.dumps([path, sha])},\n" for path, sha in sorted(assets.items()))
+    text = text.replace(assets_mark, f"[\n{pairs}]")
     with open(os.path.join(dist, "sw.js"), "w", encoding="utf-8") as f:
         f.write(text)
     print(f"{dist}/sw.js: version {version}, {len(assets)} files")

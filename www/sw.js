@@ -6,28 +6,51 @@
 // browser installs it: it caches the new files under a new cache name (each checked against its
 // sha256, so that a half-deployed site never makes a mixed cache), waits until the user reloads
 // through the page's "update" notice (www/main.js) or every tab of the old version is closed,
-// and on activation deletes the caches of older versions. No server code: any static server.
+// and on activation deletes the caches of older versions of this deployment. No server code: any
+// static server.
+//
+// Several deployments may share an origin (https://host/stable/ and https://host/dev/): each has
+// its own registration (its scope), and the origin's caches are shared by all of them. So every
+// cache name carries the scope's path, and a deployment only ever deletes its own caches.
 //
 // What it answers: the build's files from the cache (a page whatever its query, so
 // index.html?src=…&t=… works offline); any other file of this origin (a take named by src=)
-// from the network, kept for offline use; a worker's script for a page it does not control from
-// the network; other origins are left to the browser (CORS, the page's Content-Security-Policy).
+// from the network, a bounded number of them kept for offline use (KEPT below); a worker's script
+// for a page it does not control from the network; other origins are left to the browser (CORS,
+// the page's Content-Security-Policy).
 
 const VERSION = "__MOCAPSEG_VERSION__";
-const ASSETS = /*__MOCAPSEG_ASSETS__*/ {};
+// The build's files: path relative to the scope → sha256. A Map, not an object: `path in {…}` is
+// also true of `constructor`, `__proto__`, `toString` and every other key of Object.prototype, which
+// would make such a file of the host's a "build file" that is never in the cache nor kept.
+const ASSETS = new Map(/*__MOCAPSEG_ASSETS__*/ []);
 
-const PREFIX = "mocapseg-";
-const CACHE = PREFIX + VERSION;
 const SCOPE = self.registration.scope; // ends with "/"
-// files of this origin that are not part of the build are kept for offline use up to this size
+// This deployment's caches are "mocapseg <its scope's path> <what>" (a URL's path has no space, so
+// no other deployment's name starts with ours, not even one in a folder of ours).
+const OURS = `mocapseg ${new URL(SCOPE).pathname} `;
+const CACHE = OURS + VERSION; // the build's files: exactly ASSETS
+const KEPT = OURS + "kept"; // other files of this origin, for offline use (below)
+
+// What is kept besides the build: the last few files of this origin the page fetched that are not
+// part of it (a take named by src=, a file of the host's), so that a page opened with src= works
+// offline too. Bounded, so that a session of src= takes never grows the origin's storage without
+// end: a response is kept only if it is a success of this origin that declares its size
+// (Content-Length) of at most KEEP_MAX_BYTES; then the oldest kept are evicted until at most
+// KEEP_MAX_COUNT files of at most KEEP_TOTAL_BYTES in all are left. "Oldest" is the order of the
+// Cache API's listing: the order the files were put, a file fetched again moving to the end (so the
+// least recently fetched go first). The kept files are the host's, not the build's: they outlive a
+// new version of the app.
+const KEEP_MAX_COUNT = 8;
 const KEEP_MAX_BYTES = 64 * 1024 * 1024;
+const KEEP_TOTAL_BYTES = 128 * 1024 * 1024;
 
 const hex = (buffer) => [...new Uint8Array(buffer)].map((b) => b.toString(16).padStart(2, "0")).join("");
 
 self.addEventListener("install", (event) => {
   event.waitUntil((async () => {
     const cache = await caches.open(CACHE);
-    await Promise.all(Object.entries(ASSETS).map(async ([path, sha256]) => {
+    await Promise.all([...ASSETS].map(async ([path, sha256]) => {
       const url = new URL(path, SCOPE).href;
       // from the network, not the HTTP cache: a file cached before the rebuild must not land here
       const response = await fetch(url, { cache: "reload" });
@@ -44,13 +67,25 @@ self.addEventListener("install", (event) => {
   }));
 });
 
+// Deletes this deployment's older versions, never another deployment's caches.
 self.addEventListener("activate", (event) => {
   event.waitUntil((async () => {
     for (const name of await caches.keys()) {
-      if (name.startsWith(PREFIX) && name !== CACHE) await caches.delete(name);
+      const older = name.startsWith(OURS) && name !== CACHE && name !== KEPT;
+      if (older || (await legacyOfOurs(name))) await caches.delete(name);
     }
   })());
 });
+
+/**
+ * Whether `name` is this deployment's cache from a service worker of before the names carried the
+ * scope ("mocapseg-<version>", one cache for the build and the kept files): it holds this scope's
+ * index.html, which only this deployment's build cache does.
+ */
+async function legacyOfOurs(name) {
+  if (!/^mocapseg-[0-9a-f]{16}$/.test(name)) return false;
+  return (await caches.match(new URL("index.html", SCOPE).href, { cacheName: name })) !== undefined;
+}
 
 // The page's "Reload to update" (www/main.js): the waiting version takes over now.
 self.addEventListener("message", (event) => {
@@ -68,7 +103,7 @@ function assetOf(url, navigate) {
     return null; // a malformed escape names no file of the build
   }
   // a page ignores its query (the URL parameters); other files must match exactly
-  if (!(path in ASSETS) || (url.search && !navigate)) return null;
+  if (!ASSETS.has(path) || (url.search && !navigate)) return null;
   return new URL(path, SCOPE).href;
 }
 
@@ -81,10 +116,10 @@ self.addEventListener("fetch", (event) => {
   // (the first visit, a page opened before this version): such a page runs the network's files,
   // and its worker must be of the same build, so it comes from the network too.
   if (request.destination === "worker" || request.destination === "sharedworker") {
-    event.respondWith(controls(event.clientId).then((yes) => (yes ? answer(request, url) : fromNetwork(request))));
+    event.respondWith(controls(event.clientId).then((yes) => (yes ? answer(event, url) : fromNetwork(request))));
     return;
   }
-  event.respondWith(answer(request, url));
+  event.respondWith(answer(event, url));
 });
 
 /** Whether the client `id` (a worker's page) is one this service worker controls. */
@@ -104,23 +139,49 @@ async function fromNetwork(request) {
   }
 }
 
-async function answer(request, url) {
-  const cache = await caches.open(CACHE);
+/** A build file from the cache; anything else from the network (kept, see KEPT), else (offline) as kept. */
+async function answer(event, url) {
+  const request = event.request;
   const asset = assetOf(url, request.mode === "navigate");
   if (asset) {
-    const hit = await cache.match(asset);
+    const hit = await caches.match(asset, { cacheName: CACHE });
     if (hit) return hit;
   }
   try {
     const response = await fetch(request);
-    const size = Number(response.headers.get("content-length") ?? Infinity);
-    if (!asset && response.ok && response.type === "basic" && size <= KEEP_MAX_BYTES) {
-      await cache.put(request, response.clone());
-    }
+    // kept while the page already reads the answer (the service worker stays alive until it is)
+    if (!asset) event.waitUntil(keep(request, response));
     return response;
   } catch (err) {
-    const kept = await cache.match(request);
+    const kept = asset ? undefined : await caches.match(request, { cacheName: KEPT });
     if (kept) return kept;
     throw err;
   }
+}
+
+// One keeping at a time, in the order the answers came: two never evict from the same listing.
+let keeping = Promise.resolve();
+
+/**
+ * Keeps a copy of `response` in KEPT if it may be kept, then evicts the oldest kept files beyond
+ * the bounds (above). Never fails: storage that is full only means that the file is not kept.
+ */
+function keep(request, response) {
+  const size = Number(response.headers.get("content-length") ?? NaN);
+  if (!response.ok || response.type !== "basic" || !(size <= KEEP_MAX_BYTES)) return Promise.resolve();
+  const copy = response.clone();
+  keeping = keeping.then(async () => {
+    const cache = await caches.open(KEPT);
+    await cache.put(request, copy);
+    const requests = await cache.keys(); // in the order they were put: the oldest first
+    const sizes = await Promise.all(requests.map(async (r) => Number((await cache.match(r))?.headers.get("content-length")) || 0));
+    let count = requests.length;
+    let total = sizes.reduce((a, b) => a + b, 0);
+    for (let i = 0; i < requests.length && (count > KEEP_MAX_COUNT || total > KEEP_TOTAL_BYTES); i++) {
+      await cache.delete(requests[i]);
+      count -= 1;
+      total -= sizes[i];
+    }
+  }).catch((err) => console.warn(`mocapseg: ${request.url} not kept for offline use: ${err?.message ?? err}`));
+  return keeping;
 }

@@ -6,24 +6,29 @@
 // www/embed.html with two players on different files; the service worker: the page loads with the
 // network off (Playwright's offline mode, then a server that is really gone) and a new build's
 // version replaces the old cache. The update test serves a copy of dist/ from its own static
-// server (node:http) so that it can rebuild sw.js there and stop the server. Screenshots in OUT.
+// server (harness.mjs `serve`) so that it can rebuild sw.js there and stop the server; two
+// deployments on one origin and what is kept besides the build are in offline.test.mjs. No console
+// error is allowed but the one a step provokes on purpose (a 404, a fetch offline), in that step.
+// Screenshots in OUT.
 
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { execFileSync } from "node:child_process";
-import { appendFileSync, copyFileSync, cpSync, mkdirSync, mkdtempSync, readFileSync, rmSync, statSync } from "node:fs";
-import http from "node:http";
+import { appendFileSync, copyFileSync, cpSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from "node:fs";
 import os from "node:os";
 import path from "node:path";
 import {
-  BASE_URL, FIXTURES, OUT, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, openPage, shot, text, until, waitData,
+  BASE_URL, FIXTURES, OUT, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, expectConsoleErrors, openPage, serve, shot, text,
+  until, waitData,
 } from "./harness.mjs";
 
 const METHODS = ["sssm", "velocity", "kcs", "pca", "lma", "knn", "dtfcn"];
 const DIST = path.dirname(path.dirname(SAMPLE)); // scripts/e2e.sh: SAMPLE_BVH=$DIST/www/sample.bvh
 const WALK_FRAMES = 343; // www/02_01.bvh (CMU 02_01 at 120 fps)
-// a fetch that fails shows in the console; those steps expect it
-const ALLOW = /Failed to load resource|404|ERR_|net::/;
+// The console errors a step provokes on purpose, expected in that step only (harness.mjs
+// `expectConsoleErrors`): anywhere else, any console error fails the test.
+const NOT_FOUND = /^Failed to load resource: the server responded with a status of 404 \(File not found\)$/;
+const OFFLINE_FETCH = /^Failed to load resource: net::ERR_FAILED$/;
 
 let opened;
 let page;
@@ -45,7 +50,7 @@ async function watchMethods(context) {
 }
 
 before(async () => {
-  opened = await openPage({ allowConsole: ALLOW });
+  opened = await openPage();
   page = opened.page;
   await watchMethods(opened.context);
 });
@@ -103,6 +108,7 @@ test("src= loads a file of the same origin, methods= runs only those, t= seeks",
   // (the user's own "my labels" row is not a method's)
   assert.deepEqual(rows.filter((id) => !/^row-(sssm|velocity)-/.test(id) && id !== "row-my-labels"), [],
     `no other method's row: ${rows}`);
+  assertClean(opened);
 });
 
 test("autoplay=1 plays from t=; methods= (empty) runs none", async () => {
@@ -115,6 +121,7 @@ test("autoplay=1 plays from t=; methods= (empty) runs none", async () => {
   const seen = await runs(page);
   for (const m of METHODS) assert.deepEqual(seen[m], ["idle"], `${m} did not run: ${JSON.stringify(seen[m])}`);
   await page.click("#play-pause");
+  assertClean(opened);
 });
 
 test("t= past the end starts at the last frame and says so", async () => {
@@ -123,6 +130,7 @@ test("t= past the end starts at the last frame and says so", async () => {
   assert.match(await notice(page), /t=99 is past the end of 02_01\.bvh \(343 frames, 2\.86 s\): playback starts at its last frame \(2\.850 s\)/);
   await page.click("#url-notice-dismiss");
   assert.equal(await page.locator("#url-notice").isVisible(), false, "the notice is dismissed");
+  assertClean(opened);
 });
 
 test("an unknown method and bad values are named; the sample loads and the known method runs", async () => {
@@ -137,6 +145,7 @@ test("an unknown method and bad values are named; the sample loads and the known
   assert.deepEqual(seen.velocity, ["idle"]);
   assert.equal((await frameCounter(page)).n, 1, "a bad t= starts at the first frame");
   await page.locator("#url-notice").screenshot({ path: path.join(OUT, "e2e-embed-notice.png") });
+  assertClean(opened);
 });
 
 test("a bad src= says which URL and what happened", async () => {
@@ -146,8 +155,9 @@ test("a bad src= says which URL and what happened", async () => {
     assert.ok(await page.locator("#error-banner").isVisible());
     return text(page, "#error-message");
   };
-  // no such file
-  assert.match(await failed("?src=www/missing.bvh"), /^src=www\/missing\.bvh: not loaded: HTTP 404 .*\(there is no such file\)$/);
+  // no such file (the browser reports the 404 in the console too)
+  const missing = await expectConsoleErrors(opened, "src= a missing file", NOT_FOUND, () => failed("?src=www/missing.bvh"));
+  assert.match(missing, /^src=www\/missing\.bvh: not loaded: HTTP 404 .*\(there is no such file\)$/);
   await shot(page, "e2e-embed-404.png");
   // not a BVH: the parser's message, naming the URL
   const notBvh = await failed("?src=www/favicon.svg");
@@ -184,8 +194,10 @@ test("src= an AMC with asf= its skeleton opens the CMU original (its BVH convers
     await open(page, "?src=e2e-data/02_01.amc&methods=", "sample.bvh");
     assert.match(await notice(page), /src=e2e-data\/02_01\.amc is an AMC motion, which needs its skeleton: add asf=/);
     // a skeleton that is not there: named by its own parameter
-    await page.goto(url("?src=e2e-data/02_01.amc&asf=e2e-data/none.asf&methods="));
-    await waitData(page, "state", "error");
+    await expectConsoleErrors(opened, "asf= a missing file", NOT_FOUND, async () => {
+      await page.goto(url("?src=e2e-data/02_01.amc&asf=e2e-data/none.asf&methods="));
+      await waitData(page, "state", "error");
+    });
     assert.match(await text(page, "#error-message"), /^asf=e2e-data\/none\.asf: not loaded: HTTP 404/);
   } finally {
     rmSync(dir, { recursive: true, force: true });
@@ -236,6 +248,7 @@ test("embed=1: the player and the timeline only, fitting 640×400, with a link t
   } finally {
     await page.setViewportSize({ width: 1280, height: 900 });
   }
+  assertClean(opened);
 });
 
 test("www/embed.html shows two players with different files, ready", async () => {
@@ -265,6 +278,8 @@ test("www/embed.html shows two players with different files, ready", async () =>
 
 /** The version a built sw.js carries. */
 const versionOf = (swText) => /const VERSION = "([0-9a-f]{16})"/.exec(swText)?.[1];
+/** The name of the cache of the build `version` deployed at the root of its origin (www/sw.js). */
+const buildCache = (version) => `mocapseg / ${version}`;
 
 /** Registered, then controlling after one reload (the service worker never claims a running page). */
 async function waitControlled(p) {
@@ -275,7 +290,7 @@ async function waitControlled(p) {
 }
 
 test("offline: after the first visit the app loads and runs a method with the network off", async () => {
-  const off = await openPage({ allowConsole: ALLOW });
+  const off = await openPage();
   try {
     await off.page.goto(BASE_URL);
     await waitTake(off.page, "sample.bvh");
@@ -293,7 +308,7 @@ test("offline: after the first visit the app loads and runs a method with the ne
     const version = versionOf(readFileSync(path.join(DIST, "sw.js"), "utf8"));
     assert.ok(version, "dist/sw.js carries a version");
     const keys = await off.page.evaluate(() => caches.keys());
-    assert.deepEqual(keys, [`mocapseg-${version}`]);
+    assert.deepEqual(keys, [buildCache(version)]);
     const cached = await off.page.evaluate(async (k) => (await (await caches.open(k)).keys()).map((r) => r.url), keys[0]);
     for (const f of ["index.html", "pkg/mocapseg_bg.wasm", "pkg/mocapseg.js", "www/worker.js", "www/main.js", "www/style.css", "www/sample.bvh", "www/02_01.bvh"]) {
       assert.ok(cached.includes(new URL(f, BASE_URL).href), `${f} is cached: ${JSON.stringify(cached)}`);
@@ -302,7 +317,8 @@ test("offline: after the first visit the app loads and runs a method with the ne
 
     await off.context.setOffline(true);
     // the network is off for the page: a file outside the cache cannot be had
-    const outside = await off.page.evaluate(() => fetch(`www/not-cached-${Date.now()}.bvh`).then((r) => `HTTP ${r.status}`, (e) => e.name));
+    const outside = await expectConsoleErrors(off, "a file outside the cache, offline", OFFLINE_FETCH,
+      () => off.page.evaluate(() => fetch(`www/not-cached-${Date.now()}.bvh`).then((r) => `HTTP ${r.status}`, (e) => e.name)));
     assert.equal(outside, "TypeError", "offline for real");
     await off.page.reload();
     await waitTake(off.page, "sample.bvh");
@@ -324,35 +340,11 @@ test("offline: after the first visit the app loads and runs a method with the ne
   }
 });
 
-/** A static file server (any server will do: no server code) over `dir` on a free port. */
-async function serve(dir) {
-  const types = { ".html": "text/html", ".js": "text/javascript", ".wasm": "application/wasm", ".css": "text/css",
-    ".svg": "image/svg+xml", ".md": "text/markdown", ".bvh": "text/plain" };
-  const server = http.createServer((req, res) => {
-    let rel = decodeURIComponent(new URL(req.url, "http://x").pathname);
-    if (rel.endsWith("/")) rel += "index.html";
-    const file = path.join(dir, path.normalize(rel));
-    if (!file.startsWith(dir) || !statSync(file, { throwIfNoEntry: false })?.isFile()) {
-      res.writeHead(404).end("not found");
-      return;
-    }
-    res.writeHead(200, { "Content-Type": types[path.extname(file)] ?? "application/octet-stream", "Cache-Control": "no-cache" });
-    res.end(readFileSync(file));
-  });
-  const sockets = new Set();
-  server.on("connection", (s) => { sockets.add(s); s.on("close", () => sockets.delete(s)); });
-  await new Promise((done) => server.listen(0, "127.0.0.1", done));
-  return {
-    url: `http://127.0.0.1:${server.address().port}/`,
-    stop: () => new Promise((done) => { for (const s of sockets) s.destroy(); server.close(done); }),
-  };
-}
-
 test("a new build's service worker replaces the old cache; with the server gone the app still runs", async () => {
   const dir = mkdtempSync(path.join(os.tmpdir(), "mocapseg-sw-"));
   cpSync(DIST, dir, { recursive: true });
   const server = await serve(dir);
-  const p2 = await openPage({ allowConsole: ALLOW });
+  const p2 = await openPage();
   try {
     const { page: p } = p2;
     await p.goto(server.url);
@@ -360,7 +352,7 @@ test("a new build's service worker replaces the old cache; with the server gone 
     await waitControlled(p);
     await waitTake(p, "sample.bvh");
     const v1 = versionOf(readFileSync(path.join(dir, "sw.js"), "utf8"));
-    assert.deepEqual(await p.evaluate(() => caches.keys()), [`mocapseg-${v1}`]);
+    assert.deepEqual(await p.evaluate(() => caches.keys()), [buildCache(v1)]);
 
     // a new build: a changed stylesheet, and sw.js made again by the build's own script
     appendFileSync(path.join(dir, "www/page.css"), "\n/* build 2 */\nbody { outline-color: rgb(1, 2, 3); }\n");
@@ -372,13 +364,13 @@ test("a new build's service worker replaces the old cache; with the server gone 
     // the browser finds it; it installs beside the old one and waits; the page offers to switch
     await p.evaluate(async () => (await navigator.serviceWorker.getRegistration()).update());
     await p.locator("#sw-update").waitFor({ state: "visible", timeout: TIMEOUT });
-    assert.deepEqual((await p.evaluate(() => caches.keys())).sort(), [`mocapseg-${v1}`, `mocapseg-${v2}`].sort());
+    assert.deepEqual((await p.evaluate(() => caches.keys())).sort(), [buildCache(v1), buildCache(v2)].sort());
     assert.notEqual(await p.evaluate(() => getComputedStyle(document.body).outlineColor), "rgb(1, 2, 3)", "still the old build");
     await shot(p, "e2e-embed-update-offered.png");
     await Promise.all([p.waitForEvent("load"), p.click("#sw-update-reload")]);
     await waitTake(p, "sample.bvh");
     await until(() => p.evaluate(() => caches.keys()).then((k) => k.length === 1), "the old cache deleted");
-    assert.deepEqual(await p.evaluate(() => caches.keys()), [`mocapseg-${v2}`]);
+    assert.deepEqual(await p.evaluate(() => caches.keys()), [buildCache(v2)]);
     assert.equal(await p.evaluate(() => getComputedStyle(document.body).outlineColor), "rgb(1, 2, 3)", "the new build's file");
 
     // the server is gone: the new version still loads and runs

@@ -6,7 +6,8 @@
 // Content-Security-Policy recorder the other files do not need).
 
 import assert from "node:assert/strict";
-import { mkdirSync, readFileSync } from "node:fs";
+import { mkdirSync, readFileSync, statSync } from "node:fs";
+import http from "node:http";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
@@ -23,9 +24,10 @@ mkdirSync(OUT, { recursive: true });
 
 /**
  * Launches Chromium and opens one page (not yet navigated). Returns `{ browser, context, page,
- * pageErrors, consoleErrors, requests }`; the arrays fill as the page runs. Console errors
- * matching `allowConsole` (a RegExp) are logged and not recorded. `contextOptions` go to
- * Playwright's `browser.newContext` (e.g. `{ serviceWorkers: "block" }`).
+ * pageErrors, consoleErrors, requests }`; the arrays fill as the page runs. Every console error is
+ * recorded, except those a test expects while it provokes them (`expectConsoleErrors`) and those
+ * matching `allowConsole` (a RegExp, for a whole file: logged, not recorded). `contextOptions` go
+ * to Playwright's `browser.newContext` (e.g. `{ serviceWorkers: "block" }`).
  */
 export async function openPage({ viewport = { width: 1280, height: 900 }, allowConsole = null, contextOptions = {} } = {}) {
   const browser = await chromium.launch({
@@ -46,19 +48,42 @@ export async function openPage({ viewport = { width: 1280, height: 900 }, allowC
   context.on("request", (r) => requests.push(r.url()));
   const page = await context.newPage();
   page.setDefaultTimeout(TIMEOUT);
-  const pageErrors = [];
-  const consoleErrors = [];
-  page.on("pageerror", (e) => pageErrors.push(String(e)));
+  const opened = { browser, context, page, pageErrors: [], consoleErrors: [], requests, expected: [] };
+  page.on("pageerror", (e) => opened.pageErrors.push(String(e)));
   page.on("console", (m) => {
     if (m.type() !== "error") return;
     const text = m.text();
-    if (allowConsole && allowConsole.test(text) && !/panicked|RuntimeError|unreachable/i.test(text)) {
+    const fatal = /panicked|RuntimeError|unreachable/i.test(text); // never expected: a crash
+    const expected = fatal ? undefined : opened.expected.find((e) => e.pattern.test(text));
+    if (expected) {
+      expected.seen.push(text);
+      console.log(`  (console error, expected: ${expected.why}: ${text})`);
+    } else if (allowConsole && allowConsole.test(text) && !fatal) {
       console.log(`  (console error, allowed: ${text})`);
     } else {
-      consoleErrors.push(text);
+      opened.consoleErrors.push(text);
     }
   });
-  return { browser, context, page, pageErrors, consoleErrors, requests };
+  return opened;
+}
+
+/**
+ * Runs `steps()` while the console errors matching `pattern` are expected (`why` says what
+ * provokes them): those are logged, not recorded; every other console error still is. At least
+ * one must appear, so that an expectation the page no longer meets is noticed and removed.
+ * Returns what `steps()` returns.
+ */
+export async function expectConsoleErrors(opened, why, pattern, steps) {
+  const expected = { why, pattern, seen: [] };
+  opened.expected.push(expected);
+  let result;
+  try {
+    result = await steps();
+  } finally {
+    opened.expected.splice(opened.expected.indexOf(expected), 1);
+  }
+  assert.ok(expected.seen.length > 0, `a console error matching ${pattern} (${why}) was expected; none came`);
+  return result;
 }
 
 /** Screenshots the page as `name` in OUT and closes the browser (for `after`). */
@@ -144,8 +169,47 @@ export async function until(cond, what, ms = 10_000) {
   }
 }
 
-/** No uncaught exception and no console error so far. */
+/**
+ * No uncaught exception and no console error since the last check (those reported are forgotten,
+ * so that each test is charged with its own).
+ */
 export function assertClean(opened) {
-  assert.deepEqual(opened.pageErrors, [], "uncaught exceptions in the page");
-  assert.deepEqual(opened.consoleErrors, [], "console errors in the page");
+  const pageErrors = opened.pageErrors.splice(0);
+  const consoleErrors = opened.consoleErrors.splice(0);
+  assert.deepEqual(pageErrors, [], "uncaught exceptions in the page");
+  assert.deepEqual(consoleErrors, [], "console errors in the page");
+}
+
+/**
+ * A static file server over `dir` on a free loopback port (any server will do: the page needs no
+ * server code), for the tests that change the files served (a new build, two deployments of one
+ * origin) or stop the server (offline). It sends each file's Content-Length, as static servers do.
+ * Returns `{ url, stop }`.
+ */
+export async function serve(dir) {
+  const types = { ".html": "text/html", ".js": "text/javascript", ".wasm": "application/wasm", ".css": "text/css",
+    ".svg": "image/svg+xml", ".md": "text/markdown", ".bvh": "text/plain" };
+  const server = http.createServer((req, res) => {
+    let rel = decodeURIComponent(new URL(req.url, "http://x").pathname);
+    if (rel.endsWith("/")) rel += "index.html";
+    const file = path.join(dir, path.normalize(rel));
+    if (!file.startsWith(dir) || !statSync(file, { throwIfNoEntry: false })?.isFile()) {
+      res.writeHead(404).end("not found");
+      return;
+    }
+    const body = readFileSync(file);
+    res.writeHead(200, {
+      "Content-Type": types[path.extname(file)] ?? "application/octet-stream",
+      "Content-Length": body.length,
+      "Cache-Control": "no-cache",
+    });
+    res.end(body);
+  });
+  const sockets = new Set();
+  server.on("connection", (s) => { sockets.add(s); s.on("close", () => sockets.delete(s)); });
+  await new Promise((done) => server.listen(0, "127.0.0.1", done));
+  return {
+    url: `http://127.0.0.1:${server.address().port}/`,
+    stop: () => new Promise((done) => { for (const s of sockets) s.destroy(); server.close(done); }),
+  };
 }

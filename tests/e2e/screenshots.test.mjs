@@ -2,7 +2,9 @@
 // at 1440×900 the player, the motion image and the methods' rows are on the first screen; at
 // 1024 px wide nothing scrolls sideways and the player and timeline are still side by side or
 // stacked in full; light and dark. Each state is saved as a JPEG in OUT/screenshots/ (docs/page.md
-// "Screenshots": the images in docs/screenshots/ are copies of these).
+// "Screenshots": the images in docs/screenshots/ are copies of these). The states shown are the
+// page working: every method succeeds on the takes shown (ordinary takes), and no uncaught
+// exception or console error occurs (the bad file's message is the page's, not the console's).
 //
 // Run through scripts/e2e.sh (E2E_FILES=screenshots.test.mjs scripts/e2e.sh).
 
@@ -10,7 +12,9 @@ import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { mkdirSync } from "node:fs";
 import path from "node:path";
-import { BASE_URL, FIXTURES, OUT, closePage, gotoApp, loadFile, openPage, waitData } from "./harness.mjs";
+import {
+  BASE_URL, FIXTURES, OUT, TIMEOUT, assertClean, closePage, gotoApp, loadFile, openPage, waitData,
+} from "./harness.mjs";
 
 const SHOTS = path.join(OUT, "screenshots");
 mkdirSync(SHOTS, { recursive: true });
@@ -20,16 +24,42 @@ let opened;
 let page;
 
 before(async () => {
-  opened = await openPage({ viewport: { width: 1440, height: 900 }, allowConsole: /line \d+|expected/ });
+  opened = await openPage({ viewport: { width: 1440, height: 900 } });
   page = opened.page;
+  // every value body[data-<method>] takes, from the first script of each page on
+  await opened.context.addInitScript((methods) => {
+    window.__runs = Object.fromEntries(methods.map((m) => [m, []]));
+    const watch = () => new MutationObserver(() => {
+      for (const m of methods) {
+        const v = document.body.dataset[m];
+        const seen = window.__runs[m];
+        if (v !== undefined && seen[seen.length - 1] !== v) seen.push(v);
+      }
+    }).observe(document.body, { attributes: true });
+    if (document.body) watch();
+    else document.addEventListener("DOMContentLoaded", watch);
+  }, METHODS);
 });
 
 after(() => closePage(opened));
 
 const jpeg = (name, options = {}) => page.screenshot({ path: path.join(SHOTS, `${name}.jpg`), type: "jpeg", quality: 72, ...options });
 
-/** Every method finished (done or error) on the take on screen. */
-const allRun = () => page.waitForFunction((ms) => ms.every((m) => ["done", "error"].includes(document.body.dataset[m])), METHODS);
+/** Forgets the methods' states seen so far (before a load whose runs `allRun` then awaits). */
+const forgetRuns = () => page.evaluate(() => { for (const m in window.__runs) window.__runs[m] = []; });
+
+/**
+ * Every method ran (went through "running" since the page opened or `forgetRuns`) and finished on
+ * the take on screen, and every one succeeded: the takes shown are ordinary ones, on which none may
+ * fail (a failure names the method and its message).
+ */
+async function allRun() {
+  await page.waitForFunction((ms) => ms.every((m) => window.__runs[m].includes("running")
+    && ["done", "error"].includes(document.body.dataset[m])), METHODS, { timeout: 5 * TIMEOUT });
+  const failed = await page.evaluate((ms) => ms.filter((m) => document.body.dataset[m] !== "done")
+    .map((m) => `${m}: ${document.querySelector(`#${m}-failure`)?.textContent.trim()}`), METHODS);
+  assert.deepEqual(failed, [], "every method succeeds on the take");
+}
 
 /** Whether the element's box lies within the first screen. */
 const onFirstScreen = (sel) => page.locator(sel).evaluate((e) => {
@@ -47,10 +77,12 @@ test("1440×900: the take is understood at a glance — player, motion image and
   }
   assert.ok(await noSideScroll(), "no sideways scroll at 1440 px");
   await jpeg("01-sample-1440");
+  assertClean(opened);
 });
 
 test("the dark theme follows the system", async () => {
   await page.emulateMedia({ colorScheme: "dark" });
+  await forgetRuns();
   await page.click("#load-sample");
   await waitData(page, "state", "ready");
   await allRun();
@@ -59,10 +91,12 @@ test("the dark theme follows the system", async () => {
   assert.ok(lum < 60, `the page is dark under a dark system theme: ${background}`);
   await jpeg("02-sample-dark");
   await page.emulateMedia({ colorScheme: "light" });
+  assertClean(opened);
 });
 
 test("1024 px wide: nothing scrolls sideways and every control stays reachable", async () => {
   await page.setViewportSize({ width: 1024, height: 768 });
+  await forgetRuns();
   await page.click("#load-sample");
   await waitData(page, "state", "ready");
   await allRun();
@@ -73,6 +107,7 @@ test("1024 px wide: nothing scrolls sideways and every control stays reachable",
   }
   await jpeg("03-sample-1024");
   await page.setViewportSize({ width: 1440, height: 900 });
+  assertClean(opened);
 });
 
 test("the studio's states: my labels, ground truth and metrics, exports, a refused parameter, a bad file", async () => {
@@ -97,11 +132,13 @@ test("the studio's states: my labels, ground truth and metrics, exports, a refus
   await jpeg("07-refused-parameter");
   await page.fill("#sssm-radius", "");
   // a broken file: the parser's message, the take on screen kept
+  // (shown on the page: nothing in the console)
   await page.setInputFiles("#file-input", path.join(FIXTURES, "bad.bvh"));
   await waitData(page, "state", "error");
   await page.evaluate(() => window.scrollTo(0, 0));
   await jpeg("08-bad-file");
   await page.click("#my-labels-clear");
+  assertClean(opened);
 });
 
 test("embedded in a documentation page, 640×400", async () => {
@@ -113,16 +150,25 @@ test("embedded in a documentation page, 640×400", async () => {
   await jpeg("09-embed-640x400");
   await page.setViewportSize({ width: 1440, height: 900 });
   await page.goto(new URL("www/embed.html", BASE_URL).href);
-  await page.waitForTimeout(1500);
+  // both players ready, each with its method's result
+  for (const [id, method] of [["player-sample", "sssm"], ["player-walk", "velocity"]]) {
+    const frame = await (await page.locator(`#${id}`).elementHandle()).contentFrame();
+    await frame.waitForFunction((m) => document.body.dataset.state === "ready" && document.body.dataset[m] === "done",
+      method, { timeout: TIMEOUT });
+  }
   await jpeg("10-embed-page", { fullPage: true });
+  assertClean(opened);
 });
 
 test("a CMU original: ASF skeleton and AMC motion picked together", async () => {
   await gotoApp(page);
+  await allRun();
+  await forgetRuns();
   await page.setInputFiles("#file-input", [path.join(FIXTURES, "02.asf"), path.join(FIXTURES, "02_01.amc")]);
   await page.waitForFunction(() => (document.querySelector("#summary-name")?.textContent ?? "").includes("02_01.amc")
     && document.body.dataset.state === "ready");
   await allRun();
   await jpeg("11-asf-amc");
   await loadFile(page, "02_01.bvh");
+  assertClean(opened);
 });
