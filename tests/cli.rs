@@ -568,7 +568,38 @@ fn splice_writes_a_take_and_its_ground_truth_that_eval_reads() {
     let v = stdout_json(&run(&["eval", seg.to_str().unwrap(), "--truth", dir.join("mix.csv").to_str().unwrap()]));
     assert_eq!(v["trial"], "mix");
     assert_eq!(v["true_boundaries"], 5);
-    assert!(v["segments"]["similarity"].is_number());
+    // s = matched − (unmatched found + unmatched true) / 2, the true pieces being the 6 of the CSV
+    let scores = &v["segments"];
+    let count = |k: &str| scores[k].as_u64().unwrap_or_else(|| panic!("{k}: {scores}")) as f64;
+    assert_eq!(count("matched") + count("unmatched_true"), 6.0, "{scores}");
+    let s = count("matched") - (count("unmatched_found") + count("unmatched_true")) / 2.0;
+    assert_eq!(scores["similarity"].as_f64(), Some(s), "{scores}");
+    // the ground truth itself, as a segmentation (1-based rows made 0-based): all 6 matched, s = 6
+    let take = stdout_json(&run(&["info", out.to_str().unwrap()]));
+    let mut reader = csv::Reader::from_reader(csv.as_bytes());
+    let segments: Vec<serde_json::Value> = reader
+        .records()
+        .enumerate()
+        .map(|(i, r)| {
+            let r = r.unwrap();
+            let frame = |k: usize| r[k].parse::<usize>().unwrap() - 1;
+            serde_json::json!({"start": frame(2), "end": frame(3), "label": &r[1], "level": "action", "cluster": i, "score": null})
+        })
+        .collect();
+    let exact = serde_json::json!({"file": "mix.bvh", "fps": take["fps"], "frames": take["frames"], "method": "truth",
+        "params": {}, "segments": segments});
+    let exact_path = dir.join("exact.json");
+    std::fs::write(&exact_path, exact.to_string()).unwrap();
+    let v = stdout_json(&run(&[
+        "eval",
+        exact_path.to_str().unwrap(),
+        "--truth",
+        dir.join("mix.csv").to_str().unwrap(),
+        "--trial",
+        "mix",
+    ]));
+    assert_eq!(v["segments"]["matched"], 6, "{v}");
+    assert_eq!(v["segments"]["similarity"], 6.0, "{v}");
     // a take without labels is named
     let r = run(&[
         "splice",
