@@ -223,6 +223,9 @@ fn batch_segments_a_folder_and_skips_a_broken_file() {
     let bad = input.join("bad.bvh");
     assert!(fail[0].starts_with(&format!("FAIL  {}: line 9, column 34", bad.display())), "{}", fail[0]);
     assert!(stderr.contains("3 of 4 takes segmented, 1 failed") && stderr.contains("takes/s"), "{stderr}");
+    // the summary names the failed take and why, and the exit code's meaning
+    assert!(stderr.contains(&format!("failed (not written):\n  {}: line 9, column 34", bad.display())), "{stderr}");
+    assert!(stderr.trim_end().ends_with("exit code 2: some takes failed, the rest written"), "{stderr}");
     // one valid segmentation per good take
     for (name, frames) in [("02_01", 343), ("35_01", 358), ("12_01", 524)] {
         let text = std::fs::read_to_string(output.join(format!("{name}.json"))).unwrap();
@@ -236,6 +239,186 @@ fn batch_segments_a_folder_and_skips_a_broken_file() {
     let out = run(&["segment", fixture("02_01.bvh").to_str().unwrap(), fixture("35_01.bvh").to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--out"));
+    // a usage error is 1 as well (clap's own code, 2, would read as "some takes failed")
+    let out = run(&["segment", "--no-such-flag", input.to_str().unwrap(), "--out", output.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--no-such-flag"));
+    assert!(run(&["segment", "--help"]).status.success());
+}
+
+/// `segment --method METHOD DIR --out OUT` on one thread with `env` set; its exit code, stdout and stderr.
+fn batch_run(
+    method: &str,
+    input: &std::path::Path,
+    output: &std::path::Path,
+    env: &[(&str, &str)],
+) -> (Option<i32>, String, String) {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_mocapseg"));
+    command.args(["segment", "--method", method, "--jobs", "1"]).arg(input).arg("--out").arg(output);
+    command.envs(env.iter().copied());
+    let out = command.output().expect("run mocapseg");
+    (out.status.code(), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// A fresh input folder named `name` holding `takes` (fixture name, name in the folder).
+fn batch_input(name: &str, takes: &[(&str, &str)]) -> (PathBuf, PathBuf) {
+    let input = out_dir().join(format!("{name}-in"));
+    let output = out_dir().join(format!("{name}-out"));
+    let _ = std::fs::remove_dir_all(&input);
+    let _ = std::fs::remove_dir_all(&output);
+    for (fixture_name, as_name) in takes {
+        let to = input.join(as_name);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(fixture(fixture_name), to).unwrap();
+    }
+    (input, output)
+}
+
+#[test]
+fn a_batch_with_a_panicking_take_writes_the_rest_and_says_which_panicked() {
+    let (input, output) =
+        batch_input("batch-panic", &[("02_01.bvh", "a.bvh"), ("35_01.bvh", "b.bvh"), ("12_01.bvh", "c.bvh"), ("bad.bvh", "d.bvh")]);
+    // b's output of an earlier run: b no longer gives one, so it goes
+    std::fs::create_dir_all(&output).unwrap();
+    std::fs::write(output.join("b.json"), "an earlier run's").unwrap();
+    // the debug build's test hook makes the take b.bvh panic; one thread, so the takes after b
+    // run on the thread that panicked
+    let (code, stdout, stderr) = batch_run("velocity", &input, &output, &[("MOCAPSEG_TEST_PANIC_ON", "b.bvh")]);
+    assert_eq!(code, Some(3), "a take panicked: exit code 3\n{stdout}\n{stderr}");
+    let b = input.join("b.bvh");
+    let panic_line = format!(
+        "PANIC {}: panicked: MOCAPSEG_TEST_PANIC_ON: a panic on {} asked for by the test (at src/bin/mocapseg.rs:",
+        b.display(),
+        b.display()
+    );
+    assert!(stdout.lines().any(|l| l.starts_with(&panic_line) && l.ends_with("b.json of an earlier run removed)")), "{stdout}");
+    assert_eq!(stdout.lines().filter(|l| l.starts_with("ok ")).count(), 2, "{stdout}");
+    assert!(stdout.lines().any(|l| l.starts_with(&format!("FAIL  {}: line 9", input.join("d.bvh").display()))), "{stdout}");
+    for (name, frames) in [("a", 343), ("c", 524)] {
+        let seg = mocapseg::segment::Segmentation::from_json(&std::fs::read_to_string(output.join(format!("{name}.json"))).unwrap())
+            .unwrap();
+        assert_eq!(seg.frames, frames, "{name}");
+    }
+    assert!(!output.join("b.json").exists() && !output.join("d.json").exists());
+    // the summary: counts, then the failed and the panicked take with why, then the exit code
+    assert!(stderr.contains("2 of 4 takes segmented, 1 failed, 1 panicked in "), "{stderr}");
+    assert!(stderr.contains(&format!("failed (not written):\n  {}: line 9, column 34", input.join("d.bvh").display())), "{stderr}");
+    assert!(stderr.contains(&format!("panicked (not written; a bug in mocapseg, please report it):\n  {}: panicked: MOCAPSEG_TEST_PANIC_ON", b.display())), "{stderr}");
+    assert!(stderr.trim_end().ends_with("exit code 3: some take panicked, the rest written"), "{stderr}");
+    assert!(!stderr.contains("thread '"), "the take's panic is reported once, not by the default hook too:\n{stderr}");
+}
+
+#[test]
+fn a_take_that_now_fails_loses_its_earlier_output() {
+    let (input, output) = batch_input("batch-stale", &[("02_01.bvh", "a.bvh"), ("35_01.bvh", "b.bvh")]);
+    let (code, stdout, stderr) = batch_run("velocity", &input, &output, &[]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    assert!(stderr.trim_end().ends_with("exit code 0: every take written"), "{stderr}");
+    assert!(output.join("a.json").is_file() && output.join("b.json").is_file());
+    // b is damaged now: its segmentation of the first run would read as this run's
+    std::fs::copy(fixture("bad.bvh"), input.join("b.bvh")).unwrap();
+    let (code, stdout, stderr) = batch_run("velocity", &input, &output, &[]);
+    assert_eq!(code, Some(2), "{stdout}\n{stderr}");
+    assert!(!output.join("b.json").exists(), "b's earlier output left behind as if current");
+    assert!(output.join("a.json").is_file());
+    let removed = format!("({} of an earlier run removed)", output.join("b.json").display());
+    assert!(stdout.lines().any(|l| l.starts_with("FAIL  ") && l.ends_with(&removed)), "{stdout}");
+    assert!(stderr.contains(&format!("failed (not written):\n  {}: line 9", input.join("b.bvh").display())), "{stderr}");
+    assert!(stderr.contains(&removed), "{stderr}");
+}
+
+#[test]
+fn takes_of_one_name_get_files_of_their_own() {
+    let (input, output) = batch_input(
+        "batch-names",
+        &[
+            ("02_01.bvh", "p/x.bvh"),
+            ("35_01.bvh", "q/p/x.bvh"),
+            ("12_01.bvh", "p_x_2.bvh"),
+            ("02_01.bvh", "Walk.bvh"),
+            ("35_01.bvh", "walk.bvh"),
+            ("12_01.bvh", "walk.BVH"),
+            ("02_01.bvh", "02_01.bvh"),
+            ("02_01.amc", "02_01.amc"),
+            ("02.asf", "02.asf"),
+        ],
+    );
+    // the folder (its .bvh files) and the AMC named beside it
+    let out = run(&[
+        "segment",
+        "--method",
+        "velocity",
+        input.to_str().unwrap(),
+        input.join("02_01.amc").to_str().unwrap(),
+        "--out",
+        output.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    // each take's line: `ok    <take>  … → <output>`
+    let mut written: Vec<(String, String)> = stdout
+        .lines()
+        .filter_map(|l| l.strip_prefix("ok    "))
+        .map(|l| {
+            let take = l.split("  ").next().unwrap().strip_prefix(&format!("{}/", input.display())).unwrap().to_string();
+            let file = l.rsplit(" → ").next().unwrap().strip_prefix(&format!("{}/", output.display())).unwrap().to_string();
+            (take, file)
+        })
+        .collect();
+    written.sort();
+    let expected = [
+        ("02_01.amc", "02_01_amc.json"),
+        ("02_01.bvh", "02_01_bvh.json"),
+        ("Walk.bvh", "Walk.json"),
+        ("p/x.bvh", "p_x.json"),
+        ("p_x_2.bvh", "p_x_2.json"),
+        ("q/p/x.bvh", "q_p_x.json"),
+        ("walk.BVH", "walk_2.json"),
+        ("walk.bvh", "walk_3.json"),
+    ];
+    assert_eq!(written, expected.map(|(a, b)| (a.to_string(), b.to_string())), "{stdout}");
+    // one file per take, none alike even ignoring case, each that take's segmentation
+    let mut names: Vec<String> = std::fs::read_dir(&output).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().to_lowercase()).collect();
+    names.sort();
+    names.dedup();
+    assert_eq!(names.len(), expected.len(), "{names:?}");
+    for (take, file) in expected {
+        let seg = mocapseg::segment::Segmentation::from_json(&std::fs::read_to_string(output.join(file)).unwrap()).unwrap();
+        assert_eq!(seg.file, std::path::Path::new(take).file_name().unwrap().to_string_lossy(), "{file}");
+    }
+}
+
+/// A write that fails part way (here the file-size limit, `ulimit -f`, with SIGXFSZ ignored so the
+/// write returns EFBIG instead of killing the process) leaves neither a part of a segmentation nor a
+/// temporary file, and the earlier run's output is removed rather than left to read as this run's.
+#[cfg(unix)]
+#[test]
+fn a_write_that_fails_part_way_leaves_no_partial_file() {
+    let (input, output) = batch_input("batch-atomic", &[("02_01.bvh", "a.bvh")]);
+    std::fs::create_dir_all(&output).unwrap();
+    std::fs::write(output.join("a.json"), "an earlier run's").unwrap();
+    // 1 block of 512 bytes: SSSM's segmentation JSON of the take is longer (checked at the end)
+    let out = Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -f 1 && trap '' XFSZ && exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_mocapseg"))
+        .args(["segment", "--method", "sssm", input.to_str().unwrap(), "--out", output.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stdout}\n{stderr}");
+    let a = output.join("a.json");
+    assert!(stdout.starts_with(&format!("FAIL  {}: ", a.display())), "the write's failure names the file: {stdout}");
+    let left: Vec<String> = std::fs::read_dir(&output).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    assert!(left.is_empty(), "left in the output folder: {left:?}\n{stdout}");
+    assert!(stdout.trim_end().ends_with(&format!("({} of an earlier run removed)", a.display())), "{stdout}");
+    // without the limit the same batch writes it whole
+    let (code, stdout, stderr) = batch_run("sssm", &input, &output, &[]);
+    assert_eq!(code, Some(0), "{stdout}\n{stderr}");
+    let seg = mocapseg::segment::Segmentation::from_json(&std::fs::read_to_string(&a).unwrap()).unwrap();
+    assert_eq!(seg.frames, 343);
+    assert!(std::fs::metadata(&a).unwrap().len() > 512, "the limit above was below the file's size");
 }
 
 #[test]
@@ -385,7 +568,38 @@ fn splice_writes_a_take_and_its_ground_truth_that_eval_reads() {
     let v = stdout_json(&run(&["eval", seg.to_str().unwrap(), "--truth", dir.join("mix.csv").to_str().unwrap()]));
     assert_eq!(v["trial"], "mix");
     assert_eq!(v["true_boundaries"], 5);
-    assert!(v["segments"]["similarity"].is_number());
+    // s = matched − (unmatched found + unmatched true) / 2, the true pieces being the 6 of the CSV
+    let scores = &v["segments"];
+    let count = |k: &str| scores[k].as_u64().unwrap_or_else(|| panic!("{k}: {scores}")) as f64;
+    assert_eq!(count("matched") + count("unmatched_true"), 6.0, "{scores}");
+    let s = count("matched") - (count("unmatched_found") + count("unmatched_true")) / 2.0;
+    assert_eq!(scores["similarity"].as_f64(), Some(s), "{scores}");
+    // the ground truth itself, as a segmentation (1-based rows made 0-based): all 6 matched, s = 6
+    let take = stdout_json(&run(&["info", out.to_str().unwrap()]));
+    let mut reader = csv::Reader::from_reader(csv.as_bytes());
+    let segments: Vec<serde_json::Value> = reader
+        .records()
+        .enumerate()
+        .map(|(i, r)| {
+            let r = r.unwrap();
+            let frame = |k: usize| r[k].parse::<usize>().unwrap() - 1;
+            serde_json::json!({"start": frame(2), "end": frame(3), "label": &r[1], "level": "action", "cluster": i, "score": null})
+        })
+        .collect();
+    let exact = serde_json::json!({"file": "mix.bvh", "fps": take["fps"], "frames": take["frames"], "method": "truth",
+        "params": {}, "segments": segments});
+    let exact_path = dir.join("exact.json");
+    std::fs::write(&exact_path, exact.to_string()).unwrap();
+    let v = stdout_json(&run(&[
+        "eval",
+        exact_path.to_str().unwrap(),
+        "--truth",
+        dir.join("mix.csv").to_str().unwrap(),
+        "--trial",
+        "mix",
+    ]));
+    assert_eq!(v["segments"]["matched"], 6, "{v}");
+    assert_eq!(v["segments"]["similarity"], 6.0, "{v}");
     // a take without labels is named
     let r = run(&[
         "splice",

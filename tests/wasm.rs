@@ -527,3 +527,56 @@ fn motion_image_size_values_and_png() {
     let be = |o: usize| u32::from_be_bytes(png[o..o + 4].try_into().unwrap()) as usize;
     assert_eq!((be(16), be(20)), (img.width, img.height));
 }
+
+// ---- model files read with a 32-bit usize ----------------------------------------------------
+
+/// A k-NN payload (default window) that claims `n` frames but holds the words of one.
+fn knn_payload_claiming(n: u32, params: mocapseg::methods::knn::KnnParams) -> Vec<u8> {
+    use mocapseg::methods::knn::DIMS;
+    let d = (2 * params.half_window / params.stride + 1) as usize * 3 * mocapseg::motion::joints::Canonical::ALL.len();
+    let mut bytes = Vec::new();
+    bytes.extend_from_slice(&n.to_le_bytes());
+    bytes.extend_from_slice(&(d as u32).to_le_bytes());
+    // the mean, the axes, one frame's point and its label (0), all zero
+    bytes.resize(4 * (2 + d + DIMS * d + DIMS + 1), 0);
+    bytes
+}
+
+/// 2³⁰ + 1 frames make the k-NN payload's size, 4 · (2 + 33 d + 33 n) bytes, wrap around in 32-bit
+/// arithmetic to the size of one frame's payload: wasm32's reader once took the payload for that and
+/// `Vec::with_capacity(2³⁰ + 1)` trapped the worker. Refused with a message, directly and inside a
+/// model file (as the worker reads a dropped model).
+#[wasm_bindgen_test]
+fn a_knn_payload_whose_size_wraps_around_in_32_bits_is_refused() {
+    use mocapseg::methods::dtfcn::model::{sha256_hex, Model, MAGIC};
+    use mocapseg::methods::knn::{Knn, KnnParams};
+    let n: u32 = (1 << 30) + 1;
+    let e = Knn::from_bytes(&knn_payload_claiming(n, KnnParams::default()), KnnParams::default(), 2).unwrap_err();
+    assert!(e.contains("expected") && e.contains(&format!("for {n} frames")), "{e}");
+
+    // the same payload in a k-NN model file with a matching checksum
+    let file = include_bytes!("fixtures/xss-knn.model");
+    let at = MAGIC.len() + 1;
+    let len = u32::from_le_bytes(file[at..at + 4].try_into().unwrap()) as usize;
+    let mut header: serde_json::Value = serde_json::from_slice(&file[at + 4..at + 4 + len]).unwrap();
+    let params: KnnParams = serde_json::from_value(header["knn"].clone()).unwrap();
+    let payload = knn_payload_claiming(n, params);
+    header["payload_sha256"] = sha256_hex(&payload).into();
+    let json = serde_json::to_vec(&header).unwrap();
+    let mut crafted = file[..at].to_vec();
+    crafted.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    crafted.extend_from_slice(&json);
+    crafted.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    crafted.extend_from_slice(&payload);
+    let e = Model::from_bytes(&crafted, "crafted.model").unwrap_err();
+    assert!(e.starts_with("crafted.model: k-NN data of ") && e.contains(&format!("for {n} frames")), "{e}");
+
+    // the file's payload length is a u64: 2³² bytes more than the file holds is not the
+    // length modulo 2³² (what `as usize` would make of it on wasm32)
+    let mut longer = crafted.clone();
+    let plen_at = at + 4 + json.len();
+    let claimed = (1u64 << 32) + payload.len() as u64;
+    longer[plen_at..plen_at + 8].copy_from_slice(&claimed.to_le_bytes());
+    let e = Model::from_bytes(&longer, "longer.model").unwrap_err();
+    assert!(e.starts_with(&format!("longer.model: weights of {claimed} bytes")) && e.contains("damaged"), "{e}");
+}

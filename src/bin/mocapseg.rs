@@ -8,6 +8,7 @@
 //! mocapseg methods                            the segmentation methods and their parameters
 //! mocapseg segment --method NAME [--param NAME=VALUE]… FILE.bvh      segmentation JSON on stdout
 //! mocapseg segment --method NAME [--param NAME=VALUE]… DIR_OR_FILES… --out DIR   batch, all cores
+//!                                             (exit 0 all written, 2 some failed, 3 some panicked)
 //! mocapseg eval SEG.json… --truth GT.csv|GT.json [--first-frame 0|1] [--label-fps F] [--trial T]
 //!                                             scores against ground truth (one table for many)
 //! mocapseg splice --bvh TAKES… --labels GT.csv… -o OUT.bvh   a take with known gesture boundaries
@@ -15,7 +16,8 @@
 //!                                             each segment as a BVH clip of its own
 //! mocapseg bench [FILE.bvh] [--reps N]        parse + forward-kinematics throughput
 //! ```
-//! Errors go to stderr as `error: FILE: line L, column C: what was expected`, exit code 1.
+//! Errors go to stderr as `error: FILE: line L, column C: what was expected`, exit code 1 (usage
+//! errors too).
 //! The lab's own tools (scores on the shared labelled takes, SSSM benchmarks) are examples:
 //! `cargo run --release --example eval_data`, `--example bench_sssm`.
 
@@ -108,7 +110,17 @@ mod cli {
         },
         /// Segment takes. One file without --out: the segmentation JSON on stdout. Folders (searched
         /// for .bvh files) or several files: one JSON per take in --out, in parallel on every core,
-        /// a summary line per take; a file that fails is reported and skipped (exit code 2 at the end).
+        /// a line per take and a summary at the end; a take that fails or panics is reported and
+        /// skipped, and an earlier run's JSON of it is removed.
+        ///
+        /// Each JSON is written whole or not at all (a temporary file in --out, then renamed), and no
+        /// two takes share one (takes of one name are told apart by their folders, their extension,
+        /// then a number; case is ignored, as macOS and Windows folders ignore it).
+        ///
+        /// Exit code: 0 every take segmented and written; 1 nothing segmented (a bad argument,
+        /// parameter or model, no takes found, an output folder that cannot be made); 2 some takes
+        /// failed (each named with why, the rest written); 3 some take panicked — a bug in mocapseg
+        /// (each named with the panic's message, the rest written).
         Segment {
             /// BVH files and/or folders.
             #[arg(required = true)]
@@ -309,25 +321,41 @@ mod cli {
         },
     }
 
-    /// What `run` ends with: success, or some takes of a batch failed (exit code 2).
+    /// What `run` ends with: success, some takes of a batch failed (exit code 2), or some take of a
+    /// batch panicked (exit code 3; failures without a panic are 2). Errors before any work are 1.
     enum Outcome {
         Ok,
         Partial,
+        Panicked,
     }
 
     pub fn main() -> ExitCode {
         use clap::{CommandFactory, FromArgMatches};
-        let matches = Cli::command().subcommands(training_commands()).get_matches();
+        // a usage error is exit code 1 like every other error (clap's own is 2, which a batch
+        // gives when some takes failed): a script can tell "nothing ran" from "some failed"
+        let usage = |e: clap::Error| {
+            let _ = e.print();
+            if e.use_stderr() {
+                ExitCode::FAILURE
+            } else {
+                ExitCode::SUCCESS // --help, --version
+            }
+        };
+        let matches = match Cli::command().subcommands(training_commands()).try_get_matches() {
+            Ok(m) => m,
+            Err(e) => return usage(e),
+        };
         let result = match matches.subcommand() {
             Some((sub, m)) if sub.starts_with("train-") => train_from_flags(&sub["train-".len()..], m).map(|()| Outcome::Ok),
             _ => match Cli::from_arg_matches(&matches) {
                 Ok(cli) => run(cli.command),
-                Err(e) => e.exit(),
+                Err(e) => return usage(e),
             },
         };
         match result {
             Ok(Outcome::Ok) => ExitCode::SUCCESS,
             Ok(Outcome::Partial) => ExitCode::from(2),
+            Ok(Outcome::Panicked) => ExitCode::from(3),
             Err(message) => {
                 eprintln!("error: {message}");
                 ExitCode::FAILURE
@@ -1036,32 +1064,85 @@ mod cli {
         path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "take".into())
     }
 
-    /// Output names `<stem>.json`, made unique with the parent folder's name where stems repeat.
-    fn output_names(files: &[PathBuf]) -> Vec<String> {
-        let mut count: HashMap<String, usize> = HashMap::new();
-        for f in files {
-            *count.entry(stem(f)).or_default() += 1;
+    /// The indices of `names` that share their name with another, ignoring case, group by group.
+    fn alike(names: &[String]) -> Vec<Vec<usize>> {
+        let mut groups: Vec<(String, Vec<usize>)> = Vec::new();
+        let mut at: HashMap<String, usize> = HashMap::new();
+        for (i, name) in names.iter().enumerate() {
+            let key = name.to_lowercase();
+            let g = *at.entry(key.clone()).or_insert_with(|| {
+                groups.push((key, Vec::new()));
+                groups.len() - 1
+            });
+            groups[g].1.push(i);
         }
-        let mut used: HashMap<String, usize> = HashMap::new();
-        files
+        groups.into_iter().map(|(_, g)| g).filter(|g| g.len() > 1).collect()
+    }
+
+    /// Output names `<stem>.json`, one per take and no two alike even where case is ignored (as
+    /// macOS and Windows folders ignore it): takes of one stem are told apart by their folders below
+    /// the folder they share (`a/x.bvh`, `b/x.bvh` → `a_x.json`, `b_x.json`), then by their
+    /// extension (`x.bvh`, `x.amc` → `x_bvh.json`, `x_amc.json`), then by a number (`walk.bvh`,
+    /// `walk.BVH` → `walk.json`, `walk_2.json`) that no other take's name has.
+    fn output_names(files: &[PathBuf]) -> Vec<String> {
+        use std::collections::HashSet;
+        use std::path::Component;
+        let mut names: Vec<String> = files.iter().map(|f| stem(f)).collect();
+        let folders: Vec<Vec<String>> = files
             .iter()
             .map(|f| {
-                let s = stem(f);
-                let base = if count[&s] > 1 {
-                    let parent = f.parent().and_then(|p| p.file_name()).map(|p| p.to_string_lossy().into_owned());
-                    format!("{}_{s}", parent.unwrap_or_default())
-                } else {
-                    s
-                };
-                let n = used.entry(base.clone()).or_default();
-                *n += 1;
-                if *n > 1 {
-                    format!("{base}_{n}.json")
-                } else {
-                    format!("{base}.json")
-                }
+                let parent = f.parent().map(|p| p.components()).into_iter().flatten();
+                parent
+                    .filter_map(|c| match c {
+                        Component::Normal(s) => Some(s.to_string_lossy().into_owned()),
+                        _ => None,
+                    })
+                    .collect()
             })
-            .collect()
+            .collect();
+        for group in alike(&names) {
+            let first = &folders[group[0]];
+            let shared = group
+                .iter()
+                .map(|&i| first.iter().zip(&folders[i]).take_while(|(a, b)| a == b).count())
+                .min()
+                .unwrap_or(0);
+            for &i in &group {
+                let below = &folders[i][shared..];
+                if !below.is_empty() {
+                    names[i] = format!("{}_{}", below.join("_"), names[i]);
+                }
+            }
+        }
+        let extension = |f: &Path| f.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default();
+        for group in alike(&names) {
+            let kinds: HashSet<String> = group.iter().map(|&i| extension(&files[i]).to_lowercase()).collect();
+            if kinds.len() > 1 {
+                for &i in &group {
+                    names[i] = format!("{}_{}", names[i], extension(&files[i]));
+                }
+            }
+        }
+        let all: HashSet<String> = names.iter().map(|n| n.to_lowercase()).collect();
+        let mut used: HashSet<String> = HashSet::new();
+        for name in &mut names {
+            if used.insert(name.to_lowercase()) {
+                continue;
+            }
+            let numbered = (2..)
+                .map(|n| format!("{name}_{n}"))
+                .find(|c| !all.contains(&c.to_lowercase()) && used.insert(c.to_lowercase()))
+                .unwrap_or_default();
+            *name = numbered;
+        }
+        names.into_iter().map(|n| format!("{n}.json")).collect()
+    }
+
+    /// A method's message about `take` (its motion's name) after `file`, the path the user gave:
+    /// the messages that start with the take's name (k-NN, DT-FCN) do not name it twice.
+    fn run_error(file: &Path, take: &str, message: &str) -> String {
+        let own = message.strip_prefix(take).and_then(|m| m.strip_prefix(": ")).unwrap_or(message);
+        format!("{}: {own}", file.display())
     }
 
     fn segment(
@@ -1080,15 +1161,40 @@ mod cli {
         match out {
             None if single => {
                 let loaded = load(&files[0])?;
+                let name = Path::new(&loaded.motion.name);
                 let output = method
                     .run_checked(&loaded.motion, &checked, &RunOptions::default(), &mut NoProgress)
-                    .map_err(|e| format!("{}: {e}", loaded.motion.name))?;
+                    .map_err(|e| run_error(name, &loaded.motion.name, &e.to_string()))?;
                 println!("{}", output.segmentation.to_json());
                 Ok(Outcome::Ok)
             }
             None => Err("several takes: give a folder for their segmentations with --out DIR".into()),
             Some(dir) => batch(method, &checked, &files, &dir, jobs),
         }
+    }
+
+    /// Writes `text` to `path` whole or not at all: into a temporary file in the same folder (a
+    /// rename within one file system is atomic), flushed to disk, then renamed over `path`. A reader
+    /// sees the earlier file or the new one, never a part of one; a write that fails (a full disk, a
+    /// file-size limit) leaves no temporary file behind (`tempfile` removes it when dropped).
+    fn write_atomically(path: &Path, text: &str) -> Result<(), String> {
+        use std::io::Write;
+        let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let prefix = format!(".{name}.");
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(&prefix).suffix(".tmp");
+        // the mode a plain write gives (0666 less the umask), not tempfile's private 0600
+        #[cfg(unix)]
+        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+        let mut file = builder
+            .tempfile_in(dir)
+            .map_err(|e| format!("{}: cannot write there: {e}", dir.display()))?;
+        file.write_all(text.as_bytes())
+            .and_then(|()| file.as_file().sync_all())
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        file.persist(path).map_err(|e| format!("{}: {}", path.display(), e.error))?;
+        Ok(())
     }
 
     /// One take of a batch: load, segment, write; the summary line and the take's frames.
@@ -1109,9 +1215,9 @@ mod cli {
         })?;
         let output = method
             .run_checked(&loaded.motion, checked, &RunOptions::default(), &mut NoProgress)
-            .map_err(|e| format!("{}: {e}", file.display()))?;
+            .map_err(|e| run_error(file, &loaded.motion.name, &e.to_string()))?;
         let seg = &output.segmentation;
-        std::fs::write(out, seg.to_json()).map_err(|e| format!("{}: {e}", out.display()))?;
+        write_atomically(out, &seg.to_json())?;
         let counts: Vec<String> = [Level::Action, Level::Transition, Level::Primitive]
             .iter()
             .map(|&l| (l, seg.level(l).count()))
@@ -1128,6 +1234,63 @@ mod cli {
             out.display()
         );
         Ok((line, seg.frames))
+    }
+
+    /// How one take of a batch ended.
+    enum Ended {
+        /// Written: its line and frames.
+        Written(String, usize),
+        /// Refused or failed with this message.
+        Failed(String),
+        /// Panicked with this message (a bug in mocapseg).
+        Panicked(String),
+    }
+
+    thread_local! {
+        /// Set while a thread runs a take of a batch: its panics are caught and reported there.
+        static IN_TAKE: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+        /// Where the last panic of a take on this thread happened (the hook sees it, the payload not).
+        static PANIC_AT: std::cell::RefCell<Option<String>> = const { std::cell::RefCell::new(None) };
+    }
+
+    /// The message a panic was raised with.
+    fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+        payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "a panic without a message".into())
+    }
+
+    /// Test hook, for the test of the batch's guarantee that a panicking take is reported and
+    /// skipped while the rest are written (`tests/cli.rs`), since no input is known to make a method
+    /// panic: in a debug build only (`cfg(debug_assertions)`; a release build has no such hook), a
+    /// batch panics on the take whose file name is `MOCAPSEG_TEST_PANIC_ON`, before loading it.
+    #[cfg(debug_assertions)]
+    fn test_panic_hook(file: &Path) {
+        let name = file.file_name().map(|n| n.to_string_lossy().into_owned());
+        if name.is_some() && std::env::var("MOCAPSEG_TEST_PANIC_ON").ok() == name {
+            panic!("MOCAPSEG_TEST_PANIC_ON: a panic on {} asked for by the test", file.display());
+        }
+    }
+
+    /// One take, its panics caught: a panic ends that take, not the batch.
+    fn run_take(method: &dyn DynMethod, checked: &CheckedParams, file: &Path, out: &Path) -> Ended {
+        IN_TAKE.with(|t| t.set(true));
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            #[cfg(debug_assertions)]
+            test_panic_hook(file);
+            segment_one(method, checked, file, out)
+        }));
+        IN_TAKE.with(|t| t.set(false));
+        match outcome {
+            Ok(Ok((line, frames))) => Ended::Written(line, frames),
+            Ok(Err(message)) => Ended::Failed(message),
+            Err(payload) => {
+                let at = PANIC_AT.with(|p| p.borrow_mut().take()).map(|at| format!(" (at {at})")).unwrap_or_default();
+                Ended::Panicked(format!("{}: panicked: {}{at}", file.display(), panic_message(payload.as_ref())))
+            }
+        }
     }
 
     fn batch(
@@ -1149,38 +1312,109 @@ mod cli {
             ProgressStyle::with_template("{bar:40} {pos}/{len} takes  {elapsed_precise}  eta {eta}")
                 .unwrap_or_else(|_| ProgressStyle::default_bar()),
         );
-        let failed = AtomicUsize::new(0);
+        // a take's panic is reported on its line and in the summary, with where it happened,
+        // instead of the default hook's lines through the progress bar; other threads' panics
+        // (none expected) still go to the default hook
+        let default_hook = std::sync::Arc::new(std::panic::take_hook());
+        let other = default_hook.clone();
+        std::panic::set_hook(Box::new(move |info| {
+            if IN_TAKE.with(|t| t.get()) {
+                let at = info.location().map(|l| format!("{}:{}:{}", l.file(), l.line(), l.column()));
+                PANIC_AT.with(|p| *p.borrow_mut() = at);
+            } else {
+                other(info)
+            }
+        }));
         let frames = AtomicUsize::new(0);
         let started = Instant::now();
-        pool.install(|| {
-            files.par_iter().zip(&names).for_each(|(file, name)| {
-                match segment_one(method, checked, file, &dir.join(name)) {
-                    Ok((line, n)) => {
-                        frames.fetch_add(n, Ordering::Relaxed);
-                        bar.suspend(|| println!("{line}"));
+        let ended: Vec<(Ended, Option<String>)> = pool.install(|| {
+            files
+                .par_iter()
+                .zip(&names)
+                .map(|(file, name)| {
+                    let out = dir.join(name);
+                    let ended = run_take(method, checked, file, &out);
+                    // a take without a segmentation now leaves none: an earlier run's would read as this one's
+                    let stale = match &ended {
+                        Ended::Written(..) => None,
+                        Ended::Failed(_) | Ended::Panicked(_) => match std::fs::remove_file(&out) {
+                            Ok(()) => Some(format!("{} of an earlier run removed", out.display())),
+                            Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+                            Err(e) => Some(format!("{} of an earlier run NOT removed: {e}", out.display())),
+                        },
+                    };
+                    let note = stale.as_ref().map(|s| format!(" ({s})")).unwrap_or_default();
+                    match &ended {
+                        Ended::Written(line, n) => {
+                            frames.fetch_add(*n, Ordering::Relaxed);
+                            bar.suspend(|| println!("{line}"));
+                        }
+                        Ended::Failed(message) => bar.suspend(|| println!("FAIL  {message}{note}")),
+                        Ended::Panicked(message) => bar.suspend(|| println!("PANIC {message}{note}")),
                     }
-                    Err(message) => {
-                        failed.fetch_add(1, Ordering::Relaxed);
-                        bar.suspend(|| println!("FAIL  {message}"));
-                    }
-                }
-                bar.inc(1);
-            })
+                    bar.inc(1);
+                    (ended, stale)
+                })
+                .collect()
         });
+        let _ = std::panic::take_hook();
+        if let Ok(hook) = std::sync::Arc::try_unwrap(default_hook) {
+            std::panic::set_hook(hook);
+        }
         bar.finish_and_clear();
         let seconds = started.elapsed().as_secs_f64();
-        let failed = failed.into_inner();
-        let done = files.len() - failed;
+        let listed = |panics: bool| -> Vec<String> {
+            ended
+                .iter()
+                .filter_map(|(e, stale)| {
+                    let message = match (e, panics) {
+                        (Ended::Failed(m), false) | (Ended::Panicked(m), true) => m,
+                        _ => return None,
+                    };
+                    Some(format!("  {message}{}", stale.as_ref().map(|s| format!(" ({s})")).unwrap_or_default()))
+                })
+                .collect()
+        };
+        let (failed, panicked) = (listed(false), listed(true));
+        let done = files.len() - failed.len() - panicked.len();
+        let mut problems = Vec::new();
+        if !failed.is_empty() {
+            problems.push(format!("{} failed", failed.len()));
+        }
+        if !panicked.is_empty() {
+            problems.push(format!("{} panicked", panicked.len()));
+        }
         eprintln!(
             "{} {}: {done} of {} takes segmented{} in {seconds:.1} s on {threads} threads: {:.2} takes/s, {:.0} frames/s",
             method.info().name,
             dir.display(),
             files.len(),
-            if failed > 0 { format!(", {failed} failed (reported above)") } else { String::new() },
+            problems.iter().map(|p| format!(", {p}")).collect::<String>(),
             done as f64 / seconds,
             frames.into_inner() as f64 / seconds
         );
-        Ok(if failed > 0 { Outcome::Partial } else { Outcome::Ok })
+        if !failed.is_empty() {
+            eprintln!("failed (not written):\n{}", failed.join("\n"));
+        }
+        if !panicked.is_empty() {
+            eprintln!("panicked (not written; a bug in mocapseg, please report it):\n{}", panicked.join("\n"));
+        }
+        let outcome = if !panicked.is_empty() {
+            Outcome::Panicked
+        } else if !failed.is_empty() {
+            Outcome::Partial
+        } else {
+            Outcome::Ok
+        };
+        eprintln!(
+            "exit code {}",
+            match outcome {
+                Outcome::Ok => "0: every take written",
+                Outcome::Partial => "2: some takes failed, the rest written",
+                Outcome::Panicked => "3: some take panicked, the rest written",
+            }
+        );
+        Ok(outcome)
     }
 
     fn eval(predictions: &[PathBuf], truth_path: &Path, options: &ImportOptions, json: bool) -> Result<(), String> {

@@ -145,22 +145,31 @@ impl Knn {
     }
 
     /// Reads [`Knn::to_bytes`] back, checking sizes, values and that labels are below `classes`.
+    ///
+    /// The sizes are checked in `u64`: the file's counts are u32, and on wasm32 (a 32-bit `usize`)
+    /// `n × (DIMS + 1)` words of a frame count near 2³⁰ wrap around, so a crafted header could pass
+    /// a `usize` check and make `Vec::with_capacity(n)` panic, trapping the worker. Once the bytes
+    /// are known to hold every word, every index below fits in `usize`.
     pub fn from_bytes(bytes: &[u8], params: KnnParams, classes: usize) -> Result<Knn, String> {
         params.check()?;
         let word = |i: usize| -> Result<[u8; 4], String> {
             bytes.get(4 * i..4 * i + 4).and_then(|b| b.try_into().ok()).ok_or_else(|| "k-NN data truncated".to_string())
         };
-        let n = u32::from_le_bytes(word(0)?) as usize;
-        let d = u32::from_le_bytes(word(1)?) as usize;
-        let offsets = (2 * params.half_window / params.stride + 1) as usize;
-        let expected_d = offsets * 3 * Canonical::ALL.len();
+        let n = u64::from(u32::from_le_bytes(word(0)?));
+        let d = u64::from(u32::from_le_bytes(word(1)?));
+        let offsets = (2 * params.half_window / params.stride + 1) as u64;
+        let expected_d = offsets * 3 * Canonical::ALL.len() as u64;
         if d != expected_d {
             return Err(format!("k-NN windows of {d} values, but its parameters make {expected_d}"));
         }
-        let words = 2 + d + DIMS * d + n * DIMS + n;
-        if n == 0 || bytes.len() != 4 * words {
+        let dims = DIMS as u64;
+        // at most 2 + 33 · 30 651 + 33 · (2³² − 1) words (d ≤ 601 offsets · 51): no overflow in u64
+        let words = 2 + d + dims * d + n * dims + n;
+        if n == 0 || bytes.len() as u64 != 4 * words {
             return Err(format!("k-NN data of {} bytes, expected {} for {n} frames", bytes.len(), 4 * words));
         }
+        // bytes.len() = 4 · words, so n, d and every word index fit in usize
+        let (n, d) = (n as usize, d as usize);
         let float = |i: usize| word(i).map(f32::from_le_bytes);
         let mut floats = Vec::with_capacity(d + DIMS * d + n * DIMS);
         for i in 2..2 + d + DIMS * d + n * DIMS {
@@ -295,5 +304,29 @@ mod tests {
         };
         assert!(median(&near) < 1e-2 * median(&far).max(1e-6) + 1e-3, "{} vs {}", median(&near), median(&far));
         assert!(median(&far) > 0.0);
+    }
+
+    /// A payload of the default window claiming `n` frames but holding the words of one.
+    fn claiming(n: u32) -> Vec<u8> {
+        let p = KnnParams::default();
+        let d = (2 * p.half_window / p.stride + 1) as usize * 3 * Canonical::ALL.len();
+        let mut bytes = Vec::new();
+        bytes.extend_from_slice(&n.to_le_bytes());
+        bytes.extend_from_slice(&(d as u32).to_le_bytes());
+        bytes.resize(4 * (2 + d + DIMS * d + DIMS + 1), 0);
+        bytes
+    }
+
+    #[test]
+    fn frame_counts_whose_sizes_wrap_around_in_32_bits_are_refused() {
+        // 4 · (2 + 33 d + 33 n) bytes for n frames: n = 2³⁰ + 1 wraps around to one frame's size in
+        // 32-bit arithmetic (tests/wasm.rs runs this on wasm32, where it trapped); n = 2³² − 1
+        // makes every product of the check overflow 32 bits
+        let p = KnnParams::default();
+        assert_eq!(Knn::from_bytes(&claiming(1), p, 2).map(|k| k.points.len()), Ok(1));
+        for n in [(1u32 << 30) + 1, u32::MAX, 1 << 27] {
+            let e = Knn::from_bytes(&claiming(n), p, 2).unwrap_err();
+            assert!(e.starts_with("k-NN data of ") && e.contains(&format!("for {n} frames")), "{n}: {e}");
+        }
     }
 }
