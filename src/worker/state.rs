@@ -233,6 +233,10 @@ impl WorkerState {
         asf: Option<(&str, &[u8])>,
         progress: &mut dyn FnMut(f64),
     ) -> Result<Box<LoadedMotion>, String> {
+        // the previous take goes first: a tab never holds two takes at once (the memory budget
+        // bounds one), and a load that fails leaves none — a run on the take on screen is then
+        // answered `not_loaded`, and the page sends that take again
+        self.held = None;
         let loaded = match asf {
             None => crate::load::load_bytes(name, bytes, progress),
             Some(asf) => crate::load::load_asf_amc(asf, (name, bytes), &crate::load::MemoryBudget::default()),
@@ -453,7 +457,8 @@ mod tests {
         assert!(matches!(load.last(), Some(Response::Loaded { take: 1, .. })));
         assert_eq!(w.held(), Some(1));
 
-        // a bad file (take 2) fails and leaves take 1 held
+        // a bad file (take 2) fails; take 1 was let go before it was read (the worker never holds
+        // two takes), so a run on take 1 is answered `not_loaded` until the page sends it again
         let bad = ask(
             &mut w,
             Request::Load {
@@ -469,6 +474,21 @@ mod tests {
             panic!("{bad:?}")
         };
         assert!(message.starts_with("bad.bvh: line "), "{message}");
+        assert_eq!(w.held(), None, "the previous take is released before the next one is parsed");
+        let gone = ask(&mut w, segment(1, 2));
+        assert!(matches!(gone.last(), Some(Response::Failed { take: 1, kind: FailureKind::NotLoaded, .. })), "{gone:?}");
+        let again = ask(
+            &mut w,
+            Request::Load {
+                take: 1,
+                name: "12_01.bvh".into(),
+                restore: true,
+                bytes: take_bytes(),
+                skeleton: None,
+                skeleton_bytes: Vec::new(),
+            },
+        );
+        assert_eq!(again.last(), Some(&Response::Restored { take: 1 }));
         assert_eq!(w.held(), Some(1));
 
         // a segment request for another take is refused, for the held one answered
