@@ -164,7 +164,7 @@ impl Loader {
         let id = begin(&inner, &name);
         wasm_bindgen_futures::spawn_local(async move {
             match fetch_bytes(&url).await {
-                Ok(bytes) => send_load(&inner, id, &name, &bytes),
+                Ok(bytes) => send_load(&inner, id, &name, &bytes, None),
                 Err(message) => fail_load(&inner, id, format!("{name}: could not load the sample: {message}")),
             }
         });
@@ -190,7 +190,7 @@ impl Loader {
         *inner.src_take.borrow_mut() = Some((id, url));
         wasm_bindgen_futures::spawn_local(async move {
             match fetch.await {
-                Ok((bytes, skeleton)) => send_load_with(&inner, id, &name, &bytes, skeleton),
+                Ok((bytes, skeleton)) => send_load(&inner, id, &name, &bytes, skeleton),
                 Err(message) => {
                     inner.src_take.borrow_mut().take();
                     fail_load(&inner, id, message)
@@ -236,7 +236,7 @@ impl Loader {
                 },
             };
             match JsFuture::from(motion.array_buffer()).await {
-                Ok(bytes) => send_load_with(&inner, id, &name, bytes.unchecked_ref(), skeleton),
+                Ok(bytes) => send_load(&inner, id, &name, bytes.unchecked_ref(), skeleton),
                 Err(e) => fail_load(&inner, id, format!("{name}: could not read the file: {}", js_message(&e))),
             }
         });
@@ -284,13 +284,10 @@ fn post(inner: &Rc<Inner>, request: &Request, bytes: Option<&ArrayBuffer>) -> Re
     worker.post_message_with_transfer(&message, &transfer).map_err(|e| js_message(&e))
 }
 
-/// Sends a load of `bytes` as take `id` (the page keeps a copy, to send it again if needed).
-fn send_load(inner: &Rc<Inner>, id: TakeId, name: &str, bytes: &ArrayBuffer) {
-    send_load_with(inner, id, name, bytes, None);
-}
-
-/// [`send_load`] of an AMC motion with its ASF `skeleton` (name, bytes), or of any file without.
-fn send_load_with(inner: &Rc<Inner>, id: TakeId, name: &str, bytes: &ArrayBuffer, skeleton: Option<(String, Vec<u8>)>) {
+/// Sends a load of `bytes` as take `id`, with its ASF `skeleton` (name, bytes) for an AMC motion
+/// (`None` for any other file); the page keeps a copy, to send it again if needed. One function
+/// for both, so that no path (a worker restart) can send an AMC without its skeleton.
+fn send_load(inner: &Rc<Inner>, id: TakeId, name: &str, bytes: &ArrayBuffer, skeleton: Option<(String, Vec<u8>)>) {
     if inner.current.get() != id {
         return;
     }
@@ -434,9 +431,10 @@ fn now() -> f64 {
 /// every run still under way (each first gets `not_loaded`, then the take on screen).
 fn replace_worker(inner: &Rc<Inner>) {
     spawn_worker(inner);
+    // the pending load as it was asked: an AMC motion with its ASF skeleton
     let pending = inner.pending.borrow().clone();
     if let Some(take) = pending {
-        send_load(inner, take.id, &take.name, &take.bytes);
+        send_load(inner, take.id, &take.name, &take.bytes, take.skeleton);
     }
     for index in 0..inner.state.methods.len() {
         let running = inner.runs.borrow()[index].is_some();
