@@ -28,6 +28,7 @@
 mod drop_zone;
 mod embed;
 mod error_banner;
+mod fetch;
 mod ground_truth;
 mod keys;
 mod loader;

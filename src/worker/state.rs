@@ -124,6 +124,11 @@ impl WorkerState {
                 post(self.use_model(take, run, &method, &file, &bytes))
             }
             Request::Train { take, run, method, name, labels_name, labels, takes, options, bytes } => {
+                // buffer 0 is the take on screen; the others are what the training adds
+                let added = crate::protocol::extra_takes_total(bytes.iter().skip(1).map(|b| b.len() as u64));
+                if let Err(message) = added {
+                    return post(refusal(take, run, &method, MethodError::param("takes", message)));
+                }
                 let ask = TrainingAsk {
                     name,
                     labels_name,
@@ -968,6 +973,10 @@ mod tests {
         check(train("dtfcn", 1, "m", walk_labels(), tiny_options(2), broken), "takes", &["12_01.bvh: line"]);
         let twice = vec![("12_01.bvh", take_bytes()), ("takes/12_01.BVH", take_bytes())];
         check(train("dtfcn", 1, "m", walk_labels(), tiny_options(2), twice), "takes", &["given twice"]);
+        // the takes a training adds are capped in total (their bytes zeroed by the allocator, never read)
+        let big = (crate::protocol::MAX_EXTRA_TAKES_BYTES / 2 + 1) as usize;
+        let heavy = vec![("12_01.bvh", take_bytes()), ("a.bvh", vec![0u8; big]), ("b.bvh", vec![0u8; big])];
+        check(train("dtfcn", 1, "m", walk_labels(), tiny_options(2), heavy), "takes", &["257 MiB", "256 MiB"]);
         // a method that does not train is said so, naming no input
         let (message, param) =
             refusal(ask(&mut w, train("sssm", 1, "m", walk_labels(), serde_json::json!({}), walk())));

@@ -19,7 +19,8 @@ let opened;
 let page;
 
 before(async () => {
-  opened = await openPage();
+  // no service worker: page.route must see the page's own requests (the src= file)
+  opened = await openPage({ contextOptions: { serviceWorkers: "block" } });
   page = opened.page;
 });
 
