@@ -24,7 +24,8 @@ pub struct Launch {
     pub params: UrlParams,
     /// What could not be used, one message per parameter.
     pub messages: Vec<String>,
-    /// `location.pathname` + the query without `embed`: the full page for the same take.
+    /// The full page for the same take: this page (on its own origin, whatever its path) with
+    /// the query without `embed` ([`url_params::full_page_href`]).
     pub full_page: String,
 }
 
@@ -35,9 +36,8 @@ impl Launch {
         let names: Vec<String> = crate::methods::registry().iter().map(|m| m.info().name).collect();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let parsed = url_params::parse(&search, &names);
-        let path = location_part("pathname");
         let full_page =
-            format!("{}{}", if path.is_empty() { "./" } else { &path }, url_params::full_page_query(&search));
+            url_params::full_page_href(&location_part("origin"), &location_part("pathname"), &search);
         Launch { params: parsed.params, messages: parsed.messages, full_page }
     }
 

@@ -332,6 +332,19 @@ pub fn full_page_query(query: &str) -> String {
     }
 }
 
+/// The full page for the same take (embed mode's "Open in mocapseg" link): `path` and `query`
+/// are `location.pathname` and `location.search`, `origin` is `location.origin`. The link always
+/// stays on the page's own origin: it is absolute (`origin` + one `/`), and the path's leading
+/// slashes — and backslashes, tabs and line breaks, which browsers read as slashes or drop — are
+/// collapsed, so that a path like `//evil.example/x` (on a server that answers every path with
+/// the page) cannot make it a link to another host. A page without an origin of its own
+/// (`null`, as on `file:`) gets a path-absolute link, which the same collapsing keeps on it.
+pub fn full_page_href(origin: &str, path: &str, query: &str) -> String {
+    let rest = path.trim_start_matches(['/', '\\', '\t', '\n', '\r']);
+    let base = if origin.starts_with("http://") || origin.starts_with("https://") { origin } else { "" };
+    format!("{base}/{rest}{}", full_page_query(query))
+}
+
 /// The file name a URL ends with (`https://a.org/x/02_01.bvh?v=2` → `02_01.bvh`); the whole
 /// URL when it ends with `/`.
 pub fn file_name(url: &str) -> String {
@@ -773,6 +786,24 @@ mod tests {
             too_large("asf", "a.asf", MAX_FILE_BYTES + 1, false, MAX_FILE_BYTES),
             "asf=a.asf: not loaded: the download passed 512 MiB, the most the page reads; cut the take"
         );
+    }
+
+    #[test]
+    fn the_full_page_link_stays_on_the_page_s_origin() {
+        let o = "http://127.0.0.1:8080";
+        assert_eq!(full_page_href(o, "/", "?embed=1&src=a.bvh"), "http://127.0.0.1:8080/?src=a.bvh");
+        assert_eq!(full_page_href(o, "/app/index.html", "?embed=1"), "http://127.0.0.1:8080/app/index.html");
+        assert_eq!(full_page_href(o, "", ""), "http://127.0.0.1:8080/");
+        // a path that would make `//host` (protocol-relative) or `/\host` (read as `//host`)
+        for path in ["//evil.example/x", "///evil.example", "/\\evil.example/x", "\\\\evil.example", "/\t/evil.example"] {
+            let href = full_page_href(o, path, "?embed=1&t=2");
+            assert!(href.starts_with("http://127.0.0.1:8080/evil.example"), "{path:?} -> {href}");
+            assert!(href.ends_with("?t=2"), "{href}");
+        }
+        // no origin of its own (file:): path-absolute, never protocol-relative
+        assert_eq!(full_page_href("null", "//evil.example/x", ""), "/evil.example/x");
+        assert_eq!(full_page_href("null", "/home/me/dist/index.html", "?embed=1"), "/home/me/dist/index.html");
+        assert_eq!(full_page_href("", "", ""), "/");
     }
 
     #[test]
