@@ -10,6 +10,7 @@
 
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
+import { statSync } from "node:fs";
 import path from "node:path";
 import {
   BASE_URL, FIXTURES, TIMEOUT, assertClean, closePage, gotoApp, openPage, text, until, waitData, waitReady,
@@ -63,6 +64,31 @@ async function splitAt(f, n, p = page) {
 /** The key under which `p` stores my labels for the sample (the backups are not under this prefix). */
 const storedKey = (p = page) =>
   p.evaluate(() => Object.keys(localStorage).find((k) => k.startsWith("mocapseg.my-labels.")) ?? null);
+
+/**
+ * The byte lengths of every ArrayBuffer alive in `p`'s own heap, from a DevTools heap snapshot
+ * (their backing stores are its "system / JSArrayBufferData" nodes; `Runtime.queryObjects` does not
+ * list ArrayBuffers).
+ */
+async function arrayBufferSizes(p) {
+  const cdp = await p.context().newCDPSession(p);
+  const chunks = [];
+  cdp.on("HeapProfiler.addHeapSnapshotChunk", (e) => chunks.push(e.chunk));
+  try {
+    await cdp.send("HeapProfiler.collectGarbage");
+    await cdp.send("HeapProfiler.takeHeapSnapshot", { reportProgress: false });
+  } finally {
+    await cdp.detach();
+  }
+  const snap = JSON.parse(chunks.join(""));
+  const fields = snap.snapshot.meta.node_fields;
+  const [name, selfSize] = [fields.indexOf("name"), fields.indexOf("self_size")];
+  const sizes = [];
+  for (let i = 0; i < snap.nodes.length; i += fields.length) {
+    if (snap.strings[snap.nodes[i + name]] === "system / JSArrayBufferData") sizes.push(snap.nodes[i + selfSize]);
+  }
+  return sizes;
+}
 
 /** Forgets every stored label of this browser and opens the page again. */
 async function forgetLabels(p = page) {
@@ -121,6 +147,21 @@ test("a src= file larger than the page reads is refused from its Content-Length,
   assert.match(message, /600 MiB/, "the message says how large the file is");
   assert.match(message, /512 MiB/, "the message names the cap");
   await page.unroute("**/huge.bvh");
+});
+
+test("the page keeps no copy of a take's bytes: the worker holds the only one", async () => {
+  await fresh();
+  const file = path.join(FIXTURES, "131_03.bvh");
+  const size = statSync(file).size;
+  await page.setInputFiles("#file-input", file);
+  await waitReady(page, "131_03.bvh");
+  await waitData(page, "sssm", "done");
+  // the page's heap (a snapshot, taken after a garbage collection): no ArrayBuffer may hold the
+  // file's bytes (a transferred buffer is detached; a Blob's bytes are not in the page's heap)
+  const sizes = await arrayBufferSizes(page);
+  assert.ok(sizes.length > 0, "the page's ArrayBuffers were found in the snapshot");
+  assert.deepEqual(sizes.filter((n) => n === size), [], `no ArrayBuffer of the file's ${size} bytes in the page`);
+  assertClean(opened);
 });
 
 test("a panic on the page's thread shows the reload message; my labels survive the reload", async () => {
