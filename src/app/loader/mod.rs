@@ -317,7 +317,7 @@ fn send_load(inner: &Rc<Inner>, id: TakeId, name: &str, file: Blob, skeleton: Op
     inner.load_sends.set(send);
     let inner = inner.clone();
     wasm_bindgen_futures::spawn_local(async move {
-        let bytes = blob_bytes(&take.file).await;
+        let bytes = blob_bytes(&take.file).await.map_err(|e| format!("could not read the file: {e}"));
         // a newer load, or a newer send of this one, is the one to post
         let newest = inner.load_sends.get() == send && inner.pending.borrow().as_ref().is_some_and(|t| t.id == take.id);
         if !newest {
