@@ -36,8 +36,7 @@ impl Launch {
         let names: Vec<String> = crate::methods::registry().iter().map(|m| m.info().name).collect();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let parsed = url_params::parse(&search, &names);
-        let full_page =
-            url_params::full_page_href(&location_part("origin"), &location_part("pathname"), &search);
+        let full_page = url_params::full_page_href(&location_part("origin"), &location_part("pathname"), &search);
         Launch { params: parsed.params, messages: parsed.messages, full_page }
     }
 
@@ -79,7 +78,8 @@ pub fn start(state: AppState, loader: &Loader, urls: &Urls, launch: &Launch, not
                 let skeleton = match asf {
                     Some(asf) => {
                         let blob = fetch_src("asf", asf.clone()).await?;
-                        let bytes = blob_bytes(&blob).await.map_err(|e| url_params::fetch_failed("asf", &asf, None, &e))?;
+                        let bytes =
+                            blob_bytes(&blob).await.map_err(|e| url_params::fetch_failed("asf", &asf, None, &e))?;
                         Some((url_params::file_name(&asf), js_sys::Uint8Array::new(&bytes).to_vec()))
                     }
                     None => None,

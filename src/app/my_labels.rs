@@ -343,7 +343,8 @@ impl MyRow {
             let backup = backup_key(&key);
             if let Err(e) = storage.set_item(&backup, &bad) {
                 // the unreadable record stays where it is rather than be lost
-                return self.unsaved(&e, &format!(" (the unreadable record they replace could not be kept under {backup})"));
+                return self
+                    .unsaved(&e, &format!(" (the unreadable record they replace could not be kept under {backup})"));
             }
             self.corrupt.set_value(None);
             kept = Some(backup);

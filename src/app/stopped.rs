@@ -60,7 +60,14 @@ fn show(detail: &str) {
     }
     set_style(
         &banner,
-        &[("position", "fixed"), ("top", "0"), ("left", "0"), ("right", "0"), ("zIndex", "2147483647"), ("margin", "0")],
+        &[
+            ("position", "fixed"),
+            ("top", "0"),
+            ("left", "0"),
+            ("right", "0"),
+            ("zIndex", "2147483647"),
+            ("margin", "0"),
+        ],
     );
     let _ = body.prepend_with_node_1(&banner);
     let _ = body.set_attribute("data-stopped", "1");

@@ -519,7 +519,11 @@ impl SizeCap {
 pub fn too_large(param: &str, url: &str, size: u64, declared: bool, cap: u64) -> String {
     let mib = |b: u64| format!("{:.0} MiB", (b as f64 / 1024.0 / 1024.0).ceil());
     if declared {
-        format!("{param}={url}: not loaded: the file is {}, more than the page reads ({}); cut the take", mib(size), mib(cap))
+        format!(
+            "{param}={url}: not loaded: the file is {}, more than the page reads ({}); cut the take",
+            mib(size),
+            mib(cap)
+        )
     } else {
         format!("{param}={url}: not loaded: the download passed {}, the most the page reads; cut the take", mib(cap))
     }
@@ -795,7 +799,8 @@ mod tests {
         assert_eq!(full_page_href(o, "/app/index.html", "?embed=1"), "http://127.0.0.1:8080/app/index.html");
         assert_eq!(full_page_href(o, "", ""), "http://127.0.0.1:8080/");
         // a path that would make `//host` (protocol-relative) or `/\host` (read as `//host`)
-        for path in ["//evil.example/x", "///evil.example", "/\\evil.example/x", "\\\\evil.example", "/\t/evil.example"] {
+        for path in ["//evil.example/x", "///evil.example", "/\\evil.example/x", "\\\\evil.example", "/\t/evil.example"]
+        {
             let href = full_page_href(o, path, "?embed=1&t=2");
             assert!(href.starts_with("http://127.0.0.1:8080/evil.example"), "{path:?} -> {href}");
             assert!(href.ends_with("?t=2"), "{href}");

@@ -481,7 +481,10 @@ mod tests {
         assert!(message.starts_with("bad.bvh: line "), "{message}");
         assert_eq!(w.held(), None, "the previous take is released before the next one is parsed");
         let gone = ask(&mut w, segment(1, 2));
-        assert!(matches!(gone.last(), Some(Response::Failed { take: 1, kind: FailureKind::NotLoaded, .. })), "{gone:?}");
+        assert!(
+            matches!(gone.last(), Some(Response::Failed { take: 1, kind: FailureKind::NotLoaded, .. })),
+            "{gone:?}"
+        );
         let again = ask(
             &mut w,
             Request::Load {

@@ -2,9 +2,9 @@
 //! one step per message, Stop), the user's models given to every new worker, and the answers to
 //! each — for every method that declares [`crate::method::Supervision`], by its slot, never by name.
 
+use super::super::fetch::blob_bytes;
 use super::super::supervised::{describe, LoadStatus, Supervised, TrainAsk, TrainState, TrainedFile, UserModel};
 use super::super::MethodSlot;
-use super::super::fetch::blob_bytes;
 use super::{next_id, now, post, post_buffers, replace_worker, start_run, Inner, Loader};
 use crate::method::supervised::{ModelInfo, StepReport, TrainingReport};
 use crate::protocol::{FailureKind, Request, Response, RunId};
