@@ -558,6 +558,28 @@ impl Response {
     }
 }
 
+/// The most bytes of takes a training may bring besides the take on screen: with that take (at
+/// most the 512 MiB the page reads) a training stays within what one tab can hold. The page
+/// refuses more when the user picks them ([`extra_takes_total`]), the worker when a request
+/// brings more.
+pub const MAX_EXTRA_TAKES_BYTES: u64 = 256 * 1024 * 1024;
+
+/// The total size of the takes a training adds (`sizes`, in bytes), or why they are refused,
+/// naming the cap.
+pub fn extra_takes_total(sizes: impl IntoIterator<Item = u64>) -> Result<u64, String> {
+    let total = sizes.into_iter().fold(0u64, u64::saturating_add);
+    if total > MAX_EXTRA_TAKES_BYTES {
+        const MIB: f64 = 1024.0 * 1024.0;
+        return Err(format!(
+            "the added takes come to {:.0} MiB, more than the {:.0} MiB a training may add besides the take on \
+             screen: remove some, or cut them",
+            (total as f64 / MIB).ceil(),
+            MAX_EXTRA_TAKES_BYTES as f64 / MIB
+        ));
+    }
+    Ok(total)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -566,6 +588,17 @@ mod tests {
 
     fn walk() -> Motion {
         load_bytes("12_01.bvh", include_bytes!("../tests/fixtures/12_01.bvh"), &mut |_| {}).unwrap().motion
+    }
+
+    #[test]
+    fn the_takes_a_training_adds_are_capped_in_total_and_the_refusal_names_the_cap() {
+        let mib = 1024 * 1024;
+        assert_eq!(extra_takes_total([]), Ok(0));
+        assert_eq!(extra_takes_total([100 * mib, 156 * mib]), Ok(MAX_EXTRA_TAKES_BYTES));
+        let e = extra_takes_total([100 * mib, 156 * mib, 1]).unwrap_err();
+        assert!(e.contains("257 MiB") && e.contains("256 MiB"), "{e}");
+        let e = extra_takes_total([u64::MAX, u64::MAX]).unwrap_err();
+        assert!(e.contains("more than the 256 MiB"), "no overflow: {e}");
     }
 
     #[test]

@@ -9,14 +9,14 @@
 //! `#embed-bar`: the take's name and `#open-full`, a link to the full page with the same
 //! parameters.
 
+use super::fetch::{blob_bytes, read_capped, ReadError, MAX_FILE_BYTES};
 use super::loader::{Loader, Urls};
 use super::{js_message, AppState};
 use crate::view::url_params::{self, UrlParams};
-use js_sys::ArrayBuffer;
 use leptos::prelude::*;
 use wasm_bindgen::JsCast;
 use wasm_bindgen_futures::JsFuture;
-use web_sys::Response as FetchResponse;
+use web_sys::{Blob, Response as FetchResponse};
 
 /// The page's URL parameters, read once.
 #[derive(Debug, Clone, PartialEq)]
@@ -24,7 +24,8 @@ pub struct Launch {
     pub params: UrlParams,
     /// What could not be used, one message per parameter.
     pub messages: Vec<String>,
-    /// `location.pathname` + the query without `embed`: the full page for the same take.
+    /// The full page for the same take: this page (on its own origin, whatever its path) with
+    /// the query without `embed` ([`url_params::full_page_href`]).
     pub full_page: String,
 }
 
@@ -35,9 +36,7 @@ impl Launch {
         let names: Vec<String> = crate::methods::registry().iter().map(|m| m.info().name).collect();
         let names: Vec<&str> = names.iter().map(String::as_str).collect();
         let parsed = url_params::parse(&search, &names);
-        let path = location_part("pathname");
-        let full_page =
-            format!("{}{}", if path.is_empty() { "./" } else { &path }, url_params::full_page_query(&search));
+        let full_page = url_params::full_page_href(&location_part("origin"), &location_part("pathname"), &search);
         Launch { params: parsed.params, messages: parsed.messages, full_page }
     }
 
@@ -78,7 +77,9 @@ pub fn start(state: AppState, loader: &Loader, urls: &Urls, launch: &Launch, not
                 // an AMC's skeleton first: its failure is the one to report
                 let skeleton = match asf {
                     Some(asf) => {
-                        let bytes = fetch_src("asf", asf.clone()).await?;
+                        let blob = fetch_src("asf", asf.clone()).await?;
+                        let bytes =
+                            blob_bytes(&blob).await.map_err(|e| url_params::fetch_failed("asf", &asf, None, &e))?;
                         Some((url_params::file_name(&asf), js_sys::Uint8Array::new(&bytes).to_vec()))
                     }
                     None => None,
@@ -126,9 +127,10 @@ pub fn start(state: AppState, loader: &Loader, urls: &Urls, launch: &Launch, not
 }
 
 /// Fetches the file of parameter `param` (`src`, `asf`): refused before asking when the page's
-/// Content-Security-Policy does not allow its origin; every failure says what happened, naming
-/// the parameter and its URL.
-async fn fetch_src(param: &'static str, src: String) -> Result<ArrayBuffer, String> {
+/// Content-Security-Policy does not allow its origin, and past [`MAX_FILE_BYTES`] as a dropped
+/// file is (from its `Content-Length`, else as it arrives); every failure says what happened,
+/// naming the parameter and its URL.
+async fn fetch_src(param: &'static str, src: String) -> Result<Blob, String> {
     let href = location_part("href");
     let page_origin = location_part("origin");
     let url = web_sys::Url::new_with_base(&src, &href)
@@ -147,12 +149,10 @@ async fn fetch_src(param: &'static str, src: String) -> Result<ArrayBuffer, Stri
     if !response.ok() {
         return Err(url_params::http_failed(param, &src, response.status(), &response.status_text()));
     }
-    let body =
-        response.array_buffer().map_err(|e| url_params::fetch_failed(param, &src, cross_origin, &js_message(&e)))?;
-    JsFuture::from(body)
-        .await
-        .map(JsCast::unchecked_into)
-        .map_err(|e| url_params::fetch_failed(param, &src, cross_origin, &js_message(&e)))
+    read_capped(&response, MAX_FILE_BYTES).await.map_err(|e| match e {
+        ReadError::TooLarge { size, declared } => url_params::too_large(param, &src, size, declared, MAX_FILE_BYTES),
+        ReadError::Failed(e) => url_params::fetch_failed(param, &src, cross_origin, &e),
+    })
 }
 
 /// The content of the page's Content-Security-Policy `<meta>` (empty when it has none).

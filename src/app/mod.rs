@@ -28,6 +28,7 @@
 mod drop_zone;
 mod embed;
 mod error_banner;
+mod fetch;
 mod ground_truth;
 mod keys;
 mod loader;
@@ -40,6 +41,7 @@ mod playback;
 mod player;
 mod progress;
 mod row_exports;
+mod stopped;
 mod summary;
 mod supervised;
 mod timeline;
@@ -323,7 +325,8 @@ const ROOT_ID: &str = "mocapseg-app";
 /// `./www/sample.bvh`, `./models/`).
 #[wasm_bindgen]
 pub fn mount_app() -> Result<(), JsValue> {
-    console_error_panic_hook::set_once();
+    // a panic logs and shows `#mocapseg-stopped` ("reload the page"), never a page that just stops
+    stopped::install();
     let document = web_sys::window().and_then(|w| w.document()).ok_or("no document")?;
     let root = match document.get_element_by_id(ROOT_ID) {
         Some(el) => el.dyn_into::<web_sys::HtmlElement>()?,

@@ -28,7 +28,12 @@
 //!   [`storage_key`] (file name, frames, frame rate, joints, a fingerprint of the first and last
 //!   frames' positions); opening the same file again restores
 //!   the segments (not the history). Clear removes them (undoable until the page is left). Stored
-//!   data that cannot be read is reported in the status line and left alone until the next edit.
+//!   data that cannot be read is reported in the status line and left alone until the next edit,
+//!   which first keeps it under [`backup_key`] (and says so) — it is never lost. A write the
+//!   browser refuses because its storage is full says so and offers the exports (CSV, JSON; the
+//!   CSV button takes the focus): the labels stay on screen. Another tab on the same take
+//!   (`storage` events): its edits replace this tab's row at once (the status says so), so the
+//!   two tabs never overwrite each other's work unseen; the history then starts again.
 //!   `document.body.dataset.myLabels` (`data-my-labels`): the number of segments.
 
 use super::keys::is_for_the_field;
@@ -43,7 +48,7 @@ use crate::segment::palette::{action_colour, class_colour, cluster_colour};
 use crate::segment::Level;
 use crate::view::my_labels::MyLabels as Model;
 use crate::view::my_labels::{
-    cuts_of, fingerprint, label_class, snap, snap_tolerance, storage_key, suggestions, EditError, SNAP_PX,
+    backup_key, cuts_of, fingerprint, label_class, snap, snap_tolerance, storage_key, suggestions, EditError, SNAP_PX,
 };
 use crate::view::timeline::visible_segments;
 use gloo::events::EventListener;
@@ -203,6 +208,9 @@ pub struct MyRow {
     model: RwSignal<Model>,
     /// The storage key of the take on screen.
     key: RwSignal<Option<String>>,
+    /// The stored record of that take when it could not be read: kept under [`backup_key`]
+    /// before the next write replaces it.
+    corrupt: StoredValue<Option<String>>,
     note: RwSignal<Option<Note>>,
     /// The label field's text.
     label: RwSignal<String>,
@@ -224,6 +232,7 @@ impl MyRow {
             state,
             model: RwSignal::new(Model::new(0)),
             key: RwSignal::new(None),
+            corrupt: StoredValue::new(None),
             note: RwSignal::new(None),
             label: RwSignal::new(String::new()),
             source: RwSignal::new(String::new()),
@@ -248,11 +257,13 @@ impl MyRow {
             match take {
                 None => {
                     row.key.set(None);
+                    row.corrupt.set_value(None);
                     row.model.set(Model::new(0));
                 }
                 Some((key, frames)) => {
                     row.key.set(Some(key.clone()));
-                    let (model, note) = restore(&key, frames);
+                    let (model, note, corrupt) = restore(&key, frames, false);
+                    row.corrupt.set_value(corrupt);
                     row.model.set(model);
                     row.note.set(note);
                 }
@@ -316,16 +327,79 @@ impl MyRow {
         self.state.motion.with_untracked(|m| m.as_ref().map(|m| m.summary.name.clone()).unwrap_or_default())
     }
 
-    /// Writes the labels to storage (removes them when there are none).
+    /// Writes the labels to storage (removes them when there are none). A stored record that
+    /// could not be read is first kept under its backup key (and the user told where); a write
+    /// the browser refuses is said, with the exports offered when its storage is full.
     fn save(self) {
         let Some(key) = self.key.get_untracked() else { return };
         let name = self.take_name();
         let (empty, json) = self.model.with_untracked(|m| (m.spans().is_empty(), m.to_json(&name)));
-        let saved = local_storage()
-            .and_then(|s| if empty { s.remove_item(&key) } else { s.set_item(&key, &json) }.map_err(|e| describe(&e)));
-        if let Err(e) = saved {
-            self.say(true, format!("My labels could not be saved in this browser: {e}"));
+        let storage = match local_storage() {
+            Ok(storage) => storage,
+            Err(e) => return self.say(true, format!("My labels could not be saved in this browser: {e}")),
+        };
+        let mut kept = None;
+        if let Some(bad) = self.corrupt.get_value() {
+            let backup = backup_key(&key);
+            if let Err(e) = storage.set_item(&backup, &bad) {
+                // the unreadable record stays where it is rather than be lost
+                return self
+                    .unsaved(&e, &format!(" (the unreadable record they replace could not be kept under {backup})"));
+            }
+            self.corrupt.set_value(None);
+            kept = Some(backup);
         }
+        let saved = if empty { storage.remove_item(&key) } else { storage.set_item(&key, &json) };
+        match (saved, kept) {
+            (Err(e), _) => self.unsaved(&e, ""),
+            (Ok(()), Some(backup)) => self.say(
+                true,
+                format!(
+                    "The labels saved before for this take could not be read: that record is kept in this browser's \
+                     storage under {backup}, and these labels are saved in its place"
+                ),
+            ),
+            (Ok(()), None) => {}
+        }
+    }
+
+    /// Says why the labels could not be written (`e`, the browser's error; `also`, what else is
+    /// left undone); when the browser's storage is full, offers the exports (the CSV button takes
+    /// the focus) — the labels stay on screen until the page is left.
+    fn unsaved(self, e: &JsValue, also: &str) {
+        let name = js_sys::Reflect::get(e, &"name".into()).ok().and_then(|n| n.as_string()).unwrap_or_default();
+        let full = matches!(name.as_str(), "QuotaExceededError" | "NS_ERROR_DOM_QUOTA_REACHED");
+        if !full {
+            return self.say(true, format!("My labels could not be saved in this browser{also}: {}", describe(e)));
+        }
+        self.say(
+            true,
+            format!(
+                "My labels could not be saved{also}: this browser's storage is full. Keep them with the CSV or JSON \
+                 export below — they stay on screen until you leave the page"
+            ),
+        );
+        // the export buttons are enabled once the row's segmentation is updated (an effect)
+        gloo::timers::callback::Timeout::new(0, || {
+            let button = gloo::utils::document().get_element_by_id("my-labels-export-csv");
+            if let Some(b) = button.and_then(|b| b.dyn_into::<web_sys::HtmlElement>().ok()) {
+                let _ = b.focus();
+            }
+        })
+        .forget();
+    }
+
+    /// Another tab changed the stored labels of the take on screen: they replace this tab's row
+    /// (an edit here would otherwise overwrite them unseen).
+    fn from_other_tab(self) {
+        let Some(key) = self.key.get_untracked() else { return };
+        let frames = self.state.frames();
+        self.drag.set_value(None);
+        self.dragging.set(None);
+        let (model, note, corrupt) = restore(&key, frames, true);
+        self.corrupt.set_value(corrupt);
+        self.model.set(model);
+        self.note.set(note);
     }
 
     fn say(self, error: bool, text: String) {
@@ -523,6 +597,14 @@ impl MyRow {
                 self.save();
             }
         };
+        // another tab wrote my labels (`key` null: it cleared the whole storage)
+        let on_storage = move |ev: &web_sys::Event| {
+            let changed = js_sys::Reflect::get(ev, &"key".into()).ok().and_then(|k| k.as_string());
+            if changed.is_none() || changed == self.key.get_untracked() {
+                self.from_other_tab();
+            }
+        };
+        EventListener::new(&window, "storage", on_storage).forget();
         EventListener::new(&window, "pointermove", on_move).forget();
         EventListener::new(&window, "pointerup", on_up).forget();
         EventListener::new(&window, "pointercancel", on_up).forget();
@@ -556,28 +638,45 @@ impl MyRow {
     }
 }
 
-/// The stored labels of `key` for a take of `frames`, and what to tell the user.
-fn restore(key: &str, frames: usize) -> (Model, Option<Note>) {
+/// The stored labels of `key` for a take of `frames`, what to tell the user, and the stored text
+/// when it cannot be read (kept under its backup key before the next write). `other_tab`: they
+/// were just written by another tab.
+fn restore(key: &str, frames: usize, other_tab: bool) -> (Model, Option<Note>, Option<String>) {
     let stored = local_storage().and_then(|s| s.get_item(key).map_err(|e| describe(&e)));
+    let plural = |n: usize| if n == 1 { "" } else { "s" };
     match stored {
-        Ok(None) => (Model::new(frames), None),
+        Ok(None) if other_tab => {
+            let text = "My labels were cleared in another tab of this take".to_string();
+            (Model::new(frames), Some(Note { error: false, text }), None)
+        }
+        Ok(None) => (Model::new(frames), None, None),
         Ok(Some(text)) => match Model::from_json(&text, frames) {
             Ok(model) => {
                 let n = model.spans().len();
-                let text = format!("Restored {n} segment{} saved in this browser for this take", if n == 1 { "" } else { "s" });
-                (model, Some(Note { error: false, text }))
+                let text = if other_tab {
+                    format!("Updated from another tab of this take: {n} segment{}", plural(n))
+                } else {
+                    format!("Restored {n} segment{} saved in this browser for this take", plural(n))
+                };
+                (model, Some(Note { error: false, text }), None)
             }
             Err(e) => (
                 Model::new(frames),
                 Some(Note {
                     error: true,
                     text: format!(
-                        "My labels saved for this take could not be read ({e}); they stay stored until you edit or Clear"
+                        "My labels saved for this take could not be read ({e}); they stay stored until you edit or \
+                         Clear, and are then kept under {}",
+                        backup_key(key)
                     ),
                 }),
+                Some(text),
             ),
         },
-        Err(e) => (Model::new(frames), Some(Note { error: true, text: format!("Browser storage is unavailable: {e}") })),
+        Err(e) => {
+            let text = format!("Browser storage is unavailable: {e}");
+            (Model::new(frames), Some(Note { error: true, text }), None)
+        }
     }
 }
 

@@ -206,6 +206,17 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
             return;
         }
         clear("takes");
+        // the takes a training adds are capped in total (the worker refuses more too): checked
+        // from the files' sizes, before any is read
+        let names: Vec<String> = files.iter().map(File::name).collect();
+        let kept: Vec<u64> = s.extra.with_untracked(|list| {
+            list.iter().filter(|(n, _)| !names.contains(n)).map(|(_, b)| b.len() as u64).collect()
+        });
+        let total = crate::protocol::extra_takes_total(kept.into_iter().chain(files.iter().map(|f| f.size() as u64)));
+        if let Err(message) = total {
+            s.refuse("takes", message);
+            return;
+        }
         wasm_bindgen_futures::spawn_local(async move {
             let mut read = Vec::new();
             for file in files {

@@ -543,6 +543,14 @@ pub fn storage_key(name: &str, frames: usize, fps: f64, joints: usize, print: u3
     format!("mocapseg.my-labels.v{VERSION}:{name}:{frames}f:{fps:.3}fps:{joints}j:{print:08x}")
 }
 
+/// Where a stored record of my labels that cannot be read is kept before the next edit replaces
+/// it: the take's key (from [`storage_key`]) under another prefix, so that the record is never
+/// lost and is never read as labels.
+pub fn backup_key(key: &str) -> String {
+    let take = key.strip_prefix("mocapseg.my-labels.").unwrap_or(key);
+    format!("mocapseg.my-labels-backup.{take}")
+}
+
 /// A cheap fingerprint of a take (FNV-1a over the bits of `values`: the page passes the positions
 /// of its first and last frames).
 pub fn fingerprint(values: impl IntoIterator<Item = f32>) -> u32 {
@@ -870,6 +878,10 @@ mod tests {
         assert_ne!(a, storage_key("13_30.bvh", 2465, 60.0, 31, print));
         assert_ne!(a, storage_key("13_31.bvh", 2465, 120.0, 31, print));
         assert_ne!(a, storage_key("13_30.bvh", 2465, 120.0, 32, print));
+        // a corrupt record's backup: the same take, another prefix (never read as labels)
+        let backup = backup_key(&a);
+        assert_eq!(backup, format!("mocapseg.my-labels-backup.v1:13_30.bvh:2465f:120.000fps:31j:{print:08x}"));
+        assert!(!backup.starts_with("mocapseg.my-labels."));
         // the same numbers give the same print; any change (even -0.0 for 0.0) another
         assert_eq!(print, fingerprint([0.0, 1.5, -2.25]));
         assert_ne!(print, fingerprint([-0.0, 1.5, -2.25]));

@@ -332,6 +332,19 @@ pub fn full_page_query(query: &str) -> String {
     }
 }
 
+/// The full page for the same take (embed mode's "Open in mocapseg" link): `path` and `query`
+/// are `location.pathname` and `location.search`, `origin` is `location.origin`. The link always
+/// stays on the page's own origin: it is absolute (`origin` + one `/`), and the path's leading
+/// slashes — and backslashes, tabs and line breaks, which browsers read as slashes or drop — are
+/// collapsed, so that a path like `//evil.example/x` (on a server that answers every path with
+/// the page) cannot make it a link to another host. A page without an origin of its own
+/// (`null`, as on `file:`) gets a path-absolute link, which the same collapsing keeps on it.
+pub fn full_page_href(origin: &str, path: &str, query: &str) -> String {
+    let rest = path.trim_start_matches(['/', '\\', '\t', '\n', '\r']);
+    let base = if origin.starts_with("http://") || origin.starts_with("https://") { origin } else { "" };
+    format!("{base}/{rest}{}", full_page_query(query))
+}
+
 /// The file name a URL ends with (`https://a.org/x/02_01.bvh?v=2` → `02_01.bvh`); the whole
 /// URL when it ends with `/`.
 pub fn file_name(url: &str) -> String {
@@ -455,6 +468,64 @@ pub fn fetch_failed(param: &str, url: &str, cross_origin: Option<(&str, &str)>, 
              Access-Control-Allow-Origin: {page_origin} (or *) — or it could not be reached"
         ),
         None => format!("{param}={url}: not loaded ({error}): the server could not be reached"),
+    }
+}
+
+/// The largest file the page reads, dropped, picked or from `src=` (bytes); the worker's memory
+/// budget then checks what the take needs.
+pub const MAX_FILE_BYTES: u64 = 512 * 1024 * 1024;
+
+/// A download that may not pass `cap` bytes: the answer's `Content-Length` is checked before its
+/// body is read ([`SizeCap::declared`]), and the body as it arrives ([`SizeCap::add`]) — a server
+/// may send no length, or a wrong one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SizeCap {
+    cap: u64,
+    read: u64,
+}
+
+impl SizeCap {
+    pub fn new(cap: u64) -> SizeCap {
+        SizeCap { cap, read: 0 }
+    }
+
+    /// The size a `Content-Length` header announces, refused (`Err(size)`) past the cap; a
+    /// missing or unreadable header is left to [`SizeCap::add`].
+    pub fn declared(&self, content_length: Option<&str>) -> Result<(), u64> {
+        match content_length.and_then(|l| l.trim().parse::<u64>().ok()) {
+            Some(size) if size > self.cap => Err(size),
+            _ => Ok(()),
+        }
+    }
+
+    /// `n` more bytes arrived: `Err(read so far)` once they pass the cap (stop reading then).
+    pub fn add(&mut self, n: u64) -> Result<(), u64> {
+        self.read = self.read.saturating_add(n);
+        if self.read > self.cap {
+            Err(self.read)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// The bytes read so far.
+    pub fn read(&self) -> u64 {
+        self.read
+    }
+}
+
+/// The message when the file of `param` (`src`, `asf`) at `url` is larger than `cap` bytes:
+/// `size` is what its `Content-Length` says (`declared`) or what arrived before the page stopped.
+pub fn too_large(param: &str, url: &str, size: u64, declared: bool, cap: u64) -> String {
+    let mib = |b: u64| format!("{:.0} MiB", (b as f64 / 1024.0 / 1024.0).ceil());
+    if declared {
+        format!(
+            "{param}={url}: not loaded: the file is {}, more than the page reads ({}); cut the take",
+            mib(size),
+            mib(cap)
+        )
+    } else {
+        format!("{param}={url}: not loaded: the download passed {}, the most the page reads; cut the take", mib(cap))
     }
 }
 
@@ -694,6 +765,50 @@ mod tests {
         assert_eq!(full_page_query("?embed=1"), "");
         assert_eq!(full_page_query(""), "");
         assert_eq!(full_page_query("?embed"), "");
+    }
+
+    #[test]
+    fn a_download_is_capped_by_its_length_and_by_what_arrives() {
+        let cap = SizeCap::new(1000);
+        assert_eq!(cap.declared(Some("1000")), Ok(()));
+        assert_eq!(cap.declared(Some(" 1001 ")), Err(1001));
+        assert_eq!(cap.declared(Some("629145600")), Err(629_145_600));
+        assert_eq!(cap.declared(None), Ok(()), "no length: the body is counted instead");
+        assert_eq!(cap.declared(Some("lots")), Ok(()));
+        let mut body = SizeCap::new(1000);
+        assert_eq!(body.add(600), Ok(()));
+        assert_eq!(body.add(400), Ok(()));
+        assert_eq!(body.add(1), Err(1001), "one byte past the cap stops the download");
+        assert_eq!(body.read(), 1001);
+        let mut huge = SizeCap::new(MAX_FILE_BYTES);
+        assert_eq!(huge.add(u64::MAX).unwrap_err(), u64::MAX, "no overflow");
+        assert_eq!(
+            too_large("src", "huge.bvh", 600 * 1024 * 1024, true, MAX_FILE_BYTES),
+            "src=huge.bvh: not loaded: the file is 600 MiB, more than the page reads (512 MiB); cut the take"
+        );
+        assert_eq!(
+            too_large("asf", "a.asf", MAX_FILE_BYTES + 1, false, MAX_FILE_BYTES),
+            "asf=a.asf: not loaded: the download passed 512 MiB, the most the page reads; cut the take"
+        );
+    }
+
+    #[test]
+    fn the_full_page_link_stays_on_the_page_s_origin() {
+        let o = "http://127.0.0.1:8080";
+        assert_eq!(full_page_href(o, "/", "?embed=1&src=a.bvh"), "http://127.0.0.1:8080/?src=a.bvh");
+        assert_eq!(full_page_href(o, "/app/index.html", "?embed=1"), "http://127.0.0.1:8080/app/index.html");
+        assert_eq!(full_page_href(o, "", ""), "http://127.0.0.1:8080/");
+        // a path that would make `//host` (protocol-relative) or `/\host` (read as `//host`)
+        for path in ["//evil.example/x", "///evil.example", "/\\evil.example/x", "\\\\evil.example", "/\t/evil.example"]
+        {
+            let href = full_page_href(o, path, "?embed=1&t=2");
+            assert!(href.starts_with("http://127.0.0.1:8080/evil.example"), "{path:?} -> {href}");
+            assert!(href.ends_with("?t=2"), "{href}");
+        }
+        // no origin of its own (file:): path-absolute, never protocol-relative
+        assert_eq!(full_page_href("null", "//evil.example/x", ""), "/evil.example/x");
+        assert_eq!(full_page_href("null", "/home/me/dist/index.html", "?embed=1"), "/home/me/dist/index.html");
+        assert_eq!(full_page_href("", "", ""), "/");
     }
 
     #[test]

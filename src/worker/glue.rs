@@ -79,6 +79,14 @@ pub fn request_message(request: &Request, bytes: Option<&ArrayBuffer>) -> (JsVal
     }
 }
 
+/// The page's message for `request` whose buffers the page already holds as JS values
+/// (`ArrayBuffer`s, transferred): a training's takes, read from their files or made from the bytes
+/// the page keeps, never copied into a `Request` first (the request's own `bytes` are left empty).
+pub fn request_with_buffers(request: &Request, buffers: Array) -> (JsValue, Array) {
+    let json = serde_json::to_string(request).unwrap_or_default();
+    (message(&json, &buffers), buffers)
+}
+
 fn message(json: &str, buffers: &Array) -> JsValue {
     let object = Object::new();
     let _ = Reflect::set(&object, &"json".into(), &json.into());

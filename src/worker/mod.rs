@@ -9,4 +9,6 @@ pub use state::WorkerState;
 #[cfg(feature = "web")]
 mod glue;
 #[cfg(feature = "web")]
-pub use glue::{packet_from_js, packet_to_js, request_message, response_from_js, worker_handle, worker_next};
+pub use glue::{
+    packet_from_js, packet_to_js, request_message, request_with_buffers, response_from_js, worker_handle, worker_next,
+};

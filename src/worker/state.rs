@@ -124,6 +124,11 @@ impl WorkerState {
                 post(self.use_model(take, run, &method, &file, &bytes))
             }
             Request::Train { take, run, method, name, labels_name, labels, takes, options, bytes } => {
+                // buffer 0 is the take on screen; the others are what the training adds
+                let added = crate::protocol::extra_takes_total(bytes.iter().skip(1).map(|b| b.len() as u64));
+                if let Err(message) = added {
+                    return post(refusal(take, run, &method, MethodError::param("takes", message)));
+                }
                 let ask = TrainingAsk {
                     name,
                     labels_name,
@@ -233,6 +238,10 @@ impl WorkerState {
         asf: Option<(&str, &[u8])>,
         progress: &mut dyn FnMut(f64),
     ) -> Result<Box<LoadedMotion>, String> {
+        // the previous take goes first: a tab never holds two takes at once (the memory budget
+        // bounds one), and a load that fails leaves none — a run on the take on screen is then
+        // answered `not_loaded`, and the page sends that take again
+        self.held = None;
         let loaded = match asf {
             None => crate::load::load_bytes(name, bytes, progress),
             Some(asf) => crate::load::load_asf_amc(asf, (name, bytes), &crate::load::MemoryBudget::default()),
@@ -453,7 +462,8 @@ mod tests {
         assert!(matches!(load.last(), Some(Response::Loaded { take: 1, .. })));
         assert_eq!(w.held(), Some(1));
 
-        // a bad file (take 2) fails and leaves take 1 held
+        // a bad file (take 2) fails; take 1 was let go before it was read (the worker never holds
+        // two takes), so a run on take 1 is answered `not_loaded` until the page sends it again
         let bad = ask(
             &mut w,
             Request::Load {
@@ -469,6 +479,24 @@ mod tests {
             panic!("{bad:?}")
         };
         assert!(message.starts_with("bad.bvh: line "), "{message}");
+        assert_eq!(w.held(), None, "the previous take is released before the next one is parsed");
+        let gone = ask(&mut w, segment(1, 2));
+        assert!(
+            matches!(gone.last(), Some(Response::Failed { take: 1, kind: FailureKind::NotLoaded, .. })),
+            "{gone:?}"
+        );
+        let again = ask(
+            &mut w,
+            Request::Load {
+                take: 1,
+                name: "12_01.bvh".into(),
+                restore: true,
+                bytes: take_bytes(),
+                skeleton: None,
+                skeleton_bytes: Vec::new(),
+            },
+        );
+        assert_eq!(again.last(), Some(&Response::Restored { take: 1 }));
         assert_eq!(w.held(), Some(1));
 
         // a segment request for another take is refused, for the held one answered
@@ -948,6 +976,10 @@ mod tests {
         check(train("dtfcn", 1, "m", walk_labels(), tiny_options(2), broken), "takes", &["12_01.bvh: line"]);
         let twice = vec![("12_01.bvh", take_bytes()), ("takes/12_01.BVH", take_bytes())];
         check(train("dtfcn", 1, "m", walk_labels(), tiny_options(2), twice), "takes", &["given twice"]);
+        // the takes a training adds are capped in total (their bytes zeroed by the allocator, never read)
+        let big = (crate::protocol::MAX_EXTRA_TAKES_BYTES / 2 + 1) as usize;
+        let heavy = vec![("12_01.bvh", take_bytes()), ("a.bvh", vec![0u8; big]), ("b.bvh", vec![0u8; big])];
+        check(train("dtfcn", 1, "m", walk_labels(), tiny_options(2), heavy), "takes", &["257 MiB", "256 MiB"]);
         // a method that does not train is said so, naming no input
         let (message, param) =
             refusal(ask(&mut w, train("sssm", 1, "m", walk_labels(), serde_json::json!({}), walk())));

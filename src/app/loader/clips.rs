@@ -69,11 +69,14 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
             let Some((request, status, retried)) = take_clip_job(inner, run) else { return None };
             match kind {
                 FailureKind::NotLoaded if !retried => {
-                    let sent = restore(inner).and_then(|()| post(inner, &request, None));
-                    match sent {
-                        Ok(()) => inner.clip_jobs.borrow_mut().push((request, status, true)),
-                        Err(e) => status.set(Some((true, e))),
-                    }
+                    let inner = inner.clone();
+                    wasm_bindgen_futures::spawn_local(async move {
+                        let sent = restore(&inner).await.and_then(|()| post(&inner, &request, None));
+                        match sent {
+                            Ok(()) => inner.clip_jobs.borrow_mut().push((request, status, true)),
+                            Err(e) => status.set(Some((true, e))),
+                        }
+                    });
                 }
                 _ => {
                     status.set(Some((true, message)));

@@ -2,11 +2,14 @@
 //! hands its bytes to the worker (transferred, not copied), asks for segmentations and turns the
 //! worker's [`Response`]s into state.
 //!
-//! Every load gets a new take id; only the newest load counts. The page keeps a copy of the
-//! bytes of the take on screen, and every `segment` request names that take: a worker that
-//! holds another one (a load that lost a race with a failing one, or a new worker after a crash
-//! or a cancel) answers `not_loaded`, and the page sends it the take on screen again and repeats
-//! the request once. A worker whose wasm trapped, or whose run the user cancels, is replaced.
+//! Every load gets a new take id; only the newest load counts. The page keeps the take on screen
+//! as a `Blob` — the dropped `File` itself (a handle on the file, not its bytes), or what a
+//! download read — never a second copy of its bytes: they are read from it each time they go to
+//! a worker, and the worker holds the only copy. Every `segment` request names that take: a
+//! worker that holds another one (or none: a load that failed lets the previous take go, and a
+//! new worker after a crash or a cancel holds nothing) answers `not_loaded`, and the page sends
+//! it the take on screen again and repeats the request once. A worker whose wasm trapped, or
+//! whose run the user cancels, is replaced.
 //!
 //! The models of the supervised methods (any method that declares [`crate::method::Supervision`])
 //! are the page's too: a model file is stored in the worker (`use_model`, its answer adds it to
@@ -23,6 +26,7 @@ mod clips;
 mod shipped;
 mod training;
 
+use super::fetch::{blob_bytes, read_capped, ReadError};
 use super::js_message;
 use super::model_files::ModelFiles;
 use super::{AppState, LoadState, MethodSlot, RunState};
@@ -37,10 +41,10 @@ use std::sync::Arc;
 use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
 use wasm_bindgen_futures::JsFuture;
-use web_sys::{Event, File, MessageEvent, Response as FetchResponse, Worker, WorkerOptions, WorkerType};
+use web_sys::{Blob, Event, File, MessageEvent, Response as FetchResponse, Worker, WorkerOptions, WorkerType};
 
 /// The largest file the page reads (the worker's memory budget then checks what it needs).
-pub const MAX_FILE_BYTES: f64 = 512.0 * 1024.0 * 1024.0;
+pub const MAX_FILE_BYTES: f64 = super::fetch::MAX_FILE_BYTES as f64;
 
 /// Where the worker script, the bundled sample and the shipped models are, relative to the page.
 #[derive(Debug, Clone, PartialEq)]
@@ -75,12 +79,13 @@ type ExportStatus = RwSignal<Option<(bool, String)>>;
 /// A worker event handler, kept alive as long as the worker it listens to.
 type Handler = Closure<dyn FnMut(JsValue)>;
 
-/// A take the page holds the bytes of (to send it to a worker again).
+/// A take the page can send to a worker again: its file as a `Blob` (its bytes are read from it
+/// for each send, and transferred).
 #[derive(Clone)]
 struct Take {
     id: TakeId,
     name: String,
-    bytes: ArrayBuffer,
+    file: Blob,
     /// An AMC motion's ASF skeleton: its name and bytes.
     skeleton: Option<(String, Vec<u8>)>,
 }
@@ -108,6 +113,10 @@ struct Inner {
     current: Cell<TakeId>,
     /// The newest load while the worker works on it.
     pending: RefCell<Option<Take>>,
+    /// Counts the sends of loads: a send whose file was read after a newer send began (a worker
+    /// replaced meanwhile sends the pending load again) is dropped, so that no worker gets a
+    /// load twice.
+    load_sends: Cell<u32>,
     /// The take on screen.
     shown: RefCell<Option<Take>>,
     /// The current run of each method (by registry name).
@@ -142,6 +151,7 @@ impl Loader {
             next_id: Cell::new(0),
             current: Cell::new(0),
             pending: RefCell::new(None),
+            load_sends: Cell::new(0),
             shown: RefCell::new(None),
             runs: RefCell::new(state.methods.iter().map(|_| None).collect()),
             model_jobs: RefCell::new(Vec::new()),
@@ -163,8 +173,8 @@ impl Loader {
         let (url, name) = (inner.urls.sample.clone(), inner.urls.sample_name());
         let id = begin(&inner, &name);
         wasm_bindgen_futures::spawn_local(async move {
-            match fetch_bytes(&url).await {
-                Ok(bytes) => send_load(&inner, id, &name, &bytes),
+            match fetch_blob(&url).await {
+                Ok(file) => send_load(&inner, id, &name, file, None),
                 Err(message) => fail_load(&inner, id, format!("{name}: could not load the sample: {message}")),
             }
         });
@@ -183,14 +193,14 @@ impl Loader {
         &self,
         url: String,
         name: String,
-        fetch: impl std::future::Future<Output = Result<(ArrayBuffer, Option<(String, Vec<u8>)>), String>> + 'static,
+        fetch: impl std::future::Future<Output = Result<(Blob, Option<(String, Vec<u8>)>), String>> + 'static,
     ) {
         let inner = self.0.clone();
         let id = begin(&inner, &name);
         *inner.src_take.borrow_mut() = Some((id, url));
         wasm_bindgen_futures::spawn_local(async move {
             match fetch.await {
-                Ok((bytes, skeleton)) => send_load_with(&inner, id, &name, &bytes, skeleton),
+                Ok((file, skeleton)) => send_load(&inner, id, &name, file, skeleton),
                 Err(message) => {
                     inner.src_take.borrow_mut().take();
                     fail_load(&inner, id, message)
@@ -235,10 +245,8 @@ impl Loader {
                     }
                 },
             };
-            match JsFuture::from(motion.array_buffer()).await {
-                Ok(bytes) => send_load_with(&inner, id, &name, bytes.unchecked_ref(), skeleton),
-                Err(e) => fail_load(&inner, id, format!("{name}: could not read the file: {}", js_message(&e))),
-            }
+            // the File itself: its bytes are read when it is sent, and not kept
+            send_load(&inner, id, &name, Blob::from(motion), skeleton);
         });
     }
 
@@ -284,22 +292,42 @@ fn post(inner: &Rc<Inner>, request: &Request, bytes: Option<&ArrayBuffer>) -> Re
     worker.post_message_with_transfer(&message, &transfer).map_err(|e| js_message(&e))
 }
 
-/// Sends a load of `bytes` as take `id` (the page keeps a copy, to send it again if needed).
-fn send_load(inner: &Rc<Inner>, id: TakeId, name: &str, bytes: &ArrayBuffer) {
-    send_load_with(inner, id, name, bytes, None);
+/// Posts `request` with `buffers` (JS `ArrayBuffer`s, transferred), starting a worker if there is
+/// none.
+fn post_buffers(inner: &Rc<Inner>, request: &Request, buffers: js_sys::Array) -> Result<(), String> {
+    if inner.worker.borrow().is_none() {
+        spawn_worker(inner);
+    }
+    let worker = inner.worker.borrow();
+    let worker = worker.as_ref().ok_or("the worker could not be started")?;
+    let (message, transfer) = crate::worker::request_with_buffers(request, buffers);
+    worker.post_message_with_transfer(&message, &transfer).map_err(|e| js_message(&e))
 }
 
-/// [`send_load`] of an AMC motion with its ASF `skeleton` (name, bytes), or of any file without.
-fn send_load_with(inner: &Rc<Inner>, id: TakeId, name: &str, bytes: &ArrayBuffer, skeleton: Option<(String, Vec<u8>)>) {
+/// Sends a load of `file` as take `id`, with its ASF `skeleton` (name, bytes) for an AMC motion
+/// (`None` for any other file); the page keeps the `Blob`, to send it again if needed. One
+/// function for both, so that no path (a worker restart) can send an AMC without its skeleton.
+fn send_load(inner: &Rc<Inner>, id: TakeId, name: &str, file: Blob, skeleton: Option<(String, Vec<u8>)>) {
     if inner.current.get() != id {
         return;
     }
-    let take = Take { id, name: name.to_string(), bytes: bytes.slice(0), skeleton };
-    let request = load_request(&take, false);
-    *inner.pending.borrow_mut() = Some(take);
-    if let Err(e) = post(inner, &request, Some(bytes)) {
-        fail_load(inner, id, format!("{name}: {e}"));
-    }
+    let take = Take { id, name: name.to_string(), file, skeleton };
+    *inner.pending.borrow_mut() = Some(take.clone());
+    let send = inner.load_sends.get().wrapping_add(1);
+    inner.load_sends.set(send);
+    let inner = inner.clone();
+    wasm_bindgen_futures::spawn_local(async move {
+        let bytes = blob_bytes(&take.file).await.map_err(|e| format!("could not read the file: {e}"));
+        // a newer load, or a newer send of this one, is the one to post
+        let newest = inner.load_sends.get() == send && inner.pending.borrow().as_ref().is_some_and(|t| t.id == take.id);
+        if !newest {
+            return;
+        }
+        let sent = bytes.and_then(|bytes| post(&inner, &load_request(&take, false), Some(&bytes)));
+        if let Err(e) = sent {
+            fail_load(&inner, take.id, format!("{}: {e}", take.name));
+        }
+    });
 }
 
 /// The load request of `take` (its bytes go as the transferred buffer).
@@ -311,10 +339,12 @@ fn load_request(take: &Take, restore: bool) -> Request {
     Request::Load { take: take.id, name: take.name.clone(), restore, bytes: Vec::new(), skeleton, skeleton_bytes }
 }
 
-/// Sends the take on screen to the worker again (it answers `restored`).
-fn restore(inner: &Rc<Inner>) -> Result<(), String> {
+/// Sends the take on screen to the worker again (it answers `restored`); its bytes are read from
+/// its `Blob` first.
+async fn restore(inner: &Rc<Inner>) -> Result<(), String> {
     let take = inner.shown.borrow().clone().ok_or("no take is loaded")?;
-    post(inner, &load_request(&take, true), Some(&take.bytes.slice(0)))
+    let bytes = blob_bytes(&take.file).await.map_err(|e| format!("{}: could not read the file again: {e}", take.name))?;
+    post(inner, &load_request(&take, true), Some(&bytes))
 }
 
 fn fail_load(inner: &Inner, id: TakeId, message: String) {
@@ -434,9 +464,10 @@ fn now() -> f64 {
 /// every run still under way (each first gets `not_loaded`, then the take on screen).
 fn replace_worker(inner: &Rc<Inner>) {
     spawn_worker(inner);
+    // the pending load as it was asked: an AMC motion with its ASF skeleton
     let pending = inner.pending.borrow().clone();
     if let Some(take) = pending {
-        send_load(inner, take.id, &take.name, &take.bytes);
+        send_load(inner, take.id, &take.name, take.file, take.skeleton);
     }
     for index in 0..inner.state.methods.len() {
         let running = inner.runs.borrow()[index].is_some();
@@ -555,10 +586,20 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                     let first = inner.runs.borrow_mut()[index]
                         .as_mut()
                         .is_some_and(|r| !std::mem::replace(&mut r.retried, true));
-                    let resent = first && restore(inner).and_then(|()| send_run(inner, index)).is_ok();
-                    if !resent {
-                        fail_run(inner, index, message);
+                    if !first {
+                        return fail_run(inner, index, message);
                     }
+                    let inner = inner.clone();
+                    wasm_bindgen_futures::spawn_local(async move {
+                        let restored = restore(&inner).await;
+                        // the run may have been cancelled, or replaced, while the file was read
+                        if run_index(&inner, run) != Some(index) {
+                            return;
+                        }
+                        if let Err(e) = restored.and_then(|()| send_run(&inner, index)) {
+                            fail_run(&inner, index, format!("{message} ({e})"));
+                        }
+                    });
                 }
                 FailureKind::Internal => {
                     fail_run(inner, index, message);
@@ -575,13 +616,16 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
     }
 }
 
-async fn fetch_bytes(url: &str) -> Result<ArrayBuffer, String> {
+/// The file at `url` (the bundled sample), held to the cap of every take.
+async fn fetch_blob(url: &str) -> Result<Blob, String> {
     let window = web_sys::window().ok_or("no window")?;
     let response: FetchResponse =
         JsFuture::from(window.fetch_with_str(url)).await.map_err(|e| js_message(&e))?.unchecked_into();
     if !response.ok() {
         return Err(format!("HTTP {} {} for {url}", response.status(), response.status_text()));
     }
-    let body = response.array_buffer().map_err(|e| js_message(&e))?;
-    JsFuture::from(body).await.map(JsCast::unchecked_into).map_err(|e| js_message(&e))
+    read_capped(&response, super::fetch::MAX_FILE_BYTES).await.map_err(|e| match e {
+        ReadError::TooLarge { .. } => format!("{url} is larger than the page reads (512 MiB)"),
+        ReadError::Failed(e) => e,
+    })
 }

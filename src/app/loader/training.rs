@@ -2,9 +2,10 @@
 //! one step per message, Stop), the user's models given to every new worker, and the answers to
 //! each — for every method that declares [`crate::method::Supervision`], by its slot, never by name.
 
+use super::super::fetch::blob_bytes;
 use super::super::supervised::{describe, LoadStatus, Supervised, TrainAsk, TrainState, TrainedFile, UserModel};
 use super::super::MethodSlot;
-use super::{next_id, now, post, replace_worker, start_run, Inner, Loader};
+use super::{next_id, now, post, post_buffers, replace_worker, start_run, Inner, Loader};
 use crate::method::supervised::{ModelInfo, StepReport, TrainingReport};
 use crate::protocol::{FailureKind, Request, Response, RunId};
 use leptos::prelude::*;
@@ -221,23 +222,20 @@ pub(super) fn on_model_stored(inner: &Rc<Inner>, run: RunId, info: ModelInfo) {
     select_model(inner, job.index, &name);
 }
 
-/// Posts the training under way: the take on screen first, then the takes the user added.
+/// Posts the training under way: the take on screen first (read from its file), then the takes
+/// the user added (their bytes shared with the panel, copied once into the message, never cloned).
 pub(super) fn send_train_job(inner: &Rc<Inner>) -> Result<(), String> {
     let shown = inner.shown.borrow().clone().ok_or("load a take before training")?;
-    let request = {
+    let (id, request, extra) = {
         let mut job = inner.train_job.borrow_mut();
         let job = job.as_mut().ok_or("no training")?;
         job.take_name = shown.name.clone();
         job.started = now();
         job.stepped = false;
         let ask = &job.ask;
-        let mut takes = vec![shown.name.clone()];
-        let mut bytes = vec![js_sys::Uint8Array::new(&shown.bytes).to_vec()];
-        for (name, b) in &ask.extra {
-            takes.push(name.clone());
-            bytes.push((**b).clone());
-        }
-        Request::Train {
+        let takes = std::iter::once(shown.name.clone()).chain(ask.extra.iter().map(|(n, _)| n.clone())).collect();
+        let extra: Vec<Arc<Vec<u8>>> = ask.extra.iter().map(|(_, b)| Arc::clone(b)).collect();
+        let request = Request::Train {
             take: shown.id,
             run: job.id,
             method: inner.state.methods[job.index].info.name.clone(),
@@ -246,10 +244,29 @@ pub(super) fn send_train_job(inner: &Rc<Inner>) -> Result<(), String> {
             labels: ask.labels.clone(),
             takes,
             options: ask.options.clone(),
-            bytes,
-        }
+            bytes: Vec::new(),
+        };
+        (job.id, request, extra)
     };
-    post(inner, &request, None)
+    let inner = inner.clone();
+    wasm_bindgen_futures::spawn_local(async move {
+        let bytes = blob_bytes(&shown.file).await;
+        // stopped, or sent again (a new worker), while the file was read
+        if inner.train_job.borrow().as_ref().map(|j| j.id) != Some(id) {
+            return;
+        }
+        let sent = bytes.and_then(|bytes| {
+            let buffers = js_sys::Array::of1(&bytes);
+            for b in &extra {
+                buffers.push(&js_sys::Uint8Array::from(&b[..]).buffer());
+            }
+            post_buffers(&inner, &request, buffers)
+        });
+        if let Err(message) = sent {
+            fail_train_job(&inner, message, None);
+        }
+    });
+    Ok(())
 }
 
 /// The supervised slot of the training `run`, when it is the one under way.
