@@ -145,6 +145,18 @@ const FACTS: &[Fact] = &[
         crlf_lines: 0,
     },
     Fact {
+        file: "02_02.bvh",
+        root: "Hips",
+        joints: 31,
+        end_sites: 7,
+        channels: 96,
+        root_channels: "Xposition Yposition Zposition Zrotation Yrotation Xrotation",
+        frames_header: 298,
+        data_rows: 298,
+        frame_time: 0.0083333,
+        crlf_lines: 0,
+    },
+    Fact {
         file: "12_01.bvh",
         root: "Hips",
         joints: 31,
