@@ -173,6 +173,19 @@ impl Model {
                     .network
                     .clone()
                     .ok_or_else(|| format!("{source}: a DT-FCN model without its network shape"))?;
+                // the network is made (its weights allocated) before the payload is read into it:
+                // a header that describes a larger network than its payload can hold (4 bytes per
+                // f32 weight) is refused first — six layers of 2048 filters would be 700 MB
+                let needed = (config.parameter_count() as u64).saturating_mul(4);
+                if needed > payload.len() as u64 {
+                    return Err(format!(
+                        "{source}: the header describes a network of {} parameters ({} bytes of weights), the file \
+                         holds {} bytes",
+                        config.parameter_count(),
+                        needed,
+                        payload.len()
+                    ));
+                }
                 let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(payload.to_vec()))
                     .map_err(|e| format!("{source}: the weights are not a burn record: {e}"))?;
                 let net = config
@@ -394,5 +407,12 @@ mod tests {
         }
         let e = err(&m.to_bytes().unwrap());
         assert!(e.contains("do not fit"), "{e}");
+        // a header whose network is far larger than its payload: refused before the network is made
+        let mut m = tiny();
+        if let Some(n) = m.header.network.as_mut() {
+            (n.filters, n.width) = (vec![2048; 6], 7);
+        }
+        let e = err(&m.to_bytes().unwrap());
+        assert!(e.contains("parameters") && e.contains("bytes of weights"), "{e}");
     }
 }
