@@ -11,15 +11,26 @@
 //! dozen), cheaper than a round trip to the worker, which may be busy with a method's run.
 //! `document.body.dataset.metrics` is `none` (no truth or no row), `done` or `error`, and
 //! `data-metrics-row` names the row scored, `data-metrics-ms` how long the scores took.
+//!
+//! `#metrics-compare` scores every row of the menu at once with the same [`evaluate`]: one line
+//! per row (`data-row`), one cell per metric of the single-row table (`data-metric`, the full value
+//! in `data-value`), the best per column in bold with a hidden "(best)" for screen readers
+//! (`data-best`, chosen by [`crate::view::compare`]: every metric is better higher; there is no
+//! chance row to leave out, neither the panel nor `mocapseg eval` computes one). A column heading's
+//! button sorts the lines on it, best first, then worst first (`aria-sort`). It is recomputed when
+//! a row is re-run or the truth changes; `data-compare` is `none` or `done`, `data-compare-rows` the
+//! number of lines, `data-compare-ms` how long all the scores took.
 
 use super::summary::{is_bundled_sample, SAMPLE_TRAINED};
 use super::AppState;
 use crate::method::supervised::IN_SAMPLE;
 use crate::segment::metrics::{evaluate, Scores, Tolerances};
 use crate::segment::{Level, Segmentation};
+use crate::view::compare::{best_in_column, sorted_order, Better};
 use leptos::prelude::*;
 
 /// One line of the table: key, name, value, decimals shown, what it means.
+#[derive(Clone, PartialEq)]
 struct Line {
     key: &'static str,
     name: &'static str,
@@ -186,6 +197,128 @@ enum Outcome {
     Failed(String),
 }
 
+/// Every metric of the single-row table is better higher (scores, accuracies, F1s, the segment
+/// score's matched-minus-unmatched count).
+const BETTER: Better = Better::Higher;
+
+/// One line of the comparison table: the row's id and label, and its metrics (or why it could not
+/// be scored).
+#[derive(Clone, PartialEq)]
+struct Compared {
+    id: String,
+    label: String,
+    scored: Result<Vec<Line>, String>,
+}
+
+/// The comparison table: every row scored, the best per column marked, sorted on `sort` (a metric's
+/// key and whether best comes first) when set.
+fn compare_table(compared: &[Compared], trial: &str, sort: RwSignal<Option<(String, bool)>>) -> impl IntoView {
+    // the columns: the metrics of the first row scored (every row scored has the same ones)
+    let columns: Vec<(&'static str, &'static str, usize, String)> = compared
+        .iter()
+        .find_map(|c| c.scored.as_ref().ok())
+        .map(|ls| ls.iter().map(|l| (l.key, l.name, l.digits, l.hint.clone())).collect())
+        .unwrap_or_default();
+    let value = |c: &Compared, key: &str| {
+        c.scored.as_ref().ok().and_then(|ls| ls.iter().find(|l| l.key == key)).map(|l| l.value)
+    };
+    let best: Vec<Vec<bool>> = columns
+        .iter()
+        .map(|(key, _, digits, _)| {
+            let values: Vec<Option<f64>> = compared.iter().map(|c| value(c, key)).collect();
+            best_in_column(&values, *digits, BETTER)
+        })
+        .collect();
+    let current = sort.get();
+    let order: Vec<usize> = match &current {
+        Some((key, best_first)) => {
+            let values: Vec<Option<f64>> = compared.iter().map(|c| value(c, key)).collect();
+            sorted_order(&values, BETTER, *best_first)
+        }
+        None => (0..compared.len()).collect(),
+    };
+    let head = columns
+        .iter()
+        .map(|(key, name, _, _)| {
+            let (key, name) = (*key, *name);
+            let aria = match &current {
+                Some((k, best_first)) if k == key => {
+                    if *best_first == (BETTER == Better::Higher) { "descending" } else { "ascending" }
+                }
+                _ => "none",
+            };
+            let on_click = move |_| {
+                sort.update(|s| {
+                    *s = match s.take() {
+                        Some((k, best_first)) if k == key => Some((k, !best_first)),
+                        _ => Some((key.to_string(), true)),
+                    }
+                })
+            };
+            view! {
+                <th scope="col" data-metric=key aria-sort=aria>
+                    <button type="button" class="ms-sort" title="Sort the rows on this metric (again: reverse)" on:click=on_click>
+                        {name}
+                    </button>
+                </th>
+            }
+        })
+        .collect_view();
+    let width = columns.len().max(1);
+    let body = order
+        .into_iter()
+        .map(|i| {
+            let c = &compared[i];
+            let cells = match &c.scored {
+                Ok(ls) => columns
+                    .iter()
+                    .enumerate()
+                    .map(|(j, (key, _, digits, hint))| {
+                        let v = ls.iter().find(|l| l.key == *key).map_or(f64::NAN, |l| l.value);
+                        let shown = format!("{v:.digits$}");
+                        let is_best = best[j][i];
+                        let content = if is_best {
+                            view! { <strong>{shown}</strong><span class="ms-visually-hidden">" (best)"</span> }.into_any()
+                        } else {
+                            shown.into_any()
+                        };
+                        view! {
+                            <td class="ms-metric-value" class:ms-best=is_best data-metric=*key data-value=v.to_string()
+                                data-digits=digits.to_string() data-best=is_best.then_some("true") title=hint.clone()>
+                                {content}
+                            </td>
+                        }
+                    })
+                    .collect_view()
+                    .into_any(),
+                Err(e) => view! { <td class="ms-truth-error" colspan=width.to_string()>{e.clone()}</td> }.into_any(),
+            };
+            view! {
+                <tr data-row=c.id.clone()>
+                    <th scope="row">{c.label.clone()}</th>
+                    {cells}
+                </tr>
+            }
+        })
+        .collect_view();
+    view! {
+        <div class="ms-compare-scroll">
+            <table id="metrics-compare" class="ms-metrics-table ms-compare">
+                <caption>
+                    {format!("Every row against {trial} — the best per column in bold; a heading sorts the rows on it")}
+                </caption>
+                <thead>
+                    <tr>
+                        <th scope="col">"Row"</th>
+                        {head}
+                    </tr>
+                </thead>
+                <tbody>{body}</tbody>
+            </table>
+        </div>
+    }
+}
+
 #[component]
 pub fn MetricsPanel(state: AppState) -> impl IntoView {
     let chosen = RwSignal::new(String::new());
@@ -217,6 +350,42 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
             Err(e) => Outcome::Failed(format!("{id}: {e}")),
         }
     });
+    // every row scored at once, for the comparison table (None: no truth)
+    let compared = Memo::new(move |_| {
+        let imported = state.truth.truth()?;
+        let now = || web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now());
+        let started = now();
+        let lines_of = rows.with(|r| {
+            r.iter()
+                .map(|(id, label, seg, _)| Compared {
+                    id: id.clone(),
+                    label: label.clone(),
+                    scored: evaluate(seg, &imported.truth, &Tolerances::default())
+                        .map(|s| lines(&s))
+                        .map_err(|e| format!("{id}: {e}")),
+                })
+                .collect::<Vec<_>>()
+        });
+        Some((lines_of, imported.truth.trial.clone(), now() - started))
+    });
+    let sort = RwSignal::new(None::<(String, bool)>);
+    Effect::new(move |_| {
+        let (value, count, ms) = compared.with(|c| match c {
+            Some((lines, _, ms)) => ("done", lines.len().to_string(), format!("{ms:.1}")),
+            None => ("none", String::new(), String::new()),
+        });
+        if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
+            let _ = body.set_attribute("data-compare", value);
+            let _ = body.set_attribute("data-compare-rows", &count);
+            let _ = body.set_attribute("data-compare-ms", &ms);
+        }
+    });
+    let comparison = move || {
+        compared.with(|c| match c {
+            Some((lines, trial, _)) if !lines.is_empty() => Some(compare_table(lines, trial, sort)),
+            _ => None,
+        })
+    };
     Effect::new(move |_| {
         let (value, row, ms) = outcome.with(|o| match o {
             Outcome::Nothing(_) => ("none", String::new(), String::new()),
@@ -314,6 +483,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
                 {move || note().unwrap_or_default()}
             </p>
             {table}
+            {comparison}
         </section>
     }
 }

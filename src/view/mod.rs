@@ -1,10 +1,11 @@
 //! The little maths the page needs, kept out of the web layer so it is tested natively:
 //! the orbiting perspective camera, the playback clock and the timeline (window, ruler, readout,
 //! segment navigation, keyboard), the URL parameters ([`url_params`]) and the "my labels" row's
-//! edit model ([`my_labels`]).
+//! edit model ([`my_labels`]) and the metrics panel's comparison table ([`compare`]: best per column, sorting).
 
 pub mod camera;
 pub mod clock;
+pub mod compare;
 pub mod my_labels;
 pub mod timeline;
 pub mod url_params;
