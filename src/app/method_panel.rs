@@ -742,18 +742,15 @@ fn parse_hex(css: &str) -> Option<[u8; 3]> {
 }
 
 /// A class colour shaded by confidence: the full colour at 1, towards white as it falls (a
-/// third of the colour left at 0), and the text colour that reads on it.
-fn confidence_shade([r, g, b]: [u8; 3], score: f64) -> (String, &'static str) {
+/// third of the colour left at 0).
+fn confidence_shade([r, g, b]: [u8; 3], score: f64) -> String {
     let strength = 0.3 + 0.7 * score.clamp(0.0, 1.0);
     let mix = |c: u8| (255.0 - strength * (255.0 - c as f64)).round().clamp(0.0, 255.0) as u8;
-    let (r, g, b) = (mix(r), mix(g), mix(b));
-    let luminance = (0.299 * r as f64 + 0.587 * g as f64 + 0.114 * b as f64) / 255.0;
-    (format!("rgb({r}, {g}, {b})"), if luminance > 0.6 { "#10131a" } else { "#ffffff" })
+    format!("rgb({}, {}, {})", mix(r), mix(g), mix(b))
 }
 
 fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -> impl IntoView {
     let fps = v.segmentation.fps;
-    let mut text_colour = None;
     let mut class_colour_of = None;
     let (class, colour) = match (is_labelling(v), s.level, s.cluster) {
         // a labelling method: its class's colour, by confidence; `unknown` hatched grey
@@ -761,10 +758,8 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -
             let css = cluster.map(|c| class_css(v, c));
             match css.and_then(|css| Some((parse_hex(&css)?, css))) {
                 Some((rgb, css)) => {
-                    let (shade, ink) = confidence_shade(rgb, s.score.unwrap_or(1.0));
-                    text_colour = Some(ink);
                     class_colour_of = Some(css);
-                    ("ms-seg ms-seg--label", shade)
+                    ("ms-seg ms-seg--label", confidence_shade(rgb, s.score.unwrap_or(1.0)))
                 }
                 None => ("ms-seg ms-seg--unknown", String::new()),
             }
@@ -777,6 +772,8 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -
         }
         (false, _, None) => ("ms-seg", "#888".to_string()),
     };
+    // black or white, whichever reads on the fill (hatched segments: www/style.css)
+    let text_colour = (!colour.is_empty()).then(|| crate::view::contrast::ink_on(&colour));
     let tip = tooltip(&s, fps);
     let (start, end) = (s.start, s.end);
     // placed on the timeline's window (a segment reaching past its edges is cut there)

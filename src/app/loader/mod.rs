@@ -27,6 +27,7 @@ mod shipped;
 mod training;
 
 use super::fetch::{blob_bytes, read_capped, ReadError};
+use clips::ClipJob;
 use super::js_message;
 use super::model_files::ModelFiles;
 use super::{AppState, LoadState, MethodSlot, RunState};
@@ -131,7 +132,7 @@ struct Inner {
     handlers: RefCell<Vec<Handler>>,
     /// Clip exports asked of the worker: the request (sent again once after `not_loaded`), the
     /// status line of the row that asked, and whether it was sent again already.
-    clip_jobs: RefCell<Vec<(Request, ExportStatus, bool)>>,
+    clip_jobs: RefCell<Vec<ClipJob>>,
     /// The methods that run after each load (URL parameter `methods`); `None`: those whose
     /// `auto_run` is set.
     auto_run: RefCell<Option<Vec<String>>>,
