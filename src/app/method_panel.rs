@@ -663,13 +663,27 @@ pub fn MethodRows(state: AppState) -> impl IntoView {
             let levels = if primitive { PRIMITIVE_LEVELS } else { ACTION_LEVELS };
             let row_id = format!("{}-{}", slot.info.name, if primitive { "primitives" } else { "actions" });
             let label = Signal::derive(move || slot.view.with(|v| row_label(slot, v.as_deref(), primitive)));
-            view! { <SegmentRow state=state row_id=row_id source=slot.view.into() levels=levels label=label/> }
+            let stale = Signal::derive(move || stale_reason(slot));
+            view! { <SegmentRow state=state row_id=row_id source=slot.view.into() levels=levels label=label stale=stale/> }
         })
         .collect_view()
 }
 
+/// Why the result on a method's row is stale: its last run failed (a refused parameter or a
+/// failure on the take) and the row still shows the run before; `None` when the row is current.
+fn stale_reason(slot: &'static MethodSlot) -> Option<String> {
+    if !slot.run.with(|r| matches!(r, RunState::Failed)) || slot.view.with(Option::is_none) {
+        return None;
+    }
+    let reason = slot.field_error.get().map(|(_, m)| m).or_else(|| slot.failure.get()).unwrap_or_default();
+    Some(reason)
+}
+
 /// One timeline row `#row-<row_id>`: `label` at the left, the segments of `levels` of `source`
-/// in the window (hidden while it has none). Method rows and the ground truth's draw alike.
+/// in the window (hidden while it has none). Method rows and the ground truth's draw alike. A
+/// method's row whose last run failed (`stale`: why) keeps the run before, marked
+/// `ms-row--stale` with `#row-<row_id>-stale` saying "stale: last run failed — <why>" until a
+/// run succeeds.
 #[component]
 pub fn SegmentRow(
     state: AppState,
@@ -677,7 +691,10 @@ pub fn SegmentRow(
     source: Signal<Option<Arc<MethodView>>>,
     levels: &'static [Level],
     label: Signal<String>,
+    #[prop(optional)] stale: Option<Signal<Option<String>>>,
 ) -> impl IntoView {
+    let stale = move || stale.and_then(|s| s.get());
+    let stale_text = move || stale().map(|why| format!("stale: last run failed — {why}"));
     let data = RwSignal::new(RowData { view: None, segments: Arc::default(), spans: Arc::default(), generation: 0 });
     Effect::new(move |_| {
         let view = source.get();
@@ -708,11 +725,20 @@ pub fn SegmentRow(
             <div
                 id=format!("row-{row_id}")
                 class="ms-row ms-tl-lane"
+                class:ms-row--stale=move || stale().is_some()
                 data-label=label
                 role="group"
                 aria-label=label
             >
                 <For each=visible key=|k| *k children=segment/>
+                <span
+                    id=format!("row-{row_id}-stale")
+                    class="ms-row-stale"
+                    title=stale_text
+                    hidden=move || stale().is_none()
+                >
+                    {stale_text}
+                </span>
             </div>
         </div>
     }

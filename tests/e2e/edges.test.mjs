@@ -1,19 +1,22 @@
 // The small rough edges of issue 27 ("What a new user hits", 8 and 14, and "The rest of the list
 // above fixed"), on real headless Chromium: every text of the timeline and the panels readable in
 // both themes (WCAG contrast ≥ 4.5:1 against the background it is drawn on), export names that
-// carry their row, and `]` / `[` from the playhead.
+// carry their row, `]` / `[` from the playhead, one banner when no method can read the skeleton,
+// and a row marked stale when its re-run failed.
 //
 // Run through scripts/e2e.sh (E2E_FILES=edges.test.mjs scripts/e2e.sh).
 
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
-import { closePage, download, gotoApp, openPage, shot, text } from "./harness.mjs";
+import path from "node:path";
+import { FIXTURES, closePage, download, gotoApp, openPage, runMethod, shot, text } from "./harness.mjs";
 
 let opened;
 let page;
 
 before(async () => {
-  opened = await openPage();
+  // the take no method can read is reported in the console too
+  opened = await openPage({ allowConsole: /cannot map the skeleton/ });
   page = opened.page;
   await gotoApp(page);
   // every method that runs on its own has finished (its row is on the timeline)
@@ -124,6 +127,24 @@ test("a row's BVH clips are saved under a name that carries the row", async () =
   assert.notEqual(mine.name, zip.name);
 });
 
+test("a re-run that fails marks its row stale until a run succeeds", async () => {
+  const before = await page.locator("#row-sssm-actions .ms-seg").count();
+  await page.fill("#sssm-radius", "12"); // below the primitive radius (13): refused
+  await runMethod(page, "sssm", "error");
+  assert.equal(await page.locator("#row-sssm-actions .ms-seg").count(), before, "the run before stays on the row");
+  for (const row of ["#row-sssm-actions", "#row-sssm-primitives"]) {
+    assert.match(await page.getAttribute(row, "class"), /\bms-row--stale\b/, `${row} is marked stale`);
+    assert.equal(await page.locator(`${row}-stale`).isVisible(), true, `${row}: its marker shows`);
+    assert.match(await text(page, `${row}-stale`), /^stale: last run failed — .*radius/, `${row}: says why`);
+  }
+  assert.doesNotMatch(await page.getAttribute("#row-velocity-primitives", "class"), /ms-row--stale/, "other rows are current");
+  await shot(page, "e2e-edges-stale.png");
+  await page.fill("#sssm-radius", "19");
+  await runMethod(page, "sssm", "done");
+  assert.doesNotMatch(await page.getAttribute("#row-sssm-actions", "class"), /ms-row--stale/, "a good run clears it");
+  assert.equal(await page.locator("#row-sssm-actions-stale").isVisible(), false);
+});
+
 test("] and [ go to the next / previous boundary from the playhead, not from the selected segment", async () => {
   // "my labels" holds a copy of SSSM's actions (made by the export test above, else here): select
   // its first segment, then move the playhead away from it
@@ -150,4 +171,17 @@ test("] and [ go to the next / previous boundary from the playhead, not from the
   await page.keyboard.press("]");
   assert.equal(await frame(), want, "] goes to the next boundary after the playhead");
   await page.keyboard.press("Escape");
+});
+
+test("when no method can read the skeleton, one banner says so with the reason once", async () => {
+  await page.setInputFiles("#file-input", path.join(FIXTURES, "bvh_anim_test_simple.bvh"));
+  await page.waitForFunction(() => {
+    const d = document.body.dataset;
+    return d.sssm === "error" && !Object.values(d).some((v) => v === "running" || v === "queued");
+  }, null, { timeout: 120_000 });
+  const banner = await text(page, "#error-message");
+  assert.match(banner, /^No method can read this skeleton/, banner);
+  for (const name of ["SSSM", "DT-FCN", "k-NN"]) assert.ok(banner.includes(name), `${name} named: ${banner}`);
+  assert.equal(banner.match(/cannot map the skeleton/g)?.length, 1, `the shared reason once: ${banner}`);
+  await shot(page, "e2e-edges-no-method.png");
 });
