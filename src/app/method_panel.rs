@@ -663,13 +663,27 @@ pub fn MethodRows(state: AppState) -> impl IntoView {
             let levels = if primitive { PRIMITIVE_LEVELS } else { ACTION_LEVELS };
             let row_id = format!("{}-{}", slot.info.name, if primitive { "primitives" } else { "actions" });
             let label = Signal::derive(move || slot.view.with(|v| row_label(slot, v.as_deref(), primitive)));
-            view! { <SegmentRow state=state row_id=row_id source=slot.view.into() levels=levels label=label/> }
+            let stale = Signal::derive(move || stale_reason(slot));
+            view! { <SegmentRow state=state row_id=row_id source=slot.view.into() levels=levels label=label stale=stale/> }
         })
         .collect_view()
 }
 
+/// Why the result on a method's row is stale: its last run failed (a refused parameter or a
+/// failure on the take) and the row still shows the run before; `None` when the row is current.
+fn stale_reason(slot: &'static MethodSlot) -> Option<String> {
+    if !slot.run.with(|r| matches!(r, RunState::Failed)) || slot.view.with(Option::is_none) {
+        return None;
+    }
+    let reason = slot.field_error.get().map(|(_, m)| m).or_else(|| slot.failure.get()).unwrap_or_default();
+    Some(reason)
+}
+
 /// One timeline row `#row-<row_id>`: `label` at the left, the segments of `levels` of `source`
-/// in the window (hidden while it has none). Method rows and the ground truth's draw alike.
+/// in the window (hidden while it has none). Method rows and the ground truth's draw alike. A
+/// method's row whose last run failed (`stale`: why) keeps the run before, marked
+/// `ms-row--stale` with `#row-<row_id>-stale` saying "stale: last run failed — <why>" until a
+/// run succeeds.
 #[component]
 pub fn SegmentRow(
     state: AppState,
@@ -677,7 +691,10 @@ pub fn SegmentRow(
     source: Signal<Option<Arc<MethodView>>>,
     levels: &'static [Level],
     label: Signal<String>,
+    #[prop(optional)] stale: Option<Signal<Option<String>>>,
 ) -> impl IntoView {
+    let stale = move || stale.and_then(|s| s.get());
+    let stale_text = move || stale().map(|why| format!("stale: last run failed — {why}"));
     let data = RwSignal::new(RowData { view: None, segments: Arc::default(), spans: Arc::default(), generation: 0 });
     Effect::new(move |_| {
         let view = source.get();
@@ -708,11 +725,20 @@ pub fn SegmentRow(
             <div
                 id=format!("row-{row_id}")
                 class="ms-row ms-tl-lane"
+                class:ms-row--stale=move || stale().is_some()
                 data-label=label
                 role="group"
                 aria-label=label
             >
                 <For each=visible key=|k| *k children=segment/>
+                <span
+                    id=format!("row-{row_id}-stale")
+                    class="ms-row-stale"
+                    title=stale_text
+                    hidden=move || stale().is_none()
+                >
+                    {stale_text}
+                </span>
             </div>
         </div>
     }
@@ -742,18 +768,15 @@ fn parse_hex(css: &str) -> Option<[u8; 3]> {
 }
 
 /// A class colour shaded by confidence: the full colour at 1, towards white as it falls (a
-/// third of the colour left at 0), and the text colour that reads on it.
-fn confidence_shade([r, g, b]: [u8; 3], score: f64) -> (String, &'static str) {
+/// third of the colour left at 0).
+fn confidence_shade([r, g, b]: [u8; 3], score: f64) -> String {
     let strength = 0.3 + 0.7 * score.clamp(0.0, 1.0);
     let mix = |c: u8| (255.0 - strength * (255.0 - c as f64)).round().clamp(0.0, 255.0) as u8;
-    let (r, g, b) = (mix(r), mix(g), mix(b));
-    let luminance = (0.299 * r as f64 + 0.587 * g as f64 + 0.114 * b as f64) / 255.0;
-    (format!("rgb({r}, {g}, {b})"), if luminance > 0.6 { "#10131a" } else { "#ffffff" })
+    format!("rgb({}, {}, {})", mix(r), mix(g), mix(b))
 }
 
 fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -> impl IntoView {
     let fps = v.segmentation.fps;
-    let mut text_colour = None;
     let mut class_colour_of = None;
     let (class, colour) = match (is_labelling(v), s.level, s.cluster) {
         // a labelling method: its class's colour, by confidence; `unknown` hatched grey
@@ -761,10 +784,8 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -
             let css = cluster.map(|c| class_css(v, c));
             match css.and_then(|css| Some((parse_hex(&css)?, css))) {
                 Some((rgb, css)) => {
-                    let (shade, ink) = confidence_shade(rgb, s.score.unwrap_or(1.0));
-                    text_colour = Some(ink);
                     class_colour_of = Some(css);
-                    ("ms-seg ms-seg--label", shade)
+                    ("ms-seg ms-seg--label", confidence_shade(rgb, s.score.unwrap_or(1.0)))
                 }
                 None => ("ms-seg ms-seg--unknown", String::new()),
             }
@@ -777,6 +798,8 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -
         }
         (false, _, None) => ("ms-seg", "#888".to_string()),
     };
+    // black or white, whichever reads on the fill (hatched segments: www/style.css)
+    let text_colour = (!colour.is_empty()).then(|| crate::view::contrast::ink_on(&colour));
     let tip = tooltip(&s, fps);
     let (start, end) = (s.start, s.end);
     // placed on the timeline's window (a segment reaching past its edges is cut there)

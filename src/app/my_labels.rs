@@ -21,8 +21,9 @@
 //!   the DT-FCN panel's options), `#my-labels-train-stop`, `#my-labels-clear`, and
 //!   `#my-labels-status` (what the last edit did, or why it was refused).
 //! * Keys ([`SHORTCUTS`], in the help overlay): Ctrl/⌘+Z undo, Ctrl/⌘+Shift+Z or Ctrl+Y redo, S
-//!   split, M merge, Delete/Backspace delete, and `[` / `]` move the selection along my row when
-//!   one of my segments is selected (the row's listener comes before the timeline's) — never
+//!   split, M merge, Delete/Backspace delete, and `[` / `]` select my segment at the previous /
+//!   next boundary from the playhead when one of my segments is selected (the row's listener
+//!   comes before the timeline's) — never
 //!   while typing in a field.
 //! * Every edit is saved in the browser's local storage under
 //!   [`storage_key`] (file name, frames, frame rate, joints, a fingerprint of the first and last
@@ -443,20 +444,29 @@ impl MyRow {
         );
     }
 
-    /// `[` / `]` with one of my segments selected: selects the previous / next one, moves the
-    /// playhead to its start and brings it into view.
+    /// `[` / `]` with one of my segments selected: the previous / next boundary of my row from the
+    /// playhead (not from the selected segment: the playhead may have moved since); selects my
+    /// segment starting there (at a gap's start the selection stays) and brings it into view.
     fn step(self, forward: bool) {
-        let Some((start, end)) = self.model.with_untracked(|m| {
-            let i = m.selected()?;
-            let j = if forward { i + 1 } else { i.checked_sub(1)? };
-            m.spans().get(j).map(|s| (s.start, s.end))
+        let (frame, frames) = (self.state.frame.get_untracked(), self.state.frames());
+        let Some((at, segment)) = self.model.with_untracked(|m| {
+            let spans: Vec<(usize, usize)> = m.spans().iter().map(|s| (s.start, s.end)).collect();
+            let at = if forward {
+                crate::view::timeline::next_boundary(&spans, frame, frames)
+            } else {
+                crate::view::timeline::previous_boundary(&spans, frame, frames)
+            }?;
+            Some((at, spans.into_iter().find(|s| s.0 == at)))
         }) else {
             return;
         };
-        self.model.update(|m| m.select(m.index_of(start, end)));
+        let (start, end) = segment.unwrap_or((at, at));
+        if segment.is_some() {
+            self.model.update(|m| m.select(m.index_of(start, end)));
+        }
         self.state.play_until.set(None);
-        self.state.window.update(|w| *w = w.showing(start, end, self.state.frames()));
-        self.state.frame.set(start);
+        self.state.window.update(|w| *w = w.showing(start, end, frames));
+        self.state.frame.set(at);
     }
 
     fn undo(self) {
@@ -752,6 +762,7 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
                             class:ms-seg--selected=selected
                             style:left=format!("{:.4}%", left * 100.0)
                             style:width=format!("{:.4}%", (right - left).max(0.0) * 100.0)
+                            style:color=colour.as_deref().map(crate::view::contrast::ink_on)
                             style:background-color=colour
                             data-start=s.start.to_string()
                             data-end=s.end.to_string()

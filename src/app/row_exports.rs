@@ -54,7 +54,7 @@ pub fn RowExports(
     let loader = use_context::<StoredValue<Loader, LocalStorage>>();
     let cut = move |which: Which, only: Option<(usize, usize)>| match (row.get_untracked(), loader) {
         (Some(seg), Some(loader)) => {
-            loader.with_value(|l| l.export_clips_of(&seg, which, origin.get_untracked(), only, status))
+            loader.with_value(|l| l.export_clips_of(&seg, id, which, origin.get_untracked(), only, status))
         }
         _ => status.set(Some((true, "nothing to cut".into()))),
     };

@@ -45,7 +45,7 @@ pub const SHORTCUTS: [(&str, &str); 12] = [
     ("J / K / L", "play backwards / pause / play forwards — press J or L again for 2×, 4×, 8×"),
     ("Home / End", "first / last frame"),
     ("+ / −", "zoom in / out around the playhead"),
-    ("[ / ]", "previous / next segment of the selected row (else the first row), brought into view"),
+    ("[ / ]", "previous / next boundary from the playhead on the selected row (else the first row), brought into view"),
     ("Ctrl or ⌘ + wheel", "zoom around the pointer"),
     ("Shift + wheel, sideways wheel", "pan"),
     ("Drag the ruler or the minimap", "pan"),
@@ -494,8 +494,10 @@ fn keyboard(state: AppState) {
     std::mem::forget(handle); // the timeline lives as long as the page
 }
 
-/// `[` / `]`: selects the previous / next segment of the selected row (else the first row with
-/// segments), moves the playhead to its start and brings it into view.
+/// `[` / `]`: moves the playhead to the previous / next boundary of the selected row (else the
+/// first row with segments) before / after the playhead — wherever the playhead was moved to since
+/// a segment was selected — selects the segment starting there (none: a gap or the row's end) and
+/// brings it into view.
 fn go_to_segment(state: AppState, forward: bool) {
     let rows = row_spans(state);
     let chosen = state.selected.with_untracked(|s| s.as_ref().map(|s| s.row.clone()));
@@ -504,16 +506,22 @@ fn go_to_segment(state: AppState, forward: bool) {
     else {
         return;
     };
-    let frame = state.frame.get_untracked();
+    let (frame, frames) = (state.frame.get_untracked(), state.frames());
     let found = if forward {
-        crate::view::timeline::next_segment(&spans, frame)
+        crate::view::timeline::next_boundary(&spans, frame, frames)
     } else {
-        crate::view::timeline::previous_segment(&spans, frame)
+        crate::view::timeline::previous_boundary(&spans, frame, frames)
     };
-    let Some(i) = found else { return };
-    let (start, end) = spans[i];
+    let Some(at) = found else { return };
+    let segment = spans.iter().find(|s| s.0 == at).copied();
     state.play_until.set(None);
-    state.window.update(|w| *w = w.showing(start, end, state.frames()));
-    state.selected.set(Some(Selection { row, start, end }));
-    state.frame.set(start);
+    match segment {
+        Some((start, end)) => {
+            state.window.update(|w| *w = w.showing(start, end, frames));
+            state.selected.set(Some(Selection { row, start, end }));
+        }
+        // a gap's start: the selection (and so the row `[` / `]` walk) stays as it was
+        None => state.window.update(|w| *w = w.showing(at, at, frames)),
+    }
+    state.frame.set(at);
 }

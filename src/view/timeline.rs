@@ -195,6 +195,23 @@ pub fn previous_segment(spans: &[(usize, usize)], frame: usize) -> Option<usize>
     spans.partition_point(|s| s.0 < frame).checked_sub(1)
 }
 
+/// The first boundary of a row after the playhead at `frame`: a segment's start or the frame after
+/// its end (a row with gaps has both), before `frames`. What `]` goes to, whatever is selected.
+pub fn next_boundary(spans: &[(usize, usize)], frame: usize, frames: usize) -> Option<usize> {
+    boundaries(spans).filter(|&b| b > frame && b < frames).min()
+}
+
+/// The last boundary of a row before the playhead at `frame` (see [`next_boundary`]): what `[`
+/// goes to.
+pub fn previous_boundary(spans: &[(usize, usize)], frame: usize, frames: usize) -> Option<usize> {
+    boundaries(spans).filter(|&b| b < frame && b < frames).max()
+}
+
+/// Every start and end + 1 of a row's segments (unordered, with repeats).
+fn boundaries(spans: &[(usize, usize)]) -> impl Iterator<Item = usize> + '_ {
+    spans.iter().flat_map(|&(start, end)| [start, end + 1])
+}
+
 /// The segments of a row (`spans` sorted by start, not overlapping) to put on screen for
 /// `window` across `width_px` pixels: those overlapping it, and when more than `max` of them do,
 /// only one per `span / max`-frame bucket (the first starting in it) besides those wider than a
@@ -423,6 +440,30 @@ mod tests {
         assert_eq!(previous_segment(&row, 31), Some(2));
         assert_eq!(previous_segment(&row, 0), None);
         assert_eq!(next_segment(&[], 3), None);
+    }
+
+    #[test]
+    fn boundary_navigation_starts_from_the_playhead() {
+        // a row with a gap (50..=59): its end + 1 is a boundary too
+        let row = [(0, 9), (10, 29), (30, 49), (60, 99)];
+        // the playhead inside a segment: the next boundary is that segment's end, not the segment
+        // after a selected one
+        assert_eq!(next_boundary(&row, 15, 100), Some(30));
+        assert_eq!(next_boundary(&row, 30, 100), Some(50));
+        assert_eq!(next_boundary(&row, 50, 100), Some(60));
+        assert_eq!(next_boundary(&row, 0, 100), Some(10));
+        // the row's end is the take's end: nowhere further to go
+        assert_eq!(next_boundary(&row, 60, 100), None);
+        assert_eq!(next_boundary(&row, 99, 100), None);
+        // a row ending before the take does: the frame after its end
+        assert_eq!(next_boundary(&row[..3], 40, 100), Some(50));
+        assert_eq!(previous_boundary(&row, 15, 100), Some(10));
+        assert_eq!(previous_boundary(&row, 10, 100), Some(0));
+        assert_eq!(previous_boundary(&row, 55, 100), Some(50));
+        assert_eq!(previous_boundary(&row, 99, 100), Some(60));
+        assert_eq!(previous_boundary(&row, 0, 100), None);
+        assert_eq!(next_boundary(&[], 3, 100), None);
+        assert_eq!(previous_boundary(&[], 3, 100), None);
     }
 
     #[test]

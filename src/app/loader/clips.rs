@@ -8,6 +8,16 @@ use crate::protocol::{FailureKind, Request, Response, RunId};
 use leptos::prelude::*;
 use std::rc::Rc;
 
+/// A clip export on its way: the request (sent again once if the worker lost the take), where
+/// to say how it went, whether it was sent again, and the row's id for the file's name
+/// ([`crate::view::export_names::with_row`]).
+pub(super) struct ClipJob {
+    request: Request,
+    status: ExportStatus,
+    retried: bool,
+    row: String,
+}
+
 impl Loader {
     /// Cuts the take on screen at the segments `which` chooses of method `index`'s last run and
     /// saves the clips (a zip, or with `only` that segment's BVH); the panel's export status says
@@ -21,16 +31,20 @@ impl Loader {
     ) {
         let slot = &self.0.state.methods[index];
         match slot.view.get_untracked() {
-            Some(view) => self.export_clips_of(&view.segmentation, which, to_origin, only, slot.export_status),
+            Some(view) => {
+                self.export_clips_of(&view.segmentation, &slot.info.name, which, to_origin, only, slot.export_status)
+            }
             None => slot.export_status.set(Some((true, "run the method on a take first".into()))),
         }
     }
 
-    /// Cuts the take on screen at the segments `which` chooses of `segmentation` (any row's) and
-    /// saves the clips; `status` says how it went.
+    /// Cuts the take on screen at the segments `which` chooses of `segmentation` (any row's: `row`,
+    /// its id, goes in the file's name) and saves the clips; `status` says how it went.
+    #[allow(clippy::too_many_arguments)]
     pub fn export_clips_of(
         &self,
         segmentation: &crate::segment::Segmentation,
+        row: &str,
         which: crate::clips::Which,
         to_origin: bool,
         only: Option<(usize, usize)>,
@@ -45,7 +59,9 @@ impl Loader {
         let request = Request::Clips { take, run, segmentation, which, to_origin, only };
         status.set(Some((false, "cutting the clips…".into())));
         match post(inner, &request, None) {
-            Ok(()) => inner.clip_jobs.borrow_mut().push((request, status, false)),
+            Ok(()) => {
+                inner.clip_jobs.borrow_mut().push(ClipJob { request, status, retried: false, row: row.to_string() })
+            }
             Err(message) => status.set(Some((true, message))),
         }
     }
@@ -55,7 +71,12 @@ impl Loader {
 pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> {
     match response {
         Response::Clips { run, file, clips, bytes, .. } => {
-            if let Some((_, status, _)) = take_clip_job(inner, run) {
+            if let Some(ClipJob { request, status, row, .. }) = take_clip_job(inner, run) {
+                let stem = match &request {
+                    Request::Clips { segmentation, .. } => crate::clips::stem_of(&segmentation.file),
+                    _ => String::new(),
+                };
+                let file = crate::view::export_names::with_row(&file, &stem, &row);
                 let said = match download(&bytes, clip_mime(&file), &file) {
                     Ok(()) => (false, format!("saved {file} ({})", crate::method::counted(clips, "clip"))),
                     Err(e) => (true, format!("could not save {file}: {}", js_message(&e))),
@@ -64,16 +85,16 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
             }
         }
         Response::Failed { run: Some(run), message, kind, .. }
-            if inner.clip_jobs.borrow().iter().any(|(r, _, _)| r.run_id() == Some(run)) =>
+            if inner.clip_jobs.borrow().iter().any(|j| j.request.run_id() == Some(run)) =>
         {
-            let Some((request, status, retried)) = take_clip_job(inner, run) else { return None };
+            let Some(ClipJob { request, status, retried, row }) = take_clip_job(inner, run) else { return None };
             match kind {
                 FailureKind::NotLoaded if !retried => {
                     let inner = inner.clone();
                     wasm_bindgen_futures::spawn_local(async move {
                         let sent = restore(&inner).await.and_then(|()| post(&inner, &request, None));
                         match sent {
-                            Ok(()) => inner.clip_jobs.borrow_mut().push((request, status, true)),
+                            Ok(()) => inner.clip_jobs.borrow_mut().push(ClipJob { request, status, retried: true, row }),
                             Err(e) => status.set(Some((true, e))),
                         }
                     });
@@ -92,9 +113,9 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
 }
 
 /// Removes and returns the clip export `run`.
-fn take_clip_job(inner: &Inner, run: RunId) -> Option<(Request, ExportStatus, bool)> {
+fn take_clip_job(inner: &Inner, run: RunId) -> Option<ClipJob> {
     let mut jobs = inner.clip_jobs.borrow_mut();
-    let i = jobs.iter().position(|(r, _, _)| r.run_id() == Some(run))?;
+    let i = jobs.iter().position(|j| j.request.run_id() == Some(run))?;
     Some(jobs.remove(i))
 }
 

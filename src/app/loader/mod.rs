@@ -27,6 +27,7 @@ mod shipped;
 mod training;
 
 use super::fetch::{blob_bytes, read_capped, ReadError};
+use clips::ClipJob;
 use super::js_message;
 use super::model_files::ModelFiles;
 use super::{AppState, LoadState, MethodSlot, RunState};
@@ -131,7 +132,7 @@ struct Inner {
     handlers: RefCell<Vec<Handler>>,
     /// Clip exports asked of the worker: the request (sent again once after `not_loaded`), the
     /// status line of the row that asked, and whether it was sent again already.
-    clip_jobs: RefCell<Vec<(Request, ExportStatus, bool)>>,
+    clip_jobs: RefCell<Vec<ClipJob>>,
     /// The methods that run after each load (URL parameter `methods`); `None`: those whose
     /// `auto_run` is set.
     auto_run: RefCell<Option<Vec<String>>>,
@@ -397,14 +398,30 @@ fn fail_run(inner: &Inner, index: usize, message: String) {
 fn refuse_run(inner: &Inner, index: usize, message: String, param: Option<String>) {
     inner.runs.borrow_mut()[index] = None;
     let slot = &inner.state.methods[index];
+    slot.run.set(RunState::Failed);
     match param.filter(|p| slot.specs.iter().any(|s| s.name == *p)) {
         Some(param) => slot.field_error.set(Some((param, message))),
         None => {
             slot.failure.set(Some(message.clone()));
-            inner.state.show_run_error(message);
+            inner.state.show_run_error(no_method_can_read(&inner.state).unwrap_or(message));
         }
     }
-    slot.run.set(RunState::Failed);
+}
+
+/// One banner for all when every method that ran on the take (two or more) failed on it: what
+/// each said, the shared reason once ([`crate::view::run_failures`]); `None` while one is still
+/// running or has a result.
+fn no_method_can_read(state: &AppState) -> Option<String> {
+    let mut failures = Vec::new();
+    for slot in state.methods {
+        match slot.run.get_untracked() {
+            RunState::Idle | RunState::Cancelled => {}
+            RunState::Failed => failures.push((slot.info.short.clone(), slot.failure.get_untracked()?)),
+            RunState::Running { .. } | RunState::Done => return None,
+        }
+    }
+    let failures: Vec<(&str, &str)> = failures.iter().map(|(m, f)| (m.as_str(), f.as_str())).collect();
+    (failures.len() >= 2).then(|| crate::view::run_failures::no_method_can_read(&failures))
 }
 
 /// The method whose current run is `run`.

@@ -1,0 +1,187 @@
+// The small rough edges of issue 27 ("What a new user hits", 8 and 14, and "The rest of the list
+// above fixed"), on real headless Chromium: every text of the timeline and the panels readable in
+// both themes (WCAG contrast ≥ 4.5:1 against the background it is drawn on), export names that
+// carry their row, `]` / `[` from the playhead, one banner when no method can read the skeleton,
+// and a row marked stale when its re-run failed.
+//
+// Run through scripts/e2e.sh (E2E_FILES=edges.test.mjs scripts/e2e.sh).
+
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import path from "node:path";
+import { FIXTURES, closePage, download, gotoApp, openPage, runMethod, shot, text } from "./harness.mjs";
+
+let opened;
+let page;
+
+before(async () => {
+  // the take no method can read is reported in the console too
+  opened = await openPage({ allowConsole: /cannot map the skeleton/ });
+  page = opened.page;
+  await gotoApp(page);
+  // every method that runs on its own has finished (its row is on the timeline)
+  await page.waitForFunction(() => {
+    const d = document.body.dataset;
+    return d.sssm === "done" && !Object.values(d).some((v) => v === "running" || v === "queued");
+  }, null, { timeout: 120_000 });
+});
+
+after(() => closePage(opened, "e2e-edges-final.png"));
+
+/**
+ * Every visible element under `roots` with text of its own: its text, its colour and the colours
+ * it is drawn on (its own or its first ancestor's opaque background, translucent layers composed
+ * over it; a gradient counts as each of its colours), and the lowest WCAG contrast among them.
+ */
+function contrasts(roots) {
+  return page.evaluate((selectors) => {
+    const parse = (c) => {
+      const m = /rgba?\(([^)]+)\)/.exec(c);
+      if (!m) return null;
+      const p = m[1].split(/[\s,/]+/).filter(Boolean).map(Number);
+      return [p[0], p[1], p[2], p.length > 3 ? p[3] : 1];
+    };
+    const over = (top, under) => [0, 1, 2].map((i) => top[i] * top[3] + under[i] * (1 - top[3])).concat(1);
+    const lum = (c) => {
+      const [r, g, b] = c.slice(0, 3).map((v) => {
+        const s = v / 255;
+        return s <= 0.03928 ? s / 12.92 : ((s + 0.055) / 1.055) ** 2.4;
+      });
+      return 0.2126 * r + 0.7152 * g + 0.0722 * b;
+    };
+    const ratio = (a, b) => {
+      const [hi, lo] = [lum(a), lum(b)].sort((x, y) => y - x);
+      return (hi + 0.05) / (lo + 0.05);
+    };
+    // the colours behind `el`: translucent backgrounds composed down to the first opaque one
+    const backgrounds = (el) => {
+      const layers = [];
+      for (let e = el; e; e = e.parentElement) {
+        const s = getComputedStyle(e);
+        const stops = [...s.backgroundImage.matchAll(/rgba?\([^)]+\)/g)].map((m) => parse(m[0]));
+        if (stops.length > 0 && stops.every((c) => c[3] === 1)) {
+          return stops.map((c) => layers.reduceRight((acc, top) => over(top, acc), c));
+        }
+        const bg = parse(s.backgroundColor);
+        if (bg && bg[3] > 0) {
+          layers.push(bg);
+          if (bg[3] === 1) break;
+        }
+      }
+      const base = layers.length > 0 && layers[layers.length - 1][3] === 1 ? layers.pop() : [255, 255, 255, 1];
+      return [layers.reduceRight((acc, top) => over(top, acc), base)];
+    };
+    const found = [];
+    for (const root of selectors.flatMap((s) => [...document.querySelectorAll(s)])) {
+      for (const el of [root, ...root.querySelectorAll("*")]) {
+        const own = [...el.childNodes].filter((n) => n.nodeType === 3).map((n) => n.textContent).join("").trim();
+        const r = el.getBoundingClientRect();
+        if (!own || r.width === 0 || r.height === 0 || el.closest("[hidden]") || el.closest("svg, canvas")) continue;
+        const s = getComputedStyle(el);
+        if (s.visibility === "hidden" || Number(s.opacity) === 0) continue;
+        const fg = parse(s.color);
+        const behind = backgrounds(el);
+        const colour = behind.map((b) => over(fg, b));
+        const worst = Math.min(...behind.map((b, i) => ratio(colour[i], b)));
+        found.push({
+          text: own.slice(0, 40), id: el.id, cls: el.className && String(el.className), color: s.color,
+          behind: behind.map((b) => `rgb(${b.slice(0, 3).map(Math.round).join(",")})`).join(" / "), ratio: worst,
+        });
+      }
+    }
+    return found;
+  }, roots);
+}
+
+for (const scheme of ["light", "dark"]) {
+  test(`${scheme} theme: every text of the timeline and the panels has contrast ≥ 4.5:1`, async () => {
+    await page.emulateMedia({ colorScheme: scheme });
+    const seen = await contrasts(["#timeline", ".ms-method", ".ms-panel-box"]);
+    await shot(page, `e2e-edges-contrast-${scheme}.png`);
+    const labels = seen.filter((t) => /ms-tl-label/.test(t.cls));
+    assert.ok(labels.length >= 4, `the timeline's row labels are measured: ${labels.length}`);
+    assert.ok(seen.some((t) => /ms-seg/.test(t.cls)), "segment labels are measured");
+    const poor = seen.filter((t) => t.ratio < 4.5);
+    assert.deepEqual(
+      poor.map((t) => `${t.ratio.toFixed(2)}:1 "${t.text}" (${t.id || t.cls}) ${t.color} on ${t.behind}`),
+      [],
+      `${scheme}: texts below 4.5:1 (of ${seen.length} measured)`,
+    );
+  });
+}
+
+test("a row's BVH clips are saved under a name that carries the row", async () => {
+  const zip = await download(page, "#sssm-export-clips");
+  assert.match(zip.name, /^sample_sssm_actions_clips\.zip$/, zip.name);
+  // the selected segment alone: named as in the zip, with the row
+  await page.locator("#row-sssm-actions .ms-seg--action").nth(1).click();
+  await page.keyboard.press("k"); // stop its playback
+  const one = await download(page, "#sssm-export-clip");
+  assert.match(one.name, /^sample_sssm_\d{2,}_[\w-]+\.bvh$/, one.name);
+  // "my labels", a copy of the SSSM row: the same take, another name
+  await page.selectOption("#my-labels-source", "sssm-actions");
+  await page.click("#my-labels-copy");
+  await page.locator("#my-labels-export-clips:not([disabled])").waitFor();
+  const mine = await download(page, "#my-labels-export-clips");
+  assert.match(mine.name, /^sample_my-labels_actions_clips\.zip$/, mine.name);
+  assert.notEqual(mine.name, zip.name);
+});
+
+test("a re-run that fails marks its row stale until a run succeeds", async () => {
+  const before = await page.locator("#row-sssm-actions .ms-seg").count();
+  await page.fill("#sssm-radius", "12"); // below the primitive radius (13): refused
+  await runMethod(page, "sssm", "error");
+  assert.equal(await page.locator("#row-sssm-actions .ms-seg").count(), before, "the run before stays on the row");
+  for (const row of ["#row-sssm-actions", "#row-sssm-primitives"]) {
+    assert.match(await page.getAttribute(row, "class"), /\bms-row--stale\b/, `${row} is marked stale`);
+    assert.equal(await page.locator(`${row}-stale`).isVisible(), true, `${row}: its marker shows`);
+    assert.match(await text(page, `${row}-stale`), /^stale: last run failed — .*radius/, `${row}: says why`);
+  }
+  assert.doesNotMatch(await page.getAttribute("#row-velocity-primitives", "class"), /ms-row--stale/, "other rows are current");
+  await shot(page, "e2e-edges-stale.png");
+  await page.fill("#sssm-radius", "19");
+  await runMethod(page, "sssm", "done");
+  assert.doesNotMatch(await page.getAttribute("#row-sssm-actions", "class"), /ms-row--stale/, "a good run clears it");
+  assert.equal(await page.locator("#row-sssm-actions-stale").isVisible(), false);
+});
+
+test("] and [ go to the next / previous boundary from the playhead, not from the selected segment", async () => {
+  // "my labels" holds a copy of SSSM's actions (made by the export test above, else here): select
+  // its first segment, then move the playhead away from it
+  if ((await page.locator("#row-my-labels .ms-seg--mine").count()) === 0) {
+    await page.selectOption("#my-labels-source", "sssm-actions");
+    await page.click("#my-labels-copy");
+    await page.locator("#row-my-labels .ms-seg--mine").first().waitFor();
+  }
+  const spans = await page.$$eval("#row-my-labels .ms-seg--mine", (els) =>
+    els.map((e) => [Number(e.dataset.start), Number(e.dataset.end)]).sort((a, b) => a[0] - b[0]));
+  assert.ok(spans.length >= 3, `my labels have segments: ${spans.length}`);
+  const boundaries = [...new Set(spans.flatMap(([s, e]) => [s, e + 1]))].sort((a, b) => a - b);
+  const frame = async () => Number((/frame (\d+)/.exec(await text(page, "#time-readout")) ?? [])[1]) - 1;
+  await page.locator("#row-my-labels .ms-seg--mine").first().click();
+  assert.equal(await page.locator("#row-my-labels .ms-seg--selected").count(), 1, "my first segment is selected");
+  await page.keyboard.press("End");
+  const at = await frame();
+  await page.keyboard.press("[");
+  const want = boundaries.filter((b) => b < at).pop();
+  assert.equal(await frame(), want, `[ from the playhead at ${at}: the last boundary before it`);
+  await page.keyboard.press("[");
+  const earlier = boundaries.filter((b) => b < want).pop();
+  assert.equal(await frame(), earlier, "[ again: the one before");
+  await page.keyboard.press("]");
+  assert.equal(await frame(), want, "] goes to the next boundary after the playhead");
+  await page.keyboard.press("Escape");
+});
+
+test("when no method can read the skeleton, one banner says so with the reason once", async () => {
+  await page.setInputFiles("#file-input", path.join(FIXTURES, "bvh_anim_test_simple.bvh"));
+  await page.waitForFunction(() => {
+    const d = document.body.dataset;
+    return d.sssm === "error" && !Object.values(d).some((v) => v === "running" || v === "queued");
+  }, null, { timeout: 120_000 });
+  const banner = await text(page, "#error-message");
+  assert.match(banner, /^No method can read this skeleton/, banner);
+  for (const name of ["SSSM", "DT-FCN", "k-NN"]) assert.ok(banner.includes(name), `${name} named: ${banner}`);
+  assert.equal(banner.match(/cannot map the skeleton/g)?.length, 1, `the shared reason once: ${banner}`);
+  await shot(page, "e2e-edges-no-method.png");
+});
