@@ -1,7 +1,7 @@
 //! The methods on long *working* takes — the region `load_pipeline` skips: a take of a few
 //! fixture frames whose Frame Time the fuzzer picks (`Frame Time: 100` makes 200 frames 5.5
 //! hours long; 1e-9 makes them a microsecond), run by every registered method with its default
-//! parameters under small [`WorkLimits`]. A method must refuse before it allocates past them
+//! parameters under small [`WorkLimits`] (16 MiB). A method must refuse before it allocates past them
 //! (the work check, `src/method/work.rs`) or finish within them: a panic, a hang (libFuzzer's
 //! `-timeout`) or the live heap passing the fuzz budget is a finding. What comes out must fit
 //! the schema and cover the take; a refusal must say why.
@@ -14,9 +14,9 @@ use mocapseg::method::{MethodError, NoProgress, RunOptions, WorkLimits};
 
 /// The loader's budget here (the page's is 1 GiB).
 const BUDGET: MemoryBudget = MemoryBudget { max_bytes: 4 << 20 };
-/// What a run may take here: 8 MiB is about 800 LMA frames, 6000 velocity frames — milliseconds
-/// to a second each.
-const LIMITS: WorkLimits = WorkLimits { min_file_fps: 1.0, max_seconds: 7200.0, max_bytes: 8 << 20 };
+/// What a run may take here: 16 MiB is about 1500 LMA frames, 1800 DT-FCN frames, 10 000 velocity
+/// frames — milliseconds to a second or two each (DT-FCN's 12 MiB of fixed work must fit).
+const LIMITS: WorkLimits = WorkLimits { min_file_fps: 1.0, max_seconds: 7200.0, max_bytes: 16 << 20 };
 
 #[derive(Debug, Arbitrary)]
 struct Input {

@@ -287,12 +287,13 @@ impl Method for Labelling {
 
     fn work(&self, params: &Checked) -> Work {
         // the motion image and the labeller's per-frame arrays (probabilities, decoding); the
-        // network's activations and the k-NN's windows: measured in tests/limits.rs
-        let bytes_per_frame = match self.kind {
-            ModelKind::Dtfcn => 2_000,
-            ModelKind::Knn => 4_000,
+        // network's activations (about 9 MiB fixed, 1.4 kB per frame) and the k-NN's windows
+        // (2.9 kB per frame): measured in tests/limits.rs
+        let (bytes_per_frame, fixed_mib) = match self.kind {
+            ModelKind::Dtfcn => (2_000, 12),
+            ModelKind::Knn => (4_000, 4),
         };
-        Work { fps: params.model.header.fps, bytes_per_frame, fixed_bytes: 24 << 20, advice: "" }
+        Work { fps: params.model.header.fps, bytes_per_frame, fixed_bytes: fixed_mib << 20, advice: "" }
     }
 
     fn run(
