@@ -72,7 +72,13 @@ fn two_takes() -> (Vec<Motion>, Vec<String>, Vec<TrainingTake>) {
 }
 
 fn meta() -> ModelMeta {
-    ModelMeta { name: "test".into(), command: "tests/dtfcn.rs".into(), data_hash: "-".into(), decoding: None }
+    ModelMeta {
+        name: "test".into(),
+        command: "tests/dtfcn.rs".into(),
+        data_hash: "-".into(),
+        decoding: None,
+        travel: None,
+    }
 }
 
 #[test]

@@ -251,7 +251,15 @@ fn train(
     }
 
     let out = out.ok_or("--out FILE is needed (or --cross-validate)")?;
+    // the take fit measures travel on what the model is taught (a validation take is not)
+    let taught: Vec<(&Motion, &[Option<usize>])> = motions
+        .iter()
+        .zip(&labels)
+        .filter(|(m, _)| method == "knn" || !validation.as_deref().is_some_and(|v| same_file(v, &m.name)))
+        .map(|(m, l)| (m, l.as_slice()))
+        .collect();
     let meta = ModelMeta {
+        travel: mocapseg::methods::dtfcn::corpus::travel_of(&taught),
         name: name.unwrap_or_else(|| out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default()),
         command: command_line(),
         data_hash: data_hash(&hashed, &label_bytes),

@@ -71,6 +71,16 @@ pub struct ModelMeta {
     pub data_hash: String,
     /// The decoding a run with `decoding = "model"` uses (none: raw per-frame labels).
     pub decoding: Option<super::decode::Decoding>,
+    /// How fast the training takes' labelled frames travelled ([`travel_of`]; for the take fit).
+    pub travel: Option<super::fit::TravelProfile>,
+}
+
+/// The travel profile of the labelled frames of `takes` (per file frame labels), `None` when it
+/// cannot be measured (a take without hips and feet: its model cannot label it either).
+pub fn travel_of(takes: &[(&Motion, &[Option<usize>])]) -> Option<super::fit::TravelProfile> {
+    let taught: Vec<Vec<bool>> = takes.iter().map(|(_, l)| l.iter().map(Option::is_some).collect()).collect();
+    let with: Vec<(&Motion, Option<&[bool]>)> = takes.iter().zip(&taught).map(|((m, _), t)| (*m, Some(&t[..]))).collect();
+    super::fit::TravelProfile::fit(&with).ok()
 }
 
 fn header(kind: ModelKind, classes: &[String], meta: &ModelMeta, provenance: Provenance) -> ModelHeader {
@@ -86,6 +96,7 @@ fn header(kind: ModelKind, classes: &[String], meta: &ModelMeta, provenance: Pro
         network: None,
         standardise: None,
         knn: None,
+        travel: meta.travel,
         provenance,
         payload_sha256: String::new(),
         written_by: format!("mocapseg {}", env!("CARGO_PKG_VERSION")),

@@ -40,6 +40,9 @@ pub struct LabelParams {
     pub min_duration_s: f64,
     /// With `decoding = "custom"`: cost of a change of label, in nats of summed log-probability.
     pub switch_cost: f64,
+    /// Measure whether the take fits the model ([`super::fit`]) and, when it does not, label its
+    /// unfamiliar frames unknown.
+    pub fit_check: bool,
 }
 
 /// The ways a run may decode its labels.
@@ -74,6 +77,7 @@ impl Default for LabelParams {
             decoding: DECODINGS[0].into(),
             min_duration_s: CUSTOM_DECODING.min_duration_s,
             switch_cost: CUSTOM_DECODING.switch_cost,
+            fit_check: true,
         }
     }
 }
@@ -89,6 +93,31 @@ pub struct Checked {
     custom: Decoding,
     /// The decoding in force.
     decoding: Decoding,
+    /// With the fit check: the k-NN model of the model's own data, whose windows measure poses
+    /// (the model itself for a k-NN; `None`: no such model, travel only).
+    fit: Option<FitCheck>,
+}
+
+/// What a run measures the take's fit with.
+struct FitCheck {
+    windows: Option<Arc<Model>>,
+}
+
+/// The k-NN model made from the same data as `model` (the same data hash): `model` itself when it
+/// is a k-NN, else the user's or the shipped k-NN of the same name. On the page a shipped one is
+/// [`MethodError::NeedsModel`] until its file arrived.
+fn fit_windows(model: &Arc<Model>, name: &str, models: &ModelStore) -> Result<Option<Arc<Model>>, MethodError> {
+    if matches!(model.labeller, Labeller::Knn(_)) {
+        return Ok(Some(model.clone()));
+    }
+    let same = |m: &Arc<Model>| m.header.provenance.data_hash == model.header.provenance.data_hash;
+    if let Some(m) = models.get::<Model>(ModelKind::Knn.name(), name).filter(same) {
+        return Ok(Some(m));
+    }
+    if shipped::NAMES.contains(&name) && models.get::<Model>(ModelKind::Dtfcn.name(), name).is_none() {
+        return Ok(Some(shipped::model(ModelKind::Knn, name)?).filter(same));
+    }
+    Ok(None)
 }
 
 /// The model of `kind` called `name`: one of `models` (a user's, trained or loaded) first, else a
@@ -196,6 +225,17 @@ impl Method for Labelling {
                 basic: true,
             },
             ParamSpec {
+                name: "fit_check".into(),
+                help: "Measure whether the take is one the model's classes can describe (how fast it travels and how \
+                       far its poses lie from the training takes'); when it is not, say so and label its unfamiliar \
+                       frames unknown instead of painting confident wrong labels."
+                    .into(),
+                kind: ParamKind::Bool,
+                default: serde_json::json!(true),
+                unit: None,
+                basic: true,
+            },
+            ParamSpec {
                 name: "min_duration_s".into(),
                 help: "With the custom decoding: shortest run of one label (0 with a switch cost of 0: raw labels)."
                     .into(),
@@ -255,7 +295,13 @@ impl Method for Labelling {
                 ))
             }
         };
+        let fit = if params.fit_check {
+            Some(FitCheck { windows: fit_windows(&model, params.model.trim(), models)? })
+        } else {
+            None
+        };
         Ok(Checked {
+            fit,
             name: params.model.trim().to_string(),
             model,
             threshold,
@@ -282,6 +328,7 @@ impl Method for Labelling {
             "decoding": params.asked,
             "min_duration_s": params.custom.min_duration_s,
             "switch_cost": params.custom.switch_cost,
+            "fit_check": params.fit.is_some(),
         })
     }
 
@@ -289,7 +336,10 @@ impl Method for Labelling {
         // the motion image and the labeller's per-frame arrays (probabilities, decoding); the
         // network's activations (about 9 MiB fixed, 1.4 kB per frame) and the k-NN's windows
         // (2.9 kB per frame): measured in tests/limits.rs
+        // (+ 3 kB per frame when the fit check measures the take's poses with the k-NN's windows)
+        let windows = params.fit.as_ref().is_some_and(|f| f.windows.is_some());
         let (bytes_per_frame, fixed_mib) = match self.kind {
+            ModelKind::Dtfcn if windows => (5_000, 12),
             ModelKind::Dtfcn => (2_000, 12),
             ModelKind::Knn => (4_000, 4),
         };
@@ -306,7 +356,7 @@ impl Method for Labelling {
         progress.step("motion image", 0.0)?;
         let labelled = label(&params.model, motion, progress)?;
         let header = &params.model.header;
-        let file = file_labels(
+        let mut file = file_labels(
             &labelled.probabilities,
             &labelled.source,
             labelled.fps,
@@ -314,6 +364,24 @@ impl Method for Labelling {
             &params.decoding,
             params.threshold,
         );
+        let fit = match &params.fit {
+            Some(check) => {
+                progress.step("take fit", 0.95)?;
+                let knn = check.windows.as_ref().and_then(|m| match &m.labeller {
+                    Labeller::Knn(k) => Some(&**k),
+                    Labeller::Network(_) => None,
+                });
+                let fit = super::fit::TakeFit::assess(motion, header.travel.as_ref(), knn).map_err(MethodError::Failed)?;
+                // a take the classes cannot describe gets no labels at all: its familiar-looking
+                // frames are as wrong as the others (86_01 under `exercises`: half its frames are
+                // unfamiliar, the rest "Jog" and "Twist"); `fit_check = false` shows them anyway
+                if !fit.fits() {
+                    file.iter_mut().for_each(|f| f.0 = None);
+                }
+                Some(fit)
+            }
+            None => None,
+        };
         let segments = runs(&file, &header.classes);
         let segmentation = Segmentation {
             file: motion.name.clone(),
@@ -344,6 +412,12 @@ impl Method for Labelling {
         );
         let summary = match in_sample_note(header, &motion.name) {
             Some(note) => format!("{summary} · {note}"),
+            None => summary,
+        };
+        // a take the model does not fit is said first: it is what a reader must know before the labels
+        let summary = match fit.filter(|f| f.measured()) {
+            Some(f) if !f.fits() => format!("{} · {summary}", f.describe(&header.name)),
+            Some(f) => format!("{summary} · {}", f.describe(&header.name)),
             None => summary,
         };
         let curves = vec![Curve {
@@ -498,6 +572,43 @@ mod tests {
         assert_eq!((s[2].start, s[2].end, s[2].label.as_str()), (3, 3, "jump"));
         assert!(runs(&[], &classes).is_empty());
         assert_eq!(rgb("#ff8000"), [255, 128, 0]);
+    }
+
+    fn motion(name: &str, text: &str) -> Motion {
+        Motion::from_bvh(name, &crate::bvh::parse(text).unwrap()).unwrap()
+    }
+
+    fn run(method: Labelling, motion: &Motion, params: serde_json::Value) -> MethodOutput {
+        let params: LabelParams = serde_json::from_value(params).unwrap();
+        let checked = method.check(params).unwrap();
+        method.run(motion, &checked, &RunOptions::default(), &mut crate::method::NoProgress).unwrap()
+    }
+
+    /// A walk is nothing the `exercises` models were taught (they were taught exercises on the
+    /// spot): both labellers say so and label it unknown instead of Jog at a confidence near 1;
+    /// without the check they paint their classes, as before. The sample (a take of the taught
+    /// exercises) fits and keeps its labels.
+    #[test]
+    fn a_take_the_models_classes_cannot_describe_is_called_so() {
+        let walk = motion("02_01.bvh", include_str!("../../../tests/fixtures/02_01.bvh"));
+        let sample = motion("13_30.bvh", include_str!("../../../www/sample.bvh"));
+        for method in [DTFCN, crate::methods::knn::method::KNN] {
+            let out = run(method, &walk, serde_json::json!({"model": "exercises"}));
+            let segments = &out.segmentation.segments;
+            assert!(segments.iter().all(|s| s.label == UNKNOWN && s.cluster.is_none()), "{segments:?}");
+            assert!(out.details.summary.starts_with("model `exercises` does not fit this take: 100 % of its frames travel"), "{}", out.details.summary);
+            assert_eq!(out.segmentation.params["fit_check"], true);
+            let unchecked = run(method, &walk, serde_json::json!({"model": "exercises", "fit_check": false}));
+            assert!(unchecked.segmentation.segments.iter().any(|s| s.label != UNKNOWN));
+            assert!(!unchecked.details.summary.contains("fit"), "{}", unchecked.details.summary);
+            let own = run(method, &sample, serde_json::json!({"model": "exercises"}));
+            let labelled = own.segmentation.segments.iter().filter(|s| s.label != UNKNOWN).map(|s| s.end + 1 - s.start).sum::<usize>();
+            assert!(labelled as f64 > 0.9 * sample.frames() as f64, "{labelled} of {}", sample.frames());
+            assert!(own.details.summary.contains("the take fits model `exercises`"), "{}", own.details.summary);
+            // the walk is one of the locomotion models' training takes: it fits them
+            let gait = run(method, &walk, serde_json::json!({"model": "locomotion"}));
+            assert!(gait.details.summary.contains("the take fits model `locomotion`"), "{}", gait.details.summary);
+        }
     }
 
     /// The bundled sample (13_30) is one of the `exercises` models' training takes: a run on it says so;

@@ -20,6 +20,7 @@ pub mod augment;
 pub mod bench;
 pub mod corpus;
 pub mod decode;
+pub mod fit;
 pub mod infer;
 pub mod input;
 pub mod method;

@@ -93,6 +93,9 @@ pub struct ModelHeader {
     /// The k-NN's window and vote (k-NN).
     #[serde(default)]
     pub knn: Option<KnnParams>,
+    /// How fast its training takes travelled ([`super::fit`]; none in models made before it was measured).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub travel: Option<super::fit::TravelProfile>,
     pub provenance: Provenance,
     /// SHA-256 of the payload, hex.
     pub payload_sha256: String,
@@ -159,6 +162,26 @@ impl Model {
         out.extend_from_slice(&json);
         out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
         out.extend_from_slice(&payload);
+        Ok(out)
+    }
+
+    /// The model file `bytes` with its header replaced by `header`, the payload kept byte for byte
+    /// (for a header field measured after the model was made: the weights, their hash and the
+    /// provenance stay as they were). Refuses a header of another kind, classes or payload.
+    pub fn replace_header(bytes: &[u8], source: &str, header: &ModelHeader) -> Result<Vec<u8>, String> {
+        let (old, payload) = read_header(bytes, source)?;
+        if (old.kind, &old.classes, &old.payload_sha256) != (header.kind, &header.classes, &header.payload_sha256) {
+            return Err(format!("{source}: the new header is of another kind, classes or payload"));
+        }
+        check_header(header).map_err(|e| format!("{source}: {e}"))?;
+        let json = serde_json::to_vec(header).map_err(|e| format!("writing the header: {e}"))?;
+        let mut out = Vec::with_capacity(MAGIC.len() + 13 + json.len() + payload.len());
+        out.extend_from_slice(MAGIC);
+        out.push(FORMAT);
+        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        out.extend_from_slice(&json);
+        out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+        out.extend_from_slice(payload);
         Ok(out)
     }
 
@@ -355,6 +378,7 @@ mod tests {
                 network: Some(network),
                 standardise: Some(Standardise { mean: vec![0.0; CHANNELS], spread: vec![1.0; CHANNELS] }),
                 knn: None,
+                travel: None,
                 provenance: Provenance {
                     command: "test".into(),
                     data_hash: data_hash(&[], b""),

@@ -504,6 +504,9 @@ impl Prepared {
                 .unwrap_or_else(|| train_command(kind, &takes, &self.labels_name, &self.name, &options.read)),
             data_hash: self.data_hash.clone(),
             decoding: options.decoding,
+            travel: super::corpus::travel_of(
+                &self.motions.iter().zip(&self.labels_per_take).map(|(m, l)| (m, &l[..])).collect::<Vec<_>>(),
+            ),
         }
     }
 

@@ -76,6 +76,8 @@ pub struct Knn {
     points: Vec<[f32; DIMS]>,
     tree: ImmutableKdTree<f32, u32, DIMS, 32>,
     labels: Vec<usize>,
+    /// [`Knn::familiar_distances`] at the take fit's gap and step, measured once.
+    familiar: std::sync::OnceLock<Vec<f32>>,
 }
 
 /// The stacked window of every working frame of `motion` and the working frames' file positions.
@@ -119,7 +121,7 @@ impl Knn {
         let (mean, axes) = principal_axes(&all);
         let points: Vec<[f32; DIMS]> = (0..all.frames()).map(|i| project(all.row(i), &mean, &axes)).collect();
         let tree = ImmutableKdTree::new_from_slice(&points);
-        Ok(Knn { params, mean, axes, points, tree, labels })
+        Ok(Knn { params, mean, axes, points, tree, labels, familiar: Default::default() })
     }
 
     /// The fitted labeller as bytes (the payload of its model file): frames `n` and window
@@ -192,7 +194,7 @@ impl Knn {
             labels.push(l);
         }
         let tree = ImmutableKdTree::new_from_slice(&points);
-        Ok(Knn { params, mean, axes, points, tree, labels })
+        Ok(Knn { params, mean, axes, points, tree, labels, familiar: Default::default() })
     }
 
     /// The window and vote this labeller was fitted with.
@@ -245,6 +247,39 @@ impl Knn {
             .collect();
         let frames = WorkingFrames { source: &source, file_frames: motion.frames() };
         Ok((0..motion.frames()).map(|f| working[frames.working_frame(f)]).collect())
+    }
+
+    /// How far training windows lie from the training windows at least `gap` working frames away
+    /// from them (another repetition of the movement, or another take), for at most `samples`
+    /// evenly spaced training windows, sorted: what the nearest distance of a frame of a *new* take
+    /// of the taught classes looks like, without holding a take out (a model file does not say
+    /// which take a window came from; windows within `gap` of each other overlap and would call
+    /// every frame familiar). By brute force, `samples × n` distances; the take fit's measurement
+    /// is kept once made.
+    pub fn familiar_distances(&self, gap: usize, samples: usize) -> Vec<f32> {
+        use crate::methods::dtfcn::fit::{FAMILIAR_GAP, FAMILIAR_SAMPLES};
+        if (gap, samples) == (FAMILIAR_GAP, FAMILIAR_SAMPLES) {
+            return self.familiar.get_or_init(|| self.measure_familiar(gap, samples)).clone();
+        }
+        self.measure_familiar(gap, samples)
+    }
+
+    fn measure_familiar(&self, gap: usize, samples: usize) -> Vec<f32> {
+        let n = self.points.len();
+        let step = n.div_ceil(samples.max(1)).max(1);
+        let mut out: Vec<f32> = (0..n)
+            .step_by(step)
+            .filter_map(|i| {
+                let p = &self.points[i];
+                (0..n)
+                    .filter(|&j| j.abs_diff(i) > gap)
+                    .map(|j| p.iter().zip(&self.points[j]).map(|(a, b)| (a - b) * (a - b)).sum::<f32>())
+                    .min_by(f32::total_cmp)
+                    .map(f32::sqrt)
+            })
+            .collect();
+        out.sort_by(f32::total_cmp);
+        out
     }
 
     /// Per file frame of `motion`: the voted label and the share of the `k` votes it won.
