@@ -19,10 +19,9 @@ for (const [width, height] of [[1024, 768], [1440, 900]]) {
     const r = await page.evaluate((m) => {
       const box = (sel) => { const e = document.querySelector(sel); if (!e) return null; const b = e.getBoundingClientRect(); return { top: Math.round(b.top), bottom: Math.round(b.bottom) }; };
       const vis = (b) => b && b.bottom > 0 && b.top < innerHeight;
-      const run = box(`#${m}-run`), tl = box("#timeline"), canvas = box("#player-canvas"), row = box(`#row-${m}-actions`) ?? box(`#row-${m}-primitives`);
-      const rowEl = document.querySelector(`#row-${m}-actions:not([hidden])`);
+      const run = box(`#${m}-run`), tl = box("#timeline"), canvas = box("#player-canvas"), row = [box(`#row-${m}-actions`), box(`#row-${m}-primitives`)].find((b) => b && b.bottom > b.top) ?? null;
       return { m, scrollY: Math.round(scrollY), runTop: run?.top, timelineTop: tl?.top, timelineBottom: tl?.bottom, runMinusTimelineBottom: run && tl ? run.top - tl.bottom : null,
-        playerVisible: vis(canvas), timelineVisible: vis(tl), rowVisible: vis(row) };
+        playerVisible: vis(canvas), timelineVisible: vis(tl), rowVisible: vis(row), rowTop: row?.top };
     }, m);
     out.push(r);
   }
