@@ -239,6 +239,8 @@ pub fn MethodPanel(
     let on_run = move |ev: leptos::ev::SubmitEvent| {
         ev.prevent_default();
         run_loader.run(index);
+        // its row stays in view on the timeline (workspace.rs)
+        super::workspace::reveal_method(&slot.info.name);
     };
     let export_loader = loader.clone();
     let on_cancel = move |_| loader.cancel(index);
@@ -352,7 +354,7 @@ pub fn MethodPanel(
 
 /// The level a row's selected segment `(start, end)` of `v` has, as the clips' choice: an action
 /// among the actions, a primitive among the primitives, a transition among every segment.
-fn which_of(v: &MethodView, start: usize, end: usize) -> Option<Which> {
+pub(super) fn which_of(v: &MethodView, start: usize, end: usize) -> Option<Which> {
     let s = v.segmentation.segments.iter().find(|s| s.start == start && s.end == end)?;
     Some(match s.level {
         Level::Action => Which::Actions,
@@ -612,14 +614,17 @@ fn row_segments(v: &MethodView, levels: &[Level]) -> Vec<Segment> {
     segments
 }
 
-/// The label of a method's row: "SSSM · actions", "DT-FCN · labels", "KCS · primitives".
+/// The label of a method's row: "SSSM · actions", "DT-FCN · labels", "LMA · gestures" (one name
+/// per row, the same in the metrics menu: [`crate::view::rows`]).
 fn row_label(slot: &MethodSlot, v: Option<&MethodView>, primitive: bool) -> String {
-    let level = match (primitive, v.is_some_and(is_labelling)) {
-        (true, _) => "primitives",
-        (false, true) => "labels",
-        (false, false) => "actions",
-    };
-    format!("{} · {level}", slot.info.short)
+    crate::view::rows::row_name(&slot.info.short, row_kind(v, primitive))
+}
+
+/// What a method's row holds (actions, labels, primitives, gestures), from its run.
+pub(super) fn row_kind(v: Option<&MethodView>, primitive: bool) -> crate::view::rows::RowKind {
+    let labelling = v.is_some_and(is_labelling);
+    let has_actions = v.is_some_and(|v| v.segmentation.segments.iter().any(|s| s.level != Level::Primitive));
+    crate::view::rows::RowKind::of(primitive, labelling, has_actions)
 }
 
 /// Every row with segments, in the page's order: its id (`truth`, `<method>-actions` /
@@ -663,8 +668,14 @@ pub fn MethodRows(state: AppState) -> impl IntoView {
             let levels = if primitive { PRIMITIVE_LEVELS } else { ACTION_LEVELS };
             let row_id = format!("{}-{}", slot.info.name, if primitive { "primitives" } else { "actions" });
             let label = Signal::derive(move || slot.view.with(|v| row_label(slot, v.as_deref(), primitive)));
+            let tip = Signal::derive(move || {
+                let kind = slot.view.with(|v| row_kind(v.as_deref(), primitive));
+                crate::view::rows::row_tooltip(&slot.info.short, kind)
+            });
             let stale = Signal::derive(move || stale_reason(slot));
-            view! { <SegmentRow state=state row_id=row_id source=slot.view.into() levels=levels label=label stale=stale/> }
+            view! {
+                <SegmentRow state=state row_id=row_id source=slot.view.into() levels=levels label=label tip=tip stale=stale/>
+            }
         })
         .collect_view()
 }
@@ -691,8 +702,12 @@ pub fn SegmentRow(
     source: Signal<Option<Arc<MethodView>>>,
     levels: &'static [Level],
     label: Signal<String>,
+    /// What the row is, as its label's tooltip (else the label itself).
+    #[prop(optional)]
+    tip: Option<Signal<String>>,
     #[prop(optional)] stale: Option<Signal<Option<String>>>,
 ) -> impl IntoView {
+    let tip = move || tip.map_or_else(|| label.get(), |t| t.get());
     let stale = move || stale.and_then(|s| s.get());
     let stale_text = move || stale().map(|why| format!("stale: last run failed — {why}"));
     let data = RwSignal::new(RowData { view: None, segments: Arc::default(), spans: Arc::default(), generation: 0 });
@@ -721,7 +736,7 @@ pub fn SegmentRow(
     };
     view! {
         <div class="ms-tl-line ms-tl-line--row" hidden=hidden>
-            <div class="ms-tl-label" title=label>{label}</div>
+            <div class="ms-tl-label" title=tip>{label}</div>
             <div
                 id=format!("row-{row_id}")
                 class="ms-row ms-tl-lane"
@@ -820,12 +835,7 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -
     let on_down = move |ev: PointerEvent| ev.stop_propagation();
     let on_click = move |ev: MouseEvent| {
         ev.stop_propagation();
-        // select it and play it: looped while Loop is on, else once to its end
-        state.selected.set(Some(Selection { row: row.clone(), start, end }));
-        state.play_until.set((!state.looping.get_untracked()).then_some(end));
-        state.shuttle.set(0);
-        state.frame.set(start);
-        state.playing.set(true);
+        super::segment_menu::play_segment(state, Selection { row: row.clone(), start, end });
     };
     view! {
         <div

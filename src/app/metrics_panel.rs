@@ -164,10 +164,14 @@ fn scorable_rows(state: AppState) -> Vec<Row> {
             let Some(v) = v else { return };
             let seg = &v.segmentation;
             let note = in_sample(v, sample);
+            // the rows' names as the timeline gives them (view::rows)
+            let name = |primitive| {
+                crate::view::rows::row_name(&slot.info.short, super::method_panel::row_kind(Some(&**v), primitive))
+            };
             if seg.segments.iter().any(|s| s.level != Level::Primitive) {
                 rows.push((
                     format!("{}-actions", slot.info.name),
-                    format!("{} · actions", slot.info.short),
+                    name(false),
                     seg.clone(),
                     note.clone(),
                 ));
@@ -177,7 +181,7 @@ fn scorable_rows(state: AppState) -> Vec<Row> {
                 primitives.segments.retain(|s| s.level == Level::Primitive);
                 rows.push((
                     format!("{}-primitives", slot.info.name),
-                    format!("{} · primitives", slot.info.short),
+                    name(true),
                     primitives,
                     note.clone(),
                 ));

@@ -46,6 +46,9 @@ mod summary;
 mod supervised;
 mod timeline;
 mod training;
+mod workspace;
+mod segment_menu;
+mod first_visit;
 
 use crate::method::{form, MethodInfo, ParamSpec};
 use crate::protocol::{LoadedMotion, MethodView};
@@ -68,6 +71,7 @@ use summary::Summary;
 use supervised::Supervised;
 use timeline::Timeline;
 use training::{ModelFile, TrainingPanel};
+use workspace::{SidePanel, Studio};
 
 /// Where loading stands.
 #[derive(Debug, Clone, PartialEq)]
@@ -251,6 +255,8 @@ pub struct AppState {
     pub truth: GroundTruth,
     /// The "my labels" row as a segmentation (`None` while it is empty): scored and exported.
     pub mine: RwSignal<Option<Arc<crate::segment::Segmentation>>>,
+    /// The side panel's tab shown ([`workspace`]): `truth` or a method's name.
+    pub panel: RwSignal<String>,
 }
 
 /// A segment selected on the timeline: its row (`<method>-actions` or `<method>-primitives`)
@@ -281,6 +287,7 @@ impl AppState {
             help: RwSignal::new(false),
             truth: GroundTruth::new(),
             mine: RwSignal::new(None),
+            panel: RwSignal::new(workspace::TRUTH_TAB.to_string()),
         }
     }
 
@@ -368,7 +375,39 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
     // it (embed mode has no drop zone or method panels); the app is mounted once, never unmounted
     std::mem::forget(loader.clone());
 
-    // embed mode: no header, drop zone, summary or method panels (docs/page.md, "Embedding")
+    // the player and the timeline pinned at the left; the side panel's tabs at the right
+    // (embed mode: the stage alone)
+    let player = view! { <Player state=state/> }.into_any();
+    let timeline = view! { <Timeline state=state/> }.into_any();
+    let side = full.then(|| {
+        let truth = view! {
+            <first_visit::WhatNext state=state/>
+            <GroundTruthPanel state=state/>
+            <MetricsPanel state=state/>
+        }
+        .into_any();
+        let methods = state.methods.iter().enumerate().map(|(index, slot)| {
+            // a supervised method's panel takes the user's model files and trains in the browser
+            let extra = slot.supervised.is_some().then(|| {
+                view! {
+                    <ModelFile state=state loader=loader.clone() index=index/>
+                    <TrainingPanel state=state loader=loader.clone() index=index/>
+                }
+                .into_any()
+            });
+            view! { <MethodPanel state=state method=slot loader=loader.clone() extra=extra/> }.into_any()
+        });
+        let panels = std::iter::once(truth).chain(methods).collect();
+        view! { <SidePanel state=state panels=panels/> }.into_any()
+    });
+    let studio = view! {
+        <Studio
+            player=player
+            timeline=timeline
+            side=side
+        />
+    };
+    // embed mode: no header, drop zone, summary or side panel (docs/page.md, "Embedding")
     view! {
         {full.then(|| view! {
             <header class="ms-header">
@@ -384,28 +423,6 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
             <Progress state=state/>
         </section>
         {full.then(|| view! { <Summary state=state/> })}
-        <main class="ms-workspace">
-            <Player state=state/>
-            <Timeline state=state/>
-        </main>
-        {full.then(|| view! {
-            <section class="ms-truth-metrics"><GroundTruthPanel state=state/><MetricsPanel state=state/></section>
-        })}
-        {full.then(|| state
-            .methods
-            .iter()
-            .enumerate()
-            .map(|(index, slot)| {
-                // a supervised method's panel takes the user's model files and trains in the browser
-                let extra = slot.supervised.is_some().then(|| {
-                    view! {
-                        <ModelFile state=state loader=loader.clone() index=index/>
-                        <TrainingPanel state=state loader=loader.clone() index=index/>
-                    }
-                    .into_any()
-                });
-                view! { <MethodPanel state=state method=slot loader=loader.clone() extra=extra/> }.into_any()
-            })
-            .collect_view())}
+        {studio}
     }
 }

@@ -157,7 +157,6 @@ fn other_rows(state: AppState) -> Vec<OtherRow> {
     for slot in state.methods {
         slot.view.with(|v| {
             let Some(v) = v else { return };
-            let labelling = is_labelling(v);
             for primitive in [false, true] {
                 let mut segments: Vec<_> = v
                     .segmentation
@@ -170,14 +169,11 @@ fn other_rows(state: AppState) -> Vec<OtherRow> {
                     continue;
                 }
                 segments.sort_by_key(|s| s.0);
-                let level = match (primitive, labelling) {
-                    (true, _) => "primitives",
-                    (false, true) => "labels",
-                    (false, false) => "actions",
-                };
+                // the row's name as the timeline gives it (view::rows)
+                let kind = super::method_panel::row_kind(Some(&**v), primitive);
                 rows.push(OtherRow {
                     id: format!("{}-{}", slot.info.name, if primitive { "primitives" } else { "actions" }),
-                    name: format!("{} · {level}", slot.info.short),
+                    name: crate::view::rows::row_name(&slot.info.short, kind),
                     segments,
                 });
             }
@@ -480,6 +476,13 @@ impl MyRow {
     fn relabel(self) {
         let text = self.label.get_untracked();
         self.edit(|m| m.relabel(&text), None);
+    }
+
+    /// Puts one segment of another row in my labels (the timeline's context menu): `label`
+    /// empty for a transition or an unknown stretch, which stays unlabelled.
+    pub fn place(self, start: usize, end: usize, label: &str, from: &str) -> bool {
+        let done = format!("Copied frames {}–{} from {from}", start + 1, end + 1);
+        self.edit(|m| m.place(start, end, label), Some(done))
     }
 
     fn copy(self) {

@@ -18,7 +18,9 @@ use super::ground_truth::TruthRow;
 use super::keys::is_for_the_field;
 use super::method_panel::{row_spans, MethodRows};
 use super::motion_image::{Chunks, DownloadPng, MotionImageCanvas};
+use super::first_visit::Legend;
 use super::my_labels::{MyLabelsRow, MyLabelsTools, MyRow};
+use super::segment_menu::SegmentMenu;
 use super::{AppState, Selection};
 use crate::view::timeline::{key_action, readout, shuttle, stepped, ticks, KeyAction, Modifiers, Window};
 use gloo::events::{EventListener, EventListenerOptions};
@@ -236,6 +238,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
         .forget();
     });
 
+    let rows_ref = NodeRef::<Div>::new();
     let mine = MyRow::new(state); // first: its keys ([ ] on my row) before the timeline's
     keyboard(state);
 
@@ -287,7 +290,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                     {move || readout(state.frame.get(), frames(), state.fps())}
                 </output>
                 <span id="shuttle-rate" class="ms-readout-rate">{rate}</span>
-                <span class="ms-timeline-legend">"motion image: rows = joints · columns = frames · colour = XYZ relative to the root"</span>
+                <span class="ms-timeline-legend ms-timeline-legend--image">"motion image: rows = joints · columns = frames · colour = XYZ relative to the root"</span>
                 <div class="ms-timeline-tools" role="group" aria-label="Timeline controls">
                     <button id="zoom-out" class="ms-button ms-button--quiet" type="button" aria-label="Zoom out (−)" title="Zoom out (−)"
                         disabled=move || frames() == 0 on:click=move |_| zoom_by(1.0 / KEY_ZOOM)>"−"</button>
@@ -313,6 +316,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                     <button id="help-button" class="ms-button ms-button--quiet" type="button" aria-label="Keyboard shortcuts (?)"
                         aria-expanded=move || state.help.get().to_string() on:click=move |_| state.help.update(|h| *h = !*h)>"?"</button>
                     <DownloadPng state=state/>
+                    <Legend/>
                 </div>
             </div>
             <div
@@ -349,7 +353,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                         </div>
                     </div>
                     // Segmentation rows, one per level of each method.
-                    <div id="timeline-rows" class="ms-timeline-rows">
+                    <div id="timeline-rows" class="ms-timeline-rows" node_ref=rows_ref>
                         <TruthRow state=state/>
                         <MethodRows state=state/>
                         <MyLabelsRow mine=mine/>
@@ -379,7 +383,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                 </div>
             </div>
             <p id="timeline-hint" class="ms-timeline-hint">
-                "Click a segment to select it and play it (looped while Loop is on) · click elsewhere on the timeline to seek · "
+                "Click a segment to select it and play it (looped while Loop is on), right-click it for more · click elsewhere on the timeline to seek · "
                 "Ctrl/⌘ + wheel zooms, Shift + wheel or dragging the ruler or the minimap pans · press ? for all shortcuts"
             </p>
             <div
@@ -393,6 +397,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                 {move || hover.with(|h| h.as_ref().map(|h| h.2.clone()).unwrap_or_default())}
             </div>
             <HelpOverlay state=state/>
+            <SegmentMenu state=state mine=mine rows=rows_ref/>
         </section>
     }
 }

@@ -3,7 +3,8 @@
 //! segment navigation, keyboard), readable text on segment colours ([`contrast`]), the rows' export names
 //! ([`export_names`]), the banner when every method fails ([`run_failures`]), the URL
 //! parameters ([`url_params`]), the "my labels" row's edit model ([`my_labels`]) and the metrics
-//! panel's comparison table ([`compare`]: best per column, sorting).
+//! panel's comparison table ([`compare`]: best per column, sorting), and one name per timeline row
+//! ([`rows`]).
 
 pub mod camera;
 pub mod clock;
@@ -11,6 +12,7 @@ pub mod compare;
 pub mod contrast;
 pub mod export_names;
 pub mod my_labels;
+pub mod rows;
 pub mod run_failures;
 pub mod timeline;
 pub mod url_params;

@@ -414,6 +414,39 @@ impl MyLabels {
         Ok(())
     }
 
+    /// Puts segment `start..=end` with `label` in the row (a segment copied from another row, one
+    /// at a time: the timeline's context menu): the parts of my segments it covers give way (those
+    /// reaching past it keep their label outside it), gaps stay gaps elsewhere. It is selected.
+    pub fn place(&mut self, start: usize, end: usize, label: &str) -> Result<(), EditError> {
+        if self.frames == 0 {
+            return Err(EditError::NoFrames);
+        }
+        let label = clean_label(label)?;
+        if start > end || start >= self.frames {
+            return Err(EditError::NothingToCopy);
+        }
+        let end = end.min(self.frames - 1);
+        self.record();
+        let mut spans = Vec::with_capacity(self.spans.len() + 2);
+        for s in self.spans.drain(..) {
+            if s.end < start || s.start > end {
+                spans.push(s);
+                continue;
+            }
+            if s.start < start {
+                spans.push(LabelSpan { start: s.start, end: start - 1, label: s.label.clone() });
+            }
+            if s.end > end {
+                spans.push(LabelSpan { start: end + 1, end: s.end, label: s.label });
+            }
+        }
+        spans.push(LabelSpan { start, end, label });
+        spans.sort_by_key(|s| s.start);
+        self.spans = spans;
+        self.selected = self.index_of(start, end);
+        Ok(())
+    }
+
     /// Removes every segment (undoable).
     pub fn clear(&mut self) {
         if self.spans.is_empty() {
@@ -620,6 +653,34 @@ mod tests {
         assert_eq!(MyLabels::new(0).copy_from(&row(&[(0, 0, "x")])), Err(EditError::NoFrames));
         m.undo().unwrap();
         assert!(m.spans().is_empty());
+    }
+
+    #[test]
+    fn place_puts_one_segment_in_and_trims_what_it_covers() {
+        let mut m = MyLabels::new(100);
+        // on an empty row: the segment alone, gaps around it
+        m.place(10, 19, "punch").unwrap();
+        assert_eq!(spans(&m), vec![(10, 19, "punch")]);
+        assert_eq!(m.selected(), Some(0));
+        m.copy_from(&row(&[(0, 29, "walk"), (30, 59, "jump"), (60, 99, "walk")])).unwrap();
+        // across a boundary: both neighbours trimmed, their labels kept outside it
+        m.place(20, 39, "punch").unwrap();
+        assert_eq!(spans(&m), vec![(0, 19, "walk"), (20, 39, "punch"), (40, 59, "jump"), (60, 99, "walk")]);
+        assert_eq!(m.selected_span().map(|s| s.label.as_str()), Some("punch"));
+        // inside one segment: it splits around it
+        m.place(70, 79, "kick").unwrap();
+        assert_eq!(
+            spans(&m),
+            vec![(0, 19, "walk"), (20, 39, "punch"), (40, 59, "jump"), (60, 69, "walk"), (70, 79, "kick"), (80, 99, "walk")]
+        );
+        // one undoable edit each
+        m.undo().unwrap();
+        assert_eq!(spans(&m), vec![(0, 19, "walk"), (20, 39, "punch"), (40, 59, "jump"), (60, 99, "walk")]);
+        // past the take's end: clipped; refused outside it or with a bad label
+        m.place(90, 500, "rest").unwrap();
+        assert_eq!(spans(&m).last(), Some(&(90, 99, "rest")));
+        assert_eq!(m.place(100, 120, "x"), Err(EditError::NothingToCopy));
+        assert_eq!(m.place(1, 2, "a\nb"), Err(EditError::LabelControl));
     }
 
     #[test]

@@ -16,7 +16,7 @@ import { execFileSync } from "node:child_process";
 import { existsSync, readFileSync, writeFileSync } from "node:fs";
 import path from "node:path";
 import {
-  ROOT, OUT, FIXTURES, TIMEOUT, openPage, closePage, shot, waitData, gotoApp, download, until, assertClean,
+  ROOT, OUT, FIXTURES, TIMEOUT, openPage, closePage, shot, showPanel, waitData, gotoApp, download, until, assertClean,
 } from "./harness.mjs";
 
 const BIN = process.env.MOCAPSEG_BIN
@@ -129,6 +129,7 @@ test("every method row in one table: the numbers mocapseg eval prints, the best 
   // the rows expected, from each method's export: its actions (the whole segmentation), its primitives alone
   const expected = [];
   for (const m of done) {
+    await showPanel(page, m);
     const d = await download(page, `#${m}-export`, `compare-${m}.json`);
     const json = JSON.parse(d.bytes.toString("utf8"));
     if (json.segments.some((s) => s.level !== "primitive")) {
@@ -143,6 +144,7 @@ test("every method row in one table: the numbers mocapseg eval prints, the best 
       files.set(`${m}-primitives`, p);
     }
   }
+  await showPanel(page, "truth");
   const { lines, columns } = await table();
   assert.deepEqual(lines.map((l) => l.id), expected, "one line per method row, in the menu's order");
   assert.deepEqual(lines.map((l) => l.id), await page.$$eval("#metrics-row option", (os) => os.map((o) => o.value)),

@@ -9,7 +9,7 @@
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import path from "node:path";
-import { FIXTURES, closePage, download, gotoApp, openPage, runMethod, shot, text } from "./harness.mjs";
+import { FIXTURES, closePage, download, gotoApp, openPage, runMethod, shot, showPanel, text } from "./harness.mjs";
 
 let opened;
 let page;
@@ -111,6 +111,7 @@ for (const scheme of ["light", "dark"]) {
 }
 
 test("a row's BVH clips are saved under a name that carries the row", async () => {
+  await showPanel(page, "sssm");
   const zip = await download(page, "#sssm-export-clips");
   assert.match(zip.name, /^sample_sssm_actions_clips\.zip$/, zip.name);
   // the selected segment alone: named as in the zip, with the row
@@ -129,6 +130,7 @@ test("a row's BVH clips are saved under a name that carries the row", async () =
 
 test("a re-run that fails marks its row stale until a run succeeds", async () => {
   const before = await page.locator("#row-sssm-actions .ms-seg").count();
+  await showPanel(page, "sssm");
   await page.fill("#sssm-radius", "12"); // below the primitive radius (13): refused
   await runMethod(page, "sssm", "error");
   assert.equal(await page.locator("#row-sssm-actions .ms-seg").count(), before, "the run before stays on the row");

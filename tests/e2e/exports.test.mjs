@@ -13,7 +13,7 @@ import { execFileSync } from "node:child_process";
 import { readFileSync, writeFileSync } from "node:fs";
 import path from "node:path";
 import {
-  FIXTURES, OUT, SAMPLE, assertClean, closePage, download, gotoApp, loadFile, openPage, shot, text, waitData,
+  FIXTURES, OUT, SAMPLE, assertClean, closePage, download, gotoApp, loadFile, openPage, shot, showPanel, text, waitData,
 } from "./harness.mjs";
 
 let opened;
@@ -25,6 +25,8 @@ before(async () => {
   page = opened.page;
   await gotoApp(page);
   await waitData(page, "sssm", "done");
+  // the SSSM's panel: its exports and pictures (the side panel shows one tab at a time)
+  await showPanel(page, "sssm");
 });
 
 after(() => closePage(opened, "e2e-exports-final.png"));
@@ -69,6 +71,7 @@ async function sssmJson() {
 }
 
 test("a method's segments as the label CSV: the run's actions, one row each, file and 0-based frames", async () => {
+  await showPanel(page, "sssm"); // a take opened in between shows the side panel's first tab again
   const json = await sssmJson();
   assert.equal(await page.inputValue("#sssm-export-which"), "actions");
   const d = await download(page, "#sssm-export-csv");
@@ -93,6 +96,7 @@ test("a method's segments as the label CSV: the run's actions, one row each, fil
 });
 
 test("every action as its own BVH clip in one zip: the take's hierarchy, frame time and rows", async () => {
+  await showPanel(page, "sssm"); // a take opened in between shows the side panel's first tab again
   const json = await sssmJson();
   const actions = json.segments.filter((s) => s.level === "action").sort((a, b) => a.start - b.start);
   const d = await download(page, "#sssm-export-clips");
@@ -112,6 +116,7 @@ test("every action as its own BVH clip in one zip: the take's hierarchy, frame t
 });
 
 test("the selected segment's clip alone, at the origin on request, opens in the app with its frames", async () => {
+  await showPanel(page, "sssm"); // a take opened in between shows the side panel's first tab again
   assert.ok(await page.isDisabled("#sssm-export-clip"), "nothing selected: the button is disabled");
   const seg = page.locator("#row-sssm-actions .ms-seg--action").nth(1);
   const [start, end] = [Number(await seg.getAttribute("data-start")), Number(await seg.getAttribute("data-end"))];
@@ -144,6 +149,7 @@ test("the selected segment's clip alone, at the origin on request, opens in the 
 });
 
 test("each method picture saves as a PNG of the picture's own size", async () => {
+  await showPanel(page, "sssm"); // a take opened in between shows the side panel's first tab again
   const canvas = page.locator("#sssm-panel canvas.ms-method-picture").first();
   const id = await canvas.getAttribute("id");
   const size = await canvas.evaluate((c) => [c.width, c.height]);
@@ -174,6 +180,7 @@ test("an ASF skeleton picked with its AMC motion opens the take its BVH conversi
 });
 
 test("a skeleton the joint mapping cannot cover: each panel says why, without a contradiction or an empty box", async () => {
+  await showPanel(page, "sssm"); // a take opened in between shows the side panel's first tab again
   await loadFile(page, "pybvh_full_precision_frame_time.bvh"); // Hips → Head only
   await waitData(page, "sssm", "error");
   const failure = await text(page, "#sssm-failure");
@@ -223,6 +230,7 @@ test("the bundled sample is named with its source and licence; another take is n
 });
 
 test("clicking the SSSM picture goes to the pixel's pair of frames", async () => {
+  await showPanel(page, "sssm"); // a take opened in between shows the side panel's first tab again
   await waitData(page, "sssm", "done");
   const canvas = page.locator("#sssm-image");
   const box = await canvas.boundingBox();

@@ -139,8 +139,21 @@ export async function loadFile(page, file) {
   await waitReady(page, path.basename(full));
 }
 
-/** Clicks `#<method>-run` and waits until body[data-<method>] went through "running" to `want`. */
+/**
+ * Shows the side panel's tab `id` (a method's name, or "truth" for the ground truth and scores):
+ * the controls of the other tabs are hidden (docs/page.md, "The workspace").
+ */
+export async function showPanel(page, id) {
+  await page.click(`#tab-${id}`);
+  await page.locator(`#tabpanel-${id}`).waitFor({ state: "visible" });
+}
+
+/**
+ * Clicks `#<method>-run` (its tab shown first) and waits until body[data-<method>] went through
+ * "running" to `want`.
+ */
 export async function runMethod(page, method, want = "done") {
+  await showPanel(page, method);
   await page.locator(`#${method}-run:not([disabled])`).waitFor({ timeout: TIMEOUT });
   await page.evaluate((m) => {
     window.__e2eRuns = window.__e2eRuns ?? {};

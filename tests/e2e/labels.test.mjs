@@ -12,7 +12,7 @@ import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import path from "node:path";
 import {
-  OUT, TIMEOUT, assertClean, closePage, gotoApp, loadFile, openPage, shot, text, until, waitData, waitReady,
+  OUT, TIMEOUT, assertClean, closePage, gotoApp, loadFile, openPage, shot, showPanel, text, until, waitData, waitReady,
 } from "./harness.mjs";
 
 let opened;
@@ -457,6 +457,7 @@ test("one click trains DT-FCN on my labels with the DT-FCN panel's options (stop
   const classes = new Set(labelled.map((s) => s.label));
   assert.ok(classes.size >= 2, `two classes at least: ${[...classes]}`);
   // a small network keeps the test short: the panel's options are the ones used
+  await showPanel(page, "dtfcn");
   await page.click("#dtfcn-training summary");
   await page.fill("#dtfcn-train-filters", "8,8,8,8,8");
   await page.fill("#dtfcn-train-epochs", "500");

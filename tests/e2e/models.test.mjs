@@ -10,7 +10,7 @@ import assert from "node:assert/strict";
 import { readFileSync, statSync } from "node:fs";
 import path from "node:path";
 import { gzipSync } from "node:zlib";
-import { BASE_URL, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, openPage, text, waitData } from "./harness.mjs";
+import { BASE_URL, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, openPage, showPanel, text, waitData } from "./harness.mjs";
 
 const DIST = path.dirname(path.dirname(SAMPLE)); // scripts/e2e.sh: SAMPLE_BVH=$DIST/www/sample.bvh
 // a refused fetch shows in the console; those steps expect it
@@ -60,6 +60,7 @@ test("a page that runs only SSSM fetches no model; DT-FCN fetches its model when
   await waitData(page, "sssm", "done");
   assert.deepEqual(fetched, [], "no model fetched for SSSM");
   await watchStages(page, "dtfcn");
+  await showPanel(page, "dtfcn");
   await page.locator("#dtfcn-run:not([disabled])").waitFor({ timeout: TIMEOUT });
   await page.click("#dtfcn-run");
   await waitData(page, "dtfcn", "done");
@@ -98,6 +99,7 @@ test("a damaged or missing model file is named in its method's panel; the page k
     const dtfcn = await text(bad.page, "#dtfcn-failure");
     assert.match(dtfcn, /could not fetch the model .*models\/dtfcn-exercises\.model: HTTP 404/, dtfcn);
     // another model still works
+    await showPanel(bad.page, "knn");
     await bad.page.selectOption("#knn-model", "cmu-actions");
     await bad.page.click("#knn-run");
     await waitData(bad.page, "knn", "done");

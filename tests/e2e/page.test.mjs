@@ -27,6 +27,7 @@ import { mkdirSync, readFileSync, writeFileSync } from "node:fs";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
+import { showPanel } from "./harness.mjs";
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
 const ROOT = path.resolve(HERE, "../..");
@@ -339,8 +340,12 @@ async function waitSssm(want) {
   }
 }
 
+/** Shows method (or "truth") `id`'s tab in the side panel: the other tabs' controls are hidden. */
+const panel = (id) => showPanel(page, id);
+
 /** Clicks #sssm-run with `radius` in the form and waits for the run to leave "running". */
 async function runSssm(radius, want) {
+  await panel("sssm");
   await page.fill("#sssm-radius", String(radius));
   await page.evaluate(() => { window.__sssm = []; });
   await page.click("#sssm-run");
@@ -439,10 +444,11 @@ test("every registered method gets a panel: the velocity baseline runs after the
   await page.waitForFunction((names) => names.every((n) => document.body.dataset[n] === "done"), names, { timeout: TIMEOUT });
   // every row says which method and level it shows
   assert.equal(await page.locator("#row-pca-actions").getAttribute("data-label"), "PCA · actions");
-  assert.equal(await page.locator("#row-kcs-primitives").getAttribute("data-label"), "KCS · primitives");
+  assert.equal(await page.locator("#row-kcs-primitives").getAttribute("data-label"), "KCS · gestures");
   const gestures = await page.locator("#row-velocity-primitives .ms-seg").count();
   assert.ok(gestures >= 2, `#row-velocity-primitives has ${gestures} segments, want ≥ 2`);
   assert.equal(await page.locator("#row-velocity-actions").isVisible(), false, "no empty actions row");
+  await panel("velocity");
   const plot = await canvasStats("#velocity-speed");
   assert.ok(!plot.error && plot.width > 0 && plot.distinct >= 4, `#velocity-speed looks blank: ${JSON.stringify(plot)}`);
   assert.match(await text("#velocity-counts"), /\d+ gestures/);
@@ -548,7 +554,7 @@ test("timeline: a time ruler, the readout after seeking, each row's label at its
 
   // every row with segments has its label at the left of its lane
   for (const [row, label] of [["sssm-actions", "SSSM · actions"], ["sssm-primitives", "SSSM · primitives"],
-    ["dtfcn-actions", "DT-FCN · labels"], ["velocity-primitives", "Velocity · primitives"]]) {
+    ["dtfcn-actions", "DT-FCN · labels"], ["velocity-primitives", "Velocity · gestures"]]) {
     const lane = page.locator(`#row-${row}`);
     assert.equal(await lane.getAttribute("data-label"), label);
     const name = lane.locator("xpath=preceding-sibling::div[contains(@class, 'ms-tl-label')]");
@@ -854,6 +860,7 @@ test("keyboard: space, arrows, Shift+arrows, J/K/L, Home/End; ? shows the help; 
   // in a text field, keys are typed, not shortcuts
   await setRange("#scrub", 300);
   const w = await tlWindow();
+  await panel("dtfcn");
   const field = page.locator("#dtfcn-train-name");
   const old = await field.inputValue();
   await field.focus();
@@ -919,6 +926,7 @@ async function waitTraining(busy, want) {
 
 /** Picks `csv` as the training's labels file `name`, clicks Train and waits for `want`; returns the milliseconds. */
 async function train(name, csv, want) {
+  await panel("lma");
   await page.setInputFiles("#lma-train-labels", { name, mimeType: "text/csv", buffer: Buffer.from(csv) });
   await page.waitForFunction((n) => document.querySelector("#lma-train-labels-name")?.textContent === n, name);
   await page.locator("#lma-train-start:not([disabled])").waitFor({ timeout: TIMEOUT });
@@ -931,6 +939,7 @@ async function train(name, csv, want) {
 
 /** Picks a family file (a path, or {name, mimeType, buffer}) and waits for body[data-lma-model] to be `want`. */
 async function loadFamily(file, want) {
+  await panel("lma");
   await watchLma();
   await page.setInputFiles("#lma-model-file", file);
   await page.waitForFunction((w) => window.__lmaModel.includes("loading") && document.body.dataset.lmaModel === w,
@@ -957,6 +966,7 @@ async function waitLmaRun(yours) {
 
 /** Clicks #lma-run and, at once, #lma-cancel (the worker is replaced). */
 async function cancelLmaRun() {
+  await panel("lma");
   await page.locator("#lma-run:not([disabled])").waitFor({ timeout: TIMEOUT });
   await page.evaluate(() => {
     document.querySelector("#lma-run").click();
@@ -967,6 +977,7 @@ async function cancelLmaRun() {
 
 /** Clicks #lma-run and waits for its result. */
 async function rerunLma(yours) {
+  await panel("lma");
   await page.locator("#lma-run:not([disabled])").waitFor({ timeout: TIMEOUT });
   await watchLma();
   await page.click("#lma-run");
@@ -974,6 +985,7 @@ async function rerunLma(yours) {
 }
 
 test("LMA trains on the user's Effort labels in the browser, saves, reloads and goes back to its shipped classifiers", async () => {
+  await panel("lma");
   await page.waitForFunction(() => document.body.dataset.lma === "done", null, { timeout: TIMEOUT });
   assert.equal(await lmaTraining(), "idle", "nothing trained at start");
   assert.equal(await page.inputValue("#lma-model"), "shipped", "the shipped family at start");
@@ -1113,6 +1125,7 @@ async function waitData(key, want, timeout = TIMEOUT) {
 
 /** Clicks `#<method>-run` and waits until that run went through "running" and is `want`. */
 async function runMethod(method, want = "done") {
+  await panel(method);
   await page.locator(`#${method}-run:not([disabled])`).waitFor({ timeout: TIMEOUT });
   await watchMethod(method);
   await page.click(`#${method}-run`);
@@ -1145,6 +1158,7 @@ async function waitRun(method, want = "done") {
 
 /** The segmentation JSON of `method`'s last run (its export). */
 async function exportRun(method, file) {
+  await panel(method);
   const [download] = await Promise.all([page.waitForEvent("download"), page.click(`#${method}-export`)]);
   const saved = path.join(OUT, file);
   await download.saveAs(saved);
@@ -1227,9 +1241,11 @@ test("DT-FCN and k-NN label the sample: rows coloured by class and confidence, m
     defaultThreshold[m] = threshold;
     assert.ok(await page.locator(`#${m}-probabilities`).count() === 1, `#${m}-probabilities picture`);
   }
+  await panel("dtfcn");
   await page.locator("#dtfcn-panel").screenshot({ path: path.join(OUT, "e2e-dtfcn-panel.png") });
 
   // the threshold and the model from the form
+  await panel("knn");
   await page.fill("#knn-unknown_threshold", "0.999");
   await runMethod("knn");
   let json = await exportRun("knn", "e2e-knn-threshold.json");
@@ -1264,12 +1280,14 @@ test("a bad model file shows the core's message at its input; the page keeps wor
     ["#dtfcn-model-file", "dtfcn", { name: "knn-exercises.model", buffer: knn }, /holds a k-NN model, not a DT-FCN model/],
   ];
   for (const [input, m, file, message] of bad) {
+    await panel(m);
     await page.setInputFiles(input, { mimeType: "application/octet-stream", ...file });
     await waitData(`${m}Model`, "error");
     const status = await text(`#${m}-model-status`);
     assert.match(status, message, `#${m}-model-status after ${file.name}: "${status}"`);
     assert.equal(await page.locator(`#${m}-model-status.ms-field-error`).count(), 1, "shown as an error");
   }
+  await panel("knn");
   await page.locator("#knn-panel").screenshot({ path: path.join(OUT, "e2e-knn-bad-model.png") });
   assert.equal(await page.locator("#error-banner").isVisible(), false, "a bad model file is not a page error");
   // the worker still answers and the page still works
@@ -1294,6 +1312,7 @@ function labelCsv(file, rows, extra = []) {
 
 /** Picks `csv` as the training's label file `name`. */
 async function pickLabels(name, csv) {
+  await panel("dtfcn");
   await page.setInputFiles("#dtfcn-train-labels", { name, mimeType: "text/csv", buffer: Buffer.from(csv) });
   await page.waitForFunction((n) => document.querySelector("#dtfcn-train-labels-name")?.textContent === n, name);
 }
@@ -1333,6 +1352,7 @@ test("DT-FCN trains in the browser: refusals at their field, progress and plot, 
   const rows = [[0, 599, "stand"], [600, 1199, "<i>kick</i>"], [1200, 1799, "reach"], [1800, F - 1, "stand"]];
   const csv = labelCsv(SAMPLE_HDR.name, rows, ["86_01.bvh,0,99,walk", "35_01.bvh,0,199,stand", "35_01.bvh,200,357,reach"]);
   // the form's network is the paper's w = 3 with the paper's receptive field in seconds (4 layers: 2.7 s at 30 Hz)
+  await panel("dtfcn");
   await page.click("#dtfcn-training summary");
   const paper = "64,128,256,512";
   assert.equal(await page.inputValue("#dtfcn-train-filters"), paper);
@@ -1442,6 +1462,7 @@ test("DT-FCN trains in the browser: refusals at their field, progress and plot, 
   const t0 = Date.now();
   await setRange("#scrub", 10);
   assert.ok(Date.now() - t0 < 2000, "the page answered while training");
+  await panel("dtfcn"); // runMethod showed SSSM's tab
   await page.click("#dtfcn-train-stop");
   await waitData("dtfcnTraining", "done", TIMEOUT);
   assert.ok((await page.evaluate(() => window.__training)).includes("stopping"), "went through stopping");
@@ -1612,6 +1633,7 @@ test("drag-and-drop a file onto the drop zone", async () => {
 
 /** Clicks #sssm-run (once it is enabled) and waits for that run to finish. */
 async function clickRun() {
+  await panel("sssm");
   await page.locator("#sssm-run:not([disabled])").waitFor({ timeout: TIMEOUT });
   await page.evaluate(() => { window.__sssm = []; });
   await page.click("#sssm-run");
@@ -1621,6 +1643,7 @@ async function clickRun() {
 
 /** Clicks `#sssm-export` and returns the saved segmentation JSON. */
 async function exportSssm(name) {
+  await panel("sssm");
   const [download] = await Promise.all([page.waitForEvent("download"), page.click("#sssm-export")]);
   const file = path.join(OUT, name);
   await download.saveAs(file);
@@ -1639,6 +1662,7 @@ function dropFile(name, body) {
 }
 
 test("the automatic run after a load uses the form's current parameters", async () => {
+  await panel("sssm");
   await page.locator("#sssm-run:not([disabled])").waitFor({ timeout: TIMEOUT });
   await page.fill("#sssm-radius", "17");
   await page.setInputFiles("#file-input", path.join(FIXTURES, "35_01.bvh"));
@@ -1757,6 +1781,7 @@ test("file names, a model's name and labels, and joint names show as text, never
   assert.equal(header.name, "<svg onload=window.__xss=3>", "the fixture's name");
   await page.click("#load-sample");
   await waitReady(SAMPLE_HDR.name);
+  await panel("knn");
   await page.setInputFiles("#knn-model-file", { name: `${XSS}.model`, mimeType: "application/octet-stream", buffer: readFileSync(XSS_MODEL) });
   await waitData("knnModel", "done");
   const status = page.locator("#knn-model-status");

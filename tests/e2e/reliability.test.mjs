@@ -13,7 +13,7 @@ import assert from "node:assert/strict";
 import { statSync } from "node:fs";
 import path from "node:path";
 import {
-  BASE_URL, FIXTURES, TIMEOUT, assertClean, closePage, gotoApp, openPage, text, until, waitData, waitReady,
+  BASE_URL, FIXTURES, TIMEOUT, assertClean, closePage, gotoApp, openPage, showPanel, text, until, waitData, waitReady,
 } from "./harness.mjs";
 
 let opened;
@@ -115,6 +115,7 @@ test("a run cancelled while an ASF/AMC pair loads: the new worker gets the pair,
       return send.call(this, message, transfer);
     };
   });
+  await showPanel(page, "sssm");
   await page.click("#sssm-run");
   await waitData(page, "sssm", "running");
   await page.setInputFiles("#file-input", [path.join(FIXTURES, "02.asf"), path.join(FIXTURES, "02_01.amc")]);

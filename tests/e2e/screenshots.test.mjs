@@ -1,7 +1,8 @@
 // The page's layout at the sizes it is made for, and the screenshots of README.md and docs/page.md (issue 12, "Looks"):
 // at 1440×900 the player, the motion image and the methods' rows are on the first screen; at
-// 1024 px wide nothing scrolls sideways and the player and timeline are still side by side or
-// stacked in full; light and dark. Each state is saved as a JPEG in OUT/screenshots/ (docs/page.md
+// 1024 px wide nothing scrolls sideways and the player, the timeline and every tab of the side
+// panel fit (issue 27's workspace: tests/e2e/layout.test.mjs checks it at both sizes and themes);
+// light and dark. Each state is saved as a JPEG in OUT/screenshots/ (docs/page.md
 // "Screenshots": the images in docs/screenshots/ are copies of these). The states shown are the
 // page working: every method succeeds on the takes shown (ordinary takes), and no uncaught
 // exception or console error occurs (the bad file's message is the page's, not the console's).
@@ -13,7 +14,7 @@ import assert from "node:assert/strict";
 import { mkdirSync } from "node:fs";
 import path from "node:path";
 import {
-  BASE_URL, FIXTURES, OUT, TIMEOUT, assertClean, closePage, gotoApp, loadFile, openPage, waitData,
+  BASE_URL, FIXTURES, OUT, TIMEOUT, assertClean, closePage, gotoApp, loadFile, openPage, showPanel, waitData,
 } from "./harness.mjs";
 
 const SHOTS = path.join(OUT, "screenshots");
@@ -101,10 +102,17 @@ test("1024 px wide: nothing scrolls sideways and every control stays reachable",
   await waitData(page, "state", "ready");
   await allRun();
   assert.ok(await noSideScroll(), "no sideways scroll at 1024 px");
-  for (const sel of ["#player-canvas", "#timeline", "#sssm-run", "#my-labels-tools", "#truth-panel", "#metrics-panel"]) {
+  const fits = async (sel) => {
     const box = await page.locator(sel).boundingBox();
     assert.ok(box && box.x >= 0 && box.x + box.width <= 1024 + 1, `${sel} fits in 1024 px: ${JSON.stringify(box)}`);
+  };
+  for (const sel of ["#player-canvas", "#timeline", "#my-labels-tools", "#truth-panel", "#metrics-panel"]) await fits(sel);
+  // every method's panel, in its tab of the side panel
+  for (const m of METHODS) {
+    await showPanel(page, m);
+    for (const sel of [`#${m}-panel`, `#${m}-run`]) await fits(sel);
   }
+  await showPanel(page, "truth");
   await jpeg("03-sample-1024");
   await page.setViewportSize({ width: 1440, height: 900 });
   assertClean(opened);
@@ -116,13 +124,13 @@ test("the studio's states: my labels, ground truth and metrics, exports, a refus
   await page.click("#my-labels-copy");
   await page.setInputFiles("#truth-file", path.join(FIXTURES, "mocap6_13_30_gt.csv"));
   await waitData(page, "truth", "loaded");
-  await page.locator("#timeline").scrollIntoViewIfNeeded();
   await jpeg("04-my-labels-and-truth");
   await page.locator("#metrics-panel").scrollIntoViewIfNeeded();
   await waitData(page, "metrics", "done");
   await jpeg("05-truth-and-metrics");
   // a selected segment and the exports under SSSM's form
   await page.locator("#row-sssm-actions .ms-seg--action").nth(1).click();
+  await showPanel(page, "sssm");
   await page.locator("#sssm-exports").scrollIntoViewIfNeeded();
   await jpeg("06-sssm-panel-exports");
   // a parameter the method refuses: the message at its field
@@ -135,9 +143,9 @@ test("the studio's states: my labels, ground truth and metrics, exports, a refus
   // (shown on the page: nothing in the console)
   await page.setInputFiles("#file-input", path.join(FIXTURES, "bad.bvh"));
   await waitData(page, "state", "error");
-  await page.evaluate(() => window.scrollTo(0, 0));
   await jpeg("08-bad-file");
   await page.click("#my-labels-clear");
+  await showPanel(page, "truth");
   assertClean(opened);
 });
 

@@ -17,7 +17,7 @@ import { execFileSync } from "node:child_process";
 import { existsSync, readFileSync, writeFileSync } from "node:fs";
 import path from "node:path";
 import {
-  ROOT, OUT, FIXTURES, TIMEOUT, openPage, closePage, shot, text, waitData, gotoApp, download, until, assertClean,
+  ROOT, OUT, FIXTURES, TIMEOUT, openPage, closePage, shot, showPanel, text, waitData, gotoApp, download, until, assertClean,
 } from "./harness.mjs";
 
 const BIN = process.env.MOCAPSEG_BIN
@@ -221,7 +221,9 @@ test("the metrics of SSSM's rows are the numbers mocapseg eval prints for the sa
   await waitData(page, "sssm", "done");
   await waitData(page, "metrics", "done");
   assert.equal(await page.evaluate(() => document.body.dataset.metricsRow), "sssm-actions");
+  await showPanel(page, "sssm");
   const seg = await download(page, "#sssm-export", "truth-sssm.json");
+  await showPanel(page, "truth");
   const json = JSON.parse(seg.bytes.toString("utf8"));
   assert.equal(json.file, "sample.bvh");
   // the 30 fps labels, read from 1 at 30 fps, on the page and in the CLI
@@ -241,7 +243,7 @@ test("the metrics of SSSM's rows are the numbers mocapseg eval prints for the sa
   assert.ok(Number.isFinite(ms) && ms >= 0, `data-metrics-ms is a duration: ${ms}`);
   console.log(`  (metrics of sssm-actions on the page thread: ${ms} ms for ${json.frames} frames)`);
   await shot(page, "truth-4-metrics-actions.png");
-  await page.locator(".ms-truth-metrics").screenshot({ path: path.join(OUT, "truth-4-panels.png") });
+  await page.locator("#tabpanel-truth").screenshot({ path: path.join(OUT, "truth-4-panels.png") });
   // the primitives row: the CLI on the export's primitives alone
   await page.selectOption("#metrics-row", "sssm-primitives");
   await until(async () => (await page.evaluate(() => document.body.dataset.metricsRow)) === "sssm-primitives", "the primitives row scored");
@@ -254,9 +256,11 @@ test("the metrics of SSSM's rows are the numbers mocapseg eval prints for the sa
   await shot(page, "truth-5-metrics-primitives.png");
   assert.equal(await page.locator("#metrics-in-sample").isVisible(), false, "SSSM learns nothing: no in-sample warning");
   // a model trained on the sample: its scores say they are in-sample
+  await showPanel(page, "dtfcn");
   await page.locator("#dtfcn-run:not([disabled])").waitFor({ timeout: TIMEOUT });
   await page.click("#dtfcn-run");
   await waitData(page, "dtfcn", "done");
+  await showPanel(page, "truth");
   await page.selectOption("#metrics-row", "dtfcn-actions");
   await until(async () => (await page.evaluate(() => document.body.dataset.metricsRow)) === "dtfcn-actions", "the DT-FCN row scored");
   assert.match(await text(page, "#metrics-in-sample"), /^in-sample: the bundled sample \(CMU 13_30\) is one of the takes model `exercises` was trained on/);
