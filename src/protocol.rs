@@ -653,6 +653,11 @@ mod tests {
                 colours: vec!["#000000".into(), "#ffffff".into()],
                 origin: "2 classes".into(),
                 provenance: vec![("takes".into(), "a.bvh".into())],
+                card: crate::method::cards::ModelCard {
+                    takes: vec!["a.bvh".into()],
+                    take_sha256: vec!["00ff".into()],
+                    ..Default::default()
+                },
             },
             report: TrainingReport { summary: "Trained".into(), ..TrainingReport::default() },
             bytes: b"MODEL".to_vec(),

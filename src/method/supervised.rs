@@ -64,6 +64,10 @@ pub struct ModelInfo {
     pub origin: String,
     /// Its provenance as labelled lines (the command that made it, the data's hash, …).
     pub provenance: Vec<(String, String)>,
+    /// Its card: training takes (and their files' hashes), classes, command, held-out accuracy
+    /// (never measured for a model read or trained here: only the scoreboard measures it).
+    #[serde(default)]
+    pub card: super::cards::ModelCard,
 }
 
 impl ModelInfo {
@@ -351,6 +355,7 @@ mod tests {
             colours: vec![],
             origin: String::new(),
             provenance: vec![],
+            card: Default::default(),
         }
     }
 

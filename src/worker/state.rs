@@ -1017,6 +1017,7 @@ mod tests {
             colours: vec!["#ff0000".into(), "#00ff00".into()],
             origin: String::new(),
             provenance: Vec::new(),
+            card: Default::default(),
         };
         odd.colours.pop();
         let bad = Response::ModelStored { take: 1, run: 2, model: odd }.into_packet();

@@ -12,7 +12,8 @@ use super::corpus::{class_labels, fit_knn_model, model_from, rows_without_takes,
 use super::decode::Decoding;
 use super::input::NetworkInput;
 use super::method::MAX_MIN_DURATION_S;
-use super::model::{data_hash, Model, ModelKind};
+use super::model::{data_hash, take_hashes, Model, ModelKind};
+use crate::method::cards::ModelCard;
 use super::shipped;
 use super::network::Padding;
 use super::training::{EpochReport, TrainOptions, Trainer, TrainingTake, MAX_MASK_S};
@@ -343,6 +344,19 @@ pub fn model_info(name: &str, model: &Model) -> ModelInfo {
             ("command".into(), p.command.clone()),
             ("data hash".into(), p.data_hash.clone()),
         ],
+        card: ModelCard {
+            method: h.kind.name().into(),
+            name: name.into(),
+            takes: p.takes.clone(),
+            take_sha256: p.take_sha256.clone(),
+            classes: h.classes.clone(),
+            frames: Some(p.frames),
+            epochs_run: (h.kind == ModelKind::Dtfcn).then_some(p.epochs_run),
+            best_epoch: (h.kind == ModelKind::Dtfcn).then_some(p.best_epoch),
+            command: p.command.clone(),
+            origin: String::new(),
+            held_out: None,
+        },
     }
 }
 
@@ -437,6 +451,8 @@ struct Prepared {
     classes: Vec<String>,
     labels_per_take: Vec<Vec<Option<usize>>>,
     data_hash: String,
+    /// The SHA-256 of each take's file, in the order of `motions` (the model's provenance).
+    take_sha256: Vec<String>,
     used_rows: usize,
     left_out: Vec<String>,
 }
@@ -483,6 +499,7 @@ fn prepare(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Prepared, Me
     Ok(Prepared {
         name,
         command,
+        take_sha256: take_hashes(&motions.iter().map(|m| m.name.clone()).collect::<Vec<_>>(), &hashed),
         data_hash: data_hash(&hashed, labels.as_bytes()),
         labels_name,
         motions,
@@ -615,7 +632,8 @@ impl Training for DtfcnTraining {
         let trained = trainer.finish().map_err(MethodError::Failed)?;
         let (ran, best, stopped) = (trained.reports.len(), trained.best_epoch, trained.stopped);
         let meta = prepared.meta(ModelKind::Dtfcn, &options);
-        let model = model_from(trained, &takes, &prepared.classes, &options.train, &meta);
+        let mut model = model_from(trained, &takes, &prepared.classes, &options.train, &meta);
+        model.header.provenance.take_sha256 = prepared.take_sha256.clone();
         let bytes = model.to_bytes().map_err(MethodError::Failed)?;
         let how = if stopped {
             format!("stopped after {ran} of {} epochs", options.train.epochs)
@@ -650,8 +668,9 @@ impl Training for KnnTraining {
         let takes: Vec<(&Motion, &[Option<usize>])> =
             p.motions.iter().zip(&p.labels_per_take).map(|(m, l)| (m, &l[..])).collect();
         let meta = p.meta(ModelKind::Knn, &self.options);
-        let model = fit_knn_model(&takes, &p.classes, &meta)
+        let mut model = fit_knn_model(&takes, &p.classes, &meta)
             .map_err(|m| MethodError::param("labels", format!("{}: {m}", p.labels_name)))?;
+        model.header.provenance.take_sha256 = p.take_sha256.clone();
         let frames = model.header.provenance.frames;
         self.model = Some(model);
         self.done = true;

@@ -176,6 +176,13 @@ pub fn model_info(name: &str, model: &EffortModel) -> ModelInfo {
         colours: Vec::new(),
         origin: model.origin.clone(),
         provenance: vec![("segments".into(), model.samples.to_string()), ("rate".into(), format!("{} Hz", model.fps))],
+        // the family file names its takes only inside its origin line: the card says that line
+        card: crate::method::cards::ModelCard {
+            method: "lma".into(),
+            name: name.into(),
+            origin: model.origin.clone(),
+            ..Default::default()
+        },
     }
 }
 
