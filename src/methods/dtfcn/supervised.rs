@@ -761,6 +761,39 @@ mod tests {
         assert!(e.to_string().contains("epochs"), "{e}");
     }
 
+    /// A model trained here records the SHA-256 of each training take's file, in its provenance
+    /// and its card, so the page can tell a training take by its content (a renamed copy too).
+    #[test]
+    fn a_trained_model_records_each_takes_file_hash() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures");
+        let takes: Vec<(String, Vec<u8>)> = ["35_01.bvh", "02_01.bvh"]
+            .iter()
+            .map(|f| (f.to_string(), std::fs::read(dir.join(f)).unwrap()))
+            .collect();
+        let expected: Vec<String> = takes.iter().map(|(_, b)| super::super::model::sha256_hex(b)).collect();
+        let ask = TrainingAsk {
+            name: "hashed".into(),
+            labels_name: "l.csv".into(),
+            labels: "file,start_frame,end_frame,label\n35_01.bvh,0,199,stand\n35_01.bvh,200,357,reach\n\
+                     02_01.bvh,0,150,walk\n02_01.bvh,151,342,stand\n"
+                .into(),
+            takes,
+            options: serde_json::json!({}),
+            command: None,
+        };
+        let mut training = start_training(ModelKind::Knn, ask, &mut crate::method::NoProgress).unwrap();
+        while !training.done() {
+            training.step(&mut crate::method::NoProgress).unwrap();
+        }
+        let trained = training.finish().unwrap();
+        let card = &trained.model.info.card;
+        assert_eq!(card.takes, vec!["35_01.bvh".to_string(), "02_01.bvh".to_string()]);
+        assert_eq!(card.take_sha256, expected);
+        assert!(card.held_out.is_none(), "a model trained here has no held-out figure");
+        let back = Model::from_bytes(&trained.bytes, "hashed.model").unwrap();
+        assert_eq!(back.header.provenance.take_sha256, expected, "in the file too");
+    }
+
     #[test]
     fn the_provenance_command_repeats_every_basic_row_and_every_changed_one_as_its_flag() {
         let read = options_from_json(
