@@ -13,7 +13,9 @@
 //! * `#<method>-row-shipped` — one click back to the shipped model last used (shown while a
 //!   model of the user's is chosen).
 //!
-//! The shipped models' cards are `models/cards.json` (`mocapseg model-cards`, fetched once); a
+//! The shipped models' cards are `models/cards.json` (`mocapseg model-cards`, fetched once, when a
+//! supervised method first has a result or a card is opened: a page that runs only SSSM fetches
+//! nothing beside itself); a
 //! model the user trained or loaded carries its own ([`crate::method::supervised::ModelInfo::card`]).
 
 use std::cell::RefCell;
@@ -35,6 +37,8 @@ const SAMPLE_TAKE: &str = "13_30.bvh";
 /// Where the shipped models' cards stand.
 #[derive(Debug, Clone, PartialEq)]
 enum ShippedCards {
+    /// Not asked yet: a page whose supervised methods never run fetches nothing.
+    Unasked,
     Loading,
     Ready(Vec<ModelCard>),
     Failed(String),
@@ -47,14 +51,13 @@ thread_local! {
         const { RefCell::new(None) };
 }
 
-/// The shared signals, made (and the cards fetched, the take hashed on each load) on first use.
-fn shared(state: AppState, loader: &Loader) -> (RwSignal<ShippedCards>, RwSignal<Option<(String, usize, String)>>) {
-    if let Some(s) = SHARED.with(|s| *s.borrow()) {
-        return s;
+/// Fetches the shipped cards unless asked before (when a supervised method has a result to
+/// describe, or a card is opened).
+fn want_cards(cards: RwSignal<ShippedCards>, loader: &Loader) {
+    if cards.get_untracked() != ShippedCards::Unasked {
+        return;
     }
-    let cards = RwSignal::new(ShippedCards::Loading);
-    let sha = RwSignal::new(None);
-    SHARED.with(|s| *s.borrow_mut() = Some((cards, sha)));
+    cards.set(ShippedCards::Loading);
     let url = loader.model_url("cards.json");
     wasm_bindgen_futures::spawn_local(async move {
         let read = model_files::fetch(&url, 0, |_| {}).await.and_then(|bytes| {
@@ -65,6 +68,16 @@ fn shared(state: AppState, loader: &Loader) -> (RwSignal<ShippedCards>, RwSignal
             Err(message) => ShippedCards::Failed(message),
         });
     });
+}
+
+/// The shared signals, made (and the take hashed on each load) on first use.
+fn shared(state: AppState, loader: &Loader) -> (RwSignal<ShippedCards>, RwSignal<Option<(String, usize, String)>>) {
+    if let Some(s) = SHARED.with(|s| *s.borrow()) {
+        return s;
+    }
+    let cards = RwSignal::new(ShippedCards::Unasked);
+    let sha = RwSignal::new(None);
+    SHARED.with(|s| *s.borrow_mut() = Some((cards, sha)));
     // the take on screen's file hashed once per load (a few milliseconds for a few MB)
     let loader = loader.clone();
     Effect::new(move |_| {
@@ -108,7 +121,7 @@ fn card_of(slot: &'static MethodSlot, name: &str, shipped: &ShippedCards) -> Res
         return Ok(card);
     }
     match shipped {
-        ShippedCards::Loading => Err("reading the models' cards…".into()),
+        ShippedCards::Unasked | ShippedCards::Loading => Err("reading the models' cards…".into()),
         ShippedCards::Failed(message) => Err(format!("no card: {message}")),
         ShippedCards::Ready(cards) => cards
             .iter()
@@ -161,7 +174,7 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
         return ().into_any();
     };
     let (cards, sha) = shared(state, &loader);
-    rerun_on_change(slot, loader, index);
+    rerun_on_change(slot, loader.clone(), index);
     let method = slot.info.name.clone();
     let short = slot.info.short.clone();
     // the shipped model to go back to: the last one used
@@ -174,6 +187,11 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
     });
     let is_shipped = move || value.with(|v| s.decl.shipped.contains(v));
     let open = RwSignal::new(false);
+    Effect::new(move |_| {
+        if slot.view.with(Option::is_some) || open.get() {
+            want_cards(cards, &loader);
+        }
+    });
     let found = move || chosen_card(state, slot, cards, sha).and_then(|(_, m)| m);
     let warning = move || found().map(|m| m.warning());
     let summary = move || match chosen_card(state, slot, cards, sha).map(|(c, _)| c) {
@@ -249,6 +267,11 @@ pub fn ModelCardView(state: AppState, index: usize, id: String) -> impl IntoView
     let slot: &'static MethodSlot = &state.methods[index];
     let Some(loader) = page_loader() else { return ().into_any() };
     let (cards, sha) = shared(state, &loader);
+    Effect::new(move |_| {
+        if slot.view.with(Option::is_some) {
+            want_cards(cards, &loader);
+        }
+    });
     let chosen = move || chosen_card(state, slot, cards, sha);
     let prefix = id.clone();
     let lines = move || {
