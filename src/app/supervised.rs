@@ -121,6 +121,8 @@ pub struct TrainAsk {
     pub extra: Vec<(String, Arc<Vec<u8>>)>,
     /// The options as the method's table reads them.
     pub options: serde_json::Value,
+    /// Continue the training of this model of the user's instead of starting afresh.
+    pub continue_from: Option<String>,
 }
 
 /// A supervised method's training and models on the page, as signals (part of its

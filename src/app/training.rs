@@ -246,7 +246,8 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
     };
 
     let start_loader = loader.clone();
-    let start = move || {
+    // a training afresh, or (`from`: a model of the user's) more epochs of that model
+    let start_with = move |from: Option<String>| {
         if busy() {
             return;
         }
@@ -269,14 +270,29 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
         start_loader.train(
             index,
             TrainAsk {
-                name: s.name.get_untracked().trim().to_string(),
+                name: from.clone().unwrap_or_else(|| s.name.get_untracked().trim().to_string()),
                 labels_name,
                 labels: text,
                 extra: if s.decl.more_takes { s.extra.get_untracked() } else { Vec::new() },
                 options,
+                continue_from: from,
             },
         );
     };
+    let start = {
+        let start_with = start_with.clone();
+        move || start_with(None)
+    };
+    // "continue training": the chosen model, when it is one of the user's networks (trained in
+    // epochs), for the epochs the form asks
+    let chosen = move || slot.param("model").map(|(v, _)| v.get()).filter(|m| s.models.with(|l| l.iter().any(|u| u.info.name == *m)));
+    let epochs_field = s.decl.training.iter().position(|spec| spec.name == "epochs").map(|i| s.fields[i]);
+    let can_continue = move || s.decl.step_name == "epoch" && epochs_field.is_some() && chosen().is_some();
+    let continue_text = move || {
+        let more = epochs_field.map(|f| f.get()).unwrap_or_default();
+        format!("Continue training `{}` for {more} more {}s", chosen().unwrap_or_default(), s.decl.step_name)
+    };
+    let on_continue = move |_| start_with(chosen());
     let on_start = {
         let start = start.clone();
         move |ev: leptos::ev::SubmitEvent| {
@@ -491,6 +507,17 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
                         disabled=move || busy() || s.labels.with(Option::is_none) || state.motion.with(Option::is_none)
                     >
                         "Train"
+                    </button>
+                    <button
+                        id=format!("{method}-train-continue")
+                        class="ms-button ms-button--quiet"
+                        type="button"
+                        hidden=move || !can_continue()
+                        disabled=move || busy() || s.labels.with(Option::is_none) || state.motion.with(Option::is_none)
+                        title="More epochs of the chosen model (its weights, classes and input scaling kept) on the labels chosen"
+                        on:click=on_continue
+                    >
+                        {continue_text}
                     </button>
                     <button
                         id=format!("{method}-train-stop")

@@ -705,6 +705,7 @@ mod cli {
             takes,
             options,
             command: Some(std::env::args().collect::<Vec<_>>().join(" ")),
+            start_from: None,
         };
         let started = Instant::now();
         let bar = ProgressBar::new(1000);

@@ -213,6 +213,26 @@ test("a training that ends after another take was opened is not applied to it; k
   // trained on this very take: the warning, by content
   await page.locator("#dtfcn-row-in-sample").waitFor({ state: "visible" });
   assert.match(await page.getAttribute("#dtfcn-row-in-sample", "title"), /same file as its training take sample\.bvh/);
+  // continue training it: two more epochs from its weights, its classes kept; applied (same take)
+  const epochsBefore = Number((await text(page, "#dtfcn-model-card-training")).match(/(\d+) epochs?,/)[1]);
+  const enough = ["file,start_frame,end_frame,label", "sample.bvh,0,599,kick", "sample.bvh,600,1199,stand"].join("\n") + "\n";
+  await page.setInputFiles("#dtfcn-train-labels", { name: "more.csv", mimeType: "text/csv", buffer: Buffer.from(enough) });
+  await page.click("#dtfcn-training summary");
+  await page.fill("#dtfcn-train-epochs", "2");
+  const button = page.locator("#dtfcn-train-continue:not([disabled])");
+  await button.waitFor();
+  assert.equal((await button.textContent()).trim(), "Continue training `e2e-bound` for 2 more epochs");
+  await watchRuns("dtfcn");
+  const t0 = Date.now();
+  await button.click();
+  await page.waitForFunction(() => document.body.dataset.dtfcnTraining === "training", null, { timeout: TIMEOUT });
+  await waitData(page, "dtfcnTraining", "done", TIMEOUT * 3);
+  console.log(`  (2 more epochs of e2e-bound: ${((Date.now() - t0) / 1000).toFixed(1)} s)`);
+  assert.match(await text(page, "#dtfcn-train-status"), /2 epochs more \(continued from `e2e-bound`, \d+ epochs before\)/);
+  await ranAgain("dtfcn");
+  assert.equal(await page.inputValue("#dtfcn-model"), "e2e-bound");
+  assert.match(await text(page, "#dtfcn-model-card-training"), new RegExp(`${epochsBefore + 2} epochs`));
+  assert.match(await text(page, "#dtfcn-model-card-classes"), /^2: stand, kick$/, "the model's classes, in its order");
   // a renamed copy of the take is still matched by its content
   await page.setInputFiles("#file-input", { name: "renamed.bvh", mimeType: "text/plain", buffer: readFileSync(SAMPLE) });
   await waitReady(page, "renamed.bvh");

@@ -276,6 +276,7 @@ pub(super) fn send_train_job(inner: &Rc<Inner>) -> Result<(), String> {
             labels: ask.labels.clone(),
             takes,
             options: ask.options.clone(),
+            continue_from: ask.continue_from.clone(),
             bytes: Vec::new(),
         };
         (job.id, request, extra)
