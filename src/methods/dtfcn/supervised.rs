@@ -913,7 +913,11 @@ mod tests {
         let e = train(ask("35_01.bvh,0,199,stand\n35_01.bvh,200,357,jump\n", Some(first.model.clone()))).err().unwrap();
         assert_eq!(e.param_name(), Some("labels"));
         assert!(e.to_string().contains("`jump` not among `mine`'s (stand, reach)"), "{e}");
-        let knn = start_training(ModelKind::Knn, ask("35_01.bvh,0,199,stand\n35_01.bvh,200,357,reach\n", Some(first.model)), &mut crate::method::NoProgress);
+        let knn_ask = TrainingAsk {
+            options: serde_json::json!({}),
+            ..ask("35_01.bvh,0,199,stand\n35_01.bvh,200,357,reach\n", Some(first.model))
+        };
+        let knn = start_training(ModelKind::Knn, knn_ask, &mut crate::method::NoProgress);
         assert_eq!(knn.err().unwrap().param_name(), Some("name"));
     }
 
