@@ -5,7 +5,9 @@
 //! and `<!-- accuracy:end -->`: in each method's page (`docs/methods/<method>.md`; the k-NN's rows go to `dtfcn.md`)
 //! that method's rows beside the chance and oracle-K (equal parts) rows, with each fold's choice, and in the README
 //! a summary (the held-out column of every method, linking to the pages). `--from-json docs/accuracy.json` writes
-//! the markdown again from a saved JSON without evaluating anything (no data needed: seconds).
+//! the markdown again from a saved JSON without evaluating anything (no data needed: seconds). With accuracy.json it
+//! writes `models/cards.json`, the shipped models' cards with the held-out figures just measured
+//! (`mocapseg::method::cards`; `mocapseg model-cards` writes the same from a saved accuracy.json).
 //!
 //! * **Actions** — CMU 86_01 (Barbič/Zhou labels) and the mocap6 takes 13_29, 13_30, 13_31, 14_14 (Fox/Hughes). Columns:
 //!   - *defaults*: the method as shipped (its defaults; for DT-FCN and the k-NN the shipped models, trained on these
@@ -810,8 +812,13 @@ mod lab {
         });
         std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
         let json_path = args.out.join("accuracy.json");
-        std::fs::write(&json_path, serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?)
-            .map_err(|e| format!("{}: {e}", json_path.display()))?;
+        let text = serde_json::to_string_pretty(&json).map_err(|e| e.to_string())?;
+        std::fs::write(&json_path, &text).map_err(|e| format!("{}: {e}", json_path.display()))?;
+        // the shipped models' cards, with the held-out figures just measured (the page shows them)
+        let cards_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models").join("cards.json");
+        let cards = mocapseg::method::cards::cards_json(&text, "cargo run --example accuracy (make accuracy)")?;
+        std::fs::write(&cards_path, cards).map_err(|e| format!("{}: {e}", cards_path.display()))?;
+        eprintln!("wrote {}", cards_path.display());
         let md = write_markdown(&args, &take_names, &actions, &gestures, seconds)?;
         print!("{md}");
         eprintln!("wrote {} and {}", args.out.join("accuracy.md").display(), json_path.display());

@@ -85,6 +85,10 @@ pub enum Request {
         labels: String,
         takes: Vec<String>,
         options: serde_json::Value,
+        /// Continue the training of this model of the user's (stored in the worker) for the
+        /// epochs asked, instead of starting from random weights.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        continue_from: Option<String>,
         /// Buffers 0.., one per take.
         #[serde(skip)]
         bytes: Vec<Vec<u8>>,
@@ -635,6 +639,7 @@ mod tests {
             labels: "file,start_frame,end_frame,label\n".into(),
             takes: vec!["a.bvh".into(), "b.bvh".into()],
             options: serde_json::json!({"epochs": 3}),
+            continue_from: Some("older".into()),
             bytes: vec![b"A".to_vec(), b"B".to_vec()],
         };
         let packet = train.clone().into_packet();
@@ -653,6 +658,11 @@ mod tests {
                 colours: vec!["#000000".into(), "#ffffff".into()],
                 origin: "2 classes".into(),
                 provenance: vec![("takes".into(), "a.bvh".into())],
+                card: crate::method::cards::ModelCard {
+                    takes: vec!["a.bvh".into()],
+                    take_sha256: vec!["00ff".into()],
+                    ..Default::default()
+                },
             },
             report: TrainingReport { summary: "Trained".into(), ..TrainingReport::default() },
             bytes: b"MODEL".to_vec(),

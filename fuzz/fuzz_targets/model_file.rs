@@ -54,6 +54,7 @@ fn header(kind: ModelKind, classes: usize) -> ModelHeader {
             options: TrainOptions::default(),
             epochs_run: 0,
             best_epoch: 0,
+            take_sha256: vec![],
         },
         payload_sha256: String::new(),
         written_by: "mocapseg-fuzz".into(),

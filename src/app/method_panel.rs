@@ -23,6 +23,7 @@
 
 use super::loader::Loader;
 use super::motion_image::{download, stem};
+use super::row_model::RowModel;
 use super::{AppState, MethodSlot, RunState, Selection};
 use crate::clips::Which;
 use crate::method::{ParamKind, ParamSpec, Picture};
@@ -663,8 +664,9 @@ pub fn MethodRows(state: AppState) -> impl IntoView {
     state
         .methods
         .iter()
-        .flat_map(|slot| [(slot, false), (slot, true)])
-        .map(|(slot, primitive)| {
+        .enumerate()
+        .flat_map(|(index, slot)| [(index, slot, false), (index, slot, true)])
+        .map(|(index, slot, primitive)| {
             let levels = if primitive { PRIMITIVE_LEVELS } else { ACTION_LEVELS };
             let row_id = format!("{}-{}", slot.info.name, if primitive { "primitives" } else { "actions" });
             let label = Signal::derive(move || slot.view.with(|v| row_label(slot, v.as_deref(), primitive)));
@@ -673,9 +675,9 @@ pub fn MethodRows(state: AppState) -> impl IntoView {
                 crate::view::rows::row_tooltip(&slot.info.short, kind)
             });
             let stale = Signal::derive(move || stale_reason(slot));
-            view! {
-                <SegmentRow state=state row_id=row_id source=slot.view.into() levels=levels label=label tip=tip stale=stale/>
-            }
+            // a supervised method's labelling row shows its model and lets the user change it there
+            let model = (slot.supervised.is_some() && !primitive).then_some(index);
+            view! { <SegmentRow state=state row_id=row_id source=slot.view.into() levels=levels label=label tip=tip stale=stale model=model/> }
         })
         .collect_view()
 }
@@ -706,6 +708,9 @@ pub fn SegmentRow(
     #[prop(optional)]
     tip: Option<Signal<String>>,
     #[prop(optional)] stale: Option<Signal<Option<String>>>,
+    /// The method (registry index) whose model choice the row's label shows ([`RowModel`]).
+    #[prop(default = None)]
+    model: Option<usize>,
 ) -> impl IntoView {
     let tip = move || tip.map_or_else(|| label.get(), |t| t.get());
     let stale = move || stale.and_then(|s| s.get());
@@ -736,7 +741,10 @@ pub fn SegmentRow(
     };
     view! {
         <div class="ms-tl-line ms-tl-line--row" hidden=hidden>
-            <div class="ms-tl-label" title=tip>{label}</div>
+            <div class="ms-tl-label" class:ms-tl-label--model=model.is_some() title=tip>
+                <span class="ms-tl-label-name">{label}</span>
+                {model.map(|index| view! { <RowModel state=state index=index/> })}
+            </div>
             <div
                 id=format!("row-{row_id}")
                 class="ms-row ms-tl-lane"

@@ -25,6 +25,7 @@
 //! The timeline's "my labels" row ([`my_labels`], `data-my-labels`) holds the user's own
 //! corrections.
 
+mod browser_models;
 mod drop_zone;
 mod embed;
 mod error_banner;
@@ -40,6 +41,7 @@ mod my_labels;
 mod playback;
 mod player;
 mod progress;
+mod row_model;
 mod row_exports;
 mod stopped;
 mod summary;

@@ -72,6 +72,28 @@ pub struct UserModel {
     pub bytes: Arc<Vec<u8>>,
 }
 
+/// A model whose training finished after another take was opened: held until the user says
+/// what to do with it ([`PendingChoice`]); nothing is applied to the take on screen unasked.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PendingModel {
+    pub info: ModelInfo,
+    pub bytes: Arc<Vec<u8>>,
+    /// The take it was trained on, and the one on screen when it finished.
+    pub trained_on: String,
+    pub now_on: String,
+}
+
+/// What the user does with a [`PendingModel`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PendingChoice {
+    /// List it in the model choice (and keep it in this browser) without running it.
+    Keep,
+    /// As Keep, and run the method on the take on screen with it.
+    Apply,
+    /// Forget it.
+    Discard,
+}
+
 /// A trained model the page offers for download.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrainedFile {
@@ -99,6 +121,8 @@ pub struct TrainAsk {
     pub extra: Vec<(String, Arc<Vec<u8>>)>,
     /// The options as the method's table reads them.
     pub options: serde_json::Value,
+    /// Continue the training of this model of the user's instead of starting afresh.
+    pub continue_from: Option<String>,
 }
 
 /// A supervised method's training and models on the page, as signals (part of its
@@ -126,6 +150,8 @@ pub struct Supervised {
     pub errors: RwSignal<Vec<(String, String)>>,
     /// The last trained model.
     pub trained: RwSignal<Option<TrainedFile>>,
+    /// A model trained on another take than the one on screen now, waiting for the user's choice.
+    pub pending: RwSignal<Option<PendingModel>>,
     /// What another part of the page asks (taken by the panel).
     pub request: RwSignal<Option<TrainRequest>>,
     /// Every model the user gave the page or trained in it, in the order given (one per name).
@@ -151,6 +177,7 @@ impl Supervised {
             report: RwSignal::new(None),
             errors: RwSignal::new(Vec::new()),
             trained: RwSignal::new(None),
+            pending: RwSignal::new(None),
             request: RwSignal::new(None),
             models: RwSignal::new(Vec::new()),
             file_state: RwSignal::new(LoadStatus::Idle),

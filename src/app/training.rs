@@ -30,8 +30,11 @@ use super::loader::{Loader, MAX_FILE_BYTES};
 use super::method_panel::field;
 use super::motion_image::{download, stem};
 use super::supervised::{LoadStatus, Supervised, TrainAsk, TrainRequest, TrainState};
+use super::row_model::ModelCardView;
+use super::supervised::PendingChoice;
 use super::AppState;
 use crate::method::supervised::StepReport;
+use crate::view::training_advice;
 use crate::method::{form, ParamSpec};
 use js_sys::Uint8Array;
 use leptos::html::Canvas;
@@ -123,7 +126,7 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
         if mine.is_empty() {
             format!("Shipped {short} models: {shipped}. Load a model file to add your own.")
         } else {
-            format!("Shipped {short} models: {shipped}; yours: {}.", mine.join(", "))
+            format!("Shipped {short} models: {shipped}; yours (kept in this browser): {}.", mine.join(", "))
         }
     };
     let id = format!("{method}-model-file");
@@ -149,6 +152,7 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
                 {status}
             </span>
         </div>
+        <ModelCardView state=state index=index id=format!("{method}-model-card")/>
     }
     .into_any()
 }
@@ -242,7 +246,8 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
     };
 
     let start_loader = loader.clone();
-    let start = move || {
+    // a training afresh, or (`from`: a model of the user's) more epochs of that model
+    let start_with = move |from: Option<String>| {
         if busy() {
             return;
         }
@@ -265,14 +270,29 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
         start_loader.train(
             index,
             TrainAsk {
-                name: s.name.get_untracked().trim().to_string(),
+                name: from.clone().unwrap_or_else(|| s.name.get_untracked().trim().to_string()),
                 labels_name,
                 labels: text,
                 extra: if s.decl.more_takes { s.extra.get_untracked() } else { Vec::new() },
                 options,
+                continue_from: from,
             },
         );
     };
+    let start = {
+        let start_with = start_with.clone();
+        move || start_with(None)
+    };
+    // "continue training": the chosen model, when it is one of the user's networks (trained in
+    // epochs), for the epochs the form asks
+    let chosen = move || slot.param("model").map(|(v, _)| v.get()).filter(|m| s.models.with(|l| l.iter().any(|u| u.info.name == *m)));
+    let epochs_field = s.decl.training.iter().position(|spec| spec.name == "epochs").map(|i| s.fields[i]);
+    let can_continue = move || s.decl.step_name == "epoch" && epochs_field.is_some() && chosen().is_some();
+    let continue_text = move || {
+        let more = epochs_field.map(|f| f.get()).unwrap_or_default();
+        format!("Continue training `{}` for {more} more {}s", chosen().unwrap_or_default(), s.decl.step_name)
+    };
+    let on_continue = move |_| start_with(chosen());
     let on_start = {
         let start = start.clone();
         move |ev: leptos::ev::SubmitEvent| {
@@ -417,6 +437,26 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
         })
     };
     let no_report = move || s.report.with(|r| r.as_ref().is_none_or(|r| r.rows.is_empty()));
+    // advice before training: classes with too few labelled segments or seconds in the takes trained on
+    let advice = move || {
+        let Some((name, text)) = s.labels.get() else { return Vec::new() };
+        let Ok(rows) = crate::labels::read_csv(&text, &name) else { return Vec::new() };
+        let Some((take, fps)) = state.motion.with(|m| m.as_ref().map(|m| (m.summary.name.clone(), m.summary.fps)))
+        else {
+            return Vec::new();
+        };
+        // the other takes' rates are not read before training: their rows are counted at this take's
+        let takes: Vec<(String, f64)> = std::iter::once((take, fps))
+            .chain(s.extra.with(|e| e.iter().map(|(n, _)| (n.clone(), fps)).collect::<Vec<_>>()))
+            .collect();
+        training_advice::advice(&training_advice::class_counts(&rows, &takes))
+    };
+    let settle = {
+        let loader = loader.clone();
+        move |choice: PendingChoice| loader.settle_trained(index, choice)
+    };
+    let (keep, apply, discard) = (settle.clone(), settle.clone(), settle);
+    let pending_now = move || s.pending.with(|p| p.as_ref().map(|p| p.now_on.clone())).unwrap_or_default();
     let stopping = move || s.state.with(|st| *st == TrainState::Stopping);
     let labels_id = format!("{method}-train-labels");
     let labels_accept = ".csv,text/csv";
@@ -437,6 +477,10 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
                     {error("labels")}
                 </div>
                 {more_takes}
+                <ul id=format!("{method}-train-advice") class="ms-train-advice" role="note"
+                    aria-label="Advice before training" hidden=move || advice().is_empty()>
+                    {move || advice().into_iter().map(|line| view! { <li>{line}</li> }).collect_view()}
+                </ul>
                 <div class="ms-method-params">
                     {basic}
                     <label title="The model's name in the model choice, and its file's name.">
@@ -463,6 +507,17 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
                         disabled=move || busy() || s.labels.with(Option::is_none) || state.motion.with(Option::is_none)
                     >
                         "Train"
+                    </button>
+                    <button
+                        id=format!("{method}-train-continue")
+                        class="ms-button ms-button--quiet"
+                        type="button"
+                        hidden=move || !can_continue()
+                        disabled=move || busy() || s.labels.with(Option::is_none) || state.motion.with(Option::is_none)
+                        title="More epochs of the chosen model (its weights, classes and input scaling kept) on the labels chosen"
+                        on:click=on_continue
+                    >
+                        {continue_text}
                     </button>
                     <button
                         id=format!("{method}-train-stop")
@@ -499,6 +554,15 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
             >
                 {move || s.status.get()}
             </p>
+            <div id=format!("{method}-train-pending") class="ms-train-pending" role="group"
+                aria-label="A model trained on another take" hidden=move || s.pending.with(Option::is_none)>
+                <button id=format!("{method}-train-keep") class="ms-button" type="button"
+                    on:click=move |_| keep(PendingChoice::Keep)>"Keep it for later"</button>
+                <button id=format!("{method}-train-apply") class="ms-button ms-button--quiet" type="button"
+                    on:click=move |_| apply(PendingChoice::Apply)>{move || format!("Apply it to {}", pending_now())}</button>
+                <button id=format!("{method}-train-discard") class="ms-button ms-button--quiet" type="button"
+                    on:click=move |_| discard(PendingChoice::Discard)>"Discard it"</button>
+            </div>
             <table id=format!("{method}-train-report") class="ms-lma-report" hidden=no_report>
                 <thead><tr>{report_head}</tr></thead>
                 <tbody>{report_rows}</tbody>

@@ -235,6 +235,17 @@ mod cli {
             #[arg(long)]
             method: Option<String>,
         },
+        /// Write the shipped models' cards (training takes, classes, command, held-out accuracy from
+        /// the scoreboard where it measured one, else "not measured") as JSON: what the page shows
+        /// beside each model choice. `make accuracy` writes them too.
+        ModelCards {
+            /// The scoreboard's JSON.
+            #[arg(long, default_value = "docs/accuracy.json")]
+            accuracy: PathBuf,
+            /// Where to write them.
+            #[arg(long, default_value = "models/cards.json")]
+            out: PathBuf,
+        },
         /// Score segmentation JSON against ground truth (boundary P/R/F1 at 0.5 s and 1 s, covering,
         /// Hungarian frame accuracy, strict/tolerant accuracy, edit, F1@k, segment score). One file: JSON;
         /// several files or a folder of predictions: one markdown table with the mean (--json for JSON).
@@ -390,6 +401,7 @@ mod cli {
                 effort(&segmentation, &take, lma_model.as_deref(), out.as_deref())
             }
             Command::ModelInfo { file, method } => crate::dtfcn_cli::model_info(&file, method.as_deref()),
+            Command::ModelCards { accuracy, out } => model_cards(&accuracy, &out),
             Command::Labels { truth, first_frame, row_offset, out } => {
                 labels(&truth, TruthOptions { first_frame, bvh_row_offset: row_offset }, out)
             }
@@ -471,6 +483,16 @@ mod cli {
 
     fn load(file: &Path) -> Result<Loaded, String> {
         load_path(file).map_err(|e| e.to_string())
+    }
+
+    /// `mocapseg model-cards`: the shipped models' cards, held-out figures from the scoreboard.
+    fn model_cards(accuracy: &Path, out: &Path) -> Result<(), String> {
+        let text = std::fs::read_to_string(accuracy).map_err(|e| format!("{}: {e}", accuracy.display()))?;
+        let generated_by = format!("mocapseg model-cards --accuracy {} --out {}", accuracy.display(), out.display());
+        let json = method::cards::cards_json(&text, &generated_by).map_err(|e| format!("{}: {e}", accuracy.display()))?;
+        std::fs::write(out, json).map_err(|e| format!("{}: {e}", out.display()))?;
+        eprintln!("wrote {}", out.display());
+        Ok(())
     }
 
     fn info(file: &Path) -> Result<(), String> {
@@ -683,6 +705,7 @@ mod cli {
             takes,
             options,
             command: Some(std::env::args().collect::<Vec<_>>().join(" ")),
+            start_from: None,
         };
         let started = Instant::now();
         let bar = ProgressBar::new(1000);

@@ -18,6 +18,7 @@
 //! implementing [`Method`]) and one line in the registry. This module knows no method.
 
 pub mod bounds;
+pub mod cards;
 pub mod form;
 pub mod plot;
 pub mod shipped;

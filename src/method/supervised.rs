@@ -64,6 +64,10 @@ pub struct ModelInfo {
     pub origin: String,
     /// Its provenance as labelled lines (the command that made it, the data's hash, …).
     pub provenance: Vec<(String, String)>,
+    /// Its card: training takes (and their files' hashes), classes, command, held-out accuracy
+    /// (never measured for a model read or trained here: only the scoreboard measures it).
+    #[serde(default)]
+    pub card: super::cards::ModelCard,
 }
 
 impl ModelInfo {
@@ -172,6 +176,11 @@ impl ModelStore {
         self.models.iter().filter(|m| m.info.method == method).map(|m| &m.info).collect()
     }
 
+    /// The model of `method` called `name`, as stored.
+    pub fn loaded(&self, method: &str, name: &str) -> Option<Loaded> {
+        self.models.iter().find(|m| m.info.method == method && m.info.name == name).cloned()
+    }
+
     /// The names stored for `method`.
     pub fn names(&self, method: &str) -> Vec<String> {
         self.infos(method).into_iter().map(|i| i.name.clone()).collect()
@@ -276,6 +285,9 @@ pub struct TrainingAsk {
     /// The command that asked for it, for the model's provenance (the command line as typed);
     /// `None` on the page: the method writes the command that trains the same model natively.
     pub command: Option<String>,
+    /// A model of the user's to continue training (its weights, classes and input scaling kept)
+    /// instead of starting from random weights; a method that cannot continue refuses it.
+    pub start_from: Option<Loaded>,
 }
 
 /// One step of a training done.
@@ -351,6 +363,7 @@ mod tests {
             colours: vec![],
             origin: String::new(),
             provenance: vec![],
+            card: Default::default(),
         }
     }
 

@@ -39,6 +39,24 @@ pub fn registry() -> &'static [&'static dyn DynMethod] {
     ]
 }
 
+/// The card of every shipped model of every supervised method (held-out figures not yet added:
+/// [`crate::method::cards::with_held_out`]).
+pub fn shipped_cards() -> Vec<crate::method::cards::ModelCard> {
+    let mut cards = Vec::new();
+    for m in registry() {
+        let (Some(decl), Some(s)) = (m.supervision(), m.supervised()) else { continue };
+        for name in &decl.shipped {
+            if let Ok(loaded) = s.shipped_model(name) {
+                let mut card = loaded.info.card;
+                card.method = m.info().name;
+                card.name = name.clone();
+                cards.push(card);
+            }
+        }
+    }
+    cards
+}
+
 /// The method called `name`.
 pub fn find(name: &str) -> Result<&'static dyn DynMethod, MethodError> {
     let name = name.trim().to_ascii_lowercase();

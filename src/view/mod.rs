@@ -3,16 +3,19 @@
 //! segment navigation, keyboard), readable text on segment colours ([`contrast`]), the rows' export names
 //! ([`export_names`]), the banner when every method fails ([`run_failures`]), the URL
 //! parameters ([`url_params`]), the "my labels" row's edit model ([`my_labels`]) and the metrics
-//! panel's comparison table ([`compare`]: best per column, sorting), and one name per timeline row
-//! ([`rows`]).
+//! panel's comparison table ([`compare`]: best per column, sorting), one name per timeline row
+//! ([`rows`]), a model's card beside its choice ([`model_card`]) and the advice before a training
+//! ([`training_advice`]).
 
 pub mod camera;
 pub mod clock;
 pub mod compare;
 pub mod contrast;
 pub mod export_names;
+pub mod model_card;
 pub mod my_labels;
 pub mod rows;
 pub mod run_failures;
 pub mod timeline;
+pub mod training_advice;
 pub mod url_params;

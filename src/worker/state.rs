@@ -123,12 +123,22 @@ impl WorkerState {
             Request::UseModel { take, run, method, file, bytes } => {
                 post(self.use_model(take, run, &method, &file, &bytes))
             }
-            Request::Train { take, run, method, name, labels_name, labels, takes, options, bytes } => {
+            Request::Train { take, run, method, name, labels_name, labels, takes, options, continue_from, bytes } => {
                 // buffer 0 is the take on screen; the others are what the training adds
                 let added = crate::protocol::extra_takes_total(bytes.iter().skip(1).map(|b| b.len() as u64));
                 if let Err(message) = added {
                     return post(refusal(take, run, &method, MethodError::param("takes", message)));
                 }
+                let start_from = match continue_from {
+                    None => None,
+                    Some(from) => match self.models.loaded(&method, &from) {
+                        Some(loaded) => Some(loaded),
+                        None => {
+                            let message = format!("no model `{from}` of yours to continue training (train it first)");
+                            return post(refusal(take, run, &method, MethodError::param("name", message)));
+                        }
+                    },
+                };
                 let ask = TrainingAsk {
                     name,
                     labels_name,
@@ -136,6 +146,7 @@ impl WorkerState {
                     takes: takes.into_iter().zip(bytes).collect(),
                     options,
                     command: None,
+                    start_from,
                 };
                 match self.start_training(take, run, &method, ask, post) {
                     Ok(()) => self.training_step(post),
@@ -566,6 +577,7 @@ mod tests {
             labels,
             takes: names,
             options,
+            continue_from: None,
             bytes,
         }
     }
@@ -1017,6 +1029,7 @@ mod tests {
             colours: vec!["#ff0000".into(), "#00ff00".into()],
             origin: String::new(),
             provenance: Vec::new(),
+            card: Default::default(),
         };
         odd.colours.pop();
         let bad = Response::ModelStored { take: 1, run: 2, model: odd }.into_packet();

@@ -20,12 +20,17 @@ let opened;
 let page;
 /** Model files the page (not its service worker) asked for, in order. */
 const fetched = [];
+/** How often the page asked for the models' cards (models/cards.json, beside the model files). */
+let cardsFetched = 0;
 
 before(async () => {
   opened = await openPage({ allowConsole: ALLOW });
   page = opened.page;
   opened.context.on("request", (r) => {
-    if (!r.serviceWorker() && r.url().includes("/models/")) fetched.push(new URL(r.url()).pathname.split("/").pop());
+    if (r.serviceWorker() || !r.url().includes("/models/")) return;
+    const file = new URL(r.url()).pathname.split("/").pop();
+    if (file === "cards.json") cardsFetched += 1;
+    else fetched.push(file);
   });
 });
 
@@ -59,12 +64,14 @@ test("a page that runs only SSSM fetches no model; DT-FCN fetches its model when
   await page.goto(url("?methods=sssm"));
   await waitData(page, "sssm", "done");
   assert.deepEqual(fetched, [], "no model fetched for SSSM");
+  assert.equal(cardsFetched, 0, "nor the models' cards");
   await watchStages(page, "dtfcn");
   await showPanel(page, "dtfcn");
   await page.locator("#dtfcn-run:not([disabled])").waitFor({ timeout: TIMEOUT });
   await page.click("#dtfcn-run");
   await waitData(page, "dtfcn", "done");
   assert.deepEqual(fetched, ["dtfcn-exercises.model"], "the default model's file, fetched by the page");
+  assert.equal(cardsFetched, 1, "the cards once DT-FCN has a result");
   const stages = await page.evaluate(() => window.__stages);
   console.log(`  (DT-FCN's stages: ${JSON.stringify(stages)})`);
   assert.ok(stages.some((s) => /fetching the model dtfcn-exercises\.model \(\d+\.\d MB\)/.test(s)), `the fetch is shown: ${JSON.stringify(stages)}`);

@@ -128,6 +128,8 @@ struct Inner {
     model_sync: RefCell<Vec<(RunId, usize, String)>>,
     /// The training under way (one at a time).
     train_job: RefCell<Option<training::TrainJob>>,
+    /// Models kept in this browser being given to the worker after a reload: run, file, bytes.
+    restoring: RefCell<Vec<(RunId, String, Arc<Vec<u8>>)>>,
     /// Keeps the worker's event handlers alive.
     handlers: RefCell<Vec<Handler>>,
     /// Clip exports asked of the worker: the request (sent again once after `not_loaded`), the
@@ -158,6 +160,7 @@ impl Loader {
             model_jobs: RefCell::new(Vec::new()),
             model_sync: RefCell::new(Vec::new()),
             train_job: RefCell::new(None),
+            restoring: RefCell::new(Vec::new()),
             handlers: RefCell::new(Vec::new()),
             clip_jobs: RefCell::new(Vec::new()),
             auto_run: RefCell::new(None),
@@ -165,7 +168,9 @@ impl Loader {
             models,
         });
         spawn_worker(&inner);
-        Loader(inner)
+        let loader = Loader(inner);
+        loader.restore_kept_models();
+        loader
     }
 
     /// Loads the bundled sample.
@@ -254,6 +259,23 @@ impl Loader {
     /// Runs method `index` of the registry on the take on screen with the parameters of its form.
     pub fn run(&self, index: usize) {
         start_run(&self.0, index);
+    }
+
+    /// Runs method `index` again because its model choice changed (on its row or in its panel),
+    /// unless no take is on screen or the run under way already uses that model.
+    pub fn rerun_with_model(&self, index: usize) {
+        let inner = &self.0;
+        if inner.shown.borrow().is_none() {
+            return;
+        }
+        let Some((value, _)) = inner.state.methods[index].param("model") else { return };
+        let model = value.get_untracked();
+        let underway = inner.runs.borrow()[index]
+            .as_ref()
+            .is_some_and(|r| r.params.get("model").and_then(|m| m.as_str()) == Some(model.as_str()));
+        if !underway {
+            start_run(inner, index);
+        }
     }
 
     /// Stops method `index`'s run: the worker is replaced (a wasm worker cannot be interrupted),

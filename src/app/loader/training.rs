@@ -3,11 +3,14 @@
 //! each — for every method that declares [`crate::method::Supervision`], by its slot, never by name.
 
 use super::super::fetch::blob_bytes;
-use super::super::supervised::{describe, LoadStatus, Supervised, TrainAsk, TrainState, TrainedFile, UserModel};
+use super::super::browser_models;
+use super::super::supervised::{
+    describe, LoadStatus, PendingChoice, PendingModel, Supervised, TrainAsk, TrainState, TrainedFile, UserModel,
+};
 use super::super::MethodSlot;
 use super::{next_id, now, post, post_buffers, replace_worker, start_run, Inner, Loader};
 use crate::method::supervised::{ModelInfo, StepReport, TrainingReport};
-use crate::protocol::{FailureKind, Request, Response, RunId};
+use crate::protocol::{FailureKind, Request, Response, RunId, TakeId};
 use leptos::prelude::*;
 use std::rc::Rc;
 use std::sync::Arc;
@@ -29,8 +32,10 @@ pub(super) struct TrainJob {
     ask: TrainAsk,
     /// `performance.now()` when it was (last) sent.
     started: f64,
-    /// The take on screen it was sent with.
+    /// The take on screen it was sent with: a model that finishes after another take was opened
+    /// is not applied to that one unasked ([`on_trained`]).
     take_name: String,
+    take_id: TakeId,
     /// A step was reported (Stop is then read between two steps; before, it replaces the worker).
     stepped: bool,
     /// Stop was pressed.
@@ -68,6 +73,7 @@ impl Loader {
         s.errors.set(Vec::new());
         s.steps.set(Vec::new());
         s.report.set(None);
+        s.pending.set(None);
         s.state.set(TrainState::Training { stage: "starting".into(), step: 0, steps: 1, fraction: 0.0 });
         s.status.set(format!("Training `{}` on the rows of {}…", ask.name, ask.labels_name));
         let id = next_id(inner);
@@ -77,6 +83,7 @@ impl Loader {
             ask,
             started: now(),
             take_name: String::new(),
+            take_id: 0,
             stepped: false,
             stopping: false,
         });
@@ -150,8 +157,14 @@ pub(super) fn drop_model(inner: &Inner, run: RunId, message: String) {
         at.map(|at| sync.remove(at))
     };
     let Some((_, index, name)) = entry else { return };
+    inner.restoring.borrow_mut().retain(|(id, _, _)| *id != run);
     let Some(s) = supervised(inner, index) else { return };
     s.remove(&name);
+    let method = inner.state.methods[index].info.name.clone();
+    let forgotten = name.clone();
+    wasm_bindgen_futures::spawn_local(async move {
+        let _ = browser_models::remove(&method, &forgotten).await;
+    });
     s.file_status.set(format!("The worker could not take your model `{name}` ({message}); it was dropped."));
     s.file_state.set(LoadStatus::Failed);
 }
@@ -201,6 +214,7 @@ pub(super) fn select_model(inner: &Rc<Inner>, index: usize, name: &str) {
         });
         value.set(name.to_string());
     }
+    // the model choice's watcher (`row_model`) re-runs too, and skips a run already using it
     if inner.shown.borrow().is_some() {
         start_run(inner, index);
     }
@@ -218,8 +232,22 @@ pub(super) fn on_model_stored(inner: &Rc<Inner>, run: RunId, info: ModelInfo) {
         describe(&info),
     ));
     s.file_state.set(LoadStatus::Done);
-    s.add(UserModel { info, file: job.file, bytes: job.bytes });
+    keep_model(inner, job.index, UserModel { info, file: job.file, bytes: job.bytes });
     select_model(inner, job.index, &name);
+}
+
+/// A model kept in this browser is in the worker again: it is listed in its method's model choice.
+fn on_model_restored(inner: &Rc<Inner>, info: ModelInfo, file: String, bytes: Arc<Vec<u8>>) {
+    let Some(index) = inner.state.methods.iter().position(|m| m.info.name == info.method) else { return };
+    let Some(s) = supervised(inner, index) else { return };
+    if let Some((_, choices)) = inner.state.methods[index].param("model") {
+        choices.update(|c| {
+            if !c.iter().any(|o| *o == info.name) {
+                c.push(info.name.clone());
+            }
+        });
+    }
+    s.add(UserModel { info, file, bytes });
 }
 
 /// Posts the training under way: the take on screen first (read from its file), then the takes
@@ -229,7 +257,11 @@ pub(super) fn send_train_job(inner: &Rc<Inner>) -> Result<(), String> {
     let (id, request, extra) = {
         let mut job = inner.train_job.borrow_mut();
         let job = job.as_mut().ok_or("no training")?;
-        job.take_name = shown.name.clone();
+        // sent again (a new worker) after another take was opened: still bound to its own take
+        if job.take_name.is_empty() {
+            job.take_name = shown.name.clone();
+            job.take_id = shown.id;
+        }
         job.started = now();
         job.stepped = false;
         let ask = &job.ask;
@@ -244,6 +276,7 @@ pub(super) fn send_train_job(inner: &Rc<Inner>) -> Result<(), String> {
             labels: ask.labels.clone(),
             takes,
             options: ask.options.clone(),
+            continue_from: ask.continue_from.clone(),
             bytes: Vec::new(),
         };
         (job.id, request, extra)
@@ -322,11 +355,128 @@ pub(super) fn on_trained(inner: &Rc<Inner>, model: ModelInfo, report: TrainingRe
     let bytes = Arc::new(bytes);
     let name = model.name.clone();
     s.trained.set(Some(TrainedFile { name: name.clone(), bytes: bytes.clone() }));
-    s.status.set(format!("{} ({seconds:.1} s in this tab, on {})", report.summary, job.take_name));
-    s.report.set(Some(report));
-    s.state.set(TrainState::Done);
-    s.add(UserModel { file: s.file_name(&name), info: model, bytes });
-    select_model(inner, job.index, &name);
+    let shown = inner.shown.borrow().as_ref().map(|t| (t.id, t.name.clone()));
+    match shown {
+        Some((id, now_on)) if id != job.take_id => {
+            // another take was opened meanwhile: nothing is applied to it unasked
+            let short = &inner.state.methods[job.index].info.short;
+            s.status.set(format!(
+                "Trained `{name}` on {}; {now_on} is on screen now, so {short} was not re-run with it ({seconds:.1} s \
+                 in this tab). Keep the model for later, apply it to {now_on} anyway, or discard it.",
+                job.take_name
+            ));
+            s.pending.set(Some(PendingModel { info: model, bytes, trained_on: job.take_name, now_on }));
+            s.report.set(Some(report));
+            s.state.set(TrainState::Done);
+        }
+        _ => {
+            let summary = report.summary.replace(" labels the take with it now.", &format!(" labels {} with it now.", job.take_name));
+            s.status.set(format!("{summary} ({seconds:.1} s in this tab, on {})", job.take_name));
+            s.report.set(Some(report));
+            s.state.set(TrainState::Done);
+            keep_model(inner, job.index, UserModel { file: s.file_name(&name), info: model, bytes });
+            select_model(inner, job.index, &name);
+        }
+    }
+}
+
+/// Adds `model` to method `index`'s models and its model choice (not chosen), and keeps it in
+/// this browser (IndexedDB) so that it is listed again after a reload.
+pub(super) fn keep_model(inner: &Rc<Inner>, index: usize, model: UserModel) {
+    let Some(s) = supervised(inner, index) else { return };
+    let slot = &inner.state.methods[index];
+    if let Some((_, choices)) = slot.param("model") {
+        choices.update(|c| {
+            if !c.iter().any(|o| *o == model.info.name) {
+                c.push(model.info.name.clone());
+            }
+        });
+    }
+    let (method, name, file, bytes) =
+        (slot.info.name.clone(), model.info.name.clone(), model.file.clone(), model.bytes.clone());
+    s.add(model);
+    wasm_bindgen_futures::spawn_local(async move {
+        let kept = browser_models::save(&method, &name, &file, &bytes).await;
+        if let Err(message) = kept {
+            s.file_status.set(format!("`{name}` could not be kept in this browser ({message}): download it to keep it."));
+        }
+    });
+}
+
+impl Loader {
+    /// What to do with a model whose training finished after another take was opened.
+    pub fn settle_trained(&self, index: usize, choice: PendingChoice) {
+        let inner = &self.0;
+        let Some(s) = supervised(inner, index) else { return };
+        let Some(p) = s.pending.get_untracked() else { return };
+        s.pending.set(None);
+        let name = p.info.name.clone();
+        let short = &inner.state.methods[index].info.short;
+        match choice {
+            PendingChoice::Keep => {
+                keep_model(inner, index, UserModel { file: s.file_name(&name), info: p.info, bytes: p.bytes });
+                s.status.set(format!(
+                    "Kept `{name}` (trained on {}) in the {short} model choice; {} still uses the model it had.",
+                    p.trained_on, p.now_on
+                ));
+            }
+            PendingChoice::Apply => {
+                keep_model(inner, index, UserModel { file: s.file_name(&name), info: p.info, bytes: p.bytes });
+                s.status.set(format!("{short} labels {} with `{name}` (trained on {}) now.", p.now_on, p.trained_on));
+                select_model(inner, index, &name);
+            }
+            PendingChoice::Discard => {
+                s.trained.set(None);
+                s.status.set(format!("Discarded `{name}` (trained on {}).", p.trained_on));
+            }
+        }
+    }
+
+    /// The URL of `file` beside the shipped model files (`models/cards.json`).
+    pub fn model_url(&self, file: &str) -> String {
+        self.0.models.url(file)
+    }
+
+    /// The file of the take on screen (its bytes are read when asked).
+    pub fn shown_file(&self) -> Option<(String, web_sys::Blob)> {
+        self.0.shown.borrow().as_ref().map(|t| (t.name.clone(), t.file.clone()))
+    }
+
+    /// The models kept in this browser (IndexedDB), read once when the page starts: each is given
+    /// to the worker and listed in its method's model choice (not chosen).
+    pub fn restore_kept_models(&self) {
+        let inner = self.0.clone();
+        wasm_bindgen_futures::spawn_local(async move {
+            let kept = match browser_models::load_all().await {
+                Ok(kept) => kept,
+                Err(message) => {
+                    web_sys::console::warn_1(&format!("models kept in this browser: {message}").into());
+                    return;
+                }
+            };
+            for k in kept {
+                let Some(index) = inner.state.methods.iter().position(|m| m.info.name == k.method) else { continue };
+                let Some(s) = supervised(&inner, index) else { continue };
+                if s.models.with_untracked(|l| l.iter().any(|m| m.info.name == k.name)) {
+                    continue;
+                }
+                let id = next_id(&inner);
+                inner.model_sync.borrow_mut().push((id, index, k.name.clone()));
+                let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
+                let request = Request::UseModel {
+                    take,
+                    run: id,
+                    method: k.method.clone(),
+                    file: k.file.clone(),
+                    bytes: k.bytes.clone(),
+                };
+                inner.restoring.borrow_mut().push((id, k.file, Arc::new(k.bytes)));
+                if let Err(message) = post(&inner, &request, None) {
+                    drop_model(&inner, id, message);
+                }
+            }
+        });
+    }
 }
 
 /// Sends a new worker what the old one had of the supervised methods' jobs: the model file
@@ -391,7 +541,14 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
                 sync.retain(|(id, _, _)| *id != run);
                 sync.len() != before
             };
-            if !synced {
+            let restored = {
+                let mut restoring = inner.restoring.borrow_mut();
+                let at = restoring.iter().position(|(id, _, _)| *id == run);
+                at.map(|at| restoring.remove(at))
+            };
+            if let Some((_, file, bytes)) = restored {
+                on_model_restored(inner, model, file, bytes);
+            } else if !synced {
                 on_model_stored(inner, run, model);
             }
         }

@@ -14,7 +14,7 @@ use mocapseg::load::load_path;
 use mocapseg::methods::dtfcn::corpus::{
     class_labels, fit_knn_model, leave_one_take_out, rows_without_takes, train_model, ModelMeta,
 };
-use mocapseg::methods::dtfcn::model::data_hash;
+use mocapseg::methods::dtfcn::model::{data_hash, take_hashes};
 use mocapseg::methods::dtfcn::training::{EpochReport, TrainOptions, TrainingTake};
 use mocapseg::methods::lma::corpus::same_file;
 use mocapseg::motion::Motion;
@@ -290,6 +290,8 @@ fn train(
         eprintln!("kept the weights of epoch {} of {}", m.header.provenance.best_epoch, m.header.provenance.epochs_run);
         m
     };
+    let mut model = model;
+    model.header.provenance.take_sha256 = take_hashes(&model.header.provenance.takes, &hashed);
     let bytes = model.to_bytes()?;
     std::fs::write(&out, &bytes).map_err(|e| format!("{}: {e}", out.display()))?;
     eprintln!("wrote {} ({} bytes) in {:.1} s", out.display(), bytes.len(), started.elapsed().as_secs_f64());

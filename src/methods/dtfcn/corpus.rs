@@ -133,6 +133,7 @@ pub fn model_from(
         options: options.clone(),
         epochs_run: trained.reports.len(),
         best_epoch: trained.best_epoch,
+        take_sha256: Vec::new(),
     };
     let mut h = header(ModelKind::Dtfcn, classes, meta, provenance);
     h.network = Some(trained.network.clone());
@@ -156,6 +157,7 @@ pub fn fit_knn_model(
         options: TrainOptions::default(),
         epochs_run: 0,
         best_epoch: 0,
+        take_sha256: Vec::new(),
     };
     let mut h = header(ModelKind::Knn, classes, meta, provenance);
     h.knn = Some(params);

@@ -57,6 +57,11 @@ pub struct Provenance {
     pub data_hash: String,
     /// The training takes' file names.
     pub takes: Vec<String>,
+    /// The SHA-256 of each training take's file, in the order of `takes` (models trained since
+    /// issue 27; empty in older files): a take on screen is matched to them by content, not only
+    /// by name, when the page warns that it was in the model's training set.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub take_sha256: Vec<String>,
     /// Labelled working frames trained on.
     pub frames: usize,
     pub options: TrainOptions,
@@ -124,6 +129,21 @@ impl std::fmt::Debug for Model {
 /// Hex SHA-256 of `bytes`.
 pub fn sha256_hex(bytes: &[u8]) -> String {
     Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// The SHA-256 of the file of each of `takes` (names as in a provenance), found by name among
+/// `files` (file name, bytes); a take without its file gets an empty string, so the list stays in
+/// the order of `takes`.
+pub fn take_hashes(takes: &[String], files: &[(String, Vec<u8>)]) -> Vec<String> {
+    takes
+        .iter()
+        .map(|t| {
+            files
+                .iter()
+                .find(|(f, _)| crate::methods::lma::corpus::same_file(f, t))
+                .map_or_else(String::new, |(_, bytes)| sha256_hex(bytes))
+        })
+        .collect()
 }
 
 /// SHA-256 over training data given as `(file name, file bytes)` pairs (sorted by name first)
@@ -387,6 +407,7 @@ mod tests {
                     options: TrainOptions::default(),
                     epochs_run: 0,
                     best_epoch: 0,
+                    take_sha256: vec![],
                 },
                 payload_sha256: String::new(),
                 written_by: "test".into(),

@@ -12,7 +12,10 @@ use super::corpus::{class_labels, fit_knn_model, model_from, rows_without_takes,
 use super::decode::Decoding;
 use super::input::NetworkInput;
 use super::method::MAX_MIN_DURATION_S;
-use super::model::{data_hash, Model, ModelKind};
+use super::input::Standardise;
+use super::model::{data_hash, take_hashes, Labeller, Model, ModelKind};
+use super::network::{DtFcn, DtFcnConfig};
+use crate::method::cards::ModelCard;
 use super::shipped;
 use super::network::Padding;
 use super::training::{EpochReport, TrainOptions, Trainer, TrainingTake, MAX_MASK_S};
@@ -343,6 +346,19 @@ pub fn model_info(name: &str, model: &Model) -> ModelInfo {
             ("command".into(), p.command.clone()),
             ("data hash".into(), p.data_hash.clone()),
         ],
+        card: ModelCard {
+            method: h.kind.name().into(),
+            name: name.into(),
+            takes: p.takes.clone(),
+            take_sha256: p.take_sha256.clone(),
+            classes: h.classes.clone(),
+            frames: Some(p.frames),
+            epochs_run: (h.kind == ModelKind::Dtfcn).then_some(p.epochs_run),
+            best_epoch: (h.kind == ModelKind::Dtfcn).then_some(p.best_epoch),
+            command: p.command.clone(),
+            origin: String::new(),
+            held_out: None,
+        },
     }
 }
 
@@ -437,6 +453,8 @@ struct Prepared {
     classes: Vec<String>,
     labels_per_take: Vec<Vec<Option<usize>>>,
     data_hash: String,
+    /// The SHA-256 of each take's file, in the order of `motions` (the model's provenance).
+    take_sha256: Vec<String>,
     used_rows: usize,
     left_out: Vec<String>,
 }
@@ -483,6 +501,7 @@ fn prepare(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Prepared, Me
     Ok(Prepared {
         name,
         command,
+        take_sha256: take_hashes(&motions.iter().map(|m| m.name.clone()).collect::<Vec<_>>(), &hashed),
         data_hash: data_hash(&hashed, labels.as_bytes()),
         labels_name,
         motions,
@@ -537,12 +556,22 @@ pub fn start_training(
     progress: &mut dyn Progress,
 ) -> Result<Box<dyn Training>, MethodError> {
     let options = options_from_json(kind, &ask.options)?;
-    let prepared = prepare(ask, progress)?;
+    let start_from = ask.start_from.clone();
+    let mut prepared = prepare(ask, progress)?;
+    let start = match (&start_from, kind) {
+        (None, _) => None,
+        (Some(_), ModelKind::Knn) => {
+            return Err(MethodError::param("name", "a k-NN has no epochs to continue: train it again on all its takes"));
+        }
+        (Some(from), ModelKind::Dtfcn) => Some(continued(from, &mut prepared)?),
+    };
     match kind {
         ModelKind::Knn => Ok(Box::new(KnnTraining { prepared, options, model: None, done: false })),
         ModelKind::Dtfcn => {
             let bad_option = |m: String| MethodError::params(m);
-            options.train.network(prepared.classes.len()).check().map_err(bad_option)?;
+            if start.is_none() {
+                options.train.network(prepared.classes.len()).check().map_err(bad_option)?;
+            }
             progress.step("motion images", 0.5)?;
             let mut training = Vec::with_capacity(prepared.motions.len());
             for (m, l) in prepared.motions.iter().zip(&prepared.labels_per_take) {
@@ -558,10 +587,17 @@ pub fn start_training(
                     labels: t.labels.clone(),
                 })
                 .collect();
-            let trainer = Trainer::new(training, Vec::new(), prepared.classes.clone(), options.train.clone())
-                .map_err(|m| MethodError::param("labels", format!("{}: {m}", prepared.labels_name)))?;
+            let (trainer, previous) = match start {
+                None => (Trainer::new(training, Vec::new(), prepared.classes.clone(), options.train.clone()), None),
+                Some((weights, previous)) => (
+                    Trainer::resume(training, Vec::new(), prepared.classes.clone(), options.train.clone(), weights),
+                    Some(previous),
+                ),
+            };
+            let trainer =
+                trainer.map_err(|m| MethodError::param("labels", format!("{}: {m}", prepared.labels_name)))?;
             progress.step("epoch 1", 0.0)?;
-            Ok(Box::new(DtfcnTraining { prepared, trainer, takes: light, options, largest_loss: 0.0 }))
+            Ok(Box::new(DtfcnTraining { prepared, trainer, takes: light, options, largest_loss: 0.0, previous }))
         }
     }
 }
@@ -574,6 +610,50 @@ struct DtfcnTraining {
     takes: Vec<TrainingTake>,
     options: ModelOptions,
     largest_loss: f64,
+    /// The model this training continues: its name and provenance.
+    previous: Option<(String, super::model::Provenance)>,
+}
+
+/// The weights, network and input scaling of the model `from` to continue training, and its
+/// name and provenance; `prepared`'s classes put in the model's order (the labels may name them
+/// in another order, or only some of them). Refused, naming `name` or `labels`, when `from` is
+/// not a DT-FCN network or the labels have a class it does not know.
+fn continued(
+    from: &Loaded,
+    prepared: &mut Prepared,
+) -> Result<((DtFcnConfig, Standardise, DtFcn), (String, super::model::Provenance)), MethodError> {
+    let name = &from.info.name;
+    let model = from
+        .model
+        .downcast_ref::<Model>()
+        .ok_or_else(|| MethodError::param("name", format!("`{name}` is not a DT-FCN model")))?;
+    let h = &model.header;
+    let (Labeller::Network(net), Some(network), Some(standardise)) = (&model.labeller, &h.network, &h.standardise)
+    else {
+        return Err(MethodError::param("name", format!("`{name}` is not a DT-FCN network: nothing to continue")));
+    };
+    let unknown: Vec<&String> = prepared.classes.iter().filter(|c| !h.classes.contains(c)).collect();
+    if !unknown.is_empty() {
+        return Err(MethodError::param(
+            "labels",
+            format!(
+                "{}: class{} {} not among `{name}`'s ({}): continuing keeps the model's classes; train a new model",
+                prepared.labels_name,
+                if unknown.len() == 1 { "" } else { "es" },
+                unknown.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(", "),
+                h.classes.join(", ")
+            ),
+        ));
+    }
+    let to_model: Vec<usize> =
+        prepared.classes.iter().map(|c| h.classes.iter().position(|m| m == c).unwrap_or(0)).collect();
+    for labels in &mut prepared.labels_per_take {
+        for l in labels.iter_mut().flatten() {
+            *l = to_model[*l];
+        }
+    }
+    prepared.classes = h.classes.clone();
+    Ok(((network.clone(), standardise.clone(), net.clone()), (name.clone(), h.provenance.clone())))
 }
 
 /// An epoch's report as a step's.
@@ -614,17 +694,35 @@ impl Training for DtfcnTraining {
     }
 
     fn finish(self: Box<Self>) -> Result<Trained, MethodError> {
-        let DtfcnTraining { prepared, trainer, takes, options, .. } = *self;
+        let DtfcnTraining { prepared, trainer, takes, options, previous, .. } = *self;
         let trained = trainer.finish().map_err(MethodError::Failed)?;
         let (ran, best, stopped) = (trained.reports.len(), trained.best_epoch, trained.stopped);
         let meta = prepared.meta(ModelKind::Dtfcn, &options);
-        let model = model_from(trained, &takes, &prepared.classes, &options.train, &meta);
-        let bytes = model.to_bytes().map_err(MethodError::Failed)?;
-        let how = if stopped {
+        let mut model = model_from(trained, &takes, &prepared.classes, &options.train, &meta);
+        let p = &mut model.header.provenance;
+        p.take_sha256 = prepared.take_sha256.clone();
+        let mut how = if stopped {
             format!("stopped after {ran} of {} epochs", options.train.epochs)
         } else {
             format!("{ran} epoch{}", if ran == 1 { "" } else { "s" })
         };
+        if let Some((from, before)) = &previous {
+            // the model's history goes on: its epochs before, and every take it has seen
+            how = format!("{how} more (continued from `{from}`, {} epochs before)", before.epochs_run);
+            p.command = format!("{} (continued from `{from}` after its {} epochs)", p.command, before.epochs_run);
+            p.best_epoch += before.epochs_run;
+            p.epochs_run += before.epochs_run;
+            for (i, take) in before.takes.iter().enumerate() {
+                if !p.takes.iter().any(|t| same_file(t, take)) {
+                    p.takes.push(take.clone());
+                    if !p.take_sha256.is_empty() || !before.take_sha256.is_empty() {
+                        p.take_sha256.resize(p.takes.len() - 1, String::new());
+                        p.take_sha256.push(before.take_sha256.get(i).cloned().unwrap_or_default());
+                    }
+                }
+            }
+        }
+        let bytes = model.to_bytes().map_err(MethodError::Failed)?;
         let report = TrainingReport {
             summary: prepared.summary(ModelKind::Dtfcn, &how, Some(best)),
             columns: Vec::new(),
@@ -653,8 +751,9 @@ impl Training for KnnTraining {
         let takes: Vec<(&Motion, &[Option<usize>])> =
             p.motions.iter().zip(&p.labels_per_take).map(|(m, l)| (m, &l[..])).collect();
         let meta = p.meta(ModelKind::Knn, &self.options);
-        let model = fit_knn_model(&takes, &p.classes, &meta)
+        let mut model = fit_knn_model(&takes, &p.classes, &meta)
             .map_err(|m| MethodError::param("labels", format!("{}: {m}", p.labels_name)))?;
+        model.header.provenance.take_sha256 = p.take_sha256.clone();
         let frames = model.header.provenance.frames;
         self.model = Some(model);
         self.done = true;
@@ -743,6 +842,86 @@ mod tests {
         assert_eq!(o.decoding, Some(Decoding { min_duration_s: 2.0, switch_cost: 150.0 }));
         let e = super::options_from_json(ModelKind::Knn, &serde_json::json!({"epochs": 3})).unwrap_err();
         assert!(e.to_string().contains("epochs"), "{e}");
+    }
+
+    /// A model trained here records the SHA-256 of each training take's file, in its provenance
+    /// and its card, so the page can tell a training take by its content (a renamed copy too).
+    #[test]
+    fn a_trained_model_records_each_takes_file_hash() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures");
+        let takes: Vec<(String, Vec<u8>)> = ["35_01.bvh", "02_01.bvh"]
+            .iter()
+            .map(|f| (f.to_string(), std::fs::read(dir.join(f)).unwrap()))
+            .collect();
+        let expected: Vec<String> = takes.iter().map(|(_, b)| super::super::model::sha256_hex(b)).collect();
+        let ask = TrainingAsk {
+            name: "hashed".into(),
+            labels_name: "l.csv".into(),
+            labels: "file,start_frame,end_frame,label\n35_01.bvh,0,199,stand\n35_01.bvh,200,357,reach\n\
+                     02_01.bvh,0,150,walk\n02_01.bvh,151,342,stand\n"
+                .into(),
+            takes,
+            options: serde_json::json!({}),
+            command: None,
+            start_from: None,
+        };
+        let mut training = start_training(ModelKind::Knn, ask, &mut crate::method::NoProgress).unwrap();
+        while !training.done() {
+            training.step(&mut crate::method::NoProgress).unwrap();
+        }
+        let trained = training.finish().unwrap();
+        let card = &trained.model.info.card;
+        assert_eq!(card.takes, vec!["35_01.bvh".to_string(), "02_01.bvh".to_string()]);
+        assert_eq!(card.take_sha256, expected);
+        assert!(card.held_out.is_none(), "a model trained here has no held-out figure");
+        let back = Model::from_bytes(&trained.bytes, "hashed.model").unwrap();
+        assert_eq!(back.header.provenance.take_sha256, expected, "in the file too");
+    }
+
+    /// Continuing a DT-FCN training keeps the model's classes (in its order, whatever the labels'
+    /// order), network and input scaling, counts the epochs on, and refuses a class it does not know.
+    #[test]
+    fn a_dtfcn_training_continues_from_a_model_of_the_users() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures");
+        let take = || vec![("35_01.bvh".to_string(), std::fs::read(dir.join("35_01.bvh")).unwrap())];
+        let ask = |labels: &str, start_from: Option<Loaded>| TrainingAsk {
+            name: "mine".into(),
+            labels_name: "l.csv".into(),
+            labels: format!("file,start_frame,end_frame,label\n{labels}"),
+            takes: take(),
+            options: serde_json::json!({"epochs": 1, "filters": [4, 4], "width": 2}),
+            command: None,
+            start_from,
+        };
+        let train = |ask: TrainingAsk| {
+            let mut t = start_training(ModelKind::Dtfcn, ask, &mut crate::method::NoProgress)?;
+            while !t.done() {
+                t.step(&mut crate::method::NoProgress)?;
+            }
+            t.finish()
+        };
+        let first = train(ask("35_01.bvh,0,199,stand\n35_01.bvh,200,357,reach\n", None)).unwrap();
+        assert_eq!(first.model.info.card.epochs_run, Some(1));
+        // the labels name the classes in the other order: the model's order is kept
+        let more = train(ask("35_01.bvh,0,157,reach\n35_01.bvh,158,357,stand\n", Some(first.model.clone()))).unwrap();
+        let card = &more.model.info.card;
+        assert_eq!(card.classes, vec!["stand".to_string(), "reach".to_string()]);
+        assert_eq!((card.epochs_run, card.best_epoch), (Some(2), Some(2)));
+        assert!(card.command.contains("continued from `mine` after its 1 epochs"), "{}", card.command);
+        assert!(more.report.summary.contains("continued from `mine`"), "{}", more.report.summary);
+        let (a, b) = (first.model.model.downcast_ref::<Model>().unwrap(), more.model.model.downcast_ref::<Model>().unwrap());
+        assert_eq!(a.header.standardise, b.header.standardise, "the input scaling is the model's");
+        assert_eq!(a.header.network, b.header.network);
+        assert_ne!(first.bytes, more.bytes, "the weights moved");
+        let e = train(ask("35_01.bvh,0,199,stand\n35_01.bvh,200,357,jump\n", Some(first.model.clone()))).err().unwrap();
+        assert_eq!(e.param_name(), Some("labels"));
+        assert!(e.to_string().contains("`jump` not among `mine`'s (stand, reach)"), "{e}");
+        let knn_ask = TrainingAsk {
+            options: serde_json::json!({}),
+            ..ask("35_01.bvh,0,199,stand\n35_01.bvh,200,357,reach\n", Some(first.model))
+        };
+        let knn = start_training(ModelKind::Knn, knn_ask, &mut crate::method::NoProgress);
+        assert_eq!(knn.err().unwrap().param_name(), Some("name"));
     }
 
     #[test]

@@ -296,10 +296,39 @@ impl Trainer {
         classes: Vec<String>,
         options: TrainOptions,
     ) -> Result<Trainer, String> {
+        Trainer::starting_from(takes, validation, classes, options, None)
+    }
+
+    /// As [`Trainer::new`], but from the weights of `start` (a network of `classes.len()` classes
+    /// and the input scaling it was trained with, both kept: the options' network shape is not
+    /// used) for `options.epochs` more epochs; Adam's moments start afresh.
+    pub fn resume(
+        takes: Vec<TrainingTake>,
+        validation: Vec<TrainingTake>,
+        classes: Vec<String>,
+        options: TrainOptions,
+        start: (DtFcnConfig, Standardise, DtFcn),
+    ) -> Result<Trainer, String> {
+        Trainer::starting_from(takes, validation, classes, options, Some(start))
+    }
+
+    fn starting_from(
+        takes: Vec<TrainingTake>,
+        validation: Vec<TrainingTake>,
+        classes: Vec<String>,
+        options: TrainOptions,
+        start: Option<(DtFcnConfig, Standardise, DtFcn)>,
+    ) -> Result<Trainer, String> {
         options.check()?;
         let k = classes.len();
-        let network = options.network(k);
+        let network = match &start {
+            Some((config, _, _)) => config.clone(),
+            None => options.network(k),
+        };
         network.check()?;
+        if network.classes != k {
+            return Err(format!("the network labels {} classes, the labels have {k}", network.classes));
+        }
         if takes.is_empty() {
             return Err("no training takes".into());
         }
@@ -311,11 +340,17 @@ impl Trainer {
         if takes.iter().all(|t| t.labels.iter().all(Option::is_none)) {
             return Err("the training takes have no labelled frame".into());
         }
-        let standardise = Standardise::fit(&takes.iter().map(|t| &t.input).collect::<Vec<_>>());
         let mirror_of = mirror_classes(&classes);
         let mut rng = Rng::new(options.seed);
         let device = super::device().autodiff();
-        let net = network.init_seeded(&device, options.seed ^ 0x5eed_d7fc_u64);
+        let (standardise, net) = match start {
+            // the weights kept, made trainable again (autodiff, gradients as configured)
+            Some((_, standardise, net)) => (standardise, net.train()),
+            None => (
+                Standardise::fit(&takes.iter().map(|t| &t.input).collect::<Vec<_>>()),
+                network.init_seeded(&device, options.seed ^ 0x5eed_d7fc_u64),
+            ),
+        };
         let optim = AdamConfig::new()
             .with_weight_decay(
                 (options.weight_decay > 0.0).then(|| WeightDecayConfig::new(options.weight_decay as f32)),

@@ -176,6 +176,13 @@ pub fn model_info(name: &str, model: &EffortModel) -> ModelInfo {
         colours: Vec::new(),
         origin: model.origin.clone(),
         provenance: vec![("segments".into(), model.samples.to_string()), ("rate".into(), format!("{} Hz", model.fps))],
+        // the family file names its takes only inside its origin line: the card says that line
+        card: crate::method::cards::ModelCard {
+            method: "lma".into(),
+            name: name.into(),
+            origin: model.origin.clone(),
+            ..Default::default()
+        },
     }
 }
 
@@ -211,6 +218,9 @@ fn no_rows_for(name: &str, take: &str, others: &[EffortLabel]) -> String {
 
 /// Starts a training of the family on the rows of `ask`'s labels for its first take.
 pub fn start_training(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Box<dyn Training>, MethodError> {
+    if ask.start_from.is_some() {
+        return Err(MethodError::param("name", "an LMA family has no epochs to continue: train it again"));
+    }
     let config = config_from_json(&ask.options)?;
     let name = ask.name.trim().to_string();
     check_model_name(&name, &[SHIPPED_NAME.to_string()]).map_err(|m| MethodError::param("name", m))?;
