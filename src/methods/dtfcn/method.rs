@@ -174,6 +174,7 @@ impl Method for Labelling {
                 default: serde_json::json!(shipped::NAMES[0]),
                 unit: None,
                 basic: true,
+                at_most: None,
             },
             ParamSpec {
                 name: "unknown_threshold".into(),
@@ -182,6 +183,7 @@ impl Method for Labelling {
                 default: serde_json::json!(DEFAULT_THRESHOLD),
                 unit: None,
                 basic: true,
+                at_most: None,
             },
             ParamSpec {
                 name: "decoding".into(),
@@ -194,6 +196,7 @@ impl Method for Labelling {
                 default: serde_json::json!(DECODINGS[0]),
                 unit: None,
                 basic: true,
+                at_most: None,
             },
             ParamSpec {
                 name: "min_duration_s".into(),
@@ -203,6 +206,7 @@ impl Method for Labelling {
                 default: serde_json::json!(CUSTOM_DECODING.min_duration_s),
                 unit: Some("s".into()),
                 basic: false,
+                at_most: None,
             },
             ParamSpec {
                 name: "switch_cost".into(),
@@ -213,6 +217,7 @@ impl Method for Labelling {
                 default: serde_json::json!(CUSTOM_DECODING.switch_cost),
                 unit: None,
                 basic: false,
+                at_most: None,
             },
         ]
     }
