@@ -412,7 +412,7 @@ test("my labels start from the ground truth, score as it against itself, and exp
   await page.fill("#truth-fps", "");
   await importTruth(swapped);
   const again = new Map(await page.evaluate(() => [...document.querySelectorAll("#row-truth .ms-seg")]
-    .map((e) => [e.textContent.trim(), getComputedStyle(e).backgroundColor])));
+    .map((e) => [e.dataset.label, getComputedStyle(e).backgroundColor])));
   assert.equal(again.get(first), truthColour.get(first), `${first} keeps its colour in another file`);
   assert.equal(again.get(second), truthColour.get(second), `${second} keeps its colour in another file`);
   await page.click("#my-labels-clear");
