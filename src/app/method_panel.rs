@@ -4,7 +4,10 @@
 //! * [`MethodPanel`] — `#<name>-panel`: heading with the paper, the result's one-line summary
 //!   `#<name>-counts`, `#<name>-export` (saves the segmentation JSON as `<take>_<name>.json`),
 //!   the parameter form `#<name>-params` generated from the method's [`ParamSpec`]s (one field
-//!   `#<name>-<param>` each; the basic ones shown, the others under "Advanced"), `#<name>-run`,
+//!   `#<name>-<param>` each; the basic ones shown, the others under "Advanced"; every field two grid
+//!   cells, name | control and unit), `#<name>-couplings` (a coupled parameter the form breaks —
+//!   [`ParamSpec::at_most`], the SSSM's primitive radius above its radius — said with a one-click
+//!   `#<name>-adjust-<param>`; Run lowers it and says so in `#<name>-adjusted`), `#<name>-run`,
 //!   `#<name>-cancel` and `#<name>-progress` while it runs, and every picture the method draws as
 //!   a canvas `#<name>-<picture>` with its caption.
 //! * [`MethodRows`] — under the motion image, on the timeline's time axis, for every method with
@@ -19,14 +22,16 @@
 //!   colour the run echoes in `params.colours`, else the class colour of every model file,
 //!   `palette::class_colour`; `data-colour`), lighter the lower its mean confidence (`score`,
 //!   `data-score`), and hatches `unknown` segments grey (`ms-seg--unknown`); its row is labelled
-//!   "<method> · labels". Labels are always text, never markup.
+//!   "<method> · labels". Labels are always text, never markup: the label when it fits the
+//!   segment, else a clean abbreviation or nothing ([`crate::view::label_fit`]), the whole label in
+//!   `data-label` and the tooltip.
 
 use super::loader::Loader;
 use super::motion_image::{download, stem};
 use super::row_model::RowModel;
 use super::{AppState, MethodSlot, RunState, Selection};
 use crate::clips::Which;
-use crate::method::{ParamKind, ParamSpec, Picture};
+use crate::method::{form, ParamKind, ParamSpec, Picture};
 use crate::protocol::MethodView;
 use crate::segment::palette::{action_colour, class_colour, cluster_colour};
 use crate::segment::{Level, Segment};
@@ -50,22 +55,34 @@ fn tooltip(s: &Segment, fps: f64) -> String {
     )
 }
 
-/// The label of a parameter's field: its name in words, with its unit.
-fn field_label(spec: &ParamSpec) -> String {
-    // `horizon_s` in seconds reads "horizon (s)"
+/// The name of a parameter in words, without its unit (`horizon_s` in seconds: "horizon").
+fn param_words(spec: &ParamSpec) -> String {
     let name = match spec.unit.as_deref() {
         Some(unit) => spec.name.strip_suffix(&format!("_{unit}")).unwrap_or(&spec.name),
         None => &spec.name,
     };
-    let words = name.replace('_', " ");
+    name.replace('_', " ")
+}
+
+/// The label of a parameter's field: its name in words, with its unit ("horizon (s)").
+fn field_label(spec: &ParamSpec) -> String {
+    let words = param_words(spec);
     match &spec.unit {
-        Some(unit) => format!("{words} ({unit}) "),
-        None => format!("{words} "),
+        Some(unit) => format!("{words} ({unit})"),
+        None => words,
     }
 }
 
+/// A field's unit after its control (`None`: no unit).
+fn unit_view(spec: &ParamSpec) -> Option<AnyView> {
+    spec.unit.clone().map(|u| view! { <span class="ms-field-unit">{u}</span> }.into_any())
+}
+
 /// One form field for `spec`, bound to `value` (a choice offers `choices`); its id is
-/// `<prefix>-<param>` (`<prefix>-<param>-<option>` for each box of a set of flags).
+/// `<prefix>-<param>` (`<prefix>-<param>-<option>` for each box of a set of flags). The label is
+/// two cells, the name (`.ms-field-name`) and the control with its unit (`.ms-field-control`),
+/// laid out as a grid by `www/style.css` so that no name runs into the control before it; the
+/// name with its unit is the control's accessible name.
 pub(super) fn field(
     method: &str,
     spec: &ParamSpec,
@@ -75,6 +92,8 @@ pub(super) fn field(
     let id = format!("{method}-{}", spec.name);
     let help = spec.help.clone();
     let label = field_label(spec);
+    let words = param_words(spec);
+    let unit = unit_view(spec);
     match &spec.kind {
         ParamKind::Bool => {
             let checked = move || value.get() == "true";
@@ -87,9 +106,10 @@ pub(super) fn field(
             };
             view! {
                 <label title=help>
-                    <input id=id type="checkbox" prop:checked=checked on:change=on_change/>
-                    " "
-                    {label}
+                    <span class="ms-field-name">{words}</span>
+                    <span class="ms-field-control">
+                        <input id=id type="checkbox" aria-label=label prop:checked=checked on:change=on_change/>
+                    </span>
                 </label>
             }
             .into_any()
@@ -109,24 +129,30 @@ pub(super) fn field(
             };
             view! {
                 <label title=help>
-                    {label}
-                    <select id=id bind:value=value>
-                        {options}
-                    </select>
+                    <span class="ms-field-name">{words}</span>
+                    <span class="ms-field-control">
+                        <select id=id aria-label=label bind:value=value>
+                            {options}
+                        </select>
+                        {unit}
+                    </span>
                 </label>
             }
             .into_any()
         }
         ParamKind::Number { min, max } => {
-            number_input(id, label, help, (min.to_string(), max.to_string(), "any"), value)
+            number_input(id, (label, words, unit), help, (min.to_string(), max.to_string(), "any"), value)
         }
         ParamKind::Integer { min, max } => {
-            number_input(id, label, help, (min.to_string(), max.to_string(), "1"), value)
+            number_input(id, (label, words, unit), help, (min.to_string(), max.to_string(), "1"), value)
         }
         ParamKind::IntegerList { .. } => view! {
             <label title=help>
-                {label}
-                <input id=id type="text" size="16" bind:value=value/>
+                <span class="ms-field-name">{words}</span>
+                <span class="ms-field-control">
+                    <input id=id type="text" size="16" aria-label=label bind:value=value/>
+                    {unit}
+                </span>
             </label>
         }
         .into_any(),
@@ -167,9 +193,9 @@ pub(super) fn field(
                 })
                 .collect_view();
             view! {
-                <span class="ms-flags" role="group" title=help aria-label=label.trim().to_string()>
-                    <span class="ms-lma-file">{label.clone()}</span>
-                    {boxes}
+                <span class="ms-flags" role="group" title=help aria-label=label>
+                    <span class="ms-field-name">{words}</span>
+                    <span class="ms-field-control">{boxes}</span>
                 </span>
             }
             .into_any()
@@ -202,17 +228,21 @@ fn checked_field(
 }
 
 /// A number field with its bounds and step (`any` or `1`) as hints; the method checks the value.
+/// `label`: its accessible name, its name in words and its unit.
 fn number_input(
     id: String,
-    label: String,
+    (label, words, unit): (String, String, Option<AnyView>),
     help: String,
     (min, max, step): (String, String, &'static str),
     value: RwSignal<String>,
 ) -> AnyView {
     view! {
         <label title=help>
-            {label}
-            <input id=id type="number" step=step min=min max=max size="6" bind:value=value/>
+            <span class="ms-field-name">{words}</span>
+            <span class="ms-field-control">
+                <input id=id type="number" step=step min=min max=max size="6" aria-label=label bind:value=value/>
+                {unit}
+            </span>
         </label>
     }
     .into_any()
@@ -236,12 +266,64 @@ pub fn MethodPanel(
             _ => (String::new(), 0.0),
         })
     };
+    // coupled parameters the form breaks (the SSSM's primitive radius above its radius): offered
+    // to adjust in one click, and lowered on Run with a note saying so
+    let texts = move || slot.fields.iter().map(|f| f.get()).collect::<Vec<String>>();
+    let conflicts = Memo::new(move |_| form::conflicts(&slot.specs, &texts()));
+    let adjusted = RwSignal::new(None::<String>);
+    let spec_words =
+        |name: &str| slot.specs.iter().find(|s| s.name == name).map(param_words).unwrap_or_else(|| name.to_string());
+    let adjust = move |c: &form::Conflict| {
+        if let Some(at) = slot.specs.iter().position(|s| s.name == c.param) {
+            slot.fields[at].set(c.adjusted_text());
+        }
+    };
     let run_loader = loader.clone();
     let on_run = move |ev: leptos::ev::SubmitEvent| {
         ev.prevent_default();
+        let pending = conflicts.get_untracked();
+        adjusted.set((!pending.is_empty()).then(|| {
+            pending.iter().for_each(adjust);
+            let said: Vec<String> = pending
+                .iter()
+                .map(|c| {
+                    format!(
+                        "{} lowered from {} to {}: it may not exceed {}",
+                        spec_words(&c.param),
+                        c.value,
+                        c.adjusted_text(),
+                        spec_words(&c.limit_param)
+                    )
+                })
+                .collect();
+            format!("{} (Advanced).", said.join("; "))
+        }));
         run_loader.run(index);
         // its row stays in view on the timeline (workspace.rs)
         super::workspace::reveal_method(&slot.info.name);
+    };
+    let coupling_notes = move || {
+        conflicts
+            .get()
+            .into_iter()
+            .map(|c| {
+                let (param, limit) = (spec_words(&c.param), spec_words(&c.limit_param));
+                let text = format!("{param} ({}) may not exceed {limit} ({}).", c.value, c.limit);
+                let button = format!("Set {param} to {}", c.adjusted_text());
+                let id = format!("{}-adjust-{}", slot.info.name, c.param);
+                let (param_name, limit_name) = (c.param.clone(), c.limit_param.clone());
+                view! {
+                    <p class="ms-coupling" data-param=param_name data-limit=limit_name>
+                        {text}
+                        " "
+                        <button id=id class="ms-button ms-button--small" type="button" on:click=move |_| adjust(&c)>
+                            {button}
+                        </button>
+                        " or Run lowers it."
+                    </p>
+                }
+            })
+            .collect_view()
     };
     let export_loader = loader.clone();
     let on_cancel = move |_| loader.cancel(index);
@@ -316,26 +398,34 @@ pub fn MethodPanel(
                     <summary>"Advanced"</summary>
                     {advanced}
                 </details>
-                <button
-                    id=format!("{name}-run")
-                    class="ms-button"
-                    type="submit"
-                    disabled=move || running() || state.motion.with(Option::is_none)
-                >
-                    "Run"
-                </button>
-                <button
-                    id=format!("{name}-cancel")
-                    class="ms-button ms-button--quiet"
-                    type="button"
-                    hidden=move || !running()
-                    on:click=on_cancel
-                >
-                    "Cancel"
-                </button>
-                <div id=format!("{name}-progress") class="ms-progress" role="status" aria-live="polite" hidden=move || !running()>
-                    <progress max="1" value=move || progress().1.clamp(0.0, 1.0).to_string()></progress>
-                    <span class="ms-progress-label">{move || format!("{short}: {}…", progress().0)}</span>
+                <div id=format!("{name}-couplings") class="ms-couplings" role="status" aria-live="polite">
+                    {coupling_notes}
+                    <p id=format!("{name}-adjusted") class="ms-coupling ms-coupling--done" hidden=move || adjusted.with(Option::is_none)>
+                        {move || adjusted.get().unwrap_or_default()}
+                    </p>
+                </div>
+                <div class="ms-method-actions">
+                    <button
+                        id=format!("{name}-run")
+                        class="ms-button"
+                        type="submit"
+                        disabled=move || running() || state.motion.with(Option::is_none)
+                    >
+                        "Run"
+                    </button>
+                    <button
+                        id=format!("{name}-cancel")
+                        class="ms-button ms-button--quiet"
+                        type="button"
+                        hidden=move || !running()
+                        on:click=on_cancel
+                    >
+                        "Cancel"
+                    </button>
+                    <div id=format!("{name}-progress") class="ms-progress" role="status" aria-live="polite" hidden=move || !running()>
+                        <progress max="1" value=move || progress().1.clamp(0.0, 1.0).to_string()></progress>
+                        <span class="ms-progress-label">{move || format!("{short}: {}…", progress().0)}</span>
+                    </div>
                 </div>
             </form>
             <p
@@ -835,6 +925,13 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -
         let (a, b) = (w.fraction(start as f64).max(0.0), w.fraction((end + 1) as f64).min(1.0));
         format!("{:.4}%", (b - a).max(0.0) * 100.0)
     };
+    // the label, or a clean abbreviation when it does not fit (the full one is in the tooltip)
+    let label = s.label.clone();
+    let text = move || {
+        let w = state.window.get();
+        let (a, b) = (w.fraction(start as f64).max(0.0), w.fraction((end + 1) as f64).min(1.0));
+        super::timeline::segment_text(&label, (b - a).max(0.0))
+    };
     let selected_row = row.clone();
     let selected = Memo::new(move |_| {
         state.selected.with(|x| x.as_ref().is_some_and(|x| x.row == selected_row && x.start == start && x.end == end))
@@ -854,6 +951,7 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -
             style:background-color=(!colour.is_empty()).then_some(colour)
             style:color=text_colour
             data-start=start.to_string()
+            data-label=s.label.clone()
             data-end=end.to_string()
             data-cluster=s.cluster.map(|c| c.to_string()).unwrap_or_default()
             data-colour=class_colour_of
@@ -864,7 +962,7 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -
             on:pointerdown=on_down
             on:click=on_click
         >
-            {s.label.clone()}
+            {text}
         </div>
     }
 }

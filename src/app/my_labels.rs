@@ -9,19 +9,22 @@
 //!   selected one outlined (`ms-seg--selected`). Each boundary is a handle `.ms-my-handle`
 //!   (`data-cut`: the first frame after it) with a resize cursor: dragging it moves it (a shared
 //!   boundary moves both segments), snapping to the other rows' boundaries within
-//!   [`SNAP_PX`] pixels. A handle takes the focus (Tab): ← / → move it one frame, with Shift one
+//!   [`SNAP_PX`] pixels; the pose and the frame readout follow it, and a neighbour in its way is
+//!   rolled, never left a one-frame sliver ([`Model::drag_boundary`]). A handle takes the focus (Tab): ← / → move it one frame, with Shift one
 //!   second (a focusable `separator` with `aria-valuenow`, as the ARIA window-splitter pattern
 //!   has it), each step an undoable edit. Clicking a segment selects it and moves the playhead to
 //!   the frame clicked.
 //! * `#my-labels-tools` (under the timeline): `#my-labels-source` + `#my-labels-copy` (copy a row),
 //!   `#my-labels-empty`, `#my-labels-split` (at the playhead), `#my-labels-merge` (with the next),
-//!   `#my-labels-fill` (the gap under the playhead), `#my-labels-label` (with the labels of every
-//!   row offered, `#my-labels-suggestions`) + `#my-labels-apply`, `#my-labels-delete` (leaves a
-//!   gap), `#my-labels-undo`, `#my-labels-redo`, `#my-labels-train` (DT-FCN on these labels, with
+//!   `#my-labels-fill` (the gap under the playhead), `#my-labels-label` (offering the label
+//!   vocabulary, `#my-labels-suggestions`) + `#my-labels-apply`, `#my-labels-vocabulary` (the
+//!   vocabulary as numbered buttons: the truth's classes, the labelling methods' model classes, the
+//!   labels I typed — never a cluster name, a transition or unknown; keys 1–9 give the first
+//!   nine), `#my-labels-delete` (leaves a gap), `#my-labels-undo`, `#my-labels-redo`, `#my-labels-train` (DT-FCN on these labels, with
 //!   the DT-FCN panel's options), `#my-labels-train-stop`, `#my-labels-clear`, and
 //!   `#my-labels-status` (what the last edit did, or why it was refused).
 //! * Keys ([`SHORTCUTS`], in the help overlay): Ctrl/⌘+Z undo, Ctrl/⌘+Shift+Z or Ctrl+Y redo, S
-//!   split, M merge, Delete/Backspace delete, and `[` / `]` select my segment at the previous /
+//!   split, M merge, Delete/Backspace delete, 1–9 the vocabulary's entries, and `[` / `]` select my segment at the previous /
 //!   next boundary from the playhead when one of my segments is selected (the row's listener
 //!   comes before the timeline's) — never
 //!   while typing in a field.
@@ -41,7 +44,7 @@ use super::keys::is_for_the_field;
 use super::method_panel::is_labelling;
 use super::motion_image::stem;
 use super::row_exports::RowExports;
-use super::supervised::{my_labels_trainer, TrainRequest, TrainState};
+use super::supervised::{labels_classes, my_labels_trainer, TrainRequest, TrainState};
 use super::{AppState, Selection};
 use crate::labels::to_csv;
 use crate::protocol::MethodView;
@@ -49,7 +52,8 @@ use crate::segment::palette::{action_colour, class_colour, cluster_colour};
 use crate::segment::Level;
 use crate::view::my_labels::MyLabels as Model;
 use crate::view::my_labels::{
-    backup_key, cuts_of, fingerprint, label_class, snap, snap_tolerance, storage_key, suggestions, EditError, SNAP_PX,
+    backup_key, cuts_of, fingerprint, hotkey_label, is_reserved, label_class, snap, snap_tolerance, storage_key,
+    suggestions, vocabulary, EditError, HOTKEYS, SNAP_PX,
 };
 use crate::view::timeline::visible_segments;
 use gloo::events::EventListener;
@@ -68,13 +72,18 @@ pub const ROW: &str = "my-labels";
 const MAX_SEGMENTS: usize = 120;
 
 /// Shortcuts of the row, listed in the help overlay after the timeline's.
-pub const SHORTCUTS: [(&str, &str); 7] = [
+pub const SHORTCUTS: [(&str, &str); 8] = [
     ("Ctrl or ⌘ + Z", "undo the last edit of my labels"),
+    ("1 – 9", "my labels: give the selected segment that entry of the label vocabulary (numbered under the timeline)"),
     ("Ctrl or ⌘ + Shift + Z, Ctrl + Y", "redo it"),
     ("S", "my labels: split the segment under the playhead at the playhead"),
     ("M", "my labels: merge the selected segment with the next one"),
     ("Delete / Backspace", "my labels: delete the selected segment (its frames become a gap)"),
-    ("Drag a boundary of my labels", "move it; it snaps to the other rows' boundaries within 8 px"),
+    (
+        "Drag a boundary of my labels",
+        "move it (the pose follows); it snaps to the other rows' boundaries within 8 px and rolls over a neighbour, \
+         removing it once dragged across it",
+    ),
     ("Tab to a boundary of my labels, ← / →", "move it one frame (with Shift: one second)"),
 ];
 
@@ -116,6 +125,8 @@ struct OtherRow {
     id: String,
     name: String,
     segments: Vec<(usize, usize, String, Option<String>)>,
+    /// Its labels are classes (the ground truth, a labelling method's): my labels' vocabulary.
+    classes: bool,
 }
 
 /// The colour a segment has in its method's row (as `method_panel` draws it; `None`: hatched).
@@ -151,7 +162,7 @@ fn other_rows(state: AppState) -> Vec<OtherRow> {
             v.segmentation.segments.iter().map(|s| (s.start, s.end, s.label.clone(), segment_colour(v, s))).collect();
         segments.sort_by_key(|s| s.0);
         if !segments.is_empty() {
-            rows.push(OtherRow { id: "truth".into(), name: "Ground truth".into(), segments });
+            rows.push(OtherRow { id: "truth".into(), name: "Ground truth".into(), segments, classes: true });
         }
     });
     for slot in state.methods {
@@ -175,11 +186,36 @@ fn other_rows(state: AppState) -> Vec<OtherRow> {
                     id: format!("{}-{}", slot.info.name, if primitive { "primitives" } else { "actions" }),
                     name: crate::view::rows::row_name(&slot.info.short, kind),
                     segments,
+                    classes: labelling && !primitive,
                 });
             }
         });
     }
     rows
+}
+
+/// My labels' vocabulary ([`vocabulary`]): the truth's classes, the labelling methods' model
+/// classes (those their rows show, and every class of the models the user loaded or trained),
+/// then the labels I gave — never an unsupervised method's cluster names.
+fn vocabulary_of(state: AppState, others: Memo<Vec<OtherRow>>, model: RwSignal<Model>) -> Vec<String> {
+    others.with(|others| {
+        let truth: Vec<&str> =
+            others.iter().filter(|r| r.id == "truth").flat_map(|r| r.segments.iter().map(|s| s.2.as_str())).collect();
+        let mut models: Vec<String> = others
+            .iter()
+            .filter(|r| r.classes && r.id != "truth")
+            .flat_map(|r| r.segments.iter().map(|s| s.2.clone()))
+            .collect();
+        for slot in state.methods.iter().filter(|m| labels_classes(&m.info.name)) {
+            if let Some(sup) = &slot.supervised {
+                sup.models.with(|list| models.extend(list.iter().flat_map(|m| m.info.classes.iter().cloned())));
+            }
+        }
+        let excluded: Vec<&str> =
+            others.iter().filter(|r| !r.classes).flat_map(|r| r.segments.iter().map(|s| s.2.as_str())).collect();
+        let mine = model.with(|m| m.labels_used());
+        vocabulary(truth, models.iter().map(String::as_str), mine.iter().map(String::as_str), &excluded)
+    })
 }
 
 /// A boundary being dragged: which, the labels before the drag, where it may snap.
@@ -219,15 +255,19 @@ pub struct MyRow {
     /// The last DT-FCN training was asked from this row.
     training: RwSignal<bool>,
     others: Memo<Vec<OtherRow>>,
+    /// My labels' fixed vocabulary (number keys 1–9 give its first nine).
+    vocabulary: Memo<Vec<String>>,
     lane: NodeRef<Div>,
 }
 
 impl MyRow {
     /// The row's state for the page's take; restores the stored labels of each take loaded.
     pub fn new(state: AppState) -> MyRow {
+        let model = RwSignal::new(Model::new(0));
+        let others = Memo::new(move |_| other_rows(state));
         let row = MyRow {
             state,
-            model: RwSignal::new(Model::new(0)),
+            model,
             key: RwSignal::new(None),
             corrupt: StoredValue::new(None),
             note: RwSignal::new(None),
@@ -236,7 +276,8 @@ impl MyRow {
             dragging: RwSignal::new(None),
             drag: StoredValue::new(None),
             training: RwSignal::new(false),
-            others: Memo::new(move |_| other_rows(state)),
+            others,
+            vocabulary: Memo::new(move |_| vocabulary_of(state, others, model)),
             lane: NodeRef::new(),
         };
         // a take loaded: its stored labels, if any
@@ -485,6 +526,14 @@ impl MyRow {
         self.edit(|m| m.place(start, end, label), Some(done))
     }
 
+    /// Gives the selected segment `label` (a vocabulary entry: its number key or its button).
+    fn label_with(self, label: String) {
+        let done = format!("Labelled {label}");
+        if self.edit(|m| m.relabel(&label), Some(done)) {
+            self.label.set(label);
+        }
+    }
+
     fn copy(self) {
         let id = self.source.get_untracked();
         let Some(from) = self.others.with_untracked(|o| o.iter().find(|r| r.id == id).cloned()) else {
@@ -492,8 +541,14 @@ impl MyRow {
             return;
         };
         let spans: Vec<(usize, usize, String)> = from.segments.iter().map(|s| (s.0, s.1, s.2.clone())).collect();
-        let n = spans.len();
-        self.edit(|m| m.copy_from(&spans), Some(format!("Copied {n} segments from {}", from.name)));
+        // transitions, unknowns and unlabelled parts stay gaps (never a label or a class)
+        let gaps = spans.iter().filter(|s| s.2.trim().is_empty() || is_reserved(&s.2)).count();
+        let n = spans.len() - gaps;
+        let left = match gaps {
+            0 => String::new(),
+            g => format!(" ({g} transition{} or unknown part{} left as gaps)", plural(g), plural(g)),
+        };
+        self.edit(|m| m.copy_from(&spans), Some(format!("Copied {n} segment{} from {}{left}", plural(n), from.name)));
     }
 
     /// Starts a DT-FCN training on my labelled segments, with the DT-FCN panel's options.
@@ -585,9 +640,14 @@ impl MyRow {
             let Some((at, _)) = self.position_at(ev.client_x() as f64) else { return };
             let to = snap(at, &drag.targets, drag.tolerance);
             let mut m = drag.base.clone();
-            let landed = m.move_boundary(drag.cut, to).unwrap_or(drag.cut);
+            let landed = m.drag_boundary(drag.cut, to).unwrap_or(drag.cut);
             self.model.set(m);
             self.dragging.set(Some(landed));
+            // the pose and the readout follow: the first frame after the boundary
+            let frames = self.state.frames();
+            if frames > 0 {
+                self.state.frame.set(landed.min(frames - 1));
+            }
             let snapped = landed == to && drag.targets.binary_search(&landed).is_ok() && (at - to as f64).abs() > 1e-9;
             let text = format!(
                 "Boundary at frame {}{}",
@@ -640,6 +700,14 @@ impl MyRow {
                 "Delete" | "Backspace" if selected => Some(MyRow::delete),
                 "]" if selected => Some(|row: MyRow| row.step(true)),
                 "[" if selected => Some(|row: MyRow| row.step(false)),
+                digit if selected && self.vocabulary.with_untracked(|v| hotkey_label(v, digit).is_some()) => {
+                    let label = self.vocabulary.with_untracked(|v| hotkey_label(v, digit).map(str::to_string));
+                    if let Some(label) = label {
+                        ev.prevent_default();
+                        self.label_with(label);
+                    }
+                    return;
+                }
                 _ => None,
             };
             if let Some(run) = run {
@@ -693,6 +761,14 @@ fn restore(key: &str, frames: usize, other_tab: bool) -> (Model, Option<Note>, O
     }
 }
 
+fn plural(n: usize) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
 fn capitalised(text: &str) -> String {
     let mut c = text.chars();
     c.next().map(|f| f.to_uppercase().chain(c).collect()).unwrap_or_default()
@@ -743,6 +819,8 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
                     let left = w.fraction(s.start as f64).max(0.0);
                     let right = w.fraction((s.end + 1) as f64).min(1.0);
                     let text = if s.label.is_empty() { "unlabelled".to_string() } else { s.label.clone() };
+                    // the label, or a clean abbreviation when it does not fit (in full in the tip)
+                    let shown = super::timeline::segment_text(&text, right - left);
                     let tip = format!(
                         "{text} · frames {}–{} · {:.2}–{:.2} s",
                         s.start + 1,
@@ -776,7 +854,7 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
                             on:pointerdown=move |ev: PointerEvent| ev.stop_propagation()
                             on:click=on_click
                         >
-                            {text}
+                            {shown}
                         </div>
                     }
                 })
@@ -885,12 +963,33 @@ pub fn MyLabelsTools(mine: MyRow) -> impl IntoView {
     let labelled = move || mine.model.with(|m| m.spans().iter().any(|s| !s.label.is_empty()));
     let busy = move || t.is_some_and(|t| t.state.with(TrainState::busy));
     let stopping = move || t.is_some_and(|t| t.state.with(|s| *s == TrainState::Stopping));
-    let offered = Memo::new(move |_| {
-        let mut all: Vec<String> =
-            mine.others.with(|rows| rows.iter().flat_map(|r| r.segments.iter().map(|s| s.2.clone())).collect());
-        all.extend(mine.model.with(|m| m.labels_used()));
-        suggestions(all.iter().map(String::as_str))
-    });
+    let offered = mine.vocabulary;
+    let entries = move || {
+        offered
+            .get()
+            .into_iter()
+            .enumerate()
+            .map(|(n, label)| {
+                let key = (n < HOTKEYS).then(|| (n + 1).to_string());
+                let tip = match &key {
+                    Some(k) => format!("Label the selected segment {label} (key {k})"),
+                    None => format!("Label the selected segment {label}"),
+                };
+                let chosen = label.clone();
+                view! {
+                    <li>
+                        <button class="ms-button ms-button--quiet ms-vocab" type="button" data-label=label.clone()
+                            aria-label=tip.clone() title=tip disabled=move || !selected()
+                            on:click=move |_| mine.label_with(chosen.clone())>
+                            <kbd hidden=key.is_none()>{key.clone().unwrap_or_default()}</kbd>
+                            " "
+                            {label.clone()}
+                        </button>
+                    </li>
+                }
+            })
+            .collect_view()
+    };
     let rows = move || {
         mine.others.with(|rows| {
             rows.iter()
@@ -983,6 +1082,10 @@ pub fn MyLabelsTools(mine: MyRow) -> impl IntoView {
                 <button id="my-labels-apply" class="ms-button ms-button--quiet" type="button"
                     aria-label="Give the selected segment this label" title="Give the selected segment this label (Enter)"
                     disabled=move || !selected() on:click=move |_| mine.relabel()>"Set label"</button>
+                <ol id="my-labels-vocabulary" class="ms-vocabulary" aria-label="Label vocabulary (keys 1–9)"
+                    hidden=move || offered.with(Vec::is_empty)>
+                    {entries}
+                </ol>
             </div>
             <div class="ms-my-group" role="group" aria-label="History">
                 <button id="my-labels-undo" class="ms-button ms-button--quiet" type="button"

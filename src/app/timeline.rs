@@ -55,6 +55,37 @@ pub const SHORTCUTS: [(&str, &str); 12] = [
     ("Esc", "close this help, else drop the selected segment"),
 ];
 
+#[wasm_bindgen::prelude::wasm_bindgen]
+extern "C" {
+    /// The browser's `ResizeObserver`, bound here rather than through a web-sys feature the crate
+    /// does not turn on.
+    type ResizeObserver;
+    #[wasm_bindgen::prelude::wasm_bindgen(constructor)]
+    fn new(callback: &js_sys::Function) -> ResizeObserver;
+    #[wasm_bindgen::prelude::wasm_bindgen(method)]
+    fn observe(this: &ResizeObserver, target: &Element);
+}
+
+thread_local! {
+    /// The lanes' width in CSS pixels (0 until the timeline is laid out).
+    static LANE_PX: RwSignal<f64> = RwSignal::new(0.0);
+}
+
+/// The lanes' width in CSS pixels, kept up to date as the timeline is resized (rows use it to fit
+/// their segments' labels: [`crate::view::label_fit`]).
+pub fn lane_px() -> RwSignal<f64> {
+    LANE_PX.with(|s| *s)
+}
+
+/// The text a segment `fraction` of the lanes wide shows for `label` (`.ms-seg`: 11 px text,
+/// 3 px of padding either side, www/style.css): the label, a clean abbreviation, or nothing.
+pub fn segment_text(label: &str, fraction: f64) -> String {
+    const FONT_PX: f64 = 11.0;
+    const PADDING_PX: f64 = 6.0;
+    let width = fraction * lane_px().get() - PADDING_PX;
+    crate::view::label_fit::fit_label(label, width, FONT_PX).unwrap_or_default()
+}
+
 /// The x range of the lanes on screen: (left, width) in client pixels.
 fn lane_box(lane: &NodeRef<Div>) -> Option<(f64, f64)> {
     let rect = lane.get_untracked()?.get_bounding_client_rect();
@@ -246,6 +277,22 @@ pub fn Timeline(state: AppState) -> impl IntoView {
         let anchor = state.frame.get_untracked() as f64 + 0.5;
         state.window.update(|w| *w = w.zoomed(factor, anchor, state.frames()));
     };
+
+    // the lanes' width, for the rows' labels (the ruler is as wide as every lane)
+    Effect::new(move |_| {
+        let Some(ruler) = ruler_ref.get() else { return };
+        let lane = lane_px();
+        lane.set(ruler.client_width() as f64);
+        let measured = ruler.clone();
+        let on_resize = wasm_bindgen::closure::Closure::<dyn FnMut()>::new(move || {
+            let width = measured.client_width() as f64;
+            if lane.get_untracked() != width {
+                lane.set(width);
+            }
+        });
+        ResizeObserver::new(on_resize.as_ref().unchecked_ref()).observe(&ruler);
+        on_resize.forget(); // observes the ruler as long as the page lives
+    });
 
     // the ruler's ticks for the window and the lane's width
     let tick_views = move || {

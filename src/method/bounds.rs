@@ -82,6 +82,7 @@ pub fn specs(table: &[NumberParam], default: impl Fn(&str) -> f64) -> Vec<ParamS
             default: serde_json::json!(default(p.name)),
             unit: (!p.unit.is_empty()).then(|| p.unit.into()),
             basic: p.basic,
+            at_most: None,
         })
         .collect()
 }
@@ -95,6 +96,7 @@ pub fn switch(name: &str, help: &str, default: bool, basic: bool) -> ParamSpec {
         default: serde_json::json!(default),
         unit: None,
         basic,
+        at_most: None,
     }
 }
 

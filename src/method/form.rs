@@ -59,6 +59,41 @@ pub fn params_from_form(short: &str, specs: &[ParamSpec], texts: &[String]) -> R
     Ok(serde_json::Value::Object(params))
 }
 
+/// A coupled parameter the form's texts break: `param` (at `value`) exceeds `limit_param` (at
+/// `limit`), which its spec declares it may not ([`ParamSpec::at_most`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Conflict {
+    pub param: String,
+    pub value: f64,
+    pub limit_param: String,
+    pub limit: f64,
+}
+
+impl Conflict {
+    /// The text to put in `param`'s field to resolve it: the limit, as its field would show it.
+    pub fn adjusted_text(&self) -> String {
+        // `{}` writes 12.0 as "12", as a user types it
+        format!("{}", self.limit)
+    }
+}
+
+/// The couplings of `specs` that the form's `texts` (one per spec) break. Texts that are not
+/// numbers are left to [`params_from_form`] to name.
+pub fn conflicts(specs: &[ParamSpec], texts: &[String]) -> Vec<Conflict> {
+    let number = |name: &str| {
+        let at = specs.iter().position(|s| s.name == name)?;
+        texts.get(at)?.trim().parse::<f64>().ok().filter(|v| v.is_finite())
+    };
+    specs
+        .iter()
+        .filter_map(|s| {
+            let limit_param = s.at_most.as_deref()?;
+            let (value, limit) = (number(&s.name)?, number(limit_param)?);
+            (value > limit).then(|| Conflict { param: s.name.clone(), value, limit_param: limit_param.to_string(), limit })
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -96,6 +131,54 @@ mod tests {
         // a form of the wrong shape is no field's fault
         let e = params_from_form("SSSM", &specs, &texts[1..]).unwrap_err();
         assert_eq!(e.param_name(), None, "{e}");
+    }
+
+    #[test]
+    fn coupled_parameters_are_declared_as_the_checks_enforce_them() {
+        // every declared coupling names a number parameter of the same method
+        for m in crate::methods::registry() {
+            let specs = m.param_specs();
+            for s in specs.iter().filter(|s| s.at_most.is_some()) {
+                let other = specs.iter().find(|o| Some(&o.name) == s.at_most.as_ref());
+                assert!(
+                    other.is_some_and(|o| matches!(o.kind, ParamKind::Number { .. } | ParamKind::Integer { .. })),
+                    "{}: {} is at most a parameter it does not have",
+                    m.info().name,
+                    s.name
+                );
+            }
+        }
+        // the SSSM's: radius 12 under the default primitive radius 13 is refused by the check,
+        // and the form says which field to lower and to what; once lowered, it runs
+        let m = crate::methods::find("sssm").unwrap();
+        let specs = m.param_specs();
+        assert_eq!(specs.iter().find(|s| s.name == "primitive_radius").unwrap().at_most.as_deref(), Some("radius"));
+        let mut texts = texts_of(&specs);
+        assert!(conflicts(&specs, &texts).is_empty(), "the defaults agree");
+        let at = |name: &str| specs.iter().position(|s| s.name == name).unwrap();
+        texts[at("radius")] = "12".into();
+        let found = conflicts(&specs, &texts);
+        assert_eq!(
+            found,
+            [Conflict { param: "primitive_radius".into(), value: 13.0, limit_param: "radius".into(), limit: 12.0 }]
+        );
+        let refused = m.check_json(&params_from_form("SSSM", &specs, &texts).unwrap()).unwrap_err();
+        assert_eq!(refused.param_name(), Some("primitive_radius"), "{refused}");
+        texts[at("primitive_radius")] = found[0].adjusted_text();
+        assert_eq!(texts[at("primitive_radius")], "12");
+        assert!(conflicts(&specs, &texts).is_empty());
+        m.check_json(&params_from_form("SSSM", &specs, &texts).unwrap()).unwrap();
+        // equal is allowed; unreadable texts are the reader's to name, not a conflict
+        texts[at("primitive_radius")] = "12".into();
+        assert!(conflicts(&specs, &texts).is_empty());
+        texts[at("radius")] = "abc".into();
+        assert!(conflicts(&specs, &texts).is_empty());
+        // the declaration travels with the specs (the page reads them as JSON)
+        let json = serde_json::to_value(&specs).unwrap();
+        assert_eq!(json[at("primitive_radius")]["at_most"], "radius");
+        assert!(json[at("radius")].get("at_most").is_none());
+        let back: Vec<ParamSpec> = serde_json::from_value(json).unwrap();
+        assert_eq!(back, specs);
     }
 
     #[test]

@@ -18,6 +18,19 @@ pub struct ParamSpec {
     pub unit: Option<String>,
     /// Shown in the basic form (others under "advanced").
     pub basic: bool,
+    /// A coupling the method's check enforces: this (number) parameter may not exceed the
+    /// parameter named here. A form uses it to offer lowering this one when the other is set
+    /// below it, rather than leave a basic field refused because of a hidden one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at_most: Option<String>,
+}
+
+impl ParamSpec {
+    /// The spec, declared to be at most the parameter `other` (see [`ParamSpec::at_most`]).
+    pub fn at_most(mut self, other: &str) -> ParamSpec {
+        self.at_most = Some(other.to_string());
+        self
+    }
 }
 
 /// The type of a parameter and the values it accepts (bounds included).

@@ -1,6 +1,7 @@
 //! The little maths the page needs, kept out of the web layer so it is tested natively:
 //! the orbiting perspective camera, the playback clock and the timeline (window, ruler, readout,
-//! segment navigation, keyboard), readable text on segment colours ([`contrast`]), the rows' export names
+//! segment navigation, keyboard), readable text on segment colours ([`contrast`]), segment labels that fit
+//! their width ([`label_fit`]), the rows' export names
 //! ([`export_names`]), the banner when every method fails ([`run_failures`]), the URL
 //! parameters ([`url_params`]), the "my labels" row's edit model ([`my_labels`]) and the metrics
 //! panel's comparison table ([`compare`]: best per column, sorting), one name per timeline row
@@ -12,6 +13,7 @@ pub mod clock;
 pub mod compare;
 pub mod contrast;
 pub mod export_names;
+pub mod label_fit;
 pub mod model_card;
 pub mod my_labels;
 pub mod rows;

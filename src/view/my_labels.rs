@@ -45,6 +45,11 @@ pub const MAX_LABEL_CHARS: usize = 120;
 pub const FORMAT: &str = "mocapseg-my-labels";
 /// The `version` field of the stored JSON this code writes and reads.
 pub const VERSION: u64 = 1;
+/// Labels that say a span has *no* action label — the SSSM's transitions, a labeller's
+/// unknowns, the page's own word for an unlabelled segment — compared ignoring case and spaces.
+/// They are never my labels' classes: a copy leaves them as gaps, training and the scores read
+/// them as unlabelled frames, the label vocabulary never offers them.
+pub const RESERVED: [&str; 3] = ["transition", "unknown", "unlabelled"];
 
 /// One of my labelled segments: frames `start..=end` (0-based), `label` (empty: unlabelled).
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -229,11 +234,12 @@ impl MyLabels {
         suggestions(self.spans.iter().map(|s| s.label.as_str()))
     }
 
-    /// The labelled segments as label CSV rows of `file` (unlabelled segments left out).
+    /// The labelled segments as label CSV rows of `file` (unlabelled segments and [`RESERVED`]
+    /// labels left out: their frames are unlabelled for a training, never a class).
     pub fn label_rows(&self, file: &str) -> Vec<LabelRow> {
         self.spans
             .iter()
-            .filter(|s| !s.label.is_empty())
+            .filter(|s| is_labelled(&s.label))
             .map(|s| LabelRow {
                 file: file.to_string(),
                 start_frame: s.start,
@@ -244,7 +250,8 @@ impl MyLabels {
     }
 
     /// The row as a segmentation of `file` at `fps` (method `my-labels`): labelled segments are
-    /// actions, unlabelled ones transitions — what the metrics panel scores and the exports save.
+    /// actions, unlabelled ones (and [`RESERVED`] labels) transitions — what the metrics panel
+    /// scores and the exports save.
     pub fn to_segmentation(&self, file: &str, fps: f64) -> Segmentation {
         Segmentation {
             file: file.to_string(),
@@ -259,7 +266,7 @@ impl MyLabels {
                     start: s.start,
                     end: s.end,
                     label: if s.label.is_empty() { "unlabelled".into() } else { s.label.clone() },
-                    level: if s.label.is_empty() { Level::Transition } else { Level::Action },
+                    level: if is_labelled(&s.label) { Level::Action } else { Level::Transition },
                     cluster: None,
                     score: None,
                     mirror_of: None,
@@ -279,13 +286,19 @@ impl MyLabels {
     }
 
     /// Replaces every segment with a copy of `spans` (another row's `(start, end, label)`),
-    /// normalised to the take. Nothing is selected.
+    /// normalised to the take. Its unlabelled and [`RESERVED`] spans (the SSSM's transitions, a
+    /// labeller's unknowns, a truth's unlabelled parts) are left out: they become gaps, so that
+    /// the copy scores as the row itself and none of them becomes a class. Nothing is selected.
     pub fn copy_from(&mut self, spans: &[(usize, usize, String)]) -> Result<(), EditError> {
         if self.frames == 0 {
             return Err(EditError::NoFrames);
         }
         let copied = normalised(
-            spans.iter().map(|(s, e, l)| LabelSpan { start: *s, end: *e, label: l.clone() }).collect(),
+            spans
+                .iter()
+                .filter(|(_, _, l)| is_labelled(l))
+                .map(|(s, e, l)| LabelSpan { start: *s, end: *e, label: l.trim().to_string() })
+                .collect(),
             self.frames,
         );
         if copied.is_empty() {
@@ -342,6 +355,53 @@ impl MyLabels {
             self.spans[r].start = to;
         }
         Ok(to)
+    }
+
+    /// Drags boundary `cut` to `to` (a pointer drag): the frames it passes over go to the segment
+    /// it grows (or to the gap it grows), and the segments in its way are *rolled* — shrunk, and
+    /// removed only once the boundary has crossed them entirely. It never leaves a sliver: a
+    /// segment it shrinks keeps at least [`MIN_SPAN`] frames until it is crossed (the boundary
+    /// stops short of it), and a gap it narrows to under [`MIN_SPAN`] frames closes (the boundary
+    /// goes on to the next segment). Returns where the boundary landed; the selection follows its
+    /// segment (none when that was removed). Dropped where it was, nothing is recorded.
+    pub fn drag_boundary(&mut self, cut: usize, to: usize) -> Result<usize, EditError> {
+        self.boundary_limits(cut)?;
+        let to = to.min(self.frames);
+        if to == cut {
+            return Ok(cut);
+        }
+        // a drag to the left is a drag to the right on the take read backwards
+        let (spans, landed) = if to > cut {
+            roll_right(&self.spans, cut, to, self.frames)
+        } else {
+            let mirror = |s: &LabelSpan| LabelSpan { start: self.frames - 1 - s.end, end: self.frames - 1 - s.start, ..s.clone() };
+            let flipped: Vec<LabelSpan> = self.spans.iter().rev().map(mirror).collect();
+            let (rolled, landed) = roll_right(&flipped, self.frames - cut, self.frames - to, self.frames);
+            let back: Vec<LabelSpan> = rolled.iter().rev().map(|s| LabelSpan {
+                start: self.frames - 1 - s.end,
+                end: self.frames - 1 - s.start,
+                ..s.clone()
+            })
+            .collect();
+            (back, self.frames - landed)
+        };
+        if spans == self.spans {
+            return Ok(cut);
+        }
+        let selected = self.selected_span().map(|s| (s.start, s.end));
+        self.record();
+        // the selected segment, where it is now: the one overlapping most of its old frames
+        self.selected = selected.and_then(|(a, b)| {
+            spans
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (i, (s.end.min(b) + 1).saturating_sub(s.start.max(a))))
+                .filter(|(_, overlap)| *overlap > 0)
+                .max_by_key(|(_, overlap)| *overlap)
+                .map(|(i, _)| i)
+        });
+        self.spans = spans;
+        Ok(landed)
     }
 
     /// Splits the segment covering `frame` into `start..frame` and `frame..=end`, both with its
@@ -527,12 +587,112 @@ impl MyLabels {
     }
 }
 
+/// The fewest frames a drag leaves of a segment it shrinks or of a gap it narrows: one frame
+/// is too thin to see or to grab, and reads as a boundary of its own.
+pub const MIN_SPAN: usize = 2;
+
+/// [`MyLabels::drag_boundary`] to the right (`to > cut`) on sorted, non-overlapping `spans` of a
+/// take of `frames`: the new segments and where the boundary landed.
+fn roll_right(spans: &[LabelSpan], cut: usize, to: usize, frames: usize) -> (Vec<LabelSpan>, usize) {
+    // the segment the boundary grows: the one ending at it (none: a gap, or the take's start, grows)
+    let grower = spans.iter().position(|s| s.end + 1 == cut);
+    let mut to = to.min(frames);
+    // a gap grows: over the segment its boundary starts, at most (it never rolls on over others)
+    if grower.is_none() {
+        if let Some(own) = spans.iter().find(|s| s.start == cut) {
+            to = to.min(own.end + 1);
+        }
+    }
+    // the segment `to` falls inside (not at its start): shrunk to at least MIN_SPAN frames, or
+    // left whole when it is shorter — it is removed only once the boundary passes its end
+    if let Some(s) = spans.iter().find(|s| s.start < to && to <= s.end && s.start >= cut) {
+        let left = s.end + 1 - to;
+        if left < MIN_SPAN {
+            to = if s.len() > MIN_SPAN { s.end + 1 - MIN_SPAN } else { s.start };
+        }
+    }
+    let covered = |f: usize| spans.iter().any(|s| s.contains(f));
+    match grower {
+        // a segment grows: a gap it narrows to a sliver closes up to the next segment
+        Some(_) if to < frames && !covered(to) && to > cut => {
+            let gap_end = spans.iter().find(|s| s.start > to).map_or(frames, |s| s.start);
+            if gap_end - to < MIN_SPAN {
+                to = gap_end;
+            }
+        }
+        // a gap grows from the take's start: none thinner than MIN_SPAN frames
+        None if cut == 0 && to < MIN_SPAN => to = 0,
+        _ => {}
+    }
+    if to <= cut {
+        return (spans.to_vec(), cut);
+    }
+    let mut out = Vec::with_capacity(spans.len());
+    for (i, s) in spans.iter().enumerate() {
+        if Some(i) == grower {
+            out.push(LabelSpan { end: to - 1, ..s.clone() });
+        } else if s.start < cut || s.start >= to {
+            out.push(s.clone());
+        } else if s.end >= to {
+            out.push(LabelSpan { start: to, ..s.clone() });
+        }
+        // else: crossed entirely, removed
+    }
+    (out, to)
+}
+
+/// Whether `label` says "no label" ([`RESERVED`]).
+pub fn is_reserved(label: &str) -> bool {
+    let label = label.trim();
+    RESERVED.iter().any(|r| r.eq_ignore_ascii_case(label))
+}
+
+/// Whether a segment labelled `label` is one of my labelled segments (not empty, not
+/// [`RESERVED`]).
+fn is_labelled(label: &str) -> bool {
+    !label.trim().is_empty() && !is_reserved(label)
+}
+
 /// The labels of `labels` worth offering while typing: not empty, sorted, once each.
 pub fn suggestions<'a>(labels: impl IntoIterator<Item = &'a str>) -> Vec<String> {
     let mut out: Vec<String> = labels.into_iter().filter(|l| !l.trim().is_empty()).map(str::to_string).collect();
     out.sort();
     out.dedup();
     out
+}
+
+/// The most entries of the vocabulary with a number key (1–9).
+pub const HOTKEYS: usize = 9;
+
+/// My labels' fixed vocabulary, in the order its number keys follow: the ground truth's classes
+/// (`truth`, when one is imported), then the classes of the labelling methods' models
+/// (`models`), then the labels the user gave my segments (`mine`) — each once, in the order
+/// first met, and never a [`RESERVED`] label or one of `excluded` (the names unsupervised
+/// methods give their clusters: "A0", "P1 mirrors P2" are no one's vocabulary) unless the truth
+/// or a model has it too. Entry `n` (0-based, below [`HOTKEYS`]) has the key `n + 1`.
+pub fn vocabulary<'a>(
+    truth: impl IntoIterator<Item = &'a str>,
+    models: impl IntoIterator<Item = &'a str>,
+    mine: impl IntoIterator<Item = &'a str>,
+    excluded: &[&str],
+) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    let mut add = |label: &str, check: bool| {
+        let label = label.trim();
+        if is_labelled(label) && !(check && excluded.contains(&label)) && !out.iter().any(|l| l == label) {
+            out.push(label.to_string());
+        }
+    };
+    truth.into_iter().for_each(|l| add(l, false));
+    models.into_iter().for_each(|l| add(l, false));
+    mine.into_iter().for_each(|l| add(l, true));
+    out
+}
+
+/// The vocabulary entry a number key `key` ("1"…"9") gives, if any.
+pub fn hotkey_label<'a>(vocabulary: &'a [String], key: &str) -> Option<&'a str> {
+    let n: usize = key.parse().ok().filter(|n| (1..=HOTKEYS).contains(n))?;
+    vocabulary.get(n - 1).map(String::as_str)
 }
 
 /// The cuts of other rows' segments (`(start, end)` inclusive): each start and each end + 1,
@@ -615,13 +775,107 @@ mod tests {
     #[test]
     fn the_row_as_a_segmentation_has_labelled_actions_and_unlabelled_transitions() {
         let mut m = MyLabels::new(100);
-        m.copy_from(&[(0, 39, "walk".into()), (40, 59, String::new()), (70, 99, "run".into())]).unwrap();
+        m.copy_from(&[(0, 39, "walk".into()), (40, 59, "x".into()), (70, 99, "run".into())]).unwrap();
+        m.select(Some(1));
+        m.relabel("").unwrap();
         let seg = m.to_segmentation("a.bvh", 120.0);
         seg.validate().unwrap();
         assert_eq!((seg.file.as_str(), seg.frames, seg.method.as_str()), ("a.bvh", 100, "my-labels"));
         let levels: Vec<_> = seg.segments.iter().map(|s| (s.start, s.end, s.level)).collect();
         assert_eq!(levels, [(0, 39, Level::Action), (40, 59, Level::Transition), (70, 99, Level::Action)]);
         assert_eq!(Segmentation::from_json(&seg.to_json()).unwrap(), seg);
+    }
+
+    /// An SSSM-like row of `frames` at 30 Hz: actions `A0`/`B1` with a transition between each
+    /// pair (as `sssm` labels them) and DT-FCN-like `unknown` actions.
+    fn sssm_like(parts: &[(usize, usize, &str, Level)], frames: usize) -> Segmentation {
+        Segmentation {
+            file: "t.bvh".into(),
+            fps: 30.0,
+            frames,
+            method: "sssm".into(),
+            params: serde_json::json!({}),
+            segments: parts
+                .iter()
+                .map(|&(start, end, label, level)| Segment {
+                    start,
+                    end,
+                    label: label.into(),
+                    level,
+                    cluster: (level == Level::Action).then(|| usize::from(label == "B1")),
+                    score: None,
+                    mirror_of: None,
+                    effort: None,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn a_copied_row_scores_as_the_row_itself_transitions_and_unknowns_are_gaps() {
+        use crate::segment::metrics::{evaluate, Tolerances};
+        use crate::segment::truth::{Truth, TruthSegment};
+        use Level::{Action, Transition};
+        let frames = 600;
+        // the issue's case: SSSM's row, copied, scored 0.833 → 0.444 at F1@1s — its transitions
+        // had become segments labelled "transition"
+        let row = sssm_like(
+            &[
+                (0, 89, "A0", Action),
+                (90, 129, "transition", Transition),
+                (130, 259, "B1", Action),
+                (260, 289, "transition", Transition),
+                (290, 419, "A0", Action),
+                (420, 459, "transition", Transition),
+                (460, 599, "B1", Action),
+            ],
+            frames,
+        );
+        let cut = |start: usize, end: usize, label: &str| TruthSegment { start, end, label: label.into(), end_window: None };
+        let truth = Truth {
+            trial: "t".into(),
+            frames,
+            segments: vec![cut(0, 109, "walk"), cut(110, 274, "jump"), cut(275, 439, "walk"), cut(440, 599, "punch")],
+        };
+        let tol = Tolerances::default();
+        let own = evaluate(&row, &truth, &tol).unwrap();
+        let mut m = MyLabels::new(frames);
+        let copied: Vec<(usize, usize, String)> = row.segments.iter().map(|s| (s.start, s.end, s.label.clone())).collect();
+        m.copy_from(&copied).unwrap();
+        assert_eq!(spans(&m), vec![(0, 89, "A0"), (130, 259, "B1"), (290, 419, "A0"), (460, 599, "B1")]);
+        let mine = evaluate(&m.to_segmentation("t.bvh", 30.0), &truth, &tol).unwrap();
+        assert_eq!(mine.boundaries[1].f1, own.boundaries[1].f1, "F1@1s");
+        assert_eq!(mine.boundaries[0].f1, own.boundaries[0].f1, "F1@0.5s");
+        assert_eq!(mine.covering, own.covering);
+        assert_eq!(mine.labelling, own.labelling);
+        assert_eq!(mine.hungarian_accuracy, own.hungarian_accuracy);
+        assert!(own.boundaries[1].f1 > 0.99, "the fixture's row finds every cut: {:?}", own.boundaries[1]);
+
+        // a labeller's unknowns and a truth's unlabelled parts are gaps as well; none is a class
+        m.copy_from(&row_of(&[(0, 49, "walk"), (50, 99, "unknown"), (100, 199, ""), (200, 599, "Unknown ")]))
+            .unwrap();
+        assert_eq!(spans(&m), vec![(0, 49, "walk")]);
+        assert_eq!(MyLabels::new(10).copy_from(&row_of(&[(0, 9, "transition")])), Err(EditError::NothingToCopy));
+    }
+
+    #[test]
+    fn transition_and_unknown_never_become_training_classes() {
+        // labels stored before copies left gaps, or typed: unlabelled frames for training and scores
+        let stored = r#"{"format":"mocapseg-my-labels","version":1,"frames":100,"segments":[
+            {"start":0,"end":29,"label":"walk"},{"start":30,"end":39,"label":"transition"},
+            {"start":40,"end":59,"label":"unknown"},{"start":60,"end":99,"label":"run"}]}"#;
+        let m = MyLabels::from_json(stored, 100).unwrap();
+        let rows = m.label_rows("t.bvh");
+        let classes: Vec<&str> = rows.iter().map(|r| r.label.as_str()).collect();
+        assert_eq!(classes, ["walk", "run"]);
+        let seg = m.to_segmentation("t.bvh", 30.0);
+        let levels: Vec<Level> = seg.segments.iter().map(|s| s.level).collect();
+        assert_eq!(levels, [Level::Action, Level::Transition, Level::Transition, Level::Action]);
+        assert!(is_reserved(" Transition") && is_reserved("UNKNOWN") && is_reserved("unlabelled") && !is_reserved("walk"));
+    }
+
+    fn row_of(list: &[(usize, usize, &str)]) -> Vec<(usize, usize, String)> {
+        row(list)
     }
 
     fn spans(m: &MyLabels) -> Vec<(usize, usize, &str)> {
@@ -734,6 +988,73 @@ mod tests {
     }
 
     #[test]
+    fn a_dragged_boundary_rolls_its_neighbour_and_never_leaves_a_sliver() {
+        // a 0..=9 | b 10..=29 | gap 30..=39 | c 40..=99
+        let dragged = |cut: usize, to: usize| {
+            let mut m = sample();
+            let landed = m.drag_boundary(cut, to).unwrap();
+            (landed, spans(&m).into_iter().map(|(s, e, l)| (s, e, l.to_string())).collect::<Vec<_>>())
+        };
+        let own = |list: &[(usize, usize, &str)]| list.iter().map(|(s, e, l)| (*s, *e, l.to_string())).collect::<Vec<_>>();
+        // within the neighbour: it shrinks, like a move
+        assert_eq!(dragged(10, 20), (20, own(&[(0, 19, "a"), (20, 29, "b"), (40, 99, "c")])));
+        // onto its last frame: it keeps MIN_SPAN frames until the boundary passes its end
+        assert_eq!(dragged(10, 29), (28, own(&[(0, 27, "a"), (28, 29, "b"), (40, 99, "c")])));
+        // fully across it: removed, the gap after it is taken up to where the pointer is
+        assert_eq!(dragged(10, 30), (30, own(&[(0, 29, "a"), (40, 99, "c")])));
+        assert_eq!(dragged(10, 35), (35, own(&[(0, 34, "a"), (40, 99, "c")])));
+        // a gap narrowed to one frame closes: the segments touch
+        assert_eq!(dragged(10, 39), (40, own(&[(0, 39, "a"), (40, 99, "c")])));
+        assert_eq!(dragged(30, 39), (40, own(&[(0, 9, "a"), (10, 39, "b"), (40, 99, "c")])));
+        // on over the next segment: rolled in turn
+        assert_eq!(dragged(10, 60), (60, own(&[(0, 59, "a"), (60, 99, "c")])));
+        assert_eq!(dragged(10, 99), (98, own(&[(0, 97, "a"), (98, 99, "c")])));
+        assert_eq!(dragged(10, 100), (100, own(&[(0, 99, "a")])));
+        // to the left: the segment on the right grows, the ones on the left roll
+        assert_eq!(dragged(10, 1), (2, own(&[(0, 1, "a"), (2, 29, "b"), (40, 99, "c")])));
+        assert_eq!(dragged(10, 0), (0, own(&[(0, 29, "b"), (40, 99, "c")])));
+        assert_eq!(dragged(40, 31), (30, own(&[(0, 9, "a"), (10, 29, "b"), (30, 99, "c")])), "the gap closes");
+        assert_eq!(dragged(40, 5), (5, own(&[(0, 4, "a"), (5, 99, "c")])));
+        // an edge next to a gap moved away from it: the gap grows, never by a single frame at the take's edges
+        assert_eq!(dragged(0, 1), (0, own(&[(0, 9, "a"), (10, 29, "b"), (30, 39, ""), (40, 99, "c")]).into_iter().filter(|s| s.2 != "").collect()));
+        assert_eq!(dragged(0, 2).0, 2);
+        assert_eq!(dragged(100, 99).0, 100, "no one-frame gap at the end");
+        assert_eq!(dragged(100, 98), (98, own(&[(0, 9, "a"), (10, 29, "b"), (40, 97, "c")])));
+        assert_eq!(dragged(30, 12), (12, own(&[(0, 9, "a"), (10, 11, "b"), (40, 99, "c")])));
+        assert_eq!(dragged(30, 11), (12, own(&[(0, 9, "a"), (10, 11, "b"), (40, 99, "c")])), "b keeps two frames");
+        assert_eq!(dragged(30, 10), (10, own(&[(0, 9, "a"), (40, 99, "c")])), "crossed: b removed");
+        assert_eq!(dragged(0, 60), (10, own(&[(10, 29, "b"), (40, 99, "c")])), "a gap's edge crosses its own segment only");
+        assert_eq!(dragged(40, 35).1, own(&[(0, 9, "a"), (10, 29, "b"), (35, 99, "c")]));
+        // no drag leaves a segment or a gap of one frame
+        for cut in [0, 10, 30, 40, 100] {
+            for to in 0..=100 {
+                let (_, after) = dragged(cut, to);
+                assert!(after.iter().all(|s| s.1 + 1 - s.0 >= MIN_SPAN), "{cut} → {to}: {after:?}");
+                let edges = after.first().zip(after.last()).map(|(f, l)| [f.0, 99 - l.1]).unwrap_or_default();
+                let gaps = after.windows(2).map(|w| w[1].0 - w[0].1 - 1).chain(edges);
+                assert!(gaps.into_iter().all(|g| g == 0 || g >= MIN_SPAN), "{cut} → {to}: {after:?}");
+            }
+        }
+        // one undoable edit, the selection follows its segment
+        let mut m = sample();
+        m.select(Some(2));
+        assert_eq!(m.drag_boundary(10, 35), Ok(35));
+        assert_eq!(m.selected_span().map(|s| s.label.as_str()), Some("c"));
+        m.select(Some(0));
+        assert_eq!(m.drag_boundary(35, 3), Ok(3), "a's end into its own frames: the gap grows");
+        assert_eq!(m.selected_span().map(|s| s.label.as_str()), Some("a"));
+        m.drag_boundary(3, 0).unwrap();
+        assert_eq!(m.selected(), None, "a removed");
+        assert_eq!(spans(&m), vec![(40, 99, "c")]);
+        assert_eq!(m.undo_depth(), 4);
+        m.undo().unwrap();
+        assert_eq!(spans(&m), vec![(0, 2, "a"), (40, 99, "c")]);
+        assert_eq!(m.drag_boundary(3, 3), Ok(3));
+        assert_eq!(m.undo_depth(), 3, "dropped where it was: no edit");
+        assert_eq!(m.drag_boundary(7, 8), Err(EditError::NoBoundary(7)));
+    }
+
+    #[test]
     fn split_at_a_frame_keeps_the_label_and_selects_the_right_part() {
         let mut m = sample();
         m.split_at(50).unwrap();
@@ -759,8 +1080,9 @@ mod tests {
         assert_eq!(m.merge_with_next(), Err(EditError::NoNext));
         // an unlabelled segment takes the next one's label
         let mut m = MyLabels::new(20);
-        m.copy_from(&row(&[(0, 4, ""), (5, 19, "walk")])).unwrap();
+        m.copy_from(&row(&[(0, 4, "x"), (5, 19, "walk")])).unwrap();
         m.select(Some(0));
+        m.relabel("").unwrap();
         m.merge_with_next().unwrap();
         assert_eq!(spans(&m), vec![(0, 19, "walk")]);
         assert_eq!(m.selected(), Some(0));
@@ -959,6 +1281,29 @@ mod tests {
         assert_eq!(label_class("walk"), label_class("walk"));
         assert!(label_class("walk") < 64);
         assert_ne!(label_class("walk"), label_class("kick"));
+    }
+
+    #[test]
+    fn the_vocabulary_is_the_truths_and_the_models_classes_and_my_own_labels() {
+        let sssm = ["A0", "B1", "P1 mirrors P2", "transition"];
+        let v = vocabulary(
+            ["walk", "jump", "walk", "", "transition"],
+            ["Jog", "walk", "Squat", "unknown"],
+            ["kick", "A0", "jump", "  spin "],
+            &sssm,
+        );
+        assert_eq!(v, ["walk", "jump", "Jog", "Squat", "kick", "spin"]);
+        // a cluster name the truth has too stays (it is a class there)
+        assert_eq!(vocabulary(["A0"], [], ["A0", "B1"], &sssm), ["A0"]);
+        assert!(vocabulary([], [], sssm, &[]).iter().all(|l| l != "transition"));
+        assert_eq!(hotkey_label(&v, "1"), Some("walk"));
+        assert_eq!(hotkey_label(&v, "6"), Some("spin"));
+        assert_eq!(hotkey_label(&v, "7"), None);
+        assert_eq!(hotkey_label(&v, "0"), None);
+        assert_eq!(hotkey_label(&v, "a"), None);
+        let many: Vec<String> = (0..12).map(|k| format!("c{k}")).collect();
+        assert_eq!(hotkey_label(&many, "9"), Some("c8"));
+        assert_eq!(hotkey_label(&many, "10"), None, "nine keys");
     }
 
     #[test]

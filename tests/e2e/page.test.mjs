@@ -688,7 +688,7 @@ test("timeline: the minimap shows the window; dragging it pans", async () => {
 test("timeline: hovering a segment shows its label, frames and seconds; an empty lane the frame", async () => {
   await resetTimeline();
   const seg = page.locator("#row-sssm-actions .ms-seg--action").first();
-  const s = await seg.evaluate((e) => ({ start: Number(e.dataset.start), end: Number(e.dataset.end), label: e.textContent }));
+  const s = await seg.evaluate((e) => ({ start: Number(e.dataset.start), end: Number(e.dataset.end), label: e.dataset.label }));
   await seg.hover();
   const tip = page.locator("#timeline-tooltip");
   await tip.waitFor({ state: "visible" });
@@ -1190,7 +1190,7 @@ const shippedHeader = (method, name) => modelHeader(readFileSync(path.join(ROOT,
 async function assertLabelRow(method, json, header) {
   const segs = await page.locator(`#row-${method}-actions .ms-seg`).evaluateAll((els) => els.map((e) => ({
     start: Number(e.dataset.start), end: Number(e.dataset.end), cluster: e.dataset.cluster, colour: e.dataset.colour ?? null,
-    score: Number(e.dataset.score), cls: e.className, text: e.textContent, bg: getComputedStyle(e).backgroundColor,
+    score: Number(e.dataset.score), cls: e.className, text: e.dataset.label, shown: e.textContent, bg: getComputedStyle(e).backgroundColor,
     image: getComputedStyle(e).backgroundImage, children: e.children.length,
   })));
   assert.equal(segs.length, json.segments.length, `#row-${method}-actions shows every segment`);
@@ -1200,7 +1200,9 @@ async function assertLabelRow(method, json, header) {
   for (const seg of segs) {
     const s = byStart.get(seg.start);
     assert.ok(s && s.end === seg.end, `segment ${seg.start}–${seg.end} is in the run's JSON`);
-    assert.equal(seg.text, s.label, "the label shows as text");
+    assert.equal(seg.text, s.label, "the label is the segment's data-label");
+    assert.ok(seg.shown === "" || seg.shown === s.label || seg.shown.endsWith("…") || /^[A-Z0-9]+$/.test(seg.shown),
+      `the label shows as text, whole or cleanly abbreviated: ${seg.shown} for ${s.label}`);
     assert.equal(seg.children, 0, "no markup inside a segment");
     if (s.cluster === null || s.cluster === undefined) {
       assert.equal(s.label, "unknown");
@@ -1803,8 +1805,9 @@ test("file names, a model's name and labels, and joint names show as text, never
   assert.deepEqual([...new Set(json.segments.map((s) => s.label))].sort(), [...header.classes].sort(),
     "the sample is labelled with both classes");
   await assertLabelRow("knn", json, header); // each segment's text is its label, no child element
-  const shown = await page.locator("#row-knn-actions .ms-seg").allTextContents();
-  assert.ok(shown.includes(XSS) && shown.includes(header.classes[1]), `the row shows both labels literally: ${JSON.stringify(shown)}`);
+  // the labels literally (in data-label and the tooltip; the text may be a clean abbreviation)
+  const shown = await page.$$eval("#row-knn-actions .ms-seg", (els) => els.map((e) => e.dataset.label));
+  assert.ok(shown.includes(XSS) && shown.includes(header.classes[1]), `the row holds both labels literally: ${JSON.stringify(shown)}`);
   const caption = await page.locator("#knn-panel figcaption").allTextContents();
   assert.ok(caption.some((c) => c.includes(`${XSS}, ${header.classes[1]}`)), `the probabilities' caption names the classes: ${caption}`);
   assert.equal(await page.locator("#knn-panel figcaption b").count(), 0, "only the caption's own <strong>");

@@ -48,7 +48,7 @@ function cliEval(seg, truth, flags = []) {
 
 /** The truth row's segments as [start, end, label]. */
 async function truthRow() {
-  return page.$$eval("#row-truth .ms-seg", (els) => els.map((e) => [Number(e.dataset.start), Number(e.dataset.end), e.textContent.trim()]));
+  return page.$$eval("#row-truth .ms-seg", (els) => els.map((e) => [Number(e.dataset.start), Number(e.dataset.end), e.dataset.label]));
 }
 
 /** Picks `file` in the ground-truth import control and waits for data-truth = `want`. */
@@ -366,7 +366,7 @@ test("my labels start from the ground truth, score as it against itself, and exp
   const colours = await page.evaluate(() => {
     const of = (sel, label) => [...document.querySelectorAll(sel)].map((e) => [label(e), getComputedStyle(e).backgroundColor]);
     return {
-      truth: of("#row-truth .ms-seg", (e) => e.textContent.trim()),
+      truth: of("#row-truth .ms-seg", (e) => e.dataset.label),
       mine: of("#row-my-labels .ms-seg[data-label]", (e) => e.dataset.label),
     };
   });
@@ -416,7 +416,7 @@ test("my labels start from the ground truth, score as it against itself, and exp
   await page.fill("#truth-fps", "");
   await importTruth(swapped);
   const again = new Map(await page.evaluate(() => [...document.querySelectorAll("#row-truth .ms-seg")]
-    .map((e) => [e.textContent.trim(), getComputedStyle(e).backgroundColor])));
+    .map((e) => [e.dataset.label, getComputedStyle(e).backgroundColor])));
   assert.equal(again.get(first), truthColour.get(first), `${first} keeps its colour in another file`);
   assert.equal(again.get(second), truthColour.get(second), `${second} keeps its colour in another file`);
   await page.click("#my-labels-clear");

@@ -203,6 +203,7 @@ impl Method for Labelling {
                 default: serde_json::json!(shipped::NAMES[0]),
                 unit: None,
                 basic: true,
+                at_most: None,
             },
             ParamSpec {
                 name: "unknown_threshold".into(),
@@ -211,6 +212,7 @@ impl Method for Labelling {
                 default: serde_json::json!(DEFAULT_THRESHOLD),
                 unit: None,
                 basic: true,
+                at_most: None,
             },
             ParamSpec {
                 name: "decoding".into(),
@@ -223,17 +225,19 @@ impl Method for Labelling {
                 default: serde_json::json!(DECODINGS[0]),
                 unit: None,
                 basic: true,
+                at_most: None,
             },
             ParamSpec {
                 name: "fit_check".into(),
                 help: "Measure whether the take is one the model's classes can describe (how fast it travels and how \
-                       far its poses lie from the training takes'); when it is not, say so and label its unfamiliar \
-                       frames unknown instead of painting confident wrong labels."
+                       far its poses lie from the training takes'); when it is not, say so and label the take \
+                       unknown instead of painting confident wrong labels."
                     .into(),
                 kind: ParamKind::Bool,
                 default: serde_json::json!(true),
                 unit: None,
                 basic: true,
+                at_most: None,
             },
             ParamSpec {
                 name: "min_duration_s".into(),
@@ -243,6 +247,7 @@ impl Method for Labelling {
                 default: serde_json::json!(CUSTOM_DECODING.min_duration_s),
                 unit: Some("s".into()),
                 basic: false,
+                at_most: None,
             },
             ParamSpec {
                 name: "switch_cost".into(),
@@ -253,6 +258,7 @@ impl Method for Labelling {
                 default: serde_json::json!(CUSTOM_DECODING.switch_cost),
                 unit: None,
                 basic: false,
+                at_most: None,
             },
         ]
     }

@@ -44,7 +44,7 @@ fn spec(
     unit: Option<&str>,
     basic: bool,
 ) -> ParamSpec {
-    ParamSpec { name: name.into(), help: help.into(), kind, default, unit: unit.map(str::to_string), basic }
+    ParamSpec { name: name.into(), help: help.into(), kind, default, unit: unit.map(str::to_string), basic, at_most: None }
 }
 
 /// The most a change of label may cost in a model's decoding, in nats.

@@ -170,6 +170,7 @@ impl Method for Lma {
                 default: serde_json::json!(SHIPPED_NAME),
                 unit: None,
                 basic: true,
+                at_most: None,
             },
         );
         specs

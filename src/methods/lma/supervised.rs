@@ -31,7 +31,7 @@ pub fn resolve(name: &str, models: &crate::method::ModelStore) -> Result<(Arc<Ef
 }
 
 fn spec(name: &str, help: &str, kind: ParamKind, default: serde_json::Value, basic: bool) -> ParamSpec {
-    ParamSpec { name: name.into(), help: help.into(), kind, default, unit: None, basic }
+    ParamSpec { name: name.into(), help: help.into(), kind, default, unit: None, basic, at_most: None }
 }
 
 /// LMA's training options (the trainer's defaults are the paper's where it gives them).

@@ -418,6 +418,7 @@ pub fn param_specs() -> Vec<ParamSpec> {
         default: d[name].clone(),
         unit: unit.map(Into::into),
         basic,
+        at_most: None,
     };
     let number = |(min, max): (f64, f64)| ParamKind::Number { min, max };
     let integer = |(min, max): (usize, usize)| ParamKind::Integer { min: min as i64, max: max as i64 };
@@ -490,7 +491,8 @@ pub fn param_specs() -> Vec<ParamSpec> {
             number(RADIUS),
             inches,
             false,
-        ),
+        )
+        .at_most("radius"),
         spec("nu", "Warping paths must have a slope within [1/ν, ν] (§IV-C).", number(NU), None, false),
         spec(
             "min_path_frames",
