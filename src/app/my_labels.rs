@@ -186,7 +186,7 @@ fn other_rows(state: AppState) -> Vec<OtherRow> {
                     id: format!("{}-{}", slot.info.name, if primitive { "primitives" } else { "actions" }),
                     name: crate::view::rows::row_name(&slot.info.short, kind),
                     segments,
-                    classes: labelling && !primitive,
+                    classes: super::method_panel::is_labelling(v) && !primitive,
                 });
             }
         });

@@ -1,6 +1,8 @@
 //! The skeleton player: `#player-canvas` draws the current frame as a perspective stick figure
 //! over a floor grid (drag to orbit, wheel to zoom, double-click to re-fit), with play/pause
-//! (`#play-pause`), a scrub bar (`#scrub`), a speed menu (`#speed`) and `#frame-counter`.
+//! (`#play-pause`), a scrub bar (`#scrub`), a speed menu (`#speed`), `#frame-counter` and the
+//! follow camera (`#follow`: the view slides along the floor with the root, so a walking subject
+//! stays in a zoomed view; the canvas' `data-root-x` is where the root was drawn, in CSS pixels).
 //! Camera math is in [`super::camera`]; playback timing in [`super::playback`].
 
 use super::{playback, AppState};
@@ -74,6 +76,7 @@ pub fn Player(state: AppState) -> impl IntoView {
     // Bumped on window resize so the canvas redraws at its new size.
     let resized = RwSignal::new(0u32);
     let drag = StoredValue::new(None::<(i32, i32)>);
+    let follow = RwSignal::new(false);
 
     let basis = Memo::new(move |_| state.motion.with(|m| m.as_ref().map(|m| basis_for(m.summary.up_axis))));
     let grid = Memo::new(move |_| {
@@ -98,9 +101,14 @@ pub fn Player(state: AppState) -> impl IntoView {
             return;
         };
         let frame = state.frame.get();
+        let follow = follow.get();
         grid.with(|grid| {
             state.motion.with(|m| {
                 if let (Some(m), Some(grid)) = (m, grid) {
+                    let orbit = match root_at(m, frame) {
+                        Some(root) if follow => orbit.following(root, &basis),
+                        _ => orbit,
+                    };
                     draw(&canvas, m, frame, &orbit, &basis, grid);
                 }
             })
@@ -184,6 +192,17 @@ pub fn Player(state: AppState) -> impl IntoView {
                 <span id="frame-counter" class="ms-frame-counter">
                     {move || format!("frame {} / {}", if has_motion() { state.frame.get() + 1 } else { 0 }, frames())}
                 </span>
+                <button
+                    id="follow"
+                    class="ms-button"
+                    type="button"
+                    title="Follow the subject: the view slides along the floor with it"
+                    disabled=move || !has_motion()
+                    aria-pressed=move || follow.get().to_string()
+                    on:click=move |_| follow.update(|f| *f = !*f)
+                >
+                    "Follow"
+                </button>
                 <label class="ms-speed">
                     "Speed "
                     <select id="speed" on:change=on_speed>
@@ -202,6 +221,12 @@ pub fn Player(state: AppState) -> impl IntoView {
             </div>
         </section>
     }
+}
+
+/// The root joint's position in `frame` (the node without a parent).
+fn root_at(m: &LoadedMotion, frame: usize) -> Option<Vec3> {
+    let root = m.skeleton.parents.iter().position(Option::is_none)?;
+    m.frame(frame).nth(root)
 }
 
 fn basis_for(up: UpAxis) -> Basis {
@@ -254,6 +279,11 @@ fn draw(canvas: &HtmlCanvasElement, m: &LoadedMotion, frame: usize, orbit: &Orbi
             continue;
         }
         if let Some(q) = projector.point(*p) {
+            if is_root {
+                // where the root was drawn, in CSS pixels (the follow camera's e2e reads it)
+                let dpr = gloo::utils::window().device_pixel_ratio().max(1.0);
+                let _ = canvas.set_attribute("data-root-x", &format!("{:.1}", q.x as f64 / dpr));
+            }
             ctx.set_fill_style_str(if is_root { c.root } else { c.joint });
             ctx.begin_path();
             let r = if is_root { 4.0 } else { 2.5 } * scale;

@@ -84,6 +84,12 @@ impl Orbit {
         Orbit { distance: (self.distance * factor).clamp(near, far), ..self }
     }
 
+    /// The follow camera: the same view slid along the floor until it looks down on `point` (the
+    /// root), the target's height kept, so a walking subject stays in the middle of a zoomed view.
+    pub fn following(self, point: Vec3, basis: &Basis) -> Orbit {
+        Orbit { target: basis.on_floor(point, basis.height(self.target)), ..self }
+    }
+
     /// Near clipping distance: small next to the scene, never zero.
     pub fn near(&self) -> f32 {
         (self.distance - 4.0 * self.radius).max(0.01 * self.radius).max(1e-4)
@@ -223,6 +229,24 @@ mod tests {
                 let p = projector.point(corner).expect("corner in front of the camera");
                 assert!((0.0..=1600.0).contains(&p.x) && (0.0..=900.0).contains(&p.y), "{p:?}");
             }
+        }
+    }
+
+    #[test]
+    fn the_follow_camera_keeps_the_root_on_the_middle_line_whatever_the_view() {
+        for basis in [Basis::Y_UP, Basis::Z_UP] {
+            let orbit = Orbit { target: Vec3::ZERO, yaw: 0.9, pitch: 0.4, distance: 3.0, radius: 1.0 };
+            // a root 20 units away along the floor and 1 above the target's height
+            let root = basis.right * 20.0 + basis.back * -7.0 + basis.up * 1.0;
+            let size = Vec2::new(200.0, 100.0);
+            // without following, it is off the canvas; following, it projects onto the vertical middle line
+            let still = Projector::new(&orbit, &basis, size).point(root);
+            assert!(still.is_none_or(|p| !(0.0..=200.0).contains(&p.x)), "{still:?}");
+            let follow = orbit.following(root, &basis);
+            assert!((basis.height(follow.target) - basis.height(orbit.target)).abs() < 1e-6);
+            assert_eq!((follow.yaw, follow.pitch, follow.distance), (orbit.yaw, orbit.pitch, orbit.distance));
+            let p = Projector::new(&follow, &basis, size).point(root).unwrap();
+            assert!((p.x - 100.0).abs() < 1e-3 && p.y < 50.0, "{p:?}");
         }
     }
 
