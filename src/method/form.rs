@@ -89,7 +89,15 @@ pub fn conflicts(specs: &[ParamSpec], texts: &[String]) -> Vec<Conflict> {
         .filter_map(|s| {
             let limit_param = s.at_most.as_deref()?;
             let (value, limit) = (number(&s.name)?, number(limit_param)?);
-            (value > limit).then(|| Conflict { param: s.name.clone(), value, limit_param: limit_param.to_string(), limit })
+            // a limit the dependent parameter may not take itself (a radius of −1) is no value to
+            // adjust it to: the limit's own refusal names what is wrong
+            let allowed = match &s.kind {
+                ParamKind::Number { min, max } => (*min..=*max).contains(&limit),
+                ParamKind::Integer { min, max } => limit.fract() == 0.0 && (*min as f64..=*max as f64).contains(&limit),
+                _ => false,
+            };
+            (allowed && value > limit)
+                .then(|| Conflict { param: s.name.clone(), value, limit_param: limit_param.to_string(), limit })
         })
         .collect()
 }
@@ -100,6 +108,20 @@ mod tests {
 
     fn texts_of(specs: &[ParamSpec]) -> Vec<String> {
         specs.iter().map(|s| field_text(&s.default)).collect()
+    }
+
+    /// A limit out of the dependent parameter's own range is no adjustment: SSSM's radius −1 is
+    /// refused as a radius, never copied into the primitive radius.
+    #[test]
+    fn a_limit_the_dependent_may_not_take_is_not_offered() {
+        let m = crate::methods::find("sssm").unwrap();
+        let specs = m.param_specs();
+        let mut texts = texts_of(&specs);
+        let radius = specs.iter().position(|s| s.name == "radius").unwrap();
+        texts[radius] = "12".into();
+        assert_eq!(conflicts(&specs, &texts).len(), 1);
+        texts[radius] = "-1".into();
+        assert!(conflicts(&specs, &texts).is_empty());
     }
 
     #[test]

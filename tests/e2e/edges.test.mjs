@@ -129,22 +129,24 @@ test("a row's BVH clips are saved under a name that carries the row", async () =
 });
 
 test("a re-run that fails marks its row stale until a run succeeds", async () => {
-  const before = await page.locator("#row-sssm-actions .ms-seg").count();
-  await showPanel(page, "sssm");
-  await page.fill("#sssm-radius", "12"); // below the primitive radius (13): refused
-  await runMethod(page, "sssm", "error");
-  assert.equal(await page.locator("#row-sssm-actions .ms-seg").count(), before, "the run before stays on the row");
-  for (const row of ["#row-sssm-actions", "#row-sssm-primitives"]) {
-    assert.match(await page.getAttribute(row, "class"), /\bms-row--stale\b/, `${row} is marked stale`);
-    assert.equal(await page.locator(`${row}-stale`).isVisible(), true, `${row}: its marker shows`);
-    assert.match(await text(page, `${row}-stale`), /^stale: last run failed — .*radius/, `${row}: says why`);
-  }
+  // LMA refuses a longest segment under its shortest (max_s 0.6 < min_s 0.67; SSSM's radius under its
+  // primitive radius, used here before, is now adjusted on Run instead of refused)
+  const before = await page.locator("#row-lma-primitives .ms-seg").count();
+  await showPanel(page, "lma");
+  await page.$eval("#lma-panel details.ms-method-advanced", (d) => { d.open = true; });
+  await page.fill("#lma-max_s", "0.6");
+  await runMethod(page, "lma", "error");
+  assert.equal(await page.locator("#row-lma-primitives .ms-seg").count(), before, "the run before stays on the row");
+  const row = "#row-lma-primitives";
+  assert.match(await page.getAttribute(row, "class"), /\bms-row--stale\b/, `${row} is marked stale`);
+  assert.equal(await page.locator(`${row}-stale`).isVisible(), true, `${row}: its marker shows`);
+  assert.match(await text(page, `${row}-stale`), /^stale: last run failed — .*max_s/, `${row}: says why`);
   assert.doesNotMatch(await page.getAttribute("#row-velocity-primitives", "class"), /ms-row--stale/, "other rows are current");
   await shot(page, "e2e-edges-stale.png");
-  await page.fill("#sssm-radius", "19");
-  await runMethod(page, "sssm", "done");
-  assert.doesNotMatch(await page.getAttribute("#row-sssm-actions", "class"), /ms-row--stale/, "a good run clears it");
-  assert.equal(await page.locator("#row-sssm-actions-stale").isVisible(), false);
+  await page.fill("#lma-max_s", "3.33");
+  await runMethod(page, "lma", "done");
+  assert.doesNotMatch(await page.getAttribute(row, "class"), /ms-row--stale/, "a good run clears it");
+  assert.equal(await page.locator(`${row}-stale`).isVisible(), false);
 });
 
 test("] and [ go to the next / previous boundary from the playhead, not from the selected segment", async () => {

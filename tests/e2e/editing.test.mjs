@@ -12,7 +12,7 @@
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import path from "node:path";
-import { FIXTURES, OUT, TIMEOUT, assertClean, closePage, gotoApp, openPage, shot, text, until, waitData } from "./harness.mjs";
+import { FIXTURES, OUT, TIMEOUT, assertClean, closePage, gotoApp, openPage, shot, showPanel, text, until, waitData } from "./harness.mjs";
 
 const TRUTH = path.join(FIXTURES, "mocap6_13_30_gt.csv"); // the sample's truth
 const SIZES = [{ width: 1024, height: 768 }, { width: 1440, height: 900 }];
@@ -174,6 +174,7 @@ test("dragging a boundary: the pose and readout follow live; a neighbour is roll
 });
 
 test("coupled parameters: SSSM's radius under its primitive radius is adjusted in one click, or on Run", async () => {
+  await showPanel(page, "sssm"); // the side panel shows one method's form at a time
   await page.fill("#sssm-radius", "12");
   const adjust = page.locator("#sssm-adjust-primitive_radius");
   await adjust.waitFor({ state: "visible" });
@@ -207,8 +208,22 @@ const segmentTexts = () => page.$$eval("#timeline .ms-seg", (els) => els
     overflow: e.scrollWidth - e.clientWidth,
   })));
 
-/** The boxes of every parameter's name and control, per form (Advanced blocks opened). */
-const formBoxes = () => page.$$eval("form.ms-method-params", (forms) => forms.map((f) => {
+/**
+ * The boxes of every parameter's name and control, per form (Advanced blocks opened): each method's
+ * tab shown in turn, since the side panel shows one form at a time.
+ */
+async function formBoxes() {
+  const ids = await page.$$eval("[role=tab][id^=tab-]", (tabs) => tabs.map((t) => t.id.slice(4)));
+  const out = [];
+  for (const id of ids) {
+    await showPanel(page, id);
+    out.push(...(await shownFormBoxes()));
+  }
+  return out;
+}
+
+/** [`formBoxes`] of the forms on screen. */
+const shownFormBoxes = () => page.$$eval("form.ms-method-params", (forms) => forms.filter((f) => f.getClientRects().length > 0).map((f) => {
   for (const d of f.querySelectorAll("details")) d.open = true;
   const box = (e) => { const r = e.getBoundingClientRect(); return { l: r.left, r: r.right, t: r.top, b: r.bottom }; };
   return {
@@ -262,7 +277,8 @@ for (const size of SIZES) {
         }
       }
       console.log(`  (${forms.length} forms, ${pairs} pairs of cells checked apart)`);
-      await page.locator("#sssm-panel").scrollIntoViewIfNeeded();
+      assert.ok(pairs > 100, `pairs of cells measured: ${pairs}`);
+      await showPanel(page, "sssm");
       await shot(page, `e2e-editing-${size.width}-${theme}.png`);
       assertClean(opened);
     });

@@ -54,7 +54,10 @@ for (const viewport of [{ width: 1024, height: 768 }, { width: 1440, height: 900
       }
       await page.click("#follow");
       assert.equal(await page.getAttribute("#follow", "aria-pressed"), "false");
-      assert.ok(Math.abs((await rootOffset(page, frames - 1)) - unfollowed[2]) < 2, "off again: the free view is back");
+      // off again: the free view is back (the root drifts from the middle again along the walk)
+      const again = [];
+      for (const f of [0, Math.floor(frames / 2), frames - 1]) again.push(await rootOffset(page, f));
+      assert.ok(Math.max(...again.map(Math.abs)) > width / 4, `off again: ${again} of ${width}`);
       assertClean(opened);
     });
   }

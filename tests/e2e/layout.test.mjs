@@ -255,8 +255,9 @@ test("a segment's context menu: play, export its clip, copy to my labels, show i
   await page.click("#segment-menu-show");
   assert.equal(await page.getAttribute("#side-panel", "data-panel"), "sssm");
   // the keyboard: a selected segment, Shift+F10 opens the menu; ↓ moves; Esc closes
-  await seg.click();
-  await page.keyboard.press("Space");
+  await seg.click(); // selects it and plays it: pause first, so no frame of playback races the menu's focus
+  if ((await page.textContent("#play-pause")).trim() === "Pause") await page.click("#play-pause");
+  await page.waitForFunction(() => document.querySelector("#play-pause").textContent.trim() === "Play");
   await page.keyboard.press("Shift+F10");
   await page.locator("#segment-menu").waitFor({ state: "visible" });
   await page.keyboard.press("ArrowDown");
@@ -282,8 +283,10 @@ test("the legend names every kind of row on screen; tooltips say what a row is; 
   await page.locator("#row-sssm-actions .ms-seg--action").first().click({ button: "right" });
   await page.click("#segment-menu-copy"); // a "my labels" row on screen too
   const rows = await page.$$eval("#timeline-rows .ms-tl-line:not([hidden])", (lines) => lines.map((l) => {
+    // a labelling row's label holds its model choice and card too: its name is the name span's
     const label = l.querySelector(".ms-tl-label");
-    return { id: l.querySelector("[id^=row-]").id.replace("row-", ""), name: label.textContent.trim(), tip: label.title };
+    const name = label.querySelector(".ms-tl-label-name") ?? label;
+    return { id: l.querySelector("[id^=row-]").id.replace("row-", ""), name: name.textContent.trim(), tip: label.title };
   }));
   assert.ok(rows.length >= 9, `rows on screen: ${rows.map((r) => r.name)}`);
   const kindOf = (name) => name === "Ground truth" ? "truth" : name === "My labels" ? "my-labels" : name.split(" · ")[1];

@@ -60,6 +60,8 @@ test("the wasm carries no model: under 2.5 MB gzipped, every shipped model a fil
   }
 });
 
+// DT-FCN's take fit measures poses with the k-NN model of the same data (docs/methods/dtfcn.md, "Take fit"):
+// a DT-FCN run fetches that file too, once, and only when it runs
 test("a page that runs only SSSM fetches no model; DT-FCN fetches its model when first run, once", async () => {
   await page.goto(url("?methods=sssm"));
   await waitData(page, "sssm", "done");
@@ -70,7 +72,7 @@ test("a page that runs only SSSM fetches no model; DT-FCN fetches its model when
   await page.locator("#dtfcn-run:not([disabled])").waitFor({ timeout: TIMEOUT });
   await page.click("#dtfcn-run");
   await waitData(page, "dtfcn", "done");
-  assert.deepEqual(fetched, ["dtfcn-exercises.model"], "the default model's file, fetched by the page");
+  assert.deepEqual(fetched, ["dtfcn-exercises.model", "knn-exercises.model"], "the default model's file and its k-NN's, fetched by the page");
   assert.equal(cardsFetched, 1, "the cards once DT-FCN has a result");
   const stages = await page.evaluate(() => window.__stages);
   console.log(`  (DT-FCN's stages: ${JSON.stringify(stages)})`);
@@ -80,12 +82,12 @@ test("a page that runs only SSSM fetches no model; DT-FCN fetches its model when
   await page.click("#dtfcn-run");
   await waitData(page, "dtfcn", "running").catch(() => {});
   await waitData(page, "dtfcn", "done");
-  assert.deepEqual(fetched, ["dtfcn-exercises.model"], "fetched once");
+  assert.deepEqual(fetched, ["dtfcn-exercises.model", "knn-exercises.model"], "fetched once");
   // another model: its own file
   await page.selectOption("#dtfcn-model", "locomotion");
   await page.click("#dtfcn-run");
   await waitData(page, "dtfcn", "done");
-  assert.deepEqual(fetched, ["dtfcn-exercises.model", "dtfcn-locomotion.model"]);
+  assert.deepEqual(fetched, ["dtfcn-exercises.model", "knn-exercises.model", "dtfcn-locomotion.model", "knn-locomotion.model"]);
   assert.match(await text(page, "#dtfcn-panel"), /locomotion/);
   assertClean(opened);
 });

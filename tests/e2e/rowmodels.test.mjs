@@ -12,7 +12,7 @@ import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import path from "node:path";
-import { ROOT, SAMPLE, TIMEOUT, assertClean, closePage, gotoApp, loadFile, openPage, text, waitData, waitReady } from "./harness.mjs";
+import { ROOT, SAMPLE, TIMEOUT, assertClean, closePage, gotoApp, loadFile, openPage, showPanel, text, waitData, waitReady } from "./harness.mjs";
 
 const CARDS = JSON.parse(readFileSync(path.join(ROOT, "models/cards.json"), "utf8"));
 const ACCURACY = JSON.parse(readFileSync(path.join(ROOT, "docs/accuracy.json"), "utf8"));
@@ -68,7 +68,8 @@ test("each labelling row shows its model and card; changing it on the row or in 
   await waitData(page, "knn", "done");
   assert.equal(await page.inputValue("#dtfcn-row-model"), "exercises");
   assert.equal(await page.inputValue("#knn-row-model"), "exercises");
-  // the card beside the panel's choice and on the row
+  // the card beside the panel's choice (its tab shown: the side panel shows one method) and on the row
+  await showPanel(page, "dtfcn");
   await page.locator("#dtfcn-model-card-held-out").waitFor();
   const exercises = card("dtfcn", "exercises");
   assert.match(await text(page, "#dtfcn-model-card-trained-on"), /4 takes: 13_29\.bvh, 13_30\.bvh, 13_31\.bvh, 14_14\.bvh/);
@@ -100,6 +101,7 @@ test("each labelling row shows its model and card; changing it on the row or in 
   assert.match(await text(page, "#dtfcn-model-card-trained-on"), /1 take: 86_01\.bvh/);
   // the panel's choice re-runs too (it did not before: Run had to be pressed)
   await watchRuns("knn");
+  await showPanel(page, "knn");
   await page.selectOption("#knn-model", "locomotion");
   await ranAgain("knn");
   assert.equal(await page.inputValue("#knn-row-model"), "locomotion");
@@ -131,6 +133,7 @@ test("the row and the card warn when the take on screen trained the model: the s
 test("advice before training: a class with too few segments or seconds is named", async () => {
   await gotoApp(page, "?methods=dtfcn");
   await waitData(page, "dtfcn", "done");
+  await showPanel(page, "dtfcn");
   // the sample at 120 fps: `kick` once, 0.5 s; `reach` twice, 2 s in all
   const csv = ["file,start_frame,end_frame,label", "sample.bvh,0,599,stand", "sample.bvh,600,659,kick",
     "sample.bvh,660,779,reach", "sample.bvh,780,899,reach", "sample.bvh,900,1499,stand"].join("\n") + "\n";
@@ -150,6 +153,7 @@ test("advice before training: a class with too few segments or seconds is named"
 
 test("a training that ends after another take was opened is not applied to it; kept, it is listed after a reload", async () => {
   // (the labels of the last test are chosen: enough.csv on sample.bvh)
+  await showPanel(page, "dtfcn");
   await page.click("#dtfcn-training summary");
   await page.fill("#dtfcn-train-epochs", "500");
   await page.fill("#dtfcn-train-name", "e2e-bound");
