@@ -129,6 +129,7 @@ mod worker {
             takes: vec!["12_01.bvh".into()],
             options,
             bytes: vec![take.to_vec()],
+            continue_from: None,
         };
         let posted = ask(train, None);
         assert!(posted

@@ -46,6 +46,7 @@ fn header(kind: ModelKind, classes: usize) -> ModelHeader {
         network: None,
         standardise: None,
         knn: None,
+        travel: None,
         provenance: Provenance {
             command: "fuzz seed".into(),
             data_hash: String::new(),
