@@ -260,6 +260,8 @@ test("a segment's context menu: play, export its clip, copy to my labels, show i
   await page.waitForFunction(() => document.querySelector("#play-pause").textContent.trim() === "Play");
   await page.keyboard.press("Shift+F10");
   await page.locator("#segment-menu").waitFor({ state: "visible" });
+  // the menu gives its first item the focus once it is drawn: the keys go there from then on
+  await page.waitForFunction(() => document.activeElement?.id === "segment-menu-play");
   await page.keyboard.press("ArrowDown");
   assert.equal(await page.evaluate(() => document.activeElement?.id), "segment-menu-export");
   await page.keyboard.press("End");

@@ -47,7 +47,8 @@ async function ranAgain(method) {
 }
 
 /** The labels of the segments on `#row-<id>`. */
-const rowLabels = (id) => page.$$eval(`#row-${id} .ms-seg`, (els) => els.map((e) => e.textContent.trim()));
+// a segment's label is its data-label (its text may be abbreviated or hidden to fit its width)
+const rowLabels = (id) => page.$$eval(`#row-${id} .ms-seg`, (els) => els.map((e) => e.dataset.label ?? e.textContent.trim()));
 
 const card = (method, name) => CARDS.cards.find((c) => c.method === method && c.name === name);
 
@@ -221,6 +222,7 @@ test("a training that ends after another take was opened is not applied to it; k
   const epochsBefore = Number((await text(page, "#dtfcn-model-card-training")).match(/(\d+) epochs?,/)[1]);
   const enough = ["file,start_frame,end_frame,label", "sample.bvh,0,599,kick", "sample.bvh,600,1199,stand"].join("\n") + "\n";
   await page.setInputFiles("#dtfcn-train-labels", { name: "more.csv", mimeType: "text/csv", buffer: Buffer.from(enough) });
+  await showPanel(page, "dtfcn"); // after the reload the side panel shows its first tab
   await page.click("#dtfcn-training summary");
   await page.fill("#dtfcn-train-epochs", "2");
   const button = page.locator("#dtfcn-train-continue:not([disabled])");
