@@ -483,8 +483,8 @@ fn Exports(state: AppState, method: &'static MethodSlot, index: usize, loader: L
         slot.view.with_untracked(|v| {
             let Some(v) = v else { return };
             let rows = crate::labels::from_segmentation(&v.segmentation, which.get_untracked());
-            let file =
-                format!("{}_{}_{}.csv", stem(&v.segmentation.file), slot.info.name, which_name(which.get_untracked()));
+            let word = which_word(Some(v), which.get_untracked());
+            let file = format!("{}_{}_{word}.csv", stem(&v.segmentation.file), slot.info.name);
             let status = if rows.is_empty() {
                 (true, "no segments of that kind to save".to_string())
             } else {
@@ -510,10 +510,13 @@ fn Exports(state: AppState, method: &'static MethodSlot, index: usize, loader: L
     };
     let none = move || slot.view.with(Option::is_none);
     let options = move || {
-        [(Which::Actions, Level::Action, "actions"), (Which::Primitives, Level::Primitive, "primitives")]
+        [(Which::Actions, Level::Action), (Which::Primitives, Level::Primitive)]
             .into_iter()
-            .filter(|(_, level, _)| has(*level))
-            .map(|(w, _, label)| view! { <option value=which_name(w) selected=move || which.get() == w>{label}</option> })
+            .filter(|(_, level)| has(*level))
+            .map(|(w, _)| {
+                let label = slot.view.with(|v| which_word(v.as_deref(), w));
+                view! { <option value=which_name(w) selected=move || which.get() == w>{label}</option> }
+            })
             .collect_view()
     };
     let on_which = move |ev: leptos::ev::Event| {
@@ -576,6 +579,17 @@ fn which_name(w: Which) -> &'static str {
     match w {
         Which::Actions => "actions",
         Which::Primitives => "primitives",
+        Which::All => "all",
+    }
+}
+
+/// What the row of `v` calls the segments `w` chooses, for the export's menu and file names:
+/// the row's word ([`crate::view::rows::RowKind::word`]: a labelling method's actions are its
+/// "labels", LMA's primitives its "gestures"), "all" for every segment.
+pub(super) fn which_word(v: Option<&MethodView>, w: Which) -> &'static str {
+    match w {
+        Which::Actions => row_kind(v, false).word(),
+        Which::Primitives => row_kind(v, true).word(),
         Which::All => "all",
     }
 }

@@ -16,6 +16,8 @@ pub(super) struct ClipJob {
     status: ExportStatus,
     retried: bool,
     row: String,
+    /// What the row calls the level cut ("labels", "gestures"), for a zip's name.
+    word: Option<&'static str>,
 }
 
 impl Loader {
@@ -32,7 +34,9 @@ impl Loader {
         let slot = &self.0.state.methods[index];
         match slot.view.get_untracked() {
             Some(view) => {
-                self.export_clips_of(&view.segmentation, &slot.info.name, which, to_origin, only, slot.export_status)
+                let word = super::super::method_panel::which_word(Some(&view), which);
+                let status = slot.export_status;
+                self.cut_clips(&view.segmentation, &slot.info.name, Some(word), which, to_origin, only, status)
             }
             None => slot.export_status.set(Some((true, "run the method on a take first".into()))),
         }
@@ -50,6 +54,21 @@ impl Loader {
         only: Option<(usize, usize)>,
         status: ExportStatus,
     ) {
+        self.cut_clips(segmentation, row, None, which, to_origin, only, status)
+    }
+
+    /// [`Loader::export_clips_of`] with what the row calls the level cut (`word`, for a zip's name).
+    #[allow(clippy::too_many_arguments)]
+    fn cut_clips(
+        &self,
+        segmentation: &crate::segment::Segmentation,
+        row: &str,
+        word: Option<&'static str>,
+        which: crate::clips::Which,
+        to_origin: bool,
+        only: Option<(usize, usize)>,
+        status: ExportStatus,
+    ) {
         let inner = &self.0;
         let Some(take) = inner.shown.borrow().as_ref().map(|t| t.id) else {
             return status.set(Some((true, "no take is loaded".into())));
@@ -60,7 +79,7 @@ impl Loader {
         status.set(Some((false, "cutting the clips…".into())));
         match post(inner, &request, None) {
             Ok(()) => {
-                inner.clip_jobs.borrow_mut().push(ClipJob { request, status, retried: false, row: row.to_string() })
+                inner.clip_jobs.borrow_mut().push(ClipJob { request, status, retried: false, row: row.to_string(), word })
             }
             Err(message) => status.set(Some((true, message))),
         }
@@ -71,12 +90,12 @@ impl Loader {
 pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> {
     match response {
         Response::Clips { run, file, clips, bytes, .. } => {
-            if let Some(ClipJob { request, status, row, .. }) = take_clip_job(inner, run) {
+            if let Some(ClipJob { request, status, row, word, .. }) = take_clip_job(inner, run) {
                 let stem = match &request {
                     Request::Clips { segmentation, .. } => crate::clips::stem_of(&segmentation.file),
                     _ => String::new(),
                 };
-                let file = crate::view::export_names::with_row(&file, &stem, &row);
+                let file = crate::view::export_names::with_row_word(&file, &stem, &row, word);
                 let said = match download(&bytes, clip_mime(&file), &file) {
                     Ok(()) => (false, format!("saved {file} ({})", crate::method::counted(clips, "clip"))),
                     Err(e) => (true, format!("could not save {file}: {}", js_message(&e))),
@@ -87,14 +106,14 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
         Response::Failed { run: Some(run), message, kind, .. }
             if inner.clip_jobs.borrow().iter().any(|j| j.request.run_id() == Some(run)) =>
         {
-            let Some(ClipJob { request, status, retried, row }) = take_clip_job(inner, run) else { return None };
+            let Some(ClipJob { request, status, retried, row, word }) = take_clip_job(inner, run) else { return None };
             match kind {
                 FailureKind::NotLoaded if !retried => {
                     let inner = inner.clone();
                     wasm_bindgen_futures::spawn_local(async move {
                         let sent = restore(&inner).await.and_then(|()| post(&inner, &request, None));
                         match sent {
-                            Ok(()) => inner.clip_jobs.borrow_mut().push(ClipJob { request, status, retried: true, row }),
+                            Ok(()) => inner.clip_jobs.borrow_mut().push(ClipJob { request, status, retried: true, row, word }),
                             Err(e) => status.set(Some((true, e))),
                         }
                     });
