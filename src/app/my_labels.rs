@@ -10,9 +10,11 @@
 //!   (`data-cut`: the first frame after it) with a resize cursor: dragging it moves it (a shared
 //!   boundary moves both segments), snapping to the other rows' boundaries within
 //!   [`SNAP_PX`] pixels; the pose and the frame readout follow it, and a neighbour in its way is
-//!   rolled, never left a one-frame sliver ([`Model::drag_boundary`]). A handle takes the focus (Tab): ← / → move it one frame, with Shift one
-//!   second (a focusable `separator` with `aria-valuenow`, as the ARIA window-splitter pattern
-//!   has it), each step an undoable edit. Clicking a segment selects it and moves the playhead to
+//!   rolled, never left a one-frame sliver ([`Model::drag_boundary`]). A handle takes the focus
+//!   (Tab): ← / → move it one frame, with Shift one second (a focusable `separator` with
+//!   `aria-valuenow`, as the ARIA window-splitter pattern has it), each step an undoable edit that
+//!   rolls as a drag does ([`Model::nudge_boundary`]: a neighbour down to two frames is crossed by
+//!   the next press, never left one frame). Clicking a segment selects it and moves the playhead to
 //!   the frame clicked.
 //! * `#my-labels-tools` (under the timeline): `#my-labels-source` + `#my-labels-copy` (copy a row),
 //!   `#my-labels-empty`, `#my-labels-split` (at the playhead), `#my-labels-merge` (with the next),
@@ -586,14 +588,14 @@ impl MyRow {
         Some((w.start + (client_x - rect.left()) / rect.width() * w.span(), rect.width()))
     }
 
-    /// Moves boundary `cut` by `by` frames from the keyboard (one undoable edit) and keeps the
-    /// focus on its handle, drawn again at its new frame.
+    /// Moves boundary `cut` by `by` frames from the keyboard (one undoable edit; it rolls as a
+    /// drag does: [`Model::nudge_boundary`]) and keeps the focus on its handle, drawn again at its
+    /// new frame.
     fn nudge(self, cut: usize, by: isize) {
-        let to = cut.saturating_add_signed(by);
         let mut landed = cut;
         let moved = self.edit(
             |m| {
-                landed = m.move_boundary(cut, to)?;
+                landed = m.nudge_boundary(cut, by)?;
                 Ok(())
             },
             None,

@@ -404,6 +404,28 @@ impl MyLabels {
         Ok(landed)
     }
 
+    /// Moves boundary `cut` by `by` frames from the keyboard (← / →): a drag by that much
+    /// ([`MyLabels::drag_boundary`], so it rolls and never leaves a sliver), and where a drag by
+    /// `by` would stop short (a neighbour down to [`MIN_SPAN`] frames, a gap about to close), the
+    /// shortest drag further in that direction that moves it — so that holding a key walks the
+    /// boundary across its neighbour instead of sticking. Returns where it landed (`cut`: it
+    /// cannot go that way).
+    pub fn nudge_boundary(&mut self, cut: usize, by: isize) -> Result<usize, EditError> {
+        self.boundary_limits(cut)?;
+        if by == 0 {
+            return Ok(cut);
+        }
+        let mut step = by.unsigned_abs();
+        loop {
+            let to = if by > 0 { cut.saturating_add(step).min(self.frames) } else { cut.saturating_sub(step) };
+            let landed = self.drag_boundary(cut, to)?;
+            if landed != cut || to == 0 || to == self.frames {
+                return Ok(landed);
+            }
+            step += 1;
+        }
+    }
+
     /// Splits the segment covering `frame` into `start..frame` and `frame..=end`, both with its
     /// label; the right part is selected.
     pub fn split_at(&mut self, frame: usize) -> Result<(), EditError> {
@@ -985,6 +1007,51 @@ mod tests {
         assert_eq!(m.move_boundary(100, 500), Ok(100), "the last frame is the end");
         assert_eq!(m.move_boundary(100, 60), Ok(60));
         assert_eq!(spans(&m)[2], (40, 59, "c"));
+    }
+
+    #[test]
+    fn a_nudged_boundary_rolls_like_a_drag_and_never_sticks_or_leaves_a_sliver() {
+        // a 0..=9 | b 10..=29 | gap 30..=39 | c 40..=99
+        let mut m = sample();
+        // one frame at a time to the right: b shrinks to two frames, then the next press crosses it
+        let mut cut = 10;
+        for _ in 0..18 {
+            cut = m.nudge_boundary(cut, 1).unwrap();
+        }
+        assert_eq!(cut, 28);
+        assert_eq!(spans(&m)[..2], [(0, 27, "a"), (28, 29, "b")]);
+        cut = m.nudge_boundary(cut, 1).unwrap();
+        assert_eq!(cut, 30, "b crossed: removed, never a one-frame b");
+        assert_eq!(spans(&m)[..2], [(0, 29, "a"), (40, 99, "c")]);
+        // on through the gap: it never leaves a one-frame gap (39 → the segments touch at 40)
+        for _ in 0..8 {
+            cut = m.nudge_boundary(cut, 1).unwrap();
+        }
+        assert_eq!(cut, 38);
+        assert_eq!(m.nudge_boundary(cut, 1).unwrap(), 40);
+        // at the take's end it stops
+        let mut end = sample();
+        assert_eq!(end.nudge_boundary(100, 1).unwrap(), 100);
+        // every walk, either way, by one frame or a second, leaves no one-frame segment or gap
+        for start in [0, 10, 30, 40, 100] {
+            for by in [-30, -1, 1, 30] {
+                let mut m = sample();
+                let mut cut = start;
+                for _ in 0..120 {
+                    let next = m.nudge_boundary(cut, by).unwrap();
+                    let covered: Vec<(usize, usize)> = m.spans().iter().map(|s| (s.start, s.end)).collect();
+                    assert!(covered.iter().all(|(a, b)| b + 1 - a >= MIN_SPAN), "{start} by {by}: {covered:?}");
+                    for w in covered.windows(2) {
+                        let gap = w[1].0 - (w[0].1 + 1);
+                        assert!(gap == 0 || gap >= MIN_SPAN, "{start} by {by}: a {gap}-frame gap in {covered:?}");
+                    }
+                    if next == cut {
+                        break;
+                    }
+                    cut = next;
+                }
+            }
+        }
     }
 
     #[test]

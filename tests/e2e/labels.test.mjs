@@ -278,6 +278,25 @@ test("a boundary moves from the keyboard: its handle takes the focus, ← / → 
     await until(async () => (await pair())[1]?.start === want, `undo back to ${want}`);
   }
   assert.deepEqual(await pair(), [left, right]);
+  // Shift+→ walks the boundary over the right segment a second at a time: it rolls as a drag does —
+  // never a segment one frame thin, and the segment is crossed (removed) instead of the boundary
+  // sticking before its last frame
+  const focused = () => page.evaluate(() => Number(document.activeElement?.dataset.cut));
+  await handle(cut).focus();
+  const steps = Math.ceil((right.end - right.start + 1) / fps) + 1;
+  let at = cut;
+  for (let k = 0; k < steps; k++) {
+    await page.keyboard.press("Shift+ArrowRight");
+    await until(async () => (await focused()) > at, `Shift+→ step ${k + 1} moved the boundary`);
+    at = await focused();
+    const thin = (await spans()).filter((s) => s.end - s.start + 1 < 2);
+    assert.deepEqual(thin, [], `step ${k + 1}: no one-frame segment`);
+  }
+  const after = await spans();
+  assert.ok(!after.some((s) => s.end === right.end && s.start > left.start), "the right segment was crossed");
+  assert.ok(after.some((s) => s.start === left.start && s.end >= right.end), "the left one grew over it");
+  for (let k = 0; k < steps; k++) await page.click("#my-labels-undo");
+  await until(async () => JSON.stringify(await pair()) === JSON.stringify([left, right]), "undone step by step");
   assertClean(opened);
 });
 
