@@ -49,20 +49,7 @@ mod lab {
         let model = Model::from_bytes(&bytes, &source)?;
         let label_bytes = std::fs::read(&args.labels).map_err(|e| format!("{}: {e}", args.labels.display()))?;
         let rows = read_csv(&String::from_utf8_lossy(&label_bytes), &args.labels.display().to_string())?;
-        let mut files = Vec::new();
-        for p in &args.bvh {
-            if p.is_dir() {
-                let mut found: Vec<PathBuf> = std::fs::read_dir(p)
-                    .map_err(|e| format!("{}: {e}", p.display()))?
-                    .filter_map(|e| e.ok().map(|e| e.path()))
-                    .filter(|f| f.extension().is_some_and(|x| x.eq_ignore_ascii_case("bvh")))
-                    .collect();
-                found.sort();
-                files.extend(found);
-            } else {
-                files.push(p.clone());
-            }
-        }
+        let files = mocapseg::load::collect_files(&args.bvh, "bvh")?;
         let mut motions: Vec<Motion> = Vec::new();
         let mut hashed: Vec<(String, Vec<u8>)> = Vec::new();
         for f in files {

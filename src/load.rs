@@ -180,6 +180,40 @@ fn read(path: &std::path::Path) -> Result<Vec<u8>, LoadError> {
 
 /// The ASF skeleton of an AMC motion: `<subject>.asf` beside `<subject>_<trial>.amc` (the CMU
 /// naming), else the only `.asf` in its folder.
+/// Every file under `inputs` with extension `ext` (folders searched recursively, sorted);
+/// files named directly are kept whatever their extension. The command line's way of reading
+/// folders of takes (`mocapseg segment DIR`, the examples).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn collect_files(inputs: &[std::path::PathBuf], ext: &str) -> Result<Vec<std::path::PathBuf>, String> {
+    fn walk(dir: &std::path::Path, ext: &str, out: &mut Vec<std::path::PathBuf>) -> Result<(), String> {
+        let mut entries: Vec<std::path::PathBuf> = std::fs::read_dir(dir)
+            .map_err(|e| format!("{}: {e}", dir.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .collect();
+        entries.sort();
+        for p in entries {
+            if p.is_dir() {
+                walk(&p, ext, out)?;
+            } else if p.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext)) {
+                out.push(p);
+            }
+        }
+        Ok(())
+    }
+    let mut files = Vec::new();
+    for input in inputs {
+        if input.is_dir() {
+            walk(input, ext, &mut files)?;
+        } else if input.exists() {
+            files.push(input.clone());
+        } else {
+            return Err(format!("{}: no such file or folder", input.display()));
+        }
+    }
+    files.dedup();
+    Ok(files)
+}
+
 #[cfg(not(target_arch = "wasm32"))]
 pub fn asf_beside(amc: &std::path::Path) -> Result<std::path::PathBuf, LoadError> {
     let folder = amc.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));

@@ -2,7 +2,7 @@
 //! over a floor grid (drag to orbit, wheel to zoom, double-click to re-fit), with play/pause
 //! (`#play-pause`), a scrub bar (`#scrub`), a speed menu (`#speed`), `#frame-counter` and the
 //! follow camera (`#follow`: the view slides along the floor with the root, so a walking subject
-//! stays in a zoomed view; the canvas' `data-root-x` is where the root was drawn, in CSS pixels).
+//! stays in a zoomed view; the canvas' `data-root-x` is where the root was drawn, in CSS pixels, `none` when it was not).
 //! Camera math is in [`super::camera`]; playback timing in [`super::playback`].
 
 use super::{playback, AppState};
@@ -273,6 +273,8 @@ fn draw(canvas: &HtmlCanvasElement, m: &LoadedMotion, frame: usize, orbit: &Orbi
     stroke_segments(&ctx, &projector, shadows, c.shadow, 3.0 * scale);
     ctx.set_line_cap("round");
     stroke_segments(&ctx, &projector, bones.iter().copied(), c.bone, 2.5 * scale);
+    // "none" unless the root is drawn below (behind the camera it is not)
+    let _ = canvas.set_attribute("data-root-x", "none");
     for (i, p) in points.iter().enumerate() {
         let (is_root, is_end) = (m.skeleton.parents[i].is_none(), m.skeleton.is_end_site[i]);
         if is_end {

@@ -893,37 +893,7 @@ mod cli {
         std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))
     }
 
-    /// Every file under `inputs` with extension `ext` (folders searched recursively, sorted);
-    /// files named directly are kept whatever their extension.
-    pub(crate) fn collect_files(inputs: &[PathBuf], ext: &str) -> Result<Vec<PathBuf>, String> {
-        fn walk(dir: &Path, ext: &str, out: &mut Vec<PathBuf>) -> Result<(), String> {
-            let mut entries: Vec<PathBuf> = std::fs::read_dir(dir)
-                .map_err(|e| format!("{}: {e}", dir.display()))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .collect();
-            entries.sort();
-            for p in entries {
-                if p.is_dir() {
-                    walk(&p, ext, out)?;
-                } else if p.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext)) {
-                    out.push(p);
-                }
-            }
-            Ok(())
-        }
-        let mut files = Vec::new();
-        for input in inputs {
-            if input.is_dir() {
-                walk(input, ext, &mut files)?;
-            } else if input.exists() {
-                files.push(input.clone());
-            } else {
-                return Err(format!("{}: no such file or folder", input.display()));
-            }
-        }
-        files.dedup();
-        Ok(files)
-    }
+    pub(crate) use mocapseg::load::collect_files;
 
     fn labels(truth: &[PathBuf], options: TruthOptions, out: Option<PathBuf>) -> Result<(), String> {
         let mut rows = Vec::new();

@@ -4,7 +4,9 @@
 // prints for that method's exported segmentation JSON (its primitives alone for a primitives row)
 // and the same truth file; the best per column (as shown) is bold with a hidden "(best)" and
 // `data-best`, and nothing else is; a column heading sorts the lines (aria-sort), best first then
-// worst first; another truth re-scores every line. Screenshots go to OUT.
+// worst first; another truth re-scores every line. At 1024 × 768 and 1440 × 900, light and dark, the
+// table holds the same numbers, its row names stay in view and every text reads at ≥ 4.5:1.
+// Screenshots go to OUT.
 //
 // Needs the native CLI (MOCAPSEG_BIN, default $CARGO_TARGET_DIR/debug/mocapseg, else
 // target/debug/mocapseg; `cargo build --bin mocapseg`). Run: scripts/e2e.sh with
@@ -12,15 +14,13 @@
 
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
-import { execFileSync } from "node:child_process";
-import { existsSync, readFileSync, writeFileSync } from "node:fs";
+import { readFileSync, writeFileSync } from "node:fs";
 import path from "node:path";
 import {
-  ROOT, OUT, FIXTURES, TIMEOUT, openPage, closePage, shot, showPanel, waitData, gotoApp, download, until, assertClean,
+  ROOT, OUT, FIXTURES, TIMEOUT, contrasts, openPage, closePage, shot, showPanel, waitData, gotoApp, download, until, assertClean,
+  assertCli, cliEval, cliMetrics,
 } from "./harness.mjs";
 
-const BIN = process.env.MOCAPSEG_BIN
-  ?? path.join(process.env.CARGO_TARGET_DIR ?? path.join(ROOT, "target"), "debug/mocapseg");
 const SHARED_CSV = path.join(FIXTURES, "mocap6_13_30_gt.csv"); // the sample's truth, 1-based at 120 fps
 /** Every registered method (the registry's order). */
 const METHODS = ["sssm", "velocity", "kcs", "pca", "lma", "knn", "dtfcn"];
@@ -29,10 +29,11 @@ let opened;
 let page;
 /** Row id → the segmentation JSON file the CLI scores for it. */
 const files = new Map();
+/** The table's lines with the shared CSV at 1440 × 900, light (checked against the CLI). */
+let firstTable = null;
 
 before(async () => {
-  assert.ok(existsSync(BIN), `the native CLI is missing at ${BIN}: run 'cargo build --bin mocapseg' `
-    + "(or set MOCAPSEG_BIN to its path); the table is checked against its 'eval'");
+  assertCli("the table is checked against its 'eval'");
   opened = await openPage({ viewport: { width: 1440, height: 900 } });
   page = opened.page;
   await gotoApp(page);
@@ -41,29 +42,6 @@ before(async () => {
 after(async () => {
   await closePage(opened, "compare-final.png");
 });
-
-/** `mocapseg eval` on `seg` against `truth`: its JSON scores. */
-function cliEval(seg, truth) {
-  return JSON.parse(execFileSync(BIN, ["eval", seg, "--truth", truth], { encoding: "utf8" }));
-}
-
-/** The CLI's scores under the panel's keys. */
-function cliMetrics(s) {
-  return {
-    "boundary_f1_0.5s": s.boundaries[0].f1,
-    "boundary_f1_1s": s.boundaries[1].f1,
-    covering: s.covering,
-    hungarian_accuracy: s.hungarian_accuracy,
-    strict_accuracy: s.strict_accuracy,
-    tolerant_accuracy: s.tolerant_accuracy,
-    frame_accuracy: s.labelling.frame_accuracy,
-    edit: s.labelling.edit,
-    f1_10: s.labelling.f1[0],
-    f1_25: s.labelling.f1[1],
-    f1_50: s.labelling.f1[2],
-    segment_score: s.segments.similarity,
-  };
-}
 
 /** The comparison table as shown: its columns, and per line (in order) its id and cells. */
 async function table() {
@@ -153,6 +131,7 @@ test("every method row in one table: the numbers mocapseg eval prints, the best 
   assert.ok(columns.every((c) => c.sort === "none"), "unsorted at first");
   const checked = await assertSameAsCli(SHARED_CSV, "the shared CSV");
   assertBestMarked(checked, "the shared CSV");
+  firstTable = checked;
   const ms = Number(await page.evaluate(() => document.body.dataset.compareMs));
   assert.ok(Number.isFinite(ms) && ms >= 0, `data-compare-ms is a duration: ${ms}`);
   console.log(`  (${lines.length} rows scored on the page thread in ${ms} ms)`);
@@ -224,3 +203,59 @@ test("another truth re-scores every line; my labels copied from it join the tabl
   assert.equal(await page.locator("#metrics-compare").count(), 0, "no table without a truth");
   assertClean(opened);
 });
+
+for (const [viewport, theme] of [[{ width: 1024, height: 768 }, "light"], [{ width: 1024, height: 768 }, "dark"], [{ width: 1440, height: 900 }, "dark"]]) {
+  const size = `${viewport.width}×${viewport.height}`;
+  test(`${size}, ${theme}: the same table, its row names in view, every text readable`, async () => {
+    assert.ok(firstTable, "the first test scored the table at 1440 × 900, light");
+    const other = await openPage({ viewport, contextOptions: { colorScheme: theme } });
+    try {
+      const p = other.page;
+      await gotoApp(p);
+      await p.waitForFunction(() => {
+        const d = document.body.dataset;
+        return d.sssm === "done" && !Object.values(d).some((v) => v === "running" || v === "queued");
+      }, null, { timeout: 120_000 });
+      await p.setInputFiles("#truth-file", SHARED_CSV);
+      await waitData(p, "truth", "loaded");
+      await waitData(p, "compare", "done");
+      await showPanel(p, "truth");
+      const shown = await p.$eval("#metrics-compare", (t) => [...t.querySelectorAll("tbody tr")].map((tr) => ({
+        id: tr.dataset.row,
+        values: Object.fromEntries([...tr.querySelectorAll("td[data-metric]")].map((td) => [td.dataset.metric, Number(td.dataset.value)])),
+        best: [...tr.querySelectorAll("td[data-best=true]")].map((td) => td.dataset.metric).sort(),
+      })));
+      assert.deepEqual(shown.map((l) => l.id), firstTable.map((l) => l.id), `${size} ${theme}: the same lines`);
+      shown.forEach((l, i) => {
+        const want = firstTable[i];
+        for (const [key, c] of Object.entries(want.cells)) {
+          assert.equal(l.values[key], c.value, `${size} ${theme}: ${l.id} ${key}`);
+        }
+        assert.deepEqual(l.best, Object.keys(want.cells).filter((k) => want.cells[k].best).sort(), `${size} ${theme}: ${l.id}'s best marks`);
+      });
+      // the table scrolls within its box, never the page sideways; the row names are in the viewport
+      await p.locator("#metrics-compare").scrollIntoViewIfNeeded();
+      const { pageWide, names } = await p.evaluate(() => ({
+        pageWide: document.documentElement.scrollWidth > window.innerWidth + 1,
+        names: [...document.querySelectorAll("#metrics-compare tbody th")].map((th) => {
+          const r = th.getBoundingClientRect();
+          return { text: th.textContent.trim(), left: r.left, right: r.right, width: r.width };
+        }),
+      }));
+      assert.equal(pageWide, false, `${size} ${theme}: no sideways scroll of the page`);
+      assert.equal(names.length, shown.length, "one row name per line");
+      for (const n of names) {
+        assert.ok(n.width > 0 && n.left >= 0 && n.right <= viewport.width, `${size} ${theme}: "${n.text}" in view (${n.left}–${n.right})`);
+      }
+      const seen = await contrasts(p, ["#metrics-compare"]);
+      assert.ok(seen.length >= shown.length * 5, `${size} ${theme}: the table's texts are measured (${seen.length})`);
+      const poor = seen.filter((t) => t.ratio < 4.5);
+      assert.deepEqual(poor.map((t) => `${t.ratio.toFixed(2)}:1 "${t.text}" ${t.color} on ${t.behind}`), [],
+        `${size} ${theme}: texts of the table below 4.5:1`);
+      await p.locator("#metrics-compare").screenshot({ path: path.join(OUT, `compare-${viewport.width}-${theme}.png`) });
+      assertClean(other);
+    } finally {
+      await closePage(other, `compare-${viewport.width}-${theme}-final.png`);
+    }
+  });
+}

@@ -14,14 +14,13 @@
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { execFileSync } from "node:child_process";
-import { existsSync, readFileSync, writeFileSync } from "node:fs";
+import { readFileSync, writeFileSync } from "node:fs";
 import path from "node:path";
 import {
   ROOT, OUT, FIXTURES, TIMEOUT, openPage, closePage, shot, showPanel, text, waitData, gotoApp, download, until, assertClean,
+  assertCli, cliEval, cliMetrics,
 } from "./harness.mjs";
 
-const BIN = process.env.MOCAPSEG_BIN
-  ?? path.join(process.env.CARGO_TARGET_DIR ?? path.join(ROOT, "target"), "debug/mocapseg");
 const SHARED_CSV = path.join(FIXTURES, "mocap6_13_30_gt.csv"); // trial,…,start_frame,end_frame,… (1-based, 120 fps)
 const LABELS_30 = path.join(FIXTURES, "13_30_labels_30fps.csv"); // start_frame,end_frame,label (1-based, 30 fps)
 
@@ -29,8 +28,7 @@ let opened;
 let page;
 
 before(async () => {
-  assert.ok(existsSync(BIN), `the native CLI is missing at ${BIN}: run 'cargo build --bin mocapseg' `
-    + "(or set MOCAPSEG_BIN to its path); the metrics are checked against its 'eval'");
+  assertCli("the metrics are checked against its 'eval'");
   opened = await openPage({ viewport: { width: 1440, height: 900 } });
   page = opened.page;
   await gotoApp(page);
@@ -39,12 +37,6 @@ before(async () => {
 after(async () => {
   await closePage(opened, "truth-final.png");
 });
-
-/** `mocapseg eval` on `seg` against `truth` with `flags`: its JSON scores. */
-function cliEval(seg, truth, flags = []) {
-  const out = execFileSync(BIN, ["eval", seg, "--truth", truth, ...flags], { encoding: "utf8" });
-  return JSON.parse(out);
-}
 
 /** The truth row's segments as [start, end, label]. */
 async function truthRow() {
@@ -75,24 +67,6 @@ async function panelMetrics() {
     const td = r.querySelector(".ms-metric-value");
     return [r.dataset.metric, { shown: td.textContent.trim(), value: Number(td.dataset.value), digits: Number(td.dataset.digits) }];
   })));
-}
-
-/** The CLI's scores under the panel's keys. */
-function cliMetrics(s) {
-  return {
-    "boundary_f1_0.5s": s.boundaries[0].f1,
-    "boundary_f1_1s": s.boundaries[1].f1,
-    covering: s.covering,
-    hungarian_accuracy: s.hungarian_accuracy,
-    strict_accuracy: s.strict_accuracy,
-    tolerant_accuracy: s.tolerant_accuracy,
-    frame_accuracy: s.labelling.frame_accuracy,
-    edit: s.labelling.edit,
-    f1_10: s.labelling.f1[0],
-    f1_25: s.labelling.f1[1],
-    f1_50: s.labelling.f1[2],
-    segment_score: s.segments.similarity,
-  };
 }
 
 /** The panel shows the CLI's numbers: exactly in data-value, and to the digits shown. */
