@@ -27,6 +27,33 @@ mkdirSync(OUT, { recursive: true });
 export const BIN = process.env.MOCAPSEG_BIN
   ?? path.join(process.env.CARGO_TARGET_DIR ?? path.join(ROOT, "target"), "debug/mocapseg");
 
+/** The sizes and themes the studio is checked at (issue 27: 1024 × 768 and 1440 × 900, light and dark). */
+export const VIEWS = [
+  { viewport: { width: 1024, height: 768 }, theme: "light" },
+  { viewport: { width: 1024, height: 768 }, theme: "dark" },
+  { viewport: { width: 1440, height: 900 }, theme: "light" },
+  { viewport: { width: 1440, height: 900 }, theme: "dark" },
+];
+
+/** Puts `page` in `view` (its window size and colour scheme); returns its name, e.g. "1024×768 dark". */
+export async function atView(page, { viewport, theme }) {
+  await page.setViewportSize(viewport);
+  await page.emulateMedia({ colorScheme: theme });
+  // let the layout settle (splitters and the timeline measure themselves on resize)
+  await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
+  return `${viewport.width}×${viewport.height} ${theme}`;
+}
+
+/** The texts under `roots` below WCAG 4.5:1, one line each (empty: all readable). */
+export async function poorContrast(page, roots) {
+  const seen = await contrasts(page, roots);
+  return {
+    seen,
+    poor: seen.filter((t) => t.ratio < 4.5)
+      .map((t) => `${t.ratio.toFixed(2)}:1 "${t.text}" (${t.id || t.cls}) ${t.color} on ${t.behind}`),
+  };
+}
+
 /**
  * Every visible element under `roots` with text of its own: its text, its colour and the colours
  * it is drawn on (its own or its first ancestor's opaque background, translucent layers composed

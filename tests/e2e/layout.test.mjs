@@ -9,14 +9,17 @@
 //   copy it to my labels, show its panel), by mouse and by Shift+F10, Esc closes it;
 // * the legend names every kind of row on screen, row tooltips say what a row is, and each row has
 //   one name: the timeline's, the metrics menu's and the comparison table's are the same;
-// * "What next" is on the first screen, and stays dismissed after a reload.
+// * "What next" is on the first screen, and stays dismissed after a reload;
+// * the context menu, the legend and "What next" open wholly in the window and read at ≥ 4.5:1 at
+//   both sizes in both themes (one page resized and re-themed).
 // Screenshots go to OUT (layout-<size>-<theme>.png). Run: scripts/e2e.sh with E2E_FILES=layout.test.mjs.
 
 import { test, after } from "node:test";
 import assert from "node:assert/strict";
 import path from "node:path";
 import {
-  FIXTURES, TIMEOUT, openPage, closePage, shot, waitData, gotoApp, runMethod, download, assertClean,
+  FIXTURES, TIMEOUT, VIEWS, atView, openPage, closePage, poorContrast, shot, waitData, gotoApp, runMethod, download,
+  assertClean,
 } from "./harness.mjs";
 
 const SIZES = [{ width: 1024, height: 768 }, { width: 1440, height: 900 }];
@@ -71,6 +74,13 @@ const geometry = (page, method) => page.evaluate((m) => {
       ? row.top >= ruler.bottom - 1 && row.bottom <= Math.min(shown.bottom, minimap.top) + 1 : false,
   };
 }, method);
+
+/** The rectangle of `sel` and whether it lies wholly inside the window. */
+const placed = (page, sel) => page.$eval(sel, (e) => {
+  const r = e.getBoundingClientRect();
+  return { rect: [r.left, r.top, r.right, r.bottom].map(Math.round),
+    inside: r.width > 0 && r.height > 0 && r.left >= -1 && r.top >= -1 && r.right <= innerWidth + 1 && r.bottom <= innerHeight + 1 };
+});
 
 /** `r` lies wholly inside the window. */
 const inView = (g, r) => r !== null && r.top >= -1 && r.bottom <= g.innerHeight + 1 && r.height > 0;
@@ -216,7 +226,9 @@ test("a segment's context menu: play, export its clip, copy to my labels, show i
   const open = async () => {
     await seg.click({ button: "right" });
     await page.locator("#segment-menu").waitFor({ state: "visible" });
-    assert.equal(await page.evaluate(() => document.activeElement?.id), "segment-menu-play", "the first item has the focus");
+    // the menu gives its first item the focus once it is drawn (the next frame)
+    await page.waitForFunction(() => document.activeElement?.id === "segment-menu-play", null, { timeout: 2000 })
+      .catch(() => assert.fail("the first item has the focus"));
   };
   // play: the playhead goes to the segment's start and plays inside it
   await open();
@@ -273,6 +285,23 @@ test("a segment's context menu: play, export its clip, copy to my labels, show i
   await seg.click({ button: "right" });
   await page.mouse.click(5, 5);
   assert.ok(await page.locator("#segment-menu").isHidden());
+  // at both sizes in both themes: the menu opens beside its segment, wholly in the window, readable
+  for (const view of VIEWS) {
+    const name = await atView(page, view);
+    await seg.scrollIntoViewIfNeeded();
+    await seg.click({ button: "right" });
+    await page.locator("#segment-menu").waitFor({ state: "visible" });
+    for (const item of ["play", "export", "copy", "show"]) {
+      const at = await placed(page, `#segment-menu-${item}`);
+      assert.ok(at.inside, `${name}: the menu's "${item}" is in the window (${at.rect})`);
+    }
+    const { seen, poor } = await poorContrast(page, ["#segment-menu"]);
+    assert.ok(seen.length >= 4, `${name}: the menu's items are measured (${seen.length})`);
+    assert.deepEqual(poor, [], `${name}: the menu's texts below 4.5:1`);
+    await shot(page, `layout-menu-${view.viewport.width}-${view.theme}.png`);
+    await page.keyboard.press("Escape");
+    assert.ok(await page.locator("#segment-menu").isHidden(), `${name}: Esc closes it`);
+  }
   assertClean(opened);
 });
 
@@ -314,6 +343,21 @@ test("the legend names every kind of row on screen; tooltips say what a row is; 
   }
   await page.keyboard.press("Escape");
   assert.ok(await page.locator("#legend").isHidden());
+  // at both sizes in both themes: the legend opens in the window and reads at ≥ 4.5:1
+  for (const view of VIEWS) {
+    const name = await atView(page, view);
+    await page.click("#legend-button");
+    await page.locator("#legend").waitFor({ state: "visible" });
+    const at = await placed(page, "#legend");
+    assert.ok(at.inside, `${name}: the legend is in the window (${at.rect})`);
+    const { seen, poor } = await poorContrast(page, ["#legend"]);
+    assert.ok(seen.length >= 8, `${name}: the legend's texts are measured (${seen.length})`);
+    assert.deepEqual(poor, [], `${name}: the legend's texts below 4.5:1`);
+    await shot(page, `layout-legend-${view.viewport.width}-${view.theme}.png`);
+    await page.keyboard.press("Escape");
+    assert.ok(await page.locator("#legend").isHidden(), `${name}: Esc closes it`);
+  }
+  await atView(page, VIEWS[2]);
   // one name per row: the timeline's, the metrics menu's, the comparison table's
   const menu = new Map(await page.$$eval("#metrics-row option", (os) => os.map((o) => [o.value, o.textContent.trim()])));
   const table = new Map(await page.$$eval("#metrics-compare tbody tr", (trs) => trs.map((tr) =>
@@ -334,9 +378,16 @@ test("the legend names every kind of row on screen; tooltips say what a row is; 
 test("\"What next\" leads somewhere and stays dismissed after a reload", async () => {
   const opened = await studio(SIZES[0], "light");
   const { page } = opened;
-  // on the first screen, in the side panel's first tab
-  const box = await page.locator("#what-next").boundingBox();
-  assert.ok(box && box.y >= 0 && box.y + box.height <= SIZES[0].height, `"What next" on the first screen: ${JSON.stringify(box)}`);
+  // on the first screen, in the side panel's first tab, readable — at both sizes in both themes
+  for (const view of VIEWS) {
+    const name = await atView(page, view);
+    const at = await placed(page, "#what-next");
+    assert.ok(at.inside, `${name}: "What next" on the first screen (${at.rect})`);
+    const { seen, poor } = await poorContrast(page, ["#what-next"]);
+    assert.ok(seen.length >= 3, `${name}: its texts are measured (${seen.length})`);
+    assert.deepEqual(poor, [], `${name}: "What next" texts below 4.5:1`);
+  }
+  await atView(page, { viewport: SIZES[0], theme: "light" });
   await page.click("#what-next-truth");
   assert.equal(await page.getAttribute("#side-panel", "data-panel"), "truth");
   await page.waitForFunction(() => document.activeElement?.id === "truth-file", null, { timeout: 2000 });
