@@ -19,9 +19,7 @@ pub fn switch_question(short: &str, model: &str, training_on: &str, next: &str) 
     SwitchQuestion {
         text: format!("{short} is training `{model}` on {training_on}. Open {next} and:"),
         stop: "Stop the training".to_string(),
-        keep: format!(
-            "Keep it running (its model is offered for {training_on} when it ends, never applied to {next})"
-        ),
+        keep: format!("Keep it running (its model is offered for {training_on} when it ends, never applied to {next})"),
     }
 }
 
