@@ -216,6 +216,9 @@ test("a segment's context menu: play, export its clip, copy to my labels, show i
   const open = async () => {
     await seg.click({ button: "right" });
     await page.locator("#segment-menu").waitFor({ state: "visible" });
+    // the first item takes the focus once the menu is drawn (a timeout after it is shown)
+    await page.waitForFunction(() => document.activeElement?.id === "segment-menu-play", null, { timeout: 2000 })
+      .catch(() => {});
     assert.equal(await page.evaluate(() => document.activeElement?.id), "segment-menu-play", "the first item has the focus");
   };
   // play: the playhead goes to the segment's start and plays inside it
