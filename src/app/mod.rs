@@ -72,7 +72,7 @@ use progress::Progress;
 use summary::Summary;
 use supervised::Supervised;
 use timeline::Timeline;
-use training::{ModelFile, TrainingPanel};
+use training::{ModelFile, TakeSwitch, TrainingPanel};
 use workspace::{SidePanel, Studio};
 
 /// Where loading stands.
@@ -423,6 +423,7 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
         <section class="ms-input">
             {full.then(|| view! { <DropZone state=state loader=loader.clone()/> })}
             <Progress state=state/>
+            {full.then(|| view! { <TakeSwitch state=state loader=loader.clone()/> })}
         </section>
         {full.then(|| view! { <Summary state=state/> })}
         {studio}

@@ -7,7 +7,10 @@
 //!   method again. `#<method>-model-status` says which models the method has, what was loaded,
 //!   or — for a bad file — the method's message (the model in use stays).
 //!   `document.body.dataset.<method>Model` (`data-<method>-model`): `idle`, `loading`, `done` or
-//!   `error`.
+//!   `error`. `#<method>-my-models` lists the user's models (kept in this browser), each with a
+//!   Forget button (`button.ms-forget[data-model=NAME]`, [`Loader::forget_model`]): the model
+//!   leaves the browser, the page and the model choice — the method back on its shipped model and
+//!   run again when it was in use — and the status line says what was forgotten.
 //! * [`TrainingPanel`] — `#<method>-training`: the label CSV (`#<method>-train-labels`, its
 //!   header as the method declares it), more takes besides the one on screen when the method
 //!   can use them (`#<method>-train-takes`), the model's name (`#<method>-train-name`), every
@@ -21,9 +24,16 @@
 //!   `takes`, `name` or an option). `document.body.dataset.<method>Training`
 //!   (`data-<method>-training`): `idle`, `training`, `stopping`, `done`, `cancelled` or `error`.
 //!
+//! * [`TakeSwitch`] — `#take-switch` (role `alertdialog`, text `#take-switch-text`): opening another
+//!   take while a training runs first asks whether to stop it (`#take-switch-stop`) or keep it
+//!   running bound to its own take (`#take-switch-keep`, focused); either opens the take, and the
+//!   take opens by itself if the training ends before an answer. Nothing in it names a method:
+//!   the question says the method's short name and the model's, as the loader reports them.
+//!
 //! The page holds every model it was given or trained ([`UserModel`], its file's bytes) and the
 //! loader sends them to each worker it starts, so a worker replaced after a cancel or a crash still
-//! knows them. The "my labels" row trains the method that declares `trains_on_my_labels` through
+//! knows them — the models kept in this browser still being restored, and a model kept from a
+//! training that ended on another take, included. The "my labels" row trains the method that declares `trains_on_my_labels` through
 //! [`Supervised::request`] ([`TrainRequest`], [`super::supervised`]).
 
 use super::loader::{Loader, MAX_FILE_BYTES};
@@ -98,7 +108,10 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
     let Some(s) = slot.supervised.as_ref() else { return ().into_any() };
     let method = slot.info.name.clone();
     let short = slot.info.short.clone();
+    let slot_short = short.clone();
     body_data(format!("data-{method}-model"), move || s.file_state.get().body_state());
+    // (kept aside: the list below is reactive, and a loader cannot go to another thread)
+    let forget_loader = StoredValue::new_local(loader.clone());
 
     let on_file = move |ev: leptos::ev::Event| {
         let Some(file) = picked_files(&ev).into_iter().next() else { return };
@@ -123,6 +136,7 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
         }
         let mine: Vec<String> = s.models.with(|l| l.iter().map(|m| m.info.name.clone()).collect());
         let shipped = s.decl.shipped.join(", ");
+        let short = &slot_short;
         if mine.is_empty() {
             format!("Shipped {short} models: {shipped}. Load a model file to add your own.")
         } else {
@@ -131,6 +145,32 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
     };
     let id = format!("{method}-model-file");
     let accept = format!(".{},application/octet-stream,application/json", s.decl.model_extension);
+    // the user's models, each with its Forget button
+    let mine = move || {
+        s.models.with(|list| {
+            list.iter()
+                .map(|m| {
+                    let name = m.info.name.clone();
+                    let forget = name.clone();
+                    view! {
+                        <li data-model=name.clone()>
+                            <span class="ms-my-model-name">{name.clone()}</span>
+                            <button
+                                class="ms-button ms-button--quiet ms-forget"
+                                type="button"
+                                data-model=name.clone()
+                                aria-label=format!("Forget {name}")
+                                title="Remove it from this browser and from the model choice"
+                                on:click=move |_| forget_loader.with_value(|l| l.forget_model(index, &forget))
+                            >
+                                "Forget"
+                            </button>
+                        </li>
+                    }
+                })
+                .collect_view()
+        })
+    };
     view! {
         <div class="ms-method-params ms-model-file">
             <label class="ms-button ms-button--quiet" for=id.clone()>"Load model file…"</label>
@@ -151,6 +191,14 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
             >
                 {status}
             </span>
+            <ul
+                id=format!("{method}-my-models")
+                class="ms-my-models"
+                aria-label=format!("Your {short} models kept in this browser")
+                hidden=move || s.models.with(Vec::is_empty)
+            >
+                {mine}
+            </ul>
         </div>
         <ModelCardView state=state index=index id=format!("{method}-model-card")/>
     }
@@ -571,6 +619,56 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
         </section>
     }
     .into_any()
+}
+
+/// `#take-switch`: the question put up when the user opens another take (drop, file picker,
+/// sample) while a training runs — stop it (`#take-switch-stop`), or keep it running
+/// (`#take-switch-keep`, focused when the question appears), bound to its own take; either opens
+/// the take. The question goes when the training ends before an answer: the take opens then.
+#[component]
+pub fn TakeSwitch(state: AppState, loader: Loader) -> impl IntoView {
+    let asked = loader.switch_question();
+    // a training that ends (or fails) while the question is up: nothing is left to ask
+    let settle = loader.clone();
+    Effect::new(move |_| {
+        let Some(index) = asked.with(|a| a.as_ref().map(|a| a.index)) else { return };
+        let busy = state.methods[index].supervised.as_ref().is_some_and(|s| s.state.with(TrainState::busy));
+        if !busy {
+            settle.answer_switch(false);
+        }
+    });
+    let keep_ref = NodeRef::<leptos::html::Button>::new();
+    Effect::new(move |_| {
+        if asked.with(Option::is_some) {
+            // once the bar is shown (its `hidden` goes in the same update)
+            request_animation_frame(move || {
+                if let Some(button) = keep_ref.get_untracked() {
+                    let _ = button.focus();
+                }
+            });
+        }
+    });
+    let text = move |part: fn(&crate::view::kept_models::SwitchQuestion) -> String| {
+        move || asked.with(|a| a.as_ref().map(|a| part(&a.question)).unwrap_or_default())
+    };
+    let (stop_loader, keep_loader) = (loader.clone(), loader);
+    view! {
+        <div
+            id="take-switch"
+            class="ms-take-switch"
+            role="alertdialog"
+            aria-labelledby="take-switch-text"
+            hidden=move || asked.with(Option::is_none)
+        >
+            <p id="take-switch-text">{text(|q| q.text.clone())}</p>
+            <div class="ms-take-switch-answers">
+                <button id="take-switch-stop" class="ms-button ms-button--quiet" type="button"
+                    on:click=move |_| stop_loader.answer_switch(true)>{text(|q| q.stop.clone())}</button>
+                <button id="take-switch-keep" class="ms-button" type="button" node_ref=keep_ref
+                    on:click=move |_| keep_loader.answer_switch(false)>{text(|q| q.keep.clone())}</button>
+            </div>
+        </div>
+    }
 }
 
 /// `#<method>-train-plot`: every value the steps report (each in 0–1) over the steps so far,

@@ -6,13 +6,15 @@
 //! parameters ([`url_params`]), the "my labels" row's edit model ([`my_labels`]) and the metrics
 //! panel's comparison table ([`compare`]: best per column, sorting), one name per timeline row
 //! ([`rows`]), a model's card beside its choice ([`model_card`]) and the advice before a training
-//! ([`training_advice`]).
+//! ([`training_advice`]), the question when a take is opened during a training and what forgetting a
+//! model kept in the browser changes ([`kept_models`]).
 
 pub mod camera;
 pub mod clock;
 pub mod compare;
 pub mod contrast;
 pub mod export_names;
+pub mod kept_models;
 pub mod label_fit;
 pub mod model_card;
 pub mod my_labels;

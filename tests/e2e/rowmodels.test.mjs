@@ -12,7 +12,7 @@ import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import path from "node:path";
-import { ROOT, SAMPLE, TIMEOUT, assertClean, closePage, gotoApp, loadFile, openPage, showPanel, text, waitData, waitReady } from "./harness.mjs";
+import { FIXTURES, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, gotoApp, loadFile, openPage, showPanel, text, waitData, waitReady } from "./harness.mjs";
 
 const CARDS = JSON.parse(readFileSync(path.join(ROOT, "models/cards.json"), "utf8"));
 const ACCURACY = JSON.parse(readFileSync(path.join(ROOT, "docs/accuracy.json"), "utf8"));
@@ -164,8 +164,11 @@ test("a training that ends after another take was opened is not applied to it; k
   await page.waitForFunction(() => /Epoch [1-9]\d* of 500/.test(document.querySelector("#dtfcn-train-progress")?.textContent ?? ""),
     null, { timeout: TIMEOUT * 3 });
   const firstEpoch = (Date.now() - started) / 1000;
-  // another take while it trains; then Stop: the model ends with the epoch under way
-  await loadFile(page, "35_01.bvh");
+  // another take while it trains (the page asks first: keep it running); then Stop: the model ends
+  // with the epoch under way
+  await page.setInputFiles("#file-input", path.join(FIXTURES, "35_01.bvh"));
+  await page.click("#take-switch-keep");
+  await waitReady(page, "35_01.bvh");
   await waitData(page, "dtfcn", "done");
   await watchRuns("dtfcn");
   await page.click("#dtfcn-train-stop");

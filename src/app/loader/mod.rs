@@ -17,7 +17,9 @@
 //! each new worker before anything else, and a model file request or a training under way is sent
 //! again to a new worker (the training then starts again from its first step). A training runs
 //! one step per message; Stop asks the worker to end it after the step under way and keep the
-//! best model so far (before its first step, the worker is replaced).
+//! best model so far (before its first step, the worker is replaced). A take opened while a
+//! training runs waits for the user's answer ([`Loader::switch_question`], [`Loader::answer_switch`]:
+//! stop it, or keep it running bound to its own take, whose file a new worker is sent again).
 //!
 //! The shipped models are not in the wasm: a run that needs one the worker does not hold is
 //! answered `needs_model`, and [`super::model_files`] fetches it, hands it over and asks again.
@@ -130,6 +132,9 @@ struct Inner {
     train_job: RefCell<Option<training::TrainJob>>,
     /// Models kept in this browser being given to the worker after a reload: run, file, bytes.
     restoring: RefCell<Vec<(RunId, String, Arc<Vec<u8>>)>>,
+    /// The take the user opened during a training, waiting for their answer to `switch`.
+    asked_open: RefCell<Option<training::Open>>,
+    switch: RwSignal<Option<training::SwitchAsk>>,
     /// Keeps the worker's event handlers alive.
     handlers: RefCell<Vec<Handler>>,
     /// Clip exports asked of the worker: the request (sent again once after `not_loaded`), the
@@ -161,6 +166,8 @@ impl Loader {
             model_sync: RefCell::new(Vec::new()),
             train_job: RefCell::new(None),
             restoring: RefCell::new(Vec::new()),
+            asked_open: RefCell::new(None),
+            switch: RwSignal::new(None),
             handlers: RefCell::new(Vec::new()),
             clip_jobs: RefCell::new(Vec::new()),
             auto_run: RefCell::new(None),
@@ -173,19 +180,57 @@ impl Loader {
         loader
     }
 
-    /// Loads the bundled sample.
+    /// Loads the bundled sample — after asking, when a training is under way
+    /// ([`Loader::switch_question`]).
     pub fn load_sample(&self) {
-        let inner = self.0.clone();
-        let (url, name) = (inner.urls.sample.clone(), inner.urls.sample_name());
-        let id = begin(&inner, &name);
-        wasm_bindgen_futures::spawn_local(async move {
-            match fetch_blob(&url).await {
-                Ok(file) => send_load(&inner, id, &name, file, None),
-                Err(message) => fail_load(&inner, id, format!("{name}: could not load the sample: {message}")),
-            }
-        });
+        if let Some(open) = training::ask_before_opening(&self.0, training::Open::Sample) {
+            open_now(&self.0, open);
+        }
     }
 
+    /// The question on screen while a take the user opened waits for their answer about the
+    /// training under way (`None`: nothing asked).
+    pub fn switch_question(&self) -> RwSignal<Option<training::SwitchAsk>> {
+        self.0.switch
+    }
+
+    /// Opens the take that waits for the question's answer: `stop` stops the training first (its
+    /// best model so far is then offered for its own take); else it keeps running, bound to its take.
+    pub fn answer_switch(&self, stop: bool) {
+        let Some(open) = training::answered(&self.0) else { return };
+        if stop {
+            // (the borrow ends before Stop, which may replace the worker)
+            let index = self.0.train_job.borrow().as_ref().map(training::TrainJob::index);
+            if let Some(index) = index {
+                self.stop_training(index);
+            }
+        }
+        open_now(&self.0, open);
+    }
+}
+
+/// Opens `open` at once.
+fn open_now(inner: &Rc<Inner>, open: training::Open) {
+    match open {
+        training::Open::Sample => open_sample(inner),
+        training::Open::Files(files) => open_files(inner, files),
+    }
+}
+
+/// Loads the bundled sample.
+fn open_sample(inner: &Rc<Inner>) {
+    let inner = inner.clone();
+    let (url, name) = (inner.urls.sample.clone(), inner.urls.sample_name());
+    let id = begin(&inner, &name);
+    wasm_bindgen_futures::spawn_local(async move {
+        match fetch_blob(&url).await {
+            Ok(file) => send_load(&inner, id, &name, file, None),
+            Err(message) => fail_load(&inner, id, format!("{name}: could not load the sample: {message}")),
+        }
+    });
+}
+
+impl Loader {
     /// Runs only the methods named (registry names) after each load, instead of those whose
     /// `auto_run` is set (the URL parameter `methods`).
     pub fn set_auto_run(&self, methods: Vec<String>) {
@@ -216,46 +261,56 @@ impl Loader {
     }
 
     /// Loads the files the user dropped or picked at once: one take's file, or an ASF skeleton
-    /// with its AMC motion ([`crate::load::opening`] says which, or why neither).
+    /// with its AMC motion ([`crate::load::opening`] says which, or why neither) — after asking,
+    /// when a training is under way ([`Loader::switch_question`]).
     pub fn load_files(&self, files: Vec<File>) {
-        let inner = self.0.clone();
-        let names: Vec<String> = files.iter().map(File::name).collect();
-        let refs: Vec<&str> = names.iter().map(String::as_str).collect();
-        let opening = crate::load::opening(&refs);
-        let (motion, skeleton) = match opening {
-            Ok(Opening::One(i)) => (files[i].clone(), None),
-            Ok(Opening::AsfAmc { asf, amc }) => (files[amc].clone(), Some(files[asf].clone())),
-            Err(message) => {
-                let id = begin(&inner, names.first().map_or("", String::as_str));
-                return fail_load(&inner, id, message);
-            }
-        };
-        let name = motion.name();
-        let id = begin(&inner, &name);
-        if let Some(big) = files.iter().find(|f| f.size() > MAX_FILE_BYTES) {
-            let mib = big.size() / 1024.0 / 1024.0;
-            return fail_load(
-                &inner,
-                id,
-                format!("{}: {mib:.0} MiB is more than the page reads (512 MiB); cut the take", big.name()),
-            );
+        if let Some(open) = training::ask_before_opening(&self.0, training::Open::Files(files)) {
+            open_now(&self.0, open);
         }
-        wasm_bindgen_futures::spawn_local(async move {
-            let skeleton = match skeleton {
-                None => None,
-                Some(asf) => match JsFuture::from(asf.array_buffer()).await {
-                    Ok(b) => Some((asf.name(), js_sys::Uint8Array::new(&b).to_vec())),
-                    Err(e) => {
-                        let message = format!("{}: could not read the file: {}", asf.name(), js_message(&e));
-                        return fail_load(&inner, id, message);
-                    }
-                },
-            };
-            // the File itself: its bytes are read when it is sent, and not kept
-            send_load(&inner, id, &name, Blob::from(motion), skeleton);
-        });
     }
+}
 
+/// Loads the files `files` (see [`Loader::load_files`]).
+fn open_files(inner: &Rc<Inner>, files: Vec<File>) {
+    let inner = inner.clone();
+    let names: Vec<String> = files.iter().map(File::name).collect();
+    let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+    let opening = crate::load::opening(&refs);
+    let (motion, skeleton) = match opening {
+        Ok(Opening::One(i)) => (files[i].clone(), None),
+        Ok(Opening::AsfAmc { asf, amc }) => (files[amc].clone(), Some(files[asf].clone())),
+        Err(message) => {
+            let id = begin(&inner, names.first().map_or("", String::as_str));
+            return fail_load(&inner, id, message);
+        }
+    };
+    let name = motion.name();
+    let id = begin(&inner, &name);
+    if let Some(big) = files.iter().find(|f| f.size() > MAX_FILE_BYTES) {
+        let mib = big.size() / 1024.0 / 1024.0;
+        return fail_load(
+            &inner,
+            id,
+            format!("{}: {mib:.0} MiB is more than the page reads (512 MiB); cut the take", big.name()),
+        );
+    }
+    wasm_bindgen_futures::spawn_local(async move {
+        let skeleton = match skeleton {
+            None => None,
+            Some(asf) => match JsFuture::from(asf.array_buffer()).await {
+                Ok(b) => Some((asf.name(), js_sys::Uint8Array::new(&b).to_vec())),
+                Err(e) => {
+                    let message = format!("{}: could not read the file: {}", asf.name(), js_message(&e));
+                    return fail_load(&inner, id, message);
+                }
+            },
+        };
+        // the File itself: its bytes are read when it is sent, and not kept
+        send_load(&inner, id, &name, Blob::from(motion), skeleton);
+    });
+}
+
+impl Loader {
     /// Runs method `index` of the registry on the take on screen with the parameters of its form.
     pub fn run(&self, index: usize) {
         start_run(&self.0, index);

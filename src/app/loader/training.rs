@@ -1,6 +1,8 @@
 //! The supervised methods' jobs: model files the user loads (`use_model`), trainings (`train`,
-//! one step per message, Stop), the user's models given to every new worker, and the answers to
-//! each — for every method that declares [`crate::method::Supervision`], by its slot, never by name.
+//! one step per message, Stop), the question before another take is opened during a training
+//! ([`ask_before_opening`]), the user's models given to every new worker (those still being
+//! restored from the browser too), forgetting one (`forget_model`), and the answers to each — for
+//! every method that declares [`crate::method::Supervision`], by its slot, never by name.
 
 use super::super::fetch::blob_bytes;
 use super::super::browser_models;
@@ -10,6 +12,7 @@ use super::super::supervised::{
 use super::super::MethodSlot;
 use super::{next_id, now, post, post_buffers, replace_worker, start_run, Inner, Loader};
 use crate::method::supervised::{ModelInfo, StepReport, TrainingReport};
+use crate::view::kept_models::{forgotten_message, model_after_forget, switch_question, SwitchQuestion};
 use crate::protocol::{FailureKind, Request, Response, RunId, TakeId};
 use leptos::prelude::*;
 use std::rc::Rc;
@@ -36,10 +39,71 @@ pub(super) struct TrainJob {
     /// is not applied to that one unasked ([`on_trained`]).
     take_name: String,
     take_id: TakeId,
+    /// That take's file: a new worker is sent this take again, whatever take is on screen then.
+    take_file: Option<web_sys::Blob>,
     /// A step was reported (Stop is then read between two steps; before, it replaces the worker).
     stepped: bool,
     /// Stop was pressed.
     stopping: bool,
+}
+
+impl TrainJob {
+    /// The method's slot.
+    pub(super) fn index(&self) -> usize {
+        self.index
+    }
+}
+
+/// A take the user asked to open.
+pub(super) enum Open {
+    /// Files dropped or picked ([`Loader::load_files`]).
+    Files(Vec<web_sys::File>),
+    /// The bundled sample.
+    Sample,
+}
+
+/// The question asked when a take is opened while a training runs: the method training (its
+/// slot) and what the page says.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SwitchAsk {
+    pub index: usize,
+    pub question: SwitchQuestion,
+}
+
+/// `open` when it may be opened at once; else — a training is under way (and not stopping) — it
+/// waits for the user's answer to the question it puts up ([`Loader::answer_switch`]), replacing
+/// a take that waited before it.
+pub(super) fn ask_before_opening(inner: &Rc<Inner>, open: Open) -> Option<Open> {
+    let under_way = inner
+        .train_job
+        .borrow()
+        .as_ref()
+        .filter(|j| !j.stopping)
+        .map(|j| (j.index, j.ask.name.clone(), j.take_name.clone()));
+    let Some((index, model, training_on)) = under_way else { return Some(open) };
+    let next = match &open {
+        Open::Sample => inner.urls.sample_name(),
+        Open::Files(files) => {
+            let names: Vec<String> = files.iter().map(web_sys::File::name).collect();
+            let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+            match crate::load::opening(&refs) {
+                Ok(crate::load::Opening::One(i)) | Ok(crate::load::Opening::AsfAmc { amc: i, .. }) => names[i].clone(),
+                // refused when it is opened: the question names what was dropped
+                Err(_) => names.join(", "),
+            }
+        }
+    };
+    let short = &inner.state.methods[index].info.short;
+    let question = switch_question(short, &model, &training_on, &next);
+    *inner.asked_open.borrow_mut() = Some(open);
+    inner.switch.set(Some(SwitchAsk { index, question }));
+    None
+}
+
+/// The take that waited for the question, the question taken down.
+pub(super) fn answered(inner: &Inner) -> Option<Open> {
+    inner.switch.set(None);
+    inner.asked_open.borrow_mut().take()
 }
 
 impl Loader {
@@ -84,6 +148,7 @@ impl Loader {
             started: now(),
             take_name: String::new(),
             take_id: 0,
+            take_file: None,
             stepped: false,
             stopping: false,
         });
@@ -125,26 +190,42 @@ pub(super) fn supervised(inner: &Inner, index: usize) -> Option<&'static Supervi
 }
 
 /// Gives a worker just started every model of the supervised methods the page holds (a worker
-/// knows only the shipped ones), before any other request.
+/// knows only the shipped ones), before any other request — and the models kept in this browser
+/// that an earlier worker had not answered for yet (a worker replaced while they were restored):
+/// they are asked again under new ids, so that none is lost for the session.
 pub(super) fn send_models(inner: &Rc<Inner>) {
-    inner.model_sync.borrow_mut().clear();
-    let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
+    let sync_before: Vec<(RunId, usize, String)> = std::mem::take(&mut *inner.model_sync.borrow_mut());
     for (index, slot) in inner.state.methods.iter().enumerate() {
         let Some(s) = slot.supervised.as_ref() else { continue };
         for m in s.models.get_untracked() {
-            let id = next_id(inner);
-            inner.model_sync.borrow_mut().push((id, index, m.info.name.clone()));
-            let request = Request::UseModel {
-                take,
-                run: id,
-                method: slot.info.name.clone(),
-                file: m.file.clone(),
-                bytes: (*m.bytes).clone(),
-            };
-            if let Err(message) = post(inner, &request, None) {
-                drop_model(inner, id, message);
-            }
+            sync_model(inner, index, &m.file, &m.bytes, &m.info.name, false);
         }
+    }
+    let restoring: Vec<(RunId, String, Arc<Vec<u8>>)> = std::mem::take(&mut *inner.restoring.borrow_mut());
+    for (old, file, bytes) in restoring {
+        let Some((_, index, name)) = sync_before.iter().find(|(id, _, _)| *id == old).cloned() else { continue };
+        sync_model(inner, index, &file, &bytes, &name, true);
+    }
+}
+
+/// Gives the worker the model `name` of method `index` (its file's name and bytes); its answer
+/// is absorbed ([`handle`]) — or, for a model kept in this browser being `restored`, lists it
+/// ([`on_model_restored`]) — and a refusal drops the model ([`drop_model`]).
+fn sync_model(inner: &Rc<Inner>, index: usize, file: &str, bytes: &Arc<Vec<u8>>, name: &str, restored: bool) {
+    let id = next_id(inner);
+    inner.model_sync.borrow_mut().push((id, index, name.to_string()));
+    if restored {
+        inner.restoring.borrow_mut().push((id, file.to_string(), bytes.clone()));
+    }
+    let request = Request::UseModel {
+        take: inner.shown.borrow().as_ref().map_or(0, |t| t.id),
+        run: id,
+        method: inner.state.methods[index].info.name.clone(),
+        file: file.to_string(),
+        bytes: (**bytes).clone(),
+    };
+    if let Err(message) = post(inner, &request, None) {
+        drop_model(inner, id, message);
     }
 }
 
@@ -254,21 +335,23 @@ fn on_model_restored(inner: &Rc<Inner>, info: ModelInfo, file: String, bytes: Ar
 /// the user added (their bytes shared with the panel, copied once into the message, never cloned).
 pub(super) fn send_train_job(inner: &Rc<Inner>) -> Result<(), String> {
     let shown = inner.shown.borrow().clone().ok_or("load a take before training")?;
-    let (id, request, extra) = {
+    let (id, request, extra, file) = {
         let mut job = inner.train_job.borrow_mut();
         let job = job.as_mut().ok_or("no training")?;
-        // sent again (a new worker) after another take was opened: still bound to its own take
+        // sent again (a new worker) after another take was opened: still bound to its own take,
+        // and trained on that take's file
         if job.take_name.is_empty() {
             job.take_name = shown.name.clone();
             job.take_id = shown.id;
+            job.take_file = Some(shown.file.clone());
         }
         job.started = now();
         job.stepped = false;
         let ask = &job.ask;
-        let takes = std::iter::once(shown.name.clone()).chain(ask.extra.iter().map(|(n, _)| n.clone())).collect();
+        let takes = std::iter::once(job.take_name.clone()).chain(ask.extra.iter().map(|(n, _)| n.clone())).collect();
         let extra: Vec<Arc<Vec<u8>>> = ask.extra.iter().map(|(_, b)| Arc::clone(b)).collect();
         let request = Request::Train {
-            take: shown.id,
+            take: job.take_id,
             run: job.id,
             method: inner.state.methods[job.index].info.name.clone(),
             name: ask.name.clone(),
@@ -279,11 +362,11 @@ pub(super) fn send_train_job(inner: &Rc<Inner>) -> Result<(), String> {
             continue_from: ask.continue_from.clone(),
             bytes: Vec::new(),
         };
-        (job.id, request, extra)
+        (job.id, request, extra, job.take_file.clone().unwrap_or(shown.file))
     };
     let inner = inner.clone();
     wasm_bindgen_futures::spawn_local(async move {
-        let bytes = blob_bytes(&shown.file).await;
+        let bytes = blob_bytes(&file).await;
         // stopped, or sent again (a new worker), while the file was read
         if inner.train_job.borrow().as_ref().map(|j| j.id) != Some(id) {
             return;
@@ -356,7 +439,17 @@ pub(super) fn on_trained(inner: &Rc<Inner>, model: ModelInfo, report: TrainingRe
     let name = model.name.clone();
     s.trained.set(Some(TrainedFile { name: name.clone(), bytes: bytes.clone() }));
     let shown = inner.shown.borrow().as_ref().map(|t| (t.id, t.name.clone()));
-    match shown {
+    // a take being opened is the one the user turned to (the answer to the take switch's
+    // question may stop a training just before the take it opens is on screen)
+    let opening = inner.state.load.with_untracked(|l| match l {
+        super::super::LoadState::Loading { name, .. } if !name.is_empty() => Some(name.clone()),
+        _ => None,
+    });
+    let now = match (opening, shown) {
+        (Some(name), Some((id, _))) if inner.current.get() != id => Some((inner.current.get(), name)),
+        (_, shown) => shown,
+    };
+    match now {
         Some((id, now_on)) if id != job.take_id => {
             // another take was opened meanwhile: nothing is applied to it unasked
             let short = &inner.state.methods[job.index].info.short;
@@ -404,6 +497,44 @@ pub(super) fn keep_model(inner: &Rc<Inner>, index: usize, model: UserModel) {
 }
 
 impl Loader {
+    /// Forgets the user's model `name` of method `index`: it leaves this browser (IndexedDB), the
+    /// page's models (no new worker gets it) and the method's model choice; when it was the model
+    /// in use, the method goes back to its shipped model ([`model_after_forget`]) and runs again.
+    /// The file input's status line says what was forgotten (or why the browser kept it).
+    pub fn forget_model(&self, index: usize, name: &str) {
+        let inner = &self.0;
+        let Some(s) = supervised(inner, index) else { return };
+        let slot = &inner.state.methods[index];
+        s.remove(name);
+        let mut now = None;
+        if let Some((value, choices)) = slot.param("model") {
+            let chosen = value.get_untracked();
+            let list = choices.get_untracked();
+            let next = model_after_forget(&chosen, name, &s.decl.shipped, &list);
+            choices.update(|c| c.retain(|m| m != name));
+            if chosen == name {
+                if let Some(next) = next {
+                    // the model choice's watcher (`row_model`) runs the method again with it
+                    value.set(next.clone());
+                    self.rerun_with_model(index);
+                    now = Some(next);
+                }
+            }
+        }
+        s.file_state.set(LoadStatus::Done);
+        s.file_status.set(forgotten_message(&slot.info.short, name, now.as_deref()));
+        let (method, forgotten) = (slot.info.name.clone(), name.to_string());
+        wasm_bindgen_futures::spawn_local(async move {
+            if let Err(message) = browser_models::remove(&method, &forgotten).await {
+                s.file_status.set(format!(
+                    "`{forgotten}` left the model choice, but this browser could not forget it ({message}): it may be \
+                     listed again after a reload."
+                ));
+                s.file_state.set(LoadStatus::Failed);
+            }
+        });
+    }
+
     /// What to do with a model whose training finished after another take was opened.
     pub fn settle_trained(&self, index: usize, choice: PendingChoice) {
         let inner = &self.0;
@@ -412,6 +543,11 @@ impl Loader {
         s.pending.set(None);
         let name = p.info.name.clone();
         let short = &inner.state.methods[index].info.short;
+        if choice != PendingChoice::Discard {
+            // the worker that trained it stored it, but it may have been replaced since (a cancel
+            // or a crash while the choice waited): the one now running gets it again
+            sync_model(inner, index, &s.file_name(&name), &p.bytes, &name, false);
+        }
         match choice {
             PendingChoice::Keep => {
                 keep_model(inner, index, UserModel { file: s.file_name(&name), info: p.info, bytes: p.bytes });
@@ -460,20 +596,7 @@ impl Loader {
                 if s.models.with_untracked(|l| l.iter().any(|m| m.info.name == k.name)) {
                     continue;
                 }
-                let id = next_id(&inner);
-                inner.model_sync.borrow_mut().push((id, index, k.name.clone()));
-                let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
-                let request = Request::UseModel {
-                    take,
-                    run: id,
-                    method: k.method.clone(),
-                    file: k.file.clone(),
-                    bytes: k.bytes.clone(),
-                };
-                inner.restoring.borrow_mut().push((id, k.file, Arc::new(k.bytes)));
-                if let Err(message) = post(&inner, &request, None) {
-                    drop_model(&inner, id, message);
-                }
+                sync_model(&inner, index, &k.file, &Arc::new(k.bytes), &k.name, true);
             }
         });
     }

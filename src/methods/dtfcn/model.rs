@@ -62,12 +62,39 @@ pub struct Provenance {
     /// by name, when the page warns that it was in the model's training set.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub take_sha256: Vec<String>,
-    /// Labelled working frames trained on.
+    /// Labelled working frames trained on: for a model trained on from an earlier one
+    /// ([`Provenance::continued_from`]), every run's added up (the frames its weights learnt from,
+    /// run by run; a take labelled again in a later run counts again).
     pub frames: usize,
     pub options: TrainOptions,
     /// Epochs run and the epoch whose weights were kept.
     pub epochs_run: usize,
     pub best_epoch: usize,
+}
+
+impl Provenance {
+    /// This run's provenance made the history of a model trained on from `before` (the model
+    /// `from`): its command says so, its epochs count on after the earlier ones, its frames add the
+    /// earlier model's, and every take the earlier model was trained on that this run's lack is
+    /// added (with its SHA-256 when either side records them; an unknown one left empty).
+    pub fn continued_from(&mut self, from: &str, before: &Provenance) {
+        self.command = format!("{} (continued from `{from}` after its {} epochs)", self.command, before.epochs_run);
+        self.best_epoch += before.epochs_run;
+        self.epochs_run += before.epochs_run;
+        self.frames += before.frames;
+        let hashed = !self.take_sha256.is_empty() || !before.take_sha256.is_empty();
+        if hashed {
+            self.take_sha256.resize(self.takes.len(), String::new());
+        }
+        for (i, take) in before.takes.iter().enumerate() {
+            if !self.takes.iter().any(|t| crate::methods::lma::corpus::same_file(t, take)) {
+                self.takes.push(take.clone());
+                if hashed {
+                    self.take_sha256.push(before.take_sha256.get(i).cloned().unwrap_or_default());
+                }
+            }
+        }
+    }
 }
 
 /// Everything about a model but its weights.
@@ -414,6 +441,39 @@ mod tests {
             },
             labeller: Labeller::Network(net),
         }
+    }
+
+    /// A model trained on from an earlier one records the earlier one's frames, epochs and takes
+    /// (a take both trained on once, by file name), their hashes kept in the takes' order.
+    #[test]
+    fn a_continued_provenance_carries_the_earlier_models_frames_and_takes() {
+        let run = |takes: &[&str], hashes: &[&str], frames, epochs| Provenance {
+            command: "mocapseg dtfcn train".into(),
+            data_hash: String::new(),
+            takes: takes.iter().map(|t| t.to_string()).collect(),
+            take_sha256: hashes.iter().map(|h| h.to_string()).collect(),
+            frames,
+            options: TrainOptions::default(),
+            epochs_run: epochs,
+            best_epoch: epochs - 1,
+        };
+        let before = run(&["13_29.bvh", "35_01.bvh"], &["aa", "bb"], 900, 3);
+        let mut now = run(&["35_01.BVH", "86_01.bvh"], &["cc", "dd"], 400, 2);
+        now.continued_from("mine", &before);
+        assert_eq!(now.frames, 1300, "this run's frames and the earlier model's");
+        assert_eq!((now.epochs_run, now.best_epoch), (5, 4));
+        assert_eq!(now.takes, ["35_01.BVH", "86_01.bvh", "13_29.bvh"]);
+        assert_eq!(now.take_sha256, ["cc", "dd", "aa"], "each hash stays with its take");
+        assert!(now.command.ends_with("(continued from `mine` after its 3 epochs)"), "{}", now.command);
+        // an earlier model without hashes: the takes it adds get an empty (unknown) one
+        let mut hashed = run(&["86_01.bvh"], &["dd"], 10, 1);
+        hashed.continued_from("old", &run(&["13_29.bvh"], &[], 5, 1));
+        assert_eq!((hashed.takes.len(), hashed.take_sha256), (2, vec!["dd".to_string(), String::new()]));
+        // neither side hashed: none recorded
+        let mut plain = run(&["86_01.bvh"], &[], 10, 1);
+        plain.continued_from("old", &run(&["13_29.bvh"], &[], 5, 1));
+        assert!(plain.take_sha256.is_empty());
+        assert_eq!(plain.frames, 15);
     }
 
     #[test]

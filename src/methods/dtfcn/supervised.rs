@@ -709,18 +709,7 @@ impl Training for DtfcnTraining {
         if let Some((from, before)) = &previous {
             // the model's history goes on: its epochs before, and every take it has seen
             how = format!("{how} more (continued from `{from}`, {} epochs before)", before.epochs_run);
-            p.command = format!("{} (continued from `{from}` after its {} epochs)", p.command, before.epochs_run);
-            p.best_epoch += before.epochs_run;
-            p.epochs_run += before.epochs_run;
-            for (i, take) in before.takes.iter().enumerate() {
-                if !p.takes.iter().any(|t| same_file(t, take)) {
-                    p.takes.push(take.clone());
-                    if !p.take_sha256.is_empty() || !before.take_sha256.is_empty() {
-                        p.take_sha256.resize(p.takes.len() - 1, String::new());
-                        p.take_sha256.push(before.take_sha256.get(i).cloned().unwrap_or_default());
-                    }
-                }
-            }
+            p.continued_from(from, before);
         }
         let bytes = model.to_bytes().map_err(MethodError::Failed)?;
         let report = TrainingReport {
@@ -907,6 +896,10 @@ mod tests {
         let card = &more.model.info.card;
         assert_eq!(card.classes, vec!["stand".to_string(), "reach".to_string()]);
         assert_eq!((card.epochs_run, card.best_epoch), (Some(2), Some(2)));
+        // both runs labelled all 358 frames of the take: the continued model learnt from both
+        let once = first.model.info.card.frames.unwrap();
+        assert!(once > 0);
+        assert_eq!(card.frames, Some(2 * once), "the earlier model's frames are the continued one's too");
         assert!(card.command.contains("continued from `mine` after its 1 epochs"), "{}", card.command);
         assert!(more.report.summary.contains("continued from `mine`"), "{}", more.report.summary);
         let (a, b) = (first.model.model.downcast_ref::<Model>().unwrap(), more.model.model.downcast_ref::<Model>().unwrap());
