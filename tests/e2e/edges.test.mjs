@@ -9,7 +9,7 @@
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import path from "node:path";
-import { FIXTURES, closePage, download, gotoApp, openPage, runMethod, shot, showPanel, text } from "./harness.mjs";
+import { FIXTURES, closePage, download, gotoApp, openPage, runMethod, shot, showPanel, text, textContrasts } from "./harness.mjs";
 
 let opened;
 let page;
@@ -28,75 +28,10 @@ before(async () => {
 
 after(() => closePage(opened, "e2e-edges-final.png"));
 
-/**
- * Every visible element under `roots` with text of its own: its text, its colour and the colours
- * it is drawn on (its own or its first ancestor's opaque background, translucent layers composed
- * over it; a gradient counts as each of its colours), and the lowest WCAG contrast among them.
- */
-function contrasts(roots) {
-  return page.evaluate((selectors) => {
-    const parse = (c) => {
-      const m = /rgba?\(([^)]+)\)/.exec(c);
-      if (!m) return null;
-      const p = m[1].split(/[\s,/]+/).filter(Boolean).map(Number);
-      return [p[0], p[1], p[2], p.length > 3 ? p[3] : 1];
-    };
-    const over = (top, under) => [0, 1, 2].map((i) => top[i] * top[3] + under[i] * (1 - top[3])).concat(1);
-    const lum = (c) => {
-      const [r, g, b] = c.slice(0, 3).map((v) => {
-        const s = v / 255;
-        return s <= 0.03928 ? s / 12.92 : ((s + 0.055) / 1.055) ** 2.4;
-      });
-      return 0.2126 * r + 0.7152 * g + 0.0722 * b;
-    };
-    const ratio = (a, b) => {
-      const [hi, lo] = [lum(a), lum(b)].sort((x, y) => y - x);
-      return (hi + 0.05) / (lo + 0.05);
-    };
-    // the colours behind `el`: translucent backgrounds composed down to the first opaque one
-    const backgrounds = (el) => {
-      const layers = [];
-      for (let e = el; e; e = e.parentElement) {
-        const s = getComputedStyle(e);
-        const stops = [...s.backgroundImage.matchAll(/rgba?\([^)]+\)/g)].map((m) => parse(m[0]));
-        if (stops.length > 0 && stops.every((c) => c[3] === 1)) {
-          return stops.map((c) => layers.reduceRight((acc, top) => over(top, acc), c));
-        }
-        const bg = parse(s.backgroundColor);
-        if (bg && bg[3] > 0) {
-          layers.push(bg);
-          if (bg[3] === 1) break;
-        }
-      }
-      const base = layers.length > 0 && layers[layers.length - 1][3] === 1 ? layers.pop() : [255, 255, 255, 1];
-      return [layers.reduceRight((acc, top) => over(top, acc), base)];
-    };
-    const found = [];
-    for (const root of selectors.flatMap((s) => [...document.querySelectorAll(s)])) {
-      for (const el of [root, ...root.querySelectorAll("*")]) {
-        const own = [...el.childNodes].filter((n) => n.nodeType === 3).map((n) => n.textContent).join("").trim();
-        const r = el.getBoundingClientRect();
-        if (!own || r.width === 0 || r.height === 0 || el.closest("[hidden]") || el.closest("svg, canvas")) continue;
-        const s = getComputedStyle(el);
-        if (s.visibility === "hidden" || Number(s.opacity) === 0) continue;
-        const fg = parse(s.color);
-        const behind = backgrounds(el);
-        const colour = behind.map((b) => over(fg, b));
-        const worst = Math.min(...behind.map((b, i) => ratio(colour[i], b)));
-        found.push({
-          text: own.slice(0, 40), id: el.id, cls: el.className && String(el.className), color: s.color,
-          behind: behind.map((b) => `rgb(${b.slice(0, 3).map(Math.round).join(",")})`).join(" / "), ratio: worst,
-        });
-      }
-    }
-    return found;
-  }, roots);
-}
-
 for (const scheme of ["light", "dark"]) {
   test(`${scheme} theme: every text of the timeline and the panels has contrast ≥ 4.5:1`, async () => {
     await page.emulateMedia({ colorScheme: scheme });
-    const seen = await contrasts(["#timeline", ".ms-method", ".ms-panel-box"]);
+    const seen = await textContrasts(page, ["#timeline", ".ms-method", ".ms-panel-box"]);
     await shot(page, `e2e-edges-contrast-${scheme}.png`);
     const labels = seen.filter((t) => /ms-tl-label/.test(t.cls));
     assert.ok(labels.length >= 4, `the timeline's row labels are measured: ${labels.length}`);
