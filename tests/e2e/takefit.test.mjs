@@ -75,7 +75,7 @@ for (const viewport of [{ width: 1024, height: 768 }, { width: 1440, height: 900
         const poor = seen.filter((t) => t.ratio < 4.5);
         assert.deepEqual(poor.map((t) => `${t.ratio.toFixed(2)}:1 "${t.text}" ${t.color} on ${t.behind}`), [], `${m}, ${theme}`);
       }
-      await page.locator("#knn-row-fit").screenshot({ path: path.join(OUT, `e2e-takefit-badge-${viewport.width}-${theme}.png`) }).catch(() => {});
+      await page.locator("#knn-row-fit").locator("xpath=ancestor::div[contains(@class, 'ms-tl-line')]").screenshot({ path: path.join(OUT, `e2e-takefit-badge-${viewport.width}-${theme}.png`) }).catch(() => {});
 
       // one click: the k-NN row takes cmu-actions and runs again; its labels are the model's, the badge is gone
       await rerunBy(page, "knn", () => page.click("#knn-row-fit ~ .ms-row-fit-use[data-model='cmu-actions']"));
