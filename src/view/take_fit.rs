@@ -4,7 +4,7 @@
 //! is the reason, one "use NAME" suggestion per model that fits the take (best first, as the
 //! report ranks them), or a note that no model of the method fits it. Nothing when the take fits,
 //! or when the run made no fit check (`fit_check` off: the user asked to see the labels anyway —
-//! the panel's field says the check is off, the row shows the labels as they are).
+//! the panel's `fit_check` box shows the check off, the row shows the labels as they are).
 
 use crate::method::TakeFitReport;
 
