@@ -193,6 +193,18 @@ const FACTS: &[Fact] = &[
         crlf_lines: 160,
     },
     Fact {
+        file: "86_01.bvh",
+        root: "Hips",
+        joints: 31,
+        end_sites: 7,
+        channels: 96,
+        root_channels: "Xposition Yposition Zposition Zrotation Yrotation Xrotation",
+        frames_header: 4579,
+        data_rows: 4579,
+        frame_time: 0.0083333,
+        crlf_lines: 0,
+    },
+    Fact {
         file: "13_31.bvh",
         root: "Hips",
         joints: 31,

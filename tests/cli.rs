@@ -1104,3 +1104,30 @@ fn effort_gives_every_segment_of_any_method_its_laban_effort() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("pca.json") && err.contains("12_01.bvh"), "{err}");
 }
+
+/// A labelling model whose classes do not fit the take says so on stderr, with the models that
+/// do (the JSON on stdout has every frame `unknown`); a model that fits says nothing more. A batch
+/// says it on the take's line.
+#[test]
+fn segment_names_the_models_that_fit_a_take_its_model_does_not() {
+    let walk = fixture("02_01.bvh");
+    let out = run(&["segment", "--method", "knn", walk.to_str().unwrap()]);
+    let v = stdout_json(&out);
+    assert!(v["segments"].as_array().unwrap().iter().all(|s| s["label"] == "unknown"), "{v}");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("02_01.bvh: model `exercises` does not fit this take (100 % of its frames travel faster")
+            && err.trim_end().ends_with("every frame is labelled unknown; models that fit this take: locomotion"),
+        "{err}"
+    );
+    let fits = run(&["segment", "--method", "knn", "--param", "model=locomotion", walk.to_str().unwrap()]);
+    let v = stdout_json(&fits);
+    assert!(v["segments"].as_array().unwrap().iter().any(|s| s["label"] != "unknown"), "{v}");
+    assert!(!String::from_utf8_lossy(&fits.stderr).contains("fit"), "{}", String::from_utf8_lossy(&fits.stderr));
+    let (input, output) = batch_input("fit", &[("02_01.bvh", "02_01.bvh")]);
+    let (code, stdout, stderr) = batch_run("dtfcn", &input, &output, &[]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let all = format!("{stdout}{stderr}");
+    let line = all.lines().find(|l| l.starts_with("ok") && l.contains("02_01.bvh")).unwrap_or_else(|| panic!("{all}"));
+    assert!(line.contains("— model `exercises` does not fit this take") && line.ends_with("models that fit this take: locomotion"), "{line}");
+}

@@ -11,7 +11,13 @@
 //!   (the bundled sample is CMU 13_30): "This take was in the model's training set (…) — its labels
 //!   here are not a measure of accuracy.";
 //! * `#<method>-row-shipped` — one click back to the shipped model last used (shown while a
-//!   model of the user's is chosen).
+//!   model of the user's is chosen);
+//! * `#<method>-row-fit` — "does not fit", shown while the row's result says its model's classes do
+//!   not fit the take (its run's take fit, [`crate::view::take_fit`]), the reason its tooltip and
+//!   accessible description (`#<method>-row-fit-reason`); beside it one button per model that fits
+//!   the take, best first (`.ms-row-fit-use`, `data-model`: "use cmu-actions" — chooses it, which
+//!   runs the method again), or `#<method>-row-fit-none` when no model of the method fits. Gone
+//!   once a fitting model's result is on the row; never shown when the run's `fit_check` was off.
 //!
 //! The shipped models' cards are `models/cards.json` (`mocapseg model-cards`, fetched once, when a
 //! supervised method first has a result or a card is opened: a page that runs only SSSM fetches
@@ -30,6 +36,7 @@ use super::summary::is_bundled_sample;
 use super::{AppState, MethodSlot};
 use crate::method::cards::{training_match, Cards, ModelCard, TrainingMatch};
 use crate::view::model_card::{card_lines, card_summary};
+use crate::view::take_fit::{fit_badge, BADGE};
 
 /// The take the bundled sample is (www/SOURCES.md): a model trained on it knows it by this name.
 const SAMPLE_TAKE: &str = "13_30.bvh";
@@ -210,6 +217,34 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
             .collect_view()
     };
     let card_id = format!("{method}-row-card");
+    // the row's result's verdict on the take (none while it fits, or without a fit check)
+    let short_fit = short.clone();
+    let badge = Memo::new(move |_| {
+        slot.view.with(|v| v.as_ref().and_then(|v| fit_badge(v.details.take_fit.as_ref(), &short_fit)))
+    });
+    let reason_id = format!("{method}-row-fit-reason");
+    let suggestions = move || {
+        badge
+            .get()
+            .map(|b| b.suggestions)
+            .unwrap_or_default()
+            .into_iter()
+            .map(|s| {
+                let model = s.model.clone();
+                view! {
+                    <button
+                        class="ms-row-model-button ms-row-fit-use"
+                        type="button"
+                        data-model=s.model.clone()
+                        title=s.title
+                        on:click=move |_| value.set(model.clone())
+                    >
+                        {s.text}
+                    </button>
+                }
+            })
+            .collect_view()
+    };
     view! {
         <span class="ms-row-model" on:pointerdown=|ev| ev.stop_propagation()>
             <select
@@ -251,6 +286,27 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
                 aria-label=warning
             >
                 "⚠ training take"
+            </span>
+            <span
+                id=format!("{method}-row-fit")
+                class="ms-row-fit"
+                role="note"
+                hidden=move || badge.with(Option::is_none)
+                title=move || badge.with(|b| b.as_ref().map(|b| b.description.clone()).unwrap_or_default())
+                aria-describedby=reason_id.clone()
+            >
+                {BADGE}
+            </span>
+            <span id=reason_id hidden>
+                {move || badge.with(|b| b.as_ref().map(|b| b.description.clone()).unwrap_or_default())}
+            </span>
+            {suggestions}
+            <span
+                id=format!("{method}-row-fit-none")
+                class="ms-row-fit-none"
+                hidden=move || badge.with(|b| b.as_ref().and_then(|b| b.none.as_ref()).is_none())
+            >
+                {move || badge.with(|b| b.as_ref().and_then(|b| b.none.clone()).unwrap_or_default())}
             </span>
             <div id=card_id class="ms-row-card" hidden=move || !open.get()>
                 <ModelCardView state=state index=index id=format!("{method}-row-card-body")/>

@@ -1159,11 +1159,26 @@ mod cli {
                     .run_checked(&loaded.motion, &checked, &RunOptions::default(), &mut NoProgress)
                     .map_err(|e| run_error(name, &loaded.motion.name, &e.to_string()))?;
                 println!("{}", output.segmentation.to_json());
+                if let Some(note) = fit_note(&output.details) {
+                    eprintln!("{}: {note}", name.display());
+                }
                 Ok(Outcome::Ok)
             }
             None => Err("several takes: give a folder for their segmentations with --out DIR".into()),
             Some(dir) => batch(method, &checked, &files, &dir, jobs),
         }
+    }
+
+    /// What a labelling run says about a take its model does not fit (the segmentation JSON has
+    /// every frame `unknown` then): the reason and the method's models that fit the take instead.
+    fn fit_note(details: &method::Details) -> Option<String> {
+        let fit = details.take_fit.as_ref().filter(|f| !f.fits)?;
+        Some(format!(
+            "model `{}` does not fit this take ({}), every frame is labelled unknown; {}",
+            fit.model,
+            fit.reason,
+            fit.advice().unwrap_or_default()
+        ))
     }
 
     /// Writes `text` to `path` whole or not at all: into a temporary file in the same folder (a
@@ -1217,7 +1232,7 @@ mod cli {
             .filter(|(_, n)| *n > 0)
             .map(|(l, n)| format!("{}s {n}", serde_json::to_value(l).unwrap_or_default().as_str().unwrap_or("?")))
             .collect();
-        let line = format!(
+        let mut line = format!(
             "ok    {}  {} frames at {} fps  {}  {:.2} s → {}",
             file.display(),
             seg.frames,
@@ -1226,6 +1241,9 @@ mod cli {
             started.elapsed().as_secs_f64(),
             out.display()
         );
+        if let Some(note) = fit_note(&output.details) {
+            line.push_str(&format!("  — {note}"));
+        }
         Ok((line, seg.frames))
     }
 

@@ -35,7 +35,7 @@ use serde::{Deserialize, Serialize};
 use crate::motion::Motion;
 use crate::segment::Segmentation;
 pub use spec::{ParamKind, ParamSpec};
-pub use supervised::{ModelStore, Supervised, Supervision};
+pub use supervised::{FittingModel, ModelStore, Supervised, Supervision, TakeFitReport};
 pub use work::{Work, WorkLimits};
 
 /// The caller asked a running method to stop (the method returns as soon as it next reports).
@@ -196,6 +196,11 @@ pub struct Details {
     pub summary: String,
     pub pictures: Vec<Picture>,
     pub curves: Vec<Curve>,
+    /// A labelling run's verdict on whether its model fits the take (`None`: no fit check — the
+    /// method has no models, or the check was off; left out of the JSON then, and old results
+    /// without it load as `None`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub take_fit: Option<supervised::TakeFitReport>,
 }
 
 /// How a run should go besides its parameters.

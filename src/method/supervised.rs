@@ -26,6 +26,60 @@ use super::{MethodError, ParamKind, ParamSpec, Progress};
 /// model's training takes (the page's metrics panel finds it there and shows it beside the scores).
 pub const IN_SAMPLE: &str = "in-sample:";
 
+/// How a labelling model fits the take a run labelled, as data (the run's [`super::Details::take_fit`]):
+/// the verdict, the measures it rests on, the reason in words, and — when the take does not fit —
+/// which of the method's other models do. Made by the labelling methods' take fit
+/// (`crate::methods::dtfcn::fit`); every field has a default, so results written before it load.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default)]
+pub struct TakeFitReport {
+    /// The model measured (the run's `model`).
+    pub model: String,
+    /// Its classes can describe the take (also when nothing could be measured).
+    pub fits: bool,
+    /// Share of the take's frames travelling faster than the model's training frames (`None`: not measured).
+    pub travel_share: Option<f64>,
+    /// The training travel limit, reference-body inches per second (`None`: not measured).
+    pub travel_limit: Option<f32>,
+    /// The take's median nearest-window distance over a new repetition's (`None`: not measured).
+    pub pose_ratio: Option<f64>,
+    /// Why the take does not fit, in words (empty when it fits).
+    pub reason: String,
+    /// When it does not fit: the method's other models (shipped, and the user's) whose classes fit
+    /// the take, best first (lowest pose ratio); empty when none does, or the take fits.
+    pub fitting: Vec<FittingModel>,
+}
+
+/// A model a take fits, as [`TakeFitReport::fitting`] lists it.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default)]
+pub struct FittingModel {
+    /// Its name (a value of the method's `model` parameter).
+    pub name: String,
+    pub travel_share: Option<f64>,
+    pub pose_ratio: Option<f64>,
+}
+
+impl TakeFitReport {
+    /// The names of [`TakeFitReport::fitting`], best first.
+    pub fn fitting_names(&self) -> Vec<&str> {
+        self.fitting.iter().map(|m| m.name.as_str()).collect()
+    }
+
+    /// What to do about a take that does not fit, in a phrase for a summary or the command line:
+    /// "models that fit this take: cmu-actions, locomotion", or that none does (`None` when it fits).
+    pub fn advice(&self) -> Option<String> {
+        if self.fits {
+            return None;
+        }
+        Some(if self.fitting.is_empty() {
+            "no other model of this method fits this take either".to_string()
+        } else {
+            format!("models that fit this take: {}", self.fitting_names().join(", "))
+        })
+    }
+}
+
 /// What a supervised method declares about its training and models.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Supervision {

@@ -5,9 +5,10 @@
 //! ([`export_names`]), the banner when every method fails ([`run_failures`]), the URL
 //! parameters ([`url_params`]), the "my labels" row's edit model ([`my_labels`]) and the metrics
 //! panel's comparison table ([`compare`]: best per column, sorting), one name per timeline row
-//! ([`rows`]), a model's card beside its choice ([`model_card`]) and the advice before a training
+//! ([`rows`]), a model's card beside its choice ([`model_card`]), the advice before a training
 //! ([`training_advice`]), the question when a take is opened during a training and what forgetting a
-//! model kept in the browser changes ([`kept_models`]).
+//! model kept in the browser changes ([`kept_models`]), and a labelling row's badge when its model
+//! does not fit the take ([`take_fit`]).
 
 pub mod camera;
 pub mod clock;
@@ -20,6 +21,7 @@ pub mod model_card;
 pub mod my_labels;
 pub mod rows;
 pub mod run_failures;
+pub mod take_fit;
 pub mod timeline;
 pub mod training_advice;
 pub mod url_params;

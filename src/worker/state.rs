@@ -622,6 +622,27 @@ mod tests {
         view.clone()
     }
 
+    /// A labelling run's take fit reaches the page as data: the walk does not fit `exercises`, the
+    /// report says why and names `locomotion`, and it crosses `postMessage` whole (the JSON of a
+    /// `segmented` packet); a run with the check off carries none.
+    #[test]
+    fn a_take_fit_report_crosses_to_the_page() {
+        let mut w = WorkerState::default();
+        load_walk(&mut w, 1);
+        let view = run_method(&mut w, 2, "knn", serde_json::json!({"model": "exercises"}));
+        let fit = view.details.take_fit.clone().expect("the k-NN's fit check");
+        assert!(!fit.fits && fit.reason.contains("travel faster") && fit.model == "exercises", "{fit:?}");
+        assert_eq!(fit.fitting_names(), ["locomotion"]);
+        let response = Response::Segmented { take: 1, run: 2, view: view.clone() };
+        let packet = response.clone().into_packet();
+        assert!(packet.json.contains(r#""take_fit":{"model":"exercises","fits":false"#), "{}", packet.json);
+        let Response::Segmented { view: back, .. } = Response::from_packet(packet).unwrap() else { panic!() };
+        assert_eq!(back.details.take_fit, Some(fit));
+        let off = run_method(&mut w, 3, "knn", serde_json::json!({"model": "exercises", "fit_check": false}));
+        assert!(off.details.take_fit.is_none());
+        assert!(run_method(&mut w, 4, "sssm", serde_json::json!({})).details.take_fit.is_none());
+    }
+
     /// Trains through the worker as the page does: the request, then every `continue_training`
     /// the worker asks for, until it asks for none.
     fn train_to_the_end(w: &mut WorkerState, request: Request) -> Vec<Response> {

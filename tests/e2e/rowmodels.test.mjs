@@ -6,9 +6,11 @@
 // sample trained `exercises`); a training that finishes after another take was opened applies
 // itself to nothing unasked (keep / apply / discard); advice when classes have too few examples;
 // trained models kept in the browser (IndexedDB) and listed again after a reload; one click back to
-// the shipped model.
+// the shipped model. The row-model tests run at 1024×768 and 1440×900, light and dark (one page per
+// size × theme); the training tests after them on the last of those pages. A model that does not
+// fit the take: takefit.test.mjs.
 
-import { test, before, after } from "node:test";
+import { test, after } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import path from "node:path";
@@ -18,15 +20,19 @@ const CARDS = JSON.parse(readFileSync(path.join(ROOT, "models/cards.json"), "utf
 const ACCURACY = JSON.parse(readFileSync(path.join(ROOT, "docs/accuracy.json"), "utf8"));
 const IN_SET = /in the model's training set .*— its labels here are not a measure of accuracy/;
 
+const CONFIGS = [];
+for (const viewport of [{ width: 1024, height: 768 }, { width: 1440, height: 900 }]) {
+  for (const theme of ["light", "dark"]) CONFIGS.push({ viewport, theme });
+}
+
+/** The page of the size × theme under test (the last one for the training tests). */
 let opened;
 let page;
+const opens = [];
 
-before(async () => {
-  opened = await openPage({ viewport: { width: 1440, height: 900 } });
-  page = opened.page;
+after(async () => {
+  for (const o of opens) await closePage(o, o === opened ? "e2e-rowmodels-final.png" : undefined);
 });
-
-after(async () => closePage(opened, "e2e-rowmodels-final.png"));
 
 /** Records body[data-<method>] changes from now on. */
 async function watchRuns(method) {
@@ -63,73 +69,79 @@ test("the cards file holds the scoreboard's held-out figures and nothing made up
   assert.equal(card("lma", "shipped").held_out, null);
 });
 
-test("each labelling row shows its model and card; changing it on the row or in the panel re-runs at once", async () => {
-  await gotoApp(page, "?methods=dtfcn,knn");
-  await waitData(page, "dtfcn", "done");
-  await waitData(page, "knn", "done");
-  assert.equal(await page.inputValue("#dtfcn-row-model"), "exercises");
-  assert.equal(await page.inputValue("#knn-row-model"), "exercises");
-  // the card beside the panel's choice (its tab shown: the side panel shows one method) and on the row
-  await showPanel(page, "dtfcn");
-  await page.locator("#dtfcn-model-card-held-out").waitFor();
-  const exercises = card("dtfcn", "exercises");
-  assert.match(await text(page, "#dtfcn-model-card-trained-on"), /4 takes: 13_29\.bvh, 13_30\.bvh, 13_31\.bvh, 14_14\.bvh/);
-  assert.equal(await text(page, "#dtfcn-model-card-classes"), `${exercises.classes.length}: ${exercises.classes.join(", ")}`);
-  assert.equal(await text(page, "#dtfcn-model-card-command"), exercises.command);
-  const heldOut = await text(page, "#dtfcn-model-card-held-out");
-  assert.match(heldOut, new RegExp(`^frame accuracy ${exercises.held_out.frame_accuracy.toFixed(2)} \\(held out: mocap6 takes only`));
-  assert.match(heldOut, /docs\/accuracy\.json/);
-  assert.equal(await page.locator("#dtfcn-row-card").isVisible(), false);
-  await page.click("#dtfcn-row-card-toggle");
-  assert.equal(await page.locator("#dtfcn-row-card").isVisible(), true);
-  assert.equal(await text(page, "#dtfcn-row-card-body-held-out"), heldOut);
-  await page.locator("#dtfcn-row-card").screenshot({ path: path.join(ROOT, "test-output", "e2e-row-card.png") }).catch(() => {});
-  await page.click("#dtfcn-row-card-toggle");
-  // LMA's model has a card too (its origin line), not measured
-  assert.match(await text(page, "#lma-model-card-trained-on"), /stand-in labels/);
-  assert.equal(await text(page, "#lma-model-card-held-out"), "not measured");
+for (const { viewport, theme } of CONFIGS) {
+  const tag = `(${viewport.width}×${viewport.height}, ${theme})`;
+  test(`each labelling row shows its model and card; changing it on the row or in the panel re-runs at once ${tag}`, async () => {
+    opened = await openPage({ viewport, contextOptions: { colorScheme: theme } });
+    opens.push(opened);
+    page = opened.page;
+    await gotoApp(page, "?methods=dtfcn,knn");
+    await waitData(page, "dtfcn", "done");
+    await waitData(page, "knn", "done");
+    assert.equal(await page.inputValue("#dtfcn-row-model"), "exercises");
+    assert.equal(await page.inputValue("#knn-row-model"), "exercises");
+    // the card beside the panel's choice (its tab shown: the side panel shows one method) and on the row
+    await showPanel(page, "dtfcn");
+    await page.locator("#dtfcn-model-card-held-out").waitFor();
+    const exercises = card("dtfcn", "exercises");
+    assert.match(await text(page, "#dtfcn-model-card-trained-on"), /4 takes: 13_29\.bvh, 13_30\.bvh, 13_31\.bvh, 14_14\.bvh/);
+    assert.equal(await text(page, "#dtfcn-model-card-classes"), `${exercises.classes.length}: ${exercises.classes.join(", ")}`);
+    assert.equal(await text(page, "#dtfcn-model-card-command"), exercises.command);
+    const heldOut = await text(page, "#dtfcn-model-card-held-out");
+    assert.match(heldOut, new RegExp(`^frame accuracy ${exercises.held_out.frame_accuracy.toFixed(2)} \\(held out: mocap6 takes only`));
+    assert.match(heldOut, /docs\/accuracy\.json/);
+    assert.equal(await page.locator("#dtfcn-row-card").isVisible(), false);
+    await page.click("#dtfcn-row-card-toggle");
+    assert.equal(await page.locator("#dtfcn-row-card").isVisible(), true);
+    assert.equal(await text(page, "#dtfcn-row-card-body-held-out"), heldOut);
+    await page.locator("#dtfcn-row-card").screenshot({ path: path.join(ROOT, "test-output", `e2e-row-card-${viewport.width}-${theme}.png`) }).catch(() => {});
+    await page.click("#dtfcn-row-card-toggle");
+    // LMA's model has a card too (its origin line), not measured
+    assert.match(await text(page, "#lma-model-card-trained-on"), /stand-in labels/);
+    assert.equal(await text(page, "#lma-model-card-held-out"), "not measured");
 
-  // the row's choice: DT-FCN runs again at once, with the model chosen, whose card follows
-  await watchRuns("dtfcn");
-  await page.selectOption("#dtfcn-row-model", "cmu-actions");
-  await ranAgain("dtfcn");
-  assert.equal(await page.inputValue("#dtfcn-model"), "cmu-actions", "the panel's choice is the row's");
-  const cmu = card("dtfcn", "cmu-actions");
-  const labels = await rowLabels("dtfcn-actions");
-  assert.ok(labels.length > 0 && labels.every((l) => l === "unknown" || cmu.classes.includes(l)),
-    `the row is cmu-actions' classes: ${JSON.stringify(labels)}`);
-  assert.equal(await text(page, "#dtfcn-model-card-held-out"), "not measured");
-  assert.match(await text(page, "#dtfcn-model-card-trained-on"), /1 take: 86_01\.bvh/);
-  // the panel's choice re-runs too (it did not before: Run had to be pressed)
-  await watchRuns("knn");
-  await showPanel(page, "knn");
-  await page.selectOption("#knn-model", "locomotion");
-  await ranAgain("knn");
-  assert.equal(await page.inputValue("#knn-row-model"), "locomotion");
-  assertClean(opened);
-});
+    // the row's choice: DT-FCN runs again at once, with the model chosen, whose card follows
+    await watchRuns("dtfcn");
+    await page.selectOption("#dtfcn-row-model", "cmu-actions");
+    await ranAgain("dtfcn");
+    assert.equal(await page.inputValue("#dtfcn-model"), "cmu-actions", "the panel's choice is the row's");
+    const cmu = card("dtfcn", "cmu-actions");
+    const labels = await rowLabels("dtfcn-actions");
+    assert.ok(labels.length > 0 && labels.every((l) => l === "unknown" || cmu.classes.includes(l)),
+      `the row is cmu-actions' classes: ${JSON.stringify(labels)}`);
+    assert.equal(await text(page, "#dtfcn-model-card-held-out"), "not measured");
+    assert.match(await text(page, "#dtfcn-model-card-trained-on"), /1 take: 86_01\.bvh/);
+    // the panel's choice re-runs too (it did not before: Run had to be pressed)
+    await watchRuns("knn");
+    await showPanel(page, "knn");
+    await page.selectOption("#knn-model", "locomotion");
+    await ranAgain("knn");
+    assert.equal(await page.inputValue("#knn-row-model"), "locomotion");
+    assertClean(opened);
+  });
 
-test("the row and the card warn when the take on screen trained the model: the sample trained `exercises`", async () => {
-  await page.selectOption("#dtfcn-row-model", "exercises");
-  await waitData(page, "dtfcn", "done");
-  const badge = page.locator("#dtfcn-row-in-sample");
-  await badge.waitFor({ state: "visible" });
-  assert.match(await badge.getAttribute("title"), IN_SET);
-  assert.match(await badge.getAttribute("title"), /matched by name: 13_30\.bvh/);
-  assert.match(await text(page, "#dtfcn-model-card-in-sample"), IN_SET);
-  // cmu-actions was trained on 86_01 only: no warning
-  await page.selectOption("#dtfcn-row-model", "cmu-actions");
-  await waitData(page, "dtfcn", "done");
-  await badge.waitFor({ state: "hidden" });
-  assert.equal(await page.locator("#dtfcn-model-card-in-sample").isVisible(), false);
-  // 02_01 is one of the locomotion models' takes (matched by name; the shipped models recorded no hashes)
-  await loadFile(page, "02_01.bvh");
-  await waitData(page, "knn", "done");
-  await page.locator("#knn-row-in-sample").waitFor({ state: "visible" });
-  assert.match(await page.getAttribute("#knn-row-in-sample", "title"), /matched by name: 02_01\.bvh/);
-  assert.equal(await page.locator("#dtfcn-row-in-sample").isVisible(), false, "cmu-actions never saw 02_01");
-  assertClean(opened);
-});
+  test(`the row and the card warn when the take on screen trained the model: the sample trained \`exercises\` ${tag}`, async () => {
+    await page.selectOption("#dtfcn-row-model", "exercises");
+    await waitData(page, "dtfcn", "done");
+    const badge = page.locator("#dtfcn-row-in-sample");
+    await badge.waitFor({ state: "visible" });
+    assert.match(await badge.getAttribute("title"), IN_SET);
+    assert.match(await badge.getAttribute("title"), /matched by name: 13_30\.bvh/);
+    assert.match(await text(page, "#dtfcn-model-card-in-sample"), IN_SET);
+    // cmu-actions was trained on 86_01 only: no warning
+    await page.selectOption("#dtfcn-row-model", "cmu-actions");
+    await waitData(page, "dtfcn", "done");
+    await badge.waitFor({ state: "hidden" });
+    assert.equal(await page.locator("#dtfcn-model-card-in-sample").isVisible(), false);
+    // 02_01 is one of the locomotion models' takes (matched by name; the shipped models recorded no hashes)
+    await loadFile(page, "02_01.bvh");
+    await waitData(page, "knn", "done");
+    await page.locator("#knn-row-in-sample").waitFor({ state: "visible" });
+    assert.match(await page.getAttribute("#knn-row-in-sample", "title"), /matched by name: 02_01\.bvh/);
+    assert.equal(await page.locator("#dtfcn-row-in-sample").isVisible(), false, "cmu-actions never saw 02_01");
+    assertClean(opened);
+  });
+}
 
 test("advice before training: a class with too few segments or seconds is named", async () => {
   await gotoApp(page, "?methods=dtfcn");

@@ -27,6 +27,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::features::end_effectors::REFERENCE_BODY_INCHES;
+use crate::method::{FittingModel, TakeFitReport};
 use crate::methods::knn::Knn;
 use crate::motion::normalize::{body_size, to_inches, to_y_up};
 use crate::motion::Motion;
@@ -186,8 +187,8 @@ impl TakeFit {
         self.travel_share.is_some() || self.pose_ratio.is_some()
     }
 
-    /// One sentence for a run's summary: why the take does not fit model `name`, or that it does.
-    pub fn describe(&self, name: &str) -> String {
+    /// Why the take does not fit, one phrase per measure past its limit (none when it fits).
+    pub fn reasons(&self) -> Vec<String> {
         let mut why = Vec::new();
         if let (Some(s), Some(limit)) = (self.travel_share, self.travel_limit) {
             if s > TRAVEL_SHARE_LIMIT {
@@ -200,6 +201,12 @@ impl TakeFit {
         if let Some(r) = self.pose_ratio.filter(|&r| r > POSE_RATIO_LIMIT) {
             why.push(format!("its poses lie {r:.1} times as far from the training poses as a new repetition does"));
         }
+        why
+    }
+
+    /// One sentence for a run's summary: why the take does not fit model `name`, or that it does.
+    pub fn describe(&self, name: &str) -> String {
+        let why = self.reasons();
         if why.is_empty() {
             let mut parts = Vec::new();
             if let Some(s) = self.travel_share {
@@ -217,6 +224,33 @@ impl TakeFit {
             )
         }
     }
+
+    /// The verdict on model `name` as data, with the other models that fit the take (`fitting`,
+    /// best first: [`rank_fitting`]).
+    pub fn report(&self, name: &str, fitting: Vec<FittingModel>) -> TakeFitReport {
+        let fits = self.fits();
+        TakeFitReport {
+            model: name.to_string(),
+            fits,
+            travel_share: self.travel_share,
+            travel_limit: self.travel_limit,
+            pose_ratio: self.pose_ratio,
+            reason: self.reasons().join(" and "),
+            fitting: if fits { Vec::new() } else { fitting },
+        }
+    }
+}
+
+/// The models a take fits, best first: the lowest pose ratio (nearest to the training poses; a
+/// model whose poses were not measured after those that were), then the smallest share of frames
+/// travelling past the training takes, then by name.
+pub fn rank_fitting(mut models: Vec<FittingModel>) -> Vec<FittingModel> {
+    let key = |m: &FittingModel| (m.pose_ratio.unwrap_or(f64::INFINITY), m.travel_share.unwrap_or(0.0));
+    models.sort_by(|a, b| {
+        let (ka, kb) = (key(a), key(b));
+        ka.0.total_cmp(&kb.0).then(ka.1.total_cmp(&kb.1)).then_with(|| a.name.cmp(&b.name))
+    });
+    models
 }
 
 #[cfg(test)]

@@ -14,9 +14,9 @@ use super::input::network_input;
 use super::model::{Labeller, Model, ModelHeader, ModelKind};
 use super::shipped;
 use crate::method::supervised::{Loaded, Training, TrainingAsk, IN_SAMPLE};
-use crate::method::{Work, 
-    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ModelStore, ParamKind, ParamSpec, Picture, Progress,
-    RunOptions, Supervised, Supervision,
+use crate::method::{
+    Curve, Details, FittingModel, Method, MethodError, MethodInfo, MethodOutput, ModelStore, ParamKind, ParamSpec,
+    Picture, Progress, RunOptions, Supervised, Supervision, Work,
 };
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -101,6 +101,9 @@ pub struct Checked {
 /// What a run measures the take's fit with.
 struct FitCheck {
     windows: Option<Arc<Model>>,
+    /// The models the run could name instead (the user's of this kind), measured against the take
+    /// only when it does not fit the chosen one ([`Labelling::fitting_models`]).
+    models: ModelStore,
 }
 
 /// The k-NN model made from the same data as `model` (the same data hash): `model` itself when it
@@ -118,6 +121,48 @@ fn fit_windows(model: &Arc<Model>, name: &str, models: &ModelStore) -> Result<Op
         return Ok(Some(shipped::model(ModelKind::Knn, name)?).filter(same));
     }
     Ok(None)
+}
+
+/// The k-NN labeller of a fit check's windows model (none for a network).
+fn knn_of(model: Option<&Model>) -> Option<&crate::methods::knn::Knn> {
+    model.and_then(|m| match &m.labeller {
+        Labeller::Knn(k) => Some(&**k),
+        Labeller::Network(_) => None,
+    })
+}
+
+impl Labelling {
+    /// The models of this method other than `chosen` whose classes fit `motion`, best first
+    /// ([`super::fit::rank_fitting`]): the shipped ones and the user's (`models`). Only their fit is
+    /// measured, never their labels: a shipped model by its k-NN file of the same name (the same
+    /// data as its DT-FCN file: its travel and its windows, a fraction of the network's size), a
+    /// user's by its own travel and the k-NN windows of its data ([`fit_windows`]). A model nothing
+    /// can be measured of is not offered. On the page a shipped k-NN file not held yet is
+    /// [`MethodError::NeedsModel`] (fetched once, then the run is asked again).
+    fn fitting_models(&self, motion: &Motion, chosen: &str, models: &ModelStore) -> Result<Vec<FittingModel>, MethodError> {
+        let mut names: Vec<String> = shipped::NAMES.iter().map(|n| n.to_string()).collect();
+        for name in models.names(self.kind.name()) {
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
+        let mut fitting = Vec::new();
+        for name in names.iter().filter(|n| n.as_str() != chosen) {
+            let (travel, windows) = match models.get::<Model>(self.kind.name(), name) {
+                Some(model) => (model.header.travel, fit_windows(&model, name, models)?),
+                None => {
+                    let knn = shipped::model(ModelKind::Knn, name)?;
+                    (knn.header.travel, Some(knn))
+                }
+            };
+            let fit = super::fit::TakeFit::assess(motion, travel.as_ref(), knn_of(windows.as_deref()))
+                .map_err(MethodError::Failed)?;
+            if fit.measured() && fit.fits() {
+                fitting.push(FittingModel { name: name.clone(), travel_share: fit.travel_share, pose_ratio: fit.pose_ratio });
+            }
+        }
+        Ok(super::fit::rank_fitting(fitting))
+    }
 }
 
 /// The model of `kind` called `name`: one of `models` (a user's, trained or loaded) first, else a
@@ -302,7 +347,7 @@ impl Method for Labelling {
             }
         };
         let fit = if params.fit_check {
-            Some(FitCheck { windows: fit_windows(&model, params.model.trim(), models)? })
+            Some(FitCheck { windows: fit_windows(&model, params.model.trim(), models)?, models: models.clone() })
         } else {
             None
         };
@@ -359,9 +404,22 @@ impl Method for Labelling {
         options: &RunOptions,
         progress: &mut dyn Progress,
     ) -> Result<MethodOutput, MethodError> {
+        let header = &params.model.header;
+        // the take's fit first (cheap): when it does not fit, the method's other models are measured
+        // against it, and on the page a shipped one's file is asked for before the labeller runs
+        let fit = match &params.fit {
+            Some(check) => {
+                progress.step("take fit", 0.0)?;
+                let fit = super::fit::TakeFit::assess(motion, header.travel.as_ref(), knn_of(check.windows.as_deref()))
+                    .map_err(MethodError::Failed)?;
+                let fitting =
+                    if fit.fits() { Vec::new() } else { self.fitting_models(motion, &params.name, &check.models)? };
+                Some((fit, fitting))
+            }
+            None => None,
+        };
         progress.step("motion image", 0.0)?;
         let labelled = label(&params.model, motion, progress)?;
-        let header = &params.model.header;
         let mut file = file_labels(
             &labelled.probabilities,
             &labelled.source,
@@ -370,24 +428,12 @@ impl Method for Labelling {
             &params.decoding,
             params.threshold,
         );
-        let fit = match &params.fit {
-            Some(check) => {
-                progress.step("take fit", 0.95)?;
-                let knn = check.windows.as_ref().and_then(|m| match &m.labeller {
-                    Labeller::Knn(k) => Some(&**k),
-                    Labeller::Network(_) => None,
-                });
-                let fit = super::fit::TakeFit::assess(motion, header.travel.as_ref(), knn).map_err(MethodError::Failed)?;
-                // a take the classes cannot describe gets no labels at all: its familiar-looking
-                // frames are as wrong as the others (86_01 under `exercises`: half its frames are
-                // unfamiliar, the rest "Jog" and "Twist"); `fit_check = false` shows them anyway
-                if !fit.fits() {
-                    file.iter_mut().for_each(|f| f.0 = None);
-                }
-                Some(fit)
-            }
-            None => None,
-        };
+        // a take the classes cannot describe gets no labels at all: its familiar-looking frames are
+        // as wrong as the others (86_01 under `exercises`: half its frames are unfamiliar, the rest
+        // "Jog" and "Twist"); `fit_check = false` shows them anyway
+        if fit.as_ref().is_some_and(|(f, _)| !f.fits()) {
+            file.iter_mut().for_each(|f| f.0 = None);
+        }
         let segments = runs(&file, &header.classes);
         let segmentation = Segmentation {
             file: motion.name.clone(),
@@ -420,11 +466,16 @@ impl Method for Labelling {
             Some(note) => format!("{summary} · {note}"),
             None => summary,
         };
-        // a take the model does not fit is said first: it is what a reader must know before the labels
-        let summary = match fit.filter(|f| f.measured()) {
-            Some(f) if !f.fits() => format!("{} · {summary}", f.describe(&header.name)),
-            Some(f) => format!("{summary} · {}", f.describe(&header.name)),
-            None => summary,
+        // a take the model does not fit is said first, with the models that do: it is what a reader
+        // must know before the labels
+        let take_fit = fit.as_ref().map(|(f, fitting)| f.report(&params.name, fitting.clone()));
+        let summary = match (fit.as_ref().map(|(f, _)| f).filter(|f| f.measured()), &take_fit) {
+            (Some(f), Some(report)) if !f.fits() => {
+                let advice = report.advice().unwrap_or_default();
+                format!("{} · {advice} · {summary}", f.describe(&header.name))
+            }
+            (Some(f), _) => format!("{summary} · {}", f.describe(&header.name)),
+            _ => summary,
         };
         let curves = vec![Curve {
             id: "confidence".into(),
@@ -436,7 +487,7 @@ impl Method for Labelling {
             pictures.push(probability_picture(&labelled.probabilities, &header.colours, &header.classes));
         }
         progress.step("done", 1.0)?;
-        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves } })
+        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves, take_fit } })
     }
 }
 
@@ -615,6 +666,113 @@ mod tests {
             let gait = run(method, &walk, serde_json::json!({"model": "locomotion"}));
             assert!(gait.details.summary.contains("the take fits model `locomotion`"), "{}", gait.details.summary);
         }
+    }
+
+    /// The verdict travels as data (`Details::take_fit`), with the method's other models that fit
+    /// the take, best first, measured on real takes (docs/methods/dtfcn.md, "Take fit"): CMU 86_01
+    /// (walk, jump, punch, kick) does not fit `exercises`, fits `cmu-actions` (its training take) and
+    /// `locomotion` (pose ratio 1.6), in that order; a walk (02_01) fits `locomotion` only (it
+    /// travels past `cmu-actions`' training takes too); the sample (13_30, exercises on the spot)
+    /// fits `exercises` and is said to fit nothing else when `cmu-actions` is asked for.
+    #[test]
+    fn a_take_that_does_not_fit_names_the_models_that_do() {
+        let actions = motion(
+            "86_01.bvh",
+            &std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/86_01.bvh")).unwrap(),
+        );
+        let walk = motion("02_01.bvh", include_str!("../../../tests/fixtures/02_01.bvh"));
+        let sample = motion("13_30.bvh", include_str!("../../../www/sample.bvh"));
+        for method in [DTFCN, crate::methods::knn::method::KNN] {
+            let out = run(method, &actions, serde_json::json!({"model": "exercises"}));
+            let fit = out.details.take_fit.clone().expect("a fit check's report");
+            assert!(!fit.fits && fit.model == "exercises", "{fit:?}");
+            assert!(fit.travel_share.unwrap() > 0.25 && fit.travel_limit.is_some() && fit.pose_ratio.is_some(), "{fit:?}");
+            assert!(fit.reason.contains("% of its frames travel faster"), "{}", fit.reason);
+            assert_eq!(fit.fitting_names(), ["cmu-actions", "locomotion"], "{fit:?}");
+            assert!(fit.fitting[0].pose_ratio.unwrap() < fit.fitting[1].pose_ratio.unwrap(), "best first: {fit:?}");
+            assert!(
+                out.details.summary.contains("· models that fit this take: cmu-actions, locomotion ·"),
+                "{}",
+                out.details.summary
+            );
+            assert!(out.segmentation.segments.iter().all(|s| s.label == UNKNOWN));
+            // the model it names fits, and labels: no report of others, its classes on the row
+            let better = run(method, &actions, serde_json::json!({"model": "cmu-actions"}));
+            let fit = better.details.take_fit.clone().unwrap();
+            assert!(fit.fits && fit.fitting.is_empty() && fit.reason.is_empty(), "{fit:?}");
+            assert!(better.segmentation.segments.iter().any(|s| s.label != UNKNOWN));
+            // a walk: locomotion only
+            let out = run(method, &walk, serde_json::json!({"model": "exercises"}));
+            assert_eq!(out.details.take_fit.unwrap().fitting_names(), ["locomotion"]);
+            // exercises on the spot under the action model: only `exercises` fits
+            let out = run(method, &sample, serde_json::json!({"model": "cmu-actions"}));
+            let fit = out.details.take_fit.unwrap();
+            assert!(!fit.fits && fit.pose_ratio.unwrap() > 2.0 && fit.reason.contains("poses lie"), "{fit:?}");
+            assert_eq!(fit.fitting_names(), ["exercises"]);
+            // no check, no report (and no word of fit in the JSON)
+            let off = run(method, &walk, serde_json::json!({"model": "exercises", "fit_check": false}));
+            assert!(off.details.take_fit.is_none());
+            assert!(!serde_json::to_string(&off.details).unwrap().contains("take_fit"));
+        }
+    }
+
+    /// A user's model of the method is measured too, and offered when the take fits it; a model
+    /// nothing can be measured of is not.
+    #[test]
+    fn a_users_model_that_fits_the_take_is_offered() {
+        let walk = motion("02_01.bvh", include_str!("../../../tests/fixtures/02_01.bvh"));
+        let knn = crate::methods::knn::method::KNN;
+        let mut store = ModelStore::default();
+        // the shipped locomotion k-NN, installed under a name of the user's
+        let bytes = crate::method::shipped::bytes(&shipped::file_name(ModelKind::Knn, "locomotion")).unwrap();
+        let mut loaded = knn.read_model("mine.model", bytes).unwrap();
+        loaded.info.name = "my-walks".into();
+        store.install(loaded);
+        let params: LabelParams = serde_json::from_value(serde_json::json!({"model": "exercises"})).unwrap();
+        let checked = knn.check_in(params, &store).unwrap();
+        let out = knn.run(&walk, &checked, &RunOptions::default(), &mut crate::method::NoProgress).unwrap();
+        let fit = out.details.take_fit.unwrap();
+        let mut names = fit.fitting_names();
+        names.sort();
+        assert_eq!(names, ["locomotion", "my-walks"], "{fit:?}");
+        // ranking: by pose ratio, then travel, then name
+        let m = |name: &str, pose: Option<f64>, travel: f64| FittingModel {
+            name: name.into(),
+            pose_ratio: pose,
+            travel_share: Some(travel),
+        };
+        let ranked = super::super::fit::rank_fitting(vec![
+            m("c", None, 0.0),
+            m("b", Some(1.5), 0.0),
+            m("a", Some(0.5), 0.2),
+            m("d", Some(0.5), 0.1),
+        ]);
+        assert_eq!(ranked.iter().map(|m| m.name.as_str()).collect::<Vec<_>>(), ["d", "a", "b", "c"]);
+    }
+
+    /// A result written before the report existed loads without it; one with it reads back whole.
+    #[test]
+    fn details_without_a_take_fit_load() {
+        let old: Details = serde_json::from_str(r#"{"summary": "s", "pictures": [], "curves": []}"#).unwrap();
+        assert!(old.take_fit.is_none());
+        let report = crate::method::TakeFitReport {
+            model: "exercises".into(),
+            fits: false,
+            travel_share: Some(0.43),
+            travel_limit: Some(10.9),
+            pose_ratio: Some(1.3),
+            reason: "43 % of its frames travel".into(),
+            fitting: vec![FittingModel { name: "cmu-actions".into(), travel_share: Some(0.01), pose_ratio: Some(0.0) }],
+        };
+        let details = Details { take_fit: Some(report.clone()), ..old };
+        let back: Details = serde_json::from_str(&serde_json::to_string(&details).unwrap()).unwrap();
+        assert_eq!(back.take_fit, Some(report.clone()));
+        assert_eq!(report.advice().unwrap(), "models that fit this take: cmu-actions");
+        let none = crate::method::TakeFitReport { fitting: Vec::new(), ..report };
+        assert_eq!(none.advice().unwrap(), "no other model of this method fits this take either");
+        // a report missing fields (a later or earlier writer) still loads
+        let partial: crate::method::TakeFitReport = serde_json::from_str(r#"{"model": "x", "fits": true}"#).unwrap();
+        assert!(partial.fits && partial.fitting.is_empty() && partial.advice().is_none());
     }
 
     /// The bundled sample (13_30) is one of the `exercises` models' training takes: a run on it says so;

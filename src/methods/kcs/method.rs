@@ -123,6 +123,6 @@ impl Method for Kcs {
                 values: (0..motion.frames()).map(|i| c[frames.working_frame(i)]).collect(),
             })
             .collect();
-        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves } })
+        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves, take_fit: None } })
     }
 }

@@ -440,7 +440,7 @@ pub fn segment_with(
         params: serde_json::to_value(params).unwrap_or_default(),
         segments,
     };
-    Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves: Vec::new() } })
+    Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves: Vec::new(), take_fit: None } })
 }
 
 pub(super) fn rounded(e: Effort) -> Effort {

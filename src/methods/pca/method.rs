@@ -102,7 +102,7 @@ impl Method for Pca {
             crate::method::counted(p.dim, "pose dimension"),
             dims.join(", ")
         );
-        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves } })
+        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves, take_fit: None } })
     }
 }
 

@@ -111,7 +111,7 @@ impl Method for Sssm {
         }
         Ok(MethodOutput {
             segmentation: result.segmentation,
-            details: Details { summary, pictures, curves: Vec::new() },
+            details: Details { summary, pictures, curves: Vec::new(), take_fit: None },
         })
     }
 }

@@ -103,7 +103,7 @@ impl Method for Velocity {
             crate::method::counted(cuts.len(), "boundary"),
             speeds.iter().flatten().fold(0.0f32, |a, &b| a.max(b))
         );
-        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves } })
+        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves, take_fit: None } })
     }
 }
 
