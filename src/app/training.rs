@@ -27,7 +27,8 @@
 //! * [`TakeSwitch`] — `#take-switch` (role `alertdialog`, text `#take-switch-text`): opening another
 //!   take while a training runs first asks whether to stop it (`#take-switch-stop`) or keep it
 //!   running bound to its own take (`#take-switch-keep`, focused); either opens the take, and the
-//!   take opens by itself if the training ends before an answer. Nothing in it names a method:
+//!   take opens by itself if the training ends before an answer; Esc withdraws it (nothing opens,
+//!   the training goes on; `#take-switch-esc` says so). Nothing in it names a method:
 //!   the question says the method's short name and the model's, as the loader reports them.
 //!
 //! The page holds every model it was given or trained ([`UserModel`], its file's bytes) and the
@@ -625,6 +626,7 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
 /// sample) while a training runs — stop it (`#take-switch-stop`), or keep it running
 /// (`#take-switch-keep`, focused when the question appears), bound to its own take; either opens
 /// the take. The question goes when the training ends before an answer: the take opens then.
+/// Esc withdraws the take: nothing opens, the training goes on.
 #[component]
 pub fn TakeSwitch(state: AppState, loader: Loader) -> impl IntoView {
     let asked = loader.switch_question();
@@ -651,14 +653,24 @@ pub fn TakeSwitch(state: AppState, loader: Loader) -> impl IntoView {
     let text = move |part: fn(&crate::view::kept_models::SwitchQuestion) -> String| {
         move || asked.with(|a| a.as_ref().map(|a| part(&a.question)).unwrap_or_default())
     };
-    let (stop_loader, keep_loader) = (loader.clone(), loader);
+    let (stop_loader, keep_loader, esc_loader) = (loader.clone(), loader.clone(), loader);
+    // Esc: the take is not opened after all (the one on screen stays, the training goes on)
+    let on_key = move |ev: leptos::ev::KeyboardEvent| {
+        if ev.key() == "Escape" {
+            ev.prevent_default();
+            ev.stop_propagation();
+            esc_loader.cancel_switch();
+        }
+    };
     view! {
         <div
             id="take-switch"
             class="ms-take-switch"
             role="alertdialog"
             aria-labelledby="take-switch-text"
+            aria-describedby="take-switch-esc"
             hidden=move || asked.with(Option::is_none)
+            on:keydown=on_key
         >
             <p id="take-switch-text">{text(|q| q.text.clone())}</p>
             <div class="ms-take-switch-answers">
@@ -666,6 +678,7 @@ pub fn TakeSwitch(state: AppState, loader: Loader) -> impl IntoView {
                     on:click=move |_| stop_loader.answer_switch(true)>{text(|q| q.stop.clone())}</button>
                 <button id="take-switch-keep" class="ms-button" type="button" node_ref=keep_ref
                     on:click=move |_| keep_loader.answer_switch(false)>{text(|q| q.keep.clone())}</button>
+                <span id="take-switch-esc" class="ms-take-switch-esc">"Esc: do not open it"</span>
             </div>
         </div>
     }

@@ -2,7 +2,8 @@
 // (docs/page.md, "Models"): opening another take while a training runs asks first (`#take-switch`,
 // an alertdialog whose "Keep it running" has the focus) — keep it running (bound to its take: its
 // model is offered for that take, never applied to the new one) or stop it — and either opens the
-// take; the question goes by itself when the training ends first; a model kept in the browser can
+// take, and Esc withdraws the take (nothing opens, the training goes on); the question goes by
+// itself when the training ends first; a model kept in the browser can
 // be forgotten (`#dtfcn-my-models`, Forget), the row back on the shipped model and run again; a
 // model restored from the browser is not lost when the worker is replaced before it answered for
 // it (the first worker of a reload is made to hold back every `use_model` message, then a training
@@ -158,6 +159,17 @@ for (const viewport of [{ width: 1024, height: 768 }, { width: 1440, height: 900
       await page.screenshot({ path: path.join(OUT, `e2e-take-switch-${tag}.png`) });
       const box = await page.locator("#take-switch").boundingBox();
       assert.ok(box.x >= 0 && box.x + box.width <= viewport.width + 1, `the question fits the width: ${JSON.stringify(box)}`);
+      // Esc withdraws the take: nothing opens, the training goes on
+      assert.equal(await text(page, "#take-switch-esc"), "Esc: do not open it");
+      await page.keyboard.press("Escape");
+      await page.locator("#take-switch").waitFor({ state: "hidden" });
+      assert.match(await text(page, "#summary-name"), /sample/, "Esc: the sample stays on screen");
+      assert.equal(await page.evaluate(() => document.body.dataset.dtfcnTraining), "training", "Esc: still training");
+      // asked again, kept running
+      await page.setInputFiles("#file-input", []);
+      await page.setInputFiles("#file-input", path.join(FIXTURES, "35_01.bvh"));
+      await page.locator("#take-switch").waitFor({ state: "visible" });
+      await page.waitForFunction(() => document.activeElement?.id === "take-switch-keep");
       await page.keyboard.press("Enter"); // the focused answer: keep it running
       await waitReady(page, "35_01.bvh");
       await page.locator("#take-switch").waitFor({ state: "hidden" });

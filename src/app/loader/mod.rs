@@ -207,6 +207,11 @@ impl Loader {
         }
         open_now(&self.0, open);
     }
+
+    /// Withdraws the take the question was about (Esc): nothing opens, the training goes on.
+    pub fn cancel_switch(&self) {
+        drop(training::answered(&self.0));
+    }
 }
 
 /// Opens `open` at once.
