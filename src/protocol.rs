@@ -95,14 +95,19 @@ pub enum Request {
     },
     /// Hand over the shipped model file `file` (its bytes as the page fetched them from beside
     /// itself, buffer 0) after a `needs_model` answer; checked against this build's SHA-256
-    /// ([`crate::method::shipped::provide`]). Answer: `model_provided`, or `failed` naming the
-    /// file. Any worker accepts it, whatever take it holds.
+    /// ([`crate::method::shipped::provide`]) — or, with `unavailable`, say why the page could not
+    /// fetch it ([`crate::method::shipped::refuse`]; no bytes). Answer: `model_provided`, or
+    /// `model_refused` naming the file; a refused file is not asked for again: the run asked again
+    /// fails with why where it needs the file and goes on without it where it was one of several.
+    /// `failed` for a file that is not a shipped one. Any worker accepts it, whatever take it holds.
     ProvideModel {
         take: TakeId,
         run: RunId,
         file: String,
         #[serde(skip)]
         bytes: Vec<u8>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        unavailable: Option<String>,
     },
     /// Runs the next step of the training `run` (the worker's glue sends it to its own worker
     /// when [`WorkerState::next_step`] says so). Ignored when that training is over.
@@ -402,6 +407,14 @@ pub enum Response {
         take: TakeId,
         run: RunId,
         file: String,
+    },
+    /// A `provide_model` whose file was damaged or could not be fetched (`message`, naming it):
+    /// the worker will not ask for it again (the run, asked again, says what it means for it).
+    ModelRefused {
+        take: TakeId,
+        run: RunId,
+        file: String,
+        message: String,
     },
     /// A `clips` request's file: `file` to save, `clips` clips in it; its bytes are buffer 0.
     Clips {

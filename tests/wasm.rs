@@ -160,12 +160,14 @@ mod worker {
         let good = include_bytes!("../models/lma-effort.json").to_vec();
         let mut bad = good.clone();
         bad[10] ^= 1;
-        let refused = ask(Request::ProvideModel { take: 11, run: 19, file: file.clone(), bytes: bad }, None);
+        let refused =
+            ask(Request::ProvideModel { take: 11, run: 19, file: file.clone(), bytes: bad, unavailable: None }, None);
         assert!(
-            matches!(refused.last(), Some(Response::Failed { run: Some(19), message, .. }) if message.contains("models/lma-effort.json")),
+            matches!(refused.last(), Some(Response::ModelRefused { run: 19, message, .. }) if message.contains("models/lma-effort.json")),
             "{refused:?}"
         );
-        let taken = ask(Request::ProvideModel { take: 11, run: 20, file: file.clone(), bytes: good }, None);
+        let taken =
+            ask(Request::ProvideModel { take: 11, run: 20, file: file.clone(), bytes: good, unavailable: None }, None);
         assert_eq!(taken.last(), Some(&Response::ModelProvided { take: 11, run: 20, file }));
 
         // the shipped family by its name, and the page's copy stored again, as in a new worker

@@ -37,34 +37,51 @@ pub fn find(file: &str) -> Result<(usize, &'static ShippedFile), String> {
 }
 
 /// The files handed over with [`provide`] where they are not built in (kept for the life of the
-/// process — the page's worker: at most one copy of each of a handful of files).
+/// process — the page's worker: at most one copy of each of a handful of files), and the files
+/// the page could not give (damaged, or not fetched: [`refuse`]) with why, so that a run asks for
+/// them no more: it fails with that message where it needs the file, and goes on without it
+/// where the file was only one of several it could use (the models a take fit offers instead).
 #[cfg_attr(embedded_models, allow(dead_code))]
 #[derive(Default)]
-struct Provided(Vec<(usize, &'static [u8])>);
+struct Provided(Vec<(usize, &'static [u8])>, Vec<(usize, String)>);
 
 #[cfg_attr(embedded_models, allow(dead_code))]
 impl Provided {
     fn get(&self, file: &str) -> Result<&'static [u8], MethodError> {
         let (index, _) = find(file).map_err(MethodError::Failed)?;
-        self.0
-            .iter()
-            .find(|(i, _)| *i == index)
-            .map(|(_, b)| *b)
-            .ok_or_else(|| MethodError::NeedsModel { file: file.to_string() })
+        if let Some((_, b)) = self.0.iter().find(|(i, _)| *i == index) {
+            return Ok(*b);
+        }
+        match self.1.iter().find(|(i, _)| *i == index) {
+            Some((_, why)) => Err(MethodError::Failed(why.clone())),
+            None => Err(MethodError::NeedsModel { file: file.to_string() }),
+        }
     }
 
     fn add(&mut self, file: &str, bytes: Vec<u8>) -> Result<(), String> {
         let (index, shipped) = find(file)?;
-        check(shipped, &bytes)?;
+        if let Err(why) = check(shipped, &bytes) {
+            self.refuse(index, why.clone());
+            return Err(why);
+        }
+        self.1.retain(|(i, _)| *i != index);
         if !self.0.iter().any(|(i, _)| *i == index) {
             self.0.push((index, Box::leak(bytes.into_boxed_slice())));
         }
         Ok(())
     }
+
+    /// Remembers why file `index` cannot be had (a good copy held already stays).
+    fn refuse(&mut self, index: usize, why: String) {
+        if !self.0.iter().any(|(i, _)| *i == index) {
+            self.1.retain(|(i, _)| *i != index);
+            self.1.push((index, why));
+        }
+    }
 }
 
 #[cfg(not(embedded_models))]
-static PROVIDED: std::sync::Mutex<Provided> = std::sync::Mutex::new(Provided(Vec::new()));
+static PROVIDED: std::sync::Mutex<Provided> = std::sync::Mutex::new(Provided(Vec::new(), Vec::new()));
 
 /// The bytes of the shipped file `file`: built in, or handed over with [`provide`]; else
 /// [`MethodError::NeedsModel`] (only on the page).
@@ -99,6 +116,18 @@ pub fn provide(file: &str, bytes: Vec<u8>) -> Result<(), String> {
     {
         PROVIDED.lock().unwrap_or_else(|e| e.into_inner()).add(file, bytes)
     }
+}
+
+/// The page could not get the shipped file `file` (`why`: the fetch's error): a run that needs it
+/// fails with `why` instead of asking for it again, and one that could do without it goes on
+/// ([`Provided`]). Where the files are built in, nothing changes.
+pub fn refuse(file: &str, why: String) -> Result<(), String> {
+    let (_index, _) = find(file)?;
+    #[cfg(not(embedded_models))]
+    PROVIDED.lock().unwrap_or_else(|e| e.into_inner()).refuse(_index, why);
+    #[cfg(embedded_models)]
+    drop(why);
+    Ok(())
 }
 
 /// Checks `bytes` against what this build recorded of `shipped`.
@@ -157,7 +186,8 @@ mod tests {
     }
 
     /// Where the files are not built in (the page's worker): a file is missing until handed
-    /// over, a damaged one is refused and leaves it missing, and the first good copy is kept.
+    /// over, a damaged one is refused and then fails with why (it is not asked for again) until
+    /// a good copy comes, and the first good copy is kept.
     #[test]
     fn a_file_not_built_in_is_needed_until_handed_over() {
         let f = &FILES[FILES.len() - 1];
@@ -169,12 +199,22 @@ mod tests {
         }
         let mut bad = good.clone();
         bad[0] ^= 0xff;
-        assert!(store.add(f.file, bad).is_err());
-        assert!(matches!(store.get(f.file), Err(MethodError::NeedsModel { .. })));
+        let why = store.add(f.file, bad).unwrap_err();
+        match store.get(f.file) {
+            Err(MethodError::Failed(said)) => assert_eq!(said, why, "the refusal, not a request for the file"),
+            other => panic!("{other:?}"),
+        }
+        // a file the page could not fetch: the same
+        let (other, _) = find(FILES[0].file).unwrap();
+        store.refuse(other, "could not fetch the model models/x: HTTP 404".into());
+        assert!(matches!(store.get(FILES[0].file), Err(MethodError::Failed(m)) if m.ends_with("HTTP 404")));
         store.add(f.file, good.clone()).unwrap();
         store.add(f.file, good.clone()).unwrap();
         assert_eq!(store.0.len(), 1, "one copy");
         assert_eq!(store.get(f.file).unwrap(), &good[..]);
-        assert!(matches!(store.get(FILES[0].file), Err(MethodError::NeedsModel { .. })), "the others still missing");
+        assert!(matches!(store.get(FILES[1].file), Err(MethodError::NeedsModel { .. })), "the others still missing");
+        // a good copy clears a refusal; a refusal after it changes nothing
+        store.refuse(store.0[0].0, "late".into());
+        assert_eq!(store.get(f.file).unwrap(), &good[..]);
     }
 }

@@ -112,12 +112,18 @@ impl WorkerState {
                 let response = self.segment(take, run, &method, &params, post);
                 post(response);
             }
-            Request::ProvideModel { take, run, file, bytes } => {
-                post(match crate::method::shipped::provide(&file, bytes) {
+            Request::ProvideModel { take, run, file, bytes, unavailable } => {
+                use crate::method::shipped;
+                if let Err(message) = shipped::find(&file) {
+                    return post(Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, param: None });
+                }
+                let given = match unavailable {
+                    Some(why) => shipped::refuse(&file, why.clone()).and(Err(why)),
+                    None => shipped::provide(&file, bytes),
+                };
+                post(match given {
                     Ok(()) => Response::ModelProvided { take, run, file },
-                    Err(message) => {
-                        Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, param: None }
-                    }
+                    Err(message) => Response::ModelRefused { take, run, file, message },
                 })
             }
             Request::UseModel { take, run, method, file, bytes } => {
@@ -362,13 +368,14 @@ mod tests {
         Request::Segment { take, run, method: "sssm".into(), params: serde_json::json!({}) }
     }
 
-    /// The page hands a shipped model file over as buffer 0; the worker checks it against this
-    /// build's SHA-256 and answers `model_provided`, or `failed` naming the file.
+    /// The page hands a shipped model file over as buffer 0 (or says it could not fetch it); the
+    /// worker checks it against this build's SHA-256 and answers `model_provided`, or
+    /// `model_refused` naming the file (`failed` for a file that is not a shipped one).
     #[test]
     fn a_shipped_model_file_crosses_as_a_buffer_and_is_checked() {
         let file = "knn-cmu-actions.model".to_string();
         let good = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/models/knn-cmu-actions.model")).unwrap();
-        let request = Request::ProvideModel { take: 3, run: 4, file: file.clone(), bytes: good.clone() };
+        let request = Request::ProvideModel { take: 3, run: 4, file: file.clone(), bytes: good.clone(), unavailable: None };
         let packet = request.clone().into_packet();
         assert_eq!(packet.buffers, vec![good.clone()]);
         assert!(!packet.json.contains("bytes"), "the bytes travel as a buffer, not in the JSON");
@@ -377,14 +384,32 @@ mod tests {
         assert_eq!(ask(&mut worker, request), vec![Response::ModelProvided { take: 3, run: 4, file: file.clone() }]);
         let mut bad = good;
         bad.truncate(1000);
-        let refused = ask(&mut worker, Request::ProvideModel { take: 3, run: 5, file, bytes: bad });
+        let refused =
+            ask(&mut worker, Request::ProvideModel { take: 3, run: 5, file: file.clone(), bytes: bad, unavailable: None });
         assert!(
-            matches!(&refused[..], [Response::Failed { run: Some(5), kind: FailureKind::Input, message, .. }]
+            matches!(&refused[..], [Response::ModelRefused { run: 5, message, .. }]
                 if message.starts_with("models/knn-cmu-actions.model: 1000 bytes")),
             "{refused:?}"
         );
-        let unknown =
-            ask(&mut worker, Request::ProvideModel { take: 3, run: 6, file: "x.model".into(), bytes: vec![] });
+        // a file the page could not fetch: refused with the page's reason, no bytes
+        let why = "could not fetch the model models/knn-locomotion.model: HTTP 404".to_string();
+        let missing = Request::ProvideModel {
+            take: 3,
+            run: 7,
+            file: "knn-locomotion.model".into(),
+            bytes: vec![],
+            unavailable: Some(why.clone()),
+        };
+        let packet = missing.clone().into_packet();
+        assert_eq!(Request::from_packet(packet).unwrap(), missing);
+        assert_eq!(
+            ask(&mut worker, missing),
+            vec![Response::ModelRefused { take: 3, run: 7, file: "knn-locomotion.model".into(), message: why }]
+        );
+        let unknown = ask(
+            &mut worker,
+            Request::ProvideModel { take: 3, run: 6, file: "x.model".into(), bytes: vec![], unavailable: None },
+        );
         assert!(
             matches!(&unknown[..], [Response::Failed { message, .. }] if message.contains("not a shipped model file"))
         );

@@ -22,7 +22,7 @@ pub(super) fn send_model_files(inner: &Rc<Inner>) {
 /// Hands the shipped model file `file` to the worker; a refusal is the answer to `run`.
 pub(super) fn give_model(inner: &Rc<Inner>, run: RunId, file: &str, bytes: &[u8]) {
     let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
-    let request = Request::ProvideModel { take, run, file: file.to_string(), bytes: bytes.to_vec() };
+    let request = Request::ProvideModel { take, run, file: file.to_string(), bytes: bytes.to_vec(), unavailable: None };
     if let Err(message) = post(inner, &request, None) {
         fail_waiting(inner, run, message);
     }
@@ -65,8 +65,22 @@ pub(super) fn need_model(inner: &Rc<Inner>, run: RunId, file: String) {
                 }
             }
             Err(message) => {
+                // the worker is told why, and each run asked again: one that needs the file fails
+                // with why, one that could do without it (a model a take fit offers) goes on
+                let why = format!("could not fetch the model {url}: {message}");
+                let take = inner.shown.borrow().as_ref().map_or(0, |t| t.id);
                 for run in inner.models.take_waiting(&file) {
-                    fail_waiting(&inner, run, format!("could not fetch the model {url}: {message}"));
+                    let refused = Request::ProvideModel {
+                        take,
+                        run,
+                        file: file.clone(),
+                        bytes: Vec::new(),
+                        unavailable: Some(why.clone()),
+                    };
+                    match post(&inner, &refused, None) {
+                        Ok(()) => ask_again(&inner, run),
+                        Err(e) => fail_waiting(&inner, run, format!("{why} ({e})")),
+                    }
                 }
             }
         }

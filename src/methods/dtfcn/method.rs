@@ -137,8 +137,9 @@ impl Labelling {
     /// measured, never their labels: a shipped model by its k-NN file of the same name (the same
     /// data as its DT-FCN file: its travel and its windows, a fraction of the network's size), a
     /// user's by its own travel and the k-NN windows of its data ([`fit_windows`]). A model nothing
-    /// can be measured of is not offered. On the page a shipped k-NN file not held yet is
-    /// [`MethodError::NeedsModel`] (fetched once, then the run is asked again).
+    /// can be measured of is not offered, nor one whose file the page could not get (damaged, or
+    /// not served: [`crate::method::shipped::refuse`]). On the page a shipped k-NN file not held
+    /// yet is [`MethodError::NeedsModel`] (fetched once, then the run is asked again).
     fn fitting_models(&self, motion: &Motion, chosen: &str, models: &ModelStore) -> Result<Vec<FittingModel>, MethodError> {
         let mut names: Vec<String> = shipped::NAMES.iter().map(|n| n.to_string()).collect();
         for name in models.names(self.kind.name()) {
@@ -148,12 +149,17 @@ impl Labelling {
         }
         let mut fitting = Vec::new();
         for name in names.iter().filter(|n| n.as_str() != chosen) {
-            let (travel, windows) = match models.get::<Model>(self.kind.name(), name) {
-                Some(model) => (model.header.travel, fit_windows(&model, name, models)?),
-                None => {
-                    let knn = shipped::model(ModelKind::Knn, name)?;
-                    (knn.header.travel, Some(knn))
-                }
+            let found = match models.get::<Model>(self.kind.name(), name) {
+                Some(model) => fit_windows(&model, name, models).map(|w| (model.header.travel, w)),
+                None => shipped::model(ModelKind::Knn, name).map(|knn| (knn.header.travel, Some(knn))),
+            };
+            let (travel, windows) = match found {
+                Ok(found) => found,
+                // on the page: fetched, then the run is asked again
+                Err(e @ MethodError::NeedsModel { .. }) => return Err(e),
+                // a file the page could not get (damaged, not served): that model is not offered,
+                // the run goes on (a run that needs it as its own model says why)
+                Err(_) => continue,
             };
             let fit = super::fit::TakeFit::assess(motion, travel.as_ref(), knn_of(windows.as_deref()))
                 .map_err(MethodError::Failed)?;
