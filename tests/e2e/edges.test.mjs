@@ -1,9 +1,9 @@
 // The small rough edges of issue 27 ("What a new user hits", 8 and 14, and "The rest of the list
 // above fixed"), on real headless Chromium: every text of the timeline and the panels readable at
 // 1024×768 and 1440×900 in both themes (WCAG contrast ≥ 4.5:1 against the background it is drawn
-// on), export names that
-// carry their row, `]` / `[` from the playhead, one banner when no method can read the skeleton,
-// and a row marked stale when its re-run failed.
+// on), export names that carry their row, `]` / `[` from the playhead, one banner when no method
+// can read the skeleton, and a row marked stale when its re-run failed (the banner and the marker
+// in view and readable at both sizes in both themes).
 //
 // Run through scripts/e2e.sh (E2E_FILES=edges.test.mjs scripts/e2e.sh).
 
@@ -87,6 +87,17 @@ test("a re-run that fails marks its row stale until a run succeeds", async () =>
   assert.match(await text(page, `${row}-stale`), /^stale: last run failed — .*max_s/, `${row}: says why`);
   assert.doesNotMatch(await page.getAttribute("#row-velocity-primitives", "class"), /ms-row--stale/, "other rows are current");
   await shot(page, "e2e-edges-stale.png");
+  // at both sizes in both themes the marker shows on its row and reads at ≥ 4.5:1
+  for (const view of VIEWS) {
+    const name = await atView(page, view);
+    await page.locator(`${row}-stale`).scrollIntoViewIfNeeded();
+    const [marker, lane] = await Promise.all([page.locator(`${row}-stale`).boundingBox(), page.locator(row).boundingBox()]);
+    assert.ok(marker && lane && marker.width > 20 && marker.x >= lane.x - 1 && marker.x + marker.width <= lane.x + lane.width + 1,
+      `${name}: the marker lies on its row (${JSON.stringify(marker)} in ${JSON.stringify(lane)})`);
+    const { poor } = await poorContrast(page, [`${row}-stale`]);
+    assert.deepEqual(poor, [], `${name}: the marker's text below 4.5:1`);
+  }
+  await atView(page, VIEWS[2]);
   await page.fill("#lma-max_s", "3.33");
   await runMethod(page, "lma", "done");
   assert.doesNotMatch(await page.getAttribute(row, "class"), /ms-row--stale/, "a good run clears it");
@@ -132,4 +143,14 @@ test("when no method can read the skeleton, one banner says so with the reason o
   for (const name of ["SSSM", "DT-FCN", "k-NN"]) assert.ok(banner.includes(name), `${name} named: ${banner}`);
   assert.equal(banner.match(/cannot map the skeleton/g)?.length, 1, `the shared reason once: ${banner}`);
   await shot(page, "e2e-edges-no-method.png");
+  // at both sizes in both themes the banner is in the window and reads at ≥ 4.5:1
+  for (const view of VIEWS) {
+    const name = await atView(page, view);
+    const box = await page.locator("#error-message").boundingBox();
+    assert.ok(box && box.y >= 0 && box.y + box.height <= view.viewport.height && box.x + box.width <= view.viewport.width + 1,
+      `${name}: the banner is in the window (${JSON.stringify(box)})`);
+    const { seen, poor } = await poorContrast(page, ["#error-message"]);
+    assert.ok(seen.length >= 1, `${name}: the banner's text is measured`);
+    assert.deepEqual(poor, [], `${name}: the banner's text below 4.5:1`);
+  }
 });
