@@ -607,7 +607,10 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
                 aria-label="A model trained on another take" hidden=move || s.pending.with(Option::is_none)>
                 <button id=format!("{method}-train-keep") class="ms-button" type="button"
                     on:click=move |_| keep(PendingChoice::Keep)>"Keep it for later"</button>
+                // applied only to a take on screen: while the next one loads it would run on the last
                 <button id=format!("{method}-train-apply") class="ms-button ms-button--quiet" type="button"
+                    disabled=move || !state.load.with(|l| matches!(l, super::LoadState::Ready))
+                    title=move || if state.load.with(|l| matches!(l, super::LoadState::Ready)) { "" } else { "waits until the take is on screen" }
                     on:click=move |_| apply(PendingChoice::Apply)>{move || format!("Apply it to {}", pending_now())}</button>
                 <button id=format!("{method}-train-discard") class="ms-button ms-button--quiet" type="button"
                     on:click=move |_| discard(PendingChoice::Discard)>"Discard it"</button>

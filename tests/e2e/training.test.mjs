@@ -187,8 +187,12 @@ for (const viewport of [{ width: 1024, height: 768 }, { width: 1440, height: 900
       await page.click("#dtfcn-train-keep");
       await page.locator("#dtfcn-my-models li[data-model='e2e-kept']").waitFor();
 
-      // 2. stop it, by the keyboard: the sample opens; the model so far is offered for 35_01
+      // 2. stop it, by the keyboard: the sample opens; the model so far is offered for 35_01 — and cannot be
+      // applied while the sample is still loading (held here until the model is offered)
       await trainLong(page, "e2e-stopped");
+      let release;
+      const sampleHeld = new Promise((r) => { release = r; });
+      await page.route("**/www/sample.bvh", async (route) => { await sampleHeld; await route.continue(); });
       await page.click("#load-sample");
       await page.locator("#take-switch").waitFor({ state: "visible" });
       await page.waitForFunction(() => document.activeElement?.id === "take-switch-keep");
@@ -196,8 +200,14 @@ for (const viewport of [{ width: 1024, height: 768 }, { width: 1440, height: 900
       await page.keyboard.press("Shift+Tab");
       assert.equal(await page.evaluate(() => document.activeElement?.id), "take-switch-stop");
       await page.keyboard.press("Enter");
-      await waitReady(page, "sample");
       await waitData(page, "dtfcnTraining", "done", TIMEOUT * 3);
+      await page.locator("#dtfcn-train-pending").waitFor({ state: "visible" });
+      assert.equal(await page.evaluate(() => document.body.dataset.state), "loading", "the sample is still loading");
+      assert.equal(await page.isDisabled("#dtfcn-train-apply"), true, "Apply waits while the take loads");
+      release();
+      await waitReady(page, "sample");
+      await page.unroute("**/www/sample.bvh");
+      assert.equal(await page.isDisabled("#dtfcn-train-apply"), false, "Apply once the take is on screen");
       assert.match(await text(page, "#dtfcn-train-status"), /Trained `e2e-stopped` on 35_01\.bvh; sample\.bvh is on screen now/);
       assert.equal(await page.inputValue("#dtfcn-model"), "exercises", "not applied to the sample");
       await page.click("#dtfcn-train-discard");
