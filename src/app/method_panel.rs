@@ -117,16 +117,7 @@ pub(super) fn field(
         ParamKind::Choice { .. } => {
             // the options may grow (a model the user loads or trains); each option says whether
             // it is the one chosen, so a value set before its option exists still shows
-            let options = move || {
-                choices
-                    .get()
-                    .into_iter()
-                    .map(|o| {
-                        let chosen = o.clone();
-                        view! { <option value=o.clone() prop:selected=move || value.get() == chosen>{o.clone()}</option> }
-                    })
-                    .collect_view()
-            };
+            let options = move || choice_options(choices, value);
             view! {
                 <label title=help>
                     <span class="ms-field-name">{words}</span>
@@ -575,6 +566,20 @@ fn Exports(state: AppState, method: &'static MethodSlot, index: usize, loader: L
 }
 
 /// The name of a choice of segments in file names and the select's values.
+/// The `<option>`s of a choice whose options are `choices` (they may grow: a model the user
+/// loads or trains); each says whether it is `value`, so a value set before its option exists
+/// still shows once it does.
+pub(super) fn choice_options(choices: RwSignal<Vec<String>>, value: RwSignal<String>) -> impl IntoView {
+    choices
+        .get()
+        .into_iter()
+        .map(|o| {
+            let chosen = o.clone();
+            view! { <option value=o.clone() prop:selected=move || value.get() == chosen>{o.clone()}</option> }
+        })
+        .collect_view()
+}
+
 fn which_name(w: Which) -> &'static str {
     match w {
         Which::Actions => "actions",

@@ -206,16 +206,7 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
         Some(Err(message)) => message,
         None => String::new(),
     };
-    let options = move || {
-        choices
-            .get()
-            .into_iter()
-            .map(|o| {
-                let chosen = o.clone();
-                view! { <option value=o.clone() prop:selected=move || value.get() == chosen>{o.clone()}</option> }
-            })
-            .collect_view()
-    };
+    let options = move || super::method_panel::choice_options(choices, value);
     let card_id = format!("{method}-row-card");
     // the row's result's verdict on the take (none while it fits, or without a fit check)
     let short_fit = short.clone();

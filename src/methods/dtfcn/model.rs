@@ -201,15 +201,7 @@ impl Model {
         };
         let mut header = self.header.clone();
         header.payload_sha256 = sha256_hex(&payload);
-        let json = serde_json::to_vec(&header).map_err(|e| format!("writing the header: {e}"))?;
-        let mut out = Vec::with_capacity(MAGIC.len() + 13 + json.len() + payload.len());
-        out.extend_from_slice(MAGIC);
-        out.push(FORMAT);
-        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
-        out.extend_from_slice(&json);
-        out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
-        out.extend_from_slice(&payload);
-        Ok(out)
+        frame(&header, &payload)
     }
 
     /// The model file `bytes` with its header replaced by `header`, the payload kept byte for byte
@@ -221,15 +213,7 @@ impl Model {
             return Err(format!("{source}: the new header is of another kind, classes or payload"));
         }
         check_header(header).map_err(|e| format!("{source}: {e}"))?;
-        let json = serde_json::to_vec(header).map_err(|e| format!("writing the header: {e}"))?;
-        let mut out = Vec::with_capacity(MAGIC.len() + 13 + json.len() + payload.len());
-        out.extend_from_slice(MAGIC);
-        out.push(FORMAT);
-        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
-        out.extend_from_slice(&json);
-        out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
-        out.extend_from_slice(payload);
-        Ok(out)
+        frame(header, payload)
     }
 
     /// Reads a model file; `source` names it in messages.
@@ -273,6 +257,20 @@ impl Model {
         };
         Ok(Model { header, labeller })
     }
+}
+
+/// A model file: the magic, the format, the header as JSON and the payload, each length-prefixed
+/// (what [`read_header`] reads back).
+fn frame(header: &ModelHeader, payload: &[u8]) -> Result<Vec<u8>, String> {
+    let json = serde_json::to_vec(header).map_err(|e| format!("writing the header: {e}"))?;
+    let mut out = Vec::with_capacity(MAGIC.len() + 13 + json.len() + payload.len());
+    out.extend_from_slice(MAGIC);
+    out.push(FORMAT);
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(&json);
+    out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    out.extend_from_slice(payload);
+    Ok(out)
 }
 
 /// The header and payload of a model file, or what is wrong with its framing.
