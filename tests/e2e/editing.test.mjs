@@ -14,6 +14,7 @@ import assert from "node:assert/strict";
 import path from "node:path";
 import {
   FIXTURES, OUT, TIMEOUT, VIEWS, assertClean, atView, closePage, gotoApp, openPage, shot, showPanel, text, until, waitData,
+  scrubTo,
 } from "./harness.mjs";
 
 const TRUTH = path.join(FIXTURES, "mocap6_13_30_gt.csv"); // the sample's truth
@@ -57,12 +58,7 @@ async function keys(...list) {
 }
 
 async function seek(f) {
-  await page.evaluate((f) => {
-    const el = document.querySelector("#scrub");
-    el.value = String(f);
-    el.dispatchEvent(new Event("input", { bubbles: true }));
-    el.dispatchEvent(new Event("change", { bubbles: true }));
-  }, f);
+  await scrubTo(page, f);
   await until(async () => (await counter()).frame === f, `the playhead at frame ${f}`);
 }
 

@@ -300,6 +300,28 @@ export async function download(page, selector, file) {
   return { name: d.suggestedFilename(), path: saved, bytes: readFileSync(saved) };
 }
 
+/** Starts recording, in `window.__runs[method]`, the values body[data-<method>] takes. */
+export async function watchRuns(page, method) {
+  await page.evaluate((m) => {
+    window.__runs = window.__runs ?? {};
+    window.__runs[m] = [];
+    window.__runObservers = window.__runObservers ?? {};
+    window.__runObservers[m]?.disconnect();
+    window.__runObservers[m] = new MutationObserver(() => window.__runs[m].push(document.body.dataset[m] ?? ""));
+    window.__runObservers[m].observe(document.body, { attributes: true, attributeFilter: [`data-${m}`] });
+  }, method);
+}
+
+/** Moves the playhead to frame `f` the way the scrub bar does (the caller waits for what it expects). */
+export async function scrubTo(page, f) {
+  await page.evaluate((f) => {
+    const el = document.querySelector("#scrub");
+    el.value = String(f);
+    el.dispatchEvent(new Event("input", { bubbles: true }));
+    el.dispatchEvent(new Event("change", { bubbles: true }));
+  }, f);
+}
+
 /** Waits (in the test) until `cond()` holds, at most `ms`. */
 export async function until(cond, what, ms = 10_000) {
   for (const end = Date.now() + ms; !(await cond());) {

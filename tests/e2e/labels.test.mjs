@@ -13,6 +13,7 @@ import assert from "node:assert/strict";
 import path from "node:path";
 import {
   OUT, TIMEOUT, assertClean, closePage, gotoApp, loadFile, openPage, shot, showPanel, text, until, waitData, waitReady,
+  scrubTo,
 } from "./harness.mjs";
 
 let opened;
@@ -77,12 +78,7 @@ async function frame() {
 
 /** Moves the playhead the way the scrub bar does. */
 async function seek(f) {
-  await page.evaluate((f) => {
-    const el = document.querySelector("#scrub");
-    el.value = String(f);
-    el.dispatchEvent(new Event("input", { bubbles: true }));
-    el.dispatchEvent(new Event("change", { bubbles: true }));
-  }, f);
+  await scrubTo(page, f);
   await until(async () => (await frame()) === f, `the playhead at frame ${f}`);
 }
 

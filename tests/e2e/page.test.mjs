@@ -27,7 +27,7 @@ import { mkdirSync, readFileSync, writeFileSync } from "node:fs";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
-import { showPanel } from "./harness.mjs";
+import { showPanel, watchRuns } from "./harness.mjs";
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
 const ROOT = path.resolve(HERE, "../..");
@@ -279,7 +279,7 @@ test("a full use of the page under its Content-Security-Policy: every request to
   }, `the page's policy: ${policy}`);
 
   // load the built-in sample; every method runs after the load, then once more from its Run button
-  for (const m of METHODS) await watchMethod(m);
+  for (const m of METHODS) await watchRuns(page, m);
   await clearStates();
   await page.click("#load-sample");
   await page.waitForFunction(() => window.__states.includes("loading") && document.body.dataset.state === "ready",
@@ -1128,24 +1128,12 @@ async function waitData(key, want, timeout = TIMEOUT) {
 async function runMethod(method, want = "done") {
   await panel(method);
   await page.locator(`#${method}-run:not([disabled])`).waitFor({ timeout: TIMEOUT });
-  await watchMethod(method);
+  await watchRuns(page, method);
   await page.click(`#${method}-run`);
   await waitRun(method, want);
 }
 
-/** Starts recording the values body[data-<method>] takes. */
-async function watchMethod(method) {
-  await page.evaluate((m) => {
-    window.__runs = window.__runs ?? {};
-    window.__runs[m] = [];
-    window.__runObservers = window.__runObservers ?? {};
-    window.__runObservers[m]?.disconnect();
-    window.__runObservers[m] = new MutationObserver(() => window.__runs[m].push(document.body.dataset[m] ?? ""));
-    window.__runObservers[m].observe(document.body, { attributes: true, attributeFilter: [`data-${m}`] });
-  }, method);
-}
-
-/** Waits until body[data-<method>] went through "running" (since watchMethod) and is `want`. */
+/** Waits until body[data-<method>] went through "running" (since watchRuns) and is `want`. */
 async function waitRun(method, want = "done") {
   try {
     await page.waitForFunction(([m, w]) => window.__runs[m].includes("running") && document.body.dataset[m] === w,
@@ -1297,7 +1285,7 @@ test("a bad model file shows the core's message at its input; the page keeps wor
   await runMethod("sssm");
   await runMethod("dtfcn");
   // a good k-NN file: named after the file (its own name is a shipped model's), chosen and run
-  await watchMethod("knn");
+  await watchRuns(page, "knn");
   await page.setInputFiles("#knn-model-file", path.join(MODELS, "knn-exercises.model"));
   await waitData("knnModel", "done");
   assert.match(await text("#knn-model-status"), /Loaded knn-exercises\.model: k-NN model `knn-exercises`, 7 classes/);
@@ -1404,7 +1392,7 @@ test("DT-FCN trains in the browser: refusals at their field, progress and plot, 
   // a second take besides the one on screen
   await page.setInputFiles("#dtfcn-train-takes", path.join(FIXTURES, "35_01.bvh"));
   await page.waitForFunction(() => /and 35_01\.bvh/.test(document.querySelector("#dtfcn-train-takes-names")?.textContent ?? ""));
-  await watchMethod("dtfcn");
+  await watchRuns(page, "dtfcn");
   const started = Date.now();
   await trainDtfcn("done");
   console.log(`  (2 epochs of the paper's network on the sample: ${((Date.now() - started) / 1000).toFixed(1)} s; `
@@ -1489,7 +1477,7 @@ test("DT-FCN trains in the browser: refusals at their field, progress and plot, 
   // the downloaded file loads back and is applied
   await page.selectOption("#dtfcn-model", "exercises");
   await runMethod("dtfcn");
-  await watchMethod("dtfcn");
+  await watchRuns(page, "dtfcn");
   await page.setInputFiles("#dtfcn-model-file", saved);
   await waitData("dtfcnModel", "done");
   assert.match(await text("#dtfcn-model-status"),
@@ -1819,7 +1807,7 @@ test("file names, a model's name and labels, and joint names show as text, never
 
   // a BVH whose file name is markup: the summary shows it as text, and every method runs on it
   const name = `${XSS}.bvh`;
-  for (const m of METHODS) await watchMethod(m);
+  for (const m of METHODS) await watchRuns(page, m);
   await page.setInputFiles("#file-input", { name, mimeType: "application/octet-stream", buffer: Buffer.from(DROPPED.text) });
   await waitReady(name);
   assert.equal(await text("#summary-name"), name, "#summary-name shows the file name as text");
@@ -1971,7 +1959,7 @@ const methodStates = () => page.evaluate((ms) => Object.fromEntries(ms.map((m) =
 test("a 100 000-frame take: every method finishes with segments or refuses naming its limit, the tab never freezes, few elements on the timeline", async () => {
   const FRAMES = 100_000;
   const name = "long-100k.bvh";
-  for (const m of METHODS) await watchMethod(m);
+  for (const m of METHODS) await watchRuns(page, m);
   await recordFrames();
   const t0 = Date.now();
   await pickBig(name, FRAMES);
@@ -2063,7 +2051,7 @@ test("every method succeeds on a 10 000-frame take, in the worker, while the pag
   const FRAMES = 10_000;
   const name = "long-10k.bvh";
   // count animation frames from before the load until every method has finished, playing meanwhile
-  for (const m of METHODS) await watchMethod(m);
+  for (const m of METHODS) await watchRuns(page, m);
   await recordFrames();
   await pickBig(name, FRAMES);
   await waitReady(name);

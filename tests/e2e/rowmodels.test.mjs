@@ -14,7 +14,9 @@ import { test, after } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import path from "node:path";
-import { FIXTURES, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, gotoApp, loadFile, openPage, showPanel, text, waitData, waitReady } from "./harness.mjs";
+import {
+  FIXTURES, ROOT, SAMPLE, TIMEOUT, assertClean, closePage, gotoApp, loadFile, openPage, showPanel, text, waitData, waitReady, watchRuns,
+} from "./harness.mjs";
 
 const CARDS = JSON.parse(readFileSync(path.join(ROOT, "models/cards.json"), "utf8"));
 const ACCURACY = JSON.parse(readFileSync(path.join(ROOT, "docs/accuracy.json"), "utf8"));
@@ -33,18 +35,6 @@ const opens = [];
 after(async () => {
   for (const o of opens) await closePage(o, o === opened ? "e2e-rowmodels-final.png" : undefined);
 });
-
-/** Records body[data-<method>] changes from now on. */
-async function watchRuns(method) {
-  await page.evaluate((m) => {
-    window.__runs = window.__runs ?? {};
-    window.__runs[m] = [];
-    window.__runObservers = window.__runObservers ?? {};
-    window.__runObservers[m]?.disconnect();
-    window.__runObservers[m] = new MutationObserver(() => window.__runs[m].push(document.body.dataset[m] ?? ""));
-    window.__runObservers[m].observe(document.body, { attributes: true, attributeFilter: [`data-${m}`] });
-  }, method);
-}
 
 /** Waits until method's run went through "running" to "done" since `watchRuns`. */
 async function ranAgain(method) {
@@ -101,7 +91,7 @@ for (const { viewport, theme } of CONFIGS) {
     assert.equal(await text(page, "#lma-model-card-held-out"), "not measured");
 
     // the row's choice: DT-FCN runs again at once, with the model chosen, whose card follows
-    await watchRuns("dtfcn");
+    await watchRuns(page, "dtfcn");
     await page.selectOption("#dtfcn-row-model", "cmu-actions");
     await ranAgain("dtfcn");
     assert.equal(await page.inputValue("#dtfcn-model"), "cmu-actions", "the panel's choice is the row's");
@@ -112,7 +102,7 @@ for (const { viewport, theme } of CONFIGS) {
     assert.equal(await text(page, "#dtfcn-model-card-held-out"), "not measured");
     assert.match(await text(page, "#dtfcn-model-card-trained-on"), /1 take: 86_01\.bvh/);
     // the panel's choice re-runs too (it did not before: Run had to be pressed)
-    await watchRuns("knn");
+    await watchRuns(page, "knn");
     await showPanel(page, "knn");
     await page.selectOption("#knn-model", "locomotion");
     await ranAgain("knn");
@@ -182,7 +172,7 @@ test("a training that ends after another take was opened is not applied to it; k
   await page.click("#take-switch-keep");
   await waitReady(page, "35_01.bvh");
   await waitData(page, "dtfcn", "done");
-  await watchRuns("dtfcn");
+  await watchRuns(page, "dtfcn");
   await page.click("#dtfcn-train-stop");
   await waitData(page, "dtfcnTraining", "done", TIMEOUT * 3);
   console.log(`  (DT-FCN training on the sample: first epoch reported after ${firstEpoch.toFixed(1)} s, `
@@ -223,7 +213,7 @@ test("a training that ends after another take was opened is not applied to it; k
   await page.waitForFunction(() => [...document.querySelectorAll("#dtfcn-row-model option")].some((o) => o.value === "e2e-bound"),
     null, { timeout: TIMEOUT });
   await waitData(page, "dtfcn", "done");
-  await watchRuns("dtfcn");
+  await watchRuns(page, "dtfcn");
   await page.selectOption("#dtfcn-row-model", "e2e-bound");
   await ranAgain("dtfcn");
   const labels = await rowLabels("dtfcn-actions");
@@ -243,7 +233,7 @@ test("a training that ends after another take was opened is not applied to it; k
   const button = page.locator("#dtfcn-train-continue:not([disabled])");
   await button.waitFor();
   assert.equal((await button.textContent()).trim(), "Continue training `e2e-bound` for 2 more epochs");
-  await watchRuns("dtfcn");
+  await watchRuns(page, "dtfcn");
   const t0 = Date.now();
   await button.click();
   await page.waitForFunction(() => document.body.dataset.dtfcnTraining === "training", null, { timeout: TIMEOUT });
@@ -261,7 +251,7 @@ test("a training that ends after another take was opened is not applied to it; k
   await page.waitForFunction(() => /same file as its training take sample\.bvh/.test(document.querySelector("#dtfcn-row-in-sample")?.title ?? ""),
     null, { timeout: TIMEOUT });
   // one click back to the shipped model, which runs at once
-  await watchRuns("dtfcn");
+  await watchRuns(page, "dtfcn");
   await page.click("#dtfcn-row-shipped");
   await ranAgain("dtfcn");
   assert.equal(await page.inputValue("#dtfcn-model"), "exercises");
