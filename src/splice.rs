@@ -4,12 +4,17 @@
 //!
 //! * **Pieces.** A seeded generator ([`crate::stats::Rng`]) picks a labelled segment of some take
 //!   whose label differs from the previous piece's and that is at least `min_s` long, a length in
-//!   `[min_s, max_s]` (at most the segment's) and a start inside the segment.
-//! * **Continuity.** Each piece is turned about the vertical and moved so that it starts where,
-//!   and facing how, the previous one ended (its own height kept); then `blend_s` seconds of
-//!   transition frames go between the two: every joint's rotation slerped (glam) and the root's
-//!   position interpolated from the last frame of one piece to the first of the next, eased
-//!   (smoothstep).
+//!   `[min_s, max_s]` (at most the segment's) and a start inside the segment, leaving the transitions'
+//!   `blend_s` of source motion before and after it.
+//! * **Continuity, in motion.** Between two pieces go `blend_s` seconds of transition in which
+//!   *both keep moving*: the last piece's source rows after its end and the next piece's source
+//!   rows before its start play side by side and are cross-faded (every joint's rotation slerped
+//!   with glam, position channels interpolated, the weight eased by a smoothstep). The next piece
+//!   is turned about the vertical and moved so that its row at the transition's middle stands
+//!   where, and faces how, the last piece's would (its own height kept). A seam therefore has no
+//!   frozen pose and no built-in stop — a detector of slow frames gets no free boundary (the
+//!   earlier splicer eased from the last frame of one piece to the first of the next, so every
+//!   seam was a speed minimum).
 //! * **Boundaries.** The true boundary between two pieces is the middle of their transition; the
 //!   ground truth ([`Spliced::truth_csv`]) gives every piece's frames (its half of each
 //!   transition included) with its source label, as 1-based frame numbers like the shared data's
@@ -177,6 +182,47 @@ impl Layout {
     }
 }
 
+/// Row `f` of `bvh`, the first or last row where `f` lies outside it.
+fn row_of(bvh: &Bvh, f: isize) -> &[f64] {
+    bvh.frame(f.clamp(0, bvh.frames() as isize - 1) as usize)
+}
+
+/// How a piece is set into the spliced take: turned about the vertical by `turn` and moved so that its
+/// root at `from` (horizontally) lands on `to`; heights are kept.
+#[derive(Debug, Clone, Copy)]
+struct Placement {
+    turn: DQuat,
+    from: DVec3,
+    to: DVec3,
+}
+
+impl Placement {
+    /// The first piece stays where it was recorded.
+    const IDENTITY: Placement = Placement { turn: DQuat::IDENTITY, from: DVec3::ZERO, to: DVec3::ZERO };
+
+    /// The placement that sets source row `row` where, and facing how, the output row `target` is.
+    fn onto(layout: &Layout, row: &[f64], target: &[f64]) -> Placement {
+        Placement {
+            turn: DQuat::from_rotation_y(layout.facing_yaw(target) - layout.facing_yaw(row)),
+            from: layout.root_position(row),
+            to: layout.root_position(target),
+        }
+    }
+
+    /// `row` placed (a new row).
+    fn place(&self, layout: &Layout, row: &[f64]) -> Vec<f64> {
+        let mut r = row.to_vec();
+        if self.turn == DQuat::IDENTITY && self.from == self.to {
+            return r;
+        }
+        let p = layout.root_position(row);
+        let horizontal = self.turn * DVec3::new(p.x - self.from.x, 0.0, p.z - self.from.z);
+        layout.set_root_position(&mut r, DVec3::new(self.to.x + horizontal.x, p.y, self.to.z + horizontal.z));
+        layout.set_rotation(0, &mut r, self.turn * layout.rotation(0, row));
+        r
+    }
+}
+
 /// Euler angles (degrees) in the channel order `order` of the rotation `q` (the inverse of
 /// [`local_rotation`] for three channels on different axes).
 pub fn euler_of(order: &[Channel], q: DQuat) -> [f64; 3] {
@@ -224,23 +270,25 @@ pub fn splice(sources: &[Source], options: &SpliceOptions) -> Result<Spliced, Sp
     let (min_f, max_f) = ((options.min_s * fps).round() as usize, (options.max_s * fps).round() as usize);
     let blend = (options.blend_s * fps).round() as usize;
     let width = first.channels_per_frame;
-    // every labelled segment long enough: (source, start, end, label)
+    // every labelled segment long enough once the transitions' source rows are kept free around it (a piece's
+    // source must go on `blend` rows after it and begin `blend` rows before it): (source, start, end, label)
     let candidates: Vec<(usize, usize, usize, &str)> = sources
         .iter()
         .enumerate()
         .flat_map(|(k, s)| {
             let frames = s.bvh.frames();
-            s.truth
-                .segments
-                .iter()
-                .filter(move |t| t.end < frames && t.end + 1 - t.start >= min_f.max(1))
-                .map(move |t| (k, t.start, t.end, t.label.as_str()))
+            s.truth.segments.iter().filter(move |t| t.end < frames).filter_map(move |t| {
+                let (a, b) = (t.start.max(blend + 1), t.end.min(frames.saturating_sub(blend + 2)));
+                (b + 1 >= a + min_f.max(1)).then_some((k, a, b, t.label.as_str()))
+            })
         })
         .collect();
     let mut rng = Rng::new(options.seed);
     let mut values: Vec<f64> = Vec::new();
     let mut pieces: Vec<Piece> = Vec::new();
     let mut last_label: Option<&str> = None;
+    // the last piece: its source, last source row and placement (its motion continues into the transition)
+    let mut previous: Option<(usize, usize, Placement)> = None;
     for _ in 0..options.pieces {
         let allowed: Vec<&(usize, usize, usize, &str)> =
             candidates.iter().filter(|c| Some(c.3) != last_label).collect();
@@ -252,61 +300,50 @@ pub fn splice(sources: &[Source], options: &SpliceOptions) -> Result<Spliced, Sp
         let len = min_f.max(1) + rng.below(max_f.min(seg_len).saturating_sub(min_f.max(1)) + 1);
         let start = seg_start + rng.below(seg_len - len + 1);
         let src = sources[k].bvh;
-        let rows: Vec<&[f64]> = (start..start + len).map(|f| src.frame(f)).collect();
-        // turn and move the piece so it starts where and facing how the output ended
-        let (turn, shift) = match values.len().checked_sub(width) {
-            Some(at) => {
-                let end = &values[at..];
-                let turn = DQuat::from_rotation_y(layout.facing_yaw(end) - layout.facing_yaw(rows[0]));
-                let (from, to) = (layout.root_position(rows[0]), layout.root_position(end));
-                (turn, (from, to))
-            }
-            None => (DQuat::IDENTITY, (DVec3::ZERO, DVec3::ZERO)),
-        };
-        let placed: Vec<Vec<f64>> = rows
-            .iter()
-            .map(|row| {
-                let mut r = row.to_vec();
-                if !values.is_empty() {
-                    let (from, to) = shift;
-                    let p = layout.root_position(row);
-                    let horizontal = turn * DVec3::new(p.x - from.x, 0.0, p.z - from.z);
-                    layout.set_root_position(&mut r, DVec3::new(to.x + horizontal.x, p.y, to.z + horizontal.z));
-                    layout.set_rotation(0, &mut r, turn * layout.rotation(0, row));
-                }
-                r
-            })
-            .collect();
-        // the transition from the output's last frame to the piece's first
         let mut piece_start = values.len() / width.max(1);
-        if let Some(at) = values.len().checked_sub(width) {
-            let a = values[at..].to_vec();
-            let b = &placed[0];
-            for i in 1..=blend {
-                let x = i as f64 / (blend + 1) as f64;
-                let t = x * x * (3.0 - 2.0 * x);
-                let mut row = a.clone();
-                for j in 0..layout.rotations.len() {
-                    if !layout.rotations[j].0.is_empty() {
-                        let q = layout.rotation(j, &a).slerp(layout.rotation(j, b), t);
-                        layout.set_rotation(j, &mut row, q);
+        let placement = match previous {
+            None => Placement::IDENTITY,
+            Some((ka, last, ref pa)) => {
+                // both motions keep playing through the transition: the last piece's source rows after its
+                // end and this piece's source rows before its start, cross-faded; this piece is placed so that
+                // its row at the transition's middle stands where, and faces how, the last piece's would
+                let a_src = sources[ka].bvh;
+                let continued = |i: usize| pa.place(&layout, row_of(a_src, (last + i) as isize));
+                let lead_in = |i: usize| row_of(src, start as isize - (blend + 1 - i) as isize);
+                let middle = (blend + 1) / 2;
+                let pb = if blend == 0 {
+                    Placement::onto(&layout, row_of(src, start as isize), &values[values.len() - width..])
+                } else {
+                    Placement::onto(&layout, lead_in(middle), &continued(middle))
+                };
+                for i in 1..=blend {
+                    let x = i as f64 / (blend + 1) as f64;
+                    let t = x * x * (3.0 - 2.0 * x);
+                    let (a, b) = (continued(i), pb.place(&layout, lead_in(i)));
+                    let mut row = a.clone();
+                    for j in 0..layout.rotations.len() {
+                        if !layout.rotations[j].0.is_empty() {
+                            let q = layout.rotation(j, &a).slerp(layout.rotation(j, &b), t);
+                            layout.set_rotation(j, &mut row, q);
+                        }
                     }
+                    // position channels (the root's and any other joint's) interpolated
+                    for &c in &layout.positions {
+                        row[c] = a[c] + (b[c] - a[c]) * t;
+                    }
+                    values.extend(&row);
                 }
-                // position channels (the root's and any other joint's) interpolated
-                for &k in &layout.positions {
-                    row[k] = a[k] + (b[k] - a[k]) * t;
+                // the boundary is the middle of the transition: the earlier half goes to the last piece
+                let middle = piece_start + blend / 2;
+                if let Some(prev) = pieces.last_mut() {
+                    prev.end = middle.saturating_sub(1).max(prev.start);
                 }
-                values.extend(&row);
+                piece_start = middle;
+                pb
             }
-            // the boundary is the middle of the transition: the earlier half goes to the last piece
-            let middle = piece_start + blend / 2;
-            if let Some(prev) = pieces.last_mut() {
-                prev.end = middle.saturating_sub(1).max(prev.start);
-            }
-            piece_start = middle;
-        }
-        for r in &placed {
-            values.extend(r);
+        };
+        for f in start..start + len {
+            values.extend(placement.place(&layout, src.frame(f)));
         }
         let end = values.len() / width.max(1) - 1;
         pieces.push(Piece {
@@ -318,6 +355,7 @@ pub fn splice(sources: &[Source], options: &SpliceOptions) -> Result<Spliced, Sp
             end,
         });
         last_label = Some(label);
+        previous = Some((k, start + len - 1, placement));
     }
     let frames = values.len() / width.max(1);
     let bvh = Bvh {
@@ -435,6 +473,32 @@ mod tests {
         // the spliced take writes and parses back
         let back = bvh::parse(&bvh::write(&s.bvh)).unwrap();
         assert_eq!(back.frames(), s.bvh.frames());
+    }
+
+    /// Mean distance the nodes move from frame `f − 1` to `f`.
+    fn movement(m: &Motion, f: usize) -> f32 {
+        m.frame(f).iter().zip(m.frame(f - 1)).map(|(a, b)| (*a - *b).length()).sum::<f32>() / m.frame(f).len() as f32
+    }
+
+    #[test]
+    fn seams_keep_moving() {
+        // a walk and a run move all the time: so must every transition between their pieces (the earlier
+        // splicer eased from a frozen last frame, so each seam was a stop a speed-minimum detector found free)
+        let walk = take("02_01", include_str!("../tests/fixtures/02_01.bvh"), &[(0, 170, "walk"), (171, 342, "walk2")]);
+        let run = take("35_01", include_str!("../tests/fixtures/35_01.bvh"), &[(0, 357, "other")]);
+        let sources: Vec<Source> = [&walk, &run].iter().map(|(n, b, t)| Source { name: n, bvh: b, truth: t }).collect();
+        let s = splice(&sources, &SpliceOptions { pieces: 10, seed: 3, ..Default::default() }).unwrap();
+        let out = Motion::from_bvh("spliced", &s.bvh).unwrap();
+        let blend = (SpliceOptions::default().blend_s / walk.1.frame_time).round() as usize;
+        let mut inside: Vec<f32> = (1..out.frames()).map(|f| movement(&out, f)).collect();
+        inside.sort_by(f32::total_cmp);
+        let typical = inside[inside.len() / 10];
+        for p in &s.pieces[1..] {
+            // the transition's frames: blend/2 before the boundary to the rest after it
+            let (a, b) = (p.start - blend / 2, p.start + (blend + 1) / 2);
+            let slowest = (a.max(1)..=b).map(|f| movement(&out, f)).fold(f32::MAX, f32::min);
+            assert!(slowest > 0.5 * typical, "seam at {}: slowest frame moves {slowest}, a 10th-percentile frame {typical}", p.start);
+        }
     }
 
     #[test]
