@@ -125,13 +125,13 @@ fn the_batched_exhaustive_map_equals_the_classifiers_one_candidate_at_a_time() {
 fn both_searches_segment_a_take_into_gestures_with_their_effort() {
     let model = shipped_model().unwrap();
     let m = motion("131_01.bvh", WALK);
-    for exhaustive in [false, true] {
-        let params = LmaParams { exhaustive, ..LmaParams::default() };
+    for (search, exhaustive) in [("effort", false), ("effort", true), ("deviance", false), ("deviance", true)] {
+        let params = LmaParams { exhaustive, search: search.into(), ..LmaParams::default() };
         let out = segment_with(model, &m, &params, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress).unwrap();
         let seg = &out.segmentation;
         seg.validate().unwrap();
         assert_eq!(seg.method, "lma");
-        assert_eq!(seg.params["exhaustive"], exhaustive);
+        assert_eq!((&seg.params["exhaustive"], &seg.params["search"]), (&exhaustive.into(), &search.into()));
         for s in &seg.segments {
             assert_eq!(s.level, Level::Primitive);
             let seconds = (s.end - s.start) as f64 / m.fps;
@@ -143,15 +143,76 @@ fn both_searches_segment_a_take_into_gestures_with_their_effort() {
             assert!(["left arm", "right arm", "both arms"].contains(&s.label.as_str()));
         }
         let ids: Vec<&str> = out.details.pictures.iter().map(|p| p.id.as_str()).collect();
-        assert_eq!(ids, ["deviance-left", "deviance-right", "effort"]);
+        let curves: Vec<&str> = out.details.curves.iter().map(|c| c.id.as_str()).collect();
+        if search == "deviance" {
+            assert_eq!((&ids[..], &curves[..]), (&["deviance-left", "deviance-right", "effort"][..], &[][..]));
+        } else {
+            // the Effort search draws no map (it assesses no candidate segment), but its Effort change along the take
+            assert_eq!((&ids[..], &curves[..]), (&["effort"][..], &["effort-change"][..]));
+            let curve = &out.details.curves[0].values;
+            assert!(curve.len() == m.frames() && curve.iter().any(|&v| v > 0.0) && curve.iter().all(|v| v.is_finite()));
+        }
         for p in &out.details.pictures {
             assert_eq!(p.rgba.len(), p.width * p.height * 4);
             // both searches fill their maps (the pruned one at every hand-speed minimum of both hands)
             let distinct: std::collections::HashSet<&[u8]> = p.rgba.chunks(4).collect();
             assert!(distinct.len() > 3, "{} is nearly blank (exhaustive {exhaustive})", p.id);
         }
-        assert!(!seg.segments.is_empty(), "exhaustive {exhaustive}: nothing found in {} s", m.duration_s());
+        assert!(!seg.segments.is_empty(), "{search}, exhaustive {exhaustive}: nothing found in {} s", m.duration_s());
     }
+}
+
+/// Boundaries of `found` within `tolerance` frames of one of `truth`'s (each matched once), over `truth`.
+fn recall(found: &[usize], truth: &[usize], tolerance: usize) -> f64 {
+    let mut used = vec![false; found.len()];
+    let hit = truth
+        .iter()
+        .filter(|&&t| {
+            let k = (0..found.len()).filter(|&k| !used[k] && found[k].abs_diff(t) <= tolerance).min_by_key(|&k| found[k].abs_diff(t));
+            k.map(|k| used[k] = true).is_some()
+        })
+        .count();
+    hit as f64 / truth.len().max(1) as f64
+}
+
+#[test]
+fn pruned_and_exhaustive_find_the_planted_boundaries() {
+    // pieces of a walk, a run and another walk spliced with moving seams: the planted boundaries are known
+    use mocapseg::segment::truth::{Truth, TruthSegment};
+    use mocapseg::splice::{splice, Source, SpliceOptions};
+    let texts = [("02_01", include_str!("fixtures/02_01.bvh")), ("35_01", OTHER), ("02_02", include_str!("fixtures/02_02.bvh"))];
+    let takes: Vec<(bvh::Bvh, Truth)> = texts
+        .iter()
+        .map(|(name, text)| {
+            let b = bvh::parse(text).unwrap();
+            let segments = vec![TruthSegment { start: 0, end: b.frames() - 1, label: name.to_string(), end_window: None }];
+            let truth = Truth { trial: name.to_string(), frames: b.frames(), segments };
+            (b, truth)
+        })
+        .collect();
+    let sources: Vec<Source> =
+        texts.iter().zip(&takes).map(|((name, _), (b, t))| Source { name, bvh: b, truth: t }).collect();
+    let spliced = splice(&sources, &SpliceOptions { pieces: 14, seed: 2, ..Default::default() }).unwrap();
+    let m = Motion::from_bvh("planted", &spliced.bvh).unwrap();
+    let planted: Vec<usize> = spliced.pieces[1..].iter().map(|p| p.start).collect();
+    let model = shipped_model().unwrap();
+    let mut found = Vec::new();
+    for exhaustive in [false, true] {
+        let params = LmaParams { exhaustive, ..LmaParams::default() };
+        let out = segment_with(model, &m, &params, &RunOptions::default(), &mut NoProgress).unwrap();
+        let mut bounds: Vec<usize> = out.segmentation.segments.iter().flat_map(|s| [s.start, s.end]).collect();
+        bounds.sort_unstable();
+        bounds.dedup();
+        // measured: 13 of 13 planted boundaries within 0.5 s both ways, 18 (pruned) and 23 (exhaustive) segments
+        let r = recall(&bounds, &planted, (0.5 * m.fps) as usize);
+        let n = out.segmentation.segments.len();
+        assert!(r >= 0.8, "exhaustive {exhaustive}: {r:.2} of the {} planted boundaries found", planted.len());
+        assert!(n <= 2 * spliced.pieces.len(), "exhaustive {exhaustive}: {n} segments for {} pieces", spliced.pieces.len());
+        found.push(bounds);
+    }
+    // pruning (hand-speed minima only) keeps most of what every frame finds (measured 0.78)
+    let agree = recall(&found[0], &found[1], (0.5 * m.fps) as usize);
+    assert!(agree >= 0.65, "pruned finds {agree:.2} of the exhaustive search's boundaries");
 }
 
 #[test]
@@ -161,7 +222,7 @@ fn the_pruned_search_finds_gestures_in_boxing() {
     let out = segment_with(model, &m, &LmaParams::default(), &RunOptions::default(), &mut NoProgress).unwrap();
     out.segmentation.validate().unwrap();
     assert!(!out.segmentation.segments.is_empty(), "{}", out.details.summary);
-    assert!(out.details.summary.contains("pruned search"), "{}", out.details.summary);
+    assert!(out.details.summary.contains("Effort search (pruned)"), "{}", out.details.summary);
 }
 
 #[test]

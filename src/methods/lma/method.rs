@@ -39,6 +39,11 @@ pub struct LmaParams {
     pub min_rise: f64,
     /// The two arms' segments whose both ends lie within this many seconds are merged.
     pub merge_s: f64,
+    /// How segments are found: `effort` — where the family's Effort changes ([`super::change`]), `deviance` — the
+    /// paper's troughs of the classifiers' disagreement ([`super::search`]).
+    pub search: String,
+    /// Effort search: a boundary is kept where its Effort change beats this quantile of the take's.
+    pub quantile: f64,
     /// The classifier family: `shipped`, or the name a user's family was stored under.
     pub model: String,
 }
@@ -58,10 +63,15 @@ impl Default for LmaParams {
             smooth_s: 0.1,
             min_rise: 0.4,
             merge_s: 0.67,
+            search: SEARCHES[0].into(),
+            quantile: 0.5,
             model: SHIPPED_NAME.into(),
         }
     }
 }
+
+/// The `search` parameter's choices, the default first.
+pub const SEARCHES: [&str; 2] = ["effort", "deviance"];
 
 /// The `model` parameter's name for the shipped family.
 pub const SHIPPED_NAME: &str = "shipped";
@@ -69,7 +79,7 @@ pub const SHIPPED_NAME: &str = "shipped";
 /// [`LmaParams`] that passed the check.
 pub type ValidParams = Valid<LmaParams>;
 
-pub const PARAMS: [NumberParam; 6] = [
+pub const PARAMS: [NumberParam; 7] = [
     NumberParam {
         name: "min_s",
         min: 0.4,
@@ -108,7 +118,15 @@ pub const PARAMS: [NumberParam; 6] = [
         min: 0.0,
         max: 2.0,
         unit: "s",
-        help: "Left- and right-arm segments with both ends this close become one.",
+        help: "Deviance search: left- and right-arm segments with both ends this close become one.",
+        basic: true,
+    },
+    NumberParam {
+        name: "quantile",
+        min: 0.0,
+        max: 1.0,
+        unit: "",
+        help: "Effort search: a boundary is kept where the Effort changes more than at this share of the take's candidate boundaries (higher: fewer, surer boundaries).",
         basic: true,
     },
 ];
@@ -121,6 +139,7 @@ impl LmaParams {
             "prune_speed" => self.prune_speed,
             "smooth_s" => self.smooth_s,
             "min_rise" => self.min_rise,
+            "quantile" => self.quantile,
             _ => self.merge_s,
         }
     }
@@ -129,6 +148,12 @@ impl LmaParams {
         bounds::check("LMA", &PARAMS, |n| self.value(n))?;
         if self.max_s <= self.min_s {
             return Err(bounds::refuse("LMA", "max_s", self.max_s, &format!("more than min_s ({})", self.min_s)));
+        }
+        if !SEARCHES.contains(&self.search.trim()) {
+            return Err(MethodError::param(
+                "search",
+                format!("LMA: search = `{}`: expected one of {}", self.search, SEARCHES.join(", ")),
+            ));
         }
         Ok(Valid::checked(self))
     }
@@ -159,6 +184,21 @@ impl Method for Lma {
         let mut specs = bounds::specs(&PARAMS, |n| d.value(n));
         let help = "Assess every candidate segment (slower) instead of only those between slow-hand frames.";
         specs.insert(0, bounds::switch("exhaustive", help, d.exhaustive, true));
+        specs.insert(
+            0,
+            ParamSpec {
+                name: "search".into(),
+                help: "How segments are found: `effort` — boundaries where the classifiers' Effort changes most, chosen \
+                       as one chain (the default: chosen by held-out scores, docs/methods/lma.md); `deviance` — the \
+                       paper's troughs where the 121 shifted classifiers agree."
+                    .into(),
+                kind: ParamKind::Choice { options: SEARCHES.iter().map(|s| s.to_string()).collect() },
+                default: serde_json::json!(SEARCHES[0]),
+                unit: None,
+                basic: true,
+                at_most: None,
+            },
+        );
         specs.insert(
             0,
             ParamSpec {
@@ -276,8 +316,12 @@ pub struct Analysis {
     pub source_frames: Vec<f64>,
     pub file_frames: usize,
     pools: Vec<Pool>,
-    /// Left arm, right arm.
+    /// The deviance search's maps: left arm, right arm (none in the Effort search).
     pub maps: Vec<(Side, DevianceMap)>,
+    /// The Effort search's candidate boundaries (working frames, sorted) and their Effort change `g`.
+    pub changes: Vec<(usize, f64)>,
+    /// Each arm's hand path length up to every working frame (`travel[arm][t]`), to say which arm a segment moves.
+    travel: [Vec<f64>; 2],
 }
 
 /// A segment the search found (working frames), its arms, mean deviance and mean output.
@@ -305,6 +349,15 @@ pub fn analyse(
     let longest = max_len + 2 * model.max_shift + 1;
     let mut maps = Vec::new();
     let mut pools = Vec::new();
+    let travel = body.arms.clone().map(|arm| {
+        let mut sum = 0.0;
+        let mut out = vec![0.0; arm.frames()];
+        for t in 1..arm.frames() {
+            sum += arm.hand()[t].distance(arm.hand()[t - 1]);
+            out[t] = sum;
+        }
+        out
+    });
     // the pruned search's boundaries: slow minima of either hand, for both arms' maps
     let mut slow: Vec<usize> = Vec::new();
     if !params.exhaustive {
@@ -314,6 +367,26 @@ pub fn analyse(
         }
         slow.sort_unstable();
         slow.dedup();
+    }
+    if params.search.trim() == "effort" {
+        let window = min_len;
+        let pools: Vec<Pool> = body.arms.iter().map(|arm| Pool::of(arm, fps, longest.max(window + 1))).collect();
+        let frames = body.arms[0].frames();
+        let boundaries: Vec<usize> = if params.exhaustive { (1..frames.saturating_sub(1)).collect() } else { slow };
+        let mut report = |f: f64| progress.step("Effort change", 0.05 + 0.85 * f);
+        let g = super::change::strengths(model, &pools, &boundaries, window, &mut report)?;
+        let changes = boundaries.into_iter().zip(g).collect();
+        return Ok(Analysis {
+            fps,
+            min_len,
+            max_len,
+            source_frames: body.source_frames,
+            file_frames: motion.frames(),
+            pools,
+            maps: Vec::new(),
+            changes,
+            travel,
+        });
     }
     for (k, arm) in body.arms.iter().enumerate() {
         let pool = Pool::of(arm, fps, longest);
@@ -328,13 +401,59 @@ pub fn analyse(
         maps.push((arm.side, map));
         pools.push(pool);
     }
-    Ok(Analysis { fps, min_len, max_len, source_frames: body.source_frames, file_frames: motion.frames(), pools, maps })
+    Ok(Analysis {
+        fps,
+        min_len,
+        max_len,
+        source_frames: body.source_frames,
+        file_frames: motion.frames(),
+        pools,
+        maps,
+        changes: Vec::new(),
+        travel,
+    })
 }
 
 impl Analysis {
-    /// Candidate segments assessed, both arms.
+    /// Candidate segments assessed, both arms (the deviance search), or candidate boundaries (the Effort search).
     pub fn assessed(&self) -> usize {
-        self.maps.iter().map(|(_, m)| m.candidates().count()).sum()
+        self.maps.iter().map(|(_, m)| m.candidates().count()).sum::<usize>() + self.changes.len()
+    }
+
+    /// The Effort search's segments: the chain of boundaries whose Effort change beats the take's `quantile`.
+    pub fn effort_segments(&self, params: &LmaParams) -> Vec<(usize, usize)> {
+        let (b, g): (Vec<usize>, Vec<f64>) = self.changes.iter().copied().unzip();
+        let frames = self.travel[0].len();
+        let tau = super::change::relative_threshold(&g, params.quantile);
+        super::change::chain(&b, &g, frames, (self.min_len, self.max_len), tau)
+    }
+
+    /// The Effort change at the candidate boundaries, drawn along the take (file frames; linear between candidates).
+    pub fn change_curve(&self) -> crate::method::Curve {
+        let mut values = vec![0.0f32; self.file_frames];
+        let at = |b: usize| self.source_frames.get(b).copied().unwrap_or(0.0);
+        for w in self.changes.windows(2) {
+            let ((b0, g0), (b1, g1)) = (w[0], w[1]);
+            let (f0, f1) = (at(b0).round() as usize, (at(b1).round() as usize).min(self.file_frames.saturating_sub(1)));
+            for f in f0..=f1 {
+                let u = if f1 > f0 { (f - f0) as f64 / (f1 - f0) as f64 } else { 0.0 };
+                values[f] = (g0 + (g1 - g0) * u) as f32;
+            }
+        }
+        crate::method::Curve { id: "effort-change".into(), title: "Effort change at candidate boundaries".into(), values }
+    }
+
+    /// Which arms move in `start..=end`: the one whose hand travels further, or both when the other travels at
+    /// least three quarters as far.
+    fn moving(&self, start: usize, end: usize) -> Arms {
+        let [l, r] = [0, 1].map(|k| self.travel[k][end] - self.travel[k][start]);
+        if l.min(r) >= 0.75 * l.max(r) {
+            Arms::Both
+        } else if l > r {
+            Arms::First
+        } else {
+            Arms::Second
+        }
     }
 
     /// Each arm's segments: troughs of the smoothed row and column profiles paired start to end.
@@ -353,9 +472,14 @@ impl Analysis {
 
     /// The segments of both arms, merged, each assessed by the family for its Effort.
     pub fn find(&self, model: &EffortModel, params: &LmaParams) -> Vec<Found> {
-        let arms = self.arm_segments(params);
-        let within = (params.merge_s * self.fps).round() as usize;
-        merge_arms(&arms[0], &arms[1], within)
+        let merged = if self.maps.is_empty() {
+            self.effort_segments(params).into_iter().map(|(s, e)| (s, e, self.moving(s, e))).collect()
+        } else {
+            let arms = self.arm_segments(params);
+            let within = (params.merge_s * self.fps).round() as usize;
+            merge_arms(&arms[0], &arms[1], within)
+        };
+        merged
             .into_iter()
             .map(|(start, end, arms)| {
                 let (deviance, outputs) = match arms {
@@ -422,16 +546,32 @@ pub fn segment_with(
         pictures.push(effort_picture(&segments, motion.frames()));
     }
     let count = |a: Arms| merged.iter().filter(|m| m.arms == a).count();
+    let searched = if analysis.maps.is_empty() {
+        format!(
+            "Effort search ({}): {} where the {} classifiers' Effort may change",
+            if params.exhaustive { "every frame" } else { "pruned" },
+            crate::method::counted(assessed, "candidate boundary"),
+            model.shifts()
+        )
+    } else {
+        format!(
+            "{} deviance search, {} assessed by {} classifiers",
+            if params.exhaustive { "exhaustive" } else { "pruned" },
+            crate::method::counted(assessed, "candidate segment"),
+            model.shifts()
+        )
+    };
     let summary = format!(
-        "{} ({} both arms, {} left, {} right) · {} search, {} assessed by {} classifiers",
+        "{} ({} both arms, {} left, {} right) · {searched}",
         crate::method::counted(segments.len(), "gesture"),
         count(Arms::Both),
         count(Arms::First),
         count(Arms::Second),
-        if params.exhaustive { "exhaustive" } else { "pruned" },
-        crate::method::counted(assessed, "candidate segment"),
-        model.shifts()
     );
+    let mut curves = Vec::new();
+    if !analysis.changes.is_empty() {
+        curves.push(analysis.change_curve());
+    }
     let segmentation = Segmentation {
         file: motion.name.clone(),
         fps: motion.fps,
@@ -440,7 +580,7 @@ pub fn segment_with(
         params: serde_json::to_value(params).unwrap_or_default(),
         segments,
     };
-    Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves: Vec::new(), take_fit: None } })
+    Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves, take_fit: None } })
 }
 
 pub(super) fn rounded(e: Effort) -> Effort {

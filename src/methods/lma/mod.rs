@@ -11,6 +11,7 @@
 //! | §4.2 the 121 boundary-shifted classifiers, mean deviance (eq. 1–2) | [`classifier`] |
 //! | §4.2 / Fig. 5 deviance map, pruned and exhaustive | [`deviance`] |
 //! | §4.2 / Fig. 6 profiles, troughs, culling, start–end pairing, arm merging | [`search`] |
+//! | §3.1's premise read the other way: boundaries where the family's Effort changes, one chain over sparse candidates (the default search, chosen by held-out scores) | [`change`] |
 //! | the registered `lma` method | [`method`] |
 //! | §6 LMA as a semantic layer: the Effort of any segment of any method (`mocapseg effort`) | [`layer`] |
 //! | training and family files behind the supervised shape | [`supervised`] |
@@ -18,6 +19,7 @@
 //! The trained family ships in `models/lma-effort.json` (made by `mocapseg train-lma`).
 
 pub mod body;
+pub mod change;
 pub mod classifier;
 pub mod corpus;
 pub mod deviance;
