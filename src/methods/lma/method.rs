@@ -64,7 +64,7 @@ impl Default for LmaParams {
             min_rise: 0.4,
             merge_s: 0.67,
             search: SEARCHES[0].into(),
-            quantile: 0.5,
+            quantile: 0.7,
             model: SHIPPED_NAME.into(),
         }
     }
