@@ -112,6 +112,10 @@ impl WorkerState {
                 let response = self.segment(take, run, &method, &params, post);
                 post(response);
             }
+            Request::Annotate { take, run, method, params, spans } => {
+                let response = self.annotate(take, run, &method, &params, &spans, post);
+                post(response);
+            }
             Request::ProvideModel { take, run, file, bytes, unavailable } => {
                 use crate::method::shipped;
                 if let Err(message) = shipped::find(&file) {
@@ -296,6 +300,53 @@ impl WorkerState {
         }
     }
 
+    /// The annotations of the segments `spans` of the held take `take` by `method` (a method that
+    /// declares [`crate::method::Annotator`]), answered as a segment run is when it cannot.
+    fn annotate(
+        &self,
+        take: TakeId,
+        run: RunId,
+        method: &str,
+        params: &serde_json::Value,
+        spans: &[(usize, usize)],
+        post: &mut dyn FnMut(Response),
+    ) -> Response {
+        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, param: None };
+        let motion = match self.motion(take) {
+            Ok(motion) => motion,
+            Err(message) => return fail(message, FailureKind::NotLoaded),
+        };
+        let m = match crate::methods::find(method) {
+            Ok(m) => m,
+            Err(e) => return fail(e.to_string(), FailureKind::Input),
+        };
+        let short = m.info().short;
+        if m.annotator().is_none() {
+            return fail(format!("{short} does not annotate segments"), FailureKind::Input);
+        }
+        let segments: Vec<crate::segment::Segment> = spans
+            .iter()
+            .map(|&(start, end)| crate::segment::Segment {
+                start,
+                end,
+                label: String::new(),
+                level: crate::segment::Level::Action,
+                cluster: None,
+                score: None,
+                mirror_of: None,
+                effort: None,
+            })
+            .collect();
+        let mut progress = Posting { take, run, post };
+        let annotated = m
+            .check_json_in(params, &self.models)
+            .and_then(|checked| m.annotate_checked(motion, &checked, &segments, &mut progress));
+        match annotated {
+            Ok(annotations) => Response::Annotated { take, run, annotations },
+            Err(e) => run_failure(take, run, &short, &motion.name, e),
+        }
+    }
+
     fn segment(
         &self,
         take: TakeId,
@@ -320,11 +371,21 @@ impl WorkerState {
             .and_then(|checked| m.run_checked(motion, &checked, &RunOptions { pictures: true, ..RunOptions::default() }, &mut progress));
         match output {
             Ok(output) => Response::Segmented { take, run, view: Box::new(output.into()) },
-            Err(MethodError::Cancelled) => fail(format!("{short}: cancelled"), FailureKind::Cancelled),
-            Err(MethodError::Params { param, message }) => Response::Refused { take, run, message, param },
-            Err(MethodError::NeedsModel { file }) => Response::NeedsModel { take, run, file },
-            Err(e) => fail(format!("{short} on {}: {e}", motion.name), FailureKind::Input),
+            Err(e) => run_failure(take, run, &short, &motion.name, e),
         }
+    }
+}
+
+/// How a run of the method `short` on the take `name` (a segment or annotate request) that did not
+/// finish is answered: cancelled, its parameters refused (naming the one to blame), a shipped model
+/// file needed, or failed with the method's message.
+fn run_failure(take: TakeId, run: RunId, short: &str, name: &str, e: MethodError) -> Response {
+    let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, param: None };
+    match e {
+        MethodError::Cancelled => fail(format!("{short}: cancelled"), FailureKind::Cancelled),
+        MethodError::Params { param, message } => Response::Refused { take, run, message, param },
+        MethodError::NeedsModel { file } => Response::NeedsModel { take, run, file },
+        e => fail(format!("{short} on {name}: {e}"), FailureKind::Input),
     }
 }
 
@@ -569,6 +630,75 @@ mod tests {
         let unknown =
             ask(&mut w, Request::Segment { take: 4, run: 6, method: "nope".into(), params: serde_json::json!({}) });
         assert!(matches!(unknown.last(), Some(Response::Failed { kind: FailureKind::Input, .. })));
+    }
+
+    /// `annotate` on the held take: any row's spans get the Effort `layer::effort_of` gives the same
+    /// segments (the shipped family by default, a too-short span none with why), the lengths the
+    /// family learnt, and the answer crosses `postMessage` whole; a method that does not annotate,
+    /// spans past the take, another take and an unknown family are answered as a run is.
+    #[test]
+    fn the_worker_annotates_any_rows_segments_with_the_effort_of_the_shipped_family() {
+        let mut w = WorkerState::default();
+        load_walk(&mut w, 1);
+        let spans = vec![(0, 119), (120, 121), (122, 400), (401, 523)];
+        let request = |run, method: &str, params, spans| Request::Annotate {
+            take: 1,
+            run,
+            method: method.into(),
+            params,
+            spans,
+        };
+        let asked = request(2, "lma", serde_json::json!({}), spans.clone());
+        assert_eq!(Request::from_packet(asked.clone().into_packet()).unwrap(), asked);
+        let posted = ask(&mut w, asked);
+        assert!(posted.iter().any(|r| matches!(r, Response::Progress { run: Some(2), stage, .. } if stage == "effort")));
+        let Some(Response::Annotated { take: 1, run: 2, annotations }) = posted.last() else { panic!("{posted:?}") };
+        let packet = posted.last().unwrap().clone().into_packet();
+        assert!(packet.buffers.is_empty());
+        assert_eq!(Response::from_packet(packet).as_ref(), Ok(posted.last().unwrap()));
+
+        let motion = crate::load::load_bytes("12_01.bvh", &take_bytes(), &mut |_| {}).unwrap().motion;
+        let segments: Vec<crate::segment::Segment> = spans
+            .iter()
+            .map(|&(start, end)| crate::segment::Segment {
+                start,
+                end,
+                label: "x".into(),
+                level: crate::segment::Level::Primitive,
+                cluster: Some(3),
+                score: None,
+                mirror_of: None,
+                effort: None,
+            })
+            .collect();
+        let expected =
+            crate::methods::lma::layer::effort_of(crate::methods::lma::shipped_model().unwrap(), &motion, &segments)
+                .unwrap();
+        let got: Vec<_> = annotations.segments.iter().map(|a| a.effort).collect();
+        assert_eq!(got, expected);
+        assert!(expected[0].is_some() && expected[1].is_none() && expected[3].is_some(), "{expected:?}");
+        assert!(annotations.segments[1].why.as_deref().is_some_and(|w| w.starts_with("shorter than")));
+        assert!(annotations.segments[0].why.is_none());
+        let [lo, hi] = annotations.learnt_s.unwrap();
+        assert!((lo - 0.67).abs() < 0.05 && (hi - 3.33).abs() < 0.05, "{lo} {hi}");
+        assert_eq!(annotations.by, "LMA, shipped family");
+
+        // the family named explicitly: the same; one that does not exist: refused at `model`
+        let named = ask(&mut w, request(3, "lma", serde_json::json!({"model": "shipped"}), spans.clone()));
+        assert!(matches!(named.last(), Some(Response::Annotated { annotations: a, .. }) if a == annotations));
+        let unknown = ask(&mut w, request(4, "lma", serde_json::json!({"model": "nope"}), spans.clone()));
+        let Some(Response::Refused { param, message, .. }) = unknown.last() else { panic!("{unknown:?}") };
+        assert_eq!(param.as_deref(), Some("model"), "{message}");
+        // a method that does not annotate; a span past the take; another take
+        let (message, _) = refusal(ask(&mut w, request(5, "sssm", serde_json::json!({}), spans.clone())));
+        assert_eq!(message, "SSSM does not annotate segments");
+        let (message, _) = refusal(ask(&mut w, request(6, "lma", serde_json::json!({}), vec![(0, 10), (500, 524)])));
+        assert!(message.contains("segment 2 (frames 500–524) is not inside 12_01.bvh (frames 0–523)"), "{message}");
+        let other = ask(&mut w, Request::Annotate { take: 9, run: 7, method: "lma".into(), params: serde_json::json!({}), spans });
+        assert!(matches!(other.last(), Some(Response::Failed { kind: FailureKind::NotLoaded, run: Some(7), .. })));
+        // no spans: nothing to read, an empty answer
+        let none = ask(&mut w, request(8, "lma", serde_json::json!({}), Vec::new()));
+        assert!(matches!(none.last(), Some(Response::Annotated { annotations: a, .. }) if a.segments.is_empty()));
     }
 
     /// Effort labels CSV rows `file,start,end,class×4`, classes cycling through the three elements.
