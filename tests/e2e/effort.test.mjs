@@ -9,7 +9,8 @@
 //   "extrapolated", one inside is not;
 // * editing my labels (split, relabel) updates their bars;
 // * the legend reads at ≥ 4.5:1 in both themes;
-// * the segmentation JSON exports (my labels, a method's row) carry the Effort the bars show.
+// * the segmentation JSON exports (my labels, a method's row) carry the Effort the bars show;
+// * on a visit where LMA does not run, the bars fetch the shipped family themselves.
 // Run: scripts/e2e.sh with E2E_FILES=effort.test.mjs.
 
 import { test, before, after } from "node:test";
@@ -188,7 +189,7 @@ for (const view of VIEWS) {
   });
 }
 
-test("the segmentation JSON exports carry the Effort the bars show; the toggle is remembered after a reload", async () => {
+test("the segmentation JSON exports carry the Effort the bars show; the toggle is remembered; without an LMA run the bars fetch its family", async () => {
   const mine = await lane("my-labels");
   const saved = JSON.parse((await download(page, "#my-labels-export-json")).bytes.toString("utf8"));
   assert.equal(saved.segments.length, mine.length);
@@ -204,10 +205,14 @@ test("the segmentation JSON exports carry the Effort the bars show; the toggle i
     assert.ok(s?.effort, `SSSM's ${bar.start}–${bar.end} carries its effort`);
     assert.deepEqual([s.effort.space, s.effort.time, s.effort.weight, s.effort.flow], bar.bars.map((b) => b.value));
   }
-  await page.reload();
-  await gotoApp(page);
+  // a new visit running SSSM alone: the toggle is remembered, and the bars fetch the shipped family
+  // themselves (LMA never ran to fetch it)
+  const before = opened.requests.length;
+  await gotoApp(page, "?methods=sssm");
   assert.equal(await page.locator("#effort-toggle").getAttribute("aria-pressed"), "true", "remembered");
-  await lane("sssm-actions");
+  await checkLane("sssm-actions", await (async () => { await lane("sssm-actions"); return learnt(); })());
+  assert.equal(await page.evaluate(() => document.body.dataset.lma), "idle", "LMA did not run");
+  assert.ok(opened.requests.slice(before).some((u) => u.endsWith("/models/lma-effort.json")), "the family fetched for the bars");
   // off: the lanes go
   await page.click("#effort-toggle");
   await page.locator("#effort-sssm-actions").waitFor({ state: "hidden" });

@@ -4,7 +4,9 @@
 //! its Laban Effort from the classifier family — the family's mean output (eq. 2) over its 121 boundary-shifted
 //! classifiers on the segment, read on the arm whose hand travels further in it (as a user's Effort label row picks
 //! its arm, [`super::corpus`]). The classifiers learnt segments of 0.67–3.33 s; a longer segment's Effort is the
-//! same statistics over more frames, an extrapolation the caller should say.
+//! same statistics over more frames, an extrapolation the caller should say. [`annotate`] is LMA's annotation of
+//! any segmentation ([`crate::method::Method::annotate`]): what the page's Effort bars under every row show, with
+//! the learnt lengths so that they can mark the extrapolations.
 
 use super::body::upper_body;
 use super::classifier::{effort, EffortModel};
