@@ -207,7 +207,10 @@ pub fn EffortToggle(state: AppState) -> impl IntoView {
     });
     let present = annotator(state).is_some();
     let title = annotator(state).map_or_else(String::new, |(slot, a)| {
-        format!("{} bars under every row: Space, Time, Weight and Flow of each segment, by {}", a.quality, slot.info.short)
+        format!(
+            "{} bars under every row: Space, Time, Weight and Flow of each segment, by {}",
+            a.quality, slot.info.short
+        )
     });
     present.then(|| {
         view! {

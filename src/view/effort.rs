@@ -11,8 +11,12 @@ use crate::segment::Effort;
 
 /// The four factors in the order the bars are drawn (top to bottom): name, indulging element,
 /// condensing element.
-pub const FACTORS: [(&str, &str, &str); 4] =
-    [("Space", "indirect", "direct"), ("Time", "sustained", "sudden"), ("Weight", "light", "strong"), ("Flow", "free", "bound")];
+pub const FACTORS: [(&str, &str, &str); 4] = [
+    ("Space", "indirect", "direct"),
+    ("Time", "sustained", "sudden"),
+    ("Weight", "light", "strong"),
+    ("Flow", "free", "bound"),
+];
 
 /// A value this far from 0 (either way) reads as its element; nearer, as neutral (the family's
 /// three classes split [−1, 1] in thirds).
@@ -48,8 +52,12 @@ pub enum Fit {
     /// Within the learnt lengths.
     Learnt,
     /// Shorter or longer than them: its Effort is an extrapolation.
-    Shorter { min_s: f64 },
-    Longer { max_s: f64 },
+    Shorter {
+        min_s: f64,
+    },
+    Longer {
+        max_s: f64,
+    },
 }
 
 impl Fit {
@@ -88,16 +96,19 @@ fn number(v: f64) -> String {
 /// Weight neutral −0.12 · Flow free −0.51", then its length when it is outside the learnt lengths
 /// ("· 4.20 s, longer than the 3.33 s the classifiers learnt: extrapolated").
 pub fn text(e: &Effort, seconds: f64, fit: Fit) -> String {
-    let mut out: Vec<String> =
-        values(e).iter().enumerate().map(|(k, &v)| format!("{} {} {}", FACTORS[k].0, element(k, v), number(v))).collect();
+    let mut out: Vec<String> = values(e)
+        .iter()
+        .enumerate()
+        .map(|(k, &v)| format!("{} {} {}", FACTORS[k].0, element(k, v), number(v)))
+        .collect();
     match fit {
         Fit::Learnt => {}
-        Fit::Shorter { min_s } => out.push(format!(
-            "{seconds:.2} s, shorter than the {min_s:.2} s the classifiers learnt: extrapolated"
-        )),
-        Fit::Longer { max_s } => out.push(format!(
-            "{seconds:.2} s, longer than the {max_s:.2} s the classifiers learnt: extrapolated"
-        )),
+        Fit::Shorter { min_s } => {
+            out.push(format!("{seconds:.2} s, shorter than the {min_s:.2} s the classifiers learnt: extrapolated"))
+        }
+        Fit::Longer { max_s } => {
+            out.push(format!("{seconds:.2} s, longer than the {max_s:.2} s the classifiers learnt: extrapolated"))
+        }
     }
     out.join(" · ")
 }

@@ -52,7 +52,8 @@ fn take_job(inner: &Inner, run: RunId) -> Option<AnnotateJob> {
 
 /// Sends the job `run` again (its model file arrived); false when `run` is not one.
 pub(super) fn send_again(inner: &Rc<Inner>, run: RunId) -> bool {
-    let request = inner.annotate_jobs.borrow().iter().find(|j| j.request.run_id() == Some(run)).map(|j| j.request.clone());
+    let request =
+        inner.annotate_jobs.borrow().iter().find(|j| j.request.run_id() == Some(run)).map(|j| j.request.clone());
     let Some(request) = request else { return false };
     if let Err(message) = post(inner, &request, None) {
         fail(inner, run, message);
