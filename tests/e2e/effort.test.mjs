@@ -10,7 +10,8 @@
 // * editing my labels (split, relabel) updates their bars;
 // * the legend reads at ≥ 4.5:1 in both themes;
 // * the segmentation JSON exports (my labels, a method's row) carry the Effort the bars show;
-// * on a visit where LMA does not run, the bars fetch the shipped family themselves.
+// * on a visit where LMA does not run, the bars fetch the shipped family themselves, and offline
+//   after a visit they get it from the service worker's cache.
 // Run: scripts/e2e.sh with E2E_FILES=effort.test.mjs.
 
 import { test, before, after } from "node:test";
@@ -217,5 +218,22 @@ test("the segmentation JSON exports carry the Effort the bars show; the toggle i
   await page.click("#effort-toggle");
   await page.locator("#effort-sssm-actions").waitFor({ state: "hidden" });
   assert.equal(await page.locator("#effort-legend").isVisible(), false);
+  assertClean(opened);
+});
+
+test("offline after a visit: the bars still come (the shipped family from the service worker's cache)", async () => {
+  await page.evaluate(async () => (await navigator.serviceWorker.ready).scope);
+  await page.reload();
+  await page.waitForFunction(() => navigator.serviceWorker.controller !== null, null, { timeout: TIMEOUT });
+  await opened.context.setOffline(true);
+  try {
+    await gotoApp(page, "?methods=sssm");
+    if ((await page.locator("#effort-toggle").getAttribute("aria-pressed")) !== "true") await page.click("#effort-toggle");
+    const bars = await lane("sssm-actions");
+    assert.ok(bars.some((b) => !b.none), "Effort computed offline");
+    assert.equal(await page.evaluate(() => document.body.dataset.lma), "idle", "LMA did not run");
+  } finally {
+    await opened.context.setOffline(false);
+  }
   assertClean(opened);
 });
