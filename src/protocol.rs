@@ -21,6 +21,10 @@
 //! `setTimeout(0)`, so that a `stop_training` from the page is read between two steps. When the
 //! run ends (its steps done, or stopped: the best model so far is kept), the worker stores the
 //! model and answers `trained` with the model file as a buffer.
+//!
+//! `annotate` asks for per-segment qualities of any segmentation of the held take (any row's
+//! frames) from a method that declares it annotates ([`crate::method::Annotator`]: LMA's Effort);
+//! it is answered `annotated`, or `needs_model` / `refused` / `failed` as a `segment` run is.
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -115,6 +119,11 @@ pub enum Request {
     /// Ends the training `run` after the steps so far: the best model so far is kept, stored
     /// and sent (`trained`, its report `stopped`). Ignored when that training is over.
     StopTraining { take: TakeId, run: RunId },
+    /// Annotate the segments `spans` (first and last file frame of each, inclusive; any row's) of
+    /// take `take` with `method`, a method that declares [`crate::method::Annotator`], and
+    /// `params` (JSON, its [`crate::method::Annotator::params`]). Answer: `annotated`, one
+    /// annotation per span in order — or `needs_model`, `refused`, `failed` as for `segment`.
+    Annotate { take: TakeId, run: RunId, method: String, params: serde_json::Value, spans: Vec<(usize, usize)> },
     /// Cut the segments of `segmentation` (a run's result on take `take`) that `which` chooses
     /// as BVH clips of the held take ([`crate::clips::export`]): every clip in one zip, or with
     /// `only` (a segment's first and last frame) that segment's clip alone; `to_origin` starts
@@ -136,6 +145,7 @@ impl Request {
         match self {
             Request::Load { .. } => None,
             Request::Segment { run, .. }
+            | Request::Annotate { run, .. }
             | Request::UseModel { run, .. }
             | Request::ProvideModel { run, .. }
             | Request::Train { run, .. }
@@ -150,6 +160,7 @@ impl Request {
         match self {
             Request::Load { take, .. }
             | Request::Segment { take, .. }
+            | Request::Annotate { take, .. }
             | Request::UseModel { take, .. }
             | Request::ProvideModel { take, .. }
             | Request::Train { take, .. }
@@ -360,6 +371,12 @@ pub enum Response {
         run: RunId,
         view: Box<MethodView>,
     },
+    /// An `annotate` request's answer: one annotation per span asked, in order.
+    Annotated {
+        take: TakeId,
+        run: RunId,
+        annotations: crate::method::Annotations,
+    },
     /// A `use_model`: the model is stored, its method's runs may name it now.
     ModelStored {
         take: TakeId,
@@ -384,7 +401,7 @@ pub enum Response {
         #[serde(skip)]
         bytes: Vec<u8>,
     },
-    /// The run `run` (a segment run) needs the
+    /// The run `run` (a segment or annotate run) needs the
     /// shipped model file `file`, which this worker does not hold yet: the page fetches it
     /// (`models/FILE` beside the page), sends `provide_model` and asks again.
     NeedsModel {
@@ -475,6 +492,7 @@ impl Request {
             Request::UseModel { bytes, .. } | Request::ProvideModel { bytes, .. } => vec![bytes],
             Request::Train { bytes, .. } => bytes,
             Request::Segment { .. }
+            | Request::Annotate { .. }
             | Request::ContinueTraining { .. }
             | Request::StopTraining { .. }
             | Request::Clips { .. } => Vec::new(),
@@ -508,6 +526,7 @@ impl Request {
                 }
             }
             Request::Segment { .. }
+            | Request::Annotate { .. }
             | Request::ContinueTraining { .. }
             | Request::StopTraining { .. }
             | Request::Clips { .. } => {}

@@ -1,12 +1,15 @@
 //! The method registry's round trip: every registered method checks its defaults, runs on a
 //! fixture, returns a segmentation that fits the schema and echoes its parameters, refuses
-//! parameters outside the bounds its specs announce, and stops when asked to.
+//! parameters outside the bounds its specs announce, and stops when asked to; the worker's generic
+//! `annotate` request answers with what the annotating method (LMA) gives any segments.
 #![cfg(not(target_arch = "wasm32"))]
 
 use mocapseg::load::load_bytes;
 use mocapseg::method::{MethodError, NoProgress, ParamKind, Progress, RunOptions};
 use mocapseg::motion::Motion;
+use mocapseg::protocol::{FailureKind, Request, Response};
 use mocapseg::segment::Segmentation;
+use mocapseg::worker::WorkerState;
 
 fn take() -> Motion {
     load_bytes("12_01.bvh", include_bytes!("fixtures/12_01.bvh"), &mut |_| {}).unwrap().motion
@@ -245,4 +248,96 @@ fn the_page_and_the_worker_name_no_method_module() {
         }
     }
     assert!(found.is_empty(), "files of the page / worker name a method's module:\n{}", found.join("\n"));
+}
+
+/// Runs `request` on `worker`, returning everything it posted.
+fn ask(worker: &mut WorkerState, request: Request) -> Vec<Response> {
+    let mut posted = Vec::new();
+    worker.handle(request, &mut |r| posted.push(r));
+    posted
+}
+
+/// The last answer, a failure of the input: its message and the input it names.
+fn refusal(posted: Vec<Response>) -> (String, Option<String>) {
+    match posted.last() {
+        Some(Response::Failed { kind: FailureKind::Input, message, param, .. }) => (message.clone(), param.clone()),
+        other => panic!("expected a refusal, got {other:?}"),
+    }
+}
+
+/// `annotate` on the held take: any row's spans get the Effort `layer::effort_of` gives the same
+/// segments (the shipped family by default, a too-short span none with why), the lengths the
+/// family learnt, and the answer crosses `postMessage` whole; a method that does not annotate,
+/// spans past the take, another take and an unknown family are answered as a run is.
+#[test]
+fn the_worker_annotates_any_rows_segments_with_the_effort_of_the_shipped_family() {
+    let mut w = WorkerState::default();
+    let load = Request::Load {
+        take: 1,
+        name: "12_01.bvh".into(),
+        restore: false,
+        bytes: include_bytes!("fixtures/12_01.bvh").to_vec(),
+        skeleton: None,
+        skeleton_bytes: Vec::new(),
+    };
+    assert!(matches!(ask(&mut w, load).last(), Some(Response::Loaded { .. })));
+    let spans = vec![(0, 119), (120, 121), (122, 400), (401, 523)];
+    let request = |run, method: &str, params, spans| Request::Annotate {
+        take: 1,
+        run,
+        method: method.into(),
+        params,
+        spans,
+    };
+    let asked = request(2, "lma", serde_json::json!({}), spans.clone());
+    assert_eq!(Request::from_packet(asked.clone().into_packet()).unwrap(), asked);
+    let posted = ask(&mut w, asked);
+    assert!(posted.iter().any(|r| matches!(r, Response::Progress { run: Some(2), stage, .. } if stage == "effort")));
+    let Some(Response::Annotated { take: 1, run: 2, annotations }) = posted.last() else { panic!("{posted:?}") };
+    let packet = posted.last().unwrap().clone().into_packet();
+    assert!(packet.buffers.is_empty());
+    assert_eq!(Response::from_packet(packet).as_ref(), Ok(posted.last().unwrap()));
+
+    let motion = take();
+    let segments: Vec<mocapseg::segment::Segment> = spans
+        .iter()
+        .map(|&(start, end)| mocapseg::segment::Segment {
+            start,
+            end,
+            label: "x".into(),
+            level: mocapseg::segment::Level::Primitive,
+            cluster: Some(3),
+            score: None,
+            mirror_of: None,
+            effort: None,
+        })
+        .collect();
+    let expected =
+        mocapseg::methods::lma::layer::effort_of(mocapseg::methods::lma::shipped_model().unwrap(), &motion, &segments)
+            .unwrap();
+    let got: Vec<_> = annotations.segments.iter().map(|a| a.effort).collect();
+    assert_eq!(got, expected);
+    assert!(expected[0].is_some() && expected[1].is_none() && expected[3].is_some(), "{expected:?}");
+    assert!(annotations.segments[1].why.as_deref().is_some_and(|w| w.starts_with("shorter than")));
+    assert!(annotations.segments[0].why.is_none());
+    let [lo, hi] = annotations.learnt_s.unwrap();
+    assert!((lo - 0.67).abs() < 0.05 && (hi - 3.33).abs() < 0.05, "{lo} {hi}");
+    assert_eq!(annotations.by, "LMA, shipped family");
+
+    // the family named explicitly: the same; one that does not exist: refused at `model`
+    let named = ask(&mut w, request(3, "lma", serde_json::json!({"model": "shipped"}), spans.clone()));
+    assert!(matches!(named.last(), Some(Response::Annotated { annotations: a, .. }) if a == annotations));
+    let unknown = ask(&mut w, request(4, "lma", serde_json::json!({"model": "nope"}), spans.clone()));
+    let Some(Response::Refused { param, message, .. }) = unknown.last() else { panic!("{unknown:?}") };
+    assert_eq!(param.as_deref(), Some("model"), "{message}");
+    // a method that does not annotate; a span past the take; another take
+    let (message, _) = refusal(ask(&mut w, request(5, "sssm", serde_json::json!({}), spans.clone())));
+    assert_eq!(message, "SSSM does not annotate segments");
+    let (message, _) = refusal(ask(&mut w, request(6, "lma", serde_json::json!({}), vec![(0, 10), (500, 524)])));
+    assert!(message.contains("segment 2 (frames 500–524) is not inside 12_01.bvh (frames 0–523)"), "{message}");
+    let other = ask(&mut w, Request::Annotate { take: 9, run: 7, method: "lma".into(), params: serde_json::json!({}), spans });
+    assert!(matches!(other.last(), Some(Response::Failed { kind: FailureKind::NotLoaded, run: Some(7), .. })));
+    // no spans: nothing to read, an empty answer
+    let none = ask(&mut w, request(8, "lma", serde_json::json!({}), Vec::new()));
+    assert!(matches!(none.last(), Some(Response::Annotated { annotations: a, .. }) if a.segments.is_empty()));
 }

@@ -185,6 +185,52 @@ mod worker {
         assert!(lma_summary(17, "mine-again").ends_with(&yours));
     }
 
+    /// The Effort bars' request through the glue: a take's spans annotated by the method that
+    /// declares it (LMA), the shipped family fetched first when this worker does not hold it, and
+    /// the answer equal to `layer::effort_of` on the same segments.
+    #[wasm_bindgen_test]
+    fn an_annotate_request_gives_any_rows_segments_the_effort_of_the_shipped_family() {
+        let take = include_bytes!("fixtures/12_01.bvh");
+        let load = Request::Load {
+            take: 21,
+            name: "12_01.bvh".into(),
+            restore: false,
+            bytes: Vec::new(),
+            skeleton: None,
+            skeleton_bytes: Vec::new(),
+        };
+        assert!(matches!(ask(load, Some(take)).last(), Some(Response::Loaded { take: 21, .. })));
+        let spans = vec![(0, 150), (151, 152), (153, 523)];
+        let annotate =
+            || Request::Annotate { take: 21, run: 22, method: "lma".into(), params: serde_json::json!({}), spans: spans.clone() };
+        let mut posted = ask(annotate(), None);
+        if let Some(Response::NeedsModel { file, .. }) = posted.last().cloned() {
+            assert_eq!(file, "lma-effort.json");
+            let bytes = include_bytes!("../models/lma-effort.json").to_vec();
+            ask(Request::ProvideModel { take: 21, run: 23, file, bytes, unavailable: None }, None);
+            posted = ask(annotate(), None);
+        }
+        let Some(Response::Annotated { take: 21, run: 22, annotations }) = posted.last() else { panic!("{posted:?}") };
+        let motion = mocapseg::load::load_bytes("12_01.bvh", take, &mut |_| {}).unwrap().motion;
+        let segments: Vec<mocapseg::segment::Segment> = spans
+            .iter()
+            .map(|&(start, end)| mocapseg::segment::Segment {
+                start,
+                end,
+                label: String::new(),
+                level: mocapseg::segment::Level::Action,
+                cluster: None,
+                score: None,
+                mirror_of: None,
+                effort: None,
+            })
+            .collect();
+        let model = mocapseg::methods::lma::shipped_model().unwrap();
+        let expected = mocapseg::methods::lma::layer::effort_of(model, &motion, &segments).unwrap();
+        assert_eq!(annotations.segments.iter().map(|a| a.effort).collect::<Vec<_>>(), expected);
+        assert!(expected[0].is_some() && expected[1].is_none(), "{expected:?}");
+    }
+
     #[wasm_bindgen_test]
     fn bad_files_and_parameters_come_back_as_messages_naming_them() {
         let bad = include_bytes!("fixtures/bad.bvh");

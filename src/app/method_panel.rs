@@ -26,6 +26,7 @@
 //!   segment, else a clean abbreviation or nothing ([`crate::view::label_fit`]), the whole label in
 //!   `data-label` and the tooltip.
 
+use super::effort::EffortLane;
 use super::loader::Loader;
 use super::motion_image::{download, stem};
 use super::row_model::RowModel;
@@ -324,6 +325,8 @@ pub fn MethodPanel(
             if let Some(v) = v {
                 let s = &v.segmentation;
                 let file = format!("{}_{}.json", stem(&s.file), export_name);
+                // with the Effort the bars under the rows computed, where the run has none of its own
+                let s = state.effort.fill(state, s);
                 if let Err(e) = download(s.to_json().as_bytes(), "application/json", &file) {
                     state.show_error(format!("could not save {file}: {e:?}"));
                 }
@@ -848,6 +851,8 @@ pub fn SegmentRow(
         let (v, s) = data.with_untracked(|d| (d.view.clone(), d.segments[i].clone()));
         v.map(|v| segment_view(state, &v, s, row.clone()))
     };
+    let effort_spans = Signal::derive(move || data.with(|d| d.spans.clone()));
+    let effort_row = row_id.clone();
     view! {
         <div class="ms-tl-line ms-tl-line--row" hidden=hidden>
             <div class="ms-tl-label" class:ms-tl-label--model=model.is_some() title=tip>
@@ -873,6 +878,7 @@ pub fn SegmentRow(
                 </span>
             </div>
         </div>
+        <EffortLane state=state row_id=effort_row spans=effort_spans label=label/>
     }
 }
 

@@ -23,10 +23,11 @@
 //! The URL parameters (`src`, `methods`, `t`, `autoplay`, `embed`) are read once ([`embed`]);
 //! `embed=1` shows the player and the timeline only.
 //! The timeline's "my labels" row ([`my_labels`], `data-my-labels`) holds the user's own
-//! corrections.
+//! corrections. [`effort`] draws the Effort bars under every row (a toggle of the timeline).
 
 mod browser_models;
 mod drop_zone;
+mod effort;
 mod embed;
 mod error_banner;
 mod fetch;
@@ -137,6 +138,8 @@ pub struct MethodSlot {
     pub choices: Vec<RwSignal<Vec<String>>>,
     /// A supervised method's training and models.
     pub supervised: Option<Supervised>,
+    /// What the method declares about annotating any row's segments (the Effort bars: [`effort`]).
+    pub annotator: Option<crate::method::Annotator>,
     pub run: RwSignal<RunState>,
     /// The last finished run on the take on screen.
     pub view: RwSignal<Option<Arc<MethodView>>>,
@@ -162,6 +165,7 @@ impl MethodSlot {
         let info = method.info();
         MethodSlot {
             supervised: method.supervision().map(|decl| Supervised::new(decl, &info.name)),
+            annotator: method.annotator(),
             info,
             specs,
             fields,
@@ -259,6 +263,8 @@ pub struct AppState {
     pub mine: RwSignal<Option<Arc<crate::segment::Segmentation>>>,
     /// The side panel's tab shown ([`workspace`]): `truth` or a method's name.
     pub panel: RwSignal<String>,
+    /// The Effort bars under every row ([`effort`]).
+    pub effort: effort::EffortBars,
 }
 
 /// A segment selected on the timeline: its row (`<method>-actions` or `<method>-primitives`)
@@ -290,6 +296,7 @@ impl AppState {
             truth: GroundTruth::new(),
             mine: RwSignal::new(None),
             panel: RwSignal::new(workspace::TRUTH_TAB.to_string()),
+            effort: effort::EffortBars::new(),
         }
     }
 

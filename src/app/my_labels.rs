@@ -42,6 +42,7 @@
 //!   two tabs never overwrite each other's work unseen; the history then starts again.
 //!   `document.body.dataset.myLabels` (`data-my-labels`): the number of segments.
 
+use super::effort::EffortLane;
 use super::keys::is_for_the_field;
 use super::method_panel::is_labelling;
 use super::motion_image::stem;
@@ -922,6 +923,9 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
     };
     let empty = move || mine.model.with(|m| m.spans().is_empty());
     let count = move || mine.model.with(|m| m.spans().len());
+    // my segments' frames, for the Effort bars under the row (a new list only when they change)
+    let my_spans = Memo::new(move |_| mine.model.with(|m| m.spans().iter().map(|s| (s.start, s.end)).collect::<Vec<_>>()));
+    let effort_spans = Signal::derive(move || Arc::new(my_spans.get()));
     view! {
         <div class="ms-tl-line ms-tl-line--row ms-tl-line--mine" hidden=move || state.motion.with(Option::is_none)>
             <div class="ms-tl-label" title="My labels: your own segments, edited here">"My labels"</div>
@@ -942,6 +946,7 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
                 {handles}
             </div>
         </div>
+        <EffortLane state=state row_id=ROW.to_string() spans=effort_spans label=Signal::derive(|| "my labels".to_string())/>
     }
 }
 

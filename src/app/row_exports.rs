@@ -1,5 +1,6 @@
 //! A row's exports, for the rows that are not a method's run ("my labels", the ground truth): the
-//! row as segmentation JSON (`#<id>-export-json`), as the label CSV `file,start_frame,end_frame,label`
+//! row as segmentation JSON (`#<id>-export-json`; each segment with the `effort` the Effort bars
+//! computed for it, when they did: [`super::effort`]), as the label CSV `file,start_frame,end_frame,label`
 //! (`#<id>-export-csv`), and each of its labelled segments (its actions: an unlabelled stretch of
 //! "my labels" is a transition) as a BVH clip cut from the file on screen, in one
 //! zip (`#<id>-export-clips`, cut by the worker: [`Loader::export_clips_of`]), or the segment
@@ -39,6 +40,8 @@ pub fn RowExports(
     };
     let on_json = move |_| {
         if let Some(seg) = row.get_untracked() {
+            // with the Effort the bars under the rows computed for its segments
+            let seg = state.effort.fill(state, &seg);
             save(seg.to_json().as_bytes(), "application/json", format!("{}_{id}.json", stem(&seg.file)), None);
         }
     };

@@ -10,10 +10,12 @@
 //! or the minimap's window pans, +/− zoom around the playhead, and a frame that leaves the window
 //! (playback, keys) brings the window along. Clicking or dragging an empty lane seeks (and drops the
 //! selection); clicking a segment selects it and plays it, looped while `#loop-toggle` is on.
-//! Hovering shows `#timeline-tooltip` (a segment's label, frames and seconds, or the frame under the
-//! pointer). The keyboard ([`crate::view::timeline::key_action`]) works anywhere on the page except
+//! Hovering shows `#timeline-tooltip` (a segment's label, frames and seconds, its Effort bars'
+//! text, or the frame under the pointer). `#effort-toggle` shows the Effort bars under every row
+//! ([`super::effort`]). The keyboard ([`crate::view::timeline::key_action`]) works anywhere on the page except
 //! in text fields; `?` opens `#help-overlay`. The maths is in [`crate::view::timeline`].
 
+use super::effort::{EffortLegend, EffortToggle};
 use super::ground_truth::TruthRow;
 use super::keys::is_for_the_field;
 use super::method_panel::{row_spans, MethodRows};
@@ -185,7 +187,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
         let over_segment = ev
             .target()
             .and_then(|t| t.dyn_into::<Element>().ok())
-            .and_then(|e| e.closest(".ms-seg").ok().flatten())
+            .and_then(|e| e.closest(".ms-seg, .ms-effort-seg").ok().flatten())
             .and_then(|e| e.get_attribute("aria-label"));
         let text = over_segment.or_else(|| {
             let frame = frame_at(ev.client_x() as f64)?;
@@ -362,10 +364,12 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                     </button>
                     <button id="help-button" class="ms-button ms-button--quiet" type="button" aria-label="Keyboard shortcuts (?)"
                         aria-expanded=move || state.help.get().to_string() on:click=move |_| state.help.update(|h| *h = !*h)>"?"</button>
+                    <EffortToggle state=state/>
                     <DownloadPng state=state/>
                     <Legend/>
                 </div>
             </div>
+            <EffortLegend state=state/>
             <div
                 class="ms-tl"
                 node_ref=body_ref

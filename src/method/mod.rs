@@ -12,7 +12,11 @@
 //!   same output out;
 //! * a supervised method also declares its training and models ([`supervised`]);
 //! * every method declares the [`Work`] a run needs per working frame, and every run is checked
-//!   against the [`WorkLimits`] before it starts ([`work`]).
+//!   against the [`WorkLimits`] before it starts ([`work`]);
+//! * a method may also declare that it annotates *any* segmentation of a take with per-segment
+//!   qualities ([`Method::annotator`], [`Method::annotate`]: LMA gives each segment its Laban
+//!   Effort, the paper's semantic layer over segments): the worker's one generic "annotate" request
+//!   and the page's Effort bars under every row go through that declaration, never a method's name.
 //!
 //! Adding a method is one folder under `src/methods/` (its paper's modules plus a `method.rs`
 //! implementing [`Method`]) and one line in the registry. This module knows no method.
@@ -33,7 +37,7 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use crate::motion::Motion;
-use crate::segment::Segmentation;
+use crate::segment::{Effort, Segment, Segmentation};
 pub use spec::{ParamKind, ParamSpec};
 pub use supervised::{FittingModel, ModelStore, Supervised, Supervision, TakeFitReport};
 pub use work::{Work, WorkLimits};
@@ -213,6 +217,38 @@ pub struct RunOptions {
     pub limits: WorkLimits,
 }
 
+/// What a method that annotates segments declares ([`Method::annotator`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Annotator {
+    /// What it gives each segment, as the page names it ("Effort").
+    pub quality: String,
+    /// The parameters of the method an annotation reads (LMA: `model`, the classifier family);
+    /// the others are its segmentation's. The page sends these, from the method's form.
+    pub params: Vec<String>,
+}
+
+/// One segment's annotation: its Effort, or why it has none.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Annotated {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub effort: Option<Effort>,
+    /// Why there is no Effort (a segment too short to read), when there is none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub why: Option<String>,
+}
+
+/// The annotations of a segmentation's segments, in the order asked.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Annotations {
+    pub segments: Vec<Annotated>,
+    /// The segment lengths (seconds, shortest and longest) the annotator learnt from: what a
+    /// segment outside them gets is an extrapolation.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub learnt_s: Option<[f64; 2]>,
+    /// Who annotated, for a legend ("LMA, shipped family").
+    pub by: String,
+}
+
 /// A method's result on one take.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MethodOutput {
@@ -260,6 +296,23 @@ pub trait Method: Send + Sync + 'static {
         options: &RunOptions,
         progress: &mut dyn Progress,
     ) -> Result<MethodOutput, MethodError>;
+    /// Whether the method annotates any segmentation of a take with per-segment qualities
+    /// ([`Method::annotate`]), and what that reads (`None`: it does not).
+    fn annotator(&self) -> Option<Annotator> {
+        None
+    }
+    /// The annotation of each of `segments` (file frames of `motion`, inclusive), in order, for a
+    /// method that declares [`Method::annotator`]; reports progress and stops when asked.
+    fn annotate(
+        &self,
+        motion: &Motion,
+        params: &Self::Checked,
+        segments: &[Segment],
+        progress: &mut dyn Progress,
+    ) -> Result<Annotations, MethodError> {
+        let _ = (motion, params, segments, progress);
+        Err(MethodError::Failed(format!("{} does not annotate segments", self.info().short)))
+    }
 }
 
 /// Checked parameters of some method (from [`DynMethod::check_json`]); check once, run on many takes.
@@ -310,6 +363,17 @@ pub trait DynMethod: Send + Sync {
         options: &RunOptions,
         progress: &mut dyn Progress,
     ) -> Result<MethodOutput, MethodError>;
+    /// What the method declares about annotating segments (`None`: it does not).
+    fn annotator(&self) -> Option<Annotator>;
+    /// Annotates `segments` of `motion` with parameters from [`DynMethod::check_json`] of this
+    /// method (its [`Annotator::params`] are the ones read).
+    fn annotate_checked(
+        &self,
+        motion: &Motion,
+        params: &CheckedParams,
+        segments: &[Segment],
+        progress: &mut dyn Progress,
+    ) -> Result<Annotations, MethodError>;
     /// [`DynMethod::check_json`] then [`DynMethod::run_checked`].
     fn run_json(
         &self,
@@ -355,6 +419,34 @@ impl<M: Method> DynMethod for M {
 
     fn work(&self, params: &CheckedParams) -> Result<Work, MethodError> {
         Ok(Method::work(self, self.downcast(params)?))
+    }
+
+    fn annotator(&self) -> Option<Annotator> {
+        Method::annotator(self)
+    }
+
+    fn annotate_checked(
+        &self,
+        motion: &Motion,
+        params: &CheckedParams,
+        segments: &[Segment],
+        progress: &mut dyn Progress,
+    ) -> Result<Annotations, MethodError> {
+        let checked = self.downcast(params)?;
+        if progress.cancelled() {
+            return Err(MethodError::Cancelled);
+        }
+        let last = motion.frames().saturating_sub(1);
+        if let Some((i, s)) = segments.iter().enumerate().find(|(_, s)| s.start > s.end || s.end > last) {
+            return Err(MethodError::Failed(format!(
+                "segment {} (frames {}–{}) is not inside {} (frames 0–{last})",
+                i + 1,
+                s.start,
+                s.end,
+                motion.name
+            )));
+        }
+        Method::annotate(self, motion, checked, segments, progress)
     }
 
     fn run_checked(

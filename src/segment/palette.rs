@@ -40,9 +40,34 @@ pub fn class_colour(i: usize) -> String {
     format!("#{:02x}{:02x}{:02x}", byte(r), byte(g), byte(b))
 }
 
+/// The colour of an Effort factor's value `v` (−1 fully indulging … +1 fully condensing): blue
+/// through grey to red, as LMA's "Effort of each segment" picture and the page's Effort bars under
+/// every row draw it (a value out of range is clamped; not a number is neutral).
+pub fn effort_colour(v: f64) -> [u8; 3] {
+    let v = if v.is_nan() { 0.0 } else { v };
+    let t = ((v + 1.0) / 2.0).clamp(0.0, 1.0);
+    [
+        (40.0 + 180.0 * t) as u8,
+        (90.0 + 60.0 * (1.0 - (2.0 * t - 1.0).abs())) as u8,
+        (220.0 - 180.0 * t) as u8,
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn effort_runs_from_blue_through_grey_to_red() {
+        assert_eq!(effort_colour(-1.0), [40, 90, 220], "indulging: blue");
+        assert_eq!(effort_colour(0.0), [130, 150, 130], "neutral: grey-green middle");
+        assert_eq!(effort_colour(1.0), [220, 90, 40], "condensing: red");
+        assert_eq!(effort_colour(-7.0), effort_colour(-1.0), "clamped");
+        assert_eq!(effort_colour(f64::NAN), effort_colour(0.0));
+        // redder (and less blue) as the value grows
+        let (a, b) = (effort_colour(-0.2), effort_colour(0.4));
+        assert!(b[0] > a[0] && b[2] < a[2], "{a:?} {b:?}");
+    }
 
     #[test]
     fn mirror_pairs_share_a_hue() {

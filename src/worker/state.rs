@@ -112,6 +112,10 @@ impl WorkerState {
                 let response = self.segment(take, run, &method, &params, post);
                 post(response);
             }
+            Request::Annotate { take, run, method, params, spans } => {
+                let response = self.annotate(take, run, &method, &params, &spans, post);
+                post(response);
+            }
             Request::ProvideModel { take, run, file, bytes, unavailable } => {
                 use crate::method::shipped;
                 if let Err(message) = shipped::find(&file) {
@@ -296,6 +300,53 @@ impl WorkerState {
         }
     }
 
+    /// The annotations of the segments `spans` of the held take `take` by `method` (a method that
+    /// declares [`crate::method::Annotator`]), answered as a segment run is when it cannot.
+    fn annotate(
+        &self,
+        take: TakeId,
+        run: RunId,
+        method: &str,
+        params: &serde_json::Value,
+        spans: &[(usize, usize)],
+        post: &mut dyn FnMut(Response),
+    ) -> Response {
+        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, param: None };
+        let motion = match self.motion(take) {
+            Ok(motion) => motion,
+            Err(message) => return fail(message, FailureKind::NotLoaded),
+        };
+        let m = match crate::methods::find(method) {
+            Ok(m) => m,
+            Err(e) => return fail(e.to_string(), FailureKind::Input),
+        };
+        let short = m.info().short;
+        if m.annotator().is_none() {
+            return fail(format!("{short} does not annotate segments"), FailureKind::Input);
+        }
+        let segments: Vec<crate::segment::Segment> = spans
+            .iter()
+            .map(|&(start, end)| crate::segment::Segment {
+                start,
+                end,
+                label: String::new(),
+                level: crate::segment::Level::Action,
+                cluster: None,
+                score: None,
+                mirror_of: None,
+                effort: None,
+            })
+            .collect();
+        let mut progress = Posting { take, run, post };
+        let annotated = m
+            .check_json_in(params, &self.models)
+            .and_then(|checked| m.annotate_checked(motion, &checked, &segments, &mut progress));
+        match annotated {
+            Ok(annotations) => Response::Annotated { take, run, annotations },
+            Err(e) => run_failure(take, run, &short, &motion.name, e),
+        }
+    }
+
     fn segment(
         &self,
         take: TakeId,
@@ -320,11 +371,21 @@ impl WorkerState {
             .and_then(|checked| m.run_checked(motion, &checked, &RunOptions { pictures: true, ..RunOptions::default() }, &mut progress));
         match output {
             Ok(output) => Response::Segmented { take, run, view: Box::new(output.into()) },
-            Err(MethodError::Cancelled) => fail(format!("{short}: cancelled"), FailureKind::Cancelled),
-            Err(MethodError::Params { param, message }) => Response::Refused { take, run, message, param },
-            Err(MethodError::NeedsModel { file }) => Response::NeedsModel { take, run, file },
-            Err(e) => fail(format!("{short} on {}: {e}", motion.name), FailureKind::Input),
+            Err(e) => run_failure(take, run, &short, &motion.name, e),
         }
+    }
+}
+
+/// How a run of the method `short` on the take `name` (a segment or annotate request) that did not
+/// finish is answered: cancelled, its parameters refused (naming the one to blame), a shipped model
+/// file needed, or failed with the method's message.
+fn run_failure(take: TakeId, run: RunId, short: &str, name: &str, e: MethodError) -> Response {
+    let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, param: None };
+    match e {
+        MethodError::Cancelled => fail(format!("{short}: cancelled"), FailureKind::Cancelled),
+        MethodError::Params { param, message } => Response::Refused { take, run, message, param },
+        MethodError::NeedsModel { file } => Response::NeedsModel { take, run, file },
+        e => fail(format!("{short} on {name}: {e}"), FailureKind::Input),
     }
 }
 

@@ -23,7 +23,12 @@
 //!
 //! The shipped models are not in the wasm: a run that needs one the worker does not hold is
 //! answered `needs_model`, and [`super::model_files`] fetches it, hands it over and asks again.
+//!
+//! The Effort bars under the rows ask the worker for each row's annotations ([`annotate`]): one
+//! `annotate` request per row, sent again after a `not_loaded` or to a new worker, waiting for the
+//! shipped family as a run does.
 
+mod annotate;
 mod clips;
 mod shipped;
 mod training;
@@ -140,6 +145,8 @@ struct Inner {
     /// Clip exports asked of the worker: the request (sent again once after `not_loaded`), the
     /// status line of the row that asked, and whether it was sent again already.
     clip_jobs: RefCell<Vec<ClipJob>>,
+    /// The Effort bars' annotations asked of the worker ([`annotate`]).
+    annotate_jobs: RefCell<Vec<annotate::AnnotateJob>>,
     /// The methods that run after each load (URL parameter `methods`); `None`: those whose
     /// `auto_run` is set.
     auto_run: RefCell<Option<Vec<String>>>,
@@ -170,6 +177,7 @@ impl Loader {
             switch: RwSignal::new(None),
             handlers: RefCell::new(Vec::new()),
             clip_jobs: RefCell::new(Vec::new()),
+            annotate_jobs: RefCell::new(Vec::new()),
             auto_run: RefCell::new(None),
             src_take: RefCell::new(None),
             models,
@@ -577,6 +585,7 @@ fn replace_worker(inner: &Rc<Inner>) {
         }
     }
     training::resend(inner);
+    annotate::resend(inner);
 }
 
 /// The worker script could not load or threw outside a request: report it and drop the worker
@@ -606,8 +615,13 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
         Ok(r) => r,
         Err(message) => return fail_load(inner, inner.current.get(), message),
     };
-    // the answers to the clip exports and to the supervised methods' jobs are theirs
-    let Some(response) = clips::handle(inner, response).and_then(|r| training::handle(inner, r)) else { return };
+    // the answers to the clip exports, the supervised methods' jobs and the Effort bars' are theirs
+    let Some(response) = clips::handle(inner, response)
+        .and_then(|r| training::handle(inner, r))
+        .and_then(|r| annotate::handle(inner, r))
+    else {
+        return;
+    };
     let state = inner.state;
     match response {
         Response::Progress { take, run: None, stage, fraction } if take == inner.current.get() => {

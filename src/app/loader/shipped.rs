@@ -5,7 +5,7 @@
 use super::super::model_files;
 use super::super::RunState;
 use super::post;
-use super::{fail_run, next_id, run_index, send_run, Inner};
+use super::{annotate, fail_run, next_id, run_index, send_run, Inner};
 use crate::protocol::{Request, RunId};
 use leptos::prelude::*;
 use std::rc::{Rc, Weak};
@@ -28,10 +28,10 @@ pub(super) fn give_model(inner: &Rc<Inner>, run: RunId, file: &str, bytes: &[u8]
     }
 }
 
-/// The worker needs the shipped model file `file` for `run` (a method's
-/// request): fetched once, handed over, and `run` asked again.
+/// The worker needs the shipped model file `file` for `run` (a method's run or an Effort bars'
+/// annotation): fetched once, handed over, and `run` asked again.
 pub(super) fn need_model(inner: &Rc<Inner>, run: RunId, file: String) {
-    if run_index(inner, run).is_none() {
+    if run_index(inner, run).is_none() && !annotate::is_job(inner, run) {
         return; // superseded
     }
     if let Some(bytes) = inner.models.held(&file) {
@@ -92,15 +92,19 @@ pub(super) fn show_fetching(inner: &Inner, run: RunId, file: &str, size: u64, fr
     let stage = model_files::fetching_stage(file, size);
     if let Some(index) = run_index(inner, run) {
         inner.state.methods[index].run.set(RunState::Running { stage, fraction });
+    } else {
+        annotate::show_stage(inner, run, &stage, fraction);
     }
 }
 
-/// Sends `run` (a method's run) again.
+/// Sends `run` (a method's run or an annotation) again.
 pub(super) fn ask_again(inner: &Rc<Inner>, run: RunId) {
     if let Some(index) = run_index(inner, run) {
         if let Err(message) = send_run(inner, index) {
             fail_run(inner, index, message);
         }
+    } else {
+        annotate::send_again(inner, run);
     }
 }
 
@@ -108,5 +112,7 @@ pub(super) fn ask_again(inner: &Rc<Inner>, run: RunId) {
 pub(super) fn fail_waiting(inner: &Inner, run: RunId, message: String) {
     if let Some(index) = run_index(inner, run) {
         fail_run(inner, index, message);
+    } else {
+        annotate::fail(inner, run, message);
     }
 }

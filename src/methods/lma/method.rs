@@ -265,6 +265,21 @@ impl Method for Lma {
         }
         Ok(out)
     }
+
+    fn annotator(&self) -> Option<crate::method::Annotator> {
+        Some(crate::method::Annotator { quality: "Effort".into(), params: vec!["model".into()] })
+    }
+
+    fn annotate(
+        &self,
+        motion: &Motion,
+        params: &Checked,
+        segments: &[Segment],
+        progress: &mut dyn Progress,
+    ) -> Result<crate::method::Annotations, MethodError> {
+        let by = if params.shipped { "LMA, shipped family".to_string() } else { format!("LMA, {}", params.params.model) };
+        super::layer::annotate(&params.model, motion, segments, by, progress)
+    }
 }
 
 impl Supervised for Lma {
@@ -681,12 +696,7 @@ fn effort_picture(segments: &[Segment], frames: usize) -> Picture {
         let Some(e) = s.effort else { continue };
         let (x0, x1) = (s.start * width / frames.max(1), (s.end * width / frames.max(1)).min(width - 1));
         for (k, v) in [e.space, e.time, e.weight, e.flow].into_iter().enumerate() {
-            let t = ((v + 1.0) / 2.0).clamp(0.0, 1.0);
-            let colour = [
-                (40.0 + 180.0 * t) as u8,
-                (90.0 + 60.0 * (1.0 - (2.0 * t - 1.0).abs())) as u8,
-                (220.0 - 180.0 * t) as u8,
-            ];
+            let colour = crate::segment::palette::effort_colour(v);
             for y in k * row + 1..(k + 1) * row - 1 {
                 for x in x0..=x1 {
                     let i = (y * width + x) * 4;
