@@ -185,8 +185,9 @@ async fn sssm_series(full: &Motion, frames: usize, params: &mocapseg::methods::s
 const SSSM_RUNS: usize = 5;
 
 /// LMA (Bouchard & Badler) on 25, 50 and 100 s of the same sequence at 30 Hz (750, 1500, 3000
-/// frames, as `cargo run --release --example bench_lma`): the pruned search (median of 3 runs)
-/// and the exhaustive one (one run each: it is the slow one, and how it grows is the point).
+/// frames, as `cargo run --release --example bench_lma`): both searches (the default Effort search
+/// and the paper's deviance search), pruned (median of 3 runs) and exhaustive (one run each: it is
+/// the slow one, and how it grows is the point).
 #[wasm_bindgen_test]
 async fn lma_end_to_end() {
     use mocapseg::method::{NoProgress, RunOptions};
@@ -195,8 +196,8 @@ async fn lma_end_to_end() {
     let model = mocapseg::methods::lma::shipped_model().expect("the shipped LMA family");
     let bvh = bvh::parse(SSSM_SEQUENCE).expect("the bench sequence parses");
     let full = Motion::from_bvh("bench sequence", &bvh).expect("motion");
-    for exhaustive in [false, true] {
-        let params = LmaParams { exhaustive, ..LmaParams::default() };
+    for (search, exhaustive) in [("effort", false), ("effort", true), ("deviance", false), ("deviance", true)] {
+        let params = LmaParams { exhaustive, search: search.into(), ..LmaParams::default() };
         let mut base = None;
         for frames in [750usize, 1500, 3000] {
             let seq = Motion::concatenate(std::slice::from_ref(&full), frames).expect("sequence");
@@ -215,7 +216,7 @@ async fn lma_end_to_end() {
             let growth = base.map(|b: f64| format!(" ({:.2}× the 750-frame time)", ms / b)).unwrap_or_default();
             base.get_or_insert(ms);
             console_log!(
-                "wasm bench | lma {} {:5} frames @30 Hz ({:3.0} s) | {:9.1} ms{growth} | {found} segments | median of {runs}",
+                "wasm bench | lma {search:8} {} {:5} frames @30 Hz ({:3.0} s) | {:9.1} ms{growth} | {found} segments | median of {runs}",
                 if exhaustive { "exhaustive" } else { "pruned    " },
                 frames,
                 frames as f64 / 30.0,
