@@ -45,10 +45,44 @@ pub enum Stat {
 /// Cumulative sums and range-extremum tables of one per-frame series, for O(1) segment statistics.
 #[derive(Debug, Clone)]
 pub struct Prefix {
-    /// `c[k][i]` = Σ over frames `< i` of `x`, `t·x`, `x²`, `t·x²`, `1`, `t` (k = 0..6).
-    c: [Vec<f64>; 6],
+    /// `c[i]` = Σ over frames `< i` of `x`, `t·x`, `x²`, `t·x²` (interleaved: one segment end is
+    /// one cache line; the sums of `1` and `t` are closed forms, [`Sums::of`]).
+    c: Vec<[f64; 4]>,
     max: Vec<Vec<f64>>,
     min: Vec<Vec<f64>>,
+}
+
+/// The range sums of one series over frames `a..b` from which every weighted statistic follows.
+#[derive(Debug, Clone, Copy, Default)]
+struct Sums {
+    /// Σ 1, Σ t, Σ x, Σ t·x, Σ x², Σ t·x².
+    n: f64,
+    t: f64,
+    x: f64,
+    tx: f64,
+    x2: f64,
+    tx2: f64,
+}
+
+impl Sums {
+    fn of(c: &[[f64; 4]], a: usize, b: usize) -> Sums {
+        // Σ_{t<k} t = k(k − 1)/2: integers, exact in f64 like the prefix sums they replace
+        let below = |k: usize| (k * k.saturating_sub(1) / 2) as f64;
+        let (p, q) = (&c[a], &c[b]);
+        Sums {
+            n: (b - a) as f64,
+            t: below(b) - below(a),
+            x: q[0] - p[0],
+            tx: q[1] - p[1],
+            x2: q[2] - p[2],
+            tx2: q[3] - p[3],
+        }
+    }
+
+    /// `(Σ w, Σ w x, Σ w x²)` for the weight `w(t) = p + q·t`.
+    fn linear(&self, p: f64, q: f64) -> (f64, f64, f64) {
+        (p * self.n + q * self.t, p * self.x + q * self.tx, p * self.x2 + q * self.tx2)
+    }
 }
 
 impl Prefix {
@@ -61,12 +95,12 @@ impl Prefix {
     /// `log2(longest)` levels instead of `log2(frames)`: a long take's memory stays linear).
     pub fn up_to(x: &[f64], longest: usize) -> Prefix {
         let n = x.len();
-        let mut c: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; n + 1]);
+        let mut c = vec![[0.0; 4]; n + 1];
         for (t, &v) in x.iter().enumerate() {
             let tf = t as f64;
-            let terms = [v, tf * v, v * v, tf * v * v, 1.0, tf];
-            for (k, term) in terms.iter().enumerate() {
-                c[k][t + 1] = c[k][t] + term;
+            let terms = [v, tf * v, v * v, tf * v * v];
+            for k in 0..4 {
+                c[t + 1][k] = c[t][k] + terms[k];
             }
         }
         let table = |pick: fn(f64, f64) -> f64| {
@@ -83,17 +117,11 @@ impl Prefix {
         Prefix { c, max: table(f64::max), min: table(f64::min) }
     }
 
-    /// Σ over frames `a..b` (exclusive) of term `k`.
-    fn range(&self, k: usize, a: usize, b: usize) -> f64 {
-        self.c[k][b] - self.c[k][a]
-    }
-
-    /// `(Σ w, Σ w x, Σ w x²)` over frames `a..b` for the weight `w(t) = p + q·t`.
-    fn linear(&self, a: usize, b: usize, p: f64, q: f64) -> (f64, f64, f64) {
-        let w = p * self.range(4, a, b) + q * self.range(5, a, b);
-        let wx = p * self.range(0, a, b) + q * self.range(1, a, b);
-        let wx2 = p * self.range(2, a, b) + q * self.range(3, a, b);
-        (w, wx, wx2)
+    /// Bytes per frame of the tables for segments of at most `longest` frames: the four sums and
+    /// one value per extremum table level, in f64.
+    pub fn bytes_per_frame(longest: usize) -> usize {
+        let levels = (usize::BITS - longest.max(1).leading_zeros()) as usize;
+        (4 + 2 * levels) * 8
     }
 
     fn extremum(levels: &[Vec<f64>], a: usize, b: usize, pick: fn(f64, f64) -> f64) -> f64 {
@@ -113,35 +141,44 @@ impl Prefix {
         pick(levels[level][a], levels[level][b - (1 << level)])
     }
 
-    /// The statistic `stat` of the series weighted by `weighting` over the segment of frames
-    /// `start..=end` (`start ≤ end` inside the series), in O(1).
-    pub fn stat(&self, start: usize, end: usize, weighting: Weighting, stat: Stat) -> f64 {
-        let (a, b) = (start, end + 1);
-        match stat {
-            Stat::Max => return Self::extremum(&self.max, a, b, f64::max),
-            Stat::Min => return Self::extremum(&self.min, a, b, f64::min),
-            _ => {}
-        }
+    /// `(Σ w, Σ w x, Σ w x²)` of `weighting` over the segment `start..=end`, from the range sums of
+    /// the whole segment (`all`) and, for [`Weighting::Middle`], of its halves.
+    fn weighted(&self, start: usize, end: usize, weighting: Weighting, all: &Sums) -> (f64, f64, f64) {
         // u(t) = (t − start) / span; every weighting is linear in t on [start, mid] and [mid, end]
         let span = (end - start).max(1) as f64;
         let s = start as f64;
-        let (w, wx, wx2) = match weighting {
-            Weighting::Uniform => self.linear(a, b, 1.0, 0.0),
-            Weighting::End => self.linear(a, b, -s / span, 1.0 / span),
-            Weighting::Beginning => self.linear(a, b, 1.0 + s / span, -1.0 / span),
+        match weighting {
+            Weighting::Uniform => all.linear(1.0, 0.0),
+            Weighting::End => all.linear(-s / span, 1.0 / span),
+            Weighting::Beginning => all.linear(1.0 + s / span, -1.0 / span),
             Weighting::Middle => {
                 // 2u on the first half, 2 − 2u on the second (the middle frame in the first)
                 let mid = start + (end - start) / 2;
-                let first = self.linear(a, mid + 1, -2.0 * s / span, 2.0 / span);
-                let second = self.linear(mid + 1, b, 2.0 + 2.0 * s / span, -2.0 / span);
+                let first = Sums::of(&self.c, start, mid + 1).linear(-2.0 * s / span, 2.0 / span);
+                let second = Sums::of(&self.c, mid + 1, end + 1).linear(2.0 + 2.0 * s / span, -2.0 / span);
                 (first.0 + second.0, first.1 + second.1, first.2 + second.2)
             }
-        };
+        }
+    }
+
+    /// A mean, sum or standard deviation from its weighted sums.
+    fn reduce(stat: Stat, (w, wx, wx2): (f64, f64, f64)) -> f64 {
         match stat {
             Stat::Sum => wx,
             Stat::Mean if w > 0.0 => wx / w,
             Stat::Std if w > 0.0 => (wx2 / w - (wx / w).powi(2)).max(0.0).sqrt(),
             _ => 0.0,
+        }
+    }
+
+    /// The statistic `stat` of the series weighted by `weighting` over the segment of frames
+    /// `start..=end` (`start ≤ end` inside the series), in O(1).
+    pub fn stat(&self, start: usize, end: usize, weighting: Weighting, stat: Stat) -> f64 {
+        let (a, b) = (start, end + 1);
+        match stat {
+            Stat::Max => Self::extremum(&self.max, a, b, f64::max),
+            Stat::Min => Self::extremum(&self.min, a, b, f64::min),
+            _ => Self::reduce(stat, self.weighted(start, end, weighting, &Sums::of(&self.c, a, b))),
         }
     }
 }
@@ -214,6 +251,39 @@ impl Pool {
         }
     }
 
+    /// The features of `plan` of the segment `start..=end` into `out` (one per slot of the plan,
+    /// [`Plan::len`]): each series' range sums read once and every statistic of it derived from
+    /// them — the same values as [`Pool::feature`] of each, at a fraction of the reads.
+    pub fn fill(&self, plan: &Plan, start: usize, end: usize, out: &mut [f64]) {
+        let (a, b) = (start, end + 1);
+        for g in &plan.groups {
+            let p = &self.series[g.series];
+            let all = Sums::of(&p.c, a, b);
+            // per weighting: sum, mean, standard deviation, as Prefix::reduce computes them
+            let mut values = [0.0f64; 12];
+            for (k, weighting) in WEIGHTINGS.into_iter().enumerate() {
+                if g.weightings & (1 << k) != 0 {
+                    let (w, wx, wx2) = p.weighted(start, end, weighting, &all);
+                    values[3 * k] = wx;
+                    if w > 0.0 {
+                        let mean = wx / w;
+                        values[3 * k + 1] = mean;
+                        if g.deviations & (1 << k) != 0 {
+                            values[3 * k + 2] = (wx2 / w - mean * mean).max(0.0).sqrt();
+                        }
+                    }
+                }
+            }
+            for (slot, &op) in g.slots.clone().zip(&plan.ops[g.slots.clone()]) {
+                out[slot] = match op {
+                    Plan::MAX => Prefix::extremum(&p.max, a, b, f64::max),
+                    Plan::MIN => Prefix::extremum(&p.min, a, b, f64::min),
+                    k => values[k as usize],
+                };
+            }
+        }
+    }
+
     /// The name of feature `index`: `hand speed, max` or `elbow y, mean (beginning)`.
     pub fn name(index: usize) -> String {
         let (weighting, stat) = STATISTICS[index % STATISTICS.len()];
@@ -228,12 +298,90 @@ impl Pool {
     }
 }
 
+/// The four weightings in the order of their discriminants.
+const WEIGHTINGS: [Weighting; 4] = [Weighting::Uniform, Weighting::Beginning, Weighting::Middle, Weighting::End];
+
+/// Which statistics of which series a set of pool features needs, grouped by series, so that
+/// [`Pool::fill`] reads each series' range sums once per segment however many of its statistics
+/// (and however many factors) ask for them. Made once per classifier family.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The distinct pool features, one slot each, ordered by series.
+    features: Vec<u16>,
+    /// What each slot reads: `3·w + {0 sum, 1 mean, 2 std}` for weighting `w` of [`WEIGHTINGS`],
+    /// or [`Plan::MAX`] / [`Plan::MIN`].
+    ops: Vec<u8>,
+    groups: Vec<Group>,
+}
+
+/// One series a plan reads: the weightings whose sums it needs (bit `k` for [`WEIGHTINGS`]`[k]`),
+/// those of them whose standard deviation it needs, and its slots.
+#[derive(Debug, Clone, PartialEq)]
+struct Group {
+    series: usize,
+    weightings: u8,
+    deviations: u8,
+    slots: std::ops::Range<usize>,
+}
+
+impl Plan {
+    /// The plan of `features` (pool indices; repeats share a slot).
+    pub fn new(features: impl IntoIterator<Item = u16>) -> Plan {
+        let mut features: Vec<u16> = features.into_iter().collect();
+        features.sort_unstable();
+        features.dedup();
+        let mut groups: Vec<Group> = Vec::new();
+        let mut ops = Vec::with_capacity(features.len());
+        for (slot, &k) in features.iter().enumerate() {
+            let series = k as usize / STATISTICS.len();
+            let (weighting, stat) = STATISTICS[k as usize % STATISTICS.len()];
+            if groups.last().is_none_or(|g| g.series != series) {
+                groups.push(Group { series, weightings: 0, deviations: 0, slots: slot..slot });
+            }
+            let g = groups.last_mut().expect("just pushed");
+            g.slots.end = slot + 1;
+            let w = weighting as u8;
+            ops.push(match stat {
+                Stat::Max => Plan::MAX,
+                Stat::Min => Plan::MIN,
+                Stat::Sum => 3 * w,
+                Stat::Mean => 3 * w + 1,
+                Stat::Std => 3 * w + 2,
+            });
+            if !matches!(stat, Stat::Max | Stat::Min) {
+                g.weightings |= 1 << w;
+            }
+            if stat == Stat::Std {
+                g.deviations |= 1 << w;
+            }
+        }
+        Plan { features, ops, groups }
+    }
+
+    const MAX: u8 = 12;
+    const MIN: u8 = 13;
+
+    /// Slots (distinct features).
+    pub fn len(&self) -> usize {
+        self.features.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.features.is_empty()
+    }
+
+    /// The slot of pool feature `feature`, if the plan holds it.
+    pub fn slot(&self, feature: u16) -> Option<usize> {
+        self.features.binary_search(&feature).ok()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::stats::Rng;
 
-    fn close(a: f64, b: f64, tol: f64) -> bool {
+    pub(super) fn close(a: f64, b: f64, tol: f64) -> bool {
         (a - b).abs() <= tol * (1.0 + b.abs())
     }
 
@@ -303,6 +451,7 @@ mod tests {
 
 #[cfg(test)]
 mod pool_tests {
+    use super::tests::close;
     use super::*;
     use crate::methods::lma::body::{Arm, Side};
     use glam::DVec3;
@@ -333,5 +482,43 @@ mod pool_tests {
         pool.features(&[speed_max as u16, x_end as u16], 10, 50, &mut out);
         assert_eq!(out[0], pool.feature(speed_max, 10, 50) as f32);
         assert_eq!(POOL_SIZE, 336);
+    }
+
+    /// The plan's batched statistics are the per-feature ones: random feature sets (repeats and
+    /// all four weightings of a series among them), random segments of a random arm.
+    #[test]
+    fn a_plan_fills_the_features_one_at_a_time_would_give() {
+        let mut rng = crate::stats::Rng::new(29);
+        let frames = 400;
+        let mut walk = |scale: f64| {
+            let mut p = DVec3::ZERO;
+            (0..frames)
+                .map(|_| {
+                    p += DVec3::new(rng.next_f32() as f64 - 0.5, rng.next_f32() as f64 - 0.5, rng.next_f32() as f64 - 0.5)
+                        * scale;
+                    p
+                })
+                .collect::<Vec<_>>()
+        };
+        let arm = Arm { side: Side::Right, joints: [walk(0.01), walk(0.05), walk(0.1)] };
+        let pool = Pool::of(&arm, 30.0, 111);
+        for round in 0..20 {
+            let count = 1 + rng.below(if round == 0 { POOL_SIZE } else { 120 });
+            let which: Vec<u16> =
+                if round == 0 { (0..POOL_SIZE as u16).collect() } else { (0..count).map(|_| rng.below(POOL_SIZE) as u16).collect() };
+            let plan = Plan::new(which.iter().copied());
+            let mut out = vec![f64::NAN; plan.len()];
+            for _ in 0..50 {
+                let start = rng.below(frames - 2);
+                let end = (start + rng.below(120)).min(frames - 1);
+                pool.fill(&plan, start, end, &mut out);
+                for &k in &which {
+                    let (fast, slow) = (out[plan.slot(k).unwrap()], pool.feature(k as usize, start, end));
+                    assert!(close(fast, slow, 1e-12), "{} of {start}..={end}: {fast} vs {slow}", Pool::name(k as usize));
+                }
+            }
+        }
+        assert_eq!(Plan::new([5, 5, 3]).len(), 2);
+        assert_eq!(Plan::new([5, 5, 3]).slot(4), None);
     }
 }
