@@ -203,7 +203,12 @@ mod tests {
 
     /// The pruned search before the projector and the batches: every shifted segment projected one
     /// pool feature at a time, each classifier run on each candidate alone.
-    fn reference(model: &EffortModel, pool: &Pool, boundaries: &[usize], (lo, hi): (usize, usize)) -> Vec<(usize, usize, f32)> {
+    fn reference(
+        model: &EffortModel,
+        pool: &Pool,
+        boundaries: &[usize],
+        (lo, hi): (usize, usize),
+    ) -> Vec<(usize, usize, f32)> {
         let s = model.max_shift as isize;
         let mut z = vec![0.0; model.width()];
         let mut out = Vec::new();
@@ -218,7 +223,11 @@ mod tests {
                         let mut at = 0;
                         for (k, f) in model.factors.iter().enumerate() {
                             let net = &f.nets[model.shift_index(i, j)];
-                            net.forward(&z[at..at + f.components], &mut vec![0.0; net.hidden], &mut o[3 * k..3 * k + 3]);
+                            net.forward(
+                                &z[at..at + f.components],
+                                &mut vec![0.0; net.hidden],
+                                &mut o[3 * k..3 * k + 3],
+                            );
                             at += f.components;
                         }
                         outputs.push(o);

@@ -494,8 +494,11 @@ mod pool_tests {
             let mut p = DVec3::ZERO;
             (0..frames)
                 .map(|_| {
-                    p += DVec3::new(rng.next_f32() as f64 - 0.5, rng.next_f32() as f64 - 0.5, rng.next_f32() as f64 - 0.5)
-                        * scale;
+                    p += DVec3::new(
+                        rng.next_f32() as f64 - 0.5,
+                        rng.next_f32() as f64 - 0.5,
+                        rng.next_f32() as f64 - 0.5,
+                    ) * scale;
                     p
                 })
                 .collect::<Vec<_>>()
@@ -504,8 +507,11 @@ mod pool_tests {
         let pool = Pool::of(&arm, 30.0, 111);
         for round in 0..20 {
             let count = 1 + rng.below(if round == 0 { POOL_SIZE } else { 120 });
-            let which: Vec<u16> =
-                if round == 0 { (0..POOL_SIZE as u16).collect() } else { (0..count).map(|_| rng.below(POOL_SIZE) as u16).collect() };
+            let which: Vec<u16> = if round == 0 {
+                (0..POOL_SIZE as u16).collect()
+            } else {
+                (0..count).map(|_| rng.below(POOL_SIZE) as u16).collect()
+            };
             let plan = Plan::new(which.iter().copied());
             let mut out = vec![f64::NAN; plan.len()];
             for _ in 0..50 {
@@ -514,7 +520,11 @@ mod pool_tests {
                 pool.fill(&plan, start, end, &mut out);
                 for &k in &which {
                     let (fast, slow) = (out[plan.slot(k).unwrap()], pool.feature(k as usize, start, end));
-                    assert!(close(fast, slow, 1e-12), "{} of {start}..={end}: {fast} vs {slow}", Pool::name(k as usize));
+                    assert!(
+                        close(fast, slow, 1e-12),
+                        "{} of {start}..={end}: {fast} vs {slow}",
+                        Pool::name(k as usize)
+                    );
                 }
             }
         }
