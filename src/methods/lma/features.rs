@@ -12,6 +12,8 @@
 //! values (a weight that varies along the segment has no O(1) range maximum); the paper leaves
 //! which combinations its 4500 permutations hold unstated.
 
+use glam::DVec3;
+
 pub use crate::features::kinematics::Kinematics;
 
 /// Which part of a segment a feature emphasises (`u` = 0 at its first frame, 1 at its last).
@@ -183,11 +185,128 @@ impl Prefix {
     }
 }
 
-/// The per-frame quantities of every joint of an arm (Fig. 1's "kinematic features"): its
-/// position (`x` lateral, `y` up, `z` forward), distance from the sternum, speed, acceleration,
-/// jerk and `ln(1 + curvature)` (curvature spikes where the joint nearly stops; the logarithm
-/// keeps one spike from dominating a segment's statistics).
+/// The per-frame quantities of every joint of an arm and of the head (Fig. 1's "kinematic
+/// features"): its position (`x` lateral, `y` up, `z` forward), distance from the sternum, speed,
+/// acceleration, jerk and `ln(1 + curvature)` (curvature spikes where the joint nearly stops; the
+/// logarithm keeps one spike from dominating a segment's statistics).
 pub const QUANTITIES: [&str; 8] = ["x", "y", "z", "distance", "speed", "acceleration", "jerk", "curvature"];
+
+/// The orientations of the arm (radians, rad/s), after the joints' quantities: the elbow's
+/// flexion (angle between upper arm and forearm, 0 straight) and its rate of change; the
+/// elevation of the upper arm at the shoulder and of the forearm (angle from hanging straight down);
+/// how fast the upper arm and the forearm turn (angle between their directions one frame before
+/// and one after, per second).
+pub const ARM_ORIENTATIONS: [&str; 6] = [
+    "elbow flexion",
+    "elbow flexion speed",
+    "shoulder elevation",
+    "forearm elevation",
+    "upper arm angular speed",
+    "forearm angular speed",
+];
+
+/// The torso's and head's orientations (radians, rad/s), after the head's quantities: the torso's
+/// lean from upright, forwards (signed, + forwards) and sideways (signed, + towards this arm), how
+/// fast it turns, its twist (this shoulder forward of the sternum, +), the head's tilt from the
+/// torso's direction and how fast the head (sternum to head) turns.
+pub const TORSO_ORIENTATIONS: [&str; 7] = [
+    "torso lean",
+    "torso forward lean",
+    "torso side lean",
+    "torso angular speed",
+    "torso twist",
+    "head tilt",
+    "head angular speed",
+];
+
+/// Per-frame series of an arm's pool, in order: the shoulder's, elbow's and hand's
+/// [`QUANTITIES`] (the pool of families trained before the orientations: their feature indices
+/// keep their meaning), the [`ARM_ORIENTATIONS`], the head's [`QUANTITIES`], the
+/// [`TORSO_ORIENTATIONS`].
+pub const SERIES: usize = 3 * QUANTITIES.len() + ARM_ORIENTATIONS.len() + QUANTITIES.len() + TORSO_ORIENTATIONS.len();
+
+/// The name of series `k` (of [`SERIES`]): `hand speed`, `elbow flexion`, `head y`.
+pub fn series_name(k: usize) -> String {
+    let joints = 3 * QUANTITIES.len();
+    let arm = joints + ARM_ORIENTATIONS.len();
+    let head = arm + QUANTITIES.len();
+    if k < joints {
+        format!("{} {}", super::body::ARM_JOINTS[k / QUANTITIES.len()], QUANTITIES[k % QUANTITIES.len()])
+    } else if k < arm {
+        ARM_ORIENTATIONS[k - joints].to_string()
+    } else if k < head {
+        format!("head {}", QUANTITIES[k - arm])
+    } else {
+        TORSO_ORIENTATIONS[k - head].to_string()
+    }
+}
+
+/// The angle between two directions (0 where either has no length).
+fn angle(a: DVec3, b: DVec3) -> f64 {
+    if a.length_squared() > 1e-18 && b.length_squared() > 1e-18 {
+        a.angle_between(b)
+    } else {
+        0.0
+    }
+}
+
+/// How fast the directions `d` turn (rad/s at `fps`): the angle between the direction a frame
+/// before and a frame after, over the two frames (one-sided at the ends), as
+/// [`crate::features::kinematics::derivative`] differentiates positions.
+fn angular_speed(d: &[DVec3], fps: f64) -> Vec<f64> {
+    let n = d.len();
+    (0..n)
+        .map(|i| match (i.checked_sub(1), (i + 1 < n).then_some(i + 1)) {
+            (Some(a), Some(b)) => angle(d[a], d[b]) * fps / 2.0,
+            (None, Some(b)) => angle(d[i], d[b]) * fps,
+            (Some(a), None) => angle(d[a], d[i]) * fps,
+            (None, None) => 0.0,
+        })
+        .collect()
+}
+
+/// The rate of change of a scalar series, by the same differences (absolute, per second).
+fn rate(x: &[f64], fps: f64) -> Vec<f64> {
+    let points: Vec<DVec3> = x.iter().map(|&v| DVec3::new(v, 0.0, 0.0)).collect();
+    crate::features::kinematics::derivative(&points, fps).iter().map(|v| v.x.abs()).collect()
+}
+
+/// A joint's [`QUANTITIES`], in order.
+fn quantities(joint: &[DVec3], fps: f64) -> [Vec<f64>; 8] {
+    let k = Kinematics::of(joint, fps);
+    let axis = |a: usize| joint.iter().map(|p| p[a]).collect::<Vec<f64>>();
+    let curvature: Vec<f64> = k.curvature.iter().map(|c| c.ln_1p()).collect();
+    [axis(0), axis(1), axis(2), k.distance, k.speed, k.acceleration, k.jerk, curvature]
+}
+
+/// Every series of `arm`'s pool (see [`SERIES`]), one value per frame.
+pub fn series_of(arm: &super::body::Arm, fps: f64) -> Vec<Vec<f64>> {
+    let [shoulder, elbow, hand] = &arm.joints;
+    let mut out: Vec<Vec<f64>> = Vec::with_capacity(SERIES);
+    for joint in &arm.joints {
+        out.extend(quantities(joint, fps));
+    }
+    let bone = |from: &[DVec3], to: &[DVec3]| from.iter().zip(to).map(|(a, b)| *b - *a).collect::<Vec<DVec3>>();
+    let (upper, fore) = (bone(shoulder, elbow), bone(elbow, hand));
+    let flexion: Vec<f64> = upper.iter().zip(&fore).map(|(u, f)| angle(*u, *f)).collect();
+    let flexion_speed = rate(&flexion, fps);
+    let elevation = |d: &[DVec3]| d.iter().map(|v| angle(*v, DVec3::NEG_Y)).collect::<Vec<f64>>();
+    out.extend([flexion, flexion_speed, elevation(&upper), elevation(&fore)]);
+    out.extend([angular_speed(&upper, fps), angular_speed(&fore, fps)]);
+    out.extend(quantities(&arm.head, fps));
+    let torso = &arm.torso;
+    let each = |f: &dyn Fn(&DVec3) -> f64| torso.iter().map(f).collect::<Vec<f64>>();
+    out.push(each(&|d| angle(*d, DVec3::Y)));
+    out.push(each(&|d| f64::atan2(d.z, d.y)));
+    // the arm's side is −x (a right arm, or a left one mirrored): + towards it
+    out.push(each(&|d| f64::atan2(-d.x, d.y)));
+    out.push(angular_speed(torso, fps));
+    out.push(shoulder.iter().map(|p| f64::atan2(p.z, -p.x)).collect());
+    out.push(arm.head.iter().zip(torso).map(|(h, d)| angle(*h, *d)).collect());
+    out.push(angular_speed(&arm.head, fps));
+    debug_assert_eq!(out.len(), SERIES);
+    out
+}
 
 /// The statistics taken of every quantity: mean, sum and standard deviation under each of the four
 /// weightings, and the (unweighted) maximum and minimum.
@@ -208,8 +327,13 @@ pub const STATISTICS: [(Weighting, Stat); 14] = [
     (Weighting::Uniform, Stat::Min),
 ];
 
-/// Size of the feature pool: joints × quantities × statistics.
-pub const POOL_SIZE: usize = 3 * QUANTITIES.len() * STATISTICS.len();
+/// Size of the feature pool: series × statistics.
+pub const POOL_SIZE: usize = SERIES * STATISTICS.len();
+
+/// Bytes per frame of one arm's pool for segments of at most `longest` frames.
+pub fn pool_bytes_per_frame(longest: usize) -> usize {
+    SERIES * Prefix::bytes_per_frame(longest)
+}
 
 /// The feature pool of one arm of a take: every feature of any segment in O(1).
 #[derive(Debug, Clone)]
@@ -221,15 +345,7 @@ pub struct Pool {
 impl Pool {
     /// The pool of `arm` at `fps`, for segments of at most `longest` frames.
     pub fn of(arm: &super::body::Arm, fps: f64, longest: usize) -> Pool {
-        let mut series = Vec::with_capacity(3 * QUANTITIES.len());
-        for joint in &arm.joints {
-            let k = Kinematics::of(joint, fps);
-            let axis = |a: usize| joint.iter().map(|p| p[a]).collect::<Vec<f64>>();
-            let curvature: Vec<f64> = k.curvature.iter().map(|c| c.ln_1p()).collect();
-            for values in [axis(0), axis(1), axis(2), k.distance, k.speed, k.acceleration, k.jerk, curvature] {
-                series.push(Prefix::up_to(&values, longest));
-            }
-        }
+        let series = series_of(arm, fps).iter().map(|values| Prefix::up_to(values, longest)).collect();
         Pool { series, frames: arm.frames() }
     }
 
@@ -284,16 +400,15 @@ impl Pool {
         }
     }
 
-    /// The name of feature `index`: `hand speed, max` or `elbow y, mean (beginning)`.
+    /// The name of feature `index`: `hand speed, max`, `elbow y, mean (beginning)` or
+    /// `torso lean, std (end)`.
     pub fn name(index: usize) -> String {
         let (weighting, stat) = STATISTICS[index % STATISTICS.len()];
-        let series = index / STATISTICS.len();
-        let joint = super::body::ARM_JOINTS[series / QUANTITIES.len()];
-        let quantity = QUANTITIES[series % QUANTITIES.len()];
+        let series = series_name(index / STATISTICS.len());
         let stat = format!("{stat:?}").to_lowercase();
         match (stat.as_str(), weighting) {
-            ("max" | "min", _) | (_, Weighting::Uniform) => format!("{joint} {quantity}, {stat}"),
-            _ => format!("{joint} {quantity}, {stat} ({})", format!("{weighting:?}").to_lowercase()),
+            ("max" | "min", _) | (_, Weighting::Uniform) => format!("{series}, {stat}"),
+            _ => format!("{series}, {stat} ({})", format!("{weighting:?}").to_lowercase()),
         }
     }
 }
@@ -461,7 +576,12 @@ mod pool_tests {
         // the hand moves along x at 2 bones/s, the elbow stays, the shoulder sits 1 bone up
         let frames = 61;
         let hand: Vec<DVec3> = (0..frames).map(|t| DVec3::new(2.0 * t as f64 / 30.0, 0.0, 0.5)).collect();
-        let arm = Arm { side: Side::Right, joints: [vec![DVec3::Y; frames], vec![DVec3::ZERO; frames], hand] };
+        let arm = Arm {
+            side: Side::Right,
+            joints: [vec![DVec3::Y; frames], vec![DVec3::ZERO; frames], hand],
+            head: vec![DVec3::Y * 1.5; frames],
+            torso: vec![DVec3::Y; frames],
+        };
         let pool = Pool::of(&arm, 30.0, 40);
         let index = |joint: usize, quantity: &str, stat: (Weighting, Stat)| {
             let q = QUANTITIES.iter().position(|&n| n == quantity).unwrap();
@@ -481,7 +601,7 @@ mod pool_tests {
         let mut out = vec![0.0f32; 2];
         pool.features(&[speed_max as u16, x_end as u16], 10, 50, &mut out);
         assert_eq!(out[0], pool.feature(speed_max, 10, 50) as f32);
-        assert_eq!(POOL_SIZE, 336);
+        assert_eq!(POOL_SIZE, 45 * 14);
     }
 
     /// The plan's batched statistics are the per-feature ones: random feature sets (repeats and
@@ -503,7 +623,12 @@ mod pool_tests {
                 })
                 .collect::<Vec<_>>()
         };
-        let arm = Arm { side: Side::Right, joints: [walk(0.01), walk(0.05), walk(0.1)] };
+        let arm = Arm {
+            side: Side::Right,
+            joints: [walk(0.01), walk(0.05), walk(0.1)],
+            head: walk(0.02),
+            torso: walk(0.01).iter().map(|d| (*d + DVec3::Y).normalize()).collect(),
+        };
         let pool = Pool::of(&arm, 30.0, 111);
         for round in 0..20 {
             let count = 1 + rng.below(if round == 0 { POOL_SIZE } else { 120 });
@@ -530,5 +655,55 @@ mod pool_tests {
         }
         assert_eq!(Plan::new([5, 5, 3]).len(), 2);
         assert_eq!(Plan::new([5, 5, 3]).slot(4), None);
+    }
+
+    /// The orientations of an analytic pose: the upper arm hanging, the forearm swinging forwards
+    /// and up about the elbow at 1 rad/s, the torso leaning 0.3 rad forwards and the head tilted.
+    #[test]
+    fn the_pool_reads_the_orientations_of_the_arm_and_the_upper_body() {
+        let (frames, fps) = (61, 30.0);
+        let turn = |t: usize| t as f64 / fps; // the forearm's angle from hanging, 1 rad/s
+        let shoulder = DVec3::new(-0.8, 0.0, 0.0);
+        let elbow = shoulder - DVec3::Y;
+        let hand: Vec<DVec3> = (0..frames).map(|t| elbow + DVec3::new(0.0, -turn(t).cos(), turn(t).sin())).collect();
+        let lean = DVec3::new(0.0, 0.3f64.cos(), 0.3f64.sin());
+        let arm = Arm {
+            side: Side::Right,
+            joints: [vec![shoulder; frames], vec![elbow; frames], hand],
+            head: vec![lean * 1.5 + DVec3::new(-0.2, 0.0, 0.0); frames],
+            torso: vec![lean; frames],
+        };
+        let pool = Pool::of(&arm, fps, 40);
+        let index = |series: &str, stat: (Weighting, Stat)| {
+            let k = (0..SERIES).position(|k| series_name(k) == series).unwrap();
+            k * STATISTICS.len() + STATISTICS.iter().position(|&x| x == stat).unwrap()
+        };
+        let read = |series: &str, stat: (Weighting, Stat)| pool.feature(index(series, stat), 10, 50);
+        let (mean, max) = ((Weighting::Uniform, Stat::Mean), (Weighting::Uniform, Stat::Max));
+        // the flexion is the forearm's angle from the upper arm's line: 10/30 ..= 50/30 rad, 1 rad/s
+        assert!((read("elbow flexion", mean) - 1.0).abs() < 1e-9);
+        assert!((read("elbow flexion", max) - 50.0 / 30.0).abs() < 1e-9);
+        assert!((read("elbow flexion speed", mean) - 1.0).abs() < 1e-6);
+        assert!((read("forearm angular speed", mean) - 1.0).abs() < 1e-3);
+        assert!((read("forearm elevation", mean) - 1.0).abs() < 1e-9);
+        assert!(read("shoulder elevation", max).abs() < 1e-9 && read("upper arm angular speed", max).abs() < 1e-9);
+        assert!((read("torso lean", mean) - 0.3).abs() < 1e-9 && (read("torso forward lean", mean) - 0.3).abs() < 1e-9);
+        assert!(read("torso side lean", max).abs() < 1e-9 && read("torso angular speed", max).abs() < 1e-9);
+        // the head sits off the torso's line towards this arm (−x); the shoulder level with the sternum
+        assert!(read("head tilt", mean) > 0.05 && read("head x", mean) < -0.1);
+        assert!(read("torso twist", mean).abs() < 1e-9);
+        let name = Pool::name(index("elbow flexion", (Weighting::Beginning, Stat::Mean)));
+        assert_eq!(name, "elbow flexion, mean (beginning)");
+        assert_eq!(Pool::name(index("head y", max)), "head y, max");
+        // leaning towards this arm's side (−x) and its shoulder forwards are positive
+        let side = DVec3::new(-0.2f64.sin(), 0.2f64.cos(), 0.0);
+        let turned = Arm {
+            torso: vec![side; frames],
+            joints: [vec![DVec3::new(-0.8, 0.0, 0.3); frames], arm.joints[1].clone(), arm.joints[2].clone()],
+            ..arm
+        };
+        let pool = Pool::of(&turned, fps, 40);
+        assert!((pool.feature(index("torso side lean", mean), 0, 60) - 0.2).abs() < 1e-9);
+        assert!((pool.feature(index("torso twist", mean), 0, 60) - 0.3f64.atan2(0.8)).abs() < 1e-9);
     }
 }
