@@ -1,8 +1,11 @@
-//! The kinematic feature pool of Bouchard & Badler's LMA Effort classifiers (their §4, Fig. 1):
-//! per-frame kinematic quantities of a joint ([`Kinematics`], shared with the other methods in
-//! [`crate::features::kinematics`]: speed, acceleration, jerk, curvature, distance from the torso), each weighted to emphasise the beginning, middle or end of
-//! a candidate segment ([`Weighting`]) and reduced to one scalar by a statistic ([`Stat`]: mean,
-//! sum, max, min, standard deviation).
+//! The kinematic feature pool of Bouchard & Badler's LMA Effort classifiers (their §4, Fig. 1:
+//! "features derived from the positions and orientations of the upper body's joints"): per-frame
+//! series of an arm and the upper body it shares ([`SERIES`]: the shoulder's, elbow's, hand's and
+//! head's positions and kinematic quantities — [`Kinematics`], shared with the other methods in
+//! [`crate::features::kinematics`]: speed, acceleration, jerk, curvature, distance from the torso —
+//! and the orientations of the arm, torso and head: angles and angular speeds), each weighted to
+//! emphasise the beginning, middle or end of a candidate segment ([`Weighting`]) and reduced to one
+//! scalar by a statistic ([`Stat`]: mean, sum, max, min, standard deviation).
 //!
 //! The segmentation scores every candidate segment between 0.67 s and 3.33 s — the exhaustive
 //! search is tens of thousands of candidates per take — so a candidate's features must cost O(1)
@@ -10,7 +13,9 @@
 //! linear in `t` on each half of the segment, so its weighted sums follow from those) and sparse
 //! tables for range maxima and minima. Weighted max / min are the max / min of the unweighted
 //! values (a weight that varies along the segment has no O(1) range maximum); the paper leaves
-//! which combinations its 4500 permutations hold unstated.
+//! which combinations its 4500 permutations hold unstated. A [`Plan`] groups the features a
+//! classifier family reads by series, so that [`Pool::fill`] reads each series' range sums once
+//! per segment and derives all of its statistics from them.
 
 use glam::DVec3;
 
