@@ -43,9 +43,8 @@ pub fn pruned(
     starts.dedup();
     let s = model.max_shift as isize;
     let width = model.width();
-    // projected inputs of segment (a, b), while a start ≤ a + 2s may still come
     let mut projector = Projector::new(model);
-    let mut cache: std::collections::BTreeMap<(usize, usize), Vec<f32>> = std::collections::BTreeMap::new();
+    let mut window = Window::new(2 * model.max_shift + 1, max_len + 2 * model.max_shift + 1, width);
     let shifts = model.shifts();
     let mut outputs: Vec<Outputs> = Vec::new();
     let (mut inputs, mut batch, mut scratch): (Vec<Vec<f32>>, Vec<f32>, Vec<f32>) =
@@ -53,8 +52,6 @@ pub fn pruned(
     let mut ends: Vec<usize> = Vec::new();
     for (k, &start) in starts.iter().enumerate() {
         progress(k as f64 / starts.len().max(1) as f64)?;
-        let oldest = start.saturating_sub(model.max_shift);
-        cache = cache.split_off(&(oldest, 0));
         ends.clear();
         ends.extend(starts.iter().copied().filter(|&e| e >= start + min_len && e <= start + max_len));
         if ends.is_empty() {
@@ -66,11 +63,9 @@ pub fn pruned(
             for &end in &ends {
                 for j in -s..=s {
                     let (a, b) = segment(end, i, j);
-                    cache.entry((a, b)).or_insert_with(|| {
-                        let mut z = vec![0.0; width];
-                        projector.project(pool, a, b, &mut z);
-                        z
-                    });
+                    if let Some(z) = window.claim(a, b) {
+                        projector.project(pool, a, b, z);
+                    }
                 }
             }
         }
@@ -83,7 +78,8 @@ pub fn pruned(
                     input.clear();
                 }
                 for &end in &ends {
-                    let z = &cache[&segment(end, i, j)];
+                    let (a, b) = segment(end, i, j);
+                    let z = window.get(a, b);
                     let mut at = 0;
                     for (input, f) in inputs.iter_mut().zip(&model.factors) {
                         input.extend_from_slice(&z[at..at + f.components]);
@@ -104,6 +100,60 @@ pub fn pruned(
         }
     }
     Ok(map)
+}
+
+/// The projected inputs of the segments `a..=b` a start's candidates read, kept while a later
+/// start may read them again: every start `a` they hold lies within the current start ± s, so
+/// `rows` = 2s + 1 rows suffice, row `a mod rows` and column `b − a` — no hashing, no allocation.
+/// A row is emptied when a later `a` takes it over; the `a` it held is then below every later
+/// start − s, never read again.
+struct Window {
+    rows: usize,
+    lengths: usize,
+    width: usize,
+    /// The `a` each row holds (`usize::MAX`: none yet).
+    held: Vec<usize>,
+    filled: Vec<bool>,
+    z: Vec<f32>,
+}
+
+impl Window {
+    fn new(rows: usize, lengths: usize, width: usize) -> Window {
+        Window {
+            rows,
+            lengths,
+            width,
+            held: vec![usize::MAX; rows],
+            filled: vec![false; rows * lengths],
+            z: vec![0.0; rows * lengths * width],
+        }
+    }
+
+    fn index(&self, a: usize, b: usize) -> usize {
+        debug_assert!(b > a && b - a < self.lengths);
+        (a % self.rows) * self.lengths + (b - a)
+    }
+
+    /// The place of segment `a..=b` to project it into, or `None` when it holds it already.
+    fn claim(&mut self, a: usize, b: usize) -> Option<&mut [f32]> {
+        let row = a % self.rows;
+        if self.held[row] != a {
+            self.held[row] = a;
+            self.filled[row * self.lengths..(row + 1) * self.lengths].fill(false);
+        }
+        let k = self.index(a, b);
+        if std::mem::replace(&mut self.filled[k], true) {
+            return None;
+        }
+        Some(&mut self.z[k * self.width..(k + 1) * self.width])
+    }
+
+    /// The projected inputs of `a..=b`, claimed and projected before.
+    fn get(&self, a: usize, b: usize) -> &[f32] {
+        let k = self.index(a, b);
+        debug_assert!(self.held[a % self.rows] == a && self.filled[k]);
+        &self.z[k * self.width..(k + 1) * self.width]
+    }
 }
 
 /// One start row of projected inputs: per factor, `lengths × components` values for the
