@@ -4,7 +4,7 @@
 //! so that `make bench-wasm` times the same frames in Chromium. Prints times, not a test.
 //!
 //! ```text
-//! cargo run --release --example bench_lma -- target/bench/sssm-sequence-30hz.bvh [--reps 3]
+//! cargo run --release --example bench_lma -- target/bench/sssm-sequence-30hz.bvh [--reps 3] [--only pruned|exhaustive]
 //! ```
 
 #[cfg(target_arch = "wasm32")]
@@ -34,11 +34,19 @@ fn run() -> Result<(), String> {
         Some(k) => args.get(k + 1).and_then(|r| r.parse().ok()).ok_or("--reps N")?,
         None => 3,
     };
+    let only = match args.iter().position(|a| a == "--only") {
+        Some(k) => match args.get(k + 1).map(String::as_str) {
+            Some("pruned") => Some(false),
+            Some("exhaustive") => Some(true),
+            _ => return Err("--only pruned|exhaustive".into()),
+        },
+        None => None,
+    };
     let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
     let bvh = mocapseg::bvh::parse(&text).map_err(|e| format!("{path}: {e}"))?;
     let full = Motion::from_bvh("bench sequence", &bvh).map_err(|e| e.to_string())?;
     let model = mocapseg::methods::lma::shipped_model()?;
-    for exhaustive in [false, true] {
+    for exhaustive in [false, true].into_iter().filter(|&e| only.is_none_or(|o| o == e)) {
         let params = LmaParams { exhaustive, ..LmaParams::default() };
         let mut base = None;
         for frames in [750usize, 1500, 3000] {

@@ -11,7 +11,9 @@
 //!
 //! The paper segments each arm on its own and merges the two segmentations (§4.2). So that one
 //! set of classifiers serves both arms, each arm is given as a right arm: the left arm is
-//! mirrored through the sagittal plane (`x → −x`). Each arm holds its shoulder, elbow and hand.
+//! mirrored through the sagittal plane (`x → −x`). Each arm holds its shoulder, elbow and hand,
+//! and the upper body both arms share ("the upper body's joints", §4), as that arm sees it —
+//! mirrored with it: the head relative to the sternum and the torso's direction (hips to chest).
 
 use glam::DVec3;
 
@@ -41,11 +43,16 @@ impl Side {
 }
 
 /// One arm's trajectories at the working rate: per joint of [`ARM_JOINTS`] one position per
-/// frame, sternum-relative, facing-aligned, in arm bones, mirrored to a right arm.
+/// frame, sternum-relative, facing-aligned, in arm bones, mirrored to a right arm; and the shared
+/// upper body, mirrored alike.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Arm {
     pub side: Side,
     pub joints: [Vec<DVec3>; 3],
+    /// The head relative to the sternum (arm bones).
+    pub head: Vec<DVec3>,
+    /// The torso's direction, hips to chest (unit length; straight up where they coincide).
+    pub torso: Vec<DVec3>,
 }
 
 impl Arm {
@@ -69,7 +76,7 @@ pub struct UpperBody {
     pub bone: f64,
 }
 
-const JOINTS: [Canonical; 7] = [
+const JOINTS: [Canonical; 9] = [
     Canonical::Chest,
     Canonical::LeftShoulder,
     Canonical::LeftElbow,
@@ -77,7 +84,11 @@ const JOINTS: [Canonical; 7] = [
     Canonical::RightShoulder,
     Canonical::RightElbow,
     Canonical::RightHand,
+    Canonical::Head,
+    Canonical::Hips,
 ];
+const HEAD: usize = 7;
+const HIPS: usize = 8;
 
 /// The normalised arms of `motion` resampled to `fps` (see the module documentation).
 pub fn upper_body(motion: &Motion, fps: f64) -> Result<UpperBody, EndEffectorError> {
@@ -104,7 +115,10 @@ pub fn upper_body(motion: &Motion, fps: f64) -> Result<UpperBody, EndEffectorErr
         let mirror = if side == Side::Left { DVec3::new(-1.0, 1.0, 1.0) } else { DVec3::ONE };
         let joints =
             std::array::from_fn(|k| (0..frames).map(|t| (at(t, first + k) - at(t, 0)) / bone * mirror).collect());
-        Arm { side, joints }
+        let head = (0..frames).map(|t| (at(t, HEAD) - at(t, 0)) / bone * mirror).collect();
+        let torso =
+            (0..frames).map(|t| ((at(t, 0) - at(t, HIPS)) * mirror).try_normalize().unwrap_or(DVec3::Y)).collect();
+        Arm { side, joints, head, torso }
     };
     Ok(UpperBody {
         arms: [arm(Side::Left, 1), arm(Side::Right, 4)],
@@ -138,5 +152,12 @@ mod tests {
             assert!(x < -0.1, "{:?}: shoulder x {x}", arm.side);
         }
         assert_eq!(body.source_frames.len(), body.arms[0].frames());
+        // the shared upper body: the head above the sternum, the torso near upright, mirrored with each arm
+        let [left, right] = &body.arms;
+        for t in (0..left.frames()).step_by(17) {
+            assert!(left.head[t].y > 0.2 && (left.torso[t].length() - 1.0).abs() < 1e-9 && left.torso[t].y > 0.7);
+            assert!((left.head[t].x + right.head[t].x).abs() < 1e-12 && left.head[t].y == right.head[t].y);
+            assert!((left.torso[t].x + right.torso[t].x).abs() < 1e-12 && left.torso[t].z == right.torso[t].z);
+        }
     }
 }

@@ -1,8 +1,11 @@
-//! The kinematic feature pool of Bouchard & Badler's LMA Effort classifiers (their §4, Fig. 1):
-//! per-frame kinematic quantities of a joint ([`Kinematics`], shared with the other methods in
-//! [`crate::features::kinematics`]: speed, acceleration, jerk, curvature, distance from the torso), each weighted to emphasise the beginning, middle or end of
-//! a candidate segment ([`Weighting`]) and reduced to one scalar by a statistic ([`Stat`]: mean,
-//! sum, max, min, standard deviation).
+//! The kinematic feature pool of Bouchard & Badler's LMA Effort classifiers (their §4, Fig. 1:
+//! "features derived from the positions and orientations of the upper body's joints"): per-frame
+//! series of an arm and the upper body it shares ([`SERIES`]: the shoulder's, elbow's, hand's and
+//! head's positions and kinematic quantities — [`Kinematics`], shared with the other methods in
+//! [`crate::features::kinematics`]: speed, acceleration, jerk, curvature, distance from the torso —
+//! and the orientations of the arm, torso and head: angles and angular speeds), each weighted to
+//! emphasise the beginning, middle or end of a candidate segment ([`Weighting`]) and reduced to one
+//! scalar by a statistic ([`Stat`]: mean, sum, max, min, standard deviation).
 //!
 //! The segmentation scores every candidate segment between 0.67 s and 3.33 s — the exhaustive
 //! search is tens of thousands of candidates per take — so a candidate's features must cost O(1)
@@ -10,7 +13,11 @@
 //! linear in `t` on each half of the segment, so its weighted sums follow from those) and sparse
 //! tables for range maxima and minima. Weighted max / min are the max / min of the unweighted
 //! values (a weight that varies along the segment has no O(1) range maximum); the paper leaves
-//! which combinations its 4500 permutations hold unstated.
+//! which combinations its 4500 permutations hold unstated. A [`Plan`] groups the features a
+//! classifier family reads by series, so that [`Pool::fill`] reads each series' range sums once
+//! per segment and derives all of its statistics from them.
+
+use glam::DVec3;
 
 pub use crate::features::kinematics::Kinematics;
 
@@ -45,10 +52,44 @@ pub enum Stat {
 /// Cumulative sums and range-extremum tables of one per-frame series, for O(1) segment statistics.
 #[derive(Debug, Clone)]
 pub struct Prefix {
-    /// `c[k][i]` = Σ over frames `< i` of `x`, `t·x`, `x²`, `t·x²`, `1`, `t` (k = 0..6).
-    c: [Vec<f64>; 6],
+    /// `c[i]` = Σ over frames `< i` of `x`, `t·x`, `x²`, `t·x²` (interleaved: one segment end is
+    /// one cache line; the sums of `1` and `t` are closed forms, [`Sums::of`]).
+    c: Vec<[f64; 4]>,
     max: Vec<Vec<f64>>,
     min: Vec<Vec<f64>>,
+}
+
+/// The range sums of one series over frames `a..b` from which every weighted statistic follows.
+#[derive(Debug, Clone, Copy, Default)]
+struct Sums {
+    /// Σ 1, Σ t, Σ x, Σ t·x, Σ x², Σ t·x².
+    n: f64,
+    t: f64,
+    x: f64,
+    tx: f64,
+    x2: f64,
+    tx2: f64,
+}
+
+impl Sums {
+    fn of(c: &[[f64; 4]], a: usize, b: usize) -> Sums {
+        // Σ_{t<k} t = k(k − 1)/2: integers, exact in f64 like the prefix sums they replace
+        let below = |k: usize| (k * k.saturating_sub(1) / 2) as f64;
+        let (p, q) = (&c[a], &c[b]);
+        Sums {
+            n: (b - a) as f64,
+            t: below(b) - below(a),
+            x: q[0] - p[0],
+            tx: q[1] - p[1],
+            x2: q[2] - p[2],
+            tx2: q[3] - p[3],
+        }
+    }
+
+    /// `(Σ w, Σ w x, Σ w x²)` for the weight `w(t) = p + q·t`.
+    fn linear(&self, p: f64, q: f64) -> (f64, f64, f64) {
+        (p * self.n + q * self.t, p * self.x + q * self.tx, p * self.x2 + q * self.tx2)
+    }
 }
 
 impl Prefix {
@@ -61,12 +102,12 @@ impl Prefix {
     /// `log2(longest)` levels instead of `log2(frames)`: a long take's memory stays linear).
     pub fn up_to(x: &[f64], longest: usize) -> Prefix {
         let n = x.len();
-        let mut c: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; n + 1]);
+        let mut c = vec![[0.0; 4]; n + 1];
         for (t, &v) in x.iter().enumerate() {
             let tf = t as f64;
-            let terms = [v, tf * v, v * v, tf * v * v, 1.0, tf];
-            for (k, term) in terms.iter().enumerate() {
-                c[k][t + 1] = c[k][t] + term;
+            let terms = [v, tf * v, v * v, tf * v * v];
+            for k in 0..4 {
+                c[t + 1][k] = c[t][k] + terms[k];
             }
         }
         let table = |pick: fn(f64, f64) -> f64| {
@@ -83,17 +124,11 @@ impl Prefix {
         Prefix { c, max: table(f64::max), min: table(f64::min) }
     }
 
-    /// Σ over frames `a..b` (exclusive) of term `k`.
-    fn range(&self, k: usize, a: usize, b: usize) -> f64 {
-        self.c[k][b] - self.c[k][a]
-    }
-
-    /// `(Σ w, Σ w x, Σ w x²)` over frames `a..b` for the weight `w(t) = p + q·t`.
-    fn linear(&self, a: usize, b: usize, p: f64, q: f64) -> (f64, f64, f64) {
-        let w = p * self.range(4, a, b) + q * self.range(5, a, b);
-        let wx = p * self.range(0, a, b) + q * self.range(1, a, b);
-        let wx2 = p * self.range(2, a, b) + q * self.range(3, a, b);
-        (w, wx, wx2)
+    /// Bytes per frame of the tables for segments of at most `longest` frames: the four sums and
+    /// one value per extremum table level, in f64.
+    pub fn bytes_per_frame(longest: usize) -> usize {
+        let levels = (usize::BITS - longest.max(1).leading_zeros()) as usize;
+        (4 + 2 * levels) * 8
     }
 
     fn extremum(levels: &[Vec<f64>], a: usize, b: usize, pick: fn(f64, f64) -> f64) -> f64 {
@@ -113,30 +148,28 @@ impl Prefix {
         pick(levels[level][a], levels[level][b - (1 << level)])
     }
 
-    /// The statistic `stat` of the series weighted by `weighting` over the segment of frames
-    /// `start..=end` (`start ≤ end` inside the series), in O(1).
-    pub fn stat(&self, start: usize, end: usize, weighting: Weighting, stat: Stat) -> f64 {
-        let (a, b) = (start, end + 1);
-        match stat {
-            Stat::Max => return Self::extremum(&self.max, a, b, f64::max),
-            Stat::Min => return Self::extremum(&self.min, a, b, f64::min),
-            _ => {}
-        }
+    /// `(Σ w, Σ w x, Σ w x²)` of `weighting` over the segment `start..=end`, from the range sums of
+    /// the whole segment (`all`) and, for [`Weighting::Middle`], of its halves.
+    fn weighted(&self, start: usize, end: usize, weighting: Weighting, all: &Sums) -> (f64, f64, f64) {
         // u(t) = (t − start) / span; every weighting is linear in t on [start, mid] and [mid, end]
         let span = (end - start).max(1) as f64;
         let s = start as f64;
-        let (w, wx, wx2) = match weighting {
-            Weighting::Uniform => self.linear(a, b, 1.0, 0.0),
-            Weighting::End => self.linear(a, b, -s / span, 1.0 / span),
-            Weighting::Beginning => self.linear(a, b, 1.0 + s / span, -1.0 / span),
+        match weighting {
+            Weighting::Uniform => all.linear(1.0, 0.0),
+            Weighting::End => all.linear(-s / span, 1.0 / span),
+            Weighting::Beginning => all.linear(1.0 + s / span, -1.0 / span),
             Weighting::Middle => {
                 // 2u on the first half, 2 − 2u on the second (the middle frame in the first)
                 let mid = start + (end - start) / 2;
-                let first = self.linear(a, mid + 1, -2.0 * s / span, 2.0 / span);
-                let second = self.linear(mid + 1, b, 2.0 + 2.0 * s / span, -2.0 / span);
+                let first = Sums::of(&self.c, start, mid + 1).linear(-2.0 * s / span, 2.0 / span);
+                let second = Sums::of(&self.c, mid + 1, end + 1).linear(2.0 + 2.0 * s / span, -2.0 / span);
                 (first.0 + second.0, first.1 + second.1, first.2 + second.2)
             }
-        };
+        }
+    }
+
+    /// A mean, sum or standard deviation from its weighted sums.
+    fn reduce(stat: Stat, (w, wx, wx2): (f64, f64, f64)) -> f64 {
         match stat {
             Stat::Sum => wx,
             Stat::Mean if w > 0.0 => wx / w,
@@ -144,13 +177,141 @@ impl Prefix {
             _ => 0.0,
         }
     }
+
+    /// The statistic `stat` of the series weighted by `weighting` over the segment of frames
+    /// `start..=end` (`start ≤ end` inside the series), in O(1).
+    pub fn stat(&self, start: usize, end: usize, weighting: Weighting, stat: Stat) -> f64 {
+        let (a, b) = (start, end + 1);
+        match stat {
+            Stat::Max => Self::extremum(&self.max, a, b, f64::max),
+            Stat::Min => Self::extremum(&self.min, a, b, f64::min),
+            _ => Self::reduce(stat, self.weighted(start, end, weighting, &Sums::of(&self.c, a, b))),
+        }
+    }
 }
 
-/// The per-frame quantities of every joint of an arm (Fig. 1's "kinematic features"): its
-/// position (`x` lateral, `y` up, `z` forward), distance from the sternum, speed, acceleration,
-/// jerk and `ln(1 + curvature)` (curvature spikes where the joint nearly stops; the logarithm
-/// keeps one spike from dominating a segment's statistics).
+/// The per-frame quantities of every joint of an arm and of the head (Fig. 1's "kinematic
+/// features"): its position (`x` lateral, `y` up, `z` forward), distance from the sternum, speed,
+/// acceleration, jerk and `ln(1 + curvature)` (curvature spikes where the joint nearly stops; the
+/// logarithm keeps one spike from dominating a segment's statistics).
 pub const QUANTITIES: [&str; 8] = ["x", "y", "z", "distance", "speed", "acceleration", "jerk", "curvature"];
+
+/// The orientations of the arm (radians, rad/s), after the joints' quantities: the elbow's
+/// flexion (angle between upper arm and forearm, 0 straight) and its rate of change; the
+/// elevation of the upper arm at the shoulder and of the forearm (angle from hanging straight down);
+/// how fast the upper arm and the forearm turn (angle between their directions one frame before
+/// and one after, per second).
+pub const ARM_ORIENTATIONS: [&str; 6] = [
+    "elbow flexion",
+    "elbow flexion speed",
+    "shoulder elevation",
+    "forearm elevation",
+    "upper arm angular speed",
+    "forearm angular speed",
+];
+
+/// The torso's and head's orientations (radians, rad/s), after the head's quantities: the torso's
+/// lean from upright, forwards (signed, + forwards) and sideways (signed, + towards this arm), how
+/// fast it turns, its twist (this shoulder forward of the sternum, +), the head's tilt from the
+/// torso's direction and how fast the head (sternum to head) turns.
+pub const TORSO_ORIENTATIONS: [&str; 7] = [
+    "torso lean",
+    "torso forward lean",
+    "torso side lean",
+    "torso angular speed",
+    "torso twist",
+    "head tilt",
+    "head angular speed",
+];
+
+/// Per-frame series of an arm's pool, in order: the shoulder's, elbow's and hand's
+/// [`QUANTITIES`] (the pool of families trained before the orientations: their feature indices
+/// keep their meaning), the [`ARM_ORIENTATIONS`], the head's [`QUANTITIES`], the
+/// [`TORSO_ORIENTATIONS`].
+pub const SERIES: usize = 3 * QUANTITIES.len() + ARM_ORIENTATIONS.len() + QUANTITIES.len() + TORSO_ORIENTATIONS.len();
+
+/// The name of series `k` (of [`SERIES`]): `hand speed`, `elbow flexion`, `head y`.
+pub fn series_name(k: usize) -> String {
+    let joints = 3 * QUANTITIES.len();
+    let arm = joints + ARM_ORIENTATIONS.len();
+    let head = arm + QUANTITIES.len();
+    if k < joints {
+        format!("{} {}", super::body::ARM_JOINTS[k / QUANTITIES.len()], QUANTITIES[k % QUANTITIES.len()])
+    } else if k < arm {
+        ARM_ORIENTATIONS[k - joints].to_string()
+    } else if k < head {
+        format!("head {}", QUANTITIES[k - arm])
+    } else {
+        TORSO_ORIENTATIONS[k - head].to_string()
+    }
+}
+
+/// The angle between two directions (0 where either has no length).
+fn angle(a: DVec3, b: DVec3) -> f64 {
+    if a.length_squared() > 1e-18 && b.length_squared() > 1e-18 {
+        a.angle_between(b)
+    } else {
+        0.0
+    }
+}
+
+/// How fast the directions `d` turn (rad/s at `fps`): the angle between the direction a frame
+/// before and a frame after, over the two frames (one-sided at the ends), as
+/// [`crate::features::kinematics::derivative`] differentiates positions.
+fn angular_speed(d: &[DVec3], fps: f64) -> Vec<f64> {
+    let n = d.len();
+    (0..n)
+        .map(|i| match (i.checked_sub(1), (i + 1 < n).then_some(i + 1)) {
+            (Some(a), Some(b)) => angle(d[a], d[b]) * fps / 2.0,
+            (None, Some(b)) => angle(d[i], d[b]) * fps,
+            (Some(a), None) => angle(d[a], d[i]) * fps,
+            (None, None) => 0.0,
+        })
+        .collect()
+}
+
+/// The rate of change of a scalar series, by the same differences (absolute, per second).
+fn rate(x: &[f64], fps: f64) -> Vec<f64> {
+    let points: Vec<DVec3> = x.iter().map(|&v| DVec3::new(v, 0.0, 0.0)).collect();
+    crate::features::kinematics::derivative(&points, fps).iter().map(|v| v.x.abs()).collect()
+}
+
+/// A joint's [`QUANTITIES`], in order.
+fn quantities(joint: &[DVec3], fps: f64) -> [Vec<f64>; 8] {
+    let k = Kinematics::of(joint, fps);
+    let axis = |a: usize| joint.iter().map(|p| p[a]).collect::<Vec<f64>>();
+    let curvature: Vec<f64> = k.curvature.iter().map(|c| c.ln_1p()).collect();
+    [axis(0), axis(1), axis(2), k.distance, k.speed, k.acceleration, k.jerk, curvature]
+}
+
+/// Every series of `arm`'s pool (see [`SERIES`]), one value per frame.
+pub fn series_of(arm: &super::body::Arm, fps: f64) -> Vec<Vec<f64>> {
+    let [shoulder, elbow, hand] = &arm.joints;
+    let mut out: Vec<Vec<f64>> = Vec::with_capacity(SERIES);
+    for joint in &arm.joints {
+        out.extend(quantities(joint, fps));
+    }
+    let bone = |from: &[DVec3], to: &[DVec3]| from.iter().zip(to).map(|(a, b)| *b - *a).collect::<Vec<DVec3>>();
+    let (upper, fore) = (bone(shoulder, elbow), bone(elbow, hand));
+    let flexion: Vec<f64> = upper.iter().zip(&fore).map(|(u, f)| angle(*u, *f)).collect();
+    let flexion_speed = rate(&flexion, fps);
+    let elevation = |d: &[DVec3]| d.iter().map(|v| angle(*v, DVec3::NEG_Y)).collect::<Vec<f64>>();
+    out.extend([flexion, flexion_speed, elevation(&upper), elevation(&fore)]);
+    out.extend([angular_speed(&upper, fps), angular_speed(&fore, fps)]);
+    out.extend(quantities(&arm.head, fps));
+    let torso = &arm.torso;
+    let each = |f: &dyn Fn(&DVec3) -> f64| torso.iter().map(f).collect::<Vec<f64>>();
+    out.push(each(&|d| angle(*d, DVec3::Y)));
+    out.push(each(&|d| f64::atan2(d.z, d.y)));
+    // the arm's side is −x (a right arm, or a left one mirrored): + towards it
+    out.push(each(&|d| f64::atan2(-d.x, d.y)));
+    out.push(angular_speed(torso, fps));
+    out.push(shoulder.iter().map(|p| f64::atan2(p.z, -p.x)).collect());
+    out.push(arm.head.iter().zip(torso).map(|(h, d)| angle(*h, *d)).collect());
+    out.push(angular_speed(&arm.head, fps));
+    debug_assert_eq!(out.len(), SERIES);
+    out
+}
 
 /// The statistics taken of every quantity: mean, sum and standard deviation under each of the four
 /// weightings, and the (unweighted) maximum and minimum.
@@ -171,8 +332,13 @@ pub const STATISTICS: [(Weighting, Stat); 14] = [
     (Weighting::Uniform, Stat::Min),
 ];
 
-/// Size of the feature pool: joints × quantities × statistics.
-pub const POOL_SIZE: usize = 3 * QUANTITIES.len() * STATISTICS.len();
+/// Size of the feature pool: series × statistics.
+pub const POOL_SIZE: usize = SERIES * STATISTICS.len();
+
+/// Bytes per frame of one arm's pool for segments of at most `longest` frames.
+pub fn pool_bytes_per_frame(longest: usize) -> usize {
+    SERIES * Prefix::bytes_per_frame(longest)
+}
 
 /// The feature pool of one arm of a take: every feature of any segment in O(1).
 #[derive(Debug, Clone)]
@@ -184,15 +350,7 @@ pub struct Pool {
 impl Pool {
     /// The pool of `arm` at `fps`, for segments of at most `longest` frames.
     pub fn of(arm: &super::body::Arm, fps: f64, longest: usize) -> Pool {
-        let mut series = Vec::with_capacity(3 * QUANTITIES.len());
-        for joint in &arm.joints {
-            let k = Kinematics::of(joint, fps);
-            let axis = |a: usize| joint.iter().map(|p| p[a]).collect::<Vec<f64>>();
-            let curvature: Vec<f64> = k.curvature.iter().map(|c| c.ln_1p()).collect();
-            for values in [axis(0), axis(1), axis(2), k.distance, k.speed, k.acceleration, k.jerk, curvature] {
-                series.push(Prefix::up_to(&values, longest));
-            }
-        }
+        let series = series_of(arm, fps).iter().map(|values| Prefix::up_to(values, longest)).collect();
         Pool { series, frames: arm.frames() }
     }
 
@@ -214,17 +372,127 @@ impl Pool {
         }
     }
 
-    /// The name of feature `index`: `hand speed, max` or `elbow y, mean (beginning)`.
+    /// The features of `plan` of the segment `start..=end` into `out` (one per slot of the plan,
+    /// [`Plan::len`]): each series' range sums read once and every statistic of it derived from
+    /// them — the same values as [`Pool::feature`] of each, at a fraction of the reads.
+    pub fn fill(&self, plan: &Plan, start: usize, end: usize, out: &mut [f64]) {
+        let (a, b) = (start, end + 1);
+        for g in &plan.groups {
+            let p = &self.series[g.series];
+            let all = Sums::of(&p.c, a, b);
+            // per weighting: sum, mean, standard deviation, as Prefix::reduce computes them
+            let mut values = [0.0f64; 12];
+            for (k, weighting) in WEIGHTINGS.into_iter().enumerate() {
+                if g.weightings & (1 << k) != 0 {
+                    let (w, wx, wx2) = p.weighted(start, end, weighting, &all);
+                    values[3 * k] = wx;
+                    if w > 0.0 {
+                        let mean = wx / w;
+                        values[3 * k + 1] = mean;
+                        if g.deviations & (1 << k) != 0 {
+                            values[3 * k + 2] = (wx2 / w - mean * mean).max(0.0).sqrt();
+                        }
+                    }
+                }
+            }
+            for (slot, &op) in g.slots.clone().zip(&plan.ops[g.slots.clone()]) {
+                out[slot] = match op {
+                    Plan::MAX => Prefix::extremum(&p.max, a, b, f64::max),
+                    Plan::MIN => Prefix::extremum(&p.min, a, b, f64::min),
+                    k => values[k as usize],
+                };
+            }
+        }
+    }
+
+    /// The name of feature `index`: `hand speed, max`, `elbow y, mean (beginning)` or
+    /// `torso lean, std (end)`.
     pub fn name(index: usize) -> String {
         let (weighting, stat) = STATISTICS[index % STATISTICS.len()];
-        let series = index / STATISTICS.len();
-        let joint = super::body::ARM_JOINTS[series / QUANTITIES.len()];
-        let quantity = QUANTITIES[series % QUANTITIES.len()];
+        let series = series_name(index / STATISTICS.len());
         let stat = format!("{stat:?}").to_lowercase();
         match (stat.as_str(), weighting) {
-            ("max" | "min", _) | (_, Weighting::Uniform) => format!("{joint} {quantity}, {stat}"),
-            _ => format!("{joint} {quantity}, {stat} ({})", format!("{weighting:?}").to_lowercase()),
+            ("max" | "min", _) | (_, Weighting::Uniform) => format!("{series}, {stat}"),
+            _ => format!("{series}, {stat} ({})", format!("{weighting:?}").to_lowercase()),
         }
+    }
+}
+
+/// The four weightings in the order of their discriminants.
+const WEIGHTINGS: [Weighting; 4] = [Weighting::Uniform, Weighting::Beginning, Weighting::Middle, Weighting::End];
+
+/// Which statistics of which series a set of pool features needs, grouped by series, so that
+/// [`Pool::fill`] reads each series' range sums once per segment however many of its statistics
+/// (and however many factors) ask for them. Made once per classifier family.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The distinct pool features, one slot each, ordered by series.
+    features: Vec<u16>,
+    /// What each slot reads: `3·w + {0 sum, 1 mean, 2 std}` for weighting `w` of [`WEIGHTINGS`],
+    /// or [`Plan::MAX`] / [`Plan::MIN`].
+    ops: Vec<u8>,
+    groups: Vec<Group>,
+}
+
+/// One series a plan reads: the weightings whose sums it needs (bit `k` for [`WEIGHTINGS`]`[k]`),
+/// those of them whose standard deviation it needs, and its slots.
+#[derive(Debug, Clone, PartialEq)]
+struct Group {
+    series: usize,
+    weightings: u8,
+    deviations: u8,
+    slots: std::ops::Range<usize>,
+}
+
+impl Plan {
+    /// The plan of `features` (pool indices; repeats share a slot).
+    pub fn new(features: impl IntoIterator<Item = u16>) -> Plan {
+        let mut features: Vec<u16> = features.into_iter().collect();
+        features.sort_unstable();
+        features.dedup();
+        let mut groups: Vec<Group> = Vec::new();
+        let mut ops = Vec::with_capacity(features.len());
+        for (slot, &k) in features.iter().enumerate() {
+            let series = k as usize / STATISTICS.len();
+            let (weighting, stat) = STATISTICS[k as usize % STATISTICS.len()];
+            if groups.last().is_none_or(|g| g.series != series) {
+                groups.push(Group { series, weightings: 0, deviations: 0, slots: slot..slot });
+            }
+            let g = groups.last_mut().expect("just pushed");
+            g.slots.end = slot + 1;
+            let w = weighting as u8;
+            ops.push(match stat {
+                Stat::Max => Plan::MAX,
+                Stat::Min => Plan::MIN,
+                Stat::Sum => 3 * w,
+                Stat::Mean => 3 * w + 1,
+                Stat::Std => 3 * w + 2,
+            });
+            if !matches!(stat, Stat::Max | Stat::Min) {
+                g.weightings |= 1 << w;
+            }
+            if stat == Stat::Std {
+                g.deviations |= 1 << w;
+            }
+        }
+        Plan { features, ops, groups }
+    }
+
+    const MAX: u8 = 12;
+    const MIN: u8 = 13;
+
+    /// Slots (distinct features).
+    pub fn len(&self) -> usize {
+        self.features.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.features.is_empty()
+    }
+
+    /// The slot of pool feature `feature`, if the plan holds it.
+    pub fn slot(&self, feature: u16) -> Option<usize> {
+        self.features.binary_search(&feature).ok()
     }
 }
 
@@ -233,7 +501,7 @@ mod tests {
     use super::*;
     use crate::stats::Rng;
 
-    fn close(a: f64, b: f64, tol: f64) -> bool {
+    pub(super) fn close(a: f64, b: f64, tol: f64) -> bool {
         (a - b).abs() <= tol * (1.0 + b.abs())
     }
 
@@ -303,6 +571,7 @@ mod tests {
 
 #[cfg(test)]
 mod pool_tests {
+    use super::tests::close;
     use super::*;
     use crate::methods::lma::body::{Arm, Side};
     use glam::DVec3;
@@ -312,7 +581,12 @@ mod pool_tests {
         // the hand moves along x at 2 bones/s, the elbow stays, the shoulder sits 1 bone up
         let frames = 61;
         let hand: Vec<DVec3> = (0..frames).map(|t| DVec3::new(2.0 * t as f64 / 30.0, 0.0, 0.5)).collect();
-        let arm = Arm { side: Side::Right, joints: [vec![DVec3::Y; frames], vec![DVec3::ZERO; frames], hand] };
+        let arm = Arm {
+            side: Side::Right,
+            joints: [vec![DVec3::Y; frames], vec![DVec3::ZERO; frames], hand],
+            head: vec![DVec3::Y * 1.5; frames],
+            torso: vec![DVec3::Y; frames],
+        };
         let pool = Pool::of(&arm, 30.0, 40);
         let index = |joint: usize, quantity: &str, stat: (Weighting, Stat)| {
             let q = QUANTITIES.iter().position(|&n| n == quantity).unwrap();
@@ -332,6 +606,109 @@ mod pool_tests {
         let mut out = vec![0.0f32; 2];
         pool.features(&[speed_max as u16, x_end as u16], 10, 50, &mut out);
         assert_eq!(out[0], pool.feature(speed_max, 10, 50) as f32);
-        assert_eq!(POOL_SIZE, 336);
+        assert_eq!(POOL_SIZE, 45 * 14);
+    }
+
+    /// The plan's batched statistics are the per-feature ones: random feature sets (repeats and
+    /// all four weightings of a series among them), random segments of a random arm.
+    #[test]
+    fn a_plan_fills_the_features_one_at_a_time_would_give() {
+        let mut rng = crate::stats::Rng::new(29);
+        let frames = 400;
+        let mut walk = |scale: f64| {
+            let mut p = DVec3::ZERO;
+            (0..frames)
+                .map(|_| {
+                    p += DVec3::new(
+                        rng.next_f32() as f64 - 0.5,
+                        rng.next_f32() as f64 - 0.5,
+                        rng.next_f32() as f64 - 0.5,
+                    ) * scale;
+                    p
+                })
+                .collect::<Vec<_>>()
+        };
+        let arm = Arm {
+            side: Side::Right,
+            joints: [walk(0.01), walk(0.05), walk(0.1)],
+            head: walk(0.02),
+            torso: walk(0.01).iter().map(|d| (*d + DVec3::Y).normalize()).collect(),
+        };
+        let pool = Pool::of(&arm, 30.0, 111);
+        for round in 0..20 {
+            let count = 1 + rng.below(if round == 0 { POOL_SIZE } else { 120 });
+            let which: Vec<u16> = if round == 0 {
+                (0..POOL_SIZE as u16).collect()
+            } else {
+                (0..count).map(|_| rng.below(POOL_SIZE) as u16).collect()
+            };
+            let plan = Plan::new(which.iter().copied());
+            let mut out = vec![f64::NAN; plan.len()];
+            for _ in 0..50 {
+                let start = rng.below(frames - 2);
+                let end = (start + rng.below(120)).min(frames - 1);
+                pool.fill(&plan, start, end, &mut out);
+                for &k in &which {
+                    let (fast, slow) = (out[plan.slot(k).unwrap()], pool.feature(k as usize, start, end));
+                    assert!(
+                        close(fast, slow, 1e-12),
+                        "{} of {start}..={end}: {fast} vs {slow}",
+                        Pool::name(k as usize)
+                    );
+                }
+            }
+        }
+        assert_eq!(Plan::new([5, 5, 3]).len(), 2);
+        assert_eq!(Plan::new([5, 5, 3]).slot(4), None);
+    }
+
+    /// The orientations of an analytic pose: the upper arm hanging, the forearm swinging forwards
+    /// and up about the elbow at 1 rad/s, the torso leaning 0.3 rad forwards and the head tilted.
+    #[test]
+    fn the_pool_reads_the_orientations_of_the_arm_and_the_upper_body() {
+        let (frames, fps) = (61, 30.0);
+        let turn = |t: usize| t as f64 / fps; // the forearm's angle from hanging, 1 rad/s
+        let shoulder = DVec3::new(-0.8, 0.0, 0.0);
+        let elbow = shoulder - DVec3::Y;
+        let hand: Vec<DVec3> = (0..frames).map(|t| elbow + DVec3::new(0.0, -turn(t).cos(), turn(t).sin())).collect();
+        let lean = DVec3::new(0.0, 0.3f64.cos(), 0.3f64.sin());
+        let arm = Arm {
+            side: Side::Right,
+            joints: [vec![shoulder; frames], vec![elbow; frames], hand],
+            head: vec![lean * 1.5 + DVec3::new(-0.2, 0.0, 0.0); frames],
+            torso: vec![lean; frames],
+        };
+        let pool = Pool::of(&arm, fps, 40);
+        let index = |series: &str, stat: (Weighting, Stat)| {
+            let k = (0..SERIES).position(|k| series_name(k) == series).unwrap();
+            k * STATISTICS.len() + STATISTICS.iter().position(|&x| x == stat).unwrap()
+        };
+        let read = |series: &str, stat: (Weighting, Stat)| pool.feature(index(series, stat), 10, 50);
+        let (mean, max) = ((Weighting::Uniform, Stat::Mean), (Weighting::Uniform, Stat::Max));
+        // the flexion is the forearm's angle from the upper arm's line: 10/30 ..= 50/30 rad, 1 rad/s
+        assert!((read("elbow flexion", mean) - 1.0).abs() < 1e-9);
+        assert!((read("elbow flexion", max) - 50.0 / 30.0).abs() < 1e-9);
+        assert!((read("elbow flexion speed", mean) - 1.0).abs() < 1e-6);
+        assert!((read("forearm angular speed", mean) - 1.0).abs() < 1e-3);
+        assert!((read("forearm elevation", mean) - 1.0).abs() < 1e-9);
+        assert!(read("shoulder elevation", max).abs() < 1e-9 && read("upper arm angular speed", max).abs() < 1e-9);
+        assert!((read("torso lean", mean) - 0.3).abs() < 1e-9 && (read("torso forward lean", mean) - 0.3).abs() < 1e-9);
+        assert!(read("torso side lean", max).abs() < 1e-9 && read("torso angular speed", max).abs() < 1e-9);
+        // the head sits off the torso's line towards this arm (−x); the shoulder level with the sternum
+        assert!(read("head tilt", mean) > 0.05 && read("head x", mean) < -0.1);
+        assert!(read("torso twist", mean).abs() < 1e-9);
+        let name = Pool::name(index("elbow flexion", (Weighting::Beginning, Stat::Mean)));
+        assert_eq!(name, "elbow flexion, mean (beginning)");
+        assert_eq!(Pool::name(index("head y", max)), "head y, max");
+        // leaning towards this arm's side (−x) and its shoulder forwards are positive
+        let side = DVec3::new(-0.2f64.sin(), 0.2f64.cos(), 0.0);
+        let turned = Arm {
+            torso: vec![side; frames],
+            joints: [vec![DVec3::new(-0.8, 0.0, 0.3); frames], arm.joints[1].clone(), arm.joints[2].clone()],
+            ..arm
+        };
+        let pool = Pool::of(&turned, fps, 40);
+        assert!((pool.feature(index("torso side lean", mean), 0, 60) - 0.2).abs() < 1e-9);
+        assert!((pool.feature(index("torso twist", mean), 0, 60) - 0.3f64.atan2(0.8)).abs() < 1e-9);
     }
 }

@@ -238,16 +238,15 @@ impl Method for Lma {
     }
 
     fn work(&self, params: &Checked) -> Work {
-        // per arm: the feature pool's prefix sums (6 per series) and range-extremum tables (2 per
-        // doubling up to the longest shifted segment) of its 24 series, in f64, and the deviance
+        // per arm: the feature pool's prefix sums (4 per series) and range-extremum tables (2 per
+        // doubling up to the longest shifted segment) of its 45 series, in f64, and the deviance
         // map (f32 per candidate length); besides, both arms' joints and kinematics (2 kB).
         // 9–11 kB per frame at the defaults, measured (tests/limits.rs)
         let fps = params.model.fps;
         let min_len = (params.params.min_s * fps).round() as usize;
         let max_len = (params.params.max_s * fps).round() as usize;
         let longest = max_len + 2 * params.model.max_shift + 1;
-        let levels = (usize::BITS - longest.max(1).leading_zeros()) as usize;
-        let pool = 3 * super::features::QUANTITIES.len() * (6 + 2 * levels) * 8;
+        let pool = super::features::pool_bytes_per_frame(longest);
         let map = 4 * (max_len.saturating_sub(min_len) + 1);
         Work { fps, bytes_per_frame: 2 * (pool + map) + 2_000, fixed_bytes: 8 << 20, advice: "or lower max_s" }
     }

@@ -107,11 +107,18 @@ impl Net {
     /// to it. Rows go in blocks of [`BLOCK`], transposed so that every sum runs over a block at once
     /// (vectorised, no reductions); one scratch allocation per call, so pass many rows per call.
     pub fn forward_batch(&self, x: &[f32], out: &mut [f32]) {
+        self.forward_batch_with(x, out, &mut Vec::new());
+    }
+
+    /// [`Net::forward_batch`] with its scratch in `scratch` (grown as needed, reused across calls).
+    pub fn forward_batch_with(&self, x: &[f32], out: &mut [f32], scratch: &mut Vec<f32>) {
         let (ni, nh, no) = (self.inputs, self.hidden, self.outputs);
         let n = out.len().checked_div(no).unwrap_or(0);
         debug_assert!(out.len() == n * no && x.len() == n * ni);
-        let mut scratch = vec![0.0f32; (ni + nh) * BLOCK];
-        let (xt, ht) = scratch.split_at_mut(ni * BLOCK);
+        if scratch.len() < (ni + nh) * BLOCK {
+            scratch.resize((ni + nh) * BLOCK, 0.0);
+        }
+        let (xt, ht) = scratch[..(ni + nh) * BLOCK].split_at_mut(ni * BLOCK);
         for start in (0..n).step_by(BLOCK) {
             let rows = BLOCK.min(n - start);
             let xb = &x[start * ni..(start + rows) * ni];

@@ -75,7 +75,7 @@ impl Default for TrainConfig {
             variance: 0.95,
             hidden_variance: 0.98,
             widest_hidden: 10,
-            saliency_rounds: 24,
+            saliency_rounds: 64,
             subset: 40,
             validation: 0.2,
             test: 0.2,
