@@ -142,7 +142,7 @@ mod lab {
             // LMA: its two searches, each over its own granularity (the union, not the product: the Effort search
             // reads only `quantile`, the deviance search only `min_rise` and `merge_s`)
             "lma" => {
-                let effort = ["0.7", "0.5", "0.6", "0.8"].map(|q| vec![format!("quantile={q}")]);
+                let effort = ["0.6", "0.5", "0.7", "0.8"].map(|q| vec![format!("quantile={q}")]);
                 let mut settings: Vec<Vec<String>> = vec![vec![]];
                 settings.extend(effort.into_iter().skip(1));
                 for rise in ["0.4", "0.2", "0.6"] {

@@ -148,7 +148,7 @@ fn both_searches_segment_a_take_into_gestures_with_their_effort() {
             assert_eq!((&ids[..], &curves[..]), (&["deviance-left", "deviance-right", "effort"][..], &[][..]));
         } else {
             // the Effort search draws no map (it assesses no candidate segment), but its Effort change along the take
-            assert_eq!((&ids[..], &curves[..]), (&["effort"][..], &["effort-change"][..]));
+            assert_eq!((&ids[..], &curves[..]), (&["effort-change", "effort"][..], &["effort-change"][..]));
             let curve = &out.details.curves[0].values;
             assert!(curve.len() == m.frames() && curve.iter().any(|&v| v > 0.0) && curve.iter().all(|v| v.is_finite()));
         }

@@ -18,14 +18,10 @@
 //!    boundaries at least the shortest segment apart; two chosen boundaries at most the longest segment apart bound a
 //!    segment, farther apart they bound a gap (gestures need not tile the take).
 
-use super::classifier::{EffortModel, Outputs};
+use super::classifier::{EffortModel, Projector};
 use super::features::Pool;
 use crate::method::Cancelled;
 
-/// The family's mean output over `start..=end` of `pool` (eq. 2's `m`), inside the take.
-fn mean_output(model: &EffortModel, pool: &Pool, start: usize, end: usize) -> Outputs {
-    model.assess(pool, start, end).1
-}
 
 /// `g(b)` at each of `boundaries`: the largest change over the arms' `pools` of the family's mean output from the
 /// `window` frames before `b` to the `window` frames after (`0` where either side leaves the take).
@@ -37,6 +33,9 @@ pub fn strengths(
     progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
 ) -> Result<Vec<f64>, Cancelled> {
     let frames = pools.iter().map(Pool::frames).min().unwrap_or(0);
+    let mut projector = Projector::new(model);
+    // the family's mean output over `start..=end` of `pool` (eq. 2's `m`)
+    let mut mean_output = |pool: &Pool, start: usize, end: usize| model.assess_with(&mut projector, pool, start, end).1;
     let mut out = Vec::with_capacity(boundaries.len());
     for (k, &b) in boundaries.iter().enumerate() {
         if k % 8 == 0 {
@@ -49,7 +48,7 @@ pub fn strengths(
         let g = pools
             .iter()
             .map(|pool| {
-                let (before, after) = (mean_output(model, pool, b - window, b), mean_output(model, pool, b, b + window));
+                let (before, after) = (mean_output(pool, b - window, b), mean_output(pool, b, b + window));
                 before.iter().zip(&after).map(|(x, y)| ((x - y) as f64).powi(2)).sum::<f64>().sqrt()
             })
             .fold(0.0, f64::max);

@@ -278,8 +278,12 @@ impl EffortModel {
     /// Mean deviance and mean output of the family at the candidate `start..=end` of `pool`
     /// (shifted segments clamped to the take).
     pub fn assess(&self, pool: &Pool, start: usize, end: usize) -> (f32, Outputs) {
+        self.assess_with(&mut Projector::new(self), pool, start, end)
+    }
+
+    /// [`Self::assess`] with a projector made once for many segments (`Projector::new(self)`).
+    pub fn assess_with(&self, projector: &mut Projector, pool: &Pool, start: usize, end: usize) -> (f32, Outputs) {
         let s = self.max_shift as isize;
-        let mut projector = Projector::new(self);
         let mut z = vec![0.0; self.width()];
         let mut outputs = vec![[0.0; 12]; self.shifts()];
         for i in -s..=s {

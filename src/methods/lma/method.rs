@@ -64,7 +64,7 @@ impl Default for LmaParams {
             min_rise: 0.4,
             merge_s: 0.67,
             search: SEARCHES[0].into(),
-            quantile: 0.7,
+            quantile: 0.6,
             model: SHIPPED_NAME.into(),
         }
     }
@@ -457,6 +457,51 @@ impl Analysis {
         crate::method::Curve { id: "effort-change".into(), title: "Effort change at candidate boundaries".into(), values }
     }
 
+    /// The Effort search drawn along the take: a stem per candidate boundary as high as its Effort change (grey), the
+    /// take's threshold (blue line), the chosen boundaries (red stems).
+    pub fn change_picture(&self, params: &LmaParams) -> Picture {
+        let frames = self.travel[0].len().max(1);
+        let (width, height) = (frames.clamp(1, 960), 90usize);
+        let mut rgba = vec![250u8; width * height * 4];
+        let (b, g): (Vec<usize>, Vec<f64>) = self.changes.iter().copied().unzip();
+        let top = g.iter().copied().filter(|v| v.is_finite()).fold(0.0, f64::max).max(1e-9);
+        let tau = super::change::relative_threshold(&g, params.quantile);
+        let chosen: std::collections::BTreeSet<usize> =
+            self.effort_segments(params).into_iter().flat_map(|(s, e)| [s, e]).collect();
+        let x_of = |t: usize| (t * width / frames).min(width - 1);
+        let y_of = |v: f64| height - 1 - ((v / top).clamp(0.0, 1.0) * (height - 4) as f64).round() as usize;
+        let mut paint = |x: usize, y: usize, c: [u8; 3]| {
+            let i = (y * width + x) * 4;
+            rgba[i..i + 3].copy_from_slice(&c);
+        };
+        for (&t, &v) in b.iter().zip(&g) {
+            let colour = if chosen.contains(&t) { [210, 35, 35] } else { [120, 124, 132] };
+            for y in y_of(v)..height {
+                paint(x_of(t), y, colour);
+            }
+        }
+        for x in 0..width {
+            paint(x, y_of(tau), [40, 90, 200]);
+        }
+        Picture {
+            id: "effort-change".into(),
+            title: "Effort change at candidate boundaries".into(),
+            caption: format!(
+                "Time across. At each candidate boundary a stem as high as the change of the classifiers' Effort from the \
+                 {:.2} s before it to the {:.2} s after (grey); the blue line is the take's threshold (its {:.0} % \
+                 quantile); red stems are the boundaries chosen, at least {:.2} s apart.",
+                self.min_len as f64 / self.fps,
+                self.min_len as f64 / self.fps,
+                100.0 * params.quantile,
+                self.min_len as f64 / self.fps
+            ),
+            width,
+            height,
+            rgba,
+            frames_per_pixel: None,
+        }
+    }
+
     /// Which arms move in `start..=end`: the one whose hand travels further, or both when the other travels at
     /// least three quarters as far.
     fn moving(&self, start: usize, end: usize) -> Arms {
@@ -556,6 +601,9 @@ pub fn segment_with(
         let arms = analysis.arm_segments(params);
         for ((side, map), segments) in analysis.maps.iter().zip(&arms) {
             pictures.push(deviance_picture(*side, map, segments));
+        }
+        if !analysis.changes.is_empty() {
+            pictures.push(analysis.change_picture(params));
         }
         pictures.push(effort_picture(&segments, motion.frames()));
     }
