@@ -46,8 +46,9 @@ fn run() -> Result<(), String> {
     let bvh = mocapseg::bvh::parse(&text).map_err(|e| format!("{path}: {e}"))?;
     let full = Motion::from_bvh("bench sequence", &bvh).map_err(|e| e.to_string())?;
     let model = mocapseg::methods::lma::shipped_model()?;
-    for exhaustive in [false, true].into_iter().filter(|&e| only.is_none_or(|o| o == e)) {
-        let params = LmaParams { exhaustive, ..LmaParams::default() };
+    let runs = [("effort", false), ("effort", true), ("deviance", false), ("deviance", true)];
+    for (search, exhaustive) in runs.into_iter().filter(|&(_, e)| only.is_none_or(|o| o == e)) {
+        let params = LmaParams { exhaustive, search: search.into(), ..LmaParams::default() };
         let mut base = None;
         for frames in [750usize, 1500, 3000] {
             let seq = Motion::concatenate(std::slice::from_ref(&full), frames).map_err(|e| e.to_string())?;
@@ -67,7 +68,7 @@ fn run() -> Result<(), String> {
             let growth = base.map(|b: f64| format!(" ({:.2}× the 750-frame time)", ms / b)).unwrap_or_default();
             base.get_or_insert(ms);
             println!(
-                "native bench | lma {} {frames:5} frames @30 Hz ({:3.0} s) | {ms:9.1} ms{growth} | {found} segments | median of {reps}",
+                "native bench | lma {search:8} {} {frames:5} frames @30 Hz ({:3.0} s) | {ms:9.1} ms{growth} | {found} segments | median of {reps}",
                 if exhaustive { "exhaustive" } else { "pruned    " },
                 frames as f64 / 30.0
             );
