@@ -1,6 +1,9 @@
-//! LMA Effort segmentation behind the common [`Method`] interface: per arm, the deviance map of
-//! the shipped (or a user's) classifier family, its boundary search, the two arms merged; every
-//! segment carries its Effort; the deviance maps and the Effort bars are drawn for the page.
+//! LMA Effort segmentation behind the common [`Method`] interface, with the shipped (or a user's)
+//! classifier family and one of two searches: `effort` (the default) — one chain of boundaries
+//! where the family's Effort changes most ([`super::change`]), or `deviance` — the paper's: per
+//! arm the deviance map, its troughs paired, the two arms merged ([`super::search`]). Every segment
+//! carries its Effort; the Effort change or the deviance maps, and the Effort bars, are drawn for
+//! the page.
 
 use serde::{Deserialize, Serialize};
 
@@ -172,8 +175,8 @@ impl Method for Lma {
             name: "lma".into(),
             short: "LMA".into(),
             paper: "Bouchard & Badler".into(),
-            summary: "Gestures where 121 Laban Effort classifiers, each trained on shifted boundaries, agree; every \
-                      segment with its Space, Time, Weight and Flow."
+            summary: "Gestures cut where the Laban Effort of 121 classifiers, each trained on shifted boundaries, \
+                      changes (or, as the paper, where they agree); every segment with its Space, Time, Weight and Flow."
                 .into(),
             auto_run: true,
         }
@@ -319,9 +322,10 @@ pub struct Checked {
     pub shipped: bool,
 }
 
-/// What the classifiers say about a take: both arms' feature pools and deviance maps at the
-/// family's rate. The boundary search ([`Analysis::find`]) only reads it, so the search's own
-/// parameters (`smooth_s`, `min_rise`, `merge_s`) can be tried without assessing a segment again.
+/// What the classifiers say about a take: both arms' feature pools and either their deviance maps
+/// or the Effort change at the candidate boundaries, at the family's rate. The boundary search
+/// ([`Analysis::find`]) only reads it, so the search's own parameters (`quantile`; `smooth_s`,
+/// `min_rise`, `merge_s`) can be tried without assessing a segment again.
 pub struct Analysis {
     pub fps: f64,
     pub min_len: usize,
@@ -529,7 +533,8 @@ impl Analysis {
             .collect()
     }
 
-    /// The segments of both arms, merged, each assessed by the family for its Effort.
+    /// The segments found (the Effort search's chain, or both arms' deviance segments merged), each
+    /// assessed by the family for its Effort.
     pub fn find(&self, model: &EffortModel, params: &LmaParams) -> Vec<Found> {
         let merged = if self.maps.is_empty() {
             self.effort_segments(params).into_iter().map(|(s, e)| (s, e, self.moving(s, e))).collect()
