@@ -37,6 +37,8 @@ CARGO ?= cargo
 WASM_CARGO_FLAGS ?=
 
 WASM_TARGET := wasm32-unknown-unknown
+# The cargo profile of the page's wasm (Cargo.toml [profile.web]: release with fat LTO, one codegen unit).
+WASM_PROFILE := web
 CRATE       := mocapseg
 DIST        := dist
 WASM_OPT    := tests/e2e/node_modules/.bin/wasm-opt
@@ -123,9 +125,9 @@ check-toolchain:
 # wasm-bindgen and wasm-opt (the slow part) and only refreshes the static files.
 # dist/sw.js (the service worker, from www/sw.js) lists every file with its sha256: its version.
 web: check-toolchain
-	$(CARGO) build $(WASM_CARGO_FLAGS) --lib --release --target $(WASM_TARGET) --features web
+	$(CARGO) build $(WASM_CARGO_FLAGS) --lib --profile $(WASM_PROFILE) --target $(WASM_TARGET) --features web
 	@tdir=$$($(CARGO) metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])'); \
-	wasm="$$tdir/$(WASM_TARGET)/release/$(CRATE).wasm"; \
+	wasm="$$tdir/$(WASM_TARGET)/$(WASM_PROFILE)/$(CRATE).wasm"; \
 	sum=$$(sha256sum "$$wasm" | cut -d' ' -f1); \
 	if [ -f $(DIST)/.wasm-sum ] && [ "$$(cat $(DIST)/.wasm-sum)" = "$$sum" ] && [ -f $(DIST)/pkg/$(CRATE)_bg.wasm ]; then \
 		echo "$(DIST)/pkg is up to date with $$wasm"; \
@@ -165,7 +167,7 @@ test-native: check-toolchain
 # built instead of building every dependency a second time.
 test-wasm: check-toolchain
 	WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
-	$(CARGO) test $(WASM_CARGO_FLAGS) --release --target $(WASM_TARGET) --features web --test wasm
+	$(CARGO) test $(WASM_CARGO_FLAGS) --profile $(WASM_PROFILE) --target $(WASM_TARGET) --features web --test wasm
 
 # Playwright against dist/ served on a free loopback port (needs `make web` first).
 test-e2e:
@@ -203,7 +205,7 @@ bench-wasm: check-toolchain $(BENCH_SEQ)
 	@echo "bench input: $(BENCH_BVH), SSSM sequence $(BENCH_SEQ)"
 	@mkdir -p $(BENCH_DIR)
 	MOCAPSEG_BENCH_BVH="$(BENCH_BVH)" MOCAPSEG_BENCH_SSSM_BVH="$(BENCH_SEQ)" WASM_BINDGEN_TEST_TIMEOUT=$(BENCH_WASM_TIMEOUT) \
-	$(CARGO) test $(WASM_CARGO_FLAGS) --release --target $(WASM_TARGET) --features web --test wasm_bench -- --nocapture \
+	$(CARGO) test $(WASM_CARGO_FLAGS) --profile $(WASM_PROFILE) --target $(WASM_TARGET) --features web --test wasm_bench -- --nocapture \
 		2>&1 | tee $(BENCH_DIR)/wasm-bench.log
 	@grep -o 'BENCHJSON {.*}' $(BENCH_DIR)/wasm-bench.log | sed 's/^BENCHJSON //' >$(BENCH_DIR)/results-wasm.jsonl
 	@echo "the table's wasm column: $$(wc -l <$(BENCH_DIR)/results-wasm.jsonl) results in $(BENCH_DIR)/results-wasm.jsonl"
