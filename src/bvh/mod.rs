@@ -11,8 +11,8 @@ mod parse;
 mod write;
 
 pub use error::{BvhError, Warning};
-pub(crate) use parse::FrameBudget;
 pub use pack::{pack, unpack, unpacked_name, PackError, MAX_UNPACKED_BYTES, PACK_EXTENSION};
+pub(crate) use parse::FrameBudget;
 pub use parse::{parse, parse_with_progress, ParseLimits, NO_MOTION_FRAME_TIME};
 pub use write::write;
 

@@ -68,16 +68,21 @@ pub fn pack(text: &str) -> Result<Vec<u8>, PackError> {
     if let Some((i, row)) = rows.iter().enumerate().find(|(_, r)| r.len() != columns) {
         return Err(not(format!("frame {} has {} values where the first has {columns}", i + 1, row.len())));
     }
-    let decimals = rows.iter().flatten().map(|t| t.split_once('.').map_or(0, |(_, f)| f.len())).max().unwrap_or(0) as u32;
+    let decimals =
+        rows.iter().flatten().map(|t| t.split_once('.').map_or(0, |(_, f)| f.len())).max().unwrap_or(0) as u32;
     if decimals > MAX_DECIMALS {
         return Err(not(format!("values with {decimals} decimals (at most {MAX_DECIMALS})")));
     }
     let mut values = vec![Vec::with_capacity(rows.len()); columns];
     for (i, row) in rows.iter().enumerate() {
         for (c, token) in row.iter().enumerate() {
-            let v = parse_fixed(token, decimals)
-                .filter(|&v| format_fixed(v, decimals) == *token)
-                .ok_or_else(|| not(format!("frame {}, value {}: {token:?} is not written the one way a pack writes it back", i + 1, c + 1)))?;
+            let v = parse_fixed(token, decimals).filter(|&v| format_fixed(v, decimals) == *token).ok_or_else(|| {
+                not(format!(
+                    "frame {}, value {}: {token:?} is not written the one way a pack writes it back",
+                    i + 1,
+                    c + 1
+                ))
+            })?;
             values[c].push(v);
         }
     }
@@ -92,7 +97,10 @@ pub fn pack(text: &str) -> Result<Vec<u8>, PackError> {
             let d = match k {
                 0 => Some(v),
                 1 => v.checked_sub(column[0]),
-                _ => v.checked_sub(column[k - 1]).zip(column[k - 1].checked_sub(column[k - 2])).and_then(|(a, b)| a.checked_sub(b)),
+                _ => v
+                    .checked_sub(column[k - 1])
+                    .zip(column[k - 1].checked_sub(column[k - 2]))
+                    .and_then(|(a, b)| a.checked_sub(b)),
             }
             .ok_or_else(|| not("values too large".into()))?;
             let _ = write!(out, "{}{d}", if k == 0 { "" } else { " " });
@@ -125,7 +133,9 @@ pub fn unpack(packed: &[u8]) -> Result<Vec<u8>, PackError> {
     if fields[1] != VERSION.to_string() {
         return Err(PackError::Damaged(format!("format version {} (this build reads {VERSION})", fields[1])));
     }
-    let num = |i: usize| fields[i].parse::<usize>().map_err(|_| PackError::Damaged(format!("header field {i} is {:?}", fields[i])));
+    let num = |i: usize| {
+        fields[i].parse::<usize>().map_err(|_| PackError::Damaged(format!("header field {i} is {:?}", fields[i])))
+    };
     let (decimals, columns, frames, head_bytes, final_newline) = (num(2)?, num(3)?, num(4)?, num(5)?, num(6)?);
     if decimals > MAX_DECIMALS as usize || columns == 0 || frames == 0 || final_newline > 1 {
         return Err(bad("header values out of range"));
@@ -144,7 +154,9 @@ pub fn unpack(packed: &[u8]) -> Result<Vec<u8>, PackError> {
         let mut count = 0;
         let (mut prev, mut step) = (0i64, 0i64);
         for (k, token) in line.split(' ').enumerate() {
-            let d: i64 = token.parse().map_err(|_| PackError::Damaged(format!("column {}: {token:?} is not an integer", c + 1)))?;
+            let d: i64 = token
+                .parse()
+                .map_err(|_| PackError::Damaged(format!("column {}: {token:?} is not an integer", c + 1)))?;
             if k >= frames {
                 return Err(PackError::Damaged(format!("column {} has more than {frames} values", c + 1)));
             }
@@ -160,7 +172,10 @@ pub fn unpack(packed: &[u8]) -> Result<Vec<u8>, PackError> {
             count = k + 1;
         }
         if count != frames {
-            return Err(PackError::Damaged(format!("column {} has {count} values where the header says {frames}", c + 1)));
+            return Err(PackError::Damaged(format!(
+                "column {} has {count} values where the header says {frames}",
+                c + 1
+            )));
         }
     }
     let mut out = String::with_capacity(head.len() + values.len() * 8);
@@ -204,7 +219,11 @@ fn parse_fixed(token: &str, decimals: u32) -> Option<i64> {
         return None;
     }
     let scale = 10i64.checked_pow(decimals)?;
-    let frac_scaled: i64 = if frac.is_empty() { 0 } else { frac.parse::<i64>().ok()?.checked_mul(10i64.pow(decimals - frac.len() as u32))? };
+    let frac_scaled: i64 = if frac.is_empty() {
+        0
+    } else {
+        frac.parse::<i64>().ok()?.checked_mul(10i64.pow(decimals - frac.len() as u32))?
+    };
     let v = whole.parse::<i64>().ok()?.checked_mul(scale)?.checked_add(frac_scaled)?;
     Some(if negative { -v } else { v })
 }
@@ -260,7 +279,12 @@ mod tests {
 
     #[test]
     fn values_not_written_back_the_same_way_are_refused() {
-        for (from, to) in [("1.5 -2.25\n0.001", "1.50 -2.25\n0.001"), ("-0.5 12", "-0.5  12"), ("3 -0.125", "+3 -0.125"), ("-0.5 12 0", "-0.5 12 -0")] {
+        for (from, to) in [
+            ("1.5 -2.25\n0.001", "1.50 -2.25\n0.001"),
+            ("-0.5 12", "-0.5  12"),
+            ("3 -0.125", "+3 -0.125"),
+            ("-0.5 12 0", "-0.5 12 -0"),
+        ] {
             let text = SMALL.replace(from, to);
             assert_ne!(text, SMALL);
             assert!(matches!(pack(&text), Err(PackError::NotPackable(_))), "{to:?}");

@@ -746,7 +746,8 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
 async fn unpack_blob(packed: &Blob) -> Result<Blob, String> {
     let bytes = js_sys::Uint8Array::new(&blob_bytes(packed).await?.into()).to_vec();
     let file = crate::bvh::unpack(&bytes).map_err(|e| e.to_string())?;
-    Blob::new_with_u8_array_sequence(&js_sys::Array::of1(&js_sys::Uint8Array::from(file.as_slice()))).map_err(|e| js_message(&e))
+    Blob::new_with_u8_array_sequence(&js_sys::Array::of1(&js_sys::Uint8Array::from(file.as_slice())))
+        .map_err(|e| js_message(&e))
 }
 
 /// The file at `url` (the bundled sample), held to the cap of every take.
