@@ -1,16 +1,17 @@
 # mocapseg — build, serve, test and benchmark (plain make; no trunk).
 #
 #   make demo    set up, build the page and serve it on http://localhost:8080
-#   make test    set up, then every test: native (cargo test), the release page bundle, the wasm
+#   make test    set up, then every test: native (cargo test), the page bundle, the wasm
 #                tests in headless Chromium (one binary sharing the bundle's build), and the
 #                Playwright end-to-end test; prints each stage's time
 #   make bench   one table: parse, FK, every method at 1×/2×/4× a take and the batch rate, native
 #                and in headless Chromium; the page's load (bytes before the first result, time to it);
 #                with ../shared/data also the peer libraries (bench/peers)
 #   make setup   install the toolchain (scripts/setup.sh; idempotent, seconds when done)
-#   make web     build the page into dist/ (release wasm + wasm-bindgen + wasm-opt + assets, the
-#                shipped models in dist/models/, fetched by the page when a method first needs one;
-#                wasm-bindgen and wasm-opt only run again when the wasm changed)
+#   make web     build the page into dist/ (the wasm in the `web` profile — release with fat LTO —,
+#                wasm-bindgen + wasm-opt + assets, the shipped models in dist/models/, fetched by the
+#                page when a method first needs one; wasm-bindgen and wasm-opt only run again when the
+#                wasm changed)
 #   make accuracy  the scoreboard: every method on every labelled take of ../shared/data, in-sample and
 #                nested leave-one-take-out side by side, beside chance and oracle-K; writes docs/accuracy.md,
 #                docs/accuracy.json, each method's rows into its docs/methods/<method>.md and the held-out summary
@@ -79,7 +80,7 @@ demo: setup
 	$(MAKE) web
 	$(MAKE) serve
 
-# Stages in the order that builds least: the wasm tests reuse the release library `web` built.
+# Stages in the order that builds least: the wasm tests reuse the library `web` built (profile `web`).
 test:
 	@mkdir -p test-output && : >$(STAGE_TIMES)
 	@scripts/stage.sh setup scripts/setup.sh
@@ -120,7 +121,8 @@ check-toolchain:
 
 # --- build ------------------------------------------------------------------------------
 
-# The page: release wasm of the lib with the `web` feature → wasm-bindgen → wasm-opt → dist/.
+# The page: the wasm of the lib with the `web` feature (cargo profile `web`: release with fat LTO,
+# one codegen unit) → wasm-bindgen → wasm-opt → dist/.
 # dist/.wasm-sum records the checksum of the wasm it was made from: an unchanged build skips
 # wasm-bindgen and wasm-opt (the slow part) and only refreshes the static files.
 # dist/sw.js (the service worker, from www/sw.js) lists every file with its sha256: its version.
@@ -163,7 +165,7 @@ test-native: check-toolchain
 	$(CARGO) check --manifest-path fuzz/Cargo.toml --bins
 
 # One wasm test binary (tests/wasm.rs: the core, the SSSM suite, the worker's glue) in headless
-# Chromium, in the release profile with the `web` feature: it links the library `make web`
+# Chromium, in the `web` profile with the `web` feature: it links the library `make web`
 # built instead of building every dependency a second time.
 test-wasm: check-toolchain
 	WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
