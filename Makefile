@@ -1,16 +1,17 @@
 # mocapseg — build, serve, test and benchmark (plain make; no trunk).
 #
 #   make demo    set up, build the page and serve it on http://localhost:8080
-#   make test    set up, then every test: native (cargo test), the release page bundle, the wasm
+#   make test    set up, then every test: native (cargo test), the page bundle, the wasm
 #                tests in headless Chromium (one binary sharing the bundle's build), and the
 #                Playwright end-to-end test; prints each stage's time
 #   make bench   one table: parse, FK, every method at 1×/2×/4× a take and the batch rate, native
 #                and in headless Chromium; the page's load (bytes before the first result, time to it);
 #                with ../shared/data also the peer libraries (bench/peers)
 #   make setup   install the toolchain (scripts/setup.sh; idempotent, seconds when done)
-#   make web     build the page into dist/ (release wasm + wasm-bindgen + wasm-opt + assets, the
-#                shipped models in dist/models/, fetched by the page when a method first needs one;
-#                wasm-bindgen and wasm-opt only run again when the wasm changed)
+#   make web     build the page into dist/ (the wasm in the `web` profile — release with fat LTO —,
+#                wasm-bindgen + wasm-opt + assets, the shipped models in dist/models/, fetched by the
+#                page when a method first needs one; wasm-bindgen and wasm-opt only run again when the
+#                wasm changed)
 #   make accuracy  the scoreboard: every method on every labelled take of ../shared/data, in-sample and
 #                nested leave-one-take-out side by side, beside chance and oracle-K; writes docs/accuracy.md,
 #                docs/accuracy.json, each method's rows into its docs/methods/<method>.md and the held-out summary
@@ -37,6 +38,8 @@ CARGO ?= cargo
 WASM_CARGO_FLAGS ?=
 
 WASM_TARGET := wasm32-unknown-unknown
+# The cargo profile of the page's wasm (Cargo.toml [profile.web]: release with fat LTO, one codegen unit).
+WASM_PROFILE := web
 CRATE       := mocapseg
 DIST        := dist
 WASM_OPT    := tests/e2e/node_modules/.bin/wasm-opt
@@ -77,7 +80,7 @@ demo: setup
 	$(MAKE) web
 	$(MAKE) serve
 
-# Stages in the order that builds least: the wasm tests reuse the release library `web` built.
+# Stages in the order that builds least: the wasm tests reuse the library `web` built (profile `web`).
 test:
 	@mkdir -p test-output && : >$(STAGE_TIMES)
 	@scripts/stage.sh setup scripts/setup.sh
@@ -118,14 +121,15 @@ check-toolchain:
 
 # --- build ------------------------------------------------------------------------------
 
-# The page: release wasm of the lib with the `web` feature → wasm-bindgen → wasm-opt → dist/.
+# The page: the wasm of the lib with the `web` feature (cargo profile `web`: release with fat LTO,
+# one codegen unit) → wasm-bindgen → wasm-opt → dist/.
 # dist/.wasm-sum records the checksum of the wasm it was made from: an unchanged build skips
 # wasm-bindgen and wasm-opt (the slow part) and only refreshes the static files.
 # dist/sw.js (the service worker, from www/sw.js) lists every file with its sha256: its version.
 web: check-toolchain
-	$(CARGO) build $(WASM_CARGO_FLAGS) --lib --release --target $(WASM_TARGET) --features web
+	$(CARGO) build $(WASM_CARGO_FLAGS) --lib --profile $(WASM_PROFILE) --target $(WASM_TARGET) --features web
 	@tdir=$$($(CARGO) metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])'); \
-	wasm="$$tdir/$(WASM_TARGET)/release/$(CRATE).wasm"; \
+	wasm="$$tdir/$(WASM_TARGET)/$(WASM_PROFILE)/$(CRATE).wasm"; \
 	sum=$$(sha256sum "$$wasm" | cut -d' ' -f1); \
 	if [ -f $(DIST)/.wasm-sum ] && [ "$$(cat $(DIST)/.wasm-sum)" = "$$sum" ] && [ -f $(DIST)/pkg/$(CRATE)_bg.wasm ]; then \
 		echo "$(DIST)/pkg is up to date with $$wasm"; \
@@ -161,11 +165,11 @@ test-native: check-toolchain
 	$(CARGO) check --manifest-path fuzz/Cargo.toml --bins
 
 # One wasm test binary (tests/wasm.rs: the core, the SSSM suite, the worker's glue) in headless
-# Chromium, in the release profile with the `web` feature: it links the library `make web`
+# Chromium, in the `web` profile with the `web` feature: it links the library `make web`
 # built instead of building every dependency a second time.
 test-wasm: check-toolchain
 	WASM_BINDGEN_TEST_TIMEOUT=$(WASM_TEST_TIMEOUT) \
-	$(CARGO) test $(WASM_CARGO_FLAGS) --release --target $(WASM_TARGET) --features web --test wasm
+	$(CARGO) test $(WASM_CARGO_FLAGS) --profile $(WASM_PROFILE) --target $(WASM_TARGET) --features web --test wasm
 
 # Playwright against dist/ served on a free loopback port (needs `make web` first).
 test-e2e:
@@ -203,7 +207,7 @@ bench-wasm: check-toolchain $(BENCH_SEQ)
 	@echo "bench input: $(BENCH_BVH), SSSM sequence $(BENCH_SEQ)"
 	@mkdir -p $(BENCH_DIR)
 	MOCAPSEG_BENCH_BVH="$(BENCH_BVH)" MOCAPSEG_BENCH_SSSM_BVH="$(BENCH_SEQ)" WASM_BINDGEN_TEST_TIMEOUT=$(BENCH_WASM_TIMEOUT) \
-	$(CARGO) test $(WASM_CARGO_FLAGS) --release --target $(WASM_TARGET) --features web --test wasm_bench -- --nocapture \
+	$(CARGO) test $(WASM_CARGO_FLAGS) --profile $(WASM_PROFILE) --target $(WASM_TARGET) --features web --test wasm_bench -- --nocapture \
 		2>&1 | tee $(BENCH_DIR)/wasm-bench.log
 	@grep -o 'BENCHJSON {.*}' $(BENCH_DIR)/wasm-bench.log | sed 's/^BENCHJSON //' >$(BENCH_DIR)/results-wasm.jsonl
 	@echo "the table's wasm column: $$(wc -l <$(BENCH_DIR)/results-wasm.jsonl) results in $(BENCH_DIR)/results-wasm.jsonl"

@@ -2,9 +2,9 @@
 //! Chromium: the core (BVH parser, forward kinematics, motion image), the SSSM, LMA and DT-FCN suites
 //! (`tests/sssm.rs`, `tests/lma.rs`, `tests/dtfcn.rs`, included below) and the worker's `postMessage` glue of the protocol.
 //!
-//! Run: `make test-wasm`, i.e. `cargo test --release --target wasm32-unknown-unknown --features web
+//! Run: `make test-wasm`, i.e. `cargo test --profile web --target wasm32-unknown-unknown --features web
 //! --test wasm` with `wasm-bindgen-test-runner` as the runner (.cargo/config.toml). One binary,
-//! built in the release profile, reuses the library `make web` builds (a second profile or
+//! built in the `web` profile, reuses the library `make web` builds (a second profile or
 //! feature set would build every dependency again). The fixtures are embedded with
 //! `include_str!`: the browser has no file system.
 //!

@@ -7,7 +7,7 @@
 //! runner shows the printed numbers:
 //!
 //! ```sh
-//! MOCAPSEG_BENCH_BVH=/abs/path/take.bvh cargo test --release --target wasm32-unknown-unknown \
+//! MOCAPSEG_BENCH_BVH=/abs/path/take.bvh cargo test --profile web --target wasm32-unknown-unknown \
 //!     --test wasm_bench -- --nocapture
 //! ```
 //!

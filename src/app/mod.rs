@@ -338,7 +338,7 @@ const ROOT_ID: &str = "mocapseg-app";
 /// Mounts the page. Called by `index.html` after `init()`; the worker loads the same module
 /// and never calls it. The root element may override the asset locations with
 /// `data-worker-url`, `data-sample-url` and `data-models-url` (default `./www/worker.js`,
-/// `./www/sample.bvh`, `./models/`).
+/// `./www/sample.bvh.pack` — the sample packed, unpacked by the page —, `./models/`).
 #[wasm_bindgen]
 pub fn mount_app() -> Result<(), JsValue> {
     // a panic logs and shows `#mocapseg-stopped` ("reload the page"), never a page that just stops

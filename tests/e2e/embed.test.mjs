@@ -310,7 +310,7 @@ test("offline: after the first visit the app loads and runs a method with the ne
     const keys = await off.page.evaluate(() => caches.keys());
     assert.deepEqual(keys, [buildCache(version)]);
     const cached = await off.page.evaluate(async (k) => (await (await caches.open(k)).keys()).map((r) => r.url), keys[0]);
-    for (const f of ["index.html", "pkg/mocapseg_bg.wasm", "pkg/mocapseg.js", "www/worker.js", "www/main.js", "www/style.css", "www/sample.bvh", "www/02_01.bvh"]) {
+    for (const f of ["index.html", "pkg/mocapseg_bg.wasm", "pkg/mocapseg.js", "www/worker.js", "www/main.js", "www/style.css", "www/sample.bvh", "www/sample.bvh.pack", "www/02_01.bvh"]) {
       assert.ok(cached.includes(new URL(f, BASE_URL).href), `${f} is cached: ${JSON.stringify(cached)}`);
     }
     assert.ok(!cached.some((u) => u.endsWith("/sw.js") || u.includes("/.")), "neither sw.js nor hidden files");

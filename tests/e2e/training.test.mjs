@@ -192,7 +192,7 @@ for (const viewport of [{ width: 1024, height: 768 }, { width: 1440, height: 900
       await trainLong(page, "e2e-stopped");
       let release;
       const sampleHeld = new Promise((r) => { release = r; });
-      await page.route("**/www/sample.bvh", async (route) => { await sampleHeld; await route.continue(); });
+      await page.route("**/www/sample.bvh.pack", async (route) => { await sampleHeld; await route.continue(); });
       await page.click("#load-sample");
       await page.locator("#take-switch").waitFor({ state: "visible" });
       await page.waitForFunction(() => document.activeElement?.id === "take-switch-keep");
@@ -206,7 +206,7 @@ for (const viewport of [{ width: 1024, height: 768 }, { width: 1440, height: 900
       assert.equal(await page.isDisabled("#dtfcn-train-apply"), true, "Apply waits while the take loads");
       release();
       await waitReady(page, "sample");
-      await page.unroute("**/www/sample.bvh");
+      await page.unroute("**/www/sample.bvh.pack");
       assert.equal(await page.isDisabled("#dtfcn-train-apply"), false, "Apply once the take is on screen");
       assert.match(await text(page, "#dtfcn-train-status"), /Trained `e2e-stopped` on 35_01\.bvh; sample\.bvh is on screen now/);
       assert.equal(await page.inputValue("#dtfcn-model"), "exercises", "not applied to the sample");

@@ -70,14 +70,22 @@ impl Urls {
         let get = |name: &str, default: &str| root.get_attribute(name).unwrap_or_else(|| default.to_string());
         Urls {
             worker: get("data-worker-url", "./www/worker.js"),
-            sample: get("data-sample-url", "./www/sample.bvh"),
+            // the sample packed (src/bvh/pack.rs: half the download of www/sample.bvh, the same bytes)
+            sample: get("data-sample-url", "./www/sample.bvh.pack"),
             models: get("data-models-url", "./models/"),
         }
     }
 
-    /// The file name at the end of the sample's URL.
+    /// The file name at the end of the sample's URL (of the file a pack holds, for a pack).
     pub fn sample_name(&self) -> String {
-        self.sample.rsplit('/').next().unwrap_or("sample.bvh").to_string()
+        let name = self.sample.rsplit('/').next().unwrap_or("sample.bvh");
+        crate::bvh::unpacked_name(name).unwrap_or(name).to_string()
+    }
+
+    /// Whether the sample's URL names a pack (`NAME.bvh.pack`), which the page unpacks.
+    fn sample_is_packed(&self) -> bool {
+        let name = self.sample.rsplit('/').next().unwrap_or_default();
+        crate::bvh::unpacked_name(name).is_some()
     }
 }
 
@@ -233,10 +241,14 @@ fn open_now(inner: &Rc<Inner>, open: training::Open) {
 /// Loads the bundled sample.
 fn open_sample(inner: &Rc<Inner>) {
     let inner = inner.clone();
-    let (url, name) = (inner.urls.sample.clone(), inner.urls.sample_name());
+    let (url, name, packed) = (inner.urls.sample.clone(), inner.urls.sample_name(), inner.urls.sample_is_packed());
     let id = begin(&inner, &name);
     wasm_bindgen_futures::spawn_local(async move {
-        match fetch_blob(&url).await {
+        let file = match fetch_blob(&url).await {
+            Ok(file) if packed => unpack_blob(&file).await,
+            fetched => fetched,
+        };
+        match file {
             Ok(file) => send_load(&inner, id, &name, file, None),
             Err(message) => fail_load(&inner, id, format!("{name}: could not load the sample: {message}")),
         }
@@ -727,6 +739,15 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
         }
         _ => {} // about a load that has been superseded
     }
+}
+
+/// The file a packed file holds (`crate::bvh::unpack`: the same bytes as the file packed), as a
+/// `Blob` the page keeps as the take.
+async fn unpack_blob(packed: &Blob) -> Result<Blob, String> {
+    let bytes = js_sys::Uint8Array::new(&blob_bytes(packed).await?.into()).to_vec();
+    let file = crate::bvh::unpack(&bytes).map_err(|e| e.to_string())?;
+    Blob::new_with_u8_array_sequence(&js_sys::Array::of1(&js_sys::Uint8Array::from(file.as_slice())))
+        .map_err(|e| js_message(&e))
 }
 
 /// The file at `url` (the bundled sample), held to the cap of every take.
