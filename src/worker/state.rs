@@ -302,6 +302,19 @@ impl WorkerState {
 
     /// The annotations of the segments `spans` of the held take `take` by `method` (a method that
     /// declares [`crate::method::Annotator`]), answered as a segment run is when it cannot.
+    /// The loaded take `take` and the registered method `method`, or the failure to answer `run` with.
+    fn take_and_method(
+        &self,
+        take: TakeId,
+        run: RunId,
+        method: &str,
+    ) -> Result<(&Motion, &'static dyn crate::method::DynMethod), Response> {
+        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, param: None };
+        let motion = self.motion(take).map_err(|message| fail(message, FailureKind::NotLoaded))?;
+        let m = crate::methods::find(method).map_err(|e| fail(e.to_string(), FailureKind::Input))?;
+        Ok((motion, m))
+    }
+
     fn annotate(
         &self,
         take: TakeId,
@@ -312,13 +325,9 @@ impl WorkerState {
         post: &mut dyn FnMut(Response),
     ) -> Response {
         let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, param: None };
-        let motion = match self.motion(take) {
-            Ok(motion) => motion,
-            Err(message) => return fail(message, FailureKind::NotLoaded),
-        };
-        let m = match crate::methods::find(method) {
-            Ok(m) => m,
-            Err(e) => return fail(e.to_string(), FailureKind::Input),
+        let (motion, m) = match self.take_and_method(take, run, method) {
+            Ok(found) => found,
+            Err(failed) => return failed,
         };
         let short = m.info().short;
         if m.annotator().is_none() {
@@ -355,14 +364,9 @@ impl WorkerState {
         params: &serde_json::Value,
         post: &mut dyn FnMut(Response),
     ) -> Response {
-        let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, param: None };
-        let motion = match self.motion(take) {
-            Ok(motion) => motion,
-            Err(message) => return fail(message, FailureKind::NotLoaded),
-        };
-        let m = match crate::methods::find(method) {
-            Ok(m) => m,
-            Err(e) => return fail(e.to_string(), FailureKind::Input),
+        let (motion, m) = match self.take_and_method(take, run, method) {
+            Ok(found) => found,
+            Err(failed) => return failed,
         };
         let short = m.info().short;
         let mut progress = Posting { take, run, post };

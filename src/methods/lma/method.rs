@@ -365,8 +365,6 @@ pub fn analyse(
     let min_len = ((params.min_s * fps).round() as usize).max(2 * model.max_shift + 2);
     let max_len = ((params.max_s * fps).round() as usize).max(min_len);
     let longest = max_len + 2 * model.max_shift + 1;
-    let mut maps = Vec::new();
-    let mut pools = Vec::new();
     let travel = body.arms.clone().map(|arm| {
         let mut sum = 0.0;
         let mut out = vec![0.0; arm.frames()];
@@ -386,39 +384,32 @@ pub fn analyse(
         slow.sort_unstable();
         slow.dedup();
     }
-    if params.search.trim() == "effort" {
+    let (pools, maps, changes) = if params.search.trim() == "effort" {
         let window = min_len;
         let pools: Vec<Pool> = body.arms.iter().map(|arm| Pool::of(arm, fps, longest.max(window + 1))).collect();
         let frames = body.arms[0].frames();
         let boundaries: Vec<usize> = if params.exhaustive { (1..frames.saturating_sub(1)).collect() } else { slow };
         let mut report = |f: f64| progress.step("Effort change", 0.05 + 0.85 * f);
         let g = super::change::strengths(model, &pools, &boundaries, window, &mut report)?;
-        let changes = boundaries.into_iter().zip(g).collect();
-        return Ok(Analysis {
-            fps,
-            min_len,
-            max_len,
-            source_frames: body.source_frames,
-            file_frames: motion.frames(),
-            pools,
-            maps: Vec::new(),
-            changes,
-            travel,
-        });
-    }
-    for (k, arm) in body.arms.iter().enumerate() {
-        let pool = Pool::of(arm, fps, longest);
-        let base = 0.05 + 0.45 * k as f64;
-        let stage = format!("{} arm", arm.side.name());
-        let mut report = |f: f64| progress.step(&stage, base + 0.4 * f);
-        let map = if params.exhaustive {
-            exhaustive(model, &pool, (min_len, max_len), &mut report)?
-        } else {
-            pruned(model, &pool, &slow, (min_len, max_len), &mut report)?
-        };
-        maps.push((arm.side, map));
-        pools.push(pool);
-    }
+        (pools, Vec::new(), boundaries.into_iter().zip(g).collect())
+    } else {
+        let mut maps = Vec::new();
+        let mut pools = Vec::new();
+        for (k, arm) in body.arms.iter().enumerate() {
+            let pool = Pool::of(arm, fps, longest);
+            let base = 0.05 + 0.45 * k as f64;
+            let stage = format!("{} arm", arm.side.name());
+            let mut report = |f: f64| progress.step(&stage, base + 0.4 * f);
+            let map = if params.exhaustive {
+                exhaustive(model, &pool, (min_len, max_len), &mut report)?
+            } else {
+                pruned(model, &pool, &slow, (min_len, max_len), &mut report)?
+            };
+            maps.push((arm.side, map));
+            pools.push(pool);
+        }
+        (pools, maps, Vec::new())
+    };
     Ok(Analysis {
         fps,
         min_len,
@@ -427,7 +418,7 @@ pub fn analyse(
         file_frames: motion.frames(),
         pools,
         maps,
-        changes: Vec::new(),
+        changes,
         travel,
     })
 }
