@@ -365,14 +365,17 @@ pub fn analyse(
     let min_len = ((params.min_s * fps).round() as usize).max(2 * model.max_shift + 2);
     let max_len = ((params.max_s * fps).round() as usize).max(min_len);
     let longest = max_len + 2 * model.max_shift + 1;
-    let travel = body.arms.clone().map(|arm| {
+    // each hand's path length up to every frame (read from the arms, not a copy of them)
+    let travel: [Vec<f64>; 2] = std::array::from_fn(|k| {
+        let hand = body.arms[k].hand();
         let mut sum = 0.0;
-        let mut out = vec![0.0; arm.frames()];
-        for t in 1..arm.frames() {
-            sum += arm.hand()[t].distance(arm.hand()[t - 1]);
-            out[t] = sum;
-        }
-        out
+        std::iter::once(0.0)
+            .chain(hand.windows(2).map(|w| {
+                sum += w[1].distance(w[0]);
+                sum
+            }))
+            .take(hand.len())
+            .collect()
     });
     // the pruned search's boundaries: slow minima of either hand, for both arms' maps
     let mut slow: Vec<usize> = Vec::new();
