@@ -1131,3 +1131,96 @@ fn segment_names_the_models_that_fit_a_take_its_model_does_not() {
     let line = all.lines().find(|l| l.starts_with("ok") && l.contains("02_01.bvh")).unwrap_or_else(|| panic!("{all}"));
     assert!(line.contains("— model `exercises` does not fit this take") && line.ends_with("models that fit this take: locomotion"), "{line}");
 }
+
+/// A library folder: the bundled sample (13_30), 13_31 and a file that is not a BVH.
+fn library_folder(name: &str) -> PathBuf {
+    let dir = out_dir().join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    std::fs::copy(root.join("www/sample.bvh"), dir.join("13_30.bvh")).unwrap();
+    std::fs::copy(fixture("13_31.bvh"), dir.join("13_31.bvh")).unwrap();
+    std::fs::write(dir.join("broken.bvh"), "not a bvh\n").unwrap();
+    dir
+}
+
+#[test]
+fn cluster_shares_ids_across_takes_and_skips_a_bad_file() {
+    let lib = library_folder("library-in");
+    let out = out_dir().join("library-clusters");
+    let _ = std::fs::remove_dir_all(&out);
+    let r = run(&["cluster", lib.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(2), "some take failed: {stderr}");
+    assert!(stderr.contains("broken.bvh: line 1, column 1: expected `HIERARCHY`"), "{stderr}");
+    assert!(stderr.contains("2 of 3 takes clustered"), "{stderr}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("clusters.json")).unwrap()).unwrap();
+    assert_eq!(summary["takes"], serde_json::json!(["13_30", "13_31"]));
+    assert_eq!(summary["failed"].as_array().unwrap().len(), 1);
+    let takes: Vec<mocapseg::segment::Segmentation> = ["13_30", "13_31"]
+        .iter()
+        .map(|t| mocapseg::segment::Segmentation::from_json(&std::fs::read_to_string(out.join(format!("{t}.json"))).unwrap()).unwrap())
+        .collect();
+    // clusters in both takes, each occurrence the segment of that take carrying its id, longest first
+    let clusters = summary["clusters"].as_array().unwrap();
+    let both: Vec<&serde_json::Value> = clusters.iter().filter(|c| c["takes"] == 2).collect();
+    assert!(both.len() >= 3, "{} clusters in both takes", both.len());
+    let seconds: Vec<f64> = clusters.iter().map(|c| c["seconds"].as_f64().unwrap()).collect();
+    assert!(seconds.windows(2).all(|w| w[0] >= w[1]));
+    for c in clusters {
+        let id = c["id"].as_u64().unwrap() as usize;
+        for o in c["occurrences"].as_array().unwrap() {
+            let t = usize::from(o["take"] == "13_31");
+            let s = &takes[t].segments[o["segment"].as_u64().unwrap() as usize];
+            assert_eq!((s.cluster, s.start as u64, s.end as u64), (Some(id), o["start"].as_u64().unwrap(), o["end"].as_u64().unwrap()));
+            assert_eq!(s.label, format!("C{id}"));
+        }
+    }
+}
+
+#[test]
+fn transfer_carries_one_takes_labels_to_the_other() {
+    let lib = library_folder("library-transfer-in");
+    std::fs::remove_file(lib.join("broken.bvh")).unwrap();
+    let labels = out_dir().join("library-13_30-labels.csv");
+    let r = run(&["labels", fixture("mocap6_13_30_gt.csv").to_str().unwrap(), "-o", labels.to_str().unwrap()]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let out = out_dir().join("library-transfer");
+    let _ = std::fs::remove_dir_all(&out);
+    let from = lib.join("13_30.bvh");
+    for route in ["nearest", "clusters"] {
+        let r = run(&[
+            "transfer",
+            lib.to_str().unwrap(),
+            "--labels",
+            labels.to_str().unwrap(),
+            "--from",
+            from.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--route",
+            route,
+        ]);
+        assert!(r.status.success(), "{route}: {}", String::from_utf8_lossy(&r.stderr));
+        let csv = std::fs::read_to_string(out.join("labels.csv")).unwrap();
+        let rows = mocapseg::labels::read_csv(&csv, "labels.csv").unwrap();
+        // the other take got labels of the labelled take's classes only; the labelled take its own
+        let classes = ["Jog", "JumpJack", "KneeRaise", "Squat", "Twist"];
+        let other: Vec<_> = rows.iter().filter(|r| r.file == "13_31.bvh").collect();
+        assert!(other.len() >= 3, "{route}: {other:?}");
+        assert!(other.iter().all(|r| classes.contains(&r.label.as_str())), "{route}: {other:?}");
+        assert!(rows.iter().any(|r| r.file == "13_30.bvh" && r.start_frame == 0 && r.label == "JumpJack"));
+        let seg = mocapseg::segment::Segmentation::from_json(&std::fs::read_to_string(out.join("13_31.json")).unwrap()).unwrap();
+        assert_eq!(seg.method, "transfer");
+        assert!(seg.segments.iter().all(|s| s.score.is_some_and(|c| (0.0..=1.0).contains(&c))));
+    }
+    // labels that do not name the labelled take, a route that does not exist
+    let r = run(&["transfer", lib.to_str().unwrap(), "--labels", labels.to_str().unwrap(), "--from",
+        lib.join("13_31.bvh").to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_eq!(r.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("no row names the labelled take 13_31"), "{}", String::from_utf8_lossy(&r.stderr));
+    let r = run(&["transfer", lib.to_str().unwrap(), "--labels", labels.to_str().unwrap(), "--from", from.to_str().unwrap(),
+        "--out", out.to_str().unwrap(), "--route", "sideways"]);
+    assert!(String::from_utf8_lossy(&r.stderr).contains("--route sideways: expected nearest or clusters"));
+}

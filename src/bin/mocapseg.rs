@@ -12,6 +12,10 @@
 //! mocapseg eval SEG.json… --truth GT.csv|GT.json [--first-frame 0|1] [--label-fps F] [--trial T]
 //!                                             scores against ground truth (one table for many)
 //! mocapseg splice --bvh TAKES… --labels GT.csv… -o OUT.bvh   a take with known gesture boundaries
+//! mocapseg cluster DIR_OR_FILES… --out DIR [--method sssm]   clusters shared across takes (one JSON per
+//!                                             take + clusters.json; exit 0 all, 2 some takes failed)
+//! mocapseg transfer DIR_OR_FILES… --labels L.csv --from TAKE.bvh --out DIR [--route nearest|clusters]
+//!                                             one take's labels carried to the others (JSON per take, labels.csv)
 //! mocapseg clips SEG.json TAKE.bvh --out DIR [--level action|primitive|all] [--origin] [--zip]
 //!                                             each segment as a BVH clip of its own
 //! mocapseg bench [FILE.bvh] [--reps N]        parse + forward-kinematics throughput
@@ -32,6 +36,10 @@ fn main() -> std::process::ExitCode {
 #[cfg(not(target_arch = "wasm32"))]
 #[path = "mocapseg/dtfcn_cli.rs"]
 mod dtfcn_cli;
+
+#[cfg(not(target_arch = "wasm32"))]
+#[path = "mocapseg/library_cli.rs"]
+mod library_cli;
 
 #[cfg(not(target_arch = "wasm32"))]
 mod cli {
@@ -149,6 +157,73 @@ mod cli {
             /// `mocapseg train-lma`, or saved from the page's LMA panel).
             #[arg(long, value_name = "FILE")]
             lma_model: Option<PathBuf>,
+        },
+        /// Cluster the segments of many takes together: every take segmented (on all cores; a bad file is
+        /// reported and skipped), then its units (primitives and transitions, or actions) matched across the whole
+        /// library on one self-similarity matrix (SSSM paper §VI across takes). Writes `<take>.json` per take, whose
+        /// `cluster` ids (labels `C<id>`) mean the same motion in every take, and `clusters.json`: each cluster's
+        /// occurrences (take, frames, seconds) and total duration, longest first.
+        /// Exit code: 0 every take clustered; 1 nothing to cluster; 2 some takes failed (named, the rest clustered).
+        Cluster {
+            /// BVH files and/or folders.
+            #[arg(required = true)]
+            inputs: Vec<PathBuf>,
+            /// Folder for the segmentations and clusters.json.
+            #[arg(long)]
+            out: PathBuf,
+            /// The method whose segments are clustered (`mocapseg methods`).
+            #[arg(long, default_value = "sssm")]
+            method: String,
+            /// A parameter of the method as NAME=VALUE; repeatable.
+            #[arg(long = "param", value_name = "NAME=VALUE")]
+            params: Vec<String>,
+            /// The library's search radius R (inches of the reference body; default the SSSM's primitive radius, 13).
+            #[arg(long)]
+            radius: Option<f64>,
+            /// Fraction of both segments a warping path must cover to join them (default 0.66).
+            #[arg(long)]
+            coverage: Option<f64>,
+            /// Takes segmented at once (default: one per core).
+            #[arg(long)]
+            jobs: Option<usize>,
+        },
+        /// Carry the labels of one take to every other take of a library (SSSM paper §VII-E): each segment of
+        /// another take gets the label of the labelled segment its cheapest warping path joins it to, with a
+        /// confidence (the JSON's `score`), and `unknown` where none fits. Writes `<take>.json` per take and
+        /// `labels.csv` (the label CSV `train` reads; unknown stretches left out).
+        /// Exit code: 0 every take labelled; 1 nothing done; 2 some takes failed (named, the rest labelled).
+        Transfer {
+            /// BVH files and/or folders (the labelled take is added if not among them).
+            #[arg(required = true)]
+            inputs: Vec<PathBuf>,
+            /// The label CSV (`file,start_frame,end_frame,label`) with the labelled take's rows.
+            #[arg(long)]
+            labels: PathBuf,
+            /// The labelled take.
+            #[arg(long)]
+            from: PathBuf,
+            /// Folder for the labelled segmentations and labels.csv.
+            #[arg(long)]
+            out: PathBuf,
+            /// nearest: the cheapest warping path to a labelled segment; clusters: the majority label of the labelled
+            /// take's frames in the segment's shared cluster.
+            #[arg(long, default_value = "nearest")]
+            route: String,
+            /// The method whose segments carry the labels.
+            #[arg(long, default_value = "sssm")]
+            method: String,
+            /// A parameter of the method as NAME=VALUE; repeatable.
+            #[arg(long = "param", value_name = "NAME=VALUE")]
+            params: Vec<String>,
+            /// The search radius R (default 30 for --route nearest, chosen by nested validation, docs/library.md; 13 for clusters).
+            #[arg(long)]
+            radius: Option<f64>,
+            /// Fraction of the unlabelled segment a path must cover (default 0.4; of both segments for clusters).
+            #[arg(long)]
+            coverage: Option<f64>,
+            /// Takes segmented at once (default: one per core).
+            #[arg(long)]
+            jobs: Option<usize>,
         },
         /// Label the gait phases of takes by rule (standing, begin/end left/right step, left/right
         /// step, turn — the DT-FCN paper's locomotion labels; heuristic, from foot contacts and the
@@ -396,6 +471,33 @@ mod cli {
             Command::Train { method, inputs, labels, options, name, out } => {
                 train(&method, &inputs, &labels, &options, name, &out)
             }
+            Command::Cluster { inputs, out, method, params, radius, coverage, jobs } => {
+                let args = crate::library_cli::LibraryArgs {
+                    inputs: &inputs,
+                    method: &method,
+                    overrides: &params,
+                    radius,
+                    coverage,
+                    jobs,
+                };
+                return crate::library_cli::cluster_command(&args, &out).map(library_outcome);
+            }
+            Command::Transfer { inputs, labels, from, out, route, method, params, radius, coverage, jobs } => {
+                let route = match route.as_str() {
+                    "nearest" => mocapseg::library::TransferRoute::Nearest,
+                    "clusters" => mocapseg::library::TransferRoute::Clusters,
+                    other => return Err(format!("--route {other}: expected nearest or clusters")),
+                };
+                let args = crate::library_cli::LibraryArgs {
+                    inputs: &inputs,
+                    method: &method,
+                    overrides: &params,
+                    radius,
+                    coverage,
+                    jobs,
+                };
+                return crate::library_cli::transfer_command(&args, &labels, &from, route, &out).map(library_outcome);
+            }
             Command::Gait { inputs, out, within, label } => gait(&inputs, out, within.zip(label)),
             Command::Effort { segmentation, take, lma_model, out } => {
                 effort(&segmentation, &take, lma_model.as_deref(), out.as_deref())
@@ -423,6 +525,15 @@ mod cli {
             }
         }
         .map(|()| Outcome::Ok)
+    }
+
+    /// A library command's exit: 2 when some takes failed (each reported), else 0.
+    fn library_outcome(e: crate::library_cli::Ended) -> Outcome {
+        if e.failed > 0 {
+            Outcome::Partial
+        } else {
+            Outcome::Ok
+        }
     }
 
     fn clips(segmentation: &Path, take: &Path, out: &Path, level: &str, origin: bool, zip: bool) -> Result<(), String> {

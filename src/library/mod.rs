@@ -93,6 +93,17 @@ impl LibraryParams {
         LibraryParams { radius: 30.0, coverage: 0.4, ..LibraryParams::default() }
     }
 
+    /// The settings a transfer by `route` uses by default: [`Self::for_transfer`] for the nearest labelled unit;
+    /// through the shared clusters the clustering's radius (13 in: wider radii merge clusters into a few large ones
+    /// that carry one label each) with coverage 0.4 — what every fold of the nested leave-one-source-out chose
+    /// (two of four with radius 13, two with 20; docs/library.md).
+    pub fn for_route(route: TransferRoute) -> LibraryParams {
+        match route {
+            TransferRoute::Nearest => Self::for_transfer(),
+            TransferRoute::Clusters => LibraryParams { coverage: 0.4, ..Self::default() },
+        }
+    }
+
     /// Checks every value, naming the one that is wrong.
     pub fn check(&self) -> Result<(), LibraryError> {
         let bad = |name: &'static str, value: String, expected: &'static str| {
