@@ -6,7 +6,8 @@
 //! * `#row-consensus` shows once at least two methods have a result: one marker `.ms-consensus-mark` per agreed
 //!   boundary (`data-frame`: the cut, the first frame after it; `data-count`, `data-of`; `data-mine="true"` when my
 //!   labels have that boundary already), its text "3/5" and its tooltip naming the methods. It is made again when
-//!   any method's row changes.
+//!   any method's row changes. Only the window's markers are drawn, at most about [`MAX_MARKERS`] (past them, one per
+//!   `1 / MAX_MARKERS` of the window, as the methods' rows thin their segments).
 //! * Markers are buttons (Tab reaches them): clicking one (or Enter / Space) selects it (`aria-pressed`) and moves
 //!   the playhead to it; `#consensus-accept` (or the key A) **accepts** it: the boundary goes into my labels
 //!   ([`super::my_labels::MyRow::accept_boundary`], splitting my segment there, or starting my labels with it).
@@ -24,9 +25,14 @@ use crate::segment::Segmentation;
 use crate::view::consensus::{
     from_stored, mark_text, mark_tooltip, parse_min_methods, parse_tolerance, summary, to_stored, STORAGE_KEY,
 };
+use crate::view::timeline::visible_segments;
 use leptos::ev::{KeyboardEvent, MouseEvent, PointerEvent};
 use leptos::prelude::*;
 use std::sync::Arc;
+
+/// At most about this many markers are on screen at once, as a method's row holds its segments
+/// ([`visible_segments`]: past it, one per `1 / MAX_MARKERS` of the window); zooming in shows the others.
+const MAX_MARKERS: usize = 60;
 
 /// The key that accepts the selected consensus boundary (and its line in the help overlay).
 pub const SHORTCUTS: [(&str, &str); 1] =
@@ -112,11 +118,9 @@ impl ConsensusRow {
             _ => None,
         });
         let Some((count, of)) = agreed else { return };
-        let accepted = self.mine.accept_boundary(cut, &format!("{count} of {of} methods"));
-        self.note.set(Some(if accepted {
-            (false, format!("Accepted the boundary at frame {} into my labels", cut + 1))
-        } else {
-            (true, "Not accepted: see my labels' status below".into())
+        self.note.set(Some(match self.mine.accept_boundary(cut, &format!("{count} of {of} methods")) {
+            Ok(()) => (false, format!("Accepted the boundary at frame {} into my labels", cut + 1)),
+            Err(why) => (true, format!("Not accepted: {why}")),
         }));
     }
 
@@ -157,9 +161,10 @@ pub fn ConsensusLane(row: ConsensusRow) -> impl IntoView {
         let mine = mine_cuts.get();
         let Some(Ok(c)) = row.result.get() else { return Vec::new() };
         let of = c.methods.len();
-        c.boundaries
-            .iter()
-            .filter(|b| b.frame as f64 >= w.start && b.frame as f64 <= w.end)
+        let at: Vec<(usize, usize)> = c.boundaries.iter().map(|b| (b.frame, b.frame)).collect();
+        visible_segments(&at, &w, MAX_MARKERS)
+            .into_iter()
+            .map(|i| &c.boundaries[i])
             .map(|b| {
                 let cut = b.frame;
                 let tip = mark_tooltip(b, of, c.fps, |m| short_name(state, m));

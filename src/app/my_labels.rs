@@ -530,10 +530,17 @@ impl MyRow {
     }
 
     /// Puts a boundary at cut `cut` in my labels (an accepted consensus boundary, `agreed`: by how many methods),
-    /// splitting my segment there or starting my labels with it ([`Model::add_boundary`]).
-    pub fn accept_boundary(self, cut: usize, agreed: &str) -> bool {
+    /// splitting my segment there or starting my labels with it ([`Model::add_boundary`]); why not, when refused.
+    pub fn accept_boundary(self, cut: usize, agreed: &str) -> Result<(), String> {
         let done = format!("Boundary at frame {} accepted from the consensus ({agreed})", cut + 1);
-        self.edit(|m| m.add_boundary(cut), Some(done))
+        let mut refused = String::new();
+        let accepted =
+            self.edit(|m| m.add_boundary(cut).inspect_err(|e| refused = capitalised(&e.to_string())), Some(done));
+        if accepted {
+            Ok(())
+        } else {
+            Err(refused)
+        }
     }
 
     /// My boundaries' cuts, sorted (the consensus row marks the ones it agrees with).
