@@ -73,6 +73,11 @@ impl ConsensusRow {
                 row.selected.set(None);
             }
         });
+        // new rows (a run, another take): the status says the new consensus, not the last accept
+        Effect::new(move |_| {
+            row.result.track();
+            row.note.set(None);
+        });
         Effect::new(move |_| {
             let n = row.cuts().len();
             if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {

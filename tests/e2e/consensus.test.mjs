@@ -1,7 +1,7 @@
 // The consensus row (issue 26; src/app/consensus.rs, docs/page.md "The consensus row"), in the real page at
 // 1024×768 and 1440×900, light and dark: it stays hidden while one method has a result and appears once a second
 // one runs, its markers saying how many of the methods agree ("2/3") and, in their tooltip, which; it is made again
-// when another method runs; the tolerance and the minimum agreement change it and are remembered on the next visit;
+// when another method runs (and its status says so, not the last accept); the tolerance and the minimum agreement change it and are remembered on the next visit;
 // accepting a marker — from the keyboard (Tab to it, Enter, A) or with the Accept button — puts that boundary in my
 // labels (starting them when there are none, splitting my segment after that); the markers' text is readable; and,
 // offline after a visit, the row and Accept still work.
@@ -116,6 +116,13 @@ for (const view of VIEWS) {
     assert.match(await text(page, "#my-labels-status"), new RegExp(already));
     assert.equal(await page.evaluate(() => document.body.dataset.myLabels), "3");
 
+    // another method's run makes the row again over four, and the status says the new consensus, not the refusal
+    await runMethod(page, "pca");
+    await until(async () => {
+      const now = await marks(page);
+      return now.length > 0 && now.every((m) => m.of === 4);
+    }, "markers of 4 methods");
+    assert.match(await text(page, "#consensus-status"), /^\d+ boundar(y|ies) where at least 2 of 4 methods agree within 0.5 s/);
     console.log(`  (${two.length} boundaries where 2 of 3 agree: ${two.map((m) => `${m.frame}:${m.count}`).join(" ")})`);
     await shot(page, `e2e-consensus-${view.viewport.width}-${view.theme}.png`);
     // the help lists the key
