@@ -373,6 +373,86 @@ mod tests {
         assert_eq!(consensus(&[&a], options(0.5, 0)), Err(ConsensusError::NoMinimum));
     }
 
+    /// A method's segmentation for the property below: a tiling cut at `cuts` (actions), or primitives at `spans`
+    /// (gaps and overlaps as they come), of `frames` frames at `fps`.
+    fn generated(method: &str, frames: usize, fps: f64, tiling: bool, marks: &[(usize, usize)]) -> Segmentation {
+        let segments = if tiling {
+            let mut cuts: Vec<usize> = marks.iter().map(|&(a, _)| a % frames).filter(|&c| c > 0).collect();
+            cuts.sort_unstable();
+            cuts.dedup();
+            let starts = std::iter::once(0).chain(cuts.iter().copied());
+            let ends = cuts.iter().map(|&c| c - 1).chain(std::iter::once(frames - 1));
+            starts.zip(ends).map(|(a, b)| segment(a, b, Level::Action)).collect()
+        } else {
+            marks
+                .iter()
+                .map(|&(a, len)| {
+                    let start = a % frames;
+                    segment(start, (start + len).min(frames - 1), Level::Primitive)
+                })
+                .collect()
+        };
+        Segmentation {
+            file: "t.bvh".into(),
+            fps,
+            frames,
+            method: method.into(),
+            params: serde_json::Value::Null,
+            segments,
+        }
+    }
+
+    proptest::proptest! {
+        /// On any valid segmentations: no error, and every agreed boundary is what the module says — its methods
+        /// distinct and at least the minimum, its own boundaries within the tolerance of each other and each a
+        /// boundary of its method, its frame their median, and no method's boundary in two groups.
+        #[test]
+        fn every_agreed_boundary_keeps_the_rules(
+            frames in 2usize..400,
+            fps in proptest::sample::select(vec![10.0, 30.0, 120.0]),
+            tolerance_s in 0.0f64..2.0,
+            min_methods in 1usize..5,
+            methods in proptest::collection::vec(
+                (0usize..4, proptest::bool::ANY, proptest::collection::vec((0usize..1000, 0usize..60), 0..12)),
+                1..6,
+            ),
+        ) {
+            let names = ["a", "b", "c", "d"];
+            let segs: Vec<Segmentation> = methods
+                .iter()
+                .map(|(n, tiling, marks)| generated(names[*n], frames, fps, *tiling, marks))
+                .collect();
+            let refs: Vec<&Segmentation> = segs.iter().collect();
+            let options = ConsensusOptions { tolerance_s, min_methods };
+            let c = consensus(&refs, options).unwrap();
+            // every method's own boundaries, pooled by name
+            let own = |m: &str| -> Vec<usize> {
+                let mut all: Vec<usize> = segs.iter().filter(|s| s.method == m).flat_map(scored_boundaries).collect();
+                all.sort_unstable();
+                all
+            };
+            let mut used: Vec<(String, usize)> = Vec::new();
+            let mut last = 0;
+            for b in &c.boundaries {
+                proptest::prop_assert!(b.frame >= last, "sorted");
+                last = b.frame;
+                proptest::prop_assert!(b.count() >= min_methods && b.count() <= c.methods.len());
+                let mut distinct = b.methods.clone();
+                distinct.sort();
+                distinct.dedup();
+                proptest::prop_assert_eq!(distinct.len(), b.count(), "one boundary per method");
+                let (lo, hi) = (*b.frames.iter().min().unwrap(), *b.frames.iter().max().unwrap());
+                proptest::prop_assert!((hi - lo) as f64 <= tolerance_s * fps + 1e-9, "within the tolerance");
+                proptest::prop_assert!(lo <= b.frame && b.frame <= hi && b.frame > 0 && b.frame < frames);
+                for (m, f) in b.methods.iter().zip(&b.frames) {
+                    proptest::prop_assert!(own(m).binary_search(f).is_ok(), "{m}'s own boundary {f}");
+                    proptest::prop_assert!(!used.contains(&(m.clone(), *f)), "{m}'s {f} in one group only");
+                    used.push((m.clone(), *f));
+                }
+            }
+        }
+    }
+
     #[test]
     fn as_a_segmentation_it_tiles_the_take_at_the_agreed_boundaries() {
         let a = tiling("a", &[20, 60]);
