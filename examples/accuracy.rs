@@ -22,6 +22,14 @@
 //!     its labels, so they have no held-out score there.
 //!   - *oracle-K*: per take, the grid setting whose number of segments is closest to the true one (a method told K).
 //!   Selection: the mean of F1@1s and covering.
+//!   - *consensus* (`segment::consensus`): the boundaries the five unsupervised methods (SSSM, PCA, velocity, KCS,
+//!     LMA) agree on, scored as a tiling; its grid is the tolerance × the minimum agreement. Each column is the
+//!     consensus of the methods' outputs of that column: their defaults; their in-sample best settings; held out,
+//!     the methods' settings chosen without the take (LMA's family trained without it) and the consensus's own
+//!     setting chosen, nested, on the other takes with those same method settings. The labellers are left out (their
+//!     held-out outputs exist on the mocap6 takes only, and choosing on the other takes would need models trained
+//!     without two takes). Every setting's scores on the methods' defaults are printed: the page's default is the
+//!     best of them.
 //! * **Gestures** — spliced takes with known boundaries (`mocapseg splice`): nested = leave one *source* take out
 //!   (choose on splices of the other four, seeds 1–2, 30 pieces; score a splice of the held-out source, 20 pieces);
 //!   in-sample = the best setting on splices of all five (seeds 1–3, 40 pieces), scored on them. Selection:
@@ -72,6 +80,7 @@ mod lab {
     use mocapseg::methods::lma::method::{segment_with, LmaParams};
     use mocapseg::methods::lma::training::{train_family, TrainConfig as LmaTrain};
     use mocapseg::motion::Motion;
+    use mocapseg::segment::consensus::{consensus, ConsensusOptions};
     use mocapseg::segment::labelling;
     use mocapseg::segment::metrics::{evaluate, Tolerances};
     use mocapseg::segment::reference::{chance_scores, equal_parts, prior, MeanScores, Prior};
@@ -266,7 +275,24 @@ mod lab {
 
     /// `cells[s][t]` of every grid setting on every take.
     fn grid_cells(name: &str, settings: &[Vec<String>], takes: &[(&Motion, &Truth)]) -> Result<Vec<Vec<Cell>>, String> {
-        settings.iter().map(|s| takes.iter().map(|(m, t)| cell(&run_method(name, s, m)?, t)).collect()).collect()
+        Ok(grid_runs(name, settings, takes)?.0)
+    }
+
+    /// `cells[s][t]` and the segmentations `segs[s][t]` they score, of every grid setting on every take.
+    #[allow(clippy::type_complexity)]
+    fn grid_runs(
+        name: &str,
+        settings: &[Vec<String>],
+        takes: &[(&Motion, &Truth)],
+    ) -> Result<(Vec<Vec<Cell>>, Vec<Vec<Segmentation>>), String> {
+        let (mut cells, mut segs) = (Vec::new(), Vec::new());
+        for s in settings {
+            let runs: Vec<Segmentation> =
+                takes.iter().map(|(m, _)| run_method(name, s, m)).collect::<Result<_, _>>()?;
+            cells.push(runs.iter().zip(takes).map(|(seg, (_, t))| cell(seg, t)).collect::<Result<_, _>>()?);
+            segs.push(runs);
+        }
+        Ok((cells, segs))
     }
 
     /// The setting with the best mean criterion over the takes `among` (ties: the earlier, so the defaults win them).
@@ -307,37 +333,56 @@ mod lab {
         MeanScores::mean(&cells.iter().map(|c| c.scores.clone()).collect::<Vec<_>>())
     }
 
-    /// Defaults, in-sample best, nested held-out choice and oracle-K of a grid method over `takes`.
+    /// What a grid method produced on the action takes: the consensus row is made of it.
+    struct Outputs {
+        method: String,
+        settings: Vec<Vec<String>>,
+        /// `segs[s][t]`: setting `s` on take `t` (LMA: the shipped family).
+        segs: Vec<Vec<Segmentation>>,
+        /// The in-sample best setting.
+        in_sample: usize,
+        /// Per take: the setting chosen on the other takes, and its output on the take (LMA: the family trained
+        /// without it).
+        held_out: Vec<(usize, Segmentation)>,
+    }
+
+    /// Defaults, in-sample best, nested held-out choice and oracle-K of a grid method over `takes`, and its outputs.
     fn grid_row(
         name: &str,
         takes: &[(&Motion, &Truth)],
         criterion: fn(&Cell) -> f64,
         tuned_on: impl Fn(usize) -> Vec<usize>,
         families: &Families,
-    ) -> Result<MethodRow, String> {
+    ) -> Result<(MethodRow, Outputs), String> {
         let started = Instant::now();
         let settings = grid(name);
-        let cells = grid_cells(name, &settings, takes)?;
+        let (cells, segs) = grid_runs(name, &settings, takes)?;
         let all: Vec<usize> = (0..takes.len()).collect();
         let defaults = mean_of(&all.iter().map(|&t| &cells[0][t]).collect::<Vec<_>>());
         let b = best(&cells, &all, criterion);
         let in_sample = mean_of(&all.iter().map(|&t| &cells[b][t]).collect::<Vec<_>>());
         let mut folds = Vec::new();
+        let mut held_segs = Vec::new();
         for t in 0..takes.len() {
             let s = best(&cells, &tuned_on(t), criterion);
             println!("  {name}: held out {} — chose {} on the others", takes[t].1.trial, label(&settings[s]));
             let trial = &takes[t].1.trial;
-            let scores = match families.without(trial) {
+            let (seg, scores) = match families.without(trial) {
                 Some(_) if name == "lma" => {
-                    cell(&run_held_out(name, &settings[s], takes[t].0, trial, families)?, takes[t].1)?.scores
+                    let seg = run_held_out(name, &settings[s], takes[t].0, trial, families)?;
+                    let scores = cell(&seg, takes[t].1)?.scores;
+                    (seg, scores)
                 }
-                _ => cells[s][t].scores.clone(),
+                _ => (segs[s][t].clone(), cells[s][t].scores.clone()),
             };
             folds.push((trial.clone(), label(&settings[s]), scores));
+            held_segs.push((s, seg));
         }
         let held_out = MeanScores::mean(&folds.iter().map(|f| f.2.clone()).collect::<Vec<_>>());
         let oracle = oracle_k(&cells);
-        Ok(MethodRow {
+        let outputs =
+            Outputs { method: name.into(), settings: settings.clone(), segs, in_sample: b, held_out: held_segs };
+        let row = MethodRow {
             method: name.into(),
             defaults: Some(defaults),
             in_sample: Some((label(&settings[b]), in_sample)),
@@ -345,6 +390,128 @@ mod lab {
             oracle_k: Some(mean_of(&oracle)),
             folds,
             note: format!("grid of {} settings", settings.len()),
+            seconds: started.elapsed().as_secs_f64(),
+        };
+        Ok((row, outputs))
+    }
+
+    /// The consensus row's grid (`segment::consensus`): its tolerance and minimum agreement; the defaults first.
+    fn consensus_grid() -> Vec<ConsensusOptions> {
+        let mut settings = vec![ConsensusOptions::default()];
+        for tolerance_s in [0.25, 0.5, 1.0, 2.0] {
+            for min_methods in [2, 3, 4] {
+                let o = ConsensusOptions { tolerance_s, min_methods };
+                if !settings.contains(&o) {
+                    settings.push(o);
+                }
+            }
+        }
+        settings
+    }
+
+    fn consensus_label(o: &ConsensusOptions) -> String {
+        format!("tolerance_s={} min_methods={}", o.tolerance_s, o.min_methods)
+    }
+
+    /// The consensus of `outputs` (one take's segmentations, one per method) under `o`, scored against `truth`.
+    fn consensus_cell(outputs: &[&Segmentation], o: ConsensusOptions, truth: &Truth) -> Result<Cell, String> {
+        let agreed = consensus(outputs, o).map_err(|e| format!("consensus on {}: {e}", truth.trial))?;
+        cell(&agreed.to_segmentation(&truth.trial), truth)
+    }
+
+    /// `cells[c][t]`: every consensus setting on every take, of the outputs `of(t)` gives.
+    fn consensus_cells(
+        settings: &[ConsensusOptions],
+        takes: &[(&Motion, &Truth)],
+        of: impl Fn(usize) -> Result<Vec<Segmentation>, String>,
+    ) -> Result<Vec<Vec<Cell>>, String> {
+        let outputs: Vec<Vec<Segmentation>> = (0..takes.len()).map(of).collect::<Result<_, _>>()?;
+        settings
+            .iter()
+            .map(|&o| {
+                takes
+                    .iter()
+                    .zip(&outputs)
+                    .map(|((_, truth), segs)| consensus_cell(&segs.iter().collect::<Vec<_>>(), o, truth))
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The consensus row: the boundaries the grid methods agree on, scored like a method. *defaults*: the consensus's
+    /// defaults on the methods' defaults; *in-sample best*: the consensus setting best on all takes, on each method's
+    /// in-sample best outputs; *held out*: for each take, the methods' settings chosen without it (their held-out
+    /// outputs on it; LMA's family trained without it) and the consensus setting chosen, nested, on the other takes
+    /// with those same method settings (LMA with that same family) — nothing is chosen on the reported take.
+    fn consensus_row(
+        takes: &[(&Motion, &Truth)],
+        methods: &[Outputs],
+        criterion: fn(&Cell) -> f64,
+        families: &Families,
+    ) -> Result<MethodRow, String> {
+        let started = Instant::now();
+        let settings = consensus_grid();
+        let all: Vec<usize> = (0..takes.len()).collect();
+        // every setting on the methods' defaults (the first: the consensus's defaults), the measurement behind them
+        let on_defaults =
+            consensus_cells(&settings, takes, |t| Ok(methods.iter().map(|m| m.segs[0][t].clone()).collect()))?;
+        for (o, cells) in settings.iter().zip(&on_defaults) {
+            let mean = mean_of(&cells.iter().collect::<Vec<_>>());
+            println!(
+                "  consensus on the defaults, {}: F1@1s {:.3}, covering {:.3}, criterion {:.3}, segments {:.1}",
+                consensus_label(o),
+                mean.f1_1,
+                mean.covering,
+                all.iter().map(|&t| criterion(&cells[t])).sum::<f64>() / all.len().max(1) as f64,
+                mean.segments
+            );
+        }
+        let in_cells = consensus_cells(&settings, takes, |t| {
+            Ok(methods.iter().map(|m| m.segs[m.in_sample][t].clone()).collect())
+        })?;
+        let b = best(&in_cells, &all, criterion);
+        let mut folds = Vec::new();
+        for h in 0..takes.len() {
+            let trial = &takes[h].1.trial;
+            // every take's outputs under the settings the methods chose without `h` (on `h` itself: its held-out
+            // outputs); LMA with the family trained without `h`
+            let fold = consensus_cells(&settings, takes, |t| {
+                methods
+                    .iter()
+                    .map(|m| {
+                        let (s, held) = &m.held_out[h];
+                        match families.without(trial) {
+                            _ if t == h => Ok(held.clone()),
+                            Some(_) if m.method == "lma" => {
+                                run_held_out(&m.method, &m.settings[*s], takes[t].0, trial, families)
+                            }
+                            _ => Ok(m.segs[*s][t].clone()),
+                        }
+                    })
+                    .collect()
+            })?;
+            let others: Vec<usize> = (0..takes.len()).filter(|&t| t != h).collect();
+            let c = best(&fold, &others, criterion);
+            println!("  consensus: held out {trial} — chose {} on the others", consensus_label(&settings[c]));
+            folds.push((trial.clone(), consensus_label(&settings[c]), fold[c][h].scores.clone()));
+        }
+        let names: Vec<&str> = methods.iter().map(|m| m.method.as_str()).collect();
+        Ok(MethodRow {
+            method: "consensus".into(),
+            defaults: Some(mean_of(&on_defaults[0].iter().collect::<Vec<_>>())),
+            in_sample: Some((
+                consensus_label(&settings[b]),
+                mean_of(&all.iter().map(|&t| &in_cells[b][t]).collect::<Vec<_>>()),
+            )),
+            held_out: Some(MeanScores::mean(&folds.iter().map(|f| f.2.clone()).collect::<Vec<_>>())),
+            oracle_k: Some(mean_of(&oracle_k(&in_cells))),
+            folds,
+            note: format!(
+                "the boundaries at least min_methods of {} agree on within tolerance_s; grid of {} settings; each \
+                 column on the methods' outputs of that column (defaults, in-sample best, held out)",
+                names.join(", "),
+                settings.len()
+            ),
             seconds: started.elapsed().as_secs_f64(),
         })
     }
@@ -366,7 +533,12 @@ mod lab {
     const THRESHOLDS: [f64; 3] = [0.8, 0.5, 0.0];
 
     /// A labeller's per-file-frame labels (`None`: unknown) as a segmentation, as the method turns them into segments.
-    fn labelled_segmentation(motion: &Motion, file: &[(Option<usize>, f32)], classes: &[String], method: &str) -> Segmentation {
+    fn labelled_segmentation(
+        motion: &Motion,
+        file: &[(Option<usize>, f32)],
+        classes: &[String],
+        method: &str,
+    ) -> Segmentation {
         Segmentation {
             file: motion.name.clone(),
             fps: motion.fps,
@@ -864,10 +1036,15 @@ mod lab {
         // nested: a take's parameters are chosen on every other take
         let others = |t: usize| (0..takes.len()).filter(|&i| i != t).collect::<Vec<_>>();
         let mut actions = Vec::new();
+        let mut outputs = Vec::new();
         for name in ["sssm", "pca", "velocity", "kcs", "lma"] {
             println!("actions: {name}");
-            actions.push(grid_row(name, &refs, action_criterion, others, &families)?);
+            let (row, out) = grid_row(name, &refs, action_criterion, others, &families)?;
+            actions.push(row);
+            outputs.push(out);
         }
+        println!("actions: consensus of {}", outputs.iter().map(|o| o.method.as_str()).collect::<Vec<_>>().join(", "));
+        actions.push(consensus_row(&refs, &outputs, action_criterion, &families)?);
         println!("actions: knn, dtfcn");
         actions.extend(labeller_rows(&takes)?);
         // the training prior: the labels of the other takes of the same label set (86_01 has none: its own)

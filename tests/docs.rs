@@ -363,7 +363,7 @@ fn the_readme_keeps_the_two_commands() {
 #[test]
 fn every_method_page_has_its_generated_accuracy_block() {
     let root = root();
-    for page in ["sssm", "pca", "velocity", "kcs", "lma", "dtfcn"] {
+    for page in ["sssm", "pca", "velocity", "kcs", "lma", "dtfcn", "consensus"] {
         let path = root.join(format!("docs/methods/{page}.md"));
         let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let (a, b) = (text.find("<!-- accuracy:begin -->"), text.find("<!-- accuracy:end -->"));

@@ -2,7 +2,7 @@
 //!
 //! * [`Legend`] — `#legend-button` on the timeline's heading opens `#legend`, which says what
 //!   every kind of row is and what its names mean (one entry `[data-kind]` per kind: the motion
-//!   image, actions, labels, primitives, gestures, the ground truth, my labels; the words come from
+//!   image, actions, labels, primitives, gestures, the ground truth, the consensus, my labels; the words come from
 //!   [`crate::view::rows`], as the rows' tooltips do). Esc, its Close button or the button again
 //!   closes it.
 //! * [`WhatNext`] — `#what-next`, at the top of the side panel's first tab: three next steps (compare with a
@@ -40,6 +40,13 @@ fn entries() -> Vec<(&'static str, String, String)> {
         "truth",
         "Ground truth".to_string(),
         "labels you imported (Truth & scores tab): what the other rows are scored against".to_string(),
+    ));
+    out.push((
+        "consensus",
+        "Consensus".to_string(),
+        "boundaries where the methods' rows agree: \"3/5\" — 3 of the 5 methods that ran cut there, within the \
+         tolerance set under the timeline; select one and Accept puts it in my labels"
+            .to_string(),
     ));
     out.push((
         "my-labels",

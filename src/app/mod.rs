@@ -26,6 +26,7 @@
 //! corrections. [`effort`] draws the Effort bars under every row (a toggle of the timeline).
 
 mod browser_models;
+mod consensus;
 mod drop_zone;
 mod effort;
 mod embed;

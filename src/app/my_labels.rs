@@ -529,6 +529,26 @@ impl MyRow {
         self.edit(|m| m.place(start, end, label), Some(done))
     }
 
+    /// Puts a boundary at cut `cut` in my labels (an accepted consensus boundary, `agreed`: by how many methods),
+    /// splitting my segment there or starting my labels with it ([`Model::add_boundary`]); why not, when refused.
+    pub fn accept_boundary(self, cut: usize, agreed: &str) -> Result<(), String> {
+        let done = format!("Boundary at frame {} accepted from the consensus ({agreed})", cut + 1);
+        let mut refused = String::new();
+        let accepted =
+            self.edit(|m| m.add_boundary(cut).inspect_err(|e| refused = capitalised(&e.to_string())), Some(done));
+        if accepted {
+            Ok(())
+        } else {
+            Err(refused)
+        }
+    }
+
+    /// My boundaries' cuts, sorted (the consensus row marks the ones it agrees with).
+    pub fn cuts(self) -> Signal<Vec<usize>> {
+        let model = self.model;
+        Signal::derive(move || model.with(Model::boundaries))
+    }
+
     /// Gives the selected segment `label` (a vocabulary entry: its number key or its button).
     fn label_with(self, label: String) {
         let done = format!("Labelled {label}");

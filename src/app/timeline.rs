@@ -1,7 +1,8 @@
 //! `#timeline`: the studio's one time axis under the player. Every line has its label at the left
 //! and its lane on the same x range: the time ruler (`#timeline-ruler`, seconds with a step chosen
 //! for the zoom), the motion image, one row per method and level (`#row-<method>-actions`,
-//! `#row-<method>-primitives`, from [`MethodRows`]) and, under them, the minimap of the whole take
+//! `#row-<method>-primitives`, from [`MethodRows`]), the consensus row (`#row-consensus`, [`super::consensus`]),
+//! my labels' row and, under them, the minimap of the whole take
 //! (`#timeline-minimap`, its window `#minimap-window`). `#playhead` marks the current frame across
 //! the lanes; `#time-readout` says `mm:ss.fff · frame N / total`.
 //!
@@ -15,6 +16,7 @@
 //! ([`super::effort`]). The keyboard ([`crate::view::timeline::key_action`]) works anywhere on the page except
 //! in text fields; `?` opens `#help-overlay`. The maths is in [`crate::view::timeline`].
 
+use super::consensus::{ConsensusLane, ConsensusRow, ConsensusTools};
 use super::effort::{EffortLegend, EffortToggle};
 use super::ground_truth::TruthRow;
 use super::keys::is_for_the_field;
@@ -187,7 +189,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
         let over_segment = ev
             .target()
             .and_then(|t| t.dyn_into::<Element>().ok())
-            .and_then(|e| e.closest(".ms-seg, .ms-effort-seg").ok().flatten())
+            .and_then(|e| e.closest(".ms-seg, .ms-effort-seg, .ms-consensus-mark").ok().flatten())
             .and_then(|e| e.get_attribute("aria-label"));
         let text = over_segment.or_else(|| {
             let frame = frame_at(ev.client_x() as f64)?;
@@ -273,6 +275,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
 
     let rows_ref = NodeRef::<Div>::new();
     let mine = MyRow::new(state); // first: its keys ([ ] on my row) before the timeline's
+    let agreed = ConsensusRow::new(state, mine);
     keyboard(state);
 
     let zoom_by = move |factor: f64| {
@@ -407,11 +410,13 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                     <div id="timeline-rows" class="ms-timeline-rows" node_ref=rows_ref>
                         <TruthRow state=state/>
                         <MethodRows state=state/>
+                        <ConsensusLane row=agreed/>
                         <MyLabelsRow mine=mine/>
                     </div>
                 </div>
                 <div id="playhead" class="ms-playhead" style:left=move || lane_left(playhead_fraction()) hidden=playhead_hidden></div>
             </div>
+            <ConsensusTools row=agreed/>
             <MyLabelsTools mine=mine/>
             <div class="ms-tl-line ms-tl-line--minimap">
                 <div class="ms-tl-label">"Whole take"</div>
@@ -477,6 +482,7 @@ fn HelpOverlay(state: AppState) -> impl IntoView {
                     {SHORTCUTS
                         .iter()
                         .chain(super::my_labels::SHORTCUTS.iter())
+                        .chain(super::consensus::SHORTCUTS.iter())
                         .map(|(keys, what)| view! { <dt><kbd>{*keys}</kbd></dt> <dd>{*what}</dd> })
                         .collect_view()}
                 </dl>

@@ -240,6 +240,25 @@ fn boundaries(intervals: &[(usize, usize)], frames: usize) -> Vec<usize> {
     b
 }
 
+/// How a segmentation is scored and the spans scored ([`ScoredView`]): its actions as a tiling, or its primitives as
+/// given when it has no actions.
+fn scored_spans(seg: &Segmentation) -> (ScoredView, Vec<Span>) {
+    match scored_level(seg) {
+        Level::Action => (ScoredView::Tiling, action_spans(seg)),
+        _ => (ScoredView::AsGiven, primitive_spans(seg)),
+    }
+}
+
+/// The boundaries a segmentation is scored on, sorted, each once: for a segmentation with actions the cuts between
+/// consecutive segments of its tiling, else every start of its primitives and every frame after an end (gaps and
+/// overlaps as given) — what [`evaluate`] matches against the truth's, and what each method contributes to a
+/// consensus ([`super::consensus`]). Frame 0 and the frame past the end are never boundaries.
+pub fn scored_boundaries(seg: &Segmentation) -> Vec<usize> {
+    let (_, spans) = scored_spans(seg);
+    let intervals: Vec<(usize, usize)> = spans.iter().map(|s| (s.start, s.end)).collect();
+    boundaries(&intervals, seg.frames)
+}
+
 /// Maximum one-to-one matching of sorted boundaries closer than `tol` frames (greedy is optimal on a line).
 fn matched_boundaries(pred: &[usize], truth: &[usize], tol: f64) -> usize {
     let (mut i, mut j, mut matched) = (0, 0, 0);
@@ -501,10 +520,7 @@ pub fn evaluate(seg: &Segmentation, truth: &Truth, tol: &Tolerances) -> Result<S
         return Err(MetricsError::LengthMismatch { seg: seg.frames, truth: truth.frames });
     }
     check_inputs(seg, truth)?;
-    let (scored_as, spans) = match scored_level(seg) {
-        Level::Action => (ScoredView::Tiling, action_spans(seg)),
-        _ => (ScoredView::AsGiven, primitive_spans(seg)),
-    };
+    let (scored_as, spans) = scored_spans(seg);
     // A method that found nothing is scored as finding nothing (every true segment and boundary missed), not refused.
     let true_iv: Vec<(usize, usize)> = truth.segments.iter().map(|s| (s.start, s.end)).collect();
     let pred_iv: Vec<(usize, usize)> = spans.iter().map(|s| (s.start, s.end)).collect();

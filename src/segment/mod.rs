@@ -10,6 +10,7 @@
 //! `"effort": {"space": x, "time": x, "weight": x, "flow": x}`: its Laban Effort, each factor in
 //! [−1, 1] from fully indulging (−1) to fully condensing (+1) (LMA segments).
 
+pub mod consensus;
 pub mod cuts;
 pub mod frames;
 pub mod labelling;

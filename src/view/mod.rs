@@ -8,11 +8,13 @@
 //! ([`rows`]), a model's card beside its choice ([`model_card`]), the advice before a training
 //! ([`training_advice`]), the question when a take is opened during a training and what forgetting a
 //! model kept in the browser changes ([`kept_models`]), and a labelling row's badge when its model
-//! does not fit the take ([`take_fit`]), and the Effort bars under every row ([`effort`]).
+//! does not fit the take ([`take_fit`]), the Effort bars under every row ([`effort`]), and the
+//! consensus row's settings and words ([`consensus`]).
 
 pub mod camera;
 pub mod clock;
 pub mod compare;
+pub mod consensus;
 pub mod contrast;
 pub mod effort;
 pub mod export_names;

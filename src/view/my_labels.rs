@@ -22,6 +22,9 @@
 //! * **Split** at a frame keeps the label on both parts (the right one is selected); **merge**
 //!   joins the selected segment with the next one (a gap between them included) under the
 //!   selected segment's label (the next one's when it is unlabelled).
+//! * **Add a boundary** ([`MyLabels::add_boundary`]: a consensus boundary accepted on the page) splits the segment
+//!   it falls in, or, with no segment yet, starts the row as *start empty* does and cuts it there (one edit); a
+//!   boundary already there, in a gap or at the take's edge is refused.
 //! * **Undo / redo**: every edit (copy, start empty, move, split, merge, relabel, delete, fill,
 //!   clear) is undoable; a new edit clears the redo list; the history keeps the last
 //!   [`HISTORY_LIMIT`] edits. An edit that changes nothing (a boundary dropped where it was, the
@@ -93,6 +96,12 @@ pub enum EditError {
     NoBoundary(usize),
     #[error("frame {} is inside one of my segments, not in a gap", .0 + 1)]
     NotAGap(usize),
+    #[error("my labels already have a boundary at frame {}", .0 + 1)]
+    AlreadyBoundary(usize),
+    #[error("frame {} is in a gap of my labels: fill the gap first to put a boundary in it", .0 + 1)]
+    BoundaryInGap(usize),
+    #[error("frame {} is the take's edge, not a boundary between two frames", .0 + 1)]
+    AtTheEdge(usize),
     #[error("a label is at most {MAX_LABEL_CHARS} characters ({0} given)")]
     LabelTooLong(usize),
     #[error("a label cannot hold line breaks, tabs or other control characters")]
@@ -439,6 +448,32 @@ impl MyLabels {
         self.spans.insert(i + 1, right);
         self.selected = Some(i + 1);
         Ok(())
+    }
+
+    /// Puts a boundary at cut `cut` (between frames `cut - 1` and `cut`: an accepted consensus boundary): splits the
+    /// segment it falls in ([`MyLabels::split_at`], the label kept on both parts, the right one selected); with no
+    /// segment yet, first starts the row as [`MyLabels::start_empty`] does — one undoable edit either way. A boundary
+    /// already there, one in a gap or at the take's edge (cut 0 or past the last frame) is refused.
+    pub fn add_boundary(&mut self, cut: usize) -> Result<(), EditError> {
+        if self.frames == 0 {
+            return Err(EditError::NoFrames);
+        }
+        if cut == 0 || cut >= self.frames {
+            return Err(EditError::AtTheEdge(cut.min(self.frames)));
+        }
+        if self.spans.is_empty() {
+            self.record();
+            self.spans = vec![LabelSpan::new(0, cut - 1, ""), LabelSpan::new(cut, self.frames - 1, "")];
+            self.selected = Some(1);
+            return Ok(());
+        }
+        if self.boundaries().contains(&cut) {
+            return Err(EditError::AlreadyBoundary(cut));
+        }
+        if self.index_at(cut).is_none() {
+            return Err(EditError::BoundaryInGap(cut));
+        }
+        self.split_at(cut)
     }
 
     /// Joins the selected segment with the next one (and the gap between them, if any).
@@ -1136,6 +1171,34 @@ mod tests {
         assert_eq!(m.split_at(99), Err(EditError::SplitAtStart(99)));
         assert_eq!(m.split_at(0), Err(EditError::SplitAtStart(0)));
         assert_eq!(m.split_at(100), Err(EditError::NotInSegment(100)));
+    }
+
+    #[test]
+    fn an_accepted_boundary_splits_my_segment_or_starts_the_row() {
+        // no labels yet: the row starts, unlabelled, cut there — one edit, undone at once
+        let mut m = MyLabels::new(100);
+        m.add_boundary(30).unwrap();
+        assert_eq!(spans(&m), [(0, 29, ""), (30, 99, "")]);
+        assert_eq!(m.selected(), Some(1));
+        assert_eq!(m.undo_depth(), 1);
+        m.undo().unwrap();
+        assert!(m.spans().is_empty());
+        // in a segment: split, the label on both parts
+        let mut m = sample();
+        m.add_boundary(60).unwrap();
+        assert_eq!(spans(&m)[2..], [(40, 59, "c"), (60, 99, "c")]);
+        assert_eq!(m.selected(), Some(3));
+        // already a boundary (between two segments, at a gap's edge, the one just added): refused, nothing recorded
+        let depth = m.undo_depth();
+        for cut in [10, 30, 40, 60] {
+            assert_eq!(m.add_boundary(cut), Err(EditError::AlreadyBoundary(cut)), "cut {cut}");
+        }
+        assert_eq!(m.add_boundary(35), Err(EditError::BoundaryInGap(35)));
+        assert_eq!(m.add_boundary(0), Err(EditError::AtTheEdge(0)));
+        assert_eq!(m.add_boundary(100), Err(EditError::AtTheEdge(100)));
+        assert_eq!(m.undo_depth(), depth);
+        assert!(EditError::BoundaryInGap(35).to_string().contains("frame 36"));
+        assert_eq!(MyLabels::new(0).add_boundary(1), Err(EditError::NoFrames));
     }
 
     #[test]

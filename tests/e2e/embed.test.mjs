@@ -105,8 +105,8 @@ test("src= loads a file of the same origin, methods= runs only those, t= seeks",
   const rows = await page.evaluate(() => [...document.querySelectorAll("#timeline-rows .ms-row")]
     .filter((r) => r.offsetParent).map((r) => r.id));
   assert.ok(rows.some((id) => id.startsWith("row-velocity-")), `the velocity row: ${rows}`);
-  // (the user's own "my labels" row is not a method's)
-  assert.deepEqual(rows.filter((id) => !/^row-(sssm|velocity)-/.test(id) && id !== "row-my-labels"), [],
+  // (the user's own "my labels" row and the consensus of the two are not a method's)
+  assert.deepEqual(rows.filter((id) => !/^row-(sssm|velocity)-/.test(id) && !["row-my-labels", "row-consensus"].includes(id)), [],
     `no other method's row: ${rows}`);
   assertClean(opened);
 });

@@ -320,9 +320,10 @@ test("the legend names every kind of row on screen; tooltips say what a row is; 
     return { id: l.querySelector("[id^=row-]").id.replace("row-", ""), name: name.textContent.trim(), tip: label.title };
   }));
   assert.ok(rows.length >= 9, `rows on screen: ${rows.map((r) => r.name)}`);
-  const kindOf = (name) => name === "Ground truth" ? "truth" : name === "My labels" ? "my-labels" : name.split(" · ")[1];
+  const named = { "Ground truth": "truth", "My labels": "my-labels", Consensus: "consensus" };
+  const kindOf = (name) => named[name] ?? name.split(" · ")[1];
   const kinds = new Set(rows.map((r) => kindOf(r.name)));
-  for (const k of ["actions", "labels", "primitives", "gestures", "truth", "my-labels"]) {
+  for (const k of ["actions", "labels", "primitives", "gestures", "truth", "consensus", "my-labels"]) {
     assert.ok(kinds.has(k), `a ${k} row is on screen (${[...kinds]})`);
   }
   // tooltips: what the row is, not its name again
