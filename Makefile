@@ -15,8 +15,10 @@
 #   make accuracy  the scoreboard: every method on every labelled take of ../shared/data, in-sample and
 #                nested leave-one-take-out side by side, beside chance and oracle-K; writes docs/accuracy.md,
 #                docs/accuracy.json, each method's rows into its docs/methods/<method>.md and the held-out summary
-#                into README.md (examples/accuracy.rs; not part of make test). The markdown alone, again
-#                from the saved JSON: cargo run --example accuracy -- --from-json docs/accuracy.json
+#                into README.md (examples/accuracy.rs; not part of make test); then the library of takes (shared
+#                clusters, label transfer) into docs/library.md and docs/library.json (examples/library.rs).
+#                The scoreboard's markdown alone, again from the saved JSON:
+#                cargo run --example accuracy -- --from-json docs/accuracy.json
 #   make fuzz    the cargo-fuzz targets (fuzz/) one after another, FUZZ_S seconds each (default 60;
 #                FUZZ_TARGETS="a b" picks some), then a table of executions; not part of make test
 #
@@ -115,6 +117,7 @@ accuracy: setup
 	@test -d "$(ACCURACY_DATA)/labels" || { echo "make accuracy: $(ACCURACY_DATA) is absent (the shared data: cmu/ and labels/ with 86_01 and the mocap6 takes); set ACCURACY_DATA=DIR" >&2; exit 1; }
 	$(CARGO) run --release --example accuracy -- --data "$(ACCURACY_DATA)" --out docs --readme README.md \
 	    --methods docs/methods
+	$(CARGO) run --release --example library -- --data "$(ACCURACY_DATA)" --out docs
 
 check-toolchain:
 	@test -f .toolchain.env || { echo "No .toolchain.env: run 'make setup' first." >&2; exit 1; }

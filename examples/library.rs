@@ -274,7 +274,11 @@ mod lab {
                     format!("{seconds:.1}")
                 )
             );
-            let _ = writeln!(md, "{}", row("per take", &own, "0".into(), "–".into(), "–".into()));
+            if segs.iter().any(|s| s.segments.iter().any(|x| x.cluster.is_some())) {
+                let _ = writeln!(md, "{}", row("per take", &own, "0".into(), "–".into(), "–".into()));
+            } else {
+                let _ = writeln!(md, "| {method} | per take | – | – | – | – (the method gives no cluster ids) | – | – | – |");
+            }
             let _ = writeln!(md, "{}", row("chance", &chance, "–".into(), "–".into(), "–".into()));
             cluster_json.push(
                 json!({"method": method, "shared": scores_json(&shared_scores), "per_take": scores_json(&own),
