@@ -171,21 +171,8 @@ mod cli {
             /// Folder for the segmentations and clusters.json.
             #[arg(long)]
             out: PathBuf,
-            /// The method whose segments are clustered (`mocapseg methods`).
-            #[arg(long, default_value = "sssm")]
-            method: String,
-            /// A parameter of the method as NAME=VALUE; repeatable.
-            #[arg(long = "param", value_name = "NAME=VALUE")]
-            params: Vec<String>,
-            /// The library's search radius R (inches of the reference body; default the SSSM's primitive radius, 13).
-            #[arg(long)]
-            radius: Option<f64>,
-            /// Fraction of both segments a warping path must cover to join them (default 0.66).
-            #[arg(long)]
-            coverage: Option<f64>,
-            /// Takes segmented at once (default: one per core).
-            #[arg(long)]
-            jobs: Option<usize>,
+            #[command(flatten)]
+            library: crate::library_cli::LibraryFlags,
         },
         /// Carry the labels of one take to every other take of a library (SSSM paper §VII-E): each segment of
         /// another take gets the label of the labelled segment its cheapest warping path joins it to, with a
@@ -209,21 +196,8 @@ mod cli {
             /// take's frames in the segment's shared cluster.
             #[arg(long, default_value = "nearest")]
             route: String,
-            /// The method whose segments carry the labels.
-            #[arg(long, default_value = "sssm")]
-            method: String,
-            /// A parameter of the method as NAME=VALUE; repeatable.
-            #[arg(long = "param", value_name = "NAME=VALUE")]
-            params: Vec<String>,
-            /// The search radius R (default 30 for --route nearest, chosen by nested validation, docs/library.md; 13 for clusters).
-            #[arg(long)]
-            radius: Option<f64>,
-            /// Fraction of the unlabelled segment a path must cover (default 0.4; of both segments for clusters).
-            #[arg(long)]
-            coverage: Option<f64>,
-            /// Takes segmented at once (default: one per core).
-            #[arg(long)]
-            jobs: Option<usize>,
+            #[command(flatten)]
+            library: crate::library_cli::LibraryFlags,
         },
         /// Label the gait phases of takes by rule (standing, begin/end left/right step, left/right
         /// step, turn — the DT-FCN paper's locomotion labels; heuristic, from foot contacts and the
@@ -471,32 +445,17 @@ mod cli {
             Command::Train { method, inputs, labels, options, name, out } => {
                 train(&method, &inputs, &labels, &options, name, &out)
             }
-            Command::Cluster { inputs, out, method, params, radius, coverage, jobs } => {
-                let args = crate::library_cli::LibraryArgs {
-                    inputs: &inputs,
-                    method: &method,
-                    overrides: &params,
-                    radius,
-                    coverage,
-                    jobs,
-                };
-                return crate::library_cli::cluster_command(&args, &out).map(library_outcome);
+            Command::Cluster { inputs, out, library } => {
+                return crate::library_cli::cluster_command(&inputs, &library, &out).map(library_outcome);
             }
-            Command::Transfer { inputs, labels, from, out, route, method, params, radius, coverage, jobs } => {
+            Command::Transfer { inputs, labels, from, out, route, library } => {
                 let route = match route.as_str() {
                     "nearest" => mocapseg::library::TransferRoute::Nearest,
                     "clusters" => mocapseg::library::TransferRoute::Clusters,
                     other => return Err(format!("--route {other}: expected nearest or clusters")),
                 };
-                let args = crate::library_cli::LibraryArgs {
-                    inputs: &inputs,
-                    method: &method,
-                    overrides: &params,
-                    radius,
-                    coverage,
-                    jobs,
-                };
-                return crate::library_cli::transfer_command(&args, &labels, &from, route, &out).map(library_outcome);
+                return crate::library_cli::transfer_command(&inputs, &library, &labels, &from, route, &out)
+                    .map(library_outcome);
             }
             Command::Gait { inputs, out, within, label } => gait(&inputs, out, within.zip(label)),
             Command::Effort { segmentation, take, lma_model, out } => {
@@ -1317,6 +1276,18 @@ mod cli {
     }
 
     /// One take of a batch: load, segment, write; the summary line and the take's frames.
+    /// A take of a batch or library, loaded: its errors name the path, not only the file name (the loader's), so
+    /// that takes of one name in several folders are told apart.
+    pub(crate) fn load_at(file: &Path) -> Result<Loaded, String> {
+        load(file).map_err(|e| {
+            let name = file.file_name().map(|n| format!("{}: ", n.to_string_lossy())).unwrap_or_default();
+            match e.strip_prefix(&name) {
+                Some(rest) if !name.is_empty() => format!("{}: {rest}", file.display()),
+                _ => e,
+            }
+        })
+    }
+
     fn segment_one(
         method: &dyn DynMethod,
         checked: &CheckedParams,
@@ -1324,14 +1295,7 @@ mod cli {
         out: &Path,
     ) -> Result<(String, usize), String> {
         let started = Instant::now();
-        // the loader names the file; a batch names the path (takes of one name in several folders)
-        let loaded = load(file).map_err(|e| {
-            let name = file.file_name().map(|n| format!("{}: ", n.to_string_lossy())).unwrap_or_default();
-            match e.strip_prefix(&name) {
-                Some(rest) if !name.is_empty() => format!("{}: {rest}", file.display()),
-                _ => e,
-            }
-        })?;
+        let loaded = load_at(file)?;
         let output = method
             .run_checked(&loaded.motion, checked, &RunOptions::default(), &mut NoProgress)
             .map_err(|e| run_error(file, &loaded.motion.name, &e.to_string()))?;
@@ -1376,7 +1340,7 @@ mod cli {
     }
 
     /// The message a panic was raised with.
-    fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    pub(crate) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
         payload
             .downcast_ref::<&str>()
             .map(|s| s.to_string())

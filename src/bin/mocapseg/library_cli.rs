@@ -8,7 +8,7 @@ use std::time::Instant;
 use indicatif::{ProgressBar, ProgressStyle};
 use mocapseg::labels::{read_csv, to_csv, LabelRow};
 use mocapseg::library::{cluster, transfer, KnowledgeBase, LibraryParams, LibraryTake, TakeFeatures, TransferRoute};
-use mocapseg::load::{collect_files, load_path};
+use mocapseg::load::collect_files;
 use mocapseg::method::{self, CheckedParams, DynMethod, NoProgress, RunOptions};
 use mocapseg::methods::lma::corpus::same_file;
 use rayon::prelude::*;
@@ -19,17 +19,29 @@ pub struct Ended {
     pub failed: usize,
 }
 
-/// What the library commands share: the takes, the method and the library's settings.
-pub struct LibraryArgs<'a> {
-    pub inputs: &'a [PathBuf],
-    pub method: &'a str,
-    pub overrides: &'a [String],
+/// What the library commands share: the method whose segments are matched and the library's settings.
+#[derive(clap::Args)]
+pub struct LibraryFlags {
+    /// The method whose segments are matched (`mocapseg methods`).
+    #[arg(long, default_value = "sssm")]
+    pub method: String,
+    /// A parameter of the method as NAME=VALUE (JSON value); repeatable.
+    #[arg(long = "param", value_name = "NAME=VALUE")]
+    pub params: Vec<String>,
+    /// The library's search radius R, inches of the reference body (cluster: 13, the SSSM's primitive radius;
+    /// transfer: 30 by nearest, 13 through clusters — chosen by nested validation, docs/library.md).
+    #[arg(long)]
     pub radius: Option<f64>,
+    /// Fraction a warping path must cover to join two segments (cluster: 0.66 of both; transfer: 0.4 of the
+    /// unlabelled one by nearest, of both through clusters).
+    #[arg(long)]
     pub coverage: Option<f64>,
+    /// Takes segmented at once (default: one per core).
+    #[arg(long)]
     pub jobs: Option<usize>,
 }
 
-impl LibraryArgs<'_> {
+impl LibraryFlags {
     fn params(&self, base: LibraryParams) -> Result<LibraryParams, String> {
         let mut p = base;
         if let Some(r) = self.radius {
@@ -43,25 +55,9 @@ impl LibraryArgs<'_> {
     }
 }
 
-fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
-    payload
-        .downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "a panic without a message".into())
-}
-
 /// One take of the library: loaded, segmented, its features made.
 fn take_of(file: &Path, method: &dyn DynMethod, checked: &CheckedParams, params: &LibraryParams) -> Result<LibraryTake, String> {
-    // the loader names the file; a library names the path (takes of one name in several folders)
-    let loaded = load_path(file).map_err(|e| {
-        let e = e.to_string();
-        let name = file.file_name().map(|n| format!("{}: ", n.to_string_lossy())).unwrap_or_default();
-        match e.strip_prefix(&name) {
-            Some(rest) if !name.is_empty() => format!("{}: {rest}", file.display()),
-            _ => e,
-        }
-    })?;
+    let loaded = crate::cli::load_at(file)?;
     let output = method
         .run_checked(&loaded.motion, checked, &RunOptions::default(), &mut NoProgress)
         .map_err(|e| format!("{}: {e}", file.display()))?;
@@ -70,9 +66,9 @@ fn take_of(file: &Path, method: &dyn DynMethod, checked: &CheckedParams, params:
 }
 
 /// Every take of `files` (on all cores, a progress bar), the failures as messages; the takes keep the files' order.
-fn library(args: &LibraryArgs, files: &[PathBuf], params: &LibraryParams) -> Result<(Vec<(PathBuf, LibraryTake)>, Vec<String>), String> {
-    let method = mocapseg::methods::find(args.method).map_err(|e| e.to_string())?;
-    let json = method::params_from_overrides(method, args.overrides).map_err(|e| e.to_string())?;
+fn library(args: &LibraryFlags, files: &[PathBuf], params: &LibraryParams) -> Result<(Vec<(PathBuf, LibraryTake)>, Vec<String>), String> {
+    let method = mocapseg::methods::find(&args.method).map_err(|e| e.to_string())?;
+    let json = method::params_from_overrides(method, &args.params).map_err(|e| e.to_string())?;
     let checked = method.check_json(&json).map_err(|e| e.to_string())?;
     if files.is_empty() {
         return Err("no .bvh files found in the inputs".into());
@@ -89,7 +85,7 @@ fn library(args: &LibraryArgs, files: &[PathBuf], params: &LibraryParams) -> Res
             .par_iter()
             .map(|file| {
                 let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| take_of(file, method, &checked, params)))
-                    .unwrap_or_else(|p| Err(format!("{}: panicked: {}", file.display(), panic_message(p.as_ref()))));
+                    .unwrap_or_else(|p| Err(format!("{}: panicked: {}", file.display(), crate::cli::panic_message(p.as_ref()))));
                 match &r {
                     Ok(t) => bar.suspend(|| println!("ok    {}  {} segments", file.display(), t.segmentation.segments.len())),
                     Err(m) => bar.suspend(|| println!("FAIL  {m}")),
@@ -150,10 +146,10 @@ fn report_failures(failed: &[String]) {
 }
 
 /// `mocapseg cluster`: one segmentation JSON per take whose cluster ids are shared, and `clusters.json`.
-pub fn cluster_command(args: &LibraryArgs, out: &Path) -> Result<Ended, String> {
+pub fn cluster_command(inputs: &[PathBuf], args: &LibraryFlags, out: &Path) -> Result<Ended, String> {
     let started = Instant::now();
     let params = args.params(LibraryParams::default())?;
-    let files = collect_files(args.inputs, "bvh")?;
+    let files = collect_files(inputs, "bvh")?;
     let (takes, failed) = library(args, &files, &params)?;
     report_failures(&failed);
     if takes.is_empty() {
@@ -175,7 +171,7 @@ pub fn cluster_command(args: &LibraryArgs, out: &Path) -> Result<Ended, String> 
     let mut order: Vec<&mocapseg::library::SharedCluster> = shared.clusters.iter().collect();
     order.sort_by(|a, b| b.seconds.total_cmp(&a.seconds).then(a.id.cmp(&b.id)));
     let summary = json!({
-        "method": args.method,
+        "method": &args.method,
         "params": params,
         "takes": names,
         "failed": failed,
@@ -209,10 +205,10 @@ pub fn cluster_command(args: &LibraryArgs, out: &Path) -> Result<Ended, String> 
 }
 
 /// `mocapseg transfer`: the labels of one take carried to every other; one JSON per take and one label CSV.
-pub fn transfer_command(args: &LibraryArgs, labels: &Path, from: &Path, route: TransferRoute, out: &Path) -> Result<Ended, String> {
+pub fn transfer_command(inputs: &[PathBuf], args: &LibraryFlags, labels: &Path, from: &Path, route: TransferRoute, out: &Path) -> Result<Ended, String> {
     let started = Instant::now();
     let params = args.params(LibraryParams::for_route(route))?;
-    let mut files = collect_files(args.inputs, "bvh")?;
+    let mut files = collect_files(inputs, "bvh")?;
     if !files.iter().any(|f| f == from) {
         files.insert(0, from.to_path_buf());
     }
