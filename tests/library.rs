@@ -109,6 +109,9 @@ fn labels_of_one_take_reach_the_other_well_above_chance() {
             let (acc, chance) = (right as f64 / seen as f64, chance as f64 / seen as f64);
             println!("{} → {} {route:?}: accuracy {acc:.3} (chance {chance:.3})", library[source].name, library[target].name);
             assert!(acc >= chance + 0.25, "{route:?} {source}→{target}: {acc} vs chance {chance}");
+            // measured 0.86 / 0.94 by the nearest labelled unit, 0.80 / 0.80 through the clusters
+            let floor = if route == TransferRoute::Nearest { 0.75 } else { 0.65 };
+            assert!(acc >= floor, "{route:?} {source}→{target}: {acc} below the floor {floor}");
             t.takes[target].segmentation.validate().unwrap();
         }
     }

@@ -29,7 +29,7 @@ pub struct LibraryFlags {
     #[arg(long = "param", value_name = "NAME=VALUE")]
     pub params: Vec<String>,
     /// The library's search radius R, inches of the reference body (cluster: 13, the SSSM's primitive radius;
-    /// transfer: 30 by nearest, 13 through clusters — chosen by nested validation, docs/library.md).
+    /// transfer: 30 by nearest, 20 through clusters — chosen by nested validation, docs/library.md).
     #[arg(long)]
     pub radius: Option<f64>,
     /// Fraction a warping path must cover to join two segments (cluster: 0.66 of both; transfer: 0.4 of the
