@@ -47,9 +47,8 @@ pub fn group_files(names: &[&str]) -> (Vec<TakeFiles>, Vec<String>) {
                     .or_else(|| (asfs.len() == 1 && amcs == 1).then(|| asfs[0]));
                 match skeleton {
                     Some(asf) => takes.push(TakeFiles { motion: i, skeleton: Some(asf) }),
-                    None => refused.push(format!(
-                        "{stem}: an AMC motion without its skeleton (add {subject}.asf to the files)"
-                    )),
+                    None => refused
+                        .push(format!("{stem}: an AMC motion without its skeleton (add {subject}.asf to the files)")),
                 }
             }
             _ => {}
@@ -211,7 +210,8 @@ impl Queue {
     /// One line for the whole list: how many takes are done, running, queued, failed.
     pub fn summary(&self) -> String {
         let count = |word: &str| self.entries.iter().filter(|e| e.status.word() == word).count();
-        let mut parts = vec![format!("{} of {} done", count("done"), crate::method::counted(self.entries.len(), "take"))];
+        let mut parts =
+            vec![format!("{} of {} done", count("done"), crate::method::counted(self.entries.len(), "take"))];
         for word in ["running", "queued", "failed", "cancelled"] {
             let n = count(word);
             if n > 0 {
@@ -225,10 +225,8 @@ impl Queue {
 /// The whole library's labels as one label CSV ([`crate::labels`]): every segment of every
 /// take's segmentation, take after take in the order given, each row naming its take's file.
 pub fn library_csv<'a>(segmentations: impl IntoIterator<Item = &'a Segmentation>) -> String {
-    let rows: Vec<LabelRow> = segmentations
-        .into_iter()
-        .flat_map(|s| crate::labels::from_segmentation(s, crate::clips::Which::All))
-        .collect();
+    let rows: Vec<LabelRow> =
+        segmentations.into_iter().flat_map(|s| crate::labels::from_segmentation(s, crate::clips::Which::All)).collect();
     crate::labels::to_csv(&rows)
 }
 
@@ -330,6 +328,39 @@ pub fn playing_text(playlist: &Playlist, cluster_name: &str, take_name: &str) ->
     let (i, n) = playlist.position();
     let s = playlist.current();
     format!("{cluster_name}: occurrence {i} of {n} — {take_name}, frames {}–{}", s.start, s.end)
+}
+
+/// A zip folder's name for a cluster's clips: its name's letters, digits, `-` and `_`, the rest
+/// `_` (`cluster` when nothing is left).
+pub fn folder_name(label: &str) -> String {
+    let safe: String =
+        label.chars().map(|c| if c.is_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).take(60).collect();
+    if safe.trim_matches('_').is_empty() {
+        "cluster".to_string()
+    } else {
+        safe
+    }
+}
+
+/// Makes file names unique: a name met before gets `-2`, `-3`, … before its extension (two takes
+/// of the same name in different folders give clips of the same name).
+pub fn make_unique(names: &mut [String]) {
+    let mut seen = std::collections::HashSet::new();
+    for name in names.iter_mut() {
+        if seen.insert(name.clone()) {
+            continue;
+        }
+        let base = name.rfind('/').map_or(0, |i| i + 1);
+        let (stem, ext) = match name[base..].rfind('.') {
+            Some(dot) if dot > 0 => (name[..base + dot].to_string(), name[base + dot..].to_string()),
+            _ => (name.clone(), String::new()),
+        };
+        let mut n = 2;
+        while !seen.insert(format!("{stem}-{n}{ext}")) {
+            n += 1;
+        }
+        *name = format!("{stem}-{n}{ext}");
+    }
 }
 
 #[cfg(test)]
@@ -442,6 +473,21 @@ mod tests {
         assert!(library_csv(&labelled).contains("b.bvh,0,59,walk cycle"));
         names.rename(1, "   ");
         assert_eq!(names.name(1), "cluster 1", "a blank name brings the default back");
+    }
+
+    #[test]
+    fn clip_folders_are_safe_names_and_clip_files_unique() {
+        assert_eq!(folder_name("walk cycle/2"), "walk_cycle_2");
+        assert_eq!(folder_name(" ?? "), "cluster");
+        let mut names = vec![
+            "a/t_01_x.bvh".to_string(),
+            "a/t_01_x.bvh".into(),
+            "a/t_01_x.bvh".into(),
+            "b/README".into(),
+            "b/README".into(),
+        ];
+        make_unique(&mut names);
+        assert_eq!(names, ["a/t_01_x.bvh", "a/t_01_x-2.bvh", "a/t_01_x-3.bvh", "b/README", "b/README-2"]);
     }
 
     #[test]
