@@ -13,6 +13,7 @@ pub mod clips;
 pub mod features;
 pub mod image;
 pub mod labels;
+pub mod library;
 pub mod load;
 pub mod method;
 pub mod methods;
