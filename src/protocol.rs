@@ -157,6 +157,11 @@ pub enum Request {
         method: String,
         params: serde_json::Value,
     },
+    /// Match the library's takes (`takes`: each one's name, features and segmentation, as
+    /// `library_take` answered them) into clusters shared across takes
+    /// ([`crate::library::cluster`], default parameters). Progress is posted as run `run`'s.
+    /// Answer: `library_clusters`.
+    LibraryCluster { take: TakeId, run: RunId, takes: Vec<crate::library::LibraryTake> },
     /// BVH clips of several takes of the library in one zip named `file`: each take of `takes` is
     /// parsed again from its bytes (buffers in order: each take's file, then its ASF skeleton's
     /// when it has one) and cut at its segmentation's segments, the clips going into the zip's
@@ -196,6 +201,7 @@ impl Request {
             | Request::StopTraining { run, .. }
             | Request::Clips { run, .. }
             | Request::LibraryTake { run, .. }
+            | Request::LibraryCluster { run, .. }
             | Request::LibraryClips { run, .. } => Some(*run),
         }
     }
@@ -213,6 +219,7 @@ impl Request {
             | Request::StopTraining { take, .. }
             | Request::Clips { take, .. }
             | Request::LibraryTake { take, .. }
+            | Request::LibraryCluster { take, .. }
             | Request::LibraryClips { take, .. } => *take,
         }
     }
@@ -489,13 +496,21 @@ pub enum Response {
         #[serde(skip)]
         bytes: Vec<u8>,
     },
-    /// A `library_take`: the take's length and its segmentation.
+    /// A `library_take`: the take's length, its segmentation and the features its clusters are
+    /// matched with across takes (or why the take has none: it lacks hands, feet, head or hips).
     LibraryTake {
         take: TakeId,
         run: RunId,
         frames: usize,
         duration_s: f64,
         segmentation: Box<Segmentation>,
+        features: Result<Box<crate::library::TakeFeatures>, String>,
+    },
+    /// A `library_cluster`: the clusters shared across the takes, in the order they were sent.
+    LibraryClusters {
+        take: TakeId,
+        run: RunId,
+        clusters: Box<crate::library::SharedClusters>,
     },
     /// A load (`run: None`) or a run failed.
     Failed {
@@ -557,7 +572,8 @@ impl Request {
             | Request::Annotate { .. }
             | Request::ContinueTraining { .. }
             | Request::StopTraining { .. }
-            | Request::Clips { .. } => Vec::new(),
+            | Request::Clips { .. }
+            | Request::LibraryCluster { .. } => Vec::new(),
         };
         Packet { json, buffers }
     }
@@ -603,7 +619,8 @@ impl Request {
             | Request::Annotate { .. }
             | Request::ContinueTraining { .. }
             | Request::StopTraining { .. }
-            | Request::Clips { .. } => {}
+            | Request::Clips { .. }
+            | Request::LibraryCluster { .. } => {}
         }
         Ok(request)
     }
@@ -663,6 +680,17 @@ impl Response {
             Response::ModelStored { model, .. } => model.check().map_err(|e| format!("worker message: {e}"))?,
             Response::LibraryTake { segmentation, .. } => {
                 segmentation.validate().map_err(|e| format!("worker message: {e}"))?
+            }
+            Response::LibraryClusters { clusters, .. } => {
+                for s in &clusters.takes {
+                    s.validate().map_err(|e| format!("worker message: {e}"))?;
+                }
+                let fits = clusters.clusters.iter().flat_map(|c| &c.occurrences).all(|o| {
+                    clusters.takes.get(o.take).is_some_and(|s| o.start <= o.end && o.end < s.frames)
+                });
+                if !fits {
+                    return Err("worker message: a cluster's occurrence is not inside its take".into());
+                }
             }
             Response::Clips { bytes, .. } => *bytes = next("the clips")?,
             _ => {}

@@ -12,12 +12,13 @@
 //! side is `loader::library`; the decisions are [`crate::view::library`]'s.
 
 use super::loader::Loader;
-use super::method_panel::{SegmentRow, ACTION_LEVELS};
+use super::method_panel::SegmentRow;
 use super::motion_image::download;
 use super::AppState;
 use crate::protocol::{MethodView, RunId};
 use crate::segment::Level;
-use crate::view::library::{library_csv, ClusterNames, Playlist, Queue};
+use crate::library::{LibraryTake, TakeFeatures};
+use crate::view::library::{library_csv, playing_text, ClusterNames, Playlist, Queue, Shared, Spot};
 use leptos::prelude::*;
 use std::sync::Arc;
 use web_sys::File;
@@ -54,6 +55,18 @@ pub struct LibraryState {
     pub playlist: RwSignal<Option<Playlist>>,
     /// What the last export (or a refused file) did: (failed, message).
     pub status: RwSignal<Option<(bool, String)>>,
+    /// Each take's features for the shared clusters (or why it has none), in the queue's order.
+    features: StoredValue<Vec<Option<Result<TakeFeatures, String>>>>,
+    /// The shared clusters of the takes matched last.
+    pub shared: RwSignal<Option<Arc<Shared>>>,
+    /// The matching in the worker: its run and the takes sent.
+    pub cluster_run: StoredValue<Option<(RunId, Vec<usize>)>>,
+    /// Where the matching stands: (failed, message).
+    pub matching: RwSignal<Option<(bool, String)>>,
+    /// The occurrence waiting for its take to open before it plays.
+    pending: StoredValue<Option<Spot>>,
+    /// An occurrence is playing (it ends where the playlist's current one ends).
+    playing: StoredValue<bool>,
 }
 
 impl std::fmt::Debug for LibraryState {
@@ -74,7 +87,41 @@ impl LibraryState {
             names: RwSignal::new(ClusterNames::default()),
             playlist: RwSignal::new(None),
             status: RwSignal::new(None),
+            features: StoredValue::new(Vec::new()),
+            shared: RwSignal::new(None),
+            cluster_run: StoredValue::new(None),
+            matching: RwSignal::new(None),
+            pending: StoredValue::new(None),
+            playing: StoredValue::new(false),
         }
+    }
+
+    /// Keeps take `i`'s features (or why it has none).
+    pub fn set_features(&self, i: usize, features: Result<TakeFeatures, String>) {
+        self.features.update_value(|f| {
+            if f.len() <= i {
+                f.resize(i + 1, None);
+            }
+            f[i] = Some(features);
+        });
+    }
+
+    /// The takes that can be matched (segmented, with features) as the core takes them, and their
+    /// indices in the library.
+    pub fn matchable(&self) -> (Vec<LibraryTake>, Vec<usize>) {
+        let features = self.features.get_value();
+        self.queue.with_untracked(|q| {
+            q.segmented()
+                .into_iter()
+                .filter_map(|(i, segmentation)| match features.get(i) {
+                    Some(Some(Ok(f))) => Some((
+                        LibraryTake { name: q.entries[i].name.clone(), features: f.clone(), segmentation: segmentation.clone() },
+                        i,
+                    )),
+                    _ => None,
+                })
+                .unzip()
+        })
     }
 
     /// Adds takes (their files), queued; returns their indices.
@@ -96,10 +143,22 @@ impl LibraryState {
         self.queue.with(|q| !q.entries.is_empty())
     }
 
-    /// Take `i`'s segmentation, its clusters' segments labelled by their names.
-    fn labelled(&self, i: usize) -> Option<crate::segment::Segmentation> {
+    /// Take `i`'s segmentation — with the shared clusters' ids when it was matched, its clusters'
+    /// segments labelled by their names — and whether it is the shared one.
+    fn labelled(&self, i: usize) -> Option<(crate::segment::Segmentation, bool)> {
         let names = self.names.get();
-        self.queue.with(|q| q.entries.get(i).and_then(|e| e.segmentation.as_ref()).map(|s| names.label(s)))
+        let shared = self.shared.with(|s| s.as_ref().and_then(|s| s.segmentation(i).map(|seg| names.label(seg))));
+        match shared {
+            Some(seg) => Some((seg, true)),
+            None => self.queue.with(|q| q.entries.get(i).and_then(|e| e.segmentation.clone()).map(|s| (s, false))),
+        }
+    }
+
+    /// Every segmented take's segmentation as the CSV exports it: the shared one named where the take
+    /// was matched, else its own.
+    fn all_labelled(&self) -> Vec<crate::segment::Segmentation> {
+        let count = self.queue.with_untracked(|q| q.entries.len());
+        (0..count).filter_map(|i| self.labelled(i).map(|(s, _)| s)).collect()
     }
 }
 
@@ -136,9 +195,7 @@ pub fn LibraryPanel(state: AppState, loader: Loader) -> impl IntoView {
         move |_| loader.rerun_library()
     };
     let export_csv = move |_| {
-        let names = library.names.get_untracked();
-        let labelled: Vec<_> =
-            library.queue.with_untracked(|q| q.segmented().into_iter().map(|(_, s)| names.label(s)).collect());
+        let labelled = library.all_labelled();
         let csv = library_csv(&labelled);
         let rows = csv.lines().count().saturating_sub(1);
         let file = "library_labels.csv";
@@ -216,8 +273,206 @@ pub fn LibraryPanel(state: AppState, loader: Loader) -> impl IntoView {
                 {move || library.status.with(|s| s.as_ref().map(|(_, m)| m.clone()))}
             </p>
             <ol id="library-list" class="ms-lib-list">{takes}</ol>
+            <Clusters state=state loader=loader/>
         </section>
     }
+}
+
+/// The most clusters the list shows (the others are exported with every cluster's clips).
+const MAX_LISTED: usize = 200;
+
+/// The colour of cluster `id` as the timeline draws its segments (primitives by cluster, actions
+/// by their action colour), taken from its first occurrence.
+fn colour(shared: &Shared, id: usize) -> String {
+    let level = shared.clusters.clusters.iter().find(|c| c.id == id).and_then(|c| c.occurrences.first()).and_then(|o| {
+        shared.clusters.takes.get(o.take).and_then(|t| t.segments.get(o.segment)).map(|s| s.level)
+    });
+    match level {
+        Some(Level::Primitive) | None => crate::segment::palette::cluster_colour(id, None),
+        Some(_) => {
+            let [r, g, b] = crate::segment::palette::action_colour(id);
+            format!("rgb({r}, {g}, {b})")
+        }
+    }
+}
+
+/// The shared clusters: where the matching stands, the list (name to rename, occurrences, total
+/// duration, colour, Play, Clips), every cluster's clips, and the player of a cluster's occurrences.
+#[component]
+fn Clusters(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl IntoView {
+    let library = state.library;
+    let origin = RwSignal::new(false);
+    let export = move |only: Option<usize>| {
+        let Some(shared) = library.shared.get_untracked() else { return };
+        let names = library.names.get_untracked();
+        let takes = shared.clips(&names, only);
+        let file = match only {
+            Some(id) => format!("library_{}_clips.zip", crate::view::library::folder_name(&names.name(id))),
+            None => "library_clusters_clips.zip".to_string(),
+        };
+        loader.with_value(|l| l.export_library_clips(file, takes, origin.get_untracked()));
+    };
+    let play = move |id: usize| {
+        let playlist = library.shared.with_untracked(|s| s.as_ref().and_then(|s| s.playlist(id)));
+        if let Some(p) = playlist {
+            let spot = p.current();
+            library.playlist.set(Some(p));
+            loader.with_value(|l| play_spot(state, l, spot));
+        }
+    };
+    let step = move |forward: bool| {
+        let mut spot = None;
+        library.playlist.update(|p| {
+            if let Some(p) = p {
+                spot = Some(if forward { p.next() } else { p.previous() });
+            }
+        });
+        if let Some(spot) = spot {
+            loader.with_value(|l| play_spot(state, l, spot));
+        }
+    };
+    let stop = move |_| {
+        library.playlist.set(None);
+        library.playing.set_value(false);
+        library.pending.set_value(None);
+        state.playing.set(false);
+        state.play_until.set(None);
+    };
+    // a take opened for an occurrence: play it once the take is on screen
+    Effect::new(move |_| {
+        let frames = state.motion.with(|m| m.as_ref().map(|m| m.summary.frames));
+        let open = library.open.get();
+        let Some(spot) = library.pending.get_value() else { return };
+        let loaded = library.queue.with_untracked(|q| q.entries.get(spot.take).and_then(|e| e.frames));
+        if open == Some(spot.take) && frames.is_some() && frames == loaded {
+            library.pending.set_value(None);
+            // after the timeline's own reaction to the new take (it forgets where playback stops)
+            gloo::timers::callback::Timeout::new(0, move || start(state, spot)).forget();
+        }
+    });
+    // an occurrence played to its end: the next one, until the last
+    Effect::new(move |_| {
+        if state.playing.get() || !library.playing.get_value() {
+            return;
+        }
+        library.playing.set_value(false);
+        let Some(p) = library.playlist.get_untracked() else { return };
+        let (at, count) = p.position();
+        if state.frame.get_untracked() == p.current().end && at < count {
+            step(true);
+        }
+    });
+    let playing = move || {
+        let p = library.playlist.get()?;
+        let names = library.names.get();
+        let take = library.queue.with(|q| q.entries.get(p.current().take).map(|e| e.name.clone()))?;
+        Some(playing_text(&p, &names.name(p.cluster), &take))
+    };
+    let rows = move || {
+        let shared = library.shared.get()?;
+        let names = library.names.get();
+        let listed = shared.listed();
+        let more = listed.len().saturating_sub(MAX_LISTED);
+        let items = listed
+            .into_iter()
+            .take(MAX_LISTED)
+            .map(|c| {
+                let id = c.id;
+                let name = names.name(id);
+                let background = colour(&shared, id);
+                let count = format!(
+                    "{} in {} · {:.1} s",
+                    crate::method::counted(c.occurrences.len(), "occurrence"),
+                    crate::method::counted(c.takes, "take"),
+                    c.seconds
+                );
+                view! {
+                    <li class="ms-lib-cluster" data-cluster=id.to_string() data-takes=c.takes.to_string()>
+                        <span class="ms-lib-swatch" style:background=background aria-hidden="true"></span>
+                        <input
+                            class="ms-lib-name"
+                            type="text"
+                            value=name.clone()
+                            aria-label=format!("Name of cluster C{id}")
+                            on:change=move |ev| library.names.update(|n| n.rename(id, &event_target_value(&ev)))
+                        />
+                        <span class="ms-lib-count">{count}</span>
+                        <button class="ms-button ms-button--small ms-lib-play" type="button" on:click=move |_| play(id)>
+                            "Play"
+                        </button>
+                        <button class="ms-button ms-button--small ms-button--quiet ms-lib-clips" type="button" on:click=move |_| export(Some(id))>
+                            "Clips"
+                        </button>
+                    </li>
+                }
+            })
+            .collect_view();
+        let note = (more > 0).then(|| view! { <p class="ms-lib-note">{format!("and {more} more (in every cluster's clips)")}</p> });
+        Some(view! { <ol id="library-clusters" class="ms-lib-list">{items}</ol>{note} })
+    };
+    view! {
+        <section class="ms-lib-clusters" aria-label="Clusters across takes" hidden=move || library.matching.with(Option::is_none)>
+            <h3 class="ms-lib-heading">"Clusters across takes"</h3>
+            <p
+                id="library-matching"
+                class="ms-lib-note"
+                class:ms-lib-note--failed=move || library.matching.with(|m| m.as_ref().is_some_and(|(f, _)| *f))
+                aria-live="polite"
+            >
+                {move || library.matching.with(|m| m.as_ref().map(|(_, t)| t.clone()))}
+            </p>
+            <div class="ms-lib-controls" hidden=move || library.shared.with(Option::is_none)>
+                <button id="library-export-clips" class="ms-button ms-button--small" type="button" on:click=move |_| export(None)>
+                    "Clips of every cluster (zip)"
+                </button>
+                <label>
+                    <input id="library-origin" type="checkbox" prop:checked=move || origin.get() on:change=move |ev| origin.set(event_target_checked(&ev))/>
+                    " start each clip at the origin"
+                </label>
+            </div>
+            <div id="library-player" class="ms-lib-controls" hidden=move || library.playlist.with(Option::is_none)>
+                <button id="library-previous" class="ms-button ms-button--small" type="button" on:click=move |_| step(false)>"Previous"</button>
+                <button id="library-next" class="ms-button ms-button--small" type="button" on:click=move |_| step(true)>"Next"</button>
+                <button id="library-stop" class="ms-button ms-button--small ms-button--quiet" type="button" on:click=stop>"Stop"</button>
+                <span
+                    id="library-playing"
+                    class="ms-lib-note"
+                    aria-live="polite"
+                    data-take=move || library.playlist.with(|p| p.as_ref().map(|p| p.current().take.to_string()))
+                    data-start=move || library.playlist.with(|p| p.as_ref().map(|p| p.current().start.to_string()))
+                >
+                    {playing}
+                </span>
+            </div>
+            {rows}
+        </section>
+    }
+}
+
+/// Plays occurrence `spot`: at once when its take is on screen, else after opening it (its file
+/// read again).
+fn play_spot(state: AppState, loader: &Loader, spot: Spot) {
+    let library = state.library;
+    let on_screen = library.open.get_untracked() == Some(spot.take)
+        && state.load.with_untracked(|l| *l == super::LoadState::Ready)
+        && state.motion.with_untracked(|m| m.as_ref().map(|m| m.summary.frames))
+            == library.queue.with_untracked(|q| q.entries.get(spot.take).and_then(|e| e.frames));
+    if on_screen {
+        start(state, spot);
+    } else {
+        library.pending.set_value(Some(spot));
+        loader.open_library_take(spot.take);
+    }
+}
+
+/// Plays `spot` of the take on screen once, from its first frame to its last.
+fn start(state: AppState, spot: Spot) {
+    state.playing.set(false);
+    state.selected.set(None);
+    state.frame.set(spot.start);
+    state.play_until.set(Some(spot.end));
+    state.library.playing.set_value(true);
+    state.playing.set(true);
 }
 
 /// The timeline's `#row-library`: the library's segmentation of the take on screen, when it is one
@@ -227,9 +482,12 @@ pub fn LibraryRow(state: AppState) -> impl IntoView {
     let library = state.library;
     let source = Signal::derive(move || {
         let i = library.open.get()?;
-        let segmentation = library.labelled(i)?;
+        let (mut segmentation, _) = library.labelled(i)?;
         // the take on screen must be that take (a load still under way shows nothing)
         let frames = state.motion.with(|m| m.as_ref().map(|m| m.summary.frames))?;
+        // one lane: the finest tiling (primitives and transitions where there are primitives)
+        let primitives = segmentation.segments.iter().any(|s| s.level == Level::Primitive);
+        segmentation.segments.retain(|s| (s.level == Level::Primitive) == primitives || s.level == Level::Transition);
         (frames == segmentation.frames).then(|| {
             Arc::new(MethodView { method: segmentation.method.clone(), segmentation, details: Default::default() })
         })
@@ -239,5 +497,6 @@ pub fn LibraryRow(state: AppState) -> impl IntoView {
     view! { <SegmentRow state=state row_id="library".to_string() source=source levels=LEVELS label=label tip=tip/> }
 }
 
-/// The levels the library's row shows.
-const LEVELS: &[Level] = ACTION_LEVELS;
+/// The levels the library's row shows (one of actions and primitives is left: the source keeps
+/// the finest).
+const LEVELS: &[Level] = &[Level::Action, Level::Primitive, Level::Transition];

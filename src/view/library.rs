@@ -230,14 +230,15 @@ pub fn library_csv<'a>(segmentations: impl IntoIterator<Item = &'a Segmentation>
     crate::labels::to_csv(&rows)
 }
 
-/// The names the user gave the shared clusters (the others are called `cluster <id>`).
+/// The names the user gave the shared clusters (the others keep the core's `C<id>`:
+/// [`crate::library::SharedClusters`]).
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ClusterNames(std::collections::BTreeMap<usize, String>);
 
 impl ClusterNames {
     /// The name of cluster `id`.
     pub fn name(&self, id: usize) -> String {
-        self.0.get(&id).cloned().unwrap_or_else(|| format!("cluster {id}"))
+        self.0.get(&id).cloned().unwrap_or_else(|| format!("C{id}"))
     }
 
     /// Renames cluster `id` (blank text brings back its default name; the text is trimmed and kept
@@ -328,6 +329,83 @@ pub fn playing_text(playlist: &Playlist, cluster_name: &str, take_name: &str) ->
     let (i, n) = playlist.position();
     let s = playlist.current();
     format!("{cluster_name}: occurrence {i} of {n} — {take_name}, frames {}–{}", s.start, s.end)
+}
+
+/// The library's shared clusters as the page keeps them: the core's answer
+/// ([`crate::library::SharedClusters`], its takes in the order sent) and, for each of its takes,
+/// the library's index of that take.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Shared {
+    pub clusters: crate::library::SharedClusters,
+    pub takes: Vec<usize>,
+}
+
+impl Shared {
+    /// Take `library`'s segmentation with the shared cluster ids, if it was matched.
+    pub fn segmentation(&self, library: usize) -> Option<&Segmentation> {
+        let k = self.takes.iter().position(|&t| t == library)?;
+        self.clusters.takes.get(k)
+    }
+
+    /// The playlist of cluster `id`'s occurrences, as library takes.
+    pub fn playlist(&self, id: usize) -> Option<Playlist> {
+        let cluster = self.clusters.clusters.iter().find(|c| c.id == id)?;
+        let spots = cluster
+            .occurrences
+            .iter()
+            .filter_map(|o| Some(Spot { take: *self.takes.get(o.take)?, start: o.start, end: o.end }))
+            .collect();
+        Playlist::new(id, spots)
+    }
+
+    /// The clusters in the order the list shows them: those found in more takes first, then the
+    /// longer in total, then by id.
+    pub fn listed(&self) -> Vec<&crate::library::SharedCluster> {
+        let mut listed: Vec<&crate::library::SharedCluster> = self.clusters.clusters.iter().collect();
+        listed.sort_by(|a, b| b.takes.cmp(&a.takes).then(b.seconds.total_cmp(&a.seconds)).then(a.id.cmp(&b.id)));
+        listed
+    }
+
+    /// What to cut for the clips of cluster `only` (every cluster with `None`): per library take
+    /// that has some, a segmentation of just those occurrences, each labelled with its cluster's
+    /// name (the zip's folder), in take order.
+    pub fn clips(&self, names: &ClusterNames, only: Option<usize>) -> Vec<(usize, Segmentation)> {
+        let mut per_take: Vec<(usize, Segmentation)> = Vec::new();
+        for c in self.clusters.clusters.iter().filter(|c| only.is_none_or(|id| c.id == id)) {
+            for o in &c.occurrences {
+                let (Some(&library), Some(take)) = (self.takes.get(o.take), self.clusters.takes.get(o.take)) else {
+                    continue;
+                };
+                let Some(segment) = take.segments.get(o.segment) else { continue };
+                let mut segment = segment.clone();
+                segment.label = names.name(c.id);
+                let at = match per_take.iter().position(|(t, _)| *t == library) {
+                    Some(at) => at,
+                    None => {
+                        per_take.push((library, Segmentation { segments: Vec::new(), ..take.clone() }));
+                        per_take.len() - 1
+                    }
+                };
+                per_take[at].1.segments.push(segment);
+            }
+        }
+        per_take.sort_by_key(|(t, _)| *t);
+        for (_, s) in &mut per_take {
+            s.segments.sort_by_key(|x| (x.start, x.end));
+        }
+        per_take
+    }
+
+    /// A line about the clusters: how many, how many found in more than one take.
+    pub fn summary(&self) -> String {
+        let all = self.clusters.clusters.len();
+        let shared = self.clusters.shared().count();
+        format!(
+            "{} across {}: {shared} found in more than one take",
+            crate::method::counted(all, "cluster"),
+            crate::method::counted(self.takes.len(), "take")
+        )
+    }
 }
 
 /// A zip folder's name for a cluster's clips: its name's letters, digits, `-` and `_`, the rest
@@ -450,10 +528,7 @@ mod tests {
         let a = names.label(&seg("a.bvh", 100, &[(0, 49, Some(0)), (50, 99, Some(1))]));
         let b = names.label(&seg("b.bvh", 60, &[(0, 59, Some(1))]));
         let csv = library_csv([&a, &b]);
-        assert_eq!(
-            csv,
-            "file,start_frame,end_frame,label\na.bvh,0,49,cluster 0\na.bvh,50,99,cluster 1\nb.bvh,0,59,cluster 1\n"
-        );
+        assert_eq!(csv, "file,start_frame,end_frame,label\na.bvh,0,49,C0\na.bvh,50,99,C1\nb.bvh,0,59,C1\n");
         let rows = crate::labels::read_csv(&csv, "library.csv").unwrap();
         assert_eq!(rows.len(), 3);
         assert_eq!(rows[2].file, "b.bvh");
@@ -464,15 +539,15 @@ mod tests {
         let mut names = ClusterNames::default();
         names.rename(1, "  walk \n cycle ");
         assert_eq!(names.name(1), "walk cycle");
-        assert_eq!(names.name(0), "cluster 0");
+        assert_eq!(names.name(0), "C0");
         let takes = [seg("a.bvh", 100, &[(0, 49, Some(0)), (50, 99, Some(1))]), seg("b.bvh", 60, &[(0, 59, Some(1))])];
         let labelled: Vec<Segmentation> = takes.iter().map(|t| names.label(t)).collect();
         assert_eq!(labelled[0].segments[1].label, "walk cycle");
         assert_eq!(labelled[1].segments[0].label, "walk cycle");
-        assert_eq!(labelled[0].segments[0].label, "cluster 0");
+        assert_eq!(labelled[0].segments[0].label, "C0");
         assert!(library_csv(&labelled).contains("b.bvh,0,59,walk cycle"));
         names.rename(1, "   ");
-        assert_eq!(names.name(1), "cluster 1", "a blank name brings the default back");
+        assert_eq!(names.name(1), "C1", "a blank name brings the default back");
     }
 
     #[test]
@@ -488,6 +563,58 @@ mod tests {
         ];
         make_unique(&mut names);
         assert_eq!(names, ["a/t_01_x.bvh", "a/t_01_x-2.bvh", "a/t_01_x-3.bvh", "b/README", "b/README-2"]);
+    }
+
+    /// Two takes' shared clusters: C0 in both, C1 in the second only.
+    fn shared() -> Shared {
+        use crate::library::{Occurrence, SharedCluster, SharedClusters};
+        let a = seg("a.bvh", 100, &[(0, 49, Some(0)), (50, 99, None)]);
+        let b = seg("b.bvh", 90, &[(0, 29, Some(1)), (30, 59, Some(0)), (60, 89, Some(0))]);
+        let occ = |take, segment, start, end| Occurrence { take, segment, start, end };
+        Shared {
+            clusters: SharedClusters {
+                takes: vec![a, b],
+                clusters: vec![
+                    SharedCluster {
+                        id: 0,
+                        occurrences: vec![occ(0, 0, 0, 49), occ(1, 1, 30, 59), occ(1, 2, 60, 89)],
+                        seconds: 11.0 / 3.0,
+                        takes: 2,
+                    },
+                    SharedCluster { id: 1, occurrences: vec![occ(1, 0, 0, 29)], seconds: 1.0, takes: 1 },
+                ],
+                cross_links: 2,
+            },
+            // the library's takes 3 and 5 were matched (4 failed)
+            takes: vec![3, 5],
+        }
+    }
+
+    #[test]
+    fn shared_clusters_map_to_library_takes_for_rows_playlists_lists_and_clips() {
+        let s = shared();
+        assert_eq!(s.segmentation(5).unwrap().file, "b.bvh");
+        assert!(s.segmentation(4).is_none());
+        let mut p = s.playlist(0).unwrap();
+        assert_eq!(p.current(), Spot { take: 3, start: 0, end: 49 });
+        assert_eq!(p.next(), Spot { take: 5, start: 30, end: 59 });
+        assert_eq!(p.takes(), [3, 5]);
+        assert!(s.playlist(7).is_none());
+        assert_eq!(s.listed().iter().map(|c| c.id).collect::<Vec<_>>(), [0, 1]);
+        assert_eq!(s.summary(), "2 clusters across 2 takes: 1 found in more than one take");
+        let mut names = ClusterNames::default();
+        names.rename(0, "walk");
+        let clips = s.clips(&names, Some(0));
+        assert_eq!(
+            clips.iter().map(|(t, c)| (*t, c.file.as_str(), c.segments.len())).collect::<Vec<_>>(),
+            [(3, "a.bvh", 1), (5, "b.bvh", 2)]
+        );
+        assert!(clips.iter().flat_map(|(_, c)| &c.segments).all(|x| x.label == "walk"));
+        let every = s.clips(&names, None);
+        assert_eq!(every[1].1.segments.iter().map(|x| x.label.as_str()).collect::<Vec<_>>(), ["C1", "walk", "walk"]);
+        // the CSV of the library: the shared segmentations, named
+        let csv = library_csv(s.clusters.takes.iter().map(|t| names.label(t)).collect::<Vec<_>>().iter());
+        assert!(csv.contains("b.bvh,30,59,walk") && csv.contains("b.bvh,0,29,C1"), "{csv}");
     }
 
     #[test]

@@ -182,14 +182,34 @@ impl WorkerState {
                 let response = self.library_take(take, run, &name, &bytes, asf, &method, &params, post);
                 post(response)
             }
+            Request::LibraryCluster { take, run, takes } => {
+                let matched = {
+                    let mut progress = |f: f64| {
+                        post(Response::Progress { take, run: Some(run), stage: "matching".into(), fraction: Some(f) });
+                        Ok(())
+                    };
+                    crate::library::cluster(&takes, &crate::library::LibraryParams::default(), &mut progress)
+                };
+                post(match matched {
+                    Ok(clusters) => Response::LibraryClusters { take, run, clusters: Box::new(clusters) },
+                    Err(e) => Response::Failed {
+                        take,
+                        run: Some(run),
+                        message: format!("matching the library's takes: {e}"),
+                        kind: FailureKind::Input,
+                        param: None,
+                    },
+                })
+            }
             Request::LibraryClips { take, run, file, takes, to_origin, bytes } => {
                 post(library_clips(take, run, file, &takes, to_origin, bytes))
             }
         }
     }
 
-    /// A take of the library read from `bytes` and segmented by `method`, the take held staying
-    /// held; its motion is dropped before the answer goes.
+    /// A take of the library read from `bytes`, segmented by `method` and its features for the
+    /// shared clusters computed, the take held staying held; its motion is dropped before the
+    /// answer goes.
     #[allow(clippy::too_many_arguments)]
     fn library_take(
         &self,
@@ -228,6 +248,9 @@ impl WorkerState {
                 frames: motion.frames(),
                 duration_s: motion.duration_s(),
                 segmentation: Box::new(output.segmentation),
+                features: crate::library::TakeFeatures::of(&motion, &crate::library::LibraryParams::default())
+                    .map(Box::new)
+                    .map_err(|e| e.to_string()),
             },
             Err(e) => run_failure(take, run, &short, &motion.name, e),
         }
@@ -682,10 +705,12 @@ mod tests {
         assert_eq!(amc.clone().into_packet().buffers.len(), 2);
         assert_eq!(Request::from_packet(amc.clone().into_packet()).unwrap(), amc);
         let mut took = Vec::new();
+        let mut features = Vec::new();
         for (request, name) in [(bvh, "02_02.bvh"), (amc, "02_01.amc")] {
             let posted = ask(&mut w, request);
             assert!(posted.iter().any(|r| matches!(r, Response::Progress { run: Some(_), .. })), "progress is posted");
-            let Some(Response::LibraryTake { frames, duration_s, segmentation, .. }) = posted.last().cloned() else {
+            let Some(Response::LibraryTake { frames, duration_s, segmentation, features: f, .. }) = posted.last().cloned()
+            else {
                 panic!("{:?}", posted.last())
             };
             let back = Response::from_packet(posted.last().unwrap().clone().into_packet()).unwrap();
@@ -693,8 +718,29 @@ mod tests {
             assert_eq!((segmentation.file.as_str(), segmentation.frames), (name, frames));
             assert!(duration_s > 1.0 && !segmentation.segments.is_empty());
             took.push(segmentation);
+            features.push(f);
         }
         assert_eq!(w.held(), Some(1), "the take on screen stays held");
+        // the two takes matched: clusters shared across them, occurrences inside their takes
+        let matched: Vec<crate::library::LibraryTake> = features
+            .into_iter()
+            .zip(&took)
+            .map(|(f, s)| crate::library::LibraryTake {
+                name: s.file.clone(),
+                features: *f.expect("a CMU take has the end effectors"),
+                segmentation: (**s).clone(),
+            })
+            .collect();
+        let request = Request::LibraryCluster { take: 0, run: 12, takes: matched };
+        assert_eq!(Request::from_packet(request.clone().into_packet()).unwrap(), request);
+        let posted = ask(&mut w, request);
+        assert!(posted.iter().any(|r| matches!(r, Response::Progress { run: Some(12), .. })));
+        let Some(Response::LibraryClusters { run: 12, clusters, .. }) = posted.last().cloned() else {
+            panic!("{:?}", posted.last())
+        };
+        assert_eq!(Response::from_packet(posted.last().unwrap().clone().into_packet()).unwrap(), *posted.last().unwrap());
+        assert_eq!(clusters.takes.len(), 2);
+        assert!(clusters.shared().count() >= 1, "the two walks share a cluster: {:?}", clusters.clusters);
         // a bad file: failed, naming it; the held take still there
         let bad = ask(&mut w, library(9, 10, "bad.bvh", include_bytes!("../../tests/fixtures/bad.bvh").to_vec(), None));
         let Some(Response::Failed { message, kind: FailureKind::Input, run: Some(10), .. }) = bad.last() else { panic!("{bad:?}") };

@@ -2,6 +2,9 @@
 //! another (`library_take`: the worker reads the take, segments it and lets its frames go; the
 //! take on screen stays the one it holds), cancelled by replacing the worker, and the clips of
 //! several takes cut into one zip (`library_clips`: each take's file read again from its `File`).
+//! Once no take is left to segment, the segmented takes (their features and segmentations, never
+//! their frames) are matched into clusters shared across takes (`library_cluster`), again when
+//! takes are added.
 //! The queue's state is [`crate::view::library::Queue`]; what the page shows is
 //! [`super::super::library`].
 
@@ -11,7 +14,9 @@ use super::super::library::Source;
 use super::super::motion_image::download;
 use super::{next_id, post_buffers, replace_worker, Inner, Loader};
 use crate::protocol::{ClipTake, FailureKind, Request, Response};
-use crate::view::library::group_files;
+use crate::library::TakeFeatures;
+use crate::view::library::{group_files, Shared};
+use std::sync::Arc;
 use leptos::prelude::*;
 use std::rc::Rc;
 use web_sys::{Blob, File};
@@ -66,7 +71,13 @@ impl Loader {
         let mut running = false;
         library.queue.update(|q| running = q.cancel());
         library.running.set_value(None);
-        if running {
+        // the matching under way goes too
+        let matching = library.cluster_run.with_value(|r| r.is_some());
+        if matching {
+            library.cluster_run.set_value(None);
+            library.matching.set(Some((true, "matching cancelled".into())));
+        }
+        if running || matching {
             replace_worker(&self.0);
         }
     }
@@ -173,23 +184,62 @@ fn send(inner: &Rc<Inner>, run: u32, i: usize) {
     });
 }
 
-/// Ends run `run` of the library (its take done or failed) and sends the next take.
-fn finish(inner: &Rc<Inner>, run: u32, outcome: Result<(usize, f64, crate::segment::Segmentation), String>) {
+/// What the worker made of a take of the library: its frames, seconds, segmentation and features
+/// (or why it has none).
+type Took = (usize, f64, crate::segment::Segmentation, Result<Box<TakeFeatures>, String>);
+
+/// Ends run `run` of the library (its take done or failed) and sends the next take; once none is
+/// left, the takes are matched across the library.
+fn finish(inner: &Rc<Inner>, run: u32, outcome: Result<Took, String>) {
     let library = inner.state.library;
     let Some((_, i)) = library.running.get_value().filter(|(r, _)| *r == run) else { return };
     library.running.set_value(None);
-    library.queue.update(|q| match outcome {
-        Ok((frames, duration_s, segmentation)) => q.done(i, frames, duration_s, segmentation),
-        Err(message) => q.failed(i, message),
-    });
+    match outcome {
+        Ok((frames, duration_s, segmentation, features)) => {
+            library.set_features(i, features.map(|f| *f));
+            library.queue.update(|q| q.done(i, frames, duration_s, segmentation));
+        }
+        Err(message) => library.queue.update(|q| q.failed(i, message)),
+    }
     pump(inner);
+    if !library.queue.with_untracked(|q| q.busy()) {
+        match_takes(inner);
+    }
 }
 
-/// A new worker: the library's take that was running is sent to it again.
+/// Matches the library's segmented takes into shared clusters in the worker, unless that set of
+/// takes was matched already or a matching is under way (its answer asks again).
+fn match_takes(inner: &Rc<Inner>) {
+    let library = inner.state.library;
+    if library.cluster_run.with_value(|r| r.is_some()) {
+        return;
+    }
+    let (takes, indices) = library.matchable();
+    let done_already = library.shared.with_untracked(|s| s.as_ref().is_some_and(|s| s.takes == indices));
+    if indices.len() < 2 || done_already {
+        return;
+    }
+    let run = next_id(inner);
+    library.cluster_run.set_value(Some((run, indices)));
+    library.matching.set(Some((false, "matching the takes…".into())));
+    let request = Request::LibraryCluster { take: 0, run, takes };
+    if let Err(e) = post_buffers(inner, &request, js_sys::Array::new()) {
+        library.cluster_run.set_value(None);
+        library.matching.set(Some((true, e)));
+    }
+}
+
+/// A new worker: the library's take that was running is sent to it again, and the matching
+/// under way asked again.
 pub(super) fn resend(inner: &Rc<Inner>) {
-    if let Some((run, i)) = inner.state.library.running.get_value() {
-        inner.state.library.queue.update(|q| q.progress(i, "starting", 0.0));
+    let library = inner.state.library;
+    if let Some((run, i)) = library.running.get_value() {
+        library.queue.update(|q| q.progress(i, "starting", 0.0));
         send(inner, run, i);
+    }
+    if library.cluster_run.with_value(|r| r.is_some()) {
+        library.cluster_run.set_value(None);
+        match_takes(inner);
     }
 }
 
@@ -198,13 +248,36 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
     let library = inner.state.library;
     let running = library.running.get_value();
     let clip_run = library.clip_run.get_value();
+    let cluster_run = library.cluster_run.with_value(|r| r.as_ref().map(|(run, _)| *run));
     match response {
         Response::Progress { run: Some(run), stage, fraction, .. } if running.is_some_and(|(r, _)| r == run) => {
             let i = running.map_or(0, |(_, i)| i);
             library.queue.update(|q| q.progress(i, &stage, fraction.unwrap_or(0.0)));
         }
-        Response::LibraryTake { run, frames, duration_s, segmentation, .. } => {
-            finish(inner, run, Ok((frames, duration_s, *segmentation)))
+        Response::Progress { run: Some(run), fraction, .. } if cluster_run == Some(run) => {
+            let percent = fraction.unwrap_or(0.0) * 100.0;
+            library.matching.set(Some((false, format!("matching the takes… {percent:.0} %"))));
+        }
+        Response::LibraryTake { run, frames, duration_s, segmentation, features, .. } => {
+            finish(inner, run, Ok((frames, duration_s, *segmentation, features)))
+        }
+        Response::LibraryClusters { run, clusters, .. } if cluster_run == Some(run) => {
+            let takes = library.cluster_run.with_value(|r| r.as_ref().map(|(_, t)| t.clone())).unwrap_or_default();
+            library.cluster_run.set_value(None);
+            let shared = Shared { clusters: *clusters, takes };
+            library.matching.set(Some((false, shared.summary())));
+            library.shared.set(Some(Arc::new(shared)));
+            // takes segmented meanwhile are matched too
+            if !library.queue.with_untracked(|q| q.busy()) {
+                match_takes(inner);
+            }
+        }
+        Response::Failed { run: Some(run), message, kind, .. } if cluster_run == Some(run) => {
+            library.cluster_run.set_value(None);
+            library.matching.set(Some((true, message)));
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
+            }
         }
         Response::Refused { run, message, .. } if running.is_some_and(|(r, _)| r == run) => {
             finish(inner, run, Err(message))

@@ -1,0 +1,140 @@
+// End-to-end test of the library of takes (issue 26, src/app/library.rs): several files picked at
+// once make a list of takes in the "Library" tab, segmented one after another in the worker with
+// each take's status (queued, running with its progress, done with its segment and cluster counts,
+// failed with the parser's message); a take opens on screen when clicked, with its library row on
+// the timeline; the whole library's labels save as one label CSV; Cancel drops the rest and "Run
+// again" finishes them; the page never freezes while the worker works; a single file opened
+// afterwards opens as ever. At both sizes (1024×768, 1440×900) and both themes, one page each.
+
+import { test } from "node:test";
+import assert from "node:assert/strict";
+import path from "node:path";
+import {
+  BASE_URL, FIXTURES, TIMEOUT, VIEWS, assertClean, atView, closePage, download, openPage, showPanel, text, until,
+  waitReady,
+} from "./harness.mjs";
+
+const fixture = (name) => path.join(FIXTURES, name);
+// four takes: two BVH, a CMU AMC with its ASF skeleton, and a file the parser refuses
+const TAKES = ["02_01.bvh", "02_02.bvh", "02.asf", "02_01.amc", "bad.bvh"].map(fixture);
+
+/** The list's takes: name, data-status, status text, duration. */
+const list = (page) => page.$$eval("#library-list li", (items) => items.map((li) => ({
+  name: li.querySelector(".ms-lib-open")?.textContent ?? "",
+  status: li.dataset.status,
+  text: li.querySelector(".ms-lib-status")?.textContent ?? "",
+  duration: li.querySelector(".ms-lib-duration")?.textContent ?? "",
+  open: li.getAttribute("aria-current") === "true",
+})));
+
+/** Waits until no take of the list is queued or running. */
+async function settled(page) {
+  await page.waitForFunction(() => {
+    const items = [...document.querySelectorAll("#library-list li")];
+    return items.length > 0 && items.every((li) => !["queued", "running"].includes(li.dataset.status));
+  }, null, { timeout: TIMEOUT });
+}
+
+/** Starts recording every status a take of the list shows, and the longest gap between two frames the page painted. */
+async function watch(page) {
+  await page.evaluate(() => {
+    window.__libSeen = new Set();
+    window.__libGap = 0;
+    const seen = () => document.querySelectorAll("#library-list li").forEach((li) => {
+      window.__libSeen.add(li.dataset.status);
+      const t = li.querySelector(".ms-lib-status")?.textContent ?? "";
+      if (/\d+ %/.test(t)) window.__libSeen.add("progress");
+    });
+    new MutationObserver(seen).observe(document.querySelector("#side-panel"), { subtree: true, childList: true, attributes: true, characterData: true });
+    let last = performance.now();
+    const tick = (now) => {
+      window.__libGap = Math.max(window.__libGap, now - last);
+      last = now;
+      requestAnimationFrame(tick);
+    };
+    requestAnimationFrame(tick);
+  });
+}
+
+for (const view of VIEWS) {
+  const name = `${view.viewport.width}×${view.viewport.height} ${view.theme}`;
+
+  test(`several takes make a library: statuses, open, one CSV, cancel, no freeze (${name})`, async () => {
+    const opened = await openPage({ viewport: view.viewport, contextOptions: { colorScheme: view.theme } });
+    try {
+      const { page } = opened;
+      await atView(page, view);
+      await page.goto(BASE_URL);
+      await waitReady(page, "sample.bvh");
+      assert.equal(await page.locator("#tab-library").count(), 0, "no library tab before a library");
+
+      await watch(page);
+      await page.setInputFiles("#file-input", TAKES);
+      // the first take opens on screen; the library's tab is shown with every take listed
+      await waitReady(page, "02_01.amc");
+      await page.locator("#tabpanel-library").waitFor({ state: "visible" });
+      assert.equal(await page.getAttribute("#side-panel", "data-panel"), "library");
+      assert.equal(await page.getAttribute("#tab-library", "aria-selected"), "true");
+      await settled(page);
+      const takes = await list(page);
+      assert.deepEqual(takes.map((t) => t.name), ["02_01.amc", "02_01.bvh", "02_02.bvh", "bad.bvh"]);
+      for (const t of takes.slice(0, 3)) {
+        assert.equal(t.status, "done", JSON.stringify(t));
+        assert.match(t.text, /^\d+ segments? · \d+ clusters?$/, t.text);
+        assert.match(t.duration, /^\d+\.\d s$/, t.duration);
+      }
+      assert.equal(takes[3].status, "failed");
+      assert.match(takes[3].text, /^failed: .*bad\.bvh/, takes[3].text);
+      assert.equal(await page.locator("#library-list li[data-status=failed] [role=alert]").count(), 1);
+      assert.ok(takes[0].open, "the take on screen is marked in the list");
+      assert.match(await text(page, "#library-summary"), /^3 of 4 takes done · 1 failed$/);
+      const seen = await page.evaluate(() => [...window.__libSeen]);
+      for (const s of ["queued", "running", "done", "failed"]) assert.ok(seen.includes(s), `status ${s} shown: ${seen}`);
+      // the worker works, the page paints: no frame waited for it
+      const gap = await page.evaluate(() => window.__libGap);
+      assert.ok(gap < 1000, `the page painted at least once a second while the library was segmented: ${gap} ms`);
+
+      // a take opens when clicked; its library row is on the timeline
+      await page.click("#library-list li[data-index='2'] .ms-lib-open");
+      await waitReady(page, "02_02.bvh");
+      await page.locator("#row-library .ms-seg").first().waitFor({ timeout: TIMEOUT });
+      assert.ok((await list(page))[2].open);
+
+      // the whole library's labels: one label CSV, every take's rows
+      const csv = await download(page, "#library-export-csv", `e2e-library-${view.viewport.width}-${view.theme}.csv`);
+      assert.equal(csv.name, "library_labels.csv");
+      const lines = csv.bytes.toString("utf8").trim().split("\n");
+      assert.equal(lines[0], "file,start_frame,end_frame,label");
+      const files = new Set(lines.slice(1).map((l) => l.split(",")[0]));
+      assert.deepEqual([...files].sort(), ["02_01.amc", "02_01.bvh", "02_02.bvh"]);
+      assert.match(await text(page, "#library-status"), /^saved library_labels\.csv \(\d+ rows of 3 takes\)$/);
+
+      // more takes, cancelled at once (the worker opens the first on screen before it segments
+      // the library's): what had not finished is cancelled; "Run again" finishes it
+      await page.setInputFiles("#file-input", ["35_01.bvh", "12_01.bvh"].map(fixture));
+      await page.click("#library-cancel");
+      await waitReady(page, "12_01.bvh");
+      await settled(page);
+      let more = (await list(page)).slice(4);
+      assert.ok(more.every((t) => ["done", "cancelled"].includes(t.status)), JSON.stringify(more));
+      assert.ok(more.some((t) => t.status === "cancelled"), `something was cancelled: ${JSON.stringify(more)}`);
+      await page.click("#library-rerun");
+      await settled(page);
+      more = (await list(page)).slice(4);
+      assert.deepEqual(more.map((t) => t.status), ["done", "done"], JSON.stringify(more));
+      // the failed take was queued again too, and failed again with its message
+      assert.equal((await list(page))[3].status, "failed");
+
+      // one file opened afterwards opens as ever; the library stays as it was
+      await page.setInputFiles("#file-input", fixture("131_03.bvh"));
+      await waitReady(page, "131_03.bvh");
+      assert.equal((await list(page)).length, 6);
+      assert.ok((await list(page)).every((t) => !t.open), "the take on screen is not one of the library's");
+      assert.equal(await page.locator("#row-library .ms-seg").count(), 0);
+      await showPanel(page, "library");
+      assertClean(opened);
+    } finally {
+      await closePage(opened, `e2e-library-${view.viewport.width}-${view.theme}.png`);
+    }
+  });
+}
