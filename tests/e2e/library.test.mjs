@@ -2,12 +2,15 @@
 // once make a list of takes in the "Library" tab, segmented one after another in the worker with
 // each take's status (queued, running with its progress, done with its segment and cluster counts,
 // failed with the parser's message); a take opens on screen when clicked, with its library row on
-// the timeline; the whole library's labels save as one label CSV; Cancel drops the rest and "Run
-// again" finishes them; the page never freezes while the worker works; a single file opened
+// the timeline; the takes are matched into clusters shared across takes: a cluster renamed once is
+// named in every take, its occurrences play one after another across takes (Next, Stop), its clips
+// (and every cluster's) come from several takes in one zip; the whole library's labels save as one
+// label CSV; Cancel drops the rest and "Run again" finishes them; the page never freezes while the worker works; a single file opened
 // afterwards opens as ever. At both sizes (1024×768, 1440×900) and both themes, one page each.
 
 import { test } from "node:test";
 import assert from "node:assert/strict";
+import { execFileSync } from "node:child_process";
 import path from "node:path";
 import {
   BASE_URL, FIXTURES, TIMEOUT, VIEWS, assertClean, atView, closePage, download, openPage, showPanel, text, until,
@@ -15,6 +18,13 @@ import {
 } from "./harness.mjs";
 
 const fixture = (name) => path.join(FIXTURES, name);
+
+/** The names and texts of a zip's files, read by Python's zipfile (not by the app's code). */
+function unzip(file) {
+  const script = "import json,sys,zipfile\nz=zipfile.ZipFile(sys.argv[1])\n"
+    + "print(json.dumps([[i.filename, z.read(i).decode('utf-8')] for i in z.infolist()]))";
+  return JSON.parse(execFileSync("python3", ["-c", script, file], { maxBuffer: 1 << 28 }).toString());
+}
 // four takes: two BVH, a CMU AMC with its ASF skeleton, and a file the parser refuses
 const TAKES = ["02_01.bvh", "02_02.bvh", "02.asf", "02_01.amc", "bad.bvh"].map(fixture);
 
@@ -100,13 +110,67 @@ for (const view of VIEWS) {
       await page.locator("#row-library .ms-seg").first().waitFor({ timeout: TIMEOUT });
       assert.ok((await list(page))[2].open);
 
-      // the whole library's labels: one label CSV, every take's rows
+      // the three takes are matched: clusters shared across them, the most shared first
+      await page.locator("#library-clusters li").first().waitFor({ timeout: TIMEOUT });
+      assert.match(await text(page, "#library-matching"), /^\d+ clusters? across 3 takes: [1-9]\d* found in more than one take$/);
+      const first = page.locator("#library-clusters li").first();
+      const id = await first.getAttribute("data-cluster");
+      assert.ok(Number(await first.getAttribute("data-takes")) >= 2, "the first cluster listed is found in several takes");
+      assert.match(await first.locator(".ms-lib-count").textContent(), /^\d+ occurrences in \d+ takes · \d+\.\d s$/);
+      const swatch = await first.locator(".ms-lib-swatch").evaluate((el) => getComputedStyle(el).backgroundColor);
+      assert.match(swatch, /^rgb/, "the cluster's colour");
+      // renamed once, named everywhere
+      await first.locator(".ms-lib-name").fill("hop step");
+      await first.locator(".ms-lib-name").press("Enter");
+      await first.locator(".ms-lib-name").dispatchEvent("change");
+      await page.locator(`#row-library .ms-seg[data-cluster="${id}"][data-label="hop step"]`).first().waitFor({ timeout: TIMEOUT });
+
+      // its occurrences play one after another across takes
+      await first.locator(".ms-lib-play").click();
+      await page.locator("#library-player").waitFor({ state: "visible" });
+      assert.match(await text(page, "#library-playing"), /^hop step: occurrence 1 of \d+ — /);
+      const names = (await list(page)).map((t) => t.name);
+      const playingTake = async () => Number(await page.getAttribute("#library-playing", "data-take"));
+      const startTake = await playingTake();
+      await waitReady(page, names[startTake]);
+      let moved = false;
+      for (let k = 0; k < 40 && !moved; k += 1) {
+        await page.click("#library-next");
+        moved = (await playingTake()) !== startTake;
+      }
+      assert.ok(moved, "Next went on to an occurrence in another take");
+      const other = names[await playingTake()];
+      await waitReady(page, other);
+      const start = Number(await page.getAttribute("#library-playing", "data-start"));
+      await until(async () => Number(await page.inputValue("#scrub")) >= start, "the occurrence to play from its first frame");
+      assert.match(await text(page, "#library-playing"), new RegExp(`^hop step: occurrence \\d+ of \\d+ — ${other.replace(".", "\\.")}, frames ${start}–`));
+      // the other take shows the name given once
+      await page.locator(`#row-library .ms-seg[data-label="hop step"]`).first().waitFor({ timeout: TIMEOUT });
+      assert.ok((await list(page)).find((t) => t.name === other).open);
+      await page.click("#library-stop");
+      await page.locator("#library-player").waitFor({ state: "hidden" });
+
+      // the cluster's clips, cut from several takes, in one zip
+      const zipped = await download(page, `#library-clusters li[data-cluster="${id}"] .ms-lib-clips`, `e2e-library-${view.viewport.width}-${view.theme}.zip`);
+      assert.equal(zipped.name, "library_hop_step_clips.zip");
+      const clips = unzip(zipped.path);
+      assert.ok(clips.length >= 2 && clips.every(([f, t]) => f.startsWith("hop_step/") && /^HIERARCHY/.test(t)), JSON.stringify(clips.map((c) => c[0])));
+      const stems = new Set(clips.map(([f]) => f.slice("hop_step/".length).replace(/_\d+_hop_step(-\d+)?\.bvh$/, "")));
+      assert.ok(stems.size >= 2, `clips of several takes: ${[...stems]}`);
+      assert.match(await text(page, "#library-status"), new RegExp(`^saved library_hop_step_clips\\.zip \\(${clips.length} clips\\)$`));
+      const every = unzip((await download(page, "#library-export-clips", `e2e-library-all-${view.viewport.width}-${view.theme}.zip`)).path);
+      const folders = new Set(every.map(([f]) => f.split("/")[0]));
+      assert.ok(folders.has("hop_step") && folders.size >= 2, `a folder per cluster: ${[...folders]}`);
+
+      // the whole library's labels: one label CSV, every take's rows, the cluster's name in several takes
       const csv = await download(page, "#library-export-csv", `e2e-library-${view.viewport.width}-${view.theme}.csv`);
       assert.equal(csv.name, "library_labels.csv");
       const lines = csv.bytes.toString("utf8").trim().split("\n");
       assert.equal(lines[0], "file,start_frame,end_frame,label");
       const files = new Set(lines.slice(1).map((l) => l.split(",")[0]));
       assert.deepEqual([...files].sort(), ["02_01.amc", "02_01.bvh", "02_02.bvh"]);
+      const named = new Set(lines.filter((l) => l.endsWith(",hop step")).map((l) => l.split(",")[0]));
+      assert.ok(named.size >= 2, `the name in several takes' rows: ${[...named]}`);
       assert.match(await text(page, "#library-status"), /^saved library_labels\.csv \(\d+ rows of 3 takes\)$/);
 
       // more takes, cancelled at once (the worker opens the first on screen before it segments
