@@ -25,6 +25,11 @@
 //! `annotate` asks for per-segment qualities of any segmentation of the held take (any row's
 //! frames) from a method that declares it annotates ([`crate::method::Annotator`]: LMA's Effort);
 //! it is answered `annotated`, or `needs_model` / `refused` / `failed` as a `segment` run is.
+//!
+//! The library of takes (issue 26) has three requests that need no held take: `library_take`
+//! (read a take, segment it, compute its [`crate::library::TakeFeatures`], let its frames go),
+//! `library_cluster` (match the takes' features and segmentations into clusters shared across
+//! takes) and `library_clips` (several takes' files read again and cut into one zip).
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
