@@ -63,8 +63,9 @@ pub struct LibraryState {
     pub cluster_run: StoredValue<Option<(RunId, Vec<usize>)>>,
     /// Where the matching stands: (failed, message).
     pub matching: RwSignal<Option<(bool, String)>>,
-    /// The occurrence waiting for its take to open before it plays.
-    pending: StoredValue<Option<Spot>>,
+    /// The occurrence waiting for its take to open before it plays, and the take on screen when it
+    /// was asked (its address: the take opened for it is another).
+    pending: StoredValue<Option<(Spot, usize)>>,
     /// An occurrence is playing (it ends where the playlist's current one ends).
     playing: StoredValue<bool>,
 }
@@ -141,6 +142,16 @@ impl LibraryState {
     /// Whether the library has a take (its tab is shown).
     pub fn shown(&self) -> bool {
         self.queue.with(|q| !q.entries.is_empty())
+    }
+
+    /// Whether the take on screen is take `i` of the library (tracked): it was opened from the
+    /// library, has that take's name and frames, and is loaded.
+    fn on_screen(&self, state: AppState, i: usize) -> bool {
+        let shown = state.motion.with(|m| m.as_ref().map(|m| (m.summary.name.clone(), m.summary.frames)));
+        let entry = self.queue.with(|q| q.entries.get(i).map(|e| (e.name.clone(), e.frames)));
+        self.open.get() == Some(i)
+            && state.load.with(|l| *l == super::LoadState::Ready)
+            && matches!((shown, entry), (Some((a, n)), Some((b, Some(m)))) if a == b && n == m)
     }
 
     /// Take `i`'s segmentation — with the shared clusters' ids when it was matched, its clusters'
@@ -340,11 +351,9 @@ fn Clusters(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl 
     };
     // a take opened for an occurrence: play it once the take is on screen
     Effect::new(move |_| {
-        let frames = state.motion.with(|m| m.as_ref().map(|m| m.summary.frames));
-        let open = library.open.get();
-        let Some(spot) = library.pending.get_value() else { return };
-        let loaded = library.queue.with_untracked(|q| q.entries.get(spot.take).and_then(|e| e.frames));
-        if open == Some(spot.take) && frames.is_some() && frames == loaded {
+        let shown = motion_address(state);
+        let Some((spot, asked_on)) = library.pending.get_value() else { return };
+        if shown != asked_on && library.on_screen(state, spot.take) {
             library.pending.set_value(None);
             // after the timeline's own reaction to the new take (it forgets where playback stops)
             gloo::timers::callback::Timeout::new(0, move || start(state, spot)).forget();
@@ -453,16 +462,19 @@ fn Clusters(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl 
 /// read again).
 fn play_spot(state: AppState, loader: &Loader, spot: Spot) {
     let library = state.library;
-    let on_screen = library.open.get_untracked() == Some(spot.take)
-        && state.load.with_untracked(|l| *l == super::LoadState::Ready)
-        && state.motion.with_untracked(|m| m.as_ref().map(|m| m.summary.frames))
-            == library.queue.with_untracked(|q| q.entries.get(spot.take).and_then(|e| e.frames));
+    let on_screen = untrack(|| library.on_screen(state, spot.take));
     if on_screen {
+        library.pending.set_value(None);
         start(state, spot);
     } else {
-        library.pending.set_value(Some(spot));
+        library.pending.set_value(Some((spot, untrack(|| motion_address(state)))));
         loader.open_library_take(spot.take);
     }
+}
+
+/// The address of the take on screen (0: none), to tell a take opened since from the one before.
+fn motion_address(state: AppState) -> usize {
+    state.motion.with(|m| m.as_ref().map_or(0, |m| Arc::as_ptr(m) as usize))
 }
 
 /// Plays `spot` of the take on screen once, from its first frame to its last.
@@ -482,9 +494,12 @@ pub fn LibraryRow(state: AppState) -> impl IntoView {
     let library = state.library;
     let source = Signal::derive(move || {
         let i = library.open.get()?;
-        let (mut segmentation, _) = library.labelled(i)?;
         // the take on screen must be that take (a load still under way shows nothing)
-        let frames = state.motion.with(|m| m.as_ref().map(|m| m.summary.frames))?;
+        if !library.on_screen(state, i) {
+            return None;
+        }
+        let (mut segmentation, _) = library.labelled(i)?;
+        let frames = state.frames();
         // one lane: the finest tiling (primitives and transitions where there are primitives)
         let primitives = segmentation.segments.iter().any(|s| s.level == Level::Primitive);
         segmentation.segments.retain(|s| (s.level == Level::Primitive) == primitives || s.level == Level::Transition);
