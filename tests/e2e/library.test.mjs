@@ -5,12 +5,14 @@
 // the timeline; the takes are matched into clusters shared across takes: a cluster renamed once is
 // named in every take, its occurrences play one after another across takes (Next, Stop), its clips
 // (and every cluster's) come from several takes in one zip; the whole library's labels save as one
-// label CSV; Cancel drops the rest and "Run again" finishes them; the page never freezes while the worker works; a single file opened
+// label CSV; Cancel drops the rest and "Run again" finishes them; a folder picked adds its takes; the page never freezes while the worker works; a single file opened
 // afterwards opens as ever. At both sizes (1024×768, 1440×900) and both themes, one page each.
 
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import { execFileSync } from "node:child_process";
+import { copyFileSync, mkdtempSync } from "node:fs";
+import { tmpdir } from "node:os";
 import path from "node:path";
 import {
   BASE_URL, FIXTURES, TIMEOUT, VIEWS, assertClean, atView, closePage, download, openPage, showPanel, text, until,
@@ -189,10 +191,19 @@ for (const view of VIEWS) {
       // the failed take was queued again too, and failed again with its message
       assert.equal((await list(page))[3].status, "failed");
 
+      // a folder picked: its takes join the library (an AMC with its subject's ASF; other files left out)
+      const folder = mkdtempSync(path.join(tmpdir(), "mocapseg-library-"));
+      for (const f of ["02_02.bvh", "35.asf", "35_01.amc", "SOURCES.md"]) copyFileSync(fixture(f), path.join(folder, f));
+      await page.setInputFiles("#folder-input", folder);
+      await waitReady(page, "02_02.bvh");
+      await settled(page);
+      const added = (await list(page)).slice(6);
+      assert.deepEqual(added.map((t) => [t.name, t.status]), [["02_02.bvh", "done"], ["35_01.amc", "done"]]);
+
       // one file opened afterwards opens as ever; the library stays as it was
       await page.setInputFiles("#file-input", fixture("131_03.bvh"));
       await waitReady(page, "131_03.bvh");
-      assert.equal((await list(page)).length, 6);
+      assert.equal((await list(page)).length, 8);
       assert.ok((await list(page)).every((t) => !t.open), "the take on screen is not one of the library's");
       assert.equal(await page.locator("#row-library .ms-seg").count(), 0);
       await showPanel(page, "library");

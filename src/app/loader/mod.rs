@@ -634,11 +634,12 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
         Ok(r) => r,
         Err(message) => return fail_load(inner, inner.current.get(), message),
     };
-    // the answers to the clip exports, the supervised methods' jobs and the Effort bars' are theirs
-    let Some(response) = clips::handle(inner, response)
+    // the answers to the library's jobs, the clip exports, the supervised methods' jobs and the Effort
+    // bars' are theirs (the library's first: the clip exports' handler takes every `clips` answer)
+    let Some(response) = library::handle(inner, response)
+        .and_then(|r| clips::handle(inner, r))
         .and_then(|r| training::handle(inner, r))
         .and_then(|r| annotate::handle(inner, r))
-        .and_then(|r| library::handle(inner, r))
     else {
         return;
     };
