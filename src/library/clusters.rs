@@ -62,6 +62,15 @@ pub(crate) struct Placed {
     pub owner: Vec<(usize, usize)>,
     /// The stacked features of every take, one after another.
     pub stacked: FeatureMatrix,
+    /// Per take, its first library frame and its number of working frames.
+    pub frames: Vec<(usize, usize)>,
+}
+
+impl Placed {
+    /// Take `t`'s first library frame and number of working frames.
+    pub fn range(&self, t: usize) -> (usize, usize) {
+        self.frames[t]
+    }
 }
 
 /// Checks the takes and places them (see [`Placed`]).
@@ -75,6 +84,7 @@ pub(crate) fn place(takes: &[LibraryTake], params: &LibraryParams) -> Result<Pla
     let mut data: Vec<f32> = Vec::new();
     let mut dim = None;
     let mut frames = 0usize;
+    let mut ranges = Vec::with_capacity(takes.len());
     for (t, take) in takes.iter().enumerate() {
         take.check()?;
         let base = take.features.matrix().map_err(|message| LibraryError::Take { take: take.name.clone(), message })?;
@@ -93,6 +103,7 @@ pub(crate) fn place(takes: &[LibraryTake], params: &LibraryParams) -> Result<Pla
             return Err(LibraryError::TooLarge { frames, max_neighbours: params.max_neighbours, limit: MAX_ENTRIES });
         }
         let offset = frames - base.frames();
+        ranges.push((offset, base.frames()));
         let u = units(&take.segmentation, &take.features);
         for (k, unit) in u.iter().enumerate() {
             spans.push(Span { start: unit.span.start + offset, end: unit.span.end + offset });
@@ -104,7 +115,7 @@ pub(crate) fn place(takes: &[LibraryTake], params: &LibraryParams) -> Result<Pla
     let stacked_dim = dim.unwrap_or(1) * params.offsets.len();
     let stacked = FeatureMatrix::new(frames, stacked_dim, data)
         .map_err(|e| LibraryError::Take { take: takes[0].name.clone(), message: e.to_string() })?;
-    Ok(Placed { units: all_units, spans, owner, stacked })
+    Ok(Placed { units: all_units, spans, owner, stacked, frames: ranges })
 }
 
 /// The SSSM of the whole library (every working frame's neighbours within the stacked radius, in any take).

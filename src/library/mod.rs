@@ -17,10 +17,11 @@
 //!   finest tiling a segmentation gives ([`units`]: primitives and transitions where there are primitives, else
 //!   actions and transitions; overlaps — two arms' gestures — trimmed).
 //! * **Label transfer** ([`transfer`]): the units of a labelled take are the knowledge base; every other unit
-//!   takes the label of the labelled unit it is joined to by the *cheapest* valid warping path (§VII-E), with a
-//!   confidence from that path's mean distance relative to the search radius, and `unknown` where no labelled
-//!   unit is joined to it. Through the shared clusters instead: a cluster's label is the majority label of the
-//!   labelled take's frames in it.
+//!   takes the label of the labelled unit it is joined to by the *cheapest* valid warping path (§VII-E: a
+//!   nearest-neighbour search among the labelled frames, then subsequence warping paths), with a confidence from
+//!   that path's mean distance relative to the search radius, and `unknown` where no labelled unit is joined to it.
+//!   Through the shared clusters instead: a cluster's label is the majority label of the labelled take's frames in
+//!   it. [`LibraryParams::for_transfer`] are its settings, chosen by nested validation.
 //! * [`score`]: purity, inverse purity and NMI of clusters against per-frame labels across takes, and the chance
 //!   level (cluster ids shuffled among units of equal count).
 //!
@@ -84,6 +85,14 @@ impl Default for LibraryParams {
 }
 
 impl LibraryParams {
+    /// The settings label transfer uses by default: the library's defaults with a wider radius (30 in) and a looser
+    /// coverage (0.4 of the unlabelled unit) — what three of four sources chose in the nested leave-one-source-out
+    /// of `cargo run --release --example library` (docs/library.md): another take, often another actor, repeats a
+    /// motion less exactly than a take repeats itself.
+    pub fn for_transfer() -> LibraryParams {
+        LibraryParams { radius: 30.0, coverage: 0.4, ..LibraryParams::default() }
+    }
+
     /// Checks every value, naming the one that is wrong.
     pub fn check(&self) -> Result<(), LibraryError> {
         let bad = |name: &'static str, value: String, expected: &'static str| {

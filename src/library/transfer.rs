@@ -1,11 +1,12 @@
 //! Label transfer from a labelled take to every other take of a library (SSSM paper §VII-E; see the
 //! [module design](super)).
 //!
-//! * [`TransferRoute::Nearest`] — the paper's: the labelled take's units are the knowledge base; one SSSM of the
-//!   library gives every pair of units its cheapest warping path; a unit takes the label of the labelled unit whose
-//!   valid path to it (slope within `[1/ν, ν]`, long enough, covering `coverage` of both) has the lowest mean
-//!   distance. Confidence: `(1 − mean distance / radius) × the labelled unit's majority share`. No such path:
-//!   unknown.
+//! * [`TransferRoute::Nearest`] — the paper's: the labelled take's units are the knowledge base, its frames indexed
+//!   in a kd-tree of their own; every frame of the library gets its nearest labelled frames within the radius, and
+//!   the warping paths through them (a subsequence DTW: the path must cover `coverage` of the *unlabelled* unit, any
+//!   part of the labelled one; slope within `[1/ν, ν]`, long enough) join units to labelled units. A unit takes the
+//!   label of the labelled unit whose path has the lowest mean distance. Confidence:
+//!   `(1 − mean distance / radius) × the labelled unit's majority share`. No such path: unknown.
 //! * [`TransferRoute::Clusters`] — through the shared clusters ([`super::cluster`]): a cluster's label is the
 //!   majority label of the labelled take's frames in it, its confidence that majority's share; a unit of a cluster
 //!   with no labelled frames is unknown.
@@ -17,10 +18,12 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use super::clusters::{cluster, library_sssm, place, Placed};
+use super::clusters::{cluster, place, Placed};
 use super::{LibraryError, LibraryParams, LibraryTake};
+use crate::features::FeatureMatrix;
 use crate::method::Cancelled;
-use crate::methods::sssm::activities::frame_lookup;
+use crate::methods::sssm::activities::{frame_lookup, NONE};
+use crate::methods::sssm::neighbours::NeighbourSearch;
 use crate::methods::sssm::primitives::{Blocks, NeighbourhoodGraph};
 use crate::segment::{Level, Segment, Segmentation};
 
@@ -146,10 +149,27 @@ fn nearest(
     let placed = place(takes, params)?;
     let teach = taught(&placed, takes, kb);
     progress(0.0)?;
-    let sssm = library_sssm(&placed, params, &mut |f| progress(0.8 * f))?;
-    let graph = NeighbourhoodGraph::new(&sssm);
-    let of = frame_lookup(sssm.frames(), &placed.spans);
-    let paths = graph.warping_paths(&Blocks::all_pairs(&of));
+    // the knowledge base: a neighbour search over the labelled take's frames alone, so that every frame of the
+    // library gets its `max_neighbours` nearest frames *of the labelled take* (not crowded out by its own take's)
+    let (first, frames) = placed.range(kb.take);
+    let dim = placed.stacked.dim();
+    let known =
+        FeatureMatrix::new(frames, dim, placed.stacked.as_slice()[first * dim..(first + frames) * dim].to_vec())
+            .map_err(|e| LibraryError::Take { take: takes[kb.take].name.clone(), message: e.to_string() })?;
+    let search = NeighbourSearch::new(&known);
+    progress(0.1)?;
+    let cross = search
+        .cross_similarity(&placed.stacked, params.stacked_radius(), params.max_neighbours)
+        .map_err(|e| LibraryError::Take { take: takes[kb.take].name.clone(), message: e.to_string() })?;
+    progress(0.8)?;
+    let graph = NeighbourhoodGraph::new(&cross);
+    // rows: every unit of the library; columns: the labelled take's units, in its own frame index
+    let rows = frame_lookup(cross.frames(), &placed.spans);
+    let mut cols = vec![NONE; cross.frames()];
+    for (u, span) in placed.spans.iter().enumerate().filter(|(u, _)| placed.owner[*u].0 == kb.take) {
+        cols[span.start - first..=span.end - first].iter_mut().for_each(|c| *c = u as u32);
+    }
+    let paths = graph.warping_paths(&Blocks::rows_cols(&rows, &cols));
     progress(0.95)?;
     let radius = params.stacked_radius() as f64;
     // best (mean cost, labelled unit) per unit
@@ -161,8 +181,7 @@ fn nearest(
             continue;
         }
         let cover_p = (path.end.0 - path.start.0 + 1) as f64 / placed.spans[p].len() as f64;
-        let cover_q = (path.end.1 - path.start.1 + 1) as f64 / placed.spans[q].len() as f64;
-        if cover_p < params.coverage || cover_q < params.coverage {
+        if cover_p < params.coverage {
             continue;
         }
         let cost = path.mean_cost();

@@ -79,7 +79,8 @@ pub struct ModelMeta {
 /// cannot be measured (a take without hips and feet: its model cannot label it either).
 pub fn travel_of(takes: &[(&Motion, &[Option<usize>])]) -> Option<super::fit::TravelProfile> {
     let taught: Vec<Vec<bool>> = takes.iter().map(|(_, l)| l.iter().map(Option::is_some).collect()).collect();
-    let with: Vec<(&Motion, Option<&[bool]>)> = takes.iter().zip(&taught).map(|((m, _), t)| (*m, Some(&t[..]))).collect();
+    let with: Vec<(&Motion, Option<&[bool]>)> =
+        takes.iter().zip(&taught).map(|((m, _), t)| (*m, Some(&t[..]))).collect();
     super::fit::TravelProfile::fit(&with).ok()
 }
 
@@ -270,7 +271,12 @@ pub struct FoldPrediction {
 
 /// The novelty score ([`super::novelty`]) of every working frame of `motion` under `trained`, fitted on the
 /// labelled frames of `takes` (what it was trained on).
-pub fn novelty_scores(trained: &Trained, takes: &[TrainingTake], classes: usize, motion: &Motion) -> Result<Vec<f32>, String> {
+pub fn novelty_scores(
+    trained: &Trained,
+    takes: &[TrainingTake],
+    classes: usize,
+    motion: &Motion,
+) -> Result<Vec<f32>, String> {
     use super::infer::predict_with_features;
     let mut rows = Vec::new();
     let mut labels = Vec::new();
@@ -300,6 +306,13 @@ fn probabilities(
     let input = super::input::network_input(motion)?;
     let probs = super::infer::predict_input(&trained.net, &trained.standardise, &input, classes);
     Ok((probs, input.source_frames))
+}
+
+/// Per file frame of `motion`: the most probable class under `trained` and its probability (what the library's
+/// label transfer compares with: a network trained on one labelled take).
+pub fn label_frames(trained: &Trained, motion: &Motion, classes: usize) -> Result<Vec<(usize, f32)>, String> {
+    let (probs, source) = probabilities(trained, motion, classes)?;
+    Ok(file_frames_of(&probs, &source, motion))
 }
 
 /// Per file frame of `motion`: the most probable class and its probability, from [`probabilities`].
