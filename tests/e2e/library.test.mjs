@@ -179,7 +179,10 @@ for (const view of VIEWS) {
       // the library's): what had not finished is cancelled; "Run again" finishes it
       // (86_01 is the longest fixture: its segmentation is still to come when Cancel is pressed)
       await page.setInputFiles("#file-input", ["86_01.bvh", "35_01.bvh"].map(fixture));
-      await page.click("#library-cancel");
+      // (pressed where it is: the list re-renders around it while the takes start)
+      await page.waitForFunction(() => document.querySelector("#library-cancel")?.disabled === false, null, { timeout: 10_000 })
+        .catch(async () => assert.fail(`Cancel was never enabled: ${JSON.stringify(await list(page))}`));
+      await page.evaluate(() => document.querySelector("#library-cancel").click());
       await waitReady(page, "35_01.bvh");
       await settled(page);
       let more = (await list(page)).slice(4);
