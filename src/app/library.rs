@@ -8,8 +8,18 @@
 //! segmentations, never their frames). `#library-export-csv` saves every take's labels as one label
 //! CSV ([`crate::view::library::library_csv`]). The take on screen, when it is one of the
 //! library's, shows its library segmentation as the timeline's row `#row-library` ("Library"),
-//! its segments labelled by their clusters' names. The state is [`LibraryState`]; the worker's
-//! side is `loader::library`; the decisions are [`crate::view::library`]'s.
+//! its segments labelled by their clusters' names.
+//!
+//! Once no take is left to segment, the worker matches the takes into clusters shared across takes
+//! (`#library-matching` says where it stands). The cluster list (`#library-clusters`, `li` with
+//! `data-cluster`, `data-takes`) shows each cluster's colour, its name (an editable field: renamed
+//! once, named in every take's row, the CSV and the clips), its occurrences, takes and total
+//! seconds; **Play** plays its occurrences one after another across takes (each take opened when
+//! not on screen; `#library-playing` says which, `#library-previous` / `#library-next` /
+//! `#library-stop`), **Clips** saves its occurrences as BVH clips of every take in one zip, and
+//! `#library-export-clips` every cluster's (`#library-origin`: each clip at the origin). The state
+//! is [`LibraryState`]; the worker's side is `loader::library`; the decisions are
+//! [`crate::view::library`]'s.
 
 use super::loader::Loader;
 use super::method_panel::SegmentRow;
