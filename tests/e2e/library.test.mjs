@@ -15,7 +15,8 @@ import { copyFileSync, mkdtempSync } from "node:fs";
 import { tmpdir } from "node:os";
 import path from "node:path";
 import {
-  BASE_URL, FIXTURES, TIMEOUT, VIEWS, assertClean, atView, closePage, download, openPage, showPanel, text, until,
+  BASE_URL, FIXTURES, TIMEOUT, VIEWS, assertClean, atView, closePage, download, openPage, poorContrast, showPanel, text,
+  until,
   waitReady,
 } from "./harness.mjs";
 
@@ -151,6 +152,10 @@ for (const view of VIEWS) {
       assert.ok((await list(page)).find((t) => t.name === other).open);
       await page.click("#library-stop");
       await page.locator("#library-player").waitFor({ state: "hidden" });
+      // every text of the tab readable in this theme (a failed take's message included)
+      const { seen: texts, poor } = await poorContrast(page, ["#tabpanel-library"]);
+      assert.ok(texts.length > 10, `the tab's texts were measured: ${texts.length}`);
+      assert.deepEqual(poor, [], "texts of the library tab below 4.5:1");
 
       // the cluster's clips, cut from several takes, in one zip
       const zipped = await download(page, `#library-clusters li[data-cluster="${id}"] .ms-lib-clips`, `e2e-library-${view.viewport.width}-${view.theme}.zip`);
