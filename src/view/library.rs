@@ -2,8 +2,10 @@
 //! which takes ([`group_files`]), the queue the worker works through one take after another
 //! ([`Queue`]: queued → running → done / failed, cancel drops the rest), the whole library's labels
 //! as one label CSV ([`library_csv`]), the names the user gives the shared clusters and the labels
-//! they put on every take's segments ([`ClusterNames`]), and the playlist of a cluster's
-//! occurrences across takes ([`Playlist`]). The page (`crate::app::library`) keeps the files and
+//! they put on every take's segments ([`ClusterNames`]), the shared clusters mapped to the
+//! library's takes for the timeline's row, the playlists and the clips ([`Shared`]), the playlist of
+//! a cluster's occurrences across takes ([`Playlist`]), and the clips' folder and file names in
+//! one zip ([`folder_name`], [`make_unique`]). The page (`crate::app::library`) keeps the files and
 //! draws; everything it decides is here, tested natively.
 
 use crate::labels::LabelRow;
@@ -39,7 +41,8 @@ pub fn group_files(names: &[&str]) -> (Vec<TakeFiles>, Vec<String>) {
             "bvh" => takes.push(TakeFiles { motion: i, skeleton: None }),
             "amc" => {
                 let stem = base(names[i]);
-                let subject = stem.split('_').next().unwrap_or_default().to_ascii_lowercase();
+                let subject =
+                    crate::clips::stem_of(&stem).split('_').next().unwrap_or_default().to_ascii_lowercase();
                 let skeleton = asfs
                     .iter()
                     .copied()
