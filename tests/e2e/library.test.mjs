@@ -3,7 +3,7 @@
 // each take's status (queued, running with its progress, done with its segment and cluster counts,
 // failed with the parser's message); a take opens on screen when clicked, with its library row on
 // the timeline; the takes are matched into clusters shared across takes: a cluster renamed once is
-// named in every take, its occurrences play one after another across takes (Next, Stop), its clips
+// named in every take, its occurrences play one after another across takes (by themselves, Next, Stop), its clips
 // (and every cluster's) come from several takes in one zip; the whole library's labels save as one
 // label CSV; Cancel drops the rest and "Run again" finishes them; a folder picked adds its takes; the page never freezes while the worker works; a single file opened
 // afterwards opens as ever. At both sizes (1024×768, 1440×900) and both themes, one page each.
@@ -128,9 +128,17 @@ for (const view of VIEWS) {
       await first.locator(".ms-lib-name").dispatchEvent("change");
       await page.locator(`#row-library .ms-seg[data-cluster="${id}"][data-label="hop step"]`).first().waitFor({ timeout: TIMEOUT });
 
-      // its occurrences play one after another across takes
+      // its occurrences play one after another: the first to its end, then the next by itself (4× here)
+      await page.selectOption("#speed", "4");
       await first.locator(".ms-lib-play").click();
       await page.locator("#library-player").waitFor({ state: "visible" });
+      assert.match(await text(page, "#library-playing"), /^hop step: occurrence 1 of \d+ — /);
+      await page.waitForFunction(() => /occurrence 2 of/.test(document.querySelector("#library-playing")?.textContent ?? ""),
+        null, { timeout: TIMEOUT });
+      await page.click("#library-stop");
+      // Next goes across takes (slowly played, so that none ends while the test reads it)
+      await page.selectOption("#speed", "0.25");
+      await first.locator(".ms-lib-play").click();
       assert.match(await text(page, "#library-playing"), /^hop step: occurrence 1 of \d+ — /);
       const names = (await list(page)).map((t) => t.name);
       const playingTake = async () => Number(await page.getAttribute("#library-playing", "data-take"));
