@@ -25,6 +25,11 @@
 //! `annotate` asks for per-segment qualities of any segmentation of the held take (any row's
 //! frames) from a method that declares it annotates ([`crate::method::Annotator`]: LMA's Effort);
 //! it is answered `annotated`, or `needs_model` / `refused` / `failed` as a `segment` run is.
+//!
+//! The library of takes (issue 26) has three requests that need no held take: `library_take`
+//! (read a take, segment it, compute its [`crate::library::TakeFeatures`], let its frames go),
+//! `library_cluster` (match the takes' features and segmentations into clusters shared across
+//! takes) and `library_clips` (several takes' files read again and cut into one zip).
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -137,6 +142,54 @@ pub enum Request {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         only: Option<(usize, usize)>,
     },
+    /// A take of the library (issue 26): parse `bytes` (the file `name`; an AMC motion with its
+    /// ASF `skeleton`, as `load` takes them), segment it with `method` and `params`, and answer
+    /// `library_take` with its segmentation — without holding it: the take on screen stays the
+    /// one the worker holds, and this one's frames are dropped once it is segmented. Progress is
+    /// posted as run `run`'s.
+    LibraryTake {
+        take: TakeId,
+        run: RunId,
+        name: String,
+        /// Buffer 0.
+        #[serde(skip)]
+        bytes: Vec<u8>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        skeleton: Option<String>,
+        /// Buffer 1 when there is a skeleton.
+        #[serde(skip)]
+        skeleton_bytes: Vec<u8>,
+        method: String,
+        params: serde_json::Value,
+    },
+    /// Match the library's takes (`takes`: each one's name, features and segmentation, as
+    /// `library_take` answered them) into clusters shared across takes
+    /// ([`crate::library::cluster`], default parameters). Progress is posted as run `run`'s.
+    /// Answer: `library_clusters`.
+    LibraryCluster { take: TakeId, run: RunId, takes: Vec<crate::library::LibraryTake> },
+    /// BVH clips of several takes of the library in one zip named `file`: each take of `takes` is
+    /// parsed again from its bytes (buffers in order: each take's file, then its ASF skeleton's
+    /// when it has one) and cut at its segmentation's segments, the clips going into the zip's
+    /// folder `folder` of each segment's label. Answer: `clips`.
+    LibraryClips {
+        take: TakeId,
+        run: RunId,
+        file: String,
+        takes: Vec<ClipTake>,
+        to_origin: bool,
+        #[serde(skip)]
+        bytes: Vec<Vec<u8>>,
+    },
+}
+
+/// A take whose clips a `library_clips` request cuts: its file's name, its ASF skeleton's name
+/// for an AMC motion, and the segments to cut (each labelled with the folder its clip goes in).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ClipTake {
+    pub name: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub skeleton: Option<String>,
+    pub segmentation: Segmentation,
 }
 
 impl Request {
@@ -151,7 +204,10 @@ impl Request {
             | Request::Train { run, .. }
             | Request::ContinueTraining { run, .. }
             | Request::StopTraining { run, .. }
-            | Request::Clips { run, .. } => Some(*run),
+            | Request::Clips { run, .. }
+            | Request::LibraryTake { run, .. }
+            | Request::LibraryCluster { run, .. }
+            | Request::LibraryClips { run, .. } => Some(*run),
         }
     }
 
@@ -166,7 +222,10 @@ impl Request {
             | Request::Train { take, .. }
             | Request::ContinueTraining { take, .. }
             | Request::StopTraining { take, .. }
-            | Request::Clips { take, .. } => *take,
+            | Request::Clips { take, .. }
+            | Request::LibraryTake { take, .. }
+            | Request::LibraryCluster { take, .. }
+            | Request::LibraryClips { take, .. } => *take,
         }
     }
 }
@@ -442,6 +501,22 @@ pub enum Response {
         #[serde(skip)]
         bytes: Vec<u8>,
     },
+    /// A `library_take`: the take's length, its segmentation and the features its clusters are
+    /// matched with across takes (or why the take has none: it lacks hands, feet, head or hips).
+    LibraryTake {
+        take: TakeId,
+        run: RunId,
+        frames: usize,
+        duration_s: f64,
+        segmentation: Box<Segmentation>,
+        features: Result<Box<crate::library::TakeFeatures>, String>,
+    },
+    /// A `library_cluster`: the clusters shared across the takes, in the order they were sent.
+    LibraryClusters {
+        take: TakeId,
+        run: RunId,
+        clusters: Box<crate::library::SharedClusters>,
+    },
     /// A load (`run: None`) or a run failed.
     Failed {
         take: TakeId,
@@ -490,12 +565,20 @@ impl Request {
                 }
             }
             Request::UseModel { bytes, .. } | Request::ProvideModel { bytes, .. } => vec![bytes],
-            Request::Train { bytes, .. } => bytes,
+            Request::Train { bytes, .. } | Request::LibraryClips { bytes, .. } => bytes,
+            Request::LibraryTake { bytes, skeleton_bytes, skeleton, .. } => {
+                if skeleton.is_some() {
+                    vec![bytes, skeleton_bytes]
+                } else {
+                    vec![bytes]
+                }
+            }
             Request::Segment { .. }
             | Request::Annotate { .. }
             | Request::ContinueTraining { .. }
             | Request::StopTraining { .. }
-            | Request::Clips { .. } => Vec::new(),
+            | Request::Clips { .. }
+            | Request::LibraryCluster { .. } => Vec::new(),
         };
         Packet { json, buffers }
     }
@@ -505,7 +588,8 @@ impl Request {
         let mut request: Request = serde_json::from_str(&packet.json).map_err(|e| json_error("worker request", e))?;
         let mut buffers = packet.buffers.into_iter();
         match &mut request {
-            Request::Load { bytes, skeleton, skeleton_bytes, .. } => {
+            Request::Load { bytes, skeleton, skeleton_bytes, .. }
+            | Request::LibraryTake { bytes, skeleton, skeleton_bytes, .. } => {
                 *bytes = buffers.next().ok_or("worker request: a load without the file's bytes")?;
                 if skeleton.is_some() {
                     *skeleton_bytes =
@@ -525,11 +609,23 @@ impl Request {
                     ));
                 }
             }
+            Request::LibraryClips { takes, bytes, .. } => {
+                let wanted: usize = takes.iter().map(|t| 1 + usize::from(t.skeleton.is_some())).sum();
+                *bytes = buffers.by_ref().take(wanted).collect();
+                if bytes.len() != wanted {
+                    return Err(format!(
+                        "worker request: clips of {} takes that need {wanted} files but carry {}",
+                        takes.len(),
+                        bytes.len()
+                    ));
+                }
+            }
             Request::Segment { .. }
             | Request::Annotate { .. }
             | Request::ContinueTraining { .. }
             | Request::StopTraining { .. }
-            | Request::Clips { .. } => {}
+            | Request::Clips { .. }
+            | Request::LibraryCluster { .. } => {}
         }
         Ok(request)
     }
@@ -587,6 +683,20 @@ impl Response {
                 model.check().map_err(|e| format!("worker message: {e}"))?;
             }
             Response::ModelStored { model, .. } => model.check().map_err(|e| format!("worker message: {e}"))?,
+            Response::LibraryTake { segmentation, .. } => {
+                segmentation.validate().map_err(|e| format!("worker message: {e}"))?
+            }
+            Response::LibraryClusters { clusters, .. } => {
+                for s in &clusters.takes {
+                    s.validate().map_err(|e| format!("worker message: {e}"))?;
+                }
+                let fits = clusters.clusters.iter().flat_map(|c| &c.occurrences).all(|o| {
+                    clusters.takes.get(o.take).is_some_and(|s| o.start <= o.end && o.end < s.frames)
+                });
+                if !fits {
+                    return Err("worker message: a cluster's occurrence is not inside its take".into());
+                }
+            }
             Response::Clips { bytes, .. } => *bytes = next("the clips")?,
             _ => {}
         }

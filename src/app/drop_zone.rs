@@ -1,7 +1,8 @@
 //! Where files come in: drag-and-drop on `#drop-zone`, the file picker `#file-input`, and the
 //! `#load-sample` button (the bundled sample, also loaded on start). A BVH comes alone; a CMU
 //! original comes as its ASF skeleton and AMC motion, dropped or picked together
-//! ([`crate::load::opening`]).
+//! ([`crate::load::opening`]). Several takes dropped or picked at once, or a folder picked with
+//! `#folder-input`, make the library of takes ([`super::library`]).
 
 use super::loader::Loader;
 use super::AppState;
@@ -24,7 +25,7 @@ pub fn DropZone(state: AppState, loader: Loader) -> impl IntoView {
             depth.set(0);
             let files = all_files(ev.data_transfer().and_then(|d| d.files()));
             if !files.is_empty() {
-                loader.load_files(files);
+                loader.open_dropped(files);
             }
         }
     };
@@ -36,13 +37,21 @@ pub fn DropZone(state: AppState, loader: Loader) -> impl IntoView {
             };
             let files = all_files(input.files());
             if !files.is_empty() {
-                loader.load_files(files);
+                loader.open_dropped(files);
             }
             // Picking the same file again must load it again.
             input.set_value("");
         }
     };
     let on_sample = move |_| loader.load_sample();
+    // a picker of folders (every browser the page supports has `webkitdirectory`; leptos has no
+    // attribute of that name)
+    let folder = NodeRef::<leptos::html::Input>::new();
+    Effect::new(move |_| {
+        if let Some(input) = folder.get() {
+            let _ = input.set_attribute("webkitdirectory", "");
+        }
+    });
 
     view! {
         <div
@@ -76,6 +85,16 @@ pub fn DropZone(state: AppState, loader: Loader) -> impl IntoView {
                     accept=".bvh,.BVH,.asf,.ASF,.amc,.AMC"
                     multiple=true
                     aria-label="Choose a BVH file, or an ASF and its AMC file"
+                    on:change=on_pick.clone()
+                />
+                <label class="ms-button ms-button--quiet" for="folder-input">"Choose a folder…"</label>
+                <input
+                    id="folder-input"
+                    class="ms-visually-hidden"
+                    type="file"
+                    multiple=true
+                    node_ref=folder
+                    aria-label="Choose a folder of takes (a library)"
                     on:change=on_pick
                 />
                 <button id="load-sample" class="ms-button ms-button--quiet" type="button" on:click=on_sample>

@@ -24,6 +24,8 @@
 //! `embed=1` shows the player and the timeline only.
 //! The timeline's "my labels" row ([`my_labels`], `data-my-labels`) holds the user's own
 //! corrections. [`effort`] draws the Effort bars under every row (a toggle of the timeline).
+//! Several files dropped at once (or a folder) make a [`library`] of takes, segmented one after
+//! another in the worker, each opened on screen when clicked.
 
 mod browser_models;
 mod consensus;
@@ -34,6 +36,7 @@ mod error_banner;
 mod fetch;
 mod ground_truth;
 mod keys;
+mod library;
 mod loader;
 mod method_panel;
 mod metrics_panel;
@@ -266,6 +269,8 @@ pub struct AppState {
     pub panel: RwSignal<String>,
     /// The Effort bars under every row ([`effort`]).
     pub effort: effort::EffortBars,
+    /// The library of takes ([`library`]).
+    pub library: library::LibraryState,
 }
 
 /// A segment selected on the timeline: its row (`<method>-actions` or `<method>-primitives`)
@@ -298,6 +303,7 @@ impl AppState {
             mine: RwSignal::new(None),
             panel: RwSignal::new(workspace::TRUTH_TAB.to_string()),
             effort: effort::EffortBars::new(),
+            library: library::LibraryState::new(),
         }
     }
 
@@ -408,7 +414,8 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
             view! { <MethodPanel state=state method=slot loader=loader.clone() extra=extra/> }.into_any()
         });
         let panels = std::iter::once(truth).chain(methods).collect();
-        view! { <SidePanel state=state panels=panels/> }.into_any()
+        let library = view! { <library::LibraryPanel state=state loader=loader.clone()/> }.into_any();
+        view! { <SidePanel state=state panels=panels library=library/> }.into_any()
     });
     let studio = view! {
         <Studio

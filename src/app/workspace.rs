@@ -13,7 +13,8 @@
 //!   `aria-controls`, roving `tabindex`: ← / → / ↑ / ↓ select the previous / next tab, Home / End the
 //!   first / last), and one `#tabpanel-<id>` (`role="tabpanel"`) each, only the selected one shown.
 //!   `data-panel` on `#side-panel` names the tab shown (`state.panel`). The ids are [`TRUTH_TAB`]
-//!   and each method's name.
+//!   and each method's name, and `library` (the library of takes, [`super::library`]) last, there
+//!   only once the library has a take.
 //! * Selecting a method's tab, pressing its Run, and each of its runs finishing while its tab is
 //!   shown, scroll the timeline (never the page) so that the method's row is in view.
 //!
@@ -230,6 +231,11 @@ pub fn tabs(state: AppState) -> Vec<(String, String)> {
         .collect()
 }
 
+/// How many tabs are always there (the library's comes after them).
+fn tabs_count(state: AppState) -> usize {
+    1 + state.methods.len()
+}
+
 /// Focuses element `#id`, if there is one.
 fn focus(id: &str) {
     if let Some(el) = gloo::utils::document().get_element_by_id(id).and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
@@ -276,11 +282,36 @@ pub(super) fn reveal_method(name: &str) {
     reveal_row(&row);
 }
 
-/// `#side-panel`: the tabs and their panels (`panels`, in the order of [`tabs`]).
+/// `#side-panel`: the tabs and their panels (`panels`, in the order of [`tabs`]), and the
+/// library's tab last (`library`), there only while the library has a take.
 #[component]
-pub fn SidePanel(state: AppState, panels: Vec<AnyView>) -> impl IntoView {
+pub fn SidePanel(state: AppState, panels: Vec<AnyView>, library: AnyView) -> impl IntoView {
     let tabs = tabs(state);
-    let ids: Vec<String> = tabs.iter().map(|(id, _)| id.clone()).collect();
+    let fixed: Vec<String> = tabs.iter().map(|(id, _)| id.clone()).collect();
+    let library_shown = move || state.library.shown();
+    // the tabs the arrow keys go through: the library's too while it is shown
+    let ids = move || {
+        let mut ids = fixed.clone();
+        if library_shown() {
+            ids.push(super::library::TAB.to_string());
+        }
+        ids
+    };
+    let on_tab_key = move |i: usize, ev: KeyboardEvent| {
+        let ids = ids();
+        let n = ids.len();
+        let to = match ev.key().as_str() {
+            "ArrowRight" | "ArrowDown" => (i + 1) % n,
+            "ArrowLeft" | "ArrowUp" => (i + n - 1) % n,
+            "Home" => 0,
+            "End" => n - 1,
+            _ => return,
+        };
+        ev.prevent_default();
+        ev.stop_propagation();
+        state.panel.set(ids[to].clone());
+        focus(&format!("tab-{}", ids[to]));
+    };
     // a method's tab chosen, or its run finishing while shown: its row comes into view (after
     // the row is drawn)
     Effect::new(move |_| {
@@ -296,7 +327,7 @@ pub fn SidePanel(state: AppState, panels: Vec<AnyView>) -> impl IntoView {
         .enumerate()
         .map(|(i, (id, title))| {
             let id = id.clone();
-            let ids = ids.clone();
+            let on_tab_key = on_tab_key.clone();
             let selected = {
                 let id = id.clone();
                 Memo::new(move |_| state.panel.with(|p| *p == id))
@@ -305,20 +336,7 @@ pub fn SidePanel(state: AppState, panels: Vec<AnyView>) -> impl IntoView {
                 let id = id.clone();
                 move |_| state.panel.set(id.clone())
             };
-            let on_key = move |ev: KeyboardEvent| {
-                let n = ids.len();
-                let to = match ev.key().as_str() {
-                    "ArrowRight" | "ArrowDown" => (i + 1) % n,
-                    "ArrowLeft" | "ArrowUp" => (i + n - 1) % n,
-                    "Home" => 0,
-                    "End" => n - 1,
-                    _ => return,
-                };
-                ev.prevent_default();
-                ev.stop_propagation();
-                state.panel.set(ids[to].clone());
-                focus(&format!("tab-{}", ids[to]));
-            };
+            let on_key = move |ev: KeyboardEvent| on_tab_key(i, ev);
             view! {
                 <button
                     id=format!("tab-{id}")
@@ -358,10 +376,42 @@ pub fn SidePanel(state: AppState, panels: Vec<AnyView>) -> impl IntoView {
             }
         })
         .collect_view();
+    let library_index = tabs_count(state);
+    let library_selected = move || state.panel.with(|p| p == super::library::TAB);
+    let library_button = move || {
+        let on_tab_key = on_tab_key.clone();
+        library_shown().then(|| {
+            view! {
+                <button
+                    id="tab-library"
+                    class="ms-tab"
+                    type="button"
+                    role="tab"
+                    aria-selected=move || library_selected().to_string()
+                    aria-controls="tabpanel-library"
+                    tabindex=move || if library_selected() { "0" } else { "-1" }
+                    on:click=move |_| state.panel.set(super::library::TAB.to_string())
+                    on:keydown=move |ev: KeyboardEvent| on_tab_key(library_index, ev)
+                >
+                    "Library"
+                </button>
+            }
+        })
+    };
     view! {
         <aside id="side-panel" class="ms-side" aria-label="Methods, ground truth and scores" data-panel=move || state.panel.get()>
-            <div class="ms-tabs" role="tablist" aria-label="Side panel">{buttons}</div>
+            <div class="ms-tabs" role="tablist" aria-label="Side panel">{buttons}{library_button}</div>
             {panels}
+            <div
+                id="tabpanel-library"
+                class="ms-tabpanel"
+                role="tabpanel"
+                aria-labelledby="tab-library"
+                tabindex="0"
+                hidden=move || !(library_selected() && library_shown())
+            >
+                {library}
+            </div>
         </aside>
     }
 }

@@ -8,8 +8,9 @@
 //! ([`rows`]), a model's card beside its choice ([`model_card`]), the advice before a training
 //! ([`training_advice`]), the question when a take is opened during a training and what forgetting a
 //! model kept in the browser changes ([`kept_models`]), and a labelling row's badge when its model
-//! does not fit the take ([`take_fit`]), the Effort bars under every row ([`effort`]), and the
-//! consensus row's settings and words ([`consensus`]).
+//! does not fit the take ([`take_fit`]), the Effort bars under every row ([`effort`]), the
+//! consensus row's settings and words ([`consensus`]), and the library of takes: its queue, its CSV,
+//! the shared clusters' names and playlists ([`library`]).
 
 pub mod camera;
 pub mod clock;
@@ -20,6 +21,7 @@ pub mod effort;
 pub mod export_names;
 pub mod kept_models;
 pub mod label_fit;
+pub mod library;
 pub mod model_card;
 pub mod my_labels;
 pub mod rows;

@@ -177,6 +177,82 @@ impl WorkerState {
             Request::Clips { take, run, segmentation, which, to_origin, only } => {
                 post(self.clips(take, run, &segmentation, crate::clips::ClipOptions { which, to_origin }, only))
             }
+            Request::LibraryTake { take, run, name, bytes, skeleton, skeleton_bytes, method, params } => {
+                let asf = skeleton.as_deref().map(|n| (n, &skeleton_bytes[..]));
+                let response = self.library_take(take, run, &name, &bytes, asf, &method, &params, post);
+                post(response)
+            }
+            Request::LibraryCluster { take, run, takes } => {
+                let matched = {
+                    let mut progress = |f: f64| {
+                        post(Response::Progress { take, run: Some(run), stage: "matching".into(), fraction: Some(f) });
+                        Ok(())
+                    };
+                    crate::library::cluster(&takes, &crate::library::LibraryParams::default(), &mut progress)
+                };
+                post(match matched {
+                    Ok(clusters) => Response::LibraryClusters { take, run, clusters: Box::new(clusters) },
+                    Err(e) => Response::Failed {
+                        take,
+                        run: Some(run),
+                        message: format!("matching the library's takes: {e}"),
+                        kind: FailureKind::Input,
+                        param: None,
+                    },
+                })
+            }
+            Request::LibraryClips { take, run, file, takes, to_origin, bytes } => {
+                post(library_clips(take, run, file, &takes, to_origin, bytes))
+            }
+        }
+    }
+
+    /// A take of the library read from `bytes`, segmented by `method` and its features for the
+    /// shared clusters computed, the take held staying held; its motion is dropped before the
+    /// answer goes.
+    #[allow(clippy::too_many_arguments)]
+    fn library_take(
+        &self,
+        take: TakeId,
+        run: RunId,
+        name: &str,
+        bytes: &[u8],
+        asf: Option<(&str, &[u8])>,
+        method: &str,
+        params: &serde_json::Value,
+        post: &mut dyn FnMut(Response),
+    ) -> Response {
+        let fail = |message: String| Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, param: None };
+        let m = match crate::methods::find(method) {
+            Ok(m) => m,
+            Err(e) => return fail(e.to_string()),
+        };
+        let motion = {
+            let mut reading = |f: f64| {
+                post(Response::Progress { take, run: Some(run), stage: "reading".into(), fraction: Some(f * 0.2) })
+            };
+            match read_take(name, bytes, asf, &mut reading) {
+                Ok(motion) => motion,
+                Err(message) => return fail(message),
+            }
+        };
+        let short = m.info().short;
+        let output = m.check_json_in(params, &self.models).and_then(|checked| {
+            let mut progress = Posting { take, run, post };
+            m.run_checked(&motion, &checked, &RunOptions { pictures: false, ..RunOptions::default() }, &mut progress)
+        });
+        match output {
+            Ok(output) => Response::LibraryTake {
+                take,
+                run,
+                frames: motion.frames(),
+                duration_s: motion.duration_s(),
+                segmentation: Box::new(output.segmentation),
+                features: crate::library::TakeFeatures::of(&motion, &crate::library::LibraryParams::default())
+                    .map(Box::new)
+                    .map_err(|e| e.to_string()),
+            },
+            Err(e) => run_failure(take, run, &short, &motion.name, e),
         }
     }
 
@@ -263,11 +339,7 @@ impl WorkerState {
         // bounds one), and a load that fails leaves none — a run on the take on screen is then
         // answered `not_loaded`, and the page sends that take again
         self.held = None;
-        let loaded = match asf {
-            None => crate::load::load_bytes(name, bytes, progress),
-            Some(asf) => crate::load::load_asf_amc(asf, (name, bytes), &crate::load::MemoryBudget::default()),
-        }
-        .map_err(|e| e.to_string())?;
+        let loaded = read_take_file(name, bytes, asf, progress)?;
         let crate::load::Loaded { bvh, motion } = loaded;
         let image = MotionImage::from_motion(&motion);
         let png = image.try_to_png().map_err(|e| format!("{name}: motion image: {e}"))?;
@@ -377,6 +449,70 @@ impl WorkerState {
             Ok(output) => Response::Segmented { take, run, view: Box::new(output.into()) },
             Err(e) => run_failure(take, run, &short, &motion.name, e),
         }
+    }
+}
+
+/// A take's file (an AMC motion with its ASF skeleton) read into its motion and parsed file, or
+/// the parser's message naming it.
+fn read_take_file(
+    name: &str,
+    bytes: &[u8],
+    asf: Option<(&str, &[u8])>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<crate::load::Loaded, String> {
+    match asf {
+        None => crate::load::load_bytes(name, bytes, progress),
+        Some(asf) => crate::load::load_asf_amc(asf, (name, bytes), &crate::load::MemoryBudget::default()),
+    }
+    .map_err(|e| e.to_string())
+}
+
+/// A take's motion read from its file ([`read_take_file`]).
+fn read_take(name: &str, bytes: &[u8], asf: Option<(&str, &[u8])>, progress: &mut dyn FnMut(f64)) -> Result<Motion, String> {
+    read_take_file(name, bytes, asf, progress).map(|loaded| loaded.motion)
+}
+
+/// The clips of several takes in one zip `file` (a `library_clips` request): each take read
+/// again from its bytes, one after another (only one take's frames at a time), cut at its
+/// segments, each clip in the folder of its segment's label.
+fn library_clips(take: TakeId, run: RunId, file: String, takes: &[ClipTake], to_origin: bool, bytes: Vec<Vec<u8>>) -> Response {
+    let fail = |message: String| Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, param: None };
+    let mut buffers = bytes.into_iter();
+    let mut all = Vec::new();
+    for t in takes {
+        let (Some(motion_bytes), skeleton) = (buffers.next(), t.skeleton.as_ref().map(|_| buffers.next())) else {
+            return fail(format!("clips: the bytes of {} are missing", t.name));
+        };
+        let skeleton_bytes = skeleton.flatten().unwrap_or_default();
+        let asf = t.skeleton.as_deref().map(|n| (n, &skeleton_bytes[..]));
+        let crate::load::Loaded { bvh, motion } = match read_take_file(&t.name, &motion_bytes, asf, &mut |_| {}) {
+            Ok(loaded) => loaded,
+            Err(message) => return fail(format!("clips: {message}")),
+        };
+        if let Err(e) = t.segmentation.validate() {
+            return fail(format!("clips of {}: {e}", t.name));
+        }
+        let options = crate::clips::ClipOptions { which: crate::clips::Which::All, to_origin };
+        let stem = crate::clips::stem_of(&t.name);
+        match crate::clips::clips(&bvh, &motion, &t.segmentation, &stem, &options) {
+            Ok(clips) => all.extend(clips.into_iter().map(|mut c| {
+                c.file = format!("{}/{}", crate::view::library::folder_name(&c.segment.label), c.file);
+                c
+            })),
+            Err(e) => return fail(format!("clips of {}: {e}", t.name)),
+        }
+    }
+    if all.is_empty() {
+        return fail("clips: no segment to cut".into());
+    }
+    let mut names: Vec<String> = all.iter().map(|c| c.file.clone()).collect();
+    crate::view::library::make_unique(&mut names);
+    for (clip, name) in all.iter_mut().zip(names) {
+        clip.file = name;
+    }
+    match crate::clips::zip(&all) {
+        Ok(bytes) => Response::Clips { take, run, file, clips: all.len(), bytes },
+        Err(e) => fail(format!("clips: {e}")),
     }
 }
 
@@ -540,6 +676,109 @@ mod tests {
             message.starts_with("clips of 02_01.amc: the segmentation has no action segment at frames 0–"),
             "{message}"
         );
+    }
+
+    #[test]
+    fn library_takes_are_segmented_without_replacing_the_held_take_and_their_clips_zipped_together() {
+        let mut w = WorkerState::default();
+        load_walk(&mut w, 1);
+        let library = |take, run, name: &str, bytes: Vec<u8>, skeleton: Option<(&str, Vec<u8>)>| Request::LibraryTake {
+            take,
+            run,
+            name: name.into(),
+            bytes,
+            skeleton: skeleton.as_ref().map(|(n, _)| n.to_string()),
+            skeleton_bytes: skeleton.map(|(_, b)| b).unwrap_or_default(),
+            method: "sssm".into(),
+            params: serde_json::json!({}),
+        };
+        let bvh = library(5, 6, "02_02.bvh", include_bytes!("../../tests/fixtures/02_02.bvh").to_vec(), None);
+        // the request travels with its file as buffer 0 (and an AMC's skeleton as buffer 1)
+        assert_eq!(Request::from_packet(bvh.clone().into_packet()).unwrap(), bvh);
+        let amc = library(
+            7,
+            8,
+            "02_01.amc",
+            include_bytes!("../../tests/fixtures/02_01.amc").to_vec(),
+            Some(("02.asf", include_bytes!("../../tests/fixtures/02.asf").to_vec())),
+        );
+        assert_eq!(amc.clone().into_packet().buffers.len(), 2);
+        assert_eq!(Request::from_packet(amc.clone().into_packet()).unwrap(), amc);
+        let mut took = Vec::new();
+        let mut features = Vec::new();
+        for (request, name) in [(bvh, "02_02.bvh"), (amc, "02_01.amc")] {
+            let posted = ask(&mut w, request);
+            assert!(posted.iter().any(|r| matches!(r, Response::Progress { run: Some(_), .. })), "progress is posted");
+            let Some(Response::LibraryTake { frames, duration_s, segmentation, features: f, .. }) = posted.last().cloned()
+            else {
+                panic!("{:?}", posted.last())
+            };
+            let back = Response::from_packet(posted.last().unwrap().clone().into_packet()).unwrap();
+            assert_eq!(&back, posted.last().unwrap());
+            assert_eq!((segmentation.file.as_str(), segmentation.frames), (name, frames));
+            assert!(duration_s > 1.0 && !segmentation.segments.is_empty());
+            took.push(segmentation);
+            features.push(f);
+        }
+        assert_eq!(w.held(), Some(1), "the take on screen stays held");
+        // the two takes matched: clusters shared across them, occurrences inside their takes
+        let matched: Vec<crate::library::LibraryTake> = features
+            .into_iter()
+            .zip(&took)
+            .map(|(f, s)| crate::library::LibraryTake {
+                name: s.file.clone(),
+                features: *f.expect("a CMU take has the end effectors"),
+                segmentation: (**s).clone(),
+            })
+            .collect();
+        let request = Request::LibraryCluster { take: 0, run: 12, takes: matched };
+        assert_eq!(Request::from_packet(request.clone().into_packet()).unwrap(), request);
+        let posted = ask(&mut w, request);
+        assert!(posted.iter().any(|r| matches!(r, Response::Progress { run: Some(12), .. })));
+        let Some(Response::LibraryClusters { run: 12, clusters, .. }) = posted.last().cloned() else {
+            panic!("{:?}", posted.last())
+        };
+        assert_eq!(Response::from_packet(posted.last().unwrap().clone().into_packet()).unwrap(), *posted.last().unwrap());
+        assert_eq!(clusters.takes.len(), 2);
+        assert!(clusters.shared().count() >= 1, "the two walks share a cluster: {:?}", clusters.clusters);
+        // a bad file: failed, naming it; the held take still there
+        let bad = ask(&mut w, library(9, 10, "bad.bvh", include_bytes!("../../tests/fixtures/bad.bvh").to_vec(), None));
+        let Some(Response::Failed { message, kind: FailureKind::Input, run: Some(10), .. }) = bad.last() else { panic!("{bad:?}") };
+        assert!(message.contains("bad.bvh"), "{message}");
+        assert_eq!(w.held(), Some(1));
+
+        // one segment of each take, labelled as its cluster's folder, cut into one zip
+        let pick = |seg: &crate::segment::Segmentation, label: &str| {
+            let mut one = seg.clone();
+            one.segments.truncate(1);
+            one.segments[0].label = label.into();
+            one
+        };
+        let takes = vec![
+            ClipTake { name: "02_02.bvh".into(), skeleton: None, segmentation: pick(&took[0], "walk cycle") },
+            ClipTake { name: "02_01.amc".into(), skeleton: Some("02.asf".into()), segmentation: pick(&took[1], "walk cycle") },
+        ];
+        let bytes = vec![
+            include_bytes!("../../tests/fixtures/02_02.bvh").to_vec(),
+            include_bytes!("../../tests/fixtures/02_01.amc").to_vec(),
+            include_bytes!("../../tests/fixtures/02.asf").to_vec(),
+        ];
+        let clips = Request::LibraryClips { take: 0, run: 11, file: "library.zip".into(), takes, to_origin: true, bytes };
+        let packet = clips.clone().into_packet();
+        assert_eq!(Request::from_packet(packet.clone()).unwrap(), clips);
+        let short = Packet { buffers: packet.buffers[..2].to_vec(), ..packet };
+        assert!(Request::from_packet(short).unwrap_err().contains("need 3 files but carry 2"));
+        let Some(Response::Clips { file, clips: 2, bytes, .. }) = ask(&mut w, clips).pop() else { panic!("no zip") };
+        assert_eq!(file, "library.zip");
+        let mut archive = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
+        let mut names: Vec<String> = (0..archive.len()).map(|i| archive.by_index(i).unwrap().name().unwrap().to_string()).collect();
+        names.sort();
+        assert_eq!(names, ["walk_cycle/02_01_01_walk_cycle.bvh", "walk_cycle/02_02_01_walk_cycle.bvh"]);
+        let mut text = String::new();
+        std::io::Read::read_to_string(&mut archive.by_name(&names[0]).unwrap(), &mut text).unwrap();
+        let clip = crate::bvh::parse(&text).unwrap();
+        let s = &took[1].segments[0];
+        assert_eq!(clip.frames(), s.end - s.start + 1);
     }
 
     #[test]

@@ -13,7 +13,7 @@ import { execFileSync } from "node:child_process";
 import { readFileSync, writeFileSync } from "node:fs";
 import path from "node:path";
 import {
-  FIXTURES, OUT, SAMPLE, assertClean, closePage, download, gotoApp, loadFile, openPage, shot, showPanel, text, waitData,
+  FIXTURES, OUT, SAMPLE, assertClean, closePage, download, gotoApp, loadFile, openPage, shot, showPanel, text, waitData, waitReady,
 } from "./harness.mjs";
 
 let opened;
@@ -160,7 +160,7 @@ test("each method picture saves as a PNG of the picture's own size", async () =>
   assert.deepEqual([d.bytes.readUInt32BE(16), d.bytes.readUInt32BE(20)], size, "IHDR width and height");
 });
 
-test("an ASF skeleton picked with its AMC motion opens the take its BVH conversion is; either alone is refused", async () => {
+test("an ASF skeleton picked with its AMC motion opens the take its BVH conversion is; either alone is refused; two BVH make a library", async () => {
   const bvh = bvhRows(readFileSync(path.join(FIXTURES, "02_01.bvh"), "utf8"));
   await page.setInputFiles("#file-input", [path.join(FIXTURES, "02.asf"), path.join(FIXTURES, "02_01.amc")]);
   await page.waitForFunction(() => document.body.dataset.state === "ready"
@@ -172,10 +172,14 @@ test("an ASF skeleton picked with its AMC motion opens the take its BVH conversi
   await page.setInputFiles("#file-input", path.join(FIXTURES, "02_01.amc"));
   await page.waitForFunction(() => document.body.dataset.state === "error");
   assert.match(await text(page, "#error-banner"), /02_01\.amc is an AMC motion without its skeleton.*02\.asf/);
-  await page.setInputFiles("#file-input", [path.join(FIXTURES, "02_01.bvh"), path.join(FIXTURES, "12_01.bvh")]);
+  // a BVH with a file that is not a take: refused; the take on screen stays
+  await page.setInputFiles("#file-input", [path.join(FIXTURES, "02_01.bvh"), path.join(FIXTURES, "SOURCES.md")]);
   await page.waitForFunction(() => /one BVH at a time/.test(document.querySelector("#error-banner")?.textContent ?? ""));
-  // the take on screen stays
   assert.match(await text(page, "#summary-name"), /02_01\.amc/);
+  // two BVH files are two takes: a library (tests/e2e/library.test.mjs), the first opened
+  await page.setInputFiles("#file-input", [path.join(FIXTURES, "02_01.bvh"), path.join(FIXTURES, "12_01.bvh")]);
+  await waitReady(page, "02_01.bvh");
+  assert.equal(await page.locator("#library-list li").count(), 2);
   assertClean(opened);
 });
 

@@ -24,12 +24,16 @@
 //! The shipped models are not in the wasm: a run that needs one the worker does not hold is
 //! answered `needs_model`, and [`super::model_files`] fetches it, hands it over and asks again.
 //!
+//! The library of takes ([`library`]) has the worker segment its takes one after another without
+//! replacing the take it holds, and cut clips of several takes into one zip.
+//!
 //! The Effort bars under the rows ask the worker for each row's annotations ([`annotate`]): one
 //! `annotate` request per row, sent again after a `not_loaded` or to a new worker, waiting for the
 //! shipped family as a run does.
 
 mod annotate;
 mod clips;
+mod library;
 mod shipped;
 mod training;
 
@@ -199,6 +203,7 @@ impl Loader {
     /// Loads the bundled sample — after asking, when a training is under way
     /// ([`Loader::switch_question`]).
     pub fn load_sample(&self) {
+        self.0.state.library.open.set(None);
         if let Some(open) = training::ask_before_opening(&self.0, training::Open::Sample) {
             open_now(&self.0, open);
         }
@@ -598,6 +603,7 @@ fn replace_worker(inner: &Rc<Inner>) {
     }
     training::resend(inner);
     annotate::resend(inner);
+    library::resend(inner);
 }
 
 /// The worker script could not load or threw outside a request: report it and drop the worker
@@ -620,6 +626,7 @@ fn on_worker_error(inner: &Rc<Inner>, event: Event) {
     if let Some(worker) = inner.worker.borrow_mut().take() {
         worker.terminate();
     }
+    library::fail_all(inner, &format!("the worker failed: {message}"));
 }
 
 fn on_message(inner: &Rc<Inner>, data: JsValue) {
@@ -627,8 +634,10 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
         Ok(r) => r,
         Err(message) => return fail_load(inner, inner.current.get(), message),
     };
-    // the answers to the clip exports, the supervised methods' jobs and the Effort bars' are theirs
-    let Some(response) = clips::handle(inner, response)
+    // the answers to the library's jobs, the clip exports, the supervised methods' jobs and the Effort
+    // bars' are theirs (the library's first: the clip exports' handler takes every `clips` answer)
+    let Some(response) = library::handle(inner, response)
+        .and_then(|r| clips::handle(inner, r))
         .and_then(|r| training::handle(inner, r))
         .and_then(|r| annotate::handle(inner, r))
     else {

@@ -1,0 +1,527 @@
+//! The library of takes (issue 26): several files dropped or picked at once (or a folder, `#folder-input`)
+//! become a list of takes in the side panel's "Library" tab (`#tab-library`, shown once the library
+//! has a take). Each take (`#library-list li`, `data-status` = queued / running / done / failed /
+//! cancelled) shows its name, duration and status; the worker segments them one after another with
+//! the method chosen (`#library-method`) and its panel's parameters, `#library-cancel` drops the
+//! rest, `#library-rerun` queues the failed and cancelled again. Clicking a take's name opens it
+//! on screen as a dropped file opens (its `File` read again: takes not on screen keep their
+//! segmentations, never their frames). `#library-export-csv` saves every take's labels as one label
+//! CSV ([`crate::view::library::library_csv`]). The take on screen, when it is one of the
+//! library's, shows its library segmentation as the timeline's row `#row-library` ("Library"),
+//! its segments labelled by their clusters' names.
+//!
+//! Once no take is left to segment, the worker matches the takes into clusters shared across takes
+//! (`#library-matching` says where it stands). The cluster list (`#library-clusters`, `li` with
+//! `data-cluster`, `data-takes`) shows each cluster's colour, its name (an editable field: renamed
+//! once, named in every take's row, the CSV and the clips), its occurrences, takes and total
+//! seconds; **Play** plays its occurrences one after another across takes (each take opened when
+//! not on screen; `#library-playing` says which, `#library-previous` / `#library-next` /
+//! `#library-stop`), **Clips** saves its occurrences as BVH clips of every take in one zip, and
+//! `#library-export-clips` every cluster's (`#library-origin`: each clip at the origin). The state
+//! is [`LibraryState`]; the worker's side is `loader::library`; the decisions are
+//! [`crate::view::library`]'s.
+
+use super::loader::Loader;
+use super::method_panel::SegmentRow;
+use super::motion_image::download;
+use super::AppState;
+use crate::protocol::{MethodView, RunId};
+use crate::segment::Level;
+use crate::library::{LibraryTake, TakeFeatures};
+use crate::view::library::{library_csv, playing_text, ClusterNames, Playlist, Queue, Shared, Spot};
+use leptos::prelude::*;
+use std::sync::Arc;
+use web_sys::File;
+
+/// The library tab's id.
+pub const TAB: &str = "library";
+
+/// A take of the library as the page keeps it: its file (a handle, not its bytes) and, for an AMC
+/// motion, its ASF skeleton's.
+#[derive(Clone)]
+pub struct Source {
+    pub motion: File,
+    pub skeleton: Option<File>,
+}
+
+/// The library's state (signals; cheap to copy).
+#[derive(Clone, Copy)]
+pub struct LibraryState {
+    /// The takes and the worker's queue over them.
+    pub queue: RwSignal<Queue>,
+    /// Each take's files, in the queue's order.
+    files: StoredValue<Vec<Source>, LocalStorage>,
+    /// The method (registry name) the library's takes are segmented with.
+    pub method: RwSignal<String>,
+    /// The library's run in the worker: its run id and take.
+    pub running: StoredValue<Option<(RunId, usize)>>,
+    /// The library's clip export in the worker.
+    pub clip_run: StoredValue<Option<RunId>>,
+    /// The take of the library on screen (`None`: the take on screen is not one of the library's).
+    pub open: RwSignal<Option<usize>>,
+    /// The names the user gave the shared clusters.
+    pub names: RwSignal<ClusterNames>,
+    /// The cluster whose occurrences are playing.
+    pub playlist: RwSignal<Option<Playlist>>,
+    /// What the last export (or a refused file) did: (failed, message).
+    pub status: RwSignal<Option<(bool, String)>>,
+    /// Each take's features for the shared clusters (or why it has none), in the queue's order.
+    features: StoredValue<Vec<Option<Result<TakeFeatures, String>>>>,
+    /// The shared clusters of the takes matched last.
+    pub shared: RwSignal<Option<Arc<Shared>>>,
+    /// The matching in the worker: its run and the takes sent.
+    pub cluster_run: StoredValue<Option<(RunId, Vec<usize>)>>,
+    /// Where the matching stands: (failed, message).
+    pub matching: RwSignal<Option<(bool, String)>>,
+    /// The occurrence waiting for its take to open before it plays, and the take on screen when it
+    /// was asked (its address: the take opened for it is another).
+    pending: StoredValue<Option<(Spot, usize)>>,
+    /// An occurrence is playing (it ends where the playlist's current one ends).
+    playing: StoredValue<bool>,
+}
+
+impl std::fmt::Debug for LibraryState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "LibraryState({} takes)", self.queue.with_untracked(|q| q.entries.len()))
+    }
+}
+
+impl LibraryState {
+    pub fn new() -> LibraryState {
+        LibraryState {
+            queue: RwSignal::new(Queue::default()),
+            files: StoredValue::new_local(Vec::new()),
+            method: RwSignal::new("sssm".into()),
+            running: StoredValue::new(None),
+            clip_run: StoredValue::new(None),
+            open: RwSignal::new(None),
+            names: RwSignal::new(ClusterNames::default()),
+            playlist: RwSignal::new(None),
+            status: RwSignal::new(None),
+            features: StoredValue::new(Vec::new()),
+            shared: RwSignal::new(None),
+            cluster_run: StoredValue::new(None),
+            matching: RwSignal::new(None),
+            pending: StoredValue::new(None),
+            playing: StoredValue::new(false),
+        }
+    }
+
+    /// Keeps take `i`'s features (or why it has none).
+    pub fn set_features(&self, i: usize, features: Result<TakeFeatures, String>) {
+        self.features.update_value(|f| {
+            if f.len() <= i {
+                f.resize(i + 1, None);
+            }
+            f[i] = Some(features);
+        });
+    }
+
+    /// The takes that can be matched (segmented, with features) as the core takes them, and their
+    /// indices in the library.
+    pub fn matchable(&self) -> (Vec<LibraryTake>, Vec<usize>) {
+        let features = self.features.get_value();
+        self.queue.with_untracked(|q| {
+            q.segmented()
+                .into_iter()
+                .filter_map(|(i, segmentation)| match features.get(i) {
+                    Some(Some(Ok(f))) => Some((
+                        LibraryTake { name: q.entries[i].name.clone(), features: f.clone(), segmentation: segmentation.clone() },
+                        i,
+                    )),
+                    _ => None,
+                })
+                .unzip()
+        })
+    }
+
+    /// Adds takes (their files), queued; returns their indices.
+    pub fn add(&self, sources: Vec<Source>) -> std::ops::Range<usize> {
+        let names: Vec<String> = sources.iter().map(|s| s.motion.name()).collect();
+        self.files.update_value(|f| f.extend(sources));
+        let mut added = 0..0;
+        self.queue.update(|q| added = q.add(names));
+        added
+    }
+
+    /// Take `i`'s files.
+    pub fn source(&self, i: usize) -> Option<Source> {
+        self.files.with_value(|f| f.get(i).cloned())
+    }
+
+    /// Whether the library has a take (its tab is shown).
+    pub fn shown(&self) -> bool {
+        self.queue.with(|q| !q.entries.is_empty())
+    }
+
+    /// Whether the take on screen is take `i` of the library (tracked): it was opened from the
+    /// library, has that take's name and frames, and is loaded.
+    fn on_screen(&self, state: AppState, i: usize) -> bool {
+        let shown = state.motion.with(|m| m.as_ref().map(|m| (m.summary.name.clone(), m.summary.frames)));
+        let entry = self.queue.with(|q| q.entries.get(i).map(|e| (e.name.clone(), e.frames)));
+        self.open.get() == Some(i)
+            && state.load.with(|l| *l == super::LoadState::Ready)
+            && matches!((shown, entry), (Some((a, n)), Some((b, Some(m)))) if a == b && n == m)
+    }
+
+    /// Take `i`'s segmentation — with the shared clusters' ids when it was matched, its clusters'
+    /// segments labelled by their names — and whether it is the shared one.
+    fn labelled(&self, i: usize) -> Option<(crate::segment::Segmentation, bool)> {
+        let names = self.names.get();
+        let shared = self.shared.with(|s| s.as_ref().and_then(|s| s.segmentation(i).map(|seg| names.label(seg))));
+        match shared {
+            Some(seg) => Some((seg, true)),
+            None => self.queue.with(|q| q.entries.get(i).and_then(|e| e.segmentation.clone()).map(|s| (s, false))),
+        }
+    }
+
+    /// Every segmented take's segmentation as the CSV exports it: the shared one named where the take
+    /// was matched, else its own.
+    fn all_labelled(&self) -> Vec<crate::segment::Segmentation> {
+        let count = self.queue.with_untracked(|q| q.entries.len());
+        (0..count).filter_map(|i| self.labelled(i).map(|(s, _)| s)).collect()
+    }
+}
+
+impl Default for LibraryState {
+    fn default() -> Self {
+        LibraryState::new()
+    }
+}
+
+/// The methods a library may segment with: those that need no model.
+fn methods(state: AppState) -> Vec<(String, String)> {
+    state
+        .methods
+        .iter()
+        .filter(|s| s.supervised.is_none())
+        .map(|s| (s.info.name.clone(), s.info.short.clone()))
+        .collect()
+}
+
+/// `#tabpanel-library`'s content: the list, the queue's controls and the exports.
+#[component]
+pub fn LibraryPanel(state: AppState, loader: Loader) -> impl IntoView {
+    let library = state.library;
+    let busy = move || library.queue.with(Queue::busy);
+    let rerunnable =
+        move || library.queue.with(|q| q.entries.iter().any(|e| matches!(e.status.word(), "failed" | "cancelled")));
+    let segmented = move || library.queue.with(|q| !q.segmented().is_empty());
+    let cancel = {
+        let loader = loader.clone();
+        move |_| loader.cancel_library()
+    };
+    let rerun = {
+        let loader = loader.clone();
+        move |_| loader.rerun_library()
+    };
+    let export_csv = move |_| {
+        let labelled = library.all_labelled();
+        let csv = library_csv(&labelled);
+        let rows = csv.lines().count().saturating_sub(1);
+        let file = "library_labels.csv";
+        library.status.set(Some(match download(csv.as_bytes(), "text/csv", file) {
+            Ok(()) => (false, format!("saved {file} ({rows} rows of {})", crate::method::counted(labelled.len(), "take"))),
+            Err(e) => (true, format!("could not save {file}: {}", super::js_message(&e))),
+        }));
+    };
+    let options = methods(state)
+        .into_iter()
+        .map(|(name, short)| view! { <option value=name.clone() selected=move || library.method.get() == name>{short}</option> })
+        .collect_view();
+    let loader = StoredValue::new_local(loader);
+    let takes = move || {
+        let open = library.open.get();
+        library.queue.with(|q| {
+            q.entries
+                .iter()
+                .enumerate()
+                .map(|(i, e)| {
+                    let duration = e.duration_s.map(|d| format!("{d:.1} s")).unwrap_or_default();
+                    let failed = matches!(e.status.word(), "failed");
+                    view! {
+                        <li
+                            class="ms-lib-take"
+                            class:ms-lib-take--open=open == Some(i)
+                            data-status=e.status.word()
+                            data-index=i.to_string()
+                            aria-current=(open == Some(i)).then_some("true")
+                        >
+                            <button
+                                class="ms-lib-open"
+                                type="button"
+                                title="Open this take"
+                                on:click=move |_| loader.with_value(|l| l.open_library_take(i))
+                            >
+                                {e.name.clone()}
+                            </button>
+                            <span class="ms-lib-duration">{duration}</span>
+                            <span class="ms-lib-status" class:ms-lib-status--failed=failed role=failed.then_some("alert")>
+                                {e.status.text()}
+                            </span>
+                        </li>
+                    }
+                })
+                .collect_view()
+        })
+    };
+    view! {
+        <section class="ms-library" aria-label="Library of takes">
+            <p id="library-summary" class="ms-lib-summary" aria-live="polite">{move || library.queue.with(Queue::summary)}</p>
+            <div class="ms-lib-controls">
+                <label>
+                    "Segment with "
+                    <select id="library-method" on:change=move |ev| library.method.set(event_target_value(&ev))>
+                        {options}
+                    </select>
+                </label>
+                <button id="library-cancel" class="ms-button ms-button--small" type="button" disabled=move || !busy() on:click=cancel>
+                    "Cancel"
+                </button>
+                <button id="library-rerun" class="ms-button ms-button--small ms-button--quiet" type="button" disabled=move || busy() || !rerunnable() on:click=rerun>
+                    "Run again"
+                </button>
+                <button id="library-export-csv" class="ms-button ms-button--small" type="button" disabled=move || !segmented() on:click=export_csv>
+                    "Labels CSV (all takes)"
+                </button>
+            </div>
+            <p
+                id="library-status"
+                class="ms-lib-note"
+                class:ms-lib-note--failed=move || library.status.with(|s| s.as_ref().is_some_and(|(f, _)| *f))
+                hidden=move || library.status.with(Option::is_none)
+            >
+                {move || library.status.with(|s| s.as_ref().map(|(_, m)| m.clone()))}
+            </p>
+            <ol id="library-list" class="ms-lib-list">{takes}</ol>
+            <Clusters state=state loader=loader/>
+        </section>
+    }
+}
+
+/// The most clusters the list shows (the others are exported with every cluster's clips).
+const MAX_LISTED: usize = 200;
+
+/// The colour of cluster `id` as the timeline draws its segments (primitives by cluster, actions
+/// by their action colour), taken from its first occurrence.
+fn colour(shared: &Shared, id: usize) -> String {
+    let level = shared.clusters.clusters.iter().find(|c| c.id == id).and_then(|c| c.occurrences.first()).and_then(|o| {
+        shared.clusters.takes.get(o.take).and_then(|t| t.segments.get(o.segment)).map(|s| s.level)
+    });
+    match level {
+        Some(Level::Primitive) | None => crate::segment::palette::cluster_colour(id, None),
+        Some(_) => {
+            let [r, g, b] = crate::segment::palette::action_colour(id);
+            format!("rgb({r}, {g}, {b})")
+        }
+    }
+}
+
+/// The shared clusters: where the matching stands, the list (name to rename, occurrences, total
+/// duration, colour, Play, Clips), every cluster's clips, and the player of a cluster's occurrences.
+#[component]
+fn Clusters(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl IntoView {
+    let library = state.library;
+    let origin = RwSignal::new(false);
+    let export = move |only: Option<usize>| {
+        let Some(shared) = library.shared.get_untracked() else { return };
+        let names = library.names.get_untracked();
+        let takes = shared.clips(&names, only);
+        let file = match only {
+            Some(id) => format!("library_{}_clips.zip", crate::view::library::folder_name(&names.name(id))),
+            None => "library_clusters_clips.zip".to_string(),
+        };
+        loader.with_value(|l| l.export_library_clips(file, takes, origin.get_untracked()));
+    };
+    let play = move |id: usize| {
+        let playlist = library.shared.with_untracked(|s| s.as_ref().and_then(|s| s.playlist(id)));
+        if let Some(p) = playlist {
+            let spot = p.current();
+            library.playlist.set(Some(p));
+            loader.with_value(|l| play_spot(state, l, spot));
+        }
+    };
+    let step = move |forward: bool| {
+        let mut spot = None;
+        library.playlist.update(|p| {
+            if let Some(p) = p {
+                spot = Some(if forward { p.next() } else { p.previous() });
+            }
+        });
+        if let Some(spot) = spot {
+            loader.with_value(|l| play_spot(state, l, spot));
+        }
+    };
+    let stop = move |_| {
+        library.playlist.set(None);
+        library.playing.set_value(false);
+        library.pending.set_value(None);
+        state.playing.set(false);
+        state.play_until.set(None);
+    };
+    // a take opened for an occurrence: play it once the take is on screen
+    Effect::new(move |_| {
+        let shown = motion_address(state);
+        let Some((spot, asked_on)) = library.pending.get_value() else { return };
+        if shown != asked_on && library.on_screen(state, spot.take) {
+            library.pending.set_value(None);
+            // after the timeline's own reaction to the new take (it forgets where playback stops)
+            gloo::timers::callback::Timeout::new(0, move || start(state, spot)).forget();
+        }
+    });
+    // an occurrence played to its end: the next one, until the last
+    Effect::new(move |_| {
+        if state.playing.get() || !library.playing.get_value() {
+            return;
+        }
+        library.playing.set_value(false);
+        let Some(p) = library.playlist.get_untracked() else { return };
+        let (at, count) = p.position();
+        if state.frame.get_untracked() == p.current().end && at < count {
+            step(true);
+        }
+    });
+    let playing = move || {
+        let p = library.playlist.get()?;
+        let names = library.names.get();
+        let take = library.queue.with(|q| q.entries.get(p.current().take).map(|e| e.name.clone()))?;
+        Some(playing_text(&p, &names.name(p.cluster), &take))
+    };
+    let rows = move || {
+        let shared = library.shared.get()?;
+        let names = library.names.get();
+        let listed = shared.listed();
+        let more = listed.len().saturating_sub(MAX_LISTED);
+        let items = listed
+            .into_iter()
+            .take(MAX_LISTED)
+            .map(|c| {
+                let id = c.id;
+                let name = names.name(id);
+                let background = colour(&shared, id);
+                let count = format!(
+                    "{} in {} · {:.1} s",
+                    crate::method::counted(c.occurrences.len(), "occurrence"),
+                    crate::method::counted(c.takes, "take"),
+                    c.seconds
+                );
+                view! {
+                    <li class="ms-lib-cluster" data-cluster=id.to_string() data-takes=c.takes.to_string()>
+                        <span class="ms-lib-swatch" style:background=background aria-hidden="true"></span>
+                        <input
+                            class="ms-lib-name"
+                            type="text"
+                            value=name.clone()
+                            aria-label=format!("Name of cluster C{id}")
+                            on:change=move |ev| library.names.update(|n| n.rename(id, &event_target_value(&ev)))
+                        />
+                        <span class="ms-lib-count">{count}</span>
+                        <button class="ms-button ms-button--small ms-lib-play" type="button" on:click=move |_| play(id)>
+                            "Play"
+                        </button>
+                        <button class="ms-button ms-button--small ms-button--quiet ms-lib-clips" type="button" on:click=move |_| export(Some(id))>
+                            "Clips"
+                        </button>
+                    </li>
+                }
+            })
+            .collect_view();
+        let note = (more > 0).then(|| view! { <p class="ms-lib-note">{format!("and {more} more (in every cluster's clips)")}</p> });
+        Some(view! { <ol id="library-clusters" class="ms-lib-list">{items}</ol>{note} })
+    };
+    view! {
+        <section class="ms-lib-clusters" aria-label="Clusters across takes" hidden=move || library.matching.with(Option::is_none)>
+            <h3 class="ms-lib-heading">"Clusters across takes"</h3>
+            <p
+                id="library-matching"
+                class="ms-lib-note"
+                class:ms-lib-note--failed=move || library.matching.with(|m| m.as_ref().is_some_and(|(f, _)| *f))
+                aria-live="polite"
+            >
+                {move || library.matching.with(|m| m.as_ref().map(|(_, t)| t.clone()))}
+            </p>
+            <div class="ms-lib-controls" hidden=move || library.shared.with(Option::is_none)>
+                <button id="library-export-clips" class="ms-button ms-button--small" type="button" on:click=move |_| export(None)>
+                    "Clips of every cluster (zip)"
+                </button>
+                <label>
+                    <input id="library-origin" type="checkbox" prop:checked=move || origin.get() on:change=move |ev| origin.set(event_target_checked(&ev))/>
+                    " start each clip at the origin"
+                </label>
+            </div>
+            <div id="library-player" class="ms-lib-controls" hidden=move || library.playlist.with(Option::is_none)>
+                <button id="library-previous" class="ms-button ms-button--small" type="button" on:click=move |_| step(false)>"Previous"</button>
+                <button id="library-next" class="ms-button ms-button--small" type="button" on:click=move |_| step(true)>"Next"</button>
+                <button id="library-stop" class="ms-button ms-button--small ms-button--quiet" type="button" on:click=stop>"Stop"</button>
+                <span
+                    id="library-playing"
+                    class="ms-lib-note"
+                    aria-live="polite"
+                    data-take=move || library.playlist.with(|p| p.as_ref().map(|p| p.current().take.to_string()))
+                    data-start=move || library.playlist.with(|p| p.as_ref().map(|p| p.current().start.to_string()))
+                >
+                    {playing}
+                </span>
+            </div>
+            {rows}
+        </section>
+    }
+}
+
+/// Plays occurrence `spot`: at once when its take is on screen, else after opening it (its file
+/// read again).
+fn play_spot(state: AppState, loader: &Loader, spot: Spot) {
+    let library = state.library;
+    let on_screen = untrack(|| library.on_screen(state, spot.take));
+    if on_screen {
+        library.pending.set_value(None);
+        start(state, spot);
+    } else {
+        library.pending.set_value(Some((spot, untrack(|| motion_address(state)))));
+        loader.open_library_take(spot.take);
+    }
+}
+
+/// The address of the take on screen (0: none), to tell a take opened since from the one before.
+fn motion_address(state: AppState) -> usize {
+    state.motion.with(|m| m.as_ref().map_or(0, |m| Arc::as_ptr(m) as usize))
+}
+
+/// Plays `spot` of the take on screen once, from its first frame to its last.
+fn start(state: AppState, spot: Spot) {
+    state.playing.set(false);
+    state.selected.set(None);
+    state.frame.set(spot.start);
+    state.play_until.set(Some(spot.end));
+    state.library.playing.set_value(true);
+    state.playing.set(true);
+}
+
+/// The timeline's `#row-library`: the library's segmentation of the take on screen, when it is one
+/// of the library's, its segments labelled by their clusters' names.
+#[component]
+pub fn LibraryRow(state: AppState) -> impl IntoView {
+    let library = state.library;
+    let source = Signal::derive(move || {
+        let i = library.open.get()?;
+        // the take on screen must be that take (a load still under way shows nothing)
+        if !library.on_screen(state, i) {
+            return None;
+        }
+        let (mut segmentation, _) = library.labelled(i)?;
+        let frames = state.frames();
+        // one lane: the finest tiling (primitives and transitions where there are primitives)
+        let primitives = segmentation.segments.iter().any(|s| s.level == Level::Primitive);
+        segmentation.segments.retain(|s| (s.level == Level::Primitive) == primitives || s.level == Level::Transition);
+        (frames == segmentation.frames).then(|| {
+            Arc::new(MethodView { method: segmentation.method.clone(), segmentation, details: Default::default() })
+        })
+    });
+    let label = Signal::derive(|| "Library".to_string());
+    let tip = Signal::derive(|| "The library's segmentation of this take, its clusters named".to_string());
+    view! { <SegmentRow state=state row_id="library".to_string() source=source levels=LEVELS label=label tip=tip/> }
+}
+
+/// The levels the library's row shows (one of actions and primitives is left: the source keeps
+/// the finest).
+const LEVELS: &[Level] = &[Level::Action, Level::Primitive, Level::Transition];

@@ -1,0 +1,316 @@
+//! The library's jobs in the worker (issue 26): the takes of the library segmented one after
+//! another (`library_take`: the worker reads the take, segments it and lets its frames go; the
+//! take on screen stays the one it holds), cancelled by replacing the worker, and the clips of
+//! several takes cut into one zip (`library_clips`: each take's file read again from its `File`).
+//! Once no take is left to segment, the segmented takes (their features and segmentations, never
+//! their frames) are matched into clusters shared across takes (`library_cluster`), again when
+//! takes are added.
+//! The queue's state is [`crate::view::library::Queue`]; what the page shows is
+//! [`super::super::library`].
+
+use super::super::fetch::blob_bytes;
+use super::super::js_message;
+use super::super::library::Source;
+use super::super::motion_image::download;
+use super::{next_id, post_buffers, replace_worker, Inner, Loader};
+use crate::protocol::{ClipTake, FailureKind, Request, Response};
+use crate::library::TakeFeatures;
+use crate::view::library::{group_files, Shared};
+use std::sync::Arc;
+use leptos::prelude::*;
+use std::rc::Rc;
+use web_sys::{Blob, File};
+
+impl Loader {
+    /// Opens files dropped or picked together: one take as ever ([`Loader::load_files`]); two
+    /// or more (a folder's) go to the library, queued for the worker, and the first of them opens.
+    pub fn open_dropped(&self, files: Vec<File>) {
+        let names: Vec<String> = files.iter().map(file_path).collect();
+        let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+        let (takes, refused) = group_files(&refs);
+        if takes.len() < 2 {
+            let library = self.0.state.library;
+            if takes.len() == 1 && files.len() > 2 {
+                // a folder holding one take (and other files): that take
+                let t = takes[0];
+                let mut one = vec![files[t.motion].clone()];
+                one.extend(t.skeleton.map(|s| files[s].clone()));
+                library.open.set(None);
+                return self.load_files(one);
+            }
+            library.open.set(None);
+            return self.load_files(files);
+        }
+        let library = self.0.state.library;
+        let sources: Vec<Source> = takes
+            .iter()
+            .map(|t| Source { motion: files[t.motion].clone(), skeleton: t.skeleton.map(|s| files[s].clone()) })
+            .collect();
+        let added = library.add(sources);
+        if !refused.is_empty() {
+            library.status.set(Some((true, refused.join("; "))));
+        }
+        self.0.state.panel.set(super::super::library::TAB.to_string());
+        self.open_library_take(added.start);
+        pump(&self.0);
+    }
+
+    /// Opens take `i` of the library on screen, as a dropped file opens (its file read again).
+    pub fn open_library_take(&self, i: usize) {
+        let Some(source) = self.0.state.library.source(i) else { return };
+        self.0.state.library.open.set(Some(i));
+        let mut files = vec![source.motion];
+        files.extend(source.skeleton);
+        self.load_files(files);
+    }
+
+    /// Cancels the library's queue: the take running (the worker is replaced: a wasm worker cannot
+    /// be interrupted) and every take still queued.
+    pub fn cancel_library(&self) {
+        let library = self.0.state.library;
+        let mut running = false;
+        library.queue.update(|q| running = q.cancel());
+        library.running.set_value(None);
+        // the matching under way goes too
+        let matching = library.cluster_run.with_value(|r| r.is_some());
+        if matching {
+            library.cluster_run.set_value(None);
+            library.matching.set(Some((true, "matching cancelled".into())));
+        }
+        if running || matching {
+            replace_worker(&self.0);
+        }
+    }
+
+    /// Queues the library's cancelled and failed takes again.
+    pub fn rerun_library(&self) {
+        self.0.state.library.queue.update(|q| q.requeue());
+        pump(&self.0);
+    }
+
+    /// Cuts the occurrences `takes` (library index, its segments to cut, each labelled with its
+    /// cluster's name) as BVH clips into one zip `file`, each take's file read again.
+    pub fn export_library_clips(&self, file: String, takes: Vec<(usize, crate::segment::Segmentation)>, to_origin: bool) {
+        let inner = self.0.clone();
+        let library = inner.state.library;
+        library.status.set(Some((false, "cutting the clips…".into())));
+        wasm_bindgen_futures::spawn_local(async move {
+            let buffers = js_sys::Array::new();
+            let mut asked = Vec::new();
+            for (i, segmentation) in takes {
+                let Some(source) = library.source(i) else { continue };
+                for blob in std::iter::once(&source.motion).chain(source.skeleton.as_ref()) {
+                    match blob_bytes(&Blob::from(blob.clone())).await {
+                        Ok(bytes) => {
+                            buffers.push(&bytes);
+                        }
+                        Err(e) => {
+                            let message = format!("{}: could not read the file again: {e}", blob.name());
+                            return library.status.set(Some((true, message)));
+                        }
+                    }
+                }
+                let name = source.motion.name();
+                asked.push(ClipTake { name, skeleton: source.skeleton.as_ref().map(File::name), segmentation });
+            }
+            let run = next_id(&inner);
+            let request = Request::LibraryClips { take: 0, run, file, takes: asked, to_origin, bytes: Vec::new() };
+            match post_buffers(&inner, &request, buffers) {
+                Ok(()) => library.clip_run.set_value(Some(run)),
+                Err(e) => library.status.set(Some((true, e))),
+            }
+        });
+    }
+}
+
+/// A dropped or picked file's path within the folder picked (`webkitRelativePath`), else its name.
+fn file_path(file: &File) -> String {
+    js_sys::Reflect::get(file, &"webkitRelativePath".into())
+        .ok()
+        .and_then(|p| p.as_string())
+        .filter(|p| !p.is_empty())
+        .unwrap_or_else(|| file.name())
+}
+
+/// Sends the next queued take of the library to the worker, unless one is running.
+pub(super) fn pump(inner: &Rc<Inner>) {
+    let library = inner.state.library;
+    let mut next = None;
+    library.queue.update(|q| next = q.start_next());
+    let Some(i) = next else { return };
+    let run = next_id(inner);
+    library.running.set_value(Some((run, i)));
+    send(inner, run, i);
+}
+
+/// Sends take `i` of the library as run `run` (its file read from its `File`).
+fn send(inner: &Rc<Inner>, run: u32, i: usize) {
+    let library = inner.state.library;
+    let Some(source) = library.source(i) else { return };
+    let slot = inner.state.methods.iter().find(|s| s.info.name == library.method.get_untracked());
+    let (method, params) = match slot.map(|s| (s.info.name.clone(), s.params())) {
+        Some((name, Ok(params))) => (name, params),
+        Some((_, Err(e))) => return finish(inner, run, Err(e.to_string())),
+        None => return finish(inner, run, Err("no method chosen for the library".into())),
+    };
+    let inner = inner.clone();
+    wasm_bindgen_futures::spawn_local(async move {
+        let buffers = js_sys::Array::new();
+        for blob in std::iter::once(&source.motion).chain(source.skeleton.as_ref()) {
+            match blob_bytes(&Blob::from(blob.clone())).await {
+                Ok(bytes) => {
+                    buffers.push(&bytes);
+                }
+                Err(e) => return finish(&inner, run, Err(format!("{}: could not read the file: {e}", blob.name()))),
+            }
+        }
+        // cancelled (or replaced) while the file was read
+        if library.running.get_value().map(|(r, _)| r) != Some(run) {
+            return;
+        }
+        let request = Request::LibraryTake {
+            take: 0,
+            run,
+            name: source.motion.name(),
+            bytes: Vec::new(),
+            skeleton: source.skeleton.as_ref().map(File::name),
+            skeleton_bytes: Vec::new(),
+            method,
+            params,
+        };
+        if let Err(e) = post_buffers(&inner, &request, buffers) {
+            finish(&inner, run, Err(e));
+        }
+    });
+}
+
+/// What the worker made of a take of the library: its frames, seconds, segmentation and features
+/// (or why it has none).
+type Took = (usize, f64, crate::segment::Segmentation, Result<Box<TakeFeatures>, String>);
+
+/// Ends run `run` of the library (its take done or failed) and sends the next take; once none is
+/// left, the takes are matched across the library.
+fn finish(inner: &Rc<Inner>, run: u32, outcome: Result<Took, String>) {
+    let library = inner.state.library;
+    let Some((_, i)) = library.running.get_value().filter(|(r, _)| *r == run) else { return };
+    library.running.set_value(None);
+    match outcome {
+        Ok((frames, duration_s, segmentation, features)) => {
+            library.set_features(i, features.map(|f| *f));
+            library.queue.update(|q| q.done(i, frames, duration_s, segmentation));
+        }
+        Err(message) => library.queue.update(|q| q.failed(i, message)),
+    }
+    pump(inner);
+    if !library.queue.with_untracked(|q| q.busy()) {
+        match_takes(inner);
+    }
+}
+
+/// Matches the library's segmented takes into shared clusters in the worker, unless that set of
+/// takes was matched already or a matching is under way (its answer asks again).
+fn match_takes(inner: &Rc<Inner>) {
+    let library = inner.state.library;
+    if library.cluster_run.with_value(|r| r.is_some()) {
+        return;
+    }
+    let (takes, indices) = library.matchable();
+    let done_already = library.shared.with_untracked(|s| s.as_ref().is_some_and(|s| s.takes == indices));
+    if indices.len() < 2 || done_already {
+        return;
+    }
+    let run = next_id(inner);
+    library.cluster_run.set_value(Some((run, indices)));
+    library.matching.set(Some((false, "matching the takes…".into())));
+    let request = Request::LibraryCluster { take: 0, run, takes };
+    if let Err(e) = post_buffers(inner, &request, js_sys::Array::new()) {
+        library.cluster_run.set_value(None);
+        library.matching.set(Some((true, e)));
+    }
+}
+
+/// A new worker: the library's take that was running is sent to it again, and the matching
+/// under way asked again.
+pub(super) fn resend(inner: &Rc<Inner>) {
+    let library = inner.state.library;
+    if let Some((run, i)) = library.running.get_value() {
+        library.queue.update(|q| q.progress(i, "starting", 0.0));
+        send(inner, run, i);
+    }
+    if library.cluster_run.with_value(|r| r.is_some()) {
+        library.cluster_run.set_value(None);
+        match_takes(inner);
+    }
+}
+
+/// Handles `response` when it is about the library's jobs; gives it back otherwise.
+pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> {
+    let library = inner.state.library;
+    let running = library.running.get_value();
+    let clip_run = library.clip_run.get_value();
+    let cluster_run = library.cluster_run.with_value(|r| r.as_ref().map(|(run, _)| *run));
+    match response {
+        Response::Progress { run: Some(run), stage, fraction, .. } if running.is_some_and(|(r, _)| r == run) => {
+            let i = running.map_or(0, |(_, i)| i);
+            library.queue.update(|q| q.progress(i, &stage, fraction.unwrap_or(0.0)));
+        }
+        Response::Progress { run: Some(run), fraction, .. } if cluster_run == Some(run) => {
+            let percent = fraction.unwrap_or(0.0) * 100.0;
+            library.matching.set(Some((false, format!("matching the takes… {percent:.0} %"))));
+        }
+        Response::LibraryTake { run, frames, duration_s, segmentation, features, .. } => {
+            finish(inner, run, Ok((frames, duration_s, *segmentation, features)))
+        }
+        Response::LibraryClusters { run, clusters, .. } if cluster_run == Some(run) => {
+            let takes = library.cluster_run.with_value(|r| r.as_ref().map(|(_, t)| t.clone())).unwrap_or_default();
+            library.cluster_run.set_value(None);
+            let shared = Shared { clusters: *clusters, takes };
+            library.matching.set(Some((false, shared.summary())));
+            library.shared.set(Some(Arc::new(shared)));
+            // takes segmented meanwhile are matched too
+            if !library.queue.with_untracked(|q| q.busy()) {
+                match_takes(inner);
+            }
+        }
+        Response::Failed { run: Some(run), message, kind, .. } if cluster_run == Some(run) => {
+            library.cluster_run.set_value(None);
+            library.matching.set(Some((true, message)));
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
+            }
+        }
+        Response::Refused { run, message, .. } if running.is_some_and(|(r, _)| r == run) => {
+            finish(inner, run, Err(message))
+        }
+        Response::Failed { run: Some(run), message, kind, .. } if running.is_some_and(|(r, _)| r == run) => {
+            finish(inner, run, Err(message));
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
+            }
+        }
+        Response::Failed { run: Some(run), message, kind, .. } if clip_run == Some(run) => {
+            library.clip_run.set_value(None);
+            library.status.set(Some((true, message)));
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
+            }
+        }
+        Response::Clips { run, file, clips, bytes, .. } if clip_run == Some(run) => {
+            library.clip_run.set_value(None);
+            library.status.set(Some(match download(&bytes, "application/zip", &file) {
+                Ok(()) => (false, format!("saved {file} ({})", crate::method::counted(clips, "clip"))),
+                Err(e) => (true, format!("could not save {file}: {}", js_message(&e))),
+            }));
+        }
+        other => return Some(other),
+    }
+    None
+}
+
+/// The worker failed outside a request: the library's take running fails with `message` (the
+/// queue goes on with a new worker).
+pub(super) fn fail_all(inner: &Rc<Inner>, message: &str) {
+    if let Some((run, _)) = inner.state.library.running.get_value() {
+        finish(inner, run, Err(message.to_string()));
+    }
+}
