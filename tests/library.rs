@@ -68,10 +68,11 @@ fn shared_clusters_match_the_labels_across_takes_better_than_per_take_clusters_a
     let chance = chance_scores(&shared.takes, &labels, 20);
     println!("shared  {s:?}\nper take {o:?}\nchance  {chance:?}\nin both takes: {}", shared.shared().count());
     assert!(shared.shared().count() >= 3, "motions of one take found in the other");
-    assert!(s.nmi >= o.nmi + 0.05, "shared NMI {} vs per-take {}", s.nmi, o.nmi);
-    assert!(s.nmi >= chance.nmi + 0.05, "shared NMI {} vs chance {}", s.nmi, chance.nmi);
-    assert!(s.inverse_purity >= o.inverse_purity + 0.03, "{} vs {}", s.inverse_purity, o.inverse_purity);
-    assert!(s.purity >= 0.85, "purity {}", s.purity);
+    // measured: NMI 0.75 (per take 0.60, chance 0.51), inverse purity 0.60 (0.39), purity 0.95
+    assert!(s.nmi >= o.nmi + 0.10, "shared NMI {} vs per-take {}", s.nmi, o.nmi);
+    assert!(s.nmi >= chance.nmi + 0.15, "shared NMI {} vs chance {}", s.nmi, chance.nmi);
+    assert!(s.inverse_purity >= o.inverse_purity + 0.15, "{} vs {}", s.inverse_purity, o.inverse_purity);
+    assert!(s.purity >= 0.88, "purity {}", s.purity);
     // every shared cluster's occurrences carry its id in the take they are in
     for c in &shared.clusters {
         for o in &c.occurrences {

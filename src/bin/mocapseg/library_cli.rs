@@ -32,7 +32,7 @@ pub struct LibraryFlags {
     /// transfer: 30 by nearest, 20 through clusters — chosen by nested validation, docs/library.md).
     #[arg(long)]
     pub radius: Option<f64>,
-    /// Fraction a warping path must cover to join two segments (cluster: 0.66 of both; transfer: 0.4 of the
+    /// Fraction a warping path must cover to join two segments (cluster: 0.4 of both; transfer: 0.4 of the
     /// unlabelled one by nearest, of both through clusters).
     #[arg(long)]
     pub coverage: Option<f64>,
