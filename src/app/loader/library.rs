@@ -307,7 +307,7 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
         Response::LibraryTransferred { run, transfer, .. } if transfer_run == Some(run) => {
             let Some((_, source, takes)) = library.transfer_run.get_value() else { return None };
             library.transfer_run.set_value(None);
-            let carried = Carried { route: transfer.route, source, takes, transferred: transfer.takes };
+            let carried = Carried { route: transfer.route.into(), source, takes, transferred: transfer.takes };
             let name = library.queue.with_untracked(|q| q.entries.get(source).map(|e| e.name.clone())).unwrap_or_default();
             library.carrying.set(Some((false, carried.summary(&name))));
             library.carried.set(Some(Arc::new(carried)));
