@@ -13,7 +13,6 @@
 //! the shared clusters' names and playlists ([`library`]).
 
 pub mod camera;
-pub mod carry;
 pub mod clock;
 pub mod compare;
 pub mod consensus;
