@@ -6,7 +6,8 @@
 // named in every take, its occurrences play one after another across takes (by themselves, Next, Stop), its clips
 // (and every cluster's) come from several takes in one zip; the whole library's labels save as one
 // label CSV; Cancel drops the rest and "Run again" finishes them; a folder picked adds its takes; the page never freezes while the worker works; a single file opened
-// afterwards opens as ever. At both sizes (1024×768, 1440×900) and both themes, one page each.
+// afterwards opens as ever. At both sizes (1024×768, 1440×900) and both themes, one page each; and offline after a
+// visit (the service worker), a library of two takes segmented, matched and played.
 
 import { test } from "node:test";
 import assert from "node:assert/strict";
@@ -230,3 +231,36 @@ for (const view of VIEWS) {
     }
   });
 }
+
+test("offline after a visit: a library is segmented, matched and played", async () => {
+  const opened = await openPage({ viewport: VIEWS[0].viewport, contextOptions: { colorScheme: VIEWS[0].theme } });
+  const { page, context } = opened;
+  try {
+    await page.goto(BASE_URL);
+    await waitReady(page, "sample.bvh");
+    await page.evaluate(async () => (await navigator.serviceWorker.ready).scope);
+    await page.reload();
+    await page.waitForFunction(() => navigator.serviceWorker.controller !== null, null, { timeout: TIMEOUT });
+    await waitReady(page, "sample.bvh");
+    await context.setOffline(true);
+    try {
+      await page.setInputFiles("#file-input", ["02_01.bvh", "02_02.bvh"].map(fixture));
+      await waitReady(page, "02_01.bvh");
+      await settled(page);
+      const takes = await list(page);
+      assert.deepEqual(takes.map((t) => [t.name, t.status]), [["02_01.bvh", "done"], ["02_02.bvh", "done"]]);
+      // matched without the network: clusters listed, one played across takes
+      await page.locator("#library-clusters li").first().waitFor({ timeout: TIMEOUT });
+      assert.match(await text(page, "#library-matching"), /^\d+ clusters? across 2 takes: [1-9]\d* found in more than one take$/);
+      await page.locator("#library-clusters li").first().locator(".ms-lib-play").click();
+      await page.locator("#library-player").waitFor({ state: "visible" });
+      assert.match(await text(page, "#library-playing"), /: occurrence 1 of \d+ — /);
+      await page.click("#library-stop");
+    } finally {
+      await context.setOffline(false);
+    }
+    assertClean(opened);
+  } finally {
+    await closePage(opened, "e2e-library-offline.png");
+  }
+});
