@@ -7,7 +7,7 @@ use super::{units, LibraryError, LibraryParams, LibraryTake, Unit, MAX_ENTRIES};
 use crate::features::{stack, FeatureMatrix};
 use crate::method::Cancelled;
 use crate::methods::sssm::clustering::ClusterSearch;
-use crate::methods::sssm::neighbours::{NeighbourSearch, Sssm};
+use crate::methods::sssm::neighbours::NeighbourSearch;
 use crate::methods::sssm::primitives::NeighbourhoodGraph;
 use crate::methods::sssm::Span;
 use crate::segment::Segmentation;
@@ -118,16 +118,6 @@ pub(crate) fn place(takes: &[LibraryTake], params: &LibraryParams) -> Result<Pla
     Ok(Placed { units: all_units, spans, owner, stacked, frames: ranges })
 }
 
-/// The SSSM of the whole library (every working frame's neighbours within the stacked radius, in any take).
-pub(crate) fn library_sssm(
-    placed: &Placed,
-    params: &LibraryParams,
-    progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
-) -> Result<Sssm, Cancelled> {
-    let search = NeighbourSearch::new(&placed.stacked);
-    search.self_similarity_with_progress(params.stacked_radius(), params.max_neighbours, progress)
-}
-
 /// Clusters the units of every take of `takes` together (see the [module design](super)); `progress` gets the
 /// fraction done and may cancel.
 pub fn cluster(
@@ -136,8 +126,22 @@ pub fn cluster(
     progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
 ) -> Result<SharedClusters, LibraryError> {
     let placed = place(takes, params)?;
+    cluster_placed(takes, &placed, params, progress)
+}
+
+/// [`cluster`] on takes already placed (label transfer places them once for both steps).
+pub(crate) fn cluster_placed(
+    takes: &[LibraryTake],
+    placed: &Placed,
+    params: &LibraryParams,
+    progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
+) -> Result<SharedClusters, LibraryError> {
     progress(0.0)?;
-    let sssm = library_sssm(&placed, params, &mut |f| progress(0.8 * f))?;
+    // one SSSM of the whole library: every working frame's neighbours within the stacked radius, in any take
+    let search = NeighbourSearch::new(&placed.stacked);
+    let sssm = search.self_similarity_with_progress(params.stacked_radius(), params.max_neighbours, &mut |f| {
+        progress(0.8 * f)
+    })?;
     progress(0.8)?;
     let graph = NeighbourhoodGraph::new(&sssm);
     let search = ClusterSearch { nu: params.nu, min_path_frames: params.min_path_frames, coverage: params.coverage };
@@ -145,7 +149,7 @@ pub fn cluster(
     progress(0.95)?;
     let cross_links = links.iter().filter(|&&(p, q)| placed.owner[p].0 != placed.owner[q].0).count();
     let cluster_of = ClusterSearch::clusters(placed.spans.len(), &links);
-    Ok(describe(takes, &placed, &cluster_of, cross_links))
+    Ok(describe(takes, placed, &cluster_of, cross_links))
 }
 
 /// The shared clusters of `cluster_of` (one id per placed unit).

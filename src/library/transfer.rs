@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use super::clusters::{cluster, place, Placed};
+use super::clusters::{cluster_placed, place, Placed};
 use super::{LibraryError, LibraryParams, LibraryTake};
 use crate::features::FeatureMatrix;
 use crate::method::Cancelled;
@@ -90,11 +90,11 @@ pub fn transfer(
         return Err(LibraryError::Labels { take: labelled.name.clone(), message: "no frame of it is labelled".into() });
     }
     // per take, per unit: (label, confidence)
-    let assigned: Vec<Vec<Option<(String, f64)>>> = match route {
-        TransferRoute::Nearest => nearest(takes, kb, params, progress)?,
-        TransferRoute::Clusters => through_clusters(takes, kb, params, progress)?,
-    };
     let placed = place(takes, params)?;
+    let assigned: Vec<Vec<Option<(String, f64)>>> = match route {
+        TransferRoute::Nearest => nearest(&placed, takes, kb, params, progress)?,
+        TransferRoute::Clusters => through_clusters(&placed, takes, kb, params, progress)?,
+    };
     let out = takes
         .iter()
         .enumerate()
@@ -141,13 +141,13 @@ fn taught(placed: &Placed, takes: &[LibraryTake], kb: &KnowledgeBase) -> Vec<Opt
 }
 
 fn nearest(
+    placed: &Placed,
     takes: &[LibraryTake],
     kb: &KnowledgeBase,
     params: &LibraryParams,
     progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
 ) -> Result<Vec<Vec<Option<(String, f64)>>>, LibraryError> {
-    let placed = place(takes, params)?;
-    let teach = taught(&placed, takes, kb);
+    let teach = taught(placed, takes, kb);
     progress(0.0)?;
     // the knowledge base: a neighbour search over the labelled take's frames alone, so that every frame of the
     // library gets its `max_neighbours` nearest frames *of the labelled take* (not crowded out by its own take's)
@@ -201,13 +201,13 @@ fn nearest(
 }
 
 fn through_clusters(
+    placed: &Placed,
     takes: &[LibraryTake],
     kb: &KnowledgeBase,
     params: &LibraryParams,
     progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
 ) -> Result<Vec<Vec<Option<(String, f64)>>>, LibraryError> {
-    let shared = cluster(takes, params, progress)?;
-    let placed = place(takes, params)?;
+    let shared = cluster_placed(takes, placed, params, progress)?;
     // votes of the labelled take's frames per cluster
     let mut votes: Vec<BTreeMap<String, usize>> = vec![BTreeMap::new(); shared.clusters.len()];
     for c in &shared.clusters {
