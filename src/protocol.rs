@@ -26,10 +26,12 @@
 //! frames) from a method that declares it annotates ([`crate::method::Annotator`]: LMA's Effort);
 //! it is answered `annotated`, or `needs_model` / `refused` / `failed` as a `segment` run is.
 //!
-//! The library of takes (issue 26) has three requests that need no held take: `library_take`
+//! The library of takes (issue 26) has four requests that need no held take: `library_take`
 //! (read a take, segment it, compute its [`crate::library::TakeFeatures`], let its frames go),
 //! `library_cluster` (match the takes' features and segmentations into clusters shared across
-//! takes) and `library_clips` (several takes' files read again and cut into one zip).
+//! takes), `library_transfer` (one take's labels carried to the others:
+//! [`crate::library::transfer`]) and `library_clips` (several takes' files read again and cut
+//! into one zip).
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -167,6 +169,18 @@ pub enum Request {
     /// ([`crate::library::cluster`], default parameters). Progress is posted as run `run`'s.
     /// Answer: `library_clusters`.
     LibraryCluster { take: TakeId, run: RunId, takes: Vec<crate::library::LibraryTake> },
+    /// Carry the per-frame labels `frame_labels` of take `labelled` (an index into `takes`, which
+    /// are as `library_cluster` sends them) to every take of `takes` by `route`
+    /// ([`crate::library::transfer`], [`crate::library::LibraryParams::for_route`]). Progress is
+    /// posted as run `run`'s. Answer: `library_transferred`.
+    LibraryTransfer {
+        take: TakeId,
+        run: RunId,
+        takes: Vec<crate::library::LibraryTake>,
+        labelled: usize,
+        frame_labels: Vec<Option<String>>,
+        route: crate::library::TransferRoute,
+    },
     /// BVH clips of several takes of the library in one zip named `file`: each take of `takes` is
     /// parsed again from its bytes (buffers in order: each take's file, then its ASF skeleton's
     /// when it has one) and cut at its segmentation's segments, the clips going into the zip's
@@ -207,6 +221,7 @@ impl Request {
             | Request::Clips { run, .. }
             | Request::LibraryTake { run, .. }
             | Request::LibraryCluster { run, .. }
+            | Request::LibraryTransfer { run, .. }
             | Request::LibraryClips { run, .. } => Some(*run),
         }
     }
@@ -225,6 +240,7 @@ impl Request {
             | Request::Clips { take, .. }
             | Request::LibraryTake { take, .. }
             | Request::LibraryCluster { take, .. }
+            | Request::LibraryTransfer { take, .. }
             | Request::LibraryClips { take, .. } => *take,
         }
     }
@@ -517,6 +533,13 @@ pub enum Response {
         run: RunId,
         clusters: Box<crate::library::SharedClusters>,
     },
+    /// A `library_transfer`: every take's labels, in the order the takes were sent (the labelled
+    /// take keeps its own).
+    LibraryTransferred {
+        take: TakeId,
+        run: RunId,
+        transfer: Box<crate::library::Transfer>,
+    },
     /// A load (`run: None`) or a run failed.
     Failed {
         take: TakeId,
@@ -578,7 +601,8 @@ impl Request {
             | Request::ContinueTraining { .. }
             | Request::StopTraining { .. }
             | Request::Clips { .. }
-            | Request::LibraryCluster { .. } => Vec::new(),
+            | Request::LibraryCluster { .. }
+            | Request::LibraryTransfer { .. } => Vec::new(),
         };
         Packet { json, buffers }
     }
@@ -625,7 +649,8 @@ impl Request {
             | Request::ContinueTraining { .. }
             | Request::StopTraining { .. }
             | Request::Clips { .. }
-            | Request::LibraryCluster { .. } => {}
+            | Request::LibraryCluster { .. }
+            | Request::LibraryTransfer { .. } => {}
         }
         Ok(request)
     }
@@ -695,6 +720,14 @@ impl Response {
                 });
                 if !fits {
                     return Err("worker message: a cluster's occurrence is not inside its take".into());
+                }
+            }
+            Response::LibraryTransferred { transfer, .. } => {
+                for t in &transfer.takes {
+                    t.segmentation.validate().map_err(|e| format!("worker message: {e}"))?;
+                    if t.frame_labels.len() != t.segmentation.frames {
+                        return Err("worker message: transferred labels do not cover their take".into());
+                    }
                 }
             }
             Response::Clips { bytes, .. } => *bytes = next("the clips")?,

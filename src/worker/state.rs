@@ -201,6 +201,27 @@ impl WorkerState {
                     },
                 })
             }
+            Request::LibraryTransfer { take, run, takes, labelled, frame_labels, route } => {
+                let carried = {
+                    let mut progress = |f: f64| {
+                        post(Response::Progress { take, run: Some(run), stage: "carrying".into(), fraction: Some(f) });
+                        Ok(())
+                    };
+                    let kb = crate::library::KnowledgeBase { take: labelled, frame_labels };
+                    let params = crate::library::LibraryParams::for_route(route);
+                    crate::library::transfer(&takes, &kb, route, &params, &mut progress)
+                };
+                post(match carried {
+                    Ok(transfer) => Response::LibraryTransferred { take, run, transfer: Box::new(transfer) },
+                    Err(e) => Response::Failed {
+                        take,
+                        run: Some(run),
+                        message: format!("carrying the labels: {e}"),
+                        kind: FailureKind::Input,
+                        param: None,
+                    },
+                })
+            }
             Request::LibraryClips { take, run, file, takes, to_origin, bytes } => {
                 post(library_clips(take, run, file, &takes, to_origin, bytes))
             }
@@ -731,7 +752,7 @@ mod tests {
                 segmentation: (**s).clone(),
             })
             .collect();
-        let request = Request::LibraryCluster { take: 0, run: 12, takes: matched };
+        let request = Request::LibraryCluster { take: 0, run: 12, takes: matched.clone() };
         assert_eq!(Request::from_packet(request.clone().into_packet()).unwrap(), request);
         let posted = ask(&mut w, request);
         assert!(posted.iter().any(|r| matches!(r, Response::Progress { run: Some(12), .. })));
@@ -741,6 +762,51 @@ mod tests {
         assert_eq!(Response::from_packet(posted.last().unwrap().clone().into_packet()).unwrap(), *posted.last().unwrap());
         assert_eq!(clusters.takes.len(), 2);
         assert!(clusters.shared().count() >= 1, "the two walks share a cluster: {:?}", clusters.clusters);
+        // the labels of the second take carried to the first, by both routes
+        let labels = |n: usize| (0..n).map(|f| Some(if f < n / 2 { "walk" } else { "stride" }.to_string())).collect();
+        let transfer = |run, frame_labels, route| Request::LibraryTransfer {
+            take: 0,
+            run,
+            takes: matched.clone(),
+            labelled: 1,
+            frame_labels,
+            route,
+        };
+        let mut last = None;
+        for (run, route) in [(13, crate::library::TransferRoute::Nearest), (14, crate::library::TransferRoute::Clusters)] {
+            let request = transfer(run, labels(took[1].frames), route);
+            assert_eq!(Request::from_packet(request.clone().into_packet()).unwrap(), request);
+            let posted = ask(&mut w, request);
+            assert!(posted.iter().any(|r| matches!(r, Response::Progress { run: Some(r), .. } if *r == run)));
+            let Some(Response::LibraryTransferred { run: answered, transfer, .. }) = posted.last().cloned() else {
+                panic!("{:?}", posted.last())
+            };
+            assert_eq!((answered, transfer.route, transfer.takes.len()), (run, route, 2));
+            let back = Response::from_packet(posted.last().unwrap().clone().into_packet()).unwrap();
+            assert_eq!(&back, posted.last().unwrap());
+            // the labelled take keeps its own; the other one has labels of its classes, one per frame
+            assert_eq!(transfer.takes[1].frame_labels, labels(took[1].frames));
+            let carried = &transfer.takes[0];
+            assert_eq!(carried.frame_labels.len(), took[0].frames);
+            assert!(carried.frame_labels.iter().flatten().all(|l| l == "walk" || l == "stride"));
+            assert!(carried.frame_labels.iter().any(Option::is_some), "{route:?}: some walk frames get a label");
+            last = Some(transfer);
+        }
+        // labels of the wrong length, or none: failed with the core's message
+        let short = ask(&mut w, transfer(15, labels(10), crate::library::TransferRoute::Nearest));
+        let Some(Response::Failed { message, kind: FailureKind::Input, run: Some(15), .. }) = short.last() else { panic!("{short:?}") };
+        assert_eq!(
+            message,
+            &format!("carrying the labels: take 02_01.amc: the labels cover 10 frames, the take has {}", took[1].frames)
+        );
+        let none = ask(&mut w, transfer(16, vec![None; took[1].frames], crate::library::TransferRoute::Clusters));
+        let Some(Response::Failed { message, run: Some(16), .. }) = none.last() else { panic!("{none:?}") };
+        assert_eq!(message, "carrying the labels: take 02_01.amc: no frame of it is labelled");
+        // a transfer that does not cover its take is refused on the page's side
+        let mut bad = last.expect("a transfer");
+        bad.takes[0].frame_labels.pop();
+        let packet = Response::LibraryTransferred { take: 0, run: 17, transfer: bad }.into_packet();
+        assert!(Response::from_packet(packet).unwrap_err().contains("do not cover their take"));
         // a bad file: failed, naming it; the held take still there
         let bad = ask(&mut w, library(9, 10, "bad.bvh", include_bytes!("../../tests/fixtures/bad.bvh").to_vec(), None));
         let Some(Response::Failed { message, kind: FailureKind::Input, run: Some(10), .. }) = bad.last() else { panic!("{bad:?}") };
