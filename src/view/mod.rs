@@ -13,6 +13,7 @@
 //! the shared clusters' names and playlists ([`library`]).
 
 pub mod camera;
+pub mod carry;
 pub mod clock;
 pub mod compare;
 pub mod consensus;

@@ -706,7 +706,7 @@ pub fn is_reserved(label: &str) -> bool {
 
 /// Whether a segment labelled `label` is one of my labelled segments (not empty, not
 /// [`RESERVED`]).
-fn is_labelled(label: &str) -> bool {
+pub fn is_labelled(label: &str) -> bool {
     !label.trim().is_empty() && !is_reserved(label)
 }
 

@@ -1,0 +1,250 @@
+//! Labels carried across the library on the page (issue 26, "Label transfer"), as plain data: the
+//! source take's per-frame labels from my labels or its ground truth ([`frame_labels`]), the labels
+//! the worker carried to every take ([`Carried`]: each take's share of labelled frames, its
+//! "Transferred" timeline row, the spans "Copy into my labels" copies) and which segmentation of each
+//! take the library's "Labels CSV (all takes)" saves ([`export`]). The page
+//! (`crate::app::library`) asks the worker and draws; everything it decides is here, tested natively.
+
+use crate::library::{TransferRoute, Transferred};
+use crate::segment::palette::class_colour;
+use crate::segment::{Level, Segmentation};
+use crate::view::my_labels::{is_labelled, label_class};
+
+/// The method name of a "Transferred" row's segmentation.
+pub const TRANSFERRED: &str = "transferred";
+
+/// Every frame's label in `segmentation` (`frames` long): the label of the labelled segment over it
+/// (not a transition, not empty, not `unknown` / `unlabelled` / `transition`), else `None`. Where
+/// labelled segments overlap, the later one wins.
+pub fn frame_labels(segmentation: &Segmentation, frames: usize) -> Vec<Option<String>> {
+    let mut labels = vec![None; frames];
+    for s in segmentation.segments.iter().filter(|s| s.level != Level::Transition && is_labelled(&s.label)) {
+        let end = s.end.min(frames.saturating_sub(1));
+        if s.start <= end && s.start < frames {
+            labels[s.start..=end].iter_mut().for_each(|l| *l = Some(s.label.trim().to_string()));
+        }
+    }
+    labels
+}
+
+/// The labels carried last: from take `source` of the library by `route`, the takes sent (their
+/// library indices, in the order of `transferred`) and each one's labels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Carried {
+    pub route: TransferRoute,
+    pub source: usize,
+    pub takes: Vec<usize>,
+    pub transferred: Vec<Transferred>,
+}
+
+impl Carried {
+    /// The labels carried to take `library` (`None`: it was not in the library then).
+    pub fn of(&self, library: usize) -> Option<&Transferred> {
+        self.takes.iter().position(|&t| t == library).and_then(|i| self.transferred.get(i))
+    }
+
+    /// The share (0–1) of take `library`'s frames that got a label.
+    pub fn labelled_share(&self, library: usize) -> Option<f64> {
+        let t = self.of(library)?;
+        let n = t.frame_labels.len();
+        (n > 0).then(|| t.frame_labels.iter().filter(|l| l.is_some()).count() as f64 / n as f64)
+    }
+
+    /// What the take list says of take `library`: "source of the labels", or "73 % labelled".
+    pub fn take_text(&self, library: usize) -> Option<String> {
+        if library == self.source {
+            return Some("source of the labels".into());
+        }
+        self.labelled_share(library).map(|s| format!("{:.0} % labelled", s * 100.0))
+    }
+
+    /// Take `library`'s labels as the timeline's "Transferred" row draws them (a labelling row):
+    /// every labelled segment's `cluster` its label's class, `params.colours` the class colours my
+    /// labels give those labels (the same on every take), `unknown` without a class (drawn grey);
+    /// `score` is the confidence (its shade on the row).
+    pub fn row(&self, library: usize) -> Option<Segmentation> {
+        let t = self.of(library)?;
+        let mut segmentation = t.segmentation.clone();
+        let mut colours = Vec::new();
+        for s in &mut segmentation.segments {
+            s.cluster = is_labelled(&s.label).then(|| {
+                let class = label_class(&s.label);
+                if colours.len() <= class {
+                    colours.resize(class + 1, String::new());
+                }
+                colours[class] = class_colour(class);
+                class
+            });
+        }
+        segmentation.method = TRANSFERRED.into();
+        segmentation.params = serde_json::json!({ "route": self.route, "colours": colours });
+        Some(segmentation)
+    }
+
+    /// The spans "Copy into my labels" copies onto take `library`: its labelled segments
+    /// (`unknown` left out: it becomes a gap).
+    pub fn spans(&self, library: usize) -> Vec<(usize, usize, String)> {
+        self.of(library).map_or_else(Vec::new, |t| {
+            t.segmentation
+                .segments
+                .iter()
+                .filter(|s| is_labelled(&s.label))
+                .map(|s| (s.start, s.end, s.label.clone()))
+                .collect()
+        })
+    }
+
+    /// What the status says once the labels arrive.
+    pub fn summary(&self, source_name: &str) -> String {
+        let others: Vec<f64> =
+            self.takes.iter().filter(|&&t| t != self.source).filter_map(|&t| self.labelled_share(t)).collect();
+        let mean = if others.is_empty() { 0.0 } else { others.iter().sum::<f64>() / others.len() as f64 };
+        let route = match self.route {
+            TransferRoute::Nearest => "nearest labelled segment",
+            TransferRoute::Clusters => "shared clusters",
+        };
+        format!(
+            "labels of {source_name} carried to {} by {route}: {:.0} % of their frames labelled; takes added later get \
+             labels when you carry again",
+            crate::method::counted(others.len(), "take"),
+            mean * 100.0
+        )
+    }
+}
+
+/// The segmentation of each take the library's "Labels CSV (all takes)" saves, from `segmented`
+/// (library index, its segmentation as the library shows it): its carried labels when labels were
+/// carried to it (the source take's own labels included; `unknown` stretches as `unknown` rows), else
+/// its segmentation as before — clusters named.
+pub fn export(segmented: Vec<(usize, Segmentation)>, carried: Option<&Carried>) -> Vec<Segmentation> {
+    segmented
+        .into_iter()
+        .map(|(i, own)| match carried.and_then(|c| c.of(i)) {
+            Some(t) => Segmentation { file: own.file.clone(), ..t.segmentation.clone() },
+            None => own,
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::segment::Segment;
+
+    fn segment(start: usize, end: usize, label: &str, level: Level, score: Option<f64>) -> Segment {
+        Segment { start, end, label: label.into(), level, cluster: None, score, mirror_of: None, effort: None }
+    }
+
+    fn segmentation(file: &str, frames: usize, segments: Vec<Segment>) -> Segmentation {
+        Segmentation {
+            file: file.into(),
+            fps: 30.0,
+            frames,
+            method: "sssm".into(),
+            params: serde_json::json!({}),
+            segments,
+        }
+    }
+
+    /// Take 2 got "walk" on frames 0–5 (0.8), nothing on 6–7, "run" on 8–9 (0.5); take 0 is the source.
+    fn carried() -> Carried {
+        let walk = Some("walk".to_string());
+        let run = Some("run".to_string());
+        let mut labels = vec![walk.clone(); 6];
+        labels.extend([None, None, run.clone(), run]);
+        let other = Transferred {
+            segmentation: segmentation(
+                "b.bvh",
+                10,
+                vec![
+                    segment(0, 5, "walk", Level::Action, Some(0.8)),
+                    segment(6, 7, "unknown", Level::Action, Some(0.0)),
+                    segment(8, 9, "run", Level::Action, Some(0.5)),
+                ],
+            ),
+            frame_labels: labels,
+        };
+        let source = Transferred {
+            segmentation: segmentation("a.bvh", 4, vec![segment(0, 3, "walk", Level::Action, Some(1.0))]),
+            frame_labels: vec![walk; 4],
+        };
+        Carried { route: TransferRoute::Nearest, source: 0, takes: vec![0, 2], transferred: vec![source, other] }
+    }
+
+    #[test]
+    fn the_source_labels_are_its_labelled_segments_frame_by_frame() {
+        let mine = segmentation(
+            "a.bvh",
+            8,
+            vec![
+                segment(0, 2, "walk", Level::Action, None),
+                segment(3, 4, "unlabelled", Level::Transition, None),
+                segment(5, 6, " unknown ", Level::Action, None),
+                segment(7, 20, "jump ", Level::Action, None),
+            ],
+        );
+        let labels = frame_labels(&mine, 8);
+        let want: Vec<Option<String>> = ["walk", "walk", "walk", "", "", "", "", "jump"]
+            .iter()
+            .map(|l| (!l.is_empty()).then(|| l.to_string()))
+            .collect();
+        assert_eq!(labels, want);
+        assert!(frame_labels(&segmentation("a.bvh", 3, vec![]), 3).iter().all(Option::is_none));
+    }
+
+    #[test]
+    fn each_take_says_how_much_of_it_got_a_label() {
+        let c = carried();
+        assert_eq!(c.labelled_share(2), Some(0.8));
+        assert_eq!(c.take_text(2).as_deref(), Some("80 % labelled"));
+        assert_eq!(c.take_text(0).as_deref(), Some("source of the labels"));
+        // a take added after the labels were carried has none
+        assert_eq!((c.of(1), c.take_text(1)), (None, None));
+        assert_eq!(
+            c.summary("a.bvh"),
+            "labels of a.bvh carried to 1 take by nearest labelled segment: 80 % of their frames labelled; takes \
+             added later get labels when you carry again"
+        );
+    }
+
+    #[test]
+    fn the_transferred_row_colours_labels_as_my_labels_do_and_leaves_unknown_grey() {
+        let row = carried().row(2).unwrap();
+        assert_eq!(row.method, TRANSFERRED);
+        let (walk, run) = (label_class("walk"), label_class("run"));
+        let classes: Vec<Option<usize>> = row.segments.iter().map(|s| s.cluster).collect();
+        assert_eq!(classes, [Some(walk), None, Some(run)]);
+        let colours = &row.params["colours"];
+        assert_eq!(colours[walk].as_str(), Some(class_colour(walk).as_str()));
+        assert_eq!(colours[run].as_str(), Some(class_colour(run).as_str()));
+        // the confidence stays each segment's score (the row's shade, the tooltip)
+        assert_eq!(row.segments.iter().map(|s| s.score).collect::<Vec<_>>(), [Some(0.8), Some(0.0), Some(0.5)]);
+        assert!(carried().row(1).is_none());
+    }
+
+    #[test]
+    fn copying_into_my_labels_takes_the_labelled_spans_only() {
+        let spans = carried().spans(2);
+        assert_eq!(spans, [(0, 5, "walk".to_string()), (8, 9, "run".to_string())]);
+        let mut mine = crate::view::my_labels::MyLabels::new(10);
+        mine.copy_from(&spans).unwrap();
+        let labels = frame_labels(&mine.to_segmentation("b.bvh", 30.0), 10);
+        assert_eq!(labels, carried().of(2).unwrap().frame_labels, "my labels are then the carried ones");
+        assert!(carried().spans(5).is_empty());
+    }
+
+    #[test]
+    fn the_csv_saves_carried_labels_where_there_are_some_and_the_segmentation_elsewhere() {
+        let own = |file: &str| segmentation(file, 10, vec![segment(0, 9, "C3", Level::Action, None)]);
+        let segmented = vec![(0, own("a.bvh")), (1, own("c.bvh")), (2, own("b.bvh"))];
+        let c = carried();
+        let csv = crate::view::library::library_csv(&export(segmented.clone(), Some(&c)));
+        assert_eq!(
+            csv,
+            "file,start_frame,end_frame,label\na.bvh,0,3,walk\nc.bvh,0,9,C3\nb.bvh,0,5,walk\nb.bvh,6,7,unknown\n\
+             b.bvh,8,9,run\n"
+        );
+        let plain = export(segmented.clone(), None);
+        assert_eq!(plain, segmented.into_iter().map(|(_, s)| s).collect::<Vec<_>>());
+    }
+}
