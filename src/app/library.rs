@@ -17,7 +17,13 @@
 //! seconds; **Play** plays its occurrences one after another across takes (each take opened when
 //! not on screen; `#library-playing` says which, `#library-previous` / `#library-next` /
 //! `#library-stop`), **Clips** saves its occurrences as BVH clips of every take in one zip, and
-//! `#library-export-clips` every cluster's (`#library-origin`: each clip at the origin). The state
+//! `#library-export-clips` every cluster's (`#library-origin`: each clip at the origin).
+//!
+//! "Carry labels" ([`Carry`]): the take on screen's my labels (else its ground truth) carried to every
+//! take by `#library-route` (`library_transfer`); each take of the list then says its labelled share
+//! (`.ms-lib-carried`), the timeline's `#row-transferred` ("Transferred") shows a take's carried
+//! labels, `#library-copy-carried` copies them into my labels, and the CSV saves them
+//! ([`crate::view::carry`]). The state
 //! is [`LibraryState`]; the worker's side is `loader::library`; the decisions are
 //! [`crate::view::library`]'s.
 
@@ -27,7 +33,8 @@ use super::motion_image::download;
 use super::AppState;
 use crate::protocol::{MethodView, RunId};
 use crate::segment::Level;
-use crate::library::{LibraryTake, TakeFeatures};
+use crate::library::{LibraryTake, TakeFeatures, TransferRoute};
+use crate::view::carry::{frame_labels, Carried};
 use crate::view::library::{library_csv, playing_text, ClusterNames, Playlist, Queue, Shared, Spot};
 use leptos::prelude::*;
 use std::sync::Arc;
@@ -78,6 +85,16 @@ pub struct LibraryState {
     pending: StoredValue<Option<(Spot, usize)>>,
     /// An occurrence is playing (it ends where the playlist's current one ends).
     playing: StoredValue<bool>,
+    /// How labels are carried across the library.
+    pub route: RwSignal<TransferRoute>,
+    /// The labels carried last.
+    pub carried: RwSignal<Option<Arc<Carried>>>,
+    /// The carrying in the worker: its run, the source take and the takes sent (library indices).
+    pub transfer_run: StoredValue<Option<(RunId, usize, Vec<usize>)>>,
+    /// Where the carrying stands: (failed, message).
+    pub carrying: RwSignal<Option<(bool, String)>>,
+    /// Asks my labels to copy the take on screen's carried labels (counts the asks).
+    pub copy_asked: RwSignal<u32>,
 }
 
 impl std::fmt::Debug for LibraryState {
@@ -104,6 +121,11 @@ impl LibraryState {
             matching: RwSignal::new(None),
             pending: StoredValue::new(None),
             playing: StoredValue::new(false),
+            route: RwSignal::new(TransferRoute::Nearest),
+            carried: RwSignal::new(None),
+            transfer_run: StoredValue::new(None),
+            carrying: RwSignal::new(None),
+            copy_asked: RwSignal::new(0),
         }
     }
 
@@ -156,7 +178,7 @@ impl LibraryState {
 
     /// Whether the take on screen is take `i` of the library (tracked): it was opened from the
     /// library, has that take's name and frames, and is loaded.
-    fn on_screen(&self, state: AppState, i: usize) -> bool {
+    pub(super) fn on_screen(&self, state: AppState, i: usize) -> bool {
         let shown = state.motion.with(|m| m.as_ref().map(|m| (m.summary.name.clone(), m.summary.frames)));
         let entry = self.queue.with(|q| q.entries.get(i).map(|e| (e.name.clone(), e.frames)));
         self.open.get() == Some(i)
@@ -175,11 +197,17 @@ impl LibraryState {
         }
     }
 
-    /// Every segmented take's segmentation as the CSV exports it: the shared one named where the take
-    /// was matched, else its own.
+    /// Every segmented take's segmentation as the CSV exports it: its carried labels where labels
+    /// were carried to it, else the shared one named where the take was matched, else its own.
     fn all_labelled(&self) -> Vec<crate::segment::Segmentation> {
         let count = self.queue.with_untracked(|q| q.entries.len());
-        (0..count).filter_map(|i| self.labelled(i).map(|(s, _)| s)).collect()
+        let segmented = (0..count).filter_map(|i| self.labelled(i).map(|(s, _)| (i, s))).collect();
+        crate::view::carry::export(segmented, self.carried.get_untracked().as_deref())
+    }
+
+    /// The take of the library on screen (tracked), when it is one.
+    pub(super) fn open_on_screen(&self, state: AppState) -> Option<usize> {
+        self.open.get().filter(|&i| self.on_screen(state, i))
     }
 }
 
@@ -259,6 +287,9 @@ pub fn LibraryPanel(state: AppState, loader: Loader) -> impl IntoView {
                             <span class="ms-lib-status" class:ms-lib-status--failed=failed role=failed.then_some("alert")>
                                 {e.status.text()}
                             </span>
+                            <span class="ms-lib-carried">
+                                {move || library.carried.with(|c| c.as_ref().and_then(|c| c.take_text(i)))}
+                            </span>
                         </li>
                     }
                 })
@@ -294,7 +325,101 @@ pub fn LibraryPanel(state: AppState, loader: Loader) -> impl IntoView {
                 {move || library.status.with(|s| s.as_ref().map(|(_, m)| m.clone()))}
             </p>
             <ol id="library-list" class="ms-lib-list">{takes}</ol>
+            <Carry state=state loader=loader/>
             <Clusters state=state loader=loader/>
+        </section>
+    }
+}
+
+/// The labels the take on screen gives the library (tracked): its library index, each frame's
+/// label from my labels — else from its imported ground truth — and which of the two; or why
+/// there are none.
+pub(super) fn source_labels(state: AppState) -> Result<(usize, Vec<Option<String>>, &'static str), String> {
+    let Some(i) = state.library.open_on_screen(state) else {
+        return Err("open a take of the library (its name in the list) to carry its labels".into());
+    };
+    let frames = state.frames();
+    let from = |seg: &crate::segment::Segmentation| {
+        let labels = frame_labels(seg, frames);
+        labels.iter().any(Option::is_some).then_some(labels)
+    };
+    if let Some(labels) = state.mine.with(|m| m.as_deref().and_then(from)) {
+        return Ok((i, labels, "my labels"));
+    }
+    if let Some(labels) = state.truth.view.with(|v| v.as_ref().and_then(|v| from(&v.segmentation))) {
+        return Ok((i, labels, "its ground truth"));
+    }
+    Err("this take has no labels yet: label it in my labels, or import its ground truth".into())
+}
+
+/// "Carry labels": the source (the take on screen's my labels, else its ground truth), the route,
+/// `#library-carry` (disabled with the reason as its title), where the carrying stands and "Copy
+/// into my labels" for the take on screen.
+#[component]
+fn Carry(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl IntoView {
+    let library = state.library;
+    let source = Memo::new(move |_| source_labels(state).map(|(_, _, from)| from));
+    let source_text = move || match source.get() {
+        Ok(from) => {
+            let name = state.motion.with(|m| m.as_ref().map(|m| m.summary.name.clone())).unwrap_or_default();
+            format!("Source: {from} of {name}")
+        }
+        Err(why) => why,
+    };
+    let copyable = move || {
+        let open = library.open_on_screen(state);
+        library.carried.with(|c| c.as_ref().zip(open).is_some_and(|(c, i)| i != c.source && !c.spans(i).is_empty()))
+    };
+    let route_value = move || match library.route.get() {
+        TransferRoute::Nearest => "nearest",
+        TransferRoute::Clusters => "clusters",
+    };
+    let set_route = move |ev: leptos::ev::Event| {
+        let route = if event_target_value(&ev) == "clusters" { TransferRoute::Clusters } else { TransferRoute::Nearest };
+        library.route.set(route);
+    };
+    view! {
+        <section class="ms-lib-carry" aria-label="Carry labels">
+            <h3 class="ms-lib-heading">"Carry labels"</h3>
+            <p id="library-carry-source" class="ms-lib-note">{source_text}</p>
+            <div class="ms-lib-controls">
+                <label>
+                    "Match by "
+                    <select id="library-route" prop:value=route_value on:change=set_route>
+                        <option value="nearest">"nearest labelled segment"</option>
+                        <option value="clusters">"shared clusters"</option>
+                    </select>
+                </label>
+                <button
+                    id="library-carry"
+                    class="ms-button ms-button--small"
+                    type="button"
+                    disabled=move || source.with(Result::is_err)
+                    title=move || source.get().err()
+                    on:click=move |_| loader.with_value(|l| l.carry_labels())
+                >
+                    "Carry to every take"
+                </button>
+                <button
+                    id="library-copy-carried"
+                    class="ms-button ms-button--small ms-button--quiet"
+                    type="button"
+                    disabled=move || !copyable()
+                    title="Copy this take's transferred labels into my labels (then edit them as usual)"
+                    on:click=move |_| library.copy_asked.update(|n| *n += 1)
+                >
+                    "Copy into my labels"
+                </button>
+            </div>
+            <p
+                id="library-carrying"
+                class="ms-lib-note"
+                class:ms-lib-note--failed=move || library.carrying.with(|m| m.as_ref().is_some_and(|(f, _)| *f))
+                hidden=move || library.carrying.with(Option::is_none)
+                aria-live="polite"
+            >
+                {move || library.carrying.with(|m| m.as_ref().map(|(_, t)| t.clone()))}
+            </p>
         </section>
     }
 }
@@ -520,6 +645,30 @@ pub fn LibraryRow(state: AppState) -> impl IntoView {
     let label = Signal::derive(|| "Library".to_string());
     let tip = Signal::derive(|| "The library's segmentation of this take, its clusters named".to_string());
     view! { <SegmentRow state=state row_id="library".to_string() source=source levels=LEVELS label=label tip=tip/> }
+}
+
+/// The labels carried to the take on screen as a labelling row's view (tracked; `None` when it is
+/// not one of the library's, got no labels or is their source).
+pub(super) fn transferred_view(state: AppState) -> Option<Arc<MethodView>> {
+    let library = state.library;
+    let i = library.open_on_screen(state)?;
+    let segmentation = library.carried.with(|c| c.as_ref().filter(|c| c.source != i).and_then(|c| c.row(i)))?;
+    (segmentation.frames == state.frames())
+        .then(|| Arc::new(MethodView { method: segmentation.method.clone(), segmentation, details: Default::default() }))
+}
+
+/// The timeline's `#row-transferred` ("Transferred"): the labels carried to the take on screen,
+/// each label in my labels' colour for it, shaded by its confidence, `unknown` grey.
+#[component]
+pub fn TransferredRow(state: AppState) -> impl IntoView {
+    let source = Signal::derive(move || transferred_view(state));
+    let label = Signal::derive(|| "Transferred".to_string());
+    let tip = Signal::derive(move || {
+        let from = state.library.carried.with(|c| c.as_ref().map(|c| c.source));
+        let name = from.and_then(|i| state.library.queue.with(|q| q.entries.get(i).map(|e| e.name.clone())));
+        format!("Labels carried from {} (shade: confidence; grey: unknown)", name.unwrap_or_default())
+    });
+    view! { <SegmentRow state=state row_id="transferred".to_string() source=source levels=&[Level::Action] label=label tip=tip/> }
 }
 
 /// The levels the library's row shows (one of actions and primitives is left: the source keeps

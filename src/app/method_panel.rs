@@ -938,7 +938,10 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -
     };
     // black or white, whichever reads on the fill (hatched segments: www/style.css)
     let text_colour = (!colour.is_empty()).then(|| crate::view::contrast::ink_on(&colour));
-    let tip = tooltip(&s, fps);
+    let mut tip = tooltip(&s, fps);
+    if v.method == crate::view::carry::TRANSFERRED && s.cluster.is_some() {
+        tip = format!("{tip} · confidence {:.0} %", s.score.unwrap_or(0.0) * 100.0);
+    }
     let (start, end) = (s.start, s.end);
     // placed on the timeline's window (a segment reaching past its edges is cut there)
     let left = move || {

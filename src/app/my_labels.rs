@@ -53,6 +53,7 @@ use crate::labels::to_csv;
 use crate::protocol::MethodView;
 use crate::segment::palette::{action_colour, class_colour, cluster_colour};
 use crate::segment::Level;
+use crate::view::carry::TRANSFERRED;
 use crate::view::my_labels::MyLabels as Model;
 use crate::view::my_labels::{
     backup_key, cuts_of, fingerprint, hotkey_label, is_reserved, label_class, snap, snap_tolerance, storage_key,
@@ -194,6 +195,11 @@ fn other_rows(state: AppState) -> Vec<OtherRow> {
             }
         });
     }
+    // the labels carried across the library to this take
+    if let Some(v) = super::library::transferred_view(state) {
+        let segments = v.segmentation.segments.iter().map(|s| (s.start, s.end, s.label.clone(), segment_colour(&v, s))).collect();
+        rows.push(OtherRow { id: TRANSFERRED.into(), name: "Transferred".into(), segments, classes: true });
+    }
     rows
 }
 
@@ -309,6 +315,15 @@ impl MyRow {
                     row.note.set(note);
                 }
             }
+        });
+        // the library's "Copy into my labels": the take's transferred labels copied (an undoable edit)
+        Effect::new(move |asked: Option<u32>| {
+            let now = state.library.copy_asked.get();
+            if asked.is_some_and(|a| a != now) {
+                row.source.set(TRANSFERRED.into());
+                row.copy();
+            }
+            now
         });
         // my selection is the page's selection (Loop plays it; Esc and clicks elsewhere drop it)
         Effect::new(move |_| {

@@ -413,6 +413,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                         <ConsensusLane row=agreed/>
                         <MyLabelsRow mine=mine/>
                         <super::library::LibraryRow state=state/>
+                        <super::library::TransferredRow state=state/>
                     </div>
                 </div>
                 <div id="playhead" class="ms-playhead" style:left=move || lane_left(playhead_fraction()) hidden=playhead_hidden></div>

@@ -4,7 +4,8 @@
 //! several takes cut into one zip (`library_clips`: each take's file read again from its `File`).
 //! Once no take is left to segment, the segmented takes (their features and segmentations, never
 //! their frames) are matched into clusters shared across takes (`library_cluster`), again when
-//! takes are added.
+//! takes are added. The take on screen's labels are carried to the others on request
+//! (`library_transfer`: [`Loader::carry_labels`]).
 //! The queue's state is [`crate::view::library::Queue`]; what the page shows is
 //! [`super::super::library`].
 
@@ -15,6 +16,7 @@ use super::super::motion_image::download;
 use super::{next_id, post_buffers, replace_worker, Inner, Loader};
 use crate::protocol::{ClipTake, FailureKind, Request, Response};
 use crate::library::TakeFeatures;
+use crate::view::carry::Carried;
 use crate::view::library::{group_files, Shared};
 use std::sync::Arc;
 use leptos::prelude::*;
@@ -77,7 +79,13 @@ impl Loader {
             library.cluster_run.set_value(None);
             library.matching.set(Some((true, "matching cancelled".into())));
         }
-        if running || matching {
+        // and the carrying of labels
+        let carrying = library.transfer_run.with_value(|r| r.is_some());
+        if carrying {
+            library.transfer_run.set_value(None);
+            library.carrying.set(Some((true, "carrying cancelled".into())));
+        }
+        if running || matching || carrying {
             replace_worker(&self.0);
         }
     }
@@ -86,6 +94,35 @@ impl Loader {
     pub fn rerun_library(&self) {
         self.0.state.library.queue.update(|q| q.requeue());
         pump(&self.0);
+    }
+
+    /// Carries the take on screen's labels (my labels, else its ground truth) to every take of the
+    /// library that can be matched, by the route chosen (`library_transfer`). Takes added later get
+    /// labels when this is asked again.
+    pub fn carry_labels(&self) {
+        let state = self.0.state;
+        let library = state.library;
+        let (source, frame_labels, _) = match untrack(|| super::super::library::source_labels(state)) {
+            Ok(found) => found,
+            Err(why) => return library.carrying.set(Some((true, why))),
+        };
+        let (takes, indices) = library.matchable();
+        let Some(labelled) = indices.iter().position(|&i| i == source) else {
+            let why = "the take on screen has no features to match (not segmented yet, or it lacks hands, feet, head or hips)";
+            return library.carrying.set(Some((true, why.into())));
+        };
+        if indices.len() < 2 {
+            return library.carrying.set(Some((true, "the library has no other take to carry the labels to yet".into())));
+        }
+        let run = next_id(&self.0);
+        library.transfer_run.set_value(Some((run, source, indices)));
+        library.carrying.set(Some((false, "carrying the labels…".into())));
+        let route = library.route.get_untracked();
+        let request = Request::LibraryTransfer { take: 0, run, takes, labelled, frame_labels, route };
+        if let Err(e) = post_buffers(&self.0, &request, js_sys::Array::new()) {
+            library.transfer_run.set_value(None);
+            library.carrying.set(Some((true, e)));
+        }
     }
 
     /// Cuts the occurrences `takes` (library index, its segments to cut, each labelled with its
@@ -241,6 +278,10 @@ pub(super) fn resend(inner: &Rc<Inner>) {
         library.cluster_run.set_value(None);
         match_takes(inner);
     }
+    if library.transfer_run.with_value(|r| r.is_some()) {
+        library.transfer_run.set_value(None);
+        library.carrying.set(Some((true, "the worker was restarted: carry the labels again".into())));
+    }
 }
 
 /// Handles `response` when it is about the library's jobs; gives it back otherwise.
@@ -249,6 +290,7 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
     let running = library.running.get_value();
     let clip_run = library.clip_run.get_value();
     let cluster_run = library.cluster_run.with_value(|r| r.as_ref().map(|(run, _)| *run));
+    let transfer_run = library.transfer_run.with_value(|r| r.as_ref().map(|(run, _, _)| *run));
     match response {
         Response::Progress { run: Some(run), stage, fraction, .. } if running.is_some_and(|(r, _)| r == run) => {
             let i = running.map_or(0, |(_, i)| i);
@@ -257,6 +299,25 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
         Response::Progress { run: Some(run), fraction, .. } if cluster_run == Some(run) => {
             let percent = fraction.unwrap_or(0.0) * 100.0;
             library.matching.set(Some((false, format!("matching the takes… {percent:.0} %"))));
+        }
+        Response::Progress { run: Some(run), fraction, .. } if transfer_run == Some(run) => {
+            let percent = fraction.unwrap_or(0.0) * 100.0;
+            library.carrying.set(Some((false, format!("carrying the labels… {percent:.0} %"))));
+        }
+        Response::LibraryTransferred { run, transfer, .. } if transfer_run == Some(run) => {
+            let Some((_, source, takes)) = library.transfer_run.get_value() else { return None };
+            library.transfer_run.set_value(None);
+            let carried = Carried { route: transfer.route, source, takes, transferred: transfer.takes };
+            let name = library.queue.with_untracked(|q| q.entries.get(source).map(|e| e.name.clone())).unwrap_or_default();
+            library.carrying.set(Some((false, carried.summary(&name))));
+            library.carried.set(Some(Arc::new(carried)));
+        }
+        Response::Failed { run: Some(run), message, kind, .. } if transfer_run == Some(run) => {
+            library.transfer_run.set_value(None);
+            library.carrying.set(Some((true, message)));
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
+            }
         }
         Response::LibraryTake { run, frames, duration_s, segmentation, features, .. } => {
             finish(inner, run, Ok((frames, duration_s, *segmentation, features)))
