@@ -854,6 +854,35 @@ mod tests {
     }
 
     #[test]
+    fn a_label_transfer_travels_as_json_alone() {
+        let request = Request::LibraryTransfer {
+            take: 0,
+            run: 4,
+            takes: Vec::new(),
+            labelled: 1,
+            frame_labels: vec![None, Some("walk".into())],
+            route: crate::library::TransferRoute::Clusters,
+        };
+        let packet = request.clone().into_packet();
+        assert!(packet.buffers.is_empty());
+        let v: serde_json::Value = serde_json::from_str(&packet.json).unwrap();
+        assert_eq!(
+            (v["type"].as_str(), v["labelled"].as_u64(), v["route"].as_str(), &v["frame_labels"]),
+            (Some("library_transfer"), Some(1), Some("clusters"), &serde_json::json!([null, "walk"]))
+        );
+        assert_eq!((request.run_id(), request.take()), (Some(4), 0));
+        assert_eq!(Request::from_packet(packet).unwrap(), request);
+        let answer = Response::LibraryTransferred {
+            take: 0,
+            run: 4,
+            transfer: Box::new(crate::library::Transfer { route: crate::library::TransferRoute::Nearest, takes: Vec::new() }),
+        };
+        let v: serde_json::Value = serde_json::from_str(&answer.clone().into_packet().json).unwrap();
+        assert_eq!((v["type"].as_str(), v["transfer"]["route"].as_str()), (Some("library_transferred"), Some("nearest")));
+        assert_eq!(Response::from_packet(answer.clone().into_packet()).unwrap(), answer);
+    }
+
+    #[test]
     fn a_loaded_take_round_trips_with_positions_and_pixels_in_buffers() {
         let motion = walk();
         let image = MotionImage::from_motion(&motion);
