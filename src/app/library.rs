@@ -20,7 +20,8 @@
 //! `#library-export-clips` every cluster's (`#library-origin`: each clip at the origin).
 //!
 //! "Carry labels" ([`Carry`]): the take on screen's my labels (else its ground truth) carried to every
-//! take by `#library-route` (`library_transfer`); each take of the list then says its labelled share
+//! take by `#library-route` (`library_transfer`; or `knn`: a k-NN trained on them labels every
+//! other take, `#library-carry-cancel` stopping either); each take of the list then says its labelled share
 //! (`.ms-lib-carried`), the timeline's `#row-transferred` ("Transferred") shows a take's carried
 //! labels, `#library-copy-carried` copies them into my labels, and the CSV saves them
 //! ([`crate::view::carry`]). The state
@@ -33,8 +34,8 @@ use super::motion_image::download;
 use super::AppState;
 use crate::protocol::{MethodView, RunId};
 use crate::segment::Level;
-use crate::library::{LibraryTake, TakeFeatures, TransferRoute};
-use crate::view::carry::{frame_labels, Carried};
+use crate::library::{LibraryTake, TakeFeatures};
+use crate::view::carry::{frame_labels, Carried, Route};
 use crate::view::library::{library_csv, playing_text, ClusterNames, Playlist, Queue, Shared, Spot};
 use leptos::prelude::*;
 use std::sync::Arc;
@@ -86,7 +87,11 @@ pub struct LibraryState {
     /// An occurrence is playing (it ends where the playlist's current one ends).
     playing: StoredValue<bool>,
     /// How labels are carried across the library.
-    pub route: RwSignal<TransferRoute>,
+    pub route: RwSignal<Route>,
+    /// The carrying by a k-NN trained on the source's labels, under way.
+    pub knn: StoredValue<Option<KnnCarry>>,
+    /// A carrying (either route) is under way (`#library-carry-cancel` shown).
+    pub carry_busy: RwSignal<bool>,
     /// The labels carried last.
     pub carried: RwSignal<Option<Arc<Carried>>>,
     /// The carrying in the worker: its run, the source take and the takes sent (library indices).
@@ -95,6 +100,27 @@ pub struct LibraryState {
     pub carrying: RwSignal<Option<(bool, String)>>,
     /// Asks my labels to copy the take on screen's carried labels (counts the asks).
     pub copy_asked: RwSignal<u32>,
+}
+
+/// The carrying by a k-NN trained on the take on screen's labels: first the training (the k-NN
+/// panel's, its model kept as the panel keeps it), then every other take labelled with the model,
+/// one after another (`library_take`, method `knn`).
+#[derive(Debug, Clone)]
+pub struct KnnCarry {
+    /// The source take (library index), its file name, fps and every frame's label.
+    pub source: usize,
+    pub file: String,
+    pub fps: f64,
+    pub labels: Vec<Option<String>>,
+    /// The model's name, once trained (`None`: training).
+    pub model: Option<String>,
+    /// The takes still to label, the one being labelled (its run) and how many in all.
+    pub todo: Vec<usize>,
+    pub running: Option<(RunId, usize)>,
+    pub count: usize,
+    /// The takes labelled (library index, the k-NN's segmentation) and those that failed.
+    pub done: Vec<(usize, crate::segment::Segmentation)>,
+    pub failed: Vec<String>,
 }
 
 impl std::fmt::Debug for LibraryState {
@@ -121,7 +147,9 @@ impl LibraryState {
             matching: RwSignal::new(None),
             pending: StoredValue::new(None),
             playing: StoredValue::new(false),
-            route: RwSignal::new(TransferRoute::Nearest),
+            route: RwSignal::new(Route::Nearest),
+            knn: StoredValue::new(None),
+            carry_busy: RwSignal::new(false),
             carried: RwSignal::new(None),
             transfer_run: StoredValue::new(None),
             carrying: RwSignal::new(None),
@@ -370,14 +398,8 @@ fn Carry(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl Int
         let open = library.open_on_screen(state);
         library.carried.with(|c| c.as_ref().zip(open).is_some_and(|(c, i)| i != c.source && !c.spans(i).is_empty()))
     };
-    let route_value = move || match library.route.get() {
-        TransferRoute::Nearest => "nearest",
-        TransferRoute::Clusters => "clusters",
-    };
-    let set_route = move |ev: leptos::ev::Event| {
-        let route = if event_target_value(&ev) == "clusters" { TransferRoute::Clusters } else { TransferRoute::Nearest };
-        library.route.set(route);
-    };
+    let route_value = move || library.route.get().value();
+    let set_route = move |ev: leptos::ev::Event| library.route.set(Route::from_value(&event_target_value(&ev)));
     view! {
         <section class="ms-lib-carry" aria-label="Carry labels">
             <h3 class="ms-lib-heading">"Carry labels"</h3>
@@ -388,17 +410,27 @@ fn Carry(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl Int
                     <select id="library-route" prop:value=route_value on:change=set_route>
                         <option value="nearest">"nearest labelled segment"</option>
                         <option value="clusters">"shared clusters"</option>
+                        <option value="knn">"a k-NN trained on these labels"</option>
                     </select>
                 </label>
                 <button
                     id="library-carry"
                     class="ms-button ms-button--small"
                     type="button"
-                    disabled=move || source.with(Result::is_err)
+                    disabled=move || source.with(Result::is_err) || library.carry_busy.get()
                     title=move || source.get().err()
                     on:click=move |_| loader.with_value(|l| l.carry_labels())
                 >
                     "Carry to every take"
+                </button>
+                <button
+                    id="library-carry-cancel"
+                    class="ms-button ms-button--small ms-button--quiet"
+                    type="button"
+                    hidden=move || !library.carry_busy.get()
+                    on:click=move |_| loader.with_value(|l| l.cancel_carry())
+                >
+                    "Cancel"
                 </button>
                 <button
                     id="library-copy-carried"

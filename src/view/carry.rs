@@ -4,7 +4,11 @@
 //! "Transferred" timeline row, the spans "Copy into my labels" copies) and which segmentation of each
 //! take the library's "Labels CSV (all takes)" saves ([`export`]). The page
 //! (`crate::app::library`) asks the worker and draws; everything it decides is here, tested natively.
+//! The third route, [`Route::Knn`], trains the k-NN on the source's labels ([`label_rows`]: the
+//! label CSV it trains on) and labels every other take with it; [`Carried::by_knn`] turns those
+//! k-NN segmentations into carried labels like the other routes'.
 
+use crate::labels::LabelRow;
 use crate::library::{TransferRoute, Transferred};
 use crate::segment::palette::class_colour;
 use crate::segment::{Level, Segmentation};
@@ -27,17 +31,140 @@ pub fn frame_labels(segmentation: &Segmentation, frames: usize) -> Vec<Option<St
     labels
 }
 
+/// The label rows of take `file` from its frame labels (one row per run of one label; frames
+/// without a label left out): the label CSV the k-NN route trains on.
+pub fn label_rows(file: &str, labels: &[Option<String>]) -> Vec<LabelRow> {
+    runs(labels)
+        .into_iter()
+        .filter_map(|(start, end, label)| {
+            label.map(|label| LabelRow { file: file.to_string(), start_frame: start, end_frame: end, label })
+        })
+        .collect()
+}
+
+/// The runs of equal labels of `labels`: (first frame, last frame, label).
+fn runs(labels: &[Option<String>]) -> Vec<(usize, usize, Option<String>)> {
+    let mut runs: Vec<(usize, usize, Option<String>)> = Vec::new();
+    for (i, l) in labels.iter().enumerate() {
+        match runs.last_mut() {
+            Some(last) if last.2 == *l => last.1 = i,
+            _ => runs.push((i, i, l.clone())),
+        }
+    }
+    runs
+}
+
+/// How labels were carried: by the worker's matching ([`TransferRoute`]) or by a k-NN trained on
+/// the source's labels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Route {
+    Nearest,
+    Clusters,
+    Knn,
+}
+
+impl Route {
+    /// The worker's matching route (`None`: the k-NN's).
+    pub fn transfer(self) -> Option<TransferRoute> {
+        match self {
+            Route::Nearest => Some(TransferRoute::Nearest),
+            Route::Clusters => Some(TransferRoute::Clusters),
+            Route::Knn => None,
+        }
+    }
+
+    /// The value of `#library-route`'s option.
+    pub fn value(self) -> &'static str {
+        match self {
+            Route::Nearest => "nearest",
+            Route::Clusters => "clusters",
+            Route::Knn => "knn",
+        }
+    }
+
+    /// The route of option `value` (anything else: the nearest labelled segment).
+    pub fn from_value(value: &str) -> Route {
+        match value {
+            "clusters" => Route::Clusters,
+            "knn" => Route::Knn,
+            _ => Route::Nearest,
+        }
+    }
+
+    /// How the status names it.
+    pub fn text(self) -> &'static str {
+        match self {
+            Route::Nearest => "nearest labelled segment",
+            Route::Clusters => "shared clusters",
+            Route::Knn => "a k-NN trained on these labels",
+        }
+    }
+}
+
+impl From<TransferRoute> for Route {
+    fn from(route: TransferRoute) -> Route {
+        match route {
+            TransferRoute::Nearest => Route::Nearest,
+            TransferRoute::Clusters => Route::Clusters,
+        }
+    }
+}
+
 /// The labels carried last: from take `source` of the library by `route`, the takes sent (their
 /// library indices, in the order of `transferred`) and each one's labels.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Carried {
-    pub route: TransferRoute,
+    pub route: Route,
     pub source: usize,
     pub takes: Vec<usize>,
     pub transferred: Vec<Transferred>,
 }
 
 impl Carried {
+    /// The labels a k-NN trained on take `source`'s labels (`source_labels`, every frame's; the
+    /// source's segmentation `file` at `fps`) gave the takes `labelled` (library index, the k-NN's
+    /// segmentation of it): each take's segments as the k-NN labelled them (`unknown` where it
+    /// said unknown, its mean probability the confidence), the source keeping its own labels
+    /// (confidence 1, `unknown` where it has none). The source first, then the takes in order.
+    pub fn by_knn(
+        source: usize,
+        file: &str,
+        fps: f64,
+        source_labels: Vec<Option<String>>,
+        labelled: Vec<(usize, Segmentation)>,
+    ) -> Carried {
+        let segments = runs(&source_labels)
+            .into_iter()
+            .map(|(start, end, label)| crate::segment::Segment {
+                start,
+                end,
+                score: label.as_ref().map(|_| 1.0),
+                label: label.unwrap_or_else(|| crate::library::transfer::UNKNOWN.to_string()),
+                level: Level::Action,
+                cluster: None,
+                mirror_of: None,
+                effort: None,
+            })
+            .collect();
+        let own = Segmentation {
+            file: file.to_string(),
+            fps,
+            frames: source_labels.len(),
+            method: TRANSFERRED.into(),
+            params: serde_json::json!({}),
+            segments,
+        };
+        let mut takes = vec![source];
+        let mut transferred = vec![Transferred { segmentation: own, frame_labels: source_labels }];
+        for (i, segmentation) in labelled.into_iter().filter(|(i, _)| *i != source) {
+            let frame_labels = frame_labels(&segmentation, segmentation.frames);
+            takes.push(i);
+            transferred.push(Transferred { segmentation, frame_labels });
+        }
+        Carried { route: Route::Knn, source, takes, transferred }
+    }
+
     /// The labels carried to take `library` (`None`: it was not in the library then).
     pub fn of(&self, library: usize) -> Option<&Transferred> {
         self.takes.iter().position(|&t| t == library).and_then(|i| self.transferred.get(i))
@@ -99,10 +226,7 @@ impl Carried {
         let others: Vec<f64> =
             self.takes.iter().filter(|&&t| t != self.source).filter_map(|&t| self.labelled_share(t)).collect();
         let mean = if others.is_empty() { 0.0 } else { others.iter().sum::<f64>() / others.len() as f64 };
-        let route = match self.route {
-            TransferRoute::Nearest => "nearest labelled segment",
-            TransferRoute::Clusters => "shared clusters",
-        };
+        let route = self.route.text();
         format!(
             "labels of {source_name} carried to {} by {route}: {:.0} % of their frames labelled; takes added later get \
              labels when you carry again",
@@ -168,7 +292,76 @@ mod tests {
             segmentation: segmentation("a.bvh", 4, vec![segment(0, 3, "walk", Level::Action, Some(1.0))]),
             frame_labels: vec![walk; 4],
         };
-        Carried { route: TransferRoute::Nearest, source: 0, takes: vec![0, 2], transferred: vec![source, other] }
+        Carried { route: Route::Nearest, source: 0, takes: vec![0, 2], transferred: vec![source, other] }
+    }
+
+    #[test]
+    fn the_knn_route_trains_on_one_row_per_run_of_the_source_labels() {
+        let l = |s: &str| (!s.is_empty()).then(|| s.to_string());
+        let labels: Vec<Option<String>> = ["", "walk", "walk", "run", "", "", "walk"].iter().map(|s| l(s)).collect();
+        let rows = label_rows("a.bvh", &labels);
+        let got: Vec<(usize, usize, &str)> = rows.iter().map(|r| (r.start_frame, r.end_frame, r.label.as_str())).collect();
+        assert_eq!(got, [(1, 2, "walk"), (3, 3, "run"), (6, 6, "walk")]);
+        assert!(rows.iter().all(|r| r.file == "a.bvh"));
+        assert_eq!(crate::labels::to_csv(&rows), "file,start_frame,end_frame,label\na.bvh,1,2,walk\na.bvh,3,3,run\na.bvh,6,6,walk\n");
+        assert!(label_rows("a.bvh", &[None, None]).is_empty());
+    }
+
+    #[test]
+    fn a_knn_segmentation_becomes_carried_labels_with_its_probability_as_confidence() {
+        let walk = Some("walk".to_string());
+        let source_labels = vec![walk.clone(), walk.clone(), None, Some("run".to_string())];
+        // the k-NN's labelling of take 2: walk (0.9), unknown (0.3), run (0.7)
+        let knn = segmentation(
+            "b.bvh",
+            6,
+            vec![
+                Segment { cluster: Some(0), ..segment(0, 2, "walk", Level::Action, Some(0.9)) },
+                segment(3, 3, "unknown", Level::Action, Some(0.3)),
+                Segment { cluster: Some(1), ..segment(4, 5, "run", Level::Action, Some(0.7)) },
+            ],
+        );
+        // the source itself among the takes the k-NN labelled is left out: it keeps its own labels
+        let c = Carried::by_knn(0, "a.bvh", 30.0, source_labels.clone(), vec![(0, knn.clone()), (2, knn.clone())]);
+        assert_eq!((c.route, c.source, c.takes.clone()), (Route::Knn, 0, vec![0, 2]));
+        let own = c.of(0).unwrap();
+        assert_eq!(own.frame_labels, source_labels);
+        let spans: Vec<(usize, usize, &str, Option<f64>)> =
+            own.segmentation.segments.iter().map(|s| (s.start, s.end, s.label.as_str(), s.score)).collect();
+        assert_eq!(spans, [(0, 1, "walk", Some(1.0)), (2, 2, "unknown", None), (3, 3, "run", Some(1.0))]);
+        assert_eq!((own.segmentation.file.as_str(), own.segmentation.frames), ("a.bvh", 4));
+        // take 2: the k-NN's labels frame by frame, unknown unlabelled
+        let other = c.of(2).unwrap();
+        let want: Vec<Option<String>> =
+            ["walk", "walk", "walk", "", "run", "run"].iter().map(|s| (!s.is_empty()).then(|| s.to_string())).collect();
+        assert_eq!(other.frame_labels, want);
+        assert_eq!(c.labelled_share(2), Some(5.0 / 6.0));
+        assert_eq!(c.take_text(2).as_deref(), Some("83 % labelled"));
+        // its row: my labels' classes, unknown grey, the k-NN's probability as the confidence
+        let row = c.row(2).unwrap();
+        assert_eq!(row.segments.iter().map(|s| s.cluster).collect::<Vec<_>>(), [Some(label_class("walk")), None, Some(label_class("run"))]);
+        assert_eq!(row.segments.iter().map(|s| s.score).collect::<Vec<_>>(), [Some(0.9), Some(0.3), Some(0.7)]);
+        assert_eq!(row.params["route"], "knn");
+        assert_eq!(c.spans(2), [(0, 2, "walk".to_string()), (4, 5, "run".to_string())]);
+        assert!(c.summary("a.bvh").starts_with("labels of a.bvh carried to 1 take by a k-NN trained on these labels: 83 %"));
+        // the CSV saves the source's labels and the k-NN's
+        let own_seg = |file: &str, n| segmentation(file, n, vec![segment(0, n - 1, "C1", Level::Action, None)]);
+        let csv = crate::view::library::library_csv(&export(vec![(0, own_seg("a.bvh", 4)), (2, own_seg("b.bvh", 6))], Some(&c)));
+        assert_eq!(
+            csv,
+            "file,start_frame,end_frame,label\na.bvh,0,1,walk\na.bvh,2,2,unknown\na.bvh,3,3,run\nb.bvh,0,2,walk\n\
+             b.bvh,3,3,unknown\nb.bvh,4,5,run\n"
+        );
+    }
+
+    #[test]
+    fn the_routes_read_and_name_their_choice() {
+        for route in [Route::Nearest, Route::Clusters, Route::Knn] {
+            assert_eq!(Route::from_value(route.value()), route);
+        }
+        assert_eq!(Route::from_value("?"), Route::Nearest);
+        assert_eq!(Route::Knn.transfer(), None);
+        assert_eq!(Route::from(TransferRoute::Clusters).transfer(), Some(TransferRoute::Clusters));
     }
 
     #[test]

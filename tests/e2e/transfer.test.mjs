@@ -4,11 +4,13 @@
 // labels are carried to the other take (status, "% labelled" in the list), which shows them as
 // the timeline's "Transferred" row (the source's classes, confidence in each segment's tooltip);
 // they are copied into my labels there, and the library's CSV saves them; the shared clusters'
-// route carries them too. At both sizes (1024×768, 1440×900) and both themes, one page each.
+// route carries them too, and so does a k-NN trained on them in one click (the k-NN's labels on
+// the other take's Transferred row, the source's classes). At both sizes (1024×768, 1440×900) and both themes, one page each.
 
 import { test } from "node:test";
 import assert from "node:assert/strict";
-import { readFileSync } from "node:fs";
+import { readFileSync, writeFileSync } from "node:fs";
+import os from "node:os";
 import path from "node:path";
 import {
   BASE_URL, FIXTURES, SAMPLE, TIMEOUT, VIEWS, assertClean, atView, closePage, download, openPage, poorContrast, showPanel,
@@ -44,7 +46,8 @@ async function open(page, name) {
 async function carried(page, route) {
   await page.waitForFunction((r) => {
     const t = document.querySelector("#library-carrying")?.textContent ?? "";
-    return t.startsWith("carrying the labels:") || (t.startsWith("labels of") && t.includes(`by ${r}:`));
+    return t.startsWith("carrying the labels:") || t.startsWith("the k-NN was not trained") || t === "carrying cancelled"
+      || (t.startsWith("labels of") && t.includes(`by ${r}:`));
   }, route, { timeout: TIMEOUT });
   return text(page, "#library-carrying");
 }
@@ -126,6 +129,47 @@ for (const view of VIEWS) {
       await page.selectOption("#library-route", "clusters");
       await page.locator("#library-carry:not([disabled])").click();
       assert.match(await carried(page, "shared clusters"), /^labels of sample\.bvh carried to 1 take by shared clusters: \d+ % of their frames labelled/);
+
+      // by a k-NN trained on them in one click: trained (the k-NN panel's training), then 13_31 labelled with it
+      await page.selectOption("#library-route", "knn");
+      await page.locator("#library-carry:not([disabled])").click();
+      assert.match(
+        await carried(page, "a k-NN trained on these labels"),
+        /^labels of sample\.bvh carried to 1 take by a k-NN trained on these labels: \d+ % of their frames labelled/,
+      );
+      assert.ok(await page.locator("#library-carry-cancel").isHidden(), "nothing to cancel once carried");
+      const byKnn = await list(page);
+      assert.match(byKnn[0].carried, /^\d+ % labelled$/, JSON.stringify(byKnn));
+      assert.equal(byKnn[1].carried, "source of the labels");
+      await open(page, "13_31.bvh");
+      await page.locator("#row-transferred .ms-seg").first().waitFor({ timeout: TIMEOUT });
+      const knnSegs = await page.$$eval("#row-transferred .ms-seg", (els) => els.map((e) => ({
+        label: e.dataset.label, score: e.dataset.score, unknown: e.classList.contains("ms-seg--unknown"),
+      })));
+      const knnLabelled = knnSegs.filter((s) => !s.unknown);
+      assert.ok(knnLabelled.length > 0, JSON.stringify(knnSegs));
+      for (const s of knnLabelled) {
+        assert.ok(CLASSES.has(s.label), `${s.label} is a class of the source: ${[...CLASSES]}`);
+        assert.ok(Number(s.score) >= 0 && Number(s.score) <= 1, s.score);
+      }
+      assert.ok(knnSegs.filter((s) => s.unknown).every((s) => s.label === "unknown"), JSON.stringify(knnSegs));
+
+      // a source of one class only: the k-NN's training refuses it, and the section's status says why
+      const oneClass = path.join(os.tmpdir(), `e2e-one-class-${view.viewport.width}-${view.theme}.csv`);
+      writeFileSync(oneClass, `${readFileSync(TRUTH, "utf8").trim().split("\n").slice(0, 2).join("\n")}\n`);
+      await open(page, "sample.bvh");
+      await page.evaluate(() => { document.body.dataset.truth = "pending"; });
+      await page.setInputFiles("#truth-file", oneClass);
+      await waitData(page, "truth", "loaded");
+      await showPanel(page, "library");
+      await page.locator("#library-carry:not([disabled])").click();
+      await page.waitForFunction(
+        () => (document.querySelector("#library-carrying")?.textContent ?? "").startsWith("the k-NN was not trained:"),
+        null, { timeout: TIMEOUT },
+      );
+      assert.match(await text(page, "#library-carrying"), /^the k-NN was not trained: .*at least 2/);
+      assert.ok(await page.locator("#library-carrying.ms-lib-note--failed").isVisible(), "shown as a failure");
+      assert.ok(await page.locator("#library-carry:not([disabled])").isVisible(), "it can be asked again");
 
       const { seen, poor } = await poorContrast(page, ["#tabpanel-library"]);
       assert.ok(seen.length > 5, `the tab's texts were measured: ${seen.length}`);

@@ -5,14 +5,17 @@
 //! Once no take is left to segment, the segmented takes (their features and segmentations, never
 //! their frames) are matched into clusters shared across takes (`library_cluster`), again when
 //! takes are added. The take on screen's labels are carried to the others on request
-//! (`library_transfer`: [`Loader::carry_labels`]).
+//! (`library_transfer`: [`Loader::carry_labels`]), or — the k-NN route — a k-NN is trained on them
+//! (the k-NN panel's training, `train`) and every other take labelled with it (`library_take`,
+//! method `knn`, the model in its params), one after another; [`Loader::cancel_carry`] stops either.
 //! The queue's state is [`crate::view::library::Queue`]; what the page shows is
 //! [`super::super::library`].
 
 use super::super::fetch::blob_bytes;
 use super::super::js_message;
-use super::super::library::Source;
+use super::super::library::{KnnCarry, Source};
 use super::super::motion_image::download;
+use super::super::supervised::TrainAsk;
 use super::{next_id, post_buffers, replace_worker, Inner, Loader};
 use crate::protocol::{ClipTake, FailureKind, Request, Response};
 use crate::library::TakeFeatures;
@@ -80,12 +83,16 @@ impl Loader {
             library.matching.set(Some((true, "matching cancelled".into())));
         }
         // and the carrying of labels
-        let carrying = library.transfer_run.with_value(|r| r.is_some());
-        if carrying {
-            library.transfer_run.set_value(None);
-            library.carrying.set(Some((true, "carrying cancelled".into())));
-        }
+        let carrying = stop_carrying(&self.0);
         if running || matching || carrying {
+            replace_worker(&self.0);
+        }
+    }
+
+    /// Cancels the carrying of labels under way (either route): the worker is replaced when it
+    /// works on it; a k-NN still training stops as the panel's Stop does.
+    pub fn cancel_carry(&self) {
+        if stop_carrying(&self.0) {
             replace_worker(&self.0);
         }
     }
@@ -106,6 +113,9 @@ impl Loader {
             Ok(found) => found,
             Err(why) => return library.carrying.set(Some((true, why))),
         };
+        let Some(route) = library.route.get_untracked().transfer() else {
+            return self.carry_by_knn(source, frame_labels);
+        };
         let (takes, indices) = library.matchable();
         let Some(labelled) = indices.iter().position(|&i| i == source) else {
             let why = "the take on screen has no features to match (not segmented yet, or it lacks hands, feet, head or hips)";
@@ -117,12 +127,70 @@ impl Loader {
         let run = next_id(&self.0);
         library.transfer_run.set_value(Some((run, source, indices)));
         library.carrying.set(Some((false, "carrying the labels…".into())));
-        let route = library.route.get_untracked();
+        library.carry_busy.set(true);
         let request = Request::LibraryTransfer { take: 0, run, takes, labelled, frame_labels, route };
         if let Err(e) = post_buffers(&self.0, &request, js_sys::Array::new()) {
             library.transfer_run.set_value(None);
+            library.carry_busy.set(false);
             library.carrying.set(Some((true, e)));
         }
+    }
+
+    /// The k-NN route: trains the k-NN on take `source`'s `labels` (the take on screen) with the
+    /// k-NN panel's options, then labels every other take of the library with the model
+    /// ([`knn_trained`], [`knn_next`]).
+    fn carry_by_knn(&self, source: usize, labels: Vec<Option<String>>) {
+        let inner = &self.0;
+        let library = inner.state.library;
+        let fail = |why: String| library.carrying.set(Some((true, why)));
+        let Some((index, slot)) = inner.state.methods.iter().enumerate().find(|(_, s)| s.info.name == KNN) else {
+            return fail("this page has no k-NN".into());
+        };
+        let Some(s) = slot.supervised.as_ref() else { return fail("the k-NN cannot be trained here".into()) };
+        if inner.train_job.borrow().is_some() {
+            return fail("a training is under way: carry the labels once it has ended".into());
+        }
+        let todo: Vec<usize> = library.queue.with_untracked(|q| (0..q.entries.len()).filter(|&i| i != source).collect());
+        if todo.is_empty() {
+            return fail("the library has no other take to carry the labels to yet".into());
+        }
+        let Some(file) = inner.shown.borrow().as_ref().map(|t| t.name.clone()) else {
+            return fail("open a take of the library (its name in the list) to carry its labels".into());
+        };
+        let texts: Vec<String> = s.fields.iter().map(|f| f.get_untracked()).collect();
+        let options = match crate::method::form::params_from_form(&slot.info.short, &s.decl.training, &texts) {
+            Ok(options) => options,
+            Err(e) => return fail(format!("the k-NN panel's training options: {e}")),
+        };
+        let rows = crate::view::carry::label_rows(&file, &labels);
+        let fps = inner.state.motion.with_untracked(|m| m.as_ref().map_or(0.0, |m| m.summary.fps));
+        let count = todo.len();
+        library.knn.set_value(Some(KnnCarry {
+            source,
+            file: file.clone(),
+            fps,
+            labels,
+            model: None,
+            todo,
+            running: None,
+            count,
+            done: Vec::new(),
+            failed: Vec::new(),
+        }));
+        library.carry_busy.set(true);
+        library.carrying.set(Some((false, format!("training the k-NN on the labels of {file}…"))));
+        let stem = super::super::motion_image::stem(&file).to_string();
+        self.train(
+            index,
+            TrainAsk {
+                name: format!("{stem}-library-knn"),
+                labels_name: format!("labels of {file}"),
+                labels: crate::labels::to_csv(&rows),
+                extra: Vec::new(),
+                options,
+                continue_from: None,
+            },
+        );
     }
 
     /// Cuts the occurrences `takes` (library index, its segments to cut, each labelled with its
@@ -160,6 +228,152 @@ impl Loader {
     }
 }
 
+/// The k-NN's registry name.
+const KNN: &str = "knn";
+
+/// Ends the carrying under way (either route) as cancelled; whether the worker works on it.
+fn stop_carrying(inner: &Rc<Inner>) -> bool {
+    let library = inner.state.library;
+    let transfer = library.transfer_run.with_value(|r| r.is_some());
+    library.transfer_run.set_value(None);
+    let knn = library.knn.with_value(|k| k.as_ref().map(|k| (k.model.is_none(), k.running.is_some())));
+    library.knn.set_value(None);
+    if let (Some((true, _)), Some(index)) = (knn, knn_slot(inner)) {
+        // still training: stopped as the panel's Stop does (it replaces the worker itself if need be)
+        Loader(inner.clone()).stop_training(index);
+    }
+    if transfer || knn.is_some() {
+        library.carry_busy.set(false);
+        library.carrying.set(Some((true, "carrying cancelled".into())));
+    }
+    transfer || knn.is_some_and(|(_, running)| running)
+}
+
+/// The k-NN's slot.
+fn knn_slot(inner: &Inner) -> Option<usize> {
+    inner.state.methods.iter().position(|s| s.info.name == KNN)
+}
+
+/// The training of method `index` ended (`Ok`: the model's name, stored in the worker): when it
+/// was the k-NN route's, the other takes are labelled with it, or the carrying fails with why.
+pub(super) fn knn_trained(inner: &Rc<Inner>, index: usize, model: Result<String, String>) {
+    let library = inner.state.library;
+    let training = library.knn.with_value(|k| k.as_ref().is_some_and(|k| k.model.is_none()));
+    if !training || knn_slot(inner) != Some(index) {
+        return;
+    }
+    match model {
+        Ok(name) => {
+            library.knn.update_value(|k| {
+                if let Some(k) = k {
+                    k.model = Some(name);
+                }
+            });
+            knn_next(inner);
+        }
+        Err(message) => {
+            library.knn.set_value(None);
+            library.carry_busy.set(false);
+            library.carrying.set(Some((true, format!("the k-NN was not trained: {message}"))));
+        }
+    }
+}
+
+/// Labels the next take of the k-NN route with its model; once none is left, the labels are
+/// carried ([`Carried::by_knn`]).
+fn knn_next(inner: &Rc<Inner>) {
+    let library = inner.state.library;
+    let Some(mut k) = library.knn.get_value() else { return };
+    let Some(model) = k.model.clone() else { return };
+    let Some(i) = (!k.todo.is_empty()).then(|| k.todo.remove(0)) else {
+        library.knn.set_value(None);
+        library.carry_busy.set(false);
+        let name = library.queue.with_untracked(|q| q.entries.get(k.source).map(|e| e.name.clone())).unwrap_or_default();
+        let carried = Carried::by_knn(k.source, &k.file, k.fps, k.labels, k.done);
+        let mut summary = carried.summary(&name);
+        if !k.failed.is_empty() {
+            summary = format!("{summary}; not labelled: {}", k.failed.join("; "));
+        }
+        library.carrying.set(Some((!k.failed.is_empty() && carried.takes.len() < 2, summary)));
+        library.carried.set(Some(Arc::new(carried)));
+        return;
+    };
+    let Some(source) = library.source(i) else {
+        library.knn.set_value(Some(k));
+        return knn_next(inner);
+    };
+    let run = next_id(inner);
+    k.running = Some((run, i));
+    let at = k.count - k.todo.len();
+    let count = k.count;
+    library.knn.set_value(Some(k));
+    let name = source.motion.name();
+    library.carrying.set(Some((false, format!("labelling take {at} of {count} ({name}) with the k-NN…"))));
+    let params = match knn_slot(inner).map(|index| inner.state.methods[index].params()) {
+        Some(Ok(mut params)) => {
+            params["model"] = serde_json::Value::String(model);
+            params
+        }
+        _ => serde_json::json!({ "model": model }),
+    };
+    let inner = inner.clone();
+    wasm_bindgen_futures::spawn_local(async move {
+        let read = read_files(&source).await;
+        // cancelled (or replaced) while the file was read
+        let library = inner.state.library;
+        if library.knn.with_value(|k| k.as_ref().and_then(|k| k.running).map(|(r, _)| r)) != Some(run) {
+            return;
+        }
+        let sent = read.and_then(|buffers| post_buffers(&inner, &take_request(run, &source, KNN.into(), params), buffers));
+        if let Err(e) = sent {
+            knn_took(&inner, run, Err(e));
+        }
+    });
+}
+
+/// Take `source`'s files read again (the motion, then its skeleton) as a request's buffers.
+async fn read_files(source: &Source) -> Result<js_sys::Array, String> {
+    let buffers = js_sys::Array::new();
+    for blob in std::iter::once(&source.motion).chain(source.skeleton.as_ref()) {
+        let bytes = blob_bytes(&Blob::from(blob.clone()))
+            .await
+            .map_err(|e| format!("{}: could not read the file: {e}", blob.name()))?;
+        buffers.push(&bytes);
+    }
+    Ok(buffers)
+}
+
+/// The `library_take` request segmenting take `source` with `method` and `params` as run `run`
+/// (its files' bytes go as buffers).
+fn take_request(run: u32, source: &Source, method: String, params: serde_json::Value) -> Request {
+    Request::LibraryTake {
+        take: 0,
+        run,
+        name: source.motion.name(),
+        bytes: Vec::new(),
+        skeleton: source.skeleton.as_ref().map(File::name),
+        skeleton_bytes: Vec::new(),
+        method,
+        params,
+    }
+}
+
+/// The k-NN route's run `run` labelled its take (or failed): kept, and the next take is sent.
+fn knn_took(inner: &Rc<Inner>, run: u32, outcome: Result<crate::segment::Segmentation, String>) {
+    let library = inner.state.library;
+    let Some(mut k) = library.knn.get_value().filter(|k| k.running.is_some_and(|(r, _)| r == run)) else { return };
+    let Some((_, i)) = k.running.take() else { return };
+    match outcome {
+        Ok(segmentation) => k.done.push((i, segmentation)),
+        Err(message) => {
+            let name = library.queue.with_untracked(|q| q.entries.get(i).map(|e| e.name.clone())).unwrap_or_default();
+            k.failed.push(format!("{name}: {message}"));
+        }
+    }
+    library.knn.set_value(Some(k));
+    knn_next(inner);
+}
+
 /// A dropped or picked file's path within the folder picked (`webkitRelativePath`), else its name.
 fn file_path(file: &File) -> String {
     js_sys::Reflect::get(file, &"webkitRelativePath".into())
@@ -192,30 +406,15 @@ fn send(inner: &Rc<Inner>, run: u32, i: usize) {
     };
     let inner = inner.clone();
     wasm_bindgen_futures::spawn_local(async move {
-        let buffers = js_sys::Array::new();
-        for blob in std::iter::once(&source.motion).chain(source.skeleton.as_ref()) {
-            match blob_bytes(&Blob::from(blob.clone())).await {
-                Ok(bytes) => {
-                    buffers.push(&bytes);
-                }
-                Err(e) => return finish(&inner, run, Err(format!("{}: could not read the file: {e}", blob.name()))),
-            }
-        }
+        let buffers = match read_files(&source).await {
+            Ok(buffers) => buffers,
+            Err(e) => return finish(&inner, run, Err(e)),
+        };
         // cancelled (or replaced) while the file was read
         if library.running.get_value().map(|(r, _)| r) != Some(run) {
             return;
         }
-        let request = Request::LibraryTake {
-            take: 0,
-            run,
-            name: source.motion.name(),
-            bytes: Vec::new(),
-            skeleton: source.skeleton.as_ref().map(File::name),
-            skeleton_bytes: Vec::new(),
-            method,
-            params,
-        };
-        if let Err(e) = post_buffers(&inner, &request, buffers) {
+        if let Err(e) = post_buffers(&inner, &take_request(run, &source, method, params), buffers) {
             finish(&inner, run, Err(e));
         }
     });
@@ -280,7 +479,20 @@ pub(super) fn resend(inner: &Rc<Inner>) {
     }
     if library.transfer_run.with_value(|r| r.is_some()) {
         library.transfer_run.set_value(None);
+        library.carry_busy.set(false);
         library.carrying.set(Some((true, "the worker was restarted: carry the labels again".into())));
+    }
+    // the k-NN route labelling a take: its model was kept by the page (given to the new worker),
+    // so the take is sent again
+    let relabel = library.knn.with_value(|k| k.as_ref().and_then(|k| k.running.map(|(_, i)| i)));
+    if let Some(i) = relabel {
+        library.knn.update_value(|k| {
+            if let Some(k) = k {
+                k.running = None;
+                k.todo.insert(0, i);
+            }
+        });
+        knn_next(inner);
     }
 }
 
@@ -291,7 +503,21 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
     let clip_run = library.clip_run.get_value();
     let cluster_run = library.cluster_run.with_value(|r| r.as_ref().map(|(run, _)| *run));
     let transfer_run = library.transfer_run.with_value(|r| r.as_ref().map(|(run, _, _)| *run));
+    let knn_run = library.knn.with_value(|k| k.as_ref().and_then(|k| k.running.map(|(run, _)| run)));
     match response {
+        Response::Progress { run: Some(run), fraction, .. } if knn_run == Some(run) => {
+            let (at, count) = library.knn.with_value(|k| k.as_ref().map_or((0, 0), |k| (k.count - k.todo.len(), k.count)));
+            let percent = fraction.unwrap_or(0.0) * 100.0;
+            library.carrying.set(Some((false, format!("labelling take {at} of {count} with the k-NN… {percent:.0} %"))));
+        }
+        Response::LibraryTake { run, segmentation, .. } if knn_run == Some(run) => knn_took(inner, run, Ok(*segmentation)),
+        Response::Refused { run, message, .. } if knn_run == Some(run) => knn_took(inner, run, Err(message)),
+        Response::Failed { run: Some(run), message, kind, .. } if knn_run == Some(run) => {
+            knn_took(inner, run, Err(message));
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
+            }
+        }
         Response::Progress { run: Some(run), stage, fraction, .. } if running.is_some_and(|(r, _)| r == run) => {
             let i = running.map_or(0, |(_, i)| i);
             library.queue.update(|q| q.progress(i, &stage, fraction.unwrap_or(0.0)));
@@ -307,13 +533,15 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
         Response::LibraryTransferred { run, transfer, .. } if transfer_run == Some(run) => {
             let Some((_, source, takes)) = library.transfer_run.get_value() else { return None };
             library.transfer_run.set_value(None);
-            let carried = Carried { route: transfer.route, source, takes, transferred: transfer.takes };
+            library.carry_busy.set(false);
+            let carried = Carried { route: transfer.route.into(), source, takes, transferred: transfer.takes };
             let name = library.queue.with_untracked(|q| q.entries.get(source).map(|e| e.name.clone())).unwrap_or_default();
             library.carrying.set(Some((false, carried.summary(&name))));
             library.carried.set(Some(Arc::new(carried)));
         }
         Response::Failed { run: Some(run), message, kind, .. } if transfer_run == Some(run) => {
             library.transfer_run.set_value(None);
+            library.carry_busy.set(false);
             library.carrying.set(Some((true, message)));
             if kind == FailureKind::Internal {
                 replace_worker(inner);
