@@ -129,10 +129,13 @@ check-toolchain:
 # dist/.wasm-sum records the checksum of the wasm it was made from: an unchanged build skips
 # wasm-bindgen and wasm-opt (the slow part) and only refreshes the static files.
 # dist/sw.js (the service worker, from www/sw.js) lists every file with its sha256: its version.
+# scripts/wasm-symbols.py fails the build when a symbol of the library outgrows what rustc's LTO can read back
+# (the wasm tests link that library; see the script).
 web: check-toolchain
 	$(CARGO) build $(WASM_CARGO_FLAGS) --lib --profile $(WASM_PROFILE) --target $(WASM_TARGET) --features web
 	@tdir=$$($(CARGO) metadata --format-version 1 --no-deps | python3 -c 'import json,sys; print(json.load(sys.stdin)["target_directory"])'); \
 	wasm="$$tdir/$(WASM_TARGET)/$(WASM_PROFILE)/$(CRATE).wasm"; \
+	python3 scripts/wasm-symbols.py "$$tdir/$(WASM_TARGET)/$(WASM_PROFILE)/deps/lib$(CRATE).rlib" || exit 1; \
 	sum=$$(sha256sum "$$wasm" | cut -d' ' -f1); \
 	if [ -f $(DIST)/.wasm-sum ] && [ "$$(cat $(DIST)/.wasm-sum)" = "$$sum" ] && [ -f $(DIST)/pkg/$(CRATE)_bg.wasm ]; then \
 		echo "$(DIST)/pkg is up to date with $$wasm"; \

@@ -328,6 +328,31 @@ pub fn Timeline(state: AppState) -> impl IntoView {
         r => format!("▶ {r}×"),
     };
 
+    // The rows and the tools below them are type-erased (`into_any`): as one static view type the timeline's
+    // drop glue got a symbol name over 100,000 bytes, which rustc's LTO cannot read back from the library's wasm
+    // object ("failed to get bitcode from object file for LTO (Invalid Wasm linking symbol)"), so the wasm test
+    // binary did not link. `scripts/wasm-symbols.py` (run by `make web`) watches that length.
+    let rows = view! {
+        <div id="timeline-rows" class="ms-timeline-rows" node_ref=rows_ref>
+            <TruthRow state=state/>
+            <MethodRows state=state/>
+            <ConsensusLane row=agreed/>
+            <MyLabelsRow mine=mine/>
+            <super::library::LibraryRow state=state/>
+            <super::library::TransferredRow state=state/>
+        </div>
+    }
+    .into_any();
+    let row_tools = view! {
+        <ConsensusTools row=agreed/>
+        <MyLabelsTools mine=mine/>
+    }
+    .into_any();
+    let overlays = view! {
+        <HelpOverlay state=state/>
+        <SegmentMenu state=state mine=mine rows=rows_ref/>
+    }
+    .into_any();
     view! {
         <section
             id="timeline"
@@ -407,19 +432,11 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                         </div>
                     </div>
                     // Segmentation rows, one per level of each method.
-                    <div id="timeline-rows" class="ms-timeline-rows" node_ref=rows_ref>
-                        <TruthRow state=state/>
-                        <MethodRows state=state/>
-                        <ConsensusLane row=agreed/>
-                        <MyLabelsRow mine=mine/>
-                        <super::library::LibraryRow state=state/>
-                        <super::library::TransferredRow state=state/>
-                    </div>
+                    {rows}
                 </div>
                 <div id="playhead" class="ms-playhead" style:left=move || lane_left(playhead_fraction()) hidden=playhead_hidden></div>
             </div>
-            <ConsensusTools row=agreed/>
-            <MyLabelsTools mine=mine/>
+            {row_tools}
             <div class="ms-tl-line ms-tl-line--minimap">
                 <div class="ms-tl-label">"Whole take"</div>
                 <div
@@ -454,8 +471,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
             >
                 {move || hover.with(|h| h.as_ref().map(|h| h.2.clone()).unwrap_or_default())}
             </div>
-            <HelpOverlay state=state/>
-            <SegmentMenu state=state mine=mine rows=rows_ref/>
+            {overlays}
         </section>
     }
 }
