@@ -526,6 +526,10 @@ pub enum Response {
         duration_s: f64,
         segmentation: Box<Segmentation>,
         features: Result<Box<crate::library::TakeFeatures>, String>,
+        /// Why the take does not fit the run's model, when a supervised method's fit check says so (every frame
+        /// is then unknown); `None` when it fits or no check was made.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        misfit: Option<String>,
     },
     /// A `library_cluster`: the clusters shared across the takes, in the order they were sent.
     LibraryClusters {

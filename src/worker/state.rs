@@ -268,6 +268,7 @@ impl WorkerState {
                 run,
                 frames: motion.frames(),
                 duration_s: motion.duration_s(),
+                misfit: output.details.take_fit.filter(|f| !f.fits).map(|f| f.reason),
                 segmentation: Box::new(output.segmentation),
                 features: crate::library::TakeFeatures::of(&motion, &crate::library::LibraryParams::default())
                     .map(Box::new)
@@ -742,6 +743,27 @@ mod tests {
             features.push(f);
         }
         assert_eq!(w.held(), Some(1), "the take on screen stays held");
+        // a supervised method whose model does not fit a take says why beside its (all unknown) labels; SSSM has no
+        // such check, and a run with the check off labels the take as it is
+        let walk = || include_bytes!("../../tests/fixtures/02_02.bvh").to_vec();
+        let labelled = |run, with| {
+            let mut request = library(5, run, "02_02.bvh", walk(), None);
+            if let Request::LibraryTake { method, params, .. } = &mut request {
+                (*method, *params) = ("dtfcn".into(), with);
+            }
+            request
+        };
+        let mut misfit = |request| match ask(&mut w, request).pop() {
+            Some(Response::LibraryTake { misfit, segmentation, .. }) => (misfit, segmentation),
+            other => panic!("{other:?}"),
+        };
+        let (why, segmentation) = misfit(labelled(9, serde_json::json!({"model": "exercises"})));
+        assert!(why.as_deref().is_some_and(|w| w.contains("travel faster")), "{why:?}");
+        assert!(segmentation.segments.iter().all(|s| s.label == "unknown"));
+        let (why, segmentation) = misfit(labelled(10, serde_json::json!({"model": "exercises", "fit_check": false})));
+        assert_eq!(why, None);
+        assert!(segmentation.segments.iter().any(|s| s.label != "unknown"));
+        assert!(took.iter().all(|s| s.method == "sssm"));
         // the two takes matched: clusters shared across them, occurrences inside their takes
         let matched: Vec<crate::library::LibraryTake> = features
             .into_iter()
