@@ -20,8 +20,8 @@
 //! `#library-export-clips` every cluster's (`#library-origin`: each clip at the origin).
 //!
 //! "Carry labels" ([`Carry`]): the take on screen's my labels (else its ground truth) carried to every
-//! take by `#library-route` (`library_transfer`; or `knn`: a k-NN trained on them labels every
-//! other take, `#library-carry-cancel` stopping either); each take of the list then says its labelled share
+//! take by `#library-route` (`library_transfer`; or `knn` / `dtfcn`: a k-NN or a DT-FCN trained on them, with
+//! that panel's training options, labels every other take; `#library-carry-cancel` stopping any); each take of the list then says its labelled share
 //! (`.ms-lib-carried`), the timeline's `#row-transferred` ("Transferred") shows a take's carried
 //! labels, `#library-copy-carried` copies them into my labels, and the CSV saves them
 //! ([`crate::view::carry`]). The state
@@ -88,8 +88,8 @@ pub struct LibraryState {
     playing: StoredValue<bool>,
     /// How labels are carried across the library.
     pub route: RwSignal<Route>,
-    /// The carrying by a k-NN trained on the source's labels, under way.
-    pub knn: StoredValue<Option<KnnCarry>>,
+    /// The carrying by a supervised method (k-NN or DT-FCN) trained on the source's labels, under way.
+    pub by_model: StoredValue<Option<ModelCarry>>,
     /// A carrying (either route) is under way (`#library-carry-cancel` shown).
     pub carry_busy: RwSignal<bool>,
     /// The labels carried last.
@@ -102,11 +102,13 @@ pub struct LibraryState {
     pub copy_asked: RwSignal<u32>,
 }
 
-/// The carrying by a k-NN trained on the take on screen's labels: first the training (the k-NN
-/// panel's, its model kept as the panel keeps it), then every other take labelled with the model,
-/// one after another (`library_take`, method `knn`).
+/// The carrying by a supervised method (`route`: the k-NN or DT-FCN) trained on the take on screen's labels: first
+/// the training (the method panel's, its model kept as the panel keeps it), then every other take labelled with
+/// the model, one after another (`library_take` with that method).
 #[derive(Debug, Clone)]
-pub struct KnnCarry {
+pub struct ModelCarry {
+    /// The route, and so the method trained.
+    pub route: Route,
     /// The source take (library index), its file name, fps and every frame's label.
     pub source: usize,
     pub file: String,
@@ -118,9 +120,11 @@ pub struct KnnCarry {
     pub todo: Vec<usize>,
     pub running: Option<(RunId, usize)>,
     pub count: usize,
-    /// The takes labelled (library index, the k-NN's segmentation) and those that failed.
+    /// The takes labelled (library index, the method's segmentation) and those that failed.
     pub done: Vec<(usize, crate::segment::Segmentation)>,
     pub failed: Vec<String>,
+    /// The takes the model does not fit ("name: why"): labelled unknown by the method's fit check.
+    pub misfits: Vec<String>,
 }
 
 impl std::fmt::Debug for LibraryState {
@@ -148,7 +152,7 @@ impl LibraryState {
             pending: StoredValue::new(None),
             playing: StoredValue::new(false),
             route: RwSignal::new(Route::Nearest),
-            knn: StoredValue::new(None),
+            by_model: StoredValue::new(None),
             carry_busy: RwSignal::new(false),
             carried: RwSignal::new(None),
             transfer_run: StoredValue::new(None),
@@ -411,6 +415,7 @@ fn Carry(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl Int
                         <option value="nearest">"nearest labelled segment"</option>
                         <option value="clusters">"shared clusters"</option>
                         <option value="knn">"a k-NN trained on these labels"</option>
+                        <option value="dtfcn">"a DT-FCN trained on these labels"</option>
                     </select>
                 </label>
                 <button

@@ -4,9 +4,9 @@
 //! "Transferred" timeline row, the spans "Copy into my labels" copies) and which segmentation of each
 //! take the library's "Labels CSV (all takes)" saves ([`export`]). The page
 //! (`crate::app::library`) asks the worker and draws; everything it decides is here, tested natively.
-//! The third route, [`Route::Knn`], trains the k-NN on the source's labels ([`label_rows`]: the
-//! label CSV it trains on) and labels every other take with it; [`Carried::by_knn`] turns those
-//! k-NN segmentations into carried labels like the other routes'.
+//! The two other routes, [`Route::Knn`] and [`Route::Dtfcn`], train that supervised method on the source's labels
+//! ([`label_rows`]: the label CSV it trains on) and label every other take with it; [`Carried::by_model`] turns
+//! those segmentations into carried labels like the matching routes'.
 
 use crate::labels::LabelRow;
 use crate::library::{TransferRoute, Transferred};
@@ -54,23 +54,33 @@ fn runs(labels: &[Option<String>]) -> Vec<(usize, usize, Option<String>)> {
     runs
 }
 
-/// How labels were carried: by the worker's matching ([`TransferRoute`]) or by a k-NN trained on
-/// the source's labels.
+/// How labels were carried: by the worker's matching ([`TransferRoute`]) or by a supervised method (the k-NN or
+/// DT-FCN) trained on the source's labels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Route {
     Nearest,
     Clusters,
     Knn,
+    Dtfcn,
 }
 
 impl Route {
-    /// The worker's matching route (`None`: the k-NN's).
+    /// The worker's matching route (`None`: a supervised method's).
     pub fn transfer(self) -> Option<TransferRoute> {
         match self {
             Route::Nearest => Some(TransferRoute::Nearest),
             Route::Clusters => Some(TransferRoute::Clusters),
-            Route::Knn => None,
+            Route::Knn | Route::Dtfcn => None,
+        }
+    }
+
+    /// The registry name of the supervised method trained on the labels (`None`: a matching route).
+    pub fn method(self) -> Option<&'static str> {
+        match self {
+            Route::Knn => Some("knn"),
+            Route::Dtfcn => Some("dtfcn"),
+            Route::Nearest | Route::Clusters => None,
         }
     }
 
@@ -80,6 +90,7 @@ impl Route {
             Route::Nearest => "nearest",
             Route::Clusters => "clusters",
             Route::Knn => "knn",
+            Route::Dtfcn => "dtfcn",
         }
     }
 
@@ -88,6 +99,7 @@ impl Route {
         match value {
             "clusters" => Route::Clusters,
             "knn" => Route::Knn,
+            "dtfcn" => Route::Dtfcn,
             _ => Route::Nearest,
         }
     }
@@ -98,6 +110,7 @@ impl Route {
             Route::Nearest => "nearest labelled segment",
             Route::Clusters => "shared clusters",
             Route::Knn => "a k-NN trained on these labels",
+            Route::Dtfcn => "a DT-FCN trained on these labels",
         }
     }
 }
@@ -122,12 +135,13 @@ pub struct Carried {
 }
 
 impl Carried {
-    /// The labels a k-NN trained on take `source`'s labels (`source_labels`, every frame's; the
-    /// source's segmentation `file` at `fps`) gave the takes `labelled` (library index, the k-NN's
-    /// segmentation of it): each take's segments as the k-NN labelled them (`unknown` where it
-    /// said unknown, its mean probability the confidence), the source keeping its own labels
+    /// The labels a supervised method (`route`: the k-NN or DT-FCN) trained on take `source`'s labels
+    /// (`source_labels`, every frame's; the source's segmentation `file` at `fps`) gave the takes `labelled`
+    /// (library index, the method's segmentation of it): each take's segments as the method labelled them
+    /// (`unknown` where it said unknown, its mean probability the confidence), the source keeping its own labels
     /// (confidence 1, `unknown` where it has none). The source first, then the takes in order.
-    pub fn by_knn(
+    pub fn by_model(
+        route: Route,
         source: usize,
         file: &str,
         fps: f64,
@@ -162,7 +176,7 @@ impl Carried {
             takes.push(i);
             transferred.push(Transferred { segmentation, frame_labels });
         }
-        Carried { route: Route::Knn, source, takes, transferred }
+        Carried { route, source, takes, transferred }
     }
 
     /// The labels carried to take `library` (`None`: it was not in the library then).
@@ -233,6 +247,24 @@ impl Carried {
             crate::method::counted(others.len(), "take"),
             mean * 100.0
         )
+    }
+
+    /// [`Carried::summary`] of a supervised route whose method is `short` (DT-FCN), followed by the takes its model
+    /// does not fit (`misfits`, "name: why": the method's fit check labelled them unknown, which its panel's
+    /// `fit_check` turns off) and those that could not be labelled (`failed`, "name: why").
+    pub fn model_summary(&self, source_name: &str, short: &str, misfits: &[String], failed: &[String]) -> String {
+        let mut summary = self.summary(source_name);
+        if !misfits.is_empty() {
+            summary = format!(
+                "{summary}; all unknown where the model does not fit (the {short} panel's fit_check off labels them \
+                 anyway): {}",
+                misfits.join("; ")
+            );
+        }
+        if !failed.is_empty() {
+            summary = format!("{summary}; not labelled: {}", failed.join("; "));
+        }
+        summary
     }
 }
 
@@ -322,7 +354,7 @@ mod tests {
             ],
         );
         // the source itself among the takes the k-NN labelled is left out: it keeps its own labels
-        let c = Carried::by_knn(0, "a.bvh", 30.0, source_labels.clone(), vec![(0, knn.clone()), (2, knn.clone())]);
+        let c = Carried::by_model(Route::Knn, 0, "a.bvh", 30.0, source_labels.clone(), vec![(0, knn.clone()), (2, knn.clone())]);
         assert_eq!((c.route, c.source, c.takes.clone()), (Route::Knn, 0, vec![0, 2]));
         let own = c.of(0).unwrap();
         assert_eq!(own.frame_labels, source_labels);
@@ -344,6 +376,16 @@ mod tests {
         assert_eq!(row.params["route"], "knn");
         assert_eq!(c.spans(2), [(0, 2, "walk".to_string()), (4, 5, "run".to_string())]);
         assert!(c.summary("a.bvh").starts_with("labels of a.bvh carried to 1 take by a k-NN trained on these labels: 83 %"));
+        assert_eq!(c.model_summary("a.bvh", "k-NN", &[], &[]), c.summary("a.bvh"));
+        let told = c.model_summary("a.bvh", "k-NN", &["b.bvh: it jogs".into()], &["c.bvh: not a BVH".into()]);
+        assert!(
+            told.starts_with(&c.summary("a.bvh"))
+                && told.ends_with(
+                    "; all unknown where the model does not fit (the k-NN panel's fit_check off labels them anyway): \
+                     b.bvh: it jogs; not labelled: c.bvh: not a BVH"
+                ),
+            "{told}"
+        );
         // the CSV saves the source's labels and the k-NN's
         let own_seg = |file: &str, n| segmentation(file, n, vec![segment(0, n - 1, "C1", Level::Action, None)]);
         let csv = crate::view::library::library_csv(&export(vec![(0, own_seg("a.bvh", 4)), (2, own_seg("b.bvh", 6))], Some(&c)));
@@ -356,11 +398,20 @@ mod tests {
 
     #[test]
     fn the_routes_read_and_name_their_choice() {
-        for route in [Route::Nearest, Route::Clusters, Route::Knn] {
+        for route in [Route::Nearest, Route::Clusters, Route::Knn, Route::Dtfcn] {
             assert_eq!(Route::from_value(route.value()), route);
+            // a route either matches in the worker or trains a method, never both
+            assert!(route.transfer().is_some() != route.method().is_some());
         }
         assert_eq!(Route::from_value("?"), Route::Nearest);
         assert_eq!(Route::Knn.transfer(), None);
+        assert_eq!((Route::Knn.method(), Route::Dtfcn.method()), (Some("knn"), Some("dtfcn")));
+        // every supervised route names a method of the registry that can be trained
+        for route in [Route::Knn, Route::Dtfcn] {
+            let name = route.method().unwrap();
+            let method = crate::methods::find(name).unwrap_or_else(|e| panic!("{name} is registered: {e}"));
+            assert!(method.supervised().is_some(), "{name} can be trained");
+        }
         assert_eq!(Route::from(TransferRoute::Clusters).transfer(), Some(TransferRoute::Clusters));
     }
 

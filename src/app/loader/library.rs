@@ -5,21 +5,21 @@
 //! Once no take is left to segment, the segmented takes (their features and segmentations, never
 //! their frames) are matched into clusters shared across takes (`library_cluster`), again when
 //! takes are added. The take on screen's labels are carried to the others on request
-//! (`library_transfer`: [`Loader::carry_labels`]), or — the k-NN route — a k-NN is trained on them
-//! (the k-NN panel's training, `train`) and every other take labelled with it (`library_take`,
-//! method `knn`, the model in its params), one after another; [`Loader::cancel_carry`] stops either.
+//! (`library_transfer`: [`Loader::carry_labels`]), or — the k-NN and DT-FCN routes — that method is trained on
+//! them (its panel's training, `train`) and every other take labelled with it (`library_take`, the model in its
+//! params), one after another; [`Loader::cancel_carry`] stops any.
 //! The queue's state is [`crate::view::library::Queue`]; what the page shows is
 //! [`super::super::library`].
 
 use super::super::fetch::blob_bytes;
 use super::super::js_message;
-use super::super::library::{KnnCarry, Source};
+use super::super::library::{ModelCarry, Source};
 use super::super::motion_image::download;
 use super::super::supervised::TrainAsk;
 use super::{next_id, post_buffers, replace_worker, Inner, Loader};
 use crate::protocol::{ClipTake, FailureKind, Request, Response};
 use crate::library::TakeFeatures;
-use crate::view::carry::Carried;
+use crate::view::carry::{Carried, Route};
 use crate::view::library::{group_files, Shared};
 use std::sync::Arc;
 use leptos::prelude::*;
@@ -35,8 +35,8 @@ impl Loader {
         let (takes, refused) = group_files(&refs);
         if takes.len() < 2 {
             let library = self.0.state.library;
-            if takes.len() == 1 && files.len() > 2 {
-                // a folder holding one take (and other files): that take
+            if takes.len() == 1 && files.len() >= 2 {
+                // a folder or a selection holding one take (and other files, e.g. a BVH with its README): that take
                 let t = takes[0];
                 let mut one = vec![files[t.motion].clone()];
                 one.extend(t.skeleton.map(|s| files[s].clone()));
@@ -90,7 +90,7 @@ impl Loader {
     }
 
     /// Cancels the carrying of labels under way (either route): the worker is replaced when it
-    /// works on it; a k-NN still training stops as the panel's Stop does.
+    /// works on it; a method still training stops as its panel's Stop does.
     pub fn cancel_carry(&self) {
         if stop_carrying(&self.0) {
             replace_worker(&self.0);
@@ -113,8 +113,9 @@ impl Loader {
             Ok(found) => found,
             Err(why) => return library.carrying.set(Some((true, why))),
         };
-        let Some(route) = library.route.get_untracked().transfer() else {
-            return self.carry_by_knn(source, frame_labels);
+        let chosen = library.route.get_untracked();
+        let Some(route) = chosen.transfer() else {
+            return self.carry_by_model(chosen, source, frame_labels);
         };
         let (takes, indices) = library.matchable();
         let Some(labelled) = indices.iter().position(|&i| i == source) else {
@@ -136,17 +137,19 @@ impl Loader {
         }
     }
 
-    /// The k-NN route: trains the k-NN on take `source`'s `labels` (the take on screen) with the
-    /// k-NN panel's options, then labels every other take of the library with the model
-    /// ([`knn_trained`], [`knn_next`]).
-    fn carry_by_knn(&self, source: usize, labels: Vec<Option<String>>) {
+    /// A supervised route (`route`: the k-NN or DT-FCN): trains that method on take `source`'s `labels` (the take on
+    /// screen) with its panel's training options, then labels every other take of the library with the model
+    /// ([`model_trained`], [`model_next`]).
+    fn carry_by_model(&self, route: Route, source: usize, labels: Vec<Option<String>>) {
         let inner = &self.0;
         let library = inner.state.library;
         let fail = |why: String| library.carrying.set(Some((true, why)));
-        let Some((index, slot)) = inner.state.methods.iter().enumerate().find(|(_, s)| s.info.name == KNN) else {
-            return fail("this page has no k-NN".into());
+        let Some(method) = route.method() else { return };
+        let Some((index, slot)) = inner.state.methods.iter().enumerate().find(|(_, s)| s.info.name == method) else {
+            return fail(format!("this page has no {method}"));
         };
-        let Some(s) = slot.supervised.as_ref() else { return fail("the k-NN cannot be trained here".into()) };
+        let title = slot.info.short.clone();
+        let Some(s) = slot.supervised.as_ref() else { return fail(format!("the {title} cannot be trained here")) };
         if inner.train_job.borrow().is_some() {
             return fail("a training is under way: carry the labels once it has ended".into());
         }
@@ -160,12 +163,13 @@ impl Loader {
         let texts: Vec<String> = s.fields.iter().map(|f| f.get_untracked()).collect();
         let options = match crate::method::form::params_from_form(&slot.info.short, &s.decl.training, &texts) {
             Ok(options) => options,
-            Err(e) => return fail(format!("the k-NN panel's training options: {e}")),
+            Err(e) => return fail(format!("the {title} panel's training options: {e}")),
         };
         let rows = crate::view::carry::label_rows(&file, &labels);
         let fps = inner.state.motion.with_untracked(|m| m.as_ref().map_or(0.0, |m| m.summary.fps));
         let count = todo.len();
-        library.knn.set_value(Some(KnnCarry {
+        library.by_model.set_value(Some(ModelCarry {
+            route,
             source,
             file: file.clone(),
             fps,
@@ -176,14 +180,15 @@ impl Loader {
             count,
             done: Vec::new(),
             failed: Vec::new(),
+            misfits: Vec::new(),
         }));
         library.carry_busy.set(true);
-        library.carrying.set(Some((false, format!("training the k-NN on the labels of {file}…"))));
+        library.carrying.set(Some((false, format!("training the {title} on the labels of {file}…"))));
         let stem = super::super::motion_image::stem(&file).to_string();
         self.train(
             index,
             TrainAsk {
-                name: format!("{stem}-library-knn"),
+                name: format!("{stem}-library-{method}"),
                 labels_name: format!("labels of {file}"),
                 labels: crate::labels::to_csv(&rows),
                 extra: Vec::new(),
@@ -228,105 +233,110 @@ impl Loader {
     }
 }
 
-/// The k-NN's registry name.
-const KNN: &str = "knn";
-
 /// Ends the carrying under way (either route) as cancelled; whether the worker works on it.
 fn stop_carrying(inner: &Rc<Inner>) -> bool {
     let library = inner.state.library;
     let transfer = library.transfer_run.with_value(|r| r.is_some());
     library.transfer_run.set_value(None);
-    let knn = library.knn.with_value(|k| k.as_ref().map(|k| (k.model.is_none(), k.running.is_some())));
-    library.knn.set_value(None);
-    if let (Some((true, _)), Some(index)) = (knn, knn_slot(inner)) {
-        // still training: stopped as the panel's Stop does (it replaces the worker itself if need be)
-        Loader(inner.clone()).stop_training(index);
+    let by_model =
+        library.by_model.with_value(|k| k.as_ref().map(|k| (k.model.is_none(), k.running.is_some(), k.route)));
+    library.by_model.set_value(None);
+    if let Some((true, _, route)) = by_model {
+        if let Some(index) = model_slot(inner, route) {
+            // still training: stopped as the panel's Stop does (it replaces the worker itself if need be)
+            Loader(inner.clone()).stop_training(index);
+        }
     }
-    if transfer || knn.is_some() {
+    if transfer || by_model.is_some() {
         library.carry_busy.set(false);
         library.carrying.set(Some((true, "carrying cancelled".into())));
     }
-    transfer || knn.is_some_and(|(_, running)| running)
+    transfer || by_model.is_some_and(|(_, running, _)| running)
 }
 
-/// The k-NN's slot.
-fn knn_slot(inner: &Inner) -> Option<usize> {
-    inner.state.methods.iter().position(|s| s.info.name == KNN)
+/// The slot of the method a supervised route trains.
+fn model_slot(inner: &Inner, route: Route) -> Option<usize> {
+    let method = route.method()?;
+    inner.state.methods.iter().position(|s| s.info.name == method)
 }
 
 /// The training of method `index` ended (`Ok`: the model's name, stored in the worker): when it
-/// was the k-NN route's, the other takes are labelled with it, or the carrying fails with why.
-pub(super) fn knn_trained(inner: &Rc<Inner>, index: usize, model: Result<String, String>) {
+/// was a supervised route's, the other takes are labelled with it, or the carrying fails with why.
+pub(super) fn model_trained(inner: &Rc<Inner>, index: usize, model: Result<String, String>) {
     let library = inner.state.library;
-    let training = library.knn.with_value(|k| k.as_ref().is_some_and(|k| k.model.is_none()));
-    if !training || knn_slot(inner) != Some(index) {
+    let Some(route) = library.by_model.with_value(|k| k.as_ref().filter(|k| k.model.is_none()).map(|k| k.route)) else {
+        return;
+    };
+    if model_slot(inner, route) != Some(index) {
         return;
     }
+    let title = inner.state.methods[index].info.short.clone();
     match model {
         Ok(name) => {
-            library.knn.update_value(|k| {
+            library.by_model.update_value(|k| {
                 if let Some(k) = k {
                     k.model = Some(name);
                 }
             });
-            knn_next(inner);
+            model_next(inner);
         }
         Err(message) => {
-            library.knn.set_value(None);
+            library.by_model.set_value(None);
             library.carry_busy.set(false);
-            library.carrying.set(Some((true, format!("the k-NN was not trained: {message}"))));
+            library.carrying.set(Some((true, format!("the {title} was not trained: {message}"))));
         }
     }
 }
 
-/// Labels the next take of the k-NN route with its model; once none is left, the labels are
-/// carried ([`Carried::by_knn`]).
-fn knn_next(inner: &Rc<Inner>) {
+/// Labels the next take of a supervised route with its model; once none is left, the labels are
+/// carried ([`Carried::by_model`]).
+fn model_next(inner: &Rc<Inner>) {
     let library = inner.state.library;
-    let Some(mut k) = library.knn.get_value() else { return };
+    let Some(mut k) = library.by_model.get_value() else { return };
     let Some(model) = k.model.clone() else { return };
+    let Some(index) = model_slot(inner, k.route) else { return };
     let Some(i) = (!k.todo.is_empty()).then(|| k.todo.remove(0)) else {
-        library.knn.set_value(None);
+        library.by_model.set_value(None);
         library.carry_busy.set(false);
         let name = library.queue.with_untracked(|q| q.entries.get(k.source).map(|e| e.name.clone())).unwrap_or_default();
-        let carried = Carried::by_knn(k.source, &k.file, k.fps, k.labels, k.done);
-        let mut summary = carried.summary(&name);
-        if !k.failed.is_empty() {
-            summary = format!("{summary}; not labelled: {}", k.failed.join("; "));
-        }
+        let carried = Carried::by_model(k.route, k.source, &k.file, k.fps, k.labels, k.done);
+        let short = inner.state.methods[index].info.short.clone();
+        let summary = carried.model_summary(&name, &short, &k.misfits, &k.failed);
         library.carrying.set(Some((!k.failed.is_empty() && carried.takes.len() < 2, summary)));
         library.carried.set(Some(Arc::new(carried)));
         return;
     };
     let Some(source) = library.source(i) else {
-        library.knn.set_value(Some(k));
-        return knn_next(inner);
+        library.by_model.set_value(Some(k));
+        return model_next(inner);
     };
     let run = next_id(inner);
     k.running = Some((run, i));
     let at = k.count - k.todo.len();
     let count = k.count;
-    library.knn.set_value(Some(k));
+    library.by_model.set_value(Some(k));
     let name = source.motion.name();
-    library.carrying.set(Some((false, format!("labelling take {at} of {count} ({name}) with the k-NN…"))));
-    let params = match knn_slot(inner).map(|index| inner.state.methods[index].params()) {
-        Some(Ok(mut params)) => {
+    let slot = &inner.state.methods[index];
+    let (method, title) = (slot.info.name.clone(), slot.info.short.clone());
+    library.carrying.set(Some((false, format!("labelling take {at} of {count} ({name}) with the {title}…"))));
+    let params = match slot.params() {
+        Ok(mut params) => {
             params["model"] = serde_json::Value::String(model);
             params
         }
-        _ => serde_json::json!({ "model": model }),
+        Err(_) => serde_json::json!({ "model": model }),
     };
     let inner = inner.clone();
     wasm_bindgen_futures::spawn_local(async move {
         let read = read_files(&source).await;
         // cancelled (or replaced) while the file was read
         let library = inner.state.library;
-        if library.knn.with_value(|k| k.as_ref().and_then(|k| k.running).map(|(r, _)| r)) != Some(run) {
+        if library.by_model.with_value(|k| k.as_ref().and_then(|k| k.running).map(|(r, _)| r)) != Some(run) {
             return;
         }
-        let sent = read.and_then(|buffers| post_buffers(&inner, &take_request(run, &source, KNN.into(), params), buffers));
+        let sent = read.and_then(|buffers| post_buffers(&inner, &take_request(run, &source, method, params), buffers));
         if let Err(e) = sent {
-            knn_took(&inner, run, Err(e));
+            model_took(&inner, run, Err(e));
         }
     });
 }
@@ -358,20 +368,29 @@ fn take_request(run: u32, source: &Source, method: String, params: serde_json::V
     }
 }
 
-/// The k-NN route's run `run` labelled its take (or failed): kept, and the next take is sent.
-fn knn_took(inner: &Rc<Inner>, run: u32, outcome: Result<crate::segment::Segmentation, String>) {
+/// A supervised route's run `run` labelled its take (with why the model does not fit it, if so) or failed: kept,
+/// and the next take is sent.
+fn model_took(inner: &Rc<Inner>, run: u32, outcome: Result<(crate::segment::Segmentation, Option<String>), String>) {
     let library = inner.state.library;
-    let Some(mut k) = library.knn.get_value().filter(|k| k.running.is_some_and(|(r, _)| r == run)) else { return };
+    let Some(mut k) = library.by_model.get_value().filter(|k| k.running.is_some_and(|(r, _)| r == run)) else {
+        return;
+    };
     let Some((_, i)) = k.running.take() else { return };
     match outcome {
-        Ok(segmentation) => k.done.push((i, segmentation)),
+        Ok((segmentation, misfit)) => {
+            if let Some(why) = misfit {
+                let name = library.queue.with_untracked(|q| q.entries.get(i).map(|e| e.name.clone())).unwrap_or_default();
+                k.misfits.push(format!("{name}: {why}"));
+            }
+            k.done.push((i, segmentation))
+        }
         Err(message) => {
             let name = library.queue.with_untracked(|q| q.entries.get(i).map(|e| e.name.clone())).unwrap_or_default();
             k.failed.push(format!("{name}: {message}"));
         }
     }
-    library.knn.set_value(Some(k));
-    knn_next(inner);
+    library.by_model.set_value(Some(k));
+    model_next(inner);
 }
 
 /// A dropped or picked file's path within the folder picked (`webkitRelativePath`), else its name.
@@ -482,17 +501,17 @@ pub(super) fn resend(inner: &Rc<Inner>) {
         library.carry_busy.set(false);
         library.carrying.set(Some((true, "the worker was restarted: carry the labels again".into())));
     }
-    // the k-NN route labelling a take: its model was kept by the page (given to the new worker),
+    // a supervised route labelling a take: its model was kept by the page (given to the new worker),
     // so the take is sent again
-    let relabel = library.knn.with_value(|k| k.as_ref().and_then(|k| k.running.map(|(_, i)| i)));
+    let relabel = library.by_model.with_value(|k| k.as_ref().and_then(|k| k.running.map(|(_, i)| i)));
     if let Some(i) = relabel {
-        library.knn.update_value(|k| {
+        library.by_model.update_value(|k| {
             if let Some(k) = k {
                 k.running = None;
                 k.todo.insert(0, i);
             }
         });
-        knn_next(inner);
+        model_next(inner);
     }
 }
 
@@ -503,17 +522,24 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
     let clip_run = library.clip_run.get_value();
     let cluster_run = library.cluster_run.with_value(|r| r.as_ref().map(|(run, _)| *run));
     let transfer_run = library.transfer_run.with_value(|r| r.as_ref().map(|(run, _, _)| *run));
-    let knn_run = library.knn.with_value(|k| k.as_ref().and_then(|k| k.running.map(|(run, _)| run)));
+    let model_run = library.by_model.with_value(|k| k.as_ref().and_then(|k| k.running.map(|(run, _)| run)));
     match response {
-        Response::Progress { run: Some(run), fraction, .. } if knn_run == Some(run) => {
-            let (at, count) = library.knn.with_value(|k| k.as_ref().map_or((0, 0), |k| (k.count - k.todo.len(), k.count)));
+        Response::Progress { run: Some(run), fraction, .. } if model_run == Some(run) => {
+            let (at, count, route) = library
+                .by_model
+                .with_value(|k| k.as_ref().map_or((0, 0, None), |k| (k.count - k.todo.len(), k.count, Some(k.route))));
+            let title = route
+                .and_then(|r| model_slot(inner, r))
+                .map_or_else(String::new, |i| inner.state.methods[i].info.short.clone());
             let percent = fraction.unwrap_or(0.0) * 100.0;
-            library.carrying.set(Some((false, format!("labelling take {at} of {count} with the k-NN… {percent:.0} %"))));
+            library.carrying.set(Some((false, format!("labelling take {at} of {count} with the {title}… {percent:.0} %"))));
         }
-        Response::LibraryTake { run, segmentation, .. } if knn_run == Some(run) => knn_took(inner, run, Ok(*segmentation)),
-        Response::Refused { run, message, .. } if knn_run == Some(run) => knn_took(inner, run, Err(message)),
-        Response::Failed { run: Some(run), message, kind, .. } if knn_run == Some(run) => {
-            knn_took(inner, run, Err(message));
+        Response::LibraryTake { run, segmentation, misfit, .. } if model_run == Some(run) => {
+            model_took(inner, run, Ok((*segmentation, misfit)))
+        }
+        Response::Refused { run, message, .. } if model_run == Some(run) => model_took(inner, run, Err(message)),
+        Response::Failed { run: Some(run), message, kind, .. } if model_run == Some(run) => {
+            model_took(inner, run, Err(message));
             if kind == FailureKind::Internal {
                 replace_worker(inner);
             }

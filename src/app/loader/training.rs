@@ -3,7 +3,7 @@
 //! ([`ask_before_opening`]), the user's models given to every new worker (those still being
 //! restored from the browser too), forgetting one (`forget_model`), and the answers to each — for
 //! every method that declares [`crate::method::Supervision`], by its slot, never by name. A training's
-//! end is also told to the library's k-NN route (`super::library::knn_trained`), which waits for it.
+//! end is also told to the library's supervised routes (k-NN, DT-FCN) (`super::library::model_trained`), which waits for it.
 
 use super::super::fetch::blob_bytes;
 use super::super::browser_models;
@@ -396,7 +396,7 @@ pub(super) fn train_slot(inner: &Inner, run: RunId) -> Option<&'static Supervise
 /// the status line); the models stay.
 pub(super) fn fail_train_job(inner: &Rc<Inner>, message: String, param: Option<String>) {
     let Some(job) = inner.train_job.borrow_mut().take() else { return };
-    super::library::knn_trained(inner, job.index, Err(message.clone()));
+    super::library::model_trained(inner, job.index, Err(message.clone()));
     let Some(s) = supervised(inner, job.index) else { return };
     match param.filter(|p| s.has_input(p)) {
         Some(input) => {
@@ -439,8 +439,8 @@ pub(super) fn on_trained(inner: &Rc<Inner>, model: ModelInfo, report: TrainingRe
     let seconds = (now() - job.started) / 1000.0;
     let bytes = Arc::new(bytes);
     let name = model.name.clone();
-    // the library's k-NN route trained this model (stored in the worker): it labels the takes now
-    super::library::knn_trained(inner, job.index, Ok(name.clone()));
+    // the library's supervised routes (k-NN, DT-FCN) trained this model (stored in the worker): it labels the takes now
+    super::library::model_trained(inner, job.index, Ok(name.clone()));
     s.trained.set(Some(TrainedFile { name: name.clone(), bytes: bytes.clone() }));
     let shown = inner.shown.borrow().as_ref().map(|t| (t.id, t.name.clone()));
     // a take being opened is the one the user turned to (the answer to the take switch's
