@@ -284,14 +284,18 @@ fn outline(s: &Segmentation) -> Vec<(usize, usize, Level, String)> {
     s.segments.iter().map(|x| (x.start, x.end, x.level, x.label.clone())).collect()
 }
 
+// The shift along the floor: up to 1,000 units, some 260 of this take's arm bones (3.8 units) — more than any
+// capture volume (a 20 m room is ~70 arm lengths). Farther, the f32 positions themselves round at 5·10⁻⁴ units
+// (1.3·10⁻⁴ of an arm bone), and LMA's jerk — the third derivative at 120 Hz — of that rounding moved a boundary of
+// LMA's (at ±5,000 units, 23 cases in 100 failed: the property then tested f32, not the methods).
 proptest! {
     #![proptest_config(config(3))]
 
     #[test]
     fn every_method_is_inside_the_take_and_unmoved_by_position_and_heading(
         yaw in -std::f32::consts::PI..std::f32::consts::PI,
-        x in -5000.0f32..5000.0,
-        z in -5000.0f32..5000.0,
+        x in -1000.0f32..1000.0,
+        z in -1000.0f32..1000.0,
     ) {
         let take = real_take();
         let there = moved(take, yaw, [x, z]);
