@@ -166,13 +166,14 @@ pub enum Request {
     },
     /// Match the library's takes (`takes`: each one's name, features and segmentation, as
     /// `library_take` answered them) into clusters shared across takes
-    /// ([`crate::library::cluster`], default parameters). Progress is posted as run `run`'s.
+    /// ([`crate::library::cluster`], default parameters). Progress is posted as run `run`'s. Each take's
+    /// features travel as two buffers (its values as f32, its frames' places as f64), in the takes' order.
     /// Answer: `library_clusters`.
     LibraryCluster { take: TakeId, run: RunId, takes: Vec<crate::library::LibraryTake> },
     /// Carry the per-frame labels `frame_labels` of take `labelled` (an index into `takes`, which
     /// are as `library_cluster` sends them) to every take of `takes` by `route`
     /// ([`crate::library::transfer`], [`crate::library::LibraryParams::for_route`]). Progress is
-    /// posted as run `run`'s. Answer: `library_transferred`.
+    /// posted as run `run`'s. The features travel as `library_cluster`'s do. Answer: `library_transferred`.
     LibraryTransfer {
         take: TakeId,
         run: RunId,
@@ -575,13 +576,56 @@ fn bytes_f32(bytes: &[u8]) -> Result<Vec<f32>, String> {
     Ok(bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect())
 }
 
+fn f64_bytes(values: &[f64]) -> Vec<u8> {
+    values.iter().flat_map(|v| v.to_le_bytes()).collect()
+}
+
+fn bytes_f64(bytes: &[u8], what: &str) -> Result<Vec<f64>, String> {
+    if bytes.len() % 8 != 0 {
+        return Err(format!("worker message: {what} are not whole doubles"));
+    }
+    Ok(bytes.chunks_exact(8).map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8]))).collect())
+}
+
+/// A library take's features travel as two buffers — the values as f32, the frames' places as f64 — instead of
+/// JSON numbers (a library of 200 three-minute takes holds some 16 million values: as JSON text, hundreds of MB
+/// written and parsed at every matching).
+fn features_to_buffers(f: &mut crate::library::TakeFeatures, buffers: &mut Vec<Vec<u8>>) {
+    buffers.push(f32_bytes(&std::mem::take(&mut f.values)));
+    buffers.push(f64_bytes(&std::mem::take(&mut f.source_frames)));
+}
+
+/// The features' buffers put back (see [`features_to_buffers`]), their sizes checked.
+fn features_from_buffers(
+    f: &mut crate::library::TakeFeatures,
+    next: &mut dyn FnMut(&str) -> Result<Vec<u8>, String>,
+) -> Result<(), String> {
+    f.values = bytes_f32(&next("a library take's features")?)?;
+    f.source_frames = bytes_f64(&next("a library take's frames")?, "a library take's frames")?;
+    if f.dim == 0 || f.values.len() != f.dim * f.source_frames.len() {
+        return Err(format!(
+            "worker message: a library take's features hold {} values for {} frames of {}",
+            f.values.len(),
+            f.source_frames.len(),
+            f.dim
+        ));
+    }
+    Ok(())
+}
+
 fn json_error(what: &str, e: serde_json::Error) -> String {
     format!("{what}: {e}")
 }
 
 impl Request {
     /// The JSON and buffers of this request (the file's bytes move into buffer 0).
-    pub fn into_packet(self) -> Packet {
+    pub fn into_packet(mut self) -> Packet {
+        let mut features = Vec::new();
+        if let Request::LibraryCluster { takes, .. } | Request::LibraryTransfer { takes, .. } = &mut self {
+            for t in takes.iter_mut() {
+                features_to_buffers(&mut t.features, &mut features);
+            }
+        }
         let json = serde_json::to_string(&self).unwrap_or_default();
         let buffers = match self {
             Request::Load { bytes, skeleton_bytes, skeleton, .. } => {
@@ -604,9 +648,8 @@ impl Request {
             | Request::Annotate { .. }
             | Request::ContinueTraining { .. }
             | Request::StopTraining { .. }
-            | Request::Clips { .. }
-            | Request::LibraryCluster { .. }
-            | Request::LibraryTransfer { .. } => Vec::new(),
+            | Request::Clips { .. } => Vec::new(),
+            Request::LibraryCluster { .. } | Request::LibraryTransfer { .. } => features,
         };
         Packet { json, buffers }
     }
@@ -637,6 +680,13 @@ impl Request {
                     ));
                 }
             }
+            Request::LibraryCluster { takes, .. } | Request::LibraryTransfer { takes, .. } => {
+                let mut next = |what: &str| buffers.next().ok_or_else(|| format!("worker request: no buffer for {what}"));
+                for t in takes.iter_mut() {
+                    features_from_buffers(&mut t.features, &mut next)
+                        .map_err(|e| e.replace("worker message", "worker request"))?;
+                }
+            }
             Request::LibraryClips { takes, bytes, .. } => {
                 let wanted: usize = takes.iter().map(|t| 1 + usize::from(t.skeleton.is_some())).sum();
                 *bytes = buffers.by_ref().take(wanted).collect();
@@ -652,9 +702,7 @@ impl Request {
             | Request::Annotate { .. }
             | Request::ContinueTraining { .. }
             | Request::StopTraining { .. }
-            | Request::Clips { .. }
-            | Request::LibraryCluster { .. }
-            | Request::LibraryTransfer { .. } => {}
+            | Request::Clips { .. } => {}
         }
         Ok(request)
     }
@@ -678,6 +726,7 @@ impl Response {
             }
             Response::Trained { bytes, .. } => buffers.push(std::mem::take(bytes)),
             Response::Clips { bytes, .. } => buffers.push(std::mem::take(bytes)),
+            Response::LibraryTake { features: Ok(f), .. } => features_to_buffers(f, &mut buffers),
             _ => {}
         }
         Packet { json: serde_json::to_string(&this).unwrap_or_default(), buffers }
@@ -712,8 +761,11 @@ impl Response {
                 model.check().map_err(|e| format!("worker message: {e}"))?;
             }
             Response::ModelStored { model, .. } => model.check().map_err(|e| format!("worker message: {e}"))?,
-            Response::LibraryTake { segmentation, .. } => {
-                segmentation.validate().map_err(|e| format!("worker message: {e}"))?
+            Response::LibraryTake { segmentation, features, .. } => {
+                segmentation.validate().map_err(|e| format!("worker message: {e}"))?;
+                if let Ok(f) = features {
+                    features_from_buffers(f, &mut next)?;
+                }
             }
             Response::LibraryClusters { clusters, .. } => {
                 for s in &clusters.takes {
@@ -855,6 +907,56 @@ mod tests {
         assert!(Request::from_packet(no_bytes).unwrap_err().contains("without the file's bytes"));
         let unknown = Packet { json: r#"{"type":"explode","take":1}"#.into(), buffers: vec![] };
         assert!(Request::from_packet(unknown).unwrap_err().contains("unknown variant `explode`"));
+    }
+
+    /// A library's features go as buffers (values f32, frames f64), never as JSON numbers, both ways; a buffer of
+    /// the wrong size is refused with what it held.
+    #[test]
+    fn a_librarys_features_travel_in_buffers() {
+        let motion = walk();
+        let features = crate::library::TakeFeatures::of(&motion, &crate::library::LibraryParams::default()).unwrap();
+        let segmentation = crate::methods::find("velocity")
+            .unwrap()
+            .run_json(&motion, &serde_json::json!({}), &RunOptions::default(), &mut NoProgress)
+            .unwrap()
+            .segmentation;
+        let take = crate::library::LibraryTake { name: "12_01.bvh".into(), features: features.clone(), segmentation };
+        let request = Request::LibraryCluster { take: 0, run: 2, takes: vec![take.clone(), take.clone()] };
+        let packet = request.clone().into_packet();
+        assert_eq!(packet.buffers.len(), 4, "two buffers a take");
+        assert_eq!(packet.buffers[0].len(), features.values.len() * 4);
+        assert_eq!(packet.buffers[1].len(), features.source_frames.len() * 8);
+        let v: serde_json::Value = serde_json::from_str(&packet.json).unwrap();
+        assert_eq!(v["takes"][0]["features"]["values"], serde_json::json!([]), "no feature value in the JSON");
+        assert!(packet.json.len() < 20_000, "{} bytes of JSON", packet.json.len());
+        assert_eq!(Request::from_packet(packet.clone()).unwrap(), request);
+        let mut short = packet;
+        short.buffers[2].truncate(8);
+        let e = Request::from_packet(short).unwrap_err();
+        assert!(e.starts_with("worker request: a library take's features hold 2 values for"), "{e}");
+
+        let answer = Response::LibraryTake {
+            take: 0,
+            run: 3,
+            frames: motion.frames(),
+            duration_s: motion.duration_s(),
+            segmentation: Box::new(take.segmentation.clone()),
+            features: Ok(Box::new(features.clone())),
+            misfit: None,
+        };
+        let packet = answer.clone().into_packet();
+        assert_eq!(packet.buffers.len(), 2);
+        assert_eq!(Response::from_packet(packet.clone()).unwrap(), answer);
+        let mut lost = packet;
+        lost.buffers.pop();
+        assert_eq!(Response::from_packet(lost).unwrap_err(), "worker message: no buffer for a library take's frames");
+        // a take without features sends no buffer
+        let mut none = answer;
+        if let Response::LibraryTake { features, .. } = &mut none {
+            *features = Err("no hands".into());
+        }
+        assert!(none.clone().into_packet().buffers.is_empty());
+        assert_eq!(Response::from_packet(none.clone().into_packet()).unwrap(), none);
     }
 
     #[test]

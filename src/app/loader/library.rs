@@ -16,7 +16,7 @@ use super::super::js_message;
 use super::super::library::{ModelCarry, Source};
 use super::super::motion_image::download;
 use super::super::supervised::TrainAsk;
-use super::{next_id, post_buffers, replace_worker, Inner, Loader};
+use super::{next_id, post_buffers, post_request, replace_worker, Inner, Loader};
 use crate::protocol::{ClipTake, FailureKind, Request, Response};
 use crate::library::TakeFeatures;
 use crate::view::carry::{Carried, Route};
@@ -130,7 +130,7 @@ impl Loader {
         library.carrying.set(Some((false, "carrying the labels…".into())));
         library.carry_busy.set(true);
         let request = Request::LibraryTransfer { take: 0, run, takes, labelled, frame_labels, route };
-        if let Err(e) = post_buffers(&self.0, &request, js_sys::Array::new()) {
+        if let Err(e) = post_request(&self.0, request) {
             library.transfer_run.set_value(None);
             library.carry_busy.set(false);
             library.carrying.set(Some((true, e)));
@@ -478,7 +478,7 @@ fn match_takes(inner: &Rc<Inner>) {
     library.cluster_run.set_value(Some((run, indices)));
     library.matching.set(Some((false, "matching the takes…".into())));
     let request = Request::LibraryCluster { take: 0, run, takes };
-    if let Err(e) = post_buffers(inner, &request, js_sys::Array::new()) {
+    if let Err(e) = post_request(inner, request) {
         library.cluster_run.set_value(None);
         library.matching.set(Some((true, e)));
     }

@@ -402,6 +402,17 @@ fn post(inner: &Rc<Inner>, request: &Request, bytes: Option<&ArrayBuffer>) -> Re
 
 /// Posts `request` with `buffers` (JS `ArrayBuffer`s, transferred), starting a worker if there is
 /// none.
+/// Posts `request` with its own buffers (a library's features), moved out of it rather than copied.
+fn post_request(inner: &Rc<Inner>, request: Request) -> Result<(), String> {
+    if inner.worker.borrow().is_none() {
+        spawn_worker(inner);
+    }
+    let worker = inner.worker.borrow();
+    let worker = worker.as_ref().ok_or("the worker could not be started")?;
+    let (message, transfer) = crate::worker::packet_to_js(request.into_packet());
+    worker.post_message_with_transfer(&message, &transfer).map_err(|e| js_message(&e))
+}
+
 fn post_buffers(inner: &Rc<Inner>, request: &Request, buffers: js_sys::Array) -> Result<(), String> {
     if inner.worker.borrow().is_none() {
         spawn_worker(inner);
