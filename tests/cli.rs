@@ -974,6 +974,19 @@ fn train_trains_any_method_with_models_from_its_declared_options() {
         let seg = stdout_json(&run(&["segment", "--method", method, "--model", &arg(&model), &arg(&a)]));
         assert_eq!(seg["params"]["model"], format!("mine-{method}"));
     }
+    // labels counted in 30 Hz frames for these 120 Hz takes end a quarter of the way: trained, and told why
+    let quarter = dir.join("quarter.csv");
+    std::fs::write(
+        &quarter,
+        "file,start_frame,end_frame,label\n02_01.bvh,0,42,start\n02_01.bvh,43,85,walk\n",
+    )
+    .unwrap();
+    let model = dir.join("quarter.model");
+    let out = run(&["train", "--method", "knn", &arg(&a), "--labels", &arg(&quarter), "-o", &arg(&model)]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("Warning: the labels of 02_01.bvh end at frame 86 of 343 (25 %)"), "{err}");
+    assert!(err.contains("is the label file at 30 Hz?"), "{err}");
     // LMA: its own CSV and options; the family file segments a take
     let effort = dir.join("effort.csv");
     let mut rows = "file,start_frame,end_frame,space,time,weight,flow\n".to_string();

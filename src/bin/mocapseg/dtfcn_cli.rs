@@ -166,6 +166,9 @@ fn train(
         eprintln!("note: label rows of takes not given are left out: {}", missing.join(", "));
     }
     let (classes, labels) = class_labels(&rows, &refs)?;
+    for warning in mocapseg::methods::dtfcn::corpus::labels_at_another_rate(&refs, &labels) {
+        eprintln!("warning: {warning}");
+    }
     let frames: usize = labels.iter().map(|l| l.iter().flatten().count()).sum();
     eprintln!("{} takes, {} labelled frames, {} classes: {}", motions.len(), frames, classes.len(), classes.join(", "));
     if method == "dtfcn" {

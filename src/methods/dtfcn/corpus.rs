@@ -59,6 +59,39 @@ pub fn class_labels(rows: &[LabelRow], takes: &[&Motion]) -> Result<ClassLabels,
     Ok((classes, labels))
 }
 
+/// Frame rates a label file may have been written at by mistake (its frames counted at a video's or a
+/// down-sampled take's rate instead of the file's).
+const LABEL_RATES: [f64; 7] = [24.0, 25.0, 30.0, 50.0, 60.0, 100.0, 120.0];
+
+/// A warning for each take whose labels look written at another frame rate: they end well before the take does,
+/// and counted at one of [`LABEL_RATES`] below the file's they would end within 5 % of its end — the mocap6 truth
+/// converted at 30 Hz for a 120 Hz take labels only its first quarter, silently, and a model taught on that quarter
+/// says every faster take does not fit it. Labels that stop early for any other reason (a take labelled in part)
+/// raise nothing.
+pub fn labels_at_another_rate(takes: &[&Motion], labels: &[Vec<Option<usize>>]) -> Vec<String> {
+    takes
+        .iter()
+        .zip(labels)
+        .filter_map(|(m, l)| {
+            let n = m.frames();
+            let last = l.iter().rposition(Option::is_some)? + 1;
+            if n < 2 || last as f64 > 0.8 * n as f64 {
+                return None;
+            }
+            let rate = LABEL_RATES.iter().copied().find(|&r| {
+                r < m.fps - 0.5 && ((last as f64 * m.fps / r) - n as f64).abs() <= 0.05 * n as f64
+            })?;
+            Some(format!(
+                "the labels of {} end at frame {last} of {n} ({:.0} %), where frames counted at {rate:.0} Hz would span \
+                 the take ({:.0} Hz): is the label file at {rate:.0} Hz?",
+                m.name,
+                100.0 * last as f64 / n as f64,
+                m.fps
+            ))
+        })
+        .collect()
+}
+
 /// A colour per class ([`crate::segment::palette::class_colour`]).
 pub fn class_colours(classes: usize) -> Vec<String> {
     (0..classes).map(crate::segment::palette::class_colour).collect()
@@ -453,6 +486,25 @@ fn web_time_now() -> f64 {
 
 #[cfg(test)]
 mod tests {
+
+    /// 30 Hz frames of a 120 Hz take end a quarter of the way: said, with the rate; a take labelled in part, or
+    /// labelled to its end, says nothing.
+    #[test]
+    fn labels_written_at_another_rate_are_told() {
+        let motion = crate::load::load_bytes("s.bvh", include_bytes!("../../../www/sample.bvh"), &mut |_| {}).unwrap().motion;
+        let n = motion.frames();
+        assert!((motion.fps - 120.0).abs() < 0.01, "{}", motion.fps);
+        let upto = |last: usize| -> Vec<Option<usize>> { (0..n).map(|f| (f < last).then_some(f % 2)).collect() };
+        let warned = labels_at_another_rate(&[&motion], &[upto(n / 4)]);
+        assert_eq!(warned.len(), 1, "{warned:?}");
+        assert!(warned[0].starts_with(&format!("the labels of s.bvh end at frame {} of {n} (25 %)", n / 4)), "{}", warned[0]);
+        assert!(warned[0].ends_with("is the label file at 30 Hz?"), "{}", warned[0]);
+        assert!(labels_at_another_rate(&[&motion], &[upto(n / 2)]).iter().any(|w| w.contains("at 60 Hz?")));
+        assert!(labels_at_another_rate(&[&motion], &[upto(n / 3)]).is_empty(), "a third is no rate's");
+        assert!(labels_at_another_rate(&[&motion], &[upto(n)]).is_empty());
+        assert!(labels_at_another_rate(&[&motion], &[vec![None; n]]).is_empty());
+    }
+
     use super::*;
 
     #[test]

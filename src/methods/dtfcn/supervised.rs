@@ -537,8 +537,13 @@ impl Prepared {
             format!(" (rows for {} left out: not loaded)", self.left_out.join(", "))
         };
         let kept = kept.map(|e| format!(", the weights of epoch {e} kept")).unwrap_or_default();
+        let refs: Vec<&Motion> = self.motions.iter().collect();
+        let rates: String = super::corpus::labels_at_another_rate(&refs, &self.labels_per_take)
+            .into_iter()
+            .map(|w| format!(" Warning: {w}"))
+            .collect();
         format!(
-            "Trained `{}` on {} of {}{left}: {} ({}), {how}{kept}. {} labels the take with it now.",
+            "Trained `{}` on {} of {}{left}: {} ({}), {how}{kept}. {} labels the take with it now.{rates}",
             self.name,
             counted(self.used_rows, "row"),
             self.labels_name,
