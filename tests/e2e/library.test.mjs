@@ -264,18 +264,3 @@ test("offline after a visit: a library is segmented, matched and played", async 
     await closePage(opened, "e2e-library-offline.png");
   }
 });
-
-test("two files holding one take (a BVH and its notes) open that take, as a folder holding one take does", async () => {
-  const opened = await openPage({ viewport: VIEWS[0].viewport, contextOptions: { colorScheme: VIEWS[0].theme } });
-  const { page } = opened;
-  try {
-    await page.goto(BASE_URL);
-    await waitReady(page, "sample.bvh");
-    await page.setInputFiles("#file-input", [fixture("02_02.bvh"), fixture("SOURCES.md")]);
-    await waitReady(page, "02_02.bvh");
-    assert.equal(await page.locator("#library-list li").count(), 0, "one take is not a library");
-    assertClean(opened);
-  } finally {
-    await closePage(opened, "e2e-library-one-take.png");
-  }
-});
