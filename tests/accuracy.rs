@@ -6,31 +6,16 @@
 //! they did not get worse. The metrics themselves are checked against hand-computed values in
 //! `src/segment/metrics.rs`.
 
-use std::path::Path;
-
-use mocapseg::load::load_path;
 use mocapseg::method::{self, NoProgress, RunOptions};
 use mocapseg::motion::Motion;
 use mocapseg::segment::metrics::{evaluate, Scores, Tolerances};
 use mocapseg::segment::reference::{chance_scores, prior};
-use mocapseg::segment::truth::{load_csv, Truth, TruthOptions};
+use mocapseg::segment::truth::Truth;
 use mocapseg::segment::Level;
 
-fn take(bvh: &str, labels: &str, trial: &str) -> (Motion, Truth) {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let motion = load_path(&dir.join(bvh)).unwrap().motion;
-    let text = std::fs::read_to_string(dir.join(labels)).unwrap();
-    let truth = load_csv(&text, trial, TruthOptions::default()).unwrap();
-    assert_eq!(truth.frames, motion.frames(), "{trial}: the labels are for this take");
-    (motion, truth)
-}
-
-fn takes() -> Vec<(Motion, Truth)> {
-    vec![
-        take("www/sample.bvh", "tests/fixtures/mocap6_13_30_gt.csv", "13_30"),
-        take("tests/fixtures/13_31.bvh", "tests/fixtures/mocap6_13_31_gt.csv", "13_31"),
-    ]
-}
+#[path = "support/labelled.rs"]
+mod labelled;
+use labelled::takes;
 
 /// A floor: the method, its parameters as `NAME=VALUE` overrides, and per take the least F1@1s, covering and (for
 /// labellers trained on these classes) frame accuracy it must reach.

@@ -5,30 +5,17 @@
 //! from one take to the other by both routes well above chance. `cargo run --release --example library` measures
 //! the same on the four shared mocap6 takes (docs/library.md).
 
-use std::path::Path;
 
 use mocapseg::library::score::{chance_scores, cluster_scores, frame_clusters};
 use mocapseg::library::{cluster, transfer, KnowledgeBase, LibraryParams, LibraryTake, TakeFeatures, TransferRoute};
-use mocapseg::load::load_path;
 use mocapseg::method::{NoProgress, RunOptions};
-use mocapseg::motion::Motion;
-use mocapseg::segment::truth::{load_csv, Truth, TruthOptions};
 
-fn take(bvh: &str, labels: &str, trial: &str) -> (Motion, Truth) {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let motion = load_path(&dir.join(bvh)).unwrap().motion;
-    let text = std::fs::read_to_string(dir.join(labels)).unwrap();
-    let truth = load_csv(&text, trial, TruthOptions::default()).unwrap();
-    assert_eq!(truth.frames, motion.frames(), "{trial}: the labels are for this take");
-    (motion, truth)
-}
+#[path = "support/labelled.rs"]
+mod labelled;
 
 /// The two takes as a library (SSSM's segments) with their per-frame class indices and class names.
 fn library(params: &LibraryParams) -> (Vec<LibraryTake>, Vec<Vec<Option<usize>>>, Vec<String>) {
-    let takes = [
-        take("www/sample.bvh", "tests/fixtures/mocap6_13_30_gt.csv", "13_30"),
-        take("tests/fixtures/13_31.bvh", "tests/fixtures/mocap6_13_31_gt.csv", "13_31"),
-    ];
+    let takes = labelled::takes();
     let sssm = mocapseg::methods::find("sssm").unwrap();
     let mut classes: Vec<String> = Vec::new();
     let mut labels = Vec::new();
