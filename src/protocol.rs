@@ -569,9 +569,9 @@ fn f32_bytes(values: &[f32]) -> Vec<u8> {
     values.iter().flat_map(|v| v.to_le_bytes()).collect()
 }
 
-fn bytes_f32(bytes: &[u8]) -> Result<Vec<f32>, String> {
+fn bytes_f32(bytes: &[u8], what: &str) -> Result<Vec<f32>, String> {
     if bytes.len() % 4 != 0 {
-        return Err("worker message: positions are not whole floats".into());
+        return Err(format!("worker message: {what} are not whole floats"));
     }
     Ok(bytes.chunks_exact(4).map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]])).collect())
 }
@@ -595,16 +595,18 @@ fn features_to_buffers(f: &mut crate::library::TakeFeatures, buffers: &mut Vec<V
     buffers.push(f64_bytes(&std::mem::take(&mut f.source_frames)));
 }
 
-/// The features' buffers put back (see [`features_to_buffers`]), their sizes checked.
+/// The features' buffers put back (see [`features_to_buffers`]), their sizes checked; errors begin with `side`
+/// ("worker request", "worker message").
 fn features_from_buffers(
     f: &mut crate::library::TakeFeatures,
     next: &mut dyn FnMut(&str) -> Result<Vec<u8>, String>,
+    side: &str,
 ) -> Result<(), String> {
-    f.values = bytes_f32(&next("a library take's features")?)?;
+    f.values = bytes_f32(&next("a library take's features")?, "a library take's features")?;
     f.source_frames = bytes_f64(&next("a library take's frames")?, "a library take's frames")?;
     if f.dim == 0 || f.values.len() != f.dim * f.source_frames.len() {
         return Err(format!(
-            "worker message: a library take's features hold {} values for {} frames of {}",
+            "{side}: a library take's features hold {} values for {} frames of {}",
             f.values.len(),
             f.source_frames.len(),
             f.dim
@@ -683,8 +685,7 @@ impl Request {
             Request::LibraryCluster { takes, .. } | Request::LibraryTransfer { takes, .. } => {
                 let mut next = |what: &str| buffers.next().ok_or_else(|| format!("worker request: no buffer for {what}"));
                 for t in takes.iter_mut() {
-                    features_from_buffers(&mut t.features, &mut next)
-                        .map_err(|e| e.replace("worker message", "worker request"))?;
+                    features_from_buffers(&mut t.features, &mut next, "worker request")?;
                 }
             }
             Request::LibraryClips { takes, bytes, .. } => {
@@ -739,7 +740,7 @@ impl Response {
         let mut next = |what: &str| buffers.next().ok_or_else(|| format!("worker message: no buffer for {what}"));
         match &mut response {
             Response::Loaded { motion, .. } => {
-                motion.positions = bytes_f32(&next("positions")?)?;
+                motion.positions = bytes_f32(&next("positions")?, "positions")?;
                 motion.image.rgba = next("the motion image")?;
                 motion.image.png = next("the PNG")?;
                 motion.check_shapes()?;
@@ -764,7 +765,7 @@ impl Response {
             Response::LibraryTake { segmentation, features, .. } => {
                 segmentation.validate().map_err(|e| format!("worker message: {e}"))?;
                 if let Ok(f) = features {
-                    features_from_buffers(f, &mut next)?;
+                    features_from_buffers(f, &mut next, "worker message")?;
                 }
             }
             Response::LibraryClusters { clusters, .. } => {
