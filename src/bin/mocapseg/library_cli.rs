@@ -9,7 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use mocapseg::labels::{read_csv, to_csv, LabelRow};
 use mocapseg::library::{cluster, transfer, KnowledgeBase, LibraryParams, LibraryTake, TakeFeatures, TransferRoute};
 use mocapseg::load::collect_files;
-use mocapseg::method::{self, CheckedParams, DynMethod, NoProgress, RunOptions};
+use mocapseg::method::{self, Cancelled, CheckedParams, DynMethod, NoProgress, RunOptions};
 use mocapseg::methods::lma::corpus::same_file;
 use rayon::prelude::*;
 use serde_json::json;
@@ -107,13 +107,21 @@ fn library(args: &LibraryFlags, files: &[PathBuf], params: &LibraryParams) -> Re
     Ok((takes, failed))
 }
 
-/// A spinner with the fraction done for the matching step.
-fn matching_bar() -> ProgressBar {
+/// Runs the matching step `work` (clustering or transfer) with a bar of its fraction done, its error as text.
+fn matching<T, E: std::fmt::Display>(
+    work: impl FnOnce(&mut dyn FnMut(f64) -> Result<(), Cancelled>) -> Result<T, E>,
+) -> Result<T, String> {
     let bar = ProgressBar::new(100);
     bar.set_style(
         ProgressStyle::with_template("{bar:40} matching the library {percent} %").unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    bar
+    let done = work(&mut |f| {
+        bar.set_position((100.0 * f) as u64);
+        Ok(())
+    })
+    .map_err(|e| e.to_string());
+    bar.finish_and_clear();
+    done
 }
 
 /// The output file names of `takes` (their stems; repeated stems numbered).
@@ -156,13 +164,7 @@ pub fn cluster_command(inputs: &[PathBuf], args: &LibraryFlags, out: &Path) -> R
         return Err("no take could be segmented: nothing to cluster".into());
     }
     let library: Vec<LibraryTake> = takes.iter().map(|(_, t)| t.clone()).collect();
-    let bar = matching_bar();
-    let shared = cluster(&library, &params, &mut |f| {
-        bar.set_position((100.0 * f) as u64);
-        Ok(())
-    })
-    .map_err(|e| e.to_string())?;
-    bar.finish_and_clear();
+    let shared = matching(|progress| cluster(&library, &params, progress))?;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let names = names(&takes);
     for (name, seg) in names.iter().zip(&shared.takes) {
@@ -242,14 +244,8 @@ pub fn transfer_command(inputs: &[PathBuf], args: &LibraryFlags, labels: &Path, 
         return Err(format!("{}: no row names the labelled take {}", labels.display(), labelled.name));
     }
     let library: Vec<LibraryTake> = takes.iter().map(|(_, t)| t.clone()).collect();
-    let bar = matching_bar();
     let kb = KnowledgeBase { take: source, frame_labels };
-    let done = transfer(&library, &kb, route, &params, &mut |f| {
-        bar.set_position((100.0 * f) as u64);
-        Ok(())
-    })
-    .map_err(|e| e.to_string())?;
-    bar.finish_and_clear();
+    let done = matching(|progress| transfer(&library, &kb, route, &params, progress))?;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let names = names(&takes);
     let mut csv_rows = Vec::new();
