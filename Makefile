@@ -164,11 +164,10 @@ serve:
 
 # --- tests ------------------------------------------------------------------------------
 
-# Every native test: unit tests, integration tests (incl. the CLI), doc tests; and the fuzz
-# targets type-checked (`cargo check`, not run: `make fuzz` runs them), so they cannot rot.
+# Every native test: unit tests, integration tests (incl. the CLI), doc tests. The fuzz targets' code
+# (fuzz/src/targets) is compiled and run on its seeds by tests/fuzz_targets.rs; `make fuzz` fuzzes.
 test-native: check-toolchain
 	$(CARGO) test
-	$(CARGO) check --manifest-path fuzz/Cargo.toml --bins
 
 # One wasm test binary (tests/wasm.rs: the core, the SSSM suite, the worker's glue) in headless
 # Chromium, in the `web` profile with the `web` feature: it links the library `make web`

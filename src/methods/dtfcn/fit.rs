@@ -75,7 +75,8 @@ pub fn travel_speeds(motion: &Motion) -> Result<Vec<f32>, String> {
             (p.x as f64, p.z as f64)
         })
         .collect();
-    let half = ((0.5 * motion.fps).round() as usize).max(1);
+    // at most the take (a frame time of 1e-300 s makes half a second 5e299 frames: `f + half` overflowed)
+    let half = ((0.5 * motion.fps).round() as usize).clamp(1, n);
     Ok((0..n)
         .map(|f| {
             let (a, b) = (f.saturating_sub(half), (f + half).min(n - 1));
@@ -287,6 +288,16 @@ mod tests {
         assert!(own.fits() && own.travel_share.unwrap() <= 0.02, "{own:?}");
         let nothing = TakeFit::assess(&walk, None, None).unwrap();
         assert!(nothing.fits() && !nothing.measured() && nothing.unfamiliar.iter().all(|u| !u));
+    }
+
+    /// A frame time of 1e-300 s (any f64 a file may hold; found by tests/fuzz_targets.rs's `long_takes`)
+    /// made half a second 5e299 frames and the window's end overflow: the window is now at most the take.
+    #[test]
+    fn a_vanishing_frame_time_does_not_overflow_the_window() {
+        let mut walk = motion("02_01.bvh", include_str!("../../../tests/fixtures/02_01.bvh"));
+        walk.fps = 1e300;
+        let speeds = travel_speeds(&walk).unwrap();
+        assert_eq!(speeds.len(), walk.frames());
     }
 
     /// The same walk written in metres travels the same reference-body speed (within the 2 % the
