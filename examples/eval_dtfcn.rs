@@ -6,12 +6,16 @@
 //!
 //! * `noise` — training-label noise 0–90 % (the paper's Table 3);
 //! * `mask` — boundary masking w_transition 0/11/21/31 frames at the paper's 72 Hz (Table 4, lower half);
+//! * `folds` — one setting's per-fold table: the held-out take, its validation take and what it chose,
+//!   DT-FCN and the k-NN side by side (what `mocapseg train-dtfcn --cross-validate` printed before the
+//!   command line's training became the page's one path);
 //! * `unseen` — leave one class out: each fold's held-out take's largest class is removed from
 //!   training; mean confidence on its frames (never seen) against the other frames, and how well
 //!   each unknown threshold separates them (what chose the default threshold).
 //!
 //! ```text
-//! cargo run --release --example eval_dtfcn -- noise|mask|unseen [--data ../shared/data] [--width 3] [--layers 4] …
+//! cargo run --release --example eval_dtfcn -- noise|mask|folds|unseen [--data ../shared/data] [--width 3] [--layers 4] [--padding edge]
+//!     [--bvh TAKES… --labels L.csv] …
 //! ```
 //! Says so and fails when the shared data is absent.
 
@@ -42,7 +46,7 @@ mod lab {
     #[derive(clap::Parser)]
     #[command(about = "DT-FCN experiments (noise, masking, unseen classes) on the mocap6 takes")]
     pub struct Args {
-        /// noise, mask or unseen.
+        /// noise, mask, folds or unseen.
         experiment: String,
         #[arg(long, default_value = "../shared/data")]
         data: PathBuf,
@@ -60,6 +64,43 @@ mod lab {
         augment: String,
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// zero or edge (default: the training's)
+        #[arg(long)]
+        padding: Option<String>,
+        /// Other takes than mocap6's (BVH files and/or folders), with `--labels`.
+        #[arg(long, num_args = 1.., requires = "labels")]
+        bvh: Vec<PathBuf>,
+        /// Their label CSV (`file,start_frame,end_frame,label`, 0-based file frames).
+        #[arg(long)]
+        labels: Option<PathBuf>,
+    }
+
+    /// The takes under `paths` (files, and the `.bvh` files of folders, sorted) that `rows` name, and the rows.
+    fn named_takes(paths: &[PathBuf], labels: &std::path::Path) -> Result<(Vec<Motion>, Vec<LabelRow>), String> {
+        let text = std::fs::read_to_string(labels).map_err(|e| format!("{}: {e}", labels.display()))?;
+        let rows = mocapseg::labels::read_csv(&text, &labels.display().to_string())?;
+        let mut files = Vec::new();
+        for p in paths {
+            if p.is_dir() {
+                let mut inside: Vec<PathBuf> = std::fs::read_dir(p)
+                    .map_err(|e| format!("{}: {e}", p.display()))?
+                    .filter_map(|e| e.ok().map(|e| e.path()))
+                    .filter(|f| f.extension().is_some_and(|x| x.eq_ignore_ascii_case("bvh")))
+                    .collect();
+                inside.sort();
+                files.extend(inside);
+            } else {
+                files.push(p.clone());
+            }
+        }
+        let mut motions = Vec::new();
+        for f in files {
+            let name = f.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+            if rows.iter().any(|r| mocapseg::methods::lma::corpus::same_file(&r.file, &name)) {
+                motions.push(mocapseg::load::load_path(&f).map_err(|e| e.to_string())?.motion);
+            }
+        }
+        Ok((motions, rows))
     }
 
     fn takes(data: &std::path::Path) -> Result<(Vec<Motion>, Vec<LabelRow>), String> {
@@ -78,7 +119,10 @@ mod lab {
     }
 
     pub fn run(args: Args) -> Result<(), String> {
-        let (motions, rows) = takes(&args.data)?;
+        let (motions, rows) = match &args.labels {
+            Some(labels) => named_takes(&args.bvh, labels)?,
+            None => takes(&args.data)?,
+        };
         let refs: Vec<&Motion> = motions.iter().collect();
         let (classes, labels) = class_labels(&rows, &refs)?;
         let base = TrainOptions {
@@ -91,9 +135,18 @@ mod lab {
             seed: args.seed,
             ..TrainOptions::default()
         };
+        let base = match &args.padding {
+            None => base,
+            Some(p) => TrainOptions {
+                padding: serde_json::from_value(serde_json::json!(p)).map_err(|e| format!("--padding {p}: {e}"))?,
+                ..base
+            },
+        };
         println!(
-            "mocap6, 4 takes, leave one take out (epochs ≤ {} chosen on an inner validation take, then retrained on all \
+            "{}, {} takes, leave one take out (epochs ≤ {} chosen on an inner validation take, then retrained on all \
              training takes); w = {}, {} layers, batch {}, crops {}, augmentation {}, seed {}",
+            args.labels.as_ref().map_or("mocap6".to_string(), |l| l.display().to_string()),
+            motions.len(),
             base.epochs,
             base.width,
             base.filters.len(),
@@ -140,9 +193,59 @@ mod lab {
                 }
                 Ok(())
             }
+            "folds" => folds(&motions, &labels, &classes, &base),
             "unseen" => unseen(&motions, &labels, &classes, &base),
-            other => Err(format!("unknown experiment `{other}`: noise, mask or unseen")),
+            other => Err(format!("unknown experiment `{other}`: noise, mask, folds or unseen")),
         }
+    }
+
+    /// One setting, leave one take out: a row per held-out take (its validation take and that take's accuracy, the
+    /// epoch it chose, DT-FCN's and the k-NN's scores, the k-NN's k), and the mean.
+    fn folds(motions: &[Motion], labels: &[Vec<Option<usize>>], classes: &[String], options: &TrainOptions) -> Result<(), String> {
+        let started = std::time::Instant::now();
+        let folds = leave_one_take_out(motions, labels, classes, options, &mut |take, r| {
+            eprintln!("[held out {take}] epoch {}/{}: loss {:.3}{}", r.epoch, r.epochs, r.loss, if r.best { " *" } else { "" });
+            true
+        })?;
+        println!(
+            "{}; label noise {}, mask {} s",
+            options.network(classes.len()).describe(mocapseg::methods::dtfcn::input::NETWORK_FPS),
+            options.label_noise,
+            options.mask_s
+        );
+        println!("| held-out take | validation take (its accuracy) | epoch kept / run | DT-FCN acc | edit | F1@10 | F1@25 | F1@50 | confidence | k-NN k | acc | edit | F1@10 | F1@25 | F1@50 | time |");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+        let mut mean = [0.0f64; 11];
+        let inner = folds.iter().map(|f| f.validation_accuracy).sum::<f64>() / folds.len().max(1) as f64;
+        for f in &folds {
+            let row = [
+                f.network.frame_accuracy,
+                f.network.edit,
+                f.network.f1[0],
+                f.network.f1[1],
+                f.network.f1[2],
+                f.confidence,
+                f.knn.frame_accuracy,
+                f.knn.edit,
+                f.knn.f1[0],
+                f.knn.f1[1],
+                f.knn.f1[2],
+            ];
+            for (m, v) in mean.iter_mut().zip(row) {
+                *m += v / folds.len() as f64;
+            }
+            println!(
+                "| {} | {} ({:.3}) | {} / {} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} | {} | {:.3} | {:.1} | {:.1} | {:.1} | {:.1} | {:.0} s |",
+                f.take, f.validation_take, f.validation_accuracy, f.best_epoch, f.epochs_run, row[0], row[1], row[2], row[3],
+                row[4], row[5], f.knn_k, row[6], row[7], row[8], row[9], row[10], f.seconds
+            );
+        }
+        println!(
+            "| **mean** | ({inner:.3}) | | **{:.3}** | **{:.1}** | **{:.1}** | **{:.1}** | **{:.1}** | **{:.2}** | | **{:.3}** | **{:.1}** | **{:.1}** | **{:.1}** | **{:.1}** | {:.0} s |",
+            mean[0], mean[1], mean[2], mean[3], mean[4], mean[5], mean[6], mean[7], mean[8], mean[9], mean[10],
+            started.elapsed().as_secs_f64()
+        );
+        Ok(())
     }
 
     /// Per working frame of a take: (confidence, novelty, whether its true class is the one left out), for its

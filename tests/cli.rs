@@ -658,8 +658,8 @@ fn gait_labels_tile_a_walk_as_a_label_csv() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("FAIL"));
 }
 
-/// The paper's network to the parameter (five layers, the image resized to 224 rows), edge padding and a layer
-/// count: the flags reach the model file, and the shape line says the paper's 663,562.
+/// The paper's network to the parameter (five layers, the image resized to 224 rows) and edge padding: the flags
+/// reach the model file, and the training's summary gives the shape and the paper's 663,562.
 #[test]
 fn train_dtfcn_builds_the_papers_network_and_other_shapes_from_its_flags() {
     let dir = out_dir().join("dtfcn-shapes");
@@ -677,7 +677,7 @@ fn train_dtfcn_builds_the_papers_network_and_other_shapes_from_its_flags() {
         a.extend_from_slice(extra);
         a.into_iter().map(str::to_string).collect::<Vec<_>>()
     };
-    let owned = args(&["--layers", "5", "--image-rows", "224", "--padding", "edge"]);
+    let owned = args(&["--filters", "64,64,128,256,512", "--image-rows", "224", "--padding", "edge"]);
     let out = run(&owned.iter().map(String::as_str).collect::<Vec<_>>());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
@@ -691,7 +691,7 @@ fn train_dtfcn_builds_the_papers_network_and_other_shapes_from_its_flags() {
     let seg = stdout_json(&run(&["segment", "--method", "dtfcn", "--model", model.to_str().unwrap(), walk.to_str().unwrap()]));
     assert!(!seg["segments"].as_array().unwrap().is_empty());
     // refusals name the flag
-    for (bad, says) in [(vec!["--layers", "9"], "--layers 9"), (vec!["--padding", "mirror"], "--padding: padding \"mirror\"")] {
+    for (bad, says) in [(vec!["--filters", "64,0"], "--filters"), (vec!["--padding", "mirror"], "--padding: padding \"mirror\"")] {
         let owned = args(&bad);
         let out = run(&owned.iter().map(String::as_str).collect::<Vec<_>>());
         assert!(!out.status.success());
@@ -774,6 +774,58 @@ fn train_dtfcn_writes_a_model_that_segment_and_model_info_read_and_bad_models_ar
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// `--validation TAKE` (DT-FCN declares a validation take): the take is kept out of the training and its loss
+/// chooses the epoch, through the same training the page runs; a method without epochs refuses it, naming it; and
+/// without `--labels` LMA (which declares what it learns from instead) trains on every take given, said so.
+#[test]
+fn a_validation_take_and_training_without_labels_are_what_the_method_declares() {
+    let dir = out_dir().join("train-declared");
+    std::fs::create_dir_all(&dir).unwrap();
+    let labels = dir.join("labels.csv");
+    std::fs::write(
+        &labels,
+        "file,start_frame,end_frame,label\n02_01.bvh,0,170,start\n02_01.bvh,171,342,walk\n\
+         35_01.bvh,0,178,start\n35_01.bvh,179,357,walk\n",
+    )
+    .unwrap();
+    let (a, b) = (fixture("02_01.bvh"), fixture("35_01.bvh"));
+    let (a, b, labels_arg) = (a.to_str().unwrap(), b.to_str().unwrap(), labels.to_str().unwrap());
+    let model = dir.join("val.model");
+    let out = run(&[
+        "train-dtfcn", "--bvh", a, b, "--labels", labels_arg, "--validation", "35_01.bvh", "--epochs", "3",
+        "--filters", "8,8", "--out", model.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("validation loss"), "every epoch line gives the validation take's loss: {err}");
+    assert!(err.contains("(the best validation loss on 35_01.bvh)"), "{err}");
+    let info = stdout_json(&run(&["model-info", model.to_str().unwrap()]));
+    assert_eq!(info["provenance"]["takes"], serde_json::json!(["02_01.bvh"]), "trained on the other take only: {info}");
+    for (args, says) in [
+        (vec!["train-dtfcn", "--bvh", a, b, "--labels", labels_arg, "--validation", "nope.bvh"], "nope.bvh: not among the takes"),
+        (vec!["train-dtfcn", "--bvh", a, "--labels", labels_arg, "--validation", "02_01.bvh"], "the only take"),
+        (vec!["train", "--method", "knn", a, b, "--labels", labels_arg, "--validation", "35_01.bvh"], "--validation: k-NN has no epochs"),
+        (vec!["train-dtfcn", "--bvh", a], "--labels"),
+    ] {
+        let out = run(&[args, vec!["-o", "/dev/null"]].concat());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(says), "{says}: {err}");
+    }
+    // LMA without labels: the stand-in descriptors over every take given, the one path the page trains by
+    let family = dir.join("stand-in.json");
+    let out = run(&[
+        "train-lma", "--bvh", fixture("12_01.bvh").to_str().unwrap(), fixture("131_01.bvh").to_str().unwrap(),
+        "--restarts", "2", "--saliency-rounds", "4", "--max-epochs", "40", "--shift-epochs", "3",
+        "--out", family.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(err.contains("no --labels: LMA learns from the stand-in Effort descriptors"), "{err}");
+    assert!(err.contains("Trained on the stand-in Effort descriptors' terciles over") && err.contains("12_01.bvh, 131_01.bvh"), "{err}");
+    let seg = stdout_json(&run(&["segment", "--method", "lma", "--model", family.to_str().unwrap(), a]));
+    assert_eq!(seg["params"]["model"], "stand-in");
 }
 
 /// `mocapseg features`: the 15 end-effector values SSSM starts from, one row per 30 Hz frame,

@@ -34,8 +34,8 @@ fn main() -> std::process::ExitCode {
 }
 
 #[cfg(not(target_arch = "wasm32"))]
-#[path = "mocapseg/dtfcn_cli.rs"]
-mod dtfcn_cli;
+#[path = "mocapseg/model_info.rs"]
+mod model_info;
 
 #[cfg(not(target_arch = "wasm32"))]
 #[path = "mocapseg/library_cli.rs"]
@@ -242,12 +242,17 @@ mod cli {
             /// The method (dtfcn, knn, lma).
             #[arg(long)]
             method: String,
-            /// The takes (BVH files and/or folders); a method that trains on one take uses the first.
+            /// The takes (BVH files and/or folders); takes the labels do not name are left out, and said.
             #[arg(required = true)]
             inputs: Vec<PathBuf>,
-            /// The label CSV, with the header the method declares.
+            /// The label CSV, with the header the method declares (`mocapseg methods`); a method that declares what it
+            /// learns from without labels (LMA: its stand-in descriptors) trains on that when it is left out.
             #[arg(long)]
-            labels: PathBuf,
+            labels: Option<PathBuf>,
+            /// One of the takes kept out of the training, whose validation loss chooses the epoch (a method with
+            /// epochs: DT-FCN).
+            #[arg(long, value_name = "TAKE")]
+            validation: Option<String>,
             /// A training option of the method's table: NAME=VALUE (JSON, or a word), repeatable.
             #[arg(long = "option", value_name = "NAME=VALUE")]
             options: Vec<String>,
@@ -442,8 +447,8 @@ mod cli {
                 store_model_files(&method, &mut params, &mut models)?;
                 return segment(&inputs, &method, &params, &models, out, jobs);
             }
-            Command::Train { method, inputs, labels, options, name, out } => {
-                train(&method, &inputs, &labels, &options, name, &out)
+            Command::Train { method, inputs, labels, validation, options, name, out } => {
+                train(&method, &inputs, labels.as_deref(), validation, &options, name, &out)
             }
             Command::Cluster { inputs, out, library } => {
                 return crate::library_cli::cluster_command(&inputs, &library, &out).map(library_outcome);
@@ -461,7 +466,7 @@ mod cli {
             Command::Effort { segmentation, take, lma_model, out } => {
                 effort(&segmentation, &take, lma_model.as_deref(), out.as_deref())
             }
-            Command::ModelInfo { file, method } => crate::dtfcn_cli::model_info(&file, method.as_deref()),
+            Command::ModelInfo { file, method } => crate::model_info::model_info(&file, method.as_deref()),
             Command::ModelCards { accuracy, out } => model_cards(&accuracy, &out),
             Command::Labels { truth, first_frame, row_offset, out } => {
                 labels(&truth, TruthOptions { first_frame, bvh_row_offset: row_offset }, out)
@@ -716,7 +721,8 @@ mod cli {
     fn train(
         method_name: &str,
         inputs: &[PathBuf],
-        labels: &Path,
+        labels: Option<&Path>,
+        validation: Option<String>,
         options: &[String],
         name: Option<String>,
         out: &Path,
@@ -740,21 +746,42 @@ mod cli {
             };
             given.push((spec, raw.trim().to_string()));
         }
-        let json = options_json(m, given.into_iter(), |name| format!("--option {name}"))?;
-        train_with(m, inputs, labels, json, name, out)
+        let flag = |name: &str| format!("--option {name}");
+        let json = options_json(m, given.into_iter(), flag)?;
+        train_with(m, inputs, labels, validation, json, name, out, &flag)
     }
 
-    /// A training through the method's [`method::Supervised`] interface, as the page trains.
+    /// A training through the method's [`method::Supervised`] interface, as the page trains — the one path
+    /// for `train` and every `train-M`: on every take given (the page sends the take on screen, and the takes
+    /// added where the method declares `more_takes`), with the labels, or without them where the method
+    /// declares what it learns from instead, and a validation take where it declares one.
+    #[allow(clippy::too_many_arguments)]
     fn train_with(
         m: &dyn DynMethod,
         inputs: &[PathBuf],
-        labels: &Path,
+        labels: Option<&Path>,
+        validation: Option<String>,
         options: serde_json::Value,
         name: Option<String>,
         out: &Path,
+        flag: &dyn Fn(&str) -> String,
     ) -> Result<(), String> {
         let (Some(supervised), Some(decl)) = (m.supervised(), m.supervision()) else {
             return Err(format!("{} has no models to train", m.info().short));
+        };
+        if validation.is_some() && !decl.validation_take {
+            return Err(format!("--validation: {} has no epochs for a validation take to choose", m.info().short));
+        }
+        let (labels_name, labels) = match (labels, &decl.without_labels) {
+            (Some(path), _) => (
+                path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned()),
+                read_text(path)?,
+            ),
+            (None, Some(instead)) => {
+                eprintln!("no --labels: {} learns from {instead}", m.info().short);
+                (String::new(), String::new())
+            }
+            (None, None) => return Err(format!("--labels FILE is needed (`{}`)", decl.labels_header)),
         };
         let files = collect_files(inputs, "bvh")?;
         let mut takes = Vec::new();
@@ -762,20 +789,17 @@ mod cli {
             let file_name = f.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
             takes.push((file_name, std::fs::read(f).map_err(|e| format!("{}: {e}", f.display()))?));
         }
-        if !decl.more_takes {
-            takes.truncate(1);
-        }
         let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "model".into());
         let ask = mocapseg::method::supervised::TrainingAsk {
             name: name.unwrap_or(stem),
-            labels_name: labels
-                .file_name()
-                .map_or_else(|| labels.display().to_string(), |n| n.to_string_lossy().into_owned()),
-            labels: read_text(labels)?,
+            labels_name,
+            labels,
             takes,
             options,
-            command: Some(std::env::args().collect::<Vec<_>>().join(" ")),
+            command: Some(command_line()),
             start_from: None,
+            validation,
+            to_file: true,
         };
         let started = Instant::now();
         let bar = ProgressBar::new(1000);
@@ -787,7 +811,9 @@ mod cli {
             bar.set_message(stage.to_string());
             bar.set_position((fraction.clamp(0.0, 1.0) * 1000.0) as u64);
         };
+        // a refusal names the option as it was given here (`--filters`, `--option filters`), or what else it names
         let named = |e: method::MethodError| match e.param_name() {
+            Some(p) if decl.training.iter().any(|s| s.name == p) => format!("{}: {e}", flag(p)),
             Some(p) => format!("{p}: {e}"),
             None => e.to_string(),
         };
@@ -822,8 +848,7 @@ mod cli {
 
     /// The `train-M` commands, one per method with models: the takes, the labels, the model file, and a
     /// flag per row of the method's training table (`--NAME VALUE`; help, bounds and default from the row,
-    /// as the page's training form shows them), plus the method's own research flags
-    /// ([`crate::dtfcn_cli::research_flags`]).
+    /// as the page's training form shows them), and `--validation` where the method declares a validation take.
     fn training_commands() -> Vec<clap::Command> {
         use clap::{value_parser, Arg};
         mocapseg::methods::registry()
@@ -850,12 +875,26 @@ mod cli {
                             .long("labels")
                             .value_name("CSV")
                             .value_parser(value_parser!(PathBuf))
-                            .help(format!("The label CSV `{}`", decl.labels_header)),
+                            .required(decl.without_labels.is_none())
+                            .help(match &decl.without_labels {
+                                None => format!("The label CSV `{}`", decl.labels_header),
+                                Some(instead) => format!(
+                                    "The label CSV `{}`; without it, {} learns from {instead}",
+                                    decl.labels_header, info.short
+                                ),
+                            }),
                     )
+                    .args(decl.validation_take.then(|| {
+                        Arg::new("validation").long("validation").value_name("TAKE").help(
+                            "One of the takes given, kept out of the training: its validation loss chooses the epoch \
+                             (early stopping, --patience); default none",
+                        )
+                    }))
                     .arg(
                         Arg::new("out")
                             .long("out")
                             .short('o')
+                            .required(true)
                             .value_name("FILE")
                             .value_parser(value_parser!(PathBuf))
                             .help("The model file to write"),
@@ -876,7 +915,7 @@ mod cli {
                             )),
                     );
                 }
-                Some(crate::dtfcn_cli::research_flags(&info.name, command))
+                Some(command)
             })
             .collect()
     }
@@ -905,18 +944,21 @@ mod cli {
             .training
             .iter()
             .filter_map(|spec| args.get_one::<String>(&spec.name).map(|text| (spec, text.clone())));
-        let options = options_json(m, given, |name| format!("--{}", name.replace('_', "-")))?;
+        let flag = |name: &str| format!("--{}", name.replace('_', "-"));
+        let options = options_json(m, given, flag)?;
         let bvh: Vec<PathBuf> = args.get_many::<PathBuf>("bvh").into_iter().flatten().cloned().collect();
         let labels = args.get_one::<PathBuf>("labels").cloned();
-        let out = args.get_one::<PathBuf>("out").cloned();
+        let validation = args.try_get_one::<String>("validation").ok().flatten().cloned();
+        let out = args.get_one::<PathBuf>("out").cloned().ok_or("--out FILE is needed")?;
         let name = args.get_one::<String>("name").cloned();
-        if let Some(done) = crate::dtfcn_cli::research_training(method_name, &bvh, labels.as_deref(), &options, out.as_deref(), name.clone(), args) {
-            return done;
-        }
-        // a method without research flags: exactly the page's training
-        let labels = labels.ok_or("--labels FILE is needed")?;
-        let out = out.ok_or("--out FILE is needed")?;
-        train_with(m, &bvh, &labels, options, name, &out)
+        train_with(m, &bvh, labels.as_deref(), validation, options, name, &out, &flag)
+    }
+
+    /// The command line as typed (for a model's provenance), an argument with a space quoted.
+    fn command_line() -> String {
+        let mut shown = vec!["mocapseg".to_string()];
+        shown.extend(std::env::args().skip(1).map(|a| if a.contains(' ') { format!("'{a}'") } else { a }));
+        shown.join(" ")
     }
 
     /// `mocapseg effort SEG.json TAKE [--lma-model FILE] [-o OUT]`.
@@ -1033,93 +1075,6 @@ mod cli {
         if failed > 0 && rows.is_empty() {
             return Err("no take could be labelled".into());
         }
-        Ok(())
-    }
-
-    /// `mocapseg train-lma`: the family trained on every take given (the page trains on the take on
-    /// screen), with the user's Effort labels or, without `labels`, the stand-in descriptors' terciles.
-    pub(crate) fn train_lma(
-        inputs: &[PathBuf],
-        labels: Option<&Path>,
-        train_config: mocapseg::methods::lma::training::TrainConfig,
-        out: &Path,
-    ) -> Result<(), String> {
-        use mocapseg::methods::lma::corpus::{parse_labels, Corpus, CorpusConfig};
-        use mocapseg::methods::lma::training::train_family;
-        let started = Instant::now();
-        let files = collect_files(inputs, "bvh")?;
-        let mut motions = Vec::new();
-        for f in &files {
-            match load(f) {
-                Ok(l) => motions.push(l.motion),
-                Err(e) => eprintln!("skipped {e}"),
-            }
-        }
-        let takes: Vec<&mocapseg::motion::Motion> = motions.iter().collect();
-        let config = CorpusConfig::default();
-        // takes without arms are skipped (and said), the others learnt from
-        let usable: Vec<&mocapseg::motion::Motion> = takes
-            .into_iter()
-            .filter(|m| match mocapseg::methods::lma::body::upper_body(m, config.fps) {
-                Ok(_) => true,
-                Err(e) => {
-                    eprintln!("skipped {}: {e}", m.name);
-                    false
-                }
-            })
-            .collect();
-        let corpus = match &labels {
-            Some(path) => {
-                let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-                let rows = parse_labels(&text, &path.display().to_string())?;
-                Corpus::from_labels(&usable, &rows, config)?
-            }
-            None => Corpus::from_descriptors(&usable, config)?,
-        };
-        eprintln!("{}", corpus.origin);
-        let bar = indicatif::ProgressBar::new(1000);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {msg}").map_err(|e| e.to_string())?,
-        );
-        let (model, reports) = train_family(&corpus, &train_config, &mut |stage, f| {
-            bar.set_position((f * 1000.0) as u64);
-            bar.set_message(stage.to_string());
-            Ok(())
-        })?;
-        bar.finish_and_clear();
-        println!("| factor | train / validation / test segments (i/n/c) | features left out (tell the label) | features kept | principal components | hidden units | train error | validation error | **test error** | shifted nets' test error | test confusion (true i · n · c → predicted i/n/c) | most salient features (saliency) |");
-        println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
-        for r in &reports {
-            let split = r.split.map(|n| format!("{}/{}/{}", n[0], n[1], n[2])).join(" · ");
-            let told = match r.told.first() {
-                Some((name, rho)) => format!("{} (most: {name}, ρ = {rho:.2})", r.told.len()),
-                None => "0".into(),
-            };
-            let salient: Vec<String> = r.most_salient.iter().map(|(n, v)| format!("{n} ({v:.3})")).collect();
-            println!(
-                "| {} | {split} | {told} | {} | {} | {} | {:.2} | {:.2} | **{:.2}** | {:.2} | {} | {} |",
-                r.factor.name(),
-                r.selected,
-                r.components,
-                r.hidden,
-                r.train_error,
-                r.validation_error,
-                r.test_error,
-                r.shifted_test_error,
-                mocapseg::methods::lma::supervised::confusion_text(&r.confusion),
-                salient.join("; ")
-            );
-        }
-        let json = model.to_json();
-        std::fs::write(out, &json).map_err(|e| format!("{}: {e}", out.display()))?;
-        println!(
-            "{} classifiers × 4 networks from {} segments in {:.1} s → {} ({} kB)",
-            model.shifts(),
-            model.samples,
-            started.elapsed().as_secs_f64(),
-            out.display(),
-            json.len() / 1000
-        );
         Ok(())
     }
 

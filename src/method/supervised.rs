@@ -102,6 +102,14 @@ pub struct Supervision {
     pub trains_on_my_labels: bool,
     /// Its runs label every frame with one of its model's classes (the page colours them by class).
     pub labels_classes: bool,
+    /// It can keep one of its takes aside as a validation take whose loss chooses the epoch
+    /// ([`TrainingAsk::validation`]; the command line's `--validation TAKE`).
+    #[serde(default)]
+    pub validation_take: bool,
+    /// What it learns from when no label file is given (the command line's training without
+    /// `--labels`), in words; `None`: labels are needed.
+    #[serde(default)]
+    pub without_labels: Option<String>,
 }
 
 /// A model as the page lists it and the command line describes it.
@@ -342,6 +350,13 @@ pub struct TrainingAsk {
     /// A model of the user's to continue training (its weights, classes and input scaling kept)
     /// instead of starting from random weights; a method that cannot continue refuses it.
     pub start_from: Option<Loaded>,
+    /// One of `takes` kept out of the training: its loss chooses the epoch (early stopping). Only
+    /// for a method that declares [`Supervision::validation_take`]; refused, naming `validation`,
+    /// when no take has that name.
+    pub validation: Option<String>,
+    /// The model goes to a file (the command line), not into the page's store beside the shipped
+    /// models: it may carry a shipped model's name (how the shipped models are made).
+    pub to_file: bool,
 }
 
 /// One step of a training done.

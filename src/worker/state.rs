@@ -157,6 +157,8 @@ impl WorkerState {
                     options,
                     command: None,
                     start_from,
+                    validation: None,
+                    to_file: false,
                 };
                 match self.start_training(take, run, &method, ask, post) {
                     Ok(()) => self.training_step(post),

@@ -85,6 +85,25 @@ pub fn paper_filters(layers: usize) -> Vec<usize> {
 }
 
 impl DtFcnConfig {
+    /// The network's shape in one line: kernel width, layers, receptive field in frames and seconds at
+    /// `fps`, padding, what layer 1 reads, and its parameters beside the paper's (663,562: five layers
+    /// reading 224 rows, ten classes).
+    pub fn describe(&self, fps: f64) -> String {
+        let ten = DtFcnConfig { classes: 10, ..self.clone() }.parameter_count();
+        format!(
+            "network: w = {}, {} layers ({}), receptive field {} frames = {:.2} s at {fps} Hz, {} padding, layer 1 reads {} values per frame{}; {} parameters ({ten} with the paper's 10 classes; the paper's network: 663562, reading 224 rows)",
+            self.width,
+            self.filters.len(),
+            self.filters.iter().map(|f| f.to_string()).collect::<Vec<_>>().join(","),
+            self.receptive_field(),
+            self.receptive_field_s(fps),
+            self.padding.name(),
+            self.first_layer_inputs(),
+            self.image_rows.map(|r| format!(" (the image resized to {r} rows)")).unwrap_or_default(),
+            self.parameter_count(),
+        )
+    }
+
     /// The paper's network (w = 3, five layers) for `channels` inputs and `classes` classes.
     pub fn paper(channels: usize, classes: usize) -> DtFcnConfig {
         DtFcnConfig { channels, classes, width: 3, filters: paper_filters(5), padding: Padding::Zero, image_rows: None }

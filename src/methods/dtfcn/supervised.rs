@@ -305,6 +305,8 @@ pub fn supervision(kind: ModelKind) -> Supervision {
         },
         trains_on_my_labels: kind == ModelKind::Dtfcn,
         labels_classes: true,
+        validation_take: kind == ModelKind::Dtfcn,
+        without_labels: None,
     }
 }
 
@@ -457,14 +459,17 @@ struct Prepared {
     take_sha256: Vec<String>,
     used_rows: usize,
     left_out: Vec<String>,
+    /// The take kept aside to choose the epoch (one of `motions`), if any.
+    validation: Option<String>,
 }
 
 /// Checks the name, reads the label CSV and the takes it names; a refusal names `name`, `labels`
 /// or `takes`.
 fn prepare(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Prepared, MethodError> {
-    let TrainingAsk { name, labels_name, labels, takes, command, .. } = ask;
+    let TrainingAsk { name, labels_name, labels, takes, command, validation, to_file, .. } = ask;
     let name = name.trim().to_string();
-    check_model_name(&name, &shipped_names()).map_err(|m| MethodError::param("name", m))?;
+    let taken = if to_file { Vec::new() } else { shipped_names() };
+    check_model_name(&name, &taken).map_err(|m| MethodError::param("name", m))?;
     let bad_labels = |m: String| MethodError::param("labels", m);
     let bad_takes = |m: String| MethodError::param("takes", m);
     let rows = crate::labels::read_csv(&labels, &labels_name).map_err(bad_labels)?;
@@ -509,6 +514,7 @@ fn prepare(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Prepared, Me
         labels_per_take,
         used_rows,
         left_out,
+        validation,
     })
 }
 
@@ -523,10 +529,22 @@ impl Prepared {
                 .unwrap_or_else(|| train_command(kind, &takes, &self.labels_name, &self.name, &options.read)),
             data_hash: self.data_hash.clone(),
             decoding: options.decoding,
+            // measured on what the model is taught (a validation take is not)
             travel: super::corpus::travel_of(
-                &self.motions.iter().zip(&self.labels_per_take).map(|(m, l)| (m, &l[..])).collect::<Vec<_>>(),
+                &self
+                    .motions
+                    .iter()
+                    .zip(&self.labels_per_take)
+                    .filter(|(m, _)| !self.is_validation(&m.name))
+                    .map(|(m, l)| (m, &l[..]))
+                    .collect::<Vec<_>>(),
             ),
         }
+    }
+
+    /// `take` is the validation take.
+    fn is_validation(&self, take: &str) -> bool {
+        self.validation.as_deref().is_some_and(|v| same_file(v, take))
     }
 
     /// The status line of the finished training (`how`: "20 epochs", "stopped after 3 of 20 epochs").
@@ -536,7 +554,11 @@ impl Prepared {
         } else {
             format!(" (rows for {} left out: not loaded)", self.left_out.join(", "))
         };
-        let kept = kept.map(|e| format!(", the weights of epoch {e} kept")).unwrap_or_default();
+        let kept = match (kept, &self.validation) {
+            (Some(e), Some(v)) => format!(", the weights of epoch {e} kept (the best validation loss on {v})"),
+            (Some(e), None) => format!(", the weights of epoch {e} kept"),
+            (None, _) => String::new(),
+        };
         let refs: Vec<&Motion> = self.motions.iter().collect();
         let rates: String = super::corpus::labels_at_another_rate(&refs, &self.labels_per_take)
             .into_iter()
@@ -563,6 +585,21 @@ pub fn start_training(
     let options = options_from_json(kind, &ask.options)?;
     let start_from = ask.start_from.clone();
     let mut prepared = prepare(ask, progress)?;
+    if let Some(v) = &prepared.validation {
+        if kind == ModelKind::Knn {
+            return Err(MethodError::param("validation", "a k-NN has no epochs for a validation take to choose"));
+        }
+        let names: Vec<&str> = prepared.motions.iter().map(|m| m.name.as_str()).collect();
+        if !names.iter().any(|n| same_file(v, n)) {
+            return Err(MethodError::param(
+                "validation",
+                format!("{v}: not among the takes trained on ({})", names.join(", ")),
+            ));
+        }
+        if names.len() < 2 {
+            return Err(MethodError::param("validation", format!("{v} is the only take: nothing would be left to train on")));
+        }
+    }
     let start = match (&start_from, kind) {
         (None, _) => None,
         (Some(_), ModelKind::Knn) => {
@@ -579,10 +616,15 @@ pub fn start_training(
             }
             progress.step("motion images", 0.5)?;
             let mut training = Vec::with_capacity(prepared.motions.len());
+            let mut validation = Vec::new();
             for (m, l) in prepared.motions.iter().zip(&prepared.labels_per_take) {
-                training.push(
-                    TrainingTake::new(m, l).map_err(|e| MethodError::param("takes", format!("{}: {e}", m.name)))?,
-                );
+                let take =
+                    TrainingTake::new(m, l).map_err(|e| MethodError::param("takes", format!("{}: {e}", m.name)))?;
+                if prepared.is_validation(&m.name) {
+                    validation.push(take);
+                } else {
+                    training.push(take);
+                }
             }
             let light: Vec<TrainingTake> = training
                 .iter()
@@ -593,9 +635,9 @@ pub fn start_training(
                 })
                 .collect();
             let (trainer, previous) = match start {
-                None => (Trainer::new(training, Vec::new(), prepared.classes.clone(), options.train.clone()), None),
+                None => (Trainer::new(training, validation, prepared.classes.clone(), options.train.clone()), None),
                 Some((weights, previous)) => (
-                    Trainer::resume(training, Vec::new(), prepared.classes.clone(), options.train.clone(), weights),
+                    Trainer::resume(training, validation, prepared.classes.clone(), options.train.clone(), weights),
                     Some(previous),
                 ),
             };
@@ -667,11 +709,15 @@ fn epoch_step(r: &EpochReport, largest_loss: f64) -> StepReport {
         step: r.epoch,
         steps: r.epochs,
         line: format!(
-            "Epoch {} of {} · loss {:.3} · accuracy {:.0} %",
+            "Epoch {} of {} · loss {:.3} · accuracy {:.0} %{}",
             r.epoch,
             r.epochs,
             r.loss,
-            100.0 * r.train_accuracy
+            100.0 * r.train_accuracy,
+            match (r.validation_loss, r.validation_accuracy) {
+                (Some(l), Some(a)) => format!(" · validation loss {l:.3} · accuracy {:.0} %{}", 100.0 * a, if r.best { " *" } else { "" }),
+                _ => String::new(),
+            }
         ),
         values: vec![
             ("loss".into(), if largest_loss > 0.0 { r.loss / largest_loss } else { 0.0 }),
@@ -705,7 +751,14 @@ impl Training for DtfcnTraining {
         let meta = prepared.meta(ModelKind::Dtfcn, &options);
         let mut model = model_from(trained, &takes, &prepared.classes, &options.train, &meta);
         let p = &mut model.header.provenance;
-        p.take_sha256 = prepared.take_sha256.clone();
+        // the files of the takes trained on (a validation take only chose the epoch)
+        p.take_sha256 = prepared
+            .motions
+            .iter()
+            .zip(&prepared.take_sha256)
+            .filter(|(m, _)| !prepared.is_validation(&m.name))
+            .map(|(_, h)| h.clone())
+            .collect();
         let mut how = if stopped {
             format!("stopped after {ran} of {} epochs", options.train.epochs)
         } else {
@@ -717,8 +770,10 @@ impl Training for DtfcnTraining {
             p.continued_from(from, before);
         }
         let bytes = model.to_bytes().map_err(MethodError::Failed)?;
+        let network =
+            model.header.network.as_ref().map(|n| format!(" The {}.", n.describe(super::input::NETWORK_FPS))).unwrap_or_default();
         let report = TrainingReport {
-            summary: prepared.summary(ModelKind::Dtfcn, &how, Some(best)),
+            summary: format!("{}{network}", prepared.summary(ModelKind::Dtfcn, &how, Some(best))),
             columns: Vec::new(),
             rows: Vec::new(),
             stopped,
@@ -858,6 +913,8 @@ mod tests {
             options: serde_json::json!({}),
             command: None,
             start_from: None,
+            validation: None,
+            to_file: false,
         };
         let mut training = start_training(ModelKind::Knn, ask, &mut crate::method::NoProgress).unwrap();
         while !training.done() {
@@ -870,6 +927,28 @@ mod tests {
         assert!(card.held_out.is_none(), "a model trained here has no held-out figure");
         let back = Model::from_bytes(&trained.bytes, "hashed.model").unwrap();
         assert_eq!(back.header.provenance.take_sha256, expected, "in the file too");
+    }
+
+    /// A shipped model's name: refused for the page's store (it would hide the shipped model), taken for a
+    /// model that goes to a file (how the shipped models are made on the command line).
+    #[test]
+    fn a_shipped_name_is_refused_for_the_store_and_taken_for_a_file() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures");
+        let ask = |to_file| TrainingAsk {
+            name: "exercises".into(),
+            labels_name: "l.csv".into(),
+            labels: "file,start_frame,end_frame,label\n35_01.bvh,0,199,stand\n35_01.bvh,200,357,reach\n".into(),
+            takes: vec![("35_01.bvh".into(), std::fs::read(dir.join("35_01.bvh")).unwrap())],
+            to_file,
+            ..TrainingAsk::default()
+        };
+        let refused = start_training(ModelKind::Knn, ask(false), &mut crate::method::NoProgress).err().unwrap();
+        assert_eq!(refused.param_name(), Some("name"), "{refused}");
+        let mut training = start_training(ModelKind::Knn, ask(true), &mut crate::method::NoProgress).unwrap();
+        while !training.done() {
+            training.step(&mut crate::method::NoProgress).unwrap();
+        }
+        assert_eq!(training.finish().unwrap().model.info.name, "exercises");
     }
 
     /// Continuing a DT-FCN training keeps the model's classes (in its order, whatever the labels'
@@ -886,6 +965,8 @@ mod tests {
             options: serde_json::json!({"epochs": 1, "filters": [4, 4], "width": 2}),
             command: None,
             start_from,
+            validation: None,
+            to_file: false,
         };
         let train = |ask: TrainingAsk| {
             let mut t = start_training(ModelKind::Dtfcn, ask, &mut crate::method::NoProgress)?;

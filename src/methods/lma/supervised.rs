@@ -164,6 +164,13 @@ pub fn supervision() -> Supervision {
         step_name: "training".into(),
         trains_on_my_labels: false,
         labels_classes: false,
+        validation_take: false,
+        without_labels: Some(
+            "the stand-in Effort descriptors' terciles over the takes' segments between hand-speed minima (how \
+             models/lma-effort.json is made) — functions of LMA's own features: for trying it out, not for \
+             measuring it"
+                .into(),
+        ),
     }
 }
 
@@ -216,39 +223,81 @@ fn no_rows_for(name: &str, take: &str, others: &[EffortLabel]) -> String {
     format!("{name}: no row is for the loaded take `{take}`; its rows name {named}")
 }
 
-/// Starts a training of the family on the rows of `ask`'s labels for its first take.
+/// Starts a training of the family on the rows of `ask`'s labels for its takes (the page sends the
+/// take on screen; the command line every take given), or — with no label file — on the stand-in
+/// descriptors' terciles ([`Supervision::without_labels`]). Takes without rows, or without arms, are
+/// left out and said.
 pub fn start_training(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Box<dyn Training>, MethodError> {
     if ask.start_from.is_some() {
         return Err(MethodError::param("name", "an LMA family has no epochs to continue: train it again"));
     }
+    if ask.validation.is_some() {
+        return Err(MethodError::param(
+            "validation",
+            "an LMA family's stopping points are chosen on a share of its segments (the validation option), not on a take",
+        ));
+    }
     let config = config_from_json(&ask.options)?;
     let name = ask.name.trim().to_string();
-    check_model_name(&name, &[SHIPPED_NAME.to_string()]).map_err(|m| MethodError::param("name", m))?;
+    let taken = if ask.to_file { Vec::new() } else { vec![SHIPPED_NAME.to_string()] };
+    check_model_name(&name, &taken).map_err(|m| MethodError::param("name", m))?;
     let bad_labels = |m: String| MethodError::param("labels", m);
-    let Some((take_name, bytes)) = ask.takes.into_iter().next() else {
-        return Err(MethodError::param("takes", "no take to train on"));
-    };
-    let rows = parse_labels(&ask.labels, &ask.labels_name).map_err(bad_labels)?;
-    let (used, ignored): (Vec<EffortLabel>, Vec<EffortLabel>) =
-        rows.into_iter().partition(|row| same_file(&row.file, &take_name));
-    if used.is_empty() {
-        return Err(bad_labels(no_rows_for(&ask.labels_name, &take_name, &ignored)));
+    let first = ask.takes.first().map(|(n, _)| n.clone()).ok_or_else(|| MethodError::param("takes", "no take to train on"))?;
+    let stand_in = ask.labels_name.is_empty() && ask.labels.trim().is_empty();
+    let rows = if stand_in { Vec::new() } else { parse_labels(&ask.labels, &ask.labels_name).map_err(bad_labels)? };
+    let corpus_config = CorpusConfig::default();
+    let count = ask.takes.len();
+    let mut motions = Vec::new();
+    let mut skipped = Vec::new();
+    for (k, (take_name, bytes)) in ask.takes.into_iter().enumerate() {
+        if !stand_in && !rows.iter().any(|row| same_file(&row.file, &take_name)) {
+            skipped.push(format!("{take_name} (no rows)"));
+            continue;
+        }
+        progress.step(&format!("reading {take_name}"), k as f64 / count as f64 * 0.1)?;
+        let motion = match crate::load::load_bytes(&take_name, &bytes, &mut |_| {}) {
+            Ok(loaded) => loaded.motion,
+            // one of several takes that does not load is left out, and said
+            Err(e) if count > 1 => {
+                skipped.push(e.to_string());
+                continue;
+            }
+            Err(e) => return Err(MethodError::param("takes", e.to_string())),
+        };
+        match super::body::upper_body(&motion, corpus_config.fps) {
+            Ok(_) => motions.push(motion),
+            Err(e) if count > 1 => skipped.push(format!("{take_name} ({e})")),
+            Err(e) => return Err(MethodError::param("takes", format!("{take_name}: {e}"))),
+        }
     }
-    progress.step(&format!("reading {take_name}"), 0.0)?;
-    let motion = crate::load::load_bytes(&take_name, &bytes, &mut |_| {})
-        .map_err(|e| MethodError::param("takes", e.to_string()))?
-        .motion;
-    let mut corpus = Corpus::from_labels(&[&motion], &used, CorpusConfig::default())
-        .map_err(|m| bad_labels(format!("{}: {m}", ask.labels_name)))?;
-    corpus.origin = format!("{} segments of {} labelled in {}", corpus.samples.len(), motion.name, ask.labels_name);
+    if motions.is_empty() {
+        return Err(if stand_in || skipped.iter().all(|s| !s.ends_with("(no rows)")) {
+            MethodError::param("takes", format!("no take to learn from: {}", skipped.join(", ")))
+        } else {
+            bad_labels(no_rows_for(&ask.labels_name, &first, &rows))
+        });
+    }
+    let refs: Vec<&crate::motion::Motion> = motions.iter().collect();
+    let (used, ignored): (Vec<EffortLabel>, Vec<EffortLabel>) =
+        rows.into_iter().partition(|row| refs.iter().any(|m| same_file(&row.file, &m.name)));
+    let takes = refs.iter().map(|m| m.name.as_str()).collect::<Vec<_>>().join(", ");
+    let corpus = if stand_in {
+        Corpus::from_descriptors(&refs, corpus_config).map_err(|m| MethodError::param("takes", m))?
+    } else {
+        let mut corpus = Corpus::from_labels(&refs, &used, corpus_config)
+            .map_err(|m| bad_labels(format!("{}: {m}", ask.labels_name)))?;
+        corpus.origin = format!("{} segments of {takes} labelled in {}", corpus.samples.len(), ask.labels_name);
+        corpus
+    };
     Ok(Box::new(LmaTraining {
         name,
         labels_name: ask.labels_name,
-        take: motion.name.clone(),
+        takes,
         corpus,
         config,
         used: used.len(),
         ignored: ignored.len(),
+        skipped,
         trained: None,
         stopped: false,
     }))
@@ -257,12 +306,16 @@ pub fn start_training(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<B
 /// The family's training: one step.
 struct LmaTraining {
     name: String,
+    /// Empty for the stand-in labels.
     labels_name: String,
-    take: String,
+    /// The takes learnt from, named.
+    takes: String,
     corpus: Corpus,
     config: TrainConfig,
     used: usize,
     ignored: usize,
+    /// Takes given but not learnt from, each with why.
+    skipped: Vec<String>,
     trained: Option<(EffortModel, Vec<FactorReport>)>,
     stopped: bool,
 }
@@ -296,6 +349,7 @@ fn factor_row(report: &FactorReport, samples: &[Sample], factor: usize) -> Vec<S
         percent(report.shifted_test_error),
         confusion_text(&report.confusion),
         if report.told.is_empty() { "—".into() } else { report.told.len().to_string() },
+        report.most_salient.iter().map(|(name, v)| format!("{name} ({v:.3})")).collect::<Vec<_>>().join("; "),
     ]
 }
 
@@ -328,7 +382,7 @@ impl Training for LmaTraining {
     }
 
     fn finish(self: Box<Self>) -> Result<Trained, MethodError> {
-        let LmaTraining { name, labels_name, take, corpus, config, used, ignored, trained, .. } = *self;
+        let LmaTraining { name, labels_name, takes, corpus, config, used, ignored, skipped, trained, .. } = *self;
         let (model, reports) =
             trained.ok_or_else(|| MethodError::Failed("the training was stopped before it ran".into()))?;
         let left_out = match ignored {
@@ -336,11 +390,19 @@ impl Training for LmaTraining {
             1 => " (1 row for another file left out)".to_string(),
             n => format!(" ({n} rows for other files left out)"),
         };
+        let skipped = match skipped.len() {
+            0 => String::new(),
+            _ => format!(" (not learnt from: {})", skipped.join(", ")),
+        };
+        let learnt = if labels_name.is_empty() {
+            format!("the stand-in Effort descriptors' terciles over {} segments of {takes}", corpus.samples.len())
+        } else {
+            format!("{} of {labels_name} for {takes}{left_out}", counted(used, "row"))
+        };
         let report = TrainingReport {
             summary: format!(
-                "Trained on {} of {labels_name} for {take}{left_out}; per factor {}% of them chose the networks' \
-                 stopping points and {}% were held out to measure the errors. LMA runs with your classifiers now.",
-                counted(used, "row"),
+                "Trained on {learnt}{skipped}; per factor {}% of them chose the networks' stopping points and {}% \
+                 were held out to measure the errors. LMA runs with your classifiers now.",
                 (100.0 * config.validation).round(),
                 (100.0 * config.test).round()
             ),
@@ -354,6 +416,7 @@ impl Training for LmaTraining {
                 "shifted networks' test error",
                 "test confusion (true indulging · neutral · condensing → predicted i/n/c)",
                 "features left out (they tell the label)",
+                "most salient features (saliency)",
             ]
             .iter()
             .map(|s| s.to_string())
