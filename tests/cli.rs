@@ -776,12 +776,10 @@ fn train_dtfcn_writes_a_model_that_segment_and_model_info_read_and_bad_models_ar
     );
 }
 
-/// `--validation TAKE` (DT-FCN declares a validation take): the take is kept out of the training and its loss
-/// chooses the epoch, through the same training the page runs; a method without epochs refuses it, naming it; and
-/// without `--labels` LMA (which declares what it learns from instead) trains on every take given, said so.
-#[test]
-fn a_validation_take_and_training_without_labels_are_what_the_method_declares() {
-    let dir = out_dir().join("train-declared");
+/// A folder `name` under the test output with `labels.csv` labelling the walks 02_01 and 35_01 in halves
+/// (`start`, `walk`; 0-based inclusive rows), and the two takes' paths.
+fn two_labelled_walks(name: &str) -> (PathBuf, PathBuf, PathBuf, PathBuf) {
+    let dir = out_dir().join(name);
     std::fs::create_dir_all(&dir).unwrap();
     let labels = dir.join("labels.csv");
     std::fs::write(
@@ -790,7 +788,15 @@ fn a_validation_take_and_training_without_labels_are_what_the_method_declares() 
          35_01.bvh,0,178,start\n35_01.bvh,179,357,walk\n",
     )
     .unwrap();
-    let (a, b) = (fixture("02_01.bvh"), fixture("35_01.bvh"));
+    (dir, labels, fixture("02_01.bvh"), fixture("35_01.bvh"))
+}
+
+/// `--validation TAKE` (DT-FCN declares a validation take): the take is kept out of the training and its loss
+/// chooses the epoch, through the same training the page runs; a method without epochs refuses it, naming it; and
+/// without `--labels` LMA (which declares what it learns from instead) trains on every take given, said so.
+#[test]
+fn a_validation_take_and_training_without_labels_are_what_the_method_declares() {
+    let (dir, labels, a, b) = two_labelled_walks("train-declared");
     let (a, b, labels_arg) = (a.to_str().unwrap(), b.to_str().unwrap(), labels.to_str().unwrap());
     let model = dir.join("val.model");
     let out = run(&[
@@ -995,16 +1001,7 @@ fn model_info_reads_shipped_names_and_segment_takes_an_lma_family_file() {
 /// worker trains it, and `segment --model FILE` and `model-info` read the file it writes.
 #[test]
 fn train_trains_any_method_with_models_from_its_declared_options() {
-    let dir = out_dir().join("train");
-    std::fs::create_dir_all(&dir).unwrap();
-    let labels = dir.join("labels.csv");
-    std::fs::write(
-        &labels,
-        "file,start_frame,end_frame,label\n02_01.bvh,0,170,start\n02_01.bvh,171,342,walk\n\
-         35_01.bvh,0,178,start\n35_01.bvh,179,357,walk\n",
-    )
-    .unwrap();
-    let (a, b) = (fixture("02_01.bvh"), fixture("35_01.bvh"));
+    let (dir, labels, a, b) = two_labelled_walks("train");
     let arg = |p: &std::path::Path| p.to_str().unwrap().to_string();
     for (method, options) in [("knn", vec![]), ("dtfcn", vec!["--option", "epochs=2", "--option", "filters=8,8"])] {
         let model = dir.join(format!("mine-{method}.model"));
