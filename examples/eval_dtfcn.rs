@@ -75,24 +75,11 @@ mod lab {
         labels: Option<PathBuf>,
     }
 
-    /// The takes under `paths` (files, and the `.bvh` files of folders, sorted) that `rows` name, and the rows.
+    /// The takes under `paths` (files, and the `.bvh` files of folders) that the label CSV names, and its rows.
     fn named_takes(paths: &[PathBuf], labels: &std::path::Path) -> Result<(Vec<Motion>, Vec<LabelRow>), String> {
         let text = std::fs::read_to_string(labels).map_err(|e| format!("{}: {e}", labels.display()))?;
         let rows = mocapseg::labels::read_csv(&text, &labels.display().to_string())?;
-        let mut files = Vec::new();
-        for p in paths {
-            if p.is_dir() {
-                let mut inside: Vec<PathBuf> = std::fs::read_dir(p)
-                    .map_err(|e| format!("{}: {e}", p.display()))?
-                    .filter_map(|e| e.ok().map(|e| e.path()))
-                    .filter(|f| f.extension().is_some_and(|x| x.eq_ignore_ascii_case("bvh")))
-                    .collect();
-                inside.sort();
-                files.extend(inside);
-            } else {
-                files.push(p.clone());
-            }
-        }
+        let files = mocapseg::load::collect_files(paths, "bvh")?;
         let mut motions = Vec::new();
         for f in files {
             let name = f.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
