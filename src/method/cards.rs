@@ -152,9 +152,11 @@ pub fn cards_json(accuracy: &str, generated_by: &str) -> Result<String, String> 
 pub enum TrainingMatch {
     /// Its file's SHA-256 is one the model recorded.
     Content(String),
-    /// Its file name is one of the training takes' (the model recorded no hashes, or none matched
-    /// and the name did: a renamed copy is matched by content only when hashes exist).
-    Name(String),
+    /// Its file name (or an alias) is one of the training takes': the model recorded no hashes
+    /// (`hashed` false), or none matched and the name did (`hashed` true: another version of the
+    /// take — the bundled sample is 13_30 rounded to 2 decimals). A renamed copy is matched by
+    /// content only when hashes exist.
+    Name { take: String, hashed: bool },
 }
 
 impl TrainingMatch {
@@ -162,7 +164,12 @@ impl TrainingMatch {
     pub fn warning(&self) -> String {
         let how = match self {
             TrainingMatch::Content(t) => format!("same file as its training take {t}"),
-            TrainingMatch::Name(t) => format!("matched by name: {t}; this model recorded no file hashes"),
+            TrainingMatch::Name { take, hashed: false } => {
+                format!("matched by name: {take}; this model recorded no file hashes")
+            }
+            TrainingMatch::Name { take, hashed: true } => {
+                format!("matched by name: {take}, another version of the file it was trained on")
+            }
         };
         format!(
             "This take was in the model's training set ({how}) — its labels here are not a measure of accuracy."
@@ -181,7 +188,8 @@ pub fn training_match(card: &ModelCard, name: &str, sha256: Option<&str>, aliase
         }
     }
     let names: Vec<String> = std::iter::once(name).chain(aliases.iter().copied()).map(stem).collect();
-    card.takes.iter().find(|t| names.contains(&stem(t))).map(|t| TrainingMatch::Name(t.clone()))
+    let hashed = card.take_sha256.iter().any(|h| !h.is_empty());
+    card.takes.iter().find(|t| names.contains(&stem(t))).map(|t| TrainingMatch::Name { take: t.clone(), hashed })
 }
 
 #[cfg(test)]
@@ -262,14 +270,20 @@ mod tests {
     #[test]
     fn a_take_matches_by_content_first_then_by_name() {
         let mut c = card("dtfcn", "mine", &["walk.bvh", "13_30.bvh"]);
-        assert_eq!(training_match(&c, "13_30.bvh", None, &[]), Some(TrainingMatch::Name("13_30.bvh".into())));
-        assert_eq!(training_match(&c, "sample.bvh", None, &["13_30.bvh"]), Some(TrainingMatch::Name("13_30.bvh".into())));
+        let by_name = |hashed| Some(TrainingMatch::Name { take: "13_30.bvh".into(), hashed });
+        assert_eq!(training_match(&c, "13_30.bvh", None, &[]), by_name(false));
+        assert_eq!(training_match(&c, "sample.bvh", None, &["13_30.bvh"]), by_name(false));
         assert_eq!(training_match(&c, "86_01.bvh", Some("ab"), &[]), None);
         c.take_sha256 = vec!["AB12".into(), String::new()];
         // a renamed copy of walk.bvh: matched by its content
         assert_eq!(training_match(&c, "copy.bvh", Some("ab12"), &[]), Some(TrainingMatch::Content("walk.bvh".into())));
         let w = TrainingMatch::Content("walk.bvh".into()).warning();
         assert!(w.contains("in the model's training set") && w.contains("not a measure of accuracy"), "{w}");
-        assert!(TrainingMatch::Name("x".into()).warning().contains("matched by name"));
+        let w = TrainingMatch::Name { take: "x".into(), hashed: false }.warning();
+        assert!(w.contains("matched by name") && w.contains("recorded no file hashes"), "{w}");
+        // with hashes, none matching: the bundled sample (13_30 at 2 decimals) under a model trained on 13_30
+        assert_eq!(training_match(&c, "sample.bvh", Some("ffff"), &["13_30.bvh"]), by_name(true));
+        let w = by_name(true).unwrap().warning();
+        assert!(w.contains("matched by name: 13_30.bvh, another version") && !w.contains("no file hashes"), "{w}");
     }
 }

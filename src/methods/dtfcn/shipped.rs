@@ -63,4 +63,27 @@ mod tests {
         let err = model(ModelKind::Knn, "nope").unwrap_err().to_string();
         assert!(err.contains("no knn model called `nope`") && err.contains("exercises"), "{err}");
     }
+
+    /// What a shipped file's header says is what a run does and what `models/README.md` tells
+    /// a reader to type: the unknown threshold is the run's default (the files once said 0.8
+    /// while runs used 0.5), the command is the README's line, and every training take's file
+    /// is hashed (so the page tells the bundled sample, another version of 13_30, by content).
+    #[test]
+    fn every_shipped_header_is_what_runs_use_and_the_readme_reproduces() {
+        let readme = std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/README.md"))
+            .unwrap();
+        for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
+            for name in NAMES {
+                let h = &model(kind, name).unwrap().header;
+                let file = file_name(kind, name);
+                assert_eq!(h.unknown_threshold as f64, super::super::method::DEFAULT_THRESHOLD, "{file}");
+                let command = &h.provenance.command;
+                assert!(command.ends_with(&format!("--out models/{file}")), "{file}: {command}");
+                assert!(readme.lines().any(|l| l == command), "{file}: `{command}` is not a line of models/README.md");
+                let p = &h.provenance;
+                assert_eq!(p.take_sha256.len(), p.takes.len(), "{file}");
+                assert!(p.take_sha256.iter().all(|x| x.len() == 64), "{file}");
+            }
+        }
+    }
 }
