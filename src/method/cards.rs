@@ -171,9 +171,7 @@ impl TrainingMatch {
                 format!("matched by name: {take}, another version of the file it was trained on")
             }
         };
-        format!(
-            "This take was in the model's training set ({how}) — its labels here are not a measure of accuracy."
-        )
+        format!("This take was in the model's training set ({how}) — its labels here are not a measure of accuracy.")
     }
 }
 

@@ -70,8 +70,8 @@ mod tests {
     /// is hashed (so the page tells the bundled sample, another version of 13_30, by content).
     #[test]
     fn every_shipped_header_is_what_runs_use_and_the_readme_reproduces() {
-        let readme = std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/README.md"))
-            .unwrap();
+        let readme =
+            std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/README.md")).unwrap();
         for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
             for name in NAMES {
                 let h = &model(kind, name).unwrap().header;
