@@ -9,12 +9,16 @@
 //! * `folds` — one setting's per-fold table: the held-out take, its validation take and what it chose,
 //!   DT-FCN and the k-NN side by side (what `mocapseg train-dtfcn --cross-validate` printed before the
 //!   command line's training became the page's one path);
+//! * `ensemble` — a few-seed ensemble: per held-out take, the network trained (each with its own
+//!   validation-chosen epoch) with every seed of `--seeds`, each seed's scores and those of the mean of
+//!   their probabilities, raw and under the shipped exercises model's decoding (runs ≥ 2 s, switch
+//!   cost 10);
 //! * `unseen` — leave one class out: each fold's held-out take's largest class is removed from
 //!   training; mean confidence on its frames (never seen) against the other frames, and how well
 //!   each unknown threshold separates them (what chose the default threshold).
 //!
 //! ```text
-//! cargo run --release --example eval_dtfcn -- noise|mask|folds|unseen [--data ../shared/data] [--width 3] [--layers 4] [--padding edge]
+//! cargo run --release --example eval_dtfcn -- noise|mask|folds|ensemble|unseen [--seeds 1,2,3] [--data ../shared/data] [--width 3] [--layers 4 | --filters 64,128,256,512] [--padding edge]
 //!     [--bvh TAKES… --labels L.csv] …
 //! ```
 //! Says so and fails when the shared data is absent.
@@ -56,6 +60,9 @@ mod lab {
         width: usize,
         #[arg(long, default_value_t = 4)]
         layers: usize,
+        /// Filters of each layer (their count is the layer count; overrides `--layers`), e.g. 32,64,128,256.
+        #[arg(long, value_delimiter = ',')]
+        filters: Vec<usize>,
         #[arg(long, default_value_t = 2)]
         batch: usize,
         #[arg(long, default_value_t = 128)]
@@ -64,6 +71,9 @@ mod lab {
         augment: String,
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// The seeds of `ensemble`.
+        #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
+        seeds: Vec<u64>,
         /// zero or edge (default: the training's)
         #[arg(long)]
         padding: Option<String>,
@@ -115,7 +125,11 @@ mod lab {
         let base = TrainOptions {
             epochs: args.epochs,
             width: args.width,
-            filters: mocapseg::methods::dtfcn::network::paper_filters(args.layers),
+            filters: if args.filters.is_empty() {
+                mocapseg::methods::dtfcn::network::paper_filters(args.layers)
+            } else {
+                args.filters.clone()
+            },
             batch: args.batch,
             crop_frames: args.crop,
             augment: Augment::parse(&args.augment)?,
@@ -181,17 +195,29 @@ mod lab {
                 Ok(())
             }
             "folds" => folds(&motions, &labels, &classes, &base),
+            "ensemble" => ensemble(&motions, &labels, &classes, &base, &args.seeds),
             "unseen" => unseen(&motions, &labels, &classes, &base),
-            other => Err(format!("unknown experiment `{other}`: noise, mask, folds or unseen")),
+            other => Err(format!("unknown experiment `{other}`: noise, mask, folds, ensemble or unseen")),
         }
     }
 
     /// One setting, leave one take out: a row per held-out take (its validation take and that take's accuracy, the
     /// epoch it chose, DT-FCN's and the k-NN's scores, the k-NN's k), and the mean.
-    fn folds(motions: &[Motion], labels: &[Vec<Option<usize>>], classes: &[String], options: &TrainOptions) -> Result<(), String> {
+    fn folds(
+        motions: &[Motion],
+        labels: &[Vec<Option<usize>>],
+        classes: &[String],
+        options: &TrainOptions,
+    ) -> Result<(), String> {
         let started = std::time::Instant::now();
         let folds = leave_one_take_out(motions, labels, classes, options, &mut |take, r| {
-            eprintln!("[held out {take}] epoch {}/{}: loss {:.3}{}", r.epoch, r.epochs, r.loss, if r.best { " *" } else { "" });
+            eprintln!(
+                "[held out {take}] epoch {}/{}: loss {:.3}{}",
+                r.epoch,
+                r.epochs,
+                r.loss,
+                if r.best { " *" } else { "" }
+            );
             true
         })?;
         println!(
@@ -232,6 +258,80 @@ mod lab {
             mean[0], mean[1], mean[2], mean[3], mean[4], mean[5], mean[6], mean[7], mean[8], mean[9], mean[10],
             started.elapsed().as_secs_f64()
         );
+        Ok(())
+    }
+
+    /// A few-seed ensemble (see the module docs): a row per held-out take, each seed's frame accuracy, edit and
+    /// F1@50 and the ensemble's, raw and decoded.
+    fn ensemble(
+        motions: &[Motion],
+        labels: &[Vec<Option<usize>>],
+        classes: &[String],
+        base: &TrainOptions,
+        seeds: &[u64],
+    ) -> Result<(), String> {
+        use mocapseg::methods::dtfcn::decode::{file_labels, Decoding};
+        use mocapseg::methods::dtfcn::infer::Probabilities;
+        use mocapseg::methods::dtfcn::input::NETWORK_FPS;
+        use mocapseg::segment::labelling;
+        if seeds.is_empty() {
+            return Err("--seeds: give at least one seed".into());
+        }
+        let started = std::time::Instant::now();
+        println!("{}", base.network(classes.len()).describe(NETWORK_FPS));
+        let decodings = [("raw", Decoding::RAW), ("decoded", Decoding { min_duration_s: 2.0, switch_cost: 10.0 })];
+        let seed_names: Vec<String> = seeds.iter().map(|s| format!("seed {s}")).collect();
+        let columns: Vec<String> = seed_names.iter().cloned().chain(["ensemble".to_string()]).collect();
+        println!(
+            "| held-out take | {} |",
+            decodings
+                .iter()
+                .flat_map(|(d, _)| columns.iter().map(move |c| format!("{c} {d}: acc / edit / F1@50")))
+                .collect::<Vec<_>>()
+                .join(" | ")
+        );
+        println!("|---|{}", "---|".repeat(decodings.len() * columns.len()));
+        let mut mean = vec![[0.0f64; 3]; decodings.len() * columns.len()];
+        for held in 0..motions.len() {
+            let mut runs: Vec<(Probabilities, Vec<f64>, usize)> = Vec::new();
+            for &seed in seeds {
+                let options = TrainOptions { seed, ..base.clone() };
+                let p = predict_held_out(motions, labels, held, classes, &options, &mut |_| true)?;
+                runs.push((p.network_probabilities, p.network_source, p.best_epoch));
+            }
+            let (first, source) = (&runs[0].0, runs[0].1.clone());
+            let mut values = vec![0.0f32; first.values.len()];
+            for (p, _, _) in &runs {
+                if p.values.len() != values.len() {
+                    return Err("the seeds' networks labelled different frames".into());
+                }
+                values.iter_mut().zip(&p.values).for_each(|(v, x)| *v += x / runs.len() as f32);
+            }
+            let together = Probabilities { frames: first.frames, classes: first.classes, values };
+            let truth = &labels[held];
+            let mut cells = Vec::new();
+            for (d, (_, decoding)) in decodings.iter().enumerate() {
+                let all = runs.iter().map(|r| (&r.0, &r.1)).chain(std::iter::once((&together, &source)));
+                for (c, (p, src)) in all.enumerate() {
+                    let file = file_labels(p, src, NETWORK_FPS, motions[held].frames(), decoding, 0.0);
+                    let pred: Vec<Option<usize>> = file.iter().zip(truth).map(|(p, t)| t.and(p.0)).collect();
+                    let s = labelling::score(&pred, truth);
+                    let row = [s.frame_accuracy, s.edit, s.f1[2]];
+                    let k = d * columns.len() + c;
+                    for (m, v) in mean[k].iter_mut().zip(row) {
+                        *m += v / motions.len() as f64;
+                    }
+                    cells.push(format!("{:.3} / {:.1} / {:.1}", row[0], row[1], row[2]));
+                }
+            }
+            let epochs: Vec<String> = runs.iter().map(|r| r.2.to_string()).collect();
+            println!("| {} (epochs {}) | {} |", motions[held].name, epochs.join(", "), cells.join(" | "));
+        }
+        println!(
+            "| **mean** | {} |",
+            mean.iter().map(|m| format!("**{:.3} / {:.1} / {:.1}**", m[0], m[1], m[2])).collect::<Vec<_>>().join(" | ")
+        );
+        println!("({:.0} s)", started.elapsed().as_secs_f64());
         Ok(())
     }
 
@@ -324,7 +424,13 @@ mod lab {
                 novelty_scores(&p.validation_network, &takes(&[held, p.validation])?, k, &motions[p.validation])?;
             let held_novelty = novelty_scores(&p.final_network, &takes(&[held])?, k, &motions[held])?;
             let knn_distance = p.knn_model.nearest_distances(&motions[held])?;
-            let val = frames_of(&p.validation_probabilities, &validation_novelty, &p.validation_source, &labels[p.validation], gone);
+            let val = frames_of(
+                &p.validation_probabilities,
+                &validation_novelty,
+                &p.validation_source,
+                &labels[p.validation],
+                gone,
+            );
             let out = frames_of(&p.network_probabilities, &held_novelty, &p.network_source, &labels[held], gone);
             let conf = |f: &(f32, f32, bool), t: f32| f.0 < t;
             let nov = |f: &(f32, f32, bool), t: f32| f.1 > t;
