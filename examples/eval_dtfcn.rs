@@ -13,12 +13,16 @@
 //!   validation-chosen epoch) with every seed of `--seeds`, each seed's scores and those of the mean of
 //!   their probabilities, raw and under the shipped exercises model's decoding (runs ≥ 2 s, switch
 //!   cost 10);
+//! * `unseen-every` — leave one class out, every class of every take in turn (a class some other take
+//!   holds): the network's max-softmax as the unknown, its threshold the confidence below which 10 % of
+//!   the fold's validation take's frames fall under the validation network (no unseen frames needed to
+//!   choose it), never the held-out take's;
 //! * `unseen` — leave one class out: each fold's held-out take's largest class is removed from
 //!   training; mean confidence on its frames (never seen) against the other frames, and how well
 //!   each unknown threshold separates them (what chose the default threshold).
 //!
 //! ```text
-//! cargo run --release --example eval_dtfcn -- noise|mask|folds|ensemble|unseen [--seeds 1,2,3] [--data ../shared/data] [--width 3] [--layers 4 | --filters 64,128,256,512] [--padding edge]
+//! cargo run --release --example eval_dtfcn -- noise|mask|folds|ensemble|unseen|unseen-every [--seeds 1,2,3] [--data ../shared/data] [--width 3] [--layers 4 | --filters 64,128,256,512] [--padding edge]
 //!     [--bvh TAKES… --labels L.csv] …
 //! ```
 //! Says so and fails when the shared data is absent.
@@ -197,7 +201,8 @@ mod lab {
             "folds" => folds(&motions, &labels, &classes, &base),
             "ensemble" => ensemble(&motions, &labels, &classes, &base, &args.seeds),
             "unseen" => unseen(&motions, &labels, &classes, &base),
-            other => Err(format!("unknown experiment `{other}`: noise, mask, folds, ensemble or unseen")),
+            "unseen-every" => unseen_every(&motions, &labels, &classes, &base),
+            other => Err(format!("unknown experiment `{other}`: noise, mask, folds, ensemble, unseen or unseen-every")),
         }
     }
 
@@ -331,6 +336,76 @@ mod lab {
             "| **mean** | {} |",
             mean.iter().map(|m| format!("**{:.3} / {:.1} / {:.1}**", m[0], m[1], m[2])).collect::<Vec<_>>().join(" | ")
         );
+        println!("({:.0} s)", started.elapsed().as_secs_f64());
+        Ok(())
+    }
+
+    /// Leave one class out, every class of every take (see the module docs): per fold the share of the class's frames
+    /// and of the other frames called unknown, and the AUROC of max-softmax; by class and pooled.
+    fn unseen_every(
+        motions: &[Motion],
+        labels: &[Vec<Option<usize>>],
+        classes: &[String],
+        base: &TrainOptions,
+    ) -> Result<(), String> {
+        use mocapseg::methods::dtfcn::novelty::auroc;
+        let started = std::time::Instant::now();
+        let holds = |i: usize, c: usize| labels[i].contains(&Some(c));
+        println!("| held-out take | class left out | threshold (validation take) | unseen / seen called unknown | AUROC max-softmax |");
+        println!("|---|---|---|---|---|");
+        let mut pooled: Vec<(f32, bool)> = Vec::new();
+        let (mut sums, mut rows) = ([0.0f64; 2], 0usize);
+        let mut per_class = vec![[0.0f64; 3]; classes.len()];
+        for held in 0..motions.len() {
+            for gone in 0..classes.len() {
+                if !holds(held, gone) || !(0..motions.len()).any(|i| i != held && holds(i, gone)) {
+                    continue;
+                }
+                let without: Vec<Vec<Option<usize>>> =
+                    labels.iter().map(|l| l.iter().map(|x| x.filter(|&c| c != gone)).collect()).collect();
+                let p = predict_held_out(motions, &without, held, classes, base, &mut |_| true)?;
+                // the confidences of the validation take's frames of taught classes: their 10 % quantile the threshold
+                let none = vec![0.0f32; p.validation_probabilities.frames];
+                let val =
+                    frames_of(&p.validation_probabilities, &none, &p.validation_source, &labels[p.validation], gone);
+                let mut confidences: Vec<f32> = val.iter().filter(|f| !f.2).map(|f| f.0).collect();
+                confidences.sort_by(f32::total_cmp);
+                let threshold = confidences.get(confidences.len() / 10).copied().unwrap_or(0.0);
+                let none = vec![0.0f32; p.network_probabilities.frames];
+                let out = frames_of(&p.network_probabilities, &none, &p.network_source, &labels[held], gone);
+                let (tpr, fpr) = rates(&out, &|f| f.0 < threshold);
+                let scored: Vec<(f32, bool)> = out.iter().map(|f| (-f.0, f.2)).collect();
+                println!(
+                    "| {} | {} | {threshold:.3} ({}) | {:.0} % / {:.0} % | {:.2} |",
+                    motions[held].name,
+                    classes[gone],
+                    motions[p.validation].name,
+                    tpr * 100.0,
+                    fpr * 100.0,
+                    auroc(&scored)
+                );
+                sums[0] += tpr;
+                sums[1] += fpr;
+                rows += 1;
+                per_class[gone][0] += tpr;
+                per_class[gone][1] += fpr;
+                per_class[gone][2] += 1.0;
+                pooled.extend(scored);
+            }
+        }
+        let n = rows.max(1) as f64;
+        println!(
+            "| **mean** ({rows} folds) | | | **{:.0} % / {:.0} %** | pooled **{:.2}** |",
+            100.0 * sums[0] / n,
+            100.0 * sums[1] / n,
+            auroc(&pooled)
+        );
+        println!();
+        println!("| class left out | folds | unseen / seen called unknown |");
+        println!("|---|---|---|");
+        for (c, k) in per_class.iter().enumerate().filter(|(_, k)| k[2] > 0.0) {
+            println!("| {} | {} | {:.0} % / {:.0} % |", classes[c], k[2], 100.0 * k[0] / k[2], 100.0 * k[1] / k[2]);
+        }
         println!("({:.0} s)", started.elapsed().as_secs_f64());
         Ok(())
     }
