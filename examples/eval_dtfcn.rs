@@ -14,9 +14,11 @@
 //!   their probabilities, raw and under the shipped exercises model's decoding (runs ≥ 2 s, switch
 //!   cost 10);
 //! * `unseen-every` — leave one class out, every class of every take in turn (a class some other take
-//!   holds): the network's max-softmax as the unknown, its threshold the confidence below which 10 % of
-//!   the fold's validation take's frames fall under the validation network (no unseen frames needed to
-//!   choose it), never the held-out take's;
+//!   holds): three unknowns — the network's max-softmax, the k-NN's distance to its nearest training
+//!   window over the take's median, and either — each threshold set so that 10 % (5 % each for
+//!   "either") of the fold's validation take's taught-class frames are called unknown, under the
+//!   validation network and a k-NN fitted without the validation take (no unseen frames needed to
+//!   choose them), never on the held-out take;
 //! * `unseen` — leave one class out: each fold's held-out take's largest class is removed from
 //!   training; mean confidence on its frames (never seen) against the other frames, and how well
 //!   each unknown threshold separates them (what chose the default threshold).
@@ -341,21 +343,39 @@ mod lab {
     }
 
     /// Leave one class out, every class of every take (see the module docs): per fold the share of the class's frames
-    /// and of the other frames called unknown, and the AUROC of max-softmax; by class and pooled.
+    /// and of the other frames called unknown by max-softmax, by the k-NN's distance and by either, and the AUROCs;
+    /// by class and pooled.
     fn unseen_every(
         motions: &[Motion],
         labels: &[Vec<Option<usize>>],
         classes: &[String],
         base: &TrainOptions,
     ) -> Result<(), String> {
+        use mocapseg::methods::dtfcn::corpus::fit_knn;
         use mocapseg::methods::dtfcn::novelty::auroc;
+        use mocapseg::methods::knn::{Knn, KnnParams};
         let started = std::time::Instant::now();
         let holds = |i: usize, c: usize| labels[i].contains(&Some(c));
-        println!("| held-out take | class left out | threshold (validation take) | unseen / seen called unknown | AUROC max-softmax |");
-        println!("|---|---|---|---|---|");
-        let mut pooled: Vec<(f32, bool)> = Vec::new();
-        let (mut sums, mut rows) = ([0.0f64; 2], 0usize);
-        let mut per_class = vec![[0.0f64; 3]; classes.len()];
+        // per working frame (at `source`): the distance to `knn`'s nearest training window over the take's median
+        let distances = |knn: &Knn, m: &Motion, source: &[f64]| -> Result<Vec<f32>, String> {
+            let d = knn.nearest_distances(m)?;
+            let mut sorted = d.clone();
+            sorted.sort_by(f32::total_cmp);
+            let median = sorted.get(sorted.len() / 2).copied().filter(|x| *x > 0.0).unwrap_or(1.0);
+            Ok(source.iter().map(|s| d[(s.round() as usize).min(d.len().saturating_sub(1))] / median).collect())
+        };
+        // the value of `scores` with share `q` of them on the unknown side (below it if `low`, above it if not)
+        let quantile = |mut scores: Vec<f32>, q: f64, low: bool| -> f32 {
+            scores.sort_by(f32::total_cmp);
+            let k = ((scores.len() as f64 * q) as usize).min(scores.len().saturating_sub(1));
+            let at = if low { k } else { scores.len().saturating_sub(1 + k) };
+            scores.get(at).copied().unwrap_or(if low { 0.0 } else { f32::INFINITY })
+        };
+        println!("| held-out take | class left out | validation take | max-softmax (10 %): unseen / seen called unknown | k-NN distance (10 %) | either (5 % each) | AUROC max-softmax / distance |");
+        println!("|---|---|---|---|---|---|---|");
+        let (mut pooled_c, mut pooled_d): (Vec<(f32, bool)>, Vec<(f32, bool)>) = (Vec::new(), Vec::new());
+        let (mut sums, mut rows) = ([0.0f64; 6], 0usize);
+        let mut per_class = vec![[0.0f64; 7]; classes.len()];
         for held in 0..motions.len() {
             for gone in 0..classes.len() {
                 if !holds(held, gone) || !(0..motions.len()).any(|i| i != held && holds(i, gone)) {
@@ -364,47 +384,80 @@ mod lab {
                 let without: Vec<Vec<Option<usize>>> =
                     labels.iter().map(|l| l.iter().map(|x| x.filter(|&c| c != gone)).collect()).collect();
                 let p = predict_held_out(motions, &without, held, classes, base, &mut |_| true)?;
-                // the confidences of the validation take's frames of taught classes: their 10 % quantile the threshold
-                let none = vec![0.0f32; p.validation_probabilities.frames];
-                let val =
-                    frames_of(&p.validation_probabilities, &none, &p.validation_source, &labels[p.validation], gone);
-                let mut confidences: Vec<f32> = val.iter().filter(|f| !f.2).map(|f| f.0).collect();
-                confidences.sort_by(f32::total_cmp);
-                let threshold = confidences.get(confidences.len() / 10).copied().unwrap_or(0.0);
-                let none = vec![0.0f32; p.network_probabilities.frames];
-                let out = frames_of(&p.network_probabilities, &none, &p.network_source, &labels[held], gone);
-                let (tpr, fpr) = rates(&out, &|f| f.0 < threshold);
-                let scored: Vec<(f32, bool)> = out.iter().map(|f| (-f.0, f.2)).collect();
+                // thresholds from the validation take's frames of taught classes, under the validation network and a
+                // k-NN fitted on the same takes (neither the held-out nor the validation take)
+                let inner: Vec<(&Motion, &[Option<usize>])> = (0..motions.len())
+                    .filter(|&i| i != held && i != p.validation)
+                    .map(|i| (&motions[i], without[i].as_slice()))
+                    .collect();
+                let inner_knn = fit_knn(&inner, KnnParams::default())?;
+                let val_distance = distances(&inner_knn, &motions[p.validation], &p.validation_source)?;
+                let val = frames_of(
+                    &p.validation_probabilities,
+                    &val_distance,
+                    &p.validation_source,
+                    &labels[p.validation],
+                    gone,
+                );
+                let seen_c: Vec<f32> = val.iter().filter(|f| !f.2).map(|f| f.0).collect();
+                let seen_d: Vec<f32> = val.iter().filter(|f| !f.2).map(|f| f.1).collect();
+                let (tc, td) = (quantile(seen_c.clone(), 0.10, true), quantile(seen_d.clone(), 0.10, false));
+                let (tc5, td5) = (quantile(seen_c, 0.05, true), quantile(seen_d, 0.05, false));
+                let held_distance = distances(&p.knn_model, &motions[held], &p.network_source)?;
+                let out = frames_of(&p.network_probabilities, &held_distance, &p.network_source, &labels[held], gone);
+                let r =
+                    [rates(&out, &|f| f.0 < tc), rates(&out, &|f| f.1 > td), rates(&out, &|f| f.0 < tc5 || f.1 > td5)];
+                let by_c: Vec<(f32, bool)> = out.iter().map(|f| (-f.0, f.2)).collect();
+                let by_d: Vec<(f32, bool)> = out.iter().map(|f| (f.1, f.2)).collect();
                 println!(
-                    "| {} | {} | {threshold:.3} ({}) | {:.0} % / {:.0} % | {:.2} |",
+                    "| {} | {} | {} | {:.0} % / {:.0} % | {:.0} % / {:.0} % | {:.0} % / {:.0} % | {:.2} / {:.2} |",
                     motions[held].name,
                     classes[gone],
                     motions[p.validation].name,
-                    tpr * 100.0,
-                    fpr * 100.0,
-                    auroc(&scored)
+                    r[0].0 * 100.0,
+                    r[0].1 * 100.0,
+                    r[1].0 * 100.0,
+                    r[1].1 * 100.0,
+                    r[2].0 * 100.0,
+                    r[2].1 * 100.0,
+                    auroc(&by_c),
+                    auroc(&by_d)
                 );
-                sums[0] += tpr;
-                sums[1] += fpr;
+                for (k, x) in r.iter().flat_map(|(a, b)| [*a, *b]).enumerate() {
+                    sums[k] += x;
+                    per_class[gone][k] += x;
+                }
                 rows += 1;
-                per_class[gone][0] += tpr;
-                per_class[gone][1] += fpr;
-                per_class[gone][2] += 1.0;
-                pooled.extend(scored);
+                per_class[gone][6] += 1.0;
+                pooled_c.extend(by_c);
+                pooled_d.extend(by_d);
             }
         }
         let n = rows.max(1) as f64;
+        let pct = |a: f64, b: f64| format!("**{:.0} % / {:.0} %**", 100.0 * a / n, 100.0 * b / n);
         println!(
-            "| **mean** ({rows} folds) | | | **{:.0} % / {:.0} %** | pooled **{:.2}** |",
-            100.0 * sums[0] / n,
-            100.0 * sums[1] / n,
-            auroc(&pooled)
+            "| **mean** ({rows} folds) | | | {} | {} | {} | pooled **{:.2} / {:.2}** |",
+            pct(sums[0], sums[1]),
+            pct(sums[2], sums[3]),
+            pct(sums[4], sums[5]),
+            auroc(&pooled_c),
+            auroc(&pooled_d)
         );
         println!();
-        println!("| class left out | folds | unseen / seen called unknown |");
-        println!("|---|---|---|");
-        for (c, k) in per_class.iter().enumerate().filter(|(_, k)| k[2] > 0.0) {
-            println!("| {} | {} | {:.0} % / {:.0} % |", classes[c], k[2], 100.0 * k[0] / k[2], 100.0 * k[1] / k[2]);
+        println!("| class left out | folds | max-softmax | k-NN distance | either |");
+        println!("|---|---|---|---|---|");
+        for (c, k) in per_class.iter().enumerate().filter(|(_, k)| k[6] > 0.0) {
+            let m = k[6];
+            println!(
+                "| {} | {m} | {:.0} % / {:.0} % | {:.0} % / {:.0} % | {:.0} % / {:.0} % |",
+                classes[c],
+                100.0 * k[0] / m,
+                100.0 * k[1] / m,
+                100.0 * k[2] / m,
+                100.0 * k[3] / m,
+                100.0 * k[4] / m,
+                100.0 * k[5] / m
+            );
         }
         println!("({:.0} s)", started.elapsed().as_secs_f64());
         Ok(())
