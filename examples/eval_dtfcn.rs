@@ -444,21 +444,11 @@ mod lab {
             auroc(&pooled_d)
         );
         println!();
-        println!("| class left out | folds | max-softmax | k-NN distance | either |");
-        println!("|---|---|---|---|---|");
-        for (c, k) in per_class.iter().enumerate().filter(|(_, k)| k[6] > 0.0) {
-            let m = k[6];
-            println!(
-                "| {} | {m} | {:.0} % / {:.0} % | {:.0} % / {:.0} % | {:.0} % / {:.0} % |",
-                classes[c],
-                100.0 * k[0] / m,
-                100.0 * k[1] / m,
-                100.0 * k[2] / m,
-                100.0 * k[3] / m,
-                100.0 * k[4] / m,
-                100.0 * k[5] / m
-            );
-        }
+        crate::common::print_rates_by_class(
+            &["max-softmax: unseen / seen called unknown", "k-NN distance", "either"],
+            classes,
+            &per_class,
+        );
         println!("({:.0} s)", started.elapsed().as_secs_f64());
         Ok(())
     }

@@ -265,23 +265,11 @@ mod lab {
             auroc(&pooled[3])
         );
         println!();
-        println!(
-            "| class left out | takes | model-relative: unseen / seen called unknown | take-relative | decoded runs |"
+        crate::common::print_rates_by_class(
+            &["model-relative: unseen / seen called unknown", "take-relative", "decoded runs"],
+            names,
+            &per_class,
         );
-        println!("|---|---|---|---|---|");
-        for (c, p) in per_class.iter().enumerate().filter(|(_, p)| p[6] > 0.0) {
-            let k = p[6];
-            println!(
-                "| {} | {k} | {:.0} % / {:.0} % | {:.0} % / {:.0} % | {:.0} % / {:.0} % |",
-                names[c],
-                100.0 * p[0] / k,
-                100.0 * p[1] / k,
-                100.0 * p[2] / k,
-                100.0 * p[3] / k,
-                100.0 * p[4] / k,
-                100.0 * p[5] / k
-            );
-        }
         println!("({:.0} s)", started.elapsed().as_secs_f64());
         Ok(())
     }

@@ -53,3 +53,18 @@ pub fn exit(result: Result<(), String>) -> ExitCode {
         }
     }
 }
+
+/// The by-class table of a leave-one-class-out experiment: per class left out, the number of folds and, for each
+/// unknown in `columns`, the mean share of unseen and of seen frames it called unknown. `sums[c]` holds the sums of
+/// those shares, unknown by unknown (unseen, seen), then the fold count last.
+pub fn print_rates_by_class<const N: usize>(columns: &[&str], classes: &[String], sums: &[[f64; N]]) {
+    println!("| class left out | folds | {} |", columns.join(" | "));
+    println!("|---|---|{}", "---|".repeat(columns.len()));
+    for (c, s) in sums.iter().enumerate().filter(|(_, s)| s[N - 1] > 0.0) {
+        let folds = s[N - 1];
+        let cells: Vec<String> = (0..columns.len())
+            .map(|k| format!("{:.0} % / {:.0} %", 100.0 * s[2 * k] / folds, 100.0 * s[2 * k + 1] / folds))
+            .collect();
+        println!("| {} | {folds} | {} |", classes[c], cells.join(" | "));
+    }
+}
