@@ -77,6 +77,9 @@ mod lab {
         augment: String,
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// The final training keeps the mean weights of its last this many epochs (0: the last epoch's).
+        #[arg(long, default_value_t = 0)]
+        average_last: usize,
         /// The seeds of `ensemble`.
         #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
         seeds: Vec<u64>,
@@ -140,6 +143,7 @@ mod lab {
             crop_frames: args.crop,
             augment: Augment::parse(&args.augment)?,
             seed: args.seed,
+            average_last: args.average_last,
             ..TrainOptions::default()
         };
         let base = match &args.padding {

@@ -104,6 +104,37 @@ fn the_same_seed_trains_the_same_model_and_another_seed_another() {
     assert_ne!(a, bytes(6));
 }
 
+/// Stochastic weight averaging (`average_last`): the kept weights are the mean of the last epochs' — the same
+/// weights as the shorter runs of the same seed end with — one epoch is the last epoch's, and a window longer than
+/// the run takes every epoch.
+#[test]
+fn weight_averaging_keeps_the_mean_of_the_last_epochs() {
+    use mocapseg::methods::dtfcn::training::weights_of;
+    let (_, classes, takes) = two_takes();
+    let after = |epochs, average_last| {
+        let o = TrainOptions { average_last, ..small(epochs) };
+        let model = train_model(&takes, &[], &classes, &o, &meta(), &mut |_| true).unwrap();
+        let Labeller::Network(net) = &model.labeller else { panic!("not a network") };
+        weights_of(net)
+    };
+    let epochs: Vec<Vec<Vec<f32>>> = (1..=3).map(|e| after(e, 0)).collect();
+    assert_ne!(epochs[1], epochs[2], "the weights move from epoch to epoch");
+    assert_eq!(after(3, 1), epochs[2]);
+    let mean_of = |from: usize| -> Vec<Vec<f32>> {
+        let n = (epochs.len() - from) as f32;
+        (0..epochs[2].len())
+            .map(|p| (0..epochs[2][p].len()).map(|i| epochs[from..].iter().map(|e| e[p][i]).sum::<f32>() / n).collect())
+            .collect()
+    };
+    for (averaged, from) in [(after(3, 2), 1), (after(3, 10), 0)] {
+        let expected = mean_of(from);
+        assert_eq!(averaged.len(), expected.len());
+        for (a, e) in averaged.iter().flatten().zip(expected.iter().flatten()) {
+            assert!((a - e).abs() <= 1e-5 * (1.0 + e.abs()), "{a} vs {e} (epochs {}..=3)", from + 1);
+        }
+    }
+}
+
 #[test]
 fn a_saved_model_loads_and_labels_exactly_as_before() {
     let (motions, classes, takes) = two_takes();

@@ -60,6 +60,14 @@ pub struct TrainOptions {
     pub padding: Padding,
     /// The motion image resized to this many rows before layer 1 (the paper's 224); None: as it is.
     pub image_rows: Option<usize>,
+    /// Without a validation take: the kept weights are the mean of the last this many epochs' (stochastic weight
+    /// averaging); 0 = the last epoch's.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub average_last: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 /// The widest boundary mask, in seconds.
@@ -84,6 +92,7 @@ impl Default for TrainOptions {
             filters: paper_filters(4),
             padding: Padding::Zero,
             image_rows: None,
+            average_last: 0,
         }
     }
 }
@@ -286,6 +295,43 @@ pub struct Trainer {
     best: Option<(f64, DtFcn, usize)>,
     since_best: usize,
     stopped: bool,
+    /// The summed weights of the epochs averaged so far, and how many ([`TrainOptions::average_last`]).
+    averaged: Option<(Vec<Vec<f32>>, usize)>,
+}
+
+/// Every float parameter of `net`, in the order burn visits them.
+pub fn weights_of(net: &DtFcn) -> Vec<Vec<f32>> {
+    use burn::module::{ModuleVisitor, Param};
+    struct Collect(Vec<Vec<f32>>);
+    impl ModuleVisitor for Collect {
+        fn visit_float<const D: usize>(&mut self, param: &Param<Tensor<D>>) {
+            self.0.push(param.val().into_data().convert::<f32>().try_to_vec::<f32>().unwrap_or_default());
+        }
+    }
+    let mut c = Collect(Vec::new());
+    net.visit(&mut c);
+    c.0
+}
+
+/// `net` with every float parameter set to `values` (in [`weights_of`]'s order) times `scale`.
+fn with_weights(net: DtFcn, values: &[Vec<f32>], scale: f32) -> DtFcn {
+    use burn::module::{ModuleMapper, Param};
+    struct Put<'a> {
+        values: &'a [Vec<f32>],
+        at: usize,
+        scale: f32,
+    }
+    impl ModuleMapper for Put<'_> {
+        fn map_float<const D: usize>(&mut self, param: Param<Tensor<D>>) -> Param<Tensor<D>> {
+            let v: Vec<f32> = self.values[self.at].iter().map(|x| x * self.scale).collect();
+            self.at += 1;
+            param.map(|t| {
+                let (shape, device) = (t.shape(), t.device());
+                Tensor::<1>::from_floats(v.as_slice(), &device).reshape(shape)
+            })
+        }
+    }
+    net.map(&mut Put { values, at: 0, scale })
 }
 
 impl Trainer {
@@ -379,6 +425,7 @@ impl Trainer {
             reports: Vec::new(),
             best: None,
             since_best: 0,
+            averaged: None,
             stopped: false,
         })
     }
@@ -486,6 +533,17 @@ impl Trainer {
             }
         }
         let valid = self.net.as_ref().ok_or("no network")?.valid();
+        let averaging = self.options.average_last;
+        if self.validation.is_empty() && averaging > 0 && epoch + averaging > self.options.epochs {
+            let w = weights_of(&valid);
+            self.averaged = Some(match self.averaged.take() {
+                None => (w, 1),
+                Some((mut sum, n)) => {
+                    sum.iter_mut().zip(&w).for_each(|(s, x)| s.iter_mut().zip(x).for_each(|(a, b)| *a += b));
+                    (sum, n + 1)
+                }
+            });
+        }
         let (validation_loss, validation_accuracy) = if self.validation.is_empty() {
             (None, None)
         } else {
@@ -517,6 +575,10 @@ impl Trainer {
     pub fn finish(self) -> Result<Trained, String> {
         let stopped = self.stopped && self.reports.len() < self.options.epochs;
         let (_, net, best_epoch) = self.best.ok_or("training ran no epoch")?;
+        let net = match &self.averaged {
+            Some((sum, n)) if !stopped => with_weights(net, sum, 1.0 / *n as f32),
+            _ => net,
+        };
         Ok(Trained {
             network: self.network,
             net,
