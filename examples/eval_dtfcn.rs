@@ -362,19 +362,10 @@ mod lab {
         let holds = |i: usize, c: usize| labels[i].contains(&Some(c));
         // per working frame (at `source`): the distance to `knn`'s nearest training window over the take's median
         let distances = |knn: &Knn, m: &Motion, source: &[f64]| -> Result<Vec<f32>, String> {
-            let d = knn.nearest_distances(m)?;
-            let mut sorted = d.clone();
-            sorted.sort_by(f32::total_cmp);
-            let median = sorted.get(sorted.len() / 2).copied().filter(|x| *x > 0.0).unwrap_or(1.0);
-            Ok(source.iter().map(|s| d[(s.round() as usize).min(d.len().saturating_sub(1))] / median).collect())
+            let d = crate::common::over_median(&knn.nearest_distances(m)?);
+            Ok(source.iter().map(|s| d[(s.round() as usize).min(d.len().saturating_sub(1))]).collect())
         };
-        // the value of `scores` with share `q` of them on the unknown side (below it if `low`, above it if not)
-        let quantile = |mut scores: Vec<f32>, q: f64, low: bool| -> f32 {
-            scores.sort_by(f32::total_cmp);
-            let k = ((scores.len() as f64 * q) as usize).min(scores.len().saturating_sub(1));
-            let at = if low { k } else { scores.len().saturating_sub(1 + k) };
-            scores.get(at).copied().unwrap_or(if low { 0.0 } else { f32::INFINITY })
-        };
+        let quantile = crate::common::threshold_for_share;
         println!("| held-out take | class left out | validation take | max-softmax (10 %): unseen / seen called unknown | k-NN distance (10 %) | either (5 % each) | AUROC max-softmax / distance |");
         println!("|---|---|---|---|---|---|---|");
         let (mut pooled_c, mut pooled_d): (Vec<(f32, bool)>, Vec<(f32, bool)>) = (Vec::new(), Vec::new());

@@ -135,13 +135,11 @@ mod lab {
         use mocapseg::methods::dtfcn::fit::{FAMILIAR_GAP, FAMILIAR_SAMPLES};
         let takes: Vec<(&Motion, &[Option<usize>])> = train.iter().map(|(m, l)| (*m, l.as_slice())).collect();
         let knn = fit_knn(&takes, KnnParams::default())?;
-        let familiar = knn.familiar_distances(FAMILIAR_GAP, FAMILIAR_SAMPLES);
-        let scale = familiar.get(familiar.len() / 2).copied().filter(|d| *d > 0.0).unwrap_or(1.0);
+        let mut familiar = knn.familiar_distances(FAMILIAR_GAP, FAMILIAR_SAMPLES);
+        let scale = mocapseg::stats::median(&mut familiar).filter(|d| *d > 0.0).unwrap_or(1.0);
         let distances = knn.nearest_distances(motion)?;
         let votes = knn.predict(motion)?;
-        let mut sorted = distances.clone();
-        sorted.sort_by(f32::total_cmp);
-        let own = sorted.get(sorted.len() / 2).copied().filter(|d| *d > 0.0).unwrap_or(1.0);
+        let own = crate::common::over_median(&distances);
         // the run each file frame belongs to under the shipped exercises k-NN's decoding (runs ≥ 2 s, switch cost 150)
         let (p, source) = knn.probabilities_at(motion, classes)?;
         let decoding = Decoding { min_duration_s: 2.0, switch_cost: 150.0 };
@@ -150,12 +148,12 @@ mod lab {
         let mut start = 0;
         for f in 1..=decoded.len() {
             if f == decoded.len() || decoded[f].0 != decoded[start].0 {
-                let mean = distances[start..f].iter().sum::<f32>() / (f - start) as f32 / own;
+                let mean = own[start..f].iter().sum::<f32>() / (f - start) as f32;
                 run_mean[start..f].iter_mut().for_each(|m| *m = mean);
                 start = f;
             }
         }
-        Ok(distances.iter().zip(&votes).zip(&run_mean).map(|((d, v), r)| [d / scale, d / own, v.1, *r]).collect())
+        Ok((0..distances.len()).map(|f| [distances[f] / scale, own[f], votes[f].1, run_mean[f]]).collect())
     }
 
     /// (score, whether the frame's class is `gone`) for every frame of a take.
@@ -172,11 +170,7 @@ mod lab {
 
     /// The threshold calling the most unseen frames unknown while calling at most 10 % of the seen ones.
     fn choose(frames: &[(f32, bool)]) -> f32 {
-        let mut seen: Vec<f32> = frames.iter().filter(|f| !f.1).map(|f| f.0).collect();
-        seen.sort_by(f32::total_cmp);
-        // the smallest threshold with at most 10 % of the seen frames above it
-        let k = (seen.len() as f64 * 0.9).ceil() as usize;
-        seen.get(k.saturating_sub(1)).copied().unwrap_or(f32::INFINITY)
+        crate::common::threshold_for_share(frames.iter().filter(|f| !f.1).map(|f| f.0).collect(), 0.10, false)
     }
 
     fn unseen(loaded: &[(String, Motion, Vec<usize>)], names: &[String]) -> Result<(), String> {

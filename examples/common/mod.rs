@@ -68,3 +68,18 @@ pub fn print_rates_by_class<const N: usize>(columns: &[&str], classes: &[String]
         println!("| {} | {folds} | {} |", classes[c], cells.join(" | "));
     }
 }
+
+/// The threshold that calls the share `share` of `scores` unknown: the scores below it when `low` (a confidence),
+/// above it otherwise (a distance); none called unknown when there are no scores.
+pub fn threshold_for_share(mut scores: Vec<f32>, share: f64, low: bool) -> f32 {
+    scores.sort_by(f32::total_cmp);
+    let k = ((scores.len() as f64 * share) as usize).min(scores.len().saturating_sub(1));
+    let at = if low { k } else { scores.len().saturating_sub(1 + k) };
+    scores.get(at).copied().unwrap_or(if low { 0.0 } else { f32::INFINITY })
+}
+
+/// `values` over their (upper) median, the median taken as 1 when it is not positive.
+pub fn over_median(values: &[f32]) -> Vec<f32> {
+    let m = mocapseg::stats::median(&mut values.to_vec()).filter(|m| *m > 0.0).unwrap_or(1.0);
+    values.iter().map(|v| v / m).collect()
+}
