@@ -17,7 +17,8 @@
 //!   - *held out*: for each take, the grid setting best on the **other** takes scored on it (nested: nothing is
 //!     chosen on the reported take); each fold's choice is printed and kept in the JSON. DT-FCN and the k-NN are
 //!     trained on the other mocap6 takes, their settings chosen on inner validation takes of those
-//!     (`dtfcn::corpus::predict_held_out`: receptive field (w and layers), padding, epochs, and the unknown threshold on the validation
+//!     (`dtfcn::corpus::predict_held_out`: receptive field (w and layers), padding, epochs, weight averaging
+//!     (`dtfcn::corpus::averaged_fold`), and the unknown threshold on the validation
 //!     take's labels; the k-NN's k and unknown threshold by an inner leave-one-take-out); 86_01 has no other take with
 //!     its labels, so they have no held-out score there.
 //!   - *oracle-K*: per take, the grid setting whose number of segments is closest to the true one (a method told K).
@@ -67,7 +68,7 @@ mod lab {
 
     use mocapseg::bvh::{self, Bvh};
     use mocapseg::method::{self, NoProgress, RunOptions};
-    use mocapseg::methods::dtfcn::corpus::{fit_knn, predict_held_out};
+    use mocapseg::methods::dtfcn::corpus::{averaged_fold, fit_knn, predict_held_out};
     use mocapseg::methods::dtfcn::decode::{file_labels, Decoding};
     use mocapseg::methods::dtfcn::infer::Probabilities;
     use mocapseg::methods::dtfcn::input::NETWORK_FPS;
@@ -529,6 +530,9 @@ mod lab {
         out
     }
 
+    /// DT-FCN's final weights: the last epoch's (0) or their mean over the last 5 or 10 epochs (`average_last`,
+    /// stochastic weight averaging), chosen per fold on the validation take (the last epoch's first: it wins ties).
+    const AVERAGE_LAST: [usize; 3] = [0, 5, 10];
     /// The unknown thresholds a fold chooses from (the method's default first, so it wins ties).
     const THRESHOLDS: [f64; 3] = [0.8, 0.5, 0.0];
 
@@ -613,7 +617,12 @@ mod lab {
     /// The k-NN's k: chosen per fold by leave-one-take-out frame accuracy on the training takes alone.
     const KS: [usize; 5] = [5, 1, 3, 9, 15];
 
-    fn knn_labelled(train: &[(&Motion, &[Option<usize>])], k: usize, motion: &Motion, classes: usize) -> Result<Labelled, String> {
+    fn knn_labelled(
+        train: &[(&Motion, &[Option<usize>])],
+        k: usize,
+        motion: &Motion,
+        classes: usize,
+    ) -> Result<Labelled, String> {
         let params = KnnParams { k, ..KnnParams::default() };
         let (probabilities, source) = fit_knn(train, params)?.probabilities_at(motion, classes)?;
         Ok(Labelled { probabilities, source, fps: params.fps })
@@ -697,50 +706,75 @@ mod lab {
                             ),
                         )
                     } else {
-                        // (held-out labels, threshold, decoding, what was chosen, validation accuracy)
-                        let mut top: Option<(Labelled, f64, Decoding, String, f64)> = None;
+                        // (setting, average_last, epochs, threshold, decoding, what was chosen, validation accuracy,
+                        // the held-out take's labels when the fold's networks already made them)
+                        type Candidate = (TrainOptions, usize, f64, Decoding, String, f64, Option<Labelled>);
+                        let mut top: Option<Candidate> = None;
                         // receptive fields of 1.07 s (w = 2, 5 layers), 2.13 s (2, 6) and 2.7 s (3, 4) at 30 Hz
                         for (width, layers, padding) in
                             [(2, 5, Padding::Zero), (2, 6, Padding::Edge), (3, 4, Padding::Zero), (3, 4, Padding::Edge)]
                         {
-                            let options =
-                                TrainOptions { width, filters: paper_filters(layers), padding, ..TrainOptions::default() };
-                            let p = predict_held_out(&motions, &labels, h, &classes, &options, &mut |_| true)?;
-                            // the unknown threshold and the decoding, on the validation take's labels by the network
-                            // trained without it
-                            let val = Labelled {
-                                probabilities: p.validation_probabilities,
-                                source: p.validation_source,
-                                fps: NETWORK_FPS,
+                            let options = TrainOptions {
+                                width,
+                                filters: paper_filters(layers),
+                                padding,
+                                ..TrainOptions::default()
                             };
-                            let vm = &motions[p.validation];
-                            let accuracy = THRESHOLDS
-                                .iter()
-                                .map(|&t| {
-                                    labelling::score(&val.labels(vm, &Decoding::RAW, t), &labels[p.validation])
-                                        .frame_accuracy
-                                })
-                                .fold(f64::MIN, f64::max);
-                            let (threshold, decoding, criterion) =
-                                best_decoding(&[(vm, &val, labels[p.validation].as_slice())]);
-                            let what = format!(
-                                "width={width} layers={layers} padding={} epochs={} unknown_threshold={threshold} {} (validation {} accuracy {:.3}, criterion {criterion:.1})",
-                                padding.name(),
-                                p.best_epoch,
-                                decoding_label(&decoding),
-                                vm.name,
-                                accuracy
-                            );
-                            if top.as_ref().is_none_or(|t| accuracy > t.4 + 1e-12) {
-                                let held = Labelled {
-                                    probabilities: p.network_probabilities,
-                                    source: p.network_source,
-                                    fps: NETWORK_FPS,
+                            let p = predict_held_out(&motions, &labels, h, &classes, &options, &mut |_| true)?;
+                            let mut held = Some(Labelled {
+                                probabilities: p.network_probabilities,
+                                source: p.network_source,
+                                fps: NETWORK_FPS,
+                            });
+                            // the weights of the last epoch, or their mean over the last few (stochastic weight
+                            // averaging): each retrained on the inner takes for the chosen epochs, scored on the
+                            // validation take
+                            for average_last in AVERAGE_LAST {
+                                let (probabilities, source) = if average_last == 0 {
+                                    (p.validation_probabilities.clone(), p.validation_source.clone())
+                                } else {
+                                    let o = TrainOptions { average_last, ..options.clone() };
+                                    let a = averaged_fold(&motions, &labels, h, &classes, &o, p.best_epoch, false)?;
+                                    (a.validation_probabilities, a.validation_source)
                                 };
-                                top = Some((held, threshold, decoding, what, accuracy));
+                                // the unknown threshold and the decoding, on the validation take's labels by the
+                                // network trained without it
+                                let val = Labelled { probabilities, source, fps: NETWORK_FPS };
+                                let vm = &motions[p.validation];
+                                let accuracy = THRESHOLDS
+                                    .iter()
+                                    .map(|&t| {
+                                        labelling::score(&val.labels(vm, &Decoding::RAW, t), &labels[p.validation])
+                                            .frame_accuracy
+                                    })
+                                    .fold(f64::MIN, f64::max);
+                                let (threshold, decoding, criterion) =
+                                    best_decoding(&[(vm, &val, labels[p.validation].as_slice())]);
+                                let what = format!(
+                                    "width={width} layers={layers} padding={} epochs={} average_last={average_last} unknown_threshold={threshold} {} (validation {} accuracy {:.3}, criterion {criterion:.1})",
+                                    padding.name(),
+                                    p.best_epoch,
+                                    decoding_label(&decoding),
+                                    vm.name,
+                                    accuracy
+                                );
+                                println!("    dtfcn: held out {}, candidate {what}", mocap6[h].name);
+                                if top.as_ref().is_none_or(|t| accuracy > t.5 + 1e-12) {
+                                    let o = TrainOptions { average_last, epochs: p.best_epoch, ..options.clone() };
+                                    let known = if average_last == 0 { held.take() } else { None };
+                                    top = Some((o, average_last, threshold, decoding, what, accuracy, known));
+                                }
                             }
                         }
-                        let (held, threshold, decoding, what, _) = top.ok_or("no DT-FCN setting")?;
+                        let (options, _, threshold, decoding, what, _, known) = top.ok_or("no DT-FCN setting")?;
+                        let held = match known {
+                            Some(l) => l,
+                            None => {
+                                let a = averaged_fold(&motions, &labels, h, &classes, &options, options.epochs, true)?;
+                                let (probabilities, source) = a.network.ok_or("the averaged fold made no labels")?;
+                                Labelled { probabilities, source, fps: NETWORK_FPS }
+                            }
+                        };
                         (held, threshold, decoding, what)
                     };
                     let file = labelled.file(&motions[h], &decoding, threshold);
@@ -946,7 +980,11 @@ mod lab {
     }
 
     /// The gesture benchmark: leave one source take out on spliced takes.
-    fn gesture_rows(loaded: &[(String, Bvh, Truth)], seeds: u64, families: &Families) -> Result<Vec<MethodRow>, String> {
+    fn gesture_rows(
+        loaded: &[(String, Bvh, Truth)],
+        seeds: u64,
+        families: &Families,
+    ) -> Result<Vec<MethodRow>, String> {
         let sources: Vec<Source> = loaded.iter().map(|(n, b, t)| Source { name: n, bvh: b, truth: t }).collect();
         // in-sample: splices of all five; held out: for each source, tune on splices of the others, test on its own
         let all: Vec<(Motion, Truth)> = (1..=3).map(|seed| spliced(&sources, seed, 40)).collect::<Result<_, _>>()?;

@@ -240,6 +240,35 @@ fn every_shipped_model_loads_and_labels_a_walk() {
     }
 }
 
+/// The fold that chooses `average_last` (`corpus::averaged_fold`) retrains the fold's networks for the chosen epochs
+/// without a validation take: keeping the last epoch's weights it gives exactly the fold's early-stopped network on
+/// the validation take and its final network on the held-out take (so the settings compete on equal terms), and
+/// averaging the last epochs gives other networks on both.
+#[test]
+fn the_averaging_fold_retrains_the_folds_networks() {
+    use mocapseg::methods::dtfcn::corpus::{averaged_fold, predict_held_out};
+    let takes = vec![motion("02_01.bvh", WALK), motion("35_01.bvh", OTHER), motion("02_01-copy.bvh", WALK)];
+    let classes: Vec<String> = ["a", "b", "c"].iter().map(|s| s.to_string()).collect();
+    let labels: Vec<Vec<Option<usize>>> = takes
+        .iter()
+        .enumerate()
+        .map(|(i, m)| (0..m.frames()).map(|f| Some(if f < m.frames() / 2 { 0 } else { 1 + i % 2 })).collect())
+        .collect();
+    let options = small(3);
+    let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &mut |_| true).unwrap();
+    let last = averaged_fold(&takes, &labels, 0, &classes, &options, fold.best_epoch, true).unwrap();
+    assert_eq!(last.validation, fold.validation);
+    assert_eq!(last.validation_probabilities, fold.validation_probabilities);
+    assert_eq!(last.validation_source, fold.validation_source);
+    assert_eq!(last.network.as_ref().map(|n| &n.0), Some(&fold.network_probabilities));
+    let three = averaged_fold(&takes, &labels, 0, &classes, &options, 3, true).unwrap();
+    let averaged = TrainOptions { average_last: 3, ..options };
+    let mean = averaged_fold(&takes, &labels, 0, &classes, &averaged, 3, true).unwrap();
+    assert_ne!(mean.validation_probabilities, three.validation_probabilities);
+    assert_ne!(mean.network.map(|n| n.0), three.network.map(|n| n.0));
+    assert_eq!(mean.validation_source, three.validation_source);
+}
+
 /// The nested protocol never reads the held-out take's labels (issue 23): the same fold with that take's labels
 /// scrambled — shifted by half the take, and a class no other take has — trains the same networks and the same k-NN,
 /// and predicts exactly the same probabilities for the held-out take and its validation take.

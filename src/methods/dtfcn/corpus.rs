@@ -433,6 +433,60 @@ pub fn predict_held_out(
     })
 }
 
+/// The fold of [`predict_held_out`] with its trainings' weights averaged over their last epochs
+/// ([`TrainOptions::average_last`], stochastic weight averaging): what the nested protocol compares
+/// `average_last` settings by. Both trainings run `epochs` epochs (the epoch the fold's early stopping chose)
+/// with no validation take, so both keep the mean of their last `options.average_last` epochs' weights:
+/// one on the inner takes (every take but `held` and the validation take, as the early-stopped network was
+/// trained), which labels the validation take — what `average_last` is chosen on — and one on every take but
+/// `held`, which labels the held-out take (only when `held_out`: a comparison needs it for the setting it
+/// chooses alone). `average_last` = 0 keeps the last epoch's weights: with the same seed, the early-stopped
+/// network itself and [`predict_held_out`]'s final one.
+pub fn averaged_fold(
+    motions: &[Motion],
+    labels: &[Vec<Option<usize>>],
+    held: usize,
+    classes: &[String],
+    options: &TrainOptions,
+    epochs: usize,
+    held_out: bool,
+) -> Result<AveragedFold, String> {
+    let n = motions.len();
+    if n < 3 {
+        return Err(format!("the nested protocol needs at least 3 takes (train, validation, held out); {n} given"));
+    }
+    let val = (held + 1) % n;
+    let again = TrainOptions { epochs, ..options.clone() };
+    let taken = |keep: &dyn Fn(usize) -> bool| -> Result<Vec<TrainingTake>, String> {
+        (0..n)
+            .filter(|&i| keep(i))
+            .map(|i| {
+                let l = imperfect_labels(&labels[i], motions[i].fps, classes.len(), options, i as u64);
+                TrainingTake::new(&motions[i], &l)
+            })
+            .collect()
+    };
+    let inner = train(&taken(&|i| i != held && i != val)?, &[], classes, &again, &mut |_| true)?;
+    let (validation_probabilities, validation_source) = probabilities(&inner, &motions[val], classes.len())?;
+    let network = if held_out {
+        let all = train(&taken(&|i| i != held)?, &[], classes, &again, &mut |_| true)?;
+        Some(probabilities(&all, &motions[held], classes.len())?)
+    } else {
+        None
+    };
+    Ok(AveragedFold { validation: val, validation_probabilities, validation_source, network })
+}
+
+/// What [`averaged_fold`] predicts: the validation take's class probabilities per working frame (and their file
+/// positions) by the inner takes' averaged network, and the held-out take's (when asked for) by the averaged
+/// network of every other take.
+pub struct AveragedFold {
+    pub validation: usize,
+    pub validation_probabilities: super::infer::Probabilities,
+    pub validation_source: Vec<f64>,
+    pub network: Option<(super::infer::Probabilities, Vec<f64>)>,
+}
+
 /// Leave-one-take-out with [`predict_held_out`] for every take, scored on the held-out take's
 /// file frames.
 pub fn leave_one_take_out(
@@ -491,13 +545,18 @@ mod tests {
     /// labelled to its end, says nothing.
     #[test]
     fn labels_written_at_another_rate_are_told() {
-        let motion = crate::load::load_bytes("s.bvh", include_bytes!("../../../www/sample.bvh"), &mut |_| {}).unwrap().motion;
+        let motion =
+            crate::load::load_bytes("s.bvh", include_bytes!("../../../www/sample.bvh"), &mut |_| {}).unwrap().motion;
         let n = motion.frames();
         assert!((motion.fps - 120.0).abs() < 0.01, "{}", motion.fps);
         let upto = |last: usize| -> Vec<Option<usize>> { (0..n).map(|f| (f < last).then_some(f % 2)).collect() };
         let warned = labels_at_another_rate(&[&motion], &[upto(n / 4)]);
         assert_eq!(warned.len(), 1, "{warned:?}");
-        assert!(warned[0].starts_with(&format!("the labels of s.bvh end at frame {} of {n} (25 %)", n / 4)), "{}", warned[0]);
+        assert!(
+            warned[0].starts_with(&format!("the labels of s.bvh end at frame {} of {n} (25 %)", n / 4)),
+            "{}",
+            warned[0]
+        );
         assert!(warned[0].ends_with("is the label file at 30 Hz?"), "{}", warned[0]);
         assert!(labels_at_another_rate(&[&motion], &[upto(n / 2)]).iter().any(|w| w.contains("at 60 Hz?")));
         assert!(labels_at_another_rate(&[&motion], &[upto(n / 3)]).is_empty(), "a third is no rate's");
