@@ -14,11 +14,12 @@
 //!   their probabilities, raw and under the shipped exercises model's decoding (runs ≥ 2 s, switch
 //!   cost 10);
 //! * `unseen-every` — leave one class out, every class of every take in turn (a class some other take
-//!   holds): three unknowns — the network's max-softmax, the k-NN's distance to its nearest training
-//!   window over the take's median, and either — each threshold set so that 10 % (5 % each for
-//!   "either") of the fold's validation take's taught-class frames are called unknown, under the
-//!   validation network and a k-NN fitted without the validation take (no unseen frames needed to
-//!   choose them), never on the held-out take;
+//!   holds): five unknowns — the network's max-softmax, the k-NN's distance to its nearest training
+//!   window over the take's median, either of them, the deep k-NN (the distance in the network's own
+//!   feature space, Sun et al. 2022) and either of the two distances — each threshold set so that 10 %
+//!   (5 % each for "either") of the fold's validation take's taught-class frames are called unknown,
+//!   under the validation network and a k-NN fitted without the validation take (no unseen frames
+//!   needed to choose them), never on the held-out take;
 //! * `unseen` — leave one class out: each fold's held-out take's largest class is removed from
 //!   training; mean confidence on its frames (never seen) against the other frames, and how well
 //!   each unknown threshold separates them (what chose the default threshold).
@@ -49,7 +50,7 @@ mod lab {
     use mocapseg::labels::{from_truth_csv, LabelRow};
     use mocapseg::methods::dtfcn::augment::Augment;
     use mocapseg::methods::dtfcn::corpus::{class_labels, leave_one_take_out, novelty_scores, predict_held_out};
-    use mocapseg::methods::dtfcn::training::{TrainOptions, TrainingTake};
+    use mocapseg::methods::dtfcn::training::{TrainOptions, Trained, TrainingTake};
     use mocapseg::motion::Motion;
     use mocapseg::segment::truth::TruthOptions;
 
@@ -366,11 +367,12 @@ mod lab {
             Ok(source.iter().map(|s| d[(s.round() as usize).min(d.len().saturating_sub(1))]).collect())
         };
         let quantile = crate::common::threshold_for_share;
-        println!("| held-out take | class left out | validation take | max-softmax (10 %): unseen / seen called unknown | k-NN distance (10 %) | either (5 % each) | AUROC max-softmax / distance |");
-        println!("|---|---|---|---|---|---|---|");
+        println!("| held-out take | class left out | validation take | max-softmax (10 %): unseen / seen called unknown | k-NN distance (10 %) | max-softmax or distance (5 % each) | deep k-NN (10 %) | distance or deep k-NN (5 % each) | AUROC max-softmax / distance / deep k-NN |");
+        println!("|---|---|---|---|---|---|---|---|---|");
         let (mut pooled_c, mut pooled_d): (Vec<(f32, bool)>, Vec<(f32, bool)>) = (Vec::new(), Vec::new());
-        let (mut sums, mut rows) = ([0.0f64; 6], 0usize);
-        let mut per_class = vec![[0.0f64; 7]; classes.len()];
+        let mut pooled_q: Vec<(f32, bool)> = Vec::new();
+        let (mut sums, mut rows) = ([0.0f64; 10], 0usize);
+        let mut per_class = vec![[0.0f64; 11]; classes.len()];
         for held in 0..motions.len() {
             for gone in 0..classes.len() {
                 if !holds(held, gone) || !(0..motions.len()).any(|i| i != held && holds(i, gone)) {
@@ -400,53 +402,143 @@ mod lab {
                 let (tc5, td5) = (quantile(seen_c, 0.05, true), quantile(seen_d, 0.05, false));
                 let held_distance = distances(&p.knn_model, &motions[held], &p.network_source)?;
                 let out = frames_of(&p.network_probabilities, &held_distance, &p.network_source, &labels[held], gone);
-                let r =
-                    [rates(&out, &|f| f.0 < tc), rates(&out, &|f| f.1 > td), rates(&out, &|f| f.0 < tc5 || f.1 > td5)];
+                // the deep k-NN of each network, its bank the labelled frames of the takes it was trained on
+                let takes = |skip: &[usize]| -> Result<Vec<TrainingTake>, String> {
+                    (0..motions.len())
+                        .filter(|i| !skip.contains(i))
+                        .map(|i| TrainingTake::new(&motions[i], &without[i]))
+                        .collect()
+                };
+                let k = classes.len();
+                let val_deep =
+                    deep_knn(&p.validation_network, &takes(&[held, p.validation])?, &motions[p.validation], k)?;
+                let val_deep = frames_of(
+                    &p.validation_probabilities,
+                    &val_deep,
+                    &p.validation_source,
+                    &labels[p.validation],
+                    gone,
+                );
+                let seen_q: Vec<f32> = val_deep.iter().filter(|f| !f.2).map(|f| f.1).collect();
+                let (tq, tq5) = (quantile(seen_q.clone(), 0.10, false), quantile(seen_q, 0.05, false));
+                let held_deep = deep_knn(&p.final_network, &takes(&[held])?, &motions[held], k)?;
+                let deep = frames_of(&p.network_probabilities, &held_deep, &p.network_source, &labels[held], gone);
+                // (distance, deep k-NN, unseen) per labelled frame: `out` and `deep` hold the same frames in turn
+                let both: Vec<(f32, f32, bool)> = out.iter().zip(&deep).map(|(a, b)| (a.1, b.1, a.2)).collect();
+                let r = [
+                    rates(&out, &|f| f.0 < tc),
+                    rates(&out, &|f| f.1 > td),
+                    rates(&out, &|f| f.0 < tc5 || f.1 > td5),
+                    rates(&deep, &|f| f.1 > tq),
+                    rates(&both, &|f| f.0 > td5 || f.1 > tq5),
+                ];
                 let by_c: Vec<(f32, bool)> = out.iter().map(|f| (-f.0, f.2)).collect();
                 let by_d: Vec<(f32, bool)> = out.iter().map(|f| (f.1, f.2)).collect();
+                let by_q: Vec<(f32, bool)> = deep.iter().map(|f| (f.1, f.2)).collect();
+                let pct = |(a, b): (f64, f64)| format!("{:.0} % / {:.0} %", a * 100.0, b * 100.0);
                 println!(
-                    "| {} | {} | {} | {:.0} % / {:.0} % | {:.0} % / {:.0} % | {:.0} % / {:.0} % | {:.2} / {:.2} |",
+                    "| {} | {} | {} | {} | {} | {} | {} | {} | {:.2} / {:.2} / {:.2} |",
                     motions[held].name,
                     classes[gone],
                     motions[p.validation].name,
-                    r[0].0 * 100.0,
-                    r[0].1 * 100.0,
-                    r[1].0 * 100.0,
-                    r[1].1 * 100.0,
-                    r[2].0 * 100.0,
-                    r[2].1 * 100.0,
+                    pct(r[0]),
+                    pct(r[1]),
+                    pct(r[2]),
+                    pct(r[3]),
+                    pct(r[4]),
                     auroc(&by_c),
-                    auroc(&by_d)
+                    auroc(&by_d),
+                    auroc(&by_q)
                 );
                 for (k, x) in r.iter().flat_map(|(a, b)| [*a, *b]).enumerate() {
                     sums[k] += x;
                     per_class[gone][k] += x;
                 }
                 rows += 1;
-                per_class[gone][6] += 1.0;
+                per_class[gone][10] += 1.0;
                 pooled_c.extend(by_c);
                 pooled_d.extend(by_d);
+                pooled_q.extend(by_q);
             }
         }
         let n = rows.max(1) as f64;
         let pct = |a: f64, b: f64| format!("**{:.0} % / {:.0} %**", 100.0 * a / n, 100.0 * b / n);
         println!(
-            "| **mean** ({rows} folds) | | | {} | {} | {} | pooled **{:.2} / {:.2}** |",
+            "| **mean** ({rows} folds) | | | {} | {} | {} | {} | {} | pooled **{:.2} / {:.2} / {:.2}** |",
             pct(sums[0], sums[1]),
             pct(sums[2], sums[3]),
             pct(sums[4], sums[5]),
+            pct(sums[6], sums[7]),
+            pct(sums[8], sums[9]),
             auroc(&pooled_c),
-            auroc(&pooled_d)
+            auroc(&pooled_d),
+            auroc(&pooled_q)
         );
         println!();
         crate::common::print_rates_by_class(
-            &["max-softmax: unseen / seen called unknown", "k-NN distance", "either"],
+            &[
+                "max-softmax: unseen / seen called unknown",
+                "k-NN distance",
+                "max-softmax or distance",
+                "deep k-NN",
+                "distance or deep k-NN",
+            ],
             classes,
             &per_class,
         );
         println!("({:.0} s)", started.elapsed().as_secs_f64());
         Ok(())
     }
+
+    /// Deep k-NN (Sun et al. 2022; not in the paper): per working frame of `motion`, the cosine distance of its
+    /// last-layer activations before NormReLU, L2-normalised, to the [`DEEP_K`]-th nearest of every third labelled
+    /// working frame of `takes` (what `trained` was trained on) — a distance in the network's own feature space,
+    /// without the one shared covariance of the Mahalanobis score. By brute force (a lab measurement).
+    fn deep_knn(
+        trained: &Trained,
+        takes: &[TrainingTake],
+        motion: &Motion,
+        classes: usize,
+    ) -> Result<Vec<f32>, String> {
+        use mocapseg::methods::dtfcn::infer::predict_with_features;
+        use mocapseg::methods::dtfcn::input::{network_input, NetworkInput};
+        let features = |input: &NetworkInput| -> (usize, Vec<f32>) {
+            let (_, mut f) = predict_with_features(&trained.net, &trained.standardise, input, classes);
+            let width = f.len() / input.frames.max(1);
+            for row in f.chunks_mut(width.max(1)) {
+                let norm = row.iter().map(|x| x * x).sum::<f32>().sqrt().max(1e-12);
+                row.iter_mut().for_each(|x| *x /= norm);
+            }
+            (width, f)
+        };
+        let mut bank = Vec::new();
+        let mut width = 0;
+        for t in takes {
+            let (w, f) = features(&t.input);
+            width = w;
+            for (i, l) in t.labels.iter().enumerate() {
+                if l.is_some() && i % 3 == 0 {
+                    bank.extend_from_slice(&f[i * w..(i + 1) * w]);
+                }
+            }
+        }
+        let n = bank.len() / width.max(1);
+        if n <= DEEP_K {
+            return Err(format!("deep k-NN: {n} training frames, fewer than k = {DEEP_K}"));
+        }
+        let (_, f) = features(&network_input(motion)?);
+        Ok(f.chunks(width)
+            .map(|q| {
+                let mut d: Vec<f32> =
+                    bank.chunks(width).map(|b| 1.0 - q.iter().zip(b).map(|(x, y)| x * y).sum::<f32>()).collect();
+                d.select_nth_unstable_by(DEEP_K - 1, f32::total_cmp);
+                d[DEEP_K - 1]
+            })
+            .collect())
+    }
+
+    /// The deep k-NN's k (Sun et al. use 50 of 50,000 training images; a tenth of a second of frames here).
+    const DEEP_K: usize = 10;
 
     /// Per working frame of a take: (confidence, novelty, whether its true class is the one left out), for its
     /// labelled frames.
