@@ -192,6 +192,13 @@ fn the_registered_methods_label_a_take_with_a_users_models() {
     let knn_takes: Vec<(&Motion, &[Option<usize>])> =
         motions.iter().zip(&labels).map(|(m, l)| (m, l.as_slice())).collect();
     store.install(stored(fit_knn_model(&knn_takes, &classes, &meta()).unwrap()));
+    // the same models made with another unknown threshold, which a run uses unless it asks for its own
+    let strict = |mut m: mocapseg::methods::dtfcn::model::Model| {
+        m.header.unknown_threshold = 1.0;
+        Loaded { info: model_info("strict-model", &m), model: std::sync::Arc::new(m) }
+    };
+    store.install(strict(train_model(&takes, &[], &classes, &small(3), &meta(), &mut |_| true).unwrap()));
+    store.install(strict(fit_knn_model(&knn_takes, &classes, &meta()).unwrap()));
     for name in ["dtfcn", "knn"] {
         let m = find(name).unwrap();
         let run = |params: serde_json::Value, options: &RunOptions| {
@@ -212,6 +219,24 @@ fn the_registered_methods_label_a_take_with_a_users_models() {
         let params = serde_json::json!({ "model": "my-test-model", "unknown_threshold": 1.0 });
         let out = run(params, &RunOptions::default()).unwrap();
         assert!(out.segmentation.segments.iter().any(|g| g.label == "unknown"), "{name}");
+        // no threshold asked: the model's own (1 for the strict model, as 1 asked; the header's 0.5 for the other,
+        // as 0.5 asked), and the run says which it used
+        let own =
+            run(serde_json::json!({ "model": "strict-model", "fit_check": false }), &RunOptions::default()).unwrap();
+        let one = serde_json::json!({ "model": "strict-model", "fit_check": false, "unknown_threshold": 1.0 });
+        assert_eq!(own.segmentation.segments, run(one, &RunOptions::default()).unwrap().segmentation.segments);
+        assert!(own.segmentation.segments.iter().any(|g| g.label == "unknown"), "{name}");
+        assert_eq!(own.segmentation.params["unknown_threshold"], 1.0, "{name}");
+        let asked = serde_json::json!({ "model": "strict-model", "fit_check": false, "unknown_threshold": 0.0 });
+        let asked = run(asked, &RunOptions::default()).unwrap();
+        assert!(asked.segmentation.segments.iter().all(|g| g.label != "unknown"), "{name}");
+        let plain = |t: serde_json::Value| {
+            let p = serde_json::json!({ "model": "my-test-model", "fit_check": false, "unknown_threshold": t });
+            run(p, &RunOptions::default()).unwrap().segmentation
+        };
+        let (implied, half) = (plain(serde_json::Value::Null), plain(serde_json::json!(0.5)));
+        assert_eq!(implied.segments, half.segments, "{name}");
+        assert_eq!(implied.params["unknown_threshold"], 0.5, "{name}");
         // a model that does not exist is refused by name, listing the shipped ones
         let err = run(serde_json::json!({ "model": "nope" }), &RunOptions::default()).err().unwrap();
         assert_eq!(err.param_name(), Some("model"));

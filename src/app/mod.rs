@@ -34,6 +34,7 @@ mod effort;
 mod embed;
 mod error_banner;
 mod fetch;
+mod first_visit;
 mod ground_truth;
 mod keys;
 mod library;
@@ -46,16 +47,15 @@ mod my_labels;
 mod playback;
 mod player;
 mod progress;
-mod row_model;
 mod row_exports;
+mod row_model;
+mod segment_menu;
 mod stopped;
 mod summary;
 mod supervised;
 mod timeline;
 mod training;
 mod workspace;
-mod segment_menu;
-mod first_visit;
 
 use crate::method::{form, MethodInfo, ParamSpec};
 use crate::protocol::{LoadedMotion, MethodView};
@@ -158,7 +158,7 @@ pub struct MethodSlot {
 impl MethodSlot {
     fn new(method: &dyn crate::method::DynMethod) -> MethodSlot {
         let specs = method.param_specs();
-        let fields = specs.iter().map(|s| RwSignal::new(default_text(&s.default))).collect();
+        let fields = specs.iter().map(|s| RwSignal::new(form::default_text(&s.default))).collect();
         let choices = specs
             .iter()
             .map(|s| match &s.kind {
@@ -182,31 +182,11 @@ impl MethodSlot {
         }
     }
 
-    /// The parameters the form holds now, as the worker reads them. An empty number field is the
-    /// method's default: the parameter is left out of the JSON (every field is optional there),
-    /// or `null` when its default is `null` (the method decides).
+    /// The parameters the form holds now, as the worker reads them ([`form::params_from_fields`]: an empty
+    /// number field is the method's default, or `null` when that default is `null` — the method decides).
     pub fn params(&self) -> Result<serde_json::Value, crate::method::MethodError> {
-        use crate::method::ParamKind;
         let texts: Vec<String> = self.fields.iter().map(|f| f.get_untracked()).collect();
-        let unset: Vec<bool> = self
-            .specs
-            .iter()
-            .zip(&texts)
-            .map(|(s, t)| {
-                t.trim().is_empty()
-                    && (s.default.is_null() || matches!(s.kind, ParamKind::Number { .. } | ParamKind::Integer { .. }))
-            })
-            .collect();
-        let specs: Vec<ParamSpec> =
-            self.specs.iter().zip(&unset).filter(|(_, u)| !**u).map(|(s, _)| s.clone()).collect();
-        let set: Vec<String> = texts.into_iter().zip(&unset).filter(|(_, u)| !**u).map(|(t, _)| t).collect();
-        let mut params = form::params_from_form(&self.info.short, &specs, &set)?;
-        if let Some(object) = params.as_object_mut() {
-            for (spec, _) in self.specs.iter().zip(&unset).filter(|(s, u)| **u && s.default.is_null()) {
-                object.insert(spec.name.clone(), serde_json::Value::Null);
-            }
-        }
-        Ok(params)
+        form::params_from_fields(&self.info.short, &self.specs, &texts)
     }
 
     /// The field of parameter `name`, with its choices.
@@ -214,22 +194,6 @@ impl MethodSlot {
         let i = self.specs.iter().position(|s| s.name == name)?;
         Some((self.fields[i], self.choices[i]))
     }
-}
-
-/// The form text of a parameter's default: empty for `null` (the method decides), and a number
-/// that is exactly an `f32` (a default written `x as f64`) in the `f32`'s shortest form — `0.8`,
-/// not `0.800000011920929`.
-fn default_text(value: &serde_json::Value) -> String {
-    if value.is_null() {
-        return String::new();
-    }
-    if let Some(x) = value.as_f64().filter(|_| value.is_f64()) {
-        let short = x as f32;
-        if short as f64 == x && x.fract() != 0.0 && short.to_string().len() < x.to_string().len() {
-            return short.to_string();
-        }
-    }
-    form::field_text(value)
 }
 
 /// Everything the page shows, as signals (created once, passed to every component).

@@ -411,7 +411,9 @@ mod cli {
             Err(e) => return usage(e),
         };
         let result = match matches.subcommand() {
-            Some((sub, m)) if sub.starts_with("train-") => train_from_flags(&sub["train-".len()..], m).map(|()| Outcome::Ok),
+            Some((sub, m)) if sub.starts_with("train-") => {
+                train_from_flags(&sub["train-".len()..], m).map(|()| Outcome::Ok)
+            }
             _ => match Cli::from_arg_matches(&matches) {
                 Ok(cli) => run(cli.command),
                 Err(e) => return usage(e),
@@ -564,7 +566,8 @@ mod cli {
     fn model_cards(accuracy: &Path, out: &Path) -> Result<(), String> {
         let text = std::fs::read_to_string(accuracy).map_err(|e| format!("{}: {e}", accuracy.display()))?;
         let generated_by = format!("mocapseg model-cards --accuracy {} --out {}", accuracy.display(), out.display());
-        let json = method::cards::cards_json(&text, &generated_by).map_err(|e| format!("{}: {e}", accuracy.display()))?;
+        let json =
+            method::cards::cards_json(&text, &generated_by).map_err(|e| format!("{}: {e}", accuracy.display()))?;
         std::fs::write(out, json).map_err(|e| format!("{}: {e}", out.display()))?;
         eprintln!("wrote {}", out.display());
         Ok(())
@@ -693,7 +696,9 @@ mod cli {
             let show = |specs: Vec<method::ParamSpec>| {
                 for p in specs {
                     let unit = p.unit.as_deref().map(|u| format!(" {u}")).unwrap_or_default();
-                    println!("    {:<28} default {}{unit}; {}", p.name, p.default, kind_text(&p.kind));
+                    // a `null` default: the method decides (a labeller's threshold is its model's own)
+                    let default = if p.default.is_null() { "unset".to_string() } else { p.default.to_string() };
+                    println!("    {:<28} default {default}{unit}; {}", p.name, kind_text(&p.kind));
                     println!("    {:<28} {}", "", p.help);
                 }
             };
@@ -940,10 +945,8 @@ mod cli {
     fn train_from_flags(method_name: &str, args: &clap::ArgMatches) -> Result<(), String> {
         let m = mocapseg::methods::find(method_name).map_err(|e| e.to_string())?;
         let decl = m.supervision().ok_or_else(|| format!("{method_name} has no models to train"))?;
-        let given = decl
-            .training
-            .iter()
-            .filter_map(|spec| args.get_one::<String>(&spec.name).map(|text| (spec, text.clone())));
+        let given =
+            decl.training.iter().filter_map(|spec| args.get_one::<String>(&spec.name).map(|text| (spec, text.clone())));
         let flag = |name: &str| format!("--{}", name.replace('_', "-"));
         let options = options_json(m, given, flag)?;
         let bvh: Vec<PathBuf> = args.get_many::<PathBuf>("bvh").into_iter().flatten().cloned().collect();
@@ -1220,9 +1223,7 @@ mod cli {
         // the mode a plain write gives (0666 less the umask), not tempfile's private 0600
         #[cfg(unix)]
         builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-        let mut file = builder
-            .tempfile_in(dir)
-            .map_err(|e| format!("{}: cannot write there: {e}", dir.display()))?;
+        let mut file = builder.tempfile_in(dir).map_err(|e| format!("{}: cannot write there: {e}", dir.display()))?;
         file.write_all(text.as_bytes())
             .and_then(|()| file.as_file().sync_all())
             .map_err(|e| format!("{}: {e}", path.display()))?;

@@ -495,6 +495,17 @@ fn misread<P: DeserializeOwned>(short: &str, params: &serde_json::Value, e: serd
 }
 
 /// `n` and the English noun `word` in its number, as summaries print counts: "1 action",
+/// Whether a checked run's parameters (`echo`) are a method's `defaults`: equal, except that a
+/// `null` default — the method decides, as a labeller's threshold is its model's own — stands for
+/// whatever value the echo names in its place (never `null`: the run says what it decided).
+pub fn echoes_defaults(echo: &serde_json::Value, defaults: &serde_json::Value) -> bool {
+    let (Some(e), Some(d)) = (echo.as_object(), defaults.as_object()) else { return echo == defaults };
+    e.len() == d.len()
+        && d.iter().all(|(name, default)| {
+            e.get(name).is_some_and(|v| if default.is_null() { !v.is_null() } else { v == default })
+        })
+}
+
 /// "3 actions", "1 boundary", "2 boundaries", "1 class", "4 classes".
 pub fn counted(n: usize, word: &str) -> String {
     if n == 1 {

@@ -1227,10 +1227,11 @@ test("DT-FCN and k-NN label the sample: rows coloured by class and confidence, m
     assert.equal(await page.locator(`#row-${m}-actions`).getAttribute("data-label"), m === "dtfcn" ? "DT-FCN · labels" : "k-NN · labels");
     const options = await page.locator(`#${m}-model option`).evaluateAll((os) => os.map((o) => o.value));
     assert.deepEqual(options.slice(0, 3), ["exercises", "cmu-actions", "locomotion"], `#${m}-model offers the shipped models`);
-    const threshold = Number(await page.inputValue(`#${m}-unknown_threshold`));
-    assert.ok(threshold > 0 && threshold < 1, `the default threshold in the form: ${threshold}`);
-    assert.equal(json.params.unknown_threshold, threshold, "the form's threshold is echoed");
-    defaultThreshold[m] = threshold;
+    assert.equal(await page.inputValue(`#${m}-unknown_threshold`), "", "the form leaves the threshold to the model");
+    const own = shippedHeader(m, "exercises").unknown_threshold;
+    assert.ok(own > 0 && own < 1, `the shipped model's threshold: ${own}`);
+    assert.equal(json.params.unknown_threshold, own, "the run used the model's own threshold and says which");
+    defaultThreshold[m] = own;
     assert.ok(await page.locator(`#${m}-probabilities`).count() === 1, `#${m}-probabilities picture`);
   }
   await panel("dtfcn");
@@ -1250,7 +1251,7 @@ test("DT-FCN and k-NN label the sample: rows coloured by class and confidence, m
   json = await exportRun("knn", "e2e-knn-cmu.json");
   assert.equal(json.params.model, "cmu-actions");
   assert.ok(Math.abs(json.params.unknown_threshold - defaultThreshold.knn) < 1e-6,
-    `an emptied threshold is the method's default: ${json.params.unknown_threshold}`);
+    `an emptied threshold is the model's own: ${json.params.unknown_threshold}`);
   await assertLabelRow("knn", json, shippedHeader("knn", "cmu-actions"));
   await page.selectOption("#knn-model", "exercises");
   await page.fill("#knn-unknown_threshold", "1.5");

@@ -32,7 +32,8 @@ pub struct LabelParams {
     /// A shipped model's name, or the name a user model was installed under.
     pub model: String,
     /// Frames whose confidence is below this are `unknown` (0 = never); with a decoding, whole runs.
-    pub unknown_threshold: f64,
+    /// `None` (the default): the model's own, its header's `unknown_threshold`.
+    pub unknown_threshold: Option<f64>,
     /// `model` (the decoding the model was made with — raw per-frame labels if none), `raw`, or `custom`
     /// (`min_duration_s` and `switch_cost`).
     pub decoding: String,
@@ -48,8 +49,9 @@ pub struct LabelParams {
 /// The ways a run may decode its labels.
 pub const DECODINGS: [&str; 3] = ["model", "raw", "custom"];
 
-/// The unknown threshold in force unless asked otherwise: what every fold of the scoreboard's nested validation
-/// chose, with the decoding (`make accuracy`, docs/methods/dtfcn.md).
+/// The unknown threshold a model is made with (its header's, in force unless a run asks otherwise): what every
+/// fold of the scoreboard's nested validation chose for the k-NN, with the decoding (`make accuracy`,
+/// docs/methods/dtfcn.md).
 pub const DEFAULT_THRESHOLD: f64 = 0.5;
 
 /// The warning a run on one of `header`'s own training takes carries: its scores there are not
@@ -73,7 +75,7 @@ impl Default for LabelParams {
     fn default() -> Self {
         LabelParams {
             model: shipped::NAMES[0].into(),
-            unknown_threshold: DEFAULT_THRESHOLD,
+            unknown_threshold: None,
             decoding: DECODINGS[0].into(),
             min_duration_s: CUSTOM_DECODING.min_duration_s,
             switch_cost: CUSTOM_DECODING.switch_cost,
@@ -140,7 +142,12 @@ impl Labelling {
     /// can be measured of is not offered, nor one whose file the page could not get (damaged, or
     /// not served: [`crate::method::shipped::refuse`]). On the page a shipped k-NN file not held
     /// yet is [`MethodError::NeedsModel`] (fetched once, then the run is asked again).
-    fn fitting_models(&self, motion: &Motion, chosen: &str, models: &ModelStore) -> Result<Vec<FittingModel>, MethodError> {
+    fn fitting_models(
+        &self,
+        motion: &Motion,
+        chosen: &str,
+        models: &ModelStore,
+    ) -> Result<Vec<FittingModel>, MethodError> {
         let mut names: Vec<String> = shipped::NAMES.iter().map(|n| n.to_string()).collect();
         for name in models.names(self.kind.name()) {
             if !names.contains(&name) {
@@ -164,7 +171,11 @@ impl Labelling {
             let fit = super::fit::TakeFit::assess(motion, travel.as_ref(), knn_of(windows.as_deref()))
                 .map_err(MethodError::Failed)?;
             if fit.measured() && fit.fits() {
-                fitting.push(FittingModel { name: name.clone(), travel_share: fit.travel_share, pose_ratio: fit.pose_ratio });
+                fitting.push(FittingModel {
+                    name: name.clone(),
+                    travel_share: fit.travel_share,
+                    pose_ratio: fit.pose_ratio,
+                });
             }
         }
         Ok(super::fit::rank_fitting(fitting))
@@ -258,9 +269,11 @@ impl Method for Labelling {
             },
             ParamSpec {
                 name: "unknown_threshold".into(),
-                help: "Frames whose confidence is below this are labelled `unknown` (0: never).".into(),
+                help: "Frames whose confidence is below this are labelled `unknown` (0: never; unset: the model's \
+                       own, 0.5 for the shipped models)."
+                    .into(),
                 kind: ParamKind::Number { min: 0.0, max: 1.0 },
-                default: serde_json::json!(DEFAULT_THRESHOLD),
+                default: serde_json::Value::Null,
                 unit: None,
                 basic: true,
                 at_most: None,
@@ -320,14 +333,17 @@ impl Method for Labelling {
 
     fn check_in(&self, params: LabelParams, models: &ModelStore) -> Result<Checked, MethodError> {
         let model = resolve(self.kind, params.model.trim(), models)?;
-        let t = params.unknown_threshold;
-        if !(0.0..=1.0).contains(&t) {
-            return Err(MethodError::param(
-                "unknown_threshold",
-                format!("unknown_threshold = {t}: expected a confidence from 0 to 1"),
-            ));
-        }
-        let threshold = t;
+        let threshold = match params.unknown_threshold {
+            Some(t) if !(0.0..=1.0).contains(&t) => {
+                return Err(MethodError::param(
+                    "unknown_threshold",
+                    format!("unknown_threshold = {t}: expected a confidence from 0 to 1"),
+                ))
+            }
+            Some(t) => t,
+            // the header's f32 as written (0.8, not 0.800000011920929)
+            None => model.header.unknown_threshold.to_string().parse().unwrap_or(DEFAULT_THRESHOLD),
+        };
         let (d, cost) = (params.min_duration_s, params.switch_cost);
         if !(0.0..=MAX_MIN_DURATION_S).contains(&d) {
             return Err(MethodError::param(
@@ -659,13 +675,23 @@ mod tests {
             let out = run(method, &walk, serde_json::json!({"model": "exercises"}));
             let segments = &out.segmentation.segments;
             assert!(segments.iter().all(|s| s.label == UNKNOWN && s.cluster.is_none()), "{segments:?}");
-            assert!(out.details.summary.starts_with("model `exercises` does not fit this take: 100 % of its frames travel"), "{}", out.details.summary);
+            assert!(
+                out.details.summary.starts_with("model `exercises` does not fit this take: 100 % of its frames travel"),
+                "{}",
+                out.details.summary
+            );
             assert_eq!(out.segmentation.params["fit_check"], true);
             let unchecked = run(method, &walk, serde_json::json!({"model": "exercises", "fit_check": false}));
             assert!(unchecked.segmentation.segments.iter().any(|s| s.label != UNKNOWN));
             assert!(!unchecked.details.summary.contains("fit"), "{}", unchecked.details.summary);
             let own = run(method, &sample, serde_json::json!({"model": "exercises"}));
-            let labelled = own.segmentation.segments.iter().filter(|s| s.label != UNKNOWN).map(|s| s.end + 1 - s.start).sum::<usize>();
+            let labelled = own
+                .segmentation
+                .segments
+                .iter()
+                .filter(|s| s.label != UNKNOWN)
+                .map(|s| s.end + 1 - s.start)
+                .sum::<usize>();
             assert!(labelled as f64 > 0.9 * sample.frames() as f64, "{labelled} of {}", sample.frames());
             assert!(own.details.summary.contains("the take fits model `exercises`"), "{}", own.details.summary);
             // the walk is one of the locomotion models' training takes: it fits them
@@ -692,7 +718,10 @@ mod tests {
             let out = run(method, &actions, serde_json::json!({"model": "exercises"}));
             let fit = out.details.take_fit.clone().expect("a fit check's report");
             assert!(!fit.fits && fit.model == "exercises", "{fit:?}");
-            assert!(fit.travel_share.unwrap() > 0.25 && fit.travel_limit.is_some() && fit.pose_ratio.is_some(), "{fit:?}");
+            assert!(
+                fit.travel_share.unwrap() > 0.25 && fit.travel_limit.is_some() && fit.pose_ratio.is_some(),
+                "{fit:?}"
+            );
             assert!(fit.reason.contains("% of its frames travel faster"), "{}", fit.reason);
             assert_eq!(fit.fitting_names(), ["cmu-actions", "locomotion"], "{fit:?}");
             assert!(fit.fitting[0].pose_ratio.unwrap() < fit.fitting[1].pose_ratio.unwrap(), "best first: {fit:?}");

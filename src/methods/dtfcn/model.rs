@@ -110,7 +110,7 @@ pub struct ModelHeader {
     pub joints: Vec<String>,
     /// Working frame rate of its input.
     pub fps: f64,
-    /// Frames below this confidence are labelled `unknown` by default.
+    /// Frames below this confidence are labelled `unknown` unless a run asks for another threshold.
     pub unknown_threshold: f32,
     /// How its per-frame probabilities are decoded into labels when a run asks for the model's decoding
     /// ([`super::decode`]; chosen by validation when it was made; none: the raw per-frame labels).
