@@ -403,12 +403,7 @@ mod lab {
                 let held_distance = distances(&p.knn_model, &motions[held], &p.network_source)?;
                 let out = frames_of(&p.network_probabilities, &held_distance, &p.network_source, &labels[held], gone);
                 // the deep k-NN of each network, its bank the labelled frames of the takes it was trained on
-                let takes = |skip: &[usize]| -> Result<Vec<TrainingTake>, String> {
-                    (0..motions.len())
-                        .filter(|i| !skip.contains(i))
-                        .map(|i| TrainingTake::new(&motions[i], &without[i]))
-                        .collect()
-                };
+                let takes = |skip: &[usize]| training_takes(motions, &without, skip);
                 let k = classes.len();
                 let val_deep =
                     deep_knn(&p.validation_network, &takes(&[held, p.validation])?, &motions[p.validation], k)?;
@@ -488,6 +483,15 @@ mod lab {
         );
         println!("({:.0} s)", started.elapsed().as_secs_f64());
         Ok(())
+    }
+
+    /// Every take but those of `skip` as training takes under `labels` (what a network of a fold was trained on).
+    fn training_takes(
+        motions: &[Motion],
+        labels: &[Vec<Option<usize>>],
+        skip: &[usize],
+    ) -> Result<Vec<TrainingTake>, String> {
+        (0..motions.len()).filter(|i| !skip.contains(i)).map(|i| TrainingTake::new(&motions[i], &labels[i])).collect()
     }
 
     /// Deep k-NN (Sun et al. 2022; not in the paper): per working frame of `motion`, the cosine distance of its
@@ -618,12 +622,7 @@ mod lab {
                 labels.iter().map(|l| l.iter().map(|x| x.filter(|&c| c != gone)).collect()).collect();
             let p = predict_held_out(motions, &without, held, classes, base, &mut |_| true)?;
             // the novelty of each network, fitted on the takes it was trained on (labels without the class)
-            let takes = |skip: &[usize]| -> Result<Vec<TrainingTake>, String> {
-                (0..motions.len())
-                    .filter(|i| !skip.contains(i))
-                    .map(|i| TrainingTake::new(&motions[i], &without[i]))
-                    .collect()
-            };
+            let takes = |skip: &[usize]| training_takes(motions, &without, skip);
             let k = classes.len();
             let validation_novelty =
                 novelty_scores(&p.validation_network, &takes(&[held, p.validation])?, k, &motions[p.validation])?;

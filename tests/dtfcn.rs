@@ -265,13 +265,9 @@ fn every_shipped_model_loads_and_labels_a_walk() {
     }
 }
 
-/// The fold that chooses `average_last` (`corpus::averaged_fold`) retrains the fold's networks for the chosen epochs
-/// without a validation take: keeping the last epoch's weights it gives exactly the fold's early-stopped network on
-/// the validation take and its final network on the held-out take (so the settings compete on equal terms), and
-/// averaging the last epochs gives other networks on both.
-#[test]
-fn the_averaging_fold_retrains_the_folds_networks() {
-    use mocapseg::methods::dtfcn::corpus::{averaged_fold, predict_held_out};
+/// Three takes for a fold of the nested protocol (held out, validation, training), each labelled `a` in its first
+/// half and `b` or `c` after, per file frame.
+fn three_takes() -> (Vec<Motion>, Vec<String>, Vec<Vec<Option<usize>>>) {
     let takes = vec![motion("02_01.bvh", WALK), motion("35_01.bvh", OTHER), motion("02_01-copy.bvh", WALK)];
     let classes: Vec<String> = ["a", "b", "c"].iter().map(|s| s.to_string()).collect();
     let labels: Vec<Vec<Option<usize>>> = takes
@@ -279,6 +275,17 @@ fn the_averaging_fold_retrains_the_folds_networks() {
         .enumerate()
         .map(|(i, m)| (0..m.frames()).map(|f| Some(if f < m.frames() / 2 { 0 } else { 1 + i % 2 })).collect())
         .collect();
+    (takes, classes, labels)
+}
+
+/// The fold that chooses `average_last` (`corpus::averaged_fold`) retrains the fold's networks for the chosen epochs
+/// without a validation take: keeping the last epoch's weights it gives exactly the fold's early-stopped network on
+/// the validation take and its final network on the held-out take (so the settings compete on equal terms), and
+/// averaging the last epochs gives other networks on both.
+#[test]
+fn the_averaging_fold_retrains_the_folds_networks() {
+    use mocapseg::methods::dtfcn::corpus::{averaged_fold, predict_held_out};
+    let (takes, classes, labels) = three_takes();
     let options = small(3);
     let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &mut |_| true).unwrap();
     let last = averaged_fold(&takes, &labels, 0, &classes, &options, fold.best_epoch, true).unwrap();
@@ -300,13 +307,7 @@ fn the_averaging_fold_retrains_the_folds_networks() {
 #[test]
 fn scrambling_the_held_out_takes_labels_changes_no_prediction() {
     use mocapseg::methods::dtfcn::corpus::predict_held_out;
-    let takes = vec![motion("02_01.bvh", WALK), motion("35_01.bvh", OTHER), motion("02_01-copy.bvh", WALK)];
-    let classes: Vec<String> = ["a", "b", "c"].iter().map(|s| s.to_string()).collect();
-    let labels: Vec<Vec<Option<usize>>> = takes
-        .iter()
-        .enumerate()
-        .map(|(i, m)| (0..m.frames()).map(|f| Some(if f < m.frames() / 2 { 0 } else { 1 + i % 2 })).collect())
-        .collect();
+    let (takes, classes, labels) = three_takes();
     let options = small(2);
     let before = predict_held_out(&takes, &labels, 0, &classes, &options, &mut |_| true).unwrap();
     let mut scrambled = labels.clone();
