@@ -78,6 +78,7 @@ fn meta() -> ModelMeta {
         data_hash: "-".into(),
         decoding: None,
         travel: None,
+        unknown_threshold: 0.5,
     }
 }
 

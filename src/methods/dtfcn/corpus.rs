@@ -104,6 +104,8 @@ pub struct ModelMeta {
     pub data_hash: String,
     /// The decoding a run with `decoding = "model"` uses (none: raw per-frame labels).
     pub decoding: Option<super::decode::Decoding>,
+    /// The unknown threshold its runs use unless they ask for another (the header's).
+    pub unknown_threshold: f64,
     /// How fast the training takes' labelled frames travelled ([`travel_of`]; for the take fit).
     pub travel: Option<super::fit::TravelProfile>,
 }
@@ -125,7 +127,7 @@ fn header(kind: ModelKind, classes: &[String], meta: &ModelMeta, provenance: Pro
         colours: class_colours(classes.len()),
         joints: super::model::joint_names_of(kind),
         fps: NETWORK_FPS,
-        unknown_threshold: super::method::DEFAULT_THRESHOLD as f32,
+        unknown_threshold: meta.unknown_threshold as f32,
         decoding: meta.decoding,
         network: None,
         standardise: None,

@@ -270,7 +270,7 @@ impl Method for Labelling {
             ParamSpec {
                 name: "unknown_threshold".into(),
                 help: "Frames whose confidence is below this are labelled `unknown` (0: never; unset: the model's \
-                       own, 0.5 for the shipped models)."
+                       own: 0.8 for the shipped exercises DT-FCN, 0.5 for the other shipped models)."
                     .into(),
                 kind: ParamKind::Number { min: 0.0, max: 1.0 },
                 default: serde_json::Value::Null,

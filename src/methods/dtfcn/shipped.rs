@@ -64,10 +64,11 @@ mod tests {
         assert!(err.contains("no knn model called `nope`") && err.contains("exercises"), "{err}");
     }
 
-    /// What a shipped file's header says is what a run does and what `models/README.md` tells
-    /// a reader to type: the unknown threshold is the run's default (the files once said 0.8
-    /// while runs used 0.5), the command is the README's line, and every training take's file
-    /// is hashed (so the page tells the bundled sample, another version of 13_30, by content).
+    /// What a shipped file's header says is what `models/README.md` tells a reader to type: the
+    /// unknown threshold (which runs use unless they ask for another) is its command's
+    /// `--unknown-threshold` or the option's default, the command is the README's line, and every
+    /// training take's file is hashed (so the page tells the bundled sample, another version of
+    /// 13_30, by content).
     #[test]
     fn every_shipped_header_is_what_runs_use_and_the_readme_reproduces() {
         let readme =
@@ -76,8 +77,12 @@ mod tests {
             for name in NAMES {
                 let h = &model(kind, name).unwrap().header;
                 let file = file_name(kind, name);
-                assert_eq!(h.unknown_threshold as f64, super::super::method::DEFAULT_THRESHOLD, "{file}");
                 let command = &h.provenance.command;
+                let asked = command.split_once("--unknown-threshold ").map(|(_, rest)| {
+                    rest.split_whitespace().next().and_then(|t| t.parse::<f32>().ok()).expect("a number")
+                });
+                let threshold = asked.unwrap_or(super::super::method::DEFAULT_THRESHOLD as f32);
+                assert_eq!(h.unknown_threshold, threshold, "{file}");
                 assert!(command.ends_with(&format!("--out models/{file}")), "{file}: {command}");
                 assert!(readme.lines().any(|l| l == command), "{file}: `{command}` is not a line of models/README.md");
                 let p = &h.provenance;

@@ -11,7 +11,7 @@ use super::augment::Augment;
 use super::corpus::{class_labels, fit_knn_model, model_from, rows_without_takes, ModelMeta};
 use super::decode::Decoding;
 use super::input::NetworkInput;
-use super::method::MAX_MIN_DURATION_S;
+use super::method::{DEFAULT_THRESHOLD, MAX_MIN_DURATION_S};
 use super::input::Standardise;
 use super::model::{data_hash, take_hashes, Labeller, Model, ModelKind};
 use super::network::{DtFcn, DtFcnConfig};
@@ -66,6 +66,14 @@ fn decoding_specs() -> Vec<ParamSpec> {
             "The model's decoding: the cost of a change of label, in nats of summed log-probability (0 = free).",
             ParamKind::Number { min: 0.0, max: MAX_SWITCH_COST },
             0.0.into(),
+            None,
+            false,
+        ),
+        spec(
+            "unknown_threshold",
+            "The model's unknown threshold: its runs call a frame (with a decoding, a whole run) unknown below this confidence unless they ask for another (the shipped exercises DT-FCN: 0.8, chosen with its decoding by nested validation).",
+            ParamKind::Number { min: 0.0, max: 1.0 },
+            DEFAULT_THRESHOLD.into(),
             None,
             false,
         ),
@@ -212,6 +220,7 @@ struct OptionsJson {
     average_last: i64,
     min_duration_s: f64,
     switch_cost: f64,
+    unknown_threshold: f64,
 }
 
 impl Default for OptionsJson {
@@ -235,16 +244,24 @@ impl Default for OptionsJson {
             average_last: d.average_last as i64,
             min_duration_s: 0.0,
             switch_cost: 0.0,
+            unknown_threshold: DEFAULT_THRESHOLD,
         }
     }
 }
 
 /// The k-NN's training options as JSON (its table is the decoding's rows).
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 struct KnnOptionsJson {
     min_duration_s: f64,
     switch_cost: f64,
+    unknown_threshold: f64,
+}
+
+impl Default for KnnOptionsJson {
+    fn default() -> Self {
+        KnnOptionsJson { min_duration_s: 0.0, switch_cost: 0.0, unknown_threshold: DEFAULT_THRESHOLD }
+    }
 }
 
 /// A training's options as read from its table: the trainer's, the decoding its model keeps, and
@@ -254,6 +271,8 @@ pub struct ModelOptions {
     pub train: TrainOptions,
     /// `None`: the model's runs label each frame by its most probable class.
     pub decoding: Option<Decoding>,
+    /// The model's own unknown threshold (its header's; what its runs use unless they ask for another).
+    pub unknown_threshold: f64,
     pub read: serde_json::Value,
 }
 
@@ -270,7 +289,8 @@ pub fn options_from_json(kind: ModelKind, value: &serde_json::Value) -> Result<M
         let o: KnnOptionsJson = read_options(value, &specs, "k-NN")?;
         let read = serde_json::to_value(&o).map_err(|e| MethodError::params(e.to_string()))?;
         let decoding = decoding_of(o.min_duration_s, o.switch_cost);
-        return Ok(ModelOptions { train: TrainOptions::default(), decoding, read });
+        let unknown_threshold = o.unknown_threshold;
+        return Ok(ModelOptions { train: TrainOptions::default(), decoding, unknown_threshold, read });
     }
     let o: OptionsJson = read_options(value, &specs, "DT-FCN")?;
     let read = serde_json::to_value(&o).map_err(|e| MethodError::params(e.to_string()))?;
@@ -295,7 +315,8 @@ pub fn options_from_json(kind: ModelKind, value: &serde_json::Value) -> Result<M
     };
     // what the table cannot say (learning rate below 1, …) is still the trainer's to refuse
     options.check().map_err(MethodError::params)?;
-    Ok(ModelOptions { train: options, decoding: decoding_of(o.min_duration_s, o.switch_cost), read })
+    let decoding = decoding_of(o.min_duration_s, o.switch_cost);
+    Ok(ModelOptions { train: options, decoding, unknown_threshold: o.unknown_threshold, read })
 }
 
 /// The declaration of the labelling method of `kind`.
@@ -540,6 +561,7 @@ impl Prepared {
                 .unwrap_or_else(|| train_command(kind, &takes, &self.labels_name, &self.name, &options.read)),
             data_hash: self.data_hash.clone(),
             decoding: options.decoding,
+            unknown_threshold: options.unknown_threshold,
             // measured on what the model is taught (a validation take is not)
             travel: super::corpus::travel_of(
                 &self
@@ -884,6 +906,7 @@ mod tests {
             (serde_json::json!({"average_last": -1}), "average_last"),
             (serde_json::json!({"min_duration_s": 31}), "min_duration_s"),
             (serde_json::json!({"switch_cost": -1}), "switch_cost"),
+            (serde_json::json!({"unknown_threshold": 1.5}), "unknown_threshold"),
         ] {
             let e = options_from_json(&json).unwrap_err();
             assert_eq!(e.param_name(), Some(param), "{json}: {e}");
@@ -902,6 +925,12 @@ mod tests {
         let o = super::options_from_json(ModelKind::Knn, &serde_json::json!({"min_duration_s": 2, "switch_cost": 150}))
             .unwrap();
         assert_eq!(o.decoding, Some(Decoding { min_duration_s: 2.0, switch_cost: 150.0 }));
+        // the model's unknown threshold (its runs' unless they ask for another), 0.5 unless given, for both kinds
+        assert_eq!(o.unknown_threshold, DEFAULT_THRESHOLD);
+        for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
+            let o = super::options_from_json(kind, &serde_json::json!({"unknown_threshold": 0.8})).unwrap();
+            assert_eq!(o.unknown_threshold, 0.8, "{kind:?}");
+        }
         let e = super::options_from_json(ModelKind::Knn, &serde_json::json!({"epochs": 3})).unwrap_err();
         assert!(e.to_string().contains("epochs"), "{e}");
     }
