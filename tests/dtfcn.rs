@@ -87,9 +87,9 @@ fn a_small_network_overfits_two_short_takes() {
     let (_, classes, takes) = two_takes();
     assert_eq!(classes, vec!["a", "b", "c"]);
     let model = train_model(&takes, &[], &classes, &small(80), &meta(), &mut |_| true).unwrap();
-    let Labeller::Network(net) = &model.labeller else { panic!("not a network") };
+    let Labeller::Network(nets) = &model.labeller else { panic!("not a network") };
     let s = model.header.standardise.as_ref().unwrap();
-    let (loss, accuracy) = evaluate(net, s, &takes, classes.len()).unwrap();
+    let (loss, accuracy) = evaluate(&nets[0], s, &takes, classes.len()).unwrap();
     assert_eq!(accuracy, 1.0, "loss {loss}");
 }
 
@@ -115,8 +115,8 @@ fn weight_averaging_keeps_the_mean_of_the_last_epochs() {
     let after = |epochs, average_last| {
         let o = TrainOptions { average_last, ..small(epochs) };
         let model = train_model(&takes, &[], &classes, &o, &meta(), &mut |_| true).unwrap();
-        let Labeller::Network(net) = &model.labeller else { panic!("not a network") };
-        weights_of(net)
+        let Labeller::Network(nets) = &model.labeller else { panic!("not a network") };
+        weights_of(&nets[0])
     };
     let epochs: Vec<Vec<Vec<f32>>> = (1..=3).map(|e| after(e, 0)).collect();
     assert_ne!(epochs[1], epochs[2], "the weights move from epoch to epoch");
@@ -147,12 +147,64 @@ fn a_saved_model_loads_and_labels_exactly_as_before() {
     assert_eq!(a.probabilities, b.probabilities);
     assert_eq!(a.per_file_frame.len(), motions[0].frames());
     // blockwise inference gives the whole take's result
-    let (Labeller::Network(net), Some(s)) = (&model.labeller, model.header.standardise.as_ref()) else { panic!() };
-    let whole = predict_input(net, s, &takes[0].input, 3);
-    let blocks = mocapseg::methods::dtfcn::infer::predict_blocks(net, s, &takes[0].input, 3, 17, &mut |_| {});
+    let (Labeller::Network(nets), Some(s)) = (&model.labeller, model.header.standardise.as_ref()) else { panic!() };
+    let whole = predict_input(&nets[0], s, &takes[0].input, 3);
+    let blocks = mocapseg::methods::dtfcn::infer::predict_blocks(&nets[0], s, &takes[0].input, 3, 17, &mut |_| {});
     for (x, y) in whole.values.iter().zip(&blocks.values) {
         assert!((x - y).abs() < 1e-5, "{x} vs {y}");
     }
+}
+
+/// A few-seed ensemble (`members`): its networks are the single networks of seeds `seed`, `seed + 1`, … trained
+/// alone, it labels with the mean of their probabilities, and its file reads back byte for byte (a header whose
+/// networks' byte counts do not add up to the weights is refused by name).
+#[test]
+fn an_ensemble_holds_its_seeds_networks_and_labels_with_their_mean() {
+    use mocapseg::methods::dtfcn::training::weights_of;
+    let (motions, classes, takes) = two_takes();
+    let train = |o: TrainOptions| train_model(&takes, &[], &classes, &o, &meta(), &mut |_| true).unwrap();
+    let ensemble = train(TrainOptions { seed: 7, members: 3, ..small(2) });
+    let alone: Vec<Model> = (7..10).map(|seed| train(TrainOptions { seed, ..small(2) })).collect();
+    let Labeller::Network(nets) = &ensemble.labeller else { panic!("not a network") };
+    assert_eq!(nets.len(), 3);
+    for (net, single) in nets.iter().zip(&alone) {
+        let Labeller::Network(one) = &single.labeller else { panic!("not a network") };
+        assert_eq!(one.len(), 1);
+        assert_eq!(weights_of(net), weights_of(&one[0]), "each network is its seed's network trained alone");
+    }
+    assert_ne!(weights_of(&nets[0]), weights_of(&nets[1]), "the seeds differ");
+    let p = &ensemble.header.provenance;
+    assert_eq!(p.members.iter().map(|m| m.seed).collect::<Vec<_>>(), vec![7, 8, 9]);
+    assert_eq!(p.options.members, 3);
+    assert_eq!(ensemble.header.standardise, alone[0].header.standardise, "one input scaling for all");
+    // labels: every class's probability the mean of the three networks'
+    let mean = label(&ensemble, &motions[1], &mut NoProgress).unwrap().probabilities;
+    let each: Vec<_> = alone.iter().map(|m| label(m, &motions[1], &mut NoProgress).unwrap().probabilities).collect();
+    assert_eq!((mean.frames, mean.classes), (each[0].frames, 3));
+    for (i, v) in mean.values.iter().enumerate() {
+        let expected = each.iter().map(|p| p.values[i]).sum::<f32>() / 3.0;
+        assert!((v - expected).abs() < 1e-5, "value {i}: {v} vs the members' mean {expected}");
+    }
+    assert!(each.iter().all(|p| p.values != mean.values), "the mean is none of the networks alone");
+    // the file: three networks' weights, read back and written again byte for byte
+    let bytes = ensemble.to_bytes().unwrap();
+    let back = Model::from_bytes(&bytes, "e.model").unwrap();
+    assert_eq!(back.header.member_bytes.len(), 3);
+    assert_eq!(back.to_bytes().unwrap(), bytes);
+    assert_eq!(label(&back, &motions[1], &mut NoProgress).unwrap().probabilities, mean);
+    let mut lying = back.header.clone();
+    lying.member_bytes[0] += 4;
+    lying.member_bytes[1] -= 4;
+    let moved = Model::replace_header(&bytes, "e.model", &lying).unwrap();
+    let e = Model::from_bytes(&moved, "e.model").unwrap_err();
+    assert!(e.starts_with("e.model: the weights (network 2 of 3) are not a burn record"), "{e}");
+    lying.member_bytes[0] += 4;
+    let e = Model::from_bytes(&Model::replace_header(&bytes, "e.model", &lying).unwrap(), "e.model").unwrap_err();
+    assert!(e.contains("3 networks hold") && e.contains("bytes of weights"), "{e}");
+    // a single network's file says nothing of members (the files made before ensembles read the same)
+    let single = alone[0].to_bytes().unwrap();
+    assert!(Model::from_bytes(&single, "s.model").unwrap().header.member_bytes.is_empty());
+    assert!(!String::from_utf8_lossy(&single).contains("member"), "no member fields in a one-network header");
 }
 
 #[test]

@@ -54,7 +54,9 @@ fn header(kind: ModelKind, classes: usize) -> ModelHeader {
             epochs_run: 0,
             best_epoch: 0,
             take_sha256: vec![],
+            members: vec![],
         },
+        member_bytes: vec![],
         payload_sha256: String::new(),
         written_by: "mocapseg-fuzz".into(),
     }
@@ -99,14 +101,18 @@ pub fn seeds() -> Vec<(String, Vec<u8>)> {
         image_rows: None,
     };
     let net = config.init(&device);
+    let other = config.init(&device);
     let mut h = header(ModelKind::Dtfcn, 3);
     h.network = Some(config);
     h.standardise = Some(Standardise { mean: vec![0.0; CHANNELS], spread: vec![1.0; CHANNELS] });
-    let dtfcn = Model { header: h.clone(), labeller: Labeller::Network(net) };
+    let dtfcn = Model { header: h.clone(), labeller: Labeller::Network(vec![net.clone()]) };
     let bytes = dtfcn.to_bytes().expect("the tiny DT-FCN writes");
     let payload = &bytes[bytes.len() - dtfcn_payload_len(&bytes)..];
     out.push(("dtfcn-tiny.model".into(), [&[0u8][..], &bytes].concat()));
     out.push(("dtfcn-tiny.split".into(), split(&h, payload)));
+    // an ensemble of two: the header's byte count of each network cuts the payload
+    let pair = Model { header: h, labeller: Labeller::Network(vec![net, other]) };
+    out.push(("dtfcn-pair.model".into(), [&[0u8][..], &pair.to_bytes().expect("the pair writes")].concat()));
 
     let motion = take();
     let labels: Vec<usize> = (0..motion.frames()).map(|f| (f * 3 / motion.frames()).min(2)).collect();

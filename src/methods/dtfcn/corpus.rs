@@ -4,7 +4,7 @@
 //! training takes (nested: the held-out take never chooses anything).
 
 use super::input::NETWORK_FPS;
-use super::model::{Labeller, Model, ModelHeader, ModelKind, Provenance};
+use super::model::{Labeller, MemberRun, Model, ModelHeader, ModelKind, Provenance};
 use super::training::{train, EpochReport, TrainOptions, Trained, TrainingTake};
 use crate::labels::LabelRow;
 use crate::methods::knn::{Knn, KnnParams, Labelled as KnnTake};
@@ -134,12 +134,14 @@ fn header(kind: ModelKind, classes: &[String], meta: &ModelMeta, provenance: Pro
         knn: None,
         travel: meta.travel,
         provenance,
+        member_bytes: Vec::new(),
         payload_sha256: String::new(),
         written_by: format!("mocapseg {}", env!("CARGO_PKG_VERSION")),
     }
 }
 
-/// Trains a DT-FCN model on `takes` (early stopping on `validation` when given).
+/// Trains a DT-FCN model on `takes` (early stopping on `validation` when given): `options.members`
+/// networks, one after the other, each with its own seed ([`TrainOptions::member`]).
 pub fn train_model(
     takes: &[TrainingTake],
     validation: &[TrainingTake],
@@ -148,33 +150,48 @@ pub fn train_model(
     meta: &ModelMeta,
     on_epoch: &mut dyn FnMut(&EpochReport) -> bool,
 ) -> Result<Model, String> {
-    let trained = train(takes, validation, classes, options, on_epoch)?;
+    let trained = (0..options.members.max(1))
+        .map(|m| train(takes, validation, classes, &options.member(m), &mut *on_epoch))
+        .collect::<Result<Vec<_>, _>>()?;
     Ok(model_from(trained, takes, classes, options, meta))
 }
 
-/// The model file's contents for a finished training run on `takes` (a [`train`] result or
-/// [`super::training::Trainer::finish`]'s).
+/// The model file's contents for finished training runs on `takes` (one per network of an ensemble,
+/// in the order of their seeds; [`train`] results or [`super::training::Trainer::finish`]'s). The
+/// provenance's epochs are the first network's; an ensemble's lists every network's.
 pub fn model_from(
-    trained: Trained,
+    trained: Vec<Trained>,
     takes: &[TrainingTake],
     classes: &[String],
     options: &TrainOptions,
     meta: &ModelMeta,
 ) -> Model {
+    let first = &trained[0];
+    let members = if trained.len() > 1 {
+        trained
+            .iter()
+            .enumerate()
+            .map(|(m, t)| MemberRun { seed: options.member(m).seed, epochs_run: t.reports.len(), best_epoch: t.best_epoch })
+            .collect()
+    } else {
+        Vec::new()
+    };
     let provenance = Provenance {
         command: meta.command.clone(),
         data_hash: meta.data_hash.clone(),
         takes: takes.iter().map(|t| t.name.clone()).collect(),
         frames: takes.iter().map(|t| t.labels.iter().flatten().count()).sum(),
-        options: options.clone(),
-        epochs_run: trained.reports.len(),
-        best_epoch: trained.best_epoch,
+        // the networks it holds (a continued ensemble keeps its own count; a stopped one, those trained)
+        options: TrainOptions { members: trained.len(), ..options.clone() },
+        epochs_run: first.reports.len(),
+        best_epoch: first.best_epoch,
         take_sha256: Vec::new(),
+        members,
     };
     let mut h = header(ModelKind::Dtfcn, classes, meta, provenance);
-    h.network = Some(trained.network.clone());
-    h.standardise = Some(trained.standardise.clone());
-    Model { header: h, labeller: Labeller::Network(trained.net) }
+    h.network = Some(first.network.clone());
+    h.standardise = Some(first.standardise.clone());
+    Model { header: h, labeller: Labeller::Network(trained.into_iter().map(|t| t.net).collect()) }
 }
 
 /// Fits a k-NN model on `takes` (motions with per-file-frame labels; unlabelled frames left out).
@@ -194,6 +211,7 @@ pub fn fit_knn_model(
         epochs_run: 0,
         best_epoch: 0,
         take_sha256: Vec::new(),
+        members: Vec::new(),
     };
     let mut h = header(ModelKind::Knn, classes, meta, provenance);
     h.knn = Some(params);

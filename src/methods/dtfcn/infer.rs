@@ -1,7 +1,8 @@
 //! Labelling a take with a trained network: the motion image standardised, the network run over
 //! it in blocks (each with the receptive field's half of real frames on either side, so the
 //! result is the whole take's result while memory stays bounded on long takes), and each frame's
-//! most probable class with its softmax probability as the confidence.
+//! most probable class with its softmax probability as the confidence. A model of several networks (an
+//! ensemble, [`super::training::TrainOptions::members`]) gives the mean of their probabilities.
 
 use burn::tensor::Tensor;
 
@@ -23,6 +24,18 @@ impl Probabilities {
     /// Probability of class `c` at frame `f`.
     pub fn prob(&self, f: usize, c: usize) -> f32 {
         self.values[f * self.classes + c]
+    }
+
+    /// The mean of several labellings of the same frames (an ensemble's), or `None` when there are none or
+    /// their shapes differ.
+    pub fn mean(all: &[&Probabilities]) -> Option<Probabilities> {
+        let first = all.first()?;
+        if all.iter().any(|p| (p.frames, p.classes, p.values.len()) != (first.frames, first.classes, first.values.len())) {
+            return None;
+        }
+        let k = all.len() as f32;
+        let values = (0..first.values.len()).map(|i| all.iter().map(|p| p.values[i]).sum::<f32>() / k).collect();
+        Some(Probabilities { frames: first.frames, classes: first.classes, values })
     }
 
     /// The most probable class of frame `f` and its probability.
@@ -48,6 +61,26 @@ pub fn predict_blocks(
     done: &mut dyn FnMut(f64),
 ) -> Probabilities {
     run_blocks(net, standardise, input, classes, block, None, done)
+}
+
+/// The mean of the class probabilities of the networks `nets` (an ensemble of the same shape; one network: its
+/// own), each run as [`predict_blocks`] does, reporting the share done after each block of each network.
+pub fn predict_members(
+    nets: &[DtFcn],
+    standardise: &Standardise,
+    input: &NetworkInput,
+    classes: usize,
+    block: usize,
+    done: &mut dyn FnMut(f64),
+) -> Probabilities {
+    let k = nets.len().max(1) as f64;
+    let each: Vec<Probabilities> = nets
+        .iter()
+        .enumerate()
+        .map(|(m, net)| predict_blocks(net, standardise, input, classes, block, &mut |f| done((m as f64 + f) / k)))
+        .collect();
+    Probabilities::mean(&each.iter().collect::<Vec<_>>())
+        .unwrap_or_else(|| Probabilities { frames: input.frames, classes, values: vec![0.0; input.frames * classes] })
 }
 
 /// [`predict_input`] and the features of every frame ([`DtFcn::features`], frame-major: `frames ×

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::decode::{file_labels, Decoding};
-use super::infer::{predict_blocks, Probabilities, BLOCK_FRAMES};
+use super::infer::{predict_members, Probabilities, BLOCK_FRAMES};
 use super::input::network_input;
 use super::model::{Labeller, Model, ModelHeader, ModelKind};
 use super::shipped;
@@ -529,7 +529,7 @@ pub struct Labelled {
 pub fn label(model: &Model, motion: &Motion, progress: &mut dyn Progress) -> Result<Labelled, MethodError> {
     let classes = model.header.classes.len();
     let (probabilities, source, fps) = match &model.labeller {
-        Labeller::Network(net) => {
+        Labeller::Network(nets) => {
             let input = network_input(motion).map_err(MethodError::Failed)?;
             let standardise = model
                 .header
@@ -537,7 +537,7 @@ pub fn label(model: &Model, motion: &Motion, progress: &mut dyn Progress) -> Res
                 .as_ref()
                 .ok_or_else(|| MethodError::Failed("the model has no input standardisation".into()))?;
             let mut cancelled = false;
-            let p = predict_blocks(net, standardise, &input, classes, BLOCK_FRAMES, &mut |f| {
+            let p = predict_members(nets, standardise, &input, classes, BLOCK_FRAMES, &mut |f| {
                 if progress.step("network", 0.05 + 0.9 * f).is_err() {
                     cancelled = true;
                 }

@@ -67,7 +67,18 @@ pub struct Provenance {
     /// run by run; a take labelled again in a later run counts again).
     pub frames: usize,
     pub options: TrainOptions,
-    /// Epochs run and the epoch whose weights were kept.
+    /// Epochs run and the epoch whose weights were kept (the first network's, in an ensemble).
+    pub epochs_run: usize,
+    pub best_epoch: usize,
+    /// An ensemble's networks, each with its seed, epochs run and kept epoch (empty: one network).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub members: Vec<MemberRun>,
+}
+
+/// How one network of an ensemble was trained.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MemberRun {
+    pub seed: u64,
     pub epochs_run: usize,
     pub best_epoch: usize,
 }
@@ -81,6 +92,10 @@ impl Provenance {
         self.command = format!("{} (continued from `{from}` after its {} epochs)", self.command, before.epochs_run);
         self.best_epoch += before.epochs_run;
         self.epochs_run += before.epochs_run;
+        for (now, earlier) in self.members.iter_mut().zip(&before.members) {
+            now.best_epoch += earlier.epochs_run;
+            now.epochs_run += earlier.epochs_run;
+        }
         self.frames += before.frames;
         let hashed = !self.take_sha256.is_empty() || !before.take_sha256.is_empty();
         if hashed {
@@ -129,6 +144,10 @@ pub struct ModelHeader {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub travel: Option<super::fit::TravelProfile>,
     pub provenance: Provenance,
+    /// An ensemble's payload: the byte length of each network's weights, in order (empty: one network, the
+    /// whole payload).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub member_bytes: Vec<u64>,
     /// SHA-256 of the payload, hex.
     pub payload_sha256: String,
     /// The mocapseg version that wrote it.
@@ -143,7 +162,9 @@ pub struct Model {
 
 /// The labeller inside a model.
 pub enum Labeller {
-    Network(DtFcn),
+    /// One network, or an ensemble of networks of the same shape whose probabilities are averaged
+    /// ([`super::infer::predict_members`]); never empty.
+    Network(Vec<DtFcn>),
     Knn(Box<Knn>),
 }
 
@@ -192,14 +213,25 @@ pub fn data_hash(files: &[(String, Vec<u8>)], labels: &[u8]) -> String {
 impl Model {
     /// The model's file bytes.
     pub fn to_bytes(&self) -> Result<Vec<u8>, String> {
+        let mut member_bytes = Vec::new();
         let payload: Vec<u8> = match &self.labeller {
-            Labeller::Network(net) => {
-                let bytes = net.clone().into_record().into_bytes().map_err(|e| format!("writing the weights: {e}"))?;
-                bytes.to_vec()
+            Labeller::Network(nets) => {
+                let mut payload = Vec::new();
+                for net in nets {
+                    let bytes =
+                        net.clone().into_record().into_bytes().map_err(|e| format!("writing the weights: {e}"))?;
+                    member_bytes.push(bytes.len() as u64);
+                    payload.extend_from_slice(&bytes);
+                }
+                if nets.len() < 2 {
+                    member_bytes.clear();
+                }
+                payload
             }
             Labeller::Knn(knn) => knn.to_bytes(),
         };
         let mut header = self.header.clone();
+        header.member_bytes = member_bytes;
         header.payload_sha256 = sha256_hex(&payload);
         frame(&header, &payload)
     }
@@ -227,26 +259,31 @@ impl Model {
                     .network
                     .clone()
                     .ok_or_else(|| format!("{source}: a DT-FCN model without its network shape"))?;
-                // the network is made (its weights allocated) before the payload is read into it:
-                // a header that describes a larger network than its payload can hold (4 bytes per
-                // f32 weight) is refused first — six layers of 2048 filters would be 700 MB
-                let needed = (config.parameter_count() as u64).saturating_mul(4);
-                if needed > payload.len() as u64 {
-                    return Err(format!(
-                        "{source}: the header describes a network of {} parameters ({} bytes of weights), the file \
-                         holds {} bytes",
-                        config.parameter_count(),
-                        needed,
-                        payload.len()
-                    ));
+                let parts = member_parts(payload, &header.member_bytes).map_err(|e| format!("{source}: {e}"))?;
+                let mut nets = Vec::with_capacity(parts.len());
+                for (m, part) in parts.iter().enumerate() {
+                    let which =
+                        if parts.len() > 1 { format!(" (network {} of {})", m + 1, parts.len()) } else { String::new() };
+                    // the network is made (its weights allocated) before the payload is read into it:
+                    // a header that describes a larger network than its payload can hold (4 bytes per
+                    // f32 weight) is refused first — six layers of 2048 filters would be 700 MB
+                    let needed = (config.parameter_count() as u64).saturating_mul(4);
+                    if needed > part.len() as u64 {
+                        return Err(format!(
+                            "{source}: the header describes a network of {} parameters ({} bytes of weights), the \
+                             file holds {} bytes{which}",
+                            config.parameter_count(),
+                            needed,
+                            part.len()
+                        ));
+                    }
+                    let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(part.to_vec()))
+                        .map_err(|e| format!("{source}: the weights{which} are not a burn record: {e}"))?;
+                    nets.push(config.init(&super::device()).try_load_record(record).map_err(|e| {
+                        format!("{source}: the weights{which} do not fit the network the header describes: {e}")
+                    })?);
                 }
-                let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(payload.to_vec()))
-                    .map_err(|e| format!("{source}: the weights are not a burn record: {e}"))?;
-                let net = config
-                    .init(&super::device())
-                    .try_load_record(record)
-                    .map_err(|e| format!("{source}: the weights do not fit the network the header describes: {e}"))?;
-                Labeller::Network(net)
+                Labeller::Network(nets)
             }
             ModelKind::Knn => {
                 let params = header.knn.ok_or_else(|| format!("{source}: a k-NN model without its parameters"))?;
@@ -257,6 +294,34 @@ impl Model {
         };
         Ok(Model { header, labeller })
     }
+}
+
+/// The payload of each network: `payload` cut at the header's `member_bytes` (the whole payload when
+/// there are none), or what does not add up.
+fn member_parts<'a>(payload: &'a [u8], member_bytes: &[u64]) -> Result<Vec<&'a [u8]>, String> {
+    if member_bytes.is_empty() {
+        return Ok(vec![payload]);
+    }
+    if member_bytes.len() > super::training::MAX_MEMBERS {
+        return Err(format!("{} networks: at most {} are read", member_bytes.len(), super::training::MAX_MEMBERS));
+    }
+    let total = member_bytes.iter().fold(0u64, |a, &b| a.saturating_add(b));
+    if total != payload.len() as u64 {
+        return Err(format!(
+            "the header's {} networks hold {total} bytes of weights, the file {}",
+            member_bytes.len(),
+            payload.len()
+        ));
+    }
+    let mut at = 0usize;
+    Ok(member_bytes
+        .iter()
+        .map(|&b| {
+            let part = &payload[at..at + b as usize];
+            at += b as usize;
+            part
+        })
+        .collect())
 }
 
 /// A model file: the magic, the format, the header as JSON and the payload, each length-prefixed
@@ -433,11 +498,13 @@ mod tests {
                     epochs_run: 0,
                     best_epoch: 0,
                     take_sha256: vec![],
+                    members: vec![],
                 },
+                member_bytes: vec![],
                 payload_sha256: String::new(),
                 written_by: "test".into(),
             },
-            labeller: Labeller::Network(net),
+            labeller: Labeller::Network(vec![net]),
         }
     }
 
@@ -454,6 +521,7 @@ mod tests {
             options: TrainOptions::default(),
             epochs_run: epochs,
             best_epoch: epochs - 1,
+            members: vec![],
         };
         let before = run(&["13_29.bvh", "35_01.bvh"], &["aa", "bb"], 900, 3);
         let mut now = run(&["35_01.BVH", "86_01.bvh"], &["cc", "dd"], 400, 2);

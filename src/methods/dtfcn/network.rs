@@ -481,16 +481,19 @@ mod tests {
         use crate::methods::dtfcn::model::{Labeller, ModelKind};
         for name in crate::methods::dtfcn::shipped::NAMES {
             let model = crate::methods::dtfcn::shipped::model(ModelKind::Dtfcn, name).unwrap();
-            let Labeller::Network(net) = &model.labeller else { panic!("{name}: not a network") };
+            let Labeller::Network(nets) = &model.labeller else { panic!("{name}: not a network") };
             let shape = model.header.network.as_ref().unwrap();
-            assert!(net.layers.iter().all(|l| l.kernel_size == shape.width), "{name}: every layer has the model's w");
-            assert!(!net.layers.iter().any(|l| l.edge), "{name}: burn's Conv1d pads with zeros, as these models do");
-            for (i, layer) in net.layers.iter().chain([&net.classifier]).enumerate() {
-                assert_same_output(
-                    layer,
-                    48,
-                    &format!("{name} layer {i} (kernel {}, dilation {})", layer.kernel_size, layer.dilation),
-                );
+            assert!(!nets.is_empty(), "{name}: no network");
+            for (m, net) in nets.iter().enumerate() {
+                assert!(net.layers.iter().all(|l| l.kernel_size == shape.width), "{name}: every layer has the model's w");
+                assert!(!net.layers.iter().any(|l| l.edge), "{name}: burn's Conv1d pads with zeros, as these models do");
+                for (i, layer) in net.layers.iter().chain([&net.classifier]).enumerate() {
+                    assert_same_output(
+                        layer,
+                        48,
+                        &format!("{name} network {m} layer {i} (kernel {}, dilation {})", layer.kernel_size, layer.dilation),
+                    );
+                }
             }
         }
     }

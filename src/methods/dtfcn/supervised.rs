@@ -186,6 +186,14 @@ fn network_specs() -> Vec<ParamSpec> {
             Some("epochs"),
             false,
         ),
+        spec(
+            "members",
+            "Networks trained, each with its own seed (seed, seed + 1, …), whose probabilities are averaged: a few-seed ensemble. Labelling takes as long per network; one network's held-out accuracy moves by ±0.03 with its seed (docs/methods/dtfcn.md).",
+            int(1, super::training::MAX_MEMBERS as i64),
+            d.members.into(),
+            Some("networks"),
+            false,
+        ),
     ]
 }
 
@@ -218,6 +226,7 @@ struct OptionsJson {
     seed: i64,
     patience: i64,
     average_last: i64,
+    members: i64,
     min_duration_s: f64,
     switch_cost: f64,
     unknown_threshold: f64,
@@ -242,6 +251,7 @@ impl Default for OptionsJson {
             seed: d.seed as i64,
             patience: d.patience as i64,
             average_last: d.average_last as i64,
+            members: d.members as i64,
             min_duration_s: 0.0,
             switch_cost: 0.0,
             unknown_threshold: DEFAULT_THRESHOLD,
@@ -311,6 +321,7 @@ pub fn options_from_json(kind: ModelKind, value: &serde_json::Value) -> Result<M
         image_rows: (o.image_rows > 0).then_some(o.image_rows as usize),
         patience: o.patience as usize,
         average_last: o.average_last as usize,
+        members: o.members as usize,
         ..TrainOptions::default()
     };
     // what the table cannot say (learning rate below 1, …) is still the trainer's to refuse
@@ -358,7 +369,11 @@ pub fn model_info(name: &str, model: &Model) -> ModelInfo {
     if !p.takes.is_empty() {
         origin += &format!(", trained on {} labelled frames of {}", p.frames, p.takes.join(", "));
     }
-    if h.kind == ModelKind::Dtfcn && p.epochs_run > 0 {
+    if h.kind == ModelKind::Dtfcn && p.members.len() > 1 {
+        let kept: Vec<String> =
+            p.members.iter().map(|m| format!("seed {}: epoch {} of {}", m.seed, m.best_epoch, m.epochs_run)).collect();
+        origin += &format!(", an ensemble of {} networks (their probabilities averaged; {} kept)", p.members.len(), kept.join(", "));
+    } else if h.kind == ModelKind::Dtfcn && p.epochs_run > 0 {
         origin += &format!(", epoch {} of {} kept", p.best_epoch, p.epochs_run);
     }
     ModelInfo {
@@ -403,7 +418,15 @@ pub fn header_json(model: &Model) -> serde_json::Value {
     if let Some(o) = h.as_object_mut() {
         o.remove("standardise");
         if let Some(n) = &model.header.network {
-            o.insert("parameters".into(), n.parameter_count().into());
+            let networks = match &model.labeller {
+                Labeller::Network(nets) => nets.len(),
+                Labeller::Knn(_) => 1,
+            };
+            o.insert("parameters".into(), (networks * n.parameter_count()).into());
+            if networks > 1 {
+                o.insert("networks".into(), networks.into());
+                o.insert("parameters_per_network".into(), n.parameter_count().into());
+            }
             o.insert("receptive_field_frames".into(), n.receptive_field().into());
         }
     }
@@ -667,25 +690,82 @@ pub fn start_training(
                     labels: t.labels.clone(),
                 })
                 .collect();
-            let (trainer, previous) = match start {
-                None => (Trainer::new(training, validation, prepared.classes.clone(), options.train.clone()), None),
-                Some((weights, previous)) => (
-                    Trainer::resume(training, validation, prepared.classes.clone(), options.train.clone(), weights),
+            // a model continued keeps its networks (one, or an ensemble's), each trained on from its own weights
+            let (starts, previous) = match start {
+                None => ((0..options.train.members).map(|_| None).collect(), None),
+                Some(((config, standardise, nets), previous)) => (
+                    nets.into_iter().map(|n| Some((config.clone(), standardise.clone(), n))).collect::<Vec<_>>(),
                     Some(previous),
                 ),
             };
-            let trainer =
-                trainer.map_err(|m| MethodError::param("labels", format!("{}: {m}", prepared.labels_name)))?;
+            let mut members = Members { planned: starts.len(), starts, training, validation, next: 0 };
+            let trainer = members
+                .trainer(&prepared.classes, &options.train)
+                .map_err(|m| MethodError::param("labels", format!("{}: {m}", prepared.labels_name)))?;
             progress.step("epoch 1", 0.0)?;
-            Ok(Box::new(DtfcnTraining { prepared, trainer, takes: light, options, largest_loss: 0.0, previous }))
+            Ok(Box::new(DtfcnTraining {
+                prepared,
+                trainer,
+                members,
+                finished: Vec::new(),
+                takes: light,
+                options,
+                largest_loss: 0.0,
+                previous,
+            }))
         }
     }
 }
 
-/// A DT-FCN training: one epoch per step.
+/// The networks of a DT-FCN training (one, or an ensemble's), trained one after the other.
+struct Members {
+    /// Per network: the weights it continues from (none: a new network).
+    starts: Vec<Option<(DtFcnConfig, Standardise, DtFcn)>>,
+    /// What every network trains and validates on (motion images kept for the next network).
+    training: Vec<TrainingTake>,
+    validation: Vec<TrainingTake>,
+    /// The network the next [`Members::trainer`] starts.
+    next: usize,
+    /// The networks asked for (a stop may leave some untrained).
+    planned: usize,
+}
+
+impl Members {
+    fn count(&self) -> usize {
+        self.starts.len()
+    }
+
+    /// The trainer of the next network, with its own seed ([`TrainOptions::member`]).
+    fn trainer(&mut self, classes: &[String], options: &TrainOptions) -> Result<Trainer, String> {
+        let m = self.next;
+        let start = self.starts.get_mut(m).ok_or("every network is trained")?.take();
+        self.next += 1;
+        let (training, validation) = if self.next == self.count() {
+            (std::mem::take(&mut self.training), std::mem::take(&mut self.validation))
+        } else {
+            (self.training.clone(), self.validation.clone())
+        };
+        let options = options.member(m);
+        match start {
+            None => Trainer::new(training, validation, classes.to_vec(), options),
+            Some(weights) => Trainer::resume(training, validation, classes.to_vec(), options, weights),
+        }
+    }
+
+    /// No network is left to train (after a stop, none is started).
+    fn stop(&mut self) {
+        self.starts.truncate(self.next);
+    }
+}
+
+/// A DT-FCN training: one epoch per step, the networks of an ensemble one after the other.
 struct DtfcnTraining {
     prepared: Prepared,
+    /// The network being trained.
     trainer: Trainer,
+    members: Members,
+    /// The networks trained before it.
+    finished: Vec<super::training::Trained>,
     /// The takes trained on, without their motion images (what the model's provenance needs).
     takes: Vec<TrainingTake>,
     options: ModelOptions,
@@ -701,14 +781,14 @@ struct DtfcnTraining {
 fn continued(
     from: &Loaded,
     prepared: &mut Prepared,
-) -> Result<((DtFcnConfig, Standardise, DtFcn), (String, super::model::Provenance)), MethodError> {
+) -> Result<((DtFcnConfig, Standardise, Vec<DtFcn>), (String, super::model::Provenance)), MethodError> {
     let name = &from.info.name;
     let model = from
         .model
         .downcast_ref::<Model>()
         .ok_or_else(|| MethodError::param("name", format!("`{name}` is not a DT-FCN model")))?;
     let h = &model.header;
-    let (Labeller::Network(net), Some(network), Some(standardise)) = (&model.labeller, &h.network, &h.standardise)
+    let (Labeller::Network(nets), Some(network), Some(standardise)) = (&model.labeller, &h.network, &h.standardise)
     else {
         return Err(MethodError::param("name", format!("`{name}` is not a DT-FCN network: nothing to continue")));
     };
@@ -733,16 +813,17 @@ fn continued(
         }
     }
     prepared.classes = h.classes.clone();
-    Ok(((network.clone(), standardise.clone(), net.clone()), (name.clone(), h.provenance.clone())))
+    Ok(((network.clone(), standardise.clone(), nets.clone()), (name.clone(), h.provenance.clone())))
 }
 
-/// An epoch's report as a step's.
-fn epoch_step(r: &EpochReport, largest_loss: f64) -> StepReport {
+/// An epoch's report as a step's: of network `member` (0-based) of `members`.
+fn epoch_step(r: &EpochReport, largest_loss: f64, member: usize, members: usize) -> StepReport {
+    let network = if members > 1 { format!("Network {} of {members} · ", member + 1) } else { String::new() };
     StepReport {
-        step: r.epoch,
-        steps: r.epochs,
+        step: member * r.epochs + r.epoch,
+        steps: members * r.epochs,
         line: format!(
-            "Epoch {} of {} · loss {:.3} · accuracy {:.0} %{}",
+            "{network}Epoch {} of {} · loss {:.3} · accuracy {:.0} %{}",
             r.epoch,
             r.epochs,
             r.loss,
@@ -762,25 +843,40 @@ fn epoch_step(r: &EpochReport, largest_loss: f64) -> StepReport {
 
 impl Training for DtfcnTraining {
     fn step(&mut self, _progress: &mut dyn Progress) -> Result<StepReport, MethodError> {
+        if self.trainer.done() && self.members.next < self.members.count() {
+            // the next network of the ensemble
+            let next = self
+                .members
+                .trainer(&self.prepared.classes, &self.options.train)
+                .map_err(|m| MethodError::param("labels", format!("{}: {m}", self.prepared.labels_name)))?;
+            let done = std::mem::replace(&mut self.trainer, next);
+            self.finished.push(done.finish().map_err(MethodError::Failed)?);
+            self.largest_loss = 0.0;
+        }
         let report = self.trainer.epoch().map_err(MethodError::Failed)?;
         if report.loss.is_finite() {
             self.largest_loss = self.largest_loss.max(report.loss);
         }
-        Ok(epoch_step(&report, self.largest_loss))
+        Ok(epoch_step(&report, self.largest_loss, self.members.next - 1, self.members.count()))
     }
 
     fn done(&self) -> bool {
-        self.trainer.done()
+        self.trainer.done() && self.members.next >= self.members.count()
     }
 
     fn stop(&mut self) {
         self.trainer.stop();
+        self.members.stop();
     }
 
     fn finish(self: Box<Self>) -> Result<Trained, MethodError> {
-        let DtfcnTraining { prepared, trainer, takes, options, previous, .. } = *self;
-        let trained = trainer.finish().map_err(MethodError::Failed)?;
-        let (ran, best, stopped) = (trained.reports.len(), trained.best_epoch, trained.stopped);
+        let DtfcnTraining { prepared, trainer, mut finished, takes, options, previous, members, .. } = *self;
+        finished.push(trainer.finish().map_err(MethodError::Failed)?);
+        let trained = finished;
+        let networks = trained.len();
+        let (ran, best) = (trained[0].reports.len(), trained[0].best_epoch);
+        let stopped = trained.iter().any(|t| t.stopped) || networks < members.planned;
+        let per_network: Vec<String> = trained.iter().map(|t| t.reports.len().to_string()).collect();
         let meta = prepared.meta(ModelKind::Dtfcn, &options);
         let mut model = model_from(trained, &takes, &prepared.classes, &options.train, &meta);
         let p = &mut model.header.provenance;
@@ -792,7 +888,17 @@ impl Training for DtfcnTraining {
             .filter(|(m, _)| !prepared.is_validation(&m.name))
             .map(|(_, h)| h.clone())
             .collect();
-        let mut how = if stopped {
+        let mut how = if members.planned > 1 {
+            // an ensemble: each network's epochs, and whether a stop left some untrained
+            let of = if networks < members.planned {
+                format!(" (stopped: {networks} of {} networks)", members.planned)
+            } else if stopped {
+                " (stopped)".into()
+            } else {
+                String::new()
+            };
+            format!("an ensemble of {networks} networks of {} epochs{of}", per_network.join(", "))
+        } else if stopped {
             format!("stopped after {ran} of {} epochs", options.train.epochs)
         } else {
             format!("{ran} epoch{}", if ran == 1 { "" } else { "s" })
@@ -1043,6 +1149,72 @@ mod tests {
         };
         let knn = start_training(ModelKind::Knn, knn_ask, &mut crate::method::NoProgress);
         assert_eq!(knn.err().unwrap().param_name(), Some("name"));
+    }
+
+    /// An ensemble trains its networks one after the other (steps counted over all of them, each line naming its
+    /// network), each the network its seed trains alone; continued, every network trains on from its own weights;
+    /// stopped during the first network, the model holds the networks trained and says that it was stopped.
+    #[test]
+    fn an_ensemble_trains_its_networks_in_turn_and_continues_each() {
+        use super::super::training::weights_of;
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures");
+        let ask = |options: serde_json::Value, start_from: Option<Loaded>| TrainingAsk {
+            name: "mine".into(),
+            labels_name: "l.csv".into(),
+            labels: "file,start_frame,end_frame,label\n35_01.bvh,0,199,stand\n35_01.bvh,200,357,reach\n".into(),
+            takes: vec![("35_01.bvh".to_string(), std::fs::read(dir.join("35_01.bvh")).unwrap())],
+            options,
+            command: None,
+            start_from,
+            validation: None,
+            to_file: false,
+        };
+        let options = |seed: u64, members: usize| {
+            serde_json::json!({"epochs": 2, "filters": [4, 4], "width": 2, "seed": seed, "members": members})
+        };
+        let train = |ask: TrainingAsk, stop_after: usize| {
+            let mut t = start_training(ModelKind::Dtfcn, ask, &mut crate::method::NoProgress).unwrap();
+            let mut steps = Vec::new();
+            while !t.done() {
+                steps.push(t.step(&mut crate::method::NoProgress).unwrap());
+                if steps.len() == stop_after {
+                    t.stop();
+                }
+            }
+            (t.finish().unwrap(), steps)
+        };
+        let nets = |t: &Trained| {
+            let Labeller::Network(nets) = &t.model.model.downcast_ref::<Model>().unwrap().labeller else { panic!() };
+            nets.iter().map(weights_of).collect::<Vec<_>>()
+        };
+        let (two, steps) = train(ask(options(4, 2), None), usize::MAX);
+        assert_eq!(steps.iter().map(|s| (s.step, s.steps)).collect::<Vec<_>>(), vec![(1, 4), (2, 4), (3, 4), (4, 4)]);
+        assert!(steps[0].line.starts_with("Network 1 of 2 · Epoch 1 of 2"), "{}", steps[0].line);
+        assert!(steps[3].line.starts_with("Network 2 of 2 · Epoch 2 of 2"), "{}", steps[3].line);
+        let alone: Vec<Vec<Vec<f32>>> =
+            [4, 5].iter().flat_map(|&seed| nets(&train(ask(options(seed, 1), None), usize::MAX).0)).collect();
+        assert_eq!(nets(&two), alone, "each network is its seed's trained alone");
+        assert!(two.report.summary.contains("an ensemble of 2 networks of 2, 2 epochs"), "{}", two.report.summary);
+        assert!(two.model.info.origin.contains("an ensemble of 2 networks"), "{}", two.model.info.origin);
+        let json = header_json(two.model.model.downcast_ref::<Model>().unwrap());
+        assert_eq!((json["networks"].as_u64(), json["parameters"].as_u64()), (Some(2), json["parameters_per_network"].as_u64().map(|p| 2 * p)));
+        let header = &two.model.model.downcast_ref::<Model>().unwrap().header;
+        assert_eq!(header.provenance.members.iter().map(|m| (m.seed, m.epochs_run)).collect::<Vec<_>>(), [(4, 2), (5, 2)]);
+        assert!(header.provenance.command.contains("--members 2"), "{}", header.provenance.command);
+        // continued (the table's members ignored, as its network shape is): both networks train on
+        let (more, steps) = train(ask(options(4, 1), Some(two.model.clone())), usize::MAX);
+        assert_eq!(steps.len(), 4);
+        let (before, after) = (nets(&two), nets(&more));
+        assert_eq!(after.len(), 2);
+        assert!(before.iter().zip(&after).all(|(b, a)| b != a), "every network moved");
+        let p = &more.model.model.downcast_ref::<Model>().unwrap().header.provenance;
+        assert_eq!(p.members.iter().map(|m| m.epochs_run).collect::<Vec<_>>(), [4, 4], "each counts on from its own");
+        // stopped in the first network: the second is never started
+        let (stopped, steps) = train(ask(options(4, 2), None), 1);
+        assert_eq!(steps.len(), 1);
+        assert_eq!(nets(&stopped).len(), 1);
+        assert!(stopped.report.stopped);
+        assert!(stopped.report.summary.contains("stopped: 1 of 2 networks"), "{}", stopped.report.summary);
     }
 
     #[test]
