@@ -116,6 +116,11 @@ mod lab {
         /// Leave out the gesture benchmark (spliced takes).
         #[arg(long)]
         no_splice: bool,
+        /// Offer DT-FCN's nested grid a few-seed ensemble of half-width networks beside the single networks (off by
+        /// default: measured in docs/methods/dtfcn.md, it gained nothing on the validation takes and doubles the
+        /// DT-FCN row's time).
+        #[arg(long)]
+        ensembles: bool,
     }
 
     /// A labelled take: its motion, its truth and the label set it belongs to.
@@ -536,6 +541,32 @@ mod lab {
     /// The seeds DT-FCN's held-out column is the mean of (initial weights, crops, augmentation): one seed's score
     /// moves by ±0.03 from seed to seed (docs/methods/dtfcn.md). The first is the shipped models'.
     const DTFCN_SEEDS: [u64; 3] = [1, 2, 3];
+    /// A DT-FCN ensemble candidate: this many half-width networks (seeds s, s + 1, …), w = 3, four layers — three
+    /// full-width networks would not label 3000 frames in the 300 ms wasm budget, three half-width ones do
+    /// (`make bench`).
+    const ENSEMBLE_MEMBERS: u64 = 3;
+    const HALF_FILTERS: [usize; 4] = [32, 64, 128, 256];
+    const ENSEMBLE_PADDINGS: [Padding; 2] = [Padding::Zero, Padding::Edge];
+
+    /// One network of an ensemble candidate in one fold: its validation and held-out labels, and its kept epoch.
+    struct MemberFold {
+        validation: Labelled,
+        held: Labelled,
+        epoch: usize,
+    }
+
+    /// What the validation take says of a candidate's labels `val` (by networks trained without it): the best raw
+    /// frame accuracy over the thresholds (what chooses the candidate), and the threshold and decoding chosen with
+    /// their criterion.
+    fn validation_choice(val: &Labelled, vm: &Motion, truth: &[Option<usize>]) -> (f64, f64, Decoding, f64) {
+        let accuracy = THRESHOLDS
+            .iter()
+            .map(|&t| labelling::score(&val.labels(vm, &Decoding::RAW, t), truth).frame_accuracy)
+            .fold(f64::MIN, f64::max);
+        let (threshold, decoding, criterion) = best_decoding(&[(vm, val, truth)]);
+        (accuracy, threshold, decoding, criterion)
+    }
+
     /// The unknown thresholds a fold chooses from (the method's default first, so it wins ties).
     const THRESHOLDS: [f64; 3] = [0.8, 0.5, 0.0];
 
@@ -633,7 +664,7 @@ mod lab {
 
     /// DT-FCN and k-NN rows on the mocap6 takes: the shipped models in-sample (`exercises`; `cmu-actions` on 86_01),
     /// and nested held-out predictions trained on the other mocap6 takes.
-    fn labeller_rows(takes: &[Take]) -> Result<Vec<MethodRow>, String> {
+    fn labeller_rows(takes: &[Take], ensembles: bool) -> Result<Vec<MethodRow>, String> {
         let mocap6: Vec<&Take> = takes.iter().filter(|t| t.set == "mocap6").collect();
         let mut classes = Vec::new();
         let labels: Vec<Vec<Option<usize>>> = mocap6.iter().map(|t| class_frames(&t.truth, &mut classes)).collect();
@@ -714,6 +745,9 @@ mod lab {
                     } else {
                         // every seed of DTFCN_SEEDS: a network's held-out score is partly the luck of its seed
                         let mut runs = Vec::new();
+                        // the ensembles' networks, each trained once in this fold and shared by every seed's ensemble
+                        // that holds it: (its seed, its padding) → its labels
+                        let mut members: std::collections::HashMap<(u64, usize), MemberFold> = Default::default();
                         for seed in DTFCN_SEEDS {
                             // (setting, average_last, epochs, threshold, decoding, what was chosen, validation accuracy,
                             // the held-out take's labels when the fold's networks already made them)
@@ -754,15 +788,8 @@ mod lab {
                                     // network trained without it
                                     let val = Labelled { probabilities, source, fps: NETWORK_FPS };
                                     let vm = &motions[p.validation];
-                                    let accuracy = THRESHOLDS
-                                        .iter()
-                                        .map(|&t| {
-                                            labelling::score(&val.labels(vm, &Decoding::RAW, t), &labels[p.validation])
-                                                .frame_accuracy
-                                        })
-                                        .fold(f64::MIN, f64::max);
-                                    let (threshold, decoding, criterion) =
-                                        best_decoding(&[(vm, &val, labels[p.validation].as_slice())]);
+                                    let (accuracy, threshold, decoding, criterion) =
+                                        validation_choice(&val, vm, &labels[p.validation]);
                                     let what = format!(
                                     "width={width} layers={layers} padding={} epochs={} average_last={average_last} unknown_threshold={threshold} {} (validation {} accuracy {:.3}, criterion {criterion:.1})",
                                     padding.name(),
@@ -777,6 +804,67 @@ mod lab {
                                         let known = if average_last == 0 { held.take() } else { None };
                                         top = Some((o, average_last, threshold, decoding, what, accuracy, known));
                                     }
+                                }
+                            }
+                            // a few-seed ensemble: seeds s, s + 1, s + 2, each network choosing its own epoch on the
+                            // validation take (and retrained for it on the three training takes), their probabilities
+                            // averaged
+                            for (e, &padding) in ENSEMBLE_PADDINGS.iter().enumerate().filter(|_| ensembles) {
+                                let member_seeds: Vec<u64> = (0..ENSEMBLE_MEMBERS).map(|m| seed + m).collect();
+                                let options = TrainOptions {
+                                    width: 3,
+                                    filters: HALF_FILTERS.to_vec(),
+                                    padding,
+                                    ..TrainOptions::default()
+                                };
+                                for &s in &member_seeds {
+                                    if !members.contains_key(&(s, e)) {
+                                        let o = TrainOptions { seed: s, ..options.clone() };
+                                        let p = predict_held_out(&motions, &labels, h, &classes, &o, &mut |_| true)?;
+                                        let network = |probabilities, source| Labelled { probabilities, source, fps: NETWORK_FPS };
+                                        members.insert(
+                                            (s, e),
+                                            MemberFold {
+                                                validation: network(p.validation_probabilities, p.validation_source),
+                                                held: network(p.network_probabilities, p.network_source),
+                                                epoch: p.best_epoch,
+                                            },
+                                        );
+                                    }
+                                }
+                                let runs: Vec<&MemberFold> = member_seeds.iter().map(|&s| &members[&(s, e)]).collect();
+                                let mean = |of: &dyn Fn(&MemberFold) -> &Labelled| -> Result<Labelled, String> {
+                                    let all: Vec<&Labelled> = runs.iter().map(|r| of(r)).collect();
+                                    let probabilities = Probabilities::mean(&all.iter().map(|l| &l.probabilities).collect::<Vec<_>>())
+                                        .ok_or("the ensemble's networks labelled different frames")?;
+                                    Ok(Labelled { probabilities, source: all[0].source.clone(), fps: NETWORK_FPS })
+                                };
+                                let val = mean(&|r| &r.validation)?;
+                                let validation = (h + 1) % motions.len();
+                                let vm = &motions[validation];
+                                let (accuracy, threshold, decoding, criterion) =
+                                    validation_choice(&val, vm, &labels[validation]);
+                                let mut epochs: Vec<usize> = runs.iter().map(|r| r.epoch).collect();
+                                let what = format!(
+                                    "members={ENSEMBLE_MEMBERS} (seeds {}) width=3 layers=4 filters={} padding={} epochs={} average_last=0 unknown_threshold={threshold} {} (validation {} accuracy {:.3}, criterion {criterion:.1})",
+                                    member_seeds.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(","),
+                                    HALF_FILTERS.iter().map(|f| f.to_string()).collect::<Vec<_>>().join(","),
+                                    padding.name(),
+                                    epochs.iter().map(|e| e.to_string()).collect::<Vec<_>>().join(","),
+                                    decoding_label(&decoding),
+                                    vm.name,
+                                    accuracy
+                                );
+                                println!("    dtfcn: held out {}, seed {seed}, candidate {what}", mocap6[h].name);
+                                if top.as_ref().is_none_or(|t| accuracy > t.5 + 1e-12) {
+                                    epochs.sort_unstable();
+                                    let o = TrainOptions {
+                                        members: ENSEMBLE_MEMBERS as usize,
+                                        seed,
+                                        epochs: epochs[epochs.len() / 2],
+                                        ..options.clone()
+                                    };
+                                    top = Some((o, 0, threshold, decoding, what, accuracy, Some(mean(&|r| &r.held)?)));
                                 }
                             }
                             let (options, _, threshold, decoding, what, _, known) = top.ok_or("no DT-FCN setting")?;
@@ -846,7 +934,7 @@ mod lab {
                      the mean of seeds {} (the shipped models are seed {}; each seed chooses its own settings)",
                     DTFCN_SEEDS.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", "),
                     DTFCN_SEEDS[0]
-                )
+                ) + if ensembles { "; the grid also offered 3-seed ensembles of half-width networks (--ensembles)" } else { "" }
             } else {
                 "defaults: the shipped models (in-sample); held out: mocap6 takes only, trained on the other three"
                     .into()
@@ -1135,7 +1223,7 @@ mod lab {
         println!("actions: consensus of {}", outputs.iter().map(|o| o.method.as_str()).collect::<Vec<_>>().join(", "));
         actions.push(consensus_row(&refs, &outputs, action_criterion, &families)?);
         println!("actions: knn, dtfcn");
-        actions.extend(labeller_rows(&takes)?);
+        actions.extend(labeller_rows(&takes, args.ensembles)?);
         // the training prior: the labels of the other takes of the same label set (86_01 has none: its own)
         let priors: Vec<Prior> = (0..takes.len())
             .map(|t| {
