@@ -69,7 +69,7 @@ mod lab {
     use mocapseg::bvh::{self, Bvh};
     use mocapseg::method::{self, NoProgress, RunOptions};
     use mocapseg::methods::dtfcn::corpus::{averaged_fold, fit_knn, predict_held_out};
-    use mocapseg::methods::dtfcn::decode::{file_labels, Decoding};
+    use mocapseg::methods::dtfcn::decode::{self, file_labels, Decoding, Judged, THRESHOLDS};
     use mocapseg::methods::dtfcn::infer::Probabilities;
     use mocapseg::methods::dtfcn::input::NETWORK_FPS;
     use mocapseg::methods::dtfcn::method::runs;
@@ -567,8 +567,6 @@ mod lab {
         (accuracy, threshold, decoding, criterion)
     }
 
-    /// The unknown thresholds a fold chooses from (the method's default first, so it wins ties).
-    const THRESHOLDS: [f64; 3] = [0.8, 0.5, 0.0];
 
     /// A labeller's per-file-frame labels (`None`: unknown) as a segmentation, as the method turns them into segments.
     fn labelled_segmentation(
@@ -606,46 +604,21 @@ mod lab {
         }
     }
 
-    /// The decodings of the per-frame probabilities the labellers choose between (the first: raw per-frame labels).
-    const DECODINGS: [Decoding; 10] = [
-        Decoding::RAW,
-        Decoding { min_duration_s: 1.0, switch_cost: 0.0 },
-        Decoding { min_duration_s: 2.0, switch_cost: 0.0 },
-        Decoding { min_duration_s: 4.0, switch_cost: 0.0 },
-        Decoding { min_duration_s: 8.0, switch_cost: 0.0 },
-        Decoding { min_duration_s: 0.0, switch_cost: 10.0 },
-        Decoding { min_duration_s: 2.0, switch_cost: 10.0 },
-        Decoding { min_duration_s: 2.0, switch_cost: 40.0 },
-        Decoding { min_duration_s: 4.0, switch_cost: 40.0 },
-        Decoding { min_duration_s: 2.0, switch_cost: 150.0 },
-    ];
-
     fn decoding_label(d: &Decoding) -> String {
         format!("min_duration_s={} switch_cost={}", d.min_duration_s, d.switch_cost)
     }
 
-    /// What chooses a decoding: the mean of frame accuracy (%), edit and F1@50 — the labelling targets.
-    fn labelling_criterion(s: &labelling::LabellingScores) -> f64 {
-        (100.0 * s.frame_accuracy + s.edit + s.f1[2]) / 3.0
-    }
-
     /// The unknown threshold and decoding with the best mean criterion over `takes` (labelled by a model that never
-    /// saw them), and that criterion. The threshold is chosen with the decoding: a decoded run is unknown as a whole.
+    /// saw them), and that criterion ([`decode::choose`], what a training with a validation take chooses by).
     fn best_decoding(takes: &[(&Motion, &Labelled, &[Option<usize>])]) -> (f64, Decoding, f64) {
-        let mut best = (THRESHOLDS[0], DECODINGS[0], f64::MIN);
-        for d in &DECODINGS {
-            for &t in &THRESHOLDS {
-                let c = takes
-                    .iter()
-                    .map(|(m, l, truth)| labelling_criterion(&labelling::score(&l.labels(m, d, t), truth)))
-                    .sum::<f64>()
-                    / takes.len().max(1) as f64;
-                if c > best.2 + 1e-9 {
-                    best = (t, *d, c);
-                }
-            }
-        }
-        best
+        let judged: Vec<Judged> = takes
+            .iter()
+            .map(|(m, l, truth)| {
+                assert_eq!(m.frames(), truth.len(), "{}: the truth labels every file frame", m.name);
+                Judged { probabilities: &l.probabilities, source: &l.source, fps: l.fps, truth }
+            })
+            .collect();
+        decode::choose(&judged).map_or((THRESHOLDS[0], Decoding::RAW, f64::MIN), |c| (c.threshold, c.decoding, c.criterion))
     }
 
     /// The k-NN's k: chosen per fold by leave-one-take-out frame accuracy on the training takes alone.

@@ -797,9 +797,11 @@ fn two_labelled_walks(name: &str) -> (PathBuf, PathBuf, PathBuf, PathBuf) {
     (dir, labels, fixture("02_01.bvh"), fixture("35_01.bvh"))
 }
 
-/// `--validation TAKE` (DT-FCN declares a validation take): the take is kept out of the training and its loss
-/// chooses the epoch, through the same training the page runs; a method without epochs refuses it, naming it; and
-/// without `--labels` LMA (which declares what it learns from instead) trains on every take given, said so.
+/// `--validation TAKE` (DT-FCN and the k-NN declare a validation take): the take is kept out of the training, its
+/// loss chooses DT-FCN's epoch and its labels the model's decoding and unknown threshold (unless
+/// `--choose-decoding false`), through the same training the page runs; a k-NN told not to choose its decoding has
+/// nothing for it to do and refuses it, naming it; and without `--labels` LMA (which declares what it learns from
+/// instead) trains on every take given, said so.
 #[test]
 fn a_validation_take_and_training_without_labels_are_what_the_method_declares() {
     let (dir, labels, a, b) = two_labelled_walks("train-declared");
@@ -813,12 +815,38 @@ fn a_validation_take_and_training_without_labels_are_what_the_method_declares() 
     assert!(out.status.success(), "{err}");
     assert!(err.contains("validation loss"), "every epoch line gives the validation take's loss: {err}");
     assert!(err.contains("(the best validation loss on 35_01.bvh)"), "{err}");
+    assert!(err.contains("Decoding chosen on 35_01.bvh: "), "{err}");
     let info = stdout_json(&run(&["model-info", model.to_str().unwrap()]));
     assert_eq!(info["provenance"]["takes"], serde_json::json!(["02_01.bvh"]), "trained on the other take only: {info}");
+    let threshold = info["unknown_threshold"].as_f64().unwrap();
+    assert!([0.0, 0.5, 0.8].iter().any(|t| (t - threshold).abs() < 1e-6), "a threshold of the grid: {info}");
+    // the k-NN: the validation take is not among its windows, and chooses its decoding
+    let knn = dir.join("val-knn.model");
+    let out = run(&[
+        "train-knn", "--bvh", a, b, "--labels", labels_arg, "--validation", "35_01.bvh", "--out", knn.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && err.contains("Decoding chosen on 35_01.bvh: "), "{err}");
+    let info = stdout_json(&run(&["model-info", knn.to_str().unwrap()]));
+    assert_eq!(info["provenance"]["takes"], serde_json::json!(["02_01.bvh"]), "fitted on the other take only: {info}");
+    // told not to choose: the rows as given
+    let kept = dir.join("val-kept.model");
+    let out = run(&[
+        "train-dtfcn", "--bvh", a, b, "--labels", labels_arg, "--validation", "35_01.bvh", "--epochs", "1",
+        "--filters", "8,8", "--choose-decoding", "false", "--min-duration-s", "3", "--unknown-threshold", "0.25",
+        "--out", kept.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && !err.contains("Decoding chosen"), "{err}");
+    let info = stdout_json(&run(&["model-info", kept.to_str().unwrap()]));
+    assert_eq!((info["decoding"]["min_duration_s"].as_f64(), info["unknown_threshold"].as_f64()), (Some(3.0), Some(0.25)), "{info}");
     for (args, says) in [
         (vec!["train-dtfcn", "--bvh", a, b, "--labels", labels_arg, "--validation", "nope.bvh"], "nope.bvh: not among the takes"),
         (vec!["train-dtfcn", "--bvh", a, "--labels", labels_arg, "--validation", "02_01.bvh"], "the only take"),
-        (vec!["train", "--method", "knn", a, b, "--labels", labels_arg, "--validation", "35_01.bvh"], "--validation: k-NN has no epochs"),
+        (
+            vec!["train", "--method", "knn", a, b, "--labels", labels_arg, "--validation", "35_01.bvh", "--option", "choose_decoding=false"],
+            "a k-NN has no epochs for a validation take to choose, only its decoding (choose_decoding)",
+        ),
         (vec!["train-dtfcn", "--bvh", a], "--labels"),
     ] {
         let out = run(&[args, vec!["-o", "/dev/null"]].concat());

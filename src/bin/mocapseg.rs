@@ -249,8 +249,8 @@ mod cli {
             /// learns from without labels (LMA: its stand-in descriptors) trains on that when it is left out.
             #[arg(long)]
             labels: Option<PathBuf>,
-            /// One of the takes kept out of the training, whose validation loss chooses the epoch (a method with
-            /// epochs: DT-FCN).
+            /// One of the takes kept out of the training, whose validation loss chooses the epoch (DT-FCN) and whose
+            /// labels choose the model's decoding (DT-FCN, k-NN).
             #[arg(long, value_name = "TAKE")]
             validation: Option<String>,
             /// A training option of the method's table: NAME=VALUE (JSON, or a word), repeatable.
@@ -891,8 +891,9 @@ mod cli {
                     )
                     .args(decl.validation_take.then(|| {
                         Arg::new("validation").long("validation").value_name("TAKE").help(
-                            "One of the takes given, kept out of the training: its validation loss chooses the epoch \
-                             (early stopping, --patience); default none",
+                            "One of the takes given, kept out of the training: its validation loss chooses a network's \
+                             epoch (early stopping, --patience), and with --choose-decoding (the default) its labels \
+                             choose the model's decoding and unknown threshold; default none",
                         )
                     }))
                     .arg(

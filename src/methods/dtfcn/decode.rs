@@ -17,6 +17,7 @@
 
 use super::infer::Probabilities;
 use crate::segment::frames::WorkingFrames;
+use crate::segment::labelling::{score, LabellingScores};
 
 /// How per-frame probabilities become labels.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -174,6 +175,77 @@ pub fn file_labels(
     out
 }
 
+/// The decodings a labelled take chooses between (the first: the raw per-frame labels): minimum runs of 0–8 s,
+/// switch costs of 0–150 nats, alone and together.
+pub const CANDIDATES: [Decoding; 10] = [
+    Decoding::RAW,
+    Decoding { min_duration_s: 1.0, switch_cost: 0.0 },
+    Decoding { min_duration_s: 2.0, switch_cost: 0.0 },
+    Decoding { min_duration_s: 4.0, switch_cost: 0.0 },
+    Decoding { min_duration_s: 8.0, switch_cost: 0.0 },
+    Decoding { min_duration_s: 0.0, switch_cost: 10.0 },
+    Decoding { min_duration_s: 2.0, switch_cost: 10.0 },
+    Decoding { min_duration_s: 2.0, switch_cost: 40.0 },
+    Decoding { min_duration_s: 4.0, switch_cost: 40.0 },
+    Decoding { min_duration_s: 2.0, switch_cost: 150.0 },
+];
+
+/// The unknown thresholds chosen with a decoding (the first wins ties).
+pub const THRESHOLDS: [f64; 3] = [0.8, 0.5, 0.0];
+
+/// What chooses a decoding: the mean of frame accuracy (%), edit and F1@50 — the labelling targets.
+pub fn criterion(s: &LabellingScores) -> f64 {
+    (100.0 * s.frame_accuracy + s.edit + s.f1[2]) / 3.0
+}
+
+/// A take a decoding is chosen on: its class probabilities per working frame by a labeller that was not trained
+/// on it, their file positions and rate, and the take's true label of every file frame (`None`: not labelled).
+pub struct Judged<'a> {
+    pub probabilities: &'a Probabilities,
+    pub source: &'a [f64],
+    pub fps: f64,
+    pub truth: &'a [Option<usize>],
+}
+
+impl Judged<'_> {
+    /// Per file frame: the label under `decoding` and `threshold`.
+    pub fn labels(&self, decoding: &Decoding, threshold: f64) -> Vec<Option<usize>> {
+        file_labels(self.probabilities, self.source, self.fps, self.truth.len(), decoding, threshold)
+            .into_iter()
+            .map(|x| x.0)
+            .collect()
+    }
+}
+
+/// The decoding and unknown threshold chosen on labelled takes, with their scores there.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Choice {
+    pub decoding: Decoding,
+    pub threshold: f64,
+    /// The mean [`criterion`] over the takes.
+    pub criterion: f64,
+    /// The scores of the first take under the choice.
+    pub scores: LabellingScores,
+}
+
+/// The decoding of [`CANDIDATES`] and threshold of [`THRESHOLDS`] with the best mean [`criterion`] over `takes`
+/// (the first of equals: raw labels before decodings, higher thresholds before lower). The threshold is chosen
+/// with the decoding: a decoded run is unknown as a whole. `None` without takes.
+pub fn choose(takes: &[Judged]) -> Option<Choice> {
+    let first = takes.first()?;
+    let mut best: Option<Choice> = None;
+    for d in &CANDIDATES {
+        for &t in &THRESHOLDS {
+            let c = takes.iter().map(|j| criterion(&score(&j.labels(d, t), j.truth))).sum::<f64>() / takes.len() as f64;
+            if best.as_ref().is_none_or(|b| c > b.criterion + 1e-9) {
+                let scores = score(&first.labels(d, t), first.truth);
+                best = Some(Choice { decoding: *d, threshold: t, criterion: c, scores });
+            }
+        }
+    }
+    best
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -277,6 +349,40 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The choice on a labelled take: a take whose probabilities flicker to the wrong class for a frame every
+    /// 10 frames chooses a decoding that absorbs the flicker (and scores better than the raw labels by the
+    /// criterion); a take labelled cleanly keeps the raw labels (the first of equals); no take, no choice.
+    #[test]
+    fn the_choice_absorbs_flicker_and_keeps_the_raw_labels_when_they_are_right() {
+        let truth: Vec<Option<usize>> = (0..300).map(|f| Some(usize::from(f >= 150))).collect();
+        let rows = |flicker: bool| -> Vec<Vec<f32>> {
+            truth
+                .iter()
+                .enumerate()
+                .map(|(f, t)| {
+                    let right = if flicker && f % 10 == 5 { 0.4 } else { 0.9 };
+                    if t == &Some(0) { vec![right, 1.0 - right] } else { vec![1.0 - right, right] }
+                })
+                .collect()
+        };
+        let source: Vec<f64> = (0..300).map(|f| f as f64).collect();
+        for flicker in [true, false] {
+            let r = rows(flicker);
+            let p = probs(&r.iter().map(|x| x.as_slice()).collect::<Vec<_>>());
+            let judged = Judged { probabilities: &p, source: &source, fps: 30.0, truth: &truth };
+            let c = choose(std::slice::from_ref(&judged)).unwrap();
+            let raw = criterion(&crate::segment::labelling::score(&judged.labels(&Decoding::RAW, 0.5), &truth));
+            if flicker {
+                assert!(!c.decoding.is_raw(30.0), "{c:?}");
+                assert!(c.criterion > raw + 10.0, "{c:?} against the raw labels' {raw}");
+                assert_eq!((c.scores.edit, c.scores.frame_accuracy), (100.0, 1.0), "{c:?}");
+            } else {
+                assert_eq!((c.decoding, c.threshold, c.criterion), (Decoding::RAW, THRESHOLDS[0], 100.0), "{c:?}");
+            }
+        }
+        assert!(choose(&[]).is_none());
     }
 
     #[test]

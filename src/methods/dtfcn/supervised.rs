@@ -77,6 +77,14 @@ fn decoding_specs() -> Vec<ParamSpec> {
             None,
             false,
         ),
+        spec(
+            "choose_decoding",
+            "With a validation take (the command line's --validation): choose the model's decoding and unknown threshold on it, in place of the three rows above — runs of 0–8 s, switch costs 0–150, thresholds 0, 0.5 and 0.8, the best mean of frame accuracy, edit and F1@50 on its labels (how make accuracy chooses the shipped models'). Without a validation take: the rows as given.",
+            ParamKind::Bool,
+            true.into(),
+            None,
+            false,
+        ),
     ]
 }
 
@@ -230,6 +238,7 @@ struct OptionsJson {
     min_duration_s: f64,
     switch_cost: f64,
     unknown_threshold: f64,
+    choose_decoding: bool,
 }
 
 impl Default for OptionsJson {
@@ -255,6 +264,7 @@ impl Default for OptionsJson {
             min_duration_s: 0.0,
             switch_cost: 0.0,
             unknown_threshold: DEFAULT_THRESHOLD,
+            choose_decoding: true,
         }
     }
 }
@@ -266,11 +276,12 @@ struct KnnOptionsJson {
     min_duration_s: f64,
     switch_cost: f64,
     unknown_threshold: f64,
+    choose_decoding: bool,
 }
 
 impl Default for KnnOptionsJson {
     fn default() -> Self {
-        KnnOptionsJson { min_duration_s: 0.0, switch_cost: 0.0, unknown_threshold: DEFAULT_THRESHOLD }
+        KnnOptionsJson { min_duration_s: 0.0, switch_cost: 0.0, unknown_threshold: DEFAULT_THRESHOLD, choose_decoding: true }
     }
 }
 
@@ -283,6 +294,8 @@ pub struct ModelOptions {
     pub decoding: Option<Decoding>,
     /// The model's own unknown threshold (its header's; what its runs use unless they ask for another).
     pub unknown_threshold: f64,
+    /// With a validation take: the decoding and threshold are chosen on it instead ([`choose_on_validation`]).
+    pub choose_decoding: bool,
     pub read: serde_json::Value,
 }
 
@@ -300,7 +313,8 @@ pub fn options_from_json(kind: ModelKind, value: &serde_json::Value) -> Result<M
         let read = serde_json::to_value(&o).map_err(|e| MethodError::params(e.to_string()))?;
         let decoding = decoding_of(o.min_duration_s, o.switch_cost);
         let unknown_threshold = o.unknown_threshold;
-        return Ok(ModelOptions { train: TrainOptions::default(), decoding, unknown_threshold, read });
+        let choose_decoding = o.choose_decoding;
+        return Ok(ModelOptions { train: TrainOptions::default(), decoding, unknown_threshold, choose_decoding, read });
     }
     let o: OptionsJson = read_options(value, &specs, "DT-FCN")?;
     let read = serde_json::to_value(&o).map_err(|e| MethodError::params(e.to_string()))?;
@@ -327,7 +341,13 @@ pub fn options_from_json(kind: ModelKind, value: &serde_json::Value) -> Result<M
     // what the table cannot say (learning rate below 1, …) is still the trainer's to refuse
     options.check().map_err(MethodError::params)?;
     let decoding = decoding_of(o.min_duration_s, o.switch_cost);
-    Ok(ModelOptions { train: options, decoding, unknown_threshold: o.unknown_threshold, read })
+    Ok(ModelOptions {
+        train: options,
+        decoding,
+        unknown_threshold: o.unknown_threshold,
+        choose_decoding: o.choose_decoding,
+        read,
+    })
 }
 
 /// The declaration of the labelling method of `kind`.
@@ -348,7 +368,8 @@ pub fn supervision(kind: ModelKind) -> Supervision {
         },
         trains_on_my_labels: kind == ModelKind::Dtfcn,
         labels_classes: true,
-        validation_take: kind == ModelKind::Dtfcn,
+        // DT-FCN: the epoch and the decoding; the k-NN: the decoding
+        validation_take: true,
         without_labels: None,
     }
 }
@@ -642,8 +663,11 @@ pub fn start_training(
     let start_from = ask.start_from.clone();
     let mut prepared = prepare(ask, progress)?;
     if let Some(v) = &prepared.validation {
-        if kind == ModelKind::Knn {
-            return Err(MethodError::param("validation", "a k-NN has no epochs for a validation take to choose"));
+        if kind == ModelKind::Knn && !options.choose_decoding {
+            return Err(MethodError::param(
+                "validation",
+                "a k-NN has no epochs for a validation take to choose, only its decoding (choose_decoding)",
+            ));
         }
         let names: Vec<&str> = prepared.motions.iter().map(|m| m.name.as_str()).collect();
         if !names.iter().any(|n| same_file(v, n)) {
@@ -664,7 +688,7 @@ pub fn start_training(
         (Some(from), ModelKind::Dtfcn) => Some(continued(from, &mut prepared)?),
     };
     match kind {
-        ModelKind::Knn => Ok(Box::new(KnnTraining { prepared, options, model: None, done: false })),
+        ModelKind::Knn => Ok(Box::new(KnnTraining { prepared, options, model: None, done: false, chosen: String::new() })),
         ModelKind::Dtfcn => {
             let bad_option = |m: String| MethodError::params(m);
             if start.is_none() {
@@ -816,6 +840,44 @@ fn continued(
     Ok(((network.clone(), standardise.clone(), nets.clone()), (name.clone(), h.provenance.clone())))
 }
 
+/// With a validation take and `choose_decoding`: the model's decoding and unknown threshold chosen on the
+/// validation take's labels by the model ([`super::decode::choose`]; the take was not trained on), written into its
+/// header; a sentence for the training's summary (empty when nothing was chosen).
+fn choose_on_validation(model: &mut Model, prepared: &Prepared, options: &ModelOptions) -> Result<String, MethodError> {
+    use super::decode::{choose, Judged};
+    let Some(v) = prepared.validation.as_deref().filter(|_| options.choose_decoding) else {
+        return Ok(String::new());
+    };
+    let Some(i) = prepared.motions.iter().position(|m| same_file(v, &m.name)) else {
+        return Ok(String::new());
+    };
+    let (motion, truth) = (&prepared.motions[i], &prepared.labels_per_take[i]);
+    let labelled = super::method::label(model, motion, &mut crate::method::NoProgress)?;
+    let judged =
+        Judged { probabilities: &labelled.probabilities, source: &labelled.source, fps: labelled.fps, truth };
+    let Some(c) = choose(std::slice::from_ref(&judged)) else {
+        return Ok(String::new());
+    };
+    let raw = crate::segment::labelling::score(&judged.labels(&Decoding::RAW, DEFAULT_THRESHOLD), truth);
+    let decoding = (!c.decoding.is_raw(labelled.fps)).then_some(c.decoding);
+    model.header.decoding = decoding;
+    model.header.unknown_threshold = c.threshold as f32;
+    let how = decoding.map_or_else(
+        || "the raw per-frame labels".to_string(),
+        |d| format!("runs ≥ {} s, switch cost {}", d.min_duration_s, d.switch_cost),
+    );
+    let scores = |s: &crate::segment::labelling::LabellingScores| {
+        format!("frame accuracy {:.0} %, edit {:.0}, F1@50 {:.0}", 100.0 * s.frame_accuracy, s.edit, s.f1[2])
+    };
+    Ok(format!(
+        " Decoding chosen on {}: {how}, unknown below {} ({} there; the raw labels at {DEFAULT_THRESHOLD}: {}).",
+        motion.name,
+        c.threshold,
+        scores(&c.scores),
+        scores(&raw)
+    ))
+}
+
 /// An epoch's report as a step's: of network `member` (0-based) of `members`.
 fn epoch_step(r: &EpochReport, largest_loss: f64, member: usize, members: usize) -> StepReport {
     let network = if members > 1 { format!("Network {} of {members} · ", member + 1) } else { String::new() };
@@ -908,11 +970,12 @@ impl Training for DtfcnTraining {
             how = format!("{how} more (continued from `{from}`, {} epochs before)", before.epochs_run);
             p.continued_from(from, before);
         }
+        let chosen = choose_on_validation(&mut model, &prepared, &options)?;
         let bytes = model.to_bytes().map_err(MethodError::Failed)?;
         let network =
             model.header.network.as_ref().map(|n| format!(" The {}.", n.describe(super::input::NETWORK_FPS))).unwrap_or_default();
         let report = TrainingReport {
-            summary: format!("{}{network}", prepared.summary(ModelKind::Dtfcn, &how, Some(best))),
+            summary: format!("{}{network}{chosen}", prepared.summary(ModelKind::Dtfcn, &how, Some(best))),
             columns: Vec::new(),
             rows: Vec::new(),
             stopped,
@@ -931,17 +994,32 @@ struct KnnTraining {
     options: ModelOptions,
     model: Option<Model>,
     done: bool,
+    /// What the validation take chose, for the summary.
+    chosen: String,
 }
 
 impl Training for KnnTraining {
     fn step(&mut self, _progress: &mut dyn Progress) -> Result<StepReport, MethodError> {
         let p = &self.prepared;
-        let takes: Vec<(&Motion, &[Option<usize>])> =
-            p.motions.iter().zip(&p.labels_per_take).map(|(m, l)| (m, &l[..])).collect();
+        // the validation take, if any, only chooses the decoding: it is not among the windows
+        let takes: Vec<(&Motion, &[Option<usize>])> = p
+            .motions
+            .iter()
+            .zip(&p.labels_per_take)
+            .filter(|(m, _)| !p.is_validation(&m.name))
+            .map(|(m, l)| (m, &l[..]))
+            .collect();
         let meta = p.meta(ModelKind::Knn, &self.options);
         let mut model = fit_knn_model(&takes, &p.classes, &meta)
             .map_err(|m| MethodError::param("labels", format!("{}: {m}", p.labels_name)))?;
-        model.header.provenance.take_sha256 = p.take_sha256.clone();
+        model.header.provenance.take_sha256 = p
+            .motions
+            .iter()
+            .zip(&p.take_sha256)
+            .filter(|(m, _)| !p.is_validation(&m.name))
+            .map(|(_, h)| h.clone())
+            .collect();
+        self.chosen = choose_on_validation(&mut model, p, &self.options)?;
         let frames = model.header.provenance.frames;
         self.model = Some(model);
         self.done = true;
@@ -963,11 +1041,11 @@ impl Training for KnnTraining {
     }
 
     fn finish(self: Box<Self>) -> Result<Trained, MethodError> {
-        let KnnTraining { prepared, model, .. } = *self;
+        let KnnTraining { prepared, model, chosen, .. } = *self;
         let model = model.ok_or_else(|| MethodError::Failed("the k-NN was stopped before its fit".into()))?;
         let bytes = model.to_bytes().map_err(MethodError::Failed)?;
         let report = TrainingReport {
-            summary: prepared.summary(ModelKind::Knn, "fitted", None),
+            summary: format!("{}{chosen}", prepared.summary(ModelKind::Knn, "fitted", None)),
             columns: Vec::new(),
             rows: Vec::new(),
             stopped: false,
@@ -1149,6 +1227,73 @@ mod tests {
         };
         let knn = start_training(ModelKind::Knn, knn_ask, &mut crate::method::NoProgress);
         assert_eq!(knn.err().unwrap().param_name(), Some("name"));
+    }
+
+    /// A validation take chooses the model's decoding and unknown threshold on its labels by the finished model, for
+    /// both kinds (the header holds what [`super::super::decode::choose`] chooses there); `choose_decoding` off, the
+    /// rows as given.
+    #[test]
+    fn a_validation_take_chooses_the_models_decoding() {
+        use super::super::decode::{choose, Judged};
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures");
+        let file = |n: &str| (n.to_string(), std::fs::read(dir.join(n)).unwrap());
+        let ask = |options: serde_json::Value| TrainingAsk {
+            name: "mine".into(),
+            labels_name: "l.csv".into(),
+            labels: "file,start_frame,end_frame,label\n35_01.bvh,0,199,stand\n35_01.bvh,200,357,reach\n\
+                     02_01.bvh,0,150,stand\n02_01.bvh,151,342,reach\n"
+                .into(),
+            takes: vec![file("02_01.bvh"), file("35_01.bvh")],
+            options,
+            command: None,
+            start_from: None,
+            validation: Some("35_01.bvh".into()),
+            to_file: false,
+        };
+        let train = |kind, options| {
+            let mut t = start_training(kind, ask(options), &mut crate::method::NoProgress)?;
+            while !t.done() {
+                t.step(&mut crate::method::NoProgress)?;
+            }
+            t.finish()
+        };
+        let validation = crate::load::load_bytes("35_01.bvh", &file("35_01.bvh").1, &mut |_| {}).unwrap().motion;
+        let truth: Vec<Option<usize>> =
+            (0..validation.frames()).map(|f| Some(usize::from(f >= 200))).collect();
+        for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
+            let options = serde_json::json!({"epochs": 2, "filters": [4, 4], "width": 2, "min_duration_s": 3});
+            let options = if kind == ModelKind::Knn { serde_json::json!({"min_duration_s": 3}) } else { options };
+            let trained = train(kind, options.clone()).unwrap();
+            let model = trained.model.model.downcast_ref::<Model>().unwrap();
+            let labelled = super::super::method::label(model, &validation, &mut crate::method::NoProgress).unwrap();
+            let judged = Judged {
+                probabilities: &labelled.probabilities,
+                source: &labelled.source,
+                fps: labelled.fps,
+                truth: &truth,
+            };
+            let c = choose(&[judged]).unwrap();
+            let h = &model.header;
+            assert_eq!(h.decoding, (!c.decoding.is_raw(labelled.fps)).then_some(c.decoding), "{kind:?}");
+            assert_eq!(h.unknown_threshold, c.threshold as f32, "{kind:?}");
+            assert!(trained.report.summary.contains("Decoding chosen on 35_01.bvh: "), "{}", trained.report.summary);
+            assert_eq!(h.provenance.takes, vec!["02_01.bvh".to_string()], "the validation take is not trained on");
+            // not chosen: the rows
+            let mut off = options;
+            off["choose_decoding"] = false.into();
+            if kind == ModelKind::Knn {
+                let e = train(kind, off).err().unwrap();
+                assert_eq!(e.param_name(), Some("validation"), "{e}");
+                continue;
+            }
+            let kept = train(kind, off).unwrap();
+            let h = &kept.model.model.downcast_ref::<Model>().unwrap().header;
+            assert_eq!(
+                (h.decoding, h.unknown_threshold),
+                (Some(Decoding { min_duration_s: 3.0, switch_cost: 0.0 }), DEFAULT_THRESHOLD as f32)
+            );
+            assert!(!kept.report.summary.contains("Decoding chosen"), "{}", kept.report.summary);
+        }
     }
 
     /// An ensemble trains its networks one after the other (steps counted over all of them, each line naming its
