@@ -100,6 +100,10 @@ pub enum Request {
         /// epochs asked, instead of starting from random weights.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         continue_from: Option<String>,
+        /// One of `takes` kept out of the training as its validation take (a method that declares
+        /// one: it chooses the epoch and the model's decoding).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        validation: Option<String>,
         /// Buffers 0.., one per take.
         #[serde(skip)]
         bytes: Vec<Vec<u8>>,
@@ -872,6 +876,7 @@ mod tests {
             takes: vec!["a.bvh".into(), "b.bvh".into()],
             options: serde_json::json!({"epochs": 3}),
             continue_from: Some("older".into()),
+            validation: Some("b.bvh".into()),
             bytes: vec![b"A".to_vec(), b"B".to_vec()],
         };
         let packet = train.clone().into_packet();

@@ -123,6 +123,9 @@ pub struct TrainAsk {
     pub options: serde_json::Value,
     /// Continue the training of this model of the user's instead of starting afresh.
     pub continue_from: Option<String>,
+    /// The take kept out as the validation take (one of the takes trained on; a method that
+    /// declares one).
+    pub validation: Option<String>,
 }
 
 /// A supervised method's training and models on the page, as signals (part of its
@@ -139,6 +142,8 @@ pub struct Supervised {
     pub labels: RwSignal<Option<(String, String)>>,
     /// Takes besides the one on screen.
     pub extra: RwSignal<Vec<(String, Arc<Vec<u8>>)>>,
+    /// The validation take chosen in the form (empty: none).
+    pub validation: RwSignal<String>,
     pub state: RwSignal<TrainState>,
     /// The status line.
     pub status: RwSignal<String>,
@@ -171,6 +176,7 @@ impl Supervised {
             named: RwSignal::new(false),
             labels: RwSignal::new(None),
             extra: RwSignal::new(Vec::new()),
+            validation: RwSignal::new(String::new()),
             state: RwSignal::new(TrainState::Idle),
             status: RwSignal::new(String::new()),
             steps: RwSignal::new(Vec::new()),
@@ -197,6 +203,7 @@ impl Supervised {
     pub fn has_input(&self, input: &str) -> bool {
         matches!(input, "labels" | "name")
             || (input == "takes" && self.decl.more_takes)
+            || (input == "validation" && self.decl.validation_take && self.decl.more_takes)
             || self.decl.training.iter().any(|s| s.name == input)
     }
 

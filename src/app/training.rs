@@ -291,7 +291,15 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
     };
     let on_clear_takes = move |_| {
         s.extra.set(Vec::new());
+        s.validation.set(String::new());
         clear("takes");
+        clear("validation");
+    };
+    // the takes a training would see: the one on screen, then the ones added
+    let take_names = move || {
+        let mut names: Vec<String> = state.motion.with(|m| m.as_ref().map(|m| m.summary.name.clone())).into_iter().collect();
+        s.extra.with(|e| names.extend(e.iter().map(|(n, _)| n.clone())));
+        names
     };
 
     let start_loader = loader.clone();
@@ -325,6 +333,10 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
                 extra: if s.decl.more_takes { s.extra.get_untracked() } else { Vec::new() },
                 options,
                 continue_from: from,
+                // a validation take only among two or more takes (one of them: a take removed since is not sent)
+                validation: Some(s.validation.get_untracked())
+                    .filter(|v| s.decl.validation_take && s.decl.more_takes && !v.is_empty())
+                    .filter(|v| untrack(take_names).contains(v)),
             },
         );
     };
@@ -461,6 +473,29 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
             </div>
         }
     });
+    let validation_choice = (s.decl.validation_take && s.decl.more_takes).then(|| {
+        let id = format!("{method}-train-validation");
+        view! {
+            <div class="ms-method-params" hidden=move || s.extra.with(Vec::is_empty)>
+                <label title="One of the takes kept out of the training: its validation loss chooses the epoch (early stopping, patience under More options) and its labels the model's decoding and unknown threshold (choose_decoding).">
+                    "validation take "
+                    <select id=id on:change=move |ev| s.validation.set(event_target_value(&ev))>
+                        <option value="" selected=move || s.validation.with(String::is_empty)>"none"</option>
+                        {move || {
+                            take_names()
+                                .into_iter()
+                                .map(|n| {
+                                    let (chosen, value) = (n.clone(), n.clone());
+                                    view! { <option value=value selected=move || s.validation.with(|v| *v == chosen)>{n}</option> }
+                                })
+                                .collect_view()
+                        }}
+                    </select>
+                </label>
+                {error("validation")}
+            </div>
+        }
+    });
     let report_rows = move || {
         s.report.with(|r| {
             r.as_ref()
@@ -526,6 +561,7 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
                     {error("labels")}
                 </div>
                 {more_takes}
+                {validation_choice}
                 <ul id=format!("{method}-train-advice") class="ms-train-advice" role="note"
                     aria-label="Advice before training" hidden=move || advice().is_empty()>
                     {move || advice().into_iter().map(|line| view! { <li>{line}</li> }).collect_view()}

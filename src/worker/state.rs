@@ -133,7 +133,19 @@ impl WorkerState {
             Request::UseModel { take, run, method, file, bytes } => {
                 post(self.use_model(take, run, &method, &file, &bytes))
             }
-            Request::Train { take, run, method, name, labels_name, labels, takes, options, continue_from, bytes } => {
+            Request::Train {
+                take,
+                run,
+                method,
+                name,
+                labels_name,
+                labels,
+                takes,
+                options,
+                continue_from,
+                validation,
+                bytes,
+            } => {
                 // buffer 0 is the take on screen; the others are what the training adds
                 let added = crate::protocol::extra_takes_total(bytes.iter().skip(1).map(|b| b.len() as u64));
                 if let Err(message) = added {
@@ -157,7 +169,7 @@ impl WorkerState {
                     options,
                     command: None,
                     start_from,
-                    validation: None,
+                    validation,
                     to_file: false,
                 };
                 match self.start_training(take, run, &method, ask, post) {
@@ -997,6 +1009,7 @@ mod tests {
             takes: names,
             options,
             continue_from: None,
+            validation: None,
             bytes,
         }
     }

@@ -1432,6 +1432,18 @@ test("DT-FCN trains in the browser: refusals at their field, progress and plot, 
   await page.fill("#dtfcn-unknown_threshold", String(defaultThreshold.dtfcn ?? 0.5));
   await page.locator("#dtfcn-panel").screenshot({ path: path.join(OUT, "e2e-dtfcn-trained.png") });
 
+  // a validation take among the takes: kept out of the training, it chooses the epoch and the model's decoding
+  const choices = await page.locator("#dtfcn-train-validation option").evaluateAll((os) => os.map((o) => o.value));
+  assert.equal(choices.length, 3, `none, the take on screen, the take added: ${choices}`);
+  assert.deepEqual([choices[0], choices[2]], ["", "35_01.bvh"], `none, the take on screen, the take added: ${choices}`);
+  await page.selectOption("#dtfcn-train-validation", "35_01.bvh");
+  await page.fill("#dtfcn-train-name", "e2e-validated");
+  await trainDtfcn("done");
+  const validated = await text("#dtfcn-train-status");
+  assert.match(validated, /\(the best validation loss on 35_01\.bvh\)/, validated);
+  assert.match(validated, /Decoding chosen on 35_01\.bvh: .*unknown below/, validated);
+  await page.selectOption("#dtfcn-train-validation", "");
+
   // Stop: a long training ends after the epoch under way and keeps its model
   await page.fill("#dtfcn-train-epochs", "500");
   await page.fill("#dtfcn-train-name", "e2e-stopped");

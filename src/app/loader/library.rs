@@ -194,6 +194,7 @@ impl Loader {
                 extra: Vec::new(),
                 options,
                 continue_from: None,
+                validation: None,
             },
         );
     }

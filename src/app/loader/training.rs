@@ -361,6 +361,7 @@ pub(super) fn send_train_job(inner: &Rc<Inner>) -> Result<(), String> {
             takes,
             options: ask.options.clone(),
             continue_from: ask.continue_from.clone(),
+            validation: ask.validation.clone(),
             bytes: Vec::new(),
         };
         (job.id, request, extra, job.take_file.clone().unwrap_or(shown.file))
