@@ -149,7 +149,7 @@ fn a_saved_model_loads_and_labels_exactly_as_before() {
     // blockwise inference gives the whole take's result
     let (Labeller::Network(nets), Some(s)) = (&model.labeller, model.header.standardise.as_ref()) else { panic!() };
     let whole = predict_input(&nets[0], s, &takes[0].input, 3);
-    let blocks = mocapseg::methods::dtfcn::infer::predict_blocks(&nets[0], s, &takes[0].input, 3, 17, &mut |_| {});
+    let blocks = mocapseg::methods::dtfcn::infer::predict_members(nets, s, &takes[0].input, 3, 17, &mut |_| {});
     for (x, y) in whole.values.iter().zip(&blocks.values) {
         assert!((x - y).abs() < 1e-5, "{x} vs {y}");
     }

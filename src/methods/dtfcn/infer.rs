@@ -48,23 +48,11 @@ impl Probabilities {
 /// Class probabilities of every frame of `input` (see the module docs). `classes` is the
 /// network's class count.
 pub fn predict_input(net: &DtFcn, standardise: &Standardise, input: &NetworkInput, classes: usize) -> Probabilities {
-    predict_blocks(net, standardise, input, classes, BLOCK_FRAMES, &mut |_| {})
-}
-
-/// [`predict_input`] with blocks of `block` frames, reporting the share done after each block.
-pub fn predict_blocks(
-    net: &DtFcn,
-    standardise: &Standardise,
-    input: &NetworkInput,
-    classes: usize,
-    block: usize,
-    done: &mut dyn FnMut(f64),
-) -> Probabilities {
-    run_blocks(net, standardise, input, classes, block, None, done)
+    run_blocks(net, standardise, input, classes, BLOCK_FRAMES, None, &mut |_| {})
 }
 
 /// The mean of the class probabilities of the networks `nets` (an ensemble of the same shape; one network: its
-/// own), each run as [`predict_blocks`] does, reporting the share done after each block of each network.
+/// own), each run over blocks of `block` frames, reporting the share done after each block of each network.
 pub fn predict_members(
     nets: &[DtFcn],
     standardise: &Standardise,
@@ -77,7 +65,7 @@ pub fn predict_members(
     let each: Vec<Probabilities> = nets
         .iter()
         .enumerate()
-        .map(|(m, net)| predict_blocks(net, standardise, input, classes, block, &mut |f| done((m as f64 + f) / k)))
+        .map(|(m, net)| run_blocks(net, standardise, input, classes, block, None, &mut |f| done((m as f64 + f) / k)))
         .collect();
     Probabilities::mean(&each.iter().collect::<Vec<_>>())
         .unwrap_or_else(|| Probabilities { frames: input.frames, classes, values: vec![0.0; input.frames * classes] })
