@@ -171,7 +171,11 @@ pub fn model_from(
         trained
             .iter()
             .enumerate()
-            .map(|(m, t)| MemberRun { seed: options.member(m).seed, epochs_run: t.reports.len(), best_epoch: t.best_epoch })
+            .map(|(m, t)| MemberRun {
+                seed: options.member(m).seed,
+                epochs_run: t.reports.len(),
+                best_epoch: t.best_epoch,
+            })
             .collect()
     } else {
         Vec::new()

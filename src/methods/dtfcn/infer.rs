@@ -30,7 +30,10 @@ impl Probabilities {
     /// their shapes differ.
     pub fn mean(all: &[&Probabilities]) -> Option<Probabilities> {
         let first = all.first()?;
-        if all.iter().any(|p| (p.frames, p.classes, p.values.len()) != (first.frames, first.classes, first.values.len())) {
+        if all
+            .iter()
+            .any(|p| (p.frames, p.classes, p.values.len()) != (first.frames, first.classes, first.values.len()))
+        {
             return None;
         }
         let k = all.len() as f32;
@@ -67,8 +70,11 @@ pub fn predict_members(
         .enumerate()
         .map(|(m, net)| run_blocks(net, standardise, input, classes, block, None, &mut |f| done((m as f64 + f) / k)))
         .collect();
-    Probabilities::mean(&each.iter().collect::<Vec<_>>())
-        .unwrap_or_else(|| Probabilities { frames: input.frames, classes, values: vec![0.0; input.frames * classes] })
+    Probabilities::mean(&each.iter().collect::<Vec<_>>()).unwrap_or_else(|| Probabilities {
+        frames: input.frames,
+        classes,
+        values: vec![0.0; input.frames * classes],
+    })
 }
 
 /// [`predict_input`] and the features of every frame ([`DtFcn::features`], frame-major: `frames ×
