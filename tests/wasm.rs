@@ -130,6 +130,7 @@ mod worker {
             options,
             bytes: vec![take.to_vec()],
             continue_from: None,
+            validation: None,
         };
         let posted = ask(train, None);
         assert!(posted
