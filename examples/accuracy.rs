@@ -68,7 +68,7 @@ mod lab {
 
     use mocapseg::bvh::{self, Bvh};
     use mocapseg::method::{self, NoProgress, RunOptions};
-    use mocapseg::methods::dtfcn::corpus::{averaged_fold, fit_knn, predict_held_out};
+    use mocapseg::methods::dtfcn::corpus::{averaged_fold, final_fold, fit_knn, predict_held_out, validation_fold};
     use mocapseg::methods::dtfcn::decode::{self, file_labels, Decoding, Judged, THRESHOLDS};
     use mocapseg::methods::dtfcn::infer::Probabilities;
     use mocapseg::methods::dtfcn::input::NETWORK_FPS;
@@ -123,8 +123,12 @@ mod lab {
         /// Offer DT-FCN's nested grid a few-seed ensemble of half-width networks beside the single networks (off by
         /// default: measured in docs/methods/dtfcn.md, it gained nothing on the validation takes and doubles the
         /// DT-FCN row's time).
-        #[arg(long)]
+        #[arg(long, conflicts_with = "inner_all")]
         ensembles: bool,
+        /// DT-FCN's settings chosen on every inner take in turn (three validation folds inside each outer fold, the
+        /// epochs their median; the last epoch's weights) instead of on the take after the held-out one alone.
+        #[arg(long)]
+        inner_all: bool,
         /// DT-FCN's held-out column over the first this many seeds of 1, 2, 3 (1: a quick look, a third of the time;
         /// the scoreboard is made with 3).
         #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=3))]
@@ -645,7 +649,12 @@ mod lab {
 
     /// DT-FCN and k-NN rows on the mocap6 takes: the shipped models in-sample (`exercises`; `cmu-actions` on 86_01),
     /// and nested held-out predictions trained on the other mocap6 takes.
-    fn labeller_rows(takes: &[Take], ensembles: bool, seeds: usize) -> Result<Vec<MethodRow>, String> {
+    /// DT-FCN's receptive fields of 1.07 s (w = 2, 5 layers), 2.13 s (2, 6) and 2.7 s (3, 4) at 30 Hz, with their
+    /// padding.
+    const DTFCN_SETTINGS: [(usize, usize, Padding); 4] =
+        [(2, 5, Padding::Zero), (2, 6, Padding::Edge), (3, 4, Padding::Zero), (3, 4, Padding::Edge)];
+
+    fn labeller_rows(takes: &[Take], ensembles: bool, inner_all: bool, seeds: usize) -> Result<Vec<MethodRow>, String> {
         let dtfcn_seeds = &DTFCN_SEEDS[..seeds.clamp(1, DTFCN_SEEDS.len())];
         let mocap6: Vec<&Take> = takes.iter().filter(|t| t.set == "mocap6").collect();
         let mut classes = Vec::new();
@@ -735,13 +744,53 @@ mod lab {
                             // the held-out take's labels when the fold's networks already made them)
                             type Candidate = (TrainOptions, usize, f64, Decoding, String, f64, Option<Labelled>);
                             let mut top: Option<Candidate> = None;
-                            // receptive fields of 1.07 s (w = 2, 5 layers), 2.13 s (2, 6) and 2.7 s (3, 4) at 30 Hz
-                            for (width, layers, padding) in [
-                                (2, 5, Padding::Zero),
-                                (2, 6, Padding::Edge),
-                                (3, 4, Padding::Zero),
-                                (3, 4, Padding::Edge),
-                            ] {
+                            // every inner take validates in turn: each setting scored by its mean over them
+                            for &(width, layers, padding) in DTFCN_SETTINGS.iter().filter(|_| inner_all) {
+                                let options = TrainOptions {
+                                    width,
+                                    filters: paper_filters(layers),
+                                    padding,
+                                    seed,
+                                    ..TrainOptions::default()
+                                };
+                                let mut inner = Vec::new();
+                                for v in (0..motions.len()).filter(|&v| v != h) {
+                                    let (probabilities, source, epoch) =
+                                        validation_fold(&motions, &labels, h, v, &classes, &options)?;
+                                    inner.push((v, Labelled { probabilities, source, fps: NETWORK_FPS }, epoch));
+                                }
+                                let accuracy = THRESHOLDS
+                                    .iter()
+                                    .map(|&t| {
+                                        inner
+                                            .iter()
+                                            .map(|(v, l, _)| {
+                                                labelling::score(&l.labels(&motions[*v], &Decoding::RAW, t), &labels[*v])
+                                                    .frame_accuracy
+                                            })
+                                            .sum::<f64>()
+                                            / inner.len() as f64
+                                    })
+                                    .fold(f64::MIN, f64::max);
+                                let judged: Vec<(&Motion, &Labelled, &[Option<usize>])> =
+                                    inner.iter().map(|(v, l, _)| (&motions[*v], l, labels[*v].as_slice())).collect();
+                                let (threshold, decoding, criterion) = best_decoding(&judged);
+                                let mut epochs: Vec<usize> = inner.iter().map(|r| r.2).collect();
+                                let each = epochs.iter().map(|e| e.to_string()).collect::<Vec<_>>().join(",");
+                                epochs.sort_unstable();
+                                let epoch = epochs[epochs.len() / 2];
+                                let what = format!(
+                                    "width={width} layers={layers} padding={} epochs={epoch} average_last=0 unknown_threshold={threshold} {} (every inner take validating: epochs {each}, mean accuracy {accuracy:.3}, criterion {criterion:.1})",
+                                    padding.name(),
+                                    decoding_label(&decoding),
+                                );
+                                println!("    dtfcn: held out {}, seed {seed}, candidate {what}", mocap6[h].name);
+                                if top.as_ref().is_none_or(|t| accuracy > t.5 + 1e-12) {
+                                    let o = TrainOptions { epochs: epoch, ..options.clone() };
+                                    top = Some((o, 0, threshold, decoding, what, accuracy, None));
+                                }
+                            }
+                            for &(width, layers, padding) in DTFCN_SETTINGS.iter().filter(|_| !inner_all) {
                                 let options = TrainOptions {
                                     width,
                                     filters: paper_filters(layers),
@@ -852,6 +901,11 @@ mod lab {
                             let (options, _, threshold, decoding, what, _, known) = top.ok_or("no DT-FCN setting")?;
                             let held = match known {
                                 Some(l) => l,
+                                None if inner_all => {
+                                    let (probabilities, source) =
+                                        final_fold(&motions, &labels, h, &classes, &options, options.epochs)?;
+                                    Labelled { probabilities, source, fps: NETWORK_FPS }
+                                }
                                 None => {
                                     let a =
                                         averaged_fold(&motions, &labels, h, &classes, &options, options.epochs, true)?;
@@ -917,6 +971,7 @@ mod lab {
                     dtfcn_seeds.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", "),
                     dtfcn_seeds[0]
                 ) + if ensembles { "; the grid also offered 3-seed ensembles of half-width networks (--ensembles)" } else { "" }
+                    + if inner_all { "; settings chosen on every inner take in turn (--inner-all)" } else { "" }
             } else {
                 "defaults: the shipped models (in-sample); held out: mocap6 takes only, trained on the other three"
                     .into()
@@ -1205,7 +1260,7 @@ mod lab {
         println!("actions: consensus of {}", outputs.iter().map(|o| o.method.as_str()).collect::<Vec<_>>().join(", "));
         actions.push(consensus_row(&refs, &outputs, action_criterion, &families)?);
         println!("actions: knn, dtfcn");
-        actions.extend(labeller_rows(&takes, args.ensembles, args.dtfcn_seeds as usize)?);
+        actions.extend(labeller_rows(&takes, args.ensembles, args.inner_all, args.dtfcn_seeds as usize)?);
         // the training prior: the labels of the other takes of the same label set (86_01 has none: its own)
         let priors: Vec<Prior> = (0..takes.len())
             .map(|t| {

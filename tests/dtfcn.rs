@@ -354,6 +354,30 @@ fn the_averaging_fold_retrains_the_folds_networks() {
     assert_eq!(mean.validation_source, three.validation_source);
 }
 
+/// The two halves of a nested fold (`corpus::validation_fold`, `final_fold`) are `predict_held_out`'s own networks
+/// when the validation take is the one it uses; another inner take validates another network; and neither reads the
+/// held-out take's labels.
+#[test]
+fn a_fold_validates_on_any_inner_take() {
+    use mocapseg::methods::dtfcn::corpus::{final_fold, predict_held_out, validation_fold};
+    let (takes, classes, labels) = three_takes();
+    let options = small(3);
+    let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &mut |_| true).unwrap();
+    let (p, source, epoch) = validation_fold(&takes, &labels, 0, fold.validation, &classes, &options).unwrap();
+    assert_eq!((p, source, epoch), (fold.validation_probabilities.clone(), fold.validation_source.clone(), fold.best_epoch));
+    let (p, source) = final_fold(&takes, &labels, 0, &classes, &options, fold.best_epoch).unwrap();
+    assert_eq!((p, source), (fold.network_probabilities.clone(), fold.network_source.clone()));
+    let other = 3 - fold.validation; // the other inner take (takes 1 and 2 are the inner ones)
+    let (p, _, _) = validation_fold(&takes, &labels, 0, other, &classes, &options).unwrap();
+    let frames = mocapseg::methods::dtfcn::input::network_input(&takes[other]).unwrap().frames;
+    assert_eq!(p.frames, frames, "the take asked is the one labelled");
+    assert_ne!(p, fold.validation_probabilities);
+    let mut scrambled = labels.clone();
+    scrambled[0] = scrambled[0].iter().map(|l| l.map(|c| (c + 1) % 3)).collect();
+    assert_eq!(validation_fold(&takes, &scrambled, 0, other, &classes, &options).unwrap().0, p);
+    assert!(validation_fold(&takes, &labels, 1, 1, &classes, &options).is_err(), "held out and validation differ");
+}
+
 /// The nested protocol never reads the held-out take's labels (issue 23): the same fold with that take's labels
 /// scrambled — shifted by half the take, and a class no other take has — trains the same networks and the same k-NN,
 /// and predicts exactly the same probabilities for the held-out take and its validation take.

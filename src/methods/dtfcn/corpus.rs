@@ -457,6 +457,52 @@ pub fn predict_held_out(
     })
 }
 
+/// The inner half of a nested fold with any inner take as the validation take: a network trained on every take but
+/// `held` and `val`, its epoch chosen on `val` (early stopping; `val`'s labels with the options' noise and masking,
+/// as [`predict_held_out`] gives them), and `val`'s class probabilities per working frame by it, their file positions
+/// and the epoch kept. [`predict_held_out`] validates on the take after `held` alone; this lets a protocol validate
+/// on every inner take in turn.
+pub fn validation_fold(
+    motions: &[Motion],
+    labels: &[Vec<Option<usize>>],
+    held: usize,
+    val: usize,
+    classes: &[String],
+    options: &TrainOptions,
+) -> Result<(super::infer::Probabilities, Vec<f64>, usize), String> {
+    let n = motions.len();
+    if n < 3 || held >= n || val >= n || held == val {
+        return Err(format!("a validation fold needs 3 or more takes and two different ones of them; {n}, {held}, {val}"));
+    }
+    let inner: Vec<TrainingTake> = (0..n)
+        .filter(|&i| i != held && i != val)
+        .map(|i| TrainingTake::new(&motions[i], &labels[i]))
+        .collect::<Result<_, _>>()?;
+    let imperfect = imperfect_labels(&labels[val], motions[val].fps, classes.len(), options, val as u64);
+    let validation = TrainingTake::new(&motions[val], &imperfect)?;
+    let chosen = train(&inner, &[validation], classes, options, &mut |_| true)?;
+    let (p, source) = probabilities(&chosen, &motions[val], classes.len())?;
+    Ok((p, source, chosen.best_epoch))
+}
+
+/// The outer half of a nested fold: a network trained for `epochs` on every take but `held`, and `held`'s class
+/// probabilities per working frame by it with their file positions.
+pub fn final_fold(
+    motions: &[Motion],
+    labels: &[Vec<Option<usize>>],
+    held: usize,
+    classes: &[String],
+    options: &TrainOptions,
+    epochs: usize,
+) -> Result<(super::infer::Probabilities, Vec<f64>), String> {
+    let all: Vec<TrainingTake> = (0..motions.len())
+        .filter(|&i| i != held)
+        .map(|i| TrainingTake::new(&motions[i], &labels[i]))
+        .collect::<Result<_, _>>()?;
+    let trained = train(&all, &[], classes, &TrainOptions { epochs, ..options.clone() }, &mut |_| true)?;
+    probabilities(&trained, &motions[held], classes.len())
+}
+
 /// The fold of [`predict_held_out`] with its trainings' weights averaged over their last epochs
 /// ([`TrainOptions::average_last`], stochastic weight averaging): what the nested protocol compares
 /// `average_last` settings by. Both trainings run `epochs` epochs (the epoch the fold's early stopping chose)
