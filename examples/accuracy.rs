@@ -654,6 +654,11 @@ mod lab {
     const DTFCN_SETTINGS: [(usize, usize, Padding); 4] =
         [(2, 5, Padding::Zero), (2, 6, Padding::Edge), (3, 4, Padding::Zero), (3, 4, Padding::Edge)];
 
+    /// The training options of one of [`DTFCN_SETTINGS`] with `seed`.
+    fn setting(width: usize, layers: usize, padding: Padding, seed: u64) -> TrainOptions {
+        TrainOptions { width, filters: paper_filters(layers), padding, seed, ..TrainOptions::default() }
+    }
+
     fn labeller_rows(takes: &[Take], ensembles: bool, inner_all: bool, seeds: usize) -> Result<Vec<MethodRow>, String> {
         let dtfcn_seeds = &DTFCN_SEEDS[..seeds.clamp(1, DTFCN_SEEDS.len())];
         let mocap6: Vec<&Take> = takes.iter().filter(|t| t.set == "mocap6").collect();
@@ -746,13 +751,7 @@ mod lab {
                             let mut top: Option<Candidate> = None;
                             // every inner take validates in turn: each setting scored by its mean over them
                             for &(width, layers, padding) in DTFCN_SETTINGS.iter().filter(|_| inner_all) {
-                                let options = TrainOptions {
-                                    width,
-                                    filters: paper_filters(layers),
-                                    padding,
-                                    seed,
-                                    ..TrainOptions::default()
-                                };
+                                let options = setting(width, layers, padding, seed);
                                 let mut inner = Vec::new();
                                 for v in (0..motions.len()).filter(|&v| v != h) {
                                     let (probabilities, source, epoch) =
@@ -791,13 +790,7 @@ mod lab {
                                 }
                             }
                             for &(width, layers, padding) in DTFCN_SETTINGS.iter().filter(|_| !inner_all) {
-                                let options = TrainOptions {
-                                    width,
-                                    filters: paper_filters(layers),
-                                    padding,
-                                    seed,
-                                    ..TrainOptions::default()
-                                };
+                                let options = setting(width, layers, padding, seed);
                                 let p = predict_held_out(&motions, &labels, h, &classes, &options, &mut |_| true)?;
                                 let mut held = Some(Labelled {
                                     probabilities: p.network_probabilities,
