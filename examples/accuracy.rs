@@ -567,15 +567,21 @@ mod lab {
         epoch: usize,
     }
 
-    /// What the validation take says of a candidate's labels `val` (by networks trained without it): the best raw
-    /// frame accuracy over the thresholds (what chooses the candidate), and the threshold and decoding chosen with
-    /// their criterion.
-    fn validation_choice(val: &Labelled, vm: &Motion, truth: &[Option<usize>]) -> (f64, f64, Decoding, f64) {
+    /// What validation takes say of a candidate's labels of them (each by networks trained without it): the best
+    /// mean raw frame accuracy over the thresholds (what chooses the candidate), and the threshold and decoding
+    /// chosen with their criterion.
+    fn validation_choice(takes: &[(&Motion, &Labelled, &[Option<usize>])]) -> (f64, f64, Decoding, f64) {
         let accuracy = THRESHOLDS
             .iter()
-            .map(|&t| labelling::score(&val.labels(vm, &Decoding::RAW, t), truth).frame_accuracy)
+            .map(|&t| {
+                takes
+                    .iter()
+                    .map(|(m, l, truth)| labelling::score(&l.labels(m, &Decoding::RAW, t), truth).frame_accuracy)
+                    .sum::<f64>()
+                    / takes.len().max(1) as f64
+            })
             .fold(f64::MIN, f64::max);
-        let (threshold, decoding, criterion) = best_decoding(&[(vm, val, truth)]);
+        let (threshold, decoding, criterion) = best_decoding(takes);
         (accuracy, threshold, decoding, criterion)
     }
 
@@ -758,22 +764,9 @@ mod lab {
                                         validation_fold(&motions, &labels, h, v, &classes, &options)?;
                                     inner.push((v, Labelled { probabilities, source, fps: NETWORK_FPS }, epoch));
                                 }
-                                let accuracy = THRESHOLDS
-                                    .iter()
-                                    .map(|&t| {
-                                        inner
-                                            .iter()
-                                            .map(|(v, l, _)| {
-                                                labelling::score(&l.labels(&motions[*v], &Decoding::RAW, t), &labels[*v])
-                                                    .frame_accuracy
-                                            })
-                                            .sum::<f64>()
-                                            / inner.len() as f64
-                                    })
-                                    .fold(f64::MIN, f64::max);
                                 let judged: Vec<(&Motion, &Labelled, &[Option<usize>])> =
                                     inner.iter().map(|(v, l, _)| (&motions[*v], l, labels[*v].as_slice())).collect();
-                                let (threshold, decoding, criterion) = best_decoding(&judged);
+                                let (accuracy, threshold, decoding, criterion) = validation_choice(&judged);
                                 let mut epochs: Vec<usize> = inner.iter().map(|r| r.2).collect();
                                 let each = epochs.iter().map(|e| e.to_string()).collect::<Vec<_>>().join(",");
                                 epochs.sort_unstable();
@@ -813,7 +806,7 @@ mod lab {
                                     let val = Labelled { probabilities, source, fps: NETWORK_FPS };
                                     let vm = &motions[p.validation];
                                     let (accuracy, threshold, decoding, criterion) =
-                                        validation_choice(&val, vm, &labels[p.validation]);
+                                        validation_choice(&[(vm, &val, labels[p.validation].as_slice())]);
                                     let what = format!(
                                     "width={width} layers={layers} padding={} epochs={} average_last={average_last} unknown_threshold={threshold} {} (validation {} accuracy {:.3}, criterion {criterion:.1})",
                                     padding.name(),
@@ -867,7 +860,7 @@ mod lab {
                                 let validation = (h + 1) % motions.len();
                                 let vm = &motions[validation];
                                 let (accuracy, threshold, decoding, criterion) =
-                                    validation_choice(&val, vm, &labels[validation]);
+                                    validation_choice(&[(vm, &val, labels[validation].as_slice())]);
                                 let mut epochs: Vec<usize> = runs.iter().map(|r| r.epoch).collect();
                                 let what = format!(
                                     "members={ENSEMBLE_MEMBERS} (seeds {}) width=3 layers=4 filters={} padding={} epochs={} average_last=0 unknown_threshold={threshold} {} (validation {} accuracy {:.3}, criterion {criterion:.1})",

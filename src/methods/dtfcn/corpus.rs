@@ -401,17 +401,12 @@ pub fn predict_held_out(
         return Err(format!("the nested protocol needs at least 3 takes (train, validation, held out); {n} given"));
     }
     let val = (held + 1) % n;
-    let take = |i: usize| TrainingTake::new(&motions[i], &labels[i]);
     let imperfect: Vec<Vec<Option<usize>>> =
         (0..n).map(|i| imperfect_labels(&labels[i], motions[i].fps, classes.len(), options, i as u64)).collect();
-    let inner: Vec<TrainingTake> = (0..n).filter(|&i| i != held && i != val).map(take).collect::<Result<_, _>>()?;
-    let validation = TrainingTake::new(&motions[val], &imperfect[val])?;
-    let chosen = train(&inner, &[validation], classes, options, &mut *on_epoch)?;
+    let chosen = early_stopped(motions, labels, held, val, classes, options, &mut *on_epoch)?;
     let (validation_probabilities, validation_source) = probabilities(&chosen, &motions[val], classes.len())?;
     let validation_labels = file_frames_of(&validation_probabilities, &validation_source, &motions[val]);
-    let all: Vec<TrainingTake> = (0..n).filter(|&i| i != held).map(take).collect::<Result<_, _>>()?;
-    let again = TrainOptions { epochs: chosen.best_epoch, ..options.clone() };
-    let trained = train(&all, &[], classes, &again, on_epoch)?;
+    let trained = retrained(motions, labels, held, classes, options, chosen.best_epoch, on_epoch)?;
     let (network_probabilities, network_source) = probabilities(&trained, &motions[held], classes.len())?;
     let network = file_frames_of(&network_probabilities, &network_source, &motions[held]);
     // the k-NN's k: fitted without the validation take, scored on its (noisy) labels
@@ -474,15 +469,46 @@ pub fn validation_fold(
     if n < 3 || held >= n || val >= n || held == val {
         return Err(format!("a validation fold needs 3 or more takes and two different ones of them; {n}, {held}, {val}"));
     }
-    let inner: Vec<TrainingTake> = (0..n)
+    let chosen = early_stopped(motions, labels, held, val, classes, options, &mut |_| true)?;
+    let (p, source) = probabilities(&chosen, &motions[val], classes.len())?;
+    Ok((p, source, chosen.best_epoch))
+}
+
+/// The network trained on every take but `held` and `val` (their clean labels: the trainer adds the options'
+/// noise), its epoch chosen on `val`'s labels with the options' noise and masking.
+fn early_stopped(
+    motions: &[Motion],
+    labels: &[Vec<Option<usize>>],
+    held: usize,
+    val: usize,
+    classes: &[String],
+    options: &TrainOptions,
+    on_epoch: &mut dyn FnMut(&EpochReport) -> bool,
+) -> Result<Trained, String> {
+    let inner: Vec<TrainingTake> = (0..motions.len())
         .filter(|&i| i != held && i != val)
         .map(|i| TrainingTake::new(&motions[i], &labels[i]))
         .collect::<Result<_, _>>()?;
     let imperfect = imperfect_labels(&labels[val], motions[val].fps, classes.len(), options, val as u64);
     let validation = TrainingTake::new(&motions[val], &imperfect)?;
-    let chosen = train(&inner, &[validation], classes, options, &mut |_| true)?;
-    let (p, source) = probabilities(&chosen, &motions[val], classes.len())?;
-    Ok((p, source, chosen.best_epoch))
+    train(&inner, &[validation], classes, options, on_epoch)
+}
+
+/// The network trained for `epochs` on every take but `held`.
+fn retrained(
+    motions: &[Motion],
+    labels: &[Vec<Option<usize>>],
+    held: usize,
+    classes: &[String],
+    options: &TrainOptions,
+    epochs: usize,
+    on_epoch: &mut dyn FnMut(&EpochReport) -> bool,
+) -> Result<Trained, String> {
+    let all: Vec<TrainingTake> = (0..motions.len())
+        .filter(|&i| i != held)
+        .map(|i| TrainingTake::new(&motions[i], &labels[i]))
+        .collect::<Result<_, _>>()?;
+    train(&all, &[], classes, &TrainOptions { epochs, ..options.clone() }, on_epoch)
 }
 
 /// The outer half of a nested fold: a network trained for `epochs` on every take but `held`, and `held`'s class
@@ -495,11 +521,7 @@ pub fn final_fold(
     options: &TrainOptions,
     epochs: usize,
 ) -> Result<(super::infer::Probabilities, Vec<f64>), String> {
-    let all: Vec<TrainingTake> = (0..motions.len())
-        .filter(|&i| i != held)
-        .map(|i| TrainingTake::new(&motions[i], &labels[i]))
-        .collect::<Result<_, _>>()?;
-    let trained = train(&all, &[], classes, &TrainOptions { epochs, ..options.clone() }, &mut |_| true)?;
+    let trained = retrained(motions, labels, held, classes, options, epochs, &mut |_| true)?;
     probabilities(&trained, &motions[held], classes.len())
 }
 
