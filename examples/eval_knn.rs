@@ -14,7 +14,10 @@
 //! the most of the class's frames unknown while calling at most 10 % of the other frames unknown
 //! there, never on the reported take. A third score gives each frame the mean take-relative distance of its run
 //! under the shipped exercises k-NN's decoding (runs ≥ 2 s, switch cost 150). The vote share's AUROC is printed
-//! beside them.
+//! beside them. Four *class-relative* scores follow (per-class scales instead of one for the model): a frame's
+//! distance to the nearest training window of each class over that class's own repeat distance
+//! (`Knn::class_distances`, `Knn::class_familiar`), the least over the classes or the voted class's, each as it is
+//! and over the take's own median; thresholds chosen on the same inner folds.
 //!
 //! ```text
 //! cargo run --release --example eval_knn -- [--data ../shared/data] [unseen]
@@ -129,7 +132,7 @@ mod lab {
         train: &[(&Motion, Vec<Option<usize>>)],
         motion: &Motion,
         classes: usize,
-    ) -> Result<Vec<[f32; 4]>, String> {
+    ) -> Result<Vec<[f32; S]>, String> {
         use mocapseg::methods::dtfcn::corpus::fit_knn;
         use mocapseg::methods::dtfcn::decode::{file_labels, Decoding};
         use mocapseg::methods::dtfcn::fit::{FAMILIAR_GAP, FAMILIAR_SAMPLES};
@@ -153,13 +156,39 @@ mod lab {
                 start = f;
             }
         }
-        Ok((0..distances.len()).map(|f| [distances[f] / scale, own[f], votes[f].1, run_mean[f]]).collect())
+        // class-relative: each class's nearest window over that class's own repeat distance
+        let by_class = knn.class_distances(motion, classes)?;
+        let class_scale = knn.class_familiar(classes, FAMILIAR_GAP, FAMILIAR_SAMPLES);
+        let ratio = |f: usize, c: usize| match class_scale[c] {
+            Some(s) if s > 0.0 => by_class[f][c] / s,
+            _ => f32::INFINITY,
+        };
+        let min_ratio: Vec<f32> =
+            (0..distances.len()).map(|f| (0..classes).map(|c| ratio(f, c)).fold(f32::INFINITY, f32::min)).collect();
+        let voted: Vec<f32> = (0..distances.len()).map(|f| ratio(f, votes[f].0)).collect();
+        let (min_own, voted_own) = (crate::common::over_median(&min_ratio), crate::common::over_median(&voted));
+        Ok((0..distances.len())
+            .map(|f| {
+                [
+                    distances[f] / scale,
+                    own[f],
+                    votes[f].1,
+                    run_mean[f],
+                    min_ratio[f],
+                    min_own[f],
+                    voted[f],
+                    voted_own[f],
+                ]
+            })
+            .collect())
     }
 
     /// (score, whether the frame's class is `gone`) for every frame of a take.
-    fn marked(scores: &[[f32; 4]], labels: &[usize], gone: usize, pick: fn(&[f32; 4]) -> f32) -> Vec<(f32, bool)> {
+    fn marked(scores: &[[f32; S]], labels: &[usize], gone: usize, pick: impl Fn(&[f32; S]) -> f32) -> Vec<(f32, bool)> {
         scores.iter().zip(labels).map(|(s, &l)| (pick(s), l == gone)).collect()
     }
+
+    const S: usize = 8;
 
     /// Share of the unseen frames and of the seen frames scoring above `threshold`.
     fn rates(frames: &[(f32, bool)], threshold: f32) -> (f64, f64) {
@@ -180,10 +209,17 @@ mod lab {
             loaded[i].2.iter().map(|&l| (l != gone).then_some(l)).collect()
         };
         let holds = |i: usize, c: usize| loaded[i].2.contains(&c);
-        println!("k-NN unknown, leave one class out: a frame is unknown when its distance to the nearest training window, over the model's familiar distance or over the take's own median distance, is above a threshold chosen on the inner takes:");
-        println!("| held-out take | class left out | inner takes | model-relative: threshold → unseen / seen called unknown | take-relative: threshold → unseen / seen | decoded runs, take-relative | AUROC model-relative / take-relative / runs / vote share |");
+        println!(
+            "k-NN unknown, leave one class out: a frame is unknown when its distance to the nearest training window, over the model's familiar distance or over the take's own median distance, is above a threshold chosen on the inner takes:"
+        );
+        println!(
+            "| held-out take | class left out | inner takes | model-relative: threshold → unseen / seen called unknown | take-relative: threshold → unseen / seen | decoded runs, take-relative | AUROC model-relative / take-relative / runs / vote share |"
+        );
         println!("|---|---|---|---|---|---|---|");
         let mut pooled: [Vec<(f32, bool)>; 4] = Default::default();
+        let mut class_sums = [[0.0f64; 2]; 4];
+        let mut class_pooled: [Vec<(f32, bool)>; 4] = Default::default();
+        let mut class_per_class: Vec<[f64; 9]> = vec![[0.0; 9]; names.len()];
         let (mut sums, mut rows) = ([0.0f64; 6], 0usize);
         let mut per_class: Vec<[f64; 7]> = vec![[0.0; 7]; names.len()];
         for h in 0..loaded.len() {
@@ -194,6 +230,7 @@ mod lab {
                 }
                 // inner folds: every other take holding the class, scored by a model without it and without the class
                 let (mut inner, mut inner_own, mut inner_run) = (Vec::new(), Vec::new(), Vec::new());
+                let mut inner_class: [Vec<(f32, bool)>; 4] = Default::default();
                 let mut inner_names = Vec::new();
                 for &v in others.iter().filter(|&&v| holds(v, gone)) {
                     let train: Vec<(&Motion, Vec<Option<usize>>)> =
@@ -202,6 +239,9 @@ mod lab {
                     inner.extend(marked(&s, &loaded[v].2, gone, |x| x[0]));
                     inner_own.extend(marked(&s, &loaded[v].2, gone, |x| x[1]));
                     inner_run.extend(marked(&s, &loaded[v].2, gone, |x| x[3]));
+                    for (k, c) in inner_class.iter_mut().enumerate() {
+                        c.extend(marked(&s, &loaded[v].2, gone, |x| x[4 + k]));
+                    }
                     inner_names.push(loaded[v].0.clone());
                 }
                 let (threshold, threshold_own, threshold_run) =
@@ -214,6 +254,16 @@ mod lab {
                 let v = marked(&s, &loaded[h].2, gone, |x| -x[2]);
                 let r = marked(&s, &loaded[h].2, gone, |x| x[3]);
                 let (tpr_r, fpr_r) = rates(&r, threshold_run);
+                for k in 0..4 {
+                    let t = choose(&inner_class[k]);
+                    let held = marked(&s, &loaded[h].2, gone, |x| x[4 + k]);
+                    let (tp, fp) = rates(&held, t);
+                    class_sums[k][0] += tp;
+                    class_sums[k][1] += fp;
+                    class_per_class[gone][2 * k] += tp;
+                    class_per_class[gone][2 * k + 1] += fp;
+                    class_pooled[k].extend(held);
+                }
                 let (tpr, fpr) = rates(&d, threshold);
                 let (tpr_o, fpr_o) = rates(&o, threshold_own);
                 println!(
@@ -238,6 +288,7 @@ mod lab {
                 }
                 rows += 1;
                 per_class[gone][6] += 1.0;
+                class_per_class[gone][8] += 1.0;
                 pooled[0].extend(d);
                 pooled[1].extend(o);
                 pooled[2].extend(r);
@@ -258,11 +309,38 @@ mod lab {
             auroc(&pooled[2]),
             auroc(&pooled[3])
         );
+        for (k, name) in [
+            "class-relative (min over classes)",
+            "class-relative, over the take's median",
+            "voted class's ratio",
+            "voted class's ratio, over the take's median",
+        ]
+        .iter()
+        .enumerate()
+        {
+            println!(
+                "{name}: {:.0} % / {:.0} %, pooled AUROC {:.2}",
+                100.0 * class_sums[k][0] / n,
+                100.0 * class_sums[k][1] / n,
+                auroc(&class_pooled[k])
+            );
+        }
         println!();
         crate::common::print_rates_by_class(
             &["model-relative: unseen / seen called unknown", "take-relative", "decoded runs"],
             names,
             &per_class,
+        );
+        println!();
+        crate::common::print_rates_by_class(
+            &[
+                "class-relative: unseen / seen called unknown",
+                "class-relative, take-relative",
+                "voted class's ratio",
+                "voted class's ratio, take-relative",
+            ],
+            names,
+            &class_per_class,
         );
         println!("({:.0} s)", started.elapsed().as_secs_f64());
         Ok(())

@@ -249,6 +249,55 @@ impl Knn {
         Ok((0..motion.frames()).map(|f| working[frames.working_frame(f)]).collect())
     }
 
+    /// Per file frame of `motion`, per class `0..classes`: the distance of its window to the nearest
+    /// training window of that class (in the principal coordinates; infinite for a class with no
+    /// window). By brute force over the training windows.
+    pub fn class_distances(&self, motion: &Motion, classes: usize) -> Result<Vec<Vec<f32>>, String> {
+        let (w, source) = windows(motion, &self.params)?;
+        let working: Vec<Vec<f32>> = (0..w.frames())
+            .map(|i| {
+                let q = project(w.row(i), &self.mean, &self.axes);
+                let mut best = vec![f32::INFINITY; classes];
+                for (p, &l) in self.points.iter().zip(&self.labels) {
+                    if l < classes {
+                        let d: f32 = p.iter().zip(&q).map(|(a, b)| (a - b) * (a - b)).sum();
+                        best[l] = best[l].min(d);
+                    }
+                }
+                best.iter().map(|d| d.sqrt()).collect()
+            })
+            .collect();
+        let frames = WorkingFrames { source: &source, file_frames: motion.frames() };
+        Ok((0..motion.frames()).map(|f| working[frames.working_frame(f)].clone()).collect())
+    }
+
+    /// Per class `0..classes`: the median distance from a training window of the class to the
+    /// nearest training window *of the same class* at least `gap` working frames away, over at most
+    /// `samples` evenly spaced windows of the class (`None` for a class without two such windows):
+    /// how tightly a class's own repetitions lie.
+    pub fn class_familiar(&self, classes: usize, gap: usize, samples: usize) -> Vec<Option<f32>> {
+        (0..classes)
+            .map(|c| {
+                let own: Vec<usize> = (0..self.points.len()).filter(|&i| self.labels[i] == c).collect();
+                let step = own.len().div_ceil(samples.max(1)).max(1);
+                let mut d: Vec<f32> = own
+                    .iter()
+                    .step_by(step)
+                    .filter_map(|&i| {
+                        own.iter()
+                            .filter(|&&j| j.abs_diff(i) > gap)
+                            .map(|&j| {
+                                self.points[i].iter().zip(&self.points[j]).map(|(a, b)| (a - b) * (a - b)).sum::<f32>()
+                            })
+                            .min_by(f32::total_cmp)
+                            .map(f32::sqrt)
+                    })
+                    .collect();
+                crate::stats::median(&mut d)
+            })
+            .collect()
+    }
+
     /// How far training windows lie from the training windows at least `gap` working frames away
     /// from them (another repetition of the movement, or another take), for at most `samples`
     /// evenly spaced training windows, sorted: what the nearest distance of a frame of a *new* take
@@ -339,6 +388,40 @@ mod tests {
         };
         assert!(median(&near) < 1e-2 * median(&far).max(1e-6) + 1e-3, "{} vs {}", median(&near), median(&far));
         assert!(median(&far) > 0.0);
+    }
+
+    #[test]
+    fn each_class_has_its_own_nearest_window_and_repeat_distance() {
+        let taught = motion("131_01.bvh", include_str!("../../../tests/fixtures/131_01.bvh"));
+        let half = taught.frames() / 2;
+        let labels: Vec<usize> = (0..taught.frames()).map(|f| usize::from(f >= half)).collect();
+        let knn = Knn::fit(&[Labelled { motion: &taught, labels: &labels }], KnnParams::default()).unwrap();
+        // three classes asked, the third never taught
+        let by_class = knn.class_distances(&taught, 3).unwrap();
+        let nearest = knn.nearest_distances(&taught).unwrap();
+        assert_eq!(by_class.len(), taught.frames());
+        for (f, d) in by_class.iter().enumerate() {
+            assert!(d[2].is_infinite(), "frame {f}: no window of class 2, {d:?}");
+            // the nearest window of any class is the nearest of the nearest per class
+            assert!(
+                (d[0].min(d[1]) - nearest[f]).abs() <= 1e-3 * nearest[f].max(1.0),
+                "frame {f}: {d:?} vs {}",
+                nearest[f]
+            );
+        }
+        // a taught frame lies on a window of its own class, away from the frames of the other
+        let (early, late) = (half / 4, half + half / 2);
+        assert!(by_class[early][0] < 1e-3 && by_class[early][1] > 0.1, "{:?}", by_class[early]);
+        assert!(by_class[late][1] < 1e-3 && by_class[late][0] > 0.1, "{:?}", by_class[late]);
+        // each class's own repeat distance; none for a class without windows
+        let own = knn.class_familiar(3, 30, 200);
+        assert!(own[0].is_some_and(|d| d > 0.0) && own[1].is_some_and(|d| d > 0.0), "{own:?}");
+        assert_eq!(own[2], None);
+        // one class holding every window: the median of the model's familiar distances
+        let one =
+            Knn::fit(&[Labelled { motion: &taught, labels: &vec![0; taught.frames()] }], KnnParams::default()).unwrap();
+        let mut all = one.familiar_distances(30, 200);
+        assert_eq!(one.class_familiar(1, 30, 200)[0], crate::stats::median(&mut all));
     }
 
     /// A payload of the default window claiming `n` frames but holding the words of one.
