@@ -585,7 +585,6 @@ mod lab {
         (accuracy, threshold, decoding, criterion)
     }
 
-
     /// A labeller's per-file-frame labels (`None`: unknown) as a segmentation, as the method turns them into segments.
     fn labelled_segmentation(
         motion: &Motion,
@@ -636,7 +635,8 @@ mod lab {
                 Judged { probabilities: &l.probabilities, source: &l.source, fps: l.fps, truth }
             })
             .collect();
-        decode::choose(&judged).map_or((THRESHOLDS[0], Decoding::RAW, f64::MIN), |c| (c.threshold, c.decoding, c.criterion))
+        decode::choose(&judged)
+            .map_or((THRESHOLDS[0], Decoding::RAW, f64::MIN), |c| (c.threshold, c.decoding, c.criterion))
     }
 
     /// The k-NN's k: chosen per fold by leave-one-take-out frame accuracy on the training takes alone.
@@ -838,7 +838,11 @@ mod lab {
                                     if !members.contains_key(&(s, e)) {
                                         let o = TrainOptions { seed: s, ..options.clone() };
                                         let p = predict_held_out(&motions, &labels, h, &classes, &o, &mut |_| true)?;
-                                        let network = |probabilities, source| Labelled { probabilities, source, fps: NETWORK_FPS };
+                                        let network = |probabilities, source| Labelled {
+                                            probabilities,
+                                            source,
+                                            fps: NETWORK_FPS,
+                                        };
                                         members.insert(
                                             (s, e),
                                             MemberFold {
@@ -852,8 +856,9 @@ mod lab {
                                 let runs: Vec<&MemberFold> = member_seeds.iter().map(|&s| &members[&(s, e)]).collect();
                                 let mean = |of: &dyn Fn(&MemberFold) -> &Labelled| -> Result<Labelled, String> {
                                     let all: Vec<&Labelled> = runs.iter().map(|r| of(r)).collect();
-                                    let probabilities = Probabilities::mean(&all.iter().map(|l| &l.probabilities).collect::<Vec<_>>())
-                                        .ok_or("the ensemble's networks labelled different frames")?;
+                                    let probabilities =
+                                        Probabilities::mean(&all.iter().map(|l| &l.probabilities).collect::<Vec<_>>())
+                                            .ok_or("the ensemble's networks labelled different frames")?;
                                     Ok(Labelled { probabilities, source: all[0].source.clone(), fps: NETWORK_FPS })
                                 };
                                 let val = mean(&|r| &r.validation)?;

@@ -290,7 +290,10 @@ mod lab {
             );
             // the library's radius and coverage chosen by NMI on libraries *without* the take (its motion and labels
             // unseen), per take; each fold's choice scored on the whole library
-            let nmi_of = |lib: &[LibraryTake], labels: &[Vec<Option<usize>>], p: &LibraryParams| -> Result<ClusterScores, String> {
+            let nmi_of = |lib: &[LibraryTake],
+                          labels: &[Vec<Option<usize>>],
+                          p: &LibraryParams|
+             -> Result<ClusterScores, String> {
                 let c = cluster(lib, p, &mut |_| Ok(())).map_err(|e| e.to_string())?;
                 Ok(cluster_scores(&c.takes.iter().map(frame_clusters).collect::<Vec<_>>(), labels))
             };
@@ -301,7 +304,8 @@ mod lab {
                 .collect();
             let mut folds = Vec::new();
             for t in 0..library.len() {
-                let lib: Vec<LibraryTake> = library.iter().enumerate().filter(|(i, _)| *i != t).map(|(_, l)| l.clone()).collect();
+                let lib: Vec<LibraryTake> =
+                    library.iter().enumerate().filter(|(i, _)| *i != t).map(|(_, l)| l.clone()).collect();
                 let labels: Vec<Vec<Option<usize>>> =
                     truth.iter().enumerate().filter(|(i, _)| *i != t).map(|(_, l)| l.clone()).collect();
                 let mut best = (0usize, f64::MIN);
@@ -313,11 +317,14 @@ mod lab {
                 }
                 folds.push((best.0, nmi_of(&library, &truth, &grid[best.0])?));
             }
-            let mean = |f: &dyn Fn(&ClusterScores) -> f64| folds.iter().map(|(_, s)| f(s)).sum::<f64>() / folds.len() as f64;
+            let mean =
+                |f: &dyn Fn(&ClusterScores) -> f64| folds.iter().map(|(_, s)| f(s)).sum::<f64>() / folds.len() as f64;
             let chosen: Vec<String> = folds
                 .iter()
                 .enumerate()
-                .map(|(t, (k, _))| format!("{}: radius {} coverage {}", takes[t].name, grid[*k].radius, grid[*k].coverage))
+                .map(|(t, (k, _))| {
+                    format!("{}: radius {} coverage {}", takes[t].name, grid[*k].radius, grid[*k].coverage)
+                })
                 .collect();
             let _ = writeln!(
                 md,
@@ -345,7 +352,10 @@ mod lab {
             if segs.iter().any(|s| s.segments.iter().any(|x| x.cluster.is_some())) {
                 let _ = writeln!(md, "{}", row("per take", &own, "0".into(), "–".into(), "–".into()));
             } else {
-                let _ = writeln!(md, "| {method} | per take | – | – | – | – (the method gives no cluster ids) | – | – | – |");
+                let _ = writeln!(
+                    md,
+                    "| {method} | per take | – | – | – | – (the method gives no cluster ids) | – | – | – |"
+                );
             }
             let _ = writeln!(md, "{}", row("chance", &chance, "–".into(), "–".into(), "–".into()));
             cluster_json.push(

@@ -50,7 +50,13 @@ mod lab {
         let mut c = 0.0;
         for x in positive {
             for y in negative {
-                c += if x > y { 1.0 } else if x == y { 0.5 } else { 0.0 };
+                c += if x > y {
+                    1.0
+                } else if x == y {
+                    0.5
+                } else {
+                    0.0
+                };
             }
         }
         c / (positive.len() * negative.len()).max(1) as f64
@@ -67,19 +73,27 @@ mod lab {
         let tolerance = 0.5 * model.fps;
         let all: Vec<u16> = (0..POOL_SIZE as u16).collect();
         for seed in 1..=2u64 {
-            let s = splice(&sources, &SpliceOptions { pieces: 40, seed, ..Default::default() }).map_err(|e| e.to_string())?;
+            let s = splice(&sources, &SpliceOptions { pieces: 40, seed, ..Default::default() })
+                .map_err(|e| e.to_string())?;
             let motion = Motion::from_bvh("splice", &s.bvh).map_err(|e| e.to_string())?;
             let params = LmaParams { search: "deviance".into(), ..Default::default() };
             let analysis = analyse(model, &motion, &params, &mut NoProgress).map_err(|e| e.to_string())?;
             let ratio = model.fps / motion.fps;
-            let pieces: Vec<(f64, f64)> = s.pieces.iter().map(|p| (p.start as f64 * ratio, p.end as f64 * ratio)).collect();
+            let pieces: Vec<(f64, f64)> =
+                s.pieces.iter().map(|p| (p.start as f64 * ratio, p.end as f64 * ratio)).collect();
             let body = upper_body(&motion, model.fps).map_err(|e| e.to_string())?;
             for ((side, map), arm) in analysis.maps.iter().zip(&body.arms) {
                 let (mut matched, mut other) = (Vec::new(), Vec::new());
                 for (a, b, d) in map.candidates() {
-                    let hit = pieces.iter().any(|&(ps, pe)| (a as f64 - ps).abs() <= tolerance && (b as f64 - pe).abs() <= tolerance);
+                    let hit = pieces
+                        .iter()
+                        .any(|&(ps, pe)| (a as f64 - ps).abs() <= tolerance && (b as f64 - pe).abs() <= tolerance);
                     // low deviance = agreement: scored as −d
-                    if hit { matched.push(-d as f64) } else { other.push(-d as f64) }
+                    if hit {
+                        matched.push(-d as f64)
+                    } else {
+                        other.push(-d as f64)
+                    }
                 }
                 println!(
                     "seed {seed}, {side:?} arm: {} candidate segments, {} match a piece; deviance AUC {:.3}",
@@ -94,8 +108,10 @@ mod lab {
                 for window in [20usize, 30, 45] {
                     let (mut near, mut far) = ((Vec::new(), Vec::new()), (Vec::new(), Vec::new()));
                     for &b in boundaries.iter().filter(|&&b| b > window + 6 && b + window + 6 < pool.frames()) {
-                        let (before, after) = (model.assess(&pool, b - window, b).1, model.assess(&pool, b, b + window).1);
-                        let effort = before.iter().zip(&after).map(|(x, y)| ((x - y) as f64).powi(2)).sum::<f64>().sqrt();
+                        let (before, after) =
+                            (model.assess(&pool, b - window, b).1, model.assess(&pool, b, b + window).1);
+                        let effort =
+                            before.iter().zip(&after).map(|(x, y)| ((x - y) as f64).powi(2)).sum::<f64>().sqrt();
                         let (mut fb, mut fa) = (vec![0f32; POOL_SIZE], vec![0f32; POOL_SIZE]);
                         pool.features(&all, b - window, b, &mut fb);
                         pool.features(&all, b, b + window, &mut fa);
@@ -105,7 +121,11 @@ mod lab {
                             .map(|(x, y)| ((x - y) / (x.abs() + y.abs() + 1e-3)).powi(2) as f64)
                             .sum::<f64>()
                             .sqrt();
-                        let target = if pieces.iter().any(|&(ps, _)| (b as f64 - ps).abs() <= tolerance) { &mut near } else { &mut far };
+                        let target = if pieces.iter().any(|&(ps, _)| (b as f64 - ps).abs() <= tolerance) {
+                            &mut near
+                        } else {
+                            &mut far
+                        };
                         target.0.push(effort);
                         target.1.push(raw);
                     }

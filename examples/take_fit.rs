@@ -25,8 +25,8 @@ fn main() -> std::process::ExitCode {
 mod lab {
     use std::path::PathBuf;
 
-    use mocapseg::methods::dtfcn::model::{Labeller, ModelKind};
     use mocapseg::methods::dtfcn::fit::{TakeFit, TravelProfile};
+    use mocapseg::methods::dtfcn::model::{Labeller, ModelKind};
     use mocapseg::methods::dtfcn::shipped;
     use mocapseg::methods::knn::{Knn, KnnParams, Labelled};
     use mocapseg::motion::Motion;
@@ -78,7 +78,9 @@ mod lab {
         for f in files {
             takes.push(load(&f)?);
         }
-        println!("| model | take | travel limit (in/s) | frames beyond it | pose ratio | unfamiliar frames | verdict |");
+        println!(
+            "| model | take | travel limit (in/s) | frames beyond it | pose ratio | unfamiliar frames | verdict |"
+        );
         println!("|---|---|---|---|---|---|---|");
         for name in shipped::NAMES {
             let model = shipped::model(ModelKind::Knn, name).map_err(|e| e.to_string())?;
@@ -94,9 +96,11 @@ mod lab {
             }
         }
         // leave one mocap6 take out: the held-out take is new but of the taught classes
-        let mocap6: Vec<usize> = labelled.iter().enumerate().filter(|(_, t)| t.trial != "86_01").map(|(i, _)| i).collect();
+        let mocap6: Vec<usize> =
+            labelled.iter().enumerate().filter(|(_, t)| t.trial != "86_01").map(|(i, _)| i).collect();
         for &held in &mocap6 {
-            let train: Vec<Vec<usize>> = mocap6.iter().filter(|&&i| i != held).map(|&i| vec![0; takes[i].frames()]).collect();
+            let train: Vec<Vec<usize>> =
+                mocap6.iter().filter(|&&i| i != held).map(|&i| vec![0; takes[i].frames()]).collect();
             let fit: Vec<Labelled> = mocap6
                 .iter()
                 .filter(|&&i| i != held)

@@ -687,7 +687,8 @@ impl Request {
                 }
             }
             Request::LibraryCluster { takes, .. } | Request::LibraryTransfer { takes, .. } => {
-                let mut next = |what: &str| buffers.next().ok_or_else(|| format!("worker request: no buffer for {what}"));
+                let mut next =
+                    |what: &str| buffers.next().ok_or_else(|| format!("worker request: no buffer for {what}"));
                 for t in takes.iter_mut() {
                     features_from_buffers(&mut t.features, &mut next, "worker request")?;
                 }
@@ -776,9 +777,11 @@ impl Response {
                 for s in &clusters.takes {
                     s.validate().map_err(|e| format!("worker message: {e}"))?;
                 }
-                let fits = clusters.clusters.iter().flat_map(|c| &c.occurrences).all(|o| {
-                    clusters.takes.get(o.take).is_some_and(|s| o.start <= o.end && o.end < s.frames)
-                });
+                let fits = clusters
+                    .clusters
+                    .iter()
+                    .flat_map(|c| &c.occurrences)
+                    .all(|o| clusters.takes.get(o.take).is_some_and(|s| o.start <= o.end && o.end < s.frames));
                 if !fits {
                     return Err("worker message: a cluster's occurrence is not inside its take".into());
                 }
@@ -987,10 +990,16 @@ mod tests {
         let answer = Response::LibraryTransferred {
             take: 0,
             run: 4,
-            transfer: Box::new(crate::library::Transfer { route: crate::library::TransferRoute::Nearest, takes: Vec::new() }),
+            transfer: Box::new(crate::library::Transfer {
+                route: crate::library::TransferRoute::Nearest,
+                takes: Vec::new(),
+            }),
         };
         let v: serde_json::Value = serde_json::from_str(&answer.clone().into_packet().json).unwrap();
-        assert_eq!((v["type"].as_str(), v["transfer"]["route"].as_str()), (Some("library_transferred"), Some("nearest")));
+        assert_eq!(
+            (v["type"].as_str(), v["transfer"]["route"].as_str()),
+            (Some("library_transferred"), Some("nearest"))
+        );
         assert_eq!(Response::from_packet(answer.clone().into_packet()).unwrap(), answer);
     }
 
@@ -1024,8 +1033,14 @@ mod tests {
     fn a_segmentation_round_trips_with_its_pictures_in_buffers() {
         let motion = walk();
         let m = crate::methods::find("sssm").unwrap();
-        let output =
-            m.run_json(&motion, &serde_json::json!({}), &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress).unwrap();
+        let output = m
+            .run_json(
+                &motion,
+                &serde_json::json!({}),
+                &RunOptions { pictures: true, ..RunOptions::default() },
+                &mut NoProgress,
+            )
+            .unwrap();
         let picture_bytes: Vec<usize> = output.details.pictures.iter().map(|p| p.rgba.len()).collect();
         assert!(!picture_bytes.is_empty());
         let response = Response::Segmented { take: 2, run: 7, view: Box::new(output.into()) };

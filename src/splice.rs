@@ -497,7 +497,11 @@ mod tests {
             // the transition's frames: blend/2 before the boundary to the rest after it
             let (a, b) = (p.start - blend / 2, p.start + (blend + 1) / 2);
             let slowest = (a.max(1)..=b).map(|f| movement(&out, f)).fold(f32::MAX, f32::min);
-            assert!(slowest > 0.5 * typical, "seam at {}: slowest frame moves {slowest}, a 10th-percentile frame {typical}", p.start);
+            assert!(
+                slowest > 0.5 * typical,
+                "seam at {}: slowest frame moves {slowest}, a 10th-percentile frame {typical}",
+                p.start
+            );
         }
     }
 

@@ -55,14 +55,30 @@ const FLOORS: &[Floor] = &[
     // measured 0.400 / 0.607 / 0.465 · 0.400 / 0.561 / 0.384 (raw per-frame labels, threshold 0.5; walk, jump, punch
     // and kick labels Hungarian-matched to exercises — takes outside the model's classes. The w = 2, 17-row network,
     // whose shape was not chosen for these takes either, gave 0.667 / 0.837 / 0.688 · 0.421 / 0.596 / 0.423)
-    Floor { method: "dtfcn", overrides: &["model=\"cmu-actions\"", "fit_check=false"], least: [(0.35, 0.55, 0.41), (0.35, 0.51, 0.33)] },
+    Floor {
+        method: "dtfcn",
+        overrides: &["model=\"cmu-actions\"", "fit_check=false"],
+        least: [(0.35, 0.55, 0.41), (0.35, 0.51, 0.33)],
+    },
     // measured 0.286 / 0.351 / 0.593 · 0.316 / 0.477 / 0.394
-    Floor { method: "knn", overrides: &["model=\"cmu-actions\"", "fit_check=false"], least: [(0.23, 0.30, 0.54), (0.26, 0.42, 0.34)] },
+    Floor {
+        method: "knn",
+        overrides: &["model=\"cmu-actions\"", "fit_check=false"],
+        least: [(0.23, 0.30, 0.54), (0.26, 0.42, 0.34)],
+    },
     // measured 0.133 / 0.365 / 0.368 · 0.185 / 0.365 / 0.292 (gait labels on exercises: outside the model's classes;
     // the w = 2, 17-row network gave 0.200 / 0.297 / 0.375 · 0.316 / 0.376 / 0.385)
-    Floor { method: "dtfcn", overrides: &["model=\"locomotion\"", "fit_check=false"], least: [(0.08, 0.31, 0.31), (0.13, 0.31, 0.24)] },
+    Floor {
+        method: "dtfcn",
+        overrides: &["model=\"locomotion\"", "fit_check=false"],
+        least: [(0.08, 0.31, 0.31), (0.13, 0.31, 0.24)],
+    },
     // measured 0.190 / 0.371 / 0.398 · 0.250 / 0.446 / 0.446
-    Floor { method: "knn", overrides: &["model=\"locomotion\"", "fit_check=false"], least: [(0.14, 0.32, 0.35), (0.20, 0.39, 0.39)] },
+    Floor {
+        method: "knn",
+        overrides: &["model=\"locomotion\"", "fit_check=false"],
+        least: [(0.14, 0.32, 0.35), (0.20, 0.39, 0.39)],
+    },
 ];
 
 fn score(name: &str, overrides: &[&str], motion: &Motion, truth: &Truth) -> Scores {

@@ -263,7 +263,11 @@ fn batch_run(
     command.args(["segment", "--method", method, "--jobs", "1"]).arg(input).arg("--out").arg(output);
     command.envs(env.iter().copied());
     let out = command.output().expect("run mocapseg");
-    (out.status.code(), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 /// A fresh input folder named `name` holding `takes` (fixture name, name in the folder).
@@ -282,8 +286,10 @@ fn batch_input(name: &str, takes: &[(&str, &str)]) -> (PathBuf, PathBuf) {
 
 #[test]
 fn a_batch_with_a_panicking_take_writes_the_rest_and_says_which_panicked() {
-    let (input, output) =
-        batch_input("batch-panic", &[("02_01.bvh", "a.bvh"), ("35_01.bvh", "b.bvh"), ("12_01.bvh", "c.bvh"), ("bad.bvh", "d.bvh")]);
+    let (input, output) = batch_input(
+        "batch-panic",
+        &[("02_01.bvh", "a.bvh"), ("35_01.bvh", "b.bvh"), ("12_01.bvh", "c.bvh"), ("bad.bvh", "d.bvh")],
+    );
     // b's output of an earlier run: b no longer gives one, so it goes
     std::fs::create_dir_all(&output).unwrap();
     std::fs::write(output.join("b.json"), "an earlier run's").unwrap();
@@ -297,19 +303,36 @@ fn a_batch_with_a_panicking_take_writes_the_rest_and_says_which_panicked() {
         b.display(),
         b.display()
     );
-    assert!(stdout.lines().any(|l| l.starts_with(&panic_line) && l.ends_with("b.json of an earlier run removed)")), "{stdout}");
+    assert!(
+        stdout.lines().any(|l| l.starts_with(&panic_line) && l.ends_with("b.json of an earlier run removed)")),
+        "{stdout}"
+    );
     assert_eq!(stdout.lines().filter(|l| l.starts_with("ok ")).count(), 2, "{stdout}");
-    assert!(stdout.lines().any(|l| l.starts_with(&format!("FAIL  {}: line 9", input.join("d.bvh").display()))), "{stdout}");
+    assert!(
+        stdout.lines().any(|l| l.starts_with(&format!("FAIL  {}: line 9", input.join("d.bvh").display()))),
+        "{stdout}"
+    );
     for (name, frames) in [("a", 343), ("c", 524)] {
-        let seg = mocapseg::segment::Segmentation::from_json(&std::fs::read_to_string(output.join(format!("{name}.json"))).unwrap())
-            .unwrap();
+        let seg = mocapseg::segment::Segmentation::from_json(
+            &std::fs::read_to_string(output.join(format!("{name}.json"))).unwrap(),
+        )
+        .unwrap();
         assert_eq!(seg.frames, frames, "{name}");
     }
     assert!(!output.join("b.json").exists() && !output.join("d.json").exists());
     // the summary: counts, then the failed and the panicked take with why, then the exit code
     assert!(stderr.contains("2 of 4 takes segmented, 1 failed, 1 panicked in "), "{stderr}");
-    assert!(stderr.contains(&format!("failed (not written):\n  {}: line 9, column 34", input.join("d.bvh").display())), "{stderr}");
-    assert!(stderr.contains(&format!("panicked (not written; a bug in mocapseg, please report it):\n  {}: panicked: MOCAPSEG_TEST_PANIC_ON", b.display())), "{stderr}");
+    assert!(
+        stderr.contains(&format!("failed (not written):\n  {}: line 9, column 34", input.join("d.bvh").display())),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains(&format!(
+            "panicked (not written; a bug in mocapseg, please report it):\n  {}: panicked: MOCAPSEG_TEST_PANIC_ON",
+            b.display()
+        )),
+        "{stderr}"
+    );
     assert!(stderr.trim_end().ends_with("exit code 3: some take panicked, the rest written"), "{stderr}");
     assert!(!stderr.contains("thread '"), "the take's panic is reported once, not by the default hook too:\n{stderr}");
 }
@@ -329,7 +352,10 @@ fn a_take_that_now_fails_loses_its_earlier_output() {
     assert!(output.join("a.json").is_file());
     let removed = format!("({} of an earlier run removed)", output.join("b.json").display());
     assert!(stdout.lines().any(|l| l.starts_with("FAIL  ") && l.ends_with(&removed)), "{stdout}");
-    assert!(stderr.contains(&format!("failed (not written):\n  {}: line 9", input.join("b.bvh").display())), "{stderr}");
+    assert!(
+        stderr.contains(&format!("failed (not written):\n  {}: line 9", input.join("b.bvh").display())),
+        "{stderr}"
+    );
     assert!(stderr.contains(&removed), "{stderr}");
 }
 
@@ -366,8 +392,10 @@ fn takes_of_one_name_get_files_of_their_own() {
         .lines()
         .filter_map(|l| l.strip_prefix("ok    "))
         .map(|l| {
-            let take = l.split("  ").next().unwrap().strip_prefix(&format!("{}/", input.display())).unwrap().to_string();
-            let file = l.rsplit(" → ").next().unwrap().strip_prefix(&format!("{}/", output.display())).unwrap().to_string();
+            let take =
+                l.split("  ").next().unwrap().strip_prefix(&format!("{}/", input.display())).unwrap().to_string();
+            let file =
+                l.rsplit(" → ").next().unwrap().strip_prefix(&format!("{}/", output.display())).unwrap().to_string();
             (take, file)
         })
         .collect();
@@ -384,12 +412,14 @@ fn takes_of_one_name_get_files_of_their_own() {
     ];
     assert_eq!(written, expected.map(|(a, b)| (a.to_string(), b.to_string())), "{stdout}");
     // one file per take, none alike even ignoring case, each that take's segmentation
-    let mut names: Vec<String> = std::fs::read_dir(&output).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().to_lowercase()).collect();
+    let mut names: Vec<String> =
+        std::fs::read_dir(&output).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().to_lowercase()).collect();
     names.sort();
     names.dedup();
     assert_eq!(names.len(), expected.len(), "{names:?}");
     for (take, file) in expected {
-        let seg = mocapseg::segment::Segmentation::from_json(&std::fs::read_to_string(output.join(file)).unwrap()).unwrap();
+        let seg =
+            mocapseg::segment::Segmentation::from_json(&std::fs::read_to_string(output.join(file)).unwrap()).unwrap();
         assert_eq!(seg.file, std::path::Path::new(take).file_name().unwrap().to_string_lossy(), "{file}");
     }
 }
@@ -416,7 +446,8 @@ fn a_write_that_fails_part_way_leaves_no_partial_file() {
     assert_eq!(out.status.code(), Some(2), "{stdout}\n{stderr}");
     let a = output.join("a.json");
     assert!(stdout.starts_with(&format!("FAIL  {}: ", a.display())), "the write's failure names the file: {stdout}");
-    let left: Vec<String> = std::fs::read_dir(&output).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let left: Vec<String> =
+        std::fs::read_dir(&output).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     assert!(left.is_empty(), "left in the output folder: {left:?}\n{stdout}");
     assert!(stdout.trim_end().ends_with(&format!("({} of an earlier run removed)", a.display())), "{stdout}");
     // without the limit the same batch writes it whole
@@ -671,10 +702,14 @@ fn train_dtfcn_builds_the_papers_network_and_other_shapes_from_its_flags() {
     let dir = out_dir().join("dtfcn-shapes");
     std::fs::create_dir_all(&dir).unwrap();
     let labels = dir.join("labels.csv");
-    std::fs::write(&labels, "file,start_frame,end_frame,label
+    std::fs::write(
+        &labels,
+        "file,start_frame,end_frame,label
 02_01.bvh,0,170,start
 02_01.bvh,171,342,walk
-").unwrap();
+",
+    )
+    .unwrap();
     let model = dir.join("paper.model");
     let walk = fixture("02_01.bvh");
     let args = |extra: &[&str]| {
@@ -687,17 +722,30 @@ fn train_dtfcn_builds_the_papers_network_and_other_shapes_from_its_flags() {
     let out = run(&owned.iter().map(String::as_str).collect::<Vec<_>>());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
-    assert!(err.contains("receptive field 243 frames = 8.10 s") && err.contains("layer 1 reads 672 values per frame (the image resized to 224 rows)"), "{err}");
+    assert!(
+        err.contains("receptive field 243 frames = 8.10 s")
+            && err.contains("layer 1 reads 672 values per frame (the image resized to 224 rows)"),
+        "{err}"
+    );
     assert!(err.contains("(663562 with the paper's 10 classes"), "{err}");
     let info = stdout_json(&run(&["model-info", model.to_str().unwrap()]));
     let network = &info["network"];
     assert_eq!((network["image_rows"].as_u64(), network["padding"].as_str()), (Some(224), Some("edge")), "{info}");
     assert_eq!(network["filters"], serde_json::json!([64, 64, 128, 256, 512]));
     // it labels a take (the resize and the edge padding at inference too)
-    let seg = stdout_json(&run(&["segment", "--method", "dtfcn", "--model", model.to_str().unwrap(), walk.to_str().unwrap()]));
+    let seg = stdout_json(&run(&[
+        "segment",
+        "--method",
+        "dtfcn",
+        "--model",
+        model.to_str().unwrap(),
+        walk.to_str().unwrap(),
+    ]));
     assert!(!seg["segments"].as_array().unwrap().is_empty());
     // refusals name the flag
-    for (bad, says) in [(vec!["--filters", "64,0"], "--filters"), (vec!["--padding", "mirror"], "--padding: padding \"mirror\"")] {
+    for (bad, says) in
+        [(vec!["--filters", "64,0"], "--filters"), (vec!["--padding", "mirror"], "--padding: padding \"mirror\"")]
+    {
         let owned = args(&bad);
         let out = run(&owned.iter().map(String::as_str).collect::<Vec<_>>());
         assert!(!out.status.success());
@@ -721,8 +769,14 @@ fn train_dtfcn_writes_a_model_that_segment_and_model_info_read_and_bad_models_ar
     let (a, b) = (fixture("02_01.bvh"), fixture("35_01.bvh"));
     for method in ["dtfcn", "knn"] {
         let command = format!("train-{method}");
-        let mut args =
-            vec![command.as_str(), "--bvh", a.to_str().unwrap(), b.to_str().unwrap(), "--labels", labels.to_str().unwrap()];
+        let mut args = vec![
+            command.as_str(),
+            "--bvh",
+            a.to_str().unwrap(),
+            b.to_str().unwrap(),
+            "--labels",
+            labels.to_str().unwrap(),
+        ];
         // the network's flags are rows of DT-FCN's table only: the k-NN's refuses them
         let network = ["--epochs", "2", "--width", "2"];
         if method == "dtfcn" {
@@ -741,7 +795,8 @@ fn train_dtfcn_writes_a_model_that_segment_and_model_info_read_and_bad_models_ar
             // the shape, with the receptive field in seconds and the parameters beside the paper's
             assert!(
                 err.contains("receptive field 16 frames = 0.53 s at 30 Hz")
-                    && err.contains("352962 parameters (357066 with the paper's 10 classes; the paper's network: 663562"),
+                    && err
+                        .contains("352962 parameters (357066 with the paper's 10 classes; the paper's network: 663562"),
                 "{err}"
             );
         }
@@ -808,8 +863,20 @@ fn a_validation_take_and_training_without_labels_are_what_the_method_declares() 
     let (a, b, labels_arg) = (a.to_str().unwrap(), b.to_str().unwrap(), labels.to_str().unwrap());
     let model = dir.join("val.model");
     let out = run(&[
-        "train-dtfcn", "--bvh", a, b, "--labels", labels_arg, "--validation", "35_01.bvh", "--epochs", "3",
-        "--filters", "8,8", "--out", model.to_str().unwrap(),
+        "train-dtfcn",
+        "--bvh",
+        a,
+        b,
+        "--labels",
+        labels_arg,
+        "--validation",
+        "35_01.bvh",
+        "--epochs",
+        "3",
+        "--filters",
+        "8,8",
+        "--out",
+        model.to_str().unwrap(),
     ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
@@ -823,7 +890,16 @@ fn a_validation_take_and_training_without_labels_are_what_the_method_declares() 
     // the k-NN: the validation take is not among its windows, and chooses its decoding
     let knn = dir.join("val-knn.model");
     let out = run(&[
-        "train-knn", "--bvh", a, b, "--labels", labels_arg, "--validation", "35_01.bvh", "--out", knn.to_str().unwrap(),
+        "train-knn",
+        "--bvh",
+        a,
+        b,
+        "--labels",
+        labels_arg,
+        "--validation",
+        "35_01.bvh",
+        "--out",
+        knn.to_str().unwrap(),
     ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success() && err.contains("Decoding chosen on 35_01.bvh: "), "{err}");
@@ -832,19 +908,55 @@ fn a_validation_take_and_training_without_labels_are_what_the_method_declares() 
     // told not to choose: the rows as given
     let kept = dir.join("val-kept.model");
     let out = run(&[
-        "train-dtfcn", "--bvh", a, b, "--labels", labels_arg, "--validation", "35_01.bvh", "--epochs", "1",
-        "--filters", "8,8", "--choose-decoding", "false", "--min-duration-s", "3", "--unknown-threshold", "0.25",
-        "--out", kept.to_str().unwrap(),
+        "train-dtfcn",
+        "--bvh",
+        a,
+        b,
+        "--labels",
+        labels_arg,
+        "--validation",
+        "35_01.bvh",
+        "--epochs",
+        "1",
+        "--filters",
+        "8,8",
+        "--choose-decoding",
+        "false",
+        "--min-duration-s",
+        "3",
+        "--unknown-threshold",
+        "0.25",
+        "--out",
+        kept.to_str().unwrap(),
     ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success() && !err.contains("Decoding chosen"), "{err}");
     let info = stdout_json(&run(&["model-info", kept.to_str().unwrap()]));
-    assert_eq!((info["decoding"]["min_duration_s"].as_f64(), info["unknown_threshold"].as_f64()), (Some(3.0), Some(0.25)), "{info}");
+    assert_eq!(
+        (info["decoding"]["min_duration_s"].as_f64(), info["unknown_threshold"].as_f64()),
+        (Some(3.0), Some(0.25)),
+        "{info}"
+    );
     for (args, says) in [
-        (vec!["train-dtfcn", "--bvh", a, b, "--labels", labels_arg, "--validation", "nope.bvh"], "nope.bvh: not among the takes"),
+        (
+            vec!["train-dtfcn", "--bvh", a, b, "--labels", labels_arg, "--validation", "nope.bvh"],
+            "nope.bvh: not among the takes",
+        ),
         (vec!["train-dtfcn", "--bvh", a, "--labels", labels_arg, "--validation", "02_01.bvh"], "the only take"),
         (
-            vec!["train", "--method", "knn", a, b, "--labels", labels_arg, "--validation", "35_01.bvh", "--option", "choose_decoding=false"],
+            vec![
+                "train",
+                "--method",
+                "knn",
+                a,
+                b,
+                "--labels",
+                labels_arg,
+                "--validation",
+                "35_01.bvh",
+                "--option",
+                "choose_decoding=false",
+            ],
             "a k-NN has no epochs for a validation take to choose, only its decoding (choose_decoding)",
         ),
         (vec!["train-dtfcn", "--bvh", a], "--labels"),
@@ -856,14 +968,29 @@ fn a_validation_take_and_training_without_labels_are_what_the_method_declares() 
     // LMA without labels: the stand-in descriptors over every take given, the one path the page trains by
     let family = dir.join("stand-in.json");
     let out = run(&[
-        "train-lma", "--bvh", fixture("12_01.bvh").to_str().unwrap(), fixture("131_01.bvh").to_str().unwrap(),
-        "--restarts", "2", "--saliency-rounds", "4", "--max-epochs", "40", "--shift-epochs", "3",
-        "--out", family.to_str().unwrap(),
+        "train-lma",
+        "--bvh",
+        fixture("12_01.bvh").to_str().unwrap(),
+        fixture("131_01.bvh").to_str().unwrap(),
+        "--restarts",
+        "2",
+        "--saliency-rounds",
+        "4",
+        "--max-epochs",
+        "40",
+        "--shift-epochs",
+        "3",
+        "--out",
+        family.to_str().unwrap(),
     ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     assert!(err.contains("no --labels: LMA learns from the stand-in Effort descriptors"), "{err}");
-    assert!(err.contains("Trained on the stand-in Effort descriptors' terciles over") && err.contains("12_01.bvh, 131_01.bvh"), "{err}");
+    assert!(
+        err.contains("Trained on the stand-in Effort descriptors' terciles over")
+            && err.contains("12_01.bvh, 131_01.bvh"),
+        "{err}"
+    );
     let seg = stdout_json(&run(&["segment", "--method", "lma", "--model", family.to_str().unwrap(), a]));
     assert_eq!(seg["params"]["model"], "stand-in");
 }
@@ -1059,11 +1186,7 @@ fn train_trains_any_method_with_models_from_its_declared_options() {
     }
     // labels counted in 30 Hz frames for these 120 Hz takes end a quarter of the way: trained, and told why
     let quarter = dir.join("quarter.csv");
-    std::fs::write(
-        &quarter,
-        "file,start_frame,end_frame,label\n02_01.bvh,0,42,start\n02_01.bvh,43,85,walk\n",
-    )
-    .unwrap();
+    std::fs::write(&quarter, "file,start_frame,end_frame,label\n02_01.bvh,0,42,start\n02_01.bvh,43,85,walk\n").unwrap();
     let model = dir.join("quarter.model");
     let out = run(&["train", "--method", "knn", &arg(&a), "--labels", &arg(&quarter), "-o", &arg(&model)]);
     let err = String::from_utf8_lossy(&out.stderr);
@@ -1162,7 +1285,17 @@ fn every_training_option_is_a_flag_of_its_train_command() {
     }
     assert_eq!(seen, 3, "dtfcn, knn and lma have models");
     let labels = fixture("12_01.bvh");
-    let out = run(&["train-dtfcn", "--bvh", labels.to_str().unwrap(), "--labels", "x.csv", "--epochs", "many", "-o", "/dev/null"]);
+    let out = run(&[
+        "train-dtfcn",
+        "--bvh",
+        labels.to_str().unwrap(),
+        "--labels",
+        "x.csv",
+        "--epochs",
+        "many",
+        "-o",
+        "/dev/null",
+    ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("--epochs"), "{err}");
     let out = run(&["train-lma", "--bvh", labels.to_str().unwrap(), "--restarts", "0", "-o", "/dev/null"]);
@@ -1194,7 +1327,11 @@ fn effort_gives_every_segment_of_any_method_its_laban_effort() {
             assert!((-1.0..=1.0).contains(&v), "{s}");
         }
     }
-    assert!(String::from_utf8_lossy(&out.stderr).contains(&format!("{} of {} segments", segments.len(), segments.len())));
+    assert!(String::from_utf8_lossy(&out.stderr).contains(&format!(
+        "{} of {} segments",
+        segments.len(),
+        segments.len()
+    )));
     let other = fixture("12_01.bvh");
     let out = run(&["effort", seg_path.to_str().unwrap(), other.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&out.stderr);
@@ -1225,7 +1362,11 @@ fn segment_names_the_models_that_fit_a_take_its_model_does_not() {
     assert_eq!(code, Some(0), "{stderr}");
     let all = format!("{stdout}{stderr}");
     let line = all.lines().find(|l| l.starts_with("ok") && l.contains("02_01.bvh")).unwrap_or_else(|| panic!("{all}"));
-    assert!(line.contains("— model `exercises` does not fit this take") && line.ends_with("models that fit this take: locomotion"), "{line}");
+    assert!(
+        line.contains("— model `exercises` does not fit this take")
+            && line.ends_with("models that fit this take: locomotion"),
+        "{line}"
+    );
 }
 
 /// A library folder: the bundled sample (13_30), 13_31 and a file that is not a BVH.
@@ -1256,7 +1397,10 @@ fn cluster_shares_ids_across_takes_and_skips_a_bad_file() {
     assert_eq!(summary["failed"].as_array().unwrap().len(), 1);
     let takes: Vec<mocapseg::segment::Segmentation> = ["13_30", "13_31"]
         .iter()
-        .map(|t| mocapseg::segment::Segmentation::from_json(&std::fs::read_to_string(out.join(format!("{t}.json"))).unwrap()).unwrap())
+        .map(|t| {
+            mocapseg::segment::Segmentation::from_json(&std::fs::read_to_string(out.join(format!("{t}.json"))).unwrap())
+                .unwrap()
+        })
         .collect();
     // clusters in both takes, each occurrence the segment of that take carrying its id, longest first
     let clusters = summary["clusters"].as_array().unwrap();
@@ -1269,7 +1413,10 @@ fn cluster_shares_ids_across_takes_and_skips_a_bad_file() {
         for o in c["occurrences"].as_array().unwrap() {
             let t = usize::from(o["take"] == "13_31");
             let s = &takes[t].segments[o["segment"].as_u64().unwrap() as usize];
-            assert_eq!((s.cluster, s.start as u64, s.end as u64), (Some(id), o["start"].as_u64().unwrap(), o["end"].as_u64().unwrap()));
+            assert_eq!(
+                (s.cluster, s.start as u64, s.end as u64),
+                (Some(id), o["start"].as_u64().unwrap(), o["end"].as_u64().unwrap())
+            );
             assert_eq!(s.label, format!("C{id}"));
         }
     }
@@ -1307,16 +1454,39 @@ fn transfer_carries_one_takes_labels_to_the_other() {
         assert!(other.len() >= 3, "{route}: {other:?}");
         assert!(other.iter().all(|r| classes.contains(&r.label.as_str())), "{route}: {other:?}");
         assert!(rows.iter().any(|r| r.file == "13_30.bvh" && r.start_frame == 0 && r.label == "JumpJack"));
-        let seg = mocapseg::segment::Segmentation::from_json(&std::fs::read_to_string(out.join("13_31.json")).unwrap()).unwrap();
+        let seg = mocapseg::segment::Segmentation::from_json(&std::fs::read_to_string(out.join("13_31.json")).unwrap())
+            .unwrap();
         assert_eq!(seg.method, "transfer");
         assert!(seg.segments.iter().all(|s| s.score.is_some_and(|c| (0.0..=1.0).contains(&c))));
     }
     // labels that do not name the labelled take, a route that does not exist
-    let r = run(&["transfer", lib.to_str().unwrap(), "--labels", labels.to_str().unwrap(), "--from",
-        lib.join("13_31.bvh").to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    let r = run(&[
+        "transfer",
+        lib.to_str().unwrap(),
+        "--labels",
+        labels.to_str().unwrap(),
+        "--from",
+        lib.join("13_31.bvh").to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(r.status.code(), Some(1));
-    assert!(String::from_utf8_lossy(&r.stderr).contains("no row names the labelled take 13_31"), "{}", String::from_utf8_lossy(&r.stderr));
-    let r = run(&["transfer", lib.to_str().unwrap(), "--labels", labels.to_str().unwrap(), "--from", from.to_str().unwrap(),
-        "--out", out.to_str().unwrap(), "--route", "sideways"]);
+    assert!(
+        String::from_utf8_lossy(&r.stderr).contains("no row names the labelled take 13_31"),
+        "{}",
+        String::from_utf8_lossy(&r.stderr)
+    );
+    let r = run(&[
+        "transfer",
+        lib.to_str().unwrap(),
+        "--labels",
+        labels.to_str().unwrap(),
+        "--from",
+        from.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--route",
+        "sideways",
+    ]);
     assert!(String::from_utf8_lossy(&r.stderr).contains("--route sideways: expected nearest or clusters"));
 }

@@ -364,7 +364,10 @@ fn a_fold_validates_on_any_inner_take() {
     let options = small(3);
     let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &mut |_| true).unwrap();
     let (p, source, epoch) = validation_fold(&takes, &labels, 0, fold.validation, &classes, &options).unwrap();
-    assert_eq!((p, source, epoch), (fold.validation_probabilities.clone(), fold.validation_source.clone(), fold.best_epoch));
+    assert_eq!(
+        (p, source, epoch),
+        (fold.validation_probabilities.clone(), fold.validation_source.clone(), fold.best_epoch)
+    );
     let (p, source) = final_fold(&takes, &labels, 0, &classes, &options, fold.best_epoch).unwrap();
     assert_eq!((p, source), (fold.network_probabilities.clone(), fold.network_source.clone()));
     let other = 3 - fold.validation; // the other inner take (takes 1 and 2 are the inner ones)

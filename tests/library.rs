@@ -5,7 +5,6 @@
 //! from one take to the other by both routes well above chance. `cargo run --release --example library` measures
 //! the same on the four shared mocap6 takes (docs/library.md).
 
-
 use mocapseg::library::score::{chance_scores, cluster_scores, frame_clusters};
 use mocapseg::library::{cluster, transfer, KnowledgeBase, LibraryParams, LibraryTake, TakeFeatures, TransferRoute};
 use mocapseg::method::{NoProgress, RunOptions};
@@ -95,7 +94,10 @@ fn labels_of_one_take_reach_the_other_well_above_chance() {
                 }
             }
             let (acc, chance) = (right as f64 / seen as f64, chance as f64 / seen as f64);
-            println!("{} → {} {route:?}: accuracy {acc:.3} (chance {chance:.3})", library[source].name, library[target].name);
+            println!(
+                "{} → {} {route:?}: accuracy {acc:.3} (chance {chance:.3})",
+                library[source].name, library[target].name
+            );
             assert!(acc >= chance + 0.25, "{route:?} {source}→{target}: {acc} vs chance {chance}");
             // measured 0.86 / 0.94 by the nearest labelled unit, 0.80 / 0.80 through the clusters
             let floor = if route == TransferRoute::Nearest { 0.75 } else { 0.65 };

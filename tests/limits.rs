@@ -151,8 +151,14 @@ fn every_method_stays_within_the_work_it_declares() {
                 let rates: &[f64] = if k == 0 { &[30.0, 120.0] } else { &[30.0] };
                 for &fps in rates {
                     let take = working_take(if fps == 120.0 { 4 * frames } else { frames }, fps);
-                    let (out, peak) =
-                        peak_during(|| m.run_checked(&take, &checked, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress));
+                    let (out, peak) = peak_during(|| {
+                        m.run_checked(
+                            &take,
+                            &checked,
+                            &RunOptions { pictures: true, ..RunOptions::default() },
+                            &mut NoProgress,
+                        )
+                    });
                     out.unwrap_or_else(|e| panic!("{name} {params} on {frames} frames at {fps} Hz: {e}"));
                     let working = work.frames(&take);
                     assert!(working.abs_diff(frames) <= 1, "{name}: {working} working frames of {frames}");
@@ -198,8 +204,14 @@ fn slow_frame_times_are_refused_or_run_within_the_budget() {
         for m in mocapseg::methods::registry() {
             let name = m.info().name;
             let checked = m.check_json(&serde_json::json!({})).unwrap();
-            let (out, peak) =
-                peak_during(|| m.run_checked(&motion, &checked, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress));
+            let (out, peak) = peak_during(|| {
+                m.run_checked(
+                    &motion,
+                    &checked,
+                    &RunOptions { pictures: true, ..RunOptions::default() },
+                    &mut NoProgress,
+                )
+            });
             if refused {
                 let message = out.err().unwrap_or_else(|| panic!("{name} ran on {file}")).to_string();
                 assert!(

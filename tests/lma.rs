@@ -14,8 +14,8 @@ use mocapseg::method::{NoProgress, RunOptions};
 use mocapseg::methods::lma::body::upper_body;
 use mocapseg::methods::lma::classifier::effort;
 use mocapseg::methods::lma::corpus::{parse_labels, Corpus, CorpusConfig, EffortLabel};
-use mocapseg::methods::lma::effort::Element;
 use mocapseg::methods::lma::deviance::{exhaustive, pruned};
+use mocapseg::methods::lma::effort::Element;
 use mocapseg::methods::lma::features::Pool;
 use mocapseg::methods::lma::method::{segment_with, LmaParams};
 use mocapseg::methods::lma::network::TrainOptions;
@@ -127,7 +127,9 @@ fn both_searches_segment_a_take_into_gestures_with_their_effort() {
     let m = motion("131_01.bvh", WALK);
     for (search, exhaustive) in [("effort", false), ("effort", true), ("deviance", false), ("deviance", true)] {
         let params = LmaParams { exhaustive, search: search.into(), ..LmaParams::default() };
-        let out = segment_with(model, &m, &params, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress).unwrap();
+        let out =
+            segment_with(model, &m, &params, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress)
+                .unwrap();
         let seg = &out.segmentation;
         seg.validate().unwrap();
         assert_eq!(seg.method, "lma");
@@ -168,7 +170,9 @@ fn recall(found: &[usize], truth: &[usize], tolerance: usize) -> f64 {
     let hit = truth
         .iter()
         .filter(|&&t| {
-            let k = (0..found.len()).filter(|&k| !used[k] && found[k].abs_diff(t) <= tolerance).min_by_key(|&k| found[k].abs_diff(t));
+            let k = (0..found.len())
+                .filter(|&k| !used[k] && found[k].abs_diff(t) <= tolerance)
+                .min_by_key(|&k| found[k].abs_diff(t));
             k.map(|k| used[k] = true).is_some()
         })
         .count();
@@ -180,12 +184,17 @@ fn pruned_and_exhaustive_find_the_planted_boundaries() {
     // pieces of a walk, a run and another walk spliced with moving seams: the planted boundaries are known
     use mocapseg::segment::truth::{Truth, TruthSegment};
     use mocapseg::splice::{splice, Source, SpliceOptions};
-    let texts = [("02_01", include_str!("fixtures/02_01.bvh")), ("35_01", OTHER), ("02_02", include_str!("fixtures/02_02.bvh"))];
+    let texts = [
+        ("02_01", include_str!("fixtures/02_01.bvh")),
+        ("35_01", OTHER),
+        ("02_02", include_str!("fixtures/02_02.bvh")),
+    ];
     let takes: Vec<(bvh::Bvh, Truth)> = texts
         .iter()
         .map(|(name, text)| {
             let b = bvh::parse(text).unwrap();
-            let segments = vec![TruthSegment { start: 0, end: b.frames() - 1, label: name.to_string(), end_window: None }];
+            let segments =
+                vec![TruthSegment { start: 0, end: b.frames() - 1, label: name.to_string(), end_window: None }];
             let truth = Truth { trial: name.to_string(), frames: b.frames(), segments };
             (b, truth)
         })
@@ -207,7 +216,11 @@ fn pruned_and_exhaustive_find_the_planted_boundaries() {
         let r = recall(&bounds, &planted, (0.5 * m.fps) as usize);
         let n = out.segmentation.segments.len();
         assert!(r >= 0.8, "exhaustive {exhaustive}: {r:.2} of the {} planted boundaries found", planted.len());
-        assert!(n <= 2 * spliced.pieces.len(), "exhaustive {exhaustive}: {n} segments for {} pieces", spliced.pieces.len());
+        assert!(
+            n <= 2 * spliced.pieces.len(),
+            "exhaustive {exhaustive}: {n} segments for {} pieces",
+            spliced.pieces.len()
+        );
         found.push(bounds);
     }
     // pruning (hand-speed minima only) keeps most of what every frame finds (measured 0.78)
@@ -232,7 +245,9 @@ fn a_take_shorter_than_the_shortest_segment_gives_none() {
     let m = motion("short.bvh", &truncated(WALK, 60));
     for exhaustive in [false, true] {
         let params = LmaParams { exhaustive, ..LmaParams::default() };
-        let out = segment_with(model, &m, &params, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress).unwrap();
+        let out =
+            segment_with(model, &m, &params, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress)
+                .unwrap();
         assert!(out.segmentation.segments.is_empty());
     }
 }

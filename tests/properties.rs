@@ -259,11 +259,8 @@ fn check_inside(s: &Segmentation, frames: usize, name: &str) -> Result<(), TestC
     s.validate().map_err(|e| TestCaseError::fail(format!("{name}: {e}")))?;
     prop_assert_eq!(s.frames, frames, "{}", name);
     for primitive in [false, true] {
-        let mut level: Vec<_> = s
-            .segments
-            .iter()
-            .filter(|x| (x.level == Level::Primitive) == primitive && x.effort.is_none())
-            .collect();
+        let mut level: Vec<_> =
+            s.segments.iter().filter(|x| (x.level == Level::Primitive) == primitive && x.effort.is_none()).collect();
         level.sort_by_key(|x| x.start);
         for w in level.windows(2) {
             prop_assert!(

@@ -202,8 +202,13 @@ mod worker {
         };
         assert!(matches!(ask(load, Some(take)).last(), Some(Response::Loaded { take: 21, .. })));
         let spans = vec![(0, 150), (151, 152), (153, 523)];
-        let annotate =
-            || Request::Annotate { take: 21, run: 22, method: "lma".into(), params: serde_json::json!({}), spans: spans.clone() };
+        let annotate = || Request::Annotate {
+            take: 21,
+            run: 22,
+            method: "lma".into(),
+            params: serde_json::json!({}),
+            spans: spans.clone(),
+        };
         let mut posted = ask(annotate(), None);
         if let Some(Response::NeedsModel { file, .. }) = posted.last().cloned() {
             assert_eq!(file, "lma-effort.json");

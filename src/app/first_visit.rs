@@ -63,10 +63,8 @@ pub fn Legend() -> impl IntoView {
     let open = RwSignal::new(false);
     // Esc closes it wherever the focus is, before the timeline's keys see it (which would drop
     // the selection): in the capture phase, marked as handled
-    let options = gloo::events::EventListenerOptions {
-        phase: gloo::events::EventListenerPhase::Capture,
-        passive: false,
-    };
+    let options =
+        gloo::events::EventListenerOptions { phase: gloo::events::EventListenerPhase::Capture, passive: false };
     gloo::events::EventListener::new_with_options(&gloo::utils::window(), "keydown", options, move |ev| {
         let ev: &web_sys::KeyboardEvent = ev.unchecked_ref();
         if open.get_untracked() && ev.key() == "Escape" {
@@ -121,7 +119,8 @@ fn later(f: impl FnOnce() + 'static) {
 }
 
 fn focus(id: &str) {
-    if let Some(el) = gloo::utils::document().get_element_by_id(id).and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
+    if let Some(el) =
+        gloo::utils::document().get_element_by_id(id).and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
     {
         let _ = el.focus();
     }

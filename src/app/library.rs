@@ -32,9 +32,9 @@ use super::loader::Loader;
 use super::method_panel::SegmentRow;
 use super::motion_image::download;
 use super::AppState;
+use crate::library::{LibraryTake, TakeFeatures};
 use crate::protocol::{MethodView, RunId};
 use crate::segment::Level;
-use crate::library::{LibraryTake, TakeFeatures};
 use crate::view::carry::{frame_labels, Carried, Route};
 use crate::view::library::{library_csv, playing_text, ClusterNames, Playlist, Queue, Shared, Spot};
 use leptos::prelude::*;
@@ -180,7 +180,11 @@ impl LibraryState {
                 .into_iter()
                 .filter_map(|(i, segmentation)| match features.get(i) {
                     Some(Some(Ok(f))) => Some((
-                        LibraryTake { name: q.entries[i].name.clone(), features: f.clone(), segmentation: segmentation.clone() },
+                        LibraryTake {
+                            name: q.entries[i].name.clone(),
+                            features: f.clone(),
+                            segmentation: segmentation.clone(),
+                        },
                         i,
                     )),
                     _ => None,
@@ -281,7 +285,9 @@ pub fn LibraryPanel(state: AppState, loader: Loader) -> impl IntoView {
         let rows = csv.lines().count().saturating_sub(1);
         let file = "library_labels.csv";
         library.status.set(Some(match download(csv.as_bytes(), "text/csv", file) {
-            Ok(()) => (false, format!("saved {file} ({rows} rows of {})", crate::method::counted(labelled.len(), "take"))),
+            Ok(()) => {
+                (false, format!("saved {file} ({rows} rows of {})", crate::method::counted(labelled.len(), "take")))
+            }
             Err(e) => (true, format!("could not save {file}: {}", super::js_message(&e))),
         }));
     };
@@ -467,9 +473,13 @@ const MAX_LISTED: usize = 200;
 /// The colour of cluster `id` as the timeline draws its segments (primitives by cluster, actions
 /// by their action colour), taken from its first occurrence.
 fn colour(shared: &Shared, id: usize) -> String {
-    let level = shared.clusters.clusters.iter().find(|c| c.id == id).and_then(|c| c.occurrences.first()).and_then(|o| {
-        shared.clusters.takes.get(o.take).and_then(|t| t.segments.get(o.segment)).map(|s| s.level)
-    });
+    let level = shared
+        .clusters
+        .clusters
+        .iter()
+        .find(|c| c.id == id)
+        .and_then(|c| c.occurrences.first())
+        .and_then(|o| shared.clusters.takes.get(o.take).and_then(|t| t.segments.get(o.segment)).map(|s| s.level));
     match level {
         Some(Level::Primitive) | None => crate::segment::palette::cluster_colour(id, None),
         Some(_) => {
@@ -588,7 +598,8 @@ fn Clusters(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl 
                 }
             })
             .collect_view();
-        let note = (more > 0).then(|| view! { <p class="ms-lib-note">{format!("and {more} more (in every cluster's clips)")}</p> });
+        let note = (more > 0)
+            .then(|| view! { <p class="ms-lib-note">{format!("and {more} more (in every cluster's clips)")}</p> });
         Some(view! { <ol id="library-clusters" class="ms-lib-list">{items}</ol>{note} })
     };
     view! {
@@ -690,8 +701,9 @@ pub(super) fn transferred_view(state: AppState) -> Option<Arc<MethodView>> {
     let library = state.library;
     let i = library.open_on_screen(state)?;
     let segmentation = library.carried.with(|c| c.as_ref().filter(|c| c.source != i).and_then(|c| c.row(i)))?;
-    (segmentation.frames == state.frames())
-        .then(|| Arc::new(MethodView { method: segmentation.method.clone(), segmentation, details: Default::default() }))
+    (segmentation.frames == state.frames()).then(|| {
+        Arc::new(MethodView { method: segmentation.method.clone(), segmentation, details: Default::default() })
+    })
 }
 
 /// The timeline's `#row-transferred` ("Transferred"): the labels carried to the take on screen,

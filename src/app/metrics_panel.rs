@@ -158,7 +158,8 @@ fn scorable_rows(state: AppState) -> Vec<Row> {
     if let Some(mine) = state.mine.get() {
         rows.push(("my-labels".to_string(), "My labels".to_string(), (*mine).clone(), None));
     }
-    let sample = state.motion.with(|m| m.as_ref().is_some_and(|m| is_bundled_sample(&m.summary.name, m.summary.frames)));
+    let sample =
+        state.motion.with(|m| m.as_ref().is_some_and(|m| is_bundled_sample(&m.summary.name, m.summary.frames)));
     for slot in state.methods {
         slot.view.with(|v| {
             let Some(v) = v else { return };
@@ -169,22 +170,12 @@ fn scorable_rows(state: AppState) -> Vec<Row> {
                 crate::view::rows::row_name(&slot.info.short, super::method_panel::row_kind(Some(&**v), primitive))
             };
             if seg.segments.iter().any(|s| s.level != Level::Primitive) {
-                rows.push((
-                    format!("{}-actions", slot.info.name),
-                    name(false),
-                    seg.clone(),
-                    note.clone(),
-                ));
+                rows.push((format!("{}-actions", slot.info.name), name(false), seg.clone(), note.clone()));
             }
             if seg.segments.iter().any(|s| s.level == Level::Primitive) {
                 let mut primitives = seg.clone();
                 primitives.segments.retain(|s| s.level == Level::Primitive);
-                rows.push((
-                    format!("{}-primitives", slot.info.name),
-                    name(true),
-                    primitives,
-                    note.clone(),
-                ));
+                rows.push((format!("{}-primitives", slot.info.name), name(true), primitives, note.clone()));
             }
         });
     }
@@ -282,7 +273,8 @@ fn compare_table(compared: &[Compared], trial: &str, sort: RwSignal<Option<(Stri
                         let shown = format!("{v:.digits$}");
                         let is_best = best[j][i];
                         let content = if is_best {
-                            view! { <strong>{shown}</strong><span class="ms-visually-hidden">" (best)"</span> }.into_any()
+                            view! { <strong>{shown}</strong><span class="ms-visually-hidden">" (best)"</span> }
+                                .into_any()
                         } else {
                             shown.into_any()
                         };

@@ -197,7 +197,8 @@ fn other_rows(state: AppState) -> Vec<OtherRow> {
     }
     // the labels carried across the library to this take
     if let Some(v) = super::library::transferred_view(state) {
-        let segments = v.segmentation.segments.iter().map(|s| (s.start, s.end, s.label.clone(), segment_colour(&v, s))).collect();
+        let segments =
+            v.segmentation.segments.iter().map(|s| (s.start, s.end, s.label.clone(), segment_colour(&v, s))).collect();
         rows.push(OtherRow { id: TRANSFERRED.into(), name: "Transferred".into(), segments, classes: true });
     }
     rows
@@ -959,7 +960,8 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
     let empty = move || mine.model.with(|m| m.spans().is_empty());
     let count = move || mine.model.with(|m| m.spans().len());
     // my segments' frames, for the Effort bars under the row (a new list only when they change)
-    let my_spans = Memo::new(move |_| mine.model.with(|m| m.spans().iter().map(|s| (s.start, s.end)).collect::<Vec<_>>()));
+    let my_spans =
+        Memo::new(move |_| mine.model.with(|m| m.spans().iter().map(|s| (s.start, s.end)).collect::<Vec<_>>()));
     let effort_spans = Signal::derive(move || Arc::new(my_spans.get()));
     view! {
         <div class="ms-tl-line ms-tl-line--row ms-tl-line--mine" hidden=move || state.motion.with(Option::is_none)>

@@ -88,7 +88,8 @@ fn shared(state: AppState, loader: &Loader) -> (RwSignal<ShippedCards>, RwSignal
     // the take on screen's file hashed once per load (a few milliseconds for a few MB)
     let loader = loader.clone();
     Effect::new(move |_| {
-        let Some((name, frames)) = state.motion.with(|m| m.as_ref().map(|m| (m.summary.name.clone(), m.summary.frames)))
+        let Some((name, frames)) =
+            state.motion.with(|m| m.as_ref().map(|m| (m.summary.name.clone(), m.summary.frames)))
         else {
             return;
         };
@@ -152,7 +153,8 @@ fn chosen_card(
         state.motion.with(|m| {
             let m = m.as_ref()?;
             let (take, frames) = (&m.summary.name, m.summary.frames);
-            let hash = sha.with(|h| h.as_ref().filter(|(n, f, _)| n == take && *f == frames).map(|(_, _, h)| h.clone()));
+            let hash =
+                sha.with(|h| h.as_ref().filter(|(n, f, _)| n == take && *f == frames).map(|(_, _, h)| h.clone()));
             let aliases: &[&str] = if is_bundled_sample(take, frames) { &[SAMPLE_TAKE] } else { &[] };
             training_match(card, take, hash.as_deref(), aliases)
         })
@@ -176,7 +178,8 @@ fn rerun_on_change(slot: &'static MethodSlot, loader: Loader, index: usize) {
 #[component]
 pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
     let slot: &'static MethodSlot = &state.methods[index];
-    let (Some(s), Some((value, choices)), Some(loader)) = (slot.supervised.as_ref(), slot.param("model"), page_loader())
+    let (Some(s), Some((value, choices)), Some(loader)) =
+        (slot.supervised.as_ref(), slot.param("model"), page_loader())
     else {
         return ().into_any();
     };

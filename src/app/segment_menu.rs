@@ -63,9 +63,8 @@ fn segment_of(el: &Element) -> Option<(Element, String, usize, usize, String)> {
     let row = seg.closest(".ms-row").ok()??.id().strip_prefix("row-")?.to_string();
     let start = seg.get_attribute("data-start")?.parse().ok()?;
     let end = seg.get_attribute("data-end")?.parse().ok()?;
-    let blank = ["ms-seg--transition", "ms-seg--unknown", "ms-seg--unlabelled"]
-        .iter()
-        .any(|c| seg.class_list().contains(c));
+    let blank =
+        ["ms-seg--transition", "ms-seg--unknown", "ms-seg--unlabelled"].iter().any(|c| seg.class_list().contains(c));
     let label = if blank {
         String::new()
     } else {
@@ -148,15 +147,14 @@ pub fn SegmentMenu(state: AppState, mine: MyRow, rows: NodeRef<Div>) -> impl Int
             return;
         }
         let Some(sel) = state.selected.get_untracked() else { return };
-        let selector =
-            format!("#row-{} .ms-seg[data-start=\"{}\"][data-end=\"{}\"]", sel.row, sel.start, sel.end);
+        let selector = format!("#row-{} .ms-seg[data-start=\"{}\"][data-end=\"{}\"]", sel.row, sel.start, sel.end);
         let Some(el) = gloo::utils::document().query_selector(&selector).ok().flatten() else { return };
         let Some((seg, row, start, end, label)) = segment_of(&el) else { return };
         ev.prevent_default();
         show(&seg, row, start, end, label, None);
     });
     std::mem::forget(key); // the timeline lives as long as the page
-    // in the capture phase: a segment's own press stops there
+                           // in the capture phase: a segment's own press stops there
     gloo::events::EventListener::new_with_options(
         &gloo::utils::window(),
         "pointerdown",
@@ -189,15 +187,22 @@ pub fn SegmentMenu(state: AppState, mine: MyRow, rows: NodeRef<Div>) -> impl Int
                         return status.set(Some((true, format!("{title}: run the method first"))));
                     };
                     let which = which_of(&view, o.start, o.end).unwrap_or(Which::All);
-                    loader.with_value(|l| l.export_clips_of(&view.segmentation, &slot.info.name, which, false, only, status));
+                    loader.with_value(|l| {
+                        l.export_clips_of(&view.segmentation, &slot.info.name, which, false, only, status)
+                    });
                 } else {
                     let segmentation = if o.row == MINE {
                         state.mine.get_untracked()
                     } else {
-                        state.truth.view.with_untracked(|v| v.as_ref().map(|v| std::sync::Arc::new(v.segmentation.clone())))
+                        state
+                            .truth
+                            .view
+                            .with_untracked(|v| v.as_ref().map(|v| std::sync::Arc::new(v.segmentation.clone())))
                     };
                     match segmentation {
-                        Some(s) => loader.with_value(|l| l.export_clips_of(&s, &o.row, Which::All, false, only, status)),
+                        Some(s) => {
+                            loader.with_value(|l| l.export_clips_of(&s, &o.row, Which::All, false, only, status))
+                        }
                         None => status.set(Some((true, format!("{title} has no segments to cut")))),
                     }
                 }
@@ -207,7 +212,10 @@ pub fn SegmentMenu(state: AppState, mine: MyRow, rows: NodeRef<Div>) -> impl Int
                     return status.set(Some((true, "That segment is in my labels already".into())));
                 }
                 if mine.place(o.start, o.end, &o.label, &title) {
-                    status.set(Some((false, format!("Copied frames {}–{} of {title} to my labels", o.start + 1, o.end + 1))));
+                    status.set(Some((
+                        false,
+                        format!("Copied frames {}–{} of {title} to my labels", o.start + 1, o.end + 1),
+                    )));
                 } else {
                     status.set(Some((true, "Could not copy it: my labels' status line says why".into())));
                 }
@@ -224,7 +232,10 @@ pub fn SegmentMenu(state: AppState, mine: MyRow, rows: NodeRef<Div>) -> impl Int
                     Some(tab) => {
                         state.panel.set(tab.clone());
                         focus_element(gloo::utils::document().get_element_by_id(&format!("tab-{tab}")));
-                        status.set(Some((false, format!("{title}: its panel is the \"{}\" tab", tab_title(state, &tab)))));
+                        status.set(Some((
+                            false,
+                            format!("{title}: its panel is the \"{}\" tab", tab_title(state, &tab)),
+                        )));
                     }
                     None => {
                         focus_element(gloo::utils::document().get_element_by_id("my-labels-label"));

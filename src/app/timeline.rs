@@ -18,11 +18,11 @@
 
 use super::consensus::{ConsensusLane, ConsensusRow, ConsensusTools};
 use super::effort::{EffortLegend, EffortToggle};
+use super::first_visit::Legend;
 use super::ground_truth::TruthRow;
 use super::keys::is_for_the_field;
 use super::method_panel::{row_spans, MethodRows};
 use super::motion_image::{Chunks, DownloadPng, MotionImageCanvas};
-use super::first_visit::Legend;
 use super::my_labels::{MyLabelsRow, MyLabelsTools, MyRow};
 use super::segment_menu::SegmentMenu;
 use super::{AppState, Selection};

@@ -40,13 +40,13 @@
 use super::loader::{Loader, MAX_FILE_BYTES};
 use super::method_panel::field;
 use super::motion_image::{download, stem};
-use super::supervised::{LoadStatus, Supervised, TrainAsk, TrainRequest, TrainState};
 use super::row_model::ModelCardView;
 use super::supervised::PendingChoice;
+use super::supervised::{LoadStatus, Supervised, TrainAsk, TrainRequest, TrainState};
 use super::AppState;
 use crate::method::supervised::StepReport;
-use crate::view::training_advice;
 use crate::method::{form, ParamSpec};
+use crate::view::training_advice;
 use js_sys::Uint8Array;
 use leptos::html::Canvas;
 use leptos::prelude::*;
@@ -297,7 +297,8 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
     };
     // the takes a training would see: the one on screen, then the ones added
     let take_names = move || {
-        let mut names: Vec<String> = state.motion.with(|m| m.as_ref().map(|m| m.summary.name.clone())).into_iter().collect();
+        let mut names: Vec<String> =
+            state.motion.with(|m| m.as_ref().map(|m| m.summary.name.clone())).into_iter().collect();
         s.extra.with(|e| names.extend(e.iter().map(|(n, _)| n.clone())));
         names
     };
@@ -346,7 +347,9 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
     };
     // "continue training": the chosen model, when it is one of the user's networks (trained in
     // epochs), for the epochs the form asks
-    let chosen = move || slot.param("model").map(|(v, _)| v.get()).filter(|m| s.models.with(|l| l.iter().any(|u| u.info.name == *m)));
+    let chosen = move || {
+        slot.param("model").map(|(v, _)| v.get()).filter(|m| s.models.with(|l| l.iter().any(|u| u.info.name == *m)))
+    };
     let epochs_field = s.decl.training.iter().position(|spec| spec.name == "epochs").map(|i| s.fields[i]);
     let can_continue = move || s.decl.step_name == "epoch" && epochs_field.is_some() && chosen().is_some();
     let continue_text = move || {

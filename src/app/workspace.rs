@@ -190,12 +190,10 @@ pub fn Studio(player: AnyView, timeline: AnyView, side: Option<AnyView>) -> impl
     let player_split = RwSignal::new(stored(PLAYER_KEY, PLAYER).unwrap_or(PLAYER.0));
     let side_split = RwSignal::new(stored(SIDE_KEY, SIDE).unwrap_or(SIDE.0));
     let full = side.is_some();
-    let stage_splitter = full.then(|| {
-        splitter("stage-splitter", "Player height", Axis::Rows, player_split, PLAYER, PLAYER_KEY, "stage")
-    });
-    let side_splitter = full.then(|| {
-        splitter("side-splitter", "Side panel width", Axis::Columns, side_split, SIDE, SIDE_KEY, "studio")
-    });
+    let stage_splitter = full
+        .then(|| splitter("stage-splitter", "Player height", Axis::Rows, player_split, PLAYER, PLAYER_KEY, "stage"));
+    let side_splitter = full
+        .then(|| splitter("side-splitter", "Side panel width", Axis::Columns, side_split, SIDE, SIDE_KEY, "studio"));
     view! {
         <main
             id="studio"
@@ -238,7 +236,8 @@ fn tabs_count(state: AppState) -> usize {
 
 /// Focuses element `#id`, if there is one.
 fn focus(id: &str) {
-    if let Some(el) = gloo::utils::document().get_element_by_id(id).and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
+    if let Some(el) =
+        gloo::utils::document().get_element_by_id(id).and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
     {
         let _ = el.focus();
     }

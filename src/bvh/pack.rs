@@ -152,7 +152,8 @@ pub fn unpack(packed: &[u8]) -> Result<Vec<u8>, PackError> {
     let head = rest.get(..head_bytes).ok_or_else(|| bad("the BVH head is cut short"))?;
     let head = std::str::from_utf8(head).map_err(|_| bad("the BVH head is not UTF-8"))?;
     let body = &rest[head_bytes..];
-    let differences = if version == "1" { text_columns(body, columns, frames)? } else { varint_columns(body, columns, frames)? };
+    let differences =
+        if version == "1" { text_columns(body, columns, frames)? } else { varint_columns(body, columns, frames)? };
     let mut values = vec![0i64; columns * frames];
     for (c, column) in differences.chunks(frames).enumerate() {
         let (mut prev, mut step) = (0i64, 0i64);
@@ -207,9 +208,9 @@ fn varint_columns(body: &[u8], columns: usize, frames: usize) -> Result<Vec<i64>
     while out.len() < columns * frames {
         let (mut z, mut shift) = (0u64, 0u32);
         loop {
-            let &b = body.get(at).ok_or_else(|| {
-                PackError::Damaged(format!("column {} is cut short", out.len() / frames + 1))
-            })?;
+            let &b = body
+                .get(at)
+                .ok_or_else(|| PackError::Damaged(format!("column {} is cut short", out.len() / frames + 1)))?;
             at += 1;
             if shift > 63 || (shift == 63 && b > 1) {
                 return Err(PackError::Damaged(format!("column {}: a number past 64 bits", out.len() / frames + 1)));

@@ -139,9 +139,8 @@ pub(crate) fn cluster_placed(
     progress(0.0)?;
     // one SSSM of the whole library: every working frame's neighbours within the stacked radius, in any take
     let search = NeighbourSearch::new(&placed.stacked);
-    let sssm = search.self_similarity_with_progress(params.stacked_radius(), params.max_neighbours, &mut |f| {
-        progress(0.8 * f)
-    })?;
+    let sssm = search
+        .self_similarity_with_progress(params.stacked_radius(), params.max_neighbours, &mut |f| progress(0.8 * f))?;
     progress(0.8)?;
     let graph = NeighbourhoodGraph::new(&sssm);
     let search = ClusterSearch { nu: params.nu, min_path_frames: params.min_path_frames, coverage: params.coverage };

@@ -46,11 +46,7 @@ pub fn class_colour(i: usize) -> String {
 pub fn effort_colour(v: f64) -> [u8; 3] {
     let v = if v.is_nan() { 0.0 } else { v };
     let t = ((v + 1.0) / 2.0).clamp(0.0, 1.0);
-    [
-        (40.0 + 180.0 * t) as u8,
-        (90.0 + 60.0 * (1.0 - (2.0 * t - 1.0).abs())) as u8,
-        (220.0 - 180.0 * t) as u8,
-    ]
+    [(40.0 + 180.0 * t) as u8, (90.0 + 60.0 * (1.0 - (2.0 * t - 1.0).abs())) as u8, (220.0 - 180.0 * t) as u8]
 }
 
 #[cfg(test)]

@@ -332,10 +332,14 @@ mod tests {
         let l = |s: &str| (!s.is_empty()).then(|| s.to_string());
         let labels: Vec<Option<String>> = ["", "walk", "walk", "run", "", "", "walk"].iter().map(|s| l(s)).collect();
         let rows = label_rows("a.bvh", &labels);
-        let got: Vec<(usize, usize, &str)> = rows.iter().map(|r| (r.start_frame, r.end_frame, r.label.as_str())).collect();
+        let got: Vec<(usize, usize, &str)> =
+            rows.iter().map(|r| (r.start_frame, r.end_frame, r.label.as_str())).collect();
         assert_eq!(got, [(1, 2, "walk"), (3, 3, "run"), (6, 6, "walk")]);
         assert!(rows.iter().all(|r| r.file == "a.bvh"));
-        assert_eq!(crate::labels::to_csv(&rows), "file,start_frame,end_frame,label\na.bvh,1,2,walk\na.bvh,3,3,run\na.bvh,6,6,walk\n");
+        assert_eq!(
+            crate::labels::to_csv(&rows),
+            "file,start_frame,end_frame,label\na.bvh,1,2,walk\na.bvh,3,3,run\na.bvh,6,6,walk\n"
+        );
         assert!(label_rows("a.bvh", &[None, None]).is_empty());
     }
 
@@ -354,7 +358,14 @@ mod tests {
             ],
         );
         // the source itself among the takes the k-NN labelled is left out: it keeps its own labels
-        let c = Carried::by_model(Route::Knn, 0, "a.bvh", 30.0, source_labels.clone(), vec![(0, knn.clone()), (2, knn.clone())]);
+        let c = Carried::by_model(
+            Route::Knn,
+            0,
+            "a.bvh",
+            30.0,
+            source_labels.clone(),
+            vec![(0, knn.clone()), (2, knn.clone())],
+        );
         assert_eq!((c.route, c.source, c.takes.clone()), (Route::Knn, 0, vec![0, 2]));
         let own = c.of(0).unwrap();
         assert_eq!(own.frame_labels, source_labels);
@@ -371,11 +382,16 @@ mod tests {
         assert_eq!(c.take_text(2).as_deref(), Some("83 % labelled"));
         // its row: my labels' classes, unknown grey, the k-NN's probability as the confidence
         let row = c.row(2).unwrap();
-        assert_eq!(row.segments.iter().map(|s| s.cluster).collect::<Vec<_>>(), [Some(label_class("walk")), None, Some(label_class("run"))]);
+        assert_eq!(
+            row.segments.iter().map(|s| s.cluster).collect::<Vec<_>>(),
+            [Some(label_class("walk")), None, Some(label_class("run"))]
+        );
         assert_eq!(row.segments.iter().map(|s| s.score).collect::<Vec<_>>(), [Some(0.9), Some(0.3), Some(0.7)]);
         assert_eq!(row.params["route"], "knn");
         assert_eq!(c.spans(2), [(0, 2, "walk".to_string()), (4, 5, "run".to_string())]);
-        assert!(c.summary("a.bvh").starts_with("labels of a.bvh carried to 1 take by a k-NN trained on these labels: 83 %"));
+        assert!(c
+            .summary("a.bvh")
+            .starts_with("labels of a.bvh carried to 1 take by a k-NN trained on these labels: 83 %"));
         assert_eq!(c.model_summary("a.bvh", "k-NN", &[], &[]), c.summary("a.bvh"));
         let told = c.model_summary("a.bvh", "k-NN", &["b.bvh: it jogs".into()], &["c.bvh: not a BVH".into()]);
         assert!(
@@ -388,7 +404,10 @@ mod tests {
         );
         // the CSV saves the source's labels and the k-NN's
         let own_seg = |file: &str, n| segmentation(file, n, vec![segment(0, n - 1, "C1", Level::Action, None)]);
-        let csv = crate::view::library::library_csv(&export(vec![(0, own_seg("a.bvh", 4)), (2, own_seg("b.bvh", 6))], Some(&c)));
+        let csv = crate::view::library::library_csv(&export(
+            vec![(0, own_seg("a.bvh", 4)), (2, own_seg("b.bvh", 6))],
+            Some(&c),
+        ));
         assert_eq!(
             csv,
             "file,start_frame,end_frame,label\na.bvh,0,1,walk\na.bvh,2,2,unknown\na.bvh,3,3,run\nb.bvh,0,2,walk\n\

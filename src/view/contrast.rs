@@ -7,8 +7,7 @@
 pub fn rgb_of(css: &str) -> Option<[u8; 3]> {
     let css = css.trim();
     if let Some(hex) = css.strip_prefix('#') {
-        let digits: Vec<u8> =
-            hex.chars().map(|c| c.to_digit(16).map(|d| d as u8)).collect::<Option<_>>()?;
+        let digits: Vec<u8> = hex.chars().map(|c| c.to_digit(16).map(|d| d as u8)).collect::<Option<_>>()?;
         return match digits[..] {
             [r, g, b] => Some([r * 17, g * 17, b * 17]),
             [r1, r2, g1, g2, b1, b2] => Some([r1 * 16 + r2, g1 * 16 + g2, b1 * 16 + b2]),

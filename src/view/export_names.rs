@@ -49,9 +49,18 @@ mod tests {
 
     #[test]
     fn a_method_rows_zip_says_what_the_row_holds() {
-        assert_eq!(with_row_word("86_01_actions_clips.zip", "86_01", "knn", Some("labels")), "86_01_knn_labels_clips.zip");
-        assert_eq!(with_row_word("86_01_primitives_clips.zip", "86_01", "lma", Some("gestures")), "86_01_lma_gestures_clips.zip");
-        assert_eq!(with_row_word("86_01_actions_clips.zip", "86_01", "sssm", Some("actions")), "86_01_sssm_actions_clips.zip");
+        assert_eq!(
+            with_row_word("86_01_actions_clips.zip", "86_01", "knn", Some("labels")),
+            "86_01_knn_labels_clips.zip"
+        );
+        assert_eq!(
+            with_row_word("86_01_primitives_clips.zip", "86_01", "lma", Some("gestures")),
+            "86_01_lma_gestures_clips.zip"
+        );
+        assert_eq!(
+            with_row_word("86_01_actions_clips.zip", "86_01", "sssm", Some("actions")),
+            "86_01_sssm_actions_clips.zip"
+        );
         // every segment, one clip, or no word: as with_row
         assert_eq!(with_row_word("86_01_all_clips.zip", "86_01", "knn", Some("labels")), "86_01_knn_all_clips.zip");
         assert_eq!(with_row_word("86_01_03_punch.bvh", "86_01", "knn", Some("labels")), "86_01_knn_03_punch.bvh");

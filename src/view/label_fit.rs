@@ -124,7 +124,8 @@ mod tests {
                 let clean = text == label
                     || text.strip_suffix('…').is_some_and(|p| {
                         label.starts_with(p)
-                            && (label[p.len()..].starts_with(' ') || first_syllable(label.split(' ').next().unwrap()).as_deref() == Some(p))
+                            && (label[p.len()..].starts_with(' ')
+                                || first_syllable(label.split(' ').next().unwrap()).as_deref() == Some(p))
                     })
                     || (label.contains(' ') && text.chars().all(|c| c.is_uppercase() || c.is_ascii_digit()));
                 assert!(clean, "{label} at {width}: {text}");

@@ -41,8 +41,7 @@ pub fn group_files(names: &[&str]) -> (Vec<TakeFiles>, Vec<String>) {
             "bvh" => takes.push(TakeFiles { motion: i, skeleton: None }),
             "amc" => {
                 let stem = base(names[i]);
-                let subject =
-                    crate::clips::stem_of(&stem).split('_').next().unwrap_or_default().to_ascii_lowercase();
+                let subject = crate::clips::stem_of(&stem).split('_').next().unwrap_or_default().to_ascii_lowercase();
                 let skeleton = asfs
                     .iter()
                     .copied()

@@ -90,11 +90,15 @@ mod tests {
         assert_eq!(get("classes"), "2: jog, squat");
         assert_eq!(get("training"), "600 labelled frames, 20 epochs, epoch 18 kept");
         assert_eq!(get("held out"), "not measured");
-        assert_eq!(card_summary(&card), "model `mine` · 2 classes · trained on 1 take · held-out accuracy not measured");
+        assert_eq!(
+            card_summary(&card),
+            "model `mine` · 2 classes · trained on 1 take · held-out accuracy not measured"
+        );
         card.held_out = Some(HeldOut { frame_accuracy: 0.9352, folds: vec![], how: "h".into(), source: "s".into() });
         assert!(card_lines(&card).iter().any(|(l, t)| *l == "held out" && t.starts_with("frame accuracy 0.94 (h")));
         assert!(card_summary(&card).ends_with("held-out frame accuracy 0.94"));
-        let lma = ModelCard { name: "shipped".into(), origin: "stand-in labels of 12 takes".into(), ..ModelCard::default() };
+        let lma =
+            ModelCard { name: "shipped".into(), origin: "stand-in labels of 12 takes".into(), ..ModelCard::default() };
         assert_eq!(card_lines(&lma)[0], ("trained on", "stand-in labels of 12 takes".to_string()));
     }
 }

@@ -383,15 +383,18 @@ impl MyLabels {
         let (spans, landed) = if to > cut {
             roll_right(&self.spans, cut, to, self.frames)
         } else {
-            let mirror = |s: &LabelSpan| LabelSpan { start: self.frames - 1 - s.end, end: self.frames - 1 - s.start, ..s.clone() };
-            let flipped: Vec<LabelSpan> = self.spans.iter().rev().map(mirror).collect();
-            let (rolled, landed) = roll_right(&flipped, self.frames - cut, self.frames - to, self.frames);
-            let back: Vec<LabelSpan> = rolled.iter().rev().map(|s| LabelSpan {
+            let mirror = |s: &LabelSpan| LabelSpan {
                 start: self.frames - 1 - s.end,
                 end: self.frames - 1 - s.start,
                 ..s.clone()
-            })
-            .collect();
+            };
+            let flipped: Vec<LabelSpan> = self.spans.iter().rev().map(mirror).collect();
+            let (rolled, landed) = roll_right(&flipped, self.frames - cut, self.frames - to, self.frames);
+            let back: Vec<LabelSpan> = rolled
+                .iter()
+                .rev()
+                .map(|s| LabelSpan { start: self.frames - 1 - s.end, end: self.frames - 1 - s.start, ..s.clone() })
+                .collect();
             (back, self.frames - landed)
         };
         if spans == self.spans {
@@ -888,7 +891,8 @@ mod tests {
             ],
             frames,
         );
-        let cut = |start: usize, end: usize, label: &str| TruthSegment { start, end, label: label.into(), end_window: None };
+        let cut =
+            |start: usize, end: usize, label: &str| TruthSegment { start, end, label: label.into(), end_window: None };
         let truth = Truth {
             trial: "t".into(),
             frames,
@@ -897,7 +901,8 @@ mod tests {
         let tol = Tolerances::default();
         let own = evaluate(&row, &truth, &tol).unwrap();
         let mut m = MyLabels::new(frames);
-        let copied: Vec<(usize, usize, String)> = row.segments.iter().map(|s| (s.start, s.end, s.label.clone())).collect();
+        let copied: Vec<(usize, usize, String)> =
+            row.segments.iter().map(|s| (s.start, s.end, s.label.clone())).collect();
         m.copy_from(&copied).unwrap();
         assert_eq!(spans(&m), vec![(0, 89, "A0"), (130, 259, "B1"), (290, 419, "A0"), (460, 599, "B1")]);
         let mine = evaluate(&m.to_segmentation("t.bvh", 30.0), &truth, &tol).unwrap();
@@ -909,8 +914,7 @@ mod tests {
         assert!(own.boundaries[1].f1 > 0.99, "the fixture's row finds every cut: {:?}", own.boundaries[1]);
 
         // a labeller's unknowns and a truth's unlabelled parts are gaps as well; none is a class
-        m.copy_from(&row_of(&[(0, 49, "walk"), (50, 99, "unknown"), (100, 199, ""), (200, 599, "Unknown ")]))
-            .unwrap();
+        m.copy_from(&row_of(&[(0, 49, "walk"), (50, 99, "unknown"), (100, 199, ""), (200, 599, "Unknown ")])).unwrap();
         assert_eq!(spans(&m), vec![(0, 49, "walk")]);
         assert_eq!(MyLabels::new(10).copy_from(&row_of(&[(0, 9, "transition")])), Err(EditError::NothingToCopy));
     }
@@ -928,7 +932,9 @@ mod tests {
         let seg = m.to_segmentation("t.bvh", 30.0);
         let levels: Vec<Level> = seg.segments.iter().map(|s| s.level).collect();
         assert_eq!(levels, [Level::Action, Level::Transition, Level::Transition, Level::Action]);
-        assert!(is_reserved(" Transition") && is_reserved("UNKNOWN") && is_reserved("unlabelled") && !is_reserved("walk"));
+        assert!(
+            is_reserved(" Transition") && is_reserved("UNKNOWN") && is_reserved("unlabelled") && !is_reserved("walk")
+        );
     }
 
     fn row_of(list: &[(usize, usize, &str)]) -> Vec<(usize, usize, String)> {
@@ -982,7 +988,14 @@ mod tests {
         m.place(70, 79, "kick").unwrap();
         assert_eq!(
             spans(&m),
-            vec![(0, 19, "walk"), (20, 39, "punch"), (40, 59, "jump"), (60, 69, "walk"), (70, 79, "kick"), (80, 99, "walk")]
+            vec![
+                (0, 19, "walk"),
+                (20, 39, "punch"),
+                (40, 59, "jump"),
+                (60, 69, "walk"),
+                (70, 79, "kick"),
+                (80, 99, "walk")
+            ]
         );
         // one undoable edit each
         m.undo().unwrap();
@@ -1073,7 +1086,12 @@ mod tests {
                 let mut m = sample();
                 let mut cut = start;
                 for _ in 0..120 {
-                    let next = m.nudge_boundary(cut, by).unwrap_or_else(|e| panic!("{start} by {by} at {cut}: {e:?} in {:?}", m.spans().iter().map(|s| (s.start, s.end)).collect::<Vec<_>>()));
+                    let next = m.nudge_boundary(cut, by).unwrap_or_else(|e| {
+                        panic!(
+                            "{start} by {by} at {cut}: {e:?} in {:?}",
+                            m.spans().iter().map(|s| (s.start, s.end)).collect::<Vec<_>>()
+                        )
+                    });
                     let covered: Vec<(usize, usize)> = m.spans().iter().map(|s| (s.start, s.end)).collect();
                     assert!(covered.iter().all(|(a, b)| b + 1 - a >= MIN_SPAN), "{start} by {by}: {covered:?}");
                     for w in covered.windows(2) {
@@ -1098,7 +1116,8 @@ mod tests {
             let landed = m.drag_boundary(cut, to).unwrap();
             (landed, spans(&m).into_iter().map(|(s, e, l)| (s, e, l.to_string())).collect::<Vec<_>>())
         };
-        let own = |list: &[(usize, usize, &str)]| list.iter().map(|(s, e, l)| (*s, *e, l.to_string())).collect::<Vec<_>>();
+        let own =
+            |list: &[(usize, usize, &str)]| list.iter().map(|(s, e, l)| (*s, *e, l.to_string())).collect::<Vec<_>>();
         // within the neighbour: it shrinks, like a move
         assert_eq!(dragged(10, 20), (20, own(&[(0, 19, "a"), (20, 29, "b"), (40, 99, "c")])));
         // onto its last frame: it keeps MIN_SPAN frames until the boundary passes its end
@@ -1119,14 +1138,27 @@ mod tests {
         assert_eq!(dragged(40, 31), (30, own(&[(0, 9, "a"), (10, 29, "b"), (30, 99, "c")])), "the gap closes");
         assert_eq!(dragged(40, 5), (5, own(&[(0, 4, "a"), (5, 99, "c")])));
         // an edge next to a gap moved away from it: the gap grows, never by a single frame at the take's edges
-        assert_eq!(dragged(0, 1), (0, own(&[(0, 9, "a"), (10, 29, "b"), (30, 39, ""), (40, 99, "c")]).into_iter().filter(|s| s.2 != "").collect()));
+        assert_eq!(
+            dragged(0, 1),
+            (
+                0,
+                own(&[(0, 9, "a"), (10, 29, "b"), (30, 39, ""), (40, 99, "c")])
+                    .into_iter()
+                    .filter(|s| s.2 != "")
+                    .collect()
+            )
+        );
         assert_eq!(dragged(0, 2).0, 2);
         assert_eq!(dragged(100, 99).0, 100, "no one-frame gap at the end");
         assert_eq!(dragged(100, 98), (98, own(&[(0, 9, "a"), (10, 29, "b"), (40, 97, "c")])));
         assert_eq!(dragged(30, 12), (12, own(&[(0, 9, "a"), (10, 11, "b"), (40, 99, "c")])));
         assert_eq!(dragged(30, 11), (12, own(&[(0, 9, "a"), (10, 11, "b"), (40, 99, "c")])), "b keeps two frames");
         assert_eq!(dragged(30, 10), (10, own(&[(0, 9, "a"), (40, 99, "c")])), "crossed: b removed");
-        assert_eq!(dragged(0, 60), (10, own(&[(10, 29, "b"), (40, 99, "c")])), "a gap's edge crosses its own segment only");
+        assert_eq!(
+            dragged(0, 60),
+            (10, own(&[(10, 29, "b"), (40, 99, "c")])),
+            "a gap's edge crosses its own segment only"
+        );
         assert_eq!(dragged(40, 35).1, own(&[(0, 9, "a"), (10, 29, "b"), (35, 99, "c")]));
         // no drag leaves a segment or a gap of one frame
         for cut in [0, 10, 30, 40, 100] {

@@ -30,9 +30,9 @@ fn shared_reason<'a>(messages: impl Iterator<Item = &'a str> + Clone) -> Option<
     let shortest = messages.clone().min_by_key(|m| m.len())?;
     // the shortest message, or its tails after each ": ", longest first
     let candidates = std::iter::once(shortest).chain(shortest.match_indices(": ").map(|(i, _)| &shortest[i + 2..]));
-    candidates.filter(|c| !c.trim().is_empty()).find(|c| {
-        messages.clone().all(|m| m == *c || m.strip_suffix(*c).is_some_and(|head| head.ends_with(": ")))
-    })
+    candidates
+        .filter(|c| !c.trim().is_empty())
+        .find(|c| messages.clone().all(|m| m == *c || m.strip_suffix(*c).is_some_and(|head| head.ends_with(": "))))
 }
 
 #[cfg(test)]

@@ -36,7 +36,8 @@ pub struct Suggestion {
 /// The badge for a run whose report is `report` (`None`: no fit check) of method `short` (k-NN).
 pub fn fit_badge(report: Option<&TakeFitReport>, short: &str) -> Option<FitBadge> {
     let report = report.filter(|r| !r.fits)?;
-    let reason = if report.reason.is_empty() { "its classes cannot describe it".to_string() } else { report.reason.clone() };
+    let reason =
+        if report.reason.is_empty() { "its classes cannot describe it".to_string() } else { report.reason.clone() };
     let description = format!(
         "Model `{}` does not fit this take: {reason}. Its classes cannot describe the take, so every frame is \
          labelled unknown instead of painting confident wrong labels.",
@@ -85,7 +86,11 @@ mod tests {
             FittingModel { name: "locomotion".into(), travel_share: Some(0.0), pose_ratio: Some(1.63) },
         ];
         let badge = fit_badge(Some(&report(fitting)), "k-NN").unwrap();
-        assert!(badge.description.starts_with("Model `exercises` does not fit this take: 43 % of its frames"), "{}", badge.description);
+        assert!(
+            badge.description.starts_with("Model `exercises` does not fit this take: 43 % of its frames"),
+            "{}",
+            badge.description
+        );
         assert!(badge.description.contains("every frame is labelled unknown"));
         let texts: Vec<&str> = badge.suggestions.iter().map(|s| s.text.as_str()).collect();
         assert_eq!(texts, ["use cmu-actions", "use locomotion"], "best first, as the report ranks them");

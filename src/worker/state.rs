@@ -119,7 +119,13 @@ impl WorkerState {
             Request::ProvideModel { take, run, file, bytes, unavailable } => {
                 use crate::method::shipped;
                 if let Err(message) = shipped::find(&file) {
-                    return post(Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, param: None });
+                    return post(Response::Failed {
+                        take,
+                        run: Some(run),
+                        message,
+                        kind: FailureKind::Input,
+                        param: None,
+                    });
                 }
                 let given = match unavailable {
                     Some(why) => shipped::refuse(&file, why.clone()).and(Err(why)),
@@ -257,7 +263,8 @@ impl WorkerState {
         params: &serde_json::Value,
         post: &mut dyn FnMut(Response),
     ) -> Response {
-        let fail = |message: String| Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, param: None };
+        let fail =
+            |message: String| Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, param: None };
         let m = match crate::methods::find(method) {
             Ok(m) => m,
             Err(e) => return fail(e.to_string()),
@@ -478,9 +485,9 @@ impl WorkerState {
         };
         let short = m.info().short;
         let mut progress = Posting { take, run, post };
-        let output = m
-            .check_json_in(params, &self.models)
-            .and_then(|checked| m.run_checked(motion, &checked, &RunOptions { pictures: true, ..RunOptions::default() }, &mut progress));
+        let output = m.check_json_in(params, &self.models).and_then(|checked| {
+            m.run_checked(motion, &checked, &RunOptions { pictures: true, ..RunOptions::default() }, &mut progress)
+        });
         match output {
             Ok(output) => Response::Segmented { take, run, view: Box::new(output.into()) },
             Err(e) => run_failure(take, run, &short, &motion.name, e),
@@ -504,15 +511,28 @@ fn read_take_file(
 }
 
 /// A take's motion read from its file ([`read_take_file`]).
-fn read_take(name: &str, bytes: &[u8], asf: Option<(&str, &[u8])>, progress: &mut dyn FnMut(f64)) -> Result<Motion, String> {
+fn read_take(
+    name: &str,
+    bytes: &[u8],
+    asf: Option<(&str, &[u8])>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Motion, String> {
     read_take_file(name, bytes, asf, progress).map(|loaded| loaded.motion)
 }
 
 /// The clips of several takes in one zip `file` (a `library_clips` request): each take read
 /// again from its bytes, one after another (only one take's frames at a time), cut at its
 /// segments, each clip in the folder of its segment's label.
-fn library_clips(take: TakeId, run: RunId, file: String, takes: &[ClipTake], to_origin: bool, bytes: Vec<Vec<u8>>) -> Response {
-    let fail = |message: String| Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, param: None };
+fn library_clips(
+    take: TakeId,
+    run: RunId,
+    file: String,
+    takes: &[ClipTake],
+    to_origin: bool,
+    bytes: Vec<Vec<u8>>,
+) -> Response {
+    let fail =
+        |message: String| Response::Failed { take, run: Some(run), message, kind: FailureKind::Input, param: None };
     let mut buffers = bytes.into_iter();
     let mut all = Vec::new();
     for t in takes {
@@ -612,7 +632,8 @@ mod tests {
     fn a_shipped_model_file_crosses_as_a_buffer_and_is_checked() {
         let file = "knn-cmu-actions.model".to_string();
         let good = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/models/knn-cmu-actions.model")).unwrap();
-        let request = Request::ProvideModel { take: 3, run: 4, file: file.clone(), bytes: good.clone(), unavailable: None };
+        let request =
+            Request::ProvideModel { take: 3, run: 4, file: file.clone(), bytes: good.clone(), unavailable: None };
         let packet = request.clone().into_packet();
         assert_eq!(packet.buffers, vec![good.clone()]);
         assert!(!packet.json.contains("bytes"), "the bytes travel as a buffer, not in the JSON");
@@ -621,8 +642,10 @@ mod tests {
         assert_eq!(ask(&mut worker, request), vec![Response::ModelProvided { take: 3, run: 4, file: file.clone() }]);
         let mut bad = good;
         bad.truncate(1000);
-        let refused =
-            ask(&mut worker, Request::ProvideModel { take: 3, run: 5, file: file.clone(), bytes: bad, unavailable: None });
+        let refused = ask(
+            &mut worker,
+            Request::ProvideModel { take: 3, run: 5, file: file.clone(), bytes: bad, unavailable: None },
+        );
         assert!(
             matches!(&refused[..], [Response::ModelRefused { run: 5, message, .. }]
                 if message.starts_with("models/knn-cmu-actions.model: 1000 bytes")),
@@ -745,7 +768,8 @@ mod tests {
         for (request, name) in [(bvh, "02_02.bvh"), (amc, "02_01.amc")] {
             let posted = ask(&mut w, request);
             assert!(posted.iter().any(|r| matches!(r, Response::Progress { run: Some(_), .. })), "progress is posted");
-            let Some(Response::LibraryTake { frames, duration_s, segmentation, features: f, .. }) = posted.last().cloned()
+            let Some(Response::LibraryTake { frames, duration_s, segmentation, features: f, .. }) =
+                posted.last().cloned()
             else {
                 panic!("{:?}", posted.last())
             };
@@ -795,7 +819,10 @@ mod tests {
         let Some(Response::LibraryClusters { run: 12, clusters, .. }) = posted.last().cloned() else {
             panic!("{:?}", posted.last())
         };
-        assert_eq!(Response::from_packet(posted.last().unwrap().clone().into_packet()).unwrap(), *posted.last().unwrap());
+        assert_eq!(
+            Response::from_packet(posted.last().unwrap().clone().into_packet()).unwrap(),
+            *posted.last().unwrap()
+        );
         assert_eq!(clusters.takes.len(), 2);
         assert!(clusters.shared().count() >= 1, "the two walks share a cluster: {:?}", clusters.clusters);
         // the labels of the second take carried to the first, by both routes
@@ -809,7 +836,9 @@ mod tests {
             route,
         };
         let mut last = None;
-        for (run, route) in [(13, crate::library::TransferRoute::Nearest), (14, crate::library::TransferRoute::Clusters)] {
+        for (run, route) in
+            [(13, crate::library::TransferRoute::Nearest), (14, crate::library::TransferRoute::Clusters)]
+        {
             let request = transfer(run, labels(took[1].frames), route);
             assert_eq!(Request::from_packet(request.clone().into_packet()).unwrap(), request);
             let posted = ask(&mut w, request);
@@ -830,10 +859,15 @@ mod tests {
         }
         // labels of the wrong length, or none: failed with the core's message
         let short = ask(&mut w, transfer(15, labels(10), crate::library::TransferRoute::Nearest));
-        let Some(Response::Failed { message, kind: FailureKind::Input, run: Some(15), .. }) = short.last() else { panic!("{short:?}") };
+        let Some(Response::Failed { message, kind: FailureKind::Input, run: Some(15), .. }) = short.last() else {
+            panic!("{short:?}")
+        };
         assert_eq!(
             message,
-            &format!("carrying the labels: take 02_01.amc: the labels cover 10 frames, the take has {}", took[1].frames)
+            &format!(
+                "carrying the labels: take 02_01.amc: the labels cover 10 frames, the take has {}",
+                took[1].frames
+            )
         );
         let none = ask(&mut w, transfer(16, vec![None; took[1].frames], crate::library::TransferRoute::Clusters));
         let Some(Response::Failed { message, run: Some(16), .. }) = none.last() else { panic!("{none:?}") };
@@ -845,7 +879,9 @@ mod tests {
         assert!(Response::from_packet(packet).unwrap_err().contains("do not cover their take"));
         // a bad file: failed, naming it; the held take still there
         let bad = ask(&mut w, library(9, 10, "bad.bvh", include_bytes!("../../tests/fixtures/bad.bvh").to_vec(), None));
-        let Some(Response::Failed { message, kind: FailureKind::Input, run: Some(10), .. }) = bad.last() else { panic!("{bad:?}") };
+        let Some(Response::Failed { message, kind: FailureKind::Input, run: Some(10), .. }) = bad.last() else {
+            panic!("{bad:?}")
+        };
         assert!(message.contains("bad.bvh"), "{message}");
         assert_eq!(w.held(), Some(1));
 
@@ -858,14 +894,19 @@ mod tests {
         };
         let takes = vec![
             ClipTake { name: "02_02.bvh".into(), skeleton: None, segmentation: pick(&took[0], "walk cycle") },
-            ClipTake { name: "02_01.amc".into(), skeleton: Some("02.asf".into()), segmentation: pick(&took[1], "walk cycle") },
+            ClipTake {
+                name: "02_01.amc".into(),
+                skeleton: Some("02.asf".into()),
+                segmentation: pick(&took[1], "walk cycle"),
+            },
         ];
         let bytes = vec![
             include_bytes!("../../tests/fixtures/02_02.bvh").to_vec(),
             include_bytes!("../../tests/fixtures/02_01.amc").to_vec(),
             include_bytes!("../../tests/fixtures/02.asf").to_vec(),
         ];
-        let clips = Request::LibraryClips { take: 0, run: 11, file: "library.zip".into(), takes, to_origin: true, bytes };
+        let clips =
+            Request::LibraryClips { take: 0, run: 11, file: "library.zip".into(), takes, to_origin: true, bytes };
         let packet = clips.clone().into_packet();
         assert_eq!(Request::from_packet(packet.clone()).unwrap(), clips);
         let short = Packet { buffers: packet.buffers[..2].to_vec(), ..packet };
@@ -873,7 +914,8 @@ mod tests {
         let Some(Response::Clips { file, clips: 2, bytes, .. }) = ask(&mut w, clips).pop() else { panic!("no zip") };
         assert_eq!(file, "library.zip");
         let mut archive = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
-        let mut names: Vec<String> = (0..archive.len()).map(|i| archive.by_index(i).unwrap().name().unwrap().to_string()).collect();
+        let mut names: Vec<String> =
+            (0..archive.len()).map(|i| archive.by_index(i).unwrap().name().unwrap().to_string()).collect();
         names.sort();
         assert_eq!(names, ["walk_cycle/02_01_01_walk_cycle.bvh", "walk_cycle/02_02_01_walk_cycle.bvh"]);
         let mut text = String::new();

@@ -362,7 +362,11 @@ fn check(take: &Take) {
         take.rows
             .iter()
             .take(64)
-            .map(|row| (0..per_row).map(|i| number_text(row.get(i).copied().unwrap_or(Number { value: 0.0, format: 0 }))).collect())
+            .map(|row| {
+                (0..per_row)
+                    .map(|i| number_text(row.get(i).copied().unwrap_or(Number { value: 0.0, format: 0 })))
+                    .collect()
+            })
             .collect()
     };
     let value_count = rows.len() * per_row;

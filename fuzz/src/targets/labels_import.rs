@@ -19,7 +19,8 @@ pub fn seeds() -> Vec<(String, Vec<u8>)> {
         out.push((format!("labels-{name}"), [&[0u8][..], &text].concat()));
         // the same segments in the ground truth's form (1-based, with windows and trial lengths)
         if let Ok(rows) = labels::read_csv(&String::from_utf8_lossy(&text), &name) {
-            let mut truth = String::from("trial,seg_index,label,start_frame,end_frame,trial_frames,end_window_lo,end_window_hi\n");
+            let mut truth =
+                String::from("trial,seg_index,label,start_frame,end_frame,trial_frames,end_window_lo,end_window_hi\n");
             for (i, r) in rows.iter().enumerate() {
                 let trial = r.file.trim_end_matches(".bvh");
                 let last = rows.iter().filter(|x| x.file == r.file).map(|x| x.end_frame).max().unwrap_or(0);

@@ -49,7 +49,12 @@ pub fn run(data: &[u8]) {
     }
     for m in mocapseg::methods::registry() {
         let name = m.info().name;
-        match m.run_json(motion, &serde_json::Value::Null, &RunOptions { pictures: true, ..RunOptions::default() }, &mut NoProgress) {
+        match m.run_json(
+            motion,
+            &serde_json::Value::Null,
+            &RunOptions { pictures: true, ..RunOptions::default() },
+            &mut NoProgress,
+        ) {
             Ok(out) => {
                 let s = &out.segmentation;
                 s.validate().unwrap_or_else(|e| panic!("{name}: the output breaks the schema: {e}"));

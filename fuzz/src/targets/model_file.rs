@@ -13,13 +13,13 @@
 
 use std::sync::OnceLock;
 
+use mocapseg::method::{NoProgress, RunOptions};
 use mocapseg::methods::dtfcn::input::{joint_names, Standardise, CHANNELS, NETWORK_FPS};
-use mocapseg::methods::dtfcn::model::{sha256_hex, Labeller, Model, ModelHeader, ModelKind, Provenance, MAGIC, FORMAT};
+use mocapseg::methods::dtfcn::model::{sha256_hex, Labeller, Model, ModelHeader, ModelKind, Provenance, FORMAT, MAGIC};
 use mocapseg::methods::dtfcn::network::DtFcnConfig;
 use mocapseg::methods::dtfcn::training::TrainOptions;
 use mocapseg::methods::knn::{Knn, KnnParams, Labelled};
 use mocapseg::methods::lma::classifier::EffortModel;
-use mocapseg::method::{NoProgress, RunOptions};
 use mocapseg::motion::Motion;
 
 /// 3 s of a walk, the take every loaded model labels.
@@ -151,7 +151,8 @@ fn labelling_model(bytes: &[u8]) {
         }
     };
     let written = model.to_bytes().expect("a loaded model writes");
-    let back = Model::from_bytes(&written, "again.model").unwrap_or_else(|e| panic!("a written model does not load: {e}"));
+    let back =
+        Model::from_bytes(&written, "again.model").unwrap_or_else(|e| panic!("a written model does not load: {e}"));
     assert_eq!(model.header.classes, back.header.classes);
     assert_eq!(model.header.kind, back.header.kind);
     if let Ok(l) = mocapseg::methods::dtfcn::method::label(&model, take(), &mut NoProgress) {
@@ -170,7 +171,13 @@ pub fn run(data: &[u8]) {
             let back = EffortModel::from_json(&model.to_json()).unwrap_or_else(|e| panic!("its own JSON: {e}"));
             assert_eq!(model, back);
             let params = mocapseg::methods::lma::method::LmaParams::default();
-            let _ = mocapseg::methods::lma::method::segment_with(&model, take(), &params, &RunOptions::default(), &mut NoProgress);
+            let _ = mocapseg::methods::lma::method::segment_with(
+                &model,
+                take(),
+                &params,
+                &RunOptions::default(),
+                &mut NoProgress,
+            );
         }
         2 => {
             let Some((len, rest)) = rest.split_first_chunk::<4>() else { return };

@@ -78,9 +78,13 @@ impl Loader {
         let request = Request::Clips { take, run, segmentation, which, to_origin, only };
         status.set(Some((false, "cutting the clips…".into())));
         match post(inner, &request, None) {
-            Ok(()) => {
-                inner.clip_jobs.borrow_mut().push(ClipJob { request, status, retried: false, row: row.to_string(), word })
-            }
+            Ok(()) => inner.clip_jobs.borrow_mut().push(ClipJob {
+                request,
+                status,
+                retried: false,
+                row: row.to_string(),
+                word,
+            }),
             Err(message) => status.set(Some((true, message))),
         }
     }
@@ -113,7 +117,9 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
                     wasm_bindgen_futures::spawn_local(async move {
                         let sent = restore(&inner).await.and_then(|()| post(&inner, &request, None));
                         match sent {
-                            Ok(()) => inner.clip_jobs.borrow_mut().push(ClipJob { request, status, retried: true, row, word }),
+                            Ok(()) => {
+                                inner.clip_jobs.borrow_mut().push(ClipJob { request, status, retried: true, row, word })
+                            }
                             Err(e) => status.set(Some((true, e))),
                         }
                     });

@@ -17,13 +17,13 @@ use super::super::library::{ModelCarry, Source};
 use super::super::motion_image::download;
 use super::super::supervised::TrainAsk;
 use super::{next_id, post_buffers, post_request, replace_worker, Inner, Loader};
-use crate::protocol::{ClipTake, FailureKind, Request, Response};
 use crate::library::TakeFeatures;
+use crate::protocol::{ClipTake, FailureKind, Request, Response};
 use crate::view::carry::{Carried, Route};
 use crate::view::library::{group_files, Shared};
-use std::sync::Arc;
 use leptos::prelude::*;
 use std::rc::Rc;
+use std::sync::Arc;
 use web_sys::{Blob, File};
 
 impl Loader {
@@ -123,7 +123,9 @@ impl Loader {
             return library.carrying.set(Some((true, why.into())));
         };
         if indices.len() < 2 {
-            return library.carrying.set(Some((true, "the library has no other take to carry the labels to yet".into())));
+            return library
+                .carrying
+                .set(Some((true, "the library has no other take to carry the labels to yet".into())));
         }
         let run = next_id(&self.0);
         library.transfer_run.set_value(Some((run, source, indices)));
@@ -153,7 +155,8 @@ impl Loader {
         if inner.train_job.borrow().is_some() {
             return fail("a training is under way: carry the labels once it has ended".into());
         }
-        let todo: Vec<usize> = library.queue.with_untracked(|q| (0..q.entries.len()).filter(|&i| i != source).collect());
+        let todo: Vec<usize> =
+            library.queue.with_untracked(|q| (0..q.entries.len()).filter(|&i| i != source).collect());
         if todo.is_empty() {
             return fail("the library has no other take to carry the labels to yet".into());
         }
@@ -201,7 +204,12 @@ impl Loader {
 
     /// Cuts the occurrences `takes` (library index, its segments to cut, each labelled with its
     /// cluster's name) as BVH clips into one zip `file`, each take's file read again.
-    pub fn export_library_clips(&self, file: String, takes: Vec<(usize, crate::segment::Segmentation)>, to_origin: bool) {
+    pub fn export_library_clips(
+        &self,
+        file: String,
+        takes: Vec<(usize, crate::segment::Segmentation)>,
+        to_origin: bool,
+    ) {
         let inner = self.0.clone();
         let library = inner.state.library;
         library.status.set(Some((false, "cutting the clips…".into())));
@@ -299,7 +307,8 @@ fn model_next(inner: &Rc<Inner>) {
     let Some(i) = (!k.todo.is_empty()).then(|| k.todo.remove(0)) else {
         library.by_model.set_value(None);
         library.carry_busy.set(false);
-        let name = library.queue.with_untracked(|q| q.entries.get(k.source).map(|e| e.name.clone())).unwrap_or_default();
+        let name =
+            library.queue.with_untracked(|q| q.entries.get(k.source).map(|e| e.name.clone())).unwrap_or_default();
         let carried = Carried::by_model(k.route, k.source, &k.file, k.fps, k.labels, k.done);
         let short = inner.state.methods[index].info.short.clone();
         let summary = carried.model_summary(&name, &short, &k.misfits, &k.failed);
@@ -380,7 +389,8 @@ fn model_took(inner: &Rc<Inner>, run: u32, outcome: Result<(crate::segment::Segm
     match outcome {
         Ok((segmentation, misfit)) => {
             if let Some(why) = misfit {
-                let name = library.queue.with_untracked(|q| q.entries.get(i).map(|e| e.name.clone())).unwrap_or_default();
+                let name =
+                    library.queue.with_untracked(|q| q.entries.get(i).map(|e| e.name.clone())).unwrap_or_default();
                 k.misfits.push(format!("{name}: {why}"));
             }
             k.done.push((i, segmentation))
@@ -533,7 +543,9 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
                 .and_then(|r| model_slot(inner, r))
                 .map_or_else(String::new, |i| inner.state.methods[i].info.short.clone());
             let percent = fraction.unwrap_or(0.0) * 100.0;
-            library.carrying.set(Some((false, format!("labelling take {at} of {count} with the {title}… {percent:.0} %"))));
+            library
+                .carrying
+                .set(Some((false, format!("labelling take {at} of {count} with the {title}… {percent:.0} %"))));
         }
         Response::LibraryTake { run, segmentation, misfit, .. } if model_run == Some(run) => {
             model_took(inner, run, Ok((*segmentation, misfit)))
@@ -562,7 +574,8 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
             library.transfer_run.set_value(None);
             library.carry_busy.set(false);
             let carried = Carried { route: transfer.route.into(), source, takes, transferred: transfer.takes };
-            let name = library.queue.with_untracked(|q| q.entries.get(source).map(|e| e.name.clone())).unwrap_or_default();
+            let name =
+                library.queue.with_untracked(|q| q.entries.get(source).map(|e| e.name.clone())).unwrap_or_default();
             library.carrying.set(Some((false, carried.summary(&name))));
             library.carried.set(Some(Arc::new(carried)));
         }

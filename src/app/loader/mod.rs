@@ -38,13 +38,13 @@ mod shipped;
 mod training;
 
 use super::fetch::{blob_bytes, read_capped, ReadError};
-use clips::ClipJob;
 use super::js_message;
 use super::model_files::ModelFiles;
 use super::{AppState, LoadState, MethodSlot, RunState};
 use crate::load::Opening;
 use crate::protocol::{FailureKind, Request, Response, RunId, TakeId};
 use crate::worker::{request_message, response_from_js};
+use clips::ClipJob;
 use js_sys::ArrayBuffer;
 use leptos::prelude::*;
 use std::cell::{Cell, RefCell};
@@ -462,7 +462,8 @@ fn load_request(take: &Take, restore: bool) -> Request {
 /// its `Blob` first.
 async fn restore(inner: &Rc<Inner>) -> Result<(), String> {
     let take = inner.shown.borrow().clone().ok_or("no take is loaded")?;
-    let bytes = blob_bytes(&take.file).await.map_err(|e| format!("{}: could not read the file again: {e}", take.name))?;
+    let bytes =
+        blob_bytes(&take.file).await.map_err(|e| format!("{}: could not read the file again: {e}", take.name))?;
     post(inner, &load_request(&take, true), Some(&bytes))
 }
 

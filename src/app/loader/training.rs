@@ -5,16 +5,16 @@
 //! every method that declares [`crate::method::Supervision`], by its slot, never by name. A training's
 //! end is also told to the library's supervised routes (k-NN, DT-FCN) (`super::library::model_trained`), which waits for it.
 
-use super::super::fetch::blob_bytes;
 use super::super::browser_models;
+use super::super::fetch::blob_bytes;
 use super::super::supervised::{
     describe, LoadStatus, PendingChoice, PendingModel, Supervised, TrainAsk, TrainState, TrainedFile, UserModel,
 };
 use super::super::MethodSlot;
 use super::{next_id, now, post, post_buffers, replace_worker, start_run, Inner, Loader};
 use crate::method::supervised::{ModelInfo, StepReport, TrainingReport};
-use crate::view::kept_models::{forgotten_message, model_after_forget, switch_question, SwitchQuestion};
 use crate::protocol::{FailureKind, Request, Response, RunId, TakeId};
+use crate::view::kept_models::{forgotten_message, model_after_forget, switch_question, SwitchQuestion};
 use leptos::prelude::*;
 use std::rc::Rc;
 use std::sync::Arc;
@@ -468,7 +468,9 @@ pub(super) fn on_trained(inner: &Rc<Inner>, model: ModelInfo, report: TrainingRe
             s.state.set(TrainState::Done);
         }
         _ => {
-            let summary = report.summary.replace(" labels the take with it now.", &format!(" labels {} with it now.", job.take_name));
+            let summary = report
+                .summary
+                .replace(" labels the take with it now.", &format!(" labels {} with it now.", job.take_name));
             s.status.set(format!("{summary} ({seconds:.1} s in this tab, on {})", job.take_name));
             s.report.set(Some(report));
             s.state.set(TrainState::Done);
@@ -496,7 +498,8 @@ pub(super) fn keep_model(inner: &Rc<Inner>, index: usize, model: UserModel) {
     wasm_bindgen_futures::spawn_local(async move {
         let kept = browser_models::save(&method, &name, &file, &bytes).await;
         if let Err(message) = kept {
-            s.file_status.set(format!("`{name}` could not be kept in this browser ({message}): download it to keep it."));
+            s.file_status
+                .set(format!("`{name}` could not be kept in this browser ({message}): download it to keep it."));
         }
     });
 }

@@ -56,7 +56,12 @@ impl LibraryFlags {
 }
 
 /// One take of the library: loaded, segmented, its features made.
-fn take_of(file: &Path, method: &dyn DynMethod, checked: &CheckedParams, params: &LibraryParams) -> Result<LibraryTake, String> {
+fn take_of(
+    file: &Path,
+    method: &dyn DynMethod,
+    checked: &CheckedParams,
+    params: &LibraryParams,
+) -> Result<LibraryTake, String> {
     let loaded = crate::cli::load_at(file)?;
     let output = method
         .run_checked(&loaded.motion, checked, &RunOptions::default(), &mut NoProgress)
@@ -66,7 +71,11 @@ fn take_of(file: &Path, method: &dyn DynMethod, checked: &CheckedParams, params:
 }
 
 /// Every take of `files` (on all cores, a progress bar), the failures as messages; the takes keep the files' order.
-fn library(args: &LibraryFlags, files: &[PathBuf], params: &LibraryParams) -> Result<(Vec<(PathBuf, LibraryTake)>, Vec<String>), String> {
+fn library(
+    args: &LibraryFlags,
+    files: &[PathBuf],
+    params: &LibraryParams,
+) -> Result<(Vec<(PathBuf, LibraryTake)>, Vec<String>), String> {
     let method = mocapseg::methods::find(&args.method).map_err(|e| e.to_string())?;
     let json = method::params_from_overrides(method, &args.params).map_err(|e| e.to_string())?;
     let checked = method.check_json(&json).map_err(|e| e.to_string())?;
@@ -84,10 +93,15 @@ fn library(args: &LibraryFlags, files: &[PathBuf], params: &LibraryParams) -> Re
         files
             .par_iter()
             .map(|file| {
-                let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| take_of(file, method, &checked, params)))
-                    .unwrap_or_else(|p| Err(format!("{}: panicked: {}", file.display(), crate::cli::panic_message(p.as_ref()))));
+                let r =
+                    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| take_of(file, method, &checked, params)))
+                        .unwrap_or_else(|p| {
+                            Err(format!("{}: panicked: {}", file.display(), crate::cli::panic_message(p.as_ref())))
+                        });
                 match &r {
-                    Ok(t) => bar.suspend(|| println!("ok    {}  {} segments", file.display(), t.segmentation.segments.len())),
+                    Ok(t) => {
+                        bar.suspend(|| println!("ok    {}  {} segments", file.display(), t.segmentation.segments.len()))
+                    }
                     Err(m) => bar.suspend(|| println!("FAIL  {m}")),
                 }
                 bar.inc(1);
@@ -113,7 +127,8 @@ fn matching<T, E: std::fmt::Display>(
 ) -> Result<T, String> {
     let bar = ProgressBar::new(100);
     bar.set_style(
-        ProgressStyle::with_template("{bar:40} matching the library {percent} %").unwrap_or_else(|_| ProgressStyle::default_bar()),
+        ProgressStyle::with_template("{bar:40} matching the library {percent} %")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let done = work(&mut |f| {
         bar.set_position((100.0 * f) as u64);
@@ -149,7 +164,10 @@ fn write(path: &Path, text: &str) -> Result<(), String> {
 
 fn report_failures(failed: &[String]) {
     if !failed.is_empty() {
-        eprintln!("failed (left out of the library):\n{}", failed.iter().map(|m| format!("  {m}")).collect::<Vec<_>>().join("\n"));
+        eprintln!(
+            "failed (left out of the library):\n{}",
+            failed.iter().map(|m| format!("  {m}")).collect::<Vec<_>>().join("\n")
+        );
     }
 }
 
@@ -207,7 +225,14 @@ pub fn cluster_command(inputs: &[PathBuf], args: &LibraryFlags, out: &Path) -> R
 }
 
 /// `mocapseg transfer`: the labels of one take carried to every other; one JSON per take and one label CSV.
-pub fn transfer_command(inputs: &[PathBuf], args: &LibraryFlags, labels: &Path, from: &Path, route: TransferRoute, out: &Path) -> Result<Ended, String> {
+pub fn transfer_command(
+    inputs: &[PathBuf],
+    args: &LibraryFlags,
+    labels: &Path,
+    from: &Path,
+    route: TransferRoute,
+    out: &Path,
+) -> Result<Ended, String> {
     let started = Instant::now();
     let params = args.params(LibraryParams::for_route(route))?;
     let mut files = collect_files(inputs, "bvh")?;
@@ -260,7 +285,12 @@ pub fn transfer_command(inputs: &[PathBuf], args: &LibraryFlags, labels: &Path, 
             if file == from { "(the labelled take)" } else { "" }
         );
         for s in t.segmentation.segments.iter().filter(|s| s.label != mocapseg::library::transfer::UNKNOWN) {
-            csv_rows.push(LabelRow { file: file_name.clone(), start_frame: s.start, end_frame: s.end, label: s.label.clone() });
+            csv_rows.push(LabelRow {
+                file: file_name.clone(),
+                start_frame: s.start,
+                end_frame: s.end,
+                label: s.label.clone(),
+            });
         }
     }
     write(&out.join("labels.csv"), &to_csv(&csv_rows))?;

@@ -53,7 +53,14 @@ pub fn train_epochs(take: &Motion, epochs: usize) -> Result<usize, String> {
         trainer.epoch()?;
     }
     let trained = trainer.finish()?;
-    let meta = ModelMeta { name: "bench".into(), command: "bench".into(), data_hash: "-".into(), decoding: None, travel: None, unknown_threshold: 0.5 };
+    let meta = ModelMeta {
+        name: "bench".into(),
+        command: "bench".into(),
+        data_hash: "-".into(),
+        decoding: None,
+        travel: None,
+        unknown_threshold: 0.5,
+    };
     let model = model_from(vec![trained], &[t], &classes, &shipped_options(epochs), &meta);
     Ok(model.to_bytes()?.len())
 }

@@ -467,7 +467,9 @@ pub fn validation_fold(
 ) -> Result<(super::infer::Probabilities, Vec<f64>, usize), String> {
     let n = motions.len();
     if n < 3 || held >= n || val >= n || held == val {
-        return Err(format!("a validation fold needs 3 or more takes and two different ones of them; {n}, {held}, {val}"));
+        return Err(format!(
+            "a validation fold needs 3 or more takes and two different ones of them; {n}, {held}, {val}"
+        ));
     }
     let chosen = early_stopped(motions, labels, held, val, classes, options, &mut |_| true)?;
     let (p, source) = probabilities(&chosen, &motions[val], classes.len())?;

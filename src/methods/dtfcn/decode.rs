@@ -252,7 +252,11 @@ mod tests {
 
     /// Probabilities from per-frame rows.
     fn probs(rows: &[&[f32]]) -> Probabilities {
-        Probabilities { frames: rows.len(), classes: rows[0].len(), values: rows.iter().flat_map(|r| r.to_vec()).collect() }
+        Probabilities {
+            frames: rows.len(),
+            classes: rows[0].len(),
+            values: rows.iter().flat_map(|r| r.to_vec()).collect(),
+        }
     }
 
     fn changes(path: &[usize]) -> usize {
@@ -363,7 +367,11 @@ mod tests {
                 .enumerate()
                 .map(|(f, t)| {
                     let right = if flicker && f % 10 == 5 { 0.4 } else { 0.9 };
-                    if t == &Some(0) { vec![right, 1.0 - right] } else { vec![1.0 - right, right] }
+                    if t == &Some(0) {
+                        vec![right, 1.0 - right]
+                    } else {
+                        vec![1.0 - right, right]
+                    }
                 })
                 .collect()
         };
@@ -391,7 +399,10 @@ mod tests {
         let p = probs(&[&[0.9, 0.1], &[0.9, 0.1], &[0.45, 0.55], &[0.4, 0.6]]);
         let source = [0.0, 2.0, 4.0, 6.0];
         let raw = file_labels(&p, &source, 30.0, 8, &Decoding::RAW, 0.5);
-        assert_eq!(raw.iter().map(|x| x.0).collect::<Vec<_>>(), [Some(0), Some(0), Some(0), Some(0), Some(1), Some(1), Some(1), Some(1)]);
+        assert_eq!(
+            raw.iter().map(|x| x.0).collect::<Vec<_>>(),
+            [Some(0), Some(0), Some(0), Some(0), Some(1), Some(1), Some(1), Some(1)]
+        );
         // a raw frame below the threshold is unknown alone
         let raw = file_labels(&p, &source, 30.0, 8, &Decoding::RAW, 0.58);
         assert_eq!(raw[4].0, None);
@@ -399,7 +410,10 @@ mod tests {
         // decoded: the run of class 1 (mean 0.575) is unknown as a whole below 0.58, kept at 0.5
         let runs2 = Decoding { min_duration_s: 2.0 / 30.0, switch_cost: 0.0 };
         let d = file_labels(&p, &source, 30.0, 8, &runs2, 0.58);
-        assert_eq!(d.iter().map(|x| x.0).collect::<Vec<_>>(), [Some(0), Some(0), Some(0), Some(0), None, None, None, None]);
+        assert_eq!(
+            d.iter().map(|x| x.0).collect::<Vec<_>>(),
+            [Some(0), Some(0), Some(0), Some(0), None, None, None, None]
+        );
         let d = file_labels(&p, &source, 30.0, 8, &runs2, 0.5);
         assert_eq!(d[7], (Some(1), 0.6));
         assert!(file_labels(&probs(&[&[1.0]]), &[0.0], 30.0, 0, &runs2, 0.5).is_empty());

@@ -180,7 +180,8 @@ impl TakeFit {
 
     /// Whether the model's classes can describe the take (true when nothing was measured).
     pub fn fits(&self) -> bool {
-        self.travel_share.is_none_or(|s| s <= TRAVEL_SHARE_LIMIT) && self.pose_ratio.is_none_or(|r| r <= POSE_RATIO_LIMIT)
+        self.travel_share.is_none_or(|s| s <= TRAVEL_SHARE_LIMIT)
+            && self.pose_ratio.is_none_or(|r| r <= POSE_RATIO_LIMIT)
     }
 
     /// Whether anything was measured.

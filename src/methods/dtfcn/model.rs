@@ -262,8 +262,11 @@ impl Model {
                 let parts = member_parts(payload, &header.member_bytes).map_err(|e| format!("{source}: {e}"))?;
                 let mut nets = Vec::with_capacity(parts.len());
                 for (m, part) in parts.iter().enumerate() {
-                    let which =
-                        if parts.len() > 1 { format!(" (network {} of {})", m + 1, parts.len()) } else { String::new() };
+                    let which = if parts.len() > 1 {
+                        format!(" (network {} of {})", m + 1, parts.len())
+                    } else {
+                        String::new()
+                    };
                     // the network is made (its weights allocated) before the payload is read into it:
                     // a header that describes a larger network than its payload can hold (4 bytes per
                     // f32 weight) is refused first — six layers of 2048 filters would be 700 MB
@@ -449,11 +452,7 @@ pub fn check_header(h: &ModelHeader) -> Result<(), String> {
                 return Err(format!("the network has {} outputs but the header lists {k} classes", n.classes));
             }
             if n.channels != CHANNELS {
-                return Err(format!(
-                    "the network reads {} channels, expected {} (3 per joint)",
-                    n.channels,
-                    CHANNELS
-                ));
+                return Err(format!("the network reads {} channels, expected {} (3 per joint)", n.channels, CHANNELS));
             }
             h.standardise.as_ref().ok_or("a DT-FCN model without its input standardisation")?.check()?;
         }
@@ -470,8 +469,13 @@ mod tests {
 
     fn tiny() -> Model {
         let classes: Vec<String> = vec!["a".into(), "b".into(), "c".into()];
-        let network =
-            DtFcnConfig { channels: CHANNELS, classes: 3, width: 3, filters: vec![4, 8], ..DtFcnConfig::paper(CHANNELS, 3) };
+        let network = DtFcnConfig {
+            channels: CHANNELS,
+            classes: 3,
+            width: 3,
+            filters: vec![4, 8],
+            ..DtFcnConfig::paper(CHANNELS, 3)
+        };
         let device = crate::methods::dtfcn::device();
         device.seed(3);
         let net = network.init(&device);

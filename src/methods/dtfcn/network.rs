@@ -417,8 +417,7 @@ mod tests {
         let device = crate::methods::dtfcn::device();
         let conv =
             Conv1dConfig::new(5, 7, 3).with_dilation(4).with_padding(PaddingConfig1d::Explicit(4, 4)).init(&device);
-        let ours =
-            TemporalConv {
+        let ours = TemporalConv {
             weight: conv.weight.clone(),
             bias: conv.bias.clone().unwrap(),
             kernel_size: 3,
@@ -485,13 +484,22 @@ mod tests {
             let shape = model.header.network.as_ref().unwrap();
             assert!(!nets.is_empty(), "{name}: no network");
             for (m, net) in nets.iter().enumerate() {
-                assert!(net.layers.iter().all(|l| l.kernel_size == shape.width), "{name}: every layer has the model's w");
-                assert!(!net.layers.iter().any(|l| l.edge), "{name}: burn's Conv1d pads with zeros, as these models do");
+                assert!(
+                    net.layers.iter().all(|l| l.kernel_size == shape.width),
+                    "{name}: every layer has the model's w"
+                );
+                assert!(
+                    !net.layers.iter().any(|l| l.edge),
+                    "{name}: burn's Conv1d pads with zeros, as these models do"
+                );
                 for (i, layer) in net.layers.iter().chain([&net.classifier]).enumerate() {
                     assert_same_output(
                         layer,
                         48,
-                        &format!("{name} network {m} layer {i} (kernel {}, dilation {})", layer.kernel_size, layer.dilation),
+                        &format!(
+                            "{name} network {m} layer {i} (kernel {}, dilation {})",
+                            layer.kernel_size, layer.dilation
+                        ),
                     );
                 }
             }

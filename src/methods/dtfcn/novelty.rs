@@ -46,7 +46,13 @@ pub struct Novelty {
 impl Novelty {
     /// Fits on the features of labelled training frames (`rows` frame-major, `features` values
     /// each; `labels[i]` the class of row `i`).
-    pub fn fit(rows: &[f32], features: usize, labels: &[usize], classes: usize, rank: usize) -> Result<Novelty, String> {
+    pub fn fit(
+        rows: &[f32],
+        features: usize,
+        labels: &[usize],
+        classes: usize,
+        rank: usize,
+    ) -> Result<Novelty, String> {
         let n = labels.len();
         if features == 0 || rows.len() != n * features {
             return Err(format!("{} feature values for {n} frames of {features}", rows.len()));
@@ -114,7 +120,9 @@ impl Novelty {
 
     fn project(&self, f: &[f32]) -> Vec<f32> {
         (0..self.rank)
-            .map(|k| self.projection[k * self.features..(k + 1) * self.features].iter().zip(f).map(|(p, x)| p * x).sum())
+            .map(|k| {
+                self.projection[k * self.features..(k + 1) * self.features].iter().zip(f).map(|(p, x)| p * x).sum()
+            })
             .collect()
     }
 

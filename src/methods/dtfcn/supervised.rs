@@ -11,19 +11,19 @@ use super::augment::Augment;
 use super::corpus::{class_labels, fit_knn_model, model_from, rows_without_takes, ModelMeta};
 use super::decode::Decoding;
 use super::input::NetworkInput;
-use super::method::{DEFAULT_THRESHOLD, MAX_MIN_DURATION_S};
 use super::input::Standardise;
+use super::method::{DEFAULT_THRESHOLD, MAX_MIN_DURATION_S};
 use super::model::{data_hash, take_hashes, Labeller, Model, ModelKind};
-use super::network::{DtFcn, DtFcnConfig};
-use crate::method::cards::ModelCard;
-use super::shipped;
 use super::network::Padding;
+use super::network::{DtFcn, DtFcnConfig};
+use super::shipped;
 use super::training::{EpochReport, TrainOptions, Trainer, TrainingTake, MAX_MASK_S};
+use crate::method::cards::ModelCard;
+use crate::method::form::field_text;
 use crate::method::supervised::{
     check_model_name, read_options, Loaded, ModelInfo, StepReport, Supervision, Trained, Training, TrainingAsk,
     TrainingReport,
 };
-use crate::method::form::field_text;
 use crate::method::{counted, MethodError, ParamKind, ParamSpec, Progress};
 use crate::methods::lma::corpus::same_file;
 use crate::motion::Motion;
@@ -44,7 +44,15 @@ fn spec(
     unit: Option<&str>,
     basic: bool,
 ) -> ParamSpec {
-    ParamSpec { name: name.into(), help: help.into(), kind, default, unit: unit.map(str::to_string), basic, at_most: None }
+    ParamSpec {
+        name: name.into(),
+        help: help.into(),
+        kind,
+        default,
+        unit: unit.map(str::to_string),
+        basic,
+        at_most: None,
+    }
 }
 
 /// The most a change of label may cost in a model's decoding, in nats.
@@ -281,7 +289,12 @@ struct KnnOptionsJson {
 
 impl Default for KnnOptionsJson {
     fn default() -> Self {
-        KnnOptionsJson { min_duration_s: 0.0, switch_cost: 0.0, unknown_threshold: DEFAULT_THRESHOLD, choose_decoding: true }
+        KnnOptionsJson {
+            min_duration_s: 0.0,
+            switch_cost: 0.0,
+            unknown_threshold: DEFAULT_THRESHOLD,
+            choose_decoding: true,
+        }
     }
 }
 
@@ -393,7 +406,11 @@ pub fn model_info(name: &str, model: &Model) -> ModelInfo {
     if h.kind == ModelKind::Dtfcn && p.members.len() > 1 {
         let kept: Vec<String> =
             p.members.iter().map(|m| format!("seed {}: epoch {} of {}", m.seed, m.best_epoch, m.epochs_run)).collect();
-        origin += &format!(", an ensemble of {} networks (their probabilities averaged; {} kept)", p.members.len(), kept.join(", "));
+        origin += &format!(
+            ", an ensemble of {} networks (their probabilities averaged; {} kept)",
+            p.members.len(),
+            kept.join(", ")
+        );
     } else if h.kind == ModelKind::Dtfcn && p.epochs_run > 0 {
         origin += &format!(", epoch {} of {} kept", p.best_epoch, p.epochs_run);
     }
@@ -677,18 +694,26 @@ pub fn start_training(
             ));
         }
         if names.len() < 2 {
-            return Err(MethodError::param("validation", format!("{v} is the only take: nothing would be left to train on")));
+            return Err(MethodError::param(
+                "validation",
+                format!("{v} is the only take: nothing would be left to train on"),
+            ));
         }
     }
     let start = match (&start_from, kind) {
         (None, _) => None,
         (Some(_), ModelKind::Knn) => {
-            return Err(MethodError::param("name", "a k-NN has no epochs to continue: train it again on all its takes"));
+            return Err(MethodError::param(
+                "name",
+                "a k-NN has no epochs to continue: train it again on all its takes",
+            ));
         }
         (Some(from), ModelKind::Dtfcn) => Some(continued(from, &mut prepared)?),
     };
     match kind {
-        ModelKind::Knn => Ok(Box::new(KnnTraining { prepared, options, model: None, done: false, chosen: String::new() })),
+        ModelKind::Knn => {
+            Ok(Box::new(KnnTraining { prepared, options, model: None, done: false, chosen: String::new() }))
+        }
         ModelKind::Dtfcn => {
             let bad_option = |m: String| MethodError::params(m);
             if start.is_none() {
@@ -853,8 +878,7 @@ fn choose_on_validation(model: &mut Model, prepared: &Prepared, options: &ModelO
     };
     let (motion, truth) = (&prepared.motions[i], &prepared.labels_per_take[i]);
     let labelled = super::method::label(model, motion, &mut crate::method::NoProgress)?;
-    let judged =
-        Judged { probabilities: &labelled.probabilities, source: &labelled.source, fps: labelled.fps, truth };
+    let judged = Judged { probabilities: &labelled.probabilities, source: &labelled.source, fps: labelled.fps, truth };
     let Some(c) = choose(std::slice::from_ref(&judged)) else {
         return Ok(String::new());
     };
@@ -891,7 +915,8 @@ fn epoch_step(r: &EpochReport, largest_loss: f64, member: usize, members: usize)
             r.loss,
             100.0 * r.train_accuracy,
             match (r.validation_loss, r.validation_accuracy) {
-                (Some(l), Some(a)) => format!(" · validation loss {l:.3} · accuracy {:.0} %{}", 100.0 * a, if r.best { " *" } else { "" }),
+                (Some(l), Some(a)) =>
+                    format!(" · validation loss {l:.3} · accuracy {:.0} %{}", 100.0 * a, if r.best { " *" } else { "" }),
                 _ => String::new(),
             }
         ),
@@ -972,8 +997,12 @@ impl Training for DtfcnTraining {
         }
         let chosen = choose_on_validation(&mut model, &prepared, &options)?;
         let bytes = model.to_bytes().map_err(MethodError::Failed)?;
-        let network =
-            model.header.network.as_ref().map(|n| format!(" The {}.", n.describe(super::input::NETWORK_FPS))).unwrap_or_default();
+        let network = model
+            .header
+            .network
+            .as_ref()
+            .map(|n| format!(" The {}.", n.describe(super::input::NETWORK_FPS)))
+            .unwrap_or_default();
         let report = TrainingReport {
             summary: format!("{}{network}{chosen}", prepared.summary(ModelKind::Dtfcn, &how, Some(best))),
             columns: Vec::new(),
@@ -1124,10 +1153,8 @@ mod tests {
     #[test]
     fn a_trained_model_records_each_takes_file_hash() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures");
-        let takes: Vec<(String, Vec<u8>)> = ["35_01.bvh", "02_01.bvh"]
-            .iter()
-            .map(|f| (f.to_string(), std::fs::read(dir.join(f)).unwrap()))
-            .collect();
+        let takes: Vec<(String, Vec<u8>)> =
+            ["35_01.bvh", "02_01.bvh"].iter().map(|f| (f.to_string(), std::fs::read(dir.join(f)).unwrap())).collect();
         let expected: Vec<String> = takes.iter().map(|(_, b)| super::super::model::sha256_hex(b)).collect();
         let ask = TrainingAsk {
             name: "hashed".into(),
@@ -1214,7 +1241,8 @@ mod tests {
         assert_eq!(card.frames, Some(2 * once), "the earlier model's frames are the continued one's too");
         assert!(card.command.contains("continued from `mine` after its 1 epochs"), "{}", card.command);
         assert!(more.report.summary.contains("continued from `mine`"), "{}", more.report.summary);
-        let (a, b) = (first.model.model.downcast_ref::<Model>().unwrap(), more.model.model.downcast_ref::<Model>().unwrap());
+        let (a, b) =
+            (first.model.model.downcast_ref::<Model>().unwrap(), more.model.model.downcast_ref::<Model>().unwrap());
         assert_eq!(a.header.standardise, b.header.standardise, "the input scaling is the model's");
         assert_eq!(a.header.network, b.header.network);
         assert_ne!(first.bytes, more.bytes, "the weights moved");
@@ -1258,8 +1286,7 @@ mod tests {
             t.finish()
         };
         let validation = crate::load::load_bytes("35_01.bvh", &file("35_01.bvh").1, &mut |_| {}).unwrap().motion;
-        let truth: Vec<Option<usize>> =
-            (0..validation.frames()).map(|f| Some(usize::from(f >= 200))).collect();
+        let truth: Vec<Option<usize>> = (0..validation.frames()).map(|f| Some(usize::from(f >= 200))).collect();
         for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
             let options = serde_json::json!({"epochs": 2, "filters": [4, 4], "width": 2, "min_duration_s": 3});
             let options = if kind == ModelKind::Knn { serde_json::json!({"min_duration_s": 3}) } else { options };
@@ -1314,9 +1341,7 @@ mod tests {
             validation: None,
             to_file: false,
         };
-        let options = |seed: u64, members: usize| {
-            serde_json::json!({"epochs": 2, "filters": [4, 4], "width": 2, "seed": seed, "members": members})
-        };
+        let options = |seed: u64, members: usize| serde_json::json!({"epochs": 2, "filters": [4, 4], "width": 2, "seed": seed, "members": members});
         let train = |ask: TrainingAsk, stop_after: usize| {
             let mut t = start_training(ModelKind::Dtfcn, ask, &mut crate::method::NoProgress).unwrap();
             let mut steps = Vec::new();
@@ -1342,9 +1367,15 @@ mod tests {
         assert!(two.report.summary.contains("an ensemble of 2 networks of 2, 2 epochs"), "{}", two.report.summary);
         assert!(two.model.info.origin.contains("an ensemble of 2 networks"), "{}", two.model.info.origin);
         let json = header_json(two.model.model.downcast_ref::<Model>().unwrap());
-        assert_eq!((json["networks"].as_u64(), json["parameters"].as_u64()), (Some(2), json["parameters_per_network"].as_u64().map(|p| 2 * p)));
+        assert_eq!(
+            (json["networks"].as_u64(), json["parameters"].as_u64()),
+            (Some(2), json["parameters_per_network"].as_u64().map(|p| 2 * p))
+        );
         let header = &two.model.model.downcast_ref::<Model>().unwrap().header;
-        assert_eq!(header.provenance.members.iter().map(|m| (m.seed, m.epochs_run)).collect::<Vec<_>>(), [(4, 2), (5, 2)]);
+        assert_eq!(
+            header.provenance.members.iter().map(|m| (m.seed, m.epochs_run)).collect::<Vec<_>>(),
+            [(4, 2), (5, 2)]
+        );
         assert!(header.provenance.command.contains("--members 2"), "{}", header.provenance.command);
         // continued (the table's members ignored, as its network shape is): both networks train on
         let (more, steps) = train(ask(options(4, 1), Some(two.model.clone())), usize::MAX);

@@ -4,7 +4,9 @@ use super::{centroid, segment_limbs, KcsParams, ValidParams, PARAMS};
 use crate::features::end_effectors::canonical_joints;
 use crate::method::bounds;
 use crate::method::plot::{self, Series};
-use crate::method::{Work, Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Progress, RunOptions};
+use crate::method::{
+    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Progress, RunOptions, Work,
+};
 use crate::motion::joints::Canonical as C;
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;

@@ -22,7 +22,6 @@ use super::classifier::{EffortModel, Projector};
 use super::features::Pool;
 use crate::method::Cancelled;
 
-
 /// `g(b)` at each of `boundaries`: the largest change over the arms' `pools` of the family's mean output from the
 /// `window` frames before `b` to the `window` frames after (`0` where either side leaves the take).
 pub fn strengths(
@@ -71,7 +70,13 @@ pub fn relative_threshold(values: &[f64], quantile: f64) -> f64 {
 /// consecutive chosen boundaries at least `min_len` frames apart; the segments between consecutive chosen
 /// boundaries at most `max_len` apart. The take's first and last frame (`frames`) count as boundaries of strength
 /// `tau` (free to use, never required).
-pub fn chain(boundaries: &[usize], strength: &[f64], frames: usize, (min_len, max_len): (usize, usize), tau: f64) -> Vec<(usize, usize)> {
+pub fn chain(
+    boundaries: &[usize],
+    strength: &[f64],
+    frames: usize,
+    (min_len, max_len): (usize, usize),
+    tau: f64,
+) -> Vec<(usize, usize)> {
     // nodes: the take's start, the candidates strictly inside, the take's end
     let mut nodes: Vec<(usize, f64)> = vec![(0, 0.0)];
     let mut inner: Vec<(usize, f64)> = boundaries

@@ -70,9 +70,9 @@ pub fn annotate(
         .into_iter()
         .map(|effort| Annotated {
             effort,
-            why: effort.is_none().then(|| {
-                format!("shorter than the 3 frames at {fps:.0} fps the classifiers need to read a segment")
-            }),
+            why: effort
+                .is_none()
+                .then(|| format!("shorter than the 3 frames at {fps:.0} fps the classifiers need to read a segment")),
         })
         .collect();
     Ok(Annotations {

@@ -15,9 +15,9 @@ use super::search::{merge_arms, pair, smooth, troughs, Arms, DevianceMap};
 use super::supervised::resolve;
 use crate::method::bounds::{self, NumberParam, Valid};
 use crate::method::supervised::{Loaded, Training, TrainingAsk};
-use crate::method::{Work, 
+use crate::method::{
     Details, Method, MethodError, MethodInfo, MethodOutput, ModelStore, ParamKind, ParamSpec, Picture, Progress,
-    RunOptions, Supervised, Supervision,
+    RunOptions, Supervised, Supervision, Work,
 };
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -191,10 +191,11 @@ impl Method for Lma {
             0,
             ParamSpec {
                 name: "search".into(),
-                help: "How segments are found: `effort` — boundaries where the classifiers' Effort changes most, chosen \
+                help:
+                    "How segments are found: `effort` — boundaries where the classifiers' Effort changes most, chosen \
                        as one chain (the default: chosen by held-out scores, docs/methods/lma.md); `deviance` — the \
                        paper's troughs where the 121 shifted classifiers agree."
-                    .into(),
+                        .into(),
                 kind: ParamKind::Choice { options: SEARCHES.iter().map(|s| s.to_string()).collect() },
                 default: serde_json::json!(SEARCHES[0]),
                 unit: None,
@@ -279,7 +280,8 @@ impl Method for Lma {
         segments: &[Segment],
         progress: &mut dyn Progress,
     ) -> Result<crate::method::Annotations, MethodError> {
-        let by = if params.shipped { "LMA, shipped family".to_string() } else { format!("LMA, {}", params.params.model) };
+        let by =
+            if params.shipped { "LMA, shipped family".to_string() } else { format!("LMA, {}", params.params.model) };
         super::layer::annotate(&params.model, motion, segments, by, progress)
     }
 }
@@ -452,7 +454,11 @@ impl Analysis {
                 values[f] = (g0 + (g1 - g0) * u) as f32;
             }
         }
-        crate::method::Curve { id: "effort-change".into(), title: "Effort change at candidate boundaries".into(), values }
+        crate::method::Curve {
+            id: "effort-change".into(),
+            title: "Effort change at candidate boundaries".into(),
+            values,
+        }
     }
 
     /// The Effort search drawn along the take: a stem per candidate boundary as high as its Effort change (grey), the

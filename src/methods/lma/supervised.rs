@@ -242,7 +242,8 @@ pub fn start_training(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<B
     let taken = if ask.to_file { Vec::new() } else { vec![SHIPPED_NAME.to_string()] };
     check_model_name(&name, &taken).map_err(|m| MethodError::param("name", m))?;
     let bad_labels = |m: String| MethodError::param("labels", m);
-    let first = ask.takes.first().map(|(n, _)| n.clone()).ok_or_else(|| MethodError::param("takes", "no take to train on"))?;
+    let first =
+        ask.takes.first().map(|(n, _)| n.clone()).ok_or_else(|| MethodError::param("takes", "no take to train on"))?;
     let stand_in = ask.labels_name.is_empty() && ask.labels.trim().is_empty();
     let rows = if stand_in { Vec::new() } else { parse_labels(&ask.labels, &ask.labels_name).map_err(bad_labels)? };
     let corpus_config = CorpusConfig::default();

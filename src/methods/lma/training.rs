@@ -323,7 +323,10 @@ pub fn train_family(
         }
         let usable: Vec<usize> = (0..POOL_SIZE).filter(|k| !told.iter().any(|t| t.0 == *k)).collect();
         if usable.is_empty() {
-            return Err(format!("every pool feature tells the stand-in {} label: nothing is left to learn it from", factor.name()));
+            return Err(format!(
+                "every pool feature tells the stand-in {} label: nothing is left to learn it from",
+                factor.name()
+            ));
         }
         let y_train = one_hot(&train_set, f);
         let y_valid = one_hot(&valid, f);

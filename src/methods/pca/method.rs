@@ -4,8 +4,8 @@
 
 use super::{poses, scan, PcaParams, Scan, ValidParams, PARAMS};
 use crate::method::bounds;
-use crate::method::{Work, 
-    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions,
+use crate::method::{
+    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions, Work,
 };
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -176,7 +176,8 @@ mod tests {
         let params = PcaParams::default().check().unwrap();
         let mut stages: Vec<String> = Vec::new();
         let mut progress = |stage: &str, _: f64| stages.push(stage.to_string());
-        let out = Pca.run(&motion, &params, &RunOptions { pictures: true, ..RunOptions::default() }, &mut progress).unwrap();
+        let out =
+            Pca.run(&motion, &params, &RunOptions { pictures: true, ..RunOptions::default() }, &mut progress).unwrap();
         // 524 frames at 120 Hz: 131 working frames, a single walk, no cut
         let seg = &out.segmentation;
         assert_eq!(seg.segments.len(), 1, "{:?}", seg.segments);

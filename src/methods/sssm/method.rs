@@ -3,8 +3,8 @@
 //! clusters and mirror pairs) and the SSSM picture of [`super::image`].
 
 use super::{Span, SssmError, SssmOutcome, SssmParams, ValidParams};
-use crate::method::{Work, 
-    counted, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions,
+use crate::method::{
+    counted, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions, Work,
 };
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;

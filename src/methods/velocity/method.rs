@@ -5,8 +5,8 @@ use super::{boundaries, hand_speed, ValidParams, VelocityParams, PARAMS};
 use crate::features::end_effectors::{end_effectors, LEFT_HAND, RIGHT_HAND};
 use crate::method::bounds;
 use crate::method::plot::{self, Series};
-use crate::method::{Work, 
-    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions,
+use crate::method::{
+    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions, Work,
 };
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
