@@ -70,7 +70,7 @@ BENCH_BVH ?= $(firstword $(wildcard $(abspath $(CURDIR)/../shared/data/cmu/86/86
                 $(abspath $(shell ls -S tests/fixtures/*.bvh 2>/dev/null | head -n 1)))
 
 .PHONY: help setup demo test bench web serve check-toolchain accuracy \
-        test-native test-wasm test-e2e bench-native bench-wasm bench-page bench-peers bench-table fuzz
+        test-native fmt-check test-wasm test-e2e bench-native bench-wasm bench-page bench-peers bench-table fuzz
 
 help:
 	@sed -n '3,/^#$$/{/^#$$/!p}' Makefile | sed 's/^# \{0,1\}//'
@@ -167,8 +167,15 @@ serve:
 
 # Every native test: unit tests, integration tests (incl. the CLI), doc tests. The fuzz targets' code
 # (fuzz/src/targets) is compiled and run on its seeds by tests/fuzz_targets.rs; `make fuzz` fuzzes.
-test-native: check-toolchain
+test-native: check-toolchain fmt-check
 	$(CARGO) test
+
+# The tree as rustfmt writes it (rustfmt.toml); `cargo fmt` fixes it. Debian's fallback toolchain
+# may come without rustfmt: then this says so and checks nothing.
+fmt-check:
+	@if $(CARGO) fmt --version >/dev/null 2>&1; then \
+		$(CARGO) fmt --check || { echo "fmt-check: the diff above is what 'cargo fmt' would change; run it"; exit 1; }; \
+	else echo "fmt-check: rustfmt is not installed with this toolchain; formatting not checked"; fi
 
 # One wasm test binary (tests/wasm.rs: the core, the SSSM suite, the worker's glue) in headless
 # Chromium, in the `web` profile with the `web` feature: it links the library `make web`

@@ -95,6 +95,9 @@ try_route_s() {
         timeout 900 rustup toolchain install stable --profile minimal --target "$WASM_TARGET" \
             && rustup default stable || return 1
     fi
+    # rustfmt for make test's format check (best effort: without it the check says it checked nothing)
+    cargo fmt --version >/dev/null 2>&1 || timeout 300 rustup component add rustfmt >/dev/null 2>&1 \
+        || log "rustup could not add rustfmt: make test will not check formatting"
     if rustup target list --installed 2>/dev/null | grep -qx "$WASM_TARGET"; then
         log "rustup: $WASM_TARGET already installed ($(rustc --version))"
         return 0
