@@ -125,6 +125,10 @@ mod lab {
         /// DT-FCN row's time).
         #[arg(long, conflicts_with = "inner_all")]
         ensembles: bool,
+        /// Offer DT-FCN's nested grid every setting with each take centred on its own median posture
+        /// (`centre_on_take`) beside the setting as it is (twice the DT-FCN row's time).
+        #[arg(long, conflicts_with = "inner_all")]
+        centring: bool,
         /// DT-FCN's settings chosen on every inner take in turn (three validation folds inside each outer fold, the
         /// epochs their median; the last epoch's weights) instead of on the take after the held-out one alone.
         #[arg(long)]
@@ -665,7 +669,14 @@ mod lab {
         TrainOptions { width, filters: paper_filters(layers), padding, seed, ..TrainOptions::default() }
     }
 
-    fn labeller_rows(takes: &[Take], ensembles: bool, inner_all: bool, seeds: usize) -> Result<Vec<MethodRow>, String> {
+    fn labeller_rows(
+        takes: &[Take],
+        ensembles: bool,
+        inner_all: bool,
+        centring: bool,
+        seeds: usize,
+    ) -> Result<Vec<MethodRow>, String> {
+        let centrings: &[bool] = if centring { &[false, true] } else { &[false] };
         let dtfcn_seeds = &DTFCN_SEEDS[..seeds.clamp(1, DTFCN_SEEDS.len())];
         let mocap6: Vec<&Take> = takes.iter().filter(|t| t.set == "mocap6").collect();
         let mut classes = Vec::new();
@@ -782,8 +793,12 @@ mod lab {
                                     top = Some((o, 0, threshold, decoding, what, accuracy, None));
                                 }
                             }
-                            for &(width, layers, padding) in DTFCN_SETTINGS.iter().filter(|_| !inner_all) {
-                                let options = setting(width, layers, padding, seed);
+                            let grid = DTFCN_SETTINGS
+                                .iter()
+                                .filter(|_| !inner_all)
+                                .flat_map(|&(w, l, p)| centrings.iter().map(move |&c| (w, l, p, c)));
+                            for (width, layers, padding, centre_on_take) in grid {
+                                let options = TrainOptions { centre_on_take, ..setting(width, layers, padding, seed) };
                                 let p = predict_held_out(&motions, &labels, h, &classes, &options, &mut |_| true)?;
                                 let mut held = Some(Labelled {
                                     probabilities: p.network_probabilities,
@@ -808,8 +823,9 @@ mod lab {
                                     let (accuracy, threshold, decoding, criterion) =
                                         validation_choice(&[(vm, &val, labels[p.validation].as_slice())]);
                                     let what = format!(
-                                    "width={width} layers={layers} padding={} epochs={} average_last={average_last} unknown_threshold={threshold} {} (validation {} accuracy {:.3}, criterion {criterion:.1})",
+                                    "width={width} layers={layers} padding={}{} epochs={} average_last={average_last} unknown_threshold={threshold} {} (validation {} accuracy {:.3}, criterion {criterion:.1})",
                                     padding.name(),
+                                    if centre_on_take { " centre_on_take=true" } else { "" },
                                     p.best_epoch,
                                     decoding_label(&decoding),
                                     vm.name,
@@ -963,6 +979,7 @@ mod lab {
                     dtfcn_seeds[0]
                 ) + if ensembles { "; the grid also offered 3-seed ensembles of half-width networks (--ensembles)" } else { "" }
                     + if inner_all { "; settings chosen on every inner take in turn (--inner-all)" } else { "" }
+                    + if centring { "; each setting also offered with every take centred on its own median posture (--centring)" } else { "" }
             } else {
                 "defaults: the shipped models (in-sample); held out: mocap6 takes only, trained on the other three"
                     .into()
@@ -1251,7 +1268,13 @@ mod lab {
         println!("actions: consensus of {}", outputs.iter().map(|o| o.method.as_str()).collect::<Vec<_>>().join(", "));
         actions.push(consensus_row(&refs, &outputs, action_criterion, &families)?);
         println!("actions: knn, dtfcn");
-        actions.extend(labeller_rows(&takes, args.ensembles, args.inner_all, args.dtfcn_seeds as usize)?);
+        actions.extend(labeller_rows(
+            &takes,
+            args.ensembles,
+            args.inner_all,
+            args.centring,
+            args.dtfcn_seeds as usize,
+        )?);
         // the training prior: the labels of the other takes of the same label set (86_01 has none: its own)
         let priors: Vec<Prior> = (0..takes.len())
             .map(|t| {

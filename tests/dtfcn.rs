@@ -155,6 +155,41 @@ fn a_saved_model_loads_and_labels_exactly_as_before() {
     }
 }
 
+/// `centre_on_take`: training centres each whole take on its own median posture before fitting the standardisation,
+/// the model file keeps the flag, labelling centres the whole take the same way, and a resumed training keeps its
+/// model's centring whatever its options say; without the option nothing is centred.
+#[test]
+fn a_model_centred_on_each_take_is_trained_kept_and_run_on_centred_takes() {
+    use mocapseg::methods::dtfcn::input::{centred_on_take, NetworkInput, Standardise};
+    use mocapseg::methods::dtfcn::training::Trainer;
+    let (motions, classes, takes) = two_takes();
+    let options = TrainOptions { centre_on_take: true, ..small(2) };
+    let model = train_model(&takes, &[], &classes, &options, &meta(), &mut |_| true).unwrap();
+    let s = model.header.standardise.clone().unwrap();
+    assert!(s.centre_on_take);
+    // its statistics are the centred takes'
+    let centred: Vec<NetworkInput> = takes.iter().map(|t| centred_on_take(&t.input)).collect();
+    assert_eq!(Standardise::fit(&centred.iter().collect::<Vec<_>>()).centring(true), s);
+    // the file keeps it, and a run labels with the network on the centred take
+    let back = Model::from_bytes(&model.to_bytes().unwrap(), "centred.model").unwrap();
+    assert_eq!(back.header.standardise.as_ref(), Some(&s));
+    let run = label(&back, &motions[0], &mut NoProgress).unwrap();
+    let Labeller::Network(nets) = &back.labeller else { panic!("a network") };
+    let direct = predict_input(&nets[0], &s.clone().centring(false), &centred[0], classes.len());
+    for (x, y) in run.probabilities.values.iter().zip(&direct.values) {
+        assert!((x - y).abs() < 1e-5, "{x} vs {y}");
+    }
+    // not centred, the same takes give other statistics and another labelling
+    let plain = train_model(&takes, &[], &classes, &small(2), &meta(), &mut |_| true).unwrap();
+    let p = plain.header.standardise.clone().unwrap();
+    assert!(!p.centre_on_take && p.mean != s.mean);
+    // resumed without the option, the model still centres
+    let start = (back.header.network.clone().unwrap(), s.clone(), nets[0].clone());
+    let mut resumed = Trainer::resume(takes.clone(), vec![], classes.clone(), small(1), start).unwrap();
+    resumed.epoch().unwrap();
+    assert!(resumed.finish().unwrap().standardise.centre_on_take);
+}
+
 /// A few-seed ensemble (`members`): its networks are the single networks of seeds `seed`, `seed + 1`, … trained
 /// alone, it labels with the mean of their probabilities, and its file reads back byte for byte (a header whose
 /// networks' byte counts do not add up to the weights is refused by name).

@@ -104,7 +104,7 @@ pub fn seeds() -> Vec<(String, Vec<u8>)> {
     let other = config.init(&device);
     let mut h = header(ModelKind::Dtfcn, 3);
     h.network = Some(config);
-    h.standardise = Some(Standardise { mean: vec![0.0; CHANNELS], spread: vec![1.0; CHANNELS] });
+    h.standardise = Some(Standardise { mean: vec![0.0; CHANNELS], spread: vec![1.0; CHANNELS], centre_on_take: false });
     let dtfcn = Model { header: h.clone(), labeller: Labeller::Network(vec![net.clone()]) };
     let bytes = dtfcn.to_bytes().expect("the tiny DT-FCN writes");
     let payload = &bytes[bytes.len() - dtfcn_payload_len(&bytes)..];

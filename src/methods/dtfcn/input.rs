@@ -168,11 +168,35 @@ pub fn mirrored(input: &NetworkInput) -> NetworkInput {
     NetworkInput { values, frames: n, source_frames: input.source_frames.clone() }
 }
 
-/// Per-channel standardisation learnt from the training frames: `(x − mean) / spread`.
+/// `input` with every joint channel less its own median over the take — the take's mean posture removed, the
+/// movement kept (not in the paper; [`Standardise::centre_on_take`]). The hips' row (the root's velocities) and the
+/// turning row, already rates, are left as they are. Centring a centred take changes nothing.
+pub fn centred_on_take(input: &NetworkInput) -> NetworkInput {
+    let n = input.frames;
+    let mut values = input.values.clone();
+    if n == 0 {
+        return NetworkInput { values, frames: n, source_frames: input.source_frames.clone() };
+    }
+    let rates: Vec<usize> = (0..3).flat_map(|axis| [channel_of(axis, HIP_ROW), channel_of(axis, TURN_ROW)]).collect();
+    for c in (0..CHANNELS).filter(|c| !rates.contains(c)) {
+        let channel = &mut values[c * n..(c + 1) * n];
+        let median = crate::stats::median(&mut channel.to_vec()).unwrap_or(0.0);
+        channel.iter_mut().for_each(|v| *v -= median);
+    }
+    NetworkInput { values, frames: n, source_frames: input.source_frames.clone() }
+}
+
+/// Per-channel standardisation learnt from the training frames: `(x − mean) / spread`, after centring each whole
+/// take on its own median posture when `centre_on_take`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Standardise {
     pub mean: Vec<f32>,
     pub spread: Vec<f32>,
+    /// Each take is first centred on its own median posture ([`centred_on_take`]; not in the paper): a subject's
+    /// stance and proportions, which shift every limb's position, no longer shift the input. Models without the field
+    /// do not centre.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub centre_on_take: bool,
 }
 
 impl Standardise {
@@ -206,11 +230,28 @@ impl Standardise {
                 }
             })
             .collect();
-        Standardise { mean, spread }
+        Standardise { mean, spread, centre_on_take: false }
     }
 
-    /// `input`'s values standardised, channel-major.
+    /// The same statistics, centring each take first or not (the statistics must have been fitted on takes prepared
+    /// the same way).
+    pub fn centring(self, centre_on_take: bool) -> Standardise {
+        Standardise { centre_on_take, ..self }
+    }
+
+    /// `input` — a whole take — standardised, channel-major: centred on its own median first when
+    /// [`Standardise::centre_on_take`], then scaled ([`Standardise::scale`]).
     pub fn apply(&self, input: &NetworkInput) -> Vec<f32> {
+        if self.centre_on_take {
+            self.scale(&centred_on_take(input))
+        } else {
+            self.scale(input)
+        }
+    }
+
+    /// `input`'s values less the mean over the spread, channel-major, without centring: for a crop of a take that
+    /// was centred whole (training), where the crop's own median is not the take's.
+    pub fn scale(&self, input: &NetworkInput) -> Vec<f32> {
         let n = input.frames;
         let mut out = input.values.clone();
         for c in 0..CHANNELS {
@@ -305,6 +346,45 @@ mod tests {
         let mut bad = s.clone();
         bad.spread[3] = 0.0;
         assert!(bad.check().is_err());
+    }
+
+    #[test]
+    fn centring_removes_the_takes_posture_and_keeps_the_rates() {
+        let x = network_input(&walk()).unwrap();
+        let n = x.frames;
+        let c = centred_on_take(&x);
+        let median = |v: &[f32]| crate::stats::median(&mut v.to_vec()).unwrap();
+        for ch in 0..CHANNELS {
+            let rate = (0..3).any(|a| ch == channel_of(a, HIP_ROW) || ch == channel_of(a, TURN_ROW));
+            if rate {
+                assert_eq!(c.channel(ch), x.channel(ch), "channel {ch}: the root's velocities and turning stay");
+            } else {
+                assert_eq!(median(c.channel(ch)), 0.0, "channel {ch}");
+                // the movement kept: every frame moved by the same amount
+                let shift = x.at(ch, 0) - c.at(ch, 0);
+                assert!((0..n).all(|t| ((x.at(ch, t) - c.at(ch, t)) - shift).abs() < 1e-3), "channel {ch}");
+            }
+        }
+        // a centred take is centred; a take held in another posture (every limb channel offset) centres alike
+        assert_eq!(centred_on_take(&c), c);
+        let mut other = x.clone();
+        let head = Canonical::ALL.iter().position(|&j| j == Canonical::Head).unwrap();
+        for ch in [channel_of(0, head), channel_of(1, head), channel_of(2, 7)] {
+            other.values[ch * n..(ch + 1) * n].iter_mut().for_each(|v| *v += 4.0);
+        }
+        let o = centred_on_take(&other);
+        assert!(o.values.iter().zip(&c.values).all(|(a, b)| (a - b).abs() < 1e-3));
+        // the standardisation: centred whole, then scaled; without the flag, scaled only
+        let s = Standardise::fit(&[&c]).centring(true);
+        assert_eq!(s.apply(&x), s.scale(&c));
+        assert_eq!(s.clone().centring(false).apply(&x), s.scale(&x));
+        // in a model file: written only when on, read as off when absent (earlier models)
+        let off = serde_json::to_value(s.clone().centring(false)).unwrap();
+        assert!(off.get("centre_on_take").is_none(), "{off}");
+        let on = serde_json::to_value(&s).unwrap();
+        assert_eq!(on["centre_on_take"], true);
+        let back: Standardise = serde_json::from_value(off).unwrap();
+        assert!(!back.centre_on_take);
     }
 
     #[test]

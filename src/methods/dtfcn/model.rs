@@ -490,7 +490,11 @@ mod tests {
                 unknown_threshold: 0.5,
                 decoding: None,
                 network: Some(network),
-                standardise: Some(Standardise { mean: vec![0.0; CHANNELS], spread: vec![1.0; CHANNELS] }),
+                standardise: Some(Standardise {
+                    mean: vec![0.0; CHANNELS],
+                    spread: vec![1.0; CHANNELS],
+                    centre_on_take: false,
+                }),
                 knn: None,
                 travel: None,
                 provenance: Provenance {

@@ -210,6 +210,14 @@ fn network_specs() -> Vec<ParamSpec> {
             Some("networks"),
             false,
         ),
+        spec(
+            "centre_on_take",
+            "Centre each take on its own median posture before the standardisation (not in the paper): a subject's stance and proportions no longer shift the input, only the movement does. The model keeps it; labelling a take then depends on the whole take's posture (docs/methods/dtfcn.md).",
+            ParamKind::Bool,
+            d.centre_on_take.into(),
+            None,
+            false,
+        ),
     ]
 }
 
@@ -243,6 +251,7 @@ struct OptionsJson {
     patience: i64,
     average_last: i64,
     members: i64,
+    centre_on_take: bool,
     min_duration_s: f64,
     switch_cost: f64,
     unknown_threshold: f64,
@@ -269,6 +278,7 @@ impl Default for OptionsJson {
             patience: d.patience as i64,
             average_last: d.average_last as i64,
             members: d.members as i64,
+            centre_on_take: d.centre_on_take,
             min_duration_s: 0.0,
             switch_cost: 0.0,
             unknown_threshold: DEFAULT_THRESHOLD,
@@ -349,6 +359,7 @@ pub fn options_from_json(kind: ModelKind, value: &serde_json::Value) -> Result<M
         patience: o.patience as usize,
         average_last: o.average_last as usize,
         members: o.members as usize,
+        centre_on_take: o.centre_on_take,
         ..TrainOptions::default()
     };
     // what the table cannot say (learning rate below 1, …) is still the trainer's to refuse

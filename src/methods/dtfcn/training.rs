@@ -24,7 +24,7 @@ use serde::{Deserialize, Serialize};
 
 use super::augment::{augment, mirror_classes, Augment};
 use super::infer::predict_input;
-use super::input::{network_input, NetworkInput, Standardise, CHANNELS, NETWORK_FPS};
+use super::input::{centred_on_take, network_input, NetworkInput, Standardise, CHANNELS, NETWORK_FPS};
 use super::network::{paper_filters, DtFcn, DtFcnConfig, Padding};
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -68,6 +68,10 @@ pub struct TrainOptions {
     /// ensemble, not in the paper: one network's held-out accuracy moves by ±0.03 with its seed); 1 = one network.
     #[serde(skip_serializing_if = "is_one")]
     pub members: usize,
+    /// Each take centred on its own median posture before the standardisation ([`Standardise::centre_on_take`];
+    /// not in the paper). A resumed training keeps its model's.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub centre_on_take: bool,
 }
 
 fn is_zero(n: &usize) -> bool {
@@ -105,6 +109,7 @@ impl Default for TrainOptions {
             image_rows: None,
             average_last: 0,
             members: 1,
+            centre_on_take: false,
         }
     }
 }
@@ -409,11 +414,19 @@ impl Trainer {
         let mirror_of = mirror_classes(&classes);
         let mut rng = Rng::new(options.seed);
         let device = super::device().autodiff();
+        // a resumed model centres (or not) as it was trained to
+        let centre = start.as_ref().map_or(options.centre_on_take, |(_, s, _)| s.centre_on_take);
+        // whole takes centred before augmentation and crops (a crop's own median is not its take's)
+        let takes: Vec<TrainingTake> = if centre {
+            takes.into_iter().map(|t| TrainingTake { input: centred_on_take(&t.input), ..t }).collect()
+        } else {
+            takes
+        };
         let (standardise, net) = match start {
             // the weights kept, made trainable again (autodiff, gradients as configured)
             Some((_, standardise, net)) => (standardise, net.train()),
             None => (
-                Standardise::fit(&takes.iter().map(|t| &t.input).collect::<Vec<_>>()),
+                Standardise::fit(&takes.iter().map(|t| &t.input).collect::<Vec<_>>()).centring(centre),
                 network.init_seeded(&device, options.seed ^ 0x5eed_d7fc_u64),
             ),
         };
@@ -508,7 +521,8 @@ impl Trainer {
             let mut target = vec![0f32; b * k * len];
             let mut weight = vec![0f32; b * len];
             for (i, c) in batch.iter().enumerate() {
-                let z = self.standardise.apply(&c.input);
+                // the takes were centred whole (if at all): a crop is only scaled
+                let z = self.standardise.scale(&c.input);
                 let n = c.input.frames;
                 for ch in 0..CHANNELS {
                     let at = (i * CHANNELS + ch) * len;
