@@ -81,6 +81,9 @@ mod lab {
         /// The final training keeps the mean weights of its last this many epochs (0: the last epoch's).
         #[arg(long, default_value_t = 0)]
         average_last: usize,
+        /// Each take centred on its own median posture before the standardisation (`centre_on_take`).
+        #[arg(long)]
+        centre_on_take: bool,
         /// The seeds of `ensemble`.
         #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
         seeds: Vec<u64>,
@@ -145,6 +148,7 @@ mod lab {
             augment: Augment::parse(&args.augment)?,
             seed: args.seed,
             average_last: args.average_last,
+            centre_on_take: args.centre_on_take,
             ..TrainOptions::default()
         };
         let base = match &args.padding {
