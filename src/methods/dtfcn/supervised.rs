@@ -652,6 +652,16 @@ impl Prepared {
         self.validation.as_deref().is_some_and(|v| same_file(v, take))
     }
 
+    /// The SHA-256 of the files trained on (a validation take only chooses, it is not trained on).
+    fn trained_sha256(&self) -> Vec<String> {
+        self.motions
+            .iter()
+            .zip(&self.take_sha256)
+            .filter(|(m, _)| !self.is_validation(&m.name))
+            .map(|(_, h)| h.clone())
+            .collect()
+    }
+
     /// The status line of the finished training (`how`: "20 epochs", "stopped after 3 of 20 epochs").
     fn summary(&self, kind: ModelKind, how: &str, kept: Option<usize>) -> String {
         let left = if self.left_out.is_empty() {
@@ -979,13 +989,7 @@ impl Training for DtfcnTraining {
         let mut model = model_from(trained, &takes, &prepared.classes, &options.train, &meta);
         let p = &mut model.header.provenance;
         // the files of the takes trained on (a validation take only chose the epoch)
-        p.take_sha256 = prepared
-            .motions
-            .iter()
-            .zip(&prepared.take_sha256)
-            .filter(|(m, _)| !prepared.is_validation(&m.name))
-            .map(|(_, h)| h.clone())
-            .collect();
+        p.take_sha256 = prepared.trained_sha256();
         let mut how = if members.planned > 1 {
             // an ensemble: each network's epochs, and whether a stop left some untrained
             let of = if networks < members.planned {
@@ -1052,13 +1056,7 @@ impl Training for KnnTraining {
         let meta = p.meta(ModelKind::Knn, &self.options);
         let mut model = fit_knn_model(&takes, &p.classes, &meta)
             .map_err(|m| MethodError::param("labels", format!("{}: {m}", p.labels_name)))?;
-        model.header.provenance.take_sha256 = p
-            .motions
-            .iter()
-            .zip(&p.take_sha256)
-            .filter(|(m, _)| !p.is_validation(&m.name))
-            .map(|(_, h)| h.clone())
-            .collect();
+        model.header.provenance.take_sha256 = p.trained_sha256();
         self.chosen = choose_on_validation(&mut model, p, &self.options)?;
         let frames = model.header.provenance.frames;
         self.model = Some(model);
