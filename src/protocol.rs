@@ -66,6 +66,11 @@ pub enum Request {
         #[serde(skip)]
         skeleton_bytes: Vec<u8>,
     },
+    /// Hold `motion` as take `take` — the motion another worker made of the take's file, handed over
+    /// as it is (the page's pool of workers: the take is parsed once, by the main worker, and every
+    /// other worker gets its motion, not its file). Its positions are buffer 0. The reply is
+    /// [`Response::Held`], or `failed` when the motion is not a whole take.
+    Hold { take: TakeId, motion: Box<Motion> },
     /// Segment take `take` with `method` (a registry name) and `params` (JSON, fields optional).
     Segment { take: TakeId, run: RunId, method: String, params: serde_json::Value },
     /// Store the model file `file` (its bytes) of the supervised method `method` under the name
@@ -215,7 +220,7 @@ impl Request {
     /// The run id the request names (`None` for a load).
     pub fn run_id(&self) -> Option<RunId> {
         match self {
-            Request::Load { .. } => None,
+            Request::Load { .. } | Request::Hold { .. } => None,
             Request::Segment { run, .. }
             | Request::Annotate { run, .. }
             | Request::UseModel { run, .. }
@@ -235,6 +240,7 @@ impl Request {
     pub fn take(&self) -> TakeId {
         match self {
             Request::Load { take, .. }
+            | Request::Hold { take, .. }
             | Request::Segment { take, .. }
             | Request::Annotate { take, .. }
             | Request::UseModel { take, .. }
@@ -289,6 +295,10 @@ pub struct Skeleton {
     pub names: Vec<String>,
     pub parents: Vec<Option<usize>>,
     pub is_end_site: Vec<bool>,
+    /// Each node's OFFSET from its parent, in file units (what, with the positions, makes the
+    /// worker's [`Motion`] again: [`LoadedMotion::motion`]).
+    #[serde(default)]
+    pub offsets: Vec<[f64; 3]>,
 }
 
 /// The box every joint stays inside over the whole take (file units and axes).
@@ -369,6 +379,7 @@ impl LoadedMotion {
                 names: motion.skeleton.names.clone(),
                 parents: motion.skeleton.parents.clone(),
                 is_end_site: motion.skeleton.is_end_site.clone(),
+                offsets: motion.skeleton.offsets.clone(),
             },
             bounds: Bounds::of(&motion.positions),
             positions: motion.positions.iter().flat_map(|p| p.to_array()).collect(),
@@ -379,6 +390,26 @@ impl LoadedMotion {
                 rgba: image.rgba.clone(),
                 png,
             },
+        }
+    }
+
+    /// The worker's motion again, exactly (the positions are the same `f32`s, the rest is in the
+    /// summary and the skeleton): what the page hands the other workers of its pool
+    /// ([`Request::Hold`]), so that the take is parsed once.
+    pub fn motion(&self) -> Motion {
+        Motion {
+            name: self.summary.name.clone(),
+            skeleton: crate::motion::Skeleton {
+                names: self.skeleton.names.clone(),
+                parents: self.skeleton.parents.clone(),
+                offsets: self.skeleton.offsets.clone(),
+                is_end_site: self.skeleton.is_end_site.clone(),
+            },
+            fps: self.summary.fps,
+            positions: self.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect(),
+            units: self.summary.units,
+            up_axis: self.summary.up_axis,
+            warnings: self.summary.warnings.clone(),
         }
     }
 
@@ -444,6 +475,10 @@ pub enum Response {
         motion: Box<LoadedMotion>,
     },
     Restored {
+        take: TakeId,
+    },
+    /// The worker holds the motion handed over with [`Request::Hold`].
+    Held {
         take: TakeId,
     },
     Segmented {
@@ -632,6 +667,11 @@ impl Request {
                 features_to_buffers(&mut t.features, &mut features);
             }
         }
+        // a held motion's positions go as a buffer, not as JSON
+        let mut positions = Vec::new();
+        if let Request::Hold { motion, .. } = &mut self {
+            positions = std::mem::take(&mut motion.positions).iter().flat_map(|p| p.to_array()).collect();
+        }
         let json = serde_json::to_string(&self).unwrap_or_default();
         let buffers = match self {
             Request::Load { bytes, skeleton_bytes, skeleton, .. } => {
@@ -642,6 +682,7 @@ impl Request {
                 }
             }
             Request::UseModel { bytes, .. } | Request::ProvideModel { bytes, .. } => vec![bytes],
+            Request::Hold { .. } => vec![f32_bytes(&positions)],
             Request::Train { bytes, .. } | Request::LibraryClips { bytes, .. } => bytes,
             Request::LibraryTake { bytes, skeleton_bytes, skeleton, .. } => {
                 if skeleton.is_some() {
@@ -675,6 +716,34 @@ impl Request {
             }
             Request::UseModel { bytes, .. } | Request::ProvideModel { bytes, .. } => {
                 *bytes = buffers.next().ok_or("worker request: a model file without its bytes")?;
+            }
+            Request::Hold { motion, .. } => {
+                let floats =
+                    bytes_f32(&buffers.next().ok_or("worker request: a motion without its positions")?, "positions")?;
+                let nodes = motion.skeleton.names.len();
+                let s = &motion.skeleton;
+                if nodes == 0
+                    || s.parents.len() != nodes
+                    || s.offsets.len() != nodes
+                    || s.is_end_site.len() != nodes
+                    || floats.len() % (3 * nodes) != 0
+                    || floats.is_empty()
+                {
+                    return Err(format!(
+                        "worker request: a motion of {nodes} nodes ({} parents, {} offsets) with {} position values, not whole frames",
+                        s.parents.len(),
+                        s.offsets.len(),
+                        floats.len()
+                    ));
+                }
+                if floats.len() / 3 > crate::motion::MAX_POSITIONS {
+                    return Err(format!(
+                        "worker request: a motion of {} joint positions, more than the {} a take may hold",
+                        floats.len() / 3,
+                        crate::motion::MAX_POSITIONS
+                    ));
+                }
+                motion.positions = floats.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect();
             }
             Request::Train { takes, bytes, .. } => {
                 *bytes = buffers.by_ref().take(takes.len()).collect();

@@ -309,7 +309,9 @@ const ROOT_ID: &str = "mocapseg-app";
 /// Mounts the page. Called by `index.html` after `init()`; the worker loads the same module
 /// and never calls it. The root element may override the asset locations with
 /// `data-worker-url`, `data-sample-url` and `data-models-url` (default `./www/worker.js`,
-/// `./www/sample.bvh.pack` — the sample packed, unpacked by the page —, `./models/`).
+/// `./www/sample.bvh.pack` — the sample packed, unpacked by the page —, `./models/`), and the
+/// number of workers with `data-workers` (default one per core, two to four; the URL's `workers`
+/// comes first).
 #[wasm_bindgen]
 pub fn mount_app() -> Result<(), JsValue> {
     // a panic logs and shows `#mocapseg-stopped` ("reload the page"), never a page that just stops
@@ -329,6 +331,8 @@ pub fn mount_app() -> Result<(), JsValue> {
 #[component]
 fn App(urls: Urls, launch: Launch) -> impl IntoView {
     let state = AppState::new();
+    // the URL's `workers` before the root's `data-workers`
+    let urls = Urls { workers: launch.params.workers.or(urls.workers), ..urls };
     let loader = Loader::new(state, urls.clone());
     // the rows that export clips without a method panel (my labels) find the worker here
     provide_context(StoredValue::new_local(loader.clone()));

@@ -16,12 +16,15 @@
 //!   starts at the last frame and says so ([`start_frame`]).
 //! * `autoplay` — `1` plays at once (`1`/`true`/`yes`/`on` or no value; `0`/`false`/`no`/`off`).
 //! * `embed` — the compact player for documentation pages (same values as `autoplay`).
+//! * `workers` — how many web workers the page starts (1 to 4; default one per core, at least two):
+//!   the methods' rows run side by side on as many; `workers=1` runs everything in one worker, as
+//!   a page embedded several times over may want.
 //!
 //! A value that cannot be used is never fatal: the parameter falls back to its default and
 //! [`Parsed::messages`] says why, naming the parameter and what it accepts.
 
 /// The parameters the page knows, in the order the messages list them.
-pub const KNOWN: [&str; 6] = ["src", "asf", "methods", "t", "autoplay", "embed"];
+pub const KNOWN: [&str; 7] = ["src", "asf", "methods", "t", "autoplay", "embed", "workers"];
 
 /// What the URL asks of the page.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -37,6 +40,9 @@ pub struct UrlParams {
     pub t: Option<f64>,
     pub autoplay: bool,
     pub embed: bool,
+    /// How many workers the page starts (1 to [`crate::worker::pool::MAX_WORKERS`]); `None`: one
+    /// per core, at least two.
+    pub workers: Option<usize>,
 }
 
 /// The parameters and a message for every value that could not be used.
@@ -81,6 +87,18 @@ pub fn parse(query: &str, known_methods: &[&str]) -> Parsed {
                     out.messages.push(message);
                 }
             },
+            "workers" => {
+                let max = crate::worker::pool::MAX_WORKERS;
+                match value.trim().parse::<usize>() {
+                    Ok(n) if (1..=max).contains(&n) => out.params.workers = Some(n),
+                    _ => {
+                        out.params.workers = None;
+                        out.messages.push(format!(
+                            "workers={value}: expected a whole number from 1 to {max}; one worker per core is used"
+                        ));
+                    }
+                }
+            }
             "autoplay" | "embed" => {
                 let flag = match parse_flag(&name, &value) {
                     Ok(flag) => flag,
@@ -696,6 +714,21 @@ mod tests {
         // a huge number of digits is not finite
         let huge = format!("t={}", "9".repeat(400));
         assert_eq!(p(&huge).params.t, None);
+    }
+
+    #[test]
+    fn workers_is_a_count_from_one_to_the_pools_most() {
+        assert_eq!(p("workers=1").params.workers, Some(1));
+        assert_eq!(p("workers=4").params.workers, Some(4));
+        assert_eq!(p("").params.workers, None);
+        for bad in ["0", "5", "two", "-1", ""] {
+            let parsed = p(&format!("workers={bad}"));
+            assert_eq!(parsed.params.workers, None, "workers={bad}");
+            assert_eq!(
+                parsed.messages,
+                [format!("workers={bad}: expected a whole number from 1 to 4; one worker per core is used")]
+            );
+        }
     }
 
     #[test]

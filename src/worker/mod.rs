@@ -3,6 +3,7 @@
 //! `postMessage` glue `www/worker.js` calls (`glue`). The messages themselves are
 //! [`crate::protocol`]'s.
 
+pub mod pool;
 mod state;
 pub use state::WorkerState;
 

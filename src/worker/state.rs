@@ -17,7 +17,9 @@ use crate::protocol::*;
 #[derive(Debug, Default)]
 pub struct WorkerState {
     /// The take loaded last: its id, its motion and its parsed file (clips are cut from it).
-    held: Option<(TakeId, Motion, Bvh)>,
+    /// A motion handed over by another worker ([`Request::Hold`]) comes without its file: clips are
+    /// cut by the worker that parsed it.
+    held: Option<(TakeId, Motion, Option<Bvh>)>,
     /// The models of the supervised methods besides the shipped ones.
     models: ModelStore,
     /// The training under way (one at a time: a new one replaces it).
@@ -80,10 +82,11 @@ impl WorkerState {
         self.held_take(take).map(|(motion, _)| motion)
     }
 
-    /// The held take's motion and file if it is `take`, else the `not_loaded` message.
-    fn held_take(&self, take: TakeId) -> Result<(&Motion, &Bvh), String> {
+    /// The held take's motion and file (`None`: a motion handed over) if it is `take`, else the
+    /// `not_loaded` message.
+    fn held_take(&self, take: TakeId) -> Result<(&Motion, Option<&Bvh>), String> {
         match &self.held {
-            Some((held, motion, bvh)) if *held == take => Ok((motion, bvh)),
+            Some((held, motion, bvh)) if *held == take => Ok((motion, bvh.as_ref())),
             Some((held, _, _)) => Err(format!("take {take} is not loaded in the worker (it holds take {held})")),
             None => Err(format!("take {take} is not loaded in the worker (it holds none)")),
         }
@@ -107,6 +110,12 @@ impl WorkerState {
                     }
                 };
                 post(response);
+            }
+            Request::Hold { take, motion } => {
+                // the previous take goes first, as with a load: one take at a time
+                self.held = None;
+                self.held = Some((take, *motion, None));
+                post(Response::Held { take });
             }
             Request::Segment { take, run, method, params } => {
                 let response = self.segment(take, run, &method, &params, post);
@@ -387,7 +396,7 @@ impl WorkerState {
         let image = MotionImage::from_motion(&motion);
         let png = image.try_to_png().map_err(|e| format!("{name}: motion image: {e}"))?;
         let view = Box::new(LoadedMotion::new(&motion, &image, png));
-        self.held = Some((take, motion, bvh));
+        self.held = Some((take, motion, Some(bvh)));
         Ok(view)
     }
 
@@ -402,7 +411,11 @@ impl WorkerState {
     ) -> Response {
         let fail = |message: String, kind| Response::Failed { take, run: Some(run), message, kind, param: None };
         let (motion, bvh) = match self.held_take(take) {
-            Ok(held) => held,
+            Ok((motion, Some(bvh))) => (motion, bvh),
+            // a worker given the motion only (the page cuts clips with its main worker)
+            Ok((_, None)) => {
+                return fail(format!("take {take}: this worker holds its motion, not its file"), FailureKind::NotLoaded)
+            }
             Err(message) => return fail(message, FailureKind::NotLoaded),
         };
         if let Err(e) = segmentation.validate() {
@@ -923,6 +936,67 @@ mod tests {
         let clip = crate::bvh::parse(&text).unwrap();
         let s = &took[1].segments[0];
         assert_eq!(clip.frames(), s.end - s.start + 1);
+    }
+
+    /// The page's pool: the main worker parses the take, the page makes the worker's motion again from
+    /// what it received (`LoadedMotion::motion`) and hands it over (`hold`, through the packets the
+    /// messages are) to another worker, which then gives every method exactly the main worker's
+    /// result, without the file — and says so when asked to cut clips from it.
+    #[test]
+    fn a_motion_handed_over_segments_exactly_as_the_parsed_take() {
+        let mut main = WorkerState::default();
+        let load = Request::Load {
+            take: 1,
+            name: "12_01.bvh".into(),
+            restore: false,
+            bytes: take_bytes(),
+            skeleton: None,
+            skeleton_bytes: Vec::new(),
+        };
+        let loaded = ask(&mut main, load);
+        let packet = loaded.last().unwrap().clone().into_packet();
+        let Ok(Response::Loaded { take: 1, motion: view }) = Response::from_packet(packet) else {
+            panic!("{loaded:?}")
+        };
+        let motion = view.motion();
+        assert_eq!(Some(&motion), main.held.as_ref().map(|h| &h.1), "the page has the worker's motion again, exactly");
+
+        let hold = Request::Hold { take: 1, motion: Box::new(motion) };
+        let hold = Request::from_packet(hold.into_packet()).expect("a hold crosses as JSON and one buffer");
+        let mut helper = WorkerState::default();
+        assert_eq!(ask(&mut helper, hold), vec![Response::Held { take: 1 }]);
+        assert_eq!(helper.held.as_ref().map(|h| &h.1), main.held.as_ref().map(|h| &h.1));
+        for (run, method) in ["sssm", "velocity", "kcs", "pca"].into_iter().enumerate() {
+            let ask_for = |run| Request::Segment { take: 1, run, method: method.into(), params: serde_json::json!({}) };
+            let (a, b) = (ask(&mut main, ask_for(run as u32)), ask(&mut helper, ask_for(run as u32)));
+            assert!(matches!(a.last(), Some(Response::Segmented { .. })), "{method}: {:?}", a.last());
+            assert_eq!(a.last(), b.last(), "{method}: the helper's result is the main worker's");
+        }
+        let clips = Request::Clips {
+            take: 1,
+            run: 9,
+            segmentation: Box::new(crate::segment::Segmentation {
+                file: "12_01.bvh".into(),
+                fps: 120.0,
+                frames: 10,
+                method: "sssm".into(),
+                params: serde_json::json!({}),
+                segments: Vec::new(),
+            }),
+            which: crate::clips::Which::All,
+            to_origin: false,
+            only: None,
+        };
+        let Some(Response::Failed { kind: FailureKind::NotLoaded, message, .. }) = ask(&mut helper, clips).pop() else {
+            panic!("clips from a motion without its file")
+        };
+        assert!(message.contains("not its file"), "{message}");
+
+        // a motion whose positions are not whole frames is refused as the packet is read
+        let mut bad = Request::Hold { take: 2, motion: Box::new(view.motion()) }.into_packet();
+        bad.buffers[0].truncate(bad.buffers[0].len() - 4);
+        let refused = Request::from_packet(bad).expect_err("ragged positions");
+        assert!(refused.contains("not whole frames"), "{refused}");
     }
 
     #[test]

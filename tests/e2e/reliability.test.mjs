@@ -100,7 +100,10 @@ async function forgetLabels(p = page) {
 // ---- the tests ----------------------------------------------------------------------------------
 
 test("a run cancelled while an ASF/AMC pair loads: the new worker gets the pair, skeleton included", async () => {
-  await fresh();
+  // one worker (workers=1): the run and the load queue in the same worker, as on a one-worker page or
+  // when every worker of the pool is busy — the case where the load waits behind the run
+  await gotoApp(page, "?methods=sssm&workers=1");
+  await waitData(page, "sssm", "done");
   // The worker is made busy: every message the page sends it is held (not delivered) until the
   // run is cancelled, as when a long run keeps it from reading the load of the pair.
   await page.evaluate(() => {

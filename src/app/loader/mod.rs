@@ -34,6 +34,7 @@
 mod annotate;
 mod clips;
 mod library;
+mod pool;
 mod shipped;
 mod training;
 
@@ -65,6 +66,8 @@ pub struct Urls {
     pub sample: String,
     /// The folder of the shipped model files.
     pub models: String,
+    /// How many workers the page may start (`data-workers`; `None`: one per core, at least two).
+    pub workers: Option<usize>,
 }
 
 impl Urls {
@@ -77,6 +80,7 @@ impl Urls {
             // the sample packed (src/bvh/pack.rs: half the download of www/sample.bvh, the same bytes)
             sample: get("data-sample-url", "./www/sample.bvh.pack"),
             models: get("data-models-url", "./models/"),
+            workers: root.get_attribute("data-workers").and_then(|n| n.trim().parse().ok()),
         }
     }
 
@@ -110,13 +114,14 @@ struct Take {
     skeleton: Option<(String, Vec<u8>)>,
 }
 
-/// A run asked of the worker: its request, and whether it was already repeated after a
-/// `not_loaded` answer.
+/// A run asked of the worker: its request, whether it was already repeated after a
+/// `not_loaded` answer, and whether a worker died under it already (it is asked again once).
 struct Run {
     id: RunId,
     method: String,
     params: serde_json::Value,
     retried: bool,
+    crashed: bool,
 }
 
 /// A handle on the worker; cheap to clone.
@@ -127,6 +132,10 @@ struct Inner {
     state: AppState,
     urls: Urls,
     worker: RefCell<Option<Worker>>,
+    /// The pool's run workers (slots 1…; `None`: one that could not be started) ([`pool`]).
+    helpers: RefCell<Vec<Option<pool::RunWorker>>>,
+    /// Which worker runs which method's run, and what waits ([`crate::worker::pool`]).
+    pool: RefCell<crate::worker::pool::Pool>,
     /// Take and run ids come from one counter.
     next_id: Cell<u32>,
     /// Id of the newest load; messages about other loads are stale.
@@ -171,10 +180,13 @@ struct Inner {
 impl Loader {
     pub fn new(state: AppState, urls: Urls) -> Loader {
         let models = ModelFiles::new(&urls.models);
+        let workers = pool::workers(urls.workers);
         let inner = Rc::new(Inner {
             state,
             urls,
             worker: RefCell::new(None),
+            helpers: RefCell::new((1..workers).map(|_| None).collect()),
+            pool: RefCell::new(pool::new_pool(workers)),
             next_id: Cell::new(0),
             current: Cell::new(0),
             pending: RefCell::new(None),
@@ -195,6 +207,9 @@ impl Loader {
             models,
         });
         spawn_worker(&inner);
+        for slot in 1..workers {
+            pool::spawn(&inner, slot);
+        }
         let loader = Loader(inner);
         loader.restore_kept_models();
         loader
@@ -367,11 +382,13 @@ impl Loader {
     /// and the other methods' runs start again on the new one.
     pub fn cancel(&self, index: usize) {
         let inner = &self.0;
-        if inner.runs.borrow_mut()[index].take().is_none() {
-            return;
-        }
+        let Some(run) = inner.runs.borrow_mut()[index].take() else { return };
         inner.state.methods[index].run.set(RunState::Cancelled);
-        replace_worker(inner);
+        let stop = inner.pool.borrow_mut().stop(run.id);
+        match stop {
+            crate::worker::pool::Stop::Replace(slot) => replace_slot(inner, slot),
+            crate::worker::pool::Stop::Dequeued | crate::worker::pool::Stop::Unknown => {}
+        }
     }
 }
 
@@ -391,6 +408,8 @@ fn begin(inner: &Inner, name: &str) -> TakeId {
 
 /// Posts `request` (with `bytes` transferred for a load), starting a worker if there is none.
 fn post(inner: &Rc<Inner>, request: &Request, bytes: Option<&ArrayBuffer>) -> Result<(), String> {
+    // a model file the main worker is given goes to the pool's run workers too
+    pool::share_model(inner, request);
     if inner.worker.borrow().is_none() {
         spawn_worker(inner);
     }
@@ -488,14 +507,36 @@ fn start_run(inner: &Rc<Inner>, index: usize) {
     slot.field_error.set(None);
     slot.failure.set(None);
     let id = next_id(inner);
-    inner.runs.borrow_mut()[index] = Some(Run { id, method: slot.info.name.clone(), params, retried: false });
+    // a run asked again replaces the one under way: its worker is replaced, or it stops waiting
+    let previous = inner.runs.borrow_mut()[index].replace(Run {
+        id,
+        method: slot.info.name.clone(),
+        params,
+        retried: false,
+        crashed: false,
+    });
+    if let Some(previous) = previous {
+        stop_in_pool(inner, previous.id);
+    }
     slot.run.set(RunState::Running { stage: "starting".into(), fraction: 0.0 });
     if let Err(message) = send_run(inner, index) {
         fail_run(inner, index, format!("{}: {message}", slot.info.short));
     }
 }
 
-/// Posts the current run of method `index` for the take on screen.
+/// Stops run `run` wherever the pool has it: a waiting run is dropped, a run worker running it is
+/// replaced; the main worker finishes it (it holds more than the run), its answer dropped.
+fn stop_in_pool(inner: &Rc<Inner>, run: RunId) {
+    let stop = inner.pool.borrow_mut().stop(run);
+    if let crate::worker::pool::Stop::Replace(slot) = stop {
+        if slot > 0 {
+            pool::replace(inner, slot);
+        }
+    }
+}
+
+/// Posts the current run of method `index` for the take on screen to the worker the pool gives it
+/// (or leaves it waiting for one, "waiting for a worker" on its row).
 fn send_run(inner: &Rc<Inner>, index: usize) -> Result<(), String> {
     let take = inner.shown.borrow().as_ref().map(|t| t.id).ok_or("no take is loaded")?;
     let request = {
@@ -503,19 +544,32 @@ fn send_run(inner: &Rc<Inner>, index: usize) -> Result<(), String> {
         let run = runs[index].as_ref().ok_or("no run")?;
         Request::Segment { take, run: run.id, method: run.method.clone(), params: run.params.clone() }
     };
-    post(inner, &request, None)
+    let run = request.run_id().unwrap_or_default();
+    let placed = inner.pool.borrow_mut().place(run);
+    match placed {
+        crate::worker::pool::Placed::Now(slot) => pool::post_to(inner, slot, request),
+        crate::worker::pool::Placed::Queued => {
+            inner.state.methods[index]
+                .run
+                .set(RunState::Running { stage: "waiting for a worker".into(), fraction: 0.0 });
+            Ok(())
+        }
+    }
 }
 
 /// A run failed: a refusal that names one of the method's parameters shows at that field, any
 /// other message in the banner.
-fn fail_run(inner: &Inner, index: usize, message: String) {
+fn fail_run(inner: &Rc<Inner>, index: usize, message: String) {
     refuse_run(inner, index, message, None)
 }
 
 /// A run failed or was refused: a refusal of one of the method's parameters (`param`, as the
 /// method named it) shows at that field, any other message in the banner.
-fn refuse_run(inner: &Inner, index: usize, message: String, param: Option<String>) {
-    inner.runs.borrow_mut()[index] = None;
+fn refuse_run(inner: &Rc<Inner>, index: usize, message: String, param: Option<String>) {
+    let run = inner.runs.borrow_mut()[index].take();
+    if let Some(run) = run {
+        pool::release_run(inner, run.id);
+    }
     let slot = &inner.state.methods[index];
     slot.run.set(RunState::Failed);
     match param.filter(|p| slot.specs.iter().any(|s| s.name == *p)) {
@@ -576,7 +630,16 @@ fn spawn_worker(inner: &Rc<Inner>) {
     });
     worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
     worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
-    // the wasm the page compiled (www/main.js), so that the worker need not fetch and compile it
+    give_compiled_wasm(&worker);
+    *inner.handlers.borrow_mut() = vec![on_message, on_error];
+    *inner.worker.borrow_mut() = Some(worker);
+    training::send_models(inner);
+    shipped::send_model_files(inner);
+}
+
+/// Gives `worker` the wasm the page compiled (www/main.js), so that it need not fetch and compile
+/// it again.
+fn give_compiled_wasm(worker: &Worker) {
     if let Ok(module) = js_sys::Reflect::get(&js_sys::global(), &"__mocapsegWasm".into()) {
         if module.is_instance_of::<js_sys::WebAssembly::Module>() {
             let message = js_sys::Object::new();
@@ -585,10 +648,6 @@ fn spawn_worker(inner: &Rc<Inner>) {
             }
         }
     }
-    *inner.handlers.borrow_mut() = vec![on_message, on_error];
-    *inner.worker.borrow_mut() = Some(worker);
-    training::send_models(inner);
-    shipped::send_model_files(inner);
 }
 
 /// Milliseconds since the page started.
@@ -605,13 +664,12 @@ fn replace_worker(inner: &Rc<Inner>) {
     if let Some(take) = pending {
         send_load(inner, take.id, &take.name, take.file, take.skeleton);
     }
-    for index in 0..inner.state.methods.len() {
-        let running = inner.runs.borrow()[index].is_some();
-        if running {
-            if let Err(message) = send_run(inner, index) {
-                fail_run(inner, index, message);
-            }
-        }
+    // the main worker's run (unless it was the one cancelled or failed), else the next waiting one
+    let run = inner.pool.borrow().running(0);
+    let wanted = run.is_some_and(|run| run_index(inner, run).is_some());
+    let next = inner.pool.borrow_mut().replaced(0, !wanted);
+    if let Some(run) = next {
+        pool::post_run(inner, run);
     }
     training::resend(inner);
     annotate::resend(inner);
@@ -629,10 +687,12 @@ fn on_worker_error(inner: &Rc<Inner>, event: Event) {
         .filter(|m| !m.is_empty())
         .unwrap_or_else(|| format!("could not load {}", inner.urls.worker));
     fail_load(inner, inner.current.get(), format!("the worker failed: {message}"));
-    for index in 0..inner.state.methods.len() {
-        if inner.runs.borrow()[index].is_some() {
-            fail_run(inner, index, format!("the worker failed: {message}"));
-        }
+    // the run it was busy with (the run workers' go on)
+    let run = inner.pool.borrow().running(0);
+    if let Some(index) = run.and_then(|run| run_index(inner, run)) {
+        fail_run(inner, index, format!("the worker failed: {message}"));
+    } else if let Some(run) = run {
+        pool::release(inner, 0, run);
     }
     training::fail_all(inner, &format!("the worker failed: {message}"));
     if let Some(worker) = inner.worker.borrow_mut().take() {
@@ -665,13 +725,6 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                 }
             });
         }
-        Response::Progress { run: Some(run), stage, fraction, .. } => {
-            if let Some(index) = run_index(inner, run) {
-                state.methods[index].run.set(RunState::Running { stage, fraction: fraction.unwrap_or(0.0) });
-            } else {
-                training::progress(inner, run, stage, fraction);
-            }
-        }
         Response::Loaded { take, motion } if take == inner.current.get() => {
             *inner.shown.borrow_mut() = inner.pending.borrow_mut().take();
             state.playing.set(false);
@@ -688,12 +741,54 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
             state.motion.set(Some(Arc::new(*motion)));
             state.error.set(None);
             state.load.set(LoadState::Ready);
+            // every run worker gets the take (the main worker's motion of it) before its first run
+            pool::new_take(inner);
             let auto_run = inner.auto_run.borrow().clone();
             for (index, slot) in state.methods.iter().enumerate() {
                 let wanted = auto_run.as_ref().map_or(slot.info.auto_run, |names| names.contains(&slot.info.name));
                 if wanted {
                     start_run(inner, index);
                 }
+            }
+        }
+        Response::Failed { take, run: None, message, kind, .. } => {
+            fail_load(inner, take, message);
+            if kind == FailureKind::Internal {
+                replace_worker(inner);
+            }
+        }
+        response @ (Response::Progress { run: Some(_), .. }
+        | Response::Segmented { .. }
+        | Response::NeedsModel { .. }
+        | Response::Refused { .. }
+        | Response::Failed { run: Some(_), .. }) => on_run_response(inner, 0, response),
+        _ => {} // about a load that has been superseded
+    }
+}
+
+/// An answer from worker `slot` (0: the main worker) about a method's run: its progress, its result,
+/// its refusal or failure, or its wait for a model file. Any answer but progress and `not_loaded`
+/// (after which the take is sent again and the run asked again of the same worker) frees the worker
+/// for the next waiting run.
+fn on_run_response(inner: &Rc<Inner>, slot: crate::worker::pool::Slot, response: Response) {
+    let state = inner.state;
+    let last = match &response {
+        Response::Progress { .. } | Response::Failed { kind: FailureKind::NotLoaded, .. } => None,
+        Response::Segmented { run, .. }
+        | Response::NeedsModel { run, .. }
+        | Response::Refused { run, .. }
+        | Response::Failed { run: Some(run), .. } => Some(*run),
+        _ => None,
+    };
+    if let Some(run) = last {
+        pool::release(inner, slot, run);
+    }
+    match response {
+        Response::Progress { run: Some(run), stage, fraction, .. } => {
+            if let Some(index) = run_index(inner, run) {
+                state.methods[index].run.set(RunState::Running { stage, fraction: fraction.unwrap_or(0.0) });
+            } else if slot == 0 {
+                training::progress(inner, run, stage, fraction);
             }
         }
         Response::Segmented { take, run, view } => {
@@ -714,20 +809,15 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                 refuse_run(inner, index, message, param);
             }
         }
-        Response::Failed { take, run: None, message, kind, .. } => {
-            fail_load(inner, take, message);
-            if kind == FailureKind::Internal {
-                replace_worker(inner);
-            }
-        }
         Response::Failed { run: Some(run), message, kind, .. } => {
             let Some(index) = run_index(inner, run) else {
                 if kind == FailureKind::Internal {
-                    replace_worker(inner);
+                    replace_slot(inner, slot);
                 }
                 return;
             };
             match kind {
+                FailureKind::NotLoaded if slot > 0 => pool::not_loaded(inner, slot, index, message),
                 FailureKind::NotLoaded => {
                     let first = inner.runs.borrow_mut()[index]
                         .as_mut()
@@ -748,8 +838,9 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                     });
                 }
                 FailureKind::Internal => {
+                    // the run trapped: it fails (it would trap again) and its worker is replaced
                     fail_run(inner, index, message);
-                    replace_worker(inner);
+                    replace_slot(inner, slot);
                 }
                 FailureKind::Cancelled => {
                     inner.runs.borrow_mut()[index] = None;
@@ -758,7 +849,16 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
                 FailureKind::Input => fail_run(inner, index, message),
             }
         }
-        _ => {} // about a load that has been superseded
+        _ => {}
+    }
+}
+
+/// Replaces worker `slot` (0: the main worker, with everything it was doing).
+fn replace_slot(inner: &Rc<Inner>, slot: crate::worker::pool::Slot) {
+    if slot == 0 {
+        replace_worker(inner);
+    } else {
+        pool::replace(inner, slot);
     }
 }
 

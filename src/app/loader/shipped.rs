@@ -109,7 +109,7 @@ pub(super) fn ask_again(inner: &Rc<Inner>, run: RunId) {
 }
 
 /// `run` cannot have its model file.
-pub(super) fn fail_waiting(inner: &Inner, run: RunId, message: String) {
+pub(super) fn fail_waiting(inner: &Rc<Inner>, run: RunId, message: String) {
     if let Some(index) = run_index(inner, run) {
         fail_run(inner, index, message);
     } else {

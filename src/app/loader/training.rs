@@ -440,6 +440,17 @@ pub(super) fn on_trained(inner: &Rc<Inner>, model: ModelInfo, report: TrainingRe
     let seconds = (now() - job.started) / 1000.0;
     let bytes = Arc::new(bytes);
     let name = model.name.clone();
+    // the main worker trained and holds it; the pool's run workers are given it too
+    super::pool::share_model(
+        inner,
+        &Request::UseModel {
+            take: job.take_id,
+            run: next_id(inner),
+            method: inner.state.methods[job.index].info.name.clone(),
+            file: s.file_name(&name),
+            bytes: (*bytes).clone(),
+        },
+    );
     // the library's supervised routes (k-NN, DT-FCN) trained this model (stored in the worker): it labels the takes now
     super::library::model_trained(inner, job.index, Ok(name.clone()));
     s.trained.set(Some(TrainedFile { name: name.clone(), bytes: bytes.clone() }));

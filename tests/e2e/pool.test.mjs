@@ -1,0 +1,135 @@
+// End-to-end tests of the page's pool of workers (issue 46, src/worker/pool.rs and
+// src/app/loader/pool.rs), on headless Chromium: the rows run side by side on several workers and
+// give exactly what one worker gives; a cancel reaches the worker that runs the row and only it; a
+// worker that dies under a row is replaced and the row runs again; a take dropped while the rows of
+// the previous one run shows only its own rows.
+//
+// Run through scripts/e2e.sh (E2E_FILES=pool.test.mjs).
+
+import { test, before, after } from "node:test";
+import assert from "node:assert/strict";
+import { readFileSync } from "node:fs";
+import path from "node:path";
+import {
+  FIXTURES, OUT, TIMEOUT, assertClean, closePage, expectConsoleErrors, gotoApp, openPage, showPanel, waitData, waitReady,
+} from "./harness.mjs";
+
+const METHODS = ["sssm", "velocity", "kcs", "pca", "lma", "knn", "dtfcn"];
+
+let opened;
+let page;
+
+before(async () => {
+  // no service worker: page.route must see the worker script's requests
+  opened = await openPage({ contextOptions: { serviceWorkers: "block" } });
+  page = opened.page;
+});
+
+after(async () => closePage(opened, "e2e-pool-final.png"));
+
+/** Every row's segments as the timeline draws them: start, end, label, cluster, score. */
+const rows = () => page.evaluate((ms) => Object.fromEntries(ms.map((m) => [m,
+  [...document.querySelectorAll(`#row-${m} .ms-seg`)].map((e) => [e.dataset.start, e.dataset.end, e.dataset.label, e.dataset.cluster, e.dataset.score].join(" "))])),
+METHODS);
+
+/** Waits until every method's row is done. */
+async function allDone() {
+  for (const m of METHODS) await waitData(page, m, "done", 3 * TIMEOUT);
+}
+
+test("rows run side by side on every worker and give exactly what one worker gives", async () => {
+  await gotoApp(page, "?workers=1");
+  await allDone();
+  const one = await rows();
+  assert.equal(page.workers().length, 1, "workers=1: one worker");
+  for (const m of METHODS) assert.ok(one[m].length > 0, `${m}: the row has segments`);
+
+  await gotoApp(page, "?workers=3");
+  await allDone();
+  assert.equal(page.workers().length, 3, "workers=3: three workers");
+  assert.deepEqual(await rows(), one, "the same rows, segment for segment, on three workers");
+
+  // the default: one worker per core, at least two
+  await gotoApp(page, "");
+  await allDone();
+  const cores = await page.evaluate(() => navigator.hardwareConcurrency || 0);
+  assert.equal(page.workers().length, Math.min(4, Math.max(2, cores)), `one worker per core (${cores}), two to four`);
+  assert.deepEqual(await rows(), one);
+  assertClean(opened);
+});
+
+test("a cancel reaches the worker that runs the row: the others' rows finish, the row runs again on a new worker", async () => {
+  await gotoApp(page, "?workers=2&methods=");
+  await showPanel(page, "lma");
+  await page.locator("#lma-run:not([disabled])").waitFor({ timeout: TIMEOUT });
+  await showPanel(page, "sssm");
+  await page.locator("#sssm-run:not([disabled])").waitFor({ timeout: TIMEOUT });
+  // both rows asked at once: one per worker; LMA is stopped as soon as it starts
+  await page.evaluate(() => {
+    document.querySelector("#lma-run").click();
+    document.querySelector("#sssm-run").click();
+    document.querySelector("#lma-cancel").click();
+  });
+  await waitData(page, "lma", "cancelled");
+  await waitData(page, "sssm", "done");
+  assert.equal(page.workers().length, 2, "the cancelled row's worker was replaced, the pool keeps its size");
+  await showPanel(page, "lma");
+  await page.click("#lma-run");
+  await waitData(page, "lma", "done", 3 * TIMEOUT);
+  assertClean(opened);
+});
+
+test("a worker that dies under a row is replaced and the row runs again", async () => {
+  // the second worker script served (the first run worker; the first is the main worker's) dies on
+  // its first run without answering, as a worker out of memory does
+  let served = 0;
+  const handler = async (route) => {
+    served += 1;
+    const response = await route.fetch();
+    let body = await response.text();
+    if (served === 2) {
+      body = body.replace(
+        "worker_handle(event.data, post);",
+        `if (JSON.parse(event.data.json).type === "segment") { setTimeout(() => { throw new Error("simulated crash"); }); return; }
+    worker_handle(event.data, post);`,
+      );
+    }
+    await route.fulfill({ response, body });
+  };
+  await page.context().route("**/www/worker.js", handler);
+  try {
+    await expectConsoleErrors(opened, "the run worker's simulated crash", /simulated crash/, async () => {
+      await gotoApp(page, "?workers=2");
+      await allDone();
+    });
+  } finally {
+    await page.context().unroute("**/www/worker.js", handler);
+  }
+  assert.ok(served >= 3, `a new worker replaced the one that died (${served} scripts served)`);
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "no error: the row ran again");
+  assert.equal(page.workers().length, 2);
+  assertClean(opened);
+});
+
+test("a take dropped while the previous take's rows run shows only its own rows", async () => {
+  await gotoApp(page, "?workers=2");
+  // at once, while the sample's rows run
+  await page.setInputFiles("#file-input", path.join(FIXTURES, "02_01.bvh"));
+  await waitReady(page, "02_01.bvh");
+  await allDone();
+  await showPanel(page, "sssm");
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#sssm-export")]);
+  const saved = path.join(OUT, "e2e-pool-superseded.json");
+  await download.saveAs(saved);
+  const json = JSON.parse(readFileSync(saved, "utf8"));
+  assert.equal(json.file, "02_01.bvh", "the row is the dropped take's");
+  // the same rows as the take opened on a quiet page
+  const mine = await rows();
+  await gotoApp(page, "?workers=1");
+  await allDone();
+  await page.setInputFiles("#file-input", path.join(FIXTURES, "02_01.bvh"));
+  await waitReady(page, "02_01.bvh");
+  await allDone();
+  assert.deepEqual(mine, await rows(), "no row of the sample's runs was drawn over the dropped take's");
+  assertClean(opened);
+});
