@@ -2,14 +2,19 @@
 //! is the majority of its `k` nearest training frames, a frame being the ±1 s window of the motion
 //! image around it (the canonical joints at 30 Hz, hip-relative, facing-aligned, in inches of the
 //! reference body), sampled every `stride` frames and rotated onto its leading principal axes
-//! (nalgebra), searched with a kiddo kd-tree. The confidence of a frame is the share of votes its
-//! label won.
+//! (nalgebra), searched by an exact scan ([`search`]) that finds the neighbours a kiddo kd-tree
+//! finds, in the tree's order — the tree answers the rare query whose neighbours tie. The
+//! confidence of a frame is the share of votes its label won.
 //!
 //! It is a registered method (`knn`, [`method`]) reading the same model files and label CSVs as
 //! the network.
 //! `cargo run --release --example eval_knn` scores it leave-one-take-out on the shared takes.
 
+mod lanes;
 pub mod method;
+pub mod search;
+
+use std::sync::OnceLock;
 
 use kiddo::immutable::float::kdtree::ImmutableKdTree;
 use kiddo::SquaredEuclidean;
@@ -21,9 +26,17 @@ use crate::methods::dtfcn::infer::Probabilities;
 use crate::motion::joints::Canonical;
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
+use lanes::F4;
+use search::{Found, Scan};
 
 /// Principal coordinates the tree searches.
 pub const DIMS: usize = 32;
+
+/// A scan's `k`-th and `(k+1)`-th neighbours must lie more than this fraction apart for its
+/// neighbours to be taken for the tree's (see [`Knn::nearest_n`]): the tree's pruning bounds are
+/// sums of the same squares in another order, so it can miss a point within rounding (at most
+/// 31 · 2⁻²⁴ ≈ 2·10⁻⁶ of the distance) of its `k`-th.
+const TIE_MARGIN: f32 = 1e-5;
 
 /// How frames are described and voted on.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -74,17 +87,93 @@ pub struct Knn {
     /// `DIMS × d` leading principal axes.
     axes: Vec<f32>,
     points: Vec<[f32; DIMS]>,
-    tree: ImmutableKdTree<f32, u32, DIMS, 32>,
+    /// The axes transposed, `DIMS` weights per window value (zero beyond the model's axes).
+    columns: Vec<f32>,
+    /// The model's axes (at most `DIMS`): the coordinates beyond are 0.
+    axes_kept: usize,
+    scan: Scan,
+    /// The kd-tree, built the first time a query's neighbours tie ([`Knn::nearest_n`]).
+    tree: OnceLock<ImmutableKdTree<f32, u32, DIMS, 32>>,
     labels: Vec<usize>,
     /// [`Knn::familiar_distances`] at the take fit's gap and step, measured once.
     familiar: std::sync::OnceLock<Vec<f32>>,
 }
 
+/// The frame offsets of a window.
+fn offsets(p: &KnnParams) -> Vec<i32> {
+    (-p.half_window..=p.half_window).step_by(p.stride.max(1) as usize).collect()
+}
+
 /// The stacked window of every working frame of `motion` and the working frames' file positions.
 fn windows(motion: &Motion, p: &KnnParams) -> Result<(FeatureMatrix, Vec<f64>), String> {
     let f = canonical_joints(motion, p.fps, true, &Canonical::ALL).map_err(|e| format!("{}: {e}", motion.name))?;
-    let offsets: Vec<i32> = (-p.half_window..=p.half_window).step_by(p.stride.max(1) as usize).collect();
-    Ok((stack(&f.base, &offsets), f.source_frames))
+    Ok((stack(&f.base, &offsets(p)), f.source_frames))
+}
+
+/// [`project`] of the stacked window at `offsets` of every frame of `base`, without stacking
+/// them: `columns` are the axes transposed (`DIMS` values per window value `j`: every axis's
+/// weight of it) and each coordinate is summed in the same order, from the same `-0.0` (as
+/// `Iterator::sum`), with the same `a · (x − m)` terms as [`project`], so bit for bit the same —
+/// but the `DIMS` sums run side by side, four to a vector ([`lanes`]). Coordinates from `kept` on
+/// are 0, as [`project`] gives them for a model with fewer axes.
+fn project_windows(
+    base: &FeatureMatrix,
+    offsets: &[i32],
+    mean: &[f32],
+    columns: &[f32],
+    kept: usize,
+) -> Vec<[f32; DIMS]> {
+    let (n, w) = (base.frames(), base.dim());
+    let values = (offsets.len() * w).min(mean.len()).min(columns.len() / DIMS);
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let mut acc = [F4::splat(-0.0); DIMS / 4];
+        for (o, &offset) in offsets.iter().enumerate() {
+            let src = (i as i64 + offset as i64).clamp(0, n as i64 - 1) as usize;
+            let j0 = o * w;
+            let end = values.saturating_sub(j0).min(w);
+            let row = &base.row(src)[..end];
+            for ((&x, &m), a) in row.iter().zip(&mean[j0..j0 + end]).zip(columns[j0 * DIMS..].chunks_exact(DIMS)) {
+                let v = F4::splat(x - m);
+                for (s, a) in acc.iter_mut().zip(lanes::quads(a)) {
+                    *s = s.add(F4::load(a).mul(v));
+                }
+            }
+        }
+        let mut q = [0.0f32; DIMS];
+        for (s, out) in acc.iter().zip(q.chunks_exact_mut(4)) {
+            s.store(out.try_into().expect("four floats"));
+        }
+        q[kept.min(DIMS)..].fill(0.0);
+        out.push(q);
+    }
+    out
+}
+
+/// The axes (`DIMS × d`, or fewer) transposed: `d` groups of `DIMS` weights (0 beyond the
+/// model's axes), and how many axes there are.
+fn transpose(axes: &[f32], d: usize) -> (Vec<f32>, usize) {
+    let kept = if d == 0 { 0 } else { (axes.len() / d).min(DIMS) };
+    let columns = (0..d).flat_map(|j| (0..DIMS).map(move |k| if k < kept { axes[k * d + j] } else { 0.0 })).collect();
+    (columns, kept)
+}
+
+/// The state a take's successive queries share: the last one's neighbours seed the next search.
+#[derive(Default)]
+struct Searching {
+    seeds: Vec<u32>,
+    found: Vec<Found>,
+}
+
+impl Searching {
+    /// The next query's seeds: the points found and the ones after them (the next frames of their
+    /// takes, most often).
+    fn follow(&mut self) {
+        self.seeds.clear();
+        for f in &self.found {
+            self.seeds.extend([f.item, f.item.saturating_add(1)]);
+        }
+    }
 }
 
 fn project(x: &[f32], mean: &[f32], axes: &[f32]) -> [f32; DIMS] {
@@ -120,8 +209,91 @@ impl Knn {
         let all = FeatureMatrix::new(labels.len(), dim, rows).map_err(|e| format!("k-NN training frames: {e}"))?;
         let (mean, axes) = principal_axes(&all);
         let points: Vec<[f32; DIMS]> = (0..all.frames()).map(|i| project(all.row(i), &mean, &axes)).collect();
-        let tree = ImmutableKdTree::new_from_slice(&points);
-        Ok(Knn { params, mean, axes, points, tree, labels, familiar: Default::default() })
+        Ok(Knn::assemble(params, mean, axes, points, labels))
+    }
+
+    fn assemble(
+        params: KnnParams,
+        mean: Vec<f32>,
+        axes: Vec<f32>,
+        points: Vec<[f32; DIMS]>,
+        labels: Vec<usize>,
+    ) -> Knn {
+        let (columns, axes_kept) = transpose(&axes, mean.len());
+        let scan = Scan::new(&points);
+        Knn {
+            params,
+            mean,
+            axes,
+            points,
+            columns,
+            axes_kept,
+            scan,
+            tree: OnceLock::new(),
+            labels,
+            familiar: Default::default(),
+        }
+    }
+
+    fn tree(&self) -> &ImmutableKdTree<f32, u32, DIMS, 32> {
+        self.tree.get_or_init(|| ImmutableKdTree::new_from_slice(&self.points))
+    }
+
+    /// Every working frame's window of `motion` in the principal coordinates, and the working
+    /// frames' file positions.
+    fn queries(&self, motion: &Motion) -> Result<(Vec<[f32; DIMS]>, Vec<f64>), String> {
+        let p = &self.params;
+        let f = canonical_joints(motion, p.fps, true, &Canonical::ALL).map_err(|e| format!("{}: {e}", motion.name))?;
+        let q = project_windows(&f.base, &offsets(p), &self.mean, &self.columns, self.axes_kept);
+        Ok((q, f.source_frames))
+    }
+
+    /// The `k` training points nearest to `q`, nearest first: what the kd-tree's `nearest_n` gives,
+    /// in its order. The scan finds the `k + 1` nearest; unless the `k`-th and the `(k+1)`-th
+    /// lie within [`TIE_MARGIN`] of each other (which one the tree keeps depends on its order of
+    /// visit and, within rounding, on its pruning) or two of the `k` of different labels lie at
+    /// the same distance (their order in the tree's answer is its own), those are the tree's `k`
+    /// in the tree's order, the votes they cast the same. Otherwise the tree is asked.
+    fn nearest_n<'s>(&self, q: &[f32; DIMS], k: usize, s: &'s mut Searching) -> &'s [Found] {
+        if k < self.points.len() && q.iter().all(|v| v.is_finite()) {
+            self.scan.nearest(&self.points, q, k + 1, &s.seeds, |_| true, &mut s.found);
+            s.follow();
+            let f = &s.found;
+            let clear = f.len() == k + 1
+                && f[k].distance.is_finite()
+                && f[k].distance > f[k - 1].distance + TIE_MARGIN * f[k - 1].distance
+                && f[..k].windows(2).all(|w| {
+                    w[0].distance < w[1].distance || self.labels[w[0].item as usize] == self.labels[w[1].item as usize]
+                });
+            if clear {
+                s.found.truncate(k);
+                return &s.found;
+            }
+        }
+        let k = std::num::NonZero::new(k).unwrap_or(std::num::NonZero::<usize>::MIN);
+        let found = self.tree().nearest_n::<SquaredEuclidean>(q, k);
+        s.found.clear();
+        s.found.extend(found.iter().map(|n| Found { distance: n.distance, item: n.item }));
+        s.follow();
+        &s.found
+    }
+
+    /// The squared distance from `q` to the nearest training point: what the kd-tree's
+    /// `nearest_one` gives (asked when the two nearest lie within [`TIE_MARGIN`] of each other,
+    /// see [`Knn::nearest_n`]).
+    fn nearest_one(&self, q: &[f32; DIMS], s: &mut Searching) -> f32 {
+        if self.points.len() >= 2 && q.iter().all(|v| v.is_finite()) {
+            self.scan.nearest(&self.points, q, 2, &s.seeds, |_| true, &mut s.found);
+            s.follow();
+            let f = &s.found;
+            if f.len() == 2
+                && f[1].distance.is_finite()
+                && (f[1].distance == f[0].distance || f[1].distance > f[0].distance + TIE_MARGIN * f[0].distance)
+            {
+                return f[0].distance;
+            }
+        }
+        self.tree().nearest_one::<SquaredEuclidean>(q).distance
     }
 
     /// The fitted labeller as bytes (the payload of its model file): frames `n` and window
@@ -193,8 +365,7 @@ impl Knn {
             }
             labels.push(l);
         }
-        let tree = ImmutableKdTree::new_from_slice(&points);
-        Ok(Knn { params, mean, axes, points, tree, labels, familiar: Default::default() })
+        Ok(Knn::assemble(params, mean, axes, points, labels))
     }
 
     /// The window and vote this labeller was fitted with.
@@ -215,15 +386,12 @@ impl Knn {
     }
 
     fn vote(&self, motion: &Motion, classes: usize) -> Result<(Probabilities, Vec<f64>), String> {
-        let (w, source) = windows(motion, &self.params)?;
+        let (queries, source) = self.queries(motion)?;
         let k = self.params.k.max(1);
-        let mut values = vec![0f32; w.frames() * classes];
-        for i in 0..w.frames() {
-            let q = project(w.row(i), &self.mean, &self.axes);
-            let found = self.tree.nearest_n::<SquaredEuclidean>(
-                &q,
-                std::num::NonZero::new(k).unwrap_or(std::num::NonZero::<usize>::MIN),
-            );
+        let mut values = vec![0f32; queries.len() * classes];
+        let mut searching = Searching::default();
+        for (i, q) in queries.iter().enumerate() {
+            let found = self.nearest_n(q, k, &mut searching);
             let share = 1.0 / found.len().max(1) as f32;
             for (rank, n) in found.iter().enumerate() {
                 let l = self.labels[n.item as usize];
@@ -232,19 +400,15 @@ impl Knn {
                 }
             }
         }
-        Ok((Probabilities { frames: w.frames(), classes, values }, source))
+        Ok((Probabilities { frames: queries.len(), classes, values }, source))
     }
 
     /// Per file frame of `motion`: the distance of its window to the nearest training window (in the
     /// principal coordinates) — how unlike anything taught the frame is.
     pub fn nearest_distances(&self, motion: &Motion) -> Result<Vec<f32>, String> {
-        let (w, source) = windows(motion, &self.params)?;
-        let working: Vec<f32> = (0..w.frames())
-            .map(|i| {
-                let q = project(w.row(i), &self.mean, &self.axes);
-                self.tree.nearest_one::<SquaredEuclidean>(&q).distance.sqrt()
-            })
-            .collect();
+        let (queries, source) = self.queries(motion)?;
+        let mut searching = Searching::default();
+        let working: Vec<f32> = queries.iter().map(|q| self.nearest_one(q, &mut searching).sqrt()).collect();
         let frames = WorkingFrames { source: &source, file_frames: motion.frames() };
         Ok((0..motion.frames()).map(|f| working[frames.working_frame(f)]).collect())
     }
@@ -253,10 +417,10 @@ impl Knn {
     /// training window of that class (in the principal coordinates; infinite for a class with no
     /// window). By brute force over the training windows.
     pub fn class_distances(&self, motion: &Motion, classes: usize) -> Result<Vec<Vec<f32>>, String> {
-        let (w, source) = windows(motion, &self.params)?;
-        let working: Vec<Vec<f32>> = (0..w.frames())
-            .map(|i| {
-                let q = project(w.row(i), &self.mean, &self.axes);
+        let (queries, source) = self.queries(motion)?;
+        let working: Vec<Vec<f32>> = queries
+            .iter()
+            .map(|&q| {
                 let mut best = vec![f32::INFINITY; classes];
                 for (p, &l) in self.points.iter().zip(&self.labels) {
                     if l < classes {
@@ -313,13 +477,21 @@ impl Knn {
         self.measure_familiar(gap, samples)
     }
 
+    /// The scan's nearest window at least `gap` away: the smallest of the same sums (a minimum does
+    /// not depend on the order it is taken in); by brute force when none is finite.
     fn measure_familiar(&self, gap: usize, samples: usize) -> Vec<f32> {
         let n = self.points.len();
         let step = n.div_ceil(samples.max(1)).max(1);
+        let mut found = Vec::new();
         let mut out: Vec<f32> = (0..n)
             .step_by(step)
             .filter_map(|i| {
                 let p = &self.points[i];
+                let seeds = [i + gap + 1, i.wrapping_sub(gap + 1)].map(|j| j.min(u32::MAX as usize) as u32);
+                self.scan.nearest(&self.points, p, 1, &seeds, |j| (j as usize).abs_diff(i) > gap, &mut found);
+                if let Some(f) = found.first() {
+                    return Some(f.distance.sqrt());
+                }
                 (0..n)
                     .filter(|&j| j.abs_diff(i) > gap)
                     .map(|j| p.iter().zip(&self.points[j]).map(|(a, b)| (a - b) * (a - b)).sum::<f32>())
@@ -422,6 +594,183 @@ mod tests {
             Knn::fit(&[Labelled { motion: &taught, labels: &vec![0; taught.frames()] }], KnnParams::default()).unwrap();
         let mut all = one.familiar_distances(30, 200);
         assert_eq!(one.class_familiar(1, 30, 200)[0], crate::stats::median(&mut all));
+    }
+
+    /// The labeller as it was before the scan: every window stacked and projected, every query
+    /// answered by the kd-tree.
+    struct Reference<'a>(&'a Knn);
+
+    impl Reference<'_> {
+        fn projected(&self, motion: &Motion) -> Vec<[f32; DIMS]> {
+            let (w, _) = windows(motion, &self.0.params).unwrap();
+            (0..w.frames()).map(|i| project(w.row(i), &self.0.mean, &self.0.axes)).collect()
+        }
+
+        fn values(&self, motion: &Motion, classes: usize) -> Vec<f32> {
+            let knn = self.0;
+            let k = knn.params.k.max(1);
+            let queries = self.projected(motion);
+            let mut values = vec![0f32; queries.len() * classes];
+            for (i, q) in queries.iter().enumerate() {
+                let found = knn.tree().nearest_n::<SquaredEuclidean>(q, std::num::NonZero::new(k).unwrap());
+                let share = 1.0 / found.len().max(1) as f32;
+                for (rank, n) in found.iter().enumerate() {
+                    let l = knn.labels[n.item as usize];
+                    if l < classes {
+                        values[i * classes + l] += share + 1e-4 * (k - rank) as f32 / (k * k) as f32;
+                    }
+                }
+            }
+            values
+        }
+
+        fn nearest(&self, motion: &Motion) -> Vec<f32> {
+            self.projected(motion)
+                .iter()
+                .map(|q| self.0.tree().nearest_one::<SquaredEuclidean>(q).distance.sqrt())
+                .collect()
+        }
+
+        fn familiar(&self, gap: usize, samples: usize) -> Vec<f32> {
+            let points = &self.0.points;
+            let n = points.len();
+            let step = n.div_ceil(samples.max(1)).max(1);
+            let mut out: Vec<f32> = (0..n)
+                .step_by(step)
+                .filter_map(|i| {
+                    (0..n)
+                        .filter(|&j| j.abs_diff(i) > gap)
+                        .map(|j| points[i].iter().zip(&points[j]).map(|(a, b)| (a - b) * (a - b)).sum::<f32>())
+                        .min_by(f32::total_cmp)
+                        .map(f32::sqrt)
+                })
+                .collect();
+            out.sort_by(f32::total_cmp);
+            out
+        }
+    }
+
+    fn bits(v: &[f32]) -> Vec<u32> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    /// Votes, nearest distances and familiar distances bit for bit as the kd-tree gave them.
+    fn same_as_the_tree(knn: &Knn, motion: &Motion, classes: usize, what: &str) {
+        let reference = Reference(knn);
+        let (queries, _) = knn.queries(motion).unwrap();
+        let projected = reference.projected(motion);
+        assert_eq!(queries.len(), projected.len(), "{what}");
+        for (a, b) in queries.iter().zip(&projected) {
+            assert_eq!(bits(a), bits(b), "{what}: projection");
+        }
+        let p = knn.probabilities(motion, classes).unwrap();
+        assert_eq!(bits(&p.values), bits(&reference.values(motion, classes)), "{what}: votes");
+        let near = knn.nearest_distances(motion).unwrap();
+        let (w, source) = windows(motion, &knn.params).unwrap();
+        let frames = WorkingFrames { source: &source, file_frames: motion.frames() };
+        let old = reference.nearest(motion);
+        assert_eq!(w.frames(), old.len());
+        let old: Vec<f32> = (0..motion.frames()).map(|f| old[frames.working_frame(f)]).collect();
+        assert_eq!(bits(&near), bits(&old), "{what}: nearest distances");
+    }
+
+    fn fixture(name: &str) -> Motion {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures").join(name);
+        crate::load::load_path(&path).unwrap().motion
+    }
+
+    #[cfg(not(target_arch = "wasm32"))]
+    #[test]
+    fn the_scan_finds_the_trees_neighbours_for_the_shipped_models() {
+        use crate::methods::dtfcn::model::{Labeller, ModelKind};
+        let takes: Vec<Motion> =
+            ["13_31.bvh", "86_01.bvh", "131_03.bvh", "02_01.bvh", "35_01.bvh", "assimp_Boxing_Toes_100fps.bvh"]
+                .iter()
+                .map(|n| fixture(n))
+                .collect();
+        for name in crate::methods::dtfcn::shipped::NAMES {
+            let model = crate::methods::dtfcn::shipped::model(ModelKind::Knn, name).unwrap();
+            let Labeller::Knn(knn) = &model.labeller else { panic!("{name}: not a k-NN model") };
+            let classes = model.header.classes.len();
+            for take in &takes {
+                same_as_the_tree(knn, take, classes, &format!("{name} on {}", take.name));
+            }
+            let reference = Reference(knn);
+            for (gap, samples) in [(60, 400), (30, 1000), (0, 50)] {
+                assert_eq!(
+                    bits(&knn.measure_familiar(gap, samples)),
+                    bits(&reference.familiar(gap, samples)),
+                    "{name}: familiar distances at {gap}, {samples}"
+                );
+            }
+        }
+    }
+
+    #[cfg(not(target_arch = "wasm32"))]
+    #[test]
+    fn tied_neighbours_are_the_trees_in_its_order() {
+        // every training window twice, once of each label: every query's neighbours tie, and
+        // the tree (asked then) orders them its own way
+        let taught = fixture("131_01.bvh");
+        let (zeros, ones) = (vec![0; taught.frames()], vec![1; taught.frames()]);
+        let half = taught.frames() / 2;
+        let split: Vec<usize> = (0..taught.frames()).map(|f| usize::from(f >= half)).collect();
+        for k in [1, 2, 5, 6] {
+            let params = KnnParams { k, ..KnnParams::default() };
+            let twice = Knn::fit(
+                &[Labelled { motion: &taught, labels: &zeros }, Labelled { motion: &taught, labels: &ones }],
+                params,
+            )
+            .unwrap();
+            same_as_the_tree(&twice, &taught, 2, &format!("twice, k {k}"));
+            same_as_the_tree(&twice, &fixture("131_03.bvh"), 2, &format!("twice on another take, k {k}"));
+            // and the same take taught once, asked in other units (near, not equal, windows)
+            let once = Knn::fit(&[Labelled { motion: &taught, labels: &split }], params).unwrap();
+            same_as_the_tree(&once, &fixture("cmu_131_01_scaled_meters.bvh"), 3, &format!("metres, k {k}"));
+            let reference = Reference(&once);
+            assert_eq!(bits(&once.measure_familiar(30, 200)), bits(&reference.familiar(30, 200)));
+        }
+        // fewer training windows than k: the tree answers with all of them
+        let short = fixture("pybvh_bvh_test1.bvh");
+        if let Ok(few) = Knn::fit(
+            &[Labelled { motion: &short, labels: &vec![0; short.frames()] }],
+            KnnParams { k: 100, ..KnnParams::default() },
+        ) {
+            same_as_the_tree(&few, &short, 1, "k above the windows");
+        }
+    }
+
+    #[test]
+    fn the_scan_skips_nothing_that_could_enter() {
+        // random points in clusters: the scan's k nearest are a brute force's, for many k, with
+        // and without seeds, with a filter
+        let mut rng = crate::stats::Rng::new(11);
+        let points: Vec<[f32; DIMS]> = (0..1000)
+            .map(|i| {
+                let c = (i % 7) as f32;
+                std::array::from_fn(|k| c * (k as f32 * 0.1).cos() + rng.next_f32() * 0.3 / (1.0 + k as f32))
+            })
+            .collect();
+        let scan = Scan::new(&points);
+        let mut found = Vec::new();
+        for (t, q) in points.iter().step_by(37).enumerate() {
+            let q: [f32; DIMS] = std::array::from_fn(|k| q[k] + 0.01 * (t as f32 + k as f32).sin());
+            let mut all: Vec<(f32, u32)> =
+                points.iter().enumerate().map(|(j, p)| (search::distance(p, &q), j as u32)).collect();
+            all.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for count in [1, 2, 6, 40] {
+                for seeds in [vec![], vec![0, 999, 5, 5, 4000]] {
+                    scan.nearest(&points, &q, count, &seeds, |_| true, &mut found);
+                    let got: Vec<f32> = found.iter().map(|f| f.distance).collect();
+                    let want: Vec<f32> = all[..count].iter().map(|a| a.0).collect();
+                    assert_eq!(got, want, "query {t}, count {count}");
+                    assert!(found.iter().all(|f| search::distance(&points[f.item as usize], &q) == f.distance));
+                }
+                scan.nearest(&points, &q, count, &[], |j| j % 3 == 0, &mut found);
+                let want: Vec<f32> = all.iter().filter(|a| a.1 % 3 == 0).take(count).map(|a| a.0).collect();
+                assert_eq!(found.iter().map(|f| f.distance).collect::<Vec<_>>(), want);
+            }
+        }
     }
 
     /// A payload of the default window claiming `n` frames but holding the words of one.
