@@ -18,7 +18,10 @@
 //!    `d_i > mean + k_σ · std` of the `d_j` (`ℓ ≤ j < i`) of this segment so far; the search
 //!    restarts at the cut, so cuts are at least `k` frames apart. The window is kept as a running
 //!    sum and scatter (`Σ x xᵀ`, about the segment's first frame): each step is one rank-one
-//!    update and one D×D symmetric eigenvalue problem, never an SVD of the growing window;
+//!    update, never an SVD of the growing window, and the error follows the leading eigenvectors
+//!    from one frame to the next ([`leading`]) rather than solving the D×D symmetric eigenvalue
+//!    problem at every frame (that full solution is kept for a segment's first frames and as the
+//!    fallback);
 //! 3. one segment (level `action`, labels `B1`, `B2`, … for "behaviour") per cut, its `score` the
 //!    cut's `d_i / (mean + k_σ · std)` (none for the first segment).
 //!
@@ -35,6 +38,7 @@
 //! * **Short remainders.** When fewer than `k` frames are left after a cut, `r` comes from all of
 //!   them and no further cut is sought; a take shorter than `k` frames is one segment.
 
+pub mod leading;
 pub mod method;
 
 use nalgebra::DMatrix;
@@ -46,6 +50,7 @@ use crate::motion::joints::Canonical;
 use crate::motion::normalize::body_scaled;
 use crate::motion::resample::source_positions;
 use crate::motion::Motion;
+use leading::Leading;
 
 /// A derivative must exceed this fraction of the window's total variance to cut (see the module
 /// documentation, "flat data").
@@ -256,6 +261,30 @@ impl Window {
         self.count += 1;
     }
 
+    /// The window's mean.
+    pub fn mean(&self) -> Vec<f64> {
+        let n = self.count.max(1) as f64;
+        self.origin.iter().zip(&self.sum).map(|(o, s)| o + s / n).collect()
+    }
+
+    /// The window's scatter about its mean (`Σ (x − x̄)(x − x̄)ᵀ`) into `out` (`d × d`, both
+    /// triangles; zero for an empty window).
+    pub fn covariance_into(&self, out: &mut [f64]) {
+        let d = self.origin.len();
+        if self.count == 0 {
+            out[..d * d].fill(0.0);
+            return;
+        }
+        let n = self.count as f64;
+        for a in 0..d {
+            for b in a..d {
+                let v = self.scatter[(a, b)] - self.sum[a] * self.sum[b] / n;
+                out[a * d + b] = v;
+                out[b * d + a] = v;
+            }
+        }
+    }
+
     /// Eigenvalues of the window's scatter about its mean (`Σ (x − x̄)(x − x̄)ᵀ`), largest
     /// first, negative rounding clamped to 0.
     pub fn eigenvalues(&self) -> Vec<f64> {
@@ -263,16 +292,10 @@ impl Window {
         if self.count == 0 {
             return vec![0.0; d];
         }
-        let n = self.count as f64;
-        let mut c = DMatrix::zeros(d, d);
-        for a in 0..d {
-            for b in a..d {
-                let v = self.scatter[(a, b)] - self.sum[a] * self.sum[b] / n;
-                c[(a, b)] = v;
-                c[(b, a)] = v;
-            }
-        }
-        let mut eig: Vec<f64> = c.symmetric_eigenvalues().iter().map(|&v| v.max(0.0)).collect();
+        let mut c = vec![0.0; d * d];
+        self.covariance_into(&mut c);
+        let mut eig: Vec<f64> =
+            DMatrix::from_row_slice(d, d, &c).symmetric_eigenvalues().iter().map(|&v| v.max(0.0)).collect();
         eig.sort_by(|a, b| b.total_cmp(a));
         eig
     }
@@ -333,6 +356,18 @@ pub fn scan(
     params: &ValidParams,
     progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
 ) -> Result<Scan, Cancelled> {
+    scan_with(frames, dim, params, progress, false)
+}
+
+/// [`scan`], with every frame's error from the full eigen-decomposition when `exact` (the
+/// scan as it was before [`leading`]; the tests compare the two).
+fn scan_with(
+    frames: &[f64],
+    dim: usize,
+    params: &ValidParams,
+    progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
+    exact: bool,
+) -> Result<Scan, Cancelled> {
     let n = frames.len().checked_div(dim).unwrap_or(0);
     let row = |i: usize| &frames[i * dim..(i + 1) * dim];
     let (k, lag) = (params.window(), params.lag());
@@ -348,6 +383,7 @@ pub fn scan(
         let r = intrinsic_dim(&head.eigenvalues(), params.tau);
         out.dims.push(r);
         let mut window = Window::new(row(start));
+        let mut leading = Leading::new(dim, r);
         let (mut sum, mut sum_sq, mut count) = (0.0f64, 0.0f64, 0usize);
         let mut cut = None;
         for t in start..n {
@@ -356,8 +392,12 @@ pub fn scan(
                 next_report = t + REPORT_EVERY;
             }
             window.push(row(t));
-            let eig = window.eigenvalues();
-            let e = projection_error(&eig, r);
+            let (e, total) = if exact {
+                let eig = window.eigenvalues();
+                (projection_error(&eig, r), eig.iter().sum::<f64>())
+            } else {
+                leading.error(&window, row(t))
+            };
             out.error[t] = e;
             let i = t - start;
             if i < lag {
@@ -369,7 +409,7 @@ pub fn scan(
                 let mean = sum / count as f64;
                 let var = (sum_sq / count as f64 - mean * mean).max(0.0);
                 let threshold = mean + params.k_sigma * var.sqrt();
-                let floor = ROUNDING * eig.iter().sum::<f64>();
+                let floor = ROUNDING * total;
                 if threshold > 0.0 {
                     out.ratio[t] = d / threshold;
                 }
@@ -447,6 +487,82 @@ mod tests {
         for t in [0, 10, 59, 60, first - 1] {
             let slow = direct_error(&frames, dim, 0, t, r);
             assert!((s.error[t] - slow).abs() <= 1e-9 * (1.0 + slow), "frame {t}");
+        }
+    }
+
+    /// [`scan`] (the error tracked from frame to frame) against the scan with every frame's full
+    /// eigen-decomposition, as it was: the same cuts and dimensions, and every error and ratio
+    /// within rounding of the old ones.
+    fn same_as_exact(frames: &[f64], dim: usize, params: &ValidParams, what: &str) {
+        let fast = scan(frames, dim, params, &mut |_, _| Ok(())).unwrap();
+        let exact = scan_with(frames, dim, params, &mut |_, _| Ok(()), true).unwrap();
+        assert_eq!(fast.cuts.len(), exact.cuts.len(), "{what}: {:?} vs {:?}", fast.cuts, exact.cuts);
+        // a ratio over a threshold of rounding noise (after flat data) is itself noise: huge, or 0
+        // where the noise came out exactly 0
+        let noise = |r: f64| r == 0.0 || r.abs() > 1e6;
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-6 * b.abs().max(1e-3) || noise(a) && noise(b);
+        for (a, b) in fast.cuts.iter().zip(&exact.cuts) {
+            assert_eq!(a.frame, b.frame, "{what}: {:?} vs {:?}", fast.cuts, exact.cuts);
+            assert!(close(a.ratio, b.ratio), "{what}: {a:?} vs {b:?}");
+        }
+        assert_eq!(fast.dims, exact.dims, "{what}");
+        // the error to 1e-9 of the largest in its segment (the window's variance grows with it), or
+        // to rounding (1e-12 of data of order 1) in a flat segment
+        let bounds: Vec<usize> = std::iter::once(0)
+            .chain(exact.cuts.iter().map(|c| c.frame))
+            .chain(std::iter::once(exact.error.len()))
+            .collect();
+        for w in bounds.windows(2) {
+            let top = exact.error[w[0]..w[1]].iter().fold(0.0f64, |a, &b| a.max(b));
+            for t in w[0]..w[1] {
+                let (a, b) = (fast.error[t], exact.error[t]);
+                assert!((a - b).abs() <= 1e-9 * top + 1e-12, "{what} frame {t}: {a} vs {b} (top {top})");
+                let (a, b) = (fast.ratio[t], exact.ratio[t]);
+                assert!(close(a, b), "{what} frame {t}: ratio {a} vs {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_tracked_error_cuts_the_takes_as_the_full_decomposition_did() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures");
+        let mut takes = 0;
+        for name in [
+            "13_31.bvh",
+            "86_01.bvh",
+            "131_01.bvh",
+            "131_03.bvh",
+            "02_01.bvh",
+            "12_01.bvh",
+            "35_01.bvh",
+            "assimp_Boxing_Toes_100fps.bvh",
+            "mixamo_names_freebvh.bvh",
+        ] {
+            let motion = crate::load::load_path(&dir.join(name)).unwrap().motion;
+            let Ok(p) = poses(&motion, 30.0) else { continue };
+            for params in [
+                params(),
+                PcaParams { tau: 0.95, k_sigma: 2.0, ..Default::default() }.check().unwrap(),
+                PcaParams { tau: 0.99, window_s: 1.0, lag_s: 0.2, ..Default::default() }.check().unwrap(),
+            ] {
+                same_as_exact(&p.data, p.dim, &params, name);
+            }
+            takes += 1;
+        }
+        assert!(takes >= 8, "{takes} takes compared");
+    }
+
+    #[test]
+    fn the_tracked_error_is_the_full_decompositions_on_synthetic_behaviours() {
+        for seed in 1..6 {
+            let mut rng = Rng::new(seed);
+            let dim = 12;
+            let d = directions(&mut rng, dim);
+            let mut frames = behaviour(&mut rng, &d[0], &d[1], 150, 0.01);
+            frames.extend(behaviour(&mut rng, &d[2], &d[3], 150, 0.01));
+            frames.extend(vec![0.5; 12 * 100]);
+            frames.extend(behaviour(&mut rng, &d[1], &d[3], 150, 0.0));
+            same_as_exact(&frames, dim, &params(), &format!("seed {seed}"));
         }
     }
 
