@@ -686,9 +686,17 @@ fn on_worker_error(inner: &Rc<Inner>, event: Event) {
         .and_then(|m| m.as_string())
         .filter(|m| !m.is_empty())
         .unwrap_or_else(|| format!("could not load {}", inner.urls.worker));
+    // dead under a method's run (out of memory, say) for the first time: replaced, the run asked again
+    let run = inner.pool.borrow().running(0);
+    let again = run.and_then(|run| run_index(inner, run)).is_some_and(|index| {
+        inner.runs.borrow_mut()[index].as_mut().is_some_and(|r| !std::mem::replace(&mut r.crashed, true))
+    });
+    if again {
+        web_sys::console::warn_1(&format!("the worker stopped ({message}): started again").into());
+        return replace_worker(inner);
+    }
     fail_load(inner, inner.current.get(), format!("the worker failed: {message}"));
     // the run it was busy with (the run workers' go on)
-    let run = inner.pool.borrow().running(0);
     if let Some(index) = run.and_then(|run| run_index(inner, run)) {
         fail_run(inner, index, format!("the worker failed: {message}"));
     } else if let Some(run) = run {
