@@ -8,7 +8,8 @@
 #                and in headless Chromium; the page's load (bytes before the first result, time to it);
 #                with ../shared/data also the peer libraries (bench/peers)
 #   make setup   install the toolchain (scripts/setup.sh; idempotent, seconds when done)
-#   make web     build the page into dist/ (the wasm in the `web` profile — release with fat LTO —,
+#   make release the page as `make web` builds it, with whole-program optimisation (profile `web-release`)
+#   make web     build the page into dist/ (the wasm in the `web` profile — the release profile —,
 #                wasm-bindgen + wasm-opt + assets, the shipped models in dist/models/, fetched by the
 #                page when a method first needs one; wasm-bindgen and wasm-opt only run again when the
 #                wasm changed)
@@ -40,8 +41,9 @@ CARGO ?= cargo
 WASM_CARGO_FLAGS ?=
 
 WASM_TARGET := wasm32-unknown-unknown
-# The cargo profile of the page's wasm (Cargo.toml [profile.web]: release with fat LTO, one codegen unit).
-WASM_PROFILE := web
+# The cargo profile of the page's wasm (Cargo.toml [profile.web]: the release profile, built on every core);
+# `make release` builds [profile.web-release] (fat LTO, one codegen unit) instead.
+WASM_PROFILE ?= web
 CRATE       := mocapseg
 DIST        := dist
 WASM_OPT    := tests/e2e/node_modules/.bin/wasm-opt
@@ -69,8 +71,8 @@ BENCH_BVH ?= $(firstword $(wildcard $(abspath $(CURDIR)/../shared/data/cmu/86/86
                 /work/shared/data/cmu/86/86_01.bvh $(CURDIR)/www/sample.bvh) \
                 $(abspath $(shell ls -S tests/fixtures/*.bvh 2>/dev/null | head -n 1)))
 
-.PHONY: help setup demo test bench web serve check-toolchain accuracy \
-        test-native fmt-check test-wasm test-e2e bench-native bench-wasm bench-page bench-peers bench-table fuzz
+.PHONY: help setup demo release test bench web serve check-toolchain accuracy \
+        test-native fmt-check test-wasm test-e2e bench-native bench-wasm bench-page bench-rows bench-peers bench-table fuzz
 
 help:
 	@sed -n '3,/^#$$/{/^#$$/!p}' Makefile | sed 's/^# \{0,1\}//'
@@ -81,6 +83,10 @@ setup:
 demo: setup
 	$(MAKE) web
 	$(MAKE) serve
+
+# The page built with whole-program optimisation (Cargo.toml [profile.web-release]) into dist/, for publishing.
+release: setup
+	$(MAKE) web WASM_PROFILE=web-release
 
 # Stages in the order that builds least: the wasm tests reuse the library `web` built (profile `web`).
 test:
@@ -99,6 +105,7 @@ bench: setup
 	$(MAKE) bench-native
 	$(MAKE) bench-wasm
 	$(MAKE) bench-page
+	$(MAKE) bench-rows
 	@if [ -d "$(BENCH_DATA)/labels" ]; then $(MAKE) bench-peers; \
 	else echo "note: $(BENCH_DATA) is absent: the peer libraries (bench/peers) are not run"; fi
 	$(MAKE) bench-table
@@ -124,8 +131,8 @@ check-toolchain:
 
 # --- build ------------------------------------------------------------------------------
 
-# The page: the wasm of the lib with the `web` feature (cargo profile `web`: release with fat LTO,
-# one codegen unit) → wasm-bindgen → wasm-opt -O1 → dist/ (-O1: smaller gzipped than -O2, the first result
+# The page: the wasm of the lib with the `web` feature (cargo profile `web`: the release profile; `make release`:
+# fat LTO, one codegen unit) → wasm-bindgen → wasm-opt -O1 → dist/ (-O1: smaller gzipped than -O2, the first result
 # 0.3 s sooner, 24 s instead of 73: docs/benchmarks.md "The page's load").
 # dist/.wasm-sum records the checksum of the wasm it was made from: an unchanged build skips
 # wasm-bindgen and wasm-opt (the slow part) and only refreshes the static files.
@@ -241,6 +248,15 @@ bench-page: check-toolchain
 	$(MAKE) web
 	@mkdir -p $(BENCH_DIR)
 	E2E_FILES="page-load.bench.mjs" scripts/e2e.sh 2>&1 | tee $(BENCH_DIR)/page-load.log
+
+# The user's view (tests/e2e/rows.bench.mjs): a 40 s CMU take from drop (and from a first visit) to every row
+# filled, the sample's first paint and every row, a 10-minute take (every row, the workers' memory), the library
+# of the five shared labelled takes — in headless Chromium on the built page. Needs the shared data for all
+# but the sample's row (it says so when absent).
+bench-rows: check-toolchain
+	$(MAKE) web
+	@mkdir -p $(BENCH_DIR)
+	BENCH_DATA="$(BENCH_DATA)" E2E_FILES="rows.bench.mjs" scripts/e2e.sh 2>&1 | tee $(BENCH_DIR)/rows.log
 
 bench-table: check-toolchain
 	@$(CARGO) run -q --release --example bench_table -- "$(BENCH_DIR)/results-native.jsonl" "$(BENCH_DIR)/results-wasm.jsonl"

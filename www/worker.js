@@ -11,6 +11,8 @@ import init, { worker_handle, worker_next } from "../pkg/mocapseg.js";
 let ready = null;
 const start = (module) => {
   ready = init(module ? { module_or_path: module } : undefined);
+  // the size of this worker's wasm memory, which only grows (make bench reads its peak)
+  ready.then((wasm) => { self.__mocapsegMemory = () => wasm.memory.buffer.byteLength; }, () => {});
   ready.catch(() => {}); // reported with the first request instead
 };
 
