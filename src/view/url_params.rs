@@ -573,7 +573,7 @@ mod tests {
 
     #[test]
     fn every_parameter_together() {
-        let parsed = p("?src=www/02_01.bvh&methods=sssm,dtfcn&t=12.5&autoplay=1&embed=1");
+        let parsed = p("?src=www/02_01.bvh&methods=sssm,dtfcn&t=12.5&autoplay=1&embed=1&workers=2");
         assert_eq!(
             parsed.params,
             UrlParams {
@@ -583,6 +583,7 @@ mod tests {
                 t: Some(12.5),
                 autoplay: true,
                 embed: true,
+                workers: Some(2),
             }
         );
         assert!(parsed.messages.is_empty(), "{:?}", parsed.messages);

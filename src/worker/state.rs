@@ -994,7 +994,8 @@ mod tests {
 
         // a motion whose positions are not whole frames is refused as the packet is read
         let mut bad = Request::Hold { take: 2, motion: Box::new(view.motion()) }.into_packet();
-        bad.buffers[0].truncate(bad.buffers[0].len() - 4);
+        let len = bad.buffers[0].len();
+        bad.buffers[0].truncate(len - 4);
         let refused = Request::from_packet(bad).expect_err("ragged positions");
         assert!(refused.contains("not whole frames"), "{refused}");
     }
