@@ -768,7 +768,7 @@ mod tests {
         assert_eq!(parsed.messages.len(), 2, "{:?}", parsed.messages);
         assert_eq!(
             parsed.messages[0],
-            "unknown parameter `method` ignored; the page reads src, asf, methods, t, autoplay, embed"
+            "unknown parameter `method` ignored; the page reads src, asf, methods, t, autoplay, embed, workers"
         );
         assert_eq!(parsed.messages[1], "t is given more than once; the last one (t=3) is used");
     }
