@@ -1519,11 +1519,16 @@ test("DT-FCN trains in the browser: refusals at their field, progress and plot, 
     await context.unroute("**/www/worker.js", handler);
   };
   await context.route("**/www/worker.js", handler);
-  await page.evaluate(() => {
+  // the main worker (which trains) is the one replaced: the run workers of the pool are made busy first
+  // (a row each), so that SSSM's run goes to the main worker, and that run is cancelled
+  const busy = ["velocity", "kcs", "pca", "lma"].slice(0, page.workers().length - 1);
+  await page.evaluate((busy) => {
+    for (const m of busy) document.querySelector(`#${m}-run`).click();
     document.querySelector("#sssm-run").click();
     document.querySelector("#sssm-cancel").click();
-  });
+  }, busy);
   await waitData("sssm", "cancelled");
+  for (const m of busy) await waitData(m, "done");
   await page.fill("#dtfcn-train-epochs", "3");
   await page.fill("#dtfcn-train-name", "e2e-broken");
   allowConsoleErrors = true;
