@@ -186,7 +186,7 @@ impl Loader {
             urls,
             worker: RefCell::new(None),
             helpers: RefCell::new((1..workers).map(|_| None).collect()),
-            pool: RefCell::new(pool::new_pool(workers)),
+            pool: RefCell::new(crate::worker::pool::Pool::new(workers)),
             next_id: Cell::new(0),
             current: Cell::new(0),
             pending: RefCell::new(None),
@@ -597,6 +597,12 @@ fn no_method_can_read(state: &AppState) -> Option<String> {
     (failures.len() >= 2).then(|| crate::view::run_failures::no_method_can_read(&failures))
 }
 
+/// Whether method `index`'s current run meets something for the first time (`flag`: it was asked again
+/// after `not_loaded`, or after its worker died), noting that it has: each is allowed once.
+fn first_time(inner: &Inner, index: usize, flag: impl FnOnce(&mut Run) -> &mut bool) -> bool {
+    inner.runs.borrow_mut()[index].as_mut().is_some_and(|r| !std::mem::replace(flag(r), true))
+}
+
 /// The method whose current run is `run`.
 fn run_index(inner: &Inner, run: RunId) -> Option<usize> {
     inner.runs.borrow().iter().position(|r| r.as_ref().is_some_and(|r| r.id == run))
@@ -688,9 +694,8 @@ fn on_worker_error(inner: &Rc<Inner>, event: Event) {
         .unwrap_or_else(|| format!("could not load {}", inner.urls.worker));
     // dead under a method's run (out of memory, say) for the first time: replaced, the run asked again
     let run = inner.pool.borrow().running(0);
-    let again = run.and_then(|run| run_index(inner, run)).is_some_and(|index| {
-        inner.runs.borrow_mut()[index].as_mut().is_some_and(|r| !std::mem::replace(&mut r.crashed, true))
-    });
+    let again =
+        run.and_then(|run| run_index(inner, run)).is_some_and(|index| first_time(inner, index, |r| &mut r.crashed));
     if again {
         web_sys::console::warn_1(&format!("the worker stopped ({message}): started again").into());
         return replace_worker(inner);
@@ -827,9 +832,7 @@ fn on_run_response(inner: &Rc<Inner>, slot: crate::worker::pool::Slot, response:
             match kind {
                 FailureKind::NotLoaded if slot > 0 => pool::not_loaded(inner, slot, index, message),
                 FailureKind::NotLoaded => {
-                    let first = inner.runs.borrow_mut()[index]
-                        .as_mut()
-                        .is_some_and(|r| !std::mem::replace(&mut r.retried, true));
+                    let first = first_time(inner, index, |r| &mut r.retried);
                     if !first {
                         return fail_run(inner, index, message);
                     }

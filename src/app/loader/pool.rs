@@ -23,7 +23,7 @@ use web_sys::{Event, MessageEvent, Worker, WorkerOptions, WorkerType};
 use super::super::js_message;
 use super::{fail_run, next_id, on_run_response, run_index, send_run, Handler, Inner};
 use crate::protocol::{Request, Response, RunId};
-use crate::worker::pool::{Pool, Slot};
+use crate::worker::pool::Slot;
 use crate::worker::{packet_to_js, response_from_js};
 
 /// A run worker of the pool and the handlers that keep its messages flowing.
@@ -51,11 +51,6 @@ pub(super) fn workers(root_workers: Option<usize>) -> usize {
         .and_then(|c| c.as_f64())
         .map_or(0, |c| c as usize);
     crate::worker::pool::workers_for(cores)
-}
-
-/// A new pool for `workers` workers (the main one included).
-pub(super) fn new_pool(workers: usize) -> Pool {
-    Pool::new(workers)
 }
 
 /// Starts run worker `slot` (1…), replacing the one there: gives it the compiled wasm, every model
@@ -237,9 +232,7 @@ pub(super) fn release_run(inner: &Rc<Inner>, run: RunId) {
 fn died(inner: &Rc<Inner>, slot: Slot) {
     let run = inner.pool.borrow().running(slot);
     let index = run.and_then(|run| run_index(inner, run));
-    let again = index.is_some_and(|index| {
-        inner.runs.borrow_mut()[index].as_mut().is_some_and(|r| !std::mem::replace(&mut r.crashed, true))
-    });
+    let again = index.is_some_and(|index| super::first_time(inner, index, |r| &mut r.crashed));
     if again {
         return replace(inner, slot);
     }
@@ -269,7 +262,7 @@ fn on_message(inner: &Rc<Inner>, slot: Slot, data: JsValue) {
 /// Run worker `slot` does not hold the take of method `index`'s run: it is handed the take
 /// again and asked once more; failed the second time.
 pub(super) fn not_loaded(inner: &Rc<Inner>, slot: Slot, index: usize, message: String) {
-    let first = inner.runs.borrow_mut()[index].as_mut().is_some_and(|r| !std::mem::replace(&mut r.retried, true));
+    let first = super::first_time(inner, index, |r| &mut r.retried);
     if !first {
         return fail_run(inner, index, message);
     }
