@@ -146,23 +146,23 @@ fn every_method_stays_within_the_work_it_declares() {
         for params in &variants {
             let checked = m.check_json(params).unwrap();
             let work = m.work(&checked).unwrap();
+            // the SSSM declares its arrays, not its neighbour entries: it counts those as it finds
+            // them against what the budget leaves (`sssm_entries_stay_within_the_run_budget`); here
+            // it runs with room for them beside what it declares
+            let entries_room = if name == "sssm" { 256 << 20 } else { 0 };
             for (k, &frames) in lengths.iter().enumerate() {
                 // the resampled copy counted once, on the shorter take
                 let rates: &[f64] = if k == 0 { &[30.0, 120.0] } else { &[30.0] };
                 for &fps in rates {
                     let take = working_take(if fps == 120.0 { 4 * frames } else { frames }, fps);
-                    let (out, peak) = peak_during(|| {
-                        m.run_checked(
-                            &take,
-                            &checked,
-                            &RunOptions { pictures: true, ..RunOptions::default() },
-                            &mut NoProgress,
-                        )
-                    });
-                    out.unwrap_or_else(|e| panic!("{name} {params} on {frames} frames at {fps} Hz: {e}"));
                     let working = work.frames(&take);
                     assert!(working.abs_diff(frames) <= 1, "{name}: {working} working frames of {frames}");
-                    let declared = work.bytes(working, take.joints());
+                    let declared = work.bytes(working, take.joints()) + entries_room;
+                    let limits = mocapseg::method::WorkLimits { max_bytes: declared, ..Default::default() };
+                    let (out, peak) = peak_during(|| {
+                        m.run_checked(&take, &checked, &RunOptions { pictures: true, limits }, &mut NoProgress)
+                    });
+                    out.unwrap_or_else(|e| panic!("{name} {params} on {frames} frames at {fps} Hz: {e}"));
                     println!(
                         "{name:8} {params} {frames:5} frames from {fps:3} Hz: peak {:6.1} MiB ({:5.0} B/frame), \
                          declared {:6.1} MiB",
@@ -178,6 +178,51 @@ fn every_method_stays_within_the_work_it_declares() {
                 }
             }
         }
+    }
+}
+
+/// The SSSM's neighbour entries are counted as its searches find them, against what the run's
+/// budget leaves after the arrays it declares ([`mocapseg::methods::sssm::BYTES_PER_ENTRY`] each):
+/// on the takes with the most neighbours — a repeated take (every frame near its repetitions) and a
+/// still one (every frame near every other) — and budgets from a few MiB to hundreds, the peak
+/// allocated stays within the budget whether the run finishes or is refused, the small budgets
+/// refuse (naming the budget and max_neighbours) and the large ones finish.
+#[test]
+fn sssm_entries_stay_within_the_run_budget() {
+    use mocapseg::method::{NoProgress, RunOptions, WorkLimits};
+    let _one = MEASURING.lock().unwrap();
+    let m = mocapseg::methods::registry().into_iter().find(|m| m.info().name == "sssm").unwrap();
+    let checked = m.check_json(&serde_json::json!({})).unwrap();
+    let work = m.work(&checked).unwrap();
+    let repeated = working_take(6000, 30.0);
+    let still = {
+        let one = mocapseg::motion::Motion::concatenate(&[repeated.clone()], 1).unwrap();
+        mocapseg::motion::Motion::concatenate(&[one], 6000).unwrap()
+    };
+    for (what, take) in [("repeated", &repeated), ("still", &still)] {
+        let declared = work.bytes(work.frames(take), take.joints());
+        let (mut refused, mut finished) = (0, 0);
+        for room_mib in [4usize, 16, 64, 256, 512, 1024] {
+            let limits = WorkLimits { max_bytes: declared + (room_mib << 20), ..Default::default() };
+            let (out, peak) =
+                peak_during(|| m.run_checked(take, &checked, &RunOptions { pictures: true, limits }, &mut NoProgress));
+            println!(
+                "sssm {what}: room {room_mib:3} MiB → {}, peak {:.1} MiB of {:.1}",
+                if out.is_ok() { "finished" } else { "refused" },
+                peak as f64 / 1048576.0,
+                limits.max_bytes as f64 / 1048576.0
+            );
+            assert!(peak <= limits.max_bytes, "{what}, room {room_mib} MiB: peak {peak} > {}", limits.max_bytes);
+            match out {
+                Ok(_) => finished += 1,
+                Err(e) => {
+                    let e = e.to_string();
+                    assert!(e.contains("needs more memory than the budget") && e.contains("max_neighbours"), "{e}");
+                    refused += 1;
+                }
+            }
+        }
+        assert!(refused > 0 && finished > 0, "{what}: {refused} refused, {finished} finished");
     }
 }
 

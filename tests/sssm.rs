@@ -15,7 +15,8 @@ use mocapseg::methods::sssm::activities::{RegionGrowing, Span};
 use mocapseg::methods::sssm::neighbours::{FarSearch, StackedSearch};
 use mocapseg::methods::sssm::primitives::{NeighbourhoodGraph, PrimitiveSearch};
 use mocapseg::methods::sssm::{
-    segment, segment_features, FeatureMatrix, MirrorMap, Sssm, SssmError, SssmOutcome, SssmParams,
+    segment, segment_features, segment_features_within, FeatureMatrix, MirrorMap, Sssm, SssmError, SssmOutcome,
+    SssmParams,
 };
 use mocapseg::segment::Level;
 use std::f32::consts::TAU;
@@ -298,10 +299,26 @@ fn tiny_still_and_huge_inputs_are_handled() {
     let o = segment_features(&still, Some(&map), &valid, &mut |_, _| Ok(())).unwrap();
     assert!((0..900).all(|i| o.sssm.row(i).0.len() <= 600));
     assert!(o.actions.len() <= 1);
-    // too long for the entry budget
-    let long = FeatureMatrix::new(40_000, 1, vec![0.0; 40_000]).unwrap();
-    let e = segment_features(&long, None, &valid, &mut |_, _| Ok(())).unwrap_err();
-    assert!(matches!(e, SssmError::TooLarge { frames: 40_000, .. }), "{e}");
+    // more neighbours than the entry budget: a still take of 3000 frames draws about 3000 × 600
+    // entries in its near search (the upper triangle within the 20 s horizon, capped at 600 a row)
+    // and about twice as many in the far block of its one long action; refused with a budget of a
+    // million, naming it and what to do, and run within eight million
+    let still = FeatureMatrix::new(3_000, 1, vec![0.0; 3_000]).unwrap();
+    let e = segment_features_within(&still, None, &valid, 1_000_000, &mut |_, _| Ok(())).unwrap_err();
+    assert!(matches!(e, SssmError::TooLarge { limit: 1_000_000, max_neighbours: 600, .. }), "{e}");
+    assert!(e.to_string().contains("1000000 entries") && e.to_string().contains("lower max_neighbours"), "{e}");
+    let o = segment_features_within(&still, None, &valid, 8_000_000, &mut |_, _| Ok(())).unwrap();
+    assert!((0..3_000).all(|i| o.sssm.row(i).0.len() <= 600) && o.sssm.entries() > 1_500_000);
+    // a cancel is still a cancel, not the budget
+    let e = segment_features_within(&still, None, &valid, 1_000_000, &mut |stage, _| {
+        if stage == "neighbours" {
+            Err(mocapseg::method::Cancelled)
+        } else {
+            Ok(())
+        }
+    })
+    .unwrap_err();
+    assert!(matches!(e, SssmError::Cancelled), "{e}");
 }
 
 #[test]
@@ -557,10 +574,16 @@ fn a_huge_search_horizon_is_refused_and_overflows_nothing_inside() {
 
 #[test]
 fn the_bundling_neighbours_count_in_the_entry_budget() {
-    // 24 000 frames × 600 neighbours fit in the budget, × (600 + 256) do not
+    // the bundling holds k neighbours of every frame: 24 000 frames × 256 are refused at once by a
+    // budget one entry smaller, before any search
     let long = FeatureMatrix::new(24_000, 1, vec![0.0; 24_000]).unwrap();
     let valid = SssmParams::new().bundling(true).bundling_k(256).check().unwrap();
-    let e = segment_features(&long, None, &valid, &mut |_, _| Ok(())).unwrap_err();
-    assert!(matches!(e, SssmError::TooLarge { frames: 24_000, max_neighbours: 600, bundling_k: 256, .. }), "{e}");
-    const { assert!(24_000 * 600 <= mocapseg::methods::sssm::MAX_ENTRIES) };
+    let mut stages = Vec::new();
+    let e = segment_features_within(&long, None, &valid, 24_000 * 256 - 1, &mut |stage, _| {
+        stages.push(stage.to_string());
+        Ok(())
+    })
+    .unwrap_err();
+    assert!(matches!(e, SssmError::TooLarge { limit: 6_143_999, max_neighbours: 600, .. }), "{e}");
+    assert!(stages.is_empty(), "{stages:?}");
 }

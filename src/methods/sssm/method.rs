@@ -53,18 +53,7 @@ impl Method for Sssm {
     }
 
     fn work(&self, params: &ValidParams) -> Work {
-        // features, kd-tree and refinement: 7.8 kB per frame measured on a repetitive take; and
-        // the SSSMs' entries (plain and mirror), up to max_neighbours (+ bundling_k) per frame at
-        // ~40 bytes each — reached on a take whose frames are all alike (tests/limits.rs: an
-        // interpolated 1 Hz take). Their worst case is what is checked: 10 minutes at the defaults.
-        let per_frame_entries = params.max_neighbours + if params.bundling { params.bundling_k } else { 0 };
-        let sssms = if params.mirror { 2 } else { 1 };
-        Work {
-            fps: params.fps,
-            bytes_per_frame: 8_000 + per_frame_entries * sssms * 48,
-            fixed_bytes: 4 << 20,
-            advice: "or lower max_neighbours",
-        }
+        work(params)
     }
 
     fn run(
@@ -74,7 +63,8 @@ impl Method for Sssm {
         options: &RunOptions,
         progress: &mut dyn Progress,
     ) -> Result<MethodOutput, MethodError> {
-        let result = super::segment_valid(motion, params, &mut |stage, f| progress.step(stage, f))?;
+        let max_entries = entry_limit(motion, params, &options.limits);
+        let result = super::segment_valid(motion, params, max_entries, &mut |stage, f| progress.step(stage, f))?;
         let o = &result.outcome;
         let s = &result.segmentation;
         let summary = format!(
@@ -166,4 +156,20 @@ fn no_action_reason(actions: usize, frames: usize, fps: f64, params: &ValidParam
         counted(params.band_frames(), "frame"),
         frames as f64 / fps
     )
+}
+/// What a run needs besides its neighbour entries: features, kd-tree and refinement, 7.8 kB per
+/// working frame measured on a repetitive take. The entries — up to `max_neighbours` per frame,
+/// twice with the mirror SSSM, plus the bundling's `bundling_k` — are not declared for their
+/// worst case (every frame alike, which no real take of minutes comes near: it refused a 10-minute
+/// take at the defaults); the searches count them as they find them against what the budget
+/// leaves ([`entry_limit`]) and stop when they pass it.
+pub(super) fn work(params: &ValidParams) -> Work {
+    Work { fps: params.fps, bytes_per_frame: 8_000, fixed_bytes: 4 << 20, advice: "or lower max_neighbours" }
+}
+
+/// The neighbour entries a run on `motion` may draw: what `limits` leave after [`work`], at
+/// [`super::BYTES_PER_ENTRY`] each.
+pub fn entry_limit(motion: &Motion, params: &ValidParams, limits: &crate::method::WorkLimits) -> usize {
+    let work = work(params);
+    limits.max_bytes.saturating_sub(work.bytes(work.frames(motion), motion.joints())) / super::BYTES_PER_ENTRY
 }

@@ -50,7 +50,7 @@ use activities::RegionGrowing;
 use bundling::Bundling;
 use clustering::ClusterSearch;
 use method::to_segmentation;
-use neighbours::{FarSearch, NeighbourSearch, StackedSearch};
+use neighbours::{EntryBudget, FarSearch, NeighbourSearch, StackedSearch};
 use primitives::{NeighbourhoodGraph, PrimitiveSearch};
 
 /// Everything that can go wrong in the SSSM method.
@@ -68,13 +68,13 @@ pub enum SssmError {
     MissingJoints(String),
     #[error("cannot prepare the take: {0}")]
     Motion(#[from] MotionError),
-    /// `frames × (max_neighbours + bundling_k)` exceeds `limit` (`bundling_k` is 0 without
-    /// bundling).
+    /// The searches found more neighbour entries than the run's memory allows ([`EntryBudget`]).
     #[error(
-        "the take is too long for the SSSM: {frames} frames × ({max_neighbours} neighbours + {bundling_k} bundling \
-         neighbours) exceeds {limit} entries; cut the take or lower max_neighbours"
+        "the take's SSSM needs more memory than the budget leaves for it: its frames have more close neighbours \
+         than the {limit} entries (about {mib} MiB) that fit — a take that repeats one motion for long or holds \
+         still has the most; cut the take or lower max_neighbours (now {max_neighbours})"
     )]
-    TooLarge { frames: usize, max_neighbours: usize, bundling_k: usize, limit: usize },
+    TooLarge { limit: usize, mib: usize, max_neighbours: usize },
     /// The progress callback returned `Err(Cancelled)`: the run stopped where it was.
     #[error("cancelled")]
     Cancelled,
@@ -96,10 +96,19 @@ impl From<Cancelled> for SssmError {
     }
 }
 
-/// Upper bound on `frames × (max_neighbours + bundling_k)` (`bundling_k` only with bundling):
-/// the SSSMs and graphs hold about 40 bytes per entry, so this keeps a run below about 800 MB
-/// even when every frame has the most neighbours (18 minutes at 30 Hz with the default 600).
+/// Upper bound on a library's `working frames × max_neighbours` ([`crate::library::MAX_ENTRIES`]).
 pub const MAX_ENTRIES: usize = 20_000_000;
+
+/// Bytes a run holds at its peak per neighbour entry its searches draw ([`EntryBudget`]): the
+/// upper triangle as it grows, the symmetric SSSM made from it, the far entries and their merge,
+/// the nearer neighbours and the graphs built on them. Measured with a counting allocator on takes
+/// whose frames have the most neighbours (tests/limits.rs).
+pub const BYTES_PER_ENTRY: usize = 32;
+
+/// The entries a run may draw when no budget is given: the page's and the command line's 1 GiB.
+pub fn default_entry_limit() -> usize {
+    crate::method::WorkLimits::default().max_bytes / BYTES_PER_ENTRY
+}
 
 /// A motion primitive: frames `span` of action `action`, in cluster `cluster`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -171,19 +180,21 @@ pub fn segment_with_progress(
     params: &SssmParams,
     progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
 ) -> Result<SssmResult, SssmError> {
-    segment_valid(motion, &params.clone().check()?, progress)
+    segment_valid(motion, &params.clone().check()?, default_entry_limit(), progress)
 }
 
 /// [`segment_with_progress`] on parameters already checked (the registered method's: checked
-/// once by the registry, not again here).
+/// once by the registry, not again here), its searches drawing at most `max_entries` neighbour
+/// entries ([`EntryBudget`]).
 pub fn segment_valid(
     motion: &Motion,
     valid: &ValidParams,
+    max_entries: usize,
     progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
 ) -> Result<SssmResult, SssmError> {
     progress("features", 0.0)?;
     let features = features::from_motion(motion, valid)?;
-    let outcome = segment_features(&features.base, Some(&features.mirror), valid, progress)?;
+    let outcome = segment_features_within(&features.base, Some(&features.mirror), valid, max_entries, progress)?;
     let segmentation = to_segmentation(motion, valid, &outcome, &features.source_frames);
     Ok(SssmResult { segmentation, outcome, source_frames: features.source_frames, feature_scale: features.scale })
 }
@@ -197,17 +208,33 @@ pub fn segment_features(
     params: &ValidParams,
     progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
 ) -> Result<SssmOutcome, SssmError> {
+    segment_features_within(base, mirror, params, default_entry_limit(), progress)
+}
+
+/// [`segment_features`] with its searches drawing at most `max_entries` neighbour entries: a take
+/// whose frames have more neighbours than that is refused with [`SssmError::TooLarge`] as soon as
+/// the searches pass it, having held no more than the budget.
+pub fn segment_features_within(
+    base: &FeatureMatrix,
+    mirror: Option<&MirrorMap>,
+    params: &ValidParams,
+    max_entries: usize,
+    progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
+) -> Result<SssmOutcome, SssmError> {
     let mirror = checked_mirror(base, mirror, params)?;
+    let too_large = || SssmError::TooLarge {
+        limit: max_entries,
+        mib: max_entries.saturating_mul(BYTES_PER_ENTRY) >> 20,
+        max_neighbours: params.max_neighbours,
+    };
+    // why a search stopped: the budget, or the caller
+    let stopped = |budget: &EntryBudget| if budget.spent() { too_large() } else { SssmError::Cancelled };
     // the bundling holds k neighbours of every frame besides the SSSM's
     let bundling_k = if params.bundling { params.bundling_k } else { 0 };
-    if base.frames().saturating_mul(params.max_neighbours.saturating_add(bundling_k)) > MAX_ENTRIES {
-        return Err(SssmError::TooLarge {
-            frames: base.frames(),
-            max_neighbours: params.max_neighbours,
-            bundling_k,
-            limit: MAX_ENTRIES,
-        });
+    if base.frames().saturating_mul(bundling_k) > max_entries {
+        return Err(too_large());
     }
+    let max_entries = max_entries - base.frames() * bundling_k;
     let radius = params.search_radius();
     let near_radius = params.primitive_search_radius() as f32;
     let mut search = None;
@@ -220,29 +247,39 @@ pub fn segment_features(
             stacked = b.bundle_with_progress(&stacked, &mut |f| progress("bundling", 0.05 + 0.25 * f))?;
         }
         progress("neighbours", 0.3)?;
-        let search = NeighbourSearch::new(&stacked);
+        let search = NeighbourSearch::new(&stacked).with_entry_limit(max_entries);
         let share = if mirror.is_some() { 0.1 } else { 0.2 };
-        let sssm = search.self_similarity_with_progress(radius as f32, params.max_neighbours, &mut |f| {
-            progress("neighbours", 0.3 + share * f)
-        })?;
+        let sssm = search
+            .self_similarity_with_progress(radius as f32, params.max_neighbours, &mut |f| {
+                progress("neighbours", 0.3 + share * f)
+            })
+            .map_err(|_| stopped(search.budget()))?;
         let mirror_sssm = match mirror {
-            Some(m) => Some(search.mirror_similarity_with_progress(
-                &m.apply(&stacked)?,
-                radius as f32,
-                params.max_neighbours,
-                &mut |f| progress("neighbours", 0.4 + 0.1 * f),
-            )?),
+            Some(m) => Some(
+                search
+                    .mirror_similarity_with_progress(
+                        &m.apply(&stacked)?,
+                        radius as f32,
+                        params.max_neighbours,
+                        &mut |f| progress("neighbours", 0.4 + 0.1 * f),
+                    )
+                    .map_err(|e| if matches!(e, SssmError::Cancelled) { stopped(search.budget()) } else { e })?,
+            ),
             None => None,
         };
         (sssm, mirror_sssm)
     } else {
         progress("neighbours", 0.3)?;
-        search = Some(StackedSearch::new(base, &params.offsets, mirror)?.with_horizon(params.horizon_frames()));
-        search.as_ref().expect("just set").similarities_with_progress(
-            radius as f32,
-            params.max_neighbours,
-            &mut |f| progress("neighbours", 0.3 + 0.2 * f),
-        )?
+        let stacked = StackedSearch::new(base, &params.offsets, mirror)?
+            .with_horizon(params.horizon_frames())
+            .with_entry_limit(max_entries);
+        let found = stacked
+            .similarities_with_progress(radius as f32, params.max_neighbours, &mut |f| {
+                progress("neighbours", 0.3 + 0.2 * f)
+            })
+            .map_err(|_| stopped(stacked.budget()))?;
+        search = Some(stacked);
+        found
     };
 
     // Region growing needs both SSSMs; the primitive and cluster graphs only the nearer
@@ -267,7 +304,9 @@ pub fn segment_features(
             let limits: Vec<Option<f32>> = activities.actions.iter().map(|&a| grow.repeat_limit(a)).collect();
             let far = FarSearch::new(search, horizon, radius as f32, params.max_neighbours, near_radius, params.fps);
             progress("far blocks", 0.5)?;
-            let entries = far.search(&activities.actions, &limits, &mut |f| progress("far blocks", 0.5 + 0.08 * f))?;
+            let entries = far
+                .search(&activities.actions, &limits, &mut |f| progress("far blocks", 0.5 + 0.08 * f))
+                .map_err(|_| stopped(search.budget()))?;
             (sssm, mirror_sssm) = parallel::join(
                 || sssm.with_far_entries(&entries.plain, params.max_neighbours),
                 || mirror_sssm.as_ref().map(|m| m.with_far_entries(&entries.mirror, params.max_neighbours)),

@@ -395,6 +395,8 @@ impl<'a> FarSearch<'a> {
                         .map(|(k, &d2)| ((cols.start + k) as u32, d2.max(0.0).sqrt())),
                 );
                 cap_row(&mut row, self.max_neighbours);
+                // each far pair becomes two entries of the SSSM
+                self.search.budget.take(2 * row.len())?;
                 out.extend(row.iter().map(|&(j, d)| (i as u32, j, d)));
             }
         }

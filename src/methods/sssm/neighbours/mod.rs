@@ -28,6 +28,56 @@ pub use stacked::StackedSearch;
 /// Frames between two progress reports of a search.
 const PROGRESS_ROWS: usize = 64;
 
+/// The neighbour entries a run's searches may still make: the memory a run is allowed beyond
+/// its per-frame arrays, counted as the entries are found rather than assumed for the worst case
+/// (every frame with `max_neighbours` neighbours, which a real take seldom comes near). The near
+/// search draws an entry for each pair of its upper triangle, the far search two for each far
+/// pair (both directions); the plain and the mirror search draw from the same budget (at once,
+/// natively: the count is atomic). A search that would pass it stops as a cancelled one does, and
+/// [`EntryBudget::spent`] tells the caller why.
+#[derive(Debug)]
+pub struct EntryBudget {
+    limit: usize,
+    used: std::sync::atomic::AtomicUsize,
+}
+
+impl EntryBudget {
+    /// At most `limit` entries.
+    pub fn new(limit: usize) -> Self {
+        EntryBudget { limit, used: std::sync::atomic::AtomicUsize::new(0) }
+    }
+
+    /// No limit (the searches' own callers: tests, the library, which bounds itself).
+    pub fn unlimited() -> Self {
+        EntryBudget::new(usize::MAX)
+    }
+
+    /// Draws `entries`; `Err(Cancelled)` once the budget is passed (the search stops there).
+    pub fn take(&self, entries: usize) -> Result<(), Cancelled> {
+        let used = self.used.fetch_add(entries, std::sync::atomic::Ordering::Relaxed).saturating_add(entries);
+        if used > self.limit {
+            Err(Cancelled)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Whether a search passed the budget (and stopped for it).
+    pub fn spent(&self) -> bool {
+        self.used() > self.limit
+    }
+
+    /// Entries drawn so far.
+    pub fn used(&self) -> usize {
+        self.used.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// The limit.
+    pub fn limit(&self) -> usize {
+        self.limit
+    }
+}
+
 /// Number of leading principal coordinates the kd-tree indexes.
 pub const TREE_DIMS: usize = 4;
 
@@ -245,6 +295,8 @@ pub struct NeighbourSearch {
     /// The rotated frames, frame-major.
     rotated: Vec<f32>,
     tree: ImmutableKdTree<f32, u32, TREE_DIMS, 32>,
+    /// What the symmetric searches may find.
+    budget: EntryBudget,
 }
 
 impl NeighbourSearch {
@@ -255,7 +307,18 @@ impl NeighbourSearch {
         let rotated = rotate(features, &mean, &axes);
         let leading: Vec<[f32; TREE_DIMS]> = rotated.chunks_exact(dim).map(leading_coords).collect();
         let tree = ImmutableKdTree::new_from_slice(&leading);
-        NeighbourSearch { dim, mean, axes, rotated, tree }
+        NeighbourSearch { dim, mean, axes, rotated, tree, budget: EntryBudget::unlimited() }
+    }
+
+    /// The symmetric searches draw their entries from a budget of `limit` ([`EntryBudget`]).
+    pub fn with_entry_limit(mut self, limit: usize) -> Self {
+        self.budget = EntryBudget::new(limit);
+        self
+    }
+
+    /// The entries the searches drew, and whether they passed the limit.
+    pub fn budget(&self) -> &EntryBudget {
+        &self.budget
     }
 
     /// The SSSM of the indexed frames: for every frame its neighbours within `radius` (the
@@ -373,7 +436,9 @@ impl NeighbourSearch {
             if i % PROGRESS_ROWS == 0 {
                 progress(i as f64 / n as f64)?;
             }
+            let before = upper.entries.len();
             self.query(q, limit, i, max_neighbours, &mut upper.entries);
+            self.budget.take(upper.entries.len() - before)?;
             upper.end_row();
         }
         let sssm = upper.into_symmetric(max_neighbours);

@@ -22,7 +22,7 @@
 //! "Neighbour search"). The kd-tree stays for features that
 //! are not a plain stack (after feature bundling, §III) and for cross searches.
 
-use super::{cap_tail, Sssm, UpperTriangle, PROGRESS_ROWS};
+use super::{cap_tail, EntryBudget, Sssm, UpperTriangle, PROGRESS_ROWS};
 use crate::method::Cancelled;
 use crate::methods::sssm::features::{FeatureMatrix, MirrorMap};
 use crate::methods::sssm::SssmError;
@@ -40,6 +40,8 @@ pub struct StackedSearch {
     pub(super) mirrored: Option<Vec<f32>>,
     /// Only pairs at most this many frames apart are searched (`None`: all pairs).
     horizon: Option<usize>,
+    /// What the searches (near and far) may find.
+    pub(super) budget: EntryBudget,
 }
 
 impl StackedSearch {
@@ -87,7 +89,16 @@ impl StackedSearch {
             }
         }
         let mirrored = mirrored.as_ref().map(centred);
-        Ok(StackedSearch { n, dim, offsets: offsets.to_vec(), columns, queries, mirrored, horizon: None })
+        Ok(StackedSearch {
+            n,
+            dim,
+            offsets: offsets.to_vec(),
+            columns,
+            queries,
+            mirrored,
+            horizon: None,
+            budget: EntryBudget::unlimited(),
+        })
     }
 
     /// Restricts the search to pairs `(i, j)` with `|i − j| ≤ horizon` frames (`None`: every
@@ -96,6 +107,18 @@ impl StackedSearch {
     pub fn with_horizon(mut self, horizon: Option<usize>) -> Self {
         self.horizon = horizon;
         self
+    }
+
+    /// The searches, near and far ([`super::far`]), draw their entries from a budget of `limit`
+    /// ([`EntryBudget`]).
+    pub fn with_entry_limit(mut self, limit: usize) -> Self {
+        self.budget = EntryBudget::new(limit);
+        self
+    }
+
+    /// The entries the searches drew, and whether they passed the limit.
+    pub fn budget(&self) -> &EntryBudget {
+        &self.budget
     }
 
     /// Last candidate column (exclusive) of row `i`.
@@ -189,7 +212,9 @@ impl StackedSearch {
             let sums = &mut sums[..self.row_end(i) - i];
             done += sums.len() as f64;
             self.stacked_row(i, queries, &mut ring, sums);
+            let before = upper.entries.len();
             push_within(sums, i, limit, max_neighbours, &mut upper);
+            self.budget.take(upper.entries.len() - before)?;
         }
         let sssm = upper.into_symmetric(max_neighbours);
         progress(1.0)?;
