@@ -1339,12 +1339,21 @@ fn effort_gives_every_segment_of_any_method_its_laban_effort() {
 }
 
 /// A labelling model whose classes do not fit the take says so on stderr, with the models that
-/// do (the JSON on stdout has every frame `unknown`); a model that fits says nothing more. A batch
-/// says it on the take's line.
+/// do when asked (`fit_others=true`; else how to ask: the JSON on stdout has every frame
+/// `unknown`); a model that fits says nothing more. A batch says it on the take's line.
 #[test]
 fn segment_names_the_models_that_fit_a_take_its_model_does_not() {
     let walk = fixture("02_01.bvh");
     let out = run(&["segment", "--method", "knn", walk.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.trim_end().ends_with(
+            "every frame is labelled unknown; its other models were not measured against this take (ask with \
+             fit_others=true)"
+        ),
+        "{err}"
+    );
+    let out = run(&["segment", "--method", "knn", "--param", "fit_others=true", walk.to_str().unwrap()]);
     let v = stdout_json(&out);
     assert!(v["segments"].as_array().unwrap().iter().all(|s| s["label"] == "unknown"), "{v}");
     let err = String::from_utf8_lossy(&out.stderr);
@@ -1364,7 +1373,7 @@ fn segment_names_the_models_that_fit_a_take_its_model_does_not() {
     let line = all.lines().find(|l| l.starts_with("ok") && l.contains("02_01.bvh")).unwrap_or_else(|| panic!("{all}"));
     assert!(
         line.contains("— model `exercises` does not fit this take")
-            && line.ends_with("models that fit this take: locomotion"),
+            && line.ends_with("its other models were not measured against this take (ask with fit_others=true)"),
         "{line}"
     );
 }

@@ -16,7 +16,10 @@
 //!   not fit the take (its run's take fit, [`crate::view::take_fit`]), the reason its tooltip and
 //!   accessible description (`#<method>-row-fit-reason`); beside it one button per model that fits
 //!   the take, best first (`.ms-row-fit-use`, `data-model`: "use cmu-actions" — chooses it, which
-//!   runs the method again), or `#<method>-row-fit-none` when no model of the method fits. Gone
+//!   runs the method again), or `#<method>-row-fit-none` when no model of the method fits. Those
+//!   are measured only when asked: until then `#<method>-row-fit-find`, "find a model that fits",
+//!   turns the panel's `fit_others` on and runs the method again (measuring every other model
+//!   against the take is a search of each one's training windows, not paid on every run). Gone
 //!   once a fitting model's result is on the row; never shown when the run's `fit_check` was off.
 //!
 //! The shipped models' cards are `models/cards.json` (`mocapseg model-cards`, fetched once, when a
@@ -197,6 +200,7 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
     });
     let is_shipped = move || value.with(|v| s.decl.shipped.contains(v));
     let open = RwSignal::new(false);
+    let find_loader = loader.clone();
     Effect::new(move |_| {
         if slot.view.with(Option::is_some) || open.get() {
             want_cards(cards, &loader);
@@ -238,6 +242,13 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
                 }
             })
             .collect_view()
+    };
+    // the other models measured only when asked: the panel's `fit_others` on, and the method again
+    let find = move |_| {
+        if let Some((field, _)) = slot.param("fit_others") {
+            field.set("true".into());
+        }
+        find_loader.run(index);
     };
     view! {
         <span class="ms-row-model" on:pointerdown=|ev| ev.stop_propagation()>
@@ -295,6 +306,19 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
                 {move || badge.with(|b| b.as_ref().map(|b| b.description.clone()).unwrap_or_default())}
             </span>
             {suggestions}
+            <button
+                id=format!("{method}-row-fit-find")
+                class="ms-row-model-button ms-row-fit-find"
+                type="button"
+                hidden=move || !badge.with(|b| b.as_ref().is_some_and(|b| b.find))
+                title=format!(
+                    "Measure {short}'s other models against this take and offer those that fit (runs {short} again \
+                     with fit_others on)"
+                )
+                on:click=find
+            >
+                "find a model that fits"
+            </button>
             <span
                 id=format!("{method}-row-fit-none")
                 class="ms-row-fit-none"

@@ -46,8 +46,11 @@ pub struct TakeFitReport {
     /// Why the take does not fit, in words (empty when it fits).
     pub reason: String,
     /// When it does not fit: the method's other models (shipped, and the user's) whose classes fit
-    /// the take, best first (lowest pose ratio); empty when none does, or the take fits.
+    /// the take, best first (lowest pose ratio); empty when none does, the take fits, or they were
+    /// not measured.
     pub fitting: Vec<FittingModel>,
+    /// The other models were measured (the run's `fit_others`, on a take the model does not fit).
+    pub searched: bool,
 }
 
 /// A model a take fits, as [`TakeFitReport::fitting`] lists it.
@@ -72,7 +75,9 @@ impl TakeFitReport {
         if self.fits {
             return None;
         }
-        Some(if self.fitting.is_empty() {
+        Some(if !self.searched {
+            "its other models were not measured against this take (ask with fit_others=true)".to_string()
+        } else if self.fitting.is_empty() {
             "no other model of this method fits this take either".to_string()
         } else {
             format!("models that fit this take: {}", self.fitting_names().join(", "))

@@ -1,8 +1,10 @@
 //! What a labelling row's header says about its model's fit to the take on screen (issue 27,
 //! "Models on the row": a model whose classes do not fit the take says so instead of painting
 //! confident labels). From the run's [`TakeFitReport`]: a "does not fit" badge whose description
-//! is the reason, one "use NAME" suggestion per model that fits the take (best first, as the
-//! report ranks them), or a note that no model of the method fits it. Nothing when the take fits,
+//! is the reason, and — when the run measured the method's other models (`fit_others`) — one
+//! "use NAME" suggestion per model that fits the take (best first, as the report ranks them), or
+//! a note that no model of the method fits it; when it did not, an offer to find the models that
+//! fit (the run again with `fit_others`: asked for, not paid on every run). Nothing when the take fits,
 //! or when the run made no fit check (`fit_check` off: the user asked to see the labels anyway —
 //! the panel's `fit_check` box shows the check off, the row shows the labels as they are).
 
@@ -18,8 +20,11 @@ pub struct FitBadge {
     pub description: String,
     /// One per model that fits the take, best first: (model name, the button's text, its tooltip).
     pub suggestions: Vec<Suggestion>,
-    /// When no other model fits: a sentence that says so (`None` when there are suggestions).
+    /// When no other model fits: a sentence that says so (`None` when there are suggestions, or the
+    /// other models were not measured).
     pub none: Option<String>,
+    /// The other models were not measured: offer to (the row's "find a model that fits").
+    pub find: bool,
 }
 
 /// A model to switch the row to.
@@ -58,8 +63,8 @@ pub fn fit_badge(report: Option<&TakeFitReport>, short: &str) -> Option<FitBadge
             }
         })
         .collect();
-    let none = suggestions.is_empty().then(|| format!("no {short} model fits this take"));
-    Some(FitBadge { description, suggestions, none })
+    let none = (report.searched && suggestions.is_empty()).then(|| format!("no {short} model fits this take"));
+    Some(FitBadge { description, suggestions, none, find: !report.searched })
 }
 
 #[cfg(test)]
@@ -76,6 +81,7 @@ mod tests {
             pose_ratio: Some(1.3),
             reason: "43 % of its frames travel faster than any of the model's training takes did (11 in/s)".into(),
             fitting,
+            searched: true,
         }
     }
 
@@ -96,11 +102,17 @@ mod tests {
         assert_eq!(texts, ["use cmu-actions", "use locomotion"], "best first, as the report ranks them");
         assert_eq!(badge.suggestions[1].model, "locomotion");
         assert!(badge.suggestions[1].title.contains("run k-NN again") && badge.suggestions[1].title.contains("1.6×"));
-        assert!(badge.none.is_none());
+        assert!(badge.none.is_none() && !badge.find);
         // no model fits: said, no button
         let alone = fit_badge(Some(&report(Vec::new())), "DT-FCN").unwrap();
         assert!(alone.suggestions.is_empty());
         assert_eq!(alone.none.as_deref(), Some("no DT-FCN model fits this take"));
+        assert!(!alone.find);
+        // the other models not measured (the default): no suggestion, no "none fits", an offer to find them
+        let unsearched = TakeFitReport { searched: false, ..report(Vec::new()) };
+        let badge = fit_badge(Some(&unsearched), "k-NN").unwrap();
+        assert!(badge.suggestions.is_empty() && badge.none.is_none() && badge.find, "{badge:?}");
+        assert!(badge.description.contains("every frame is labelled unknown"));
     }
 
     #[test]

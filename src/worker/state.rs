@@ -1178,7 +1178,7 @@ mod tests {
     fn a_take_fit_report_crosses_to_the_page() {
         let mut w = WorkerState::default();
         load_walk(&mut w, 1);
-        let view = run_method(&mut w, 2, "knn", serde_json::json!({"model": "exercises"}));
+        let view = run_method(&mut w, 2, "knn", serde_json::json!({"model": "exercises", "fit_others": true}));
         let fit = view.details.take_fit.clone().expect("the k-NN's fit check");
         assert!(!fit.fits && fit.reason.contains("travel faster") && fit.model == "exercises", "{fit:?}");
         assert_eq!(fit.fitting_names(), ["locomotion"]);

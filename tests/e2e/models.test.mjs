@@ -110,16 +110,19 @@ test("a damaged or missing model file is named in its method's panel; the page k
     assert.match(knn, /models\/knn-exercises\.model: 1000 bytes where this build's file has \d+/, knn);
     const dtfcn = await text(bad.page, "#dtfcn-failure");
     assert.match(dtfcn, /could not fetch the model .*models\/dtfcn-exercises\.model: HTTP 404/, dtfcn);
-    // another model still works, its fit check on: the sample does not fit `cmu-actions`, so the run measures
-    // the other models against it — the damaged `exercises` file is left out (never asked for again), not a
-    // reason to fail; `locomotion` does not fit the sample either, so the row offers none
+    // another model still works, its fit check on: the sample does not fit `cmu-actions`; asked to find a model
+    // that fits, the run measures the other models against it — the damaged `exercises` file is left out (never
+    // asked for again), not a reason to fail; `locomotion` does not fit the sample either, so the row offers none
     await showPanel(bad.page, "knn");
     assert.equal(await bad.page.isChecked("#knn-fit_check"), true, "the fit check is on");
     await bad.page.selectOption("#knn-model", "cmu-actions");
     await bad.page.click("#knn-run");
     await waitData(bad.page, "knn", "done");
     await bad.page.locator("#knn-row-fit").waitFor({ state: "visible" });
+    await bad.page.click("#knn-row-fit-find");
     await bad.page.locator("#knn-row-fit-none").waitFor({ state: "visible" });
+    await waitData(bad.page, "knn", "done");
+    assert.equal(await bad.page.isChecked("#knn-fit_others"), true, "the panel says the other models are measured");
     assert.equal(await bad.page.locator("#knn-row-fit ~ .ms-row-fit-use").count(), 0, "no model offered, the damaged one least");
     assertClean(bad);
   } finally {

@@ -1,7 +1,9 @@
 // End-to-end test of issue 27's "Models on the row": a model whose classes do not fit the take says
 // so instead of painting confident labels (docs/page.md, "Models"). On CMU 86_01 (walk, jump, punch,
 // kick) the default `exercises` models do not fit: each labelling row's header shows "does not fit"
-// (the reason its tooltip and accessible description) and offers the models that do, best first
+// (the reason its tooltip and accessible description) and "find a model that fits" (issue 46: the other
+// models are measured only when asked); one click runs the row again with `fit_others` and it offers
+// the models that do, best first
 // ("use cmu-actions", "use locomotion", as the core measures them: src/methods/dtfcn/method.rs);
 // one click switches the row's model and runs it again, its labels are no longer all unknown and
 // the badge is gone. The bundled sample fits `exercises`: no badge. With `fit_check` off there is
@@ -66,6 +68,13 @@ for (const viewport of [{ width: 1024, height: 768 }, { width: 1440, height: 900
         assert.equal(await text(page, `#${described}`), title);
         const labels = await rowLabels(page, `${m}-actions`);
         assert.ok(labels.length > 0 && labels.every((l) => l === "unknown"), `${m}: ${JSON.stringify(labels)}`);
+        // the other models are not measured until asked
+        assert.equal(await page.locator(`#${m}-row-fit ~ .ms-row-fit-use`).count(), 0, `${m}: nothing measured yet`);
+        assert.equal(await page.locator(`#${m}-row-fit-none`).isVisible(), false);
+        const findSeen = await contrasts(page, [`#${m}-row-fit-find`]);
+        assert.ok(findSeen.length > 0 && findSeen.every((t) => t.ratio >= 4.5), `${m}, ${theme}: ${JSON.stringify(findSeen)}`);
+        await rerunBy(page, m, () => page.click(`#${m}-row-fit-find`));
+        assert.equal(await page.locator(`#${m}-row-fit-find`).isVisible(), false, `${m}: asked already`);
         const buttons = await page.$$eval(`#${m}-row-fit ~ .ms-row-fit-use`, (els) => els.map((e) => [e.dataset.model, e.textContent.trim()]));
         assert.deepEqual(buttons, [["cmu-actions", "use cmu-actions"], ["locomotion", "use locomotion"]], `${m}: best first`);
         assert.equal(await page.locator(`#${m}-row-fit-none`).isVisible(), false);

@@ -228,9 +228,11 @@ impl TakeFit {
     }
 
     /// The verdict on model `name` as data, with the other models that fit the take (`fitting`,
-    /// best first: [`rank_fitting`]).
-    pub fn report(&self, name: &str, fitting: Vec<FittingModel>) -> TakeFitReport {
+    /// best first: [`rank_fitting`]; `None`: they were not measured).
+    pub fn report(&self, name: &str, fitting: Option<Vec<FittingModel>>) -> TakeFitReport {
         let fits = self.fits();
+        let searched = fitting.is_some();
+        let fitting = fitting.unwrap_or_default();
         TakeFitReport {
             model: name.to_string(),
             fits,
@@ -239,6 +241,7 @@ impl TakeFit {
             pose_ratio: self.pose_ratio,
             reason: self.reasons().join(" and "),
             fitting: if fits { Vec::new() } else { fitting },
+            searched: searched && !fits,
         }
     }
 }

@@ -44,6 +44,10 @@ pub struct LabelParams {
     /// Measure whether the take fits the model ([`super::fit`]) and, when it does not, label its
     /// unfamiliar frames unknown.
     pub fit_check: bool,
+    /// With the fit check, on a take the model does not fit: also measure the method's other models
+    /// against the take and name those that fit ([`Labelling::fitting_models`]). Off by default: each
+    /// costs a search of its training windows, asked for only when the user wants another model.
+    pub fit_others: bool,
 }
 
 /// The ways a run may decode its labels.
@@ -80,6 +84,7 @@ impl Default for LabelParams {
             min_duration_s: CUSTOM_DECODING.min_duration_s,
             switch_cost: CUSTOM_DECODING.switch_cost,
             fit_check: true,
+            fit_others: false,
         }
     }
 }
@@ -104,8 +109,10 @@ pub struct Checked {
 struct FitCheck {
     windows: Option<Arc<Model>>,
     /// The models the run could name instead (the user's of this kind), measured against the take
-    /// only when it does not fit the chosen one ([`Labelling::fitting_models`]).
+    /// only when it does not fit the chosen one and `others` asks for it ([`Labelling::fitting_models`]).
     models: ModelStore,
+    /// The run's `fit_others`.
+    others: bool,
 }
 
 /// The k-NN model made from the same data as `model` (the same data hash): `model` itself when it
@@ -304,6 +311,18 @@ impl Method for Labelling {
                 at_most: None,
             },
             ParamSpec {
+                name: "fit_others".into(),
+                help: "When the take does not fit the model: also measure this method's other models (shipped and \
+                       yours) against the take and offer those that fit (each costs a search of its training \
+                       windows, so it is asked for, not done on every run)."
+                    .into(),
+                kind: ParamKind::Bool,
+                default: serde_json::json!(false),
+                unit: None,
+                basic: false,
+                at_most: None,
+            },
+            ParamSpec {
                 name: "min_duration_s".into(),
                 help: "With the custom decoding: shortest run of one label (0 with a switch cost of 0: raw labels)."
                     .into(),
@@ -369,7 +388,11 @@ impl Method for Labelling {
             }
         };
         let fit = if params.fit_check {
-            Some(FitCheck { windows: fit_windows(&model, params.model.trim(), models)?, models: models.clone() })
+            Some(FitCheck {
+                windows: fit_windows(&model, params.model.trim(), models)?,
+                models: models.clone(),
+                others: params.fit_others,
+            })
         } else {
             None
         };
@@ -402,6 +425,7 @@ impl Method for Labelling {
             "min_duration_s": params.custom.min_duration_s,
             "switch_cost": params.custom.switch_cost,
             "fit_check": params.fit.is_some(),
+            "fit_others": params.fit.as_ref().is_some_and(|f| f.others),
         })
     }
 
@@ -427,15 +451,21 @@ impl Method for Labelling {
         progress: &mut dyn Progress,
     ) -> Result<MethodOutput, MethodError> {
         let header = &params.model.header;
-        // the take's fit first (cheap): when it does not fit, the method's other models are measured
-        // against it, and on the page a shipped one's file is asked for before the labeller runs
+        // the take's fit first (cheap): when it does not fit and the run asks (`fit_others`), the
+        // method's other models are measured against it, and on the page a shipped one's file is
+        // asked for before the labeller runs
         let fit = match &params.fit {
             Some(check) => {
                 progress.step("take fit", 0.0)?;
                 let fit = super::fit::TakeFit::assess(motion, header.travel.as_ref(), knn_of(check.windows.as_deref()))
                     .map_err(MethodError::Failed)?;
-                let fitting =
-                    if fit.fits() { Vec::new() } else { self.fitting_models(motion, &params.name, &check.models)? };
+                // the other models only when asked: each is a search of its windows, and most runs
+                // keep their model
+                let fitting = if fit.fits() || !check.others {
+                    None
+                } else {
+                    Some(self.fitting_models(motion, &params.name, &check.models)?)
+                };
                 Some((fit, fitting))
             }
             None => None,
@@ -715,9 +745,16 @@ mod tests {
         let walk = motion("02_01.bvh", include_str!("../../../tests/fixtures/02_01.bvh"));
         let sample = motion("13_30.bvh", include_str!("../../../www/sample.bvh"));
         for method in [DTFCN, crate::methods::knn::method::KNN] {
+            // by default the other models are not measured: the verdict, and how to ask for them
             let out = run(method, &actions, serde_json::json!({"model": "exercises"}));
             let fit = out.details.take_fit.clone().expect("a fit check's report");
-            assert!(!fit.fits && fit.model == "exercises", "{fit:?}");
+            assert!(!fit.fits && !fit.searched && fit.fitting.is_empty(), "{fit:?}");
+            assert!(out.details.summary.contains("not measured against this take (ask with fit_others=true"));
+            assert_eq!(out.segmentation.params["fit_others"], false);
+            let out = run(method, &actions, serde_json::json!({"model": "exercises", "fit_others": true}));
+            assert_eq!(out.segmentation.params["fit_others"], true);
+            let fit = out.details.take_fit.clone().expect("a fit check's report");
+            assert!(!fit.fits && fit.searched && fit.model == "exercises", "{fit:?}");
             assert!(
                 fit.travel_share.unwrap() > 0.25 && fit.travel_limit.is_some() && fit.pose_ratio.is_some(),
                 "{fit:?}"
@@ -732,15 +769,15 @@ mod tests {
             );
             assert!(out.segmentation.segments.iter().all(|s| s.label == UNKNOWN));
             // the model it names fits, and labels: no report of others, its classes on the row
-            let better = run(method, &actions, serde_json::json!({"model": "cmu-actions"}));
+            let better = run(method, &actions, serde_json::json!({"model": "cmu-actions", "fit_others": true}));
             let fit = better.details.take_fit.clone().unwrap();
-            assert!(fit.fits && fit.fitting.is_empty() && fit.reason.is_empty(), "{fit:?}");
+            assert!(fit.fits && fit.fitting.is_empty() && !fit.searched && fit.reason.is_empty(), "{fit:?}");
             assert!(better.segmentation.segments.iter().any(|s| s.label != UNKNOWN));
             // a walk: locomotion only
-            let out = run(method, &walk, serde_json::json!({"model": "exercises"}));
+            let out = run(method, &walk, serde_json::json!({"model": "exercises", "fit_others": true}));
             assert_eq!(out.details.take_fit.unwrap().fitting_names(), ["locomotion"]);
             // exercises on the spot under the action model: only `exercises` fits
-            let out = run(method, &sample, serde_json::json!({"model": "cmu-actions"}));
+            let out = run(method, &sample, serde_json::json!({"model": "cmu-actions", "fit_others": true}));
             let fit = out.details.take_fit.unwrap();
             assert!(!fit.fits && fit.pose_ratio.unwrap() > 2.0 && fit.reason.contains("poses lie"), "{fit:?}");
             assert_eq!(fit.fitting_names(), ["exercises"]);
@@ -763,7 +800,8 @@ mod tests {
         let mut loaded = knn.read_model("mine.model", bytes).unwrap();
         loaded.info.name = "my-walks".into();
         store.install(loaded);
-        let params: LabelParams = serde_json::from_value(serde_json::json!({"model": "exercises"})).unwrap();
+        let params: LabelParams =
+            serde_json::from_value(serde_json::json!({"model": "exercises", "fit_others": true})).unwrap();
         let checked = knn.check_in(params, &store).unwrap();
         let out = knn.run(&walk, &checked, &RunOptions::default(), &mut crate::method::NoProgress).unwrap();
         let fit = out.details.take_fit.unwrap();
@@ -798,6 +836,7 @@ mod tests {
             pose_ratio: Some(1.3),
             reason: "43 % of its frames travel".into(),
             fitting: vec![FittingModel { name: "cmu-actions".into(), travel_share: Some(0.01), pose_ratio: Some(0.0) }],
+            searched: true,
         };
         let details = Details { take_fit: Some(report.clone()), ..old };
         let back: Details = serde_json::from_str(&serde_json::to_string(&details).unwrap()).unwrap();
@@ -805,6 +844,8 @@ mod tests {
         assert_eq!(report.advice().unwrap(), "models that fit this take: cmu-actions");
         let none = crate::method::TakeFitReport { fitting: Vec::new(), ..report };
         assert_eq!(none.advice().unwrap(), "no other model of this method fits this take either");
+        let unsearched = crate::method::TakeFitReport { searched: false, ..none.clone() };
+        assert!(unsearched.advice().unwrap().contains("ask with fit_others=true"));
         // a report missing fields (a later or earlier writer) still loads
         let partial: crate::method::TakeFitReport = serde_json::from_str(r#"{"model": "x", "fits": true}"#).unwrap();
         assert!(partial.fits && partial.fitting.is_empty() && partial.advice().is_none());
