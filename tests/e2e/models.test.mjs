@@ -87,8 +87,15 @@ test("a page that runs only SSSM fetches no model; DT-FCN fetches its model when
   await page.selectOption("#dtfcn-model", "locomotion");
   await page.click("#dtfcn-run");
   await waitData(page, "dtfcn", "done");
-  // the sample does not fit `locomotion`, so the run measures it against the other models too: by their k-NN
-  // files (exercises' is held; cmu-actions' is fetched), never their networks
+  // the sample does not fit `locomotion`; the other models are not measured until asked (issue 46), so nothing
+  // else is fetched
+  assert.deepEqual(fetched, ["dtfcn-exercises.model", "knn-exercises.model", "dtfcn-locomotion.model", "knn-locomotion.model"]);
+  // asked, the run measures it against the other models: by their k-NN files (exercises' is held; cmu-actions' is
+  // fetched), never their networks
+  await page.locator("#dtfcn-row-fit-find").waitFor({ state: "visible" });
+  await page.click("#dtfcn-row-fit-find");
+  await waitData(page, "dtfcn", "running").catch(() => {});
+  await waitData(page, "dtfcn", "done");
   assert.deepEqual(fetched, ["dtfcn-exercises.model", "knn-exercises.model", "dtfcn-locomotion.model", "knn-locomotion.model",
     "knn-cmu-actions.model"]);
   assert.match(await text(page, "#dtfcn-panel"), /locomotion/);
