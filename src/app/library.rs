@@ -61,8 +61,8 @@ pub struct LibraryState {
     files: StoredValue<Vec<Source>, LocalStorage>,
     /// The method (registry name) the library's takes are segmented with.
     pub method: RwSignal<String>,
-    /// The library's run in the worker: its run id and take.
-    pub running: StoredValue<Option<(RunId, usize)>>,
+    /// The library's runs in the pool's workers: their run ids and takes.
+    pub running: StoredValue<Vec<(RunId, usize)>>,
     /// The library's clip export in the worker.
     pub clip_run: StoredValue<Option<RunId>>,
     /// The take of the library on screen (`None`: the take on screen is not one of the library's).
@@ -139,7 +139,7 @@ impl LibraryState {
             queue: RwSignal::new(Queue::default()),
             files: StoredValue::new_local(Vec::new()),
             method: RwSignal::new("sssm".into()),
-            running: StoredValue::new(None),
+            running: StoredValue::new(Vec::new()),
             clip_run: StoredValue::new(None),
             open: RwSignal::new(None),
             names: RwSignal::new(ClusterNames::default()),

@@ -115,8 +115,8 @@ pub struct Entry {
     pub segmentation: Option<Segmentation>,
 }
 
-/// The library's takes and the worker's queue over them: one take runs at a time, in the order
-/// they were added.
+/// The library's takes and the workers' queue over them: up to as many takes at a time as the
+/// page has workers, started in the order they were added.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Queue {
     pub entries: Vec<Entry>,
@@ -136,15 +136,15 @@ impl Queue {
         from..self.entries.len()
     }
 
-    /// The take running now, if any.
-    pub fn running(&self) -> Option<usize> {
-        self.entries.iter().position(|e| matches!(e.status, TakeStatus::Running { .. }))
+    /// The takes running now.
+    pub fn running(&self) -> usize {
+        self.entries.iter().filter(|e| matches!(e.status, TakeStatus::Running { .. })).count()
     }
 
-    /// The take to send to the worker next: none while one runs, else the first queued. It is
+    /// The take to send to a worker next: none while `at_once` run, else the first queued. It is
     /// marked running.
-    pub fn start_next(&mut self) -> Option<usize> {
-        if self.running().is_some() {
+    pub fn start_next(&mut self, at_once: usize) -> Option<usize> {
+        if self.running() >= at_once {
             return None;
         }
         let next = self.entries.iter().position(|e| e.status == TakeStatus::Queued)?;
@@ -181,7 +181,7 @@ impl Queue {
     /// Cancels the queue: the running take and every queued one are marked cancelled. Returns
     /// whether a take was running (the page then replaces the worker, which cannot be interrupted).
     pub fn cancel(&mut self) -> bool {
-        let running = self.running().is_some();
+        let running = self.running() > 0;
         for e in &mut self.entries {
             if matches!(e.status, TakeStatus::Queued | TakeStatus::Running { .. }) {
                 e.status = TakeStatus::Cancelled;
@@ -491,11 +491,11 @@ mod tests {
     }
 
     #[test]
-    fn the_queue_runs_one_take_at_a_time_in_order_and_cancel_drops_the_rest() {
+    fn the_queue_runs_its_takes_in_order_as_many_at_once_as_asked_and_cancel_drops_the_rest() {
         let mut q = Queue::default();
         assert_eq!(q.add(["a.bvh".to_string(), "b.bvh".into(), "c.bvh".into()]), 0..3);
-        assert_eq!(q.start_next(), Some(0));
-        assert_eq!(q.start_next(), None, "one take at a time");
+        assert_eq!(q.start_next(1), Some(0));
+        assert_eq!(q.start_next(1), None, "one take at a time when one worker runs them");
         q.progress(0, "segmenting", 0.5);
         assert_eq!(q.entries[0].status.text(), "segmenting 50 %");
         q.progress(1, "segmenting", 0.5);
@@ -504,10 +504,10 @@ mod tests {
         assert_eq!(q.entries[0].status, TakeStatus::Done { segments: 3, clusters: 2 });
         assert_eq!(q.entries[0].status.text(), "3 segments · 2 clusters");
         assert_eq!((q.entries[0].frames, q.entries[0].duration_s), (Some(120), Some(4.0)));
-        assert_eq!(q.start_next(), Some(1));
+        assert_eq!(q.start_next(1), Some(1));
         q.failed(1, "b.bvh line 3: not a BVH".into());
         assert_eq!(q.entries[1].status.text(), "failed: b.bvh line 3: not a BVH");
-        assert_eq!(q.start_next(), Some(2));
+        assert_eq!(q.start_next(1), Some(2));
         q.add(["d.bvh".to_string()]);
         assert_eq!(q.summary(), "1 of 4 takes done · 1 running · 1 queued · 1 failed");
         assert!(q.busy());
@@ -515,13 +515,20 @@ mod tests {
         let words: Vec<&str> = q.entries.iter().map(|e| e.status.word()).collect();
         assert_eq!(words, ["done", "failed", "cancelled", "cancelled"]);
         assert!(!q.busy());
-        assert_eq!(q.start_next(), None);
+        assert_eq!(q.start_next(1), None);
         assert!(!q.cancel(), "nothing runs any more");
         q.requeue();
         let words: Vec<&str> = q.entries.iter().map(|e| e.status.word()).collect();
         assert_eq!(words, ["done", "queued", "queued", "queued"]);
-        assert_eq!(q.start_next(), Some(1));
+        assert_eq!(q.start_next(1), Some(1));
         assert_eq!(q.segmented().len(), 1);
+        // two workers: two takes at once, in order; the third when one of them is done
+        assert_eq!(q.start_next(2), Some(2));
+        assert_eq!(q.start_next(2), None, "two running");
+        assert_eq!(q.running(), 2);
+        q.done(2, 10, 1.0, seg("c.bvh", 10, &[(0, 9, Some(0))]));
+        assert_eq!(q.start_next(2), Some(3));
+        assert_eq!(q.summary(), "2 of 4 takes done · 2 running");
     }
 
     #[test]

@@ -132,3 +132,64 @@ test("a take dropped while the previous take's rows run shows only its own rows"
   assert.deepEqual(mine, await rows(), "no row of the sample's runs was drawn over the dropped take's");
   assertClean(opened);
 });
+
+/** The library's takes: name and status text, in the list's order. */
+const library = () => page.$$eval("#library-list li", (items) => items.map((li) =>
+  [li.querySelector(".ms-lib-open")?.textContent ?? "", li.dataset.status, li.querySelector(".ms-lib-status")?.textContent ?? ""]));
+
+/** Counts the most library takes seen running at once from now on (`window.__libMost`). */
+const watchLibrary = () => page.evaluate(() => {
+  window.__libMost = 0;
+  const count = () => {
+    const n = document.querySelectorAll('#library-list li[data-status="running"]').length;
+    window.__libMost = Math.max(window.__libMost, n);
+  };
+  window.__libObserver?.disconnect();
+  window.__libObserver = new MutationObserver(count);
+  window.__libObserver.observe(document.body, { subtree: true, childList: true, attributes: true, attributeFilter: ["data-status"] });
+});
+
+/** Waits until no take of the library is queued or running. */
+const librarySettled = () => page.waitForFunction(() => {
+  const items = [...document.querySelectorAll("#library-list li")];
+  return items.length > 0 && items.every((li) => !["queued", "running"].includes(li.dataset.status));
+}, null, { timeout: 6 * TIMEOUT });
+
+const LIBRARY = ["02_01.bvh", "02_02.bvh", "35_01.bvh", "12_01.bvh", "131_01.bvh"].map((f) => path.join(FIXTURES, f));
+
+test("the library's takes are segmented on every worker at once, as one worker segments them; a cancel stops them all", async () => {
+  await gotoApp(page, "?workers=1&methods=");
+  await watchLibrary();
+  await page.setInputFiles("#file-input", LIBRARY);
+  await librarySettled();
+  const one = await library();
+  assert.equal(one.length, 5);
+  assert.ok(one.every(([, status]) => status === "done"), JSON.stringify(one));
+  assert.equal(await page.evaluate(() => window.__libMost), 1, "one worker: one take at a time");
+
+  await gotoApp(page, "?workers=3&methods=");
+  await watchLibrary();
+  await page.setInputFiles("#file-input", LIBRARY);
+  await librarySettled();
+  assert.deepEqual(await library(), one, "the same segmentations, take for take, on three workers");
+  const most = await page.evaluate(() => window.__libMost);
+  assert.ok(most >= 2 && most <= 3, `three workers: takes side by side (${most} at once)`);
+
+  // a cancel while takes run on several workers: every take under way or queued is cancelled, the
+  // workers that ran them replaced (the pool keeps its size), and the page goes on
+  await gotoApp(page, "?workers=3&methods=");
+  await page.setInputFiles("#file-input", LIBRARY);
+  await page.waitForFunction(() => document.querySelectorAll('#library-list li[data-status="running"]').length >= 2,
+    null, { timeout: TIMEOUT });
+  await page.evaluate(() => document.querySelector("#library-cancel").click());
+  await librarySettled();
+  const after = await library();
+  assert.ok(after.some(([, status]) => status === "cancelled"), JSON.stringify(after));
+  assert.ok(after.every(([, status]) => ["done", "cancelled"].includes(status)), JSON.stringify(after));
+  assert.equal(page.workers().length, 3, "the cancelled takes' workers were replaced, the pool keeps its size");
+  // run again: every take done
+  await page.click("#library-rerun");
+  await librarySettled();
+  assert.deepEqual(await library(), one);
+  assertClean(opened);
+});

@@ -1,6 +1,8 @@
-//! The library's jobs in the worker (issue 26): the takes of the library segmented one after
-//! another (`library_take`: the worker reads the take, segments it and lets its frames go; the
-//! take on screen stays the one it holds), cancelled by replacing the worker, and the clips of
+//! The library's jobs in the workers (issue 26): the takes of the library segmented as many at a
+//! time as the pool has workers (issue 46; `library_take`: a worker reads the take, segments it and
+//! lets its frames go; the take on screen stays the one it holds — each take is a run of the pool,
+//! [`crate::worker::pool`], placed beside the rows' runs), cancelled by replacing the workers that
+//! run them, and the clips of
 //! several takes cut into one zip (`library_clips`: each take's file read again from its `File`).
 //! Once no take is left to segment, the segmented takes (their features and segmentations, never
 //! their frames) are matched into clusters shared across takes (`library_cluster`), again when
@@ -16,11 +18,13 @@ use super::super::js_message;
 use super::super::library::{ModelCarry, Source};
 use super::super::motion_image::download;
 use super::super::supervised::TrainAsk;
-use super::{next_id, post_buffers, post_request, replace_worker, Inner, Loader};
+use super::{next_id, pool, post_buffers, post_request, replace_slot, replace_worker, Inner, Loader};
 use crate::library::TakeFeatures;
+use crate::protocol::RunId;
 use crate::protocol::{ClipTake, FailureKind, Request, Response};
 use crate::view::carry::{Carried, Route};
 use crate::view::library::{group_files, Shared};
+use crate::worker::pool::{Placed, Slot, Stop};
 use leptos::prelude::*;
 use std::rc::Rc;
 use std::sync::Arc;
@@ -73,9 +77,22 @@ impl Loader {
     /// be interrupted) and every take still queued.
     pub fn cancel_library(&self) {
         let library = self.0.state.library;
+        library.queue.update(|q| {
+            q.cancel();
+        });
+        // the takes under way: dropped where they wait, their run workers replaced, the main
+        // worker replaced below if one runs there
+        let runs = library.running.get_value();
+        library.running.set_value(Vec::new());
+        let stops: Vec<Stop> = runs.iter().map(|&(run, _)| self.0.pool.borrow_mut().stop(run)).collect();
         let mut running = false;
-        library.queue.update(|q| running = q.cancel());
-        library.running.set_value(None);
+        for stop in stops {
+            match stop {
+                Stop::Replace(0) => running = true,
+                Stop::Replace(slot) => pool::replace(&self.0, slot),
+                Stop::Dequeued | Stop::Unknown => {}
+            }
+        }
         // the matching under way goes too
         let matching = library.cluster_run.with_value(|r| r.is_some());
         if matching {
@@ -413,23 +430,52 @@ fn file_path(file: &File) -> String {
         .unwrap_or_else(|| file.name())
 }
 
-/// Sends the next queued take of the library to the worker, unless one is running.
+/// Sends the library's queued takes to the pool, as many at once as it has workers (each waits
+/// there for a free worker, beside the rows' runs).
 pub(super) fn pump(inner: &Rc<Inner>) {
     let library = inner.state.library;
-    let mut next = None;
-    library.queue.update(|q| next = q.start_next());
-    let Some(i) = next else { return };
-    let run = next_id(inner);
-    library.running.set_value(Some((run, i)));
-    send(inner, run, i);
+    let workers = inner.pool.borrow().workers();
+    loop {
+        let mut next = None;
+        library.queue.update(|q| next = q.start_next(workers));
+        let Some(i) = next else { return };
+        let run = next_id(inner);
+        library.running.update_value(|r| r.push((run, i)));
+        let placed = inner.pool.borrow_mut().place(run);
+        match placed {
+            Placed::Now(slot) => send(inner, run, i, slot),
+            Placed::Queued => library.queue.update(|q| q.progress(i, "waiting for a worker", 0.0)),
+        }
+    }
 }
 
-/// Sends take `i` of the library as run `run` (its file read from its `File`).
-fn send(inner: &Rc<Inner>, run: u32, i: usize) {
+/// The take of the library that run `run` segments, if the library still wants it.
+fn take_of(inner: &Inner, run: RunId) -> Option<usize> {
+    inner.state.library.running.with_value(|r| r.iter().find(|(r, _)| *r == run).map(|&(_, i)| i))
+}
+
+/// Whether `run` is one of the library's takes under way (a run of the pool that is not a row's).
+pub(super) fn owns(inner: &Inner, run: RunId) -> bool {
+    take_of(inner, run).is_some()
+}
+
+/// The pool gave run `run` a worker: its take is sent there (false: not a library run).
+pub(super) fn post_run(inner: &Rc<Inner>, run: RunId) -> bool {
+    let Some(i) = take_of(inner, run) else { return false };
+    let slot = inner.pool.borrow().slot_of(run);
+    if let Some(slot) = slot {
+        inner.state.library.queue.update(|q| q.progress(i, "starting", 0.0));
+        send(inner, run, i, slot);
+    }
+    true
+}
+
+/// Sends take `i` of the library as run `run` to worker `slot` (its file read from its `File`).
+fn send(inner: &Rc<Inner>, run: u32, i: usize, slot: Slot) {
     let library = inner.state.library;
     let Some(source) = library.source(i) else { return };
-    let slot = inner.state.methods.iter().find(|s| s.info.name == library.method.get_untracked());
-    let (method, params) = match slot.map(|s| (s.info.name.clone(), s.params())) {
+    let slot_of = inner.state.methods.iter().find(|s| s.info.name == library.method.get_untracked());
+    let (method, params) = match slot_of.map(|s| (s.info.name.clone(), s.params())) {
         Some((name, Ok(params))) => (name, params),
         Some((_, Err(e))) => return finish(inner, run, Err(e.to_string())),
         None => return finish(inner, run, Err("no method chosen for the library".into())),
@@ -440,11 +486,11 @@ fn send(inner: &Rc<Inner>, run: u32, i: usize) {
             Ok(buffers) => buffers,
             Err(e) => return finish(&inner, run, Err(e)),
         };
-        // cancelled (or replaced) while the file was read
-        if library.running.get_value().map(|(r, _)| r) != Some(run) {
+        // cancelled, or its worker replaced, while the file was read
+        if !owns(&inner, run) || inner.pool.borrow().slot_of(run) != Some(slot) {
             return;
         }
-        if let Err(e) = post_buffers(&inner, &take_request(run, &source, method, params), buffers) {
+        if let Err(e) = pool::post_buffers_to(&inner, slot, &take_request(run, &source, method, params), buffers) {
             finish(&inner, run, Err(e));
         }
     });
@@ -454,12 +500,14 @@ fn send(inner: &Rc<Inner>, run: u32, i: usize) {
 /// (or why it has none).
 type Took = (usize, f64, crate::segment::Segmentation, Result<Box<TakeFeatures>, String>);
 
-/// Ends run `run` of the library (its take done or failed) and sends the next take; once none is
-/// left, the takes are matched across the library.
+/// Ends run `run` of the library (its take done or failed): its worker is free for the next run,
+/// and the next takes are sent; once none is left, the takes are matched across the library.
 fn finish(inner: &Rc<Inner>, run: u32, outcome: Result<Took, String>) {
     let library = inner.state.library;
-    let Some((_, i)) = library.running.get_value().filter(|(r, _)| *r == run) else { return };
-    library.running.set_value(None);
+    // the worker is free (also for an answer the library no longer wants: a cancelled take's)
+    pool::release_run(inner, run);
+    let Some(i) = take_of(inner, run) else { return };
+    library.running.update_value(|r| r.retain(|(r, _)| *r != run));
     match outcome {
         Ok((frames, duration_s, segmentation, features)) => {
             library.set_features(i, features.map(|f| *f));
@@ -470,6 +518,30 @@ fn finish(inner: &Rc<Inner>, run: u32, outcome: Result<Took, String>) {
     pump(inner);
     if !library.queue.with_untracked(|q| q.busy()) {
         match_takes(inner);
+    }
+}
+
+/// Run `run` of the library trapped in its worker: the take fails (it would trap again) and the
+/// worker is replaced.
+fn trapped(inner: &Rc<Inner>, run: RunId, message: String) {
+    let slot = inner.pool.borrow().slot_of(run);
+    finish(inner, run, Err(message));
+    if let Some(slot) = slot {
+        replace_slot(inner, slot);
+    }
+}
+
+/// A run worker died under run `run` of the library (out of memory, say): the take fails, naming
+/// why (the worker itself is replaced by the pool).
+pub(super) fn died(inner: &Rc<Inner>, run: RunId) {
+    if let Some(i) = take_of(inner, run) {
+        inner.state.library.running.update_value(|r| r.retain(|(r, _)| *r != run));
+        let message = "the worker segmenting it stopped (out of memory?)".to_string();
+        inner.state.library.queue.update(|q| q.failed(i, message));
+        pump(inner);
+        if !inner.state.library.queue.with_untracked(|q| q.busy()) {
+            match_takes(inner);
+        }
     }
 }
 
@@ -495,14 +567,10 @@ fn match_takes(inner: &Rc<Inner>) {
     }
 }
 
-/// A new worker: the library's take that was running is sent to it again, and the matching
-/// under way asked again.
+/// A new main worker: the matching under way asked again (a take of the library it was
+/// segmenting is the pool's to send again: [`post_run`]).
 pub(super) fn resend(inner: &Rc<Inner>) {
     let library = inner.state.library;
-    if let Some((run, i)) = library.running.get_value() {
-        library.queue.update(|q| q.progress(i, "starting", 0.0));
-        send(inner, run, i);
-    }
     if library.cluster_run.with_value(|r| r.is_some()) {
         library.cluster_run.set_value(None);
         match_takes(inner);
@@ -529,7 +597,7 @@ pub(super) fn resend(inner: &Rc<Inner>) {
 /// Handles `response` when it is about the library's jobs; gives it back otherwise.
 pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> {
     let library = inner.state.library;
-    let running = library.running.get_value();
+    let running = |run: RunId| owns(inner, run);
     let clip_run = library.clip_run.get_value();
     let cluster_run = library.cluster_run.with_value(|r| r.as_ref().map(|(run, _)| *run));
     let transfer_run = library.transfer_run.with_value(|r| r.as_ref().map(|(run, _, _)| *run));
@@ -557,8 +625,8 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
                 replace_worker(inner);
             }
         }
-        Response::Progress { run: Some(run), stage, fraction, .. } if running.is_some_and(|(r, _)| r == run) => {
-            let i = running.map_or(0, |(_, i)| i);
+        Response::Progress { run: Some(run), stage, fraction, .. } if running(run) => {
+            let i = take_of(inner, run).unwrap_or(0);
             library.queue.update(|q| q.progress(i, &stage, fraction.unwrap_or(0.0)));
         }
         Response::Progress { run: Some(run), fraction, .. } if cluster_run == Some(run) => {
@@ -608,13 +676,18 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
                 replace_worker(inner);
             }
         }
-        Response::Refused { run, message, .. } if running.is_some_and(|(r, _)| r == run) => {
-            finish(inner, run, Err(message))
-        }
-        Response::Failed { run: Some(run), message, kind, .. } if running.is_some_and(|(r, _)| r == run) => {
-            finish(inner, run, Err(message));
+        Response::Refused { run, message, .. } if running(run) => finish(inner, run, Err(message)),
+        // the library segments with the unsupervised methods only, which need no model file
+        Response::NeedsModel { run, file, .. } if running(run) => finish(
+            inner,
+            run,
+            Err(format!("the library's method asked for a model file ({file}), which it does not fetch")),
+        ),
+        Response::Failed { run: Some(run), message, kind, .. } if running(run) => {
             if kind == FailureKind::Internal {
-                replace_worker(inner);
+                trapped(inner, run, message);
+            } else {
+                finish(inner, run, Err(message));
             }
         }
         Response::Failed { run: Some(run), message, kind, .. } if clip_run == Some(run) => {
@@ -636,10 +709,18 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
     None
 }
 
-/// The worker failed outside a request: the library's take running fails with `message` (the
-/// queue goes on with a new worker).
+/// The main worker failed outside a request: the library's takes it was segmenting fail with
+/// `message` — those the pool no longer places (neither waiting nor on a run worker); the run
+/// workers' go on.
 pub(super) fn fail_all(inner: &Rc<Inner>, message: &str) {
-    if let Some((run, _)) = inner.state.library.running.get_value() {
-        finish(inner, run, Err(message.to_string()));
+    let runs = inner.state.library.running.get_value();
+    for (run, _) in runs {
+        let elsewhere = {
+            let pool = inner.pool.borrow();
+            pool.is_queued(run) || pool.slot_of(run).is_some_and(|slot| slot > 0)
+        };
+        if !elsewhere {
+            finish(inner, run, Err(message.to_string()));
+        }
     }
 }

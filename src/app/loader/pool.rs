@@ -142,7 +142,8 @@ pub(super) fn hold(inner: &Rc<Inner>, slot: Slot) {
 /// Hands every run worker the take now on screen, replacing those still busy with the old take's
 /// runs (the new take's runs are not asked yet: the page asks them once every worker has it).
 pub(super) fn new_take(inner: &Rc<Inner>) {
-    let stale = inner.pool.borrow_mut().supersede(|_| false);
+    // the library's takes are not the take on screen's: they go on
+    let stale = inner.pool.borrow_mut().supersede(|run| super::library::owns(inner, run));
     let workers = inner.pool.borrow().workers();
     for slot in 1..workers {
         if stale.contains(&slot) {
@@ -164,6 +165,22 @@ pub(super) fn post_to(inner: &Rc<Inner>, slot: Slot, request: Request) -> Result
     worker.worker.post_message_with_transfer(&message, &transfer).map_err(|e| js_message(&e))
 }
 
+/// Posts `request` to worker `slot` with `buffers` (a library take's files) transferred.
+pub(super) fn post_buffers_to(inner: &Rc<Inner>, slot: Slot, request: &Request, buffers: Array) -> Result<(), String> {
+    if slot == 0 {
+        return super::post_buffers(inner, request, buffers);
+    }
+    let helpers = inner.helpers.borrow();
+    let worker = helpers.get(slot - 1).and_then(Option::as_ref).ok_or("the worker could not be started")?;
+    let (message, transfer) = crate::worker::request_with_buffers(request, buffers);
+    worker.worker.post_message_with_transfer(&message, &transfer).map_err(|e| js_message(&e))
+}
+
+/// Whether the page still wants run `run`: a row's current run, or a take of the library under way.
+fn wanted(inner: &Inner, run: RunId) -> bool {
+    run_index(inner, run).is_some() || super::library::owns(inner, run)
+}
+
 /// Gives every run worker a model file the main worker is given too (its answers are the main
 /// worker's to give).
 pub(super) fn share_model(inner: &Rc<Inner>, request: &Request) {
@@ -183,15 +200,15 @@ pub(super) fn share_model(inner: &Rc<Inner>, request: &Request) {
 pub(super) fn replace(inner: &Rc<Inner>, slot: Slot) {
     inner.helpers.borrow_mut()[slot - 1] = None; // terminates it
     spawn(inner, slot);
-    let wanted = inner.pool.borrow().running(slot).is_some_and(|run| run_index(inner, run).is_some());
+    let wanted = inner.pool.borrow().running(slot).is_some_and(|run| wanted(inner, run));
     let next = inner.pool.borrow_mut().replaced(slot, !wanted);
     if let Some(run) = next {
         post_run(inner, run);
     }
 }
 
-/// Posts run `run` (a method's current run) to the worker the pool gave it; a run the page no
-/// longer wants frees its worker for the next.
+/// Posts run `run` (a method's current run, or a take of the library) to the worker the pool gave
+/// it; a run the page no longer wants frees its worker for the next.
 pub(super) fn post_run(inner: &Rc<Inner>, run: RunId) {
     match run_index(inner, run) {
         Some(index) => {
@@ -199,6 +216,7 @@ pub(super) fn post_run(inner: &Rc<Inner>, run: RunId) {
                 fail_run(inner, index, message);
             }
         }
+        None if super::library::post_run(inner, run) => {}
         None => {
             let slot = inner.pool.borrow().slot_of(run);
             if let Some(slot) = slot {
@@ -231,6 +249,11 @@ pub(super) fn release_run(inner: &Rc<Inner>, run: RunId) {
 /// the run fails and the slot stays empty — its runs go to the main worker.
 fn died(inner: &Rc<Inner>, slot: Slot) {
     let run = inner.pool.borrow().running(slot);
+    if let Some(run) = run.filter(|&run| super::library::owns(inner, run)) {
+        // a take of the library: it fails, naming why; the worker is replaced for the next
+        super::library::died(inner, run);
+        return replace(inner, slot);
+    }
     let index = run.and_then(|run| run_index(inner, run));
     let again = index.is_some_and(|index| super::first_time(inner, index, |r| &mut r.crashed));
     if again {
@@ -250,11 +273,16 @@ fn on_message(inner: &Rc<Inner>, slot: Slot, data: JsValue) {
         | Response::Segmented { run, .. }
         | Response::Refused { run, .. }
         | Response::NeedsModel { run, .. }
-        | Response::Failed { run: Some(run), .. } => *run,
+        | Response::Failed { run: Some(run), .. }
+        | Response::LibraryTake { run, .. } => *run,
         _ => return, // the take's and the models' acknowledgements: the main worker answers for those
     };
     if !inner.pool.borrow().accepts(slot, run) {
         return; // stale: the run was cancelled or moved
+    }
+    if super::library::owns(inner, run) {
+        let _ = super::library::handle(inner, response);
+        return;
     }
     on_run_response(inner, slot, response);
 }
