@@ -786,6 +786,11 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
 fn on_run_response(inner: &Rc<Inner>, slot: crate::worker::pool::Slot, response: Response) {
     let state = inner.state;
     let last = match &response {
+        // the worker does not hold the run's take: asked again of it — unless the page no longer wants
+        // the run (a previous take's, posted just before the next take's load): then the worker is free
+        Response::Failed { kind: FailureKind::NotLoaded, run: Some(run), .. } => {
+            run_index(inner, *run).is_none().then_some(*run)
+        }
         Response::Progress { .. } | Response::Failed { kind: FailureKind::NotLoaded, .. } => None,
         Response::Segmented { run, .. }
         | Response::NeedsModel { run, .. }
