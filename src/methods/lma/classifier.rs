@@ -16,6 +16,8 @@
 //! (chosen once, on the unshifted segments), so a segment is projected once and then read by all
 //! (2s+1)² networks of a factor — which is what makes the exhaustive search affordable.
 
+use std::collections::HashMap;
+
 use serde::{Deserialize, Serialize};
 
 use super::effort::Factor;
@@ -298,6 +300,93 @@ impl EffortModel {
     }
 }
 
+/// Eq. 2's mean output `m` of the family at many candidate segments of one pool at once, bit for bit
+/// [`EffortModel::assess_with`]'s: a shifted segment that several candidates read (candidates a few
+/// frames apart share most of theirs) is projected once, each classifier reads every candidate's
+/// input in one batch per factor ([`Net::forward_batch_with`], bit-identical to one at a time), and
+/// each candidate's outputs are averaged in the order of [`deviance`]. The scratch is reused from
+/// call to call; made once per search.
+pub struct MeanOutputs<'m> {
+    projector: Projector<'m>,
+    /// The distinct shifted segments the current candidates read, and the row of each.
+    segments: Vec<(usize, usize)>,
+    rows: HashMap<(usize, usize), u32>,
+    /// Per candidate and shift (candidate-major, shifts in [`EffortModel::shift_index`] order), the
+    /// row of the segment it reads.
+    reads: Vec<u32>,
+    /// The projected inputs of the segments, [`EffortModel::width`] per row.
+    z: Vec<f32>,
+    /// One classifier's inputs and outputs for every candidate, and its networks' scratch.
+    x: Vec<f32>,
+    y: Vec<f32>,
+    scratch: Vec<f32>,
+}
+
+impl<'m> MeanOutputs<'m> {
+    pub fn new(model: &'m EffortModel) -> MeanOutputs<'m> {
+        MeanOutputs {
+            projector: Projector::new(model),
+            segments: Vec::new(),
+            rows: HashMap::new(),
+            reads: Vec::new(),
+            z: Vec::new(),
+            x: Vec::new(),
+            y: Vec::new(),
+            scratch: Vec::new(),
+        }
+    }
+
+    /// The family's mean output at each of `candidates` (`start..=end`) of `pool` into `means`
+    /// (one per candidate): [`EffortModel::assess_with`]'s second value, the same bits.
+    pub fn of(&mut self, pool: &Pool, candidates: &[(usize, usize)], means: &mut Vec<Outputs>) {
+        let model = self.projector.model;
+        let (s, shifts, width) = (model.max_shift as isize, model.shifts(), model.width());
+        // every distinct shifted segment, projected once
+        self.segments.clear();
+        self.rows.clear();
+        self.reads.clear();
+        for &(start, end) in candidates {
+            for i in -s..=s {
+                for j in -s..=s {
+                    let segment = shifted(start, end, i, j, pool.frames());
+                    let row = *self.rows.entry(segment).or_insert_with(|| {
+                        self.segments.push(segment);
+                        (self.segments.len() - 1) as u32
+                    });
+                    self.reads.push(row);
+                }
+            }
+        }
+        self.z.resize(self.segments.len() * width, 0.0);
+        for (&(a, b), z) in self.segments.iter().zip(self.z.chunks_exact_mut(width.max(1))) {
+            self.projector.project(pool, a, b, z);
+        }
+        // each classifier on every candidate at once; a candidate's outputs summed in shift order, as `deviance` does
+        let n = shifts as f32;
+        means.clear();
+        means.resize(candidates.len(), [0.0; 12]);
+        let mut at = 0;
+        for (k, f) in model.factors.iter().enumerate() {
+            let c = f.components;
+            for (shift, net) in f.nets.iter().enumerate() {
+                self.x.clear();
+                for reads in self.reads.chunks_exact(shifts) {
+                    let row = reads[shift] as usize * width + at;
+                    self.x.extend_from_slice(&self.z[row..row + c]);
+                }
+                self.y.resize(candidates.len() * 3, 0.0);
+                net.forward_batch_with(&self.x, &mut self.y, &mut self.scratch);
+                for (m, y) in means.iter_mut().zip(self.y.chunks_exact(3)) {
+                    for (a, b) in m[3 * k..3 * k + 3].iter_mut().zip(y) {
+                        *a += b / n;
+                    }
+                }
+            }
+            at += c;
+        }
+    }
+}
+
 /// The segment `start + i ..= end + j` kept inside `frames` frames and at least two frames long.
 pub fn shifted(start: usize, end: usize, i: isize, j: isize, frames: usize) -> (usize, usize) {
     let last = frames.saturating_sub(1) as isize;
@@ -396,6 +485,41 @@ mod tests {
             }
         }
         assert!(worst < 1e-5, "largest difference {worst} (relative, or absolute below 1)");
+    }
+
+    /// The batched mean outputs are the family's, one candidate at a time, bit for bit: random candidates of a real
+    /// take (short and long, at its ends where the shifted segments are clamped, repeated, overlapping), in calls of
+    /// different sizes one after another (the scratch of one call never leaks into the next).
+    #[test]
+    fn mean_outputs_in_a_batch_are_the_family_assessed_one_candidate_at_a_time() {
+        let model = crate::methods::lma::shipped_model().unwrap();
+        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/35_01.bvh")).unwrap();
+        let motion = crate::motion::Motion::from_bvh("35_01.bvh", &crate::bvh::parse(&text).unwrap()).unwrap();
+        let body = crate::methods::lma::body::upper_body(&motion, model.fps).unwrap();
+        let mut rng = crate::stats::Rng::new(37);
+        let (mut projector, mut batch) = (Projector::new(model), MeanOutputs::new(model));
+        let mut means = Vec::new();
+        for arm in &body.arms {
+            let pool = Pool::of(arm, model.fps, 111);
+            let n = pool.frames();
+            for count in [40, 1, 0, 17] {
+                let mut candidates: Vec<(usize, usize)> = (0..count)
+                    .map(|_| {
+                        let start = rng.below(n - 2);
+                        (start, (start + 1 + rng.below(30)).min(n - 1))
+                    })
+                    .collect();
+                if count > 1 {
+                    candidates.extend([(0, 1), (0, 25), (n - 2, n - 1), (n - 30, n - 1), candidates[0]]);
+                }
+                batch.of(&pool, &candidates, &mut means);
+                assert_eq!(means.len(), candidates.len());
+                for (&(start, end), m) in candidates.iter().zip(&means) {
+                    let one = model.assess_with(&mut projector, &pool, start, end).1;
+                    assert_eq!(m.map(f32::to_bits), one.map(f32::to_bits), "{start}..={end}");
+                }
+            }
+        }
     }
 
     #[test]
