@@ -92,6 +92,36 @@ impl Sums {
     }
 }
 
+/// The weightings of one segment `start..=end` as lines `p + q·t` in the frame `t` (every weighting is linear in `t`
+/// on `[start, mid]` and `[mid, end]`, with `u(t) = (t − start) / span`): the coefficients of each, computed once per
+/// segment and read by every series.
+#[derive(Debug, Clone, Copy)]
+struct Lines {
+    /// `u`.
+    end: (f64, f64),
+    /// `1 − u`.
+    beginning: (f64, f64),
+    /// The middle weighting's halves: `2u` on `start..=mid`, `2 − 2u` on `mid + 1..=end` (the middle frame in the
+    /// first), and the frames `(start, mid, end)`.
+    rise: (f64, f64),
+    fall: (f64, f64),
+    halves: (usize, usize, usize),
+}
+
+impl Lines {
+    fn of(start: usize, end: usize) -> Lines {
+        let span = (end - start).max(1) as f64;
+        let s = start as f64;
+        Lines {
+            end: (-s / span, 1.0 / span),
+            beginning: (1.0 + s / span, -1.0 / span),
+            rise: (-2.0 * s / span, 2.0 / span),
+            fall: (2.0 + 2.0 * s / span, -2.0 / span),
+            halves: (start, start + (end - start) / 2, end),
+        }
+    }
+}
+
 impl Prefix {
     /// Tables for segments of any length.
     pub fn new(x: &[f64]) -> Prefix {
@@ -148,21 +178,17 @@ impl Prefix {
         pick(levels[level][a], levels[level][b - (1 << level)])
     }
 
-    /// `(Σ w, Σ w x, Σ w x²)` of `weighting` over the segment `start..=end`, from the range sums of
+    /// `(Σ w, Σ w x, Σ w x²)` of `weighting` over the segment of `lines`, from the range sums of
     /// the whole segment (`all`) and, for [`Weighting::Middle`], of its halves.
-    fn weighted(&self, start: usize, end: usize, weighting: Weighting, all: &Sums) -> (f64, f64, f64) {
-        // u(t) = (t − start) / span; every weighting is linear in t on [start, mid] and [mid, end]
-        let span = (end - start).max(1) as f64;
-        let s = start as f64;
+    fn weighted(&self, lines: &Lines, weighting: Weighting, all: &Sums) -> (f64, f64, f64) {
         match weighting {
             Weighting::Uniform => all.linear(1.0, 0.0),
-            Weighting::End => all.linear(-s / span, 1.0 / span),
-            Weighting::Beginning => all.linear(1.0 + s / span, -1.0 / span),
+            Weighting::End => all.linear(lines.end.0, lines.end.1),
+            Weighting::Beginning => all.linear(lines.beginning.0, lines.beginning.1),
             Weighting::Middle => {
-                // 2u on the first half, 2 − 2u on the second (the middle frame in the first)
-                let mid = start + (end - start) / 2;
-                let first = Sums::of(&self.c, start, mid + 1).linear(-2.0 * s / span, 2.0 / span);
-                let second = Sums::of(&self.c, mid + 1, end + 1).linear(2.0 + 2.0 * s / span, -2.0 / span);
+                let (start, mid, end) = lines.halves;
+                let first = Sums::of(&self.c, start, mid + 1).linear(lines.rise.0, lines.rise.1);
+                let second = Sums::of(&self.c, mid + 1, end + 1).linear(lines.fall.0, lines.fall.1);
                 (first.0 + second.0, first.1 + second.1, first.2 + second.2)
             }
         }
@@ -185,7 +211,7 @@ impl Prefix {
         match stat {
             Stat::Max => Self::extremum(&self.max, a, b, f64::max),
             Stat::Min => Self::extremum(&self.min, a, b, f64::min),
-            _ => Self::reduce(stat, self.weighted(start, end, weighting, &Sums::of(&self.c, a, b))),
+            _ => Self::reduce(stat, self.weighted(&Lines::of(start, end), weighting, &Sums::of(&self.c, a, b))),
         }
     }
 }
@@ -377,6 +403,7 @@ impl Pool {
     /// them — the same values as [`Pool::feature`] of each, at a fraction of the reads.
     pub fn fill(&self, plan: &Plan, start: usize, end: usize, out: &mut [f64]) {
         let (a, b) = (start, end + 1);
+        let lines = Lines::of(start, end);
         for g in &plan.groups {
             let p = &self.series[g.series];
             let all = Sums::of(&p.c, a, b);
@@ -384,7 +411,7 @@ impl Pool {
             let mut values = [0.0f64; 12];
             for (k, weighting) in WEIGHTINGS.into_iter().enumerate() {
                 if g.weightings & (1 << k) != 0 {
-                    let (w, wx, wx2) = p.weighted(start, end, weighting, &all);
+                    let (w, wx, wx2) = p.weighted(&lines, weighting, &all);
                     values[3 * k] = wx;
                     if w > 0.0 {
                         let mean = wx / w;
