@@ -67,6 +67,10 @@ impl FactorModel {
 /// running sums (one would wait on the previous addition's latency).
 const LANES: usize = 16;
 
+/// Segments [`Projector::project_lanes`] projects side by side: their features in eight pairs of
+/// f64 and their rotation in four vectors of f32 (as [`LANES`]), one segment per lane.
+pub const SEGMENTS: usize = 16;
+
 /// The family's projected inputs of any segment, fast: one [`Plan`] of every factor's selected
 /// features (a feature two factors read is computed once; each series' range sums are read once
 /// per segment), and scratch buffers reused from segment to segment. Made once per search.
@@ -79,10 +83,16 @@ pub struct Projector<'m> {
     /// feature is only centred before the rotation; in blocks of [`LANES`] components, each block
     /// per selected feature its weights on them (the rotation then adds whole vectors).
     axes: Vec<Vec<f32>>,
+    /// Per factor, the same folded axes unpadded, one row of `selected` weights per component (the
+    /// rotation of [`SEGMENTS`] segments at once).
+    rows: Vec<Vec<f32>>,
     /// Scratch of the padded components of the widest factor.
     acc: Vec<f32>,
-    values: Vec<f64>,
+    values: Vec<[f64; 1]>,
     x: Vec<f32>,
+    /// The features and centred inputs of [`SEGMENTS`] segments.
+    lanes: Vec<[f64; SEGMENTS]>,
+    xs: Vec<[f32; SEGMENTS]>,
     hidden: Vec<f32>,
 }
 
@@ -109,17 +119,28 @@ impl<'m> Projector<'m> {
                 t
             })
             .collect();
+        let rows = model
+            .factors
+            .iter()
+            .map(|f| {
+                let n = f.selected.len();
+                (0..f.components * n).map(|i| f.projection[i] / f.scale[i % n]).collect()
+            })
+            .collect();
         let acc = vec![0.0; model.factors.iter().map(padded).max().unwrap_or(0)];
         let widest = model.factors.iter().map(|f| f.selected.len()).max().unwrap_or(0);
         let hidden = model.factors.iter().flat_map(|f| f.nets.iter().map(|n| n.hidden)).max().unwrap_or(0);
         Projector {
             model,
-            values: vec![0.0; plan.len()],
+            values: vec![[0.0]; plan.len()],
+            lanes: vec![[0.0; SEGMENTS]; plan.len()],
             plan,
             slots,
             axes,
+            rows,
             acc,
             x: vec![0.0; widest],
+            xs: vec![[0.0; SEGMENTS]; widest],
             hidden: vec![0.0; hidden],
         }
     }
@@ -127,13 +148,13 @@ impl<'m> Projector<'m> {
     /// The four factors' projected inputs of `start..=end`, concatenated into `z`
     /// ([`EffortModel::width`]): [`EffortModel::project`]'s values up to float rounding.
     pub fn project(&mut self, pool: &Pool, start: usize, end: usize, z: &mut [f32]) {
-        pool.fill(&self.plan, start, end, &mut self.values);
+        pool.fill(&self.plan, [(start, end)], &mut self.values);
         let mut at = 0;
         for ((f, slots), axes) in self.model.factors.iter().zip(&self.slots).zip(&self.axes) {
             let n = slots.len();
             let x = &mut self.x[..n];
             for ((v, &slot), m) in x.iter_mut().zip(slots).zip(&f.mean) {
-                *v = self.values[slot] as f32 - m;
+                *v = self.values[slot][0] as f32 - m;
             }
             let width = axes.len() / n.max(1);
             for (chunk, out) in axes.chunks_exact((n * LANES).max(1)).zip(self.acc[..width].chunks_exact_mut(LANES)) {
@@ -148,6 +169,37 @@ impl<'m> Projector<'m> {
                 out.copy_from_slice(acc.as_flattened());
             }
             z[at..at + f.components].copy_from_slice(&self.acc[..f.components]);
+            at += f.components;
+        }
+    }
+
+    /// [`Projector::project`] of [`SEGMENTS`] segments at once into `z`, one row of
+    /// [`EffortModel::width`] per segment: their features from one pass over the plan, side by side,
+    /// and each component summed over the segments side by side (none padded) — the same bits, each
+    /// segment's sums taken in the same order.
+    pub fn project_lanes(&mut self, pool: &Pool, segments: [(usize, usize); SEGMENTS], z: &mut [f32]) {
+        pool.fill(&self.plan, segments, &mut self.lanes);
+        let width = self.model.width();
+        let mut at = 0;
+        for ((f, slots), rows) in self.model.factors.iter().zip(&self.slots).zip(&self.rows) {
+            let n = slots.len();
+            let xs = &mut self.xs[..n];
+            for ((x, &slot), m) in xs.iter_mut().zip(slots).zip(&f.mean) {
+                for (x, &v) in x.iter_mut().zip(&self.lanes[slot]) {
+                    *x = v as f32 - m;
+                }
+            }
+            for (c, axis) in rows.chunks_exact(n.max(1)).enumerate() {
+                let mut acc = [0.0f32; SEGMENTS];
+                for (&w, x) in axis.iter().zip(xs.iter()) {
+                    for (a, &x) in acc.iter_mut().zip(x) {
+                        *a += w * x;
+                    }
+                }
+                for (l, a) in acc.into_iter().enumerate() {
+                    z[l * width + at + c] = a;
+                }
+            }
             at += f.components;
         }
     }
@@ -357,9 +409,11 @@ impl<'m> MeanOutputs<'m> {
                 }
             }
         }
-        self.z.resize(self.segments.len() * width, 0.0);
-        for (&(a, b), z) in self.segments.iter().zip(self.z.chunks_exact_mut(width.max(1))) {
-            self.projector.project(pool, a, b, z);
+        self.z.resize(self.segments.len().div_ceil(SEGMENTS) * SEGMENTS * width, 0.0);
+        for (chunk, z) in self.segments.chunks(SEGMENTS).zip(self.z.chunks_exact_mut(SEGMENTS * width)) {
+            // the last chunk filled up with its last segment (rows never read)
+            let lanes = std::array::from_fn(|l| chunk[l.min(chunk.len() - 1)]);
+            self.projector.project_lanes(pool, lanes, z);
         }
         // each classifier on every candidate at once; a candidate's outputs summed in shift order, as `deviance` does
         let n = shifts as f32;
@@ -460,7 +514,8 @@ mod tests {
     }
 
     /// The projector (one plan of every factor's features, scales folded into the axes, blocked
-    /// rotation) gives the per-feature projection's inputs, on random segments of a take.
+    /// rotation) gives the per-feature projection's inputs, on random segments of a take; and
+    /// [`SEGMENTS`] segments projected side by side get each the bits of the segment alone.
     #[test]
     fn the_projector_equals_the_projection_one_feature_at_a_time() {
         let model = crate::methods::lma::shipped_model().unwrap();
@@ -471,9 +526,12 @@ mod tests {
         let mut projector = Projector::new(model);
         let (mut fast, mut slow) = (vec![0.0; model.width()], vec![0.0; model.width()]);
         let mut worst = 0.0f32;
+        let width = model.width();
+        let mut lanes = vec![0.0; SEGMENTS * width];
         for arm in &body.arms {
             let pool = Pool::of(arm, model.fps, 111);
             let n = pool.frames();
+            let mut segments = Vec::new();
             for _ in 0..300 {
                 let start = rng.below(n - 2);
                 let end = (start + 1 + rng.below(110)).min(n - 1);
@@ -481,6 +539,14 @@ mod tests {
                 model.project(&pool, start, end, &mut slow);
                 for (a, b) in fast.iter().zip(&slow) {
                     worst = worst.max((a - b).abs() / b.abs().max(1.0));
+                }
+                segments.push((start, end, fast.clone()));
+            }
+            for chunk in segments.chunks_exact(SEGMENTS) {
+                projector.project_lanes(&pool, std::array::from_fn(|l| (chunk[l].0, chunk[l].1)), &mut lanes);
+                for ((start, end, alone), side_by_side) in chunk.iter().zip(lanes.chunks_exact(width)) {
+                    let bits = |z: &[f32]| z.iter().map(|v| v.to_bits()).collect::<Vec<u32>>();
+                    assert_eq!(bits(side_by_side), bits(alone), "{start}..={end}");
                 }
             }
         }
