@@ -18,18 +18,18 @@
 //!    boundaries at least the shortest segment apart; two chosen boundaries at most the longest segment apart bound a
 //!    segment, farther apart they bound a gap (gestures need not tile the take).
 
-use super::classifier::{EffortModel, MeanOutputs};
+use super::classifier::{Assessor, EffortModel};
 use super::features::Pool;
 use crate::method::Cancelled;
 
-/// Boundaries whose mean outputs are computed together: their candidates (both sides, one pool) go
-/// through each classifier in one batch, and the shifted segments that nearby boundaries share are
-/// projected once.
+/// Boundaries whose mean outputs are computed together: their candidates (both sides, one pool: 64,
+/// what an [`Assessor`] reads at once) go through each classifier in one batch, and the shifted
+/// segments that nearby boundaries share are projected once.
 const BLOCK: usize = 32;
 
 /// `g(b)` at each of `boundaries`: the largest change over the arms' `pools` of the family's mean output from the
 /// `window` frames before `b` to the `window` frames after (`0` where either side leaves the take). Boundaries go
-/// in blocks of [`BLOCK`] ([`MeanOutputs`]); the values are those of each boundary's sides assessed on their own
+/// in blocks of [`BLOCK`] ([`Assessor`]); the values are those of each boundary's sides assessed on their own
 /// ([`EffortModel::assess_with`]), bit for bit.
 pub fn strengths(
     model: &EffortModel,
@@ -40,8 +40,8 @@ pub fn strengths(
 ) -> Result<Vec<f64>, Cancelled> {
     let frames = pools.iter().map(Pool::frames).min().unwrap_or(0);
     let inside = |b: usize| b >= window && b + window < frames && window >= 2;
-    let mut mean_outputs = MeanOutputs::new(model);
-    let (mut candidates, mut means) = (Vec::new(), Vec::new());
+    let mut assessor = Assessor::new(model);
+    let (mut candidates, mut assessed) = (Vec::new(), Vec::new());
     let mut out = vec![0.0; boundaries.len()];
     for (k, (block, g)) in boundaries.chunks(BLOCK).zip(out.chunks_mut(BLOCK)).enumerate() {
         progress((k * BLOCK) as f64 / boundaries.len() as f64)?;
@@ -49,10 +49,10 @@ pub fn strengths(
         candidates.clear();
         candidates.extend(block.iter().filter(|&&b| inside(b)).flat_map(|&b| [(b - window, b), (b, b + window)]));
         for pool in pools {
-            mean_outputs.of(pool, &candidates, &mut means);
+            assessor.assess(pool, &candidates, &mut assessed);
             let inner = g.iter_mut().zip(block).filter(|(_, &b)| inside(b));
-            for ((g, _), sides) in inner.zip(means.chunks_exact(2)) {
-                let (before, after) = (&sides[0], &sides[1]);
+            for ((g, _), sides) in inner.zip(assessed.chunks_exact(2)) {
+                let (before, after) = (&sides[0].1, &sides[1].1);
                 let change = before.iter().zip(after).map(|(x, y)| ((x - y) as f64).powi(2)).sum::<f64>().sqrt();
                 *g = f64::max(*g, change);
             }

@@ -352,13 +352,17 @@ impl EffortModel {
     }
 }
 
-/// Eq. 2's mean output `m` of the family at many candidate segments of one pool at once, bit for bit
-/// [`EffortModel::assess_with`]'s: a shifted segment that several candidates read (candidates a few
-/// frames apart share most of theirs) is projected once, each classifier reads every candidate's
-/// input in one batch per factor ([`Net::forward_batch_with`], bit-identical to one at a time), and
-/// each candidate's outputs are averaged in the order of [`deviance`]. The scratch is reused from
-/// call to call; made once per search.
-pub struct MeanOutputs<'m> {
+/// Candidates an [`Assessor`] reads at once (more go in turns): its scratch stays a few MB however
+/// many it is given.
+const CANDIDATES: usize = 64;
+
+/// [`EffortModel::assess`] of many candidate segments of one pool at once, bit for bit: a shifted
+/// segment that several candidates read (candidates a few frames apart share most of theirs) is
+/// projected once, [`SEGMENTS`] side by side ([`Projector::project_lanes`]), each classifier reads
+/// every candidate's input in one batch per factor ([`Net::forward_batch_with`], bit-identical to
+/// one at a time), and each candidate's outputs go through [`deviance`] as they would alone. The
+/// scratch is reused from call to call; made once per search.
+pub struct Assessor<'m> {
     projector: Projector<'m>,
     /// The distinct shifted segments the current candidates read, and the row of each.
     segments: Vec<(usize, usize)>,
@@ -372,11 +376,13 @@ pub struct MeanOutputs<'m> {
     x: Vec<f32>,
     y: Vec<f32>,
     scratch: Vec<f32>,
+    /// Every classifier's outputs per candidate (candidate-major, shifts in order).
+    outputs: Vec<Outputs>,
 }
 
-impl<'m> MeanOutputs<'m> {
-    pub fn new(model: &'m EffortModel) -> MeanOutputs<'m> {
-        MeanOutputs {
+impl<'m> Assessor<'m> {
+    pub fn new(model: &'m EffortModel) -> Assessor<'m> {
+        Assessor {
             projector: Projector::new(model),
             segments: Vec::new(),
             rows: HashMap::new(),
@@ -385,12 +391,20 @@ impl<'m> MeanOutputs<'m> {
             x: Vec::new(),
             y: Vec::new(),
             scratch: Vec::new(),
+            outputs: Vec::new(),
         }
     }
 
-    /// The family's mean output at each of `candidates` (`start..=end`) of `pool` into `means`
-    /// (one per candidate): [`EffortModel::assess_with`]'s second value, the same bits.
-    pub fn of(&mut self, pool: &Pool, candidates: &[(usize, usize)], means: &mut Vec<Outputs>) {
+    /// Mean deviance and mean output of the family at each of `candidates` (`start..=end`) of
+    /// `pool`, in order, into `out`: [`EffortModel::assess_with`]'s of each, the same bits.
+    pub fn assess(&mut self, pool: &Pool, candidates: &[(usize, usize)], out: &mut Vec<(f32, Outputs)>) {
+        out.clear();
+        for some in candidates.chunks(CANDIDATES) {
+            self.assess_some(pool, some, out);
+        }
+    }
+
+    fn assess_some(&mut self, pool: &Pool, candidates: &[(usize, usize)], out: &mut Vec<(f32, Outputs)>) {
         let model = self.projector.model;
         let (s, shifts, width) = (model.max_shift as isize, model.shifts(), model.width());
         // every distinct shifted segment, projected once
@@ -415,10 +429,8 @@ impl<'m> MeanOutputs<'m> {
             let lanes = std::array::from_fn(|l| chunk[l.min(chunk.len() - 1)]);
             self.projector.project_lanes(pool, lanes, z);
         }
-        // each classifier on every candidate at once; a candidate's outputs summed in shift order, as `deviance` does
-        let n = shifts as f32;
-        means.clear();
-        means.resize(candidates.len(), [0.0; 12]);
+        // each classifier on every candidate at once
+        self.outputs.resize(candidates.len() * shifts, [0.0; 12]);
         let mut at = 0;
         for (k, f) in model.factors.iter().enumerate() {
             let c = f.components;
@@ -430,14 +442,13 @@ impl<'m> MeanOutputs<'m> {
                 }
                 self.y.resize(candidates.len() * 3, 0.0);
                 net.forward_batch_with(&self.x, &mut self.y, &mut self.scratch);
-                for (m, y) in means.iter_mut().zip(self.y.chunks_exact(3)) {
-                    for (a, b) in m[3 * k..3 * k + 3].iter_mut().zip(y) {
-                        *a += b / n;
-                    }
+                for (outputs, y) in self.outputs.chunks_exact_mut(shifts).zip(self.y.chunks_exact(3)) {
+                    outputs[shift][3 * k..3 * k + 3].copy_from_slice(y);
                 }
             }
             at += c;
         }
+        out.extend(self.outputs.chunks_exact(shifts).map(deviance));
     }
 }
 
@@ -553,36 +564,38 @@ mod tests {
         assert!(worst < 1e-5, "largest difference {worst} (relative, or absolute below 1)");
     }
 
-    /// The batched mean outputs are the family's, one candidate at a time, bit for bit: random candidates of a real
-    /// take (short and long, at its ends where the shifted segments are clamped, repeated, overlapping), in calls of
-    /// different sizes one after another (the scratch of one call never leaks into the next).
+    /// The assessor's deviances and mean outputs are the family's, one candidate at a time, bit for bit: random
+    /// candidates of a real take (short and long, at its ends where the shifted segments are clamped, repeated,
+    /// overlapping), more than it reads at once, in calls of different sizes one after another (the scratch of one
+    /// call never leaks into the next).
     #[test]
-    fn mean_outputs_in_a_batch_are_the_family_assessed_one_candidate_at_a_time() {
+    fn the_assessor_is_the_family_assessed_one_candidate_at_a_time() {
         let model = crate::methods::lma::shipped_model().unwrap();
         let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/35_01.bvh")).unwrap();
         let motion = crate::motion::Motion::from_bvh("35_01.bvh", &crate::bvh::parse(&text).unwrap()).unwrap();
         let body = crate::methods::lma::body::upper_body(&motion, model.fps).unwrap();
         let mut rng = crate::stats::Rng::new(37);
-        let (mut projector, mut batch) = (Projector::new(model), MeanOutputs::new(model));
-        let mut means = Vec::new();
+        let (mut projector, mut assessor) = (Projector::new(model), Assessor::new(model));
+        let mut assessed = Vec::new();
         for arm in &body.arms {
             let pool = Pool::of(arm, model.fps, 111);
             let n = pool.frames();
-            for count in [40, 1, 0, 17] {
+            for count in [CANDIDATES + 9, 1, 0, 17] {
                 let mut candidates: Vec<(usize, usize)> = (0..count)
                     .map(|_| {
                         let start = rng.below(n - 2);
-                        (start, (start + 1 + rng.below(30)).min(n - 1))
+                        (start, (start + 1 + rng.below(60)).min(n - 1))
                     })
                     .collect();
                 if count > 1 {
                     candidates.extend([(0, 1), (0, 25), (n - 2, n - 1), (n - 30, n - 1), candidates[0]]);
                 }
-                batch.of(&pool, &candidates, &mut means);
-                assert_eq!(means.len(), candidates.len());
-                for (&(start, end), m) in candidates.iter().zip(&means) {
-                    let one = model.assess_with(&mut projector, &pool, start, end).1;
-                    assert_eq!(m.map(f32::to_bits), one.map(f32::to_bits), "{start}..={end}");
+                assessor.assess(&pool, &candidates, &mut assessed);
+                assert_eq!(assessed.len(), candidates.len());
+                for (&(start, end), (d, m)) in candidates.iter().zip(&assessed) {
+                    let (one_d, one_m) = model.assess_with(&mut projector, &pool, start, end);
+                    assert_eq!(d.to_bits(), one_d.to_bits(), "{start}..={end}");
+                    assert_eq!(m.map(f32::to_bits), one_m.map(f32::to_bits), "{start}..={end}");
                 }
             }
         }
