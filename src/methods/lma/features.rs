@@ -197,7 +197,7 @@ impl Prefix {
         (4 + 2 * levels) * 8
     }
 
-    fn extremum(levels: &[Vec<f64>], a: usize, b: usize, pick: fn(f64, f64) -> f64) -> f64 {
+    fn extremum(levels: &[Vec<f64>], a: usize, b: usize, pick: impl Fn(f64, f64) -> f64) -> f64 {
         let len = b - a;
         let level = ((usize::BITS - 1 - len.leading_zeros()) as usize).min(levels.len() - 1);
         if len > 2 << level {
