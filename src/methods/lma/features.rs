@@ -176,18 +176,19 @@ impl Prefix {
                 c[t + 1][k] = c[t][k] + terms[k];
             }
         }
-        let table = |pick: fn(f64, f64) -> f64| {
+        // level k: the extremum of each 2^k frames (a generic `pick`, so that it inlines and the level vectorises)
+        fn table(x: &[f64], longest: usize, pick: impl Fn(f64, f64) -> f64) -> Vec<Vec<f64>> {
             let mut levels = vec![x.to_vec()];
             let mut width = 1;
-            while 2 * width <= n.min(longest.max(1)) {
+            while 2 * width <= x.len().min(longest.max(1)) {
                 let prev = &levels[levels.len() - 1];
-                let next: Vec<f64> = (0..=n - 2 * width).map(|i| pick(prev[i], prev[i + width])).collect();
+                let next: Vec<f64> = prev.iter().zip(&prev[width..]).map(|(&a, &b)| pick(a, b)).collect();
                 levels.push(next);
                 width *= 2;
             }
             levels
-        };
-        Prefix { c, max: table(f64::max), min: table(f64::min) }
+        }
+        Prefix { c, max: table(x, longest, f64::max), min: table(x, longest, f64::min) }
     }
 
     /// Bytes per frame of the tables for segments of at most `longest` frames: the four sums and
