@@ -18,12 +18,19 @@
 //!    boundaries at least the shortest segment apart; two chosen boundaries at most the longest segment apart bound a
 //!    segment, farther apart they bound a gap (gestures need not tile the take).
 
-use super::classifier::{EffortModel, Projector};
+use super::classifier::{Assessor, EffortModel};
 use super::features::Pool;
 use crate::method::Cancelled;
 
+/// Boundaries whose mean outputs are computed together: their candidates (both sides, one pool: 64,
+/// what an [`Assessor`] reads at once) go through each classifier in one batch, and the shifted
+/// segments that nearby boundaries share are projected once.
+const BLOCK: usize = 32;
+
 /// `g(b)` at each of `boundaries`: the largest change over the arms' `pools` of the family's mean output from the
-/// `window` frames before `b` to the `window` frames after (`0` where either side leaves the take).
+/// `window` frames before `b` to the `window` frames after (`0` where either side leaves the take). Boundaries go
+/// in blocks of [`BLOCK`] ([`Assessor`]); the values are those of each boundary's sides assessed on their own
+/// ([`EffortModel::assess_with`]), bit for bit.
 pub fn strengths(
     model: &EffortModel,
     pools: &[Pool],
@@ -32,26 +39,24 @@ pub fn strengths(
     progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
 ) -> Result<Vec<f64>, Cancelled> {
     let frames = pools.iter().map(Pool::frames).min().unwrap_or(0);
-    let mut projector = Projector::new(model);
-    // the family's mean output over `start..=end` of `pool` (eq. 2's `m`)
-    let mut mean_output = |pool: &Pool, start: usize, end: usize| model.assess_with(&mut projector, pool, start, end).1;
-    let mut out = Vec::with_capacity(boundaries.len());
-    for (k, &b) in boundaries.iter().enumerate() {
-        if k % 8 == 0 {
-            progress(k as f64 / boundaries.len().max(1) as f64)?;
+    let inside = |b: usize| b >= window && b + window < frames && window >= 2;
+    let mut assessor = Assessor::new(model);
+    let (mut candidates, mut assessed) = (Vec::new(), Vec::new());
+    let mut out = vec![0.0; boundaries.len()];
+    for (k, (block, g)) in boundaries.chunks(BLOCK).zip(out.chunks_mut(BLOCK)).enumerate() {
+        progress((k * BLOCK) as f64 / boundaries.len() as f64)?;
+        // both sides of each boundary inside the take: the candidates whose `m` the block needs
+        candidates.clear();
+        candidates.extend(block.iter().filter(|&&b| inside(b)).flat_map(|&b| [(b - window, b), (b, b + window)]));
+        for pool in pools {
+            assessor.assess(pool, &candidates, &mut assessed);
+            let inner = g.iter_mut().zip(block).filter(|(_, &b)| inside(b));
+            for ((g, _), sides) in inner.zip(assessed.chunks_exact(2)) {
+                let (before, after) = (&sides[0].1, &sides[1].1);
+                let change = before.iter().zip(after).map(|(x, y)| ((x - y) as f64).powi(2)).sum::<f64>().sqrt();
+                *g = f64::max(*g, change);
+            }
         }
-        if b < window || b + window >= frames || window < 2 {
-            out.push(0.0);
-            continue;
-        }
-        let g = pools
-            .iter()
-            .map(|pool| {
-                let (before, after) = (mean_output(pool, b - window, b), mean_output(pool, b, b + window));
-                before.iter().zip(&after).map(|(x, y)| ((x - y) as f64).powi(2)).sum::<f64>().sqrt()
-            })
-            .fold(0.0, f64::max);
-        out.push(g);
     }
     Ok(out)
 }
@@ -128,6 +133,58 @@ pub fn chain(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::methods::lma::body::upper_body;
+    use crate::methods::lma::classifier::Projector;
+
+    /// The Effort change as it was computed before the blocks: each side of each boundary assessed on its own.
+    fn strengths_one_at_a_time(model: &EffortModel, pools: &[Pool], boundaries: &[usize], window: usize) -> Vec<f64> {
+        let frames = pools.iter().map(Pool::frames).min().unwrap_or(0);
+        let mut projector = Projector::new(model);
+        let mut mean_output =
+            |pool: &Pool, start: usize, end: usize| model.assess_with(&mut projector, pool, start, end).1;
+        boundaries
+            .iter()
+            .map(|&b| {
+                if b < window || b + window >= frames || window < 2 {
+                    return 0.0;
+                }
+                pools
+                    .iter()
+                    .map(|pool| {
+                        let (before, after) = (mean_output(pool, b - window, b), mean_output(pool, b, b + window));
+                        before.iter().zip(&after).map(|(x, y)| ((x - y) as f64).powi(2)).sum::<f64>().sqrt()
+                    })
+                    .fold(0.0, f64::max)
+            })
+            .collect()
+    }
+
+    /// The blocks change nothing: on a real take, at every frame as a boundary (those whose window leaves the take,
+    /// whose shifted sides are clamped to its ends, blocks with and without such boundaries) and at boundaries out of
+    /// order and repeated, the same bits as each boundary assessed on its own.
+    #[test]
+    fn strengths_in_blocks_are_the_boundaries_assessed_one_at_a_time() {
+        let model = crate::methods::lma::shipped_model().unwrap();
+        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/131_01.bvh")).unwrap();
+        let motion = crate::motion::Motion::from_bvh("131_01.bvh", &crate::bvh::parse(&text).unwrap()).unwrap();
+        let body = upper_body(&motion, model.fps).unwrap();
+        let window = 20;
+        let pools: Vec<Pool> = body.arms.iter().map(|arm| Pool::of(arm, model.fps, 111)).collect();
+        let frames = pools[0].frames();
+        let mut boundaries: Vec<usize> = (0..frames).collect();
+        boundaries.extend([130, 40, 40, 200, 7, frames - 22, 25]);
+        let fast = strengths(model, &pools, &boundaries, window, &mut |_| Ok(())).unwrap();
+        let slow = strengths_one_at_a_time(model, &pools, &boundaries, window);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
+        assert_eq!(bits(&fast), bits(&slow));
+        assert!(slow.iter().filter(|&&g| g > 0.0).count() > frames / 2, "the take has changes to compare");
+        // one arm, and a window too short for any boundary
+        assert_eq!(
+            bits(&strengths(model, &pools[1..], &boundaries, 25, &mut |_| Ok(())).unwrap()),
+            bits(&strengths_one_at_a_time(model, &pools[1..], &boundaries, 25))
+        );
+        assert!(strengths(model, &pools, &boundaries, 1, &mut |_| Ok(())).unwrap().iter().all(|&g| g == 0.0));
+    }
 
     #[test]
     fn the_chain_takes_the_strong_boundaries_far_enough_apart() {

@@ -16,6 +16,8 @@
 //! (chosen once, on the unshifted segments), so a segment is projected once and then read by all
 //! (2s+1)² networks of a factor — which is what makes the exhaustive search affordable.
 
+use std::collections::HashMap;
+
 use serde::{Deserialize, Serialize};
 
 use super::effort::Factor;
@@ -65,6 +67,10 @@ impl FactorModel {
 /// running sums (one would wait on the previous addition's latency).
 const LANES: usize = 16;
 
+/// Segments [`Projector::project_lanes`] projects side by side: their features in eight pairs of
+/// f64 and their rotation in four vectors of f32 (as [`LANES`]), one segment per lane.
+pub const SEGMENTS: usize = 16;
+
 /// The family's projected inputs of any segment, fast: one [`Plan`] of every factor's selected
 /// features (a feature two factors read is computed once; each series' range sums are read once
 /// per segment), and scratch buffers reused from segment to segment. Made once per search.
@@ -77,10 +83,16 @@ pub struct Projector<'m> {
     /// feature is only centred before the rotation; in blocks of [`LANES`] components, each block
     /// per selected feature its weights on them (the rotation then adds whole vectors).
     axes: Vec<Vec<f32>>,
+    /// Per factor, the same folded axes unpadded, one row of `selected` weights per component (the
+    /// rotation of [`SEGMENTS`] segments at once).
+    rows: Vec<Vec<f32>>,
     /// Scratch of the padded components of the widest factor.
     acc: Vec<f32>,
-    values: Vec<f64>,
+    values: Vec<[f64; 1]>,
     x: Vec<f32>,
+    /// The features and centred inputs of [`SEGMENTS`] segments.
+    lanes: Vec<[f64; SEGMENTS]>,
+    xs: Vec<[f32; SEGMENTS]>,
     hidden: Vec<f32>,
 }
 
@@ -107,17 +119,28 @@ impl<'m> Projector<'m> {
                 t
             })
             .collect();
+        let rows = model
+            .factors
+            .iter()
+            .map(|f| {
+                let n = f.selected.len();
+                (0..f.components * n).map(|i| f.projection[i] / f.scale[i % n]).collect()
+            })
+            .collect();
         let acc = vec![0.0; model.factors.iter().map(padded).max().unwrap_or(0)];
         let widest = model.factors.iter().map(|f| f.selected.len()).max().unwrap_or(0);
         let hidden = model.factors.iter().flat_map(|f| f.nets.iter().map(|n| n.hidden)).max().unwrap_or(0);
         Projector {
             model,
-            values: vec![0.0; plan.len()],
+            values: vec![[0.0]; plan.len()],
+            lanes: vec![[0.0; SEGMENTS]; plan.len()],
             plan,
             slots,
             axes,
+            rows,
             acc,
             x: vec![0.0; widest],
+            xs: vec![[0.0; SEGMENTS]; widest],
             hidden: vec![0.0; hidden],
         }
     }
@@ -125,13 +148,13 @@ impl<'m> Projector<'m> {
     /// The four factors' projected inputs of `start..=end`, concatenated into `z`
     /// ([`EffortModel::width`]): [`EffortModel::project`]'s values up to float rounding.
     pub fn project(&mut self, pool: &Pool, start: usize, end: usize, z: &mut [f32]) {
-        pool.fill(&self.plan, start, end, &mut self.values);
+        pool.fill(&self.plan, [(start, end)], &mut self.values);
         let mut at = 0;
         for ((f, slots), axes) in self.model.factors.iter().zip(&self.slots).zip(&self.axes) {
             let n = slots.len();
             let x = &mut self.x[..n];
             for ((v, &slot), m) in x.iter_mut().zip(slots).zip(&f.mean) {
-                *v = self.values[slot] as f32 - m;
+                *v = self.values[slot][0] as f32 - m;
             }
             let width = axes.len() / n.max(1);
             for (chunk, out) in axes.chunks_exact((n * LANES).max(1)).zip(self.acc[..width].chunks_exact_mut(LANES)) {
@@ -146,6 +169,37 @@ impl<'m> Projector<'m> {
                 out.copy_from_slice(acc.as_flattened());
             }
             z[at..at + f.components].copy_from_slice(&self.acc[..f.components]);
+            at += f.components;
+        }
+    }
+
+    /// [`Projector::project`] of [`SEGMENTS`] segments at once into `z`, one row of
+    /// [`EffortModel::width`] per segment: their features from one pass over the plan, side by side,
+    /// and each component summed over the segments side by side (none padded) — the same bits, each
+    /// segment's sums taken in the same order.
+    pub fn project_lanes(&mut self, pool: &Pool, segments: [(usize, usize); SEGMENTS], z: &mut [f32]) {
+        pool.fill(&self.plan, segments, &mut self.lanes);
+        let width = self.model.width();
+        let mut at = 0;
+        for ((f, slots), rows) in self.model.factors.iter().zip(&self.slots).zip(&self.rows) {
+            let n = slots.len();
+            let xs = &mut self.xs[..n];
+            for ((x, &slot), m) in xs.iter_mut().zip(slots).zip(&f.mean) {
+                for (x, &v) in x.iter_mut().zip(&self.lanes[slot]) {
+                    *x = v as f32 - m;
+                }
+            }
+            for (c, axis) in rows.chunks_exact(n.max(1)).enumerate() {
+                let mut acc = [0.0f32; SEGMENTS];
+                for (&w, x) in axis.iter().zip(xs.iter()) {
+                    for (a, &x) in acc.iter_mut().zip(x) {
+                        *a += w * x;
+                    }
+                }
+                for (l, a) in acc.into_iter().enumerate() {
+                    z[l * width + at + c] = a;
+                }
+            }
             at += f.components;
         }
     }
@@ -298,6 +352,106 @@ impl EffortModel {
     }
 }
 
+/// Candidates an [`Assessor`] reads at once (more go in turns): its scratch stays a few MB however
+/// many it is given.
+const CANDIDATES: usize = 64;
+
+/// [`EffortModel::assess`] of many candidate segments of one pool at once, bit for bit: a shifted
+/// segment that several candidates read (candidates a few frames apart share most of theirs) is
+/// projected once, [`SEGMENTS`] side by side ([`Projector::project_lanes`]), each classifier reads
+/// every candidate's input in one batch per factor ([`Net::forward_batch_with`], bit-identical to
+/// one at a time), and each candidate's outputs go through [`deviance`] as they would alone. The
+/// scratch is reused from call to call; made once per search.
+pub struct Assessor<'m> {
+    projector: Projector<'m>,
+    /// The distinct shifted segments the current candidates read, and the row of each.
+    segments: Vec<(usize, usize)>,
+    rows: HashMap<(usize, usize), u32>,
+    /// Per candidate and shift (candidate-major, shifts in [`EffortModel::shift_index`] order), the
+    /// row of the segment it reads.
+    reads: Vec<u32>,
+    /// The projected inputs of the segments, [`EffortModel::width`] per row.
+    z: Vec<f32>,
+    /// One classifier's inputs and outputs for every candidate, and its networks' scratch.
+    x: Vec<f32>,
+    y: Vec<f32>,
+    scratch: Vec<f32>,
+    /// Every classifier's outputs per candidate (candidate-major, shifts in order).
+    outputs: Vec<Outputs>,
+}
+
+impl<'m> Assessor<'m> {
+    pub fn new(model: &'m EffortModel) -> Assessor<'m> {
+        Assessor {
+            projector: Projector::new(model),
+            segments: Vec::new(),
+            rows: HashMap::new(),
+            reads: Vec::new(),
+            z: Vec::new(),
+            x: Vec::new(),
+            y: Vec::new(),
+            scratch: Vec::new(),
+            outputs: Vec::new(),
+        }
+    }
+
+    /// Mean deviance and mean output of the family at each of `candidates` (`start..=end`) of
+    /// `pool`, in order, into `out`: [`EffortModel::assess_with`]'s of each, the same bits.
+    pub fn assess(&mut self, pool: &Pool, candidates: &[(usize, usize)], out: &mut Vec<(f32, Outputs)>) {
+        out.clear();
+        for some in candidates.chunks(CANDIDATES) {
+            self.assess_some(pool, some, out);
+        }
+    }
+
+    fn assess_some(&mut self, pool: &Pool, candidates: &[(usize, usize)], out: &mut Vec<(f32, Outputs)>) {
+        let model = self.projector.model;
+        let (s, shifts, width) = (model.max_shift as isize, model.shifts(), model.width());
+        // every distinct shifted segment, projected once
+        self.segments.clear();
+        self.rows.clear();
+        self.reads.clear();
+        for &(start, end) in candidates {
+            for i in -s..=s {
+                for j in -s..=s {
+                    let segment = shifted(start, end, i, j, pool.frames());
+                    let row = *self.rows.entry(segment).or_insert_with(|| {
+                        self.segments.push(segment);
+                        (self.segments.len() - 1) as u32
+                    });
+                    self.reads.push(row);
+                }
+            }
+        }
+        self.z.resize(self.segments.len().div_ceil(SEGMENTS) * SEGMENTS * width, 0.0);
+        for (chunk, z) in self.segments.chunks(SEGMENTS).zip(self.z.chunks_exact_mut(SEGMENTS * width)) {
+            // the last chunk filled up with its last segment (rows never read)
+            let lanes = std::array::from_fn(|l| chunk[l.min(chunk.len() - 1)]);
+            self.projector.project_lanes(pool, lanes, z);
+        }
+        // each classifier on every candidate at once
+        self.outputs.resize(candidates.len() * shifts, [0.0; 12]);
+        let mut at = 0;
+        for (k, f) in model.factors.iter().enumerate() {
+            let c = f.components;
+            for (shift, net) in f.nets.iter().enumerate() {
+                self.x.clear();
+                for reads in self.reads.chunks_exact(shifts) {
+                    let row = reads[shift] as usize * width + at;
+                    self.x.extend_from_slice(&self.z[row..row + c]);
+                }
+                self.y.resize(candidates.len() * 3, 0.0);
+                net.forward_batch_with(&self.x, &mut self.y, &mut self.scratch);
+                for (outputs, y) in self.outputs.chunks_exact_mut(shifts).zip(self.y.chunks_exact(3)) {
+                    outputs[shift][3 * k..3 * k + 3].copy_from_slice(y);
+                }
+            }
+            at += c;
+        }
+        out.extend(self.outputs.chunks_exact(shifts).map(deviance));
+    }
+}
+
 /// The segment `start + i ..= end + j` kept inside `frames` frames and at least two frames long.
 pub fn shifted(start: usize, end: usize, i: isize, j: isize, frames: usize) -> (usize, usize) {
     let last = frames.saturating_sub(1) as isize;
@@ -371,7 +525,8 @@ mod tests {
     }
 
     /// The projector (one plan of every factor's features, scales folded into the axes, blocked
-    /// rotation) gives the per-feature projection's inputs, on random segments of a take.
+    /// rotation) gives the per-feature projection's inputs, on random segments of a take; and
+    /// [`SEGMENTS`] segments projected side by side get each the bits of the segment alone.
     #[test]
     fn the_projector_equals_the_projection_one_feature_at_a_time() {
         let model = crate::methods::lma::shipped_model().unwrap();
@@ -382,9 +537,12 @@ mod tests {
         let mut projector = Projector::new(model);
         let (mut fast, mut slow) = (vec![0.0; model.width()], vec![0.0; model.width()]);
         let mut worst = 0.0f32;
+        let width = model.width();
+        let mut lanes = vec![0.0; SEGMENTS * width];
         for arm in &body.arms {
             let pool = Pool::of(arm, model.fps, 111);
             let n = pool.frames();
+            let mut segments = Vec::new();
             for _ in 0..300 {
                 let start = rng.below(n - 2);
                 let end = (start + 1 + rng.below(110)).min(n - 1);
@@ -393,9 +551,54 @@ mod tests {
                 for (a, b) in fast.iter().zip(&slow) {
                     worst = worst.max((a - b).abs() / b.abs().max(1.0));
                 }
+                segments.push((start, end, fast.clone()));
+            }
+            for chunk in segments.chunks_exact(SEGMENTS) {
+                projector.project_lanes(&pool, std::array::from_fn(|l| (chunk[l].0, chunk[l].1)), &mut lanes);
+                for ((start, end, alone), side_by_side) in chunk.iter().zip(lanes.chunks_exact(width)) {
+                    let bits = |z: &[f32]| z.iter().map(|v| v.to_bits()).collect::<Vec<u32>>();
+                    assert_eq!(bits(side_by_side), bits(alone), "{start}..={end}");
+                }
             }
         }
         assert!(worst < 1e-5, "largest difference {worst} (relative, or absolute below 1)");
+    }
+
+    /// The assessor's deviances and mean outputs are the family's, one candidate at a time, bit for bit: random
+    /// candidates of a real take (short and long, at its ends where the shifted segments are clamped, repeated,
+    /// overlapping), more than it reads at once, in calls of different sizes one after another (the scratch of one
+    /// call never leaks into the next).
+    #[test]
+    fn the_assessor_is_the_family_assessed_one_candidate_at_a_time() {
+        let model = crate::methods::lma::shipped_model().unwrap();
+        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/35_01.bvh")).unwrap();
+        let motion = crate::motion::Motion::from_bvh("35_01.bvh", &crate::bvh::parse(&text).unwrap()).unwrap();
+        let body = crate::methods::lma::body::upper_body(&motion, model.fps).unwrap();
+        let mut rng = crate::stats::Rng::new(37);
+        let (mut projector, mut assessor) = (Projector::new(model), Assessor::new(model));
+        let mut assessed = Vec::new();
+        for arm in &body.arms {
+            let pool = Pool::of(arm, model.fps, 111);
+            let n = pool.frames();
+            for count in [CANDIDATES + 9, 1, 0, 17] {
+                let mut candidates: Vec<(usize, usize)> = (0..count)
+                    .map(|_| {
+                        let start = rng.below(n - 2);
+                        (start, (start + 1 + rng.below(60)).min(n - 1))
+                    })
+                    .collect();
+                if count > 1 {
+                    candidates.extend([(0, 1), (0, 25), (n - 2, n - 1), (n - 30, n - 1), candidates[0]]);
+                }
+                assessor.assess(&pool, &candidates, &mut assessed);
+                assert_eq!(assessed.len(), candidates.len());
+                for (&(start, end), (d, m)) in candidates.iter().zip(&assessed) {
+                    let (one_d, one_m) = model.assess_with(&mut projector, &pool, start, end);
+                    assert_eq!(d.to_bits(), one_d.to_bits(), "{start}..={end}");
+                    assert_eq!(m.map(f32::to_bits), one_m.map(f32::to_bits), "{start}..={end}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -59,36 +59,102 @@ pub struct Prefix {
     min: Vec<Vec<f64>>,
 }
 
-/// The range sums of one series over frames `a..b` from which every weighted statistic follows.
-#[derive(Debug, Clone, Copy, Default)]
-struct Sums {
+/// The range sums of one series over frames `a..b` from which every weighted statistic follows, of `L` segments at
+/// once: lane `l` is the `l`-th segment's (the arithmetic then runs over every lane at once, in vectors).
+#[derive(Debug, Clone, Copy)]
+struct Sums<const L: usize> {
     /// Σ 1, Σ t, Σ x, Σ t·x, Σ x², Σ t·x².
-    n: f64,
-    t: f64,
-    x: f64,
-    tx: f64,
-    x2: f64,
-    tx2: f64,
+    n: [f64; L],
+    t: [f64; L],
+    x: [f64; L],
+    tx: [f64; L],
+    x2: [f64; L],
+    tx2: [f64; L],
 }
 
-impl Sums {
-    fn of(c: &[[f64; 4]], a: usize, b: usize) -> Sums {
+/// Per lane, the frames `a..b` that range sums read.
+type Ranges<const L: usize> = ([usize; L], [usize; L]);
+
+/// Per lane, a weight `p + q·t` in the frame `t`.
+type Line<const L: usize> = ([f64; L], [f64; L]);
+
+impl<const L: usize> Sums<L> {
+    fn of(c: &[[f64; 4]], (a, b): &Ranges<L>) -> Sums<L> {
         // Σ_{t<k} t = k(k − 1)/2: integers, exact in f64 like the prefix sums they replace
         let below = |k: usize| (k * k.saturating_sub(1) / 2) as f64;
-        let (p, q) = (&c[a], &c[b]);
-        Sums {
-            n: (b - a) as f64,
-            t: below(b) - below(a),
-            x: q[0] - p[0],
-            tx: q[1] - p[1],
-            x2: q[2] - p[2],
-            tx2: q[3] - p[3],
+        let mut s = Sums { n: [0.0; L], t: [0.0; L], x: [0.0; L], tx: [0.0; L], x2: [0.0; L], tx2: [0.0; L] };
+        for l in 0..L {
+            let (p, q) = (&c[a[l]], &c[b[l]]);
+            s.n[l] = (b[l] - a[l]) as f64;
+            s.t[l] = below(b[l]) - below(a[l]);
+            s.x[l] = q[0] - p[0];
+            s.tx[l] = q[1] - p[1];
+            s.x2[l] = q[2] - p[2];
+            s.tx2[l] = q[3] - p[3];
         }
+        s
     }
 
-    /// `(Σ w, Σ w x, Σ w x²)` for the weight `w(t) = p + q·t`.
-    fn linear(&self, p: f64, q: f64) -> (f64, f64, f64) {
-        (p * self.n + q * self.t, p * self.x + q * self.tx, p * self.x2 + q * self.tx2)
+    /// `[Σ w, Σ w x, Σ w x²]` for the weight `w(t) = p + q·t` of each lane.
+    fn linear(&self, (p, q): &Line<L>) -> [[f64; L]; 3] {
+        let mut out = [[0.0; L]; 3];
+        for l in 0..L {
+            out[0][l] = p[l] * self.n[l] + q[l] * self.t[l];
+            out[1][l] = p[l] * self.x[l] + q[l] * self.tx[l];
+            out[2][l] = p[l] * self.x2[l] + q[l] * self.tx2[l];
+        }
+        out
+    }
+}
+
+/// The weightings of `L` segments `start..=end` as lines in the frame `t` (every weighting is linear in `t` on
+/// `[start, mid]` and `[mid, end]`, with `u(t) = (t − start) / span`), and the frames their sums read: computed once
+/// per segment and read by every series.
+#[derive(Debug, Clone, Copy)]
+struct Lines<const L: usize> {
+    /// `1`.
+    uniform: Line<L>,
+    /// `u`.
+    end: Line<L>,
+    /// `1 − u`.
+    beginning: Line<L>,
+    /// The middle weighting's halves: `2u` on `start..=mid`, `2 − 2u` on `mid + 1..=end` (the middle frame in the
+    /// first).
+    rise: Line<L>,
+    fall: Line<L>,
+    /// The whole segment `start..end + 1` and the halves `start..mid + 1`, `mid + 1..end + 1`.
+    all: Ranges<L>,
+    first: Ranges<L>,
+    second: Ranges<L>,
+}
+
+impl<const L: usize> Lines<L> {
+    fn of(segments: [(usize, usize); L]) -> Lines<L> {
+        let (line, range) = (([0.0; L], [0.0; L]), ([0; L], [0; L]));
+        let mut lines = Lines {
+            uniform: line,
+            end: line,
+            beginning: line,
+            rise: line,
+            fall: line,
+            all: range,
+            first: range,
+            second: range,
+        };
+        for (l, (start, end)) in segments.into_iter().enumerate() {
+            let span = (end - start).max(1) as f64;
+            let s = start as f64;
+            let mid = start + (end - start) / 2;
+            (lines.uniform.0[l], lines.uniform.1[l]) = (1.0, 0.0);
+            (lines.end.0[l], lines.end.1[l]) = (-s / span, 1.0 / span);
+            (lines.beginning.0[l], lines.beginning.1[l]) = (1.0 + s / span, -1.0 / span);
+            (lines.rise.0[l], lines.rise.1[l]) = (-2.0 * s / span, 2.0 / span);
+            (lines.fall.0[l], lines.fall.1[l]) = (2.0 + 2.0 * s / span, -2.0 / span);
+            (lines.all.0[l], lines.all.1[l]) = (start, end + 1);
+            (lines.first.0[l], lines.first.1[l]) = (start, mid + 1);
+            (lines.second.0[l], lines.second.1[l]) = (mid + 1, end + 1);
+        }
+        lines
     }
 }
 
@@ -110,18 +176,19 @@ impl Prefix {
                 c[t + 1][k] = c[t][k] + terms[k];
             }
         }
-        let table = |pick: fn(f64, f64) -> f64| {
+        // level k: the extremum of each 2^k frames (a generic `pick`, so that it inlines and the level vectorises)
+        fn table(x: &[f64], longest: usize, pick: impl Fn(f64, f64) -> f64) -> Vec<Vec<f64>> {
             let mut levels = vec![x.to_vec()];
             let mut width = 1;
-            while 2 * width <= n.min(longest.max(1)) {
+            while 2 * width <= x.len().min(longest.max(1)) {
                 let prev = &levels[levels.len() - 1];
-                let next: Vec<f64> = (0..=n - 2 * width).map(|i| pick(prev[i], prev[i + width])).collect();
+                let next: Vec<f64> = prev.iter().zip(&prev[width..]).map(|(&a, &b)| pick(a, b)).collect();
                 levels.push(next);
                 width *= 2;
             }
             levels
-        };
-        Prefix { c, max: table(f64::max), min: table(f64::min) }
+        }
+        Prefix { c, max: table(x, longest, f64::max), min: table(x, longest, f64::min) }
     }
 
     /// Bytes per frame of the tables for segments of at most `longest` frames: the four sums and
@@ -131,7 +198,7 @@ impl Prefix {
         (4 + 2 * levels) * 8
     }
 
-    fn extremum(levels: &[Vec<f64>], a: usize, b: usize, pick: fn(f64, f64) -> f64) -> f64 {
+    fn extremum(levels: &[Vec<f64>], a: usize, b: usize, pick: impl Fn(f64, f64) -> f64) -> f64 {
         let len = b - a;
         let level = ((usize::BITS - 1 - len.leading_zeros()) as usize).min(levels.len() - 1);
         if len > 2 << level {
@@ -148,22 +215,23 @@ impl Prefix {
         pick(levels[level][a], levels[level][b - (1 << level)])
     }
 
-    /// `(Σ w, Σ w x, Σ w x²)` of `weighting` over the segment `start..=end`, from the range sums of
-    /// the whole segment (`all`) and, for [`Weighting::Middle`], of its halves.
-    fn weighted(&self, start: usize, end: usize, weighting: Weighting, all: &Sums) -> (f64, f64, f64) {
-        // u(t) = (t − start) / span; every weighting is linear in t on [start, mid] and [mid, end]
-        let span = (end - start).max(1) as f64;
-        let s = start as f64;
+    /// `[Σ w, Σ w x, Σ w x²]` of `weighting` over the segments of `lines`, from the range sums of
+    /// the whole segments (`all`) and, for [`Weighting::Middle`], of their halves.
+    fn weighted<const L: usize>(&self, lines: &Lines<L>, weighting: Weighting, all: &Sums<L>) -> [[f64; L]; 3] {
         match weighting {
-            Weighting::Uniform => all.linear(1.0, 0.0),
-            Weighting::End => all.linear(-s / span, 1.0 / span),
-            Weighting::Beginning => all.linear(1.0 + s / span, -1.0 / span),
+            Weighting::Uniform => all.linear(&lines.uniform),
+            Weighting::End => all.linear(&lines.end),
+            Weighting::Beginning => all.linear(&lines.beginning),
             Weighting::Middle => {
-                // 2u on the first half, 2 − 2u on the second (the middle frame in the first)
-                let mid = start + (end - start) / 2;
-                let first = Sums::of(&self.c, start, mid + 1).linear(-2.0 * s / span, 2.0 / span);
-                let second = Sums::of(&self.c, mid + 1, end + 1).linear(2.0 + 2.0 * s / span, -2.0 / span);
-                (first.0 + second.0, first.1 + second.1, first.2 + second.2)
+                let first = Sums::of(&self.c, &lines.first).linear(&lines.rise);
+                let second = Sums::of(&self.c, &lines.second).linear(&lines.fall);
+                let mut out = first;
+                for (o, s) in out.iter_mut().zip(second) {
+                    for l in 0..L {
+                        o[l] += s[l];
+                    }
+                }
+                out
             }
         }
     }
@@ -185,7 +253,11 @@ impl Prefix {
         match stat {
             Stat::Max => Self::extremum(&self.max, a, b, f64::max),
             Stat::Min => Self::extremum(&self.min, a, b, f64::min),
-            _ => Self::reduce(stat, self.weighted(start, end, weighting, &Sums::of(&self.c, a, b))),
+            _ => {
+                let lines = Lines::of([(start, end)]);
+                let [w, wx, wx2] = self.weighted(&lines, weighting, &Sums::of(&self.c, &lines.all));
+                Self::reduce(stat, (w[0], wx[0], wx2[0]))
+            }
         }
     }
 }
@@ -372,35 +444,45 @@ impl Pool {
         }
     }
 
-    /// The features of `plan` of the segment `start..=end` into `out` (one per slot of the plan,
-    /// [`Plan::len`]): each series' range sums read once and every statistic of it derived from
-    /// them — the same values as [`Pool::feature`] of each, at a fraction of the reads.
-    pub fn fill(&self, plan: &Plan, start: usize, end: usize, out: &mut [f64]) {
-        let (a, b) = (start, end + 1);
+    /// The features of `plan` of `L` segments `start..=end` into `out` (one per slot of the plan,
+    /// [`Plan::len`], lane `l` the `l`-th segment's): each series' range sums read once and every
+    /// statistic of it derived from them — the same values as [`Pool::feature`] of each, at a
+    /// fraction of the reads; the segments side by side in vectors, each lane's bits those of the
+    /// segment alone (`L` = 1).
+    pub fn fill<const L: usize>(&self, plan: &Plan, segments: [(usize, usize); L], out: &mut [[f64; L]]) {
+        let lines = Lines::of(segments);
+        let (a, b) = lines.all;
+        // per weighting: sum, mean, standard deviation, as Prefix::reduce computes them (0 without weight); each
+        // series writes those its slots read (sum and mean of the weightings it needs, the deviation where asked)
+        // before they read them, so the values another series left are never read
+        let mut values = [[0.0f64; L]; 12];
         for g in &plan.groups {
             let p = &self.series[g.series];
-            let all = Sums::of(&p.c, a, b);
-            // per weighting: sum, mean, standard deviation, as Prefix::reduce computes them
-            let mut values = [0.0f64; 12];
+            let all = Sums::of(&p.c, &lines.all);
             for (k, weighting) in WEIGHTINGS.into_iter().enumerate() {
                 if g.weightings & (1 << k) != 0 {
-                    let (w, wx, wx2) = p.weighted(start, end, weighting, &all);
+                    let [w, wx, wx2] = p.weighted(&lines, weighting, &all);
                     values[3 * k] = wx;
-                    if w > 0.0 {
-                        let mean = wx / w;
-                        values[3 * k + 1] = mean;
-                        if g.deviations & (1 << k) != 0 {
-                            values[3 * k + 2] = (wx2 / w - mean * mean).max(0.0).sqrt();
+                    let mut mean = [0.0; L];
+                    for l in 0..L {
+                        mean[l] = wx[l] / w[l];
+                        values[3 * k + 1][l] = if w[l] > 0.0 { mean[l] } else { 0.0 };
+                    }
+                    if g.deviations & (1 << k) != 0 {
+                        for l in 0..L {
+                            let deviation = (wx2[l] / w[l] - mean[l] * mean[l]).max(0.0).sqrt();
+                            values[3 * k + 2][l] = if w[l] > 0.0 { deviation } else { 0.0 };
                         }
                     }
                 }
             }
             for (slot, &op) in g.slots.clone().zip(&plan.ops[g.slots.clone()]) {
-                out[slot] = match op {
-                    Plan::MAX => Prefix::extremum(&p.max, a, b, f64::max),
-                    Plan::MIN => Prefix::extremum(&p.min, a, b, f64::min),
-                    k => values[k as usize],
-                };
+                let out = &mut out[slot];
+                match op {
+                    Plan::MAX => (0..L).for_each(|l| out[l] = Prefix::extremum(&p.max, a[l], b[l], f64::max)),
+                    Plan::MIN => (0..L).for_each(|l| out[l] = Prefix::extremum(&p.min, a[l], b[l], f64::min)),
+                    k => *out = values[k as usize],
+                }
             }
         }
     }
@@ -643,13 +725,13 @@ mod pool_tests {
                 (0..count).map(|_| rng.below(POOL_SIZE) as u16).collect()
             };
             let plan = Plan::new(which.iter().copied());
-            let mut out = vec![f64::NAN; plan.len()];
+            let mut out = vec![[f64::NAN]; plan.len()];
             for _ in 0..50 {
                 let start = rng.below(frames - 2);
                 let end = (start + rng.below(120)).min(frames - 1);
-                pool.fill(&plan, start, end, &mut out);
+                pool.fill(&plan, [(start, end)], &mut out);
                 for &k in &which {
-                    let (fast, slow) = (out[plan.slot(k).unwrap()], pool.feature(k as usize, start, end));
+                    let (fast, slow) = (out[plan.slot(k).unwrap()][0], pool.feature(k as usize, start, end));
                     assert!(
                         close(fast, slow, 1e-12),
                         "{} of {start}..={end}: {fast} vs {slow}",

@@ -8,7 +8,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::body::{upper_body, Side};
-use super::classifier::{effort, EffortModel, Outputs};
+use super::classifier::{effort, Assessor, EffortModel, Outputs};
 use super::deviance::{exhaustive, pruned, slow_frames};
 use super::features::{Kinematics, Pool};
 use super::search::{merge_arms, pair, smooth, troughs, Arms, DevianceMap};
@@ -543,15 +543,25 @@ impl Analysis {
             let within = (params.merge_s * self.fps).round() as usize;
             merge_arms(&arms[0], &arms[1], within)
         };
+        // each arm's segments assessed together, in order, as each would be alone
+        let mut assessor = Assessor::new(model);
+        let mut assessed = [0, 1].map(|arm| {
+            let reads = |arms: Arms| matches!((arm, arms), (_, Arms::Both) | (0, Arms::First) | (1, Arms::Second));
+            let segments: Vec<(usize, usize)> =
+                merged.iter().filter(|m| reads(m.2)).map(|&(start, end, _)| (start, end)).collect();
+            let mut out = Vec::new();
+            assessor.assess(&self.pools[arm], &segments, &mut out);
+            out.into_iter()
+        });
         merged
             .into_iter()
             .map(|(start, end, arms)| {
+                let mut next = |arm: usize| assessed[arm].next().expect("one assessment per segment of the arm");
                 let (deviance, outputs) = match arms {
-                    Arms::First => model.assess(&self.pools[0], start, end),
-                    Arms::Second => model.assess(&self.pools[1], start, end),
+                    Arms::First => next(0),
+                    Arms::Second => next(1),
                     Arms::Both => {
-                        let (l, r) =
-                            (model.assess(&self.pools[0], start, end), model.assess(&self.pools[1], start, end));
+                        let (l, r) = (next(0), next(1));
                         ((l.0 + r.0) / 2.0, std::array::from_fn(|k| (l.1[k] + r.1[k]) / 2.0))
                     }
                 };
@@ -768,5 +778,44 @@ fn effort_picture(segments: &[Segment], frames: usize) -> Picture {
         height,
         rgba,
         frames_per_pixel: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::method::NoProgress;
+
+    /// The found segments' deviance and Effort, assessed together per arm, are those of each segment assessed
+    /// alone on the arms it moves (both arms: the mean of the two), bit for bit, in both searches.
+    #[test]
+    fn found_segments_are_assessed_as_each_alone() {
+        let model = crate::methods::lma::shipped_model().unwrap();
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/fixtures/assimp_Boxing_Toes_100fps.bvh"
+        ))
+        .unwrap();
+        let motion = Motion::from_bvh("boxing.bvh", &crate::bvh::parse(&text).unwrap()).unwrap();
+        let mut arms = Vec::new();
+        for search in ["effort", "deviance"] {
+            let params = LmaParams { search: search.into(), ..LmaParams::default() };
+            let analysis = analyse(model, &motion, &params, &mut NoProgress).unwrap();
+            let found = analysis.find(model, &params);
+            assert!(found.len() > 3, "{search}: {} segments", found.len());
+            for f in &found {
+                let [l, r] = [0, 1].map(|k| model.assess(&analysis.pools[k], f.start, f.end));
+                let (d, m) = match f.arms {
+                    Arms::First => l,
+                    Arms::Second => r,
+                    Arms::Both => ((l.0 + r.0) / 2.0, std::array::from_fn(|k| (l.1[k] + r.1[k]) / 2.0)),
+                };
+                assert_eq!((f.deviance.to_bits(), f.outputs.map(f32::to_bits)), (d.to_bits(), m.map(f32::to_bits)));
+                arms.push(f.arms);
+            }
+        }
+        for kind in [Arms::First, Arms::Second, Arms::Both] {
+            assert!(arms.contains(&kind), "no segment of {kind:?} among {arms:?}");
+        }
     }
 }
