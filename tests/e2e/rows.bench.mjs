@@ -23,6 +23,20 @@ const METHODS = ["sssm", "velocity", "kcs", "pca", "lma", "knn", "dtfcn"];
 const TAKES = ["86/86_01", "mocap6/13_29", "mocap6/13_30", "mocap6/13_31", "mocap6/14_14"].map((t) => path.join(DATA, "cmu", `${t}.bvh`));
 const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
 
+/**
+ * Records, from the page's first script on, when the take is on screen (`window.__rows.take`) and when each row is
+ * done or failed (`window.__rows[method]`), in the page's clock (`window.__t0`: the drop's time, set by the caller).
+ */
+const recordRows = (page) => page.addInitScript((ms) => {
+  window.__rows = {};
+  window.__t0 = 0;
+  const go = () => new MutationObserver(() => {
+    for (const m of ms) if (["done", "error"].includes(document.body.dataset[m]) && !(m in window.__rows)) window.__rows[m] = performance.now();
+    if (document.body.dataset.state === "ready" && !("take" in window.__rows)) window.__rows.take = performance.now();
+  }).observe(document.body, { attributes: true });
+  if (document.body) go(); else document.addEventListener("DOMContentLoaded", go);
+}, METHODS);
+
 /** The takes' frame rows laid end to end (cycling) to `frames` rows, under the first take's hierarchy. */
 function longTake(frames, name) {
   const texts = TAKES.map((f) => readFileSync(f, "utf8"));
@@ -87,14 +101,7 @@ const emit = (what, value) => {
     const opened = await openPage();
     try {
       const { page } = opened;
-      await page.addInitScript((ms) => {
-        window.__rows = {};
-        const go = () => new MutationObserver(() => {
-          for (const m of ms) if (["done", "error"].includes(document.body.dataset[m]) && !(m in window.__rows)) window.__rows[m] = performance.now();
-          if (document.body.dataset.state === "ready" && !("take" in window.__rows)) window.__rows.take = performance.now();
-        }).observe(document.body, { attributes: true });
-        if (document.body) go(); else document.addEventListener("DOMContentLoaded", go);
-      }, METHODS);
+      await recordRows(page);
       await page.goto(BASE_URL);
       await page.waitForFunction((ms) => ms.every((m) => m in window.__rows), METHODS, { timeout: 120_000 });
       const r = await page.evaluate(() => window.__rows);
@@ -122,15 +129,7 @@ if (!TAKES.every(existsSync)) {
     try {
       const { page } = opened;
       await page.route("**/bench-take.bvh", (route) => route.fulfill({ path: forty, contentType: "text/plain" }));
-      await page.addInitScript((ms) => {
-        window.__rows = {};
-        window.__t0 = 0;
-        const go = () => new MutationObserver(() => {
-          for (const m of ms) if (["done", "error"].includes(document.body.dataset[m]) && !(m in window.__rows)) window.__rows[m] = performance.now();
-          if (document.body.dataset.state === "ready" && !("take" in window.__rows)) window.__rows.take = performance.now();
-        }).observe(document.body, { attributes: true });
-        if (document.body) go(); else document.addEventListener("DOMContentLoaded", go);
-      }, METHODS);
+      await recordRows(page);
       await page.goto(new URL("?src=bench-take.bvh", BASE_URL).href);
       await page.waitForFunction((ms) => "take" in window.__rows && ms.every((m) => m in window.__rows), METHODS, { timeout: 120_000 });
       const r = await page.evaluate((ms) => ({ take: window.__rows.take, every: Math.max(...ms.map((m) => window.__rows[m])) }), METHODS);
