@@ -1,14 +1,15 @@
 //! Lab tool, not part of the product: the native half of `make bench`'s one table. Measures
 //! parse (MB/s) and forward kinematics (frames/s) on a take, every registered method with its
-//! default parameters on 1×, 2× and 4× a CMU take, and the batch rate (takes/s of
-//! `mocapseg segment --out` on all cores), and appends one JSON line per measurement to a
+//! default parameters on 1×, 2×, 4× and 16× a CMU take (with the stages the median run reported:
+//! where its time goes), and the batch rate (takes/s of `mocapseg segment --out` on all cores),
+//! and appends one JSON line per measurement to a
 //! results file that `bench_table` reads beside the wasm side's (`tests/wasm_bench.rs`, the
 //! `methods_table` test, prints the same records).
 //!
 //! "1× a CMU take" is the first 1145 frames of the 30 Hz benchmark sequence (written by
 //! `bench_sssm --write-bvh`): CMU 86_01 at 30 Hz exactly, when the shared data is present; 2× and
 //! 4× carry on into the next takes of the sequence (13_29, 14_14, …), so the longer inputs are
-//! distinct material, not copies.
+//! distinct material, not copies; 16× (10.2 minutes at 30 Hz) repeats the sequence.
 //!
 //! ```text
 //! cargo run --release --example bench_methods -- --parse TAKE.bvh --sequence SEQ.bvh \
@@ -35,15 +36,18 @@ mod lab {
     use std::time::Instant;
 
     use mocapseg::bvh;
-    use mocapseg::method::{NoProgress, RunOptions};
+    use mocapseg::method::{Progress, RunOptions, Stages};
     use mocapseg::motion::{fk, Motion};
     use serde_json::json;
 
     /// Frames of "1× a CMU take" (CMU 86_01: 4579 frames at 120 Hz = 1145 at 30 Hz).
     pub const TAKE_FRAMES: usize = 1145;
+    /// The lengths measured, in takes: 1×, 2×, 4× (distinct material) and 16× (18,320 frames at 30 Hz,
+    /// 10.2 minutes: the sequence repeated, the long take of issue 46).
+    const FACTORS: [usize; 4] = [1, 2, 4, 16];
 
     #[derive(clap::Parser)]
-    #[command(about = "Native half of make bench's table: parse, FK, every method at 1×/2×/4× a take, batch")]
+    #[command(about = "Native half of make bench's table: parse, FK, every method at 1×/2×/4×/16× a take, batch")]
     pub struct Args {
         /// The take whose parse and forward kinematics are timed (CMU 86_01 in make bench).
         #[arg(long)]
@@ -88,6 +92,28 @@ mod lab {
         Ok((median(times), reps))
     }
 
+    /// A method's runs: one warm-up, then `reps` timed runs (3 when the warm-up took over a second),
+    /// each profiled by the stages it reports; the median run's time and stages, and `work`'s count
+    /// (segments).
+    fn time_stages(
+        reps: usize,
+        mut work: impl FnMut(&mut dyn Progress) -> Result<usize, String>,
+    ) -> Result<(f64, usize, Vec<(String, f64)>, usize), String> {
+        let mut profiled = || -> Result<(f64, Vec<(String, f64)>, usize), String> {
+            let clock = Instant::now();
+            let mut stages = Stages::new(|| clock.elapsed().as_secs_f64() * 1e3);
+            let count = work(&mut stages)?;
+            let ms = stages.elapsed_ms();
+            Ok((ms, stages.durations(ms), count))
+        };
+        let (warm_up, _, _) = profiled()?;
+        let reps = if warm_up > 1000.0 { reps.min(3) } else { reps }.max(1);
+        let mut runs = (0..reps).map(|_| profiled()).collect::<Result<Vec<_>, _>>()?;
+        runs.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let (ms, stages, count) = runs.swap_remove(runs.len() / 2);
+        Ok((ms, reps, stages, count))
+    }
+
     pub fn run(a: Args) -> Result<(), String> {
         if let Some(dir) = a.out.parent() {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -123,7 +149,7 @@ mod lab {
             json!({"side": "native", "what": "fk", "input": name, "bytes": text.len(), "frames": frames, "ms": ms, "runs": runs}),
         )?;
 
-        // every registered method at 1×, 2×, 4× a take
+        // every registered method at 1×, 2×, 4×, 16× a take
         let seq_text = std::fs::read_to_string(&a.sequence).map_err(|e| format!("{}: {e}", a.sequence.display()))?;
         let seq_bvh = bvh::parse(&seq_text).map_err(|e| format!("{}: {e}", a.sequence.display()))?;
         let full = Motion::from_bvh("bench sequence", &seq_bvh).map_err(|e| e.to_string())?;
@@ -133,7 +159,7 @@ mod lab {
         let only: Option<Vec<String>> =
             a.methods.as_ref().map(|m| m.split(',').map(|s| s.trim().to_string()).collect());
         println!(
-            "bench methods native: every method, default parameters, on 1×, 2×, 4× {TAKE_FRAMES} frames @30 Hz of {}",
+            "bench methods native: every method, default parameters, on 1×, 2×, 4×, 16× {TAKE_FRAMES} frames @30 Hz of {}",
             a.sequence.display()
         );
         for m in mocapseg::methods::registry() {
@@ -142,19 +168,17 @@ mod lab {
                 continue;
             }
             let checked = m.check_json(&serde_json::Value::Null).map_err(|e| format!("{}: {e}", info.name))?;
-            for factor in [1usize, 2, 4] {
+            for factor in FACTORS {
                 let n = factor * TAKE_FRAMES;
                 let take = Motion::concatenate(std::slice::from_ref(&full), n).map_err(|e| e.to_string())?;
-                let mut segments = 0;
-                let (ms, runs) = time_ms(a.reps, || {
+                let (ms, runs, stages, segments) = time_stages(a.reps, |progress| {
                     let o = m
-                        .run_checked(&take, &checked, &RunOptions::default(), &mut NoProgress)
+                        .run_checked(&take, &checked, &RunOptions::default(), progress)
                         .map_err(|e| format!("{}: {e}", info.name))?;
-                    segments = o.segmentation.segments.len();
-                    Ok(())
+                    Ok(o.segmentation.segments.len())
                 })?;
                 emit(json!({"side": "native", "what": "method", "method": info.name, "factor": factor,
-                    "frames": n, "ms": ms, "runs": runs, "segments": segments}))?;
+                    "frames": n, "ms": ms, "runs": runs, "segments": segments, "stages": stages}))?;
             }
         }
 

@@ -127,7 +127,7 @@ mod table {
             let at = |side: &str, factor: u64| {
                 find(&records, side, |r| r["what"] == "method" && r["method"] == m.as_str() && r["factor"] == factor)
             };
-            for factor in [1u64, 2, 4] {
+            for factor in [1u64, 2, 4, 16] {
                 let cell = |side: &str| match at(side, factor).and_then(|r| num(r, "ms")) {
                     Some(ms) if factor == 1 => ms_text(ms),
                     Some(ms) => match at(side, 1).and_then(|r| num(r, "ms")) {
@@ -169,13 +169,66 @@ mod table {
             None => println!("| batch | – (no shared data) | – | – |"),
         }
         println!();
+        print_stages(&records, &methods);
+        println!();
         println!(
             "1× = the first 1145 frames @30 Hz of the benchmark sequence (CMU 86_01 when the shared data is present); 2× and 4× \
-             go on into the next CMU takes (distinct material). Default parameters. Ratios, not absolute times, are what carry \
+             go on into the next CMU takes (distinct material); 16× (10.2 minutes) repeats the sequence. Default parameters. Ratios, not absolute times, are what carry \
              over: this machine is shared and noisy. Read from {}.",
             read.join(", ")
         );
         Ok(())
+    }
+
+    /// Where each method's time goes at 1× and 16×, native beside wasm: the stages it reported
+    /// (`method::Stages`, the median run of each side) that took at least a tenth of either side's
+    /// run, with the wasm / native ratio of each — the profile that says which stage makes a
+    /// method slower in the browser.
+    fn print_stages(records: &[Value], methods: &[String]) {
+        let stages_of = |r: Option<&Value>| -> Vec<(String, f64)> {
+            r.and_then(|r| r["stages"].as_array())
+                .map(|a| {
+                    a.iter().filter_map(|p| Some((p.get(0)?.as_str()?.to_string(), p.get(1)?.as_f64()?))).collect()
+                })
+                .unwrap_or_default()
+        };
+        println!("Where the time goes (the stages each method reports; those over a tenth of its run on either side):");
+        println!();
+        println!("| method, length | stage | native | wasm | wasm / native |");
+        println!("|---|---|---|---|---|");
+        for m in methods {
+            for factor in [1u64, 16] {
+                let at = |side: &str| {
+                    find(records, side, |r| r["what"] == "method" && r["method"] == m.as_str() && r["factor"] == factor)
+                };
+                let (n, w) = (at("native"), at("wasm"));
+                let (ns, ws) = (stages_of(n), stages_of(w));
+                if ns.is_empty() && ws.is_empty() {
+                    continue;
+                }
+                let total = |r: Option<&Value>| r.and_then(|r| num(r, "ms")).unwrap_or(f64::NAN);
+                let (nt, wt) = (total(n), total(w));
+                let mut names: Vec<&String> = Vec::new();
+                for (name, _) in ns.iter().chain(&ws) {
+                    if !names.contains(&name) {
+                        names.push(name);
+                    }
+                }
+                let get = |v: &[(String, f64)], name: &str| v.iter().find(|(n, _)| n == name).map(|p| p.1);
+                for name in names {
+                    let (a, b) = (get(&ns, name), get(&ws, name));
+                    let big = a.is_some_and(|a| a >= 0.1 * nt) || b.is_some_and(|b| b >= 0.1 * wt);
+                    if !big {
+                        continue;
+                    }
+                    let cell = |ms: Option<f64>, t: f64| match ms {
+                        Some(ms) => format!("{} ({:.0} %)", ms_text(ms), 100.0 * ms / t),
+                        None => "–".into(),
+                    };
+                    println!("| {m} {factor}× | {name} | {} | {} | {} |", cell(a, nt), cell(b, wt), ratio(a, b));
+                }
+            }
+        }
     }
 
     /// `t` in UTC as `YYYY-MM-DD HH:MM` (no date crate: days from the epoch, civil calendar).

@@ -34,7 +34,7 @@ mod lab {
     use std::path::PathBuf;
     use std::time::Instant;
 
-    use mocapseg::method::{Progress, RunOptions};
+    use mocapseg::method::{RunOptions, Stages};
     use mocapseg::motion::Motion;
     use serde_json::json;
 
@@ -64,39 +64,6 @@ mod lab {
         /// Also append one JSON line per method and length here.
         #[arg(long)]
         pub out: Option<PathBuf>,
-    }
-
-    /// A progress that notes when each stage began (stages reported again in a row are one stage).
-    struct Stages {
-        start: Instant,
-        marks: Vec<(String, f64)>,
-    }
-
-    impl Progress for Stages {
-        fn report(&mut self, stage: &str, _fraction: f64) {
-            if self.marks.last().is_none_or(|(s, _)| s != stage) {
-                self.marks.push((stage.to_string(), self.start.elapsed().as_secs_f64() * 1e3));
-            }
-        }
-    }
-
-    impl Stages {
-        /// Milliseconds per stage name (a name met twice: summed), in the order first met; the time
-        /// before the first report is "before the first report".
-        fn durations(&self, total_ms: f64) -> Vec<(String, f64)> {
-            let mut out: Vec<(String, f64)> = Vec::new();
-            let mut add = |name: &str, ms: f64| match out.iter_mut().find(|(n, _)| n == name) {
-                Some((_, t)) => *t += ms,
-                None => out.push((name.to_string(), ms)),
-            };
-            let first = self.marks.first().map_or(total_ms, |m| m.1);
-            add("(before the first report)", first);
-            for (i, (stage, at)) in self.marks.iter().enumerate() {
-                let end = self.marks.get(i + 1).map_or(total_ms, |m| m.1);
-                add(stage, end - at);
-            }
-            out
-        }
     }
 
     /// The files' frames laid end to end (cycling) to `frames` rows, written as one BVH file.
@@ -177,7 +144,8 @@ mod lab {
                 let mut runs: Vec<(f64, Vec<(String, f64)>)> = Vec::new();
                 let mut refused = None;
                 for rep in 0..=a.reps.max(1) {
-                    let mut stages = Stages { start: Instant::now(), marks: Vec::new() };
+                    let clock = Instant::now();
+                    let mut stages = Stages::new(|| clock.elapsed().as_secs_f64() * 1e3);
                     let o = match m.run_checked(&take, &checked, &options, &mut stages) {
                         Ok(o) => o,
                         Err(e) => {
@@ -185,7 +153,7 @@ mod lab {
                             break;
                         }
                     };
-                    let ms = stages.start.elapsed().as_secs_f64() * 1e3;
+                    let ms = stages.elapsed_ms();
                     std::hint::black_box(o);
                     if rep > 0 {
                         runs.push((ms, stages.durations(ms)));

@@ -290,14 +290,41 @@ async fn time_ms(reps: usize, mut work: impl FnMut()) -> (f64, usize) {
     (times[times.len() / 2], reps)
 }
 
+/// A method's runs as `examples/bench_methods.rs` times them natively: one warm-up, then `reps`
+/// timed runs (3 when the warm-up took over a second), each profiled by the stages it reports
+/// ([`mocapseg::method::Stages`] on `performance.now()`); the median run's time and stages, the
+/// runs, and `work`'s count (segments). Yields to the browser before each run.
+async fn time_stages(
+    reps: usize,
+    work: &mut dyn FnMut(&mut dyn mocapseg::method::Progress) -> usize,
+) -> (f64, usize, Vec<(String, f64)>, usize) {
+    let mut profiled = || {
+        let mut stages = mocapseg::method::Stages::new(performance_now);
+        let count = work(&mut stages);
+        let ms = stages.elapsed_ms();
+        (ms, stages.durations(ms), count)
+    };
+    yield_to_browser().await;
+    let (warm_up, _, _) = profiled();
+    let reps = if warm_up > 1000.0 { reps.min(3) } else { reps }.max(1);
+    let mut runs = Vec::with_capacity(reps);
+    for _ in 0..reps {
+        yield_to_browser().await;
+        runs.push(profiled());
+    }
+    runs.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let (ms, stages, count) = runs.swap_remove(runs.len() / 2);
+    (ms, reps, stages, count)
+}
+
 /// The wasm half of `make bench`'s one table: parse and forward kinematics of the take, and every
-/// registered method with its default parameters on 1×, 2×, 4× a CMU take — the same work as
+/// registered method with its default parameters on 1×, 2×, 4×, 16× a CMU take (and where each run's time goes) — the same work as
 /// `cargo run --release --example bench_methods`, printed as `BENCHJSON {…}` lines that the
 /// Makefile collects from the runner's output for `bench_table`. It asserts only that the work
 /// succeeded (a method may rightly find no segment in some material: LMA's pruned search often does).
 #[wasm_bindgen_test]
 async fn methods_table() {
-    use mocapseg::method::{self, NoProgress, RunOptions};
+    use mocapseg::method::RunOptions;
     use serde_json::json;
     let emit = |v: serde_json::Value| console_log!("BENCHJSON {v}");
     let name = PATH.rsplit('/').next().unwrap_or(PATH);
@@ -327,17 +354,16 @@ async fn methods_table() {
     for m in mocapseg::methods::registry() {
         let info = m.info();
         let checked = m.check_json(&serde_json::Value::Null).expect("default parameters");
-        for factor in [1usize, 2, 4] {
+        for factor in [1usize, 2, 4, 16] {
             let n = factor * TAKE_FRAMES;
             let take = Motion::concatenate(std::slice::from_ref(&full), n).expect("sequence");
-            let mut segments = 0;
-            let (ms, runs) = time_ms(5, || {
-                let o = m.run_checked(&take, &checked, &RunOptions::default(), &mut NoProgress).expect(&info.name);
-                segments = o.segmentation.segments.len();
+            let (ms, runs, stages, segments) = time_stages(5, &mut |progress| {
+                let o = m.run_checked(&take, &checked, &RunOptions::default(), progress).expect(&info.name);
+                o.segmentation.segments.len()
             })
             .await;
             emit(json!({"side": "wasm", "what": "method", "method": info.name, "factor": factor,
-                "frames": n, "ms": ms, "runs": runs, "segments": segments}));
+                "frames": n, "ms": ms, "runs": runs, "segments": segments, "stages": stages}));
         }
     }
 }

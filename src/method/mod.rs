@@ -27,6 +27,7 @@ pub mod form;
 pub mod plot;
 pub mod shipped;
 pub mod spec;
+pub mod stages;
 pub mod supervised;
 pub mod work;
 
@@ -39,6 +40,7 @@ use serde::{Deserialize, Serialize};
 use crate::motion::Motion;
 use crate::segment::{Effort, Segment, Segmentation};
 pub use spec::{ParamKind, ParamSpec};
+pub use stages::Stages;
 pub use supervised::{FittingModel, ModelStore, Supervised, Supervision, TakeFitReport};
 pub use work::{Work, WorkLimits};
 
