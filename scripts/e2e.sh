@@ -44,10 +44,18 @@ filter=()
 [ -n "${E2E_NAME:-}" ] && filter=(--test-name-pattern="$E2E_NAME")
 # the native CLI, for the tests that compare the page's numbers with `mocapseg eval` (truth.test.mjs)
 export MOCAPSEG_BIN="${MOCAPSEG_BIN:-${CARGO_TARGET_DIR:-$ROOT/target}/debug/mocapseg}"
+# each file's wall-clock seconds, into test-output/e2e-times.txt (which files make the stage long)
+TIMES="$OUT/e2e-times.txt"
+: >"$TIMES"
 failed=0
 for f in $files; do
     echo "e2e: $f"
+    t0=$(date +%s)
+    status=ok
     BASE_URL="http://127.0.0.1:$PORT/" OUT_DIR="$OUT" FIXTURES="$ROOT/tests/fixtures" SAMPLE_BVH="$DIST/www/sample.bvh" \
-        node "${filter[@]}" "$f" || failed=1
+        node "${filter[@]}" "$f" || { failed=1; status=FAILED; }
+    printf '%-28s %4d s  %s\n' "$f" "$(( $(date +%s) - t0 ))" "$status" >>"$TIMES"
 done
+echo "e2e: seconds per file (slowest first):"
+sort -k2 -n -r "$TIMES"
 exit "$failed"
