@@ -1499,3 +1499,40 @@ fn transfer_carries_one_takes_labels_to_the_other() {
     ]);
     assert!(String::from_utf8_lossy(&r.stderr).contains("--route sideways: expected nearest or clusters"));
 }
+
+/// A model file from anyone (issue 49): the shipped k-NN file with a hostile header — its payload and
+/// checksum untouched, framed as the format frames it (magic, format byte, header length, JSON,
+/// payload length, payload) — is refused with the field named and exit code 1, not a panic (exit
+/// 101), and not the 33 s `min_duration_s = 9e4` took before the header's decoding was checked.
+#[test]
+fn a_model_file_with_a_hostile_header_is_refused_naming_the_field() {
+    let bytes = std::fs::read(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("models/knn-exercises.model")).unwrap();
+    let magic = b"mocapseg-model\n".len();
+    let len = u32::from_le_bytes(bytes[magic + 1..magic + 5].try_into().unwrap()) as usize;
+    let json_at = magic + 5;
+    let header: serde_json::Value = serde_json::from_slice(&bytes[json_at..json_at + len]).unwrap();
+    let rest = &bytes[json_at + len..]; // payload length and payload
+    let dir = out_dir().join("hostile-models");
+    std::fs::create_dir_all(&dir).unwrap();
+    let take = fixture("13_31.bvh");
+    for (field, value, wanted) in [
+        ("min_duration_s", serde_json::json!(1e300), "min_duration_s = 1e300"),
+        ("min_duration_s", serde_json::json!(9e4), "min_duration_s = 90000"),
+        ("switch_cost", serde_json::json!(-1.0), "switch_cost = -1"),
+    ] {
+        let mut h = header.clone();
+        h["decoding"][field] = value;
+        let json = serde_json::to_vec(&h).unwrap();
+        let mut file = bytes[..magic + 1].to_vec();
+        file.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        file.extend_from_slice(&json);
+        file.extend_from_slice(rest);
+        let path = dir.join(format!("hostile-{field}.model"));
+        std::fs::write(&path, &file).unwrap();
+        let out = run(&["segment", "--method", "knn", "--model", path.to_str().unwrap(), take.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{err}");
+        assert!(err.contains(&format!("hostile-{field}.model")) && err.contains(wanted), "{err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+}

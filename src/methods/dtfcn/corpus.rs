@@ -56,6 +56,23 @@ pub fn class_labels(rows: &[LabelRow], takes: &[&Motion]) -> Result<ClassLabels,
     if classes.len() < 2 {
         return Err(format!("the labels name {} class(es); a labeller needs at least 2", classes.len()));
     }
+    // what a model file may hold (`model::check_header`): refused here, before training, not after it
+    let max = super::model::MAX_CLASSES;
+    if classes.len() > max {
+        return Err(format!("the labels name {} classes; a labeller holds at most {max}", classes.len()));
+    }
+    if let Some(c) = classes.iter().find(|c| c.chars().count() > super::model::MAX_NAME_CHARS) {
+        let shown: String = c.chars().take(40).collect();
+        return Err(format!(
+            "the label `{shown}…` has {} characters; a labeller's class names have at most {}",
+            c.chars().count(),
+            super::model::MAX_NAME_CHARS
+        ));
+    }
+    if let Some(c) = classes.iter().find(|c| c.trim().is_empty() || c.chars().any(char::is_control)) {
+        let shown: String = c.chars().map(|ch| if ch.is_control() { '·' } else { ch }).collect();
+        return Err(format!("the label `{shown}` is blank or has a control character: a class needs a name"));
+    }
     Ok((classes, labels))
 }
 
@@ -659,6 +676,26 @@ mod tests {
     }
 
     use super::*;
+
+    /// Labels a model file could not hold (`model::check_header`) are refused before training, so that
+    /// every model training writes loads again.
+    #[test]
+    fn labels_past_what_a_model_file_holds_are_refused_before_training() {
+        let motion =
+            crate::load::load_bytes("s.bvh", include_bytes!("../../../www/sample.bvh"), &mut |_| {}).unwrap().motion;
+        let row = |f: usize, label: String| LabelRow { file: "s.bvh".into(), start_frame: f, end_frame: f, label };
+        let many: Vec<LabelRow> = (0..300).map(|i| row(i, format!("c{i}"))).collect();
+        let e = class_labels(&many, &[&motion]).unwrap_err();
+        assert!(e.contains("300 classes") && e.contains("at most 256"), "{e}");
+        let ok: Vec<LabelRow> = (0..256).map(|i| row(i, format!("c{i}"))).collect();
+        assert_eq!(class_labels(&ok, &[&motion]).unwrap().0.len(), 256);
+        let long = vec![row(0, "a".into()), row(1, "b".repeat(101))];
+        let e = class_labels(&long, &[&motion]).unwrap_err();
+        assert!(e.contains("101 characters") && e.contains("at most 100"), "{e}");
+        let control = vec![row(0, "a".into()), row(1, "b\tc".into())];
+        let e = class_labels(&control, &[&motion]).unwrap_err();
+        assert!(e.contains("`b·c`") && e.contains("control character"), "{e}");
+    }
 
     #[test]
     fn colours_are_distinct_css_hex() {

@@ -28,9 +28,42 @@ pub struct Decoding {
     pub switch_cost: f64,
 }
 
+/// `v` as a message shows it: a huge or tiny number in exponent form (`1e300`, not 301 digits).
+fn shown(v: f64) -> String {
+    if v != 0.0 && !(1e-3..1e6).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
+    }
+}
+
+/// The longest minimum run a decoding may ask for, in seconds (a run's parameter or a model file's
+/// header): the decoder's time and memory grow with it (module docs).
+pub const MAX_MIN_DURATION_S: f64 = 30.0;
+/// The largest cost of a change of class, in nats.
+pub const MAX_SWITCH_COST: f64 = 1000.0;
+
 impl Decoding {
     /// Each frame's most probable class: the raw labels.
     pub const RAW: Decoding = Decoding { min_duration_s: 0.0, switch_cost: 0.0 };
+
+    /// Refuses a decoding outside the stated ranges (not a number included), naming the field: what
+    /// a model file's header says is checked here before the decoder sizes its tables by it.
+    pub fn check(&self) -> Result<(), String> {
+        if !(0.0..=MAX_MIN_DURATION_S).contains(&self.min_duration_s) {
+            return Err(format!(
+                "decoding min_duration_s = {}: expected seconds from 0 to {MAX_MIN_DURATION_S}",
+                shown(self.min_duration_s)
+            ));
+        }
+        if !(0.0..=MAX_SWITCH_COST).contains(&self.switch_cost) {
+            return Err(format!(
+                "decoding switch_cost = {}: expected a cost from 0 to {MAX_SWITCH_COST}",
+                shown(self.switch_cost)
+            ));
+        }
+        Ok(())
+    }
 
     /// True when this is the raw per-frame labelling.
     pub fn is_raw(&self, fps: f64) -> bool {

@@ -72,8 +72,7 @@ pub fn in_sample_note(header: &ModelHeader, take: &str) -> Option<String> {
 /// The custom decoding's defaults (what most folds chose: a 2 s minimum run).
 pub const CUSTOM_DECODING: Decoding = Decoding { min_duration_s: 2.0, switch_cost: 0.0 };
 
-/// The longest minimum duration a user may ask for, in seconds.
-pub const MAX_MIN_DURATION_S: f64 = 30.0;
+pub use super::decode::{MAX_MIN_DURATION_S, MAX_SWITCH_COST};
 
 impl Default for LabelParams {
     fn default() -> Self {
@@ -337,7 +336,7 @@ impl Method for Labelling {
                 help: "With the custom decoding: what a change of label costs the path, in nats of summed \
                        log-probability (higher: fewer, longer segments)."
                     .into(),
-                kind: ParamKind::Number { min: 0.0, max: 1000.0 },
+                kind: ParamKind::Number { min: 0.0, max: MAX_SWITCH_COST },
                 default: serde_json::json!(CUSTOM_DECODING.switch_cost),
                 unit: None,
                 basic: false,
@@ -370,10 +369,10 @@ impl Method for Labelling {
                 format!("min_duration_s = {d}: expected seconds from 0 to {MAX_MIN_DURATION_S}"),
             ));
         }
-        if !(0.0..=1000.0).contains(&cost) {
+        if !(0.0..=MAX_SWITCH_COST).contains(&cost) {
             return Err(MethodError::param(
                 "switch_cost",
-                format!("switch_cost = {cost}: expected a cost from 0 to 1000"),
+                format!("switch_cost = {cost}: expected a cost from 0 to {MAX_SWITCH_COST}"),
             ));
         }
         let decoding = match params.decoding.trim() {

@@ -18,6 +18,7 @@ use sha2::{Digest, Sha256};
 use super::input::{canonical_names, joint_names, Standardise, CHANNELS, NETWORK_FPS};
 use super::network::{DtFcn, DtFcnConfig};
 use super::training::TrainOptions;
+use crate::method::supervised::MAX_MODEL_NAME;
 use crate::methods::knn::{Knn, KnnParams};
 
 /// The first bytes of every model file.
@@ -409,6 +410,19 @@ fn read_header<'a>(bytes: &'a [u8], source: &str) -> Result<(ModelHeader, &'a [u
     Ok((header, payload))
 }
 
+/// The most classes a labelling model may list: its votes and probabilities take `frames × classes`
+/// numbers, its decoding `frames × classes` states.
+pub const MAX_CLASSES: usize = 256;
+/// The longest class name, in characters.
+pub const MAX_NAME_CHARS: usize = 100;
+/// The most networks an ensemble's payload may hold.
+pub const MAX_MEMBERS: usize = 16;
+
+/// True for a CSS colour written `#rrggbb`.
+fn is_hex_colour(c: &str) -> bool {
+    c.len() == 7 && c.starts_with('#') && c[1..].chars().all(|ch| ch.is_ascii_hexdigit())
+}
+
 /// The rows a model of `kind` reads: the network's image rows, or the k-NN's canonical joints.
 pub fn joint_names_of(kind: ModelKind) -> Vec<String> {
     match kind {
@@ -419,15 +433,46 @@ pub fn joint_names_of(kind: ModelKind) -> Vec<String> {
 
 /// What a header must say for this build to use the model.
 pub fn check_header(h: &ModelHeader) -> Result<(), String> {
+    if h.name.chars().count() > MAX_MODEL_NAME || h.name.chars().any(char::is_control) {
+        return Err(format!("model name: expected at most {MAX_MODEL_NAME} characters and no control characters"));
+    }
     let k = h.classes.len();
-    if k < 2 {
-        return Err(format!("{k} classes: a labelling model needs at least 2"));
+    if !(2..=MAX_CLASSES).contains(&k) {
+        return Err(format!("{k} classes: a labelling model needs 2 to {MAX_CLASSES}"));
     }
     if h.colours.len() != k {
         return Err(format!("{k} classes but {} colours", h.colours.len()));
     }
+    if let Some(c) = h
+        .classes
+        .iter()
+        .find(|c| c.trim().is_empty() || c.chars().count() > MAX_NAME_CHARS || c.chars().any(char::is_control))
+    {
+        let shown: String = c.chars().take(40).map(|ch| if ch.is_control() { '·' } else { ch }).collect();
+        return Err(format!(
+            "class name `{shown}`: expected 1 to {MAX_NAME_CHARS} characters, not blank, no control characters"
+        ));
+    }
+    if let Some(c) = h.colours.iter().find(|c| !is_hex_colour(c)) {
+        let shown: String = c.chars().take(20).map(|ch| if ch.is_control() { '·' } else { ch }).collect();
+        return Err(format!("class colour `{shown}`: expected #rrggbb"));
+    }
     if let Some(dup) = h.classes.iter().enumerate().find(|(i, c)| h.classes[..*i].contains(c)) {
         return Err(format!("class `{}` is listed twice", dup.1));
+    }
+    if let Some(d) = &h.decoding {
+        d.check()?;
+    }
+    if let Some(t) = &h.travel {
+        if !(t.median.is_finite() && t.limit.is_finite() && t.median >= 0.0 && t.limit > 0.0 && t.limit <= 1e4) {
+            return Err(format!(
+                "travel median {} and limit {} (inches per second): expected finite, 0 ≤ median, 0 < limit ≤ 10000",
+                t.median, t.limit
+            ));
+        }
+    }
+    if h.member_bytes.len() > MAX_MEMBERS {
+        return Err(format!("{} networks: an ensemble holds at most {MAX_MEMBERS}", h.member_bytes.len()));
     }
     let ours = joint_names_of(h.kind);
     if h.joints != ours {
@@ -593,5 +638,72 @@ mod tests {
         }
         let e = err(&m.to_bytes().unwrap());
         assert!(e.contains("parameters") && e.contains("bytes of weights"), "{e}");
+    }
+
+    /// A header field out of its range, as a file from anyone may carry it: refused on load with the
+    /// field named, before anything is sized by it (issue 49: `min_duration_s = 1e300` panicked the
+    /// decoder, 9e4 took 33 s on a 40 s take, 40,000 classes 7.9 s).
+    #[test]
+    fn hostile_headers_are_refused_naming_the_field() {
+        use super::super::decode::Decoding;
+        let bytes = tiny().to_bytes().unwrap();
+        // the header as a file carries it, framed around the untouched payload
+        let refused = |edit: &dyn Fn(&mut ModelHeader), wanted: &[&str]| {
+            let (mut header, payload) = read_header(&bytes, "tiny.model").unwrap();
+            edit(&mut header);
+            let e = Model::from_bytes(&frame(&header, payload).unwrap(), "hostile.model")
+                .err()
+                .unwrap_or_else(|| panic!("a header meant to be refused for {wanted:?} loaded"));
+            assert!(e.starts_with("hostile.model: "), "{e}");
+            for w in wanted {
+                assert!(e.contains(w), "`{w}` not in: {e}");
+            }
+        };
+        let decoding = |d: f64, c: f64| {
+            move |h: &mut ModelHeader| h.decoding = Some(Decoding { min_duration_s: d, switch_cost: c })
+        };
+        refused(&decoding(1e300, 0.0), &["min_duration_s = 1e300", "0 to 30"]);
+        refused(&decoding(9e4, 0.0), &["min_duration_s = 90000"]);
+        refused(&decoding(-1.0, 0.0), &["min_duration_s = -1"]);
+        refused(&decoding(2.0, 1e6), &["switch_cost = 1e6", "0 to 1000"]);
+        refused(&decoding(2.0, -5.0), &["switch_cost = -5"]);
+        refused(
+            &|h: &mut ModelHeader| {
+                h.classes = (0..40_000).map(|i| format!("c{i}")).collect();
+                h.colours = vec!["#000000".into(); 40_000];
+            },
+            &["40000 classes", "2 to 256"],
+        );
+        refused(&|h: &mut ModelHeader| h.classes[1] = "x".repeat(101), &["class name", "1 to 100 characters"]);
+        refused(&|h: &mut ModelHeader| h.classes[1] = "a\u{7}b".into(), &["class name `a·b`", "control"]);
+        refused(&|h: &mut ModelHeader| h.classes[1] = "  ".into(), &["class name", "not blank"]);
+        refused(&|h: &mut ModelHeader| h.colours[0] = "red\"><script>".into(), &["class colour", "#rrggbb"]);
+        refused(&|h: &mut ModelHeader| h.name = "n".repeat(65), &["model name", "at most 64"]);
+        refused(
+            &|h: &mut ModelHeader| h.travel = Some(super::super::fit::TravelProfile { median: -1.0, limit: 3.0 }),
+            &["travel median -1"],
+        );
+        refused(&|h: &mut ModelHeader| h.member_bytes = vec![1; 17], &["17 networks", "at most 16"]);
+        refused(&|h: &mut ModelHeader| h.unknown_threshold = 2.0, &["unknown threshold 2"]);
+        // what is in range still loads
+        let mut m = tiny();
+        m.header.decoding = Some(Decoding { min_duration_s: 30.0, switch_cost: 1000.0 });
+        Model::from_bytes(&m.to_bytes().unwrap(), "edge.model").expect("the ranges' ends load");
+    }
+
+    /// The shipped k-NN file with its header's decoding made hostile, framed as a file would carry it:
+    /// refused on load (its payload and checksum untouched, so only the header can be why).
+    #[test]
+    fn a_shipped_knn_file_with_a_hostile_decoding_is_refused() {
+        use super::super::decode::Decoding;
+        let bytes = crate::method::shipped::bytes("knn-exercises.model").expect("the shipped k-NN model");
+        let (mut header, payload) = read_header(bytes, "knn-exercises.model").unwrap();
+        header.decoding = Some(Decoding { min_duration_s: 1e300, switch_cost: 0.0 });
+        let hostile = frame(&header, payload).unwrap();
+        let e = Model::from_bytes(&hostile, "knn-hostile.model").err().expect("refused");
+        assert!(e.contains("knn-hostile.model") && e.contains("min_duration_s = 1e300"), "{e}");
+        // and `replace_header`, which writes a measured field into a kept model, refuses it too
+        let e = Model::replace_header(bytes, "knn-exercises.model", &header).unwrap_err();
+        assert!(e.contains("min_duration_s"), "{e}");
     }
 }

@@ -12,7 +12,7 @@ use super::corpus::{class_labels, fit_knn_model, model_from, rows_without_takes,
 use super::decode::Decoding;
 use super::input::NetworkInput;
 use super::input::Standardise;
-use super::method::{DEFAULT_THRESHOLD, MAX_MIN_DURATION_S};
+use super::method::{DEFAULT_THRESHOLD, MAX_MIN_DURATION_S, MAX_SWITCH_COST};
 use super::model::{data_hash, take_hashes, Labeller, Model, ModelKind};
 use super::network::Padding;
 use super::network::{DtFcn, DtFcnConfig};
@@ -54,9 +54,6 @@ fn spec(
         at_most: None,
     }
 }
-
-/// The most a change of label may cost in a model's decoding, in nats.
-pub const MAX_SWITCH_COST: f64 = 1000.0;
 
 /// The rows of the decoding a model keeps (its runs' `decoding=model`), common to both kinds.
 fn decoding_specs() -> Vec<ParamSpec> {
