@@ -4,9 +4,11 @@
 #   make test    set up, then every test: native (cargo test), the page bundle, the wasm
 #                tests in headless Chromium (one binary sharing the bundle's build), and the
 #                Playwright end-to-end test; prints each stage's time
-#   make bench   one table: parse, FK, every method at 1×/2×/4× a take and the batch rate, native
-#                and in headless Chromium; the page's load (bytes before the first result, time to it);
-#                with ../shared/data also the peer libraries (bench/peers)
+#   make bench   one table: parse, FK, every method at 1×/2×/4×/16× a take (16×: 10 minutes) with where
+#                each run's time goes, and the batch rate, native and in headless Chromium; the page's
+#                load (bytes before the first result, time to it) and the user's view (every row of a
+#                40 s and a 10-minute take, the sample, the library); with ../shared/data also the peer
+#                libraries (bench/peers)
 #   make setup   install the toolchain (scripts/setup.sh; idempotent, seconds when done)
 #   make release the page as `make web` builds it, with whole-program optimisation (profile `web-release`)
 #   make web     build the page into dist/ (the wasm in the `web` profile — the release profile —,
