@@ -1264,8 +1264,22 @@ test("DT-FCN and k-NN label the sample: rows coloured by class and confidence, m
 
 test("a bad model file shows the core's message at its input; the page keeps working", async () => {
   const knn = readFileSync(path.join(MODELS, "knn-exercises.model"));
+  // a file from anyone (issue 49): the shipped k-NN file whose header asks a decoding of 1e300 s, framed as the
+  // format frames it (magic line, format byte, header length, JSON, then the untouched payload with its checksum)
+  const hostile = (() => {
+    const at = "mocapseg-model\n".length + 1;
+    const len = knn.readUInt32LE(at);
+    const header = JSON.parse(knn.subarray(at + 4, at + 4 + len).toString("utf8"));
+    header.decoding.min_duration_s = 1e300;
+    const json = Buffer.from(JSON.stringify(header), "utf8");
+    const size = Buffer.alloc(4);
+    size.writeUInt32LE(json.length);
+    return Buffer.concat([knn.subarray(0, at), size, json, knn.subarray(at + 4 + len)]);
+  })();
   const bad = [
     ["#knn-model-file", "knn", { name: "half.model", buffer: knn.subarray(0, knn.length >> 1) }, /half\.model: truncated/],
+    ["#knn-model-file", "knn", { name: "hostile.model", buffer: hostile },
+      /hostile\.model: decoding min_duration_s = 1e300: expected seconds from 0 to 30/],
     ["#dtfcn-model-file", "dtfcn", { name: "family.json", buffer: Buffer.from('{"fps": 30, "factors": []}') },
       /family\.json: not a mocapseg model file.*JSON/],
     ["#dtfcn-model-file", "dtfcn", { name: "noise.bin", buffer: Buffer.from(Array.from({ length: 5000 }, (_, i) => (i * 7919 + 13) % 256)) },
