@@ -672,7 +672,7 @@ fn replace_worker(inner: &Rc<Inner>) {
     }
     // the main worker's run (unless it was the one cancelled or failed), else the next waiting one
     let run = inner.pool.borrow().running(0);
-    let wanted = run.is_some_and(|run| run_index(inner, run).is_some() || library::owns(inner, run));
+    let wanted = run.is_some_and(|run| pool::wanted(inner, run));
     let next = inner.pool.borrow_mut().replaced(0, !wanted);
     if let Some(run) = next {
         pool::post_run(inner, run);

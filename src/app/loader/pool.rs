@@ -177,7 +177,7 @@ pub(super) fn post_buffers_to(inner: &Rc<Inner>, slot: Slot, request: &Request, 
 }
 
 /// Whether the page still wants run `run`: a row's current run, or a take of the library under way.
-fn wanted(inner: &Inner, run: RunId) -> bool {
+pub(super) fn wanted(inner: &Inner, run: RunId) -> bool {
     run_index(inner, run).is_some() || super::library::owns(inner, run)
 }
 
