@@ -179,9 +179,21 @@ test("the library's takes are segmented on every worker at once, as one worker s
   // workers that ran them replaced (the pool keeps its size), and the page goes on
   await gotoApp(page, "?workers=3&methods=");
   await page.setInputFiles("#file-input", LIBRARY);
-  await page.waitForFunction(() => document.querySelectorAll('#library-list li[data-status="running"]').length >= 2,
-    null, { timeout: TIMEOUT });
-  await page.evaluate(() => document.querySelector("#library-cancel").click());
+  // clicked by the page itself the moment two takes run (a click sent from here once they were seen running could
+  // land after every take finished, on a busy machine)
+  await page.evaluate((timeout) => new Promise((resolve, reject) => {
+    const cancel = () => {
+      if (document.querySelectorAll('#library-list li[data-status="running"]').length < 2) return false;
+      document.querySelector("#library-cancel").click();
+      return true;
+    };
+    if (cancel()) return resolve();
+    const seen = new MutationObserver(() => {
+      if (cancel()) { seen.disconnect(); resolve(); }
+    });
+    seen.observe(document.body, { subtree: true, attributes: true, childList: true });
+    setTimeout(() => { seen.disconnect(); reject(new Error("two library takes never ran at once")); }, timeout);
+  }), TIMEOUT);
   await librarySettled();
   const after = await library();
   assert.ok(after.some(([, status]) => status === "cancelled"), JSON.stringify(after));
