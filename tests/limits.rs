@@ -272,3 +272,103 @@ fn slow_frame_times_are_refused_or_run_within_the_budget() {
         }
     }
 }
+
+/// `shipped` (a shipped model file) made into another model of the same kind, called `name`: `edit` changes its
+/// header and labeller. The payload and its hash are written anew, so the file is as valid as one a user trained.
+fn edited_model(
+    shipped: &str,
+    name: &str,
+    edit: impl FnOnce(&mut mocapseg::methods::dtfcn::model::Model),
+) -> (mocapseg::method::supervised::Loaded, Vec<u8>) {
+    use mocapseg::methods::dtfcn::model::Model;
+    let mut model = Model::from_bytes(mocapseg::method::shipped::bytes(shipped).unwrap(), shipped).unwrap();
+    model.header.name = name.to_string();
+    edit(&mut model);
+    let bytes = model.to_bytes().unwrap();
+    let method = mocapseg::methods::find(model.header.kind.name()).unwrap();
+    let loaded = method.supervised().unwrap().read_model(&format!("{name}.model"), &bytes).unwrap();
+    (loaded, bytes)
+}
+
+/// The labellers' work is computed from their model, not assumed from the shipped ones: models a user could make —
+/// a k-NN of 250 classes (seven taught, the rest never voted for) decoded with the longest minimum run a run accepts,
+/// a wide DT-FCN of four layers whose dilations give it a 2.4 k-frame receptive field, an ensemble of three such
+/// networks — each run on two lengths within what its Work declares, the declared bytes growing with the classes,
+/// the network and the members, and each refused before it starts under a budget below its declaration.
+#[test]
+fn labellers_stay_within_the_work_their_model_declares() {
+    use mocapseg::method::{NoProgress, RunOptions, WorkLimits};
+    use mocapseg::methods::dtfcn::model::Labeller;
+    use mocapseg::methods::dtfcn::network::DtFcnConfig;
+    let _one = MEASURING.lock().unwrap();
+    let classes: Vec<String> = (0..250).map(|i| format!("class{i}")).collect();
+    let colours: Vec<String> = (0..250).map(|i| format!("#{:06x}", i * 0x10101)).collect();
+    let wide = |members: usize| {
+        move |model: &mut mocapseg::methods::dtfcn::model::Model| {
+            let config =
+                DtFcnConfig { width: 7, filters: vec![64, 128, 128, 256], ..model.header.network.clone().unwrap() };
+            let device = mocapseg::methods::dtfcn::device();
+            model.labeller = Labeller::Network((0..members as u64).map(|s| config.init_seeded(&device, s)).collect());
+            model.header.network = Some(config);
+        }
+    };
+    let cases: Vec<(&str, &str, _, serde_json::Value)> = vec![
+        (
+            "knn",
+            "knn-exercises.model",
+            edited_model("knn-exercises.model", "many", |m| {
+                let taught = m.header.classes.len();
+                m.header.classes = classes[..taught].iter().cloned().chain(classes[taught..].iter().cloned()).collect();
+                m.header.colours = colours.clone();
+            }),
+            serde_json::json!({"model": "many", "decoding": "custom", "min_duration_s": 30.0, "fit_check": false}),
+        ),
+        (
+            "dtfcn",
+            "dtfcn-exercises.model",
+            edited_model("dtfcn-exercises.model", "wide", wide(1)),
+            serde_json::json!({"model": "wide", "decoding": "raw"}),
+        ),
+        (
+            "dtfcn",
+            "dtfcn-exercises.model",
+            edited_model("dtfcn-exercises.model", "wide3", wide(3)),
+            serde_json::json!({"model": "wide3", "decoding": "raw"}),
+        ),
+    ];
+    for (method, shipped, (loaded, _bytes), params) in cases {
+        let m = mocapseg::methods::find(method).unwrap();
+        let mut store = mocapseg::method::ModelStore::new();
+        store.install(loaded);
+        let checked = m.check_json_in(&params, &store).unwrap_or_else(|e| panic!("{method} {params}: {e}"));
+        let work = m.work(&checked).unwrap();
+        let shipped_work = m.work(&m.check_json(&serde_json::json!({"decoding": "raw"})).unwrap()).unwrap();
+        assert!(
+            work.bytes(6000, 31) > shipped_work.bytes(6000, 31),
+            "{method} {params}: declares no more than the shipped {shipped} ({} bytes)",
+            work.bytes(6000, 31)
+        );
+        for frames in [1500, 6000] {
+            let take = working_take(frames, 30.0);
+            let declared = work.bytes(work.frames(&take), take.joints());
+            let limits = WorkLimits { max_bytes: declared, ..Default::default() };
+            let (out, peak) =
+                peak_during(|| m.run_checked(&take, &checked, &RunOptions { pictures: true, limits }, &mut NoProgress));
+            out.unwrap_or_else(|e| panic!("{method} {params} on {frames} frames: {e}"));
+            println!(
+                "{method:6} {params} {frames:5} frames: peak {:6.1} MiB, declared {:6.1} MiB",
+                peak as f64 / 1048576.0,
+                declared as f64 / 1048576.0
+            );
+            assert!(peak <= declared, "{method} {params}: {frames} frames took {peak} bytes, more than {declared}");
+            // below its declaration the run is refused before it starts, naming the budget
+            let tight = WorkLimits { max_bytes: declared - 1, ..Default::default() };
+            let (out, peak) = peak_during(|| {
+                m.run_checked(&take, &checked, &RunOptions { pictures: true, limits: tight }, &mut NoProgress)
+            });
+            let message = out.err().unwrap_or_else(|| panic!("{method} {params} ran past its budget")).to_string();
+            assert!(message.contains("more than the budget"), "{method}: {message}");
+            assert!(peak < 1 << 20, "{method} allocated {peak} bytes before refusing");
+        }
+    }
+}

@@ -138,6 +138,26 @@ fn run_blocks(
     Probabilities { frames: n, classes, values }
 }
 
+/// Bytes one block of inference holds at its peak, whatever the take's length: the block's frames and their
+/// context on either side ([`receptive_half`]) times the widest layer's columns (`kernel × inputs`, the shifted copies
+/// a dilated convolution concatenates), its input and its output, as f32 — twice over (the counting allocator of
+/// `tests/limits.rs` measures about once over on the shipped networks and on a wide network with a 2.4 k-frame
+/// receptive field, whose block it fills).
+pub fn block_bytes(net: &DtFcn) -> usize {
+    let frames = BLOCK_FRAMES + 2 * receptive_half(net);
+    let widest = net
+        .layers
+        .iter()
+        .chain(std::iter::once(&net.classifier))
+        .map(|l| {
+            let [outputs, inputs, kernel] = l.weight.dims();
+            kernel * inputs + inputs + outputs
+        })
+        .max()
+        .unwrap_or(0);
+    2 * 4 * frames * widest
+}
+
 /// Half the receptive field of `net`: frames of context one output frame needs on each side.
 pub fn receptive_half(net: &DtFcn) -> usize {
     net.layers.iter().map(|l| l.dilation * (l.kernel_size - 1)).sum::<usize>().div_ceil(2)

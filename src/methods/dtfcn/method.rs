@@ -139,6 +139,29 @@ fn knn_of(model: Option<&Model>) -> Option<&crate::methods::knn::Knn> {
     })
 }
 
+/// What labelling a take with `model` holds besides the `base` bytes a working frame of its method: computed from
+/// the model, so that a model file cannot ask for more than its run declares ([`crate::method::work`] checks it
+/// before the run starts). Per class and working frame: each network's probabilities (an ensemble keeps all of them
+/// until it averages them), their mean or the k-NN's votes, the decoded copy and the decoding's back-pointers
+/// (a u16 and a flag); besides, whatever the length: the decoding's two score rows (classes × its minimum run in
+/// frames, [`super::decode::viterbi`]) and one block of the network's inference ([`super::infer::block_bytes`]),
+/// 4 MiB for the rest.
+pub fn model_work(model: &Model, decoding: &Decoding, base: usize) -> Work {
+    let classes = model.header.classes.len();
+    let (members, block) = match &model.labeller {
+        Labeller::Network(nets) => (nets.len(), nets.first().map_or(0, super::infer::block_bytes)),
+        Labeller::Knn(_) => (1, 0),
+    };
+    let per_class = 4 * (members + 2) + 3;
+    let scores = 2 * 4 * classes * decoding.min_frames(model.header.fps);
+    Work {
+        fps: model.header.fps,
+        bytes_per_frame: base + per_class * classes,
+        fixed_bytes: (4 << 20) + scores + block,
+        advice: "",
+    }
+}
+
 impl Labelling {
     /// The models of this method other than `chosen` whose classes fit `motion`, best first
     /// ([`super::fit::rank_fitting`]): the shipped ones and the user's (`models`). Only their fit is
@@ -429,17 +452,16 @@ impl Method for Labelling {
     }
 
     fn work(&self, params: &Checked) -> Work {
-        // the motion image and the labeller's per-frame arrays (probabilities, decoding); the
-        // network's activations (about 9 MiB fixed, 1.4 kB per frame) and the k-NN's windows
-        // (2.9 kB per frame): measured in tests/limits.rs
-        // (+ 3 kB per frame when the fit check measures the take's poses with the k-NN's windows)
+        // measured in tests/limits.rs: the motion image and the labeller's own per-frame arrays — the k-NN's
+        // windows (2.9 kB a frame), or the network's input (+ 3 kB a frame when the fit check measures the take's
+        // poses with the k-NN's windows)
         let windows = params.fit.as_ref().is_some_and(|f| f.windows.is_some());
-        let (bytes_per_frame, fixed_mib) = match self.kind {
-            ModelKind::Dtfcn if windows => (5_000, 12),
-            ModelKind::Dtfcn => (2_000, 12),
-            ModelKind::Knn => (4_000, 4),
+        let base = match self.kind {
+            ModelKind::Dtfcn if windows => 5_000,
+            ModelKind::Dtfcn => 2_000,
+            ModelKind::Knn => 4_000,
         };
-        Work { fps: params.model.header.fps, bytes_per_frame, fixed_bytes: fixed_mib << 20, advice: "" }
+        Work { fps: params.model.header.fps, advice: "", ..model_work(&params.model, &params.decoding, base) }
     }
 
     fn run(
