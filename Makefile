@@ -179,12 +179,13 @@ serve:
 test-native: check-toolchain fmt-check
 	$(CARGO) test
 
-# The tree as rustfmt writes it (rustfmt.toml); `cargo fmt` fixes it. Debian's fallback toolchain
-# may come without rustfmt: then this says so and checks nothing.
+# The tree as rustfmt writes it (rustfmt.toml); `cargo fmt` fixes it. With the toolchain's rustfmt, else Debian's
+# (rustfmt-web, which `make setup` installs where rustup has none); without either it fails rather than check nothing.
 fmt-check:
-	@if $(CARGO) fmt --version >/dev/null 2>&1; then \
-		$(CARGO) fmt --check || { echo "fmt-check: the diff above is what 'cargo fmt' would change; run it"; exit 1; }; \
-	else echo "fmt-check: rustfmt is not installed with this toolchain; formatting not checked"; fi
+	@if $(CARGO) fmt --version >/dev/null 2>&1; then fmt="$(CARGO) fmt"; \
+	elif [ -x /usr/bin/cargo-fmt ] && [ -x /usr/bin/rustfmt ]; then fmt="env RUSTFMT=/usr/bin/rustfmt /usr/bin/cargo-fmt"; \
+	else echo "fmt-check: no rustfmt (neither '$(CARGO) fmt' nor Debian's /usr/bin/cargo-fmt): run 'make setup'" >&2; exit 1; fi; \
+	$$fmt --check || { echo "fmt-check: the diff above is what '$$fmt' would change; run it" >&2; exit 1; }
 
 # One wasm test binary (tests/wasm.rs: the core, the SSSM suite, the worker's glue) in headless
 # Chromium, in the `web` profile with the `web` feature: it links the library `make web`

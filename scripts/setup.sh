@@ -95,9 +95,9 @@ try_route_s() {
         timeout 900 rustup toolchain install stable --profile minimal --target "$WASM_TARGET" \
             && rustup default stable || return 1
     fi
-    # rustfmt for make test's format check (best effort: without it the check says it checked nothing)
+    # rustfmt for make test's format check, which fails without one: rustup's, else Debian's (rustfmt-web)
     cargo fmt --version >/dev/null 2>&1 || timeout 300 rustup component add rustfmt >/dev/null 2>&1 \
-        || log "rustup could not add rustfmt: make test will not check formatting"
+        || { log "rustup could not add rustfmt: Debian's rustfmt-web instead"; debian_rustfmt; }
     if rustup target list --installed 2>/dev/null | grep -qx "$WASM_TARGET"; then
         log "rustup: $WASM_TARGET already installed ($(rustc --version))"
         return 0
@@ -108,6 +108,12 @@ try_route_s() {
     fi
     log "rustup could not add $WASM_TARGET"
     return 1
+}
+
+# Debian's rustfmt and cargo-fmt (/usr/bin), which `make fmt-check` uses where rustup has none.
+debian_rustfmt() {
+    [ -x /usr/bin/cargo-fmt ] && [ -x /usr/bin/rustfmt ] && return 0
+    apt_install rustfmt-web || log "rustfmt-web did not install: make test's format check will fail until a rustfmt is there"
 }
 
 route_d_ready() {
@@ -122,6 +128,7 @@ setup_route_d() {
         apt_install rustc-web cargo-web rust-web-src lld-22
         route_d_ready || die "Debian rustc-web/cargo-web/rust-web-src/lld-22 did not install completely"
     fi
+    debian_rustfmt
 }
 
 write_env_file() {
