@@ -1431,6 +1431,108 @@ fn cluster_shares_ids_across_takes_and_skips_a_bad_file() {
     }
 }
 
+/// `mocapseg` with `args` and `env`: its exit code, stdout and stderr.
+fn run_env(args: &[&str], env: &[(&str, &str)]) -> (Option<i32>, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_mocapseg")).args(args).envs(env.iter().copied()).output().unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// The files in `dir`, sorted.
+fn listing(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> =
+        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    names
+}
+
+/// `cluster` and `transfer` keep `segment`'s guarantees: a take that panics is reported as a panic (exit code 3, not
+/// a failure's 2) while the rest are matched and written; a take that fails or panics leaves no output of an earlier
+/// run behind; a take called `clusters.bvh` does not overwrite the summary; and a write that fails part way leaves the
+/// earlier file whole and no temporary file.
+#[test]
+fn cluster_and_transfer_keep_the_batch_guarantees() {
+    let lib = library_folder("library-guarantees-in");
+    std::fs::rename(lib.join("13_31.bvh"), lib.join("clusters.bvh")).unwrap();
+    std::fs::copy(fixture("02_01.bvh"), lib.join("boom.bvh")).unwrap();
+    let out = out_dir().join("library-guarantees");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).unwrap();
+    for earlier in ["boom.json", "broken.json"] {
+        std::fs::write(out.join(earlier), "an earlier run's").unwrap();
+    }
+    let panic_on = [("MOCAPSEG_TEST_PANIC_ON", "boom.bvh")];
+    let (code, stdout, stderr) =
+        run_env(&["cluster", lib.to_str().unwrap(), "--out", out.to_str().unwrap(), "--jobs", "1"], &panic_on);
+    assert_eq!(code, Some(3), "a take panicked: exit code 3\n{stdout}\n{stderr}");
+    let removed = |name: &str| format!("({} of an earlier run removed)", out.join(name).display());
+    let boom = lib.join("boom.bvh");
+    assert!(
+        stdout.lines().any(|l| l.starts_with(&format!("PANIC {}: panicked: MOCAPSEG_TEST_PANIC_ON", boom.display()))
+            && l.ends_with(&removed("boom.json"))),
+        "{stdout}"
+    );
+    assert!(
+        stdout.lines().any(|l| l.starts_with(&format!("FAIL  {}", lib.join("broken.bvh").display()))
+            && l.ends_with(&removed("broken.json"))),
+        "{stdout}"
+    );
+    assert!(stderr.contains("panicked (left out of the library; a bug in mocapseg, please report it):"), "{stderr}");
+    assert!(!stderr.contains("thread '"), "the panic is reported once, not by the default hook too:\n{stderr}");
+    assert_eq!(listing(&out), ["13_30.json", "clusters.json", "clusters_2.json"], "{stdout}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("clusters.json")).unwrap()).unwrap();
+    assert_eq!(summary["takes"], serde_json::json!(["13_30", "clusters_2"]));
+    assert_eq!(summary["failed"].as_array().unwrap().len(), 2);
+    let take =
+        mocapseg::segment::Segmentation::from_json(&std::fs::read_to_string(out.join("clusters_2.json")).unwrap())
+            .unwrap();
+    assert_eq!(take.file, "clusters.bvh");
+
+    // transfer: the same guarantees, the labelled take's labels carried to the take that did not panic
+    let labels = out_dir().join("library-guarantees-labels.csv");
+    let r = run(&["labels", fixture("mocap6_13_30_gt.csv").to_str().unwrap(), "-o", labels.to_str().unwrap()]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let moved = out_dir().join("library-guarantees-transfer");
+    let _ = std::fs::remove_dir_all(&moved);
+    std::fs::create_dir_all(&moved).unwrap();
+    std::fs::write(moved.join("boom.json"), "an earlier run's").unwrap();
+    let from = lib.join("13_30.bvh");
+    let args =
+        ["transfer", lib.to_str().unwrap(), "--labels", labels.to_str().unwrap(), "--from", from.to_str().unwrap()];
+    let (code, stdout, stderr) =
+        run_env(&[&args[..], &["--out", moved.to_str().unwrap(), "--jobs", "1"]].concat(), &panic_on);
+    assert_eq!(code, Some(3), "{stdout}\n{stderr}");
+    assert!(stdout.contains(&format!("({} of an earlier run removed)", moved.join("boom.json").display())), "{stdout}");
+    assert_eq!(listing(&moved), ["13_30.json", "clusters.json", "labels.csv"], "{stdout}");
+    let csv = std::fs::read_to_string(moved.join("labels.csv")).unwrap();
+    assert!(mocapseg::labels::read_csv(&csv, "labels.csv").unwrap().iter().any(|r| r.file == "clusters.bvh"));
+
+    // a write that fails part way (the file-size limit, SIGXFSZ ignored): the command fails naming the file, the
+    // earlier summary stays whole, no temporary file is left
+    #[cfg(unix)]
+    {
+        let before = std::fs::read_to_string(out.join("clusters.json")).unwrap();
+        let r = Command::new("sh")
+            .arg("-c")
+            .arg("ulimit -f 1 && trap '' XFSZ && exec \"$0\" \"$@\"")
+            .arg(env!("CARGO_BIN_EXE_mocapseg"))
+            .args(["cluster", lib.to_str().unwrap(), "--out", out.to_str().unwrap(), "--jobs", "1"])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains(&format!("{}: ", out.join("13_30.json").display())), "names the file: {stderr}");
+        assert_eq!(listing(&out), ["13_30.json", "clusters.json", "clusters_2.json"]);
+        assert_eq!(std::fs::read_to_string(out.join("clusters.json")).unwrap(), before);
+        let seg = std::fs::read_to_string(out.join("13_30.json")).unwrap();
+        assert!(mocapseg::segment::Segmentation::from_json(&seg).is_ok(), "the earlier 13_30.json is whole");
+    }
+}
+
 #[test]
 fn transfer_carries_one_takes_labels_to_the_other() {
     let lib = library_folder("library-transfer-in");

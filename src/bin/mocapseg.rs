@@ -13,7 +13,7 @@
 //!                                             scores against ground truth (one table for many)
 //! mocapseg splice --bvh TAKES… --labels GT.csv… -o OUT.bvh   a take with known gesture boundaries
 //! mocapseg cluster DIR_OR_FILES… --out DIR [--method sssm]   clusters shared across takes (one JSON per
-//!                                             take + clusters.json; exit 0 all, 2 some takes failed)
+//!                                             take + clusters.json; exit 0 all, 2 some failed, 3 one panicked)
 //! mocapseg transfer DIR_OR_FILES… --labels L.csv --from TAKE.bvh --out DIR [--route nearest|clusters]
 //!                                             one take's labels carried to the others (JSON per take, labels.csv)
 //! mocapseg clips SEG.json TAKE.bvh --out DIR [--level action|primitive|all] [--origin] [--zip]
@@ -163,7 +163,8 @@ mod cli {
         /// library on one self-similarity matrix (SSSM paper §VI across takes). Writes `<take>.json` per take, whose
         /// `cluster` ids (labels `C<id>`) mean the same motion in every take, and `clusters.json`: each cluster's
         /// occurrences (take, frames, seconds) and total duration, longest first.
-        /// Exit code: 0 every take clustered; 1 nothing to cluster; 2 some takes failed (named, the rest clustered).
+        /// Exit code: 0 every take clustered; 1 nothing to cluster; 2 some takes failed (named, the rest clustered);
+        /// 3 some take panicked (named, the rest clustered).
         Cluster {
             /// BVH files and/or folders.
             #[arg(required = true)]
@@ -178,7 +179,8 @@ mod cli {
         /// another take gets the label of the labelled segment its cheapest warping path joins it to, with a
         /// confidence (the JSON's `score`), and `unknown` where none fits. Writes `<take>.json` per take and
         /// `labels.csv` (the label CSV `train` reads; unknown stretches left out).
-        /// Exit code: 0 every take labelled; 1 nothing done; 2 some takes failed (named, the rest labelled).
+        /// Exit code: 0 every take labelled; 1 nothing done; 2 some takes failed (named, the rest labelled); 3 some
+        /// take panicked (named, the rest labelled).
         Transfer {
             /// BVH files and/or folders (the labelled take is added if not among them).
             #[arg(required = true)]
@@ -495,7 +497,9 @@ mod cli {
 
     /// A library command's exit: 2 when some takes failed (each reported), else 0.
     fn library_outcome(e: crate::library_cli::Ended) -> Outcome {
-        if e.failed > 0 {
+        if e.panicked > 0 {
+            Outcome::Panicked
+        } else if e.failed > 0 {
             Outcome::Partial
         } else {
             Outcome::Ok
@@ -1106,7 +1110,8 @@ mod cli {
     /// the folder they share (`a/x.bvh`, `b/x.bvh` → `a_x.json`, `b_x.json`), then by their
     /// extension (`x.bvh`, `x.amc` → `x_bvh.json`, `x_amc.json`), then by a number (`walk.bvh`,
     /// `walk.BVH` → `walk.json`, `walk_2.json`) that no other take's name has.
-    fn output_names(files: &[PathBuf]) -> Vec<String> {
+    /// `reserved`: names besides (a summary's, `clusters.json`) that no take's may take, compared as the names are.
+    pub(crate) fn output_names(files: &[PathBuf], reserved: &[&str]) -> Vec<String> {
         use std::collections::HashSet;
         use std::path::Component;
         let mut names: Vec<String> = files.iter().map(|f| stem(f)).collect();
@@ -1145,8 +1150,10 @@ mod cli {
                 }
             }
         }
-        let all: HashSet<String> = names.iter().map(|n| n.to_lowercase()).collect();
-        let mut used: HashSet<String> = HashSet::new();
+        let reserved: Vec<String> =
+            reserved.iter().map(|r| r.strip_suffix(".json").unwrap_or(r).to_lowercase()).collect();
+        let all: HashSet<String> = names.iter().map(|n| n.to_lowercase()).chain(reserved.iter().cloned()).collect();
+        let mut used: HashSet<String> = reserved.into_iter().collect();
         for name in &mut names {
             if used.insert(name.to_lowercase()) {
                 continue;
@@ -1214,7 +1221,7 @@ mod cli {
     /// rename within one file system is atomic), flushed to disk, then renamed over `path`. A reader
     /// sees the earlier file or the new one, never a part of one; a write that fails (a full disk, a
     /// file-size limit) leaves no temporary file behind (`tempfile` removes it when dropped).
-    fn write_atomically(path: &Path, text: &str) -> Result<(), String> {
+    pub(crate) fn write_atomically(path: &Path, text: &str) -> Result<(), String> {
         use std::io::Write;
         let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
@@ -1317,22 +1324,63 @@ mod cli {
         }
     }
 
-    /// One take, its panics caught: a panic ends that take, not the batch.
-    fn run_take(method: &dyn DynMethod, checked: &CheckedParams, file: &Path, out: &Path) -> Ended {
+    /// `work` on the take `file` with its panics caught: its result, or (`Err`) the panic's message and where it
+    /// happened — a panic ends that take, not the batch. Inside [`with_batch_hook`], the default hook stays quiet.
+    pub(crate) fn caught<T>(
+        file: &Path,
+        work: impl FnOnce() -> Result<T, String>,
+    ) -> Result<Result<T, String>, String> {
         IN_TAKE.with(|t| t.set(true));
         let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
             #[cfg(debug_assertions)]
             test_panic_hook(file);
-            segment_one(method, checked, file, out)
+            work()
         }));
         IN_TAKE.with(|t| t.set(false));
-        match outcome {
+        outcome.map_err(|payload| {
+            let at = PANIC_AT.with(|p| p.borrow_mut().take()).map(|at| format!(" (at {at})")).unwrap_or_default();
+            format!("{}: panicked: {}{at}", file.display(), panic_message(payload.as_ref()))
+        })
+    }
+
+    /// One take, its panics caught.
+    fn run_take(method: &dyn DynMethod, checked: &CheckedParams, file: &Path, out: &Path) -> Ended {
+        match caught(file, || segment_one(method, checked, file, out)) {
             Ok(Ok((line, frames))) => Ended::Written(line, frames),
             Ok(Err(message)) => Ended::Failed(message),
-            Err(payload) => {
-                let at = PANIC_AT.with(|p| p.borrow_mut().take()).map(|at| format!(" (at {at})")).unwrap_or_default();
-                Ended::Panicked(format!("{}: panicked: {}{at}", file.display(), panic_message(payload.as_ref())))
+            Err(message) => Ended::Panicked(message),
+        }
+    }
+
+    /// Runs `work` (a batch) with a panic hook that reports a take's panic on the take's line and in the summary,
+    /// with where it happened, instead of the default hook's lines through the progress bar; other threads' panics
+    /// (none expected) still go to the default hook, which is back once `work` returns.
+    pub(crate) fn with_batch_hook<R>(work: impl FnOnce() -> R) -> R {
+        let default_hook = std::sync::Arc::new(std::panic::take_hook());
+        let other = default_hook.clone();
+        std::panic::set_hook(Box::new(move |info| {
+            if IN_TAKE.with(|t| t.get()) {
+                let at = info.location().map(|l| format!("{}:{}:{}", l.file(), l.line(), l.column()));
+                PANIC_AT.with(|p| *p.borrow_mut() = at);
+            } else {
+                other(info)
             }
+        }));
+        let out = work();
+        let _ = std::panic::take_hook();
+        if let Ok(hook) = std::sync::Arc::try_unwrap(default_hook) {
+            std::panic::set_hook(hook);
+        }
+        out
+    }
+
+    /// Removes `out`, an earlier run's output for a take that has none now (it would read as this run's); what was
+    /// done, for the take's message (`None`: there was none).
+    pub(crate) fn remove_stale(out: &Path) -> Option<String> {
+        match std::fs::remove_file(out) {
+            Ok(()) => Some(format!("{} of an earlier run removed", out.display())),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+            Err(e) => Some(format!("{} of an earlier run NOT removed: {e}", out.display())),
         }
     }
 
@@ -1347,7 +1395,7 @@ mod cli {
             return Err("no .bvh files found in the inputs".into());
         }
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        let names = output_names(files);
+        let names = output_names(files, &[]);
         let threads = jobs.unwrap_or_else(rayon::current_num_threads).max(1);
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| e.to_string())?;
         let bar = ProgressBar::new(files.len() as u64);
@@ -1355,55 +1403,36 @@ mod cli {
             ProgressStyle::with_template("{bar:40} {pos}/{len} takes  {elapsed_precise}  eta {eta}")
                 .unwrap_or_else(|_| ProgressStyle::default_bar()),
         );
-        // a take's panic is reported on its line and in the summary, with where it happened,
-        // instead of the default hook's lines through the progress bar; other threads' panics
-        // (none expected) still go to the default hook
-        let default_hook = std::sync::Arc::new(std::panic::take_hook());
-        let other = default_hook.clone();
-        std::panic::set_hook(Box::new(move |info| {
-            if IN_TAKE.with(|t| t.get()) {
-                let at = info.location().map(|l| format!("{}:{}:{}", l.file(), l.line(), l.column()));
-                PANIC_AT.with(|p| *p.borrow_mut() = at);
-            } else {
-                other(info)
-            }
-        }));
         let frames = AtomicUsize::new(0);
         let started = Instant::now();
-        let ended: Vec<(Ended, Option<String>)> = pool.install(|| {
-            files
-                .par_iter()
-                .zip(&names)
-                .map(|(file, name)| {
-                    let out = dir.join(name);
-                    let ended = run_take(method, checked, file, &out);
-                    // a take without a segmentation now leaves none: an earlier run's would read as this one's
-                    let stale = match &ended {
-                        Ended::Written(..) => None,
-                        Ended::Failed(_) | Ended::Panicked(_) => match std::fs::remove_file(&out) {
-                            Ok(()) => Some(format!("{} of an earlier run removed", out.display())),
-                            Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
-                            Err(e) => Some(format!("{} of an earlier run NOT removed: {e}", out.display())),
-                        },
-                    };
-                    let note = stale.as_ref().map(|s| format!(" ({s})")).unwrap_or_default();
-                    match &ended {
-                        Ended::Written(line, n) => {
-                            frames.fetch_add(*n, Ordering::Relaxed);
-                            bar.suspend(|| println!("{line}"));
+        let ended: Vec<(Ended, Option<String>)> = with_batch_hook(|| {
+            pool.install(|| {
+                files
+                    .par_iter()
+                    .zip(&names)
+                    .map(|(file, name)| {
+                        let out = dir.join(name);
+                        let ended = run_take(method, checked, file, &out);
+                        // a take without a segmentation now leaves none: an earlier run's would read as this one's
+                        let stale = match &ended {
+                            Ended::Written(..) => None,
+                            Ended::Failed(_) | Ended::Panicked(_) => remove_stale(&out),
+                        };
+                        let note = stale.as_ref().map(|s| format!(" ({s})")).unwrap_or_default();
+                        match &ended {
+                            Ended::Written(line, n) => {
+                                frames.fetch_add(*n, Ordering::Relaxed);
+                                bar.suspend(|| println!("{line}"));
+                            }
+                            Ended::Failed(message) => bar.suspend(|| println!("FAIL  {message}{note}")),
+                            Ended::Panicked(message) => bar.suspend(|| println!("PANIC {message}{note}")),
                         }
-                        Ended::Failed(message) => bar.suspend(|| println!("FAIL  {message}{note}")),
-                        Ended::Panicked(message) => bar.suspend(|| println!("PANIC {message}{note}")),
-                    }
-                    bar.inc(1);
-                    (ended, stale)
-                })
-                .collect()
+                        bar.inc(1);
+                        (ended, stale)
+                    })
+                    .collect()
+            })
         });
-        let _ = std::panic::take_hook();
-        if let Ok(hook) = std::sync::Arc::try_unwrap(default_hook) {
-            std::panic::set_hook(hook);
-        }
         bar.finish_and_clear();
         let seconds = started.elapsed().as_secs_f64();
         let listed = |panics: bool| -> Vec<String> {

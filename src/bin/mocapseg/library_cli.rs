@@ -14,9 +14,10 @@ use mocapseg::methods::lma::corpus::same_file;
 use rayon::prelude::*;
 use serde_json::json;
 
-/// How a library command ended: how many takes failed (each reported).
+/// How a library command ended: how many takes failed and how many panicked (each reported).
 pub struct Ended {
     pub failed: usize,
+    pub panicked: usize,
 }
 
 /// What the library commands share: the method whose segments are matched and the library's settings.
@@ -70,18 +71,61 @@ fn take_of(
     Ok(LibraryTake { name: loaded.motion.name.clone(), features, segmentation: output.segmentation })
 }
 
-/// Every take of `files` (on all cores, a progress bar), the failures as messages; the takes keep the files' order.
+/// A take of the library, segmented: its file, its output's name in the output folder (`<stem>.json`) and itself.
+struct Member {
+    file: PathBuf,
+    out_name: String,
+    take: LibraryTake,
+}
+
+/// The takes left out of the library: each message (with what became of an earlier run's output of the take), and
+/// which panicked.
+#[derive(Default)]
+struct LeftOut {
+    failed: Vec<String>,
+    panicked: Vec<String>,
+}
+
+impl LeftOut {
+    /// Says which takes were left out and why, as `segment` does; the command's tally.
+    fn report(&self) -> Ended {
+        let list = |m: &[String]| m.iter().map(|m| format!("  {m}")).collect::<Vec<_>>().join("\n");
+        if !self.failed.is_empty() {
+            eprintln!("failed (left out of the library):\n{}", list(&self.failed));
+        }
+        if !self.panicked.is_empty() {
+            eprintln!(
+                "panicked (left out of the library; a bug in mocapseg, please report it):\n{}",
+                list(&self.panicked)
+            );
+        }
+        Ended { failed: self.failed.len(), panicked: self.panicked.len() }
+    }
+
+    /// Every message, failed and panicked (the summary file's `failed`).
+    fn all(&self) -> Vec<String> {
+        self.failed.iter().chain(&self.panicked).cloned().collect()
+    }
+}
+
+/// Every take of `files` (on all cores, a progress bar), in the files' order, each with its output's name in `out`
+/// (no two alike, none of `reserved`: the command's own files); a take that failed or panicked is left out, said
+/// why, and its output of an earlier run in `out` removed (it would read as this run's).
 fn library(
     args: &LibraryFlags,
     files: &[PathBuf],
     params: &LibraryParams,
-) -> Result<(Vec<(PathBuf, LibraryTake)>, Vec<String>), String> {
+    out: &Path,
+    reserved: &[&str],
+) -> Result<(Vec<Member>, LeftOut), String> {
     let method = mocapseg::methods::find(&args.method).map_err(|e| e.to_string())?;
     let json = method::params_from_overrides(method, &args.params).map_err(|e| e.to_string())?;
     let checked = method.check_json(&json).map_err(|e| e.to_string())?;
     if files.is_empty() {
         return Err("no .bvh files found in the inputs".into());
     }
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let names = crate::cli::output_names(files, reserved);
     let threads = args.jobs.unwrap_or_else(rayon::current_num_threads).max(1);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| e.to_string())?;
     let bar = ProgressBar::new(files.len() as u64);
@@ -89,36 +133,51 @@ fn library(
         ProgressStyle::with_template("{bar:40} {pos}/{len} takes segmented  {elapsed_precise}")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    let results: Vec<Result<LibraryTake, String>> = pool.install(|| {
-        files
-            .par_iter()
-            .map(|file| {
-                let r =
-                    std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| take_of(file, method, &checked, params)))
-                        .unwrap_or_else(|p| {
-                            Err(format!("{}: panicked: {}", file.display(), crate::cli::panic_message(p.as_ref())))
-                        });
-                match &r {
-                    Ok(t) => {
-                        bar.suspend(|| println!("ok    {}  {} segments", file.display(), t.segmentation.segments.len()))
-                    }
-                    Err(m) => bar.suspend(|| println!("FAIL  {m}")),
-                }
-                bar.inc(1);
-                r
-            })
-            .collect()
+    let results: Vec<Result<Result<LibraryTake, String>, String>> = crate::cli::with_batch_hook(|| {
+        pool.install(|| {
+            files
+                .par_iter()
+                .zip(&names)
+                .map(|(file, name)| {
+                    let r = crate::cli::caught(file, || take_of(file, method, &checked, params));
+                    let stale = match &r {
+                        Ok(Ok(_)) => None,
+                        _ => crate::cli::remove_stale(&out.join(name)),
+                    };
+                    let note = stale.map(|s| format!(" ({s})")).unwrap_or_default();
+                    let r = match r {
+                        Ok(Ok(t)) => {
+                            bar.suspend(|| {
+                                println!("ok    {}  {} segments", file.display(), t.segmentation.segments.len())
+                            });
+                            Ok(Ok(t))
+                        }
+                        Ok(Err(m)) => {
+                            bar.suspend(|| println!("FAIL  {m}{note}"));
+                            Ok(Err(format!("{m}{note}")))
+                        }
+                        Err(m) => {
+                            bar.suspend(|| println!("PANIC {m}{note}"));
+                            Err(format!("{m}{note}"))
+                        }
+                    };
+                    bar.inc(1);
+                    r
+                })
+                .collect()
+        })
     });
     bar.finish_and_clear();
-    let mut takes = Vec::new();
-    let mut failed = Vec::new();
-    for (file, r) in files.iter().zip(results) {
+    let mut members = Vec::new();
+    let mut left = LeftOut::default();
+    for ((file, out_name), r) in files.iter().zip(names).zip(results) {
         match r {
-            Ok(t) => takes.push((file.clone(), t)),
-            Err(m) => failed.push(m),
+            Ok(Ok(take)) => members.push(Member { file: file.clone(), out_name, take }),
+            Ok(Err(m)) => left.failed.push(m),
+            Err(m) => left.panicked.push(m),
         }
     }
-    Ok((takes, failed))
+    Ok((members, left))
 }
 
 /// Runs the matching step `work` (clustering or transfer) with a bar of its fraction done, its error as text.
@@ -139,62 +198,38 @@ fn matching<T, E: std::fmt::Display>(
     done
 }
 
-/// The output file names of `takes` (their stems; repeated stems numbered).
-fn names(takes: &[(PathBuf, LibraryTake)]) -> Vec<String> {
-    let mut used: Vec<String> = Vec::new();
-    takes
-        .iter()
-        .map(|(file, _)| {
-            let stem = file.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "take".into());
-            let mut name = stem.clone();
-            let mut k = 2;
-            while used.iter().any(|u| u.eq_ignore_ascii_case(&name)) {
-                name = format!("{stem}-{k}");
-                k += 1;
-            }
-            used.push(name.clone());
-            name
-        })
-        .collect()
+/// The summary `cluster` writes beside the takes' segmentations (no take's output takes its name).
+const CLUSTERS_FILE: &str = "clusters.json";
+
+/// A take's output name without `.json` (the summary's name of the take).
+fn stem(out_name: &str) -> &str {
+    out_name.strip_suffix(".json").unwrap_or(out_name)
 }
 
-fn write(path: &Path, text: &str) -> Result<(), String> {
-    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-fn report_failures(failed: &[String]) {
-    if !failed.is_empty() {
-        eprintln!(
-            "failed (left out of the library):\n{}",
-            failed.iter().map(|m| format!("  {m}")).collect::<Vec<_>>().join("\n")
-        );
-    }
-}
-
-/// `mocapseg cluster`: one segmentation JSON per take whose cluster ids are shared, and `clusters.json`.
+/// `mocapseg cluster`: one segmentation JSON per take whose cluster ids are shared, and `clusters.json`. Every file
+/// written whole or not at all; a take left out leaves no output of an earlier run behind.
 pub fn cluster_command(inputs: &[PathBuf], args: &LibraryFlags, out: &Path) -> Result<Ended, String> {
     let started = Instant::now();
     let params = args.params(LibraryParams::default())?;
     let files = collect_files(inputs, "bvh")?;
-    let (takes, failed) = library(args, &files, &params)?;
-    report_failures(&failed);
-    if takes.is_empty() {
+    let (members, left) = library(args, &files, &params, out, &[CLUSTERS_FILE])?;
+    let ended = left.report();
+    if members.is_empty() {
         return Err("no take could be segmented: nothing to cluster".into());
     }
-    let library: Vec<LibraryTake> = takes.iter().map(|(_, t)| t.clone()).collect();
+    let library: Vec<LibraryTake> = members.iter().map(|m| m.take.clone()).collect();
     let shared = matching(|progress| cluster(&library, &params, progress))?;
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
-    let names = names(&takes);
-    for (name, seg) in names.iter().zip(&shared.takes) {
-        write(&out.join(format!("{name}.json")), &seg.to_json())?;
+    for (m, seg) in members.iter().zip(&shared.takes) {
+        crate::cli::write_atomically(&out.join(&m.out_name), &seg.to_json())?;
     }
+    let names: Vec<&str> = members.iter().map(|m| stem(&m.out_name)).collect();
     let mut order: Vec<&mocapseg::library::SharedCluster> = shared.clusters.iter().collect();
     order.sort_by(|a, b| b.seconds.total_cmp(&a.seconds).then(a.id.cmp(&b.id)));
     let summary = json!({
         "method": &args.method,
         "params": params,
         "takes": names,
-        "failed": failed,
+        "failed": left.all(),
         "cross_links": shared.cross_links,
         "clusters": order.iter().map(|c| json!({
             "id": c.id,
@@ -207,24 +242,29 @@ pub fn cluster_command(inputs: &[PathBuf], args: &LibraryFlags, out: &Path) -> R
             })).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
     });
-    write(&out.join("clusters.json"), &serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?)?;
+    let text = serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?;
+    crate::cli::write_atomically(&out.join(CLUSTERS_FILE), &text)?;
     println!("cluster  takes  occurrences  seconds");
     for c in order.iter().filter(|c| c.takes > 1).take(20) {
         println!("C{:<7} {:>5}  {:>11}  {:>7.1}", c.id, c.takes, c.occurrences.len(), c.seconds);
     }
     eprintln!(
         "{} of {} takes clustered into {} clusters ({} in more than one take) in {:.1} s → {}",
-        takes.len(),
+        members.len(),
         files.len(),
         shared.clusters.len(),
         shared.shared().count(),
         started.elapsed().as_secs_f64(),
         out.display()
     );
-    Ok(Ended { failed: failed.len() })
+    Ok(ended)
 }
 
-/// `mocapseg transfer`: the labels of one take carried to every other; one JSON per take and one label CSV.
+/// The label CSV `transfer` writes beside the takes' segmentations.
+const LABELS_FILE: &str = "labels.csv";
+
+/// `mocapseg transfer`: the labels of one take carried to every other; one JSON per take and one label CSV, each
+/// written whole or not at all; a take left out leaves no output of an earlier run behind.
 pub fn transfer_command(
     inputs: &[PathBuf],
     args: &LibraryFlags,
@@ -241,13 +281,13 @@ pub fn transfer_command(
     }
     let text = std::fs::read_to_string(labels).map_err(|e| format!("{}: {e}", labels.display()))?;
     let rows = read_csv(&text, &labels.display().to_string())?;
-    let (takes, failed) = library(args, &files, &params)?;
-    report_failures(&failed);
-    let source = takes
+    let (members, left) = library(args, &files, &params, out, &[])?;
+    let ended = left.report();
+    let source = members
         .iter()
-        .position(|(f, _)| f == from)
+        .position(|m| m.file == from)
         .ok_or_else(|| format!("{}: the labelled take could not be segmented (see above)", from.display()))?;
-    let labelled = &takes[source].1;
+    let labelled = &members[source].take;
     let mut frame_labels = vec![None; labelled.features.file_frames];
     let mut used = 0;
     for row in rows.iter().filter(|r| same_file(&r.file, &labelled.name)) {
@@ -268,21 +308,20 @@ pub fn transfer_command(
     if used == 0 {
         return Err(format!("{}: no row names the labelled take {}", labels.display(), labelled.name));
     }
-    let library: Vec<LibraryTake> = takes.iter().map(|(_, t)| t.clone()).collect();
+    let library: Vec<LibraryTake> = members.iter().map(|m| m.take.clone()).collect();
     let kb = KnowledgeBase { take: source, frame_labels };
     let done = matching(|progress| transfer(&library, &kb, route, &params, progress))?;
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
-    let names = names(&takes);
     let mut csv_rows = Vec::new();
-    for ((name, (file, _)), t) in names.iter().zip(&takes).zip(&done.takes) {
-        write(&out.join(format!("{name}.json")), &t.segmentation.to_json())?;
-        let file_name = file.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| name.clone());
+    for (m, t) in members.iter().zip(&done.takes) {
+        crate::cli::write_atomically(&out.join(&m.out_name), &t.segmentation.to_json())?;
+        let name = stem(&m.out_name);
+        let file_name = m.file.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| name.into());
         let known: usize = t.frame_labels.iter().flatten().count();
         println!(
             "{:<24} {:>5.1} % labelled  {}",
             name,
             100.0 * known as f64 / t.frame_labels.len().max(1) as f64,
-            if file == from { "(the labelled take)" } else { "" }
+            if m.file == from { "(the labelled take)" } else { "" }
         );
         for s in t.segmentation.segments.iter().filter(|s| s.label != mocapseg::library::transfer::UNKNOWN) {
             csv_rows.push(LabelRow {
@@ -293,14 +332,14 @@ pub fn transfer_command(
             });
         }
     }
-    write(&out.join("labels.csv"), &to_csv(&csv_rows))?;
+    crate::cli::write_atomically(&out.join(LABELS_FILE), &to_csv(&csv_rows))?;
     eprintln!(
-        "labels of {} carried to {} takes ({:?}) in {:.1} s → {} (one JSON per take, labels.csv)",
+        "labels of {} carried to {} takes ({:?}) in {:.1} s → {} (one JSON per take, {LABELS_FILE})",
         labelled.name,
-        takes.len() - 1,
+        members.len() - 1,
         route,
         started.elapsed().as_secs_f64(),
         out.display()
     );
-    Ok(Ended { failed: failed.len() })
+    Ok(ended)
 }
