@@ -1336,6 +1336,27 @@ fn effort_gives_every_segment_of_any_method_its_laban_effort() {
     let out = run(&["effort", seg_path.to_str().unwrap(), other.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("pca.json") && err.contains("12_01.bvh"), "{err}");
+    // a family from a file (the shipped one is a valid file) gives the same Effort as the shipped family
+    let family = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("models/lma-effort.json");
+    let out =
+        run(&["effort", seg_path.to_str().unwrap(), take.to_str().unwrap(), "--lma-model", family.to_str().unwrap()]);
+    assert_eq!(stdout_json(&out), after);
+    // the effort command goes through LMA's annotator, which checks the take as a run is: the 200 frames
+    // with `Frame Time: 100` (5.5 hours, ~600,000 frames at the family's 30 Hz) and one segment over all of them is
+    // refused at once, naming the Frame Time, instead of resampling the take and pooling every frame of it
+    let text = std::fs::read_to_string(fixture("35_01.bvh")).unwrap();
+    let (head, motion) = text.split_at(text.find("MOTION").unwrap());
+    let rows: Vec<&str> = motion.lines().skip(3).take(200).collect();
+    let slow = dir.join("ft100.bvh");
+    std::fs::write(&slow, format!("{head}MOTION\nFrames: 200\nFrame Time: 100\n{}\n", rows.join("\n"))).unwrap();
+    let whole = serde_json::json!({"file": "ft100.bvh", "fps": 0.01, "frames": 200, "method": "hand", "params": {},
+        "segments": [{"start": 0, "end": 199, "label": "all", "level": "action", "cluster": null, "score": null}]});
+    let whole_path = dir.join("ft100.json");
+    std::fs::write(&whole_path, whole.to_string()).unwrap();
+    let out = run(&["effort", whole_path.to_str().unwrap(), slow.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("ft100.bvh: Frame Time 100 s is ") && err.contains("1 Hz or more"), "{err}");
 }
 
 /// A labelling model whose classes do not fit the take says so on stderr, with the models that

@@ -372,3 +372,86 @@ fn labellers_stay_within_the_work_their_model_declares() {
         }
     }
 }
+
+/// The Effort layer (LMA's annotation of any segmentation: the page's Effort bars, `mocapseg effort`) passes the same
+/// gate as a run: on a long take with one segment over all of it, what it declares ([`Method::annotation_work`],
+/// which grows with the longest segment) bounds what it allocates, and under a budget below that it is refused before
+/// it starts; the issue's `Frame Time: 100` take is refused at once, naming its Frame Time.
+#[test]
+fn effort_annotations_stay_within_the_work_they_declare() {
+    use mocapseg::method::{NoProgress, WorkLimits};
+    use mocapseg::segment::{Level, Segment};
+    let _one = MEASURING.lock().unwrap();
+    let lma = mocapseg::methods::find("lma").unwrap();
+    let checked = lma.check_json(&serde_json::json!({})).unwrap();
+    let segment = |start: usize, end: usize| Segment {
+        start,
+        end,
+        label: String::new(),
+        level: Level::Action,
+        cluster: None,
+        score: None,
+        mirror_of: None,
+        effort: None,
+    };
+    let take = working_take(1800, 30.0);
+    let last = take.frames() - 1;
+    let mut declared_short = 0;
+    for (what, segments) in [
+        ("short segments", vec![segment(0, 59), segment(60, 119)]),
+        ("one segment over the take", vec![segment(0, last)]),
+    ] {
+        // what it declares, as the gate computes it; it runs within that and is refused below it
+        let work = lma.annotation_work(&checked, &take, &segments).unwrap();
+        let fits = work.bytes(work.frames(&take), take.joints());
+        let (out, peak) = peak_during(|| {
+            lma.annotate_checked(
+                &take,
+                &checked,
+                &segments,
+                &WorkLimits { max_bytes: fits, ..Default::default() },
+                &mut NoProgress,
+            )
+        });
+        let annotations = out.unwrap();
+        assert_eq!(annotations.segments.len(), segments.len());
+        println!(
+            "effort, {what}: peak {:.1} MiB, declared {:.1} MiB",
+            peak as f64 / 1048576.0,
+            fits as f64 / 1048576.0
+        );
+        assert!(peak <= fits, "{what}: {peak} bytes, more than the {fits} it passed with");
+        // below what it declares it is refused before allocating
+        let (out, peak) = peak_during(|| {
+            lma.annotate_checked(
+                &take,
+                &checked,
+                &segments,
+                &WorkLimits { max_bytes: fits - 1, ..Default::default() },
+                &mut NoProgress,
+            )
+        });
+        let message = out.err().unwrap().to_string();
+        assert!(
+            message.contains("more than the budget") && message.contains("or annotate shorter segments"),
+            "{what}: {message}"
+        );
+        assert!(peak < 1 << 20, "{what}: {peak} bytes allocated before refusing");
+        if declared_short == 0 {
+            declared_short = fits;
+        } else {
+            assert!(
+                fits > declared_short,
+                "one long segment declares more than short ones ({fits} against {declared_short})"
+            );
+        }
+    }
+    let text = with_frame_time(200, "100");
+    let motion = mocapseg::load::load_bytes("ft100.bvh", text.as_bytes(), &mut |_| {}).unwrap().motion;
+    let (out, peak) = peak_during(|| {
+        lma.annotate_checked(&motion, &checked, &[segment(0, 199)], &WorkLimits::default(), &mut NoProgress)
+    });
+    let message = out.err().unwrap().to_string();
+    assert!(message.starts_with("Frame Time 100 s is ") && message.contains("1 Hz or more"), "{message}");
+    assert!(peak < 1 << 20, "{peak} bytes allocated before refusing the Frame Time");
+}

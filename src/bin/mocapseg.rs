@@ -969,9 +969,9 @@ mod cli {
         shown.join(" ")
     }
 
-    /// `mocapseg effort SEG.json TAKE [--lma-model FILE] [-o OUT]`.
+    /// `mocapseg effort SEG.json TAKE [--lma-model FILE] [-o OUT]`: through LMA's annotator, as the page's Effort
+    /// bars are (the same checks of the take and of what the annotation will hold).
     fn effort(segmentation: &Path, take: &Path, family: Option<&Path>, out: Option<&Path>) -> Result<(), String> {
-        use mocapseg::methods::lma::classifier::EffortModel;
         let text = read_text(segmentation)?;
         let mut seg = Segmentation::from_json(&text).map_err(|e| format!("{}: {e}", segmentation.display()))?;
         let motion = load(take)?.motion;
@@ -984,15 +984,34 @@ mod cli {
                 motion.frames()
             ));
         }
-        let owned;
-        let model: &EffortModel = match family {
+        let lma = mocapseg::methods::find("lma").map_err(|e| e.to_string())?;
+        let mut models = mocapseg::method::ModelStore::new();
+        let params = match family {
             Some(path) => {
-                owned = EffortModel::from_json(&read_text(path)?).map_err(|e| format!("{}: {e}", path.display()))?;
-                &owned
+                let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+                let file = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+                let loaded = lma
+                    .supervised()
+                    .ok_or("LMA reads no families")?
+                    .read_model(&file, &bytes)
+                    .map_err(|e| format!("{}: {e}", path.display()))?;
+                let name = loaded.info.name.clone();
+                models.install(loaded);
+                serde_json::json!({ "model": name })
             }
-            None => mocapseg::methods::lma::shipped_model()?,
+            None => serde_json::json!({}),
         };
-        let efforts = mocapseg::methods::lma::layer::effort_of(model, &motion, &seg.segments)?;
+        let checked = lma.check_json_in(&params, &models).map_err(|e| e.to_string())?;
+        let annotations = lma
+            .annotate_checked(
+                &motion,
+                &checked,
+                &seg.segments,
+                &mocapseg::method::WorkLimits::default(),
+                &mut NoProgress,
+            )
+            .map_err(|e| format!("{}: {e}", take.display()))?;
+        let efforts = annotations.segments.into_iter().map(|a| a.effort);
         let mut given = 0;
         for (s, e) in seg.segments.iter_mut().zip(efforts) {
             if s.effort.is_none() {

@@ -298,6 +298,12 @@ pub trait Method: Send + Sync + 'static {
         options: &RunOptions,
         progress: &mut dyn Progress,
     ) -> Result<MethodOutput, MethodError>;
+    /// What annotating `segments` of `motion` with `params` holds ([`Method::annotate`]): checked against the same
+    /// limits as a run before the annotation starts. The run's own work unless the method says otherwise.
+    fn annotation_work(&self, params: &Self::Checked, motion: &Motion, segments: &[Segment]) -> Work {
+        let _ = (motion, segments);
+        self.work(params)
+    }
     /// Whether the method annotates any segmentation of a take with per-segment qualities
     /// ([`Method::annotate`]), and what that reads (`None`: it does not).
     fn annotator(&self) -> Option<Annotator> {
@@ -357,6 +363,13 @@ pub trait DynMethod: Send + Sync {
     fn supervised(&self) -> Option<&dyn Supervised>;
     /// What a run with `params` (from [`DynMethod::check_json`] of this method) needs.
     fn work(&self, params: &CheckedParams) -> Result<Work, MethodError>;
+    /// What annotating `segments` of `motion` with `params` needs ([`Method::annotation_work`]).
+    fn annotation_work(
+        &self,
+        params: &CheckedParams,
+        motion: &Motion,
+        segments: &[Segment],
+    ) -> Result<Work, MethodError>;
     /// Runs on `motion` with parameters from [`DynMethod::check_json`] of this method.
     fn run_checked(
         &self,
@@ -368,12 +381,14 @@ pub trait DynMethod: Send + Sync {
     /// What the method declares about annotating segments (`None`: it does not).
     fn annotator(&self) -> Option<Annotator>;
     /// Annotates `segments` of `motion` with parameters from [`DynMethod::check_json`] of this
-    /// method (its [`Annotator::params`] are the ones read).
+    /// method (its [`Annotator::params`] are the ones read), after checking what it will hold
+    /// ([`Method::annotation_work`]) against `limits`, as a run is.
     fn annotate_checked(
         &self,
         motion: &Motion,
         params: &CheckedParams,
         segments: &[Segment],
+        limits: &WorkLimits,
         progress: &mut dyn Progress,
     ) -> Result<Annotations, MethodError>;
     /// [`DynMethod::check_json`] then [`DynMethod::run_checked`].
@@ -423,6 +438,15 @@ impl<M: Method> DynMethod for M {
         Ok(Method::work(self, self.downcast(params)?))
     }
 
+    fn annotation_work(
+        &self,
+        params: &CheckedParams,
+        motion: &Motion,
+        segments: &[Segment],
+    ) -> Result<Work, MethodError> {
+        Ok(Method::annotation_work(self, self.downcast(params)?, motion, segments))
+    }
+
     fn annotator(&self) -> Option<Annotator> {
         Method::annotator(self)
     }
@@ -432,6 +456,7 @@ impl<M: Method> DynMethod for M {
         motion: &Motion,
         params: &CheckedParams,
         segments: &[Segment],
+        limits: &WorkLimits,
         progress: &mut dyn Progress,
     ) -> Result<Annotations, MethodError> {
         let checked = self.downcast(params)?;
@@ -448,6 +473,7 @@ impl<M: Method> DynMethod for M {
                 motion.name
             )));
         }
+        Method::annotation_work(self, checked, motion, segments).check(&Method::info(self).short, motion, limits)?;
         Method::annotate(self, motion, checked, segments, progress)
     }
 

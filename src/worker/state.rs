@@ -475,9 +475,9 @@ impl WorkerState {
             })
             .collect();
         let mut progress = Posting { take, run, post };
-        let annotated = m
-            .check_json_in(params, &self.models)
-            .and_then(|checked| m.annotate_checked(motion, &checked, &segments, &mut progress));
+        let annotated = m.check_json_in(params, &self.models).and_then(|checked| {
+            m.annotate_checked(motion, &checked, &segments, &RunOptions::default().limits, &mut progress)
+        });
         match annotated {
             Ok(annotations) => Response::Annotated { take, run, annotations },
             Err(e) => run_failure(take, run, &short, &motion.name, e),

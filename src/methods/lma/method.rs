@@ -255,6 +255,16 @@ impl Method for Lma {
         Work { fps, bytes_per_frame: 2 * (pool + map) + 2_000, fixed_bytes: 8 << 20, advice: "or lower max_s" }
     }
 
+    /// The Effort layer ([`super::layer`]) resamples the whole take to the family's rate and pools both arms'
+    /// features for the longest segment and its shifts: what it holds grows with that segment, not with `max_s`.
+    fn annotation_work(&self, params: &Checked, motion: &Motion, segments: &[Segment]) -> Work {
+        let fps = params.model.fps;
+        let to_working = |f: usize| (f as f64 * fps / motion.fps.max(f64::MIN_POSITIVE)).round() as usize;
+        let longest = segments.iter().map(|s| to_working(s.end).saturating_sub(to_working(s.start))).max().unwrap_or(0);
+        let pool = super::features::pool_bytes_per_frame(longest + 2 * params.model.max_shift + 1);
+        Work { fps, bytes_per_frame: 2 * pool + 2_000, fixed_bytes: 8 << 20, advice: "or annotate shorter segments" }
+    }
+
     fn run(
         &self,
         motion: &Motion,
