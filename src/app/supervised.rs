@@ -72,6 +72,18 @@ pub struct UserModel {
     pub bytes: Arc<Vec<u8>>,
 }
 
+/// One of the user's models kept in this browser that this page's worker would not take (a model file of an
+/// older format, of another skeleton or rate, or damaged): never deleted by the page — listed with why, exportable,
+/// and forgotten only when the user asks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Unloadable {
+    pub name: String,
+    pub file: String,
+    pub bytes: Arc<Vec<u8>>,
+    /// What the worker said.
+    pub why: String,
+}
+
 /// A model whose training finished after another take was opened: held until the user says
 /// what to do with it ([`PendingChoice`]); nothing is applied to the take on screen unasked.
 #[derive(Debug, Clone, PartialEq)]
@@ -161,6 +173,8 @@ pub struct Supervised {
     pub request: RwSignal<Option<TrainRequest>>,
     /// Every model the user gave the page or trained in it, in the order given (one per name).
     pub models: RwSignal<Vec<Arc<UserModel>>>,
+    /// The user's models kept in this browser that do not load here, with why ([`Unloadable`]).
+    pub unloadable: RwSignal<Vec<Arc<Unloadable>>>,
     /// The model file input: where its last load stands and its status line.
     pub file_state: RwSignal<LoadStatus>,
     pub file_status: RwSignal<String>,
@@ -186,6 +200,7 @@ impl Supervised {
             pending: RwSignal::new(None),
             request: RwSignal::new(None),
             models: RwSignal::new(Vec::new()),
+            unloadable: RwSignal::new(Vec::new()),
             file_state: RwSignal::new(LoadStatus::Idle),
             file_status: RwSignal::new(String::new()),
         }
@@ -215,9 +230,19 @@ impl Supervised {
         });
     }
 
-    /// Drops the model called `name`.
+    /// Drops the model called `name` (a usable one, or one that does not load here).
     pub fn remove(&self, name: &str) {
         self.models.update(|list| list.retain(|m| m.info.name != name));
+        self.unloadable.update(|list| list.retain(|m| m.name != name));
+    }
+
+    /// Lists `model` among the models that do not load here (replacing one of its name), out of the model choice.
+    pub fn set_unloadable(&self, model: Unloadable) {
+        self.models.update(|list| list.retain(|m| m.info.name != model.name));
+        self.unloadable.update(|list| {
+            list.retain(|m| m.name != model.name);
+            list.push(Arc::new(model));
+        });
     }
 
     /// The model file name of the model `name`.

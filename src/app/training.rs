@@ -138,10 +138,16 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
         let mine: Vec<String> = s.models.with(|l| l.iter().map(|m| m.info.name.clone()).collect());
         let shipped = s.decl.shipped.join(", ");
         let short = &slot_short;
+        let broken = s.unloadable.with(Vec::len);
+        let broken = match broken {
+            0 => String::new(),
+            1 => " One kept model does not load here (below).".to_string(),
+            n => format!(" {n} kept models do not load here (below)."),
+        };
         if mine.is_empty() {
-            format!("Shipped {short} models: {shipped}. Load a model file to add your own.")
+            format!("Shipped {short} models: {shipped}. Load a model file to add your own.{broken}")
         } else {
-            format!("Shipped {short} models: {shipped}; yours (kept in this browser): {}.", mine.join(", "))
+            format!("Shipped {short} models: {shipped}; yours (kept in this browser): {}.{broken}", mine.join(", "))
         }
     };
     let id = format!("{method}-model-file");
@@ -162,6 +168,47 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
                                 data-model=name.clone()
                                 aria-label=format!("Forget {name}")
                                 title="Remove it from this browser and from the model choice"
+                                on:click=move |_| forget_loader.with_value(|l| l.forget_model(index, &forget))
+                            >
+                                "Forget"
+                            </button>
+                        </li>
+                    }
+                })
+                .collect_view()
+        })
+    };
+    // the user's models that do not load here: why, Export (the file as kept) and Forget — never dropped unasked
+    let unloadable = move || {
+        s.unloadable.with(|list| {
+            list.iter()
+                .map(|m| {
+                    let m = m.clone();
+                    let name = m.name.clone();
+                    let forget = name.clone();
+                    let export = m.clone();
+                    view! {
+                        <li data-model=name.clone() class="ms-my-model--unloadable">
+                            <span class="ms-my-model-name">{name.clone()}</span>
+                            <span class="ms-my-model-why">{format!("does not load here: {}", m.why)}</span>
+                            <button
+                                class="ms-button ms-button--quiet ms-export-model"
+                                type="button"
+                                data-model=name.clone()
+                                aria-label=format!("Export {name}")
+                                title="Download the model file as it is kept in this browser"
+                                on:click=move |_| {
+                                    let _ = super::motion_image::download(&export.bytes, "application/octet-stream", &export.file);
+                                }
+                            >
+                                "Export"
+                            </button>
+                            <button
+                                class="ms-button ms-button--quiet ms-forget"
+                                type="button"
+                                data-model=name.clone()
+                                aria-label=format!("Forget {name}")
+                                title="Remove it from this browser"
                                 on:click=move |_| forget_loader.with_value(|l| l.forget_model(index, &forget))
                             >
                                 "Forget"
@@ -196,9 +243,10 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
                 id=format!("{method}-my-models")
                 class="ms-my-models"
                 aria-label=format!("Your {short} models kept in this browser")
-                hidden=move || s.models.with(Vec::is_empty)
+                hidden=move || s.models.with(Vec::is_empty) && s.unloadable.with(Vec::is_empty)
             >
                 {mine}
+                {unloadable}
             </ul>
         </div>
         <ModelCardView state=state index=index id=format!("{method}-model-card")/>

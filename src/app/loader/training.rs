@@ -8,7 +8,8 @@
 use super::super::browser_models;
 use super::super::fetch::blob_bytes;
 use super::super::supervised::{
-    describe, LoadStatus, PendingChoice, PendingModel, Supervised, TrainAsk, TrainState, TrainedFile, UserModel,
+    describe, LoadStatus, PendingChoice, PendingModel, Supervised, TrainAsk, TrainState, TrainedFile, Unloadable,
+    UserModel,
 };
 use super::super::MethodSlot;
 use super::{next_id, now, post, post_buffers, replace_worker, start_run, Inner, Loader};
@@ -230,8 +231,10 @@ fn sync_model(inner: &Rc<Inner>, index: usize, file: &str, bytes: &Arc<Vec<u8>>,
     }
 }
 
-/// The worker would not take one of the user's models: the page drops it (so that no worker is
-/// asked again) and says so next to its method's file input.
+/// The worker would not take one of the user's models: no worker is asked for it again, and it leaves the model
+/// choice — but a model kept in this browser is not deleted (an update that changed the model format, the joints or
+/// the rate would otherwise wipe every kept model): it is listed as one that does not load here, with why, to be
+/// exported or forgotten by the user.
 pub(super) fn drop_model(inner: &Inner, run: RunId, message: String) {
     let entry = {
         let mut sync = inner.model_sync.borrow_mut();
@@ -239,15 +242,26 @@ pub(super) fn drop_model(inner: &Inner, run: RunId, message: String) {
         at.map(|at| sync.remove(at))
     };
     let Some((_, index, name)) = entry else { return };
-    inner.restoring.borrow_mut().retain(|(id, _, _)| *id != run);
+    let restored = {
+        let mut restoring = inner.restoring.borrow_mut();
+        let at = restoring.iter().position(|(id, _, _)| *id == run);
+        at.map(|at| restoring.remove(at))
+    };
     let Some(s) = supervised(inner, index) else { return };
-    s.remove(&name);
-    let method = inner.state.methods[index].info.name.clone();
-    let forgotten = name.clone();
-    wasm_bindgen_futures::spawn_local(async move {
-        let _ = browser_models::remove(&method, &forgotten).await;
-    });
-    s.file_status.set(format!("The worker could not take your model `{name}` ({message}); it was dropped."));
+    let kept =
+        s.models.with_untracked(|l| l.iter().find(|m| m.info.name == name).map(|m| (m.file.clone(), m.bytes.clone())));
+    match restored.map(|(_, file, bytes)| (file, bytes)).or(kept) {
+        Some((file, bytes)) => {
+            s.set_unloadable(Unloadable { name: name.clone(), file, bytes, why: message.clone() });
+            s.file_status.set(format!(
+                "Your model `{name}` does not load here ({message}); it is kept in this browser: export it or forget it below."
+            ));
+        }
+        None => {
+            s.remove(&name);
+            s.file_status.set(format!("The worker could not take your model `{name}` ({message})."));
+        }
+    }
     s.file_state.set(LoadStatus::Failed);
 }
 
