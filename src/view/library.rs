@@ -24,6 +24,27 @@ fn extension(name: &str) -> String {
     name.rsplit_once('.').map(|(_, e)| e.to_ascii_lowercase()).unwrap_or_default()
 }
 
+/// `takes` (of files `names` with `sizes` in bytes, by index) without those whose motion or skeleton file is larger
+/// than the page reads of one take ([`crate::view::url_params::MAX_FILE_BYTES`], 512 MiB): a library holds no file a
+/// take dropped alone could not be, and each left out is named with why.
+pub fn within_cap(takes: Vec<TakeFiles>, names: &[&str], sizes: &[f64]) -> (Vec<TakeFiles>, Vec<String>) {
+    let cap = crate::view::url_params::MAX_FILE_BYTES as f64;
+    let mut kept = Vec::new();
+    let mut refused = Vec::new();
+    for t in takes {
+        let big = std::iter::once(t.motion).chain(t.skeleton).find(|&i| sizes.get(i).is_some_and(|&b| b > cap));
+        match big {
+            Some(i) => refused.push(format!(
+                "{}: {:.0} MiB is more than the page reads of a take (512 MiB); left out of the library",
+                names[i],
+                (sizes[i] / 1024.0 / 1024.0).ceil()
+            )),
+            None => kept.push(t),
+        }
+    }
+    (kept, refused)
+}
+
 /// The takes among files dropped or picked together (a folder's files included), in name order:
 /// each `.bvh` is a take, each `.amc` a take with the `.asf` of its subject (`02_01.amc` →
 /// `02.asf`; when the files are one ASF and one AMC, those two). Other files are left out; an AMC
@@ -446,6 +467,29 @@ pub fn make_unique(names: &mut [String]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A file past the page's cap of one take is left out of the library, named with its size, whether it is the
+    /// motion or the skeleton of its take; the rest are kept, in order.
+    #[test]
+    fn files_past_a_takes_cap_are_left_out_of_the_library() {
+        let names = ["a.bvh", "big.bvh", "02.asf", "02_01.amc", "c.bvh"];
+        let cap = crate::view::url_params::MAX_FILE_BYTES as f64;
+        let (takes, _) = group_files(&names);
+        assert_eq!(takes.len(), 4);
+        let (kept, refused) = within_cap(takes.clone(), &names, &[10.0, cap + 1.0, 2.0 * cap, 5.0, cap]);
+        let kept: Vec<&str> = kept.iter().map(|t| names[t.motion]).collect();
+        assert_eq!(kept, ["a.bvh", "c.bvh"], "a file of exactly the cap is read");
+        assert_eq!(
+            refused,
+            [
+                "02.asf: 1024 MiB is more than the page reads of a take (512 MiB); left out of the library",
+                "big.bvh: 513 MiB is more than the page reads of a take (512 MiB); left out of the library",
+            ],
+            "in the takes' order (by name)"
+        );
+        let (all, none) = within_cap(takes, &names, &[1.0; 5]);
+        assert_eq!((all.len(), none.len()), (4, 0));
+    }
     use crate::segment::{Level, Segment};
 
     fn seg(file: &str, frames: usize, spans: &[(usize, usize, Option<usize>)]) -> Segmentation {

@@ -36,7 +36,10 @@ impl Loader {
     pub fn open_dropped(&self, files: Vec<File>) {
         let names: Vec<String> = files.iter().map(file_path).collect();
         let refs: Vec<&str> = names.iter().map(String::as_str).collect();
-        let (takes, refused) = group_files(&refs);
+        let (takes, mut refused) = group_files(&refs);
+        let sizes: Vec<f64> = files.iter().map(|f| f.size()).collect();
+        let (takes, too_large) = crate::view::library::within_cap(takes, &refs, &sizes);
+        refused.extend(too_large);
         if takes.len() < 2 {
             let library = self.0.state.library;
             if takes.len() == 1 && files.len() >= 2 {
