@@ -102,6 +102,23 @@ fn body_data(name: String, value: impl Fn() -> &'static str + 'static) {
     });
 }
 
+/// The Forget button of the user's model `name` (`button.ms-forget[data-model=NAME]`).
+fn forget_button(name: &str, title: &'static str, forget: impl Fn() + 'static) -> AnyView {
+    view! {
+        <button
+            class="ms-button ms-button--quiet ms-forget"
+            type="button"
+            data-model=name.to_string()
+            aria-label=format!("Forget {name}")
+            title=title
+            on:click=move |_| forget()
+        >
+            "Forget"
+        </button>
+    }
+    .into_any()
+}
+
 /// `#<method>-model-file` and its status line.
 #[component]
 pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView {
@@ -162,16 +179,9 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
                     view! {
                         <li data-model=name.clone()>
                             <span class="ms-my-model-name">{name.clone()}</span>
-                            <button
-                                class="ms-button ms-button--quiet ms-forget"
-                                type="button"
-                                data-model=name.clone()
-                                aria-label=format!("Forget {name}")
-                                title="Remove it from this browser and from the model choice"
-                                on:click=move |_| forget_loader.with_value(|l| l.forget_model(index, &forget))
-                            >
-                                "Forget"
-                            </button>
+                            {forget_button(&name, "Remove it from this browser and from the model choice", move || {
+                                forget_loader.with_value(|l| l.forget_model(index, &forget))
+                            })}
                         </li>
                     }
                 })
@@ -203,16 +213,9 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
                             >
                                 "Export"
                             </button>
-                            <button
-                                class="ms-button ms-button--quiet ms-forget"
-                                type="button"
-                                data-model=name.clone()
-                                aria-label=format!("Forget {name}")
-                                title="Remove it from this browser"
-                                on:click=move |_| forget_loader.with_value(|l| l.forget_model(index, &forget))
-                            >
-                                "Forget"
-                            </button>
+                            {forget_button(&name, "Remove it from this browser", move || {
+                                forget_loader.with_value(|l| l.forget_model(index, &forget))
+                            })}
                         </li>
                     }
                 })

@@ -374,3 +374,25 @@ export async function serve(dir) {
     stop: () => new Promise((done) => { for (const s of sockets) s.destroy(); server.close(done); }),
   };
 }
+
+/** The user's models kept in the page's IndexedDB store, as `method/name`, sorted. */
+export const kept = (page) => page.evaluate(() => new Promise((resolve, reject) => {
+  const open = indexedDB.open("mocapseg");
+  open.onerror = () => reject(String(open.error));
+  open.onsuccess = () => {
+    const all = open.result.transaction("models").objectStore("models").getAll();
+    all.onsuccess = () => { resolve(all.result.map((r) => `${r.method}/${r.name}`).sort()); open.result.close(); };
+    all.onerror = () => reject(String(all.error));
+  };
+}));
+
+/** Waits until the models kept in IndexedDB are `want`. */
+export async function keptAre(page, want) {
+  const t0 = Date.now();
+  let now = await kept(page);
+  while (JSON.stringify(now) !== JSON.stringify(want) && Date.now() - t0 < 10_000) {
+    await page.waitForTimeout(100);
+    now = await kept(page);
+  }
+  assert.deepEqual(now, want, "the models kept in this browser");
+}

@@ -7,7 +7,7 @@
 
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
-import { assertClean, closePage, download, gotoApp, openPage, showPanel, TIMEOUT } from "./harness.mjs";
+import { assertClean, closePage, download, gotoApp, kept, keptAre, openPage, showPanel, TIMEOUT } from "./harness.mjs";
 
 let opened;
 let page;
@@ -20,17 +20,6 @@ before(async () => {
 after(async () => {
   await closePage(opened, "e2e-keptmodels.png");
 });
-
-/** The records of the page's IndexedDB store of kept models, as `method/name`. */
-const kept = () => page.evaluate(() => new Promise((resolve, reject) => {
-  const open = indexedDB.open("mocapseg");
-  open.onerror = () => reject(String(open.error));
-  open.onsuccess = () => {
-    const all = open.result.transaction("models").objectStore("models").getAll();
-    all.onsuccess = () => { resolve(all.result.map((r) => `${r.method}/${r.name}`).sort()); open.result.close(); };
-    all.onerror = () => reject(String(all.error));
-  };
-}));
 
 // what an older mocapseg could have kept: a file this one cannot read
 const OLD = Array.from({ length: 64 }, (_, i) => (i * 37 + 11) % 256);
@@ -62,7 +51,7 @@ test("a kept model that does not load here is listed with why, exportable, and k
     assert.match(await page.locator("#knn-model-status").textContent(), /`e2e-old` does not load here .*kept in this browser/, visit);
     const choices = await page.$$eval("#knn-model option", (o) => o.map((x) => x.value));
     assert.ok(!choices.includes("e2e-old"), `${visit}: not in the model choice: ${choices}`);
-    assert.deepEqual(await kept(), ["knn/e2e-old"], `${visit}: still kept`);
+    assert.deepEqual(await kept(page), ["knn/e2e-old"], `${visit}: still kept`);
   }
   // exported as it is kept
   const exported = await download(page, "#knn-my-models button.ms-export-model[data-model='e2e-old']");
@@ -71,8 +60,6 @@ test("a kept model that does not load here is listed with why, exportable, and k
   // forgotten only when asked
   await page.click("#knn-my-models button.ms-forget[data-model='e2e-old']");
   await page.locator("#knn-my-models").waitFor({ state: "hidden" });
-  const t0 = Date.now();
-  while ((await kept()).length > 0 && Date.now() - t0 < 10_000) await page.waitForTimeout(100);
-  assert.deepEqual(await kept(), []);
+  await keptAre(page, []);
   assertClean(opened);
 });

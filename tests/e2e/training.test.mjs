@@ -13,7 +13,7 @@ import { test, after } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import path from "node:path";
-import { FIXTURES, OUT, TIMEOUT, assertClean, closePage, gotoApp, openPage, showPanel, text, waitData, waitReady } from "./harness.mjs";
+import { FIXTURES, OUT, TIMEOUT, assertClean, closePage, gotoApp, keptAre, openPage, showPanel, text, waitData, waitReady } from "./harness.mjs";
 
 const opens = [];
 after(async () => {
@@ -39,28 +39,6 @@ const ranAgain = (page) => page.waitForFunction(
 
 const options = (page, sel) => page.$$eval(`${sel} option`, (o) => o.map((x) => x.value));
 const rowLabels = (page) => page.$$eval("#row-dtfcn-actions .ms-seg", (els) => els.map((e) => e.dataset.label ?? e.textContent.trim()));
-
-/** The models of DT-FCN kept in IndexedDB (their names). */
-const kept = (page) => page.evaluate(() => new Promise((resolve, reject) => {
-  const open = indexedDB.open("mocapseg");
-  open.onerror = () => reject(String(open.error));
-  open.onsuccess = () => {
-    const all = open.result.transaction("models").objectStore("models").getAll();
-    all.onsuccess = () => { resolve(all.result.map((r) => `${r.method}/${r.name}`).sort()); open.result.close(); };
-    all.onerror = () => reject(String(all.error));
-  };
-}));
-
-/** Waits until the models kept in IndexedDB are `want`. */
-async function keptAre(page, want) {
-  const t0 = Date.now();
-  let now = await kept(page);
-  while (JSON.stringify(now) !== JSON.stringify(want) && Date.now() - t0 < 10_000) {
-    await page.waitForTimeout(100);
-    now = await kept(page);
-  }
-  assert.deepEqual(now, want, "the models kept in this browser");
-}
 
 /** Waits until the text of `sel` is `want`. */
 async function textIs(page, sel, want) {
