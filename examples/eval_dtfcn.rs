@@ -106,7 +106,7 @@ mod lab {
         let mut motions = Vec::new();
         for f in files {
             let name = f.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-            if rows.iter().any(|r| mocapseg::methods::lma::corpus::same_file(&r.file, &name)) {
+            if rows.iter().any(|r| mocapseg::labels::same_file(&r.file, &name)) {
                 motions.push(mocapseg::load::load_path(&f).map_err(|e| e.to_string())?.motion);
             }
         }

@@ -26,9 +26,9 @@ mod lab {
     use std::path::PathBuf;
 
     use mocapseg::labels::read_csv;
+    use mocapseg::labels::same_file;
     use mocapseg::methods::dtfcn::corpus::{class_labels, travel_of};
     use mocapseg::methods::dtfcn::model::{data_hash, Model};
-    use mocapseg::methods::lma::corpus::same_file;
     use mocapseg::motion::Motion;
 
     #[derive(clap::Parser)]

@@ -30,25 +30,18 @@ const MAX_PAGE_FILE_LINES: usize = 600;
 /// Methods that reached another method when the rule was written: `file -> methods::<other>`.
 const KNOWN_CROSS_METHOD: &[&str] = &[
     "src/methods/dtfcn/corpus.rs -> methods::knn",
-    "src/methods/dtfcn/corpus.rs -> methods::lma",
     "src/methods/dtfcn/fit.rs -> methods::knn",
     "src/methods/dtfcn/method.rs -> methods::knn",
-    "src/methods/dtfcn/method.rs -> methods::lma",
     "src/methods/dtfcn/model.rs -> methods::knn",
-    "src/methods/dtfcn/model.rs -> methods::lma",
-    "src/methods/dtfcn/supervised.rs -> methods::lma",
     "src/methods/knn/method.rs -> methods::dtfcn",
     "src/methods/knn/mod.rs -> methods::dtfcn",
 ];
 
 /// Files outside `src/methods/` that reached a method's internals when the rule was written: `file -> methods::<m>`.
 const KNOWN_INTERNALS: &[&str] = &[
-    "src/bin/mocapseg/library_cli.rs -> methods::lma",
-    "src/labels/mod.rs -> methods::lma",
     "src/library/clusters.rs -> methods::sssm",
     "src/library/mod.rs -> methods::sssm",
     "src/library/transfer.rs -> methods::sssm",
-    "src/segment/metrics.rs -> methods::dtfcn",
 ];
 
 /// Page files in an import circle when the rule was written.
@@ -132,8 +125,7 @@ fn root() -> PathBuf {
 }
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let mut entries: Vec<PathBuf> =
-        std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    let mut entries: Vec<PathBuf> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
     entries.sort();
     for p in entries {
         if p.is_dir() {
@@ -319,7 +311,15 @@ fn skip_ws(b: &[char], mut i: usize) -> usize {
 
 /// The index of the bracket closing the one at `open`.
 fn matching(b: &[char], open: usize) -> usize {
-    let (o, c) = (b[open], match b[open] { '{' => '}', '(' => ')', '[' => ']', _ => unreachable!() });
+    let (o, c) = (
+        b[open],
+        match b[open] {
+            '{' => '}',
+            '(' => ')',
+            '[' => ']',
+            _ => unreachable!(),
+        },
+    );
     let mut depth = 0;
     for (j, ch) in b.iter().enumerate().skip(open) {
         if *ch == o {
@@ -554,8 +554,8 @@ fn no_method_imports_another() {
     let methods = methods();
     let mut found = BTreeSet::new();
     for src in sources() {
-        let Some(own) = (src.module.first().is_some_and(|m| m == "methods") && src.module.len() > 1)
-            .then(|| src.module[1].clone())
+        let Some(own) =
+            (src.module.first().is_some_and(|m| m == "methods") && src.module.len() > 1).then(|| src.module[1].clone())
         else {
             continue;
         };
@@ -659,11 +659,17 @@ fn the_reader_resolves_paths_as_the_compiler_does() {
     };
     let r = read(&src);
     let joined: BTreeSet<String> = r.paths.iter().map(|p| p.join("::")).collect();
-    let want: BTreeSet<String> =
-        ["methods::dtfcn::input", "methods::dtfcn::fit", "methods::lma", "methods::pca::x", "methods::knn::search::y", "methods::kcs::Z"]
-            .iter()
-            .map(|s| s.to_string())
-            .collect();
+    let want: BTreeSet<String> = [
+        "methods::dtfcn::input",
+        "methods::dtfcn::fit",
+        "methods::lma",
+        "methods::pca::x",
+        "methods::knn::search::y",
+        "methods::kcs::Z",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
     assert_eq!(joined, want);
     assert_eq!(r.functions, vec![("f".to_string(), 1)], "the test module's function is not counted");
     assert_eq!(module_of("src/bin/mocapseg/library_cli.rs"), vec!["<bin>", "library_cli"]);

@@ -52,40 +52,100 @@ pub fn from_segmentation(segmentation: &Segmentation, which: Which) -> Vec<Label
     rows
 }
 
-/// Reads a label CSV (the header is required; errors name `source` and the line).
-pub fn read_csv(text: &str, source: &str) -> Result<Vec<LabelRow>, String> {
-    const HEADER: [&str; 4] = ["file", "start_frame", "end_frame", "label"];
+/// `a` and `b` name the same file (case-insensitive, with or without folders and `.bvh`): how a
+/// label row's `file` finds its take, and a model's provenance its training takes.
+pub fn same_file(a: &str, b: &str) -> bool {
+    let stem = |s: &str| {
+        let base = s.rsplit(['/', '\\']).next().unwrap_or(s).to_ascii_lowercase();
+        base.strip_suffix(".bvh").map(str::to_string).unwrap_or(base)
+    };
+    stem(a) == stem(b)
+}
+
+/// One row of a label file of any kind: the take it names, its frames (0-based, inclusive, at the file's rate),
+/// the columns after them, and its line in the file (1-based).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    pub file: String,
+    pub start_frame: usize,
+    pub end_frame: usize,
+    pub values: Vec<String>,
+    pub line: usize,
+}
+
+/// How a row's two frames must stand.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Span {
+    /// `end_frame >= start_frame` (a segment of one frame is a segment: the label CSV).
+    Inclusive,
+    /// `end_frame > start_frame` (a gesture has a duration: the Effort label CSV).
+    Open,
+}
+
+/// Reads a label file whose header is `file,start_frame,end_frame` followed by `values` (the header is required,
+/// case-insensitive; fields trimmed, quoted when they hold commas): every kind of label CSV goes through here. Errors
+/// name `source` and the line.
+pub fn read_rows(text: &str, source: &str, values: &[&str], span: Span) -> Result<Vec<Row>, String> {
+    let header: Vec<&str> = ["file", "start_frame", "end_frame"].iter().chain(values).copied().collect();
     let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).flexible(true).from_reader(text.as_bytes());
-    let header: Vec<String> =
+    let found: Vec<String> =
         reader.headers().map_err(|e| format!("{source}: {e}"))?.iter().map(|h| h.to_ascii_lowercase()).collect();
-    if header != HEADER {
+    if found != header {
         return Err(format!(
             "{source} line 1: expected the header `{}`, found `{}`",
-            HEADER.join(","),
-            header.join(",")
+            header.join(","),
+            found.join(",")
         ));
     }
     let mut rows = Vec::new();
     for record in reader.records() {
-        let r = record.map_err(|e| format!("{source}: {e}"))?;
-        let line = r.position().map_or(0, |p| p.line());
-        if r.len() != 4 {
-            return Err(format!("{source} line {line}: {} fields, expected 4 ({})", r.len(), HEADER.join(",")));
+        let r = record.map_err(|e| match e.position() {
+            Some(p) => format!("{source} line {}: {e}", p.line()),
+            None => format!("{source}: {e}"),
+        })?;
+        let line = r.position().map_or(0, |p| p.line()) as usize;
+        if r.len() != header.len() {
+            return Err(format!(
+                "{source} line {line}: {} fields, expected {} ({})",
+                r.len(),
+                header.len(),
+                header.join(",")
+            ));
         }
         let frame = |i: usize| {
             r[i].parse::<usize>()
-                .map_err(|_| format!("{source} line {line}: {} `{}` is not a frame number (0-based)", HEADER[i], &r[i]))
+                .map_err(|_| format!("{source} line {line}: {} `{}` is not a frame number (0-based)", header[i], &r[i]))
         };
         let (start_frame, end_frame) = (frame(1)?, frame(2)?);
-        if end_frame < start_frame {
-            return Err(format!("{source} line {line}: end_frame {end_frame} is before start_frame {start_frame}"));
+        match span {
+            Span::Inclusive if end_frame < start_frame => {
+                return Err(format!("{source} line {line}: end_frame {end_frame} is before start_frame {start_frame}"))
+            }
+            Span::Open if end_frame <= start_frame => {
+                return Err(format!(
+                    "{source} line {line}: end_frame {end_frame} is not after start_frame {start_frame}"
+                ))
+            }
+            _ => {}
         }
-        if r[3].is_empty() {
-            return Err(format!("{source} line {line}: the label is empty"));
-        }
-        rows.push(LabelRow { file: r[0].to_string(), start_frame, end_frame, label: r[3].to_string() });
+        let values = (3..header.len()).map(|i| r[i].to_string()).collect();
+        rows.push(Row { file: r[0].to_string(), start_frame, end_frame, values, line });
     }
     Ok(rows)
+}
+
+/// Reads a label CSV (the header is required; errors name `source` and the line).
+pub fn read_csv(text: &str, source: &str) -> Result<Vec<LabelRow>, String> {
+    read_rows(text, source, &["label"], Span::Inclusive)?
+        .into_iter()
+        .map(|r| {
+            let [label]: [String; 1] = r.values.try_into().expect("one value column");
+            if label.is_empty() {
+                return Err(format!("{source} line {}: the label is empty", r.line));
+            }
+            Ok(LabelRow { file: r.file, start_frame: r.start_frame, end_frame: r.end_frame, label })
+        })
+        .collect()
 }
 
 /// Ground truth in the shared data's format (`trial,label,start_frame,end_frame,…`, read by
@@ -109,17 +169,17 @@ pub fn from_truth_csv(text: &str, options: TruthOptions) -> Result<(Vec<LabelRow
 }
 
 /// The parts of `rows` inside the segments of `spans` labelled `label` (same file by
-/// [`crate::methods::lma::corpus::same_file`]), each row clipped to them: the gait phases of the walking
+/// [`same_file`]), each row clipped to them: the gait phases of the walking
 /// parts of a take whose actions are labelled (`mocapseg gait --within actions.csv --label walk`).
 /// Rows of files `spans` does not name at all are kept whole (walking clips are walks throughout).
 pub fn within(rows: &[LabelRow], spans: &[LabelRow], label: &str) -> Vec<LabelRow> {
     let mut out = Vec::new();
     for r in rows {
-        if !spans.iter().any(|s| crate::methods::lma::corpus::same_file(&s.file, &r.file)) {
+        if !spans.iter().any(|s| same_file(&s.file, &r.file)) {
             out.push(r.clone());
             continue;
         }
-        for s in spans.iter().filter(|s| s.label == label && crate::methods::lma::corpus::same_file(&s.file, &r.file)) {
+        for s in spans.iter().filter(|s| s.label == label && same_file(&s.file, &r.file)) {
             let (a, b) = (r.start_frame.max(s.start_frame), r.end_frame.min(s.end_frame));
             if a <= b {
                 out.push(LabelRow { start_frame: a, end_frame: b, ..r.clone() });
@@ -132,6 +192,38 @@ pub fn within(rows: &[LabelRow], spans: &[LabelRow], label: &str) -> Vec<LabelRo
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn files_are_the_same_whatever_their_folder_case_or_extension() {
+        assert!(same_file("dir/35_01.BVH", "35_01") && same_file("a\\b\\86_01.bvh", "86_01.BVH"));
+        assert!(!same_file("35_01", "35_02") && !same_file("35_01.bvh.bak", "35_01"));
+    }
+
+    #[test]
+    fn every_label_file_kind_is_read_by_one_reader_with_its_lines() {
+        let text = "File,Start_Frame,End_Frame,a,b\nx.bvh, 3, 3,\"p, q\", r\ny.bvh,4,9,s,t\n";
+        let rows = read_rows(text, "f.csv", &["a", "b"], Span::Inclusive).unwrap();
+        assert_eq!(
+            rows[0],
+            Row {
+                file: "x.bvh".into(),
+                start_frame: 3,
+                end_frame: 3,
+                values: vec!["p, q".into(), "r".into()],
+                line: 2
+            }
+        );
+        assert_eq!((rows[1].file.as_str(), rows[1].line), ("y.bvh", 3));
+        let open = read_rows(text, "f.csv", &["a", "b"], Span::Open).unwrap_err();
+        assert!(open.contains("f.csv line 2: end_frame 3 is not after start_frame 3"), "{open}");
+        let short = read_rows("file,start_frame,end_frame,a\nx,1,2\n", "f.csv", &["a"], Span::Inclusive).unwrap_err();
+        assert!(short.contains("f.csv line 2: 3 fields, expected 4"), "{short}");
+        let frame = read_rows("file,start_frame,end_frame\nx,-1,2\n", "f.csv", &[], Span::Inclusive).unwrap_err();
+        assert!(frame.contains("line 2: start_frame `-1` is not a frame number"), "{frame}");
+        assert!(read_csv("file,start_frame,end_frame,label\nx,1,2,\n", "l.csv")
+            .unwrap_err()
+            .contains("line 2: the label is empty"));
+    }
 
     #[test]
     fn rows_are_clipped_to_the_spans_of_one_label_in_the_same_file() {

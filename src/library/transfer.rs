@@ -25,10 +25,7 @@ use crate::method::Cancelled;
 use crate::methods::sssm::activities::{frame_lookup, NONE};
 use crate::methods::sssm::neighbours::NeighbourSearch;
 use crate::methods::sssm::primitives::{Blocks, NeighbourhoodGraph};
-use crate::segment::{Level, Segment, Segmentation};
-
-/// The label of a transferred stretch that matched nothing.
-pub const UNKNOWN: &str = "unknown";
+use crate::segment::{Level, Segment, Segmentation, UNKNOWN};
 
 /// How labels travel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -388,7 +388,7 @@ fn mapped_labels(spans: &[Span], pred: &[Option<usize>], labels: &[String], tabl
                 .iter()
                 .enumerate()
                 .map(|(k, n)| match label_of(n) {
-                    Some(l) if l == crate::methods::dtfcn::method::UNKNOWN => Some(labels.len() + k),
+                    Some(l) if l == super::UNKNOWN => Some(labels.len() + k),
                     Some(l) => labels.iter().position(|t| t == l),
                     None => None,
                 })

@@ -10,6 +10,10 @@
 //! `"effort": {"space": x, "time": x, "weight": x, "flow": x}`: its Laban Effort, each factor in
 //! [−1, 1] from fully indulging (−1) to fully condensing (+1) (LMA segments).
 
+/// The label of frames a labeller will not name (below its model's confidence threshold, or a class the
+/// transfer's knowledge base lacks): the same word on every row, counted wrong by every score.
+pub const UNKNOWN: &str = "unknown";
+
 pub mod consensus;
 pub mod cuts;
 pub mod frames;

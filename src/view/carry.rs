@@ -154,7 +154,7 @@ impl Carried {
                 start,
                 end,
                 score: label.as_ref().map(|_| 1.0),
-                label: label.unwrap_or_else(|| crate::library::transfer::UNKNOWN.to_string()),
+                label: label.unwrap_or_else(|| crate::segment::UNKNOWN.to_string()),
                 level: Level::Action,
                 cluster: None,
                 mirror_of: None,

@@ -6,11 +6,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
+use mocapseg::labels::same_file;
 use mocapseg::labels::{read_csv, to_csv, LabelRow};
 use mocapseg::library::{cluster, transfer, KnowledgeBase, LibraryParams, LibraryTake, TakeFeatures, TransferRoute};
 use mocapseg::load::collect_files;
 use mocapseg::method::{self, Cancelled, CheckedParams, DynMethod, NoProgress, RunOptions};
-use mocapseg::methods::lma::corpus::same_file;
 use rayon::prelude::*;
 use serde_json::json;
 
@@ -323,7 +323,7 @@ pub fn transfer_command(
             100.0 * known as f64 / t.frame_labels.len().max(1) as f64,
             if m.file == from { "(the labelled take)" } else { "" }
         );
-        for s in t.segmentation.segments.iter().filter(|s| s.label != mocapseg::library::transfer::UNKNOWN) {
+        for s in t.segmentation.segments.iter().filter(|s| s.label != mocapseg::segment::UNKNOWN) {
             csv_rows.push(LabelRow {
                 file: file_name.clone(),
                 start_frame: s.start,

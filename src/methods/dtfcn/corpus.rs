@@ -6,9 +6,9 @@
 use super::input::NETWORK_FPS;
 use super::model::{Labeller, MemberRun, Model, ModelHeader, ModelKind, Provenance};
 use super::training::{train, EpochReport, TrainOptions, Trained, TrainingTake};
+use crate::labels::same_file;
 use crate::labels::LabelRow;
 use crate::methods::knn::{Knn, KnnParams, Labelled as KnnTake};
-use crate::methods::lma::corpus::same_file;
 use crate::motion::Motion;
 use crate::segment::labelling::{self, LabellingScores};
 

@@ -20,10 +20,7 @@ use crate::method::{
 };
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
-use crate::segment::{Level, Segment, Segmentation};
-
-/// The label of frames below the confidence threshold.
-pub const UNKNOWN: &str = "unknown";
+use crate::segment::{Level, Segment, Segmentation, UNKNOWN};
 
 /// Parameters of both labelling methods.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -61,7 +58,7 @@ pub const DEFAULT_THRESHOLD: f64 = 0.5;
 /// The warning a run on one of `header`'s own training takes carries: its scores there are not
 /// what the model does on a take it has not seen.
 pub fn in_sample_note(header: &ModelHeader, take: &str) -> Option<String> {
-    let trained = header.provenance.takes.iter().find(|t| crate::methods::lma::corpus::same_file(t, take))?;
+    let trained = header.provenance.takes.iter().find(|t| crate::labels::same_file(t, take))?;
     Some(format!(
         "{IN_SAMPLE} model `{}` was trained on this take ({trained}), so its labels and scores here are not what it \
          does on a take it has not seen (held-out scores: docs/accuracy.md)",

@@ -103,7 +103,7 @@ impl Provenance {
             self.take_sha256.resize(self.takes.len(), String::new());
         }
         for (i, take) in before.takes.iter().enumerate() {
-            if !self.takes.iter().any(|t| crate::methods::lma::corpus::same_file(t, take)) {
+            if !self.takes.iter().any(|t| crate::labels::same_file(t, take)) {
                 self.takes.push(take.clone());
                 if hashed {
                     self.take_sha256.push(before.take_sha256.get(i).cloned().unwrap_or_default());
@@ -189,7 +189,7 @@ pub fn take_hashes(takes: &[String], files: &[(String, Vec<u8>)]) -> Vec<String>
         .map(|t| {
             files
                 .iter()
-                .find(|(f, _)| crate::methods::lma::corpus::same_file(f, t))
+                .find(|(f, _)| crate::labels::same_file(f, t))
                 .map_or_else(String::new, |(_, bytes)| sha256_hex(bytes))
         })
         .collect()

@@ -18,6 +18,7 @@ use super::network::Padding;
 use super::network::{DtFcn, DtFcnConfig};
 use super::shipped;
 use super::training::{EpochReport, TrainOptions, Trainer, TrainingTake, MAX_MASK_S};
+use crate::labels::same_file;
 use crate::method::cards::ModelCard;
 use crate::method::form::field_text;
 use crate::method::supervised::{
@@ -25,7 +26,6 @@ use crate::method::supervised::{
     TrainingReport,
 };
 use crate::method::{counted, MethodError, ParamKind, ParamSpec, Progress};
-use crate::methods::lma::corpus::same_file;
 use crate::motion::Motion;
 
 /// The names of the shipped models, as the store and the forms want them.

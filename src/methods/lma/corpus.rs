@@ -21,6 +21,7 @@ use super::body::{upper_body, Side};
 use super::effort::{element, terciles, EffortTables, Element, Factor};
 use super::features::{Kinematics, Pool};
 use super::search::smooth;
+use crate::labels::same_file;
 use crate::motion::Motion;
 
 /// How the corpus is cut (frames at `fps`).
@@ -184,16 +185,6 @@ impl Corpus {
     }
 }
 
-/// `a` and `b` name the same file (case-insensitive, with or without folders and `.bvh`): how a
-/// label row's `file` finds its take (here and in the worker).
-pub fn same_file(a: &str, b: &str) -> bool {
-    let stem = |s: &str| {
-        let base = s.rsplit(['/', '\\']).next().unwrap_or(s).to_ascii_lowercase();
-        base.strip_suffix(".bvh").map(str::to_string).unwrap_or(base)
-    };
-    stem(a) == stem(b)
-}
-
 /// One row of a user's Effort label file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EffortLabel {
@@ -207,47 +198,30 @@ pub struct EffortLabel {
 }
 
 /// Reads `file,start_frame,end_frame,space,time,weight,flow` rows (a header line naming the
-/// columns is required; frames 0-based inclusive file frames); errors name `source` and the line.
+/// columns is required; frames 0-based inclusive file frames; [`crate::labels::read_rows`]); errors name `source`
+/// and the line.
 pub fn parse_labels(text: &str, source: &str) -> Result<Vec<EffortLabel>, String> {
-    const HEADER: [&str; 7] = ["file", "start_frame", "end_frame", "space", "time", "weight", "flow"];
-    let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).flexible(true).from_reader(text.as_bytes());
-    let header: Vec<String> =
-        reader.headers().map_err(|e| format!("{source}: {e}"))?.iter().map(|h| h.to_ascii_lowercase()).collect();
-    if header != HEADER {
-        return Err(format!(
-            "{source} line 1: expected the header `{}`, found `{}`",
-            HEADER.join(","),
-            header.join(",")
-        ));
-    }
-    let mut rows = Vec::new();
-    for (k, record) in reader.records().enumerate() {
-        let line = k + 2;
-        let r = record.map_err(|e| format!("{source} line {line}: {e}"))?;
-        if r.len() != 7 {
-            return Err(format!("{source} line {line}: {} fields, expected 7 ({})", r.len(), HEADER.join(",")));
-        }
-        let frame = |i: usize| {
-            r[i].parse::<usize>()
-                .map_err(|_| format!("{source} line {line}: {} `{}` is not a frame number (0-based)", HEADER[i], &r[i]))
-        };
-        let (start_frame, end_frame) = (frame(1)?, frame(2)?);
-        if end_frame <= start_frame {
-            return Err(format!("{source} line {line}: end_frame {end_frame} is not after start_frame {start_frame}"));
-        }
+    const FACTORS: [&str; 4] = ["space", "time", "weight", "flow"];
+    let mut labels = Vec::new();
+    for row in crate::labels::read_rows(text, source, &FACTORS, crate::labels::Span::Open)? {
         let mut classes = [Element::Neutral; 4];
         for (f, c) in classes.iter_mut().enumerate() {
-            *c = Element::parse(&r[3 + f]).ok_or_else(|| {
+            *c = Element::parse(&row.values[f]).ok_or_else(|| {
                 format!(
-                    "{source} line {line}: {} `{}`: expected indulging, neutral or condensing",
-                    HEADER[3 + f],
-                    &r[3 + f]
+                    "{source} line {}: {} `{}`: expected indulging, neutral or condensing",
+                    row.line, FACTORS[f], row.values[f]
                 )
             })?;
         }
-        rows.push(EffortLabel { file: r[0].to_string(), start_frame, end_frame, classes, line });
+        labels.push(EffortLabel {
+            file: row.file,
+            start_frame: row.start_frame,
+            end_frame: row.end_frame,
+            classes,
+            line: row.line,
+        });
     }
-    Ok(rows)
+    Ok(labels)
 }
 
 #[cfg(test)]
@@ -268,7 +242,6 @@ mod tests {
         assert!(parse_labels("a,b\n", "x.csv").unwrap_err().contains("x.csv line 1: expected the header"));
         let reversed = "file,start_frame,end_frame,space,time,weight,flow\na,9,3,neutral,neutral,neutral,neutral\n";
         assert!(parse_labels(reversed, "x.csv").unwrap_err().contains("line 2: end_frame 3 is not after"));
-        assert!(same_file("dir/35_01.BVH", "35_01") && !same_file("35_01", "35_02"));
     }
 
     #[test]

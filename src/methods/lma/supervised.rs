@@ -8,10 +8,11 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::classifier::EffortModel;
-use super::corpus::{parse_labels, same_file, Corpus, CorpusConfig, EffortLabel, Sample};
+use super::corpus::{parse_labels, Corpus, CorpusConfig, EffortLabel, Sample};
 use super::method::SHIPPED_NAME;
 use super::network::TrainOptions as NetOptions;
 use super::training::{train_family, FactorReport, TrainConfig};
+use crate::labels::same_file;
 use crate::method::supervised::{
     check_model_name, read_options, Loaded, ModelInfo, StepReport, Supervision, Trained, Training, TrainingAsk,
     TrainingReport,
