@@ -29,6 +29,7 @@ pub mod shipped;
 pub mod spec;
 pub mod stages;
 pub mod supervised;
+pub mod unsupervised;
 pub mod work;
 
 use std::any::Any;

@@ -23,15 +23,16 @@ pub mod pca;
 pub mod sssm;
 pub mod velocity;
 
+use crate::method::unsupervised::Unsupervised;
 use crate::method::{DynMethod, MethodError};
 
 /// Every method, in the order the page shows them. One line per method.
 pub fn registry() -> &'static [&'static dyn DynMethod] {
     &[
-        &sssm::method::Sssm,
-        &velocity::method::Velocity,
-        &kcs::method::Kcs,
-        &pca::method::Pca,
+        &Unsupervised(sssm::method::Sssm),
+        &Unsupervised(velocity::method::Velocity),
+        &Unsupervised(kcs::method::Kcs),
+        &Unsupervised(pca::method::Pca),
         &lma::method::Lma,
         // the k-NN first: on clean labels it is the better labeller (docs/methods/dtfcn.md, "Accuracy")
         &knn::method::KNN,

@@ -4,13 +4,12 @@ use super::{centroid, segment_limbs, KcsParams, ValidParams, PARAMS};
 use crate::features::end_effectors::canonical_joints;
 use crate::method::bounds;
 use crate::method::plot::{self, Series};
-use crate::method::{
-    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Progress, RunOptions, Work,
-};
+use crate::method::unsupervised::{at_file_rate, About, Checkable, Found, Segmenter};
+use crate::method::{MethodError, ParamSpec, Progress, RunOptions, Work};
 use crate::motion::joints::Canonical as C;
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
-use crate::segment::{cuts, Level, Segmentation};
+use crate::segment::{cuts, Level};
 
 /// Kinematic Centroid Segmentation (Jenkins & Matarić 2003), as Bouchard & Badler's baseline.
 #[derive(Debug, Clone, Copy, Default)]
@@ -24,20 +23,21 @@ const LIMBS: [(&str, [C; 3], [u8; 3]); 4] = [
     ("right leg", [C::RightHip, C::RightKnee, C::RightFoot], [200, 130, 0]),
 ];
 
-impl Method for Kcs {
-    type Params = KcsParams;
-    type Checked = ValidParams;
-
-    fn info(&self) -> MethodInfo {
-        MethodInfo {
-            name: "kcs".into(),
-            short: "KCS".into(),
-            paper: "Jenkins & Matarić 2003".into(),
-            summary: "Kinematic baseline: each limb a pendulum, a cut at the far end of every swing of its centroid."
-                .into(),
-            auto_run: true,
-        }
+impl Checkable for KcsParams {
+    type Valid = ValidParams;
+    fn check(self) -> Result<ValidParams, MethodError> {
+        KcsParams::check(self)
     }
+}
+
+impl Segmenter for Kcs {
+    type Params = KcsParams;
+    const ABOUT: About = About {
+        name: "kcs",
+        short: "KCS",
+        paper: "Jenkins & Matarić 2003",
+        summary: "Kinematic baseline: each limb a pendulum, a cut at the far end of every swing of its centroid.",
+    };
 
     fn param_specs(&self) -> Vec<ParamSpec> {
         let d = KcsParams::default();
@@ -48,26 +48,18 @@ impl Method for Kcs {
         specs
     }
 
-    fn check(&self, params: KcsParams) -> Result<ValidParams, MethodError> {
-        params.check()
-    }
-
-    fn echo(&self, params: &ValidParams) -> serde_json::Value {
-        serde_json::to_value(&**params).unwrap_or_default()
-    }
-
     fn work(&self, params: &ValidParams) -> Work {
         // bone vectors and the KCS distance curve: 1.0 kB per frame measured (tests/limits.rs)
         Work { fps: params.fps, bytes_per_frame: 1_500, fixed_bytes: 1 << 20, advice: "" }
     }
 
-    fn run(
+    fn segment(
         &self,
         motion: &Motion,
         params: &ValidParams,
         options: &RunOptions,
         progress: &mut dyn Progress,
-    ) -> Result<MethodOutput, MethodError> {
+    ) -> Result<Found, MethodError> {
         progress.step("features", 0.0)?;
         let limbs = &LIMBS[..if params.legs { 4 } else { 2 }];
         let joints: Vec<C> = limbs.iter().flat_map(|(_, j, _)| *j).collect();
@@ -84,14 +76,6 @@ impl Method for Kcs {
             Level::Primitive,
             |_, a, b| Some((reach(a, b) as f64 * 10.0).round() / 10.0),
         );
-        let segmentation = Segmentation {
-            file: motion.name.clone(),
-            fps: motion.fps,
-            frames: motion.frames(),
-            method: "kcs".into(),
-            params: self.echo(params),
-            segments,
-        };
         let mut pictures = Vec::new();
         if options.pictures {
             progress.step("plot", 0.95)?;
@@ -113,18 +97,18 @@ impl Method for Kcs {
         }
         let summary = format!(
             "{} · {}",
-            crate::method::counted(segmentation.segments.len(), "swing"),
+            crate::method::counted(segments.len(), "swing"),
             crate::method::counted(cut_frames.len(), "cut")
         );
         let curves = curves
             .iter()
             .zip(limbs)
-            .map(|(c, (name, _, _))| Curve {
-                id: name.replace(' ', "-") + "-displacement",
-                title: format!("{name} centroid displacement (in)"),
-                values: (0..motion.frames()).map(|i| c[frames.working_frame(i)]).collect(),
+            .map(|(c, (name, _, _))| {
+                let (id, title) =
+                    (name.replace(' ', "-") + "-displacement", format!("{name} centroid displacement (in)"));
+                at_file_rate(id, title, c, &frames)
             })
             .collect();
-        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves, take_fit: None } })
+        Ok(Found { segments, summary, curves, pictures })
     }
 }

@@ -4,12 +4,11 @@
 
 use super::{poses, scan, PcaParams, Scan, ValidParams, PARAMS};
 use crate::method::bounds;
-use crate::method::{
-    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions, Work,
-};
+use crate::method::unsupervised::{at_file_rate, About, Checkable, Found, Segmenter};
+use crate::method::{MethodError, ParamSpec, Picture, Progress, RunOptions, Work};
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
-use crate::segment::{cuts, Level, Segmentation};
+use crate::segment::{cuts, Level};
 
 /// PCA segmentation (Barbič et al. 2004), as Bouchard & Badler's baseline.
 #[derive(Debug, Clone, Copy, Default)]
@@ -22,33 +21,27 @@ const PLOT_MAX_WIDTH: usize = 1500;
 /// The plot's derivative ratio axis runs from 0 to this (the cut threshold is 1).
 const RATIO_TOP: f64 = 2.0;
 
-impl Method for Pca {
-    type Params = PcaParams;
-    type Checked = ValidParams;
-
-    fn info(&self) -> MethodInfo {
-        MethodInfo {
-            name: "pca".into(),
-            short: "PCA".into(),
-            paper: "Barbič et al. 2004".into(),
-            summary: "In-line baseline: a cut wherever the poses since the last cut stop fitting a low-dimensional \
-                      hyperplane (the PCA projection error suddenly rises faster)."
-                .into(),
-            auto_run: true,
-        }
+impl Checkable for PcaParams {
+    type Valid = ValidParams;
+    fn check(self) -> Result<ValidParams, MethodError> {
+        PcaParams::check(self)
     }
+}
+
+impl Segmenter for Pca {
+    type Params = PcaParams;
+    const ABOUT: About = About {
+        name: "pca",
+        short: "PCA",
+        paper: "Barbič et al. 2004",
+        summary:
+            "In-line baseline: a cut wherever the poses since the last cut stop fitting a low-dimensional hyperplane \
+                  (the PCA projection error suddenly rises faster).",
+    };
 
     fn param_specs(&self) -> Vec<ParamSpec> {
         let d = PcaParams::default();
         bounds::specs(&PARAMS, |n| d.value(n))
-    }
-
-    fn check(&self, params: PcaParams) -> Result<ValidParams, MethodError> {
-        params.check()
-    }
-
-    fn echo(&self, params: &ValidParams) -> serde_json::Value {
-        serde_json::to_value(&**params).unwrap_or_default()
     }
 
     fn work(&self, params: &ValidParams) -> Work {
@@ -56,13 +49,13 @@ impl Method for Pca {
         Work { fps: params.fps, bytes_per_frame: 2_000, fixed_bytes: 1 << 20, advice: "" }
     }
 
-    fn run(
+    fn segment(
         &self,
         motion: &Motion,
         params: &ValidParams,
         options: &RunOptions,
         progress: &mut dyn Progress,
-    ) -> Result<MethodOutput, MethodError> {
+    ) -> Result<Found, MethodError> {
         progress.step("poses", 0.0)?;
         let p = poses(motion, params.fps).map_err(|e| MethodError::Failed(e.to_string()))?;
         let s = scan(&p.data, p.dim, params, &mut |stage, f| progress.step(stage, f))?;
@@ -76,19 +69,13 @@ impl Method for Pca {
             Level::Action,
             |k, _, _| k.checked_sub(1).map(|c| (s.cuts[c].ratio * 100.0).round() / 100.0),
         );
-        let segmentation = Segmentation {
-            file: motion.name.clone(),
-            fps: motion.fps,
-            frames: motion.frames(),
-            method: "pca".into(),
-            params: self.echo(params),
-            segments,
-        };
-        let curves = vec![Curve {
-            id: "error-derivative".into(),
-            title: "PCA error derivative / cut threshold".into(),
-            values: (0..motion.frames()).map(|f| s.ratio[frames.working_frame(f)] as f32).collect(),
-        }];
+        let ratio: Vec<f32> = s.ratio.iter().map(|&r| r as f32).collect();
+        let curves = vec![at_file_rate(
+            "error-derivative".into(),
+            "PCA error derivative / cut threshold".into(),
+            &ratio,
+            &frames,
+        )];
         let mut pictures = Vec::new();
         if options.pictures {
             progress.step("plot", 0.95)?;
@@ -97,12 +84,12 @@ impl Method for Pca {
         let dims: Vec<String> = s.dims.iter().map(usize::to_string).collect();
         let summary = format!(
             "{} · {} · {} · segment dimensions {}",
-            crate::method::counted(segmentation.segments.len(), "behaviour"),
+            crate::method::counted(segments.len(), "behaviour"),
             crate::method::counted(s.cuts.len(), "cut"),
             crate::method::counted(p.dim, "pose dimension"),
             dims.join(", ")
         );
-        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves, take_fit: None } })
+        Ok(Found { segments, summary, curves, pictures })
     }
 }
 
@@ -168,6 +155,8 @@ fn plot(s: &Scan, params: &ValidParams) -> Picture {
 mod tests {
     use super::*;
     use crate::load::load_bytes;
+    use crate::method::unsupervised::Unsupervised;
+    use crate::method::Method;
 
     #[test]
     fn a_walk_is_one_behaviour_at_the_file_rate_with_its_curve_plot_and_progress() {
@@ -176,8 +165,9 @@ mod tests {
         let params = PcaParams::default().check().unwrap();
         let mut stages: Vec<String> = Vec::new();
         let mut progress = |stage: &str, _: f64| stages.push(stage.to_string());
-        let out =
-            Pca.run(&motion, &params, &RunOptions { pictures: true, ..RunOptions::default() }, &mut progress).unwrap();
+        let out = Unsupervised(Pca)
+            .run(&motion, &params, &RunOptions { pictures: true, ..RunOptions::default() }, &mut progress)
+            .unwrap();
         // 524 frames at 120 Hz: 131 working frames, a single walk, no cut
         let seg = &out.segmentation;
         assert_eq!(seg.segments.len(), 1, "{:?}", seg.segments);
@@ -215,7 +205,8 @@ mod tests {
         }
         let motion = crate::motion::Motion::concatenate(&[walk, raised], 1048).unwrap();
         let params = PcaParams::default().check().unwrap();
-        let out = Pca.run(&motion, &params, &RunOptions::default(), &mut crate::method::NoProgress).unwrap();
+        let out =
+            Unsupervised(Pca).run(&motion, &params, &RunOptions::default(), &mut crate::method::NoProgress).unwrap();
         let segs = &out.segmentation.segments;
         assert_eq!(segs.len(), 2, "{segs:?}");
         // file frames (120 Hz): the change at 524, found within 10 working frames (40 file frames)

@@ -3,9 +3,8 @@
 //! clusters and mirror pairs) and the SSSM picture of [`super::image`].
 
 use super::{Span, SssmError, SssmOutcome, SssmParams, ValidParams};
-use crate::method::{
-    counted, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions, Work,
-};
+use crate::method::unsupervised::{About, Checkable, Echo, Found, Segmenter};
+use crate::method::{counted, MethodError, ParamSpec, Picture, Progress, RunOptions, Work};
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
 use crate::segment::{Level, Segment, Segmentation};
@@ -24,45 +23,45 @@ impl From<SssmError> for MethodError {
     }
 }
 
-impl Method for Sssm {
-    type Params = SssmParams;
-    type Checked = ValidParams;
-
-    fn info(&self) -> MethodInfo {
-        MethodInfo {
-            name: "sssm".into(),
-            short: "SSSM".into(),
-            paper: "Krüger et al. 2017".into(),
-            summary: "Unsupervised: actions (repetitive activities) and the transitions between them, each action cut \
-                      into motion primitives, primitives clustered, mirror pairs (left/right step) found."
-                .into(),
-            auto_run: true,
-        }
+impl Checkable for SssmParams {
+    type Valid = ValidParams;
+    fn check(self) -> Result<ValidParams, MethodError> {
+        Ok(SssmParams::check(self)?)
     }
+}
+
+impl Echo for ValidParams {
+    fn echo(&self) -> serde_json::Value {
+        self.to_json()
+    }
+}
+
+impl Segmenter for Sssm {
+    type Params = SssmParams;
+    const ABOUT: About = About {
+        name: "sssm",
+        short: "SSSM",
+        paper: "Krüger et al. 2017",
+        summary:
+            "Unsupervised: actions (repetitive activities) and the transitions between them, each action cut into \
+                  motion primitives, primitives clustered, mirror pairs (left/right step) found.",
+    };
 
     fn param_specs(&self) -> Vec<ParamSpec> {
         super::params::param_specs()
-    }
-
-    fn check(&self, params: SssmParams) -> Result<ValidParams, MethodError> {
-        Ok(params.check()?)
-    }
-
-    fn echo(&self, params: &ValidParams) -> serde_json::Value {
-        params.to_json()
     }
 
     fn work(&self, params: &ValidParams) -> Work {
         work(params)
     }
 
-    fn run(
+    fn segment(
         &self,
         motion: &Motion,
         params: &ValidParams,
         options: &RunOptions,
         progress: &mut dyn Progress,
-    ) -> Result<MethodOutput, MethodError> {
+    ) -> Result<Found, MethodError> {
         let max_entries = entry_limit(motion, params, &options.limits);
         let result = super::segment_valid(motion, params, max_entries, &mut |stage, f| progress.step(stage, f))?;
         let o = &result.outcome;
@@ -99,10 +98,7 @@ impl Method for Sssm {
                 frames_per_pixel: Some(image.block as f64 * motion.fps / o.fps),
             });
         }
-        Ok(MethodOutput {
-            segmentation: result.segmentation,
-            details: Details { summary, pictures, curves: Vec::new(), take_fit: None },
-        })
+        Ok(Found { segments: result.segmentation.segments, summary, curves: Vec::new(), pictures })
     }
 }
 

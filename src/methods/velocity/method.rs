@@ -5,32 +5,32 @@ use super::{boundaries, hand_speed, ValidParams, VelocityParams, PARAMS};
 use crate::features::end_effectors::{end_effectors, LEFT_HAND, RIGHT_HAND};
 use crate::method::bounds;
 use crate::method::plot::{self, Series};
-use crate::method::{
-    Curve, Details, Method, MethodError, MethodInfo, MethodOutput, ParamSpec, Picture, Progress, RunOptions, Work,
-};
+use crate::method::unsupervised::{at_file_rate, About, Checkable, Found, Segmenter};
+use crate::method::{MethodError, ParamSpec, Picture, Progress, RunOptions, Work};
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
-use crate::segment::{cuts, Level, Segmentation};
+use crate::segment::{cuts, Level};
 
 /// Hand-speed segmentation (Osaki et al. 2000; Shiratori et al. 2003), as Bouchard & Badler's baseline.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Velocity;
 
-impl Method for Velocity {
-    type Params = VelocityParams;
-    type Checked = ValidParams;
-
-    fn info(&self) -> MethodInfo {
-        MethodInfo {
-            name: "velocity".into(),
-            short: "Velocity".into(),
-            paper: "Osaki et al. 2000; Shiratori et al. 2003".into(),
-            summary: "Kinematic baseline: a boundary wherever a hand slows down below one speed after moving faster \
-                      than another."
-                .into(),
-            auto_run: true,
-        }
+impl Checkable for VelocityParams {
+    type Valid = ValidParams;
+    fn check(self) -> Result<ValidParams, MethodError> {
+        VelocityParams::check(self)
     }
+}
+
+impl Segmenter for Velocity {
+    type Params = VelocityParams;
+    const ABOUT: About = About {
+        name: "velocity",
+        short: "Velocity",
+        paper: "Osaki et al. 2000; Shiratori et al. 2003",
+        summary: "Kinematic baseline: a boundary wherever a hand slows down below one speed after moving faster than \
+                  another.",
+    };
 
     fn param_specs(&self) -> Vec<ParamSpec> {
         let d = VelocityParams::default();
@@ -40,26 +40,18 @@ impl Method for Velocity {
         specs
     }
 
-    fn check(&self, params: VelocityParams) -> Result<ValidParams, MethodError> {
-        params.check()
-    }
-
-    fn echo(&self, params: &ValidParams) -> serde_json::Value {
-        serde_json::to_value(&**params).unwrap_or_default()
-    }
-
     fn work(&self, params: &ValidParams) -> Work {
         // end-effector positions and speeds: 1.0 kB per frame measured (tests/limits.rs)
         Work { fps: params.fps, bytes_per_frame: 1_500, fixed_bytes: 1 << 20, advice: "" }
     }
 
-    fn run(
+    fn segment(
         &self,
         motion: &Motion,
         params: &ValidParams,
         options: &RunOptions,
         progress: &mut dyn Progress,
-    ) -> Result<MethodOutput, MethodError> {
+    ) -> Result<Found, MethodError> {
         progress.step("features", 0.0)?;
         let e = end_effectors(motion, params.fps, params.body_scale).map_err(|e| MethodError::Failed(e.to_string()))?;
         progress.step("speed", 0.3)?;
@@ -75,21 +67,11 @@ impl Method for Velocity {
             Level::Primitive,
             |_, a, b| Some((peak(a, b) as f64 * 10.0).round() / 10.0),
         );
-        let segmentation = Segmentation {
-            file: motion.name.clone(),
-            fps: motion.fps,
-            frames: motion.frames(),
-            method: "velocity".into(),
-            params: self.echo(params),
-            segments,
-        };
         let curves = ["left hand", "right hand"]
             .iter()
             .zip(&speeds)
-            .map(|(hand, s)| Curve {
-                id: hand.replace(' ', "-") + "-speed",
-                title: format!("{hand} speed (in/s)"),
-                values: (0..motion.frames()).map(|f| s[frames.working_frame(f)]).collect(),
+            .map(|(hand, s)| {
+                at_file_rate(hand.replace(' ', "-") + "-speed", format!("{hand} speed (in/s)"), s, &frames)
             })
             .collect();
         let mut pictures = Vec::new();
@@ -99,11 +81,11 @@ impl Method for Velocity {
         }
         let summary = format!(
             "{} · {} · hand speed up to {:.0} in/s",
-            crate::method::counted(segmentation.segments.len(), "gesture"),
+            crate::method::counted(segments.len(), "gesture"),
             crate::method::counted(cuts.len(), "boundary"),
             speeds.iter().flatten().fold(0.0f32, |a, &b| a.max(b))
         );
-        Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves, take_fit: None } })
+        Ok(Found { segments, summary, curves, pictures })
     }
 }
 
