@@ -97,12 +97,9 @@ const KNOWN_LONG_FNS: &[&str] = &[
     "src/app/training.rs fn ModelFile",
     "src/app/training.rs fn TrainingPanel",
     "src/app/workspace.rs fn SidePanel",
-    "src/asfamc/asf.rs fn parse_asf",
-    "src/methods/lma/training.rs fn train_family",
     "src/methods/sssm/mod.rs fn segment_features_within",
     "src/methods/sssm/params.rs fn param_specs",
     "src/methods/sssm/primitives.rs fn warping_paths",
-    "src/worker/state.rs fn handle",
 ];
 
 /// Page files over [`MAX_PAGE_FILE_LINES`] when the rule was written.

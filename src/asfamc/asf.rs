@@ -210,28 +210,7 @@ pub fn parse_asf(text: &str, limits: &ParseLimits) -> Result<Asf, BvhError> {
                     format!("expected `end` closing the bone that begins on line {}, found `{first}`", d.line),
                 ));
             }
-            section = match keyword.to_ascii_lowercase().as_str() {
-                "version" => Section::None,
-                "name" => {
-                    asf.name = toks[1..].iter().map(|t| t.1).collect::<Vec<_>>().join(" ");
-                    Section::None
-                }
-                "units" => Section::Units,
-                "documentation" => Section::Documentation,
-                "root" => {
-                    seen_root = true;
-                    Section::Root
-                }
-                "bonedata" => Section::BoneData,
-                "hierarchy" => {
-                    seen_hierarchy = true;
-                    Section::Hierarchy
-                }
-                _ => {
-                    asf.warnings.push(Warning { line: n, message: format!("section `{first}` is not used; skipped") });
-                    Section::Other
-                }
-            };
+            section = section_named(&mut asf, keyword, first, &toks, n, (&mut seen_root, &mut seen_hierarchy));
             continue;
         }
         let key = first.to_ascii_lowercase();
@@ -240,51 +219,8 @@ pub fn parse_asf(text: &str, limits: &ParseLimits) -> Result<Asf, BvhError> {
             Section::None => {
                 return Err(err(n, col, format!("expected a section such as `:root` or `:bonedata`, found `{first}`")))
             }
-            Section::Units => match key.as_str() {
-                "length" => asf.length_unit = numbers::<1>(n, &toks, "length")?[0],
-                "angle" => {
-                    asf.degrees = match toks.get(1).map(|t| t.1.to_ascii_lowercase()) {
-                        Some(u) if u.starts_with("deg") => true,
-                        Some(u) if u.starts_with("rad") => false,
-                        _ => {
-                            let c = toks.get(1).map_or(col + 5, |t| t.0);
-                            return Err(err(n, c, "expected `deg` or `rad` after `angle`"));
-                        }
-                    }
-                }
-                _ => {}
-            },
-            Section::Root => match key.as_str() {
-                "order" => {
-                    asf.root.order = toks[1..]
-                        .iter()
-                        .map(|&(c, t)| {
-                            Dof::parse(t).ok_or_else(|| {
-                                err(
-                                    n,
-                                    c,
-                                    format!("expected TX, TY, TZ, RX, RY or RZ in the root's `order`, found `{t}`"),
-                                )
-                            })
-                        })
-                        .collect::<Result<_, _>>()?;
-                }
-                "axis" => {
-                    let &(c, t) = toks
-                        .get(1)
-                        .ok_or_else(|| err(n, col + 4, "expected an axis order such as `XYZ` after `axis`"))?;
-                    asf.root.axis.order = axis_order(n, c, t)?;
-                }
-                "position" => asf.root.position = numbers::<3>(n, &toks, "position")?,
-                "orientation" => asf.root.axis.angles = numbers::<3>(n, &toks, "orientation")?,
-                _ => {
-                    return Err(err(
-                        n,
-                        col,
-                        format!("expected `order`, `axis`, `position` or `orientation` in `:root`, found `{first}`"),
-                    ))
-                }
-            },
+            Section::Units => units_line(&mut asf, n, col, &key, &toks)?,
+            Section::Root => root_line(&mut asf, n, col, first, &key, &toks)?,
             Section::BoneData => {
                 if key == "begin" {
                     if let Some(d) = &draft {
@@ -301,36 +237,9 @@ pub fn parse_asf(text: &str, limits: &ParseLimits) -> Result<Asf, BvhError> {
                     return Err(err(n, col, format!("expected `begin` (a bone) in `:bonedata`, found `{first}`")));
                 };
                 match key.as_str() {
-                    "end" => {
-                        let d = draft.take().expect("a bone is open");
-                        let name = d.name.ok_or_else(|| {
-                            err(n, col, format!("the bone that begins on line {} has no `name`", d.line))
-                        })?;
-                        let direction =
-                            d.direction.ok_or_else(|| err(n, col, format!("bone `{name}` has no `direction`")))?;
-                        let length = d.length.ok_or_else(|| err(n, col, format!("bone `{name}` has no `length`")))?;
-                        if asf.bones.iter().any(|b| b.name == name) {
-                            return Err(err(d.line, 1, format!("bone `{name}` is defined twice")));
-                        }
-                        if asf.bones.len() + 1 >= limits.max_joints {
-                            return Err(err(d.line, 1, format!("too many bones: the limit is {}", limits.max_joints)));
-                        }
-                        let axis = d.axis.unwrap_or(Axis { angles: [0.0; 3], order: [0, 1, 2] });
-                        asf.bones.push(Bone { name, direction, length, axis, dofs: d.dofs, line: d.line });
-                    }
+                    "end" => close_bone(&mut asf, draft.take().expect("a bone is open"), n, col, limits)?,
                     "id" | "bodymass" | "cofmass" => {}
-                    "name" => {
-                        let &(c, t) =
-                            toks.get(1).ok_or_else(|| err(n, col + 4, "expected the bone's name after `name`"))?;
-                        if t.eq_ignore_ascii_case("root") {
-                            return Err(err(n, c, "a bone cannot be called `root` (the root is not a bone)"));
-                        }
-                        if let Some(at) = t.find(['{', '}']) {
-                            let col = c + t[..at].chars().count();
-                            return Err(err(n, col, format!("a bone's name cannot contain `{{` or `}}` (it would not survive as a BVH joint name), found `{t}`")));
-                        }
-                        d.name = Some(t.to_string());
-                    }
+                    "name" => d.name = Some(bone_name(n, col, &toks)?),
                     "direction" => d.direction = Some(numbers::<3>(n, &toks, "direction")?),
                     "length" => {
                         let v = numbers::<1>(n, &toks, "length")?[0];
@@ -346,33 +255,7 @@ pub fn parse_asf(text: &str, limits: &ParseLimits) -> Result<Asf, BvhError> {
                         })?;
                         d.axis = Some(Axis { angles, order: axis_order(n, c, t)? });
                     }
-                    "dof" => {
-                        for &(c, t) in &toks[1..] {
-                            match Dof::parse(t) {
-                                Some(dof) if !dof.is_rotation() => {
-                                    return Err(err(
-                                        n,
-                                        c,
-                                        format!("bone translations (`{t}`) are not supported; only rx, ry, rz"),
-                                    ))
-                                }
-                                Some(dof) if d.dofs.contains(&dof) => {
-                                    return Err(err(n, c, format!("`{t}` is listed twice")))
-                                }
-                                Some(dof) => d.dofs.push(dof),
-                                None if t.eq_ignore_ascii_case("l") => {
-                                    return Err(err(
-                                        n,
-                                        c,
-                                        "bone length changes (`l`) are not supported; only rx, ry, rz",
-                                    ))
-                                }
-                                None => {
-                                    return Err(err(n, c, format!("expected rx, ry or rz after `dof`, found `{t}`")))
-                                }
-                            }
-                        }
-                    }
+                    "dof" => dof_line(d, n, &toks)?,
                     // limits span several lines: `limits (lo hi)` then `(lo hi)` per further dof
                     k if k == "limits" || k.starts_with('(') => {}
                     _ => asf
@@ -395,7 +278,54 @@ pub fn parse_asf(text: &str, limits: &ParseLimits) -> Result<Asf, BvhError> {
             },
         }
     }
-    if let Some(d) = &draft {
+    complete(&asf, draft.as_ref(), seen_root, seen_hierarchy, last_line)?;
+    link(&mut asf, &links, last_line, limits)?;
+    Ok(asf)
+}
+
+/// The section a `:keyword` line opens (`seen` marks `:root` and `:hierarchy`); `:name` names the skeleton, an
+/// unknown section is skipped with a warning.
+fn section_named(
+    asf: &mut Asf,
+    keyword: &str,
+    first: &str,
+    toks: &[(usize, &str)],
+    n: usize,
+    seen: (&mut bool, &mut bool),
+) -> Section {
+    match keyword.to_ascii_lowercase().as_str() {
+        "version" => Section::None,
+        "name" => {
+            asf.name = toks[1..].iter().map(|t| t.1).collect::<Vec<_>>().join(" ");
+            Section::None
+        }
+        "units" => Section::Units,
+        "documentation" => Section::Documentation,
+        "root" => {
+            *seen.0 = true;
+            Section::Root
+        }
+        "bonedata" => Section::BoneData,
+        "hierarchy" => {
+            *seen.1 = true;
+            Section::Hierarchy
+        }
+        _ => {
+            asf.warnings.push(Warning { line: n, message: format!("section `{first}` is not used; skipped") });
+            Section::Other
+        }
+    }
+}
+
+/// At the end of the file: no bone left open, the sections a skeleton needs all there.
+fn complete(
+    asf: &Asf,
+    open: Option<&Draft>,
+    seen_root: bool,
+    seen_hierarchy: bool,
+    last_line: usize,
+) -> Result<(), BvhError> {
+    if let Some(d) = open {
         return Err(err(
             last_line,
             1,
@@ -411,8 +341,117 @@ pub fn parse_asf(text: &str, limits: &ParseLimits) -> Result<Asf, BvhError> {
     if asf.root.order.is_empty() {
         return Err(err(last_line, 1, "`:root` has no `order` (which values the AMC gives for the root)"));
     }
-    link(&mut asf, &links, last_line, limits)?;
-    Ok(asf)
+    Ok(())
+}
+
+/// A line of `:units`.
+fn units_line(asf: &mut Asf, n: usize, col: usize, key: &str, toks: &[(usize, &str)]) -> Result<(), BvhError> {
+    match key {
+        "length" => asf.length_unit = numbers::<1>(n, toks, "length")?[0],
+        "angle" => {
+            asf.degrees = match toks.get(1).map(|t| t.1.to_ascii_lowercase()) {
+                Some(u) if u.starts_with("deg") => true,
+                Some(u) if u.starts_with("rad") => false,
+                _ => {
+                    let c = toks.get(1).map_or(col + 5, |t| t.0);
+                    return Err(err(n, c, "expected `deg` or `rad` after `angle`"));
+                }
+            }
+        }
+        _ => {}
+    }
+    Ok(())
+}
+
+/// A line of `:root`.
+fn root_line(
+    asf: &mut Asf,
+    n: usize,
+    col: usize,
+    first: &str,
+    key: &str,
+    toks: &[(usize, &str)],
+) -> Result<(), BvhError> {
+    match key {
+        "order" => {
+            asf.root.order = toks[1..]
+                .iter()
+                .map(|&(c, t)| {
+                    Dof::parse(t).ok_or_else(|| {
+                        err(n, c, format!("expected TX, TY, TZ, RX, RY or RZ in the root's `order`, found `{t}`"))
+                    })
+                })
+                .collect::<Result<_, _>>()?;
+        }
+        "axis" => {
+            let &(c, t) =
+                toks.get(1).ok_or_else(|| err(n, col + 4, "expected an axis order such as `XYZ` after `axis`"))?;
+            asf.root.axis.order = axis_order(n, c, t)?;
+        }
+        "position" => asf.root.position = numbers::<3>(n, toks, "position")?,
+        "orientation" => asf.root.axis.angles = numbers::<3>(n, toks, "orientation")?,
+        _ => {
+            return Err(err(
+                n,
+                col,
+                format!("expected `order`, `axis`, `position` or `orientation` in `:root`, found `{first}`"),
+            ))
+        }
+    }
+    Ok(())
+}
+
+/// `end` of the bone `d` in `:bonedata`: the bone, complete, joins the skeleton.
+fn close_bone(asf: &mut Asf, d: Draft, n: usize, col: usize, limits: &ParseLimits) -> Result<(), BvhError> {
+    let name = d.name.ok_or_else(|| err(n, col, format!("the bone that begins on line {} has no `name`", d.line)))?;
+    let direction = d.direction.ok_or_else(|| err(n, col, format!("bone `{name}` has no `direction`")))?;
+    let length = d.length.ok_or_else(|| err(n, col, format!("bone `{name}` has no `length`")))?;
+    if asf.bones.iter().any(|b| b.name == name) {
+        return Err(err(d.line, 1, format!("bone `{name}` is defined twice")));
+    }
+    if asf.bones.len() + 1 >= limits.max_joints {
+        return Err(err(d.line, 1, format!("too many bones: the limit is {}", limits.max_joints)));
+    }
+    let axis = d.axis.unwrap_or(Axis { angles: [0.0; 3], order: [0, 1, 2] });
+    asf.bones.push(Bone { name, direction, length, axis, dofs: d.dofs, line: d.line });
+    Ok(())
+}
+
+/// A bone's `name` line: the name, or why it cannot be one.
+fn bone_name(n: usize, col: usize, toks: &[(usize, &str)]) -> Result<String, BvhError> {
+    let &(c, t) = toks.get(1).ok_or_else(|| err(n, col + 4, "expected the bone's name after `name`"))?;
+    if t.eq_ignore_ascii_case("root") {
+        return Err(err(n, c, "a bone cannot be called `root` (the root is not a bone)"));
+    }
+    if let Some(at) = t.find(['{', '}']) {
+        let col = c + t[..at].chars().count();
+        return Err(err(
+            n,
+            col,
+            format!(
+                "a bone's name cannot contain `{{` or `}}` (it would not survive as a BVH joint name), found `{t}`"
+            ),
+        ));
+    }
+    Ok(t.to_string())
+}
+
+/// A bone's `dof` line: its rotation channels, in order.
+fn dof_line(d: &mut Draft, n: usize, toks: &[(usize, &str)]) -> Result<(), BvhError> {
+    for &(c, t) in &toks[1..] {
+        match Dof::parse(t) {
+            Some(dof) if !dof.is_rotation() => {
+                return Err(err(n, c, format!("bone translations (`{t}`) are not supported; only rx, ry, rz")))
+            }
+            Some(dof) if d.dofs.contains(&dof) => return Err(err(n, c, format!("`{t}` is listed twice"))),
+            Some(dof) => d.dofs.push(dof),
+            None if t.eq_ignore_ascii_case("l") => {
+                return Err(err(n, c, "bone length changes (`l`) are not supported; only rx, ry, rz"))
+            }
+            None => return Err(err(n, c, format!("expected rx, ry or rz after `dof`, found `{t}`"))),
+        }
+    }
+    Ok(())
 }
 
 /// Fills parents and children from the `:hierarchy` lines; every bone once, reachable from the root.

@@ -96,19 +96,8 @@ impl WorkerState {
     pub fn handle(&mut self, request: Request, post: &mut dyn FnMut(Response)) {
         match request {
             Request::Load { take, name, restore, bytes, skeleton, skeleton_bytes } => {
-                let mut progress =
-                    |f: f64| post(Response::Progress { take, run: None, stage: "parsing".into(), fraction: Some(f) });
                 let asf = skeleton.as_deref().map(|n| (n, &skeleton_bytes[..]));
-                let response = match self.load(take, &name, &bytes, asf, &mut progress) {
-                    Ok(motion) if restore => {
-                        drop(motion);
-                        Response::Restored { take }
-                    }
-                    Ok(motion) => Response::Loaded { take, motion },
-                    Err(message) => {
-                        Response::Failed { take, run: None, message, kind: FailureKind::Input, param: None }
-                    }
-                };
+                let response = self.load_request(take, &name, restore, &bytes, asf, post);
                 post(response);
             }
             Request::Hold { take, motion } => {
@@ -126,24 +115,7 @@ impl WorkerState {
                 post(response);
             }
             Request::ProvideModel { take, run, file, bytes, unavailable } => {
-                use crate::method::shipped;
-                if let Err(message) = shipped::find(&file) {
-                    return post(Response::Failed {
-                        take,
-                        run: Some(run),
-                        message,
-                        kind: FailureKind::Input,
-                        param: None,
-                    });
-                }
-                let given = match unavailable {
-                    Some(why) => shipped::refuse(&file, why.clone()).and(Err(why)),
-                    None => shipped::provide(&file, bytes),
-                };
-                post(match given {
-                    Ok(()) => Response::ModelProvided { take, run, file },
-                    Err(message) => Response::ModelRefused { take, run, file, message },
-                })
+                post(provide_model(take, run, file, bytes, unavailable))
             }
             Request::UseModel { take, run, method, file, bytes } => {
                 post(self.use_model(take, run, &method, &file, &bytes))
@@ -161,35 +133,9 @@ impl WorkerState {
                 validation,
                 bytes,
             } => {
-                // buffer 0 is the take on screen; the others are what the training adds
-                let added = crate::protocol::extra_takes_total(bytes.iter().skip(1).map(|b| b.len() as u64));
-                if let Err(message) = added {
-                    return post(refusal(take, run, &method, MethodError::param("takes", message)));
-                }
-                let start_from = match continue_from {
-                    None => None,
-                    Some(from) => match self.models.loaded(&method, &from) {
-                        Some(loaded) => Some(loaded),
-                        None => {
-                            let message = format!("no model `{from}` of yours to continue training (train it first)");
-                            return post(refusal(take, run, &method, MethodError::param("name", message)));
-                        }
-                    },
-                };
-                let ask = TrainingAsk {
-                    name,
-                    labels_name,
-                    labels,
-                    takes: takes.into_iter().zip(bytes).collect(),
-                    options,
-                    command: None,
-                    start_from,
-                    validation,
-                    to_file: false,
-                };
-                match self.start_training(take, run, &method, ask, post) {
-                    Ok(()) => self.training_step(post),
-                    Err(e) => post(refusal(take, run, &method, e)),
+                let ask = TrainRequest { name, labels_name, labels, takes, options, continue_from, validation, bytes };
+                if let Err(e) = self.train_request(take, run, &method, ask, post) {
+                    post(refusal(take, run, &method, e))
                 }
             }
             Request::ContinueTraining { run, .. } => {
@@ -212,49 +158,75 @@ impl WorkerState {
                 post(response)
             }
             Request::LibraryCluster { take, run, takes } => {
-                let matched = {
-                    let mut progress = |f: f64| {
-                        post(Response::Progress { take, run: Some(run), stage: "matching".into(), fraction: Some(f) });
-                        Ok(())
-                    };
-                    crate::library::cluster(&takes, &crate::library::LibraryParams::default(), &mut progress)
-                };
-                post(match matched {
-                    Ok(clusters) => Response::LibraryClusters { take, run, clusters: Box::new(clusters) },
-                    Err(e) => Response::Failed {
-                        take,
-                        run: Some(run),
-                        message: format!("matching the library's takes: {e}"),
-                        kind: FailureKind::Input,
-                        param: None,
-                    },
-                })
+                let response = library_cluster(take, run, &takes, post);
+                post(response)
             }
             Request::LibraryTransfer { take, run, takes, labelled, frame_labels, route } => {
-                let carried = {
-                    let mut progress = |f: f64| {
-                        post(Response::Progress { take, run: Some(run), stage: "carrying".into(), fraction: Some(f) });
-                        Ok(())
-                    };
-                    let kb = crate::library::KnowledgeBase { take: labelled, frame_labels };
-                    let params = crate::library::LibraryParams::for_route(route);
-                    crate::library::transfer(&takes, &kb, route, &params, &mut progress)
-                };
-                post(match carried {
-                    Ok(transfer) => Response::LibraryTransferred { take, run, transfer: Box::new(transfer) },
-                    Err(e) => Response::Failed {
-                        take,
-                        run: Some(run),
-                        message: format!("carrying the labels: {e}"),
-                        kind: FailureKind::Input,
-                        param: None,
-                    },
-                })
+                let kb = crate::library::KnowledgeBase { take: labelled, frame_labels };
+                let response = library_transfer(take, run, &takes, &kb, route, post);
+                post(response)
             }
             Request::LibraryClips { take, run, file, takes, to_origin, bytes } => {
                 post(library_clips(take, run, file, &takes, to_origin, bytes))
             }
         }
+    }
+
+    /// A `Load` request's answer: the take read and held (`Restored` only, when it restores a take the page shows
+    /// already).
+    fn load_request(
+        &mut self,
+        take: TakeId,
+        name: &str,
+        restore: bool,
+        bytes: &[u8],
+        asf: Option<(&str, &[u8])>,
+        post: &mut dyn FnMut(Response),
+    ) -> Response {
+        let mut progress =
+            |f: f64| post(Response::Progress { take, run: None, stage: "parsing".into(), fraction: Some(f) });
+        match self.load(take, name, bytes, asf, &mut progress) {
+            Ok(motion) if restore => {
+                drop(motion);
+                Response::Restored { take }
+            }
+            Ok(motion) => Response::Loaded { take, motion },
+            Err(message) => Response::Failed { take, run: None, message, kind: FailureKind::Input, param: None },
+        }
+    }
+
+    /// Starts the training a `Train` request asks for and takes its first step; a refusal before it starts.
+    fn train_request(
+        &mut self,
+        take: TakeId,
+        run: RunId,
+        method: &str,
+        ask: TrainRequest,
+        post: &mut dyn FnMut(Response),
+    ) -> Result<(), MethodError> {
+        // buffer 0 is the take on screen; the others are what the training adds
+        crate::protocol::extra_takes_total(ask.bytes.iter().skip(1).map(|b| b.len() as u64))
+            .map_err(|message| MethodError::param("takes", message))?;
+        let start_from = match ask.continue_from {
+            None => None,
+            Some(from) => Some(self.models.loaded(method, &from).ok_or_else(|| {
+                MethodError::param("name", format!("no model `{from}` of yours to continue training (train it first)"))
+            })?),
+        };
+        let training = TrainingAsk {
+            name: ask.name,
+            labels_name: ask.labels_name,
+            labels: ask.labels,
+            takes: ask.takes.into_iter().zip(ask.bytes).collect(),
+            options: ask.options,
+            command: None,
+            start_from,
+            validation: ask.validation,
+            to_file: false,
+        };
+        self.start_training(take, run, method, training, post)?;
+        self.training_step(post);
+        Ok(())
     }
 
     /// A take of the library read from `bytes`, segmented by `method` and its features for the
@@ -531,6 +503,77 @@ fn read_take(
     progress: &mut dyn FnMut(f64),
 ) -> Result<Motion, String> {
     read_take_file(name, bytes, asf, progress).map(|loaded| loaded.motion)
+}
+
+/// What a `Train` request asks, but the take and run it is about.
+struct TrainRequest {
+    name: String,
+    labels_name: String,
+    labels: String,
+    takes: Vec<String>,
+    options: serde_json::Value,
+    continue_from: Option<String>,
+    validation: Option<String>,
+    bytes: Vec<Vec<u8>>,
+}
+
+/// The answer to a `ProvideModel` request: the shipped file's bytes checked and kept, or why not (a file the page
+/// could not fetch is remembered as refused).
+fn provide_model(take: TakeId, run: RunId, file: String, bytes: Vec<u8>, unavailable: Option<String>) -> Response {
+    use crate::method::shipped;
+    if let Err(message) = shipped::find(&file) {
+        return input_failure(take, Some(run), message);
+    }
+    let given = match unavailable {
+        Some(why) => shipped::refuse(&file, why.clone()).and(Err(why)),
+        None => shipped::provide(&file, bytes),
+    };
+    match given {
+        Ok(()) => Response::ModelProvided { take, run, file },
+        Err(message) => Response::ModelRefused { take, run, file, message },
+    }
+}
+
+/// A request refused for what it was given (a file, a take, labels), with why.
+fn input_failure(take: TakeId, run: Option<RunId>, message: String) -> Response {
+    Response::Failed { take, run, message, kind: FailureKind::Input, param: None }
+}
+
+/// The answer to a `LibraryCluster` request: the clusters shared by the library's `takes`.
+fn library_cluster(
+    take: TakeId,
+    run: RunId,
+    takes: &[crate::library::LibraryTake],
+    post: &mut dyn FnMut(Response),
+) -> Response {
+    let mut progress = |f: f64| {
+        post(Response::Progress { take, run: Some(run), stage: "matching".into(), fraction: Some(f) });
+        Ok(())
+    };
+    match crate::library::cluster(takes, &crate::library::LibraryParams::default(), &mut progress) {
+        Ok(clusters) => Response::LibraryClusters { take, run, clusters: Box::new(clusters) },
+        Err(e) => input_failure(take, Some(run), format!("matching the library's takes: {e}")),
+    }
+}
+
+/// The answer to a `LibraryTransfer` request: the labels of `kb` carried to the library's `takes` by `route`.
+fn library_transfer(
+    take: TakeId,
+    run: RunId,
+    takes: &[crate::library::LibraryTake],
+    kb: &crate::library::KnowledgeBase,
+    route: crate::library::TransferRoute,
+    post: &mut dyn FnMut(Response),
+) -> Response {
+    let mut progress = |f: f64| {
+        post(Response::Progress { take, run: Some(run), stage: "carrying".into(), fraction: Some(f) });
+        Ok(())
+    };
+    let params = crate::library::LibraryParams::for_route(route);
+    match crate::library::transfer(takes, kb, route, &params, &mut progress) {
+        Ok(transfer) => Response::LibraryTransferred { take, run, transfer: Box::new(transfer) },
+        Err(e) => input_failure(take, Some(run), format!("carrying the labels: {e}")),
+    }
 }
 
 /// The clips of several takes in one zip `file` (a `library_clips` request): each take read

@@ -273,6 +273,143 @@ fn confusion(net: &Net, data: &Data) -> [[usize; 3]; 3] {
     m
 }
 
+/// Step 2 of [`train_family`]: the pool features that tell factor `f`'s stand-in label (their rank correlation
+/// with its descriptor over the training samples `train_k` reaches `config.told`), most telling first — not the
+/// network's to read. None when the corpus has real labels.
+fn told_features(
+    corpus: &Corpus,
+    train_k: &[usize],
+    pool_x: &[f32],
+    f: usize,
+    config: &TrainConfig,
+) -> Vec<(usize, f64)> {
+    let mut told = Vec::new();
+    if corpus.descriptors.len() == corpus.samples.len() && config.told < 1.0 {
+        let descriptor: Vec<f64> = train_k.iter().map(|&k| corpus.descriptors[k][f]).collect();
+        for k in 0..POOL_SIZE {
+            let column: Vec<f64> = pool_x.chunks_exact(POOL_SIZE).map(|r| r[k] as f64).collect();
+            let rho = rank_correlation(&column, &descriptor);
+            if rho.abs() >= config.told {
+                told.push((k, rho));
+            }
+        }
+        told.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+    }
+    told
+}
+
+/// Step 3 of [`train_family`]: each pool feature's mean sensitivity over `config.saliency_rounds` quick networks, each
+/// trained on a random subset of the `usable` features of the standardised pool `pool_std`; `done(share)` after each
+/// round.
+fn saliency(
+    pool_std: &[f32],
+    usable: &[usize],
+    y_train: &[f32],
+    config: &TrainConfig,
+    rng: &mut Rng,
+    done: &mut dyn FnMut(f64) -> Result<(), String>,
+) -> Result<Vec<f64>, String> {
+    let mut saliency = vec![0.0f64; POOL_SIZE];
+    let mut drawn = vec![0usize; POOL_SIZE];
+    let subset = config.subset.min(usable.len());
+    let samples = y_train.len() / 3;
+    for round in 0..config.saliency_rounds {
+        let mut pick = usable.to_vec();
+        let n = pick.len();
+        for k in 0..subset {
+            pick.swap(k, k + rng.below(n - k));
+        }
+        let pick = &pick[..subset];
+        let x: Vec<f32> = pool_std.chunks_exact(POOL_SIZE).flat_map(|r| pick.iter().map(move |&k| r[k])).collect();
+        let quick = TrainOptions { max_epochs: 60, ..config.options };
+        let (net, _) = train(Net::random(subset, 5, 3, rng), &data(&x, y_train), &data(&[], &[]), &quick);
+        let mut sum = vec![0.0f64; subset];
+        for row in x.chunks_exact(subset) {
+            for (a, b) in sum.iter_mut().zip(net.sensitivity(row)) {
+                *a += b as f64;
+            }
+        }
+        for (&k, v) in pick.iter().zip(sum) {
+            saliency[k] += v / samples as f64;
+            drawn[k] += 1;
+        }
+        done((round + 1) as f64 / config.saliency_rounds as f64)?;
+    }
+    Ok(saliency.iter().zip(&drawn).map(|(s, &n)| if n > 0 { s / n as f64 } else { 0.0 }).collect())
+}
+
+/// Steps 5 and 6 of [`train_family`]: the hidden units a wide network needs (Park et al.), then the unshifted network
+/// of that many, best of `config.restarts` (seeded by `seed`); with the hidden units.
+fn central_network(
+    components: usize,
+    train_data: &Data,
+    valid_data: &Data,
+    z_train: &[f32],
+    config: &TrainConfig,
+    rng: &mut Rng,
+    seed: u64,
+) -> (Net, usize) {
+    let wide = Net::random(components, config.widest_hidden, 3, rng);
+    let (wide, _) = train(wide, train_data, valid_data, &config.options);
+    let hidden = hidden_units(&wide, z_train, config.hidden_variance).min(config.widest_hidden);
+    let restarts = config.restarts.max(1);
+    let (central, _) = train_restarts(components, hidden, 3, train_data, valid_data, &config.options, restarts, seed);
+    (central, hidden)
+}
+
+/// The family of the four factors' models trained on `corpus`.
+fn family(corpus: &Corpus, factors: Vec<FactorModel>) -> EffortModel {
+    let c = corpus.config;
+    EffortModel {
+        fps: c.fps,
+        max_shift: c.max_shift,
+        min_len: c.min_len,
+        max_len: c.max_len,
+        origin: corpus.origin.clone(),
+        samples: corpus.samples.len(),
+        factors,
+    }
+}
+
+/// Step 7 of [`train_family`]: a network of its own for every boundary shift `(i, j)` in `-s..=s` (the unshifted one
+/// is `central`), trained on the `sets` (training, validation, test samples, with their one-hot labels `ys`) as
+/// `z_of` projects them at that shift; with the mean test error over them all. `done(i)` after each row of shifts.
+#[allow(clippy::too_many_arguments)]
+fn shifted_networks(
+    central: &Net,
+    z_of: &dyn Fn(&[Sample], (isize, isize)) -> Vec<f32>,
+    sets: [&[Sample]; 3],
+    ys: [&[f32]; 3],
+    (components, hidden): (usize, usize),
+    s: isize,
+    seed: u64,
+    config: &TrainConfig,
+    done: &mut dyn FnMut(isize) -> Result<(), String>,
+) -> Result<(Vec<Net>, f32), String> {
+    let mut nets = Vec::with_capacity(((2 * s + 1) * (2 * s + 1)) as usize);
+    let mut shifted_error = 0.0;
+    for i in -s..=s {
+        for j in -s..=s {
+            let ze = z_of(sets[2], (i, j));
+            if i == 0 && j == 0 {
+                nets.push(central.clone());
+                shifted_error += classification_error(central, &data(&ze, ys[2]));
+                continue;
+            }
+            let (zt, zv) = (z_of(sets[0], (i, j)), z_of(sets[1], (i, j)));
+            let (td, vd, ed) = (data(&zt, ys[0]), data(&zv, ys[1]), data(&ze, ys[2]));
+            let shift_seed = seed.wrapping_mul(131).wrapping_add(((i + s) * (2 * s + 1) + (j + s)) as u64 + 1);
+            let restarts = config.shift_restarts.max(1);
+            let (net, _) = train_restarts(components, hidden, 3, &td, &vd, &config.shift_options, restarts, shift_seed);
+            shifted_error += classification_error(&net, &ed);
+            nets.push(net);
+        }
+        done(i)?;
+    }
+    let n = nets.len() as f32;
+    Ok((nets, shifted_error / n))
+}
+
 /// Trains the family on `corpus`; reports `(stage, fraction)` and stops when asked.
 pub fn train_family(
     corpus: &Corpus,
@@ -309,18 +446,7 @@ pub fn train_family(
         let mut pool_std = pool_x.clone();
         standardise(&mut pool_std, &pool_mean, &pool_scale);
         // 2. the features that tell a stand-in label are not the network's to read
-        let mut told = Vec::new();
-        if corpus.descriptors.len() == corpus.samples.len() && config.told < 1.0 {
-            let descriptor: Vec<f64> = train_k.iter().map(|&k| corpus.descriptors[k][f]).collect();
-            for k in 0..POOL_SIZE {
-                let column: Vec<f64> = pool_x.chunks_exact(POOL_SIZE).map(|r| r[k] as f64).collect();
-                let rho = rank_correlation(&column, &descriptor);
-                if rho.abs() >= config.told {
-                    told.push((k, rho));
-                }
-            }
-            told.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
-        }
+        let told = told_features(corpus, &train_k, &pool_x, f, config);
         let usable: Vec<usize> = (0..POOL_SIZE).filter(|k| !told.iter().any(|t| t.0 == *k)).collect();
         if usable.is_empty() {
             return Err(format!(
@@ -333,34 +459,9 @@ pub fn train_family(
         let y_test = one_hot(&test, f);
         // 3. saliency over random subsets of the usable features
         progress(&format!("{} saliency", factor.name()), base).map_err(cancelled)?;
-        let mut saliency = vec![0.0f64; POOL_SIZE];
-        let mut drawn = vec![0usize; POOL_SIZE];
-        let subset = config.subset.min(usable.len());
-        for round in 0..config.saliency_rounds {
-            let mut pick = usable.clone();
-            let n = pick.len();
-            for k in 0..subset {
-                pick.swap(k, k + rng.below(n - k));
-            }
-            let pick = &pick[..subset];
-            let x: Vec<f32> = pool_std.chunks_exact(POOL_SIZE).flat_map(|r| pick.iter().map(move |&k| r[k])).collect();
-            let quick = TrainOptions { max_epochs: 60, ..config.options };
-            let (net, _) = train(Net::random(subset, 5, 3, &mut rng), &data(&x, &y_train), &data(&[], &[]), &quick);
-            let mut sum = vec![0.0f64; subset];
-            for row in x.chunks_exact(subset) {
-                for (a, b) in sum.iter_mut().zip(net.sensitivity(row)) {
-                    *a += b as f64;
-                }
-            }
-            for (&k, v) in pick.iter().zip(sum) {
-                saliency[k] += v / train_set.len() as f64;
-                drawn[k] += 1;
-            }
-            let fraction = base + 0.3 / steps * (round + 1) as f64 / config.saliency_rounds as f64;
-            progress(&format!("{} saliency", factor.name()), fraction).map_err(cancelled)?;
-        }
-        let score: Vec<f64> =
-            saliency.iter().zip(&drawn).map(|(s, &n)| if n > 0 { s / n as f64 } else { 0.0 }).collect();
+        let score = saliency(&pool_std, &usable, &y_train, config, &mut rng, &mut |done| {
+            progress(&format!("{} saliency", factor.name()), base + 0.3 / steps * done).map_err(cancelled)
+        })?;
         let mut ranked: Vec<u16> = usable.iter().map(|&k| k as u16).collect();
         ranked.sort_by(|&a, &b| score[b as usize].total_cmp(&score[a as usize]));
         let selected: Vec<u16> = ranked[..config.selected.clamp(1, ranked.len())].to_vec();
@@ -385,56 +486,18 @@ pub fn train_family(
         let test_data = data(&z_test, &y_test);
         // 5. hidden units (Park et al.)
         progress(&format!("{} network", factor.name()), base + 0.35 / steps).map_err(cancelled)?;
-        let (wide, _) = train(
-            Net::random(components, config.widest_hidden, 3, &mut rng),
-            &train_data,
-            &valid_data,
-            &config.options,
-        );
-        let hidden = hidden_units(&wide, &z_train, config.hidden_variance).min(config.widest_hidden);
-        // 6. the unshifted network, best of the restarts
         let seed = config.seed.wrapping_mul(1000).wrapping_add(f as u64);
-        let (central, _) = train_restarts(
-            components,
-            hidden,
-            3,
-            &train_data,
-            &valid_data,
-            &config.options,
-            config.restarts.max(1),
-            seed,
-        );
+        let (central, hidden) = central_network(components, &train_data, &valid_data, &z_train, config, &mut rng, seed);
         // 7. every shifted classifier a network of its own
-        let mut nets = Vec::with_capacity(((2 * s + 1) * (2 * s + 1)) as usize);
-        let mut shifted_error = 0.0;
-        for i in -s..=s {
-            for j in -s..=s {
-                if i == 0 && j == 0 {
-                    nets.push(central.clone());
-                    shifted_error += classification_error(&central, &test_data);
-                    continue;
-                }
-                let zt = project(&inputs(&train_set, (i, j)), n_sel, &axes, components);
-                let zv = project(&inputs(&valid, (i, j)), n_sel, &axes, components);
-                let ze = project(&inputs(&test, (i, j)), n_sel, &axes, components);
-                let (td, vd, ed) = (data(&zt, &y_train), data(&zv, &y_valid), data(&ze, &y_test));
-                let shift_seed = seed.wrapping_mul(131).wrapping_add(((i + s) * (2 * s + 1) + (j + s)) as u64 + 1);
-                let (net, _) = train_restarts(
-                    components,
-                    hidden,
-                    3,
-                    &td,
-                    &vd,
-                    &config.shift_options,
-                    config.shift_restarts.max(1),
-                    shift_seed,
-                );
-                shifted_error += classification_error(&net, &ed);
-                nets.push(net);
-            }
-            let fraction = base + (0.45 + 0.55 * (i + s + 1) as f64 / (2 * s + 1) as f64) / steps;
-            progress(&format!("{} shifted networks", factor.name()), fraction).map_err(cancelled)?;
-        }
+        let z_of =
+            |samples: &[Sample], shift: (isize, isize)| project(&inputs(samples, shift), n_sel, &axes, components);
+        let sets = [&train_set[..], &valid[..], &test[..]];
+        let ys = [&y_train[..], &y_valid[..], &y_test[..]];
+        let (nets, shifted_error) =
+            shifted_networks(&central, &z_of, sets, ys, (components, hidden), s, seed, config, &mut |i| {
+                let fraction = base + (0.45 + 0.55 * (i + s + 1) as f64 / (2 * s + 1) as f64) / steps;
+                progress(&format!("{} shifted networks", factor.name()), fraction).map_err(cancelled)
+            })?;
         let validation_error = classification_error(&central, &valid_data);
         let test_error = classification_error(&central, &test_data);
         reports.push(FactorReport {
@@ -445,7 +508,7 @@ pub fn train_family(
             train_error: classification_error(&central, &train_data),
             validation_error,
             test_error,
-            shifted_test_error: shifted_error / nets.len() as f32,
+            shifted_test_error: shifted_error,
             confusion: confusion(&central, &test_data),
             split,
             most_salient: selected.iter().take(5).map(|&k| (Pool::name(k as usize), score[k as usize])).collect(),
@@ -462,15 +525,5 @@ pub fn train_family(
             test_error: Some(test_error),
         });
     }
-    let c = corpus.config;
-    let model = EffortModel {
-        fps: c.fps,
-        max_shift: c.max_shift,
-        min_len: c.min_len,
-        max_len: c.max_len,
-        origin: corpus.origin.clone(),
-        samples: corpus.samples.len(),
-        factors,
-    };
-    Ok((model, reports))
+    Ok((family(corpus, factors), reports))
 }
