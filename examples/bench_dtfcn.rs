@@ -43,13 +43,14 @@ fn run() -> Result<(), String> {
     let bvh = mocapseg::bvh::parse(&text).map_err(|e| format!("{path}: {e}"))?;
     let full = Motion::from_bvh("bench sequence", &bvh).map_err(|e| e.to_string())?;
     let take = Motion::concatenate(std::slice::from_ref(&full), 3000).map_err(|e| e.to_string())?;
+    let store = mocapseg::method::ModelStore::new();
     for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
-        inference(&take, kind, "exercises")?; // warm-up (reads the model)
+        inference(&take, kind, "exercises", &store)?; // warm-up (reads the model)
         let mut times = Vec::new();
         let mut segments = 0;
         for _ in 0..reps.max(1) {
             let t0 = Instant::now();
-            segments = inference(&take, kind, "exercises")?;
+            segments = inference(&take, kind, "exercises", &store)?;
             times.push(t0.elapsed().as_secs_f64() * 1000.0);
         }
         times.sort_by(f64::total_cmp);

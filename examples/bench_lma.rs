@@ -45,7 +45,7 @@ fn run() -> Result<(), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
     let bvh = mocapseg::bvh::parse(&text).map_err(|e| format!("{path}: {e}"))?;
     let full = Motion::from_bvh("bench sequence", &bvh).map_err(|e| e.to_string())?;
-    let model = mocapseg::methods::lma::shipped_model()?;
+    let model = &mocapseg::methods::lma::shipped_model()?;
     let runs = [("effort", false), ("effort", true), ("deviance", false), ("deviance", true)];
     for (search, exhaustive) in runs.into_iter().filter(|&(_, e)| only.is_none_or(|o| o == e)) {
         let params = LmaParams { exhaustive, search: search.into(), ..LmaParams::default() };

@@ -69,7 +69,7 @@ mod lab {
             loaded.push((t.trial.to_string(), bvh::parse(&text).map_err(|e| e.to_string())?, t.truth.clone()));
         }
         let sources: Vec<Source> = loaded.iter().map(|(n, b, t)| Source { name: n, bvh: b, truth: t }).collect();
-        let model = mocapseg::methods::lma::shipped_model()?;
+        let model = &mocapseg::methods::lma::shipped_model()?;
         let tolerance = 0.5 * model.fps;
         let all: Vec<u16> = (0..POOL_SIZE as u16).collect();
         for seed in 1..=2u64 {

@@ -82,8 +82,9 @@ mod lab {
             "| model | take | travel limit (in/s) | frames beyond it | pose ratio | unfamiliar frames | verdict |"
         );
         println!("|---|---|---|---|---|---|---|");
+        let store = mocapseg::method::ModelStore::new();
         for name in shipped::NAMES {
-            let model = shipped::model(ModelKind::Knn, name).map_err(|e| e.to_string())?;
+            let model = shipped::model(ModelKind::Knn, name, &store).map_err(|e| e.to_string())?;
             // the travel of the model's own training takes (the shipped headers predate the profile)
             let trained: Vec<&Motion> =
                 takes.iter().filter(|t| model.header.provenance.takes.iter().any(|n| *n == t.name)).collect();

@@ -148,7 +148,7 @@ mod lab {
     }
 
     pub fn run(args: Args) -> Result<(), String> {
-        let model = mocapseg::methods::lma::shipped_model()?;
+        let model = &mocapseg::methods::lma::shipped_model()?;
         let mut loaded: Vec<(&str, Bvh, Truth)> = Vec::new();
         for take in crate::common::labelled_takes(&args.data)? {
             let text = std::fs::read_to_string(&take.bvh).map_err(|e| format!("{}: {e}", take.bvh.display()))?;

@@ -115,8 +115,8 @@ pub enum Request {
     },
     /// Hand over the shipped model file `file` (its bytes as the page fetched them from beside
     /// itself, buffer 0) after a `needs_model` answer; checked against this build's SHA-256
-    /// ([`crate::method::shipped::provide`]) — or, with `unavailable`, say why the page could not
-    /// fetch it ([`crate::method::shipped::refuse`]; no bytes). Answer: `model_provided`, or
+    /// ([`crate::method::ModelStore::provide`]) — or, with `unavailable`, say why the page could not
+    /// fetch it ([`crate::method::ModelStore::refuse`]; no bytes). Answer: `model_provided`, or
     /// `model_refused` naming the file; a refused file is not asked for again: the run asked again
     /// fails with why where it needs the file and goes on without it where it was one of several.
     /// `failed` for a file that is not a shipped one. Any worker accepts it, whatever take it holds.

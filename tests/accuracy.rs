@@ -211,6 +211,7 @@ fn decoded_labels_cut_a_take_into_at_most_twice_its_true_segments() {
                     mocapseg::methods::dtfcn::model::ModelKind::Knn
                 },
                 "exercises",
+                &mocapseg::method::ModelStore::default(),
             )
             .unwrap()
             .header

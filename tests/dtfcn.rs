@@ -339,13 +339,14 @@ fn the_registered_methods_label_a_take_with_a_users_models() {
 
 #[test]
 fn every_shipped_model_loads_and_labels_a_walk() {
-    models::provide();
+    let store = models::store();
     let walk = motion("02_01.bvh", WALK);
     for kind in ["dtfcn", "knn"] {
         let m = find(kind).unwrap();
         for name in shipped::NAMES {
             let out = m
-                .run_json(&walk, &serde_json::json!({ "model": name }), &RunOptions::default(), &mut NoProgress)
+                .check_json_in(&serde_json::json!({ "model": name }), &store)
+                .and_then(|checked| m.run_checked(&walk, &checked, &RunOptions::default(), &mut NoProgress))
                 .unwrap_or_else(|e| panic!("{kind} {name}: {e}"));
             out.segmentation.validate().unwrap();
             assert!(!out.segmentation.segments.is_empty());

@@ -281,7 +281,8 @@ fn edited_model(
     edit: impl FnOnce(&mut mocapseg::methods::dtfcn::model::Model),
 ) -> mocapseg::method::supervised::Loaded {
     use mocapseg::methods::dtfcn::model::Model;
-    let mut model = Model::from_bytes(mocapseg::method::shipped::bytes(shipped).unwrap(), shipped).unwrap();
+    let mut model =
+        Model::from_bytes(&mocapseg::method::ModelStore::default().shipped_bytes(shipped).unwrap(), shipped).unwrap();
     model.header.name = name.to_string();
     edit(&mut model);
     let bytes = model.to_bytes().unwrap();

@@ -26,10 +26,9 @@ use mocapseg::segment::Level;
 #[path = "support/models.rs"]
 mod models;
 
-/// The shipped family (handed over first on the page's build).
-fn shipped_model() -> Result<&'static mocapseg::methods::lma::classifier::EffortModel, String> {
-    models::provide();
-    mocapseg::methods::lma::shipped_model()
+/// The shipped family, read by a store of the test's own (handed over first on the page's build).
+fn shipped_model() -> Result<std::sync::Arc<mocapseg::methods::lma::classifier::EffortModel>, String> {
+    mocapseg::methods::lma::shipped(&models::store()).map_err(|e| e.to_string())
 }
 
 const WALK: &str = include_str!("fixtures/131_01.bvh");
@@ -58,7 +57,7 @@ fn truncated(text: &str, frames: usize) -> String {
 
 #[test]
 fn the_shipped_family_is_the_papers_shape() {
-    let model = shipped_model().unwrap();
+    let model = &shipped_model().unwrap();
     assert_eq!(model.max_shift, 5);
     assert_eq!(model.shifts(), 121);
     assert_eq!((model.fps, model.min_len, model.max_len), (30.0, 20, 100));
@@ -96,7 +95,7 @@ fn assert_differ(f: &mocapseg::methods::lma::classifier::FactorModel) {
 
 #[test]
 fn the_batched_exhaustive_map_equals_the_classifiers_one_candidate_at_a_time() {
-    let model = shipped_model().unwrap();
+    let model = &shipped_model().unwrap();
     let m = motion("131_01.bvh", WALK);
     let body = upper_body(&m, model.fps).unwrap();
     let arm = &body.arms[1];
@@ -123,7 +122,7 @@ fn the_batched_exhaustive_map_equals_the_classifiers_one_candidate_at_a_time() {
 
 #[test]
 fn both_searches_segment_a_take_into_gestures_with_their_effort() {
-    let model = shipped_model().unwrap();
+    let model = &shipped_model().unwrap();
     let m = motion("131_01.bvh", WALK);
     for (search, exhaustive) in [("effort", false), ("effort", true), ("deviance", false), ("deviance", true)] {
         let params = LmaParams { exhaustive, search: search.into(), ..LmaParams::default() };
@@ -204,7 +203,7 @@ fn pruned_and_exhaustive_find_the_planted_boundaries() {
     let spliced = splice(&sources, &SpliceOptions { pieces: 14, seed: 2, ..Default::default() }).unwrap();
     let m = Motion::from_bvh("planted", &spliced.bvh).unwrap();
     let planted: Vec<usize> = spliced.pieces[1..].iter().map(|p| p.start).collect();
-    let model = shipped_model().unwrap();
+    let model = &shipped_model().unwrap();
     let mut found = Vec::new();
     for exhaustive in [false, true] {
         let params = LmaParams { exhaustive, ..LmaParams::default() };
@@ -230,7 +229,7 @@ fn pruned_and_exhaustive_find_the_planted_boundaries() {
 
 #[test]
 fn the_pruned_search_finds_gestures_in_boxing() {
-    let model = shipped_model().unwrap();
+    let model = &shipped_model().unwrap();
     let m = motion("boxing.bvh", BOXING);
     let out = segment_with(model, &m, &LmaParams::default(), &RunOptions::default(), &mut NoProgress).unwrap();
     out.segmentation.validate().unwrap();
@@ -240,7 +239,7 @@ fn the_pruned_search_finds_gestures_in_boxing() {
 
 #[test]
 fn a_take_shorter_than_the_shortest_segment_gives_none() {
-    let model = shipped_model().unwrap();
+    let model = &shipped_model().unwrap();
     // 60 frames at 120 Hz: half a second
     let m = motion("short.bvh", &truncated(WALK, 60));
     for exhaustive in [false, true] {

@@ -317,7 +317,7 @@ fn the_worker_annotates_any_rows_segments_with_the_effort_of_the_shipped_family(
         })
         .collect();
     let expected =
-        mocapseg::methods::lma::layer::effort_of(mocapseg::methods::lma::shipped_model().unwrap(), &motion, &segments)
+        mocapseg::methods::lma::layer::effort_of(&mocapseg::methods::lma::shipped_model().unwrap(), &motion, &segments)
             .unwrap();
     let got: Vec<_> = annotations.segments.iter().map(|a| a.effort).collect();
     assert_eq!(got, expected);

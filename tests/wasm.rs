@@ -231,8 +231,10 @@ mod worker {
                 effort: None,
             })
             .collect();
-        let model = mocapseg::methods::lma::shipped_model().unwrap();
-        let expected = mocapseg::methods::lma::layer::effort_of(model, &motion, &segments).unwrap();
+        let store = mocapseg::method::ModelStore::new();
+        store.provide("lma-effort.json", include_bytes!("../models/lma-effort.json").to_vec()).unwrap();
+        let model = mocapseg::methods::lma::shipped(&store).unwrap();
+        let expected = mocapseg::methods::lma::layer::effort_of(&model, &motion, &segments).unwrap();
         assert_eq!(annotations.segments.iter().map(|a| a.effort).collect::<Vec<_>>(), expected);
         assert!(expected[0].is_some() && expected[1].is_none(), "{expected:?}");
     }
@@ -288,7 +290,7 @@ mod worker {
 /// frames at 30 Hz — is refused by every method at once, naming its Frame Time; the same frames
 /// at Frame Time 1 (under a minute at 1 Hz) run to the end in every method.
 mod work {
-    use mocapseg::method::{shipped, MethodError, NoProgress, RunOptions};
+    use mocapseg::method::{MethodError, NoProgress, RunOptions};
     use wasm_bindgen_test::wasm_bindgen_test;
 
     fn with_frame_time(frames: usize, frame_time: &str) -> Vec<u8> {
@@ -299,14 +301,14 @@ mod work {
     }
 
     /// The shipped model files the default parameters name (the page fetches them; here they are built in).
-    fn provide(file: &str) {
+    fn provide(store: &mocapseg::method::ModelStore, file: &str) {
         let bytes: &[u8] = match file {
             "lma-effort.json" => include_bytes!("../models/lma-effort.json"),
             "knn-exercises.model" => include_bytes!("../models/knn-exercises.model"),
             "dtfcn-exercises.model" => include_bytes!("../models/dtfcn-exercises.model"),
             other => panic!("a default names {other}"),
         };
-        shipped::provide(file, bytes.to_vec()).unwrap();
+        store.provide(file, bytes.to_vec()).unwrap();
     }
 
     #[wasm_bindgen_test]
@@ -315,12 +317,13 @@ mod work {
             let file = format!("ft{frame_time}.bvh");
             let bytes = with_frame_time(frames, frame_time);
             let motion = mocapseg::load::load_bytes(&file, &bytes, &mut |_| {}).unwrap().motion;
+            let store = mocapseg::method::ModelStore::new();
             for m in mocapseg::methods::registry() {
                 let name = m.info().name;
-                let checked = match m.check_json(&serde_json::json!({})) {
+                let checked = match m.check_json_in(&serde_json::json!({}), &store) {
                     Err(MethodError::NeedsModel { file }) => {
-                        provide(&file);
-                        m.check_json(&serde_json::json!({})).unwrap()
+                        provide(&store, &file);
+                        m.check_json_in(&serde_json::json!({}), &store).unwrap()
                     }
                     other => other.unwrap(),
                 };

@@ -192,8 +192,8 @@ const SSSM_RUNS: usize = 5;
 async fn lma_end_to_end() {
     use mocapseg::method::{NoProgress, RunOptions};
     use mocapseg::methods::lma::method::{segment_with, LmaParams};
-    models::provide();
-    let model = mocapseg::methods::lma::shipped_model().expect("the shipped LMA family");
+    let store = models::store();
+    let model = mocapseg::methods::lma::shipped(&store).expect("the shipped LMA family");
     let bvh = bvh::parse(SSSM_SEQUENCE).expect("the bench sequence parses");
     let full = Motion::from_bvh("bench sequence", &bvh).expect("motion");
     for (search, exhaustive) in [("effort", false), ("effort", true), ("deviance", false), ("deviance", true)] {
@@ -207,7 +207,7 @@ async fn lma_end_to_end() {
             for _ in 0..runs {
                 yield_to_browser().await;
                 let t0 = performance_now();
-                let out = segment_with(model, &seq, &params, &RunOptions::default(), &mut NoProgress).expect("lma");
+                let out = segment_with(&model, &seq, &params, &RunOptions::default(), &mut NoProgress).expect("lma");
                 times.push(performance_now() - t0);
                 found = out.segmentation.segments.len();
             }
@@ -234,18 +234,18 @@ async fn lma_end_to_end() {
 async fn dtfcn_end_to_end() {
     use mocapseg::methods::dtfcn::bench::{inference, trainer, EXERCISE_FRAMES};
     use mocapseg::methods::dtfcn::model::ModelKind;
-    models::provide();
+    let store = models::store();
     let bvh = bvh::parse(SSSM_SEQUENCE).expect("the bench sequence parses");
     let full = Motion::from_bvh("bench sequence", &bvh).expect("motion");
     let take = Motion::concatenate(std::slice::from_ref(&full), 3000).expect("3000 frames");
     for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
-        inference(&take, kind, "exercises").expect("warm-up");
+        inference(&take, kind, "exercises", &store).expect("warm-up");
         let mut times = Vec::new();
         let mut segments = 0;
         for _ in 0..5 {
             yield_to_browser().await;
             let t0 = performance_now();
-            segments = inference(&take, kind, "exercises").expect("inference");
+            segments = inference(&take, kind, "exercises", &store).expect("inference");
             times.push(performance_now() - t0);
         }
         times.sort_by(f64::total_cmp);
@@ -350,10 +350,10 @@ async fn methods_table() {
     let seq = bvh::parse(SSSM_SEQUENCE).expect("the bench sequence parses");
     let full = Motion::from_bvh("bench sequence", &seq).expect("motion");
     assert!(full.frames() >= 4 * TAKE_FRAMES, "the sequence holds 4 × {TAKE_FRAMES} frames");
-    models::provide();
+    let store = models::store();
     for m in mocapseg::methods::registry() {
         let info = m.info();
-        let checked = m.check_json(&serde_json::Value::Null).expect("default parameters");
+        let checked = m.check_json_in(&serde_json::Value::Null, &store).expect("default parameters");
         for factor in [1usize, 2, 4, 16] {
             let n = factor * TAKE_FRAMES;
             let take = Motion::concatenate(std::slice::from_ref(&full), n).expect("sequence");

@@ -142,7 +142,7 @@ pub fn with_held_out(mut cards: Vec<ModelCard>, accuracy: &serde_json::Value) ->
 pub fn cards_json(accuracy: &str, generated_by: &str) -> Result<String, String> {
     let accuracy: serde_json::Value =
         serde_json::from_str(accuracy).map_err(|e| format!("{SCOREBOARD}: not the scoreboard's JSON: {e}"))?;
-    let cards = with_held_out(crate::methods::shipped_cards(), &accuracy)?;
+    let cards = with_held_out(crate::methods::shipped_cards(&super::ModelStore::default()), &accuracy)?;
     let file = Cards { generated_by: generated_by.to_string(), cards };
     serde_json::to_string_pretty(&file).map(|t| t + "\n").map_err(|e| e.to_string())
 }
@@ -245,7 +245,8 @@ mod tests {
     fn the_shipped_cards_from_the_saved_scoreboard() {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(SCOREBOARD);
         let accuracy: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-        let cards = with_held_out(crate::methods::shipped_cards(), &accuracy).unwrap();
+        let cards =
+            with_held_out(crate::methods::shipped_cards(&crate::method::ModelStore::default()), &accuracy).unwrap();
         let mut measured: Vec<String> =
             cards.iter().filter(|c| c.held_out.is_some()).map(|c| format!("{}-{}", c.method, c.name)).collect();
         measured.sort();

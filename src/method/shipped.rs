@@ -5,9 +5,15 @@
 //! There the files are served beside the page (`dist/models/`, precached by the service worker
 //! for offline use) and a method that needs one it does not hold yet fails with
 //! [`MethodError::NeedsModel`]; the page fetches the file (showing its progress), hands it to
-//! its worker with [`provide`] and runs the method again. Every file handed over is checked
+//! its worker ([`super::ModelStore::provide`]) and runs the method again. Every file handed over is checked
 //! against the SHA-256 `build.rs` recorded when this build was made, so a stale or damaged file
 //! from a server or a cache is refused with a message rather than used.
+//!
+//! The files handed over and the models read from them belong to whoever runs — the page's worker, a command-line
+//! run, a test — through its [`super::ModelStore`] ([`Shipped`]): nothing here is process-wide.
+
+use std::any::Any;
+use std::sync::Arc;
 
 use sha2::{Digest, Sha256};
 
@@ -36,21 +42,40 @@ pub fn find(file: &str) -> Result<(usize, &'static ShippedFile), String> {
     })
 }
 
-/// The files handed over with [`provide`] where they are not built in (kept for the life of the
-/// process — the page's worker: at most one copy of each of a handful of files), and the files
-/// the page could not give (damaged, or not fetched: [`refuse`]) with why, so that a run asks for
-/// them no more: it fails with that message where it needs the file, and goes on without it
-/// where the file was only one of several it could use (the models a take fit offers instead).
+/// A shipped file's bytes: built in, or the copy handed over.
+#[derive(Clone, Debug)]
+pub enum FileBytes {
+    #[cfg_attr(not(embedded_models), allow(dead_code))]
+    BuiltIn(&'static [u8]),
+    #[cfg_attr(embedded_models, allow(dead_code))]
+    Given(Arc<[u8]>),
+}
+
+impl std::ops::Deref for FileBytes {
+    type Target = [u8];
+    fn deref(&self) -> &[u8] {
+        match self {
+            FileBytes::BuiltIn(b) => b,
+            FileBytes::Given(b) => b,
+        }
+    }
+}
+
+/// The files handed over with [`Shipped::provide`] where they are not built in (the page's worker: at most one copy
+/// of each of a handful of files), and the files the page could not give (damaged, or not fetched:
+/// [`Shipped::refuse`]) with why, so that a run asks for them no more: it fails with that message where it needs the
+/// file, and goes on without it where the file was only one of several it could use (the models a take fit offers
+/// instead).
 #[cfg_attr(embedded_models, allow(dead_code))]
 #[derive(Default)]
-struct Provided(Vec<(usize, &'static [u8])>, Vec<(usize, String)>);
+struct Provided(Vec<(usize, Arc<[u8]>)>, Vec<(usize, String)>);
 
 #[cfg_attr(embedded_models, allow(dead_code))]
 impl Provided {
-    fn get(&self, file: &str) -> Result<&'static [u8], MethodError> {
+    fn get(&self, file: &str) -> Result<FileBytes, MethodError> {
         let (index, _) = find(file).map_err(MethodError::Failed)?;
         if let Some((_, b)) = self.0.iter().find(|(i, _)| *i == index) {
-            return Ok(*b);
+            return Ok(FileBytes::Given(b.clone()));
         }
         match self.1.iter().find(|(i, _)| *i == index) {
             Some((_, why)) => Err(MethodError::Failed(why.clone())),
@@ -66,7 +91,7 @@ impl Provided {
         }
         self.1.retain(|(i, _)| *i != index);
         if !self.0.iter().any(|(i, _)| *i == index) {
-            self.0.push((index, Box::leak(bytes.into_boxed_slice())));
+            self.0.push((index, bytes.into()));
         }
         Ok(())
     }
@@ -80,54 +105,70 @@ impl Provided {
     }
 }
 
-#[cfg(not(embedded_models))]
-static PROVIDED: std::sync::Mutex<Provided> = std::sync::Mutex::new(Provided(Vec::new(), Vec::new()));
-
-/// The bytes of the shipped file `file`: built in, or handed over with [`provide`]; else
-/// [`MethodError::NeedsModel`] (only on the page).
-pub fn bytes(file: &str) -> Result<&'static [u8], MethodError> {
-    #[cfg(embedded_models)]
-    {
-        let (index, _) = find(file).map_err(MethodError::Failed)?;
-        Ok(EMBEDDED[index])
-    }
-    #[cfg(not(embedded_models))]
-    {
-        PROVIDED.lock().unwrap_or_else(|e| e.into_inner()).get(file)
-    }
+/// The shipped files one runner holds and the models it read from them, each read once ([`Shipped::read`]). A
+/// [`super::ModelStore`] owns one.
+#[derive(Default)]
+pub struct Shipped {
+    #[cfg_attr(embedded_models, allow(dead_code))]
+    given: Provided,
+    read: Vec<(usize, Arc<dyn Any + Send + Sync>)>,
 }
 
-/// Whether the bytes of `file` are at hand (built in, or provided).
-pub fn available(file: &str) -> bool {
-    bytes(file).is_ok()
-}
-
-/// Hands over the bytes of the shipped file `file` (fetched by the page). Refused, naming the
-/// file, when it is not a shipped file or its bytes are not this build's (another size or
-/// SHA-256). Where the files are built in, the bytes are only checked. Handing a file over again
-/// keeps the first copy.
-pub fn provide(file: &str, bytes: Vec<u8>) -> Result<(), String> {
-    #[cfg(embedded_models)]
-    {
-        let (_, shipped) = find(file)?;
-        check(shipped, &bytes)
+impl Shipped {
+    /// The bytes of the shipped file `file`: built in, or handed over with [`Shipped::provide`]; else
+    /// [`MethodError::NeedsModel`] (only on the page).
+    pub fn bytes(&self, file: &str) -> Result<FileBytes, MethodError> {
+        #[cfg(embedded_models)]
+        {
+            let (index, _) = find(file).map_err(MethodError::Failed)?;
+            Ok(FileBytes::BuiltIn(EMBEDDED[index]))
+        }
+        #[cfg(not(embedded_models))]
+        {
+            self.given.get(file)
+        }
     }
-    #[cfg(not(embedded_models))]
-    {
-        PROVIDED.lock().unwrap_or_else(|e| e.into_inner()).add(file, bytes)
-    }
-}
 
-/// The page could not get the shipped file `file` (`why`: the fetch's error): a run that needs it
-/// fails with `why` instead of asking for it again, and one that could do without it goes on
-/// ([`Provided`]). Where the files are built in, nothing changes.
-pub fn refuse(file: &str, why: String) -> Result<(), String> {
-    let (_index, _) = find(file)?;
-    #[cfg(not(embedded_models))]
-    PROVIDED.lock().unwrap_or_else(|e| e.into_inner()).refuse(_index, why);
-    #[cfg(embedded_models)]
-    drop(why);
-    Ok(())
+    /// Hands over the bytes of the shipped file `file` (fetched by the page). Refused, naming the file, when it is
+    /// not a shipped file or its bytes are not this build's (another size or SHA-256). Where the files are built in,
+    /// the bytes are only checked. Handing a file over again keeps the first copy.
+    pub fn provide(&mut self, file: &str, bytes: Vec<u8>) -> Result<(), String> {
+        #[cfg(embedded_models)]
+        {
+            let (_, shipped) = find(file)?;
+            check(shipped, &bytes)
+        }
+        #[cfg(not(embedded_models))]
+        {
+            self.given.add(file, bytes)
+        }
+    }
+
+    /// The page could not get the shipped file `file` (`why`: the fetch's error): a run that needs it fails with
+    /// `why` instead of asking for it again, and one that could do without it goes on. Where the files are built in,
+    /// nothing changes.
+    pub fn refuse(&mut self, file: &str, why: String) -> Result<(), String> {
+        let (_index, _) = find(file)?;
+        #[cfg(not(embedded_models))]
+        self.given.refuse(_index, why);
+        #[cfg(embedded_models)]
+        drop(why);
+        Ok(())
+    }
+
+    /// The model read from `file` earlier, if it was read as a `T`.
+    pub fn read<T: Any + Send + Sync>(&self, file: &str) -> Option<Arc<T>> {
+        let (index, _) = find(file).ok()?;
+        self.read.iter().find(|(i, _)| *i == index).and_then(|(_, m)| m.clone().downcast::<T>().ok())
+    }
+
+    /// Keeps `model`, read from `file`, for the next [`Shipped::read`].
+    pub fn keep<T: Any + Send + Sync>(&mut self, file: &str, model: Arc<T>) {
+        if let Ok((index, _)) = find(file) {
+            self.read.retain(|(i, _)| *i != index);
+            self.read.push((index, model));
+        }
+    }
 }
 
 /// Checks `bytes` against what this build recorded of `shipped`.
@@ -161,7 +202,8 @@ mod tests {
             let on_disk = std::fs::read(dir.join(f.file)).unwrap();
             assert_eq!(on_disk.len() as u64, f.size, "{}", f.file);
             check(f, &on_disk).unwrap();
-            assert_eq!(bytes(f.file).unwrap(), &on_disk[..], "{}: the built-in bytes are the file's", f.file);
+            let held = Shipped::default().bytes(f.file).unwrap();
+            assert_eq!(&*held, &on_disk[..], "{}: the built-in bytes are the file's", f.file);
         }
         let names: Vec<&str> = FILES.iter().map(|f| f.file).collect();
         for expected in ["dtfcn-exercises.model", "knn-locomotion.model", "lma-effort.json"] {
@@ -175,14 +217,15 @@ mod tests {
         let mut bytes =
             std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models").join(f.file)).unwrap();
         bytes[100] ^= 1;
-        let err = provide(f.file, bytes.clone()).unwrap_err();
+        let mut store = Shipped::default();
+        let err = store.provide(f.file, bytes.clone()).unwrap_err();
         assert!(err.contains(f.file) && err.contains("SHA-256"), "{err}");
         bytes.pop();
-        let err = provide(f.file, bytes).unwrap_err();
+        let err = store.provide(f.file, bytes).unwrap_err();
         assert!(err.contains("bytes where this build's file has"), "{err}");
-        let err = provide("nope.model", vec![]).unwrap_err();
+        let err = store.provide("nope.model", vec![]).unwrap_err();
         assert!(err.contains("not a shipped model file") && err.contains("lma-effort.json"), "{err}");
-        assert!(matches!(super::bytes("nope.model"), Err(MethodError::Failed(_))));
+        assert!(matches!(store.bytes("nope.model"), Err(MethodError::Failed(_))));
     }
 
     /// Where the files are not built in (the page's worker): a file is missing until handed
@@ -211,10 +254,23 @@ mod tests {
         store.add(f.file, good.clone()).unwrap();
         store.add(f.file, good.clone()).unwrap();
         assert_eq!(store.0.len(), 1, "one copy");
-        assert_eq!(store.get(f.file).unwrap(), &good[..]);
+        assert_eq!(&*store.get(f.file).unwrap(), &good[..]);
         assert!(matches!(store.get(FILES[1].file), Err(MethodError::NeedsModel { .. })), "the others still missing");
         // a good copy clears a refusal; a refusal after it changes nothing
         store.refuse(store.0[0].0, "late".into());
-        assert_eq!(store.get(f.file).unwrap(), &good[..]);
+        assert_eq!(&*store.get(f.file).unwrap(), &good[..]);
+    }
+
+    /// What a store read from a file is its own: another store reads it again, a second ask of the same store gets
+    /// the same model.
+    #[test]
+    fn models_read_are_kept_by_their_store_alone() {
+        let (mut a, b) = (Shipped::default(), Shipped::default());
+        let file = FILES[0].file;
+        assert!(a.read::<String>(file).is_none());
+        a.keep(file, Arc::new("read".to_string()));
+        assert_eq!(a.read::<String>(file).as_deref().map(String::as_str), Some("read"));
+        assert!(a.read::<u32>(file).is_none(), "read as another type");
+        assert!(b.read::<String>(file).is_none(), "another store holds its own");
     }
 }

@@ -16,10 +16,11 @@
 //!   parameters have a `model` field naming a shipped model or one in the store.
 
 use std::any::Any;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use serde::{Deserialize, Serialize};
 
+use super::shipped::{FileBytes, Shipped};
 use super::{MethodError, ParamKind, ParamSpec, Progress};
 
 /// How a supervised method's run summary begins the sentence that says the take was one of its
@@ -208,11 +209,13 @@ pub fn stored_name(inner: &str, file: &str, shipped: &[String]) -> Result<String
     Ok(stem)
 }
 
-/// The models a process holds besides the shipped ones, by method and name (the page's worker owns
-/// one, a command-line run another).
+/// The models a runner holds, by method and name — the page's worker owns one, a command-line run another, a test
+/// its own: the user's models installed in it, and the shipped files handed over to it with the shipped models read
+/// from them ([`super::shipped::Shipped`], shared by the store's clones). Nothing is held process-wide.
 #[derive(Default, Clone)]
 pub struct ModelStore {
     models: Vec<Loaded>,
+    shipped: Arc<Mutex<Shipped>>,
 }
 
 impl std::fmt::Debug for ModelStore {
@@ -251,6 +254,47 @@ impl ModelStore {
     /// The names stored for `method`.
     pub fn names(&self, method: &str) -> Vec<String> {
         self.infos(method).into_iter().map(|i| i.name.clone()).collect()
+    }
+
+    fn shipped(&self) -> std::sync::MutexGuard<'_, Shipped> {
+        self.shipped.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The bytes of the shipped file `file` (built in, or handed over to this store); [`MethodError::NeedsModel`]
+    /// on the page until the page hands it over.
+    pub fn shipped_bytes(&self, file: &str) -> Result<FileBytes, MethodError> {
+        self.shipped().bytes(file)
+    }
+
+    /// Whether the bytes of the shipped file `file` are at hand.
+    pub fn has_shipped(&self, file: &str) -> bool {
+        self.shipped_bytes(file).is_ok()
+    }
+
+    /// Hands the shipped file `file` over to this store ([`Shipped::provide`]: checked against this build's).
+    pub fn provide(&self, file: &str, bytes: Vec<u8>) -> Result<(), String> {
+        self.shipped().provide(file, bytes)
+    }
+
+    /// The page could not get the shipped file `file` ([`Shipped::refuse`]).
+    pub fn refuse(&self, file: &str, why: String) -> Result<(), String> {
+        self.shipped().refuse(file, why)
+    }
+
+    /// The model in the shipped file `file`, read by `read` the first time this store (or a clone of it) is asked.
+    pub fn read_shipped<T: Any + Send + Sync>(
+        &self,
+        file: &str,
+        read: impl FnOnce(&[u8]) -> Result<T, MethodError>,
+    ) -> Result<Arc<T>, MethodError> {
+        if let Some(model) = self.shipped().read::<T>(file) {
+            return Ok(model);
+        }
+        // read outside the lock: reading a large model takes a while, and `read` may ask the store for another
+        let bytes = self.shipped_bytes(file)?;
+        let model = Arc::new(read(&bytes)?);
+        self.shipped().keep(file, model.clone());
+        Ok(model)
     }
 }
 
@@ -417,7 +461,7 @@ pub trait Supervised: Send + Sync {
     fn read_model(&self, file: &str, bytes: &[u8]) -> Result<Loaded, MethodError>;
     /// The shipped model `name` (one of [`Supervision::shipped`]); on the page
     /// [`MethodError::NeedsModel`] until its file was handed over.
-    fn shipped_model(&self, name: &str) -> Result<Loaded, MethodError>;
+    fn shipped_model(&self, name: &str, models: &ModelStore) -> Result<Loaded, MethodError>;
     /// Everything about `model` but its weights, as `mocapseg model-info` prints it.
     fn model_details(&self, model: &Loaded) -> serde_json::Value;
     /// Checks `ask` and prepares its training (reading the takes and labels, reporting to

@@ -40,14 +40,14 @@ pub fn registry() -> &'static [&'static dyn DynMethod] {
     ]
 }
 
-/// The card of every shipped model of every supervised method (held-out figures not yet added:
+/// The card of every shipped model of every supervised method, read by `models` (held-out figures not yet added:
 /// [`crate::method::cards::with_held_out`]).
-pub fn shipped_cards() -> Vec<crate::method::cards::ModelCard> {
+pub fn shipped_cards(models: &crate::method::ModelStore) -> Vec<crate::method::cards::ModelCard> {
     let mut cards = Vec::new();
     for m in registry() {
         let (Some(decl), Some(s)) = (m.supervision(), m.supervised()) else { continue };
         for name in &decl.shipped {
-            if let Ok(loaded) = s.shipped_model(name) {
+            if let Ok(loaded) = s.shipped_model(name, models) {
                 let mut card = loaded.info.card;
                 card.method = m.info().name;
                 card.name = name.clone();

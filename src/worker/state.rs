@@ -115,7 +115,7 @@ impl WorkerState {
                 post(response);
             }
             Request::ProvideModel { take, run, file, bytes, unavailable } => {
-                post(provide_model(take, run, file, bytes, unavailable))
+                post(provide_model(&self.models, (take, run), file, bytes, unavailable))
             }
             Request::UseModel { take, run, method, file, bytes } => {
                 post(self.use_model(take, run, &method, &file, &bytes))
@@ -519,14 +519,19 @@ struct TrainRequest {
 
 /// The answer to a `ProvideModel` request: the shipped file's bytes checked and kept, or why not (a file the page
 /// could not fetch is remembered as refused).
-fn provide_model(take: TakeId, run: RunId, file: String, bytes: Vec<u8>, unavailable: Option<String>) -> Response {
-    use crate::method::shipped;
-    if let Err(message) = shipped::find(&file) {
+fn provide_model(
+    models: &ModelStore,
+    (take, run): (TakeId, RunId),
+    file: String,
+    bytes: Vec<u8>,
+    unavailable: Option<String>,
+) -> Response {
+    if let Err(message) = crate::method::shipped::find(&file) {
         return input_failure(take, Some(run), message);
     }
     let given = match unavailable {
-        Some(why) => shipped::refuse(&file, why.clone()).and(Err(why)),
-        None => shipped::provide(&file, bytes),
+        Some(why) => models.refuse(&file, why.clone()).and(Err(why)),
+        None => models.provide(&file, bytes),
     };
     match given {
         Ok(()) => Response::ModelProvided { take, run, file },

@@ -124,7 +124,7 @@ pub fn seeds() -> Vec<(String, Vec<u8>)> {
     out.push(("knn-tiny.model".into(), [&[0u8][..], &framed(h.clone(), &payload)].concat()));
     out.push(("knn-tiny.split".into(), split(&h, &payload)));
 
-    let mut lma = mocapseg::methods::lma::shipped_model().expect("the shipped LMA family").clone();
+    let mut lma = (*mocapseg::methods::lma::shipped_model().expect("the shipped LMA family")).clone();
     let centre = lma.shift_index(0, 0);
     for f in &mut lma.factors {
         f.nets = vec![f.nets[centre].clone()];

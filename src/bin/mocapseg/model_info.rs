@@ -50,6 +50,7 @@ pub fn model_info(file: &Path, method: Option<&str>) -> Result<(), String> {
     } else {
         let name = file.to_string_lossy();
         let mut shipped = Vec::new();
+        let store = mocapseg::method::ModelStore::new();
         for m in &methods {
             let (Some(s), Some(decl)) = (m.supervised(), m.supervision()) else { continue };
             let method = m.info().name;
@@ -57,7 +58,7 @@ pub fn model_info(file: &Path, method: Option<&str>) -> Result<(), String> {
             let own = stem.strip_prefix(&format!("{method}-")).filter(|n| decl.shipped.iter().any(|s| s == n));
             let bare = decl.shipped.iter().any(|s| s == stem).then_some(stem);
             if let Some(n) = own.or(bare) {
-                details.push(s.model_details(&s.shipped_model(n).map_err(|e| e.to_string())?));
+                details.push(s.model_details(&s.shipped_model(n, &store).map_err(|e| e.to_string())?));
             }
             shipped.extend(decl.shipped.iter().map(|s| format!("{method}-{s}")));
         }

@@ -8,15 +8,15 @@ use super::corpus::{model_from, ModelMeta};
 use super::method::label;
 use super::model::ModelKind;
 use super::training::{TrainOptions, Trainer, TrainingTake};
-use crate::method::NoProgress;
+use crate::method::{ModelStore, NoProgress};
 use crate::motion::Motion;
 
 /// Frames of the exercises set at 30 Hz (13_29, 13_30, 13_31, 14_14).
 pub const EXERCISE_FRAMES: usize = 3682;
 
-/// Labels every frame of `take` with the shipped model `name` of `kind`; the number of segments.
-pub fn inference(take: &Motion, kind: ModelKind, name: &str) -> Result<usize, String> {
-    let model = super::shipped::model(kind, name).map_err(|e| e.to_string())?;
+/// Labels every frame of `take` with the shipped model `name` of `kind` (read by `models`); the number of segments.
+pub fn inference(take: &Motion, kind: ModelKind, name: &str, models: &ModelStore) -> Result<usize, String> {
+    let model = super::shipped::model(kind, name, models).map_err(|e| e.to_string())?;
     let labelled = label(&model, take, &mut NoProgress).map_err(|e| e.to_string())?;
     Ok(labelled.per_file_frame.windows(2).filter(|w| w[0].0 != w[1].0).count() + 1)
 }

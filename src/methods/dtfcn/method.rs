@@ -123,7 +123,7 @@ fn fit_windows(model: &Arc<Model>, name: &str, models: &ModelStore) -> Result<Op
         return Ok(Some(m));
     }
     if shipped::NAMES.contains(&name) && models.get::<Model>(ModelKind::Dtfcn.name(), name).is_none() {
-        return Ok(Some(shipped::model(ModelKind::Knn, name)?).filter(same));
+        return Ok(Some(shipped::model(ModelKind::Knn, name, models)?).filter(same));
     }
     Ok(None)
 }
@@ -184,7 +184,7 @@ impl Labelling {
         for name in names.iter().filter(|n| n.as_str() != chosen) {
             let found = match models.get::<Model>(self.kind.name(), name) {
                 Some(model) => fit_windows(&model, name, models).map(|w| (model.header.travel, w)),
-                None => shipped::model(ModelKind::Knn, name).map(|knn| (knn.header.travel, Some(knn))),
+                None => shipped::model(ModelKind::Knn, name, models).map(|knn| (knn.header.travel, Some(knn))),
             };
             let (travel, windows) = match found {
                 Ok(found) => found,
@@ -214,7 +214,7 @@ pub fn resolve(kind: ModelKind, name: &str, models: &ModelStore) -> Result<Arc<M
     if let Some(m) = models.get::<Model>(kind.name(), name) {
         return Ok(m);
     }
-    shipped::model(kind, name)
+    shipped::model(kind, name, models)
 }
 
 impl Supervised for Labelling {
@@ -226,8 +226,8 @@ impl Supervised for Labelling {
         super::supervised::start_training(self.kind, ask, progress)
     }
 
-    fn shipped_model(&self, name: &str) -> Result<Loaded, MethodError> {
-        let model = shipped::model(self.kind, name)?;
+    fn shipped_model(&self, name: &str, models: &ModelStore) -> Result<Loaded, MethodError> {
+        let model = shipped::model(self.kind, name, models)?;
         Ok(Loaded { info: super::supervised::model_info(name, &model), model })
     }
 
@@ -814,8 +814,11 @@ mod tests {
         let knn = crate::methods::knn::method::KNN;
         let mut store = ModelStore::default();
         // the shipped locomotion k-NN, installed under a name of the user's
-        let bytes = crate::method::shipped::bytes(&shipped::file_name(ModelKind::Knn, "locomotion")).unwrap();
-        let mut loaded = knn.read_model("mine.model", bytes).unwrap();
+        let bytes = crate::method::ModelStore::default()
+            .shipped_bytes(&shipped::file_name(ModelKind::Knn, "locomotion"))
+            .unwrap()
+            .to_vec();
+        let mut loaded = knn.read_model("mine.model", &bytes).unwrap();
         loaded.info.name = "my-walks".into();
         store.install(loaded);
         let params: LabelParams =
@@ -873,11 +876,11 @@ mod tests {
     /// on a take they were not trained on (86_01), nothing is said.
     #[test]
     fn a_run_on_a_training_take_says_it_is_in_sample() {
-        let model = shipped::model(ModelKind::Dtfcn, "exercises").unwrap();
+        let model = shipped::model(ModelKind::Dtfcn, "exercises", &ModelStore::default()).unwrap();
         let note = in_sample_note(&model.header, "13_30.bvh").unwrap();
         assert!(note.starts_with(IN_SAMPLE) && note.contains("`exercises`") && note.contains("13_30"), "{note}");
         assert!(in_sample_note(&model.header, "86_01.bvh").is_none());
-        let cmu = shipped::model(ModelKind::Knn, "cmu-actions").unwrap();
+        let cmu = shipped::model(ModelKind::Knn, "cmu-actions", &ModelStore::default()).unwrap();
         assert!(in_sample_note(&cmu.header, "86_01.bvh").is_some());
         assert!(in_sample_note(&cmu.header, "13_30.bvh").is_none());
     }

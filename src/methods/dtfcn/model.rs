@@ -696,7 +696,11 @@ mod tests {
     #[test]
     fn a_shipped_knn_file_with_a_hostile_decoding_is_refused() {
         use super::super::decode::Decoding;
-        let bytes = crate::method::shipped::bytes("knn-exercises.model").expect("the shipped k-NN model");
+        let bytes = crate::method::ModelStore::default()
+            .shipped_bytes("knn-exercises.model")
+            .expect("the shipped k-NN model")
+            .to_vec();
+        let bytes = &bytes[..];
         let (mut header, payload) = read_header(bytes, "knn-exercises.model").unwrap();
         header.decoding = Some(Decoding { min_duration_s: 1e300, switch_cost: 0.0 });
         let hostile = frame(&header, payload).unwrap();

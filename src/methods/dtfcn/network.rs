@@ -479,7 +479,9 @@ mod tests {
     fn the_shipped_models_layers_equal_burns_conv1d() {
         use crate::methods::dtfcn::model::{Labeller, ModelKind};
         for name in crate::methods::dtfcn::shipped::NAMES {
-            let model = crate::methods::dtfcn::shipped::model(ModelKind::Dtfcn, name).unwrap();
+            let model =
+                crate::methods::dtfcn::shipped::model(ModelKind::Dtfcn, name, &crate::method::ModelStore::default())
+                    .unwrap();
             let Labeller::Network(nets) = &model.labeller else { panic!("{name}: not a network") };
             let shape = model.header.network.as_ref().unwrap();
             assert!(!nets.is_empty(), "{name}: no network");

@@ -8,10 +8,10 @@
 //! * `locomotion` — gait phases (standing, begin/end left/right step, left/right step, turn) from
 //!   the heuristic gait labeller ([`crate::labels::gait`]) on the CMU walking clips.
 
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 use super::model::{Model, ModelKind};
-use crate::method::{shipped, MethodError};
+use crate::method::{MethodError, ModelStore};
 
 /// Names of the shipped models, the default first.
 pub const NAMES: [&str; 3] = ["exercises", "cmu-actions", "locomotion"];
@@ -21,10 +21,9 @@ pub fn file_name(kind: ModelKind, name: &str) -> String {
     format!("{}-{name}.model", kind.name())
 }
 
-/// The shipped model of `kind` called `name`, read once; [`MethodError::NeedsModel`] on the page
-/// until its file was handed over.
-pub fn model(kind: ModelKind, name: &str) -> Result<Arc<Model>, MethodError> {
-    static LOADED: Mutex<Vec<(String, Arc<Model>)>> = Mutex::new(Vec::new());
+/// The shipped model of `kind` called `name`, read once by `models` (the runner's store); [`MethodError::NeedsModel`]
+/// on the page until its file was handed over.
+pub fn model(kind: ModelKind, name: &str, models: &ModelStore) -> Result<Arc<Model>, MethodError> {
     if !NAMES.contains(&name) {
         return Err(MethodError::param(
             "model",
@@ -35,16 +34,9 @@ pub fn model(kind: ModelKind, name: &str) -> Result<Arc<Model>, MethodError> {
             ),
         ));
     }
-    let file = file_name(kind, name);
-    if let Some((_, m)) = LOADED.lock().unwrap_or_else(|e| e.into_inner()).iter().find(|(f, _)| *f == file) {
-        return Ok(m.clone());
-    }
-    let bytes = shipped::bytes(&file)?;
-    let model = Arc::new(
-        Model::from_bytes(bytes, &format!("shipped model {}-{name}", kind.name())).map_err(MethodError::Failed)?,
-    );
-    LOADED.lock().unwrap_or_else(|e| e.into_inner()).push((file, model.clone()));
-    Ok(model)
+    models.read_shipped(&file_name(kind, name), |bytes| {
+        Model::from_bytes(bytes, &format!("shipped model {}-{name}", kind.name())).map_err(MethodError::Failed)
+    })
 }
 
 #[cfg(test)]
@@ -55,12 +47,12 @@ mod tests {
     fn every_shipped_name_has_a_file_of_both_kinds() {
         for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
             for name in NAMES {
-                let m = model(kind, name).unwrap();
+                let m = model(kind, name, &ModelStore::default()).unwrap();
                 assert_eq!(m.header.kind, kind);
-                assert!(shipped::find(&file_name(kind, name)).is_ok());
+                assert!(crate::method::shipped::find(&file_name(kind, name)).is_ok());
             }
         }
-        let err = model(ModelKind::Knn, "nope").unwrap_err().to_string();
+        let err = model(ModelKind::Knn, "nope", &ModelStore::default()).unwrap_err().to_string();
         assert!(err.contains("no knn model called `nope`") && err.contains("exercises"), "{err}");
     }
 
@@ -75,7 +67,7 @@ mod tests {
             std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/README.md")).unwrap();
         for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
             for name in NAMES {
-                let h = &model(kind, name).unwrap().header;
+                let h = &model(kind, name, &ModelStore::default()).unwrap().header;
                 let file = file_name(kind, name);
                 let command = &h.provenance.command;
                 let asked = command.split_once("--unknown-threshold ").map(|(_, rest)| {

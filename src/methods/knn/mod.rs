@@ -689,7 +689,9 @@ mod tests {
                 .map(|n| fixture(n))
                 .collect();
         for name in crate::methods::dtfcn::shipped::NAMES {
-            let model = crate::methods::dtfcn::shipped::model(ModelKind::Knn, name).unwrap();
+            let model =
+                crate::methods::dtfcn::shipped::model(ModelKind::Knn, name, &crate::method::ModelStore::default())
+                    .unwrap();
             let Labeller::Knn(knn) = &model.labeller else { panic!("{name}: not a k-NN model") };
             let classes = model.header.classes.len();
             for take in &takes {

@@ -164,7 +164,7 @@ mod tests {
     /// order and repeated, the same bits as each boundary assessed on its own.
     #[test]
     fn strengths_in_blocks_are_the_boundaries_assessed_one_at_a_time() {
-        let model = crate::methods::lma::shipped_model().unwrap();
+        let model = &crate::methods::lma::shipped_model().unwrap();
         let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/131_01.bvh")).unwrap();
         let motion = crate::motion::Motion::from_bvh("131_01.bvh", &crate::bvh::parse(&text).unwrap()).unwrap();
         let body = upper_body(&motion, model.fps).unwrap();

@@ -508,7 +508,7 @@ mod tests {
 
     #[test]
     fn broken_model_files_are_refused_with_what_is_wrong() {
-        let shipped = crate::methods::lma::shipped_model().unwrap();
+        let shipped: &EffortModel = &crate::methods::lma::shipped_model().unwrap();
         assert_eq!(EffortModel::from_json(&shipped.to_json()).as_ref(), Ok(shipped));
         let mut bad = shipped.clone();
         bad.factors[1].nets[7].w1.pop();
@@ -529,7 +529,7 @@ mod tests {
     /// [`SEGMENTS`] segments projected side by side get each the bits of the segment alone.
     #[test]
     fn the_projector_equals_the_projection_one_feature_at_a_time() {
-        let model = crate::methods::lma::shipped_model().unwrap();
+        let model = &crate::methods::lma::shipped_model().unwrap();
         let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/35_01.bvh")).unwrap();
         let motion = crate::motion::Motion::from_bvh("35_01.bvh", &crate::bvh::parse(&text).unwrap()).unwrap();
         let body = crate::methods::lma::body::upper_body(&motion, model.fps).unwrap();
@@ -570,7 +570,7 @@ mod tests {
     /// call never leaks into the next).
     #[test]
     fn the_assessor_is_the_family_assessed_one_candidate_at_a_time() {
-        let model = crate::methods::lma::shipped_model().unwrap();
+        let model = &crate::methods::lma::shipped_model().unwrap();
         let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/35_01.bvh")).unwrap();
         let motion = crate::motion::Motion::from_bvh("35_01.bvh", &crate::bvh::parse(&text).unwrap()).unwrap();
         let body = crate::methods::lma::body::upper_body(&motion, model.fps).unwrap();

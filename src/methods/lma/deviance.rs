@@ -291,7 +291,7 @@ mod tests {
 
     #[test]
     fn the_pruned_map_is_the_one_candidate_at_a_time_map() {
-        let model = crate::methods::lma::shipped_model().unwrap();
+        let model = &crate::methods::lma::shipped_model().unwrap();
         let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/35_01.bvh")).unwrap();
         let motion = crate::motion::Motion::from_bvh("35_01.bvh", &crate::bvh::parse(&text).unwrap()).unwrap();
         let body = upper_body(&motion, model.fps).unwrap();

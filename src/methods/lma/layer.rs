@@ -102,7 +102,7 @@ mod tests {
 
     #[test]
     fn every_segment_of_any_length_gets_the_familys_effort_and_a_too_short_one_none() {
-        let model = crate::methods::lma::shipped_model().unwrap();
+        let model = &crate::methods::lma::shipped_model().unwrap();
         let motion =
             crate::load::load_bytes("12_01.bvh", include_bytes!("../../../tests/fixtures/12_01.bvh"), &mut |_| {})
                 .unwrap()

@@ -305,8 +305,8 @@ impl Supervised for Lma {
         super::supervised::start_training(ask, progress)
     }
 
-    fn shipped_model(&self, name: &str) -> Result<Loaded, MethodError> {
-        let (model, _) = resolve(name, &ModelStore::default())?;
+    fn shipped_model(&self, name: &str, models: &ModelStore) -> Result<Loaded, MethodError> {
+        let (model, _) = resolve(name, models)?;
         Ok(Loaded { info: super::supervised::model_info(name, &model), model })
     }
 
@@ -800,7 +800,7 @@ mod tests {
     /// alone on the arms it moves (both arms: the mean of the two), bit for bit, in both searches.
     #[test]
     fn found_segments_are_assessed_as_each_alone() {
-        let model = crate::methods::lma::shipped_model().unwrap();
+        let model = &crate::methods::lma::shipped_model().unwrap();
         let text = std::fs::read_to_string(concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/tests/fixtures/assimp_Boxing_Toes_100fps.bvh"

@@ -32,7 +32,7 @@ pub mod search;
 pub mod supervised;
 pub mod training;
 
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use classifier::EffortModel;
 
@@ -40,27 +40,19 @@ use classifier::EffortModel;
 /// when `lma` first runs: [`crate::method::shipped`]).
 pub const SHIPPED_FILE: &str = "lma-effort.json";
 
-/// The shipped classifier family (read once).
-pub fn shipped_model() -> Result<&'static EffortModel, String> {
-    shipped().map(|m| &**m).map_err(|e| e.to_string())
+/// The shipped classifier family, read once by `models` (the runner's store); on the page
+/// [`crate::method::MethodError::NeedsModel`] until its file was handed over.
+pub fn shipped(models: &crate::method::ModelStore) -> Result<Arc<EffortModel>, crate::method::MethodError> {
+    models.read_shipped(SHIPPED_FILE, |bytes| {
+        std::str::from_utf8(bytes).map_err(|e| e.to_string()).and_then(EffortModel::from_json).map_err(|e| {
+            crate::method::MethodError::Failed(format!(
+                "the shipped LMA model is unusable ({e}); retrain it with `mocapseg train-lma`"
+            ))
+        })
+    })
 }
 
-pub(crate) fn shipped() -> Result<&'static Arc<EffortModel>, crate::method::MethodError> {
-    use crate::method::MethodError;
-    static MODEL: OnceLock<Result<Arc<EffortModel>, String>> = OnceLock::new();
-    if MODEL.get().is_none() {
-        // on the page, `NeedsModel` until the file was handed over (not remembered)
-        let bytes = crate::method::shipped::bytes(SHIPPED_FILE)?;
-        let read = std::str::from_utf8(bytes)
-            .map_err(|e| e.to_string())
-            .and_then(EffortModel::from_json)
-            .map(Arc::new)
-            .map_err(|e| format!("the shipped LMA model is unusable ({e}); retrain it with `mocapseg train-lma`"));
-        let _ = MODEL.set(read);
-    }
-    match MODEL.get() {
-        Some(Ok(model)) => Ok(model),
-        Some(Err(message)) => Err(MethodError::Failed(message.clone())),
-        None => Err(MethodError::Failed("the shipped LMA model could not be read".into())),
-    }
+/// The shipped classifier family as a program outside a run reads it (an example, a test): with a store of its own.
+pub fn shipped_model() -> Result<Arc<EffortModel>, String> {
+    shipped(&crate::method::ModelStore::default()).map_err(|e| e.to_string())
 }

@@ -22,7 +22,7 @@ use crate::method::{counted, MethodError, ParamKind, ParamSpec, Progress};
 /// The family `name` names: the shipped one, or one of `models`; and whether it is the shipped one.
 pub fn resolve(name: &str, models: &crate::method::ModelStore) -> Result<(Arc<EffortModel>, bool), MethodError> {
     if name == SHIPPED_NAME {
-        return super::shipped().map(|m| (m.clone(), true));
+        return super::shipped(models).map(|m| (m, true));
     }
     models.get::<EffortModel>("lma", name).map(|m| (m, false)).ok_or_else(|| {
         let mut known = vec![SHIPPED_NAME.to_string()];
@@ -452,8 +452,8 @@ mod tests {
 
     #[test]
     fn a_family_file_is_read_under_its_stem_and_a_bad_one_is_named() {
-        let shipped = crate::method::shipped::bytes(super::super::SHIPPED_FILE).unwrap();
-        let loaded = read_model("dir/my-family.json", shipped).unwrap();
+        let shipped = crate::method::ModelStore::default().shipped_bytes(super::super::SHIPPED_FILE).unwrap();
+        let loaded = read_model("dir/my-family.json", &shipped).unwrap();
         assert_eq!(loaded.info.name, "my-family");
         assert_eq!(loaded.info.method, "lma");
         let e = read_model("broken.json", b"{\"fps\": 30}").unwrap_err().to_string();
