@@ -24,9 +24,9 @@ mod lab {
 
     use mocapseg::method::{NoProgress, RunOptions};
     use mocapseg::methods::sssm::features::from_motion;
-    use mocapseg::methods::sssm::neighbours::stacked::StackedSearch;
     use mocapseg::methods::sssm::SssmParams;
     use mocapseg::segment::metrics::{evaluate, Tolerances};
+    use mocapseg::similarity::neighbours::stacked::StackedSearch;
 
     const RADII: [f64; 9] = [10.0, 13.0, 16.0, 19.0, 22.0, 25.0, 28.0, 31.0, 35.0];
     const QUANTILES: [f64; 5] = [0.1, 0.25, 0.5, 0.75, 0.9];

@@ -21,6 +21,7 @@ pub mod motion;
 pub mod parallel;
 pub mod protocol;
 pub mod segment;
+pub mod similarity;
 pub mod splice;
 pub mod stats;
 pub mod view;

@@ -37,6 +37,17 @@ fn library(params: &LibraryParams) -> (Vec<LibraryTake>, Vec<Vec<Option<usize>>>
     (library, labels, classes)
 }
 
+/// The library matches across takes as SSSM matches primitives within one: its defaults are SSSM's (written
+/// twice — the library uses no method's internals — and kept equal here), but for the neighbours kept and the
+/// coverage, which it chose by nested validation (docs/library.md).
+#[test]
+fn the_librarys_defaults_are_sssms_own() {
+    let (l, s) = (LibraryParams::default(), mocapseg::methods::sssm::SssmParams::default());
+    assert_eq!((l.fps, &l.offsets, l.body_scale), (s.fps, &s.offsets, s.body_scale));
+    assert_eq!((l.radius, l.nu, l.min_path_frames), (s.primitive_radius, s.nu, s.min_path_frames));
+    assert_eq!((l.max_neighbours, l.coverage), (mocapseg::library::DEFAULT_MAX_NEIGHBOURS, 0.4));
+}
+
 #[test]
 fn shared_clusters_match_the_labels_across_takes_better_than_per_take_clusters_and_chance() {
     let params = LibraryParams::default();

@@ -11,14 +11,16 @@ use wasm_bindgen_test::wasm_bindgen_test as test;
 #[cfg(target_arch = "wasm32")]
 wasm_bindgen_test::wasm_bindgen_test_configure!(run_in_browser);
 
-use mocapseg::methods::sssm::activities::{RegionGrowing, Span};
-use mocapseg::methods::sssm::neighbours::{FarSearch, StackedSearch};
-use mocapseg::methods::sssm::primitives::{NeighbourhoodGraph, PrimitiveSearch};
+use mocapseg::methods::sssm::activities::RegionGrowing;
+use mocapseg::methods::sssm::primitives::PrimitiveSearch;
 use mocapseg::methods::sssm::{
     segment, segment_features, segment_features_within, FeatureMatrix, MirrorMap, Sssm, SssmError, SssmOutcome,
     SssmParams,
 };
 use mocapseg::segment::Level;
+use mocapseg::similarity::neighbours::{FarSearch, StackedSearch};
+use mocapseg::similarity::paths::NeighbourhoodGraph;
+use mocapseg::similarity::Span;
 use std::f32::consts::TAU;
 
 /// Deterministic noise in [-0.5, 0.5).

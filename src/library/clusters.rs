@@ -6,11 +6,11 @@ use serde::{Deserialize, Serialize};
 use super::{units, LibraryError, LibraryParams, LibraryTake, Unit, MAX_ENTRIES};
 use crate::features::{stack, FeatureMatrix};
 use crate::method::Cancelled;
-use crate::methods::sssm::clustering::ClusterSearch;
-use crate::methods::sssm::neighbours::NeighbourSearch;
-use crate::methods::sssm::primitives::NeighbourhoodGraph;
-use crate::methods::sssm::Span;
 use crate::segment::Segmentation;
+use crate::similarity::clusters::ClusterSearch;
+use crate::similarity::neighbours::NeighbourSearch;
+use crate::similarity::paths::NeighbourhoodGraph;
+use crate::similarity::Span;
 
 /// One occurrence of a shared cluster: segment `segment` of take `take`, file frames `start..=end`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -8,7 +8,7 @@
 //! * **Design — one SSSM over the whole library.** Every take's end-effector features (the SSSM's own, §IV-A:
 //!   hands, feet, head relative to the hips, facing-aligned, scaled to the reference body, at the working rate)
 //!   are stacked over the same frame offsets and put *one after another* into one neighbour search (kiddo's
-//!   kd-tree, [`crate::methods::sssm::neighbours::NeighbourSearch`]). Its sparse self-similarity matrix then holds
+//!   kd-tree, [`crate::similarity::neighbours::NeighbourSearch`]). Its sparse self-similarity matrix then holds
 //!   neighbours within and across takes, and the cluster graph of §VI — an edge `p → q` where a valid warping
 //!   path (slope within `[1/ν, ν]`, long enough) in the block `p × q` covers enough of both segments — is built on
 //!   it for the segments of *every* take at once. Its strongly connected components are clusters whose ids mean
@@ -37,10 +37,10 @@ use serde::{Deserialize, Serialize};
 
 use crate::features::end_effectors::{end_effectors, EndEffectorError};
 use crate::features::FeatureMatrix;
-use crate::methods::sssm::{Span, SssmParams};
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
 use crate::segment::{Level, Segment, Segmentation};
+use crate::similarity::Span;
 
 pub use clusters::{cluster, Occurrence, SharedCluster, SharedClusters};
 pub use transfer::{transfer, KnowledgeBase, Transfer, TransferRoute, Transferred};
@@ -71,17 +71,19 @@ pub struct LibraryParams {
     pub coverage: f64,
 }
 
+/// The defaults SSSM's primitives use (Krüger et al. 2017: 30 Hz, offsets ±10 frames by 5, the reference body,
+/// primitive radius 13 in, ν = 2, paths of 5 frames): the library matches as SSSM does within a take
+/// (`tests/library.rs` keeps them equal to SSSM's defaults).
 impl Default for LibraryParams {
     fn default() -> Self {
-        let s = SssmParams::new();
         LibraryParams {
-            fps: s.fps,
-            offsets: s.offsets.clone(),
-            body_scale: s.body_scale,
-            radius: s.primitive_radius,
+            fps: 30.0,
+            offsets: vec![-10, -5, 0, 5, 10],
+            body_scale: true,
+            radius: 13.0,
             max_neighbours: DEFAULT_MAX_NEIGHBOURS,
-            nu: s.nu,
-            min_path_frames: s.min_path_frames,
+            nu: 2.0,
+            min_path_frames: 5,
             coverage: 0.4,
         }
     }
@@ -174,9 +176,9 @@ impl From<crate::method::Cancelled> for LibraryError {
 /// frames, about 1.9 hours at 30 Hz.
 pub const DEFAULT_MAX_NEIGHBOURS: usize = 100;
 
-/// Upper bound on the library's `working frames × max_neighbours` (as one take's SSSM:
-/// [`crate::methods::sssm::MAX_ENTRIES`]).
-pub const MAX_ENTRIES: usize = crate::methods::sssm::MAX_ENTRIES;
+/// Upper bound on the library's `working frames × max_neighbours` (its neighbour lists are bounded as one take's
+/// SSSM is).
+pub const MAX_ENTRIES: usize = 20_000_000;
 
 /// A take's features as the library keeps them: the SSSM's end-effector features at the working rate and where
 /// each working frame lies in the file.

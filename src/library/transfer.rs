@@ -22,10 +22,10 @@ use super::clusters::{cluster_placed, place, Placed};
 use super::{LibraryError, LibraryParams, LibraryTake};
 use crate::features::FeatureMatrix;
 use crate::method::Cancelled;
-use crate::methods::sssm::activities::{frame_lookup, NONE};
-use crate::methods::sssm::neighbours::NeighbourSearch;
-use crate::methods::sssm::primitives::{Blocks, NeighbourhoodGraph};
 use crate::segment::{Level, Segment, Segmentation, UNKNOWN};
+use crate::similarity::neighbours::NeighbourSearch;
+use crate::similarity::paths::{Blocks, NeighbourhoodGraph};
+use crate::similarity::{frame_lookup, NONE};
 
 /// How labels travel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

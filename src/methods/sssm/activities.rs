@@ -53,44 +53,9 @@ use std::collections::BinaryHeap;
 
 use serde::{Deserialize, Serialize};
 
-use super::neighbours::Sssm;
 use super::params::BoundaryRule;
-
-/// An absent index (a frame in no span).
-pub(crate) const NONE: u32 = u32::MAX;
-
-/// For each frame, the index of the span containing it ([`NONE`] outside all spans).
-pub(crate) fn frame_lookup(n: usize, spans: &[Span]) -> Vec<u32> {
-    let mut of = vec![NONE; n];
-    for (k, s) in spans.iter().enumerate() {
-        of[s.start..=s.end.min(n.saturating_sub(1))].iter_mut().for_each(|a| *a = k as u32);
-    }
-    of
-}
-
-/// Frames `start..=end` (0-based, inclusive) at the working rate.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Span {
-    pub start: usize,
-    pub end: usize,
-}
-
-impl Span {
-    /// Number of frames.
-    pub fn len(&self) -> usize {
-        self.end + 1 - self.start
-    }
-
-    /// Always false (a span holds at least one frame); for clippy's `len_without_is_empty`.
-    pub fn is_empty(&self) -> bool {
-        false
-    }
-
-    /// True if `frame` lies in the span.
-    pub fn contains(&self, frame: usize) -> bool {
-        self.start <= frame && frame <= self.end
-    }
-}
+use crate::similarity::neighbours::Sssm;
+use crate::similarity::{frame_lookup, Span};
 
 /// One completed forward region: seeded at `seed`, its last scan line with neighbours at `end`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -21,11 +21,9 @@
 
 pub mod activities;
 pub mod bundling;
-pub mod clustering;
 pub mod features;
 pub mod image;
 pub mod method;
-pub mod neighbours;
 pub mod params;
 pub mod primitives;
 pub mod refine;
@@ -39,19 +37,21 @@ use crate::motion::{Motion, MotionError};
 use crate::parallel;
 use crate::segment::Segmentation;
 
-pub use activities::{Activities, Span};
-pub use clustering::Cluster;
+pub use crate::similarity::clusters::Cluster;
+pub use crate::similarity::neighbours::Sssm;
+pub use crate::similarity::Span;
+pub use activities::Activities;
 pub use features::{FeatureMatrix, MirrorMap, MotionFeatures};
-pub use neighbours::Sssm;
 pub use params::{param_specs, BoundaryRule, BundlingOptimum, NeighbourSearchKind, SssmParams, ValidParams};
 pub use symmetry::SymmetryKind;
 
+use crate::similarity::clusters::ClusterSearch;
+use crate::similarity::neighbours::{EntryBudget, FarSearch, NeighbourSearch, StackedSearch};
+use crate::similarity::paths::NeighbourhoodGraph;
 use activities::RegionGrowing;
 use bundling::Bundling;
-use clustering::ClusterSearch;
 use method::to_segmentation;
-use neighbours::{EntryBudget, FarSearch, NeighbourSearch, StackedSearch};
-use primitives::{NeighbourhoodGraph, PrimitiveSearch};
+use primitives::PrimitiveSearch;
 
 /// Everything that can go wrong in the SSSM method.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -80,6 +80,19 @@ pub enum SssmError {
     Cancelled,
 }
 
+/// The self-similarity matrix's error as the SSSM reports it (same messages).
+impl From<crate::similarity::SimilarityError> for SssmError {
+    fn from(e: crate::similarity::SimilarityError) -> Self {
+        use crate::similarity::SimilarityError as E;
+        match e {
+            E::NoFrames => SssmError::NoFrames,
+            E::BadFeatures(m) => SssmError::BadFeatures(m),
+            E::BadNeighbours(m) => SssmError::BadNeighbours(m),
+            E::Cancelled => SssmError::Cancelled,
+        }
+    }
+}
+
 /// A feature matrix's or mirror map's error as the SSSM reports it (same messages).
 impl From<FeatureError> for SssmError {
     fn from(e: FeatureError) -> Self {
@@ -95,9 +108,6 @@ impl From<Cancelled> for SssmError {
         SssmError::Cancelled
     }
 }
-
-/// Upper bound on a library's `working frames × max_neighbours` ([`crate::library::MAX_ENTRIES`]).
-pub const MAX_ENTRIES: usize = 20_000_000;
 
 /// Bytes a run holds at its peak per neighbour entry its searches draw ([`EntryBudget`]): the
 /// upper triangle as it grows, the symmetric SSSM made from it, the far entries and their merge,
@@ -263,7 +273,10 @@ pub fn segment_features_within(
                         params.max_neighbours,
                         &mut |f| progress("neighbours", 0.4 + 0.1 * f),
                     )
-                    .map_err(|e| if matches!(e, SssmError::Cancelled) { stopped(search.budget()) } else { e })?,
+                    .map_err(|e| match SssmError::from(e) {
+                        SssmError::Cancelled => stopped(search.budget()),
+                        other => other,
+                    })?,
             ),
             None => None,
         };

@@ -371,7 +371,7 @@ impl SssmParams {
 /// activity inside the horizon.
 pub const MIN_HORIZON_S: f64 = 5.0;
 /// Longest accepted search horizon in seconds (an hour: longer takes exceed the entry budget,
-/// [`MAX_ENTRIES`](super::MAX_ENTRIES), anyway).
+/// [`EntryBudget`](crate::similarity::neighbours::EntryBudget), anyway).
 pub const MAX_HORIZON_S: f64 = 3600.0;
 
 // The accepted ranges `(min, max)`, both included, of the other numeric parameters; the
@@ -420,6 +420,16 @@ pub fn param_specs() -> Vec<ParamSpec> {
         basic,
         at_most: None,
     };
+    let mut specs = activity_specs(&spec);
+    specs.extend(primitive_specs(&spec));
+    specs
+}
+
+/// A row of the table: name, help, kind, unit, whether the basic form shows it (its default is the field's).
+type Row<'a> = dyn Fn(&str, &str, ParamKind, Option<&str>, bool) -> ParamSpec + 'a;
+
+/// The rows of the features, the neighbour search and the activities (§III–IV-B).
+fn activity_specs(spec: &Row) -> Vec<ParamSpec> {
     let number = |(min, max): (f64, f64)| ParamKind::Number { min, max };
     let integer = |(min, max): (usize, usize)| ParamKind::Integer { min: min as i64, max: max as i64 };
     let choice = |options: &[&str]| ParamKind::Choice { options: options.iter().map(|&o| o.into()).collect() };
@@ -485,6 +495,17 @@ pub fn param_specs() -> Vec<ParamSpec> {
             None,
             false,
         ),
+    ]
+}
+
+/// The rows of the primitives, the clusters and what SSSM adds to the paper (§IV-C–VI).
+fn primitive_specs(spec: &Row) -> Vec<ParamSpec> {
+    let number = |(min, max): (f64, f64)| ParamKind::Number { min, max };
+    let integer = |(min, max): (usize, usize)| ParamKind::Integer { min: min as i64, max: max as i64 };
+    let choice = |options: &[&str]| ParamKind::Choice { options: options.iter().map(|&o| o.into()).collect() };
+    let frames = Some("frames");
+    let inches = Some("in");
+    vec![
         spec(
             "primitive_radius",
             "Generalized radius of the primitive and cluster graphs (§IV-C, §VI); at most radius.",

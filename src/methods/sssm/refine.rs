@@ -22,8 +22,8 @@
 //!   per-frame features, smoothed over ±0.1 s) within `window` frames of it; the transition, if
 //!   any, moves with it and keeps its length.
 
-use super::activities::Span;
 use super::features::FeatureMatrix;
+use crate::similarity::Span;
 
 /// Per-frame body speed of `base` (feature units per frame): central differences of the per-frame
 /// feature vectors, averaged over `±smooth` frames.

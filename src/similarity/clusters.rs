@@ -16,9 +16,8 @@ use petgraph::algo::tarjan_scc;
 use petgraph::graph::{DiGraph, NodeIndex};
 use serde::{Deserialize, Serialize};
 
-use super::activities::frame_lookup;
-use super::activities::Span;
-use super::primitives::{Blocks, NeighbourhoodGraph};
+use super::paths::{Blocks, NeighbourhoodGraph};
+use super::{frame_lookup, Span};
 
 /// Settings of the cluster graph (from the checked parameters).
 #[derive(Debug, Clone, Copy)]
@@ -109,7 +108,7 @@ impl ClusterSearch {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::methods::sssm::neighbours::Sssm;
+    use crate::similarity::neighbours::Sssm;
 
     #[test]
     fn strongly_connected_components_are_the_clusters() {

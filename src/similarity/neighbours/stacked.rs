@@ -23,9 +23,9 @@
 //! are not a plain stack (after feature bundling, §III) and for cross searches.
 
 use super::{cap_tail, EntryBudget, Sssm, UpperTriangle, PROGRESS_ROWS};
+use crate::features::{FeatureMatrix, MirrorMap};
 use crate::method::Cancelled;
-use crate::methods::sssm::features::{FeatureMatrix, MirrorMap};
-use crate::methods::sssm::SssmError;
+use crate::similarity::SimilarityError;
 
 /// Per-frame features prepared for the stacked search.
 pub struct StackedSearch {
@@ -46,16 +46,16 @@ pub struct StackedSearch {
 
 impl StackedSearch {
     /// Prepares per-frame features `base` stacked at `offsets` (as in
-    /// [`stack`](crate::methods::sssm::features::stack)), with their mirror map if the mirror SSSM is
+    /// [`stack`](crate::features::stack)), with their mirror map if the mirror SSSM is
     /// wanted.
-    pub fn new(base: &FeatureMatrix, offsets: &[i32], mirror: Option<&MirrorMap>) -> Result<Self, SssmError> {
+    pub fn new(base: &FeatureMatrix, offsets: &[i32], mirror: Option<&MirrorMap>) -> Result<Self, SimilarityError> {
         let (n, dim) = (base.frames(), base.dim());
         if offsets.is_empty() {
-            return Err(SssmError::BadFeatures("no frame offsets to stack".into()));
+            return Err(SimilarityError::BadFeatures("no frame offsets to stack".into()));
         }
         let mirrored = match mirror {
             Some(m) if m.dim() != dim => {
-                return Err(SssmError::BadFeatures(format!(
+                return Err(SimilarityError::BadFeatures(format!(
                     "the mirror map is for {} values per frame, the features have {dim}",
                     m.dim()
                 )))
@@ -378,16 +378,16 @@ impl RowRing {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::methods::sssm::features::stack;
-    use crate::methods::sssm::neighbours::NeighbourSearch;
+    use crate::features::stack;
+    use crate::similarity::neighbours::NeighbourSearch;
 
     fn walk(n: usize, d: usize, seed: u64) -> FeatureMatrix {
-        crate::methods::sssm::neighbours::tests::walk(n, d, seed, 0.9)
+        crate::similarity::neighbours::tests::walk(n, d, seed, 0.9)
     }
 
     /// For every row of `a`, its rows of `b` within `r`.
     fn brute_force(a: &FeatureMatrix, b: &FeatureMatrix, r: f32) -> Vec<Vec<(u32, f32)>> {
-        crate::methods::sssm::neighbours::tests::brute_force(b, a, r)
+        crate::similarity::neighbours::tests::brute_force(b, a, r)
     }
 
     /// Same neighbours and distances, allowing for pairs within rounding of the radius.

@@ -15,9 +15,9 @@ use kiddo::immutable::float::kdtree::ImmutableKdTree;
 use kiddo::SquaredEuclidean;
 use serde::{Deserialize, Serialize};
 
-use super::features::FeatureMatrix;
-use super::SssmError;
+use super::SimilarityError;
 use crate::features::pca::{principal_axes, rotate};
+use crate::features::FeatureMatrix;
 use crate::method::Cancelled;
 
 pub mod far;
@@ -94,7 +94,7 @@ pub struct Sssm {
 impl Sssm {
     /// Builds an SSSM from per-frame lists `(j, d_ij)` (any order). Indices must be `< n` and
     /// distinct within a list, distances finite and ≥ 0.
-    pub fn from_lists(lists: &[Vec<(u32, f32)>]) -> Result<Sssm, SssmError> {
+    pub fn from_lists(lists: &[Vec<(u32, f32)>]) -> Result<Sssm, SimilarityError> {
         let n = lists.len();
         let mut b = SssmBuilder::new(n);
         let mut row = Vec::new();
@@ -102,13 +102,13 @@ impl Sssm {
             row.clear();
             row.extend_from_slice(list);
             if let Some(&(j, d)) = row.iter().find(|&&(j, d)| j as usize >= n || !(d.is_finite() && d >= 0.0)) {
-                return Err(SssmError::BadNeighbours(format!(
+                return Err(SimilarityError::BadNeighbours(format!(
                     "frame {i}: neighbour ({j}, {d}) is out of range or has an invalid distance"
                 )));
             }
             row.sort_unstable_by_key(|&(j, _)| j);
             if let Some(w) = row.windows(2).find(|w| w[0].0 == w[1].0) {
-                return Err(SssmError::BadNeighbours(format!("frame {i}: neighbour {} is listed twice", w[0].0)));
+                return Err(SimilarityError::BadNeighbours(format!("frame {i}: neighbour {} is listed twice", w[0].0)));
             }
             b.push_sorted_row(&row);
         }
@@ -349,19 +349,19 @@ impl NeighbourSearch {
         mirrored: &FeatureMatrix,
         radius: f32,
         max_neighbours: usize,
-    ) -> Result<Sssm, SssmError> {
+    ) -> Result<Sssm, SimilarityError> {
         self.mirror_similarity_with_progress(mirrored, radius, max_neighbours, &mut |_| Ok(()))
     }
 
     /// [`Self::mirror_similarity`], reporting and stopping as
-    /// [`Self::self_similarity_with_progress`] does ([`SssmError::Cancelled`]).
+    /// [`Self::self_similarity_with_progress`] does ([`SimilarityError::Cancelled`]).
     pub fn mirror_similarity_with_progress(
         &self,
         mirrored: &FeatureMatrix,
         radius: f32,
         max_neighbours: usize,
         progress: &mut dyn FnMut(f64) -> Result<(), Cancelled>,
-    ) -> Result<Sssm, SssmError> {
+    ) -> Result<Sssm, SimilarityError> {
         self.check_dim(mirrored)?;
         Ok(self.search_symmetric(&rotate(mirrored, &self.mean, &self.axes), radius, max_neighbours, progress)?)
     }
@@ -373,14 +373,14 @@ impl NeighbourSearch {
         queries: &FeatureMatrix,
         radius: f32,
         max_neighbours: usize,
-    ) -> Result<Sssm, SssmError> {
+    ) -> Result<Sssm, SimilarityError> {
         self.check_dim(queries)?;
         Ok(self.search(&rotate(queries, &self.mean, &self.axes), radius, max_neighbours))
     }
 
-    fn check_dim(&self, queries: &FeatureMatrix) -> Result<(), SssmError> {
+    fn check_dim(&self, queries: &FeatureMatrix) -> Result<(), SimilarityError> {
         if queries.dim() != self.dim {
-            return Err(SssmError::BadFeatures(format!(
+            return Err(SimilarityError::BadFeatures(format!(
                 "query features have {} values per frame, the indexed ones {}",
                 queries.dim(),
                 self.dim
@@ -729,7 +729,7 @@ mod tests {
     #[test]
     fn mirror_search_matches_brute_force_and_is_symmetric() {
         let f = noisy(300, 15, 5);
-        let map = crate::methods::sssm::features::MirrorMap::end_effectors();
+        let map = crate::features::MirrorMap::end_effectors();
         let m = map.apply(&f).unwrap();
         let s = NeighbourSearch::new(&f);
         let mirror = s.mirror_similarity(&m, 14.0, 10_000).unwrap();

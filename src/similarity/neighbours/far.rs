@@ -42,7 +42,7 @@
 
 use super::{cap_row, Sssm, SssmBuilder, StackedSearch};
 use crate::method::Cancelled;
-use crate::methods::sssm::activities::Span;
+use crate::similarity::Span;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Blocks of an action that may fail to link before it gets no more.
@@ -463,7 +463,7 @@ impl Sssm {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::methods::sssm::features::{stack, FeatureMatrix, MirrorMap};
+    use crate::features::{stack, FeatureMatrix, MirrorMap};
 
     /// 15 values per frame: a periodic motion of `period` frames and `shape` (different shapes
     /// are different activities), with a little deterministic wobble.
@@ -615,7 +615,7 @@ mod tests {
         for i in 910..1200u32 {
             let mut nearest = row_of(&all, i);
             assert!(nearest.len() > 7, "row {i} needs more than 7 neighbours, has {}", nearest.len());
-            crate::methods::sssm::neighbours::cap_row(&mut nearest, 7);
+            crate::similarity::neighbours::cap_row(&mut nearest, 7);
             assert_eq!(row_of(&capped, i), nearest, "row {i}");
         }
         // progress: rising, ending at 1
