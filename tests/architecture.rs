@@ -95,7 +95,6 @@ const KNOWN_LONG_FNS: &[&str] = &[
     "src/app/training.rs fn ModelFile",
     "src/app/training.rs fn TrainingPanel",
     "src/app/workspace.rs fn SidePanel",
-    "src/methods/sssm/mod.rs fn segment_features_within",
 ];
 
 /// Page files over [`MAX_PAGE_FILE_LINES`] when the rule was written.

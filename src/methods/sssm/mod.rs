@@ -247,53 +247,8 @@ pub fn segment_features_within(
     let max_entries = max_entries - base.frames() * bundling_k;
     let radius = params.search_radius();
     let near_radius = params.primitive_search_radius() as f32;
-    let mut search = None;
-    let (mut sssm, mut mirror_sssm) = if params.bundling || params.neighbour_search == NeighbourSearchKind::KdTree {
-        let mut stacked = features::stack(base, &params.offsets);
-        if params.bundling {
-            progress("bundling", 0.05)?;
-            let b =
-                Bundling { k: params.bundling_k, variance: params.bundling_variance, optimum: params.bundling_optimum };
-            stacked = b.bundle_with_progress(&stacked, &mut |f| progress("bundling", 0.05 + 0.25 * f))?;
-        }
-        progress("neighbours", 0.3)?;
-        let search = NeighbourSearch::new(&stacked).with_entry_limit(max_entries);
-        let share = if mirror.is_some() { 0.1 } else { 0.2 };
-        let sssm = search
-            .self_similarity_with_progress(radius as f32, params.max_neighbours, &mut |f| {
-                progress("neighbours", 0.3 + share * f)
-            })
-            .map_err(|_| stopped(search.budget()))?;
-        let mirror_sssm = match mirror {
-            Some(m) => Some(
-                search
-                    .mirror_similarity_with_progress(
-                        &m.apply(&stacked)?,
-                        radius as f32,
-                        params.max_neighbours,
-                        &mut |f| progress("neighbours", 0.4 + 0.1 * f),
-                    )
-                    .map_err(|e| match SssmError::from(e) {
-                        SssmError::Cancelled => stopped(search.budget()),
-                        other => other,
-                    })?,
-            ),
-            None => None,
-        };
-        (sssm, mirror_sssm)
-    } else {
-        progress("neighbours", 0.3)?;
-        let stacked = StackedSearch::new(base, &params.offsets, mirror)?
-            .with_horizon(params.horizon_frames())
-            .with_entry_limit(max_entries);
-        let found = stacked
-            .similarities_with_progress(radius as f32, params.max_neighbours, &mut |f| {
-                progress("neighbours", 0.3 + 0.2 * f)
-            })
-            .map_err(|_| stopped(stacked.budget()))?;
-        search = Some(stacked);
-        found
-    };
+    let (mut sssm, mut mirror_sssm, search) =
+        neighbour_matrices(base, mirror, params, max_entries, &stopped, progress)?;
 
     // Region growing needs both SSSMs; the primitive and cluster graphs only the nearer
     // neighbours (see `primitive_radius`). Natively the kinds and the nearer neighbours are found
@@ -392,6 +347,64 @@ fn region_growing<'a>(params: &ValidParams, sssm: &'a Sssm, mirror: Option<&'a S
         stop_window: params.stop_window,
         min_entries: params.min_action_entries(),
         relative: (params.relative_gate > 0.0).then_some(params.relative_gate as f32),
+    }
+}
+
+/// The SSSM of `base` and its mirror SSSM (§IV-A, §V) within `max_entries`, by the kd-tree (after the bundling,
+/// when on) or the stacked search — which is returned too, for the far blocks; `stopped` says why a search stopped.
+fn neighbour_matrices(
+    base: &FeatureMatrix,
+    mirror: Option<&MirrorMap>,
+    params: &ValidParams,
+    max_entries: usize,
+    stopped: &dyn Fn(&EntryBudget) -> SssmError,
+    progress: &mut dyn FnMut(&str, f64) -> Result<(), Cancelled>,
+) -> Result<(Sssm, Option<Sssm>, Option<StackedSearch>), SssmError> {
+    let radius = params.search_radius();
+    if params.bundling || params.neighbour_search == NeighbourSearchKind::KdTree {
+        let mut stacked = features::stack(base, &params.offsets);
+        if params.bundling {
+            progress("bundling", 0.05)?;
+            let b =
+                Bundling { k: params.bundling_k, variance: params.bundling_variance, optimum: params.bundling_optimum };
+            stacked = b.bundle_with_progress(&stacked, &mut |f| progress("bundling", 0.05 + 0.25 * f))?;
+        }
+        progress("neighbours", 0.3)?;
+        let search = NeighbourSearch::new(&stacked).with_entry_limit(max_entries);
+        let share = if mirror.is_some() { 0.1 } else { 0.2 };
+        let sssm = search
+            .self_similarity_with_progress(radius as f32, params.max_neighbours, &mut |f| {
+                progress("neighbours", 0.3 + share * f)
+            })
+            .map_err(|_| stopped(search.budget()))?;
+        let mirror_sssm = match mirror {
+            Some(m) => Some(
+                search
+                    .mirror_similarity_with_progress(
+                        &m.apply(&stacked)?,
+                        radius as f32,
+                        params.max_neighbours,
+                        &mut |f| progress("neighbours", 0.4 + 0.1 * f),
+                    )
+                    .map_err(|e| match SssmError::from(e) {
+                        SssmError::Cancelled => stopped(search.budget()),
+                        other => other,
+                    })?,
+            ),
+            None => None,
+        };
+        Ok((sssm, mirror_sssm, None))
+    } else {
+        progress("neighbours", 0.3)?;
+        let stacked = StackedSearch::new(base, &params.offsets, mirror)?
+            .with_horizon(params.horizon_frames())
+            .with_entry_limit(max_entries);
+        let found = stacked
+            .similarities_with_progress(radius as f32, params.max_neighbours, &mut |f| {
+                progress("neighbours", 0.3 + 0.2 * f)
+            })
+            .map_err(|_| stopped(stacked.budget()))?;
+        Ok((found.0, found.1, Some(stacked)))
     }
 }
 
