@@ -428,29 +428,39 @@ pub fn param_specs() -> Vec<ParamSpec> {
 /// A row of the table: name, help, kind, unit, whether the basic form shows it (its default is the field's).
 type Row<'a> = dyn Fn(&str, &str, ParamKind, Option<&str>, bool) -> ParamSpec + 'a;
 
+fn number((min, max): (f64, f64)) -> ParamKind {
+    ParamKind::Number { min, max }
+}
+
+fn integer((min, max): (usize, usize)) -> ParamKind {
+    ParamKind::Integer { min: min as i64, max: max as i64 }
+}
+
+fn choice(options: &[&str]) -> ParamKind {
+    ParamKind::Choice { options: options.iter().map(|&o| o.into()).collect() }
+}
+
+const FRAMES: Option<&str> = Some("frames");
+const INCHES: Option<&str> = Some("in");
+
 /// The rows of the features, the neighbour search and the activities (§III–IV-B).
 fn activity_specs(spec: &Row) -> Vec<ParamSpec> {
-    let number = |(min, max): (f64, f64)| ParamKind::Number { min, max };
-    let integer = |(min, max): (usize, usize)| ParamKind::Integer { min: min as i64, max: max as i64 };
-    let choice = |options: &[&str]| ParamKind::Choice { options: options.iter().map(|&o| o.into()).collect() };
-    let frames = Some("frames");
-    let inches = Some("in");
     vec![
         spec("fps", "Frame rate the method works at; takes are resampled to it.", number(FPS), Some("Hz"), false),
         spec(
             "offsets",
             "Frame offsets stacked into one feature vector (§IV-A), distinct.",
             ParamKind::IntegerList { min: -(MAX_OFFSET as i64), max: MAX_OFFSET as i64, max_len: MAX_OFFSETS },
-            frames,
+            FRAMES,
             true,
         ),
-        spec("radius", "Generalized radius R of the neighbour search (§IV-A).", number(RADIUS), inches, true),
+        spec("radius", "Generalized radius R of the neighbour search (§IV-A).", number(RADIUS), INCHES, true),
         spec("body_scale", "Scale every take to the reference body size first.", ParamKind::Bool, None, false),
         spec(
             "stop_window",
             "Region growing stops after this many scan lines without new neighbours (§IV-B, w).",
             integer((1, MAX_STOP_WINDOW)),
-            frames,
+            FRAMES,
             false,
         ),
         spec(
@@ -500,17 +510,12 @@ fn activity_specs(spec: &Row) -> Vec<ParamSpec> {
 
 /// The rows of the primitives, the clusters and what SSSM adds to the paper (§IV-C–VI).
 fn primitive_specs(spec: &Row) -> Vec<ParamSpec> {
-    let number = |(min, max): (f64, f64)| ParamKind::Number { min, max };
-    let integer = |(min, max): (usize, usize)| ParamKind::Integer { min: min as i64, max: max as i64 };
-    let choice = |options: &[&str]| ParamKind::Choice { options: options.iter().map(|&o| o.into()).collect() };
-    let frames = Some("frames");
-    let inches = Some("in");
     vec![
         spec(
             "primitive_radius",
             "Generalized radius of the primitive and cluster graphs (§IV-C, §VI); at most radius.",
             number(RADIUS),
-            inches,
+            INCHES,
             false,
         )
         .at_most("radius"),
@@ -519,14 +524,14 @@ fn primitive_specs(spec: &Row) -> Vec<ParamSpec> {
             "min_path_frames",
             "Warping paths covering fewer frames than this are discarded (§IV-C).",
             integer(MIN_PATH_FRAMES),
-            frames,
+            FRAMES,
             false,
         ),
         spec(
             "min_cut_distance",
             "Cuts closer than this are merged, and cuts this close to an action's border dropped (§IV-C).",
             integer(MIN_CUT_DISTANCE),
-            frames,
+            FRAMES,
             false,
         ),
         spec("bundling", "Feature bundling (§III) before the neighbour search.", ParamKind::Bool, None, true),
