@@ -4,7 +4,7 @@ use super::{centroid, segment_limbs, KcsParams, ValidParams, PARAMS};
 use crate::features::end_effectors::canonical_joints;
 use crate::method::bounds;
 use crate::method::plot::{self, Series};
-use crate::method::unsupervised::{at_file_rate, About, Checkable, Found, Segmenter};
+use crate::method::unsupervised::{at_file_rate, About, Found, Segmenter};
 use crate::method::{MethodError, ParamSpec, Progress, RunOptions, Work};
 use crate::motion::joints::Canonical as C;
 use crate::motion::Motion;
@@ -22,13 +22,6 @@ const LIMBS: [(&str, [C; 3], [u8; 3]); 4] = [
     ("left leg", [C::LeftHip, C::LeftKnee, C::LeftFoot], [0, 150, 90]),
     ("right leg", [C::RightHip, C::RightKnee, C::RightFoot], [200, 130, 0]),
 ];
-
-impl Checkable for KcsParams {
-    type Valid = ValidParams;
-    fn check(self) -> Result<ValidParams, MethodError> {
-        KcsParams::check(self)
-    }
-}
 
 impl Segmenter for Kcs {
     type Params = KcsParams;

@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::features::FeatureMatrix;
 use crate::method::bounds::{self, NumberParam, Valid};
+use crate::method::unsupervised::Checkable;
 use crate::method::{Cancelled, MethodError};
 use crate::segment::cuts;
 
@@ -91,9 +92,13 @@ impl KcsParams {
             _ => self.merge_s,
         }
     }
+}
 
-    /// Validates every parameter; the method only ever runs on the result.
-    pub fn check(self) -> Result<ValidParams, MethodError> {
+/// Validates every parameter; the method only ever runs on the result.
+impl Checkable for KcsParams {
+    type Valid = ValidParams;
+
+    fn check(self) -> Result<ValidParams, MethodError> {
         bounds::check("KCS", &PARAMS, |n| self.value(n))?;
         Ok(Valid::checked(self))
     }

@@ -4,7 +4,7 @@
 
 use super::{poses, scan, PcaParams, Scan, ValidParams, PARAMS};
 use crate::method::bounds;
-use crate::method::unsupervised::{at_file_rate, About, Checkable, Found, Segmenter};
+use crate::method::unsupervised::{at_file_rate, About, Found, Segmenter};
 use crate::method::{MethodError, ParamSpec, Picture, Progress, RunOptions, Work};
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -20,13 +20,6 @@ const PLOT_HEIGHT: usize = 120;
 const PLOT_MAX_WIDTH: usize = 1500;
 /// The plot's derivative ratio axis runs from 0 to this (the cut threshold is 1).
 const RATIO_TOP: f64 = 2.0;
-
-impl Checkable for PcaParams {
-    type Valid = ValidParams;
-    fn check(self) -> Result<ValidParams, MethodError> {
-        PcaParams::check(self)
-    }
-}
 
 impl Segmenter for Pca {
     type Params = PcaParams;
@@ -155,7 +148,7 @@ fn plot(s: &Scan, params: &ValidParams) -> Picture {
 mod tests {
     use super::*;
     use crate::load::load_bytes;
-    use crate::method::unsupervised::Unsupervised;
+    use crate::method::unsupervised::{Checkable, Unsupervised};
     use crate::method::Method;
 
     #[test]

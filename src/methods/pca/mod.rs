@@ -45,6 +45,7 @@ use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
 
 use crate::method::bounds::{self, NumberParam, Valid};
+use crate::method::unsupervised::Checkable;
 use crate::method::{Cancelled, MethodError};
 use crate::motion::joints::Canonical;
 use crate::motion::normalize::body_scaled;
@@ -131,9 +132,13 @@ impl PcaParams {
             _ => self.k_sigma,
         }
     }
+}
 
-    /// Validates every parameter; the method only ever runs on the result.
-    pub fn check(self) -> Result<ValidParams, MethodError> {
+/// Validates every parameter; the method only ever runs on the result.
+impl Checkable for PcaParams {
+    type Valid = ValidParams;
+
+    fn check(self) -> Result<ValidParams, MethodError> {
         bounds::check("PCA", &PARAMS, |n| self.value(n))?;
         if self.lag_s > self.window_s / 2.0 {
             let expected = format!("at most half of window_s ({})", self.window_s / 2.0);

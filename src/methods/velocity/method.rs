@@ -5,7 +5,7 @@ use super::{boundaries, hand_speed, ValidParams, VelocityParams, PARAMS};
 use crate::features::end_effectors::{end_effectors, LEFT_HAND, RIGHT_HAND};
 use crate::method::bounds;
 use crate::method::plot::{self, Series};
-use crate::method::unsupervised::{at_file_rate, About, Checkable, Found, Segmenter};
+use crate::method::unsupervised::{at_file_rate, About, Found, Segmenter};
 use crate::method::{MethodError, ParamSpec, Picture, Progress, RunOptions, Work};
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -14,13 +14,6 @@ use crate::segment::{cuts, Level};
 /// Hand-speed segmentation (Osaki et al. 2000; Shiratori et al. 2003), as Bouchard & Badler's baseline.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Velocity;
-
-impl Checkable for VelocityParams {
-    type Valid = ValidParams;
-    fn check(self) -> Result<ValidParams, MethodError> {
-        VelocityParams::check(self)
-    }
-}
 
 impl Segmenter for Velocity {
     type Params = VelocityParams;

@@ -25,6 +25,7 @@ use serde::{Deserialize, Serialize};
 use crate::features::kinematics::{points, Kinematics};
 use crate::features::FeatureMatrix;
 use crate::method::bounds::{self, NumberParam, Valid};
+use crate::method::unsupervised::Checkable;
 use crate::method::{Cancelled, MethodError};
 use crate::segment::cuts;
 
@@ -102,9 +103,13 @@ impl VelocityParams {
             _ => self.merge_s,
         }
     }
+}
 
-    /// Validates every parameter; the method only ever runs on the result.
-    pub fn check(self) -> Result<ValidParams, MethodError> {
+/// Validates every parameter; the method only ever runs on the result.
+impl Checkable for VelocityParams {
+    type Valid = ValidParams;
+
+    fn check(self) -> Result<ValidParams, MethodError> {
         bounds::check("velocity", &PARAMS, |n| self.value(n))?;
         if self.high_speed < self.low_speed {
             let expected = format!("at least low_speed ({})", self.low_speed);
