@@ -32,8 +32,6 @@ const MAX_PAGE_FILE_LINES: usize = 600;
 /// Methods that reached another method when the rule was written: `file -> methods::<other>`.
 const KNOWN_CROSS_METHOD: &[&str] = &[
     "src/methods/dtfcn/corpus.rs -> methods::knn",
-    "src/methods/dtfcn/fit.rs -> methods::knn",
-    "src/methods/dtfcn/method.rs -> methods::knn",
     "src/methods/dtfcn/model.rs -> methods::knn",
     "src/methods/knn/method.rs -> methods::dtfcn",
     "src/methods/knn/mod.rs -> methods::dtfcn",

@@ -11,8 +11,8 @@
 //!   [`TravelProfile`], stored in the model's header when it is made) says how fast any frame the
 //!   model was taught moved.
 //! * **Pose** — how far the take's ±1 s windows lie from the nearest training window (the k-NN's
-//!   own distance, [`Knn::nearest_distances`]) compared with how far training windows lie from the
-//!   *other* training windows 2 s or more away ([`Knn::familiar_distances`]): a new take of the
+//!   own distance, [`Windows::nearest_distances`]) compared with how far training windows lie from the
+//!   *other* training windows 2 s or more away ([`Windows::familiar_distances`]): a new take of the
 //!   taught movements lies about as far as another repetition does. A DT-FCN model is measured
 //!   with the k-NN model made from the same data (the same data hash), when there is one.
 //!
@@ -28,9 +28,16 @@ use serde::{Deserialize, Serialize};
 
 use crate::features::end_effectors::REFERENCE_BODY_INCHES;
 use crate::method::{FittingModel, TakeFitReport};
-use crate::methods::knn::Knn;
 use crate::motion::normalize::{body_size, to_inches, to_y_up};
 use crate::motion::Motion;
+
+/// Windows of training motion a take's windows are measured against: how far each of a take's windows lies from
+/// its nearest training window, and how far training windows lie from the other training windows `gap` working
+/// frames or more away (`samples` of them). The k-NN labeller's windows are these (its model file holds them).
+pub trait Windows {
+    fn nearest_distances(&self, motion: &Motion) -> Result<Vec<f32>, String>;
+    fn familiar_distances(&self, gap: usize, samples: usize) -> Vec<f32>;
+}
 
 /// The training frames' percentile a frame must travel faster than to be unfamiliar.
 pub const TRAVEL_PERCENTILE: f64 = 0.99;
@@ -147,7 +154,11 @@ pub struct TakeFit {
 
 impl TakeFit {
     /// Measures `motion` against a model's travel profile and (when given) the k-NN windows of its data.
-    pub fn assess(motion: &Motion, travel: Option<&TravelProfile>, windows: Option<&Knn>) -> Result<TakeFit, String> {
+    pub fn assess(
+        motion: &Motion,
+        travel: Option<&TravelProfile>,
+        windows: Option<&dyn Windows>,
+    ) -> Result<TakeFit, String> {
         let mut unfamiliar = vec![false; motion.frames()];
         let mut travel_share = None;
         if let Some(profile) = travel {

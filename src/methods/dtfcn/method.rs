@@ -129,9 +129,9 @@ fn fit_windows(model: &Arc<Model>, name: &str, models: &ModelStore) -> Result<Op
 }
 
 /// The k-NN labeller of a fit check's windows model (none for a network).
-fn knn_of(model: Option<&Model>) -> Option<&crate::methods::knn::Knn> {
+fn knn_of(model: Option<&Model>) -> Option<&dyn super::fit::Windows> {
     model.and_then(|m| match &m.labeller {
-        Labeller::Knn(k) => Some(&**k),
+        Labeller::Knn(k) => Some(&**k as &dyn super::fit::Windows),
         Labeller::Network(_) => None,
     })
 }
@@ -250,7 +250,7 @@ impl Labelling {
 }
 
 /// The DT-FCN method (the k-NN's, the same labelling over k-NN models, is
-/// [`crate::methods::knn::method::KNN`]).
+/// `KNN` in `methods/knn/method.rs`).
 pub const DTFCN: Labelling = Labelling::of(ModelKind::Dtfcn);
 
 impl Method for Labelling {
@@ -719,7 +719,7 @@ mod tests {
     fn a_take_the_models_classes_cannot_describe_is_called_so() {
         let walk = motion("02_01.bvh", include_str!("../../../tests/fixtures/02_01.bvh"));
         let sample = motion("13_30.bvh", include_str!("../../../www/sample.bvh"));
-        for method in [DTFCN, crate::methods::knn::method::KNN] {
+        for method in [DTFCN, Labelling::of(ModelKind::Knn)] {
             let out = run(method, &walk, serde_json::json!({"model": "exercises"}));
             let segments = &out.segmentation.segments;
             assert!(segments.iter().all(|s| s.label == UNKNOWN && s.cluster.is_none()), "{segments:?}");
@@ -762,7 +762,7 @@ mod tests {
         );
         let walk = motion("02_01.bvh", include_str!("../../../tests/fixtures/02_01.bvh"));
         let sample = motion("13_30.bvh", include_str!("../../../www/sample.bvh"));
-        for method in [DTFCN, crate::methods::knn::method::KNN] {
+        for method in [DTFCN, Labelling::of(ModelKind::Knn)] {
             // by default the other models are not measured: the verdict, and how to ask for them
             let out = run(method, &actions, serde_json::json!({"model": "exercises"}));
             let fit = out.details.take_fit.clone().expect("a fit check's report");
@@ -811,7 +811,7 @@ mod tests {
     #[test]
     fn a_users_model_that_fits_the_take_is_offered() {
         let walk = motion("02_01.bvh", include_str!("../../../tests/fixtures/02_01.bvh"));
-        let knn = crate::methods::knn::method::KNN;
+        let knn = Labelling::of(ModelKind::Knn);
         let mut store = ModelStore::default();
         // the shipped locomotion k-NN, installed under a name of the user's
         let bytes = crate::method::ModelStore::default()

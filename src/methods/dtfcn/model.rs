@@ -169,6 +169,16 @@ pub enum Labeller {
     Knn(Box<Knn>),
 }
 
+/// The k-NN's windows are what a take's fit is measured against ([`super::fit::Windows`]).
+impl super::fit::Windows for Knn {
+    fn nearest_distances(&self, motion: &crate::motion::Motion) -> Result<Vec<f32>, String> {
+        Knn::nearest_distances(self, motion)
+    }
+    fn familiar_distances(&self, gap: usize, samples: usize) -> Vec<f32> {
+        Knn::familiar_distances(self, gap, samples)
+    }
+}
+
 impl std::fmt::Debug for Model {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "Model({} {}, {} classes)", self.header.kind.name(), self.header.name, self.header.classes.len())
