@@ -329,6 +329,76 @@ pub fn read_options<T: serde::de::DeserializeOwned + Serialize>(
     Ok(options)
 }
 
+/// One training option of the options `T`, declared once: its row of the method's table (the page's form field, the
+/// command line's flag: name, help, kind, unit, whether the basic form shows it), its default (read from
+/// `T::default()`), and how its value is read from and written into `T` — the JSON the page sends, the flags the
+/// command line reads and the options a model's provenance repeats all go through it.
+pub struct TrainingOption<T> {
+    pub name: &'static str,
+    pub help: &'static str,
+    pub kind: fn() -> ParamKind,
+    pub unit: Option<&'static str>,
+    pub basic: bool,
+    /// The option's value in `T`, as JSON.
+    pub get: fn(&T) -> serde_json::Value,
+    /// Sets the option in `T` to a value [`check_option`] accepted for its row.
+    pub set: fn(&mut T, &serde_json::Value),
+}
+
+/// The table of `options` (each row's default from `T::default()`).
+pub fn option_specs<T: Default>(options: &[TrainingOption<T>]) -> Vec<ParamSpec> {
+    let d = T::default();
+    options
+        .iter()
+        .map(|o| ParamSpec {
+            name: o.name.into(),
+            help: o.help.into(),
+            kind: (o.kind)(),
+            default: (o.get)(&d),
+            unit: o.unit.map(Into::into),
+            basic: o.basic,
+            at_most: None,
+        })
+        .collect()
+}
+
+/// Reads `value` (a JSON object, `null` for none; a missing field keeps its default) as the options `T` declared by
+/// `options`: a field no row declares is refused (`what` names the method), a value outside its row's bounds is
+/// refused naming the option.
+pub fn read_option_rows<T: Default>(
+    value: &serde_json::Value,
+    options: &[TrainingOption<T>],
+    what: &str,
+) -> Result<T, MethodError> {
+    let mut read = T::default();
+    let empty = serde_json::Map::new();
+    let fields = match value {
+        serde_json::Value::Null => &empty,
+        serde_json::Value::Object(fields) => fields,
+        other => {
+            return Err(MethodError::params(format!("{what} training options: expected an object, found {other}")))
+        }
+    };
+    let specs = option_specs(options);
+    for (name, v) in fields {
+        let Some(k) = options.iter().position(|o| o.name == name) else {
+            let known: Vec<&str> = options.iter().map(|o| o.name).collect();
+            return Err(MethodError::params(format!(
+                "{what} training options: unknown field `{name}`, expected one of {}",
+                known.join(", ")
+            )));
+        };
+        check_option(&specs[k], v)?;
+        (options[k].set)(&mut read, v);
+    }
+    Ok(read)
+}
+
+/// Every option of `options` as it stands in `read`, as JSON (what a model's provenance repeats).
+pub fn option_values<T>(options: &[TrainingOption<T>], read: &T) -> serde_json::Value {
+    serde_json::Value::Object(options.iter().map(|o| (o.name.to_string(), (o.get)(read))).collect())
+}
+
 /// Refuses `value` of the option `spec` when it is outside the row's bounds, naming it.
 pub fn check_option(spec: &ParamSpec, value: &serde_json::Value) -> Result<(), MethodError> {
     let words = spec.name.replace('_', " ");
@@ -472,6 +542,54 @@ pub trait Supervised: Send + Sync {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Options declared as rows: the table's defaults are `T::default()`'s, a value is read into its field through
+    /// the row that declares it, checked against the row's bounds first, and a field no row declares is refused.
+    #[test]
+    fn options_declared_once_give_the_table_the_reading_and_the_values() {
+        #[derive(Default, Debug, PartialEq)]
+        struct Toy {
+            epochs: usize,
+            rate: f64,
+        }
+        let rows: [TrainingOption<Toy>; 2] = [
+            TrainingOption {
+                name: "epochs",
+                help: "Epochs.",
+                kind: || ParamKind::Integer { min: 1, max: 9 },
+                unit: None,
+                basic: true,
+                get: |t| t.epochs.into(),
+                set: |t, v| t.epochs = v.as_u64().unwrap_or(0) as usize,
+            },
+            TrainingOption {
+                name: "rate",
+                help: "Rate.",
+                kind: || ParamKind::Number { min: 0.0, max: 1.0 },
+                unit: Some("1/s"),
+                basic: false,
+                get: |t| t.rate.into(),
+                set: |t, v| t.rate = v.as_f64().unwrap_or(0.0),
+            },
+        ];
+        let specs = option_specs(&rows);
+        assert_eq!(
+            (specs[0].name.as_str(), &specs[0].default, specs[0].basic),
+            ("epochs", &serde_json::json!(0), true)
+        );
+        assert_eq!((specs[1].unit.as_deref(), &specs[1].default), (Some("1/s"), &serde_json::json!(0.0)));
+        let read = read_option_rows(&serde_json::json!({"epochs": 3, "rate": 0.5}), &rows, "Toy").unwrap();
+        assert_eq!(read, Toy { epochs: 3, rate: 0.5 });
+        assert_eq!(option_values(&rows, &read), serde_json::json!({"epochs": 3, "rate": 0.5}));
+        assert_eq!(read_option_rows(&serde_json::Value::Null, &rows, "Toy").unwrap(), Toy::default());
+        let out_of_range = read_option_rows(&serde_json::json!({"epochs": 10}), &rows, "Toy").unwrap_err();
+        assert_eq!(out_of_range.param_name(), Some("epochs"), "{out_of_range}");
+        let wrong_kind = read_option_rows(&serde_json::json!({"rate": "fast"}), &rows, "Toy").unwrap_err();
+        assert_eq!(wrong_kind.param_name(), Some("rate"), "{wrong_kind}");
+        let unknown = read_option_rows(&serde_json::json!({"nope": 1}), &rows, "Toy").unwrap_err();
+        assert!(unknown.param_name().is_none() && unknown.to_string().contains("unknown field `nope`"), "{unknown}");
+        assert!(read_option_rows(&serde_json::json!([1]), &rows, "Toy").is_err());
+    }
 
     fn info(method: &str, name: &str) -> ModelInfo {
         ModelInfo {

@@ -5,17 +5,14 @@
 
 use std::sync::Arc;
 
-use serde::{Deserialize, Serialize};
-
 use super::classifier::EffortModel;
 use super::corpus::{parse_labels, Corpus, CorpusConfig, EffortLabel, Sample};
 use super::method::SHIPPED_NAME;
-use super::network::TrainOptions as NetOptions;
 use super::training::{train_family, FactorReport, TrainConfig};
 use crate::labels::same_file;
 use crate::method::supervised::{
-    check_model_name, read_options, Loaded, ModelInfo, StepReport, Supervision, Trained, Training, TrainingAsk,
-    TrainingReport,
+    check_model_name, option_specs, read_option_rows, Loaded, ModelInfo, StepReport, Supervision, Trained, Training,
+    TrainingAsk, TrainingOption, TrainingReport,
 };
 use crate::method::{counted, MethodError, ParamKind, ParamSpec, Progress};
 
@@ -31,123 +28,108 @@ pub fn resolve(name: &str, models: &crate::method::ModelStore) -> Result<(Arc<Ef
     })
 }
 
-fn spec(name: &str, help: &str, kind: ParamKind, default: serde_json::Value, basic: bool) -> ParamSpec {
-    ParamSpec { name: name.into(), help: help.into(), kind, default, unit: None, basic, at_most: None }
+/// An option's JSON value as a whole number (its row's check accepted it as one).
+fn whole(v: &serde_json::Value) -> usize {
+    v.as_u64().unwrap_or(0) as usize
 }
 
-/// LMA's training options (the trainer's defaults are the paper's where it gives them).
+/// LMA's training options, each declared once (the trainer's defaults are the paper's where it gives them).
+pub const OPTIONS: [TrainingOption<TrainConfig>; 9] = [
+    TrainingOption {
+        name: "restarts",
+        help: "Random initialisations of each unshifted network (the paper: 20).",
+        kind: || ParamKind::Integer { min: 1, max: 50 },
+        unit: None,
+        basic: true,
+        get: |c| c.restarts.into(),
+        set: |c, v| c.restarts = whole(v),
+    },
+    TrainingOption {
+        name: "validation",
+        help: "Share of the labelled segments (per factor, stratified by class) that choose each network's stopping \
+               epoch and restart.",
+        kind: || ParamKind::Number { min: 0.0, max: 0.5 },
+        unit: None,
+        basic: false,
+        get: |c| c.validation.into(),
+        set: |c, v| c.validation = v.as_f64().unwrap_or(c.validation),
+    },
+    TrainingOption {
+        name: "test",
+        help: "Share of the labelled segments held out from every choice, to report each factor's error and confusion \
+               on.",
+        kind: || ParamKind::Number { min: 0.0, max: 0.5 },
+        unit: None,
+        basic: false,
+        get: |c| c.test.into(),
+        set: |c, v| c.test = v.as_f64().unwrap_or(c.test),
+    },
+    TrainingOption {
+        name: "told",
+        help:
+            "Stand-in labels only: a pool feature whose rank correlation with the descriptor a factor's label is cut \
+               from reaches this is left out of that factor's networks (1 keeps every feature).",
+        kind: || ParamKind::Number { min: 0.5, max: 1.0 },
+        unit: None,
+        basic: false,
+        get: |c| c.told.into(),
+        set: |c, v| c.told = v.as_f64().unwrap_or(c.told),
+    },
+    TrainingOption {
+        name: "saliency_rounds",
+        help: "Random feature subsets the saliency ranks features on.",
+        kind: || ParamKind::Integer { min: 1, max: 200 },
+        unit: None,
+        basic: false,
+        get: |c| c.saliency_rounds.into(),
+        set: |c, v| c.saliency_rounds = whole(v),
+    },
+    TrainingOption {
+        name: "max_epochs",
+        help: "Most epochs of each unshifted network.",
+        kind: || ParamKind::Integer { min: 1, max: 5000 },
+        unit: None,
+        basic: false,
+        get: |c| c.options.max_epochs.into(),
+        set: |c, v| c.options.max_epochs = whole(v),
+    },
+    TrainingOption {
+        name: "shift_epochs",
+        help: "Most epochs of each boundary-shifted network (each trained from its own random start).",
+        kind: || ParamKind::Integer { min: 1, max: 1000 },
+        unit: None,
+        basic: false,
+        get: |c| c.shift_options.max_epochs.into(),
+        set: |c, v| c.shift_options.max_epochs = whole(v),
+    },
+    TrainingOption {
+        name: "shift_restarts",
+        help: "Random initialisations of each boundary-shifted network (the best on validation kept).",
+        kind: || ParamKind::Integer { min: 1, max: 20 },
+        unit: None,
+        basic: false,
+        get: |c| c.shift_restarts.into(),
+        set: |c, v| c.shift_restarts = whole(v),
+    },
+    TrainingOption {
+        name: "seed",
+        help: "Seed of the validation and test splits and the networks' initial weights.",
+        kind: || ParamKind::Integer { min: 0, max: 1 << 31 },
+        unit: None,
+        basic: false,
+        get: |c| c.seed.into(),
+        set: |c, v| c.seed = v.as_u64().unwrap_or(c.seed),
+    },
+];
+
+/// LMA's training table ([`OPTIONS`]).
 pub fn training_specs() -> Vec<ParamSpec> {
-    let d = TrainConfig::default();
-    let int = |min: i64, max: i64| ParamKind::Integer { min, max };
-    vec![
-        spec(
-            "restarts",
-            "Random initialisations of each unshifted network (the paper: 20).",
-            int(1, 50),
-            d.restarts.into(),
-            true,
-        ),
-        spec(
-            "validation",
-            "Share of the labelled segments (per factor, stratified by class) that choose each network's stopping epoch and restart.",
-            ParamKind::Number { min: 0.0, max: 0.5 },
-            d.validation.into(),
-            false,
-        ),
-        spec(
-            "test",
-            "Share of the labelled segments held out from every choice, to report each factor's error and confusion on.",
-            ParamKind::Number { min: 0.0, max: 0.5 },
-            d.test.into(),
-            false,
-        ),
-        spec(
-            "told",
-            "Stand-in labels only: a pool feature whose rank correlation with the descriptor a factor's label is cut from reaches this is left out of that factor's networks (1 keeps every feature).",
-            ParamKind::Number { min: 0.5, max: 1.0 },
-            d.told.into(),
-            false,
-        ),
-        spec(
-            "saliency_rounds",
-            "Random feature subsets the saliency ranks features on.",
-            int(1, 200),
-            d.saliency_rounds.into(),
-            false,
-        ),
-        spec("max_epochs", "Most epochs of each unshifted network.", int(1, 5000), d.options.max_epochs.into(), false),
-        spec(
-            "shift_epochs",
-            "Most epochs of each boundary-shifted network (each trained from its own random start).",
-            int(1, 1000),
-            d.shift_options.max_epochs.into(),
-            false,
-        ),
-        spec(
-            "shift_restarts",
-            "Random initialisations of each boundary-shifted network (the best on validation kept).",
-            int(1, 20),
-            d.shift_restarts.into(),
-            false,
-        ),
-        spec(
-            "seed",
-            "Seed of the validation and test splits and the networks' initial weights.",
-            int(0, 1 << 31),
-            d.seed.into(),
-            false,
-        ),
-    ]
-}
-
-/// The training options as JSON (one field per [`training_specs`] row).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-struct OptionsJson {
-    restarts: i64,
-    validation: f64,
-    test: f64,
-    told: f64,
-    saliency_rounds: i64,
-    max_epochs: i64,
-    shift_epochs: i64,
-    shift_restarts: i64,
-    seed: i64,
-}
-
-impl Default for OptionsJson {
-    fn default() -> Self {
-        let d = TrainConfig::default();
-        OptionsJson {
-            restarts: d.restarts as i64,
-            validation: d.validation,
-            test: d.test,
-            told: d.told,
-            saliency_rounds: d.saliency_rounds as i64,
-            max_epochs: d.options.max_epochs as i64,
-            shift_epochs: d.shift_options.max_epochs as i64,
-            shift_restarts: d.shift_restarts as i64,
-            seed: d.seed as i64,
-        }
-    }
+    option_specs(&OPTIONS)
 }
 
 /// Reads and checks the training options: a refusal names the option.
 pub fn config_from_json(value: &serde_json::Value) -> Result<TrainConfig, MethodError> {
-    let o: OptionsJson = read_options(value, &training_specs(), "LMA")?;
-    let d = TrainConfig::default();
-    Ok(TrainConfig {
-        seed: o.seed as u64,
-        restarts: o.restarts as usize,
-        saliency_rounds: o.saliency_rounds as usize,
-        validation: o.validation,
-        test: o.test,
-        told: o.told,
-        shift_restarts: o.shift_restarts as usize,
-        options: NetOptions { max_epochs: o.max_epochs as usize, ..d.options },
-        shift_options: NetOptions { max_epochs: o.shift_epochs as usize, ..d.shift_options },
-        ..d
-    })
+    read_option_rows(value, &OPTIONS, "LMA")
 }
 
 /// LMA's declaration.
