@@ -5,7 +5,6 @@
 
 use std::sync::Arc;
 
-use serde::{Deserialize, Serialize};
 
 use super::augment::Augment;
 use super::corpus::{class_labels, fit_knn_model, model_from, rows_without_takes, ModelMeta};
@@ -22,8 +21,8 @@ use crate::labels::same_file;
 use crate::method::cards::ModelCard;
 use crate::method::form::field_text;
 use crate::method::supervised::{
-    check_model_name, read_options, Loaded, ModelInfo, StepReport, Supervision, Trained, Training, TrainingAsk,
-    TrainingReport,
+    check_model_name, option_specs, option_values, read_option_rows, Loaded, ModelInfo, StepReport, Supervision,
+    Trained, Training, TrainingAsk, TrainingOption, TrainingReport,
 };
 use crate::method::{counted, MethodError, ParamKind, ParamSpec, Progress};
 use crate::motion::Motion;
@@ -36,187 +35,253 @@ pub fn shipped_names() -> Vec<String> {
 /// The augmentations the `augment` option can name.
 const AUGMENTATIONS: [&str; 5] = ["mirror", "yaw", "warp", "scale", "jitter"];
 
-fn spec(
-    name: &str,
-    help: &str,
-    kind: ParamKind,
-    default: serde_json::Value,
-    unit: Option<&str>,
-    basic: bool,
-) -> ParamSpec {
-    ParamSpec {
-        name: name.into(),
-        help: help.into(),
-        kind,
-        default,
-        unit: unit.map(str::to_string),
-        basic,
-        at_most: None,
+/// The training options of a model of `kind` ([`OPTIONS`]): DT-FCN's are all of them, the k-NN's the decoding's.
+fn rows(kind: ModelKind) -> &'static [TrainingOption<Choices>] {
+    match kind {
+        ModelKind::Dtfcn => &OPTIONS,
+        ModelKind::Knn => &OPTIONS[NETWORK_ROWS..],
     }
-}
-
-/// The rows of the decoding a model keeps (its runs' `decoding=model`), common to both kinds.
-fn decoding_specs() -> Vec<ParamSpec> {
-    vec![
-        spec(
-            "min_duration_s",
-            "The model's decoding: the shortest run of one label its runs keep (0 with switch cost 0: the raw per-frame labels; the shipped exercises models: 2 s, chosen by nested validation).",
-            ParamKind::Number { min: 0.0, max: MAX_MIN_DURATION_S },
-            0.0.into(),
-            Some("s"),
-            false,
-        ),
-        spec(
-            "switch_cost",
-            "The model's decoding: the cost of a change of label, in nats of summed log-probability (0 = free).",
-            ParamKind::Number { min: 0.0, max: MAX_SWITCH_COST },
-            0.0.into(),
-            None,
-            false,
-        ),
-        spec(
-            "unknown_threshold",
-            "The model's unknown threshold: its runs call a frame (with a decoding, a whole run) unknown below this confidence unless they ask for another (the shipped exercises DT-FCN: 0.8, chosen with its decoding by nested validation).",
-            ParamKind::Number { min: 0.0, max: 1.0 },
-            DEFAULT_THRESHOLD.into(),
-            None,
-            false,
-        ),
-        spec(
-            "choose_decoding",
-            "With a validation take (the command line's --validation): choose the model's decoding and unknown threshold on it, in place of the three rows above — runs of 0–8 s, switch costs 0–150, thresholds 0, 0.5 and 0.8, the best mean of frame accuracy, edit and F1@50 on its labels (how make accuracy chooses the shipped models'). Without a validation take: the rows as given.",
-            ParamKind::Bool,
-            true.into(),
-            None,
-            false,
-        ),
-    ]
 }
 
 /// The training options of a model of `kind`: the one table the page's form, the command line's
 /// flags (`mocapseg train-dtfcn --NAME VALUE`), the model's provenance and [`options_from_json`] read.
 pub fn training_specs(kind: ModelKind) -> Vec<ParamSpec> {
-    match kind {
-        ModelKind::Dtfcn => network_specs().into_iter().chain(decoding_specs()).collect(),
-        ModelKind::Knn => decoding_specs(),
+    option_specs(rows(kind))
+}
+
+/// What a labeller's training table reads: the trainer's options (DT-FCN's; the k-NN has none) and the decoding and
+/// unknown threshold its model keeps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Choices {
+    pub train: TrainOptions,
+    pub min_duration_s: f64,
+    pub switch_cost: f64,
+    pub unknown_threshold: f64,
+    /// With a validation take: the decoding and threshold are chosen on it instead ([`choose_on_validation`]).
+    pub choose_decoding: bool,
+}
+
+impl Default for Choices {
+    fn default() -> Self {
+        Choices {
+            train: TrainOptions::default(),
+            min_duration_s: 0.0,
+            switch_cost: 0.0,
+            unknown_threshold: DEFAULT_THRESHOLD,
+            choose_decoding: true,
+        }
     }
 }
 
-/// The network's rows of DT-FCN's table.
-fn network_specs() -> Vec<ParamSpec> {
-    let d = TrainOptions::default();
-    let int = |min: i64, max: i64| ParamKind::Integer { min, max };
-    vec![
-        spec("epochs", "Most epochs; Stop ends earlier.", int(1, 10_000), d.epochs.into(), None, true),
-        spec(
-            "label_noise",
-            "Share of training frames given a random label (the paper's Table 3), 0–1.",
-            ParamKind::Number { min: 0.0, max: 1.0 },
-            d.label_noise.into(),
-            None,
-            true,
-        ),
-        spec(
-            "mask_s",
-            "w_transition: the span around each label change whose loss is zeroed (the paper's Table 4: 0.15–0.43 s; 0 = none).",
-            ParamKind::Number { min: 0.0, max: MAX_MASK_S },
-            d.mask_s.into(),
-            Some("s"),
-            true,
-        ),
-        spec(
-            "augment",
-            "Augmentations of the training crops: mirror (left ↔ right), yaw ±15°, time warp 0.8–1.2×, scale 0.9–1.1×, jitter.",
-            ParamKind::Flags { options: AUGMENTATIONS.iter().map(|s| s.to_string()).collect() },
-            augment_names(&d.augment).into(),
-            None,
-            true,
-        ),
-        spec(
-            "width",
-            "Kernel width w: with L layers the receptive field is w^L frames at 30 Hz (w = 3, 4 layers: 2.7 s; w = 2, 6 layers: 2.1 s).",
-            int(2, 3),
-            d.width.into(),
-            None,
-            true,
-        ),
-        spec(
-            "filters",
-            "Filters of each layer; their count is the layer count L (the paper's five: 64,64,128,256,512; the default four give w = 3 a receptive field of 2.7 s).",
-            ParamKind::IntegerList { min: 1, max: 2048, max_len: 6 },
-            serde_json::json!(d.filters),
-            None,
-            false,
-        ),
-        spec(
-            "padding",
-            "What the convolutions read beyond the take's ends: zero (the paper's) or edge (the end frames repeated, so the take's start cannot be told from a held pose).",
-            ParamKind::Choice { options: vec!["zero".into(), "edge".into()] },
-            d.padding.name().into(),
-            None,
-            false,
-        ),
-        spec(
-            "image_rows",
-            "The paper's input: the motion image resized to this many rows before layer 1 (224 gives the paper's 663,562 parameters); 0 = the image's own rows.",
-            int(0, 512),
-            d.image_rows.unwrap_or(0).into(),
-            None,
-            false,
-        ),
-        spec("crop_frames", "Frames of each training crop the loss is taken on.", int(16, 4096), d.crop_frames.into(), Some("frames"), false),
-        spec("batch", "Crops per optimiser step.", int(1, 64), d.batch.into(), None, false),
-        spec(
-            "learning_rate",
-            "Adam's learning rate.",
-            ParamKind::Number { min: 1e-6, max: 0.5 },
-            d.learning_rate.into(),
-            None,
-            false,
-        ),
-        spec(
-            "weight_decay",
-            "Adam's L2 weight decay (0 = none).",
-            ParamKind::Number { min: 0.0, max: 0.5 },
-            d.weight_decay.into(),
-            None,
-            false,
-        ),
-        spec("seed", "Seed of the initial weights, crops and augmentations.", int(0, 1 << 31), d.seed.into(), None, false),
-        spec(
-            "patience",
-            "With a validation take (the command line's --validation): epochs without a better validation loss before training stops.",
-            int(1, 10_000),
-            d.patience.into(),
-            Some("epochs"),
-            false,
-        ),
-        spec(
-            "average_last",
-            "Without a validation take: keep the mean of the last this many epochs' weights (stochastic weight averaging; 0 = the last epoch's). Three seeds held out: 0.891–0.951 frame accuracy at 0, 0.921–0.941 at 10 (docs/methods/dtfcn.md).",
-            int(0, 10_000),
-            d.average_last.into(),
-            Some("epochs"),
-            false,
-        ),
-        spec(
-            "members",
-            "Networks trained, each with its own seed (seed, seed + 1, …), whose probabilities are averaged: a few-seed ensemble. Labelling takes as long per network; one network's held-out accuracy moves by ±0.03 with its seed (docs/methods/dtfcn.md).",
-            int(1, super::training::MAX_MEMBERS as i64),
-            d.members.into(),
-            Some("networks"),
-            false,
-        ),
-        spec(
-            "centre_on_take",
-            "Centre each take on its own median posture before the standardisation (not in the paper): a subject's stance and proportions no longer shift the input, only the movement does. The model keeps it; labelling a take then depends on the whole take's posture. Nested validation on the shared takes: better on the validation takes, +0.004 held out with worse segments, so off by default (docs/methods/dtfcn.md).",
-            ParamKind::Bool,
-            d.centre_on_take.into(),
-            None,
-            false,
-        ),
-    ]
+/// An option's JSON value as a whole number, a number, a list of words (its row's check accepted it as one).
+fn whole(v: &serde_json::Value) -> usize {
+    v.as_u64().unwrap_or(0) as usize
 }
+
+fn number(v: &serde_json::Value) -> f64 {
+    v.as_f64().unwrap_or(0.0)
+}
+
+fn words(v: &serde_json::Value) -> Vec<&str> {
+    v.as_array().map_or(Vec::new(), |a| a.iter().filter_map(serde_json::Value::as_str).collect())
+}
+
+/// The rows of the network's options in DT-FCN's table (the first [`NETWORK_ROWS`] of [`OPTIONS`]).
+const NETWORK_ROWS: usize = 17;
+
+/// Every training option of the two labellers, each declared once: DT-FCN's table is all of them, the k-NN's the
+/// decoding's rows after [`NETWORK_ROWS`].
+pub const OPTIONS: [TrainingOption<Choices>; 21] = [
+    TrainingOption {
+        name: "epochs",
+        help: "Most epochs; Stop ends earlier.",
+        kind: || ParamKind::Integer { min: 1, max: 10_000 },
+        unit: None,
+        basic: true,
+        get: |c| c.train.epochs.into(),
+        set: |c, v| c.train.epochs = whole(v),
+    },
+    TrainingOption {
+        name: "label_noise",
+        help: "Share of training frames given a random label (the paper's Table 3), 0–1.",
+        kind: || ParamKind::Number { min: 0.0, max: 1.0 },
+        unit: None,
+        basic: true,
+        get: |c| c.train.label_noise.into(),
+        set: |c, v| c.train.label_noise = number(v),
+    },
+    TrainingOption {
+        name: "mask_s",
+        help: "w_transition: the span around each label change whose loss is zeroed (the paper's Table 4: 0.15–0.43 s; 0 = none).",
+        kind: || ParamKind::Number { min: 0.0, max: MAX_MASK_S },
+        unit: Some("s"),
+        basic: true,
+        get: |c| c.train.mask_s.into(),
+        set: |c, v| c.train.mask_s = number(v),
+    },
+    TrainingOption {
+        name: "augment",
+        help: "Augmentations of the training crops: mirror (left ↔ right), yaw ±15°, time warp 0.8–1.2×, scale 0.9–1.1×, jitter.",
+        kind: || ParamKind::Flags { options: AUGMENTATIONS.iter().map(|s| s.to_string()).collect() },
+        unit: None,
+        basic: true,
+        get: |c| augment_names(&c.train.augment).into(),
+        set: |c, v| c.train.augment = Augment::parse(&words(v).join(",")).unwrap_or(c.train.augment),
+    },
+    TrainingOption {
+        name: "width",
+        help: "Kernel width w: with L layers the receptive field is w^L frames at 30 Hz (w = 3, 4 layers: 2.7 s; w = 2, 6 layers: 2.1 s).",
+        kind: || ParamKind::Integer { min: 2, max: 3 },
+        unit: None,
+        basic: true,
+        get: |c| c.train.width.into(),
+        set: |c, v| c.train.width = whole(v),
+    },
+    TrainingOption {
+        name: "filters",
+        help: "Filters of each layer; their count is the layer count L (the paper's five: 64,64,128,256,512; the default four give w = 3 a receptive field of 2.7 s).",
+        kind: || ParamKind::IntegerList { min: 1, max: 2048, max_len: 6 },
+        unit: None,
+        basic: false,
+        get: |c| serde_json::json!(c.train.filters),
+        set: |c, v| c.train.filters = v.as_array().map_or(Vec::new(), |a| a.iter().map(whole).collect()),
+    },
+    TrainingOption {
+        name: "padding",
+        help: "What the convolutions read beyond the take's ends: zero (the paper's) or edge (the end frames repeated, so the take's start cannot be told from a held pose).",
+        kind: || ParamKind::Choice { options: vec!["zero".into(), "edge".into()] },
+        unit: None,
+        basic: false,
+        get: |c| c.train.padding.name().into(),
+        set: |c, v| c.train.padding = Padding::parse(v.as_str().unwrap_or("")).unwrap_or(c.train.padding),
+    },
+    TrainingOption {
+        name: "image_rows",
+        help: "The paper's input: the motion image resized to this many rows before layer 1 (224 gives the paper's 663,562 parameters); 0 = the image's own rows.",
+        kind: || ParamKind::Integer { min: 0, max: 512 },
+        unit: None,
+        basic: false,
+        get: |c| c.train.image_rows.unwrap_or(0).into(),
+        set: |c, v| c.train.image_rows = Some(whole(v)).filter(|&r| r > 0),
+    },
+    TrainingOption {
+        name: "crop_frames",
+        help: "Frames of each training crop the loss is taken on.",
+        kind: || ParamKind::Integer { min: 16, max: 4096 },
+        unit: Some("frames"),
+        basic: false,
+        get: |c| c.train.crop_frames.into(),
+        set: |c, v| c.train.crop_frames = whole(v),
+    },
+    TrainingOption {
+        name: "batch",
+        help: "Crops per optimiser step.",
+        kind: || ParamKind::Integer { min: 1, max: 64 },
+        unit: None,
+        basic: false,
+        get: |c| c.train.batch.into(),
+        set: |c, v| c.train.batch = whole(v),
+    },
+    TrainingOption {
+        name: "learning_rate",
+        help: "Adam's learning rate.",
+        kind: || ParamKind::Number { min: 1e-6, max: 0.5 },
+        unit: None,
+        basic: false,
+        get: |c| c.train.learning_rate.into(),
+        set: |c, v| c.train.learning_rate = number(v),
+    },
+    TrainingOption {
+        name: "weight_decay",
+        help: "Adam's L2 weight decay (0 = none).",
+        kind: || ParamKind::Number { min: 0.0, max: 0.5 },
+        unit: None,
+        basic: false,
+        get: |c| c.train.weight_decay.into(),
+        set: |c, v| c.train.weight_decay = number(v),
+    },
+    TrainingOption {
+        name: "seed",
+        help: "Seed of the initial weights, crops and augmentations.",
+        kind: || ParamKind::Integer { min: 0, max: 1 << 31 },
+        unit: None,
+        basic: false,
+        get: |c| c.train.seed.into(),
+        set: |c, v| c.train.seed = v.as_u64().unwrap_or(0),
+    },
+    TrainingOption {
+        name: "patience",
+        help: "With a validation take (the command line's --validation): epochs without a better validation loss before training stops.",
+        kind: || ParamKind::Integer { min: 1, max: 10_000 },
+        unit: Some("epochs"),
+        basic: false,
+        get: |c| c.train.patience.into(),
+        set: |c, v| c.train.patience = whole(v),
+    },
+    TrainingOption {
+        name: "average_last",
+        help: "Without a validation take: keep the mean of the last this many epochs' weights (stochastic weight averaging; 0 = the last epoch's). Three seeds held out: 0.891–0.951 frame accuracy at 0, 0.921–0.941 at 10 (docs/methods/dtfcn.md).",
+        kind: || ParamKind::Integer { min: 0, max: 10_000 },
+        unit: Some("epochs"),
+        basic: false,
+        get: |c| c.train.average_last.into(),
+        set: |c, v| c.train.average_last = whole(v),
+    },
+    TrainingOption {
+        name: "members",
+        help: "Networks trained, each with its own seed (seed, seed + 1, …), whose probabilities are averaged: a few-seed ensemble. Labelling takes as long per network; one network's held-out accuracy moves by ±0.03 with its seed (docs/methods/dtfcn.md).",
+        kind: || ParamKind::Integer { min: 1, max: super::training::MAX_MEMBERS as i64 },
+        unit: Some("networks"),
+        basic: false,
+        get: |c| c.train.members.into(),
+        set: |c, v| c.train.members = whole(v),
+    },
+    TrainingOption {
+        name: "centre_on_take",
+        help: "Centre each take on its own median posture before the standardisation (not in the paper): a subject's stance and proportions no longer shift the input, only the movement does. The model keeps it; labelling a take then depends on the whole take's posture. Nested validation on the shared takes: better on the validation takes, +0.004 held out with worse segments, so off by default (docs/methods/dtfcn.md).",
+        kind: || ParamKind::Bool,
+        unit: None,
+        basic: false,
+        get: |c| c.train.centre_on_take.into(),
+        set: |c, v| c.train.centre_on_take = v.as_bool().unwrap_or(false),
+    },
+    TrainingOption {
+        name: "min_duration_s",
+        help: "The model's decoding: the shortest run of one label its runs keep (0 with switch cost 0: the raw per-frame labels; the shipped exercises models: 2 s, chosen by nested validation).",
+        kind: || ParamKind::Number { min: 0.0, max: MAX_MIN_DURATION_S },
+        unit: Some("s"),
+        basic: false,
+        get: |c| c.min_duration_s.into(),
+        set: |c, v| c.min_duration_s = number(v),
+    },
+    TrainingOption {
+        name: "switch_cost",
+        help: "The model's decoding: the cost of a change of label, in nats of summed log-probability (0 = free).",
+        kind: || ParamKind::Number { min: 0.0, max: MAX_SWITCH_COST },
+        unit: None,
+        basic: false,
+        get: |c| c.switch_cost.into(),
+        set: |c, v| c.switch_cost = number(v),
+    },
+    TrainingOption {
+        name: "unknown_threshold",
+        help: "The model's unknown threshold: its runs call a frame (with a decoding, a whole run) unknown below this confidence unless they ask for another (the shipped exercises DT-FCN: 0.8, chosen with its decoding by nested validation).",
+        kind: || ParamKind::Number { min: 0.0, max: 1.0 },
+        unit: None,
+        basic: false,
+        get: |c| c.unknown_threshold.into(),
+        set: |c, v| c.unknown_threshold = number(v),
+    },
+    TrainingOption {
+        name: "choose_decoding",
+        help: "With a validation take (the command line's --validation): choose the model's decoding and unknown threshold on it, in place of the three rows above — runs of 0–8 s, switch costs 0–150, thresholds 0, 0.5 and 0.8, the best mean of frame accuracy, edit and F1@50 on its labels (how make accuracy chooses the shipped models'). Without a validation take: the rows as given.",
+        kind: || ParamKind::Bool,
+        unit: None,
+        basic: false,
+        get: |c| c.choose_decoding.into(),
+        set: |c, v| c.choose_decoding = v.as_bool().unwrap_or(true),
+    },
+];
 
 /// The augmentations turned on, by name.
 fn augment_names(a: &Augment) -> Vec<String> {
@@ -226,83 +291,6 @@ fn augment_names(a: &Augment) -> Vec<String> {
         .filter(|(on, _)| **on)
         .map(|(_, n)| n.to_string())
         .collect()
-}
-
-/// The training options as JSON (one field per [`training_specs`] row).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-struct OptionsJson {
-    epochs: i64,
-    label_noise: f64,
-    mask_s: f64,
-    augment: Vec<String>,
-    width: i64,
-    filters: Vec<i64>,
-    padding: String,
-    image_rows: i64,
-    crop_frames: i64,
-    batch: i64,
-    learning_rate: f64,
-    weight_decay: f64,
-    seed: i64,
-    patience: i64,
-    average_last: i64,
-    members: i64,
-    centre_on_take: bool,
-    min_duration_s: f64,
-    switch_cost: f64,
-    unknown_threshold: f64,
-    choose_decoding: bool,
-}
-
-impl Default for OptionsJson {
-    fn default() -> Self {
-        let d = TrainOptions::default();
-        OptionsJson {
-            epochs: d.epochs as i64,
-            label_noise: d.label_noise,
-            mask_s: d.mask_s,
-            augment: augment_names(&d.augment),
-            width: d.width as i64,
-            filters: d.filters.iter().map(|&f| f as i64).collect(),
-            padding: d.padding.name().into(),
-            image_rows: d.image_rows.unwrap_or(0) as i64,
-            crop_frames: d.crop_frames as i64,
-            batch: d.batch as i64,
-            learning_rate: d.learning_rate,
-            weight_decay: d.weight_decay,
-            seed: d.seed as i64,
-            patience: d.patience as i64,
-            average_last: d.average_last as i64,
-            members: d.members as i64,
-            centre_on_take: d.centre_on_take,
-            min_duration_s: 0.0,
-            switch_cost: 0.0,
-            unknown_threshold: DEFAULT_THRESHOLD,
-            choose_decoding: true,
-        }
-    }
-}
-
-/// The k-NN's training options as JSON (its table is the decoding's rows).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-struct KnnOptionsJson {
-    min_duration_s: f64,
-    switch_cost: f64,
-    unknown_threshold: f64,
-    choose_decoding: bool,
-}
-
-impl Default for KnnOptionsJson {
-    fn default() -> Self {
-        KnnOptionsJson {
-            min_duration_s: 0.0,
-            switch_cost: 0.0,
-            unknown_threshold: DEFAULT_THRESHOLD,
-            choose_decoding: true,
-        }
-    }
 }
 
 /// A training's options as read from its table: the trainer's, the decoding its model keeps, and
@@ -327,47 +315,18 @@ fn decoding_of(min_duration_s: f64, switch_cost: f64) -> Option<Decoding> {
 /// Reads and checks the training options of a model of `kind` against [`training_specs`]: a
 /// refusal names the option.
 pub fn options_from_json(kind: ModelKind, value: &serde_json::Value) -> Result<ModelOptions, MethodError> {
-    let specs = training_specs(kind);
-    if kind == ModelKind::Knn {
-        let o: KnnOptionsJson = read_options(value, &specs, "k-NN")?;
-        let read = serde_json::to_value(&o).map_err(|e| MethodError::params(e.to_string()))?;
-        let decoding = decoding_of(o.min_duration_s, o.switch_cost);
-        let unknown_threshold = o.unknown_threshold;
-        let choose_decoding = o.choose_decoding;
-        return Ok(ModelOptions { train: TrainOptions::default(), decoding, unknown_threshold, choose_decoding, read });
+    let rows = rows(kind);
+    let c: Choices = read_option_rows(value, rows, kind_short(kind))?;
+    if kind == ModelKind::Dtfcn {
+        // what the table cannot say (learning rate below 1, …) is still the trainer's to refuse
+        c.train.check().map_err(MethodError::params)?;
     }
-    let o: OptionsJson = read_options(value, &specs, "DT-FCN")?;
-    let read = serde_json::to_value(&o).map_err(|e| MethodError::params(e.to_string()))?;
-    let augment = Augment::parse(&o.augment.join(",")).map_err(|m| MethodError::param("augment", m))?;
-    let options = TrainOptions {
-        epochs: o.epochs as usize,
-        learning_rate: o.learning_rate,
-        weight_decay: o.weight_decay,
-        seed: o.seed as u64,
-        label_noise: o.label_noise,
-        mask_s: o.mask_s,
-        augment,
-        crop_frames: o.crop_frames as usize,
-        batch: o.batch as usize,
-        width: o.width as usize,
-        filters: o.filters.iter().map(|&f| f as usize).collect(),
-        padding: Padding::parse(&o.padding).map_err(|m| MethodError::param("padding", m))?,
-        image_rows: (o.image_rows > 0).then_some(o.image_rows as usize),
-        patience: o.patience as usize,
-        average_last: o.average_last as usize,
-        members: o.members as usize,
-        centre_on_take: o.centre_on_take,
-        ..TrainOptions::default()
-    };
-    // what the table cannot say (learning rate below 1, …) is still the trainer's to refuse
-    options.check().map_err(MethodError::params)?;
-    let decoding = decoding_of(o.min_duration_s, o.switch_cost);
     Ok(ModelOptions {
-        train: options,
-        decoding,
-        unknown_threshold: o.unknown_threshold,
-        choose_decoding: o.choose_decoding,
-        read,
+        decoding: decoding_of(c.min_duration_s, c.switch_cost),
+        unknown_threshold: c.unknown_threshold,
+        choose_decoding: c.choose_decoding,
+        read: option_values(rows, &c),
+        train: c.train,
     })
 }
 
