@@ -92,7 +92,6 @@ const KNOWN_LONG_FNS: &[&str] = &[
     "src/app/timeline.rs fn Timeline",
     "src/app/training.rs fn ModelFile",
     "src/app/training.rs fn TrainingPanel",
-    "src/app/workspace.rs fn SidePanel",
 ];
 
 /// Page files over [`MAX_PAGE_FILE_LINES`] when the rule was written.

@@ -325,32 +325,13 @@ pub fn SidePanel(state: AppState, panels: Vec<AnyView>, library: AnyView) -> imp
         .iter()
         .enumerate()
         .map(|(i, (id, title))| {
-            let id = id.clone();
             let on_tab_key = on_tab_key.clone();
             let selected = {
                 let id = id.clone();
                 Memo::new(move |_| state.panel.with(|p| *p == id))
             };
-            let choose = {
-                let id = id.clone();
-                move |_| state.panel.set(id.clone())
-            };
             let on_key = move |ev: KeyboardEvent| on_tab_key(i, ev);
-            view! {
-                <button
-                    id=format!("tab-{id}")
-                    class="ms-tab"
-                    type="button"
-                    role="tab"
-                    aria-selected=move || selected.get().to_string()
-                    aria-controls=format!("tabpanel-{id}")
-                    tabindex=move || if selected.get() { "0" } else { "-1" }
-                    on:click=choose
-                    on:keydown=on_key
-                >
-                    {title.clone()}
-                </button>
-            }
+            tab_button(state, id.clone(), title.clone(), move || selected.get(), on_key)
         })
         .collect_view();
     let panels = tabs
@@ -361,18 +342,7 @@ pub fn SidePanel(state: AppState, panels: Vec<AnyView>, library: AnyView) -> imp
                 let id = id.clone();
                 move || state.panel.with(|p| *p == id)
             };
-            view! {
-                <div
-                    id=format!("tabpanel-{id}")
-                    class="ms-tabpanel"
-                    role="tabpanel"
-                    aria-labelledby=format!("tab-{id}")
-                    tabindex="0"
-                    hidden=move || !shown()
-                >
-                    {panel}
-                </div>
-            }
+            tab_panel(id, move || !shown(), panel)
         })
         .collect_view();
     let library_index = tabs_count(state);
@@ -380,37 +350,63 @@ pub fn SidePanel(state: AppState, panels: Vec<AnyView>, library: AnyView) -> imp
     let library_button = move || {
         let on_tab_key = on_tab_key.clone();
         library_shown().then(|| {
-            view! {
-                <button
-                    id="tab-library"
-                    class="ms-tab"
-                    type="button"
-                    role="tab"
-                    aria-selected=move || library_selected().to_string()
-                    aria-controls="tabpanel-library"
-                    tabindex=move || if library_selected() { "0" } else { "-1" }
-                    on:click=move |_| state.panel.set(super::library::TAB.to_string())
-                    on:keydown=move |ev: KeyboardEvent| on_tab_key(library_index, ev)
-                >
-                    "Library"
-                </button>
-            }
+            let on_key = move |ev: KeyboardEvent| on_tab_key(library_index, ev);
+            tab_button(state, super::library::TAB.to_string(), "Library".to_string(), library_selected, on_key)
         })
     };
+    let library_panel =
+        tab_panel(super::library::TAB.to_string(), move || !(library_selected() && library_shown()), library);
     view! {
         <aside id="side-panel" class="ms-side" aria-label="Methods, ground truth and scores" data-panel=move || state.panel.get()>
             <div class="ms-tabs" role="tablist" aria-label="Side panel">{buttons}{library_button}</div>
             {panels}
-            <div
-                id="tabpanel-library"
-                class="ms-tabpanel"
-                role="tabpanel"
-                aria-labelledby="tab-library"
-                tabindex="0"
-                hidden=move || !(library_selected() && library_shown())
-            >
-                {library}
-            </div>
+            {library_panel}
         </aside>
+    }
+}
+
+/// One tab of the side panel's tab list: `selected` says whether it is the one shown, a click shows panel `id`, a
+/// key moves along the tabs (`on_key`).
+fn tab_button(
+    state: AppState,
+    id: String,
+    title: String,
+    selected: impl Fn() -> bool + Copy + Send + Sync + 'static,
+    on_key: impl FnMut(KeyboardEvent) + 'static,
+) -> impl IntoView {
+    let choose = {
+        let id = id.clone();
+        move |_| state.panel.set(id.clone())
+    };
+    view! {
+        <button
+            id=format!("tab-{id}")
+            class="ms-tab"
+            type="button"
+            role="tab"
+            aria-selected=move || selected().to_string()
+            aria-controls=format!("tabpanel-{id}")
+            tabindex=move || if selected() { "0" } else { "-1" }
+            on:click=choose
+            on:keydown=on_key
+        >
+            {title}
+        </button>
+    }
+}
+
+/// The panel of tab `id`, holding `content`, hidden while `hidden` says so.
+fn tab_panel(id: String, hidden: impl Fn() -> bool + Send + Sync + 'static, content: AnyView) -> impl IntoView {
+    view! {
+        <div
+            id=format!("tabpanel-{id}")
+            class="ms-tabpanel"
+            role="tabpanel"
+            aria-labelledby=format!("tab-{id}")
+            tabindex="0"
+            hidden=hidden
+        >
+            {content}
+        </div>
     }
 }

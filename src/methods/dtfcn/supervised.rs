@@ -5,7 +5,6 @@
 
 use std::sync::Arc;
 
-
 use super::augment::Augment;
 use super::corpus::{class_labels, fit_knn_model, model_from, rows_without_takes, ModelMeta};
 use super::decode::Decoding;
