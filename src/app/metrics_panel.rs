@@ -182,6 +182,60 @@ fn scorable_rows(state: AppState) -> Vec<Row> {
     rows
 }
 
+/// The scores of row `id` as the metrics table.
+fn scores_table(id: &str, scores: &Scores) -> impl IntoView {
+    let caption = format!("{} against {} — scored as {}", id, scores.trial, scores.scored_as.describe());
+    let body = lines(scores)
+        .into_iter()
+        .map(|l| {
+            let shown = format!("{:.*}", l.digits, l.value);
+            view! {
+                <tr data-metric=l.key>
+                    <th scope="row">{l.name}</th>
+                    <td class="ms-metric-value" data-value=l.value.to_string() data-digits=l.digits.to_string()>{shown}</td>
+                    <td class="ms-metric-hint">{l.hint}</td>
+                </tr>
+            }
+        })
+        .collect_view();
+    view! {
+        <table id="metrics-table" class="ms-metrics-table">
+            <caption>{caption}</caption>
+            <thead>
+                <tr>
+                    <th scope="col">"Metric"</th>
+                    <th scope="col">"Value"</th>
+                    <th scope="col">"What it means"</th>
+                </tr>
+            </thead>
+            <tbody>{body}</tbody>
+        </table>
+    }
+}
+
+/// The page's clock (ms).
+fn now_ms() -> f64 {
+    web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now())
+}
+
+/// Row `id` (`label`, segmentation `seg`) scored against `truth` for the comparison table.
+fn compared_row(id: &str, label: &str, seg: &Segmentation, truth: &crate::segment::truth::Truth) -> Compared {
+    Compared {
+        id: id.to_string(),
+        label: label.to_string(),
+        scored: evaluate(seg, truth, &Tolerances::default()).map(|s| lines(&s)).map_err(|e| format!("{id}: {e}")),
+    }
+}
+
+/// Sets `<body>`'s data attributes (where the panel stands, as the end-to-end tests read it).
+fn mark_body(attributes: [(&str, &str); 3]) {
+    if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
+        for (name, value) in attributes {
+            let _ = body.set_attribute(name, value);
+        }
+    }
+}
+
 /// What the panel shows.
 #[derive(Clone, PartialEq)]
 enum Outcome {
@@ -339,30 +393,19 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
         let Some(seg) = rows.with(|r| r.iter().find(|(i, ..)| *i == id).map(|(_, _, s, _)| s.clone())) else {
             return Outcome::Nothing("Run a method to score its rows against the ground truth.".into());
         };
-        let now = || web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now());
-        let started = now();
+        let started = now_ms();
         match evaluate(&seg, &imported.truth, &Tolerances::default()) {
-            Ok(scores) => Outcome::Scored(id, std::sync::Arc::new(scores), now() - started),
+            Ok(scores) => Outcome::Scored(id, std::sync::Arc::new(scores), now_ms() - started),
             Err(e) => Outcome::Failed(format!("{id}: {e}")),
         }
     });
     // every row scored at once, for the comparison table (None: no truth)
     let compared = Memo::new(move |_| {
         let imported = state.truth.truth()?;
-        let now = || web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now());
-        let started = now();
-        let lines_of = rows.with(|r| {
-            r.iter()
-                .map(|(id, label, seg, _)| Compared {
-                    id: id.clone(),
-                    label: label.clone(),
-                    scored: evaluate(seg, &imported.truth, &Tolerances::default())
-                        .map(|s| lines(&s))
-                        .map_err(|e| format!("{id}: {e}")),
-                })
-                .collect::<Vec<_>>()
-        });
-        Some((lines_of, imported.truth.trial.clone(), now() - started))
+        let started = now_ms();
+        let lines_of: Vec<Compared> =
+            rows.with(|r| r.iter().map(|(id, label, seg, _)| compared_row(id, label, seg, &imported.truth)).collect());
+        Some((lines_of, imported.truth.trial.clone(), now_ms() - started))
     });
     let sort = RwSignal::new(None::<(String, bool)>);
     Effect::new(move |_| {
@@ -370,11 +413,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
             Some((lines, _, ms)) => ("done", lines.len().to_string(), format!("{ms:.1}")),
             None => ("none", String::new(), String::new()),
         });
-        if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
-            let _ = body.set_attribute("data-compare", value);
-            let _ = body.set_attribute("data-compare-rows", &count);
-            let _ = body.set_attribute("data-compare-ms", &ms);
-        }
+        mark_body([("data-compare", value), ("data-compare-rows", &count), ("data-compare-ms", &ms)]);
     });
     let comparison = move || {
         compared.with(|c| match c {
@@ -388,11 +427,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
             Outcome::Scored(id, _, ms) => ("done", id.clone(), format!("{ms:.1}")),
             Outcome::Failed(_) => ("error", String::new(), String::new()),
         });
-        if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
-            let _ = body.set_attribute("data-metrics", value);
-            let _ = body.set_attribute("data-metrics-row", &row);
-            let _ = body.set_attribute("data-metrics-ms", &ms);
-        }
+        mark_body([("data-metrics", value), ("data-metrics-row", &row), ("data-metrics-ms", &ms)]);
     });
 
     let options = move || {
@@ -421,35 +456,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
     };
     let table = move || {
         outcome.with(|o| match o {
-            Outcome::Scored(id, scores, _) => {
-                let caption = format!("{} against {} — scored as {}", id, scores.trial, scores.scored_as.describe());
-                let body = lines(scores)
-                    .into_iter()
-                    .map(|l| {
-                        let shown = format!("{:.*}", l.digits, l.value);
-                        view! {
-                            <tr data-metric=l.key>
-                                <th scope="row">{l.name}</th>
-                                <td class="ms-metric-value" data-value=l.value.to_string() data-digits=l.digits.to_string()>{shown}</td>
-                                <td class="ms-metric-hint">{l.hint}</td>
-                            </tr>
-                        }
-                    })
-                    .collect_view();
-                Some(view! {
-                    <table id="metrics-table" class="ms-metrics-table">
-                        <caption>{caption}</caption>
-                        <thead>
-                            <tr>
-                                <th scope="col">"Metric"</th>
-                                <th scope="col">"Value"</th>
-                                <th scope="col">"What it means"</th>
-                            </tr>
-                        </thead>
-                        <tbody>{body}</tbody>
-                    </table>
-                })
-            }
+            Outcome::Scored(id, scores, _) => Some(scores_table(id, scores)),
             _ => None,
         })
     };

@@ -142,6 +142,26 @@ pub fn Player(state: AppState) -> impl IntoView {
     };
     let on_pointer_up = move |_: PointerEvent| drag.set_value(None);
 
+    view! {
+        <section class="ms-player" aria-label="Skeleton player">
+            <canvas
+                id="player-canvas"
+                node_ref=canvas_ref
+                title="Drag to orbit, scroll to zoom, double-click to re-fit"
+                on:pointerdown=on_pointer_down
+                on:pointermove=on_pointer_move
+                on:pointerup=on_pointer_up
+                on:pointercancel=on_pointer_up
+                on:dblclick=move |_| fit()
+            ></canvas>
+            <Controls state=state follow=follow />
+        </section>
+    }
+}
+
+/// The player's controls: play/pause, the frame slider and counter, follow, speed.
+#[component]
+fn Controls(state: AppState, follow: RwSignal<bool>) -> impl IntoView {
     let frames = move || state.frames();
     let has_motion = move || frames() > 0;
     let on_scrub = move |ev: Event| {
@@ -156,70 +176,58 @@ pub fn Player(state: AppState) -> impl IntoView {
     };
 
     view! {
-        <section class="ms-player" aria-label="Skeleton player">
-            <canvas
-                id="player-canvas"
-                node_ref=canvas_ref
-                title="Drag to orbit, scroll to zoom, double-click to re-fit"
-                on:pointerdown=on_pointer_down
-                on:pointermove=on_pointer_move
-                on:pointerup=on_pointer_up
-                on:pointercancel=on_pointer_up
-                on:dblclick=move |_| fit()
-            ></canvas>
-            <div class="ms-controls">
-                <button
-                    id="play-pause"
-                    class="ms-button"
-                    type="button"
-                    disabled=move || !has_motion()
-                    aria-pressed=move || state.playing.get().to_string()
-                    on:click=move |_| state.playing.update(|p| *p = !*p)
-                >
-                    {move || if state.playing.get() { "Pause" } else { "Play" }}
-                </button>
-                <input
-                    id="scrub"
-                    type="range"
-                    min="0"
-                    step="1"
-                    aria-label="Frame"
-                    max=move || frames().saturating_sub(1).to_string()
-                    prop:value=move || state.frame.get().to_string()
-                    disabled=move || !has_motion()
-                    on:input=on_scrub
-                />
-                <span id="frame-counter" class="ms-frame-counter">
-                    {move || format!("frame {} / {}", if has_motion() { state.frame.get() + 1 } else { 0 }, frames())}
-                </span>
-                <button
-                    id="follow"
-                    class="ms-button"
-                    type="button"
-                    title="Follow the subject: the view slides along the floor with it"
-                    disabled=move || !has_motion()
-                    aria-pressed=move || follow.get().to_string()
-                    on:click=move |_| follow.update(|f| *f = !*f)
-                >
-                    "Follow"
-                </button>
-                <label class="ms-speed">
-                    "Speed "
-                    <select id="speed" on:change=on_speed>
-                        {SPEEDS
-                            .iter()
-                            .map(|(value, label)| {
-                                view! {
-                                    <option value=value.to_string() selected=*value == 1.0>
-                                        {*label}
-                                    </option>
-                                }
-                            })
-                            .collect_view()}
-                    </select>
-                </label>
-            </div>
-        </section>
+        <div class="ms-controls">
+            <button
+                id="play-pause"
+                class="ms-button"
+                type="button"
+                disabled=move || !has_motion()
+                aria-pressed=move || state.playing.get().to_string()
+                on:click=move |_| state.playing.update(|p| *p = !*p)
+            >
+                {move || if state.playing.get() { "Pause" } else { "Play" }}
+            </button>
+            <input
+                id="scrub"
+                type="range"
+                min="0"
+                step="1"
+                aria-label="Frame"
+                max=move || frames().saturating_sub(1).to_string()
+                prop:value=move || state.frame.get().to_string()
+                disabled=move || !has_motion()
+                on:input=on_scrub
+            />
+            <span id="frame-counter" class="ms-frame-counter">
+                {move || format!("frame {} / {}", if has_motion() { state.frame.get() + 1 } else { 0 }, frames())}
+            </span>
+            <button
+                id="follow"
+                class="ms-button"
+                type="button"
+                title="Follow the subject: the view slides along the floor with it"
+                disabled=move || !has_motion()
+                aria-pressed=move || follow.get().to_string()
+                on:click=move |_| follow.update(|f| *f = !*f)
+            >
+                "Follow"
+            </button>
+            <label class="ms-speed">
+                "Speed "
+                <select id="speed" on:change=on_speed>
+                    {SPEEDS
+                        .iter()
+                        .map(|(value, label)| {
+                            view! {
+                                <option value=value.to_string() selected=*value == 1.0>
+                                    {*label}
+                                </option>
+                            }
+                        })
+                        .collect_view()}
+                </select>
+            </label>
+        </div>
     }
 }
 
