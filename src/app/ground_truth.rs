@@ -185,6 +185,72 @@ async fn read_text(file: &File) -> Result<String, String> {
     text.as_string().ok_or_else(|| format!("{name}: the file is not text"))
 }
 
+/// Reads the kept truth file again against the take on screen with the panel's choices (or clears the truth).
+fn reread(state: AppState, truth: GroundTruth) {
+    let file = truth.file.get();
+    let take = state.motion.with(|m| {
+        m.as_ref().map(|m| Take { name: m.summary.name.clone(), frames: m.summary.frames, fps: m.summary.fps })
+    });
+    let options = options(&truth);
+    let Some((name, text)) = file else {
+        truth.state.set(TruthState::None);
+        truth.view.set(None);
+        truth.trials.set(Vec::new());
+        return;
+    };
+    truth.trials.set(csv_trials(&text));
+    let result = match (take, options) {
+        (None, _) => Err(format!("{name}: load a take first: the ground truth is read against its frames")),
+        (_, Err(e)) => Err(format!("{name}: {e}")),
+        (Some(take), Ok(options)) => import_truth(&text, &take, &options)
+            .map(|i| (Arc::new(as_view(&i.truth, &take, state)), Arc::new(i)))
+            .map_err(|e| format!("{name}: {e}")),
+    };
+    match result {
+        Ok((view, imported)) => {
+            truth.view.set(Some(view));
+            truth.state.set(TruthState::Loaded(imported));
+        }
+        Err(message) => {
+            truth.view.set(None);
+            truth.state.set(TruthState::Failed(message));
+        }
+    }
+}
+
+/// `<body data-truth>`: where the truth stands (`none`, `loaded`, `error`), as the end-to-end tests read it.
+fn mark_body(truth: GroundTruth) {
+    let value = truth.state.with(|s| match s {
+        TruthState::None => "none",
+        TruthState::Loaded(_) => "loaded",
+        TruthState::Failed(_) => "error",
+    });
+    if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
+        let _ = body.set_attribute("data-truth", value);
+    }
+}
+
+/// A truth file picked: its text kept (the panel reads it again), or why it could not be read.
+fn pick(truth: GroundTruth, ev: leptos::ev::Event) {
+    let Some(input) = ev.target().and_then(|t| t.dyn_into::<HtmlInputElement>().ok()) else { return };
+    let file = input.files().and_then(|f| f.get(0));
+    input.set_value(""); // picking the same file again reads it again
+    let Some(file) = file else { return };
+    wasm_bindgen_futures::spawn_local(async move {
+        match read_text(&file).await {
+            Ok(text) => {
+                truth.trial.set(String::new());
+                truth.file.set(Some((file.name(), Arc::new(text))));
+            }
+            Err(message) => {
+                truth.file.set(None);
+                truth.view.set(None);
+                truth.state.set(TruthState::Failed(message));
+            }
+        }
+    });
+}
+
 /// `#truth-panel`: the import control, its choices, what was applied and any error.
 #[component]
 pub fn GroundTruthPanel(state: AppState) -> impl IntoView {
@@ -195,67 +261,10 @@ pub fn GroundTruthPanel(state: AppState) -> impl IntoView {
         truth.trial.set(String::new());
     });
     // read the kept file again whenever it, a choice or the take changes
-    Effect::new(move |_| {
-        let file = truth.file.get();
-        let take = state.motion.with(|m| {
-            m.as_ref().map(|m| Take { name: m.summary.name.clone(), frames: m.summary.frames, fps: m.summary.fps })
-        });
-        let options = options(&truth);
-        let Some((name, text)) = file else {
-            truth.state.set(TruthState::None);
-            truth.view.set(None);
-            truth.trials.set(Vec::new());
-            return;
-        };
-        truth.trials.set(csv_trials(&text));
-        let result = match (take, options) {
-            (None, _) => Err(format!("{name}: load a take first: the ground truth is read against its frames")),
-            (_, Err(e)) => Err(format!("{name}: {e}")),
-            (Some(take), Ok(options)) => import_truth(&text, &take, &options)
-                .map(|i| (Arc::new(as_view(&i.truth, &take, state)), Arc::new(i)))
-                .map_err(|e| format!("{name}: {e}")),
-        };
-        match result {
-            Ok((view, imported)) => {
-                truth.view.set(Some(view));
-                truth.state.set(TruthState::Loaded(imported));
-            }
-            Err(message) => {
-                truth.view.set(None);
-                truth.state.set(TruthState::Failed(message));
-            }
-        }
-    });
-    Effect::new(move |_| {
-        let value = truth.state.with(|s| match s {
-            TruthState::None => "none",
-            TruthState::Loaded(_) => "loaded",
-            TruthState::Failed(_) => "error",
-        });
-        if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
-            let _ = body.set_attribute("data-truth", value);
-        }
-    });
+    Effect::new(move |_| reread(state, truth));
+    Effect::new(move |_| mark_body(truth));
 
-    let on_pick = move |ev: leptos::ev::Event| {
-        let Some(input) = ev.target().and_then(|t| t.dyn_into::<HtmlInputElement>().ok()) else { return };
-        let file = input.files().and_then(|f| f.get(0));
-        input.set_value(""); // picking the same file again reads it again
-        let Some(file) = file else { return };
-        wasm_bindgen_futures::spawn_local(async move {
-            match read_text(&file).await {
-                Ok(text) => {
-                    truth.trial.set(String::new());
-                    truth.file.set(Some((file.name(), Arc::new(text))));
-                }
-                Err(message) => {
-                    truth.file.set(None);
-                    truth.view.set(None);
-                    truth.state.set(TruthState::Failed(message));
-                }
-            }
-        });
-    };
+    let on_pick = move |ev: leptos::ev::Event| pick(truth, ev);
     let on_clear = move |_| truth.file.set(None);
 
     let applied = move || {

@@ -489,6 +489,43 @@ fn colour(shared: &Shared, id: usize) -> String {
     }
 }
 
+/// One cluster of the list (`name`, swatch `background`): its name to edit, its count, Play and Clips.
+fn cluster_item(
+    library: LibraryState,
+    c: &crate::library::SharedCluster,
+    name: String,
+    background: String,
+    play: impl Fn(usize) + Copy + 'static,
+    export: impl Fn(Option<usize>) + Copy + 'static,
+) -> impl IntoView {
+    let id = c.id;
+    let count = format!(
+        "{} in {} · {:.1} s",
+        crate::method::counted(c.occurrences.len(), "occurrence"),
+        crate::method::counted(c.takes, "take"),
+        c.seconds
+    );
+    view! {
+        <li class="ms-lib-cluster" data-cluster=id.to_string() data-takes=c.takes.to_string()>
+            <span class="ms-lib-swatch" style:background=background aria-hidden="true"></span>
+            <input
+                class="ms-lib-name"
+                type="text"
+                value=name.clone()
+                aria-label=format!("Name of cluster C{id}")
+                on:change=move |ev| library.names.update(|n| n.rename(id, &event_target_value(&ev)))
+            />
+            <span class="ms-lib-count">{count}</span>
+            <button class="ms-button ms-button--small ms-lib-play" type="button" on:click=move |_| play(id)>
+                "Play"
+            </button>
+            <button class="ms-button ms-button--small ms-button--quiet ms-lib-clips" type="button" on:click=move |_| export(Some(id))>
+                "Clips"
+            </button>
+        </li>
+    }
+}
+
 /// The shared clusters: where the matching stands, the list (name to rename, occurrences, total
 /// duration, colour, Play, Clips), every cluster's clips, and the player of a cluster's occurrences.
 #[component]
@@ -567,36 +604,7 @@ fn Clusters(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl 
         let items = listed
             .into_iter()
             .take(MAX_LISTED)
-            .map(|c| {
-                let id = c.id;
-                let name = names.name(id);
-                let background = colour(&shared, id);
-                let count = format!(
-                    "{} in {} · {:.1} s",
-                    crate::method::counted(c.occurrences.len(), "occurrence"),
-                    crate::method::counted(c.takes, "take"),
-                    c.seconds
-                );
-                view! {
-                    <li class="ms-lib-cluster" data-cluster=id.to_string() data-takes=c.takes.to_string()>
-                        <span class="ms-lib-swatch" style:background=background aria-hidden="true"></span>
-                        <input
-                            class="ms-lib-name"
-                            type="text"
-                            value=name.clone()
-                            aria-label=format!("Name of cluster C{id}")
-                            on:change=move |ev| library.names.update(|n| n.rename(id, &event_target_value(&ev)))
-                        />
-                        <span class="ms-lib-count">{count}</span>
-                        <button class="ms-button ms-button--small ms-lib-play" type="button" on:click=move |_| play(id)>
-                            "Play"
-                        </button>
-                        <button class="ms-button ms-button--small ms-button--quiet ms-lib-clips" type="button" on:click=move |_| export(Some(id))>
-                            "Clips"
-                        </button>
-                    </li>
-                }
-            })
+            .map(|c| cluster_item(library, c, names.name(c.id), colour(&shared, c.id), play, export))
             .collect_view();
         let note = (more > 0)
             .then(|| view! { <p class="ms-lib-note">{format!("and {more} more (in every cluster's clips)")}</p> });
