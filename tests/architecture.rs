@@ -83,7 +83,6 @@ const KNOWN_LONG_FNS: &[&str] = &[
     "src/app/method_panel.rs fn MethodPanel",
     "src/app/my_labels.rs fn MyLabelsRow",
     "src/app/my_labels.rs fn MyLabelsTools",
-    "src/app/row_model.rs fn RowModel",
     "src/app/segment_menu.rs fn SegmentMenu",
     "src/app/timeline.rs fn Timeline",
     "src/app/training.rs fn ModelFile",

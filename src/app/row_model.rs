@@ -39,7 +39,7 @@ use super::summary::is_bundled_sample;
 use super::{AppState, MethodSlot};
 use crate::method::cards::{training_match, Cards, ModelCard, TrainingMatch};
 use crate::view::model_card::{card_lines, card_summary};
-use crate::view::take_fit::{fit_badge, BADGE};
+use crate::view::take_fit::{fit_badge, FitBadge, BADGE};
 
 /// The take the bundled sample is (www/SOURCES.md): a model trained on it knows it by this name.
 const SAMPLE_TAKE: &str = "13_30.bvh";
@@ -220,29 +220,6 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
     let badge = Memo::new(move |_| {
         slot.view.with(|v| v.as_ref().and_then(|v| fit_badge(v.details.take_fit.as_ref(), &short_fit)))
     });
-    let reason_id = format!("{method}-row-fit-reason");
-    let suggestions = move || {
-        badge
-            .get()
-            .map(|b| b.suggestions)
-            .unwrap_or_default()
-            .into_iter()
-            .map(|s| {
-                let model = s.model.clone();
-                view! {
-                    <button
-                        class="ms-row-model-button ms-row-fit-use"
-                        type="button"
-                        data-model=s.model.clone()
-                        title=s.title
-                        on:click=move |_| value.set(model.clone())
-                    >
-                        {s.text}
-                    </button>
-                }
-            })
-            .collect_view()
-    };
     // the other models measured only when asked: the panel's `fit_others` on, and the method again
     let find = move |_| {
         if let Some((field, _)) = slot.param("fit_others") {
@@ -292,46 +269,83 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
             >
                 "⚠ training take"
             </span>
-            <span
-                id=format!("{method}-row-fit")
-                class="ms-row-fit"
-                role="note"
-                hidden=move || badge.with(Option::is_none)
-                title=move || badge.with(|b| b.as_ref().map(|b| b.description.clone()).unwrap_or_default())
-                aria-describedby=reason_id.clone()
-            >
-                {BADGE}
-            </span>
-            <span id=reason_id hidden>
-                {move || badge.with(|b| b.as_ref().map(|b| b.description.clone()).unwrap_or_default())}
-            </span>
-            {suggestions}
-            <button
-                id=format!("{method}-row-fit-find")
-                class="ms-row-model-button ms-row-fit-find"
-                type="button"
-                hidden=move || !badge.with(|b| b.as_ref().is_some_and(|b| b.find))
-                title=format!(
-                    "Measure {short}'s other models against this take and offer those that fit (runs {short} again \
-                     with fit_others on)"
-                )
-                on:click=find
-            >
-                "find a model that fits"
-            </button>
-            <span
-                id=format!("{method}-row-fit-none")
-                class="ms-row-fit-none"
-                hidden=move || badge.with(|b| b.as_ref().and_then(|b| b.none.as_ref()).is_none())
-            >
-                {move || badge.with(|b| b.as_ref().and_then(|b| b.none.clone()).unwrap_or_default())}
-            </span>
+            {fit_parts(&method, &short, badge, value, find)}
             <div id=card_id class="ms-row-card" hidden=move || !open.get()>
                 <ModelCardView state=state index=index id=format!("{method}-row-card-body")/>
             </div>
         </span>
     }
     .into_any()
+}
+
+/// The row's verdict on the take (its badge and why), the models it could use instead, and the button that looks for
+/// them (`find`).
+fn fit_parts(
+    method: &str,
+    short: &str,
+    badge: Memo<Option<FitBadge>>,
+    value: RwSignal<String>,
+    find: impl FnMut(leptos::ev::MouseEvent) + 'static,
+) -> impl IntoView {
+    let reason_id = format!("{method}-row-fit-reason");
+    let suggestions = move || {
+        badge
+            .get()
+            .map(|b| b.suggestions)
+            .unwrap_or_default()
+            .into_iter()
+            .map(|s| {
+                let model = s.model.clone();
+                view! {
+                        <button
+                            class="ms-row-model-button ms-row-fit-use"
+                            type="button"
+                            data-model=s.model.clone()
+                            title=s.title
+                            on:click=move |_| value.set(model.clone())
+                        >
+                            {s.text}
+                        </button>
+                    }
+                })
+                .collect_view()
+        };
+        view! {
+        <span
+            id=format!("{method}-row-fit")
+            class="ms-row-fit"
+            role="note"
+            hidden=move || badge.with(Option::is_none)
+            title=move || badge.with(|b| b.as_ref().map(|b| b.description.clone()).unwrap_or_default())
+            aria-describedby=reason_id.clone()
+        >
+            {BADGE}
+        </span>
+        <span id=reason_id hidden>
+            {move || badge.with(|b| b.as_ref().map(|b| b.description.clone()).unwrap_or_default())}
+        </span>
+        {suggestions}
+        <button
+            id=format!("{method}-row-fit-find")
+            class="ms-row-model-button ms-row-fit-find"
+            type="button"
+            hidden=move || !badge.with(|b| b.as_ref().is_some_and(|b| b.find))
+            title=format!(
+                "Measure {short}'s other models against this take and offer those that fit (runs {short} again \
+                 with fit_others on)"
+            )
+            on:click=find
+        >
+            "find a model that fits"
+        </button>
+        <span
+            id=format!("{method}-row-fit-none")
+            class="ms-row-fit-none"
+            hidden=move || badge.with(|b| b.as_ref().and_then(|b| b.none.as_ref()).is_none())
+        >
+            {move || badge.with(|b| b.as_ref().and_then(|b| b.none.clone()).unwrap_or_default())}
+        </span>
+    }
 }
 
 /// Method `index`'s chosen model's card `#<id>`: its lines (`#<id>-<line>`), and
