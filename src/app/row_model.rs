@@ -297,20 +297,20 @@ fn fit_parts(
             .map(|s| {
                 let model = s.model.clone();
                 view! {
-                        <button
-                            class="ms-row-model-button ms-row-fit-use"
-                            type="button"
-                            data-model=s.model.clone()
-                            title=s.title
-                            on:click=move |_| value.set(model.clone())
-                        >
-                            {s.text}
-                        </button>
-                    }
-                })
-                .collect_view()
-        };
-        view! {
+                    <button
+                        class="ms-row-model-button ms-row-fit-use"
+                        type="button"
+                        data-model=s.model.clone()
+                        title=s.title
+                        on:click=move |_| value.set(model.clone())
+                    >
+                        {s.text}
+                    </button>
+                }
+            })
+            .collect_view()
+    };
+    view! {
         <span
             id=format!("{method}-row-fit")
             class="ms-row-fit"
