@@ -240,6 +240,122 @@ fn number_input(
     .into_any()
 }
 
+/// What Run lowered of the coupled parameters `pending` (each to its limit), as the note under the form says it.
+fn lowered_message(slot: &'static MethodSlot, pending: &[form::Conflict]) -> String {
+    let said: Vec<String> = pending
+        .iter()
+        .map(|c| {
+            format!(
+                "{} lowered from {} to {}: it may not exceed {}",
+                spec_words(slot, &c.param),
+                c.value,
+                c.adjusted_text(),
+                spec_words(slot, &c.limit_param)
+            )
+        })
+        .collect();
+    format!("{} (Advanced).", said.join("; "))
+}
+
+/// Parameter `name` of `slot` in words (its own name when the method has no such parameter).
+fn spec_words(slot: &'static MethodSlot, name: &str) -> String {
+    slot.specs.iter().find(|s| s.name == name).map(param_words).unwrap_or_else(|| name.to_string())
+}
+
+/// A coupled parameter the form breaks (`c`), with the button that sets it to its limit (`adjust`).
+fn coupling_note(
+    slot: &'static MethodSlot,
+    c: form::Conflict,
+    adjust: impl Fn(&form::Conflict) + Copy + 'static,
+) -> impl IntoView {
+    let (param, limit) = (spec_words(slot, &c.param), spec_words(slot, &c.limit_param));
+    let text = format!("{param} ({}) may not exceed {limit} ({}).", c.value, c.limit);
+    let button = format!("Set {param} to {}", c.adjusted_text());
+    let id = format!("{}-adjust-{}", slot.info.name, c.param);
+    let (param_name, limit_name) = (c.param.clone(), c.limit_param.clone());
+    view! {
+        <p class="ms-coupling" data-param=param_name data-limit=limit_name>
+            {text}
+            " "
+            <button id=id class="ms-button ms-button--small" type="button" on:click=move |_| adjust(&c)>
+                {button}
+            </button>
+            " or Run lowers it."
+        </p>
+    }
+}
+
+/// Saves the method's last segmentation as JSON (with the Effort the bars under the rows computed, where the run
+/// has none of its own).
+fn export_json(state: AppState, slot: &'static MethodSlot) {
+    slot.view.with_untracked(|v| {
+        if let Some(v) = v {
+            let s = &v.segmentation;
+            let file = format!("{}_{}.json", stem(&s.file), slot.info.name);
+            let s = state.effort.fill(state, s);
+            if let Err(e) = download(s.to_json().as_bytes(), "application/json", &file) {
+                state.show_error(format!("could not save {file}: {e:?}"));
+            }
+        }
+    })
+}
+
+/// A refused parameter's field: scrolled into view and focused.
+fn focus_refused_field(slot: &'static MethodSlot) {
+    let Some((param, _)) = slot.field_error.get() else { return };
+    let id = format!("{}-{param}", slot.info.name);
+    if let Some(el) = web_sys::window()
+        .and_then(|w| w.document())
+        .and_then(|d| d.get_element_by_id(&id))
+        .and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
+    {
+        el.scroll_into_view_with_bool(false);
+        let _ = el.focus();
+    }
+}
+
+/// Run, Cancel (`on_cancel`) and the run's progress.
+fn run_actions(
+    state: AppState,
+    slot: &'static MethodSlot,
+    on_cancel: impl FnMut(MouseEvent) + 'static,
+) -> impl IntoView {
+    let name = slot.info.name.clone();
+    let short = slot.info.short.clone();
+    let running = move || slot.run.with(|s| matches!(s, RunState::Running { .. }));
+    let progress = move || {
+        slot.run.with(|s| match s {
+            RunState::Running { stage, fraction } => (stage.clone(), *fraction),
+            _ => (String::new(), 0.0),
+        })
+    };
+    view! {
+    <div class="ms-method-actions">
+        <button
+            id=format!("{name}-run")
+            class="ms-button"
+            type="submit"
+            disabled=move || running() || state.motion.with(Option::is_none)
+        >
+            "Run"
+        </button>
+        <button
+            id=format!("{name}-cancel")
+            class="ms-button ms-button--quiet"
+            type="button"
+            hidden=move || !running()
+            on:click=on_cancel
+        >
+            "Cancel"
+        </button>
+        <div id=format!("{name}-progress") class="ms-progress" role="status" aria-live="polite" hidden=move || !running()>
+            <progress max="1" value=move || progress().1.clamp(0.0, 1.0).to_string()></progress>
+            <span class="ms-progress-label">{move || format!("{short}: {}…", progress().0)}</span>
+        </div>
+    </div>
+    }
+}
+
 #[component]
 pub fn MethodPanel(
     state: AppState,
@@ -251,20 +367,11 @@ pub fn MethodPanel(
     let slot = method;
     let index = state.methods.iter().position(|s| std::ptr::eq(s, slot)).unwrap_or(0);
     let name = slot.info.name.clone();
-    let running = move || slot.run.with(|s| matches!(s, RunState::Running { .. }));
-    let progress = move || {
-        slot.run.with(|s| match s {
-            RunState::Running { stage, fraction } => (stage.clone(), *fraction),
-            _ => (String::new(), 0.0),
-        })
-    };
     // coupled parameters the form breaks (the SSSM's primitive radius above its radius): offered
     // to adjust in one click, and lowered on Run with a note saying so
     let texts = move || slot.fields.iter().map(|f| f.get()).collect::<Vec<String>>();
     let conflicts = Memo::new(move |_| form::conflicts(&slot.specs, &texts()));
     let adjusted = RwSignal::new(None::<String>);
-    let spec_words =
-        |name: &str| slot.specs.iter().find(|s| s.name == name).map(param_words).unwrap_or_else(|| name.to_string());
     let adjust = move |c: &form::Conflict| {
         if let Some(at) = slot.specs.iter().position(|s| s.name == c.param) {
             slot.fields[at].set(c.adjusted_text());
@@ -276,63 +383,16 @@ pub fn MethodPanel(
         let pending = conflicts.get_untracked();
         adjusted.set((!pending.is_empty()).then(|| {
             pending.iter().for_each(adjust);
-            let said: Vec<String> = pending
-                .iter()
-                .map(|c| {
-                    format!(
-                        "{} lowered from {} to {}: it may not exceed {}",
-                        spec_words(&c.param),
-                        c.value,
-                        c.adjusted_text(),
-                        spec_words(&c.limit_param)
-                    )
-                })
-                .collect();
-            format!("{} (Advanced).", said.join("; "))
+            lowered_message(slot, &pending)
         }));
         run_loader.run(index);
         // its row stays in view on the timeline (workspace.rs)
         super::workspace::reveal_method(&slot.info.name);
     };
-    let coupling_notes = move || {
-        conflicts
-            .get()
-            .into_iter()
-            .map(|c| {
-                let (param, limit) = (spec_words(&c.param), spec_words(&c.limit_param));
-                let text = format!("{param} ({}) may not exceed {limit} ({}).", c.value, c.limit);
-                let button = format!("Set {param} to {}", c.adjusted_text());
-                let id = format!("{}-adjust-{}", slot.info.name, c.param);
-                let (param_name, limit_name) = (c.param.clone(), c.limit_param.clone());
-                view! {
-                    <p class="ms-coupling" data-param=param_name data-limit=limit_name>
-                        {text}
-                        " "
-                        <button id=id class="ms-button ms-button--small" type="button" on:click=move |_| adjust(&c)>
-                            {button}
-                        </button>
-                        " or Run lowers it."
-                    </p>
-                }
-            })
-            .collect_view()
-    };
+    let coupling_notes = move || conflicts.get().into_iter().map(|c| coupling_note(slot, c, adjust)).collect_view();
     let export_loader = loader.clone();
     let on_cancel = move |_| loader.cancel(index);
-    let export_name = name.clone();
-    let on_export = move |_| {
-        slot.view.with_untracked(|v| {
-            if let Some(v) = v {
-                let s = &v.segmentation;
-                let file = format!("{}_{}.json", stem(&s.file), export_name);
-                // with the Effort the bars under the rows computed, where the run has none of its own
-                let s = state.effort.fill(state, s);
-                if let Err(e) = download(s.to_json().as_bytes(), "application/json", &file) {
-                    state.show_error(format!("could not save {file}: {e:?}"));
-                }
-            }
-        })
-    };
+    let on_export = move |_| export_json(state, slot);
     let counts = move || slot.view.with(|v| v.as_ref().map(|v| v.details.summary.clone()).unwrap_or_default());
     let exports = view! { <Exports state=state method=slot index=index loader=export_loader/> };
     let fields = || slot.specs.iter().zip(&slot.fields).zip(&slot.choices);
@@ -344,24 +404,9 @@ pub fn MethodPanel(
     let advanced_open = move || {
         slot.field_error.with(|e| e.as_ref().is_some_and(|(p, _)| slot.specs.iter().any(|s| !s.basic && &s.name == p)))
     };
-    {
-        let name = name.clone();
-        Effect::new(move |_| {
-            let Some((param, _)) = slot.field_error.get() else { return };
-            let id = format!("{name}-{param}");
-            if let Some(el) = web_sys::window()
-                .and_then(|w| w.document())
-                .and_then(|d| d.get_element_by_id(&id))
-                .and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
-            {
-                el.scroll_into_view_with_bool(false);
-                let _ = el.focus();
-            }
-        });
-    }
+    Effect::new(move |_| focus_refused_field(slot));
     let has_advanced = !advanced.is_empty();
     let extra = extra.map(|e| view! { <div class="ms-method-extra">{e}</div> });
-    let short = slot.info.short.clone();
     let pictures = move || {
         slot.view.with(|v| match v {
             Some(v) => {
@@ -398,29 +443,7 @@ pub fn MethodPanel(
                         {move || adjusted.get().unwrap_or_default()}
                     </p>
                 </div>
-                <div class="ms-method-actions">
-                    <button
-                        id=format!("{name}-run")
-                        class="ms-button"
-                        type="submit"
-                        disabled=move || running() || state.motion.with(Option::is_none)
-                    >
-                        "Run"
-                    </button>
-                    <button
-                        id=format!("{name}-cancel")
-                        class="ms-button ms-button--quiet"
-                        type="button"
-                        hidden=move || !running()
-                        on:click=on_cancel
-                    >
-                        "Cancel"
-                    </button>
-                    <div id=format!("{name}-progress") class="ms-progress" role="status" aria-live="polite" hidden=move || !running()>
-                        <progress max="1" value=move || progress().1.clamp(0.0, 1.0).to_string()></progress>
-                        <span class="ms-progress-label">{move || format!("{short}: {}…", progress().0)}</span>
-                    </div>
-                </div>
+                {run_actions(state, slot, on_cancel)}
             </form>
             <p
                 id=format!("{name}-failure")
