@@ -225,9 +225,7 @@ fn mark_body(truth: GroundTruth) {
         TruthState::Loaded(_) => "loaded",
         TruthState::Failed(_) => "error",
     });
-    if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
-        let _ = body.set_attribute("data-truth", value);
-    }
+    super::set_body_data(&[("data-truth", value)]);
 }
 
 /// A truth file picked: its text kept (the panel reads it again), or why it could not be read.

@@ -22,7 +22,7 @@
 //! number of lines, `data-compare-ms` how long all the scores took.
 
 use super::summary::{is_bundled_sample, SAMPLE_TRAINED};
-use super::AppState;
+use super::{now_ms, set_body_data, AppState};
 use crate::method::supervised::IN_SAMPLE;
 use crate::segment::metrics::{evaluate, Scores, Tolerances};
 use crate::segment::{Level, Segmentation};
@@ -213,26 +213,12 @@ fn scores_table(id: &str, scores: &Scores) -> impl IntoView {
     }
 }
 
-/// The page's clock (ms).
-fn now_ms() -> f64 {
-    web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now())
-}
-
 /// Row `id` (`label`, segmentation `seg`) scored against `truth` for the comparison table.
 fn compared_row(id: &str, label: &str, seg: &Segmentation, truth: &crate::segment::truth::Truth) -> Compared {
     Compared {
         id: id.to_string(),
         label: label.to_string(),
         scored: evaluate(seg, truth, &Tolerances::default()).map(|s| lines(&s)).map_err(|e| format!("{id}: {e}")),
-    }
-}
-
-/// Sets `<body>`'s data attributes (where the panel stands, as the end-to-end tests read it).
-fn mark_body(attributes: [(&str, &str); 3]) {
-    if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
-        for (name, value) in attributes {
-            let _ = body.set_attribute(name, value);
-        }
     }
 }
 
@@ -413,7 +399,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
             Some((lines, _, ms)) => ("done", lines.len().to_string(), format!("{ms:.1}")),
             None => ("none", String::new(), String::new()),
         });
-        mark_body([("data-compare", value), ("data-compare-rows", &count), ("data-compare-ms", &ms)]);
+        set_body_data(&[("data-compare", value), ("data-compare-rows", &count), ("data-compare-ms", &ms)]);
     });
     let comparison = move || {
         compared.with(|c| match c {
@@ -427,7 +413,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
             Outcome::Scored(id, _, ms) => ("done", id.clone(), format!("{ms:.1}")),
             Outcome::Failed(_) => ("error", String::new(), String::new()),
         });
-        mark_body([("data-metrics", value), ("data-metrics-row", &row), ("data-metrics-ms", &ms)]);
+        set_body_data(&[("data-metrics", value), ("data-metrics-row", &row), ("data-metrics-ms", &ms)]);
     });
 
     let options = move || {

@@ -295,6 +295,20 @@ impl AppState {
 }
 
 /// The message of a JS error (or the value itself, as text).
+/// Sets `<body>`'s data attributes: where the page stands, as the end-to-end tests read it.
+pub(crate) fn set_body_data(attributes: &[(&str, &str)]) {
+    if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
+        for (name, value) in attributes {
+            let _ = body.set_attribute(name, value);
+        }
+    }
+}
+
+/// Milliseconds since the page started.
+pub(crate) fn now_ms() -> f64 {
+    web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now())
+}
+
 pub(crate) fn js_message(value: &JsValue) -> String {
     value
         .dyn_ref::<js_sys::Error>()

@@ -95,10 +95,7 @@ pub fn picked_files(ev: &leptos::ev::Event) -> Vec<File> {
 /// Sets `data-<name>` on `<body>` to what `value` says, whenever it changes.
 fn body_data(name: String, value: impl Fn() -> &'static str + 'static) {
     Effect::new(move |_| {
-        let value = value();
-        if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
-            let _ = body.set_attribute(&name, value);
-        }
+        super::set_body_data(&[(&name, value())]);
     });
 }
 

@@ -656,11 +656,6 @@ fn give_compiled_wasm(worker: &Worker) {
     }
 }
 
-/// Milliseconds since the page started.
-fn now() -> f64 {
-    web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now())
-}
-
 /// A new worker in place of the old one, given the work the old one had: the pending load and
 /// every run still under way (each first gets `not_loaded`, then the take on screen).
 fn replace_worker(inner: &Rc<Inner>) {

@@ -7,12 +7,13 @@
 
 use super::super::browser_models;
 use super::super::fetch::blob_bytes;
+use super::super::now_ms;
 use super::super::supervised::{
     describe, LoadStatus, PendingChoice, PendingModel, Supervised, TrainAsk, TrainState, TrainedFile, Unloadable,
     UserModel,
 };
 use super::super::MethodSlot;
-use super::{next_id, now, post, post_buffers, replace_worker, start_run, Inner, Loader};
+use super::{next_id, post, post_buffers, replace_worker, start_run, Inner, Loader};
 use crate::method::supervised::{ModelInfo, StepReport, TrainingReport};
 use crate::protocol::{FailureKind, Request, Response, RunId, TakeId};
 use crate::view::kept_models::{forgotten_message, model_after_forget, switch_question, SwitchQuestion};
@@ -147,7 +148,7 @@ impl Loader {
             id,
             index,
             ask,
-            started: now(),
+            started: now_ms(),
             take_name: String::new(),
             take_id: 0,
             take_file: None,
@@ -360,7 +361,7 @@ pub(super) fn send_train_job(inner: &Rc<Inner>) -> Result<(), String> {
             job.take_id = shown.id;
             job.take_file = Some(shown.file.clone());
         }
-        job.started = now();
+        job.started = now_ms();
         job.stepped = false;
         let ask = &job.ask;
         let takes = std::iter::once(job.take_name.clone()).chain(ask.extra.iter().map(|(n, _)| n.clone())).collect();
@@ -451,7 +452,7 @@ pub(super) fn on_training_step(inner: &Inner, report: StepReport) {
 pub(super) fn on_trained(inner: &Rc<Inner>, model: ModelInfo, report: TrainingReport, bytes: Vec<u8>) {
     let Some(job) = inner.train_job.borrow_mut().take() else { return };
     let Some(s) = supervised(inner, job.index) else { return };
-    let seconds = (now() - job.started) / 1000.0;
+    let seconds = (now_ms() - job.started) / 1000.0;
     let bytes = Arc::new(bytes);
     let name = model.name.clone();
     // the main worker trained and holds it; the pool's run workers are given it too
