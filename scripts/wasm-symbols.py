@@ -8,7 +8,7 @@ name longer than 100,000 bytes; rustc then stops with "failed to get bitcode fro
 linking symbol)" — with nothing saying which symbol. The page's own module links (it is the crate being compiled, never
 read back), so only `make test-wasm` and `make bench-wasm` broke. The long names are leptos views' drop glue: a
 component's whole view tree is one static type and its mangled name grows with every row or panel added. The cure is
-`.into_any()` at a big view's sub-trees (see `src/app/timeline.rs`).
+`.into_any()` at a big view's sub-trees (see `src/app/timeline/lines.rs`).
 
 Prints the longest symbol of the library and the components it spells; exits 1 over the reader's limit and warns
 above WARN so the next addition is seen before it breaks the build.

@@ -24,8 +24,6 @@ pub mod segment;
 pub mod similarity;
 pub mod splice;
 pub mod stats;
-pub mod view;
 
-#[cfg(feature = "web")]
 pub mod app;
 pub mod worker;

@@ -40,18 +40,13 @@ const KNOWN_CROSS_METHOD: &[&str] = &[
 /// Files outside `src/methods/` that reached a method's internals when the rule was written: `file -> methods::<m>`.
 const KNOWN_INTERNALS: &[&str] = &[];
 
-/// Page files in an import circle when the rule was written.
+/// Page files in an import circle when the rule was written (34, every page file but four, when the page's state
+/// and helpers sat in `src/app/mod.rs`); paths as the files are now named (a file moved into its feature's folder
+/// keeps its place on the list).
 const KNOWN_CIRCLE: &[&str] = &[
-    "src/app/browser_models.rs",
-    "src/app/consensus.rs",
-    "src/app/drop_zone.rs",
-    "src/app/effort.rs",
-    "src/app/embed.rs",
-    "src/app/error_banner.rs",
-    "src/app/fetch.rs",
-    "src/app/first_visit.rs",
-    "src/app/ground_truth.rs",
-    "src/app/library.rs",
+    "src/app/consensus/row.rs",
+    "src/app/effort/bars.rs",
+    "src/app/library/panel.rs",
     "src/app/loader/annotate.rs",
     "src/app/loader/clips.rs",
     "src/app/loader/library.rs",
@@ -59,45 +54,38 @@ const KNOWN_CIRCLE: &[&str] = &[
     "src/app/loader/pool.rs",
     "src/app/loader/shipped.rs",
     "src/app/loader/training.rs",
-    "src/app/method_panel.rs",
-    "src/app/metrics_panel.rs",
-    "src/app/mod.rs",
-    "src/app/model_files.rs",
-    "src/app/motion_image.rs",
-    "src/app/my_labels.rs",
-    "src/app/playback.rs",
-    "src/app/player.rs",
-    "src/app/progress.rs",
-    "src/app/row_exports.rs",
-    "src/app/row_model.rs",
-    "src/app/segment_menu.rs",
-    "src/app/summary.rs",
-    "src/app/supervised.rs",
-    "src/app/timeline.rs",
-    "src/app/training.rs",
-    "src/app/workspace.rs",
+    "src/app/method_panel/panel.rs",
+    "src/app/models/row_model.rs",
+    "src/app/my_labels/row.rs",
+    "src/app/timeline/lines.rs",
+    "src/app/timeline/row_exports.rs",
+    "src/app/timeline/segment_menu.rs",
+    "src/app/truth/ground_truth.rs",
 ];
 
 /// Functions over [`MAX_FN_LINES`] when the rule was written: `file fn name`.
 const KNOWN_LONG_FNS: &[&str] = &[
-    "src/app/my_labels.rs fn MyLabelsRow",
-    "src/app/my_labels.rs fn MyLabelsTools",
-    "src/app/segment_menu.rs fn SegmentMenu",
-    "src/app/timeline.rs fn Timeline",
-    "src/app/training.rs fn ModelFile",
-    "src/app/training.rs fn TrainingPanel",
+    "src/app/models/training.rs fn ModelFile",
+    "src/app/models/training.rs fn TrainingPanel",
+    "src/app/my_labels/row.rs fn MyLabelsRow",
+    "src/app/my_labels/row.rs fn MyLabelsTools",
+    "src/app/timeline/lines.rs fn Timeline",
+    "src/app/timeline/segment_menu.rs fn SegmentMenu",
 ];
 
-/// Page files over [`MAX_PAGE_FILE_LINES`] when the rule was written.
+/// Page files over [`MAX_PAGE_FILE_LINES`] when the rule was written; the last three are the pure parts of their
+/// features, over the limit already in `src/view/` before they moved into their feature's folder.
 const KNOWN_LONG_PAGE_FILES: &[&str] = &[
-    "src/app/library.rs",
     "src/app/loader/library.rs",
     "src/app/loader/mod.rs",
     "src/app/loader/training.rs",
-    "src/app/method_panel.rs",
-    "src/app/my_labels.rs",
-    "src/app/timeline.rs",
-    "src/app/training.rs",
+    "src/app/method_panel/panel.rs",
+    "src/app/models/training.rs",
+    "src/app/my_labels/row.rs",
+    "src/app/timeline/lines.rs",
+    "src/app/embed/url_params.rs",
+    "src/app/library/takes.rs",
+    "src/app/my_labels/edits.rs",
 ];
 
 /// What the registry offers to the rest of the program (src/methods/mod.rs).

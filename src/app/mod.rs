@@ -27,297 +27,57 @@
 //! Several files dropped at once (or a folder) make a [`library`] of takes, segmented one after
 //! another in the worker, each opened on screen when clicked.
 
-mod browser_models;
-mod consensus;
-mod drop_zone;
-mod effort;
-mod embed;
-mod error_banner;
-mod fetch;
-mod first_visit;
-mod ground_truth;
-mod keys;
-mod library;
+#[cfg(feature = "web")]
+mod dom;
+#[cfg(feature = "web")]
 mod loader;
-mod method_panel;
-mod metrics_panel;
-mod model_files;
-mod motion_image;
-mod my_labels;
-mod playback;
-mod player;
-mod progress;
-mod row_exports;
-mod row_model;
-mod segment_menu;
-mod stopped;
-mod summary;
-mod supervised;
-mod timeline;
-mod training;
+#[cfg(feature = "web")]
+mod state;
+#[cfg(feature = "web")]
 mod workspace;
 
-use crate::method::{form, MethodInfo, ParamSpec};
-use crate::protocol::{LoadedMotion, MethodView};
-use crate::view::timeline::Window;
+pub mod consensus;
+pub mod effort;
+pub mod embed;
+pub mod library;
+pub mod method_panel;
+pub mod models;
+pub mod my_labels;
+pub mod player;
+pub mod take;
+pub mod timeline;
+pub mod truth;
+
+#[cfg(feature = "web")]
 use leptos::prelude::*;
-use std::sync::Arc;
+#[cfg(feature = "web")]
 use wasm_bindgen::prelude::*;
+#[cfg(feature = "web")]
 use wasm_bindgen::JsCast;
 
-use drop_zone::DropZone;
-use embed::{EmbedBar, Launch, UrlNotice};
-use error_banner::ErrorBanner;
-use ground_truth::{GroundTruth, GroundTruthPanel};
+#[cfg(feature = "web")]
+use embed::launch::{EmbedBar, Launch, UrlNotice};
+#[cfg(feature = "web")]
 use loader::{Loader, Urls};
-use method_panel::MethodPanel;
-use metrics_panel::MetricsPanel;
-use player::Player;
-use progress::Progress;
-use summary::Summary;
-use supervised::Supervised;
-use timeline::Timeline;
-use training::{ModelFile, TakeSwitch, TrainingPanel};
+#[cfg(feature = "web")]
+use method_panel::panel::MethodPanel;
+#[cfg(feature = "web")]
+use models::training::{ModelFile, TakeSwitch, TrainingPanel};
+#[cfg(feature = "web")]
+use player::canvas::Player;
+#[cfg(feature = "web")]
+use state::{AppState, LoadState, RunState};
+#[cfg(feature = "web")]
+use take::{drop_zone::DropZone, error_banner::ErrorBanner, progress::Progress, summary::Summary};
+#[cfg(feature = "web")]
+use timeline::lines::Timeline;
+#[cfg(feature = "web")]
+use truth::{ground_truth::GroundTruthPanel, metrics_panel::MetricsPanel};
+#[cfg(feature = "web")]
 use workspace::{SidePanel, Studio};
 
-/// Where loading stands.
-#[derive(Debug, Clone, PartialEq)]
-pub enum LoadState {
-    /// A file is being read or worked on; `fraction` is `None` when the stage cannot say.
-    Loading { name: String, stage: String, fraction: Option<f64> },
-    /// The last load succeeded.
-    Ready,
-    /// The last load failed (the error banner says why).
-    Failed,
-}
-
-impl LoadState {
-    /// The value of `document.body.dataset.state`.
-    pub fn body_state(&self) -> &'static str {
-        match self {
-            LoadState::Loading { .. } => "loading",
-            LoadState::Ready => "ready",
-            LoadState::Failed => "error",
-        }
-    }
-}
-
-/// Where a method's run on the take on screen stands.
-#[derive(Debug, Clone, PartialEq)]
-pub enum RunState {
-    /// Nothing asked yet.
-    Idle,
-    /// The worker is at `stage`, `fraction` (0..1) done.
-    Running { stage: String, fraction: f64 },
-    /// The last run finished (the slot's `view` holds it).
-    Done,
-    /// The last run failed (the error banner says why).
-    Failed,
-    /// The user stopped the last run.
-    Cancelled,
-}
-
-impl RunState {
-    /// The value of `document.body.dataset.<method>`.
-    pub fn body_state(&self) -> &'static str {
-        match self {
-            RunState::Idle => "idle",
-            RunState::Running { .. } => "running",
-            RunState::Done => "done",
-            RunState::Failed => "error",
-            RunState::Cancelled => "cancelled",
-        }
-    }
-}
-
-/// One registered method on the page: who it is, its form, where its run stands, its result.
-#[derive(Debug)]
-pub struct MethodSlot {
-    pub info: MethodInfo,
-    pub specs: Vec<ParamSpec>,
-    /// The form's text, one field per parameter (booleans as `true` / `false`).
-    pub fields: Vec<RwSignal<String>>,
-    /// The options of each choice parameter (empty for the others): the method's own, then the
-    /// user's models the page added (a supervised method's `model`).
-    pub choices: Vec<RwSignal<Vec<String>>>,
-    /// A supervised method's training and models.
-    pub supervised: Option<Supervised>,
-    /// What the method declares about annotating any row's segments (the Effort bars: [`effort`]).
-    pub annotator: Option<crate::method::Annotator>,
-    pub run: RwSignal<RunState>,
-    /// The last finished run on the take on screen.
-    pub view: RwSignal<Option<Arc<MethodView>>>,
-    /// What the last export of the panel did: (failed, message), shown beside its controls.
-    pub export_status: RwSignal<Option<(bool, String)>>,
-    /// The last run's refusal when it names a parameter: (parameter, message), shown at its field.
-    pub field_error: RwSignal<Option<(String, String)>>,
-    /// The last run's failure when it is about the take (not a field): shown in the panel too.
-    pub failure: RwSignal<Option<String>>,
-}
-
-impl MethodSlot {
-    fn new(method: &dyn crate::method::DynMethod) -> MethodSlot {
-        let specs = method.param_specs();
-        let fields = specs.iter().map(|s| RwSignal::new(form::default_text(&s.default))).collect();
-        let choices = specs
-            .iter()
-            .map(|s| match &s.kind {
-                crate::method::ParamKind::Choice { options } => RwSignal::new(options.clone()),
-                _ => RwSignal::new(Vec::new()),
-            })
-            .collect();
-        let info = method.info();
-        MethodSlot {
-            supervised: method.supervision().map(|decl| Supervised::new(decl, &info.name)),
-            annotator: method.annotator(),
-            info,
-            specs,
-            fields,
-            choices,
-            run: RwSignal::new(RunState::Idle),
-            view: RwSignal::new(None),
-            export_status: RwSignal::new(None),
-            field_error: RwSignal::new(None),
-            failure: RwSignal::new(None),
-        }
-    }
-
-    /// The parameters the form holds now, as the worker reads them ([`form::params_from_fields`]: an empty
-    /// number field is the method's default, or `null` when that default is `null` — the method decides).
-    pub fn params(&self) -> Result<serde_json::Value, crate::method::MethodError> {
-        let texts: Vec<String> = self.fields.iter().map(|f| f.get_untracked()).collect();
-        form::params_from_fields(&self.info.short, &self.specs, &texts)
-    }
-
-    /// The field of parameter `name`, with its choices.
-    pub fn param(&self, name: &str) -> Option<(RwSignal<String>, RwSignal<Vec<String>>)> {
-        let i = self.specs.iter().position(|s| s.name == name)?;
-        Some((self.fields[i], self.choices[i]))
-    }
-}
-
-/// Everything the page shows, as signals (created once, passed to every component).
-#[derive(Debug, Clone, Copy)]
-pub struct AppState {
-    /// The take on screen (kept when a later load fails).
-    pub motion: RwSignal<Option<Arc<LoadedMotion>>>,
-    pub load: RwSignal<LoadState>,
-    /// The error banner's message, `None` when hidden.
-    pub error: RwSignal<Option<String>>,
-    /// Current frame, 0-based.
-    pub frame: RwSignal<usize>,
-    pub playing: RwSignal<bool>,
-    /// Playback speed (1 = the file's own frame rate).
-    pub speed: RwSignal<f64>,
-    /// Playback stops at this frame (set when a primitive is played).
-    pub play_until: RwSignal<Option<usize>>,
-    /// True when the banner's error is a method's (not a load's).
-    pub error_is_run: RwSignal<bool>,
-    /// Every registered method, in the registry's order (made once per page).
-    pub methods: &'static [MethodSlot],
-    /// The frames the timeline shows (ruler, motion image and rows alike).
-    pub window: RwSignal<Window>,
-    /// The segment the user selected on the timeline.
-    pub selected: RwSignal<Option<Selection>>,
-    /// Playback loops inside the selected segment.
-    pub looping: RwSignal<bool>,
-    /// J/K/L: the shuttle's rate (0: ordinary playback; negative: backwards; × the speed menu's).
-    pub shuttle: RwSignal<i32>,
-    /// The keyboard help overlay is open.
-    pub help: RwSignal<bool>,
-    /// The imported ground truth ([`ground_truth`]; scored in [`metrics_panel`]).
-    pub truth: GroundTruth,
-    /// The "my labels" row as a segmentation (`None` while it is empty): scored and exported.
-    pub mine: RwSignal<Option<Arc<crate::segment::Segmentation>>>,
-    /// The side panel's tab shown ([`workspace`]): `truth` or a method's name.
-    pub panel: RwSignal<String>,
-    /// The Effort bars under every row ([`effort`]).
-    pub effort: effort::EffortBars,
-    /// The library of takes ([`library`]).
-    pub library: library::LibraryState,
-}
-
-/// A segment selected on the timeline: its row (`<method>-actions` or `<method>-primitives`)
-/// and its frames (inclusive).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Selection {
-    pub row: String,
-    pub start: usize,
-    pub end: usize,
-}
-
-impl AppState {
-    fn new() -> AppState {
-        AppState {
-            motion: RwSignal::new(None),
-            load: RwSignal::new(LoadState::Loading { name: String::new(), stage: "starting".into(), fraction: None }),
-            error: RwSignal::new(None),
-            frame: RwSignal::new(0),
-            playing: RwSignal::new(false),
-            speed: RwSignal::new(1.0),
-            play_until: RwSignal::new(None),
-            error_is_run: RwSignal::new(false),
-            methods: Box::leak(crate::methods::registry().iter().map(|m| MethodSlot::new(*m)).collect()),
-            window: RwSignal::new(Window::full(1)),
-            selected: RwSignal::new(None),
-            looping: RwSignal::new(true),
-            shuttle: RwSignal::new(0),
-            help: RwSignal::new(false),
-            truth: GroundTruth::new(),
-            mine: RwSignal::new(None),
-            panel: RwSignal::new(workspace::TRUTH_TAB.to_string()),
-            effort: effort::EffortBars::new(),
-            library: library::LibraryState::new(),
-        }
-    }
-
-    /// Shows `message` in the error banner (a load's error).
-    pub fn show_error(&self, message: String) {
-        self.error_is_run.set(false);
-        self.error.set(Some(message));
-    }
-
-    /// Shows `message` in the error banner (a method's error).
-    pub fn show_run_error(&self, message: String) {
-        self.error_is_run.set(true);
-        self.error.set(Some(message));
-    }
-
-    /// Frames per second of the take on screen (0 when none).
-    pub fn fps(&self) -> f64 {
-        self.motion.with(|m| m.as_ref().map_or(0.0, |m| m.summary.fps))
-    }
-
-    /// Number of frames of the take on screen (0 when none).
-    pub fn frames(&self) -> usize {
-        self.motion.with(|m| m.as_ref().map_or(0, |m| m.summary.frames))
-    }
-}
-
-/// The message of a JS error (or the value itself, as text).
-/// Sets `<body>`'s data attributes: where the page stands, as the end-to-end tests read it.
-pub(crate) fn set_body_data(attributes: &[(&str, &str)]) {
-    if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
-        for (name, value) in attributes {
-            let _ = body.set_attribute(name, value);
-        }
-    }
-}
-
-/// Milliseconds since the page started.
-pub(crate) fn now_ms() -> f64 {
-    web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now())
-}
-
-pub(crate) fn js_message(value: &JsValue) -> String {
-    value
-        .dyn_ref::<js_sys::Error>()
-        .map(|e| String::from(e.message()))
-        .or_else(|| value.as_string())
-        .unwrap_or_else(|| format!("{value:?}"))
-}
-
 /// Id of the element the page mounts into (falls back to `<body>`).
+#[cfg(feature = "web")]
 const ROOT_ID: &str = "mocapseg-app";
 
 /// Mounts the page. Called by `index.html` after `init()`; the worker loads the same module
@@ -326,10 +86,11 @@ const ROOT_ID: &str = "mocapseg-app";
 /// `./www/sample.bvh.pack` — the sample packed, unpacked by the page —, `./models/`), and the
 /// number of workers with `data-workers` (default one per core, two to four; the URL's `workers`
 /// comes first).
+#[cfg(feature = "web")]
 #[wasm_bindgen]
 pub fn mount_app() -> Result<(), JsValue> {
     // a panic logs and shows `#mocapseg-stopped` ("reload the page"), never a page that just stops
-    stopped::install();
+    take::stopped::install();
     let document = web_sys::window().and_then(|w| w.document()).ok_or("no document")?;
     let root = match document.get_element_by_id(ROOT_ID) {
         Some(el) => el.dyn_into::<web_sys::HtmlElement>()?,
@@ -342,6 +103,7 @@ pub fn mount_app() -> Result<(), JsValue> {
     Ok(())
 }
 
+#[cfg(feature = "web")]
 #[component]
 fn App(urls: Urls, launch: Launch) -> impl IntoView {
     let state = AppState::new();
@@ -368,7 +130,7 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
             }
         });
     }
-    embed::start(state, &loader, &urls, &launch, notice);
+    embed::launch::start(state, &loader, &urls, &launch, notice);
     // the loader (and the worker it owns) lives as long as the page, even when no component holds
     // it (embed mode has no drop zone or method panels); the app is mounted once, never unmounted
     std::mem::forget(loader.clone());
@@ -379,7 +141,7 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
     let timeline = view! { <Timeline state=state/> }.into_any();
     let side = full.then(|| {
         let truth = view! {
-            <first_visit::WhatNext state=state/>
+            <take::first_visit::WhatNext state=state/>
             <GroundTruthPanel state=state/>
             <MetricsPanel state=state/>
         }
@@ -396,7 +158,7 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
             view! { <MethodPanel state=state method=slot loader=loader.clone() extra=extra/> }.into_any()
         });
         let panels = std::iter::once(truth).chain(methods).collect();
-        let library = view! { <library::LibraryPanel state=state loader=loader.clone()/> }.into_any();
+        let library = view! { <library::panel::LibraryPanel state=state loader=loader.clone()/> }.into_any();
         view! { <SidePanel state=state panels=panels library=library/> }.into_any()
     });
     let studio = view! {

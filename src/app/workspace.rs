@@ -13,7 +13,7 @@
 //!   `aria-controls`, roving `tabindex`: ← / → / ↑ / ↓ select the previous / next tab, Home / End the
 //!   first / last), and one `#tabpanel-<id>` (`role="tabpanel"`) each, only the selected one shown.
 //!   `data-panel` on `#side-panel` names the tab shown (`state.panel`). The ids are [`TRUTH_TAB`]
-//!   and each method's name, and `library` (the library of takes, [`super::library`]) last, there
+//!   and each method's name, and `library` (the library of takes, [`crate::app::library::panel`]) last, there
 //!   only once the library has a take.
 //! * Selecting a method's tab, pressing its Run, and each of its runs finishing while its tab is
 //!   shown, scroll the timeline (never the page) so that the method's row is in view.
@@ -21,14 +21,11 @@
 //! Narrower than 860 px the side panel goes under the stage, which stays pinned at the top
 //! (`position: sticky`), so that the timeline is still on screen beside a panel's controls.
 
-use super::AppState;
+use crate::app::state::{AppState, TRUTH_TAB};
 use leptos::ev::{KeyboardEvent, PointerEvent};
 use leptos::prelude::*;
 use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
-
-/// The id of the ground truth and scores tab (the others are the methods' names).
-pub const TRUTH_TAB: &str = "truth";
 
 /// Where the player's height (per cent of the stage) is kept in local storage.
 pub const PLAYER_KEY: &str = "mocapseg.layout.player";
@@ -292,7 +289,7 @@ pub fn SidePanel(state: AppState, panels: Vec<AnyView>, library: AnyView) -> imp
     let ids = move || {
         let mut ids = fixed.clone();
         if library_shown() {
-            ids.push(super::library::TAB.to_string());
+            ids.push(crate::app::library::state::TAB.to_string());
         }
         ids
     };
@@ -346,16 +343,25 @@ pub fn SidePanel(state: AppState, panels: Vec<AnyView>, library: AnyView) -> imp
         })
         .collect_view();
     let library_index = tabs_count(state);
-    let library_selected = move || state.panel.with(|p| p == super::library::TAB);
+    let library_selected = move || state.panel.with(|p| p == crate::app::library::state::TAB);
     let library_button = move || {
         let on_tab_key = on_tab_key.clone();
         library_shown().then(|| {
             let on_key = move |ev: KeyboardEvent| on_tab_key(library_index, ev);
-            tab_button(state, super::library::TAB.to_string(), "Library".to_string(), library_selected, on_key)
+            tab_button(
+                state,
+                crate::app::library::state::TAB.to_string(),
+                "Library".to_string(),
+                library_selected,
+                on_key,
+            )
         })
     };
-    let library_panel =
-        tab_panel(super::library::TAB.to_string(), move || !(library_selected() && library_shown()), library);
+    let library_panel = tab_panel(
+        crate::app::library::state::TAB.to_string(),
+        move || !(library_selected() && library_shown()),
+        library,
+    );
     view! {
         <aside id="side-panel" class="ms-side" aria-label="Methods, ground truth and scores" data-panel=move || state.panel.get()>
             <div class="ms-tabs" role="tablist" aria-label="Side panel">{buttons}{library_button}</div>

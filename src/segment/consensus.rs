@@ -20,7 +20,7 @@
 //!
 //! [`Consensus::to_segmentation`] writes the boundaries as a tiling of the take (method `consensus`, each part its own
 //! segment), so that the scoreboard (`make accuracy`) scores it as it scores the methods; the page's "Consensus" row
-//! (`src/app/consensus.rs`) draws the boundaries and moves an accepted one into "my labels".
+//! (`src/app/consensus/row.rs`) draws the boundaries and moves an accepted one into "my labels".
 
 use serde::Serialize;
 

@@ -613,7 +613,7 @@ fn library_clips(
         let stem = crate::clips::stem_of(&t.name);
         match crate::clips::clips(&bvh, &motion, &t.segmentation, &stem, &options) {
             Ok(clips) => all.extend(clips.into_iter().map(|mut c| {
-                c.file = format!("{}/{}", crate::view::library::folder_name(&c.segment.label), c.file);
+                c.file = format!("{}/{}", crate::app::library::takes::folder_name(&c.segment.label), c.file);
                 c
             })),
             Err(e) => return fail(format!("clips of {}: {e}", t.name)),
@@ -623,7 +623,7 @@ fn library_clips(
         return fail("clips: no segment to cut".into());
     }
     let mut names: Vec<String> = all.iter().map(|c| c.file.clone()).collect();
-    crate::view::library::make_unique(&mut names);
+    crate::app::library::takes::make_unique(&mut names);
     for (clip, name) in all.iter_mut().zip(names) {
         clip.file = name;
     }

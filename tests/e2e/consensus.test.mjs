@@ -1,4 +1,4 @@
-// The consensus row (issue 26; src/app/consensus.rs, docs/page.md "The consensus row"), in the real page at
+// The consensus row (issue 26; src/app/consensus/row.rs, docs/page.md "The consensus row"), in the real page at
 // 1024×768 and 1440×900, light and dark: it stays hidden while one method has a result and appears once a second
 // one runs, its markers saying how many of the methods agree ("2/3") and, in their tooltip, which; it is made again
 // when another method runs (and its status says so, not the last accept); the tolerance and the minimum agreement change it and are remembered on the next visit;

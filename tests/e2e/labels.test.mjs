@@ -1,4 +1,4 @@
-// End-to-end test of the timeline's "my labels" row (src/app/my_labels.rs) on headless Chromium:
+// End-to-end test of the timeline's "my labels" row (src/app/my_labels/row.rs) on headless Chromium:
 // copy SSSM's actions, drag a boundary with the mouse (by the frames dragged, and snapping to
 // another row's boundary when dropped near it), split at the playhead, merge, relabel (colours and
 // suggestions shared with the other rows), delete (a gap), undo/redo with the buttons and with

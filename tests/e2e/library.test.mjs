@@ -1,4 +1,4 @@
-// End-to-end test of the library of takes (issue 26, src/app/library.rs): several files picked at
+// End-to-end test of the library of takes (issue 26, src/app/library/panel.rs): several files picked at
 // once make a list of takes in the "Library" tab, segmented one after another in the worker with
 // each take's status (queued, running with its progress, done with its segment and cluster counts,
 // failed with the parser's message); a take opens on screen when clicked, with its library row on

@@ -1,5 +1,5 @@
 // End-to-end test of label transfer across the library (issue 26, "Label transfer";
-// src/app/library.rs, "Carry labels"): with the sample (13_30) and 13_31 in the library, the
+// src/app/library/panel.rs, "Carry labels"): with the sample (13_30) and 13_31 in the library, the
 // sample on screen has no labels (the button says why), then its ground truth is imported; its
 // labels are carried to the other take (status, "% labelled" in the list), which shows them as
 // the timeline's "Transferred" row (the source's classes, confidence in each segment's tooltip);

@@ -1,11 +1,11 @@
-//! The annotation jobs of the Effort bars ([`super::super::effort`]): a row's segments go to the
+//! The annotation jobs of the Effort bars ([`crate::app::effort::bars`]): a row's segments go to the
 //! worker as one `annotate` request; its progress and its answer go to the bars' state under the
 //! row's key. A worker that lost the take gets it again once; a job that needs the shipped family
-//! waits for it like a method's run ([`super::shipped`]); a worker replaced (a cancelled run, a
+//! waits for it like a method's run ([`crate::app::loader::shipped`]); a worker replaced (a cancelled run, a
 //! crash) is sent the jobs still waiting. Turning the bars off drops the jobs (their answers are
 //! then ignored).
 
-use super::{next_id, post, replace_worker, restore, Inner, Loader};
+use crate::app::loader::{next_id, post, replace_worker, restore, Inner, Loader};
 use crate::protocol::{FailureKind, Request, Response, RunId};
 use std::rc::Rc;
 

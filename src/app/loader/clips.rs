@@ -1,16 +1,16 @@
 //! The clip exports' jobs: a row asks for BVH clips of the take on screen, the worker cuts them,
 //! the page saves the file; a worker that lost the take gets it again once.
 
-use super::super::js_message;
-use super::super::motion_image::download;
-use super::{next_id, post, replace_worker, restore, ExportStatus, Inner, Loader};
+use crate::app::dom::js_message;
+use crate::app::loader::{next_id, post, replace_worker, restore, ExportStatus, Inner, Loader};
+use crate::app::player::motion_image::download;
 use crate::protocol::{FailureKind, Request, Response, RunId};
 use leptos::prelude::*;
 use std::rc::Rc;
 
 /// A clip export on its way: the request (sent again once if the worker lost the take), where
 /// to say how it went, whether it was sent again, and the row's id for the file's name
-/// ([`crate::view::export_names::with_row`]).
+/// ([`crate::app::timeline::export_names::with_row`]).
 pub(super) struct ClipJob {
     request: Request,
     status: ExportStatus,
@@ -34,7 +34,7 @@ impl Loader {
         let slot = &self.0.state.methods[index];
         match slot.view.get_untracked() {
             Some(view) => {
-                let word = super::super::method_panel::which_word(Some(&view), which);
+                let word = crate::app::method_panel::panel::which_word(Some(&view), which);
                 let status = slot.export_status;
                 self.cut_clips(&view.segmentation, &slot.info.name, Some(word), which, to_origin, only, status)
             }
@@ -99,7 +99,7 @@ pub(super) fn handle(inner: &Rc<Inner>, response: Response) -> Option<Response> 
                     Request::Clips { segmentation, .. } => crate::clips::stem_of(&segmentation.file),
                     _ => String::new(),
                 };
-                let file = crate::view::export_names::with_row_word(&file, &stem, &row, word);
+                let file = crate::app::timeline::export_names::with_row_word(&file, &stem, &row, word);
                 let said = match download(&bytes, clip_mime(&file), &file) {
                     Ok(()) => (false, format!("saved {file} ({})", crate::method::counted(clips, "clip"))),
                     Err(e) => (true, format!("could not save {file}: {}", js_message(&e))),

@@ -10,20 +10,20 @@
 //! (`library_transfer`: [`Loader::carry_labels`]), or — the k-NN and DT-FCN routes — that method is trained on
 //! them (its panel's training, `train`) and every other take labelled with it (`library_take`, the model in its
 //! params), one after another; [`Loader::cancel_carry`] stops any.
-//! The queue's state is [`crate::view::library::Queue`]; what the page shows is
-//! [`super::super::library`].
+//! The queue's state is [`crate::app::library::takes::Queue`]; what the page shows is
+//! [`crate::app::library::panel`].
 
-use super::super::fetch::blob_bytes;
-use super::super::js_message;
-use super::super::library::{ModelCarry, Source};
-use super::super::motion_image::download;
-use super::super::supervised::TrainAsk;
-use super::{next_id, pool, post_buffers, post_request, replace_slot, replace_worker, Inner, Loader};
+use crate::app::dom::js_message;
+use crate::app::library::carry::{Carried, Route};
+use crate::app::library::state::{ModelCarry, Source};
+use crate::app::library::takes::{group_files, Shared};
+use crate::app::loader::{next_id, pool, post_buffers, post_request, replace_slot, replace_worker, Inner, Loader};
+use crate::app::models::supervised::TrainAsk;
+use crate::app::player::motion_image::download;
+use crate::app::take::fetch::blob_bytes;
 use crate::library::TakeFeatures;
 use crate::protocol::RunId;
 use crate::protocol::{ClipTake, FailureKind, Request, Response};
-use crate::view::carry::{Carried, Route};
-use crate::view::library::{group_files, Shared};
 use crate::worker::pool::{Placed, Slot, Stop};
 use leptos::prelude::*;
 use std::rc::Rc;
@@ -38,7 +38,7 @@ impl Loader {
         let refs: Vec<&str> = names.iter().map(String::as_str).collect();
         let (takes, mut refused) = group_files(&refs);
         let sizes: Vec<f64> = files.iter().map(|f| f.size()).collect();
-        let (takes, too_large) = crate::view::library::within_cap(takes, &refs, &sizes);
+        let (takes, too_large) = crate::app::library::takes::within_cap(takes, &refs, &sizes);
         refused.extend(too_large);
         if takes.len() < 2 {
             let library = self.0.state.library;
@@ -62,7 +62,7 @@ impl Loader {
         if !refused.is_empty() {
             library.status.set(Some((true, refused.join("; "))));
         }
-        self.0.state.panel.set(super::super::library::TAB.to_string());
+        self.0.state.panel.set(crate::app::library::state::TAB.to_string());
         self.open_library_take(added.start);
         pump(&self.0);
     }
@@ -129,7 +129,7 @@ impl Loader {
     pub fn carry_labels(&self) {
         let state = self.0.state;
         let library = state.library;
-        let (source, frame_labels, _) = match untrack(|| super::super::library::source_labels(state)) {
+        let (source, frame_labels, _) = match untrack(|| crate::app::library::panel::source_labels(state)) {
             Ok(found) => found,
             Err(why) => return library.carrying.set(Some((true, why))),
         };
@@ -188,7 +188,7 @@ impl Loader {
             Ok(options) => options,
             Err(e) => return fail(format!("the {title} panel's training options: {e}")),
         };
-        let rows = crate::view::carry::label_rows(&file, &labels);
+        let rows = crate::app::library::carry::label_rows(&file, &labels);
         let fps = inner.state.motion.with_untracked(|m| m.as_ref().map_or(0.0, |m| m.summary.fps));
         let count = todo.len();
         library.by_model.set_value(Some(ModelCarry {
@@ -207,7 +207,7 @@ impl Loader {
         }));
         library.carry_busy.set(true);
         library.carrying.set(Some((false, format!("training the {title} on the labels of {file}…"))));
-        let stem = super::super::motion_image::stem(&file).to_string();
+        let stem = crate::app::player::motion_image::stem(&file).to_string();
         self.train(
             index,
             TrainAsk {

@@ -22,7 +22,7 @@
 //! stop it, or keep it running bound to its own take, whose file a new worker is sent again).
 //!
 //! The shipped models are not in the wasm: a run that needs one the worker does not hold is
-//! answered `needs_model`, and [`super::model_files`] fetches it, hands it over and asks again.
+//! answered `needs_model`, and [`crate::app::models::model_files`] fetches it, hands it over and asks again.
 //!
 //! The library of takes ([`library`]) has the worker segment its takes one after another without
 //! replacing the take it holds, and cut clips of several takes into one zip.
@@ -38,10 +38,13 @@ mod pool;
 mod shipped;
 mod training;
 
-use super::fetch::{blob_bytes, read_capped, ReadError};
-use super::js_message;
-use super::model_files::ModelFiles;
-use super::{AppState, LoadState, MethodSlot, RunState};
+use crate::app::dom::js_message;
+use crate::app::models::model_files::ModelFiles;
+use crate::app::state::AppState;
+use crate::app::state::LoadState;
+use crate::app::state::MethodSlot;
+use crate::app::state::RunState;
+use crate::app::take::fetch::{blob_bytes, read_capped, ReadError};
 use crate::load::Opening;
 use crate::protocol::{FailureKind, Request, Response, RunId, TakeId};
 use crate::worker::{request_message, response_from_js};
@@ -57,7 +60,7 @@ use wasm_bindgen_futures::JsFuture;
 use web_sys::{Blob, Event, File, MessageEvent, Response as FetchResponse, Worker, WorkerOptions, WorkerType};
 
 /// The largest file the page reads (the worker's memory budget then checks what it needs).
-pub const MAX_FILE_BYTES: f64 = super::fetch::MAX_FILE_BYTES as f64;
+pub const MAX_FILE_BYTES: f64 = crate::app::take::fetch::MAX_FILE_BYTES as f64;
 
 /// Where the worker script, the bundled sample and the shipped models are, relative to the page.
 #[derive(Debug, Clone, PartialEq)]
@@ -488,7 +491,7 @@ async fn restore(inner: &Rc<Inner>) -> Result<(), String> {
 
 fn fail_load(inner: &Inner, id: TakeId, message: String) {
     let message = match inner.src_take.borrow().as_ref() {
-        Some((take, url)) if *take == id => crate::view::url_params::load_failed(url, &message),
+        Some((take, url)) if *take == id => crate::app::embed::url_params::load_failed(url, &message),
         _ => message,
     };
     if inner.current.get() == id {
@@ -582,7 +585,7 @@ fn refuse_run(inner: &Rc<Inner>, index: usize, message: String, param: Option<St
 }
 
 /// One banner for all when every method that ran on the take (two or more) failed on it: what
-/// each said, the shared reason once ([`crate::view::run_failures`]); `None` while one is still
+/// each said, the shared reason once ([`crate::app::take::run_failures`]); `None` while one is still
 /// running or has a result.
 fn no_method_can_read(state: &AppState) -> Option<String> {
     let mut failures = Vec::new();
@@ -594,7 +597,7 @@ fn no_method_can_read(state: &AppState) -> Option<String> {
         }
     }
     let failures: Vec<(&str, &str)> = failures.iter().map(|(m, f)| (m.as_str(), f.as_str())).collect();
-    (failures.len() >= 2).then(|| crate::view::run_failures::no_method_can_read(&failures))
+    (failures.len() >= 2).then(|| crate::app::take::run_failures::no_method_can_read(&failures))
 }
 
 /// Whether method `index`'s current run meets something for the first time (`flag`: it was asked again
@@ -890,7 +893,7 @@ async fn fetch_blob(url: &str) -> Result<Blob, String> {
     if !response.ok() {
         return Err(format!("HTTP {} {} for {url}", response.status(), response.status_text()));
     }
-    read_capped(&response, super::fetch::MAX_FILE_BYTES).await.map_err(|e| match e {
+    read_capped(&response, crate::app::take::fetch::MAX_FILE_BYTES).await.map_err(|e| match e {
         ReadError::TooLarge { .. } => format!("{url} is larger than the page reads (512 MiB)"),
         ReadError::Failed(e) => e,
     })

@@ -20,8 +20,8 @@ use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
 use web_sys::{Event, MessageEvent, Worker, WorkerOptions, WorkerType};
 
-use super::super::js_message;
-use super::{fail_run, next_id, on_run_response, run_index, send_run, Handler, Inner};
+use crate::app::dom::js_message;
+use crate::app::loader::{fail_run, next_id, on_run_response, run_index, send_run, Handler, Inner};
 use crate::protocol::{Request, Response, RunId};
 use crate::worker::pool::Slot;
 use crate::worker::{packet_to_js, response_from_js};
@@ -82,7 +82,7 @@ pub(super) fn spawn(inner: &Rc<Inner>, slot: Slot) {
     });
     worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
     worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
-    super::give_compiled_wasm(&worker);
+    crate::app::loader::give_compiled_wasm(&worker);
     inner.helpers.borrow_mut()[slot - 1] = Some(RunWorker { worker, _handlers: [on_message, on_error] });
     for request in models(inner) {
         let _ = post_to(inner, slot, request);
@@ -143,7 +143,7 @@ pub(super) fn hold(inner: &Rc<Inner>, slot: Slot) {
 /// runs (the new take's runs are not asked yet: the page asks them once every worker has it).
 pub(super) fn new_take(inner: &Rc<Inner>) {
     // the library's takes are not the take on screen's: they go on
-    let stale = inner.pool.borrow_mut().supersede(|run| super::library::owns(inner, run));
+    let stale = inner.pool.borrow_mut().supersede(|run| crate::app::loader::library::owns(inner, run));
     let workers = inner.pool.borrow().workers();
     for slot in 1..workers {
         if stale.contains(&slot) {
@@ -157,7 +157,7 @@ pub(super) fn new_take(inner: &Rc<Inner>) {
 /// Posts `request` to worker `slot` (0: the main worker), its buffers transferred.
 pub(super) fn post_to(inner: &Rc<Inner>, slot: Slot, request: Request) -> Result<(), String> {
     if slot == 0 {
-        return super::post_request(inner, request);
+        return crate::app::loader::post_request(inner, request);
     }
     let helpers = inner.helpers.borrow();
     let worker = helpers.get(slot - 1).and_then(Option::as_ref).ok_or("the worker could not be started")?;
@@ -168,7 +168,7 @@ pub(super) fn post_to(inner: &Rc<Inner>, slot: Slot, request: Request) -> Result
 /// Posts `request` to worker `slot` with `buffers` (a library take's files) transferred.
 pub(super) fn post_buffers_to(inner: &Rc<Inner>, slot: Slot, request: &Request, buffers: Array) -> Result<(), String> {
     if slot == 0 {
-        return super::post_buffers(inner, request, buffers);
+        return crate::app::loader::post_buffers(inner, request, buffers);
     }
     let helpers = inner.helpers.borrow();
     let worker = helpers.get(slot - 1).and_then(Option::as_ref).ok_or("the worker could not be started")?;
@@ -178,7 +178,7 @@ pub(super) fn post_buffers_to(inner: &Rc<Inner>, slot: Slot, request: &Request, 
 
 /// Whether the page still wants run `run`: a row's current run, or a take of the library under way.
 pub(super) fn wanted(inner: &Inner, run: RunId) -> bool {
-    run_index(inner, run).is_some() || super::library::owns(inner, run)
+    run_index(inner, run).is_some() || crate::app::loader::library::owns(inner, run)
 }
 
 /// Gives every run worker a model file the main worker is given too (its answers are the main
@@ -216,7 +216,7 @@ pub(super) fn post_run(inner: &Rc<Inner>, run: RunId) {
                 fail_run(inner, index, message);
             }
         }
-        None if super::library::post_run(inner, run) => {}
+        None if crate::app::loader::library::post_run(inner, run) => {}
         None => {
             let slot = inner.pool.borrow().slot_of(run);
             if let Some(slot) = slot {
@@ -249,13 +249,13 @@ pub(super) fn release_run(inner: &Rc<Inner>, run: RunId) {
 /// the run fails and the slot stays empty — its runs go to the main worker.
 fn died(inner: &Rc<Inner>, slot: Slot) {
     let run = inner.pool.borrow().running(slot);
-    if let Some(run) = run.filter(|&run| super::library::owns(inner, run)) {
+    if let Some(run) = run.filter(|&run| crate::app::loader::library::owns(inner, run)) {
         // a take of the library: it fails, naming why; the worker is replaced for the next
-        super::library::died(inner, run);
+        crate::app::loader::library::died(inner, run);
         return replace(inner, slot);
     }
     let index = run.and_then(|run| run_index(inner, run));
-    let again = index.is_some_and(|index| super::first_time(inner, index, |r| &mut r.crashed));
+    let again = index.is_some_and(|index| crate::app::loader::first_time(inner, index, |r| &mut r.crashed));
     if again {
         return replace(inner, slot);
     }
@@ -280,8 +280,8 @@ fn on_message(inner: &Rc<Inner>, slot: Slot, data: JsValue) {
     if !inner.pool.borrow().accepts(slot, run) {
         return; // stale: the run was cancelled or moved
     }
-    if super::library::owns(inner, run) {
-        let _ = super::library::handle(inner, response);
+    if crate::app::loader::library::owns(inner, run) {
+        let _ = crate::app::loader::library::handle(inner, response);
         return;
     }
     on_run_response(inner, slot, response);
@@ -290,7 +290,7 @@ fn on_message(inner: &Rc<Inner>, slot: Slot, data: JsValue) {
 /// Run worker `slot` does not hold the take of method `index`'s run: it is handed the take
 /// again and asked once more; failed the second time.
 pub(super) fn not_loaded(inner: &Rc<Inner>, slot: Slot, index: usize, message: String) {
-    let first = super::first_time(inner, index, |r| &mut r.retried);
+    let first = crate::app::loader::first_time(inner, index, |r| &mut r.retried);
     if !first {
         return fail_run(inner, index, message);
     }

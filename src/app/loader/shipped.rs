@@ -2,10 +2,10 @@
 //! the page fetches it once (with progress), hands it over and asks again; a new worker gets every
 //! file fetched so far.
 
-use super::super::model_files;
-use super::super::RunState;
-use super::post;
-use super::{annotate, fail_run, next_id, run_index, send_run, Inner};
+use crate::app::loader::post;
+use crate::app::loader::{annotate, fail_run, next_id, run_index, send_run, Inner};
+use crate::app::models::model_files;
+use crate::app::state::RunState;
 use crate::protocol::{Request, RunId};
 use leptos::prelude::*;
 use std::rc::{Rc, Weak};

@@ -3,20 +3,20 @@
 //! ([`ask_before_opening`]), the user's models given to every new worker (those still being
 //! restored from the browser too), forgetting one (`forget_model`), and the answers to each — for
 //! every method that declares [`crate::method::Supervision`], by its slot, never by name. A training's
-//! end is also told to the library's supervised routes (k-NN, DT-FCN) (`super::library::model_trained`), which waits for it.
+//! end is also told to the library's supervised routes (k-NN, DT-FCN) (`crate::app::loader::library::model_trained`), which waits for it.
 
-use super::super::browser_models;
-use super::super::fetch::blob_bytes;
-use super::super::now_ms;
-use super::super::supervised::{
+use crate::app::dom::now_ms;
+use crate::app::loader::{next_id, post, post_buffers, replace_worker, start_run, Inner, Loader};
+use crate::app::models::browser_models;
+use crate::app::models::kept_models::{forgotten_message, model_after_forget, switch_question, SwitchQuestion};
+use crate::app::models::supervised::{
     describe, LoadStatus, PendingChoice, PendingModel, Supervised, TrainAsk, TrainState, TrainedFile, Unloadable,
     UserModel,
 };
-use super::super::MethodSlot;
-use super::{next_id, post, post_buffers, replace_worker, start_run, Inner, Loader};
+use crate::app::state::MethodSlot;
+use crate::app::take::fetch::blob_bytes;
 use crate::method::supervised::{ModelInfo, StepReport, TrainingReport};
 use crate::protocol::{FailureKind, Request, Response, RunId, TakeId};
-use crate::view::kept_models::{forgotten_message, model_after_forget, switch_question, SwitchQuestion};
 use leptos::prelude::*;
 use std::rc::Rc;
 use std::sync::Arc;
@@ -412,7 +412,7 @@ pub(super) fn train_slot(inner: &Inner, run: RunId) -> Option<&'static Supervise
 /// the status line); the models stay.
 pub(super) fn fail_train_job(inner: &Rc<Inner>, message: String, param: Option<String>) {
     let Some(job) = inner.train_job.borrow_mut().take() else { return };
-    super::library::model_trained(inner, job.index, Err(message.clone()));
+    crate::app::loader::library::model_trained(inner, job.index, Err(message.clone()));
     let Some(s) = supervised(inner, job.index) else { return };
     match param.filter(|p| s.has_input(p)) {
         Some(input) => {
@@ -456,7 +456,7 @@ pub(super) fn on_trained(inner: &Rc<Inner>, model: ModelInfo, report: TrainingRe
     let bytes = Arc::new(bytes);
     let name = model.name.clone();
     // the main worker trained and holds it; the pool's run workers are given it too
-    super::pool::share_model(
+    crate::app::loader::pool::share_model(
         inner,
         &Request::UseModel {
             take: job.take_id,
@@ -467,13 +467,13 @@ pub(super) fn on_trained(inner: &Rc<Inner>, model: ModelInfo, report: TrainingRe
         },
     );
     // the library's supervised routes (k-NN, DT-FCN) trained this model (stored in the worker): it labels the takes now
-    super::library::model_trained(inner, job.index, Ok(name.clone()));
+    crate::app::loader::library::model_trained(inner, job.index, Ok(name.clone()));
     s.trained.set(Some(TrainedFile { name: name.clone(), bytes: bytes.clone() }));
     let shown = inner.shown.borrow().as_ref().map(|t| (t.id, t.name.clone()));
     // a take being opened is the one the user turned to (the answer to the take switch's
     // question may stop a training just before the take it opens is on screen)
     let opening = inner.state.load.with_untracked(|l| match l {
-        super::super::LoadState::Loading { name, .. } if !name.is_empty() => Some(name.clone()),
+        crate::app::state::LoadState::Loading { name, .. } if !name.is_empty() => Some(name.clone()),
         _ => None,
     });
     let now = match (opening, shown) {

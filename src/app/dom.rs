@@ -1,0 +1,27 @@
+//! What every part of the page asks of the browser: `<body>`'s data attributes (where the page
+//! stands, as the end-to-end tests read it), the page's clock and a JS error's message.
+
+use wasm_bindgen::prelude::*;
+use wasm_bindgen::JsCast;
+
+pub(crate) fn set_body_data(attributes: &[(&str, &str)]) {
+    if let Some(body) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.body()) {
+        for (name, value) in attributes {
+            let _ = body.set_attribute(name, value);
+        }
+    }
+}
+
+/// Milliseconds since the page started.
+pub(crate) fn now_ms() -> f64 {
+    web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now())
+}
+
+/// The message of a JS error (or the value itself, as text).
+pub(crate) fn js_message(value: &JsValue) -> String {
+    value
+        .dyn_ref::<js_sys::Error>()
+        .map(|e| String::from(e.message()))
+        .or_else(|| value.as_string())
+        .unwrap_or_else(|| format!("{value:?}"))
+}

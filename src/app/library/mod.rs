@@ -1,0 +1,11 @@
+//! The library of takes: several files segmented one after another, their clusters, and labels carried between them.
+//!
+//! Its pure part (natively tested) beside its components (built with the `web` feature).
+
+pub mod carry;
+pub mod takes;
+
+#[cfg(feature = "web")]
+pub mod panel;
+#[cfg(feature = "web")]
+pub mod state;

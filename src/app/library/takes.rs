@@ -1,0 +1,693 @@
+//! The library of takes on the page (issue 26), as plain data: which files dropped together make
+//! which takes ([`group_files`]), the queue the worker works through one take after another
+//! ([`Queue`]: queued → running → done / failed, cancel drops the rest), the whole library's labels
+//! as one label CSV ([`library_csv`]), the names the user gives the shared clusters and the labels
+//! they put on every take's segments ([`ClusterNames`]), the shared clusters mapped to the
+//! library's takes for the timeline's row, the playlists and the clips ([`Shared`]), the playlist of
+//! a cluster's occurrences across takes ([`Playlist`]), and the clips' folder and file names in
+//! one zip ([`folder_name`], [`make_unique`]). The page (`crate::app::library::panel`) keeps the files and
+//! draws; everything it decides is here, tested natively.
+
+use crate::labels::LabelRow;
+use crate::segment::Segmentation;
+
+/// One take among files dropped or picked together: its motion file and, for a CMU AMC motion,
+/// its ASF skeleton (indices into the names given).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TakeFiles {
+    pub motion: usize,
+    pub skeleton: Option<usize>,
+}
+
+/// The lower-case extension of a file name (empty when it has none).
+fn extension(name: &str) -> String {
+    name.rsplit_once('.').map(|(_, e)| e.to_ascii_lowercase()).unwrap_or_default()
+}
+
+/// `takes` (of files `names` with `sizes` in bytes, by index) without those whose motion or skeleton file is larger
+/// than the page reads of one take ([`crate::app::embed::url_params::MAX_FILE_BYTES`], 512 MiB): a library holds no file a
+/// take dropped alone could not be, and each left out is named with why.
+pub fn within_cap(takes: Vec<TakeFiles>, names: &[&str], sizes: &[f64]) -> (Vec<TakeFiles>, Vec<String>) {
+    let cap = crate::app::embed::url_params::MAX_FILE_BYTES as f64;
+    let mut kept = Vec::new();
+    let mut refused = Vec::new();
+    for t in takes {
+        let big = std::iter::once(t.motion).chain(t.skeleton).find(|&i| sizes.get(i).is_some_and(|&b| b > cap));
+        match big {
+            Some(i) => refused.push(format!(
+                "{}: {:.0} MiB is more than the page reads of a take (512 MiB); left out of the library",
+                names[i],
+                (sizes[i] / 1024.0 / 1024.0).ceil()
+            )),
+            None => kept.push(t),
+        }
+    }
+    (kept, refused)
+}
+
+/// The takes among files dropped or picked together (a folder's files included), in name order:
+/// each `.bvh` is a take, each `.amc` a take with the `.asf` of its subject (`02_01.amc` →
+/// `02.asf`; when the files are one ASF and one AMC, those two). Other files are left out; an AMC
+/// without its skeleton is named in the second list, with why.
+pub fn group_files(names: &[&str]) -> (Vec<TakeFiles>, Vec<String>) {
+    let base = |name: &str| name.rsplit(['/', '\\']).next().unwrap_or(name).to_string();
+    let asfs: Vec<usize> = (0..names.len()).filter(|&i| extension(names[i]) == "asf").collect();
+    let amcs = names.iter().filter(|n| extension(n) == "amc").count();
+    let mut order: Vec<usize> = (0..names.len()).collect();
+    order.sort_by(|&a, &b| names[a].cmp(names[b]));
+    let mut takes = Vec::new();
+    let mut refused = Vec::new();
+    for i in order {
+        match extension(names[i]).as_str() {
+            "bvh" => takes.push(TakeFiles { motion: i, skeleton: None }),
+            "amc" => {
+                let stem = base(names[i]);
+                let subject = crate::clips::stem_of(&stem).split('_').next().unwrap_or_default().to_ascii_lowercase();
+                let skeleton = asfs
+                    .iter()
+                    .copied()
+                    .find(|&a| crate::clips::stem_of(names[a]).to_ascii_lowercase() == subject)
+                    .or_else(|| (asfs.len() == 1 && amcs == 1).then(|| asfs[0]));
+                match skeleton {
+                    Some(asf) => takes.push(TakeFiles { motion: i, skeleton: Some(asf) }),
+                    None => refused
+                        .push(format!("{stem}: an AMC motion without its skeleton (add {subject}.asf to the files)")),
+                }
+            }
+            _ => {}
+        }
+    }
+    (takes, refused)
+}
+
+/// Where a take of the library stands.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TakeStatus {
+    /// Waiting for its turn in the worker.
+    Queued,
+    /// The worker is at `stage`, `fraction` (0..1) done.
+    Running { stage: String, fraction: f64 },
+    /// Segmented: how many segments and (per-take) clusters it has.
+    Done { segments: usize, clusters: usize },
+    /// The worker refused it (the message says why, naming the file).
+    Failed(String),
+    /// The user cancelled the queue before (or while) it ran.
+    Cancelled,
+}
+
+impl TakeStatus {
+    /// The word `data-status` carries.
+    pub fn word(&self) -> &'static str {
+        match self {
+            TakeStatus::Queued => "queued",
+            TakeStatus::Running { .. } => "running",
+            TakeStatus::Done { .. } => "done",
+            TakeStatus::Failed(_) => "failed",
+            TakeStatus::Cancelled => "cancelled",
+        }
+    }
+
+    /// What the list shows.
+    pub fn text(&self) -> String {
+        match self {
+            TakeStatus::Queued => "queued".into(),
+            TakeStatus::Running { stage, fraction } => format!("{stage} {:.0} %", fraction * 100.0),
+            TakeStatus::Done { segments, clusters } => format!(
+                "{} · {}",
+                crate::method::counted(*segments, "segment"),
+                crate::method::counted(*clusters, "cluster")
+            ),
+            TakeStatus::Failed(message) => format!("failed: {message}"),
+            TakeStatus::Cancelled => "cancelled".into(),
+        }
+    }
+}
+
+/// A take of the library as the list shows it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Entry {
+    pub name: String,
+    pub status: TakeStatus,
+    /// Seconds, once the worker read it.
+    pub duration_s: Option<f64>,
+    /// Its frames, once the worker read it.
+    pub frames: Option<usize>,
+    /// Its segmentation (kept for the rows, the CSV and the clusters; never its frames).
+    pub segmentation: Option<Segmentation>,
+}
+
+/// The library's takes and the workers' queue over them: up to as many takes at a time as the
+/// page has workers, started in the order they were added.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Queue {
+    pub entries: Vec<Entry>,
+}
+
+impl Queue {
+    /// Adds takes named `names`, queued; returns their indices.
+    pub fn add(&mut self, names: impl IntoIterator<Item = String>) -> std::ops::Range<usize> {
+        let from = self.entries.len();
+        self.entries.extend(names.into_iter().map(|name| Entry {
+            name,
+            status: TakeStatus::Queued,
+            duration_s: None,
+            frames: None,
+            segmentation: None,
+        }));
+        from..self.entries.len()
+    }
+
+    /// The takes running now.
+    pub fn running(&self) -> usize {
+        self.entries.iter().filter(|e| matches!(e.status, TakeStatus::Running { .. })).count()
+    }
+
+    /// The take to send to a worker next: none while `at_once` run, else the first queued. It is
+    /// marked running.
+    pub fn start_next(&mut self, at_once: usize) -> Option<usize> {
+        if self.running() >= at_once {
+            return None;
+        }
+        let next = self.entries.iter().position(|e| e.status == TakeStatus::Queued)?;
+        self.entries[next].status = TakeStatus::Running { stage: "starting".into(), fraction: 0.0 };
+        Some(next)
+    }
+
+    /// The running take `i` is at `stage`, `fraction` done (ignored for a take not running).
+    pub fn progress(&mut self, i: usize, stage: &str, fraction: f64) {
+        if let Some(e) = self.entries.get_mut(i).filter(|e| matches!(e.status, TakeStatus::Running { .. })) {
+            e.status = TakeStatus::Running { stage: stage.to_string(), fraction: fraction.clamp(0.0, 1.0) };
+        }
+    }
+
+    /// Take `i` is segmented: `frames` frames over `duration_s` seconds.
+    pub fn done(&mut self, i: usize, frames: usize, duration_s: f64, segmentation: Segmentation) {
+        let Some(e) = self.entries.get_mut(i) else { return };
+        let mut clusters: Vec<usize> = segmentation.segments.iter().filter_map(|s| s.cluster).collect();
+        clusters.sort_unstable();
+        clusters.dedup();
+        e.status = TakeStatus::Done { segments: segmentation.segments.len(), clusters: clusters.len() };
+        e.frames = Some(frames);
+        e.duration_s = Some(duration_s);
+        e.segmentation = Some(segmentation);
+    }
+
+    /// Take `i` failed with `message`.
+    pub fn failed(&mut self, i: usize, message: String) {
+        if let Some(e) = self.entries.get_mut(i) {
+            e.status = TakeStatus::Failed(message);
+        }
+    }
+
+    /// Cancels the queue: the running take and every queued one are marked cancelled. Returns
+    /// whether a take was running (the page then replaces the worker, which cannot be interrupted).
+    pub fn cancel(&mut self) -> bool {
+        let running = self.running() > 0;
+        for e in &mut self.entries {
+            if matches!(e.status, TakeStatus::Queued | TakeStatus::Running { .. }) {
+                e.status = TakeStatus::Cancelled;
+            }
+        }
+        running
+    }
+
+    /// Queues the cancelled and failed takes again (the list's "Run again").
+    pub fn requeue(&mut self) {
+        for e in &mut self.entries {
+            if matches!(e.status, TakeStatus::Cancelled | TakeStatus::Failed(_)) {
+                e.status = TakeStatus::Queued;
+            }
+        }
+    }
+
+    /// Whether the queue has work left (a take queued or running).
+    pub fn busy(&self) -> bool {
+        self.entries.iter().any(|e| matches!(e.status, TakeStatus::Queued | TakeStatus::Running { .. }))
+    }
+
+    /// The takes segmented, with their segmentations, in the list's order.
+    pub fn segmented(&self) -> Vec<(usize, &Segmentation)> {
+        self.entries.iter().enumerate().filter_map(|(i, e)| e.segmentation.as_ref().map(|s| (i, s))).collect()
+    }
+
+    /// One line for the whole list: how many takes are done, running, queued, failed.
+    pub fn summary(&self) -> String {
+        let count = |word: &str| self.entries.iter().filter(|e| e.status.word() == word).count();
+        let mut parts =
+            vec![format!("{} of {} done", count("done"), crate::method::counted(self.entries.len(), "take"))];
+        for word in ["running", "queued", "failed", "cancelled"] {
+            let n = count(word);
+            if n > 0 {
+                parts.push(format!("{n} {word}"));
+            }
+        }
+        parts.join(" · ")
+    }
+}
+
+/// The whole library's labels as one label CSV ([`crate::labels`]): every segment of every
+/// take's segmentation, take after take in the order given, each row naming its take's file.
+pub fn library_csv<'a>(segmentations: impl IntoIterator<Item = &'a Segmentation>) -> String {
+    let rows: Vec<LabelRow> =
+        segmentations.into_iter().flat_map(|s| crate::labels::from_segmentation(s, crate::clips::Which::All)).collect();
+    crate::labels::to_csv(&rows)
+}
+
+/// The names the user gave the shared clusters (the others keep the core's `C<id>`:
+/// [`crate::library::SharedClusters`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ClusterNames(std::collections::BTreeMap<usize, String>);
+
+impl ClusterNames {
+    /// The name of cluster `id`.
+    pub fn name(&self, id: usize) -> String {
+        self.0.get(&id).cloned().unwrap_or_else(|| format!("C{id}"))
+    }
+
+    /// Renames cluster `id` (blank text brings back its default name; the text is trimmed and kept
+    /// to one line).
+    pub fn rename(&mut self, id: usize, name: &str) {
+        let name: String = name.split_whitespace().collect::<Vec<_>>().join(" ");
+        if name.is_empty() {
+            self.0.remove(&id);
+        } else {
+            self.0.insert(id, name);
+        }
+    }
+
+    /// `segmentation` with every clustered segment labelled by its cluster's name (the labels every
+    /// take shows and exports).
+    pub fn label(&self, segmentation: &Segmentation) -> Segmentation {
+        let mut labelled = segmentation.clone();
+        for s in &mut labelled.segments {
+            if let Some(id) = s.cluster {
+                s.label = self.name(id);
+            }
+        }
+        labelled
+    }
+}
+
+/// One occurrence of a cluster: take `take` (the library's index), file frames `start..=end`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Spot {
+    pub take: usize,
+    pub start: usize,
+    pub end: usize,
+}
+
+/// A cluster's occurrences played one after another across takes: in take order, then frames.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Playlist {
+    pub cluster: usize,
+    spots: Vec<Spot>,
+    at: usize,
+}
+
+impl Playlist {
+    /// The playlist of `cluster`'s occurrences (`None` when it has none).
+    pub fn new(cluster: usize, mut spots: Vec<Spot>) -> Option<Playlist> {
+        spots.sort_by_key(|s| (s.take, s.start, s.end));
+        spots.dedup();
+        (!spots.is_empty()).then_some(Playlist { cluster, spots, at: 0 })
+    }
+
+    /// The occurrence playing.
+    pub fn current(&self) -> Spot {
+        self.spots[self.at]
+    }
+
+    /// Its place: (1-based index, count).
+    pub fn position(&self) -> (usize, usize) {
+        (self.at + 1, self.spots.len())
+    }
+
+    /// Moves to the next occurrence (after the last: the first again) and gives it.
+    pub fn next(&mut self) -> Spot {
+        self.at = (self.at + 1) % self.spots.len();
+        self.current()
+    }
+
+    /// Moves to the previous occurrence (before the first: the last) and gives it.
+    pub fn previous(&mut self) -> Spot {
+        self.at = (self.at + self.spots.len() - 1) % self.spots.len();
+        self.current()
+    }
+
+    /// The takes the playlist goes through, each once, in order.
+    pub fn takes(&self) -> Vec<usize> {
+        let mut takes: Vec<usize> = self.spots.iter().map(|s| s.take).collect();
+        takes.dedup();
+        takes
+    }
+
+    /// Every occurrence, in playing order.
+    pub fn spots(&self) -> &[Spot] {
+        &self.spots
+    }
+}
+
+/// What the status line says while `playlist` plays: which occurrence of how many, in which take.
+pub fn playing_text(playlist: &Playlist, cluster_name: &str, take_name: &str) -> String {
+    let (i, n) = playlist.position();
+    let s = playlist.current();
+    format!("{cluster_name}: occurrence {i} of {n} — {take_name}, frames {}–{}", s.start, s.end)
+}
+
+/// The library's shared clusters as the page keeps them: the core's answer
+/// ([`crate::library::SharedClusters`], its takes in the order sent) and, for each of its takes,
+/// the library's index of that take.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Shared {
+    pub clusters: crate::library::SharedClusters,
+    pub takes: Vec<usize>,
+}
+
+impl Shared {
+    /// Take `library`'s segmentation with the shared cluster ids, if it was matched.
+    pub fn segmentation(&self, library: usize) -> Option<&Segmentation> {
+        let k = self.takes.iter().position(|&t| t == library)?;
+        self.clusters.takes.get(k)
+    }
+
+    /// The playlist of cluster `id`'s occurrences, as library takes.
+    pub fn playlist(&self, id: usize) -> Option<Playlist> {
+        let cluster = self.clusters.clusters.iter().find(|c| c.id == id)?;
+        let spots = cluster
+            .occurrences
+            .iter()
+            .filter_map(|o| Some(Spot { take: *self.takes.get(o.take)?, start: o.start, end: o.end }))
+            .collect();
+        Playlist::new(id, spots)
+    }
+
+    /// The clusters in the order the list shows them: those found in more takes first, then the
+    /// longer in total, then by id.
+    pub fn listed(&self) -> Vec<&crate::library::SharedCluster> {
+        let mut listed: Vec<&crate::library::SharedCluster> = self.clusters.clusters.iter().collect();
+        listed.sort_by(|a, b| b.takes.cmp(&a.takes).then(b.seconds.total_cmp(&a.seconds)).then(a.id.cmp(&b.id)));
+        listed
+    }
+
+    /// What to cut for the clips of cluster `only` (every cluster with `None`): per library take
+    /// that has some, a segmentation of just those occurrences, each labelled with its cluster's
+    /// name (the zip's folder), in take order.
+    pub fn clips(&self, names: &ClusterNames, only: Option<usize>) -> Vec<(usize, Segmentation)> {
+        let mut per_take: Vec<(usize, Segmentation)> = Vec::new();
+        for c in self.clusters.clusters.iter().filter(|c| only.is_none_or(|id| c.id == id)) {
+            for o in &c.occurrences {
+                let (Some(&library), Some(take)) = (self.takes.get(o.take), self.clusters.takes.get(o.take)) else {
+                    continue;
+                };
+                let Some(segment) = take.segments.get(o.segment) else { continue };
+                let mut segment = segment.clone();
+                segment.label = names.name(c.id);
+                let at = match per_take.iter().position(|(t, _)| *t == library) {
+                    Some(at) => at,
+                    None => {
+                        per_take.push((library, Segmentation { segments: Vec::new(), ..take.clone() }));
+                        per_take.len() - 1
+                    }
+                };
+                per_take[at].1.segments.push(segment);
+            }
+        }
+        per_take.sort_by_key(|(t, _)| *t);
+        for (_, s) in &mut per_take {
+            s.segments.sort_by_key(|x| (x.start, x.end));
+        }
+        per_take
+    }
+
+    /// A line about the clusters: how many, how many found in more than one take.
+    pub fn summary(&self) -> String {
+        let all = self.clusters.clusters.len();
+        let shared = self.clusters.shared().count();
+        format!(
+            "{} across {}: {shared} found in more than one take",
+            crate::method::counted(all, "cluster"),
+            crate::method::counted(self.takes.len(), "take")
+        )
+    }
+}
+
+/// A zip folder's name for a cluster's clips: its name's letters, digits, `-` and `_`, the rest
+/// `_` (`cluster` when nothing is left).
+pub fn folder_name(label: &str) -> String {
+    let safe: String =
+        label.chars().map(|c| if c.is_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).take(60).collect();
+    if safe.trim_matches('_').is_empty() {
+        "cluster".to_string()
+    } else {
+        safe
+    }
+}
+
+/// Makes file names unique: a name met before gets `-2`, `-3`, … before its extension (two takes
+/// of the same name in different folders give clips of the same name).
+pub fn make_unique(names: &mut [String]) {
+    let mut seen = std::collections::HashSet::new();
+    for name in names.iter_mut() {
+        if seen.insert(name.clone()) {
+            continue;
+        }
+        let base = name.rfind('/').map_or(0, |i| i + 1);
+        let (stem, ext) = match name[base..].rfind('.') {
+            Some(dot) if dot > 0 => (name[..base + dot].to_string(), name[base + dot..].to_string()),
+            _ => (name.clone(), String::new()),
+        };
+        let mut n = 2;
+        while !seen.insert(format!("{stem}-{n}{ext}")) {
+            n += 1;
+        }
+        *name = format!("{stem}-{n}{ext}");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A file past the page's cap of one take is left out of the library, named with its size, whether it is the
+    /// motion or the skeleton of its take; the rest are kept, in order.
+    #[test]
+    fn files_past_a_takes_cap_are_left_out_of_the_library() {
+        let names = ["a.bvh", "big.bvh", "02.asf", "02_01.amc", "c.bvh"];
+        let cap = crate::app::embed::url_params::MAX_FILE_BYTES as f64;
+        let (takes, _) = group_files(&names);
+        assert_eq!(takes.len(), 4);
+        let (kept, refused) = within_cap(takes.clone(), &names, &[10.0, cap + 1.0, 2.0 * cap, 5.0, cap]);
+        let kept: Vec<&str> = kept.iter().map(|t| names[t.motion]).collect();
+        assert_eq!(kept, ["a.bvh", "c.bvh"], "a file of exactly the cap is read");
+        assert_eq!(
+            refused,
+            [
+                "02.asf: 1024 MiB is more than the page reads of a take (512 MiB); left out of the library",
+                "big.bvh: 513 MiB is more than the page reads of a take (512 MiB); left out of the library",
+            ],
+            "in the takes' order (by name)"
+        );
+        let (all, none) = within_cap(takes, &names, &[1.0; 5]);
+        assert_eq!((all.len(), none.len()), (4, 0));
+    }
+    use crate::segment::{Level, Segment};
+
+    fn seg(file: &str, frames: usize, spans: &[(usize, usize, Option<usize>)]) -> Segmentation {
+        Segmentation {
+            file: file.into(),
+            method: "sssm".into(),
+            fps: 30.0,
+            frames,
+            segments: spans
+                .iter()
+                .map(|&(start, end, cluster)| Segment {
+                    start,
+                    end,
+                    label: String::new(),
+                    level: Level::Action,
+                    cluster,
+                    score: None,
+                    mirror_of: None,
+                    effort: None,
+                })
+                .collect(),
+            params: serde_json::Value::Null,
+        }
+    }
+
+    #[test]
+    fn files_dropped_together_group_into_takes_with_their_skeletons() {
+        let names = ["b.bvh", "02_02.amc", "notes.txt", "02.asf", "a.BVH", "02_01.amc", "35_01.amc"];
+        let (takes, refused) = group_files(&names);
+        let motions: Vec<&str> = takes.iter().map(|t| names[t.motion]).collect();
+        assert_eq!(motions, ["02_01.amc", "02_02.amc", "a.BVH", "b.bvh"]);
+        assert_eq!(takes[0].skeleton, Some(3));
+        assert_eq!(takes[1].skeleton, Some(3));
+        assert_eq!(takes[2].skeleton, None);
+        assert_eq!(refused, ["35_01.amc: an AMC motion without its skeleton (add 35.asf to the files)"]);
+        // a folder's paths: the subject's ASF is found by its stem
+        let (takes, refused) = group_files(&["cmu/35.asf", "cmu/35_01.amc", "cmu/02.asf"]);
+        assert_eq!(takes, [TakeFiles { motion: 1, skeleton: Some(0) }]);
+        assert!(refused.is_empty());
+        // one ASF and one AMC go together, whatever their names
+        let (takes, _) = group_files(&["skel.asf", "walk.amc"]);
+        assert_eq!(takes, [TakeFiles { motion: 1, skeleton: Some(0) }]);
+    }
+
+    #[test]
+    fn the_queue_runs_its_takes_in_order_as_many_at_once_as_asked_and_cancel_drops_the_rest() {
+        let mut q = Queue::default();
+        assert_eq!(q.add(["a.bvh".to_string(), "b.bvh".into(), "c.bvh".into()]), 0..3);
+        assert_eq!(q.start_next(1), Some(0));
+        assert_eq!(q.start_next(1), None, "one take at a time when one worker runs them");
+        q.progress(0, "segmenting", 0.5);
+        assert_eq!(q.entries[0].status.text(), "segmenting 50 %");
+        q.progress(1, "segmenting", 0.5);
+        assert_eq!(q.entries[1].status, TakeStatus::Queued, "progress of a take not running is ignored");
+        q.done(0, 120, 4.0, seg("a.bvh", 120, &[(0, 39, Some(0)), (40, 79, Some(1)), (80, 119, Some(0))]));
+        assert_eq!(q.entries[0].status, TakeStatus::Done { segments: 3, clusters: 2 });
+        assert_eq!(q.entries[0].status.text(), "3 segments · 2 clusters");
+        assert_eq!((q.entries[0].frames, q.entries[0].duration_s), (Some(120), Some(4.0)));
+        assert_eq!(q.start_next(1), Some(1));
+        q.failed(1, "b.bvh line 3: not a BVH".into());
+        assert_eq!(q.entries[1].status.text(), "failed: b.bvh line 3: not a BVH");
+        assert_eq!(q.start_next(1), Some(2));
+        q.add(["d.bvh".to_string()]);
+        assert_eq!(q.summary(), "1 of 4 takes done · 1 running · 1 queued · 1 failed");
+        assert!(q.busy());
+        assert!(q.cancel(), "a take was running");
+        let words: Vec<&str> = q.entries.iter().map(|e| e.status.word()).collect();
+        assert_eq!(words, ["done", "failed", "cancelled", "cancelled"]);
+        assert!(!q.busy());
+        assert_eq!(q.start_next(1), None);
+        assert!(!q.cancel(), "nothing runs any more");
+        q.requeue();
+        let words: Vec<&str> = q.entries.iter().map(|e| e.status.word()).collect();
+        assert_eq!(words, ["done", "queued", "queued", "queued"]);
+        assert_eq!(q.start_next(1), Some(1));
+        assert_eq!(q.segmented().len(), 1);
+        // two workers: two takes at once, in order; the third when one of them is done
+        assert_eq!(q.start_next(2), Some(2));
+        assert_eq!(q.start_next(2), None, "two running");
+        assert_eq!(q.running(), 2);
+        q.done(2, 10, 1.0, seg("c.bvh", 10, &[(0, 9, Some(0))]));
+        assert_eq!(q.start_next(2), Some(3));
+        assert_eq!(q.summary(), "2 of 4 takes done · 2 running");
+    }
+
+    #[test]
+    fn the_library_csv_holds_every_take_s_segments_in_one_label_csv() {
+        let names = ClusterNames::default();
+        let a = names.label(&seg("a.bvh", 100, &[(0, 49, Some(0)), (50, 99, Some(1))]));
+        let b = names.label(&seg("b.bvh", 60, &[(0, 59, Some(1))]));
+        let csv = library_csv([&a, &b]);
+        assert_eq!(csv, "file,start_frame,end_frame,label\na.bvh,0,49,C0\na.bvh,50,99,C1\nb.bvh,0,59,C1\n");
+        let rows = crate::labels::read_csv(&csv, "library.csv").unwrap();
+        assert_eq!(rows.len(), 3);
+        assert_eq!(rows[2].file, "b.bvh");
+    }
+
+    #[test]
+    fn renaming_a_cluster_once_labels_its_segments_in_every_take() {
+        let mut names = ClusterNames::default();
+        names.rename(1, "  walk \n cycle ");
+        assert_eq!(names.name(1), "walk cycle");
+        assert_eq!(names.name(0), "C0");
+        let takes = [seg("a.bvh", 100, &[(0, 49, Some(0)), (50, 99, Some(1))]), seg("b.bvh", 60, &[(0, 59, Some(1))])];
+        let labelled: Vec<Segmentation> = takes.iter().map(|t| names.label(t)).collect();
+        assert_eq!(labelled[0].segments[1].label, "walk cycle");
+        assert_eq!(labelled[1].segments[0].label, "walk cycle");
+        assert_eq!(labelled[0].segments[0].label, "C0");
+        assert!(library_csv(&labelled).contains("b.bvh,0,59,walk cycle"));
+        names.rename(1, "   ");
+        assert_eq!(names.name(1), "C1", "a blank name brings the default back");
+    }
+
+    #[test]
+    fn clip_folders_are_safe_names_and_clip_files_unique() {
+        assert_eq!(folder_name("walk cycle/2"), "walk_cycle_2");
+        assert_eq!(folder_name(" ?? "), "cluster");
+        let mut names = vec![
+            "a/t_01_x.bvh".to_string(),
+            "a/t_01_x.bvh".into(),
+            "a/t_01_x.bvh".into(),
+            "b/README".into(),
+            "b/README".into(),
+        ];
+        make_unique(&mut names);
+        assert_eq!(names, ["a/t_01_x.bvh", "a/t_01_x-2.bvh", "a/t_01_x-3.bvh", "b/README", "b/README-2"]);
+    }
+
+    /// Two takes' shared clusters: C0 in both, C1 in the second only.
+    fn shared() -> Shared {
+        use crate::library::{Occurrence, SharedCluster, SharedClusters};
+        let a = seg("a.bvh", 100, &[(0, 49, Some(0)), (50, 99, None)]);
+        let b = seg("b.bvh", 90, &[(0, 29, Some(1)), (30, 59, Some(0)), (60, 89, Some(0))]);
+        let occ = |take, segment, start, end| Occurrence { take, segment, start, end };
+        Shared {
+            clusters: SharedClusters {
+                takes: vec![a, b],
+                clusters: vec![
+                    SharedCluster {
+                        id: 0,
+                        occurrences: vec![occ(0, 0, 0, 49), occ(1, 1, 30, 59), occ(1, 2, 60, 89)],
+                        seconds: 11.0 / 3.0,
+                        takes: 2,
+                    },
+                    SharedCluster { id: 1, occurrences: vec![occ(1, 0, 0, 29)], seconds: 1.0, takes: 1 },
+                ],
+                cross_links: 2,
+            },
+            // the library's takes 3 and 5 were matched (4 failed)
+            takes: vec![3, 5],
+        }
+    }
+
+    #[test]
+    fn shared_clusters_map_to_library_takes_for_rows_playlists_lists_and_clips() {
+        let s = shared();
+        assert_eq!(s.segmentation(5).unwrap().file, "b.bvh");
+        assert!(s.segmentation(4).is_none());
+        let mut p = s.playlist(0).unwrap();
+        assert_eq!(p.current(), Spot { take: 3, start: 0, end: 49 });
+        assert_eq!(p.next(), Spot { take: 5, start: 30, end: 59 });
+        assert_eq!(p.takes(), [3, 5]);
+        assert!(s.playlist(7).is_none());
+        assert_eq!(s.listed().iter().map(|c| c.id).collect::<Vec<_>>(), [0, 1]);
+        assert_eq!(s.summary(), "2 clusters across 2 takes: 1 found in more than one take");
+        let mut names = ClusterNames::default();
+        names.rename(0, "walk");
+        let clips = s.clips(&names, Some(0));
+        assert_eq!(
+            clips.iter().map(|(t, c)| (*t, c.file.as_str(), c.segments.len())).collect::<Vec<_>>(),
+            [(3, "a.bvh", 1), (5, "b.bvh", 2)]
+        );
+        assert!(clips.iter().flat_map(|(_, c)| &c.segments).all(|x| x.label == "walk"));
+        let every = s.clips(&names, None);
+        assert_eq!(every[1].1.segments.iter().map(|x| x.label.as_str()).collect::<Vec<_>>(), ["C1", "walk", "walk"]);
+        // the CSV of the library: the shared segmentations, named
+        let csv = library_csv(s.clusters.takes.iter().map(|t| names.label(t)).collect::<Vec<_>>().iter());
+        assert!(csv.contains("b.bvh,30,59,walk") && csv.contains("b.bvh,0,29,C1"), "{csv}");
+    }
+
+    #[test]
+    fn a_cluster_s_playlist_goes_through_its_occurrences_across_takes_and_wraps() {
+        assert!(Playlist::new(3, Vec::new()).is_none());
+        let spots = vec![
+            Spot { take: 2, start: 10, end: 20 },
+            Spot { take: 0, start: 50, end: 60 },
+            Spot { take: 0, start: 5, end: 9 },
+            Spot { take: 0, start: 5, end: 9 },
+        ];
+        let mut p = Playlist::new(3, spots).unwrap();
+        assert_eq!(p.position(), (1, 3));
+        assert_eq!(p.current(), Spot { take: 0, start: 5, end: 9 });
+        assert_eq!(p.takes(), [0, 2]);
+        assert_eq!(p.next(), Spot { take: 0, start: 50, end: 60 });
+        assert_eq!(p.next(), Spot { take: 2, start: 10, end: 20 });
+        assert_eq!(playing_text(&p, "jump", "c.bvh"), "jump: occurrence 3 of 3 — c.bvh, frames 10–20");
+        assert_eq!(p.next(), Spot { take: 0, start: 5, end: 9 }, "after the last, the first");
+        assert_eq!(p.previous(), Spot { take: 2, start: 10, end: 20 }, "before the first, the last");
+        assert_eq!(p.spots().len(), 3);
+    }
+}

@@ -1,0 +1,5 @@
+//! One generic panel per registered method, built from the registry: its form, its run, its exports.
+//! (Its row names and segment texts are the timeline's pure part: [`crate::app::timeline`].)
+
+#[cfg(feature = "web")]
+pub mod panel;

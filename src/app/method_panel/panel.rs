@@ -1,0 +1,1022 @@
+//! One generic panel per registered method, built from the registry
+//! ([`crate::methods::registry`]): nothing here knows any method.
+//!
+//! * [`MethodPanel`] — `#<name>-panel`: heading with the paper, the result's one-line summary
+//!   `#<name>-counts`, `#<name>-export` (saves the segmentation JSON as `<take>_<name>.json`),
+//!   the parameter form `#<name>-params` generated from the method's [`ParamSpec`]s (one field
+//!   `#<name>-<param>` each; the basic ones shown, the others under "Advanced"; every field two grid
+//!   cells, name | control and unit), `#<name>-couplings` (a coupled parameter the form breaks —
+//!   [`ParamSpec::at_most`], the SSSM's primitive radius above its radius — said with a one-click
+//!   `#<name>-adjust-<param>`; Run lowers it and says so in `#<name>-adjusted`), `#<name>-run`,
+//!   `#<name>-cancel` and `#<name>-progress` while it runs, and every picture the method draws as
+//!   a canvas `#<name>-<picture>` with its caption.
+//! * [`MethodRows`] — under the motion image, on the timeline's time axis, for every method with
+//!   a result, each row labelled at its left with the method and level ("SSSM · actions"):
+//!   `#row-<name>-actions` (actions coloured by kind, transitions hatched grey) and
+//!   `#row-<name>-primitives` (coloured by cluster, mirror-pair clusters in one hue at two
+//!   lightnesses). Only the segments in the timeline's window are in the DOM (at most about
+//!   2 × [`MAX_SEGMENTS_PER_ROW`] per row), placed on the window. Every segment carries
+//!   `data-start`/`data-end` (file frames) and its tooltip text as `aria-label`; clicking one
+//!   selects it (`ms-seg--selected`) and plays it, looped while Loop is on, else once to its end.
+//!   A labelling method (one DT-FCN, k-NN) colours each segment by its class (`cluster`: the
+//!   colour the run echoes in `params.colours`, else the class colour of every model file,
+//!   `palette::class_colour`; `data-colour`), lighter the lower its mean confidence (`score`,
+//!   `data-score`), and hatches `unknown` segments grey (`ms-seg--unknown`); its row is labelled
+//!   "<method> · labels". Labels are always text, never markup: the label when it fits the
+//!   segment, else a clean abbreviation or nothing ([`crate::app::timeline::label_fit`]), the whole label in
+//!   `data-label` and the tooltip.
+
+use crate::app::effort::bars::EffortLane;
+use crate::app::loader::Loader;
+use crate::app::models::row_model::RowModel;
+use crate::app::player::motion_image::{download, stem};
+use crate::app::state::AppState;
+use crate::app::state::MethodSlot;
+use crate::app::state::RunState;
+use crate::app::state::Selection;
+use crate::app::timeline::window::visible_segments;
+use crate::clips::Which;
+use crate::method::{form, ParamKind, ParamSpec, Picture};
+use crate::protocol::MethodView;
+use crate::segment::palette::{action_colour, class_colour, cluster_colour};
+use crate::segment::{Level, Segment};
+use leptos::ev::{MouseEvent, PointerEvent};
+use leptos::html::Canvas;
+use leptos::prelude::*;
+use std::sync::Arc;
+use wasm_bindgen::{Clamped, JsCast, JsValue};
+use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement};
+
+/// Tooltip of a segment: label, frames (1-based as on the frame counter) and seconds.
+fn tooltip(s: &Segment, fps: f64) -> String {
+    format!(
+        "{} · frames {}–{} · {:.2}–{:.2} s",
+        s.label,
+        s.start + 1,
+        s.end + 1,
+        s.start as f64 / fps,
+        (s.end + 1) as f64 / fps
+    )
+}
+
+/// The name of a parameter in words, without its unit (`horizon_s` in seconds: "horizon").
+fn param_words(spec: &ParamSpec) -> String {
+    let name = match spec.unit.as_deref() {
+        Some(unit) => spec.name.strip_suffix(&format!("_{unit}")).unwrap_or(&spec.name),
+        None => &spec.name,
+    };
+    name.replace('_', " ")
+}
+
+/// The label of a parameter's field: its name in words, with its unit ("horizon (s)").
+fn field_label(spec: &ParamSpec) -> String {
+    let words = param_words(spec);
+    match &spec.unit {
+        Some(unit) => format!("{words} ({unit})"),
+        None => words,
+    }
+}
+
+/// A field's unit after its control (`None`: no unit).
+fn unit_view(spec: &ParamSpec) -> Option<AnyView> {
+    spec.unit.clone().map(|u| view! { <span class="ms-field-unit">{u}</span> }.into_any())
+}
+
+/// One form field for `spec`, bound to `value` (a choice offers `choices`); its id is
+/// `<prefix>-<param>` (`<prefix>-<param>-<option>` for each box of a set of flags). The label is
+/// two cells, the name (`.ms-field-name`) and the control with its unit (`.ms-field-control`),
+/// laid out as a grid by `www/style.css` so that no name runs into the control before it; the
+/// name with its unit is the control's accessible name.
+pub(crate) fn field(
+    method: &str,
+    spec: &ParamSpec,
+    value: RwSignal<String>,
+    choices: RwSignal<Vec<String>>,
+) -> AnyView {
+    let id = format!("{method}-{}", spec.name);
+    let help = spec.help.clone();
+    let label = field_label(spec);
+    let words = param_words(spec);
+    let unit = unit_view(spec);
+    match &spec.kind {
+        ParamKind::Bool => {
+            let checked = move || value.get() == "true";
+            let on_change = move |ev: leptos::ev::Event| {
+                let on = ev
+                    .target()
+                    .and_then(|t| t.dyn_into::<web_sys::HtmlInputElement>().ok())
+                    .is_some_and(|i| i.checked());
+                value.set(on.to_string());
+            };
+            view! {
+                <label title=help>
+                    <span class="ms-field-name">{words}</span>
+                    <span class="ms-field-control">
+                        <input id=id type="checkbox" aria-label=label prop:checked=checked on:change=on_change/>
+                    </span>
+                </label>
+            }
+            .into_any()
+        }
+        ParamKind::Choice { .. } => {
+            // the options may grow (a model the user loads or trains); each option says whether
+            // it is the one chosen, so a value set before its option exists still shows
+            let options = move || choice_options(choices, value);
+            view! {
+                <label title=help>
+                    <span class="ms-field-name">{words}</span>
+                    <span class="ms-field-control">
+                        <select id=id aria-label=label bind:value=value>
+                            {options}
+                        </select>
+                        {unit}
+                    </span>
+                </label>
+            }
+            .into_any()
+        }
+        ParamKind::Number { min, max } => {
+            number_input(id, (label, words, unit), help, (min.to_string(), max.to_string(), "any"), value)
+        }
+        ParamKind::Integer { min, max } => {
+            number_input(id, (label, words, unit), help, (min.to_string(), max.to_string(), "1"), value)
+        }
+        ParamKind::IntegerList { .. } => view! {
+            <label title=help>
+                <span class="ms-field-name">{words}</span>
+                <span class="ms-field-control">
+                    <input id=id type="text" size="16" aria-label=label bind:value=value/>
+                    {unit}
+                </span>
+            </label>
+        }
+        .into_any(),
+        ParamKind::Flags { options } => {
+            // one box per option; the value is the chosen options, comma-separated
+            let boxes = options
+                .iter()
+                .map(|option| {
+                    let on = {
+                        let option = option.clone();
+                        move || value.with(|v| v.split(',').any(|o| o.trim() == option))
+                    };
+                    let toggled = option.clone();
+                    let on_change = move |ev: leptos::ev::Event| {
+                        let checked = ev
+                            .target()
+                            .and_then(|t| t.dyn_into::<web_sys::HtmlInputElement>().ok())
+                            .is_some_and(|i| i.checked());
+                        value.update(|v| {
+                            let mut chosen: Vec<String> = v
+                                .split(',')
+                                .map(|o| o.trim().to_string())
+                                .filter(|o| !o.is_empty() && *o != toggled)
+                                .collect();
+                            if checked {
+                                chosen.push(toggled.clone());
+                            }
+                            *v = chosen.join(",");
+                        });
+                    };
+                    view! {
+                        <label>
+                            <input id=format!("{id}-{option}") type="checkbox" prop:checked=on on:change=on_change/>
+                            " "
+                            {option.clone()}
+                        </label>
+                    }
+                })
+                .collect_view();
+            view! {
+                <span class="ms-flags" role="group" title=help aria-label=label>
+                    <span class="ms-field-name">{words}</span>
+                    <span class="ms-field-control">{boxes}</span>
+                </span>
+            }
+            .into_any()
+        }
+    }
+}
+
+/// A parameter's field with the place for its refusal: `#<method>-<param>-error` under it holds
+/// the message of the last run refused for this parameter (an alert; the field is outlined red).
+fn checked_field(
+    slot: &'static MethodSlot,
+    spec: &ParamSpec,
+    value: RwSignal<String>,
+    choices: RwSignal<Vec<String>>,
+) -> AnyView {
+    let param = spec.name.clone();
+    let mine = move || slot.field_error.with(|e| e.as_ref().filter(|(p, _)| *p == param).map(|(_, m)| m.clone()));
+    let invalid = mine.clone();
+    let shown = mine.clone();
+    let error_id = format!("{}-{}-error", slot.info.name, spec.name);
+    view! {
+        <div class="ms-field" class:ms-field--invalid=move || invalid().is_some()>
+            {field(&slot.info.name, spec, value, choices)}
+            <span id=error_id class="ms-field-error" role="alert" hidden=move || shown().is_none()>
+                {move || mine().unwrap_or_default()}
+            </span>
+        </div>
+    }
+    .into_any()
+}
+
+/// A number field with its bounds and step (`any` or `1`) as hints; the method checks the value.
+/// `label`: its accessible name, its name in words and its unit.
+fn number_input(
+    id: String,
+    (label, words, unit): (String, String, Option<AnyView>),
+    help: String,
+    (min, max, step): (String, String, &'static str),
+    value: RwSignal<String>,
+) -> AnyView {
+    view! {
+        <label title=help>
+            <span class="ms-field-name">{words}</span>
+            <span class="ms-field-control">
+                <input id=id type="number" step=step min=min max=max size="6" aria-label=label bind:value=value/>
+                {unit}
+            </span>
+        </label>
+    }
+    .into_any()
+}
+
+/// What Run lowered of the coupled parameters `pending` (each to its limit), as the note under the form says it.
+fn lowered_message(slot: &'static MethodSlot, pending: &[form::Conflict]) -> String {
+    let said: Vec<String> = pending
+        .iter()
+        .map(|c| {
+            format!(
+                "{} lowered from {} to {}: it may not exceed {}",
+                spec_words(slot, &c.param),
+                c.value,
+                c.adjusted_text(),
+                spec_words(slot, &c.limit_param)
+            )
+        })
+        .collect();
+    format!("{} (Advanced).", said.join("; "))
+}
+
+/// Parameter `name` of `slot` in words (its own name when the method has no such parameter).
+fn spec_words(slot: &'static MethodSlot, name: &str) -> String {
+    slot.specs.iter().find(|s| s.name == name).map(param_words).unwrap_or_else(|| name.to_string())
+}
+
+/// A coupled parameter the form breaks (`c`), with the button that sets it to its limit (`adjust`).
+fn coupling_note(
+    slot: &'static MethodSlot,
+    c: form::Conflict,
+    adjust: impl Fn(&form::Conflict) + Copy + 'static,
+) -> impl IntoView {
+    let (param, limit) = (spec_words(slot, &c.param), spec_words(slot, &c.limit_param));
+    let text = format!("{param} ({}) may not exceed {limit} ({}).", c.value, c.limit);
+    let button = format!("Set {param} to {}", c.adjusted_text());
+    let id = format!("{}-adjust-{}", slot.info.name, c.param);
+    let (param_name, limit_name) = (c.param.clone(), c.limit_param.clone());
+    view! {
+        <p class="ms-coupling" data-param=param_name data-limit=limit_name>
+            {text}
+            " "
+            <button id=id class="ms-button ms-button--small" type="button" on:click=move |_| adjust(&c)>
+                {button}
+            </button>
+            " or Run lowers it."
+        </p>
+    }
+}
+
+/// Saves the method's last segmentation as JSON (with the Effort the bars under the rows computed, where the run
+/// has none of its own).
+fn export_json(state: AppState, slot: &'static MethodSlot) {
+    slot.view.with_untracked(|v| {
+        if let Some(v) = v {
+            let s = &v.segmentation;
+            let file = format!("{}_{}.json", stem(&s.file), slot.info.name);
+            let s = state.effort.fill(state, s);
+            if let Err(e) = download(s.to_json().as_bytes(), "application/json", &file) {
+                state.show_error(format!("could not save {file}: {e:?}"));
+            }
+        }
+    })
+}
+
+/// A refused parameter's field: scrolled into view and focused.
+fn focus_refused_field(slot: &'static MethodSlot) {
+    let Some((param, _)) = slot.field_error.get() else { return };
+    let id = format!("{}-{param}", slot.info.name);
+    if let Some(el) = web_sys::window()
+        .and_then(|w| w.document())
+        .and_then(|d| d.get_element_by_id(&id))
+        .and_then(|e| e.dyn_into::<web_sys::HtmlElement>().ok())
+    {
+        el.scroll_into_view_with_bool(false);
+        let _ = el.focus();
+    }
+}
+
+/// Run, Cancel (`on_cancel`) and the run's progress.
+fn run_actions(
+    state: AppState,
+    slot: &'static MethodSlot,
+    on_cancel: impl FnMut(MouseEvent) + 'static,
+) -> impl IntoView {
+    let name = slot.info.name.clone();
+    let short = slot.info.short.clone();
+    let running = move || slot.run.with(|s| matches!(s, RunState::Running { .. }));
+    let progress = move || {
+        slot.run.with(|s| match s {
+            RunState::Running { stage, fraction } => (stage.clone(), *fraction),
+            _ => (String::new(), 0.0),
+        })
+    };
+    view! {
+    <div class="ms-method-actions">
+        <button
+            id=format!("{name}-run")
+            class="ms-button"
+            type="submit"
+            disabled=move || running() || state.motion.with(Option::is_none)
+        >
+            "Run"
+        </button>
+        <button
+            id=format!("{name}-cancel")
+            class="ms-button ms-button--quiet"
+            type="button"
+            hidden=move || !running()
+            on:click=on_cancel
+        >
+            "Cancel"
+        </button>
+        <div id=format!("{name}-progress") class="ms-progress" role="status" aria-live="polite" hidden=move || !running()>
+            <progress max="1" value=move || progress().1.clamp(0.0, 1.0).to_string()></progress>
+            <span class="ms-progress-label">{move || format!("{short}: {}…", progress().0)}</span>
+        </div>
+    </div>
+    }
+}
+
+#[component]
+pub fn MethodPanel(
+    state: AppState,
+    method: &'static MethodSlot,
+    loader: Loader,
+    /// What the method adds under its form (a supervised method: model files and training).
+    extra: Option<AnyView>,
+) -> impl IntoView {
+    let slot = method;
+    let index = state.methods.iter().position(|s| std::ptr::eq(s, slot)).unwrap_or(0);
+    let name = slot.info.name.clone();
+    // coupled parameters the form breaks (the SSSM's primitive radius above its radius): offered
+    // to adjust in one click, and lowered on Run with a note saying so
+    let texts = move || slot.fields.iter().map(|f| f.get()).collect::<Vec<String>>();
+    let conflicts = Memo::new(move |_| form::conflicts(&slot.specs, &texts()));
+    let adjusted = RwSignal::new(None::<String>);
+    let adjust = move |c: &form::Conflict| {
+        if let Some(at) = slot.specs.iter().position(|s| s.name == c.param) {
+            slot.fields[at].set(c.adjusted_text());
+        }
+    };
+    let run_loader = loader.clone();
+    let on_run = move |ev: leptos::ev::SubmitEvent| {
+        ev.prevent_default();
+        let pending = conflicts.get_untracked();
+        adjusted.set((!pending.is_empty()).then(|| {
+            pending.iter().for_each(adjust);
+            lowered_message(slot, &pending)
+        }));
+        run_loader.run(index);
+        // its row stays in view on the timeline (workspace.rs)
+        crate::app::workspace::reveal_method(&slot.info.name);
+    };
+    let coupling_notes = move || conflicts.get().into_iter().map(|c| coupling_note(slot, c, adjust)).collect_view();
+    let export_loader = loader.clone();
+    let on_cancel = move |_| loader.cancel(index);
+    let on_export = move |_| export_json(state, slot);
+    let counts = move || slot.view.with(|v| v.as_ref().map(|v| v.details.summary.clone()).unwrap_or_default());
+    let exports = view! { <Exports state=state method=slot index=index loader=export_loader/> };
+    let fields = || slot.specs.iter().zip(&slot.fields).zip(&slot.choices);
+    let basic: Vec<AnyView> =
+        fields().filter(|((s, _), _)| s.basic).map(|((s, v), c)| checked_field(slot, s, *v, *c)).collect();
+    let advanced: Vec<AnyView> =
+        fields().filter(|((s, _), _)| !s.basic).map(|((s, v), c)| checked_field(slot, s, *v, *c)).collect();
+    // a refusal of an advanced parameter opens "Advanced"; the wrong field gets the focus
+    let advanced_open = move || {
+        slot.field_error.with(|e| e.as_ref().is_some_and(|(p, _)| slot.specs.iter().any(|s| !s.basic && &s.name == p)))
+    };
+    Effect::new(move |_| focus_refused_field(slot));
+    let has_advanced = !advanced.is_empty();
+    let extra = extra.map(|e| view! { <div class="ms-method-extra">{e}</div> });
+    let pictures = move || {
+        slot.view.with(|v| match v {
+            Some(v) => {
+                (0..v.details.pictures.len()).map(|k| picture_view(state, slot, v.clone(), k)).collect::<Vec<_>>()
+            }
+            None => Vec::new(),
+        })
+    };
+
+    view! {
+        <section id=format!("{name}-panel") class="ms-method" aria-label=format!("{} segmentation", slot.info.short)>
+            <div class="ms-timeline-head">
+                <h2 title=slot.info.summary.clone()>{format!("{} ({})", slot.info.short, slot.info.paper)}</h2>
+                <span id=format!("{name}-counts") class="ms-timeline-legend">{counts}</span>
+                <button
+                    id=format!("{name}-export")
+                    class="ms-button ms-button--quiet"
+                    type="button"
+                    disabled=move || slot.view.with(Option::is_none)
+                    on:click=on_export
+                >
+                    "Export JSON"
+                </button>
+            </div>
+            <form id=format!("{name}-params") class="ms-method-params" novalidate=true on:submit=on_run>
+                {basic}
+                <details class="ms-method-advanced" hidden=!has_advanced prop:open=advanced_open>
+                    <summary>"Advanced"</summary>
+                    {advanced}
+                </details>
+                <div id=format!("{name}-couplings") class="ms-couplings" role="status" aria-live="polite">
+                    {coupling_notes}
+                    <p id=format!("{name}-adjusted") class="ms-coupling ms-coupling--done" hidden=move || adjusted.with(Option::is_none)>
+                        {move || adjusted.get().unwrap_or_default()}
+                    </p>
+                </div>
+                {run_actions(state, slot, on_cancel)}
+            </form>
+            <p
+                id=format!("{name}-failure")
+                class="ms-method-failure"
+                role="status"
+                hidden=move || slot.failure.with(Option::is_none)
+            >
+                {move || slot.failure.get().unwrap_or_default()}
+            </p>
+            {exports}
+            {extra}
+            <div class="ms-method-body">{pictures}</div>
+        </section>
+    }
+}
+
+/// The level a row's selected segment `(start, end)` of `v` has, as the clips' choice: an action
+/// among the actions, a primitive among the primitives, a transition among every segment.
+pub(crate) fn which_of(v: &MethodView, start: usize, end: usize) -> Option<Which> {
+    let s = v.segmentation.segments.iter().find(|s| s.start == start && s.end == end)?;
+    Some(match s.level {
+        Level::Action => Which::Actions,
+        Level::Primitive => Which::Primitives,
+        Level::Transition => Which::All,
+    })
+}
+
+/// `#<name>-exports`: the run's segments as the label CSV (`#<name>-export-csv`), as BVH clips
+/// in one zip (`#<name>-export-clips`) or the selected segment's clip alone
+/// (`#<name>-export-clip`), choosing the segments (`#<name>-export-which`: actions,
+/// primitives, all) and whether clips start at the origin facing +Z (`#<name>-export-origin`);
+/// `#<name>-export-status` says what was saved or why not.
+#[component]
+fn Exports(state: AppState, method: &'static MethodSlot, index: usize, loader: Loader) -> impl IntoView {
+    let slot = method;
+    let name = slot.info.name.clone();
+    let which = RwSignal::new(Which::Actions);
+    let origin = RwSignal::new(false);
+    let has = move |level: Level| {
+        slot.view.with(|v| v.as_ref().is_some_and(|v| v.segmentation.level(level).next().is_some()))
+    };
+    // a new run: the choice stays if the run has such segments, else actions, else all
+    Effect::new(move |_| {
+        if slot.view.with(Option::is_none) {
+            return;
+        }
+        let (a, p) = (has(Level::Action), has(Level::Primitive));
+        let w = which.get_untracked();
+        if (w == Which::Actions && !a) || (w == Which::Primitives && !p) {
+            which.set(if a { Which::Actions } else { Which::All });
+        }
+    });
+    let on_csv = move |_| {
+        slot.view.with_untracked(|v| {
+            let Some(v) = v else { return };
+            let rows = crate::labels::from_segmentation(&v.segmentation, which.get_untracked());
+            let word = which_word(Some(v), which.get_untracked());
+            let file = format!("{}_{}_{word}.csv", stem(&v.segmentation.file), slot.info.name);
+            let status = if rows.is_empty() {
+                (true, "no segments of that kind to save".to_string())
+            } else {
+                match download(crate::labels::to_csv(&rows).as_bytes(), "text/csv", &file) {
+                    Ok(()) => (false, format!("saved {file} ({} rows)", rows.len())),
+                    Err(e) => (true, format!("could not save {file}: {e:?}")),
+                }
+            };
+            slot.export_status.set(Some(status));
+        })
+    };
+    let clips_loader = loader.clone();
+    let on_clips = move |_| clips_loader.export_clips(index, which.get_untracked(), origin.get_untracked(), None);
+    let mine = {
+        let prefix = format!("{name}-");
+        move || state.selected.with(|s| s.as_ref().filter(|s| s.row.starts_with(&prefix)).map(|s| (s.start, s.end)))
+    };
+    let selected = mine.clone();
+    let on_clip = move |_| {
+        let Some((start, end)) = selected() else { return };
+        let Some(w) = slot.view.with_untracked(|v| v.as_ref().and_then(|v| which_of(v, start, end))) else { return };
+        loader.export_clips(index, w, origin.get_untracked(), Some((start, end)));
+    };
+    let none = move || slot.view.with(Option::is_none);
+    let options = move || {
+        [(Which::Actions, Level::Action), (Which::Primitives, Level::Primitive)]
+            .into_iter()
+            .filter(|(_, level)| has(*level))
+            .map(|(w, _)| {
+                let label = slot.view.with(|v| which_word(v.as_deref(), w));
+                view! { <option value=which_name(w) selected=move || which.get() == w>{label}</option> }
+            })
+            .collect_view()
+    };
+    let on_which = move |ev: leptos::ev::Event| {
+        which.set(match event_target_value(&ev).as_str() {
+            "actions" => Which::Actions,
+            "primitives" => Which::Primitives,
+            _ => Which::All,
+        })
+    };
+    let status = move || slot.export_status.get();
+    view! {
+        <div
+            id=format!("{name}-exports")
+            class="ms-exports"
+            role="group"
+            aria-label=format!("Export {}", slot.info.short)
+            hidden=none
+        >
+            <label class="ms-exports-field">
+                "Segments "
+                <select id=format!("{name}-export-which") disabled=none on:change=on_which>
+                    {options}
+                    <option value="all" selected=move || which.get() == Which::All>"all"</option>
+                </select>
+            </label>
+            <button id=format!("{name}-export-csv") class="ms-button ms-button--quiet" type="button" disabled=none on:click=on_csv>
+                "CSV"
+            </button>
+            <button id=format!("{name}-export-clips") class="ms-button ms-button--quiet" type="button" disabled=none on:click=on_clips
+                title="Every chosen segment as its own BVH file, cut from the original with its hierarchy, channel order and frame time, in one zip">
+                "BVH clips (zip)"
+            </button>
+            <button id=format!("{name}-export-clip") class="ms-button ms-button--quiet" type="button"
+                disabled=move || mine().is_none()
+                on:click=on_clip
+                title="Select a segment of this method on the timeline to save it alone">
+                "Selected segment as BVH"
+            </button>
+            <label class="ms-exports-field">
+                <input id=format!("{name}-export-origin") type="checkbox"
+                    prop:checked=move || origin.get()
+                    on:change=move |ev| origin.set(event_target_checked(&ev))/>
+                " clips start at the origin facing +Z"
+            </label>
+            <span
+                id=format!("{name}-export-status")
+                class="ms-exports-status"
+                class:ms-exports-status--error=move || status().is_some_and(|(e, _)| e)
+                role="status"
+                aria-live="polite"
+            >
+                {move || status().map(|(_, m)| m).unwrap_or_default()}
+            </span>
+        </div>
+    }
+}
+
+/// The name of a choice of segments in file names and the select's values.
+/// The `<option>`s of a choice whose options are `choices` (they may grow: a model the user
+/// loads or trains); each says whether it is `value`, so a value set before its option exists
+/// still shows once it does.
+pub(crate) fn choice_options(choices: RwSignal<Vec<String>>, value: RwSignal<String>) -> impl IntoView {
+    choices
+        .get()
+        .into_iter()
+        .map(|o| {
+            let chosen = o.clone();
+            view! { <option value=o.clone() prop:selected=move || value.get() == chosen>{o.clone()}</option> }
+        })
+        .collect_view()
+}
+
+fn which_name(w: Which) -> &'static str {
+    match w {
+        Which::Actions => "actions",
+        Which::Primitives => "primitives",
+        Which::All => "all",
+    }
+}
+
+/// What the row of `v` calls the segments `w` chooses, for the export's menu and file names:
+/// the row's word ([`crate::app::timeline::rows::RowKind::word`]: a labelling method's actions are its
+/// "labels", LMA's primitives its "gestures"), "all" for every segment.
+pub(crate) fn which_word(v: Option<&MethodView>, w: Which) -> &'static str {
+    match w {
+        Which::Actions => row_kind(v, false).word(),
+        Which::Primitives => row_kind(v, true).word(),
+        Which::All => "all",
+    }
+}
+
+/// Picture `k` of `view` on a canvas, one canvas pixel per picture pixel (CSS scales it).
+fn picture_view(state: AppState, slot: &'static MethodSlot, view: Arc<MethodView>, k: usize) -> impl IntoView {
+    let view_of_canvas = view.clone();
+    // a picture of frame pairs (the SSSM): a click goes to the row's frame and offers the column's
+    let pair = RwSignal::new(None::<(usize, usize)>);
+    let pairs = p_pairs(&view, k);
+    let view_of_click = view.clone();
+    let on_pick = move |ev: MouseEvent| {
+        let p = &view_of_click.details.pictures[k];
+        let Some(canvas) = ev.target().and_then(|t| t.dyn_into::<HtmlCanvasElement>().ok()) else { return };
+        let (w, h) = (canvas.client_width().max(1) as f64, canvas.client_height().max(1) as f64);
+        let x = ((ev.offset_x() as f64 / w) * p.width as f64).floor().max(0.0) as usize;
+        let y = ((ev.offset_y() as f64 / h) * p.height as f64).floor().max(0.0) as usize;
+        let frames = view_of_click.segmentation.frames;
+        if let (Some(i), Some(j)) = (p.frame_at(y, frames), p.frame_at(x, frames)) {
+            state.playing.set(false);
+            state.frame.set(i);
+            pair.set(Some((i, j)));
+        }
+    };
+    let fps = view.segmentation.fps;
+    let pair_text = move || {
+        pair.get().map(|(i, j)| {
+            format!(
+                "frame {} ↔ frame {} ({:.2} s ↔ {:.2} s): at frame {} now",
+                i + 1,
+                j + 1,
+                i as f64 / fps,
+                j as f64 / fps,
+                i + 1
+            )
+        })
+    };
+    let p: &Picture = &view.details.pictures[k];
+    let id = format!("{}-{}", slot.info.name, p.id);
+    let (title, caption) = (p.title.clone(), p.caption.clone());
+    let canvas_ref = NodeRef::<Canvas>::new();
+    Effect::new(move |_| {
+        if let Some(canvas) = canvas_ref.get() {
+            if let Err(e) = draw_picture(&canvas, &view_of_canvas.details.pictures[k]) {
+                web_sys::console::error_2(&"could not draw a picture".into(), &e);
+            }
+        }
+    });
+    let png_id = format!("{id}-png");
+    let on_png = move |_| {
+        let p = &view.details.pictures[k];
+        let file = format!("{}_{}_{}.png", stem(&view.segmentation.file), slot.info.name, p.id);
+        let saved = p
+            .to_png()
+            .map_err(|e| e.to_string())
+            .and_then(|png| download(&png, "image/png", &file).map_err(|e| format!("{e:?}")));
+        slot.export_status.set(Some(match saved {
+            Ok(()) => (false, format!("saved {file}")),
+            Err(e) => (true, format!("could not save {file}: {e}")),
+        }));
+    };
+    let pair_id = format!("{id}-pair");
+    let other_id = format!("{id}-pair-other");
+    let go_other = move |_| {
+        if let Some((i, j)) = pair.get_untracked() {
+            state.playing.set(false);
+            state.frame.set(j);
+            pair.set(Some((j, i)));
+        }
+    };
+    view! {
+        <figure class="ms-method-figure">
+            <canvas
+                id=id
+                class="ms-method-picture"
+                class:ms-method-picture--pairs=pairs
+                node_ref=canvas_ref
+                aria-label=title.clone()
+                title=pairs.then_some("Click a pixel to go to its pair of frames")
+                on:click=move |ev| if pairs { on_pick(ev) }
+            ></canvas>
+            <p id=pair_id class="ms-picture-pair" role="status" aria-live="polite" hidden=move || pair.with(Option::is_none)>
+                {pair_text}" "
+                <button id=other_id class="ms-button ms-button--quiet ms-button--small" type="button" on:click=go_other>
+                    "Go to the other frame"
+                </button>
+            </p>
+            <figcaption class="ms-method-legend">
+                <strong>{title.clone()}". "</strong>{caption}" "
+                <button id=png_id class="ms-button ms-button--quiet ms-button--small" type="button"
+                    aria-label=format!("Save {title} as PNG") on:click=on_png>"PNG"</button>
+            </figcaption>
+        </figure>
+    }
+}
+
+/// Whether picture `k` of `view` is of frame pairs (clickable).
+fn p_pairs(view: &MethodView, k: usize) -> bool {
+    view.details.pictures[k].frames_per_pixel.is_some()
+}
+
+fn draw_picture(canvas: &HtmlCanvasElement, p: &Picture) -> Result<(), JsValue> {
+    canvas.set_width(p.width as u32);
+    canvas.set_height(p.height as u32);
+    if p.width == 0 || p.height == 0 {
+        return Ok(());
+    }
+    let ctx: CanvasRenderingContext2d = canvas.get_context("2d")?.ok_or("no 2d context")?.dyn_into()?;
+    let pixels =
+        web_sys::ImageData::new_with_u8_clamped_array_and_sh(Clamped(&p.rgba), p.width as u32, p.height as u32)?;
+    ctx.put_image_data(&pixels, 0.0, 0.0)
+}
+
+/// Levels shown in a method's actions row and in its primitives row.
+pub(crate) const ACTION_LEVELS: &[Level] = &[Level::Action, Level::Transition];
+const PRIMITIVE_LEVELS: &[Level] = &[Level::Primitive];
+
+/// At most about twice this many segments of a row are in the DOM at once (see
+/// [`visible_segments`]); the sample's rows have a few dozen.
+const MAX_SEGMENTS_PER_ROW: usize = 120;
+
+/// The segments of `levels` in `v`, sorted by start.
+fn row_segments(v: &MethodView, levels: &[Level]) -> Vec<Segment> {
+    let mut segments: Vec<Segment> =
+        v.segmentation.segments.iter().filter(|s| levels.contains(&s.level)).cloned().collect();
+    segments.sort_by_key(|s| s.start);
+    segments
+}
+
+/// The label of a method's row: "SSSM · actions", "DT-FCN · labels", "LMA · gestures" (one name
+/// per row, the same in the metrics menu: [`crate::app::timeline::rows`]).
+fn row_label(slot: &MethodSlot, v: Option<&MethodView>, primitive: bool) -> String {
+    crate::app::timeline::rows::row_name(&slot.info.short, row_kind(v, primitive))
+}
+
+/// What a method's row holds (actions, labels, primitives, gestures), from its run.
+pub(crate) fn row_kind(v: Option<&MethodView>, primitive: bool) -> crate::app::timeline::rows::RowKind {
+    let labelling = v.is_some_and(is_labelling);
+    let has_actions = v.is_some_and(|v| v.segmentation.segments.iter().any(|s| s.level != Level::Primitive));
+    crate::app::timeline::rows::RowKind::of(primitive, labelling, has_actions)
+}
+
+/// Every row with segments, in the page's order: its id (`truth`, `<method>-actions` /
+/// `<method>-primitives`) and its segments' frames, sorted by start.
+pub fn row_spans(state: AppState) -> Vec<(String, Vec<(usize, usize)>)> {
+    let mut rows = state.truth.row_spans();
+    for slot in state.methods {
+        slot.view.with_untracked(|v| {
+            if let Some(v) = v {
+                for (level, levels) in [("actions", ACTION_LEVELS), ("primitives", PRIMITIVE_LEVELS)] {
+                    let spans: Vec<(usize, usize)> = row_segments(v, levels).iter().map(|s| (s.start, s.end)).collect();
+                    if !spans.is_empty() {
+                        rows.push((format!("{}-{level}", slot.info.name), spans));
+                    }
+                }
+            }
+        });
+    }
+    rows
+}
+
+/// One row's segments, sorted, with the run they come from (made again when the run changes).
+#[derive(Clone)]
+struct RowData {
+    view: Option<Arc<MethodView>>,
+    segments: Arc<Vec<Segment>>,
+    spans: Arc<Vec<(usize, usize)>>,
+    /// Counts the runs, so that a new run's segments never reuse the old run's elements.
+    generation: u64,
+}
+
+/// The timeline rows of every method with a result: a label at the left, the segments of the
+/// timeline's window in the lane (only those, see [`visible_segments`]).
+#[component]
+pub fn MethodRows(state: AppState) -> impl IntoView {
+    state
+        .methods
+        .iter()
+        .enumerate()
+        .flat_map(|(index, slot)| [(index, slot, false), (index, slot, true)])
+        .map(|(index, slot, primitive)| {
+            let levels = if primitive { PRIMITIVE_LEVELS } else { ACTION_LEVELS };
+            let row_id = format!("{}-{}", slot.info.name, if primitive { "primitives" } else { "actions" });
+            let label = Signal::derive(move || slot.view.with(|v| row_label(slot, v.as_deref(), primitive)));
+            let tip = Signal::derive(move || {
+                let kind = slot.view.with(|v| row_kind(v.as_deref(), primitive));
+                crate::app::timeline::rows::row_tooltip(&slot.info.short, kind)
+            });
+            let stale = Signal::derive(move || stale_reason(slot));
+            // a supervised method's labelling row shows its model and lets the user change it there
+            let model = (slot.supervised.is_some() && !primitive).then_some(index);
+            view! { <SegmentRow state=state row_id=row_id source=slot.view.into() levels=levels label=label tip=tip stale=stale model=model/> }
+        })
+        .collect_view()
+}
+
+/// Why the result on a method's row is stale: its last run failed (a refused parameter or a
+/// failure on the take) and the row still shows the run before; `None` when the row is current.
+fn stale_reason(slot: &'static MethodSlot) -> Option<String> {
+    if !slot.run.with(|r| matches!(r, RunState::Failed)) || slot.view.with(Option::is_none) {
+        return None;
+    }
+    let reason = slot.field_error.get().map(|(_, m)| m).or_else(|| slot.failure.get()).unwrap_or_default();
+    Some(reason)
+}
+
+/// One timeline row `#row-<row_id>`: `label` at the left, the segments of `levels` of `source`
+/// in the window (hidden while it has none). Method rows and the ground truth's draw alike. A
+/// method's row whose last run failed (`stale`: why) keeps the run before, marked
+/// `ms-row--stale` with `#row-<row_id>-stale` saying "stale: last run failed — <why>" until a
+/// run succeeds.
+#[component]
+pub fn SegmentRow(
+    state: AppState,
+    row_id: String,
+    source: Signal<Option<Arc<MethodView>>>,
+    levels: &'static [Level],
+    label: Signal<String>,
+    /// What the row is, as its label's tooltip (else the label itself).
+    #[prop(optional)]
+    tip: Option<Signal<String>>,
+    #[prop(optional)] stale: Option<Signal<Option<String>>>,
+    /// The method (registry index) whose model choice the row's label shows ([`RowModel`]).
+    #[prop(default = None)]
+    model: Option<usize>,
+) -> impl IntoView {
+    let tip = move || tip.map_or_else(|| label.get(), |t| t.get());
+    let stale = move || stale.and_then(|s| s.get());
+    let stale_text = move || stale().map(|why| format!("stale: last run failed — {why}"));
+    let data = RwSignal::new(RowData { view: None, segments: Arc::default(), spans: Arc::default(), generation: 0 });
+    Effect::new(move |_| {
+        let view = source.get();
+        let segments = view.as_ref().map(|v| row_segments(v, levels)).unwrap_or_default();
+        let spans = segments.iter().map(|s| (s.start, s.end)).collect();
+        let generation = data.with_untracked(|d| d.generation) + 1;
+        data.set(RowData { view, segments: Arc::new(segments), spans: Arc::new(spans), generation });
+    });
+    // a row shows only when its source has segments of its levels
+    let hidden = move || data.with(|d| d.segments.is_empty());
+    let visible = move || {
+        let window = state.window.get();
+        data.with(|d| {
+            visible_segments(&d.spans, &window, MAX_SEGMENTS_PER_ROW)
+                .into_iter()
+                .map(|i| (d.generation, i))
+                .collect::<Vec<_>>()
+        })
+    };
+    let row = row_id.clone();
+    let segment = move |(_, i): (u64, usize)| {
+        let (v, s) = data.with_untracked(|d| (d.view.clone(), d.segments[i].clone()));
+        v.map(|v| segment_view(state, &v, s, row.clone()))
+    };
+    let effort_spans = Signal::derive(move || data.with(|d| d.spans.clone()));
+    let effort_row = row_id.clone();
+    view! {
+        <div class="ms-tl-line ms-tl-line--row" hidden=hidden>
+            <div class="ms-tl-label" class:ms-tl-label--model=model.is_some() title=tip>
+                <span class="ms-tl-label-name">{label}</span>
+                {model.map(|index| view! { <RowModel state=state index=index/> })}
+            </div>
+            <div
+                id=format!("row-{row_id}")
+                class="ms-row ms-tl-lane"
+                class:ms-row--stale=move || stale().is_some()
+                data-label=label
+                role="group"
+                aria-label=label
+            >
+                <For each=visible key=|k| *k children=segment/>
+                <span
+                    id=format!("row-{row_id}-stale")
+                    class="ms-row-stale"
+                    title=stale_text
+                    hidden=move || stale().is_none()
+                >
+                    {stale_text}
+                </span>
+            </div>
+        </div>
+        <EffortLane state=state row_id=effort_row spans=effort_spans label=label/>
+    }
+}
+
+/// Whether `v` is a labelling method's run (DT-FCN, k-NN): its segments are per-frame class labels.
+pub(crate) fn is_labelling(v: &MethodView) -> bool {
+    crate::app::models::supervised::labels_classes(&v.method) || v.segmentation.params.get("colours").is_some()
+}
+
+/// The CSS colour of class `cluster` in a labelling method's run: the one the run echoes in
+/// `params.colours` if it does, else the class colour every model file gives that class index.
+pub(crate) fn class_css(v: &MethodView, cluster: usize) -> String {
+    v.segmentation
+        .params
+        .get("colours")
+        .and_then(|c| c.get(cluster))
+        .and_then(|c| c.as_str())
+        .map_or_else(|| class_colour(cluster), str::to_string)
+}
+
+/// `#rrggbb` as RGB.
+fn parse_hex(css: &str) -> Option<[u8; 3]> {
+    let hex = css.strip_prefix('#').filter(|h| h.len() == 6 && h.is_ascii())?;
+    let byte = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).ok();
+    Some([byte(0)?, byte(2)?, byte(4)?])
+}
+
+/// A class colour shaded by confidence: the full colour at 1, towards white as it falls (a
+/// third of the colour left at 0).
+fn confidence_shade([r, g, b]: [u8; 3], score: f64) -> String {
+    let strength = 0.3 + 0.7 * score.clamp(0.0, 1.0);
+    let mix = |c: u8| (255.0 - strength * (255.0 - c as f64)).round().clamp(0.0, 255.0) as u8;
+    format!("rgb({}, {}, {})", mix(r), mix(g), mix(b))
+}
+
+fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -> impl IntoView {
+    let fps = v.segmentation.fps;
+    let mut class_colour_of = None;
+    let (class, colour) = match (is_labelling(v), s.level, s.cluster) {
+        // a labelling method: its class's colour, by confidence; `unknown` hatched grey
+        (true, _, cluster) => {
+            let css = cluster.map(|c| class_css(v, c));
+            match css.and_then(|css| Some((parse_hex(&css)?, css))) {
+                Some((rgb, css)) => {
+                    class_colour_of = Some(css);
+                    ("ms-seg ms-seg--label", confidence_shade(rgb, s.score.unwrap_or(1.0)))
+                }
+                None => ("ms-seg ms-seg--unknown", String::new()),
+            }
+        }
+        (false, Level::Transition, _) => ("ms-seg ms-seg--transition", String::new()),
+        (false, Level::Primitive, Some(c)) => ("ms-seg ms-seg--primitive", cluster_colour(c, s.mirror_of)),
+        (false, _, Some(c)) => {
+            let [r, g, b] = action_colour(c);
+            ("ms-seg ms-seg--action", format!("rgb({r}, {g}, {b})"))
+        }
+        (false, _, None) => ("ms-seg", "#888".to_string()),
+    };
+    // black or white, whichever reads on the fill (hatched segments: www/style.css)
+    let text_colour = (!colour.is_empty()).then(|| crate::app::timeline::contrast::ink_on(&colour));
+    let mut tip = tooltip(&s, fps);
+    if v.method == crate::app::library::carry::TRANSFERRED && s.cluster.is_some() {
+        tip = format!("{tip} · confidence {:.0} %", s.score.unwrap_or(0.0) * 100.0);
+    }
+    let (start, end) = (s.start, s.end);
+    // placed on the timeline's window (a segment reaching past its edges is cut there)
+    let left = move || {
+        let w = state.window.get();
+        format!("{:.4}%", w.fraction(start as f64).max(0.0) * 100.0)
+    };
+    let width = move || {
+        let w = state.window.get();
+        let (a, b) = (w.fraction(start as f64).max(0.0), w.fraction((end + 1) as f64).min(1.0));
+        format!("{:.4}%", (b - a).max(0.0) * 100.0)
+    };
+    // the label, or a clean abbreviation when it does not fit (the full one is in the tooltip)
+    let label = s.label.clone();
+    let text = move || {
+        let w = state.window.get();
+        let (a, b) = (w.fraction(start as f64).max(0.0), w.fraction((end + 1) as f64).min(1.0));
+        crate::app::timeline::lines::segment_text(&label, (b - a).max(0.0))
+    };
+    let selected_row = row.clone();
+    let selected = Memo::new(move |_| {
+        state.selected.with(|x| x.as_ref().is_some_and(|x| x.row == selected_row && x.start == start && x.end == end))
+    });
+    // keep the timeline's own seek from capturing the pointer (the click must reach us)
+    let on_down = move |ev: PointerEvent| ev.stop_propagation();
+    let on_click = move |ev: MouseEvent| {
+        ev.stop_propagation();
+        crate::app::timeline::segment_menu::play_segment(state, Selection { row: row.clone(), start, end });
+    };
+    view! {
+        <div
+            class=class
+            class:ms-seg--selected=selected
+            style:left=left
+            style:width=width
+            style:background-color=(!colour.is_empty()).then_some(colour)
+            style:color=text_colour
+            data-start=start.to_string()
+            data-label=s.label.clone()
+            data-end=end.to_string()
+            data-cluster=s.cluster.map(|c| c.to_string()).unwrap_or_default()
+            data-colour=class_colour_of
+            data-score=s.score.map(|x| x.to_string())
+            aria-label=tip
+            aria-pressed=move || selected.get().to_string()
+            role="button"
+            on:pointerdown=on_down
+            on:click=on_click
+        >
+            {text}
+        </div>
+    }
+}

@@ -1,0 +1,8 @@
+//! The timeline's "my labels" row: the user's own segmentation of the take on screen.
+//!
+//! Its pure part (natively tested) beside its components (built with the `web` feature).
+
+pub mod edits;
+
+#[cfg(feature = "web")]
+pub mod row;

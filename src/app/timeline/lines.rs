@@ -1,0 +1,608 @@
+//! `#timeline`: the studio's one time axis under the player. Every line has its label at the left
+//! and its lane on the same x range: the time ruler (`#timeline-ruler`, seconds with a step chosen
+//! for the zoom), the motion image, one row per method and level (`#row-<method>-actions`,
+//! `#row-<method>-primitives`, from [`MethodRows`]), the consensus row (`#row-consensus`, [`crate::app::consensus::row`]),
+//! my labels' row and, under them, the minimap of the whole take
+//! (`#timeline-minimap`, its window `#minimap-window`). `#playhead` marks the current frame across
+//! the lanes; `#time-readout` says `mm:ss.fff · frame N / total`.
+//!
+//! All lanes show the frames of `state.window` (`data-window-start`/`-end` on `#timeline`):
+//! Ctrl/⌘+wheel zooms around the pointer, Shift+wheel or a sideways wheel pans, dragging the ruler
+//! or the minimap's window pans, +/− zoom around the playhead, and a frame that leaves the window
+//! (playback, keys) brings the window along. Clicking or dragging an empty lane seeks (and drops the
+//! selection); clicking a segment selects it and plays it, looped while `#loop-toggle` is on.
+//! Hovering shows `#timeline-tooltip` (a segment's label, frames and seconds, its Effort bars'
+//! text, or the frame under the pointer). `#effort-toggle` shows the Effort bars under every row
+//! ([`crate::app::effort::bars`]). The keyboard ([`crate::app::timeline::window::key_action`]) works anywhere on the page except
+//! in text fields; `?` opens `#help-overlay`. The maths is in [`crate::app::timeline::window`].
+
+use crate::app::consensus::row::{ConsensusLane, ConsensusRow, ConsensusTools};
+use crate::app::effort::bars::{EffortLegend, EffortToggle};
+use crate::app::method_panel::panel::{row_spans, MethodRows};
+use crate::app::my_labels::row::{MyLabelsRow, MyLabelsTools, MyRow};
+use crate::app::player::motion_image::{Chunks, DownloadPng, MotionImageCanvas};
+use crate::app::state::AppState;
+use crate::app::state::Selection;
+use crate::app::take::first_visit::Legend;
+use crate::app::timeline::keys::is_for_the_field;
+use crate::app::timeline::segment_menu::SegmentMenu;
+use crate::app::timeline::window::{key_action, readout, shuttle, stepped, ticks, KeyAction, Modifiers, Window};
+use crate::app::truth::ground_truth::TruthRow;
+use gloo::events::{EventListener, EventListenerOptions};
+use leptos::ev::{KeyboardEvent, PointerEvent};
+use leptos::html::{Canvas, Div};
+use leptos::prelude::*;
+use wasm_bindgen::JsCast;
+use web_sys::{Element, WheelEvent};
+
+/// Width of the lines' label column, in CSS pixels (also in `www/style.css`, `.ms-tl-line`).
+pub const LABEL_PX: f64 = 132.0;
+
+/// Ruler ticks at least this far apart, in CSS pixels.
+const TICK_MIN_PX: f64 = 70.0;
+
+/// One +/− key press or zoom button zooms by this factor.
+const KEY_ZOOM: f64 = 2.0;
+
+/// Shortcuts shown in the help overlay (keys, what they do).
+pub const SHORTCUTS: [(&str, &str); 12] = [
+    ("Space", "play / pause"),
+    ("← / →", "one frame back / forward"),
+    ("Shift + ← / →", "one second back / forward"),
+    ("J / K / L", "play backwards / pause / play forwards — press J or L again for 2×, 4×, 8×"),
+    ("Home / End", "first / last frame"),
+    ("+ / −", "zoom in / out around the playhead"),
+    ("[ / ]", "previous / next boundary from the playhead on the selected row (else the first row), brought into view"),
+    ("Ctrl or ⌘ + wheel", "zoom around the pointer"),
+    ("Shift + wheel, sideways wheel", "pan"),
+    ("Drag the ruler or the minimap", "pan"),
+    ("?", "show / hide this help"),
+    ("Esc", "close this help, else drop the selected segment"),
+];
+
+#[wasm_bindgen::prelude::wasm_bindgen]
+extern "C" {
+    /// The browser's `ResizeObserver`, bound here rather than through a web-sys feature the crate
+    /// does not turn on.
+    type ResizeObserver;
+    #[wasm_bindgen::prelude::wasm_bindgen(constructor)]
+    fn new(callback: &js_sys::Function) -> ResizeObserver;
+    #[wasm_bindgen::prelude::wasm_bindgen(method)]
+    fn observe(this: &ResizeObserver, target: &Element);
+}
+
+thread_local! {
+    /// The lanes' width in CSS pixels (0 until the timeline is laid out).
+    static LANE_PX: RwSignal<f64> = RwSignal::new(0.0);
+}
+
+/// The lanes' width in CSS pixels, kept up to date as the timeline is resized (rows use it to fit
+/// their segments' labels: [`crate::app::timeline::label_fit`]).
+pub fn lane_px() -> RwSignal<f64> {
+    LANE_PX.with(|s| *s)
+}
+
+/// The text a segment `fraction` of the lanes wide shows for `label` (`.ms-seg`: 11 px text,
+/// 3 px of padding either side, www/style.css): the label, a clean abbreviation, or nothing.
+pub fn segment_text(label: &str, fraction: f64) -> String {
+    const FONT_PX: f64 = 11.0;
+    const PADDING_PX: f64 = 6.0;
+    let width = fraction * lane_px().get() - PADDING_PX;
+    crate::app::timeline::label_fit::fit_label(label, width, FONT_PX).unwrap_or_default()
+}
+
+/// The x range of the lanes on screen: (left, width) in client pixels.
+fn lane_box(lane: &NodeRef<Div>) -> Option<(f64, f64)> {
+    let rect = lane.get_untracked()?.get_bounding_client_rect();
+    (rect.width() > 0.0).then(|| (rect.left(), rect.width()))
+}
+
+/// The CSS `left` of frame position `x` across the lanes (which start after the label column).
+fn lane_left(fraction: f64) -> String {
+    format!("calc({LABEL_PX}px + (100% - {LABEL_PX}px) * {fraction:.6})")
+}
+
+#[component]
+pub fn Timeline(state: AppState) -> impl IntoView {
+    let ruler_ref = NodeRef::<Div>::new();
+    let minimap_ref = NodeRef::<Div>::new();
+    let minimap_canvas = NodeRef::<Canvas>::new();
+    let body_ref = NodeRef::<Div>::new();
+    let chunks = Chunks::default();
+    // bumped on window resize and when a take's image is cut into chunks: lanes redraw
+    let resized = RwSignal::new(0u32);
+    let hover = RwSignal::new(None::<(f64, f64, String)>);
+
+    // a new take: cut its image, show it whole, forget the selection
+    {
+        let chunks = chunks.clone();
+        Effect::new(move |_| {
+            state.motion.with(|m| {
+                if let Some(m) = m {
+                    if let Err(e) = chunks.load(&m.image) {
+                        web_sys::console::error_2(&"motion image: could not cut into chunks".into(), &e);
+                    }
+                }
+            });
+            state.window.set(Window::full(state.frames()));
+            state.selected.set(None);
+            state.play_until.set(None);
+            resized.update(|n| *n += 1);
+        });
+    }
+    // a frame off screen (playback, keys, the scrub bar) brings the window along
+    Effect::new(move |_| {
+        let frame = state.frame.get();
+        let frames = state.frames();
+        let w = state.window.get_untracked();
+        if frames > 0 && !w.shows(frame) {
+            state.window.set(w.paged_to(frame, frames));
+        }
+    });
+    // the minimap: the whole image, once per take and size
+    {
+        let chunks = chunks.clone();
+        Effect::new(move |_| {
+            resized.track();
+            let frames = state.frames();
+            let Some(canvas) = minimap_canvas.get() else { return };
+            if let Err(e) = chunks.draw(&canvas, &Window::full(frames)) {
+                web_sys::console::error_2(&"minimap: could not draw".into(), &e);
+            }
+        });
+    }
+
+    let frames = move || state.frames();
+    let window = move || state.window.get();
+    // the frame at a pointer's x, if it is over the lanes
+    let frame_at = move |client_x: f64| -> Option<usize> {
+        let (left, width) = lane_box(&ruler_ref)?;
+        let fraction = (client_x - left) / width;
+        (0.0..=1.0)
+            .contains(&fraction)
+            .then(|| state.window.get_untracked().frame_at(fraction.min(0.999_999), frames()))
+    };
+
+    // seeking on the motion image and the rows' empty space
+    let seeking = StoredValue::new(false);
+    let seek = move |ev: &PointerEvent| {
+        if let Some(frame) = frame_at(ev.client_x() as f64).filter(|_| frames() > 0) {
+            state.frame.set(frame);
+        }
+    };
+    let on_body_down = move |ev: PointerEvent| {
+        if frame_at(ev.client_x() as f64).is_none() || ev.button() != 0 {
+            return; // a label, or not the main button
+        }
+        seeking.set_value(true);
+        state.selected.set(None);
+        state.play_until.set(None);
+        if let Some(el) = ev.current_target().and_then(|t| t.dyn_into::<Element>().ok()) {
+            let _ = el.set_pointer_capture(ev.pointer_id());
+        }
+        seek(&ev);
+    };
+    let on_body_move = move |ev: PointerEvent| {
+        if seeking.get_value() {
+            seek(&ev);
+        }
+        // the tooltip: a segment's own text, else the frame under the pointer
+        let over_segment = ev
+            .target()
+            .and_then(|t| t.dyn_into::<Element>().ok())
+            .and_then(|e| e.closest(".ms-seg, .ms-effort-seg, .ms-consensus-mark").ok().flatten())
+            .and_then(|e| e.get_attribute("aria-label"));
+        let text = over_segment.or_else(|| {
+            let frame = frame_at(ev.client_x() as f64)?;
+            Some(hover_text(frame, state.fps()))
+        });
+        hover.set(text.map(|t| (ev.client_x() as f64, ev.client_y() as f64, t)));
+    };
+    let on_up = move |_: PointerEvent| seeking.set_value(false);
+
+    // panning by dragging the ruler: the window moves with the pointer
+    let ruler_drag = StoredValue::new(None::<(f64, Window)>);
+    let on_ruler_down = move |ev: PointerEvent| {
+        ruler_drag.set_value(Some((ev.client_x() as f64, state.window.get_untracked())));
+        if let Some(el) = ev.current_target().and_then(|t| t.dyn_into::<Element>().ok()) {
+            let _ = el.set_pointer_capture(ev.pointer_id());
+        }
+    };
+    let on_ruler_move = move |ev: PointerEvent| {
+        if let (Some((x0, w0)), Some((_, width))) = (ruler_drag.get_value(), lane_box(&ruler_ref)) {
+            let delta = -(ev.client_x() as f64 - x0) / width * w0.span();
+            state.window.set(w0.panned(delta, frames()));
+        }
+        hover.set(
+            frame_at(ev.client_x() as f64)
+                .map(|f| (ev.client_x() as f64, ev.client_y() as f64, hover_text(f, state.fps()))),
+        );
+    };
+    let on_ruler_up = move |_: PointerEvent| ruler_drag.set_value(None);
+
+    // the minimap: pressing centres the window there (unless on the window itself), dragging moves it
+    let minimap_drag = StoredValue::new(None::<(f64, Window)>);
+    let on_minimap_down = move |ev: PointerEvent| {
+        let Some((left, width)) = lane_box(&minimap_ref) else { return };
+        let total = frames().max(1) as f64;
+        let at = (ev.client_x() as f64 - left) / width * total;
+        let w = state.window.get_untracked();
+        let w = if at >= w.start && at <= w.end { w } else { w.centred_on(at, frames()) };
+        state.window.set(w);
+        minimap_drag.set_value(Some((ev.client_x() as f64, w)));
+        if let Some(el) = ev.current_target().and_then(|t| t.dyn_into::<Element>().ok()) {
+            let _ = el.set_pointer_capture(ev.pointer_id());
+        }
+    };
+    let on_minimap_move = move |ev: PointerEvent| {
+        if let (Some((x0, w0)), Some((_, width))) = (minimap_drag.get_value(), lane_box(&minimap_ref)) {
+            let delta = (ev.client_x() as f64 - x0) / width * frames().max(1) as f64;
+            state.window.set(w0.panned(delta, frames()));
+        }
+    };
+    let on_minimap_up = move |_: PointerEvent| minimap_drag.set_value(None);
+
+    // the wheel: Ctrl/⌘ zooms around the pointer, Shift or sideways pans, plain scrolls the page
+    body_ref.on_load(move |body| {
+        EventListener::new(&gloo::utils::window(), "resize", move |_| resized.update(|n| *n += 1)).forget();
+        let options = EventListenerOptions::enable_prevent_default();
+        let target: &web_sys::EventTarget = body.as_ref();
+        EventListener::new_with_options(target, "wheel", options, move |ev| {
+            let ev: &WheelEvent = ev.unchecked_ref();
+            let (Some((left, width)), n) = (lane_box(&ruler_ref), frames()) else { return };
+            if n == 0 {
+                return;
+            }
+            let w = state.window.get_untracked();
+            let scale = match ev.delta_mode() {
+                1 => 16.0,  // lines
+                2 => 400.0, // pages
+                _ => 1.0,
+            };
+            let (dx, dy) = (ev.delta_x() * scale, ev.delta_y() * scale);
+            if ev.ctrl_key() || ev.meta_key() {
+                ev.prevent_default();
+                let fraction = ((ev.client_x() as f64 - left) / width).clamp(0.0, 1.0);
+                let anchor = w.start + fraction * w.span();
+                state.window.set(w.zoomed((-dy * 0.002).exp(), anchor, n));
+            } else if ev.shift_key() || dx.abs() > dy.abs() {
+                ev.prevent_default();
+                let delta = if dx.abs() > dy.abs() { dx } else { dy };
+                state.window.set(w.panned(delta / width * w.span(), n));
+            }
+        })
+        .forget();
+    });
+
+    let rows_ref = NodeRef::<Div>::new();
+    let mine = MyRow::new(state); // first: its keys ([ ] on my row) before the timeline's
+    let agreed = ConsensusRow::new(state, mine);
+    keyboard(state);
+
+    let zoom_by = move |factor: f64| {
+        let anchor = state.frame.get_untracked() as f64 + 0.5;
+        state.window.update(|w| *w = w.zoomed(factor, anchor, state.frames()));
+    };
+
+    // the lanes' width, for the rows' labels (the ruler is as wide as every lane)
+    Effect::new(move |_| {
+        let Some(ruler) = ruler_ref.get() else { return };
+        let lane = lane_px();
+        lane.set(ruler.client_width() as f64);
+        let measured = ruler.clone();
+        let on_resize = wasm_bindgen::closure::Closure::<dyn FnMut()>::new(move || {
+            let width = measured.client_width() as f64;
+            if lane.get_untracked() != width {
+                lane.set(width);
+            }
+        });
+        ResizeObserver::new(on_resize.as_ref().unchecked_ref()).observe(&ruler);
+        on_resize.forget(); // observes the ruler as long as the page lives
+    });
+
+    // the ruler's ticks for the window and the lane's width
+    let tick_views = move || {
+        resized.track();
+        let width = ruler_ref.get().map_or(0.0, |r| r.client_width() as f64);
+        let w = window();
+        ticks(&w, state.fps(), width, TICK_MIN_PX)
+            .into_iter()
+            .map(|t| {
+                view! {
+                    <span class="ms-tick" style:left=format!("{:.4}%", w.fraction(t.frame) * 100.0) data-seconds=t.seconds.to_string()>
+                        {t.label}
+                    </span>
+                }
+            })
+            .collect_view()
+    };
+    let playhead_fraction = move || {
+        let w = window();
+        w.fraction(state.frame.get() as f64 + 0.5)
+    };
+    let playhead_hidden = move || frames() == 0 || !(0.0..=1.0).contains(&playhead_fraction());
+    let minimap_left = move || format!("{:.4}%", window().start / frames().max(1) as f64 * 100.0);
+    let minimap_width = move || format!("{:.4}%", window().span() / frames().max(1) as f64 * 100.0);
+    let rate = move || match state.shuttle.get() {
+        0 => String::new(),
+        r if r < 0 => format!("◀ {}×", -r),
+        r => format!("▶ {r}×"),
+    };
+
+    // The rows and the tools below them are type-erased (`into_any`): as one static view type the timeline's
+    // drop glue got a symbol name over 100,000 bytes, which rustc's LTO cannot read back from the library's wasm
+    // object ("failed to get bitcode from object file for LTO (Invalid Wasm linking symbol)"), so the wasm test
+    // binary did not link. `scripts/wasm-symbols.py` (run by `make web`) watches that length.
+    let rows = view! {
+        <div id="timeline-rows" class="ms-timeline-rows" node_ref=rows_ref>
+            <TruthRow state=state/>
+            <MethodRows state=state/>
+            <ConsensusLane row=agreed/>
+            <MyLabelsRow mine=mine/>
+            <crate::app::library::panel::LibraryRow state=state/>
+            <crate::app::library::panel::TransferredRow state=state/>
+        </div>
+    }
+    .into_any();
+    let row_tools = view! {
+        <ConsensusTools row=agreed/>
+        <MyLabelsTools mine=mine/>
+    }
+    .into_any();
+    let overlays = view! {
+        <HelpOverlay state=state/>
+        <SegmentMenu state=state mine=mine rows=rows_ref/>
+    }
+    .into_any();
+    view! {
+        <section
+            id="timeline"
+            class="ms-timeline"
+            aria-label="Timeline"
+            data-window-start=move || format!("{:.3}", window().start)
+            data-window-end=move || format!("{:.3}", window().end)
+        >
+            <div class="ms-timeline-head">
+                <h2>"Timeline"</h2>
+                <output id="time-readout" class="ms-readout" aria-live="off" aria-label="Current time and frame">
+                    {move || readout(state.frame.get(), frames(), state.fps())}
+                </output>
+                <span id="shuttle-rate" class="ms-readout-rate">{rate}</span>
+                <span class="ms-timeline-legend ms-timeline-legend--image">"motion image: rows = joints · columns = frames · colour = XYZ relative to the root"</span>
+                <div class="ms-timeline-tools" role="group" aria-label="Timeline controls">
+                    <button id="zoom-out" class="ms-button ms-button--quiet" type="button" aria-label="Zoom out (−)" title="Zoom out (−)"
+                        disabled=move || frames() == 0 on:click=move |_| zoom_by(1.0 / KEY_ZOOM)>"−"</button>
+                    <button id="zoom-in" class="ms-button ms-button--quiet" type="button" aria-label="Zoom in (+)" title="Zoom in (+)"
+                        disabled=move || frames() == 0 on:click=move |_| zoom_by(KEY_ZOOM)>"+"</button>
+                    <button id="zoom-fit" class="ms-button ms-button--quiet" type="button" aria-label="Show the whole take" title="Show the whole take"
+                        disabled=move || frames() == 0 || window().is_full(frames())
+                        on:click=move |_| state.window.set(Window::full(state.frames()))>"Fit"</button>
+                    <button
+                        id="loop-toggle"
+                        class="ms-button ms-button--quiet ms-toggle"
+                        type="button"
+                        aria-pressed=move || state.looping.get().to_string()
+                        title="Loop the selected segment's playback"
+                        disabled=move || state.selected.with(Option::is_none)
+                        on:click=move |_| {
+                            state.looping.update(|l| *l = !*l);
+                            state.play_until.set(None);
+                        }
+                    >
+                        "Loop"
+                    </button>
+                    <button id="help-button" class="ms-button ms-button--quiet" type="button" aria-label="Keyboard shortcuts (?)"
+                        aria-expanded=move || state.help.get().to_string() on:click=move |_| state.help.update(|h| *h = !*h)>"?"</button>
+                    <EffortToggle state=state/>
+                    <DownloadPng state=state/>
+                    <Legend/>
+                </div>
+            </div>
+            <EffortLegend state=state/>
+            <div
+                class="ms-tl"
+                node_ref=body_ref
+                on:pointerleave=move |_| hover.set(None)
+            >
+                <div class="ms-tl-line ms-tl-line--ruler">
+                    <div class="ms-tl-label">"Time"</div>
+                    <div
+                        id="timeline-ruler"
+                        class="ms-tl-lane ms-ruler"
+                        node_ref=ruler_ref
+                        aria-label="Time ruler: drag to pan"
+                        on:pointerdown=on_ruler_down
+                        on:pointermove=on_ruler_move
+                        on:pointerup=on_ruler_up
+                        on:pointercancel=on_ruler_up
+                    >
+                        {tick_views}
+                    </div>
+                </div>
+                <div
+                    class="ms-tl-body"
+                    on:pointerdown=on_body_down
+                    on:pointermove=on_body_move
+                    on:pointerup=on_up
+                    on:pointercancel=on_up
+                >
+                    <div class="ms-tl-line">
+                        <div class="ms-tl-label">"Motion image"</div>
+                        <div class="ms-tl-lane">
+                            <MotionImageCanvas state=state chunks=chunks.clone() resized=resized/>
+                        </div>
+                    </div>
+                    // Segmentation rows, one per level of each method.
+                    {rows}
+                </div>
+                <div id="playhead" class="ms-playhead" style:left=move || lane_left(playhead_fraction()) hidden=playhead_hidden></div>
+            </div>
+            {row_tools}
+            <div class="ms-tl-line ms-tl-line--minimap">
+                <div class="ms-tl-label">"Whole take"</div>
+                <div
+                    id="timeline-minimap"
+                    class="ms-tl-lane ms-minimap"
+                    node_ref=minimap_ref
+                    aria-label="Minimap of the whole take: drag the window to pan"
+                    on:pointerdown=on_minimap_down
+                    on:pointermove=on_minimap_move
+                    on:pointerup=on_minimap_up
+                    on:pointercancel=on_minimap_up
+                >
+                    <canvas id="minimap-canvas" class="ms-minimap-canvas" node_ref=minimap_canvas aria-hidden="true"></canvas>
+                    <div id="minimap-window" class="ms-minimap-window" style:left=minimap_left style:width=minimap_width></div>
+                    <div
+                        class="ms-minimap-playhead"
+                        style:left=move || format!("{:.4}%", (state.frame.get() as f64 + 0.5) / frames().max(1) as f64 * 100.0)
+                    ></div>
+                </div>
+            </div>
+            <p id="timeline-hint" class="ms-timeline-hint">
+                "Click a segment to select it and play it (looped while Loop is on), right-click it for more · click elsewhere on the timeline to seek · "
+                "Ctrl/⌘ + wheel zooms, Shift + wheel or dragging the ruler or the minimap pans · press ? for all shortcuts"
+            </p>
+            <div
+                id="timeline-tooltip"
+                class="ms-tooltip"
+                role="tooltip"
+                hidden=move || hover.with(Option::is_none)
+                style:left=move || hover.with(|h| h.as_ref().map(|h| format!("{}px", h.0 + 12.0)))
+                style:top=move || hover.with(|h| h.as_ref().map(|h| format!("{}px", h.1 + 16.0)))
+            >
+                {move || hover.with(|h| h.as_ref().map(|h| h.2.clone()).unwrap_or_default())}
+            </div>
+            {overlays}
+        </section>
+    }
+}
+
+/// The tooltip over an empty lane: the frame (1-based, as the readout) and its time.
+fn hover_text(frame: usize, fps: f64) -> String {
+    let seconds = if fps > 0.0 { frame as f64 / fps } else { 0.0 };
+    format!("frame {} · {} · {:.3} s", frame + 1, crate::app::timeline::window::clock_time(seconds), seconds)
+}
+
+/// `#help-overlay`: every shortcut; `?` or its button toggles it, Esc or its Close button closes it.
+#[component]
+fn HelpOverlay(state: AppState) -> impl IntoView {
+    view! {
+        <div
+            id="help-overlay"
+            class="ms-help"
+            role="dialog"
+            aria-modal="false"
+            aria-labelledby="help-title"
+            hidden=move || !state.help.get()
+        >
+            <div class="ms-help-box">
+                <h2 id="help-title">"Keyboard shortcuts"</h2>
+                <dl class="ms-help-list">
+                    {SHORTCUTS
+                        .iter()
+                        .chain(crate::app::my_labels::row::SHORTCUTS.iter())
+                        .chain(crate::app::consensus::row::SHORTCUTS.iter())
+                        .map(|(keys, what)| view! { <dt><kbd>{*keys}</kbd></dt> <dd>{*what}</dd> })
+                        .collect_view()}
+                </dl>
+                <p class="ms-help-note">"Keys do nothing while you type in a field. Shortcuts the browser uses (Alt+←, Ctrl+L, Ctrl++ …) are left to it."</p>
+                <button id="help-close" class="ms-button" type="button" on:click=move |_| state.help.set(false)>"Close"</button>
+            </div>
+        </div>
+    }
+}
+
+/// The page's keyboard: [`key_action`] on every key press outside text fields.
+fn keyboard(state: AppState) {
+    let handle = window_event_listener(leptos::ev::keydown, move |ev: KeyboardEvent| {
+        if ev.default_prevented() || is_for_the_field(ev.target(), &ev.key()) {
+            return;
+        }
+        let modifiers =
+            Modifiers { shift: ev.shift_key(), ctrl: ev.ctrl_key(), alt: ev.alt_key(), meta: ev.meta_key() };
+        let Some(action) = key_action(&ev.key(), modifiers) else { return };
+        let frames = state.frames();
+        if frames == 0 && !matches!(action, KeyAction::ToggleHelp | KeyAction::Escape) {
+            return;
+        }
+        if action == KeyAction::Escape && !state.help.get_untracked() && state.selected.with_untracked(Option::is_none)
+        {
+            return; // Esc is the browser's unless it closes the help or drops a selection
+        }
+        ev.prevent_default();
+        let frame = state.frame.get_untracked();
+        let step = |delta: i64| {
+            state.playing.set(false);
+            state.frame.set(stepped(frame, delta, frames));
+        };
+        match action {
+            KeyAction::PlayPause => {
+                state.shuttle.set(0);
+                state.play_until.set(None);
+                state.playing.update(|p| *p = !*p);
+            }
+            KeyAction::StepFrames(n) => step(n),
+            KeyAction::StepSeconds(n) => step(n * state.fps().round().max(1.0) as i64),
+            KeyAction::ShuttleBack | KeyAction::ShuttleForward => {
+                let forward = action == KeyAction::ShuttleForward;
+                let rate = if state.playing.get_untracked() { state.shuttle.get_untracked() } else { 0 };
+                state.play_until.set(None);
+                // ordinary playback forwards counts as 1× for L
+                let rate = if rate == 0 && state.playing.get_untracked() && forward { 1 } else { rate };
+                state.shuttle.set(shuttle(rate, forward));
+                state.playing.set(true);
+            }
+            KeyAction::ShuttleStop => state.playing.set(false),
+            KeyAction::First => step(-(frames as i64)),
+            KeyAction::Last => step(frames as i64),
+            KeyAction::ZoomIn | KeyAction::ZoomOut => {
+                let factor = if action == KeyAction::ZoomIn { KEY_ZOOM } else { 1.0 / KEY_ZOOM };
+                state.window.update(|w| *w = w.zoomed(factor, frame as f64 + 0.5, frames));
+            }
+            KeyAction::PreviousSegment | KeyAction::NextSegment => {
+                go_to_segment(state, action == KeyAction::NextSegment);
+            }
+            KeyAction::ToggleHelp => state.help.update(|h| *h = !*h),
+            KeyAction::Escape => {
+                if state.help.get_untracked() {
+                    state.help.set(false);
+                } else {
+                    state.selected.set(None);
+                }
+            }
+        }
+    });
+    std::mem::forget(handle); // the timeline lives as long as the page
+}
+
+/// `[` / `]`: moves the playhead to the previous / next boundary of the selected row (else the
+/// first row with segments) before / after the playhead — wherever the playhead was moved to since
+/// a segment was selected — selects the segment starting there (none: a gap or the row's end) and
+/// brings it into view.
+fn go_to_segment(state: AppState, forward: bool) {
+    let rows = row_spans(state);
+    let chosen = state.selected.with_untracked(|s| s.as_ref().map(|s| s.row.clone()));
+    let Some((row, spans)) =
+        chosen.and_then(|id| rows.iter().find(|(r, _)| *r == id)).or_else(|| rows.first()).cloned()
+    else {
+        return;
+    };
+    let (frame, frames) = (state.frame.get_untracked(), state.frames());
+    let found = if forward {
+        crate::app::timeline::window::next_boundary(&spans, frame, frames)
+    } else {
+        crate::app::timeline::window::previous_boundary(&spans, frame, frames)
+    };
+    let Some(at) = found else { return };
+    let segment = spans.iter().find(|s| s.0 == at).copied();
+    state.play_until.set(None);
+    match segment {
+        Some((start, end)) => {
+            state.window.update(|w| *w = w.showing(start, end, frames));
+            state.selected.set(Some(Selection { row, start, end }));
+        }
+        // a gap's start: the selection (and so the row `[` / `]` walk) stays as it was
+        None => state.window.update(|w| *w = w.showing(at, at, frames)),
+    }
+    state.frame.set(at);
+}
