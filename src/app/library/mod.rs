@@ -6,6 +6,8 @@ pub mod carry;
 pub mod takes;
 
 #[cfg(feature = "web")]
+pub mod on_screen;
+#[cfg(feature = "web")]
 pub mod panel;
 #[cfg(feature = "web")]
 pub mod state;

@@ -34,7 +34,7 @@ impl Loader {
         let slot = &self.0.state.methods[index];
         match slot.view.get_untracked() {
             Some(view) => {
-                let word = crate::app::method_panel::panel::which_word(Some(&view), which);
+                let word = crate::app::timeline::rows::which_word(Some(&view), which);
                 let status = slot.export_status;
                 self.cut_clips(&view.segmentation, &slot.info.name, Some(word), which, to_origin, only, status)
             }

@@ -129,7 +129,7 @@ impl Loader {
     pub fn carry_labels(&self) {
         let state = self.0.state;
         let library = state.library;
-        let (source, frame_labels, _) = match untrack(|| crate::app::library::panel::source_labels(state)) {
+        let (source, frame_labels, _) = match untrack(|| crate::app::library::on_screen::source_labels(state)) {
             Ok(found) => found,
             Err(why) => return library.carrying.set(Some((true, why))),
         };

@@ -214,7 +214,7 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
         Some(Err(message)) => message,
         None => String::new(),
     };
-    let options = move || crate::app::method_panel::panel::choice_options(choices, value);
+    let options = move || crate::app::models::row_model::choice_options(choices, value);
     let card_id = format!("{method}-row-card");
     // the row's result's verdict on the take (none while it fits, or without a fit check)
     let short_fit = short.clone();
@@ -390,4 +390,19 @@ pub fn ModelCardView(state: AppState, index: usize, id: String) -> impl IntoView
         </section>
     }
     .into_any()
+}
+
+/// The name of a choice of segments in file names and the select's values.
+/// The `<option>`s of a choice whose options are `choices` (they may grow: a model the user
+/// loads or trains); each says whether it is `value`, so a value set before its option exists
+/// still shows once it does.
+pub(crate) fn choice_options(choices: RwSignal<Vec<String>>, value: RwSignal<String>) -> impl IntoView {
+    choices
+        .get()
+        .into_iter()
+        .map(|o| {
+            let chosen = o.clone();
+            view! { <option value=o.clone() prop:selected=move || value.get() == chosen>{o.clone()}</option> }
+        })
+        .collect_view()
 }

@@ -250,11 +250,6 @@ impl Supervised {
     }
 }
 
-/// Whether the method called `method` labels every frame with its model's classes (as it declares).
-pub fn labels_classes(method: &str) -> bool {
-    crate::methods::find(method).ok().and_then(|m| m.supervision()).is_some_and(|s| s.labels_classes)
-}
-
 /// How a model was made, in a few words.
 pub fn describe(info: &ModelInfo) -> String {
     info.origin.clone()

@@ -44,8 +44,7 @@
 
 use crate::app::effort::bars::EffortLane;
 use crate::app::library::carry::TRANSFERRED;
-use crate::app::method_panel::panel::is_labelling;
-use crate::app::models::supervised::{labels_classes, TrainRequest, TrainState};
+use crate::app::models::supervised::{TrainRequest, TrainState};
 use crate::app::my_labels::edits::MyLabels as Model;
 use crate::app::my_labels::edits::{
     backup_key, cuts_of, fingerprint, hotkey_label, is_reserved, label_class, snap, snap_tolerance, storage_key,
@@ -56,6 +55,8 @@ use crate::app::state::AppState;
 use crate::app::state::Selection;
 use crate::app::timeline::keys::is_for_the_field;
 use crate::app::timeline::row_exports::RowExports;
+use crate::app::timeline::rows::is_labelling;
+use crate::app::timeline::rows::labels_classes;
 use crate::app::timeline::window::visible_segments;
 use crate::labels::to_csv;
 use crate::protocol::MethodView;
@@ -186,12 +187,12 @@ fn other_rows(state: AppState) -> Vec<OtherRow> {
                 }
                 segments.sort_by_key(|s| s.0);
                 // the row's name as the timeline gives it (view::rows)
-                let kind = crate::app::method_panel::panel::row_kind(Some(&**v), primitive);
+                let kind = crate::app::timeline::rows::row_kind(Some(&**v), primitive);
                 rows.push(OtherRow {
                     id: format!("{}-{}", slot.info.name, if primitive { "primitives" } else { "actions" }),
                     name: crate::app::timeline::rows::row_name(&slot.info.short, kind),
                     segments,
-                    classes: crate::app::method_panel::panel::is_labelling(v) && !primitive,
+                    classes: crate::app::timeline::rows::is_labelling(v) && !primitive,
                 });
             }
         });
@@ -860,7 +861,7 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
                     let right = w.fraction((s.end + 1) as f64).min(1.0);
                     let text = if s.label.is_empty() { "unlabelled".to_string() } else { s.label.clone() };
                     // the label, or a clean abbreviation when it does not fit (in full in the tip)
-                    let shown = crate::app::timeline::lines::segment_text(&text, right - left);
+                    let shown = crate::app::timeline::lanes::segment_text(&text, right - left);
                     let tip = format!(
                         "{text} · frames {}–{} · {:.2}–{:.2} s",
                         s.start + 1,

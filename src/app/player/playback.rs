@@ -6,7 +6,7 @@
 //! (`state.looping`), or once to `state.play_until`.
 
 use crate::app::player::clock::Clock;
-use crate::app::state::AppState;
+use crate::app::state::{AppState, Selection};
 use crate::app::timeline::window::advanced;
 use gloo::render::{request_animation_frame, AnimationFrame};
 use leptos::prelude::*;
@@ -62,4 +62,15 @@ fn schedule(state: AppState, pending: Rc<RefCell<Option<AnimationFrame>>>, mut c
         schedule(state, next, clock);
     });
     *pending.borrow_mut() = Some(request);
+}
+
+/// Selects segment `s` and plays it: looped while Loop is on, else once to its end (what a click
+/// on a segment does).
+pub fn play_segment(state: AppState, s: Selection) {
+    let (start, end) = (s.start, s.end);
+    state.selected.set(Some(s));
+    state.play_until.set((!state.looping.get_untracked()).then_some(end));
+    state.shuttle.set(0);
+    state.frame.set(start);
+    state.playing.set(true);
 }

@@ -18,13 +18,14 @@
 
 use crate::app::consensus::row::{ConsensusLane, ConsensusRow, ConsensusTools};
 use crate::app::effort::bars::{EffortLegend, EffortToggle};
-use crate::app::method_panel::panel::{row_spans, MethodRows};
 use crate::app::my_labels::row::{MyLabelsRow, MyLabelsTools, MyRow};
 use crate::app::player::motion_image::{Chunks, DownloadPng, MotionImageCanvas};
 use crate::app::state::AppState;
 use crate::app::state::Selection;
 use crate::app::take::first_visit::Legend;
 use crate::app::timeline::keys::is_for_the_field;
+use crate::app::timeline::lanes::lane_px;
+use crate::app::timeline::method_rows::{row_spans, MethodRows};
 use crate::app::timeline::segment_menu::SegmentMenu;
 use crate::app::timeline::window::{key_action, readout, shuttle, stepped, ticks, KeyAction, Modifiers, Window};
 use crate::app::truth::ground_truth::TruthRow;
@@ -69,26 +70,6 @@ extern "C" {
     fn new(callback: &js_sys::Function) -> ResizeObserver;
     #[wasm_bindgen::prelude::wasm_bindgen(method)]
     fn observe(this: &ResizeObserver, target: &Element);
-}
-
-thread_local! {
-    /// The lanes' width in CSS pixels (0 until the timeline is laid out).
-    static LANE_PX: RwSignal<f64> = RwSignal::new(0.0);
-}
-
-/// The lanes' width in CSS pixels, kept up to date as the timeline is resized (rows use it to fit
-/// their segments' labels: [`crate::app::timeline::label_fit`]).
-pub fn lane_px() -> RwSignal<f64> {
-    LANE_PX.with(|s| *s)
-}
-
-/// The text a segment `fraction` of the lanes wide shows for `label` (`.ms-seg`: 11 px text,
-/// 3 px of padding either side, www/style.css): the label, a clean abbreviation, or nothing.
-pub fn segment_text(label: &str, fraction: f64) -> String {
-    const FONT_PX: f64 = 11.0;
-    const PADDING_PX: f64 = 6.0;
-    let width = fraction * lane_px().get() - PADDING_PX;
-    crate::app::timeline::label_fit::fit_label(label, width, FONT_PX).unwrap_or_default()
 }
 
 /// The x range of the lanes on screen: (left, width) in client pixels.

@@ -12,7 +12,11 @@ pub mod window;
 #[cfg(feature = "web")]
 pub mod keys;
 #[cfg(feature = "web")]
+pub mod lanes;
+#[cfg(feature = "web")]
 pub mod lines;
+#[cfg(feature = "web")]
+pub mod method_rows;
 #[cfg(feature = "web")]
 pub mod row_exports;
 #[cfg(feature = "web")]

@@ -13,6 +13,10 @@
 //! * **gestures** — a method that finds only short strokes and no actions (the kinematic
 //!   baselines' `gesture` and `swing`, LMA's `left arm` / `right arm` / `both arms`: which arm moves).
 
+use crate::clips::Which;
+use crate::protocol::MethodView;
+use crate::segment::Level;
+
 /// What a row holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RowKind {
@@ -76,6 +80,48 @@ pub fn row_name(short: &str, kind: RowKind) -> String {
 /// A method's row's tooltip: what the row is (its name is beside it already).
 pub fn row_tooltip(short: &str, kind: RowKind) -> String {
     format!("{short}'s {}: {}", kind.word(), kind.meaning())
+}
+
+/// The level a row's selected segment `(start, end)` of `v` has, as the clips' choice: an action
+/// among the actions, a primitive among the primitives, a transition among every segment.
+pub fn which_of(v: &MethodView, start: usize, end: usize) -> Option<Which> {
+    let s = v.segmentation.segments.iter().find(|s| s.start == start && s.end == end)?;
+    Some(match s.level {
+        Level::Action => Which::Actions,
+        Level::Primitive => Which::Primitives,
+        Level::Transition => Which::All,
+    })
+}
+
+/// What the row of `v` calls the segments `w` chooses, for the export's menu and file names:
+/// the row's word ([`RowKind::word`]: a labelling method's actions are its
+/// "labels", LMA's primitives its "gestures"), "all" for every segment.
+pub fn which_word(v: Option<&MethodView>, w: Which) -> &'static str {
+    match w {
+        Which::Actions => row_kind(v, false).word(),
+        Which::Primitives => row_kind(v, true).word(),
+        Which::All => "all",
+    }
+}
+
+/// What a method's row holds (actions, labels, primitives, gestures), from its run.
+pub fn row_kind(v: Option<&MethodView>, primitive: bool) -> RowKind {
+    let labelling = v.is_some_and(is_labelling);
+    let has_actions = v.is_some_and(|v| v.segmentation.segments.iter().any(|s| s.level != Level::Primitive));
+    RowKind::of(primitive, labelling, has_actions)
+}
+
+/// Whether `v` is a labelling method's run (DT-FCN, k-NN): its segments are per-frame class labels.
+pub fn is_labelling(v: &MethodView) -> bool {
+    labels_classes(&v.method) || v.segmentation.params.get("colours").is_some()
+}
+
+/// Levels shown in a method's actions row and in its primitives row.
+pub const ACTION_LEVELS: &[Level] = &[Level::Action, Level::Transition];
+
+/// Whether the method called `method` labels every frame with its model's classes (as it declares).
+pub fn labels_classes(method: &str) -> bool {
+    crate::methods::find(method).ok().and_then(|m| m.supervision()).is_some_and(|s| s.labels_classes)
 }
 
 #[cfg(test)]

@@ -17,11 +17,12 @@
 //! does a press outside it. `#segment-menu-status` says what the last action did (`role="status"`).
 
 use crate::app::loader::Loader;
-use crate::app::method_panel::panel::which_of;
 use crate::app::my_labels::row::MyRow;
+use crate::app::player::playback::play_segment;
 use crate::app::state::AppState;
 use crate::app::state::Selection;
 use crate::app::state::TRUTH_TAB;
+use crate::app::timeline::rows::which_of;
 use crate::clips::Which;
 use leptos::ev::KeyboardEvent;
 use leptos::html::Div;
@@ -34,17 +35,6 @@ const MINE: &str = "my-labels";
 
 /// The menu's items, in order.
 const ITEMS: [&str; 4] = ["segment-menu-play", "segment-menu-export", "segment-menu-copy", "segment-menu-show"];
-
-/// Selects segment `s` and plays it: looped while Loop is on, else once to its end (what a click
-/// on a segment does).
-pub fn play_segment(state: AppState, s: Selection) {
-    let (start, end) = (s.start, s.end);
-    state.selected.set(Some(s));
-    state.play_until.set((!state.looping.get_untracked()).then_some(end));
-    state.shuttle.set(0);
-    state.frame.set(start);
-    state.playing.set(true);
-}
 
 /// The segment a menu is open on, and where (client pixels).
 #[derive(Debug, Clone, PartialEq)]

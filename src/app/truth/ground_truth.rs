@@ -13,10 +13,11 @@
 //! take (its frames, at the take's rate) as segmentation JSON, label CSV or BVH clips
 //! ([`RowExports`]). `document.body.dataset.truth` is `none`, `loaded` or `error`.
 
-use crate::app::method_panel::panel::{class_css, is_labelling, SegmentRow, ACTION_LEVELS};
 use crate::app::my_labels::edits::label_class;
 use crate::app::state::AppState;
+use crate::app::timeline::method_rows::{class_css, SegmentRow};
 use crate::app::timeline::row_exports::RowExports;
+use crate::app::timeline::rows::{is_labelling, ACTION_LEVELS};
 use crate::app::truth::state::{GroundTruth, TruthState};
 use crate::method::Details;
 use crate::protocol::MethodView;

@@ -171,7 +171,7 @@ fn scorable_rows(state: AppState) -> Vec<Row> {
             let name = |primitive| {
                 crate::app::timeline::rows::row_name(
                     &slot.info.short,
-                    crate::app::method_panel::panel::row_kind(Some(&**v), primitive),
+                    crate::app::timeline::rows::row_kind(Some(&**v), primitive),
                 )
             };
             if seg.segments.iter().any(|s| s.level != Level::Primitive) {

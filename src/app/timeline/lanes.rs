@@ -1,0 +1,23 @@
+//! The lanes' width on screen, which every row reads to fit its segments' labels.
+
+use leptos::prelude::*;
+
+thread_local! {
+    /// The lanes' width in CSS pixels (0 until the timeline is laid out).
+    static LANE_PX: RwSignal<f64> = RwSignal::new(0.0);
+}
+
+/// The lanes' width in CSS pixels, kept up to date as the timeline is resized (rows use it to fit
+/// their segments' labels: [`crate::app::timeline::label_fit`]).
+pub fn lane_px() -> RwSignal<f64> {
+    LANE_PX.with(|s| *s)
+}
+
+/// The text a segment `fraction` of the lanes wide shows for `label` (`.ms-seg`: 11 px text,
+/// 3 px of padding either side, www/style.css): the label, a clean abbreviation, or nothing.
+pub fn segment_text(label: &str, fraction: f64) -> String {
+    const FONT_PX: f64 = 11.0;
+    const PADDING_PX: f64 = 6.0;
+    let width = fraction * lane_px().get() - PADDING_PX;
+    crate::app::timeline::label_fit::fit_label(label, width, FONT_PX).unwrap_or_default()
+}
