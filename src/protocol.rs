@@ -784,6 +784,27 @@ impl Request {
 }
 
 impl Response {
+    /// The run this response is about (`None`: about a load, or a message about no run).
+    pub fn run_id(&self) -> Option<RunId> {
+        match self {
+            Response::Progress { run, .. } | Response::Failed { run, .. } => *run,
+            Response::Loaded { .. } | Response::Restored { .. } | Response::Held { .. } => None,
+            Response::Segmented { run, .. }
+            | Response::Annotated { run, .. }
+            | Response::ModelStored { run, .. }
+            | Response::TrainingStep { run, .. }
+            | Response::Trained { run, .. }
+            | Response::NeedsModel { run, .. }
+            | Response::Refused { run, .. }
+            | Response::ModelProvided { run, .. }
+            | Response::ModelRefused { run, .. }
+            | Response::Clips { run, .. }
+            | Response::LibraryTake { run, .. }
+            | Response::LibraryClusters { run, .. }
+            | Response::LibraryTransferred { run, .. } => Some(*run),
+        }
+    }
+
     /// The JSON and buffers of this response (positions, pixels and PNG move into buffers).
     pub fn into_packet(self) -> Packet {
         let mut buffers = Vec::new();
@@ -900,6 +921,24 @@ mod tests {
 
     fn walk() -> Motion {
         load_bytes("12_01.bvh", include_bytes!("../tests/fixtures/12_01.bvh"), &mut |_| {}).unwrap().motion
+    }
+
+    /// The page's loader routes a reply by its run id to the feature that sent the run: a reply about a run names
+    /// it, a load's progress, failure or answer names none.
+    #[test]
+    fn a_reply_names_the_run_it_answers() {
+        let clips = Response::Clips { take: 1, run: 7, file: "a.zip".into(), clips: 2, bytes: Vec::new() };
+        assert_eq!(clips.run_id(), Some(7));
+        let refused = Response::Refused { take: 1, run: 8, message: "no".into(), param: None };
+        assert_eq!(refused.run_id(), Some(8));
+        let progress = |run| Response::Progress { take: 1, run, stage: "s".into(), fraction: None };
+        assert_eq!(progress(Some(9)).run_id(), Some(9));
+        assert_eq!(progress(None).run_id(), None);
+        let failed =
+            |run| Response::Failed { take: 1, run, message: "m".into(), kind: FailureKind::NotLoaded, param: None };
+        assert_eq!(failed(Some(3)).run_id(), Some(3));
+        assert_eq!(failed(None).run_id(), None);
+        assert_eq!(Response::Restored { take: 1 }.run_id(), None);
     }
 
     #[test]

@@ -12,7 +12,7 @@
 //! Who computes is declared, never named: the first method whose [`crate::method::Annotator`] is
 //! set (LMA), with the parameters it declares read from its form (its `model` choice: the shipped
 //! family by default, or one of the user's). Each row's segments go to the worker as one `annotate`
-//! request ([`crate::app::loader::Loader::annotate`]) once they have settled ([`SETTLE_MS`]: my labels
+//! request ([`crate::app::effort::jobs::EffortJobs::annotate`]) once they have settled ([`SETTLE_MS`]: my labels
 //! being dragged ask once, when the drag stops), and the answer is kept under
 //! [`crate::app::effort::layout::cache_key`] (take, method, parameters, segments) for the take's life: a
 //! row drawn again, the window moved or another row with the same segments never asks twice. A
@@ -75,8 +75,7 @@ fn annotator_params(
     crate::method::form::params_from_form(&slot.info.short, &specs, &texts).map_err(|e| e.to_string())
 }
 
-/// The page's worker handle, as the rows that have no method panel find it.
-type LoaderHandle = Option<StoredValue<crate::app::loader::Loader, LocalStorage>>;
+use crate::app::effort::jobs::{EffortJobs, EffortJobsHandle as LoaderHandle};
 
 /// Turns the bars on or off (and keeps the choice); off forgets what was being asked.
 fn set_on(state: AppState, loader: LoaderHandle, on: bool) {
@@ -86,7 +85,7 @@ fn set_on(state: AppState, loader: LoaderHandle, on: bool) {
         state.effort.asked.update(HashMap::clear);
         state.effort.status.set(None);
         if let Some(loader) = loader {
-            loader.with_value(crate::app::loader::Loader::drop_annotations);
+            loader.with_value(EffortJobs::drop_all);
         }
     }
 }

@@ -7,4 +7,6 @@ pub mod layout;
 #[cfg(feature = "web")]
 pub mod bars;
 #[cfg(feature = "web")]
+pub mod jobs;
+#[cfg(feature = "web")]
 pub mod state;

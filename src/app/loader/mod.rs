@@ -27,12 +27,12 @@
 //! The library of takes ([`library`]) has the worker segment its takes one after another without
 //! replacing the take it holds, and cut clips of several takes into one zip.
 //!
-//! The Effort bars under the rows ask the worker for each row's annotations ([`annotate`]): one
-//! `annotate` request per row, sent again after a `not_loaded` or to a new worker, waiting for the
-//! shipped family as a run does.
+//! A feature's own work in the main worker — the Effort bars' annotations
+//! ([`crate::app::effort::jobs`]), the rows' clip exports ([`crate::app::timeline::clip_jobs`]) — is the
+//! feature's: it registers its [`Jobs`] and sends its requests through [`Loader::send`], and the loader
+//! routes every reply by its run id to the jobs that sent it, tells each registered feature when the
+//! worker is replaced, and makes a run that needs a shipped model file wait for it whoever sent it.
 
-mod annotate;
-mod clips;
 mod library;
 mod pool;
 mod shipped;
@@ -48,10 +48,10 @@ use crate::app::take::fetch::{blob_bytes, read_capped, ReadError};
 use crate::load::Opening;
 use crate::protocol::{FailureKind, Request, Response, RunId, TakeId};
 use crate::worker::{request_message, response_from_js};
-use clips::ClipJob;
 use js_sys::ArrayBuffer;
 use leptos::prelude::*;
 use std::cell::{Cell, RefCell};
+use std::collections::HashMap;
 use std::rc::{Rc, Weak};
 use std::sync::Arc;
 use wasm_bindgen::prelude::*;
@@ -100,9 +100,6 @@ impl Urls {
     }
 }
 
-/// A row's export status line: (failed, message).
-type ExportStatus = RwSignal<Option<(bool, String)>>;
-
 /// A worker event handler, kept alive as long as the worker it listens to.
 type Handler = Closure<dyn FnMut(JsValue)>;
 
@@ -125,6 +122,23 @@ struct Run {
     params: serde_json::Value,
     retried: bool,
     crashed: bool,
+}
+
+/// A feature's work in the main worker: the loader hands it every reply to a run it sent
+/// ([`Loader::send`]), and asks it to send again what waits when the worker is replaced. A run that needs a shipped
+/// model file waits for it ([`shipped`]), its progress shown by [`Jobs::stage`], then is sent again
+/// ([`Jobs::send_again`]) or fails ([`Jobs::fail`]).
+pub(crate) trait Jobs {
+    /// A reply about one of the runs this feature sent (never `needs_model`: the loader fetches the file).
+    fn reply(&self, response: Response);
+    /// A new worker replaced the one that had this feature's requests: send again what still waits.
+    fn resend(&self) {}
+    /// Run `run` waits for a shipped model file (`stage` says which, `fraction` how far).
+    fn stage(&self, _run: RunId, _stage: &str, _fraction: f64) {}
+    /// Run `run` can be asked again (the model file it waited for is in the worker).
+    fn send_again(&self, _run: RunId) {}
+    /// Run `run` cannot have the model file it waited for.
+    fn fail(&self, _run: RunId, _message: String) {}
 }
 
 /// A handle on the worker; cheap to clone.
@@ -166,11 +180,10 @@ struct Inner {
     switch: RwSignal<Option<training::SwitchAsk>>,
     /// Keeps the worker's event handlers alive.
     handlers: RefCell<Vec<Handler>>,
-    /// Clip exports asked of the worker: the request (sent again once after `not_loaded`), the
-    /// status line of the row that asked, and whether it was sent again already.
-    clip_jobs: RefCell<Vec<ClipJob>>,
-    /// The Effort bars' annotations asked of the worker ([`annotate`]).
-    annotate_jobs: RefCell<Vec<annotate::AnnotateJob>>,
+    /// The features' jobs registered ([`Loader::register`]): told when the worker is replaced.
+    features: RefCell<Vec<Rc<dyn Jobs>>>,
+    /// Which feature's jobs sent each run under way ([`Loader::send`]): its replies go there.
+    routes: RefCell<HashMap<RunId, Rc<dyn Jobs>>>,
     /// The methods that run after each load (URL parameter `methods`); `None`: those whose
     /// `auto_run` is set.
     auto_run: RefCell<Option<Vec<String>>>,
@@ -203,8 +216,8 @@ impl Loader {
             asked_open: RefCell::new(None),
             switch: RwSignal::new(None),
             handlers: RefCell::new(Vec::new()),
-            clip_jobs: RefCell::new(Vec::new()),
-            annotate_jobs: RefCell::new(Vec::new()),
+            features: RefCell::new(Vec::new()),
+            routes: RefCell::new(HashMap::new()),
             auto_run: RefCell::new(None),
             src_take: RefCell::new(None),
             models,
@@ -251,6 +264,51 @@ impl Loader {
     pub fn cancel_switch(&self) {
         drop(training::answered(&self.0));
     }
+}
+
+impl Loader {
+    /// Registers a feature's jobs: told when the worker is replaced ([`Jobs::resend`]).
+    pub(crate) fn register(&self, jobs: Rc<dyn Jobs>) {
+        self.0.features.borrow_mut().push(jobs);
+    }
+
+    /// The take on screen (the one a request names), if any.
+    pub(crate) fn shown_take(&self) -> Option<TakeId> {
+        self.0.shown.borrow().as_ref().map(|t| t.id)
+    }
+
+    /// A new run id (take and run ids come from one counter).
+    pub(crate) fn new_run(&self) -> RunId {
+        next_id(&self.0)
+    }
+
+    /// Posts `request` to the main worker, its replies routed to `jobs` until [`Loader::forget`].
+    pub(crate) fn send(&self, jobs: Rc<dyn Jobs>, request: &Request) -> Result<(), String> {
+        if let Some(run) = request.run_id() {
+            self.0.routes.borrow_mut().insert(run, jobs);
+        }
+        post(&self.0, request, None)
+    }
+
+    /// Stops routing `run`'s replies (its job is over).
+    pub(crate) fn forget(&self, run: RunId) {
+        self.0.routes.borrow_mut().remove(&run);
+    }
+
+    /// Sends the take on screen to the worker again (after a `not_loaded` answer).
+    pub(crate) async fn send_take_again(&self) -> Result<(), String> {
+        restore(&self.0).await
+    }
+
+    /// Replaces the main worker (it trapped), with everything it was doing.
+    pub(crate) fn replace_worker(&self) {
+        replace_worker(&self.0)
+    }
+}
+
+/// The feature's jobs that sent run `run`, if a feature sent it.
+fn route(inner: &Inner, run: RunId) -> Option<Rc<dyn Jobs>> {
+    inner.routes.borrow().get(&run).cloned()
 }
 
 /// Opens `open` at once.
@@ -676,7 +734,10 @@ fn replace_worker(inner: &Rc<Inner>) {
         pool::post_run(inner, run);
     }
     training::resend(inner);
-    annotate::resend(inner);
+    let features = inner.features.borrow().clone();
+    for jobs in features {
+        jobs.resend();
+    }
     library::resend(inner);
 }
 
@@ -717,15 +778,17 @@ fn on_message(inner: &Rc<Inner>, data: JsValue) {
         Ok(r) => r,
         Err(message) => return fail_load(inner, inner.current.get(), message),
     };
-    // the answers to the library's jobs, the clip exports, the supervised methods' jobs and the Effort
-    // bars' are theirs (the library's first: the clip exports' handler takes every `clips` answer)
-    let Some(response) = library::handle(inner, response)
-        .and_then(|r| clips::handle(inner, r))
-        .and_then(|r| training::handle(inner, r))
-        .and_then(|r| annotate::handle(inner, r))
-    else {
-        return;
+    // the answers to the library's jobs and the supervised methods' jobs are theirs, and a feature's
+    // replies go to the jobs that sent the run (but a run that needs a model file waits for it here)
+    let Some(response) = library::handle(inner, response) else { return };
+    let routed = match &response {
+        Response::NeedsModel { .. } => None,
+        other => other.run_id().and_then(|run| route(inner, run)),
     };
+    if let Some(jobs) = routed {
+        return jobs.reply(response);
+    }
+    let Some(response) = training::handle(inner, response) else { return };
     let state = inner.state;
     match response {
         Response::Progress { take, run: None, stage, fraction } if take == inner.current.get() => {

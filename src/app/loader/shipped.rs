@@ -3,7 +3,7 @@
 //! file fetched so far.
 
 use crate::app::loader::post;
-use crate::app::loader::{annotate, fail_run, next_id, run_index, send_run, Inner};
+use crate::app::loader::{fail_run, next_id, route, run_index, send_run, Inner};
 use crate::app::models::model_files;
 use crate::app::state::RunState;
 use crate::protocol::{Request, RunId};
@@ -31,7 +31,7 @@ pub(super) fn give_model(inner: &Rc<Inner>, run: RunId, file: &str, bytes: &[u8]
 /// The worker needs the shipped model file `file` for `run` (a method's run or an Effort bars'
 /// annotation): fetched once, handed over, and `run` asked again.
 pub(super) fn need_model(inner: &Rc<Inner>, run: RunId, file: String) {
-    if run_index(inner, run).is_none() && !annotate::is_job(inner, run) {
+    if run_index(inner, run).is_none() && route(inner, run).is_none() {
         return; // superseded
     }
     if let Some(bytes) = inner.models.held(&file) {
@@ -92,8 +92,8 @@ pub(super) fn show_fetching(inner: &Inner, run: RunId, file: &str, size: u64, fr
     let stage = model_files::fetching_stage(file, size);
     if let Some(index) = run_index(inner, run) {
         inner.state.methods[index].run.set(RunState::Running { stage, fraction });
-    } else {
-        annotate::show_stage(inner, run, &stage, fraction);
+    } else if let Some(jobs) = route(inner, run) {
+        jobs.stage(run, &stage, fraction);
     }
 }
 
@@ -103,8 +103,8 @@ pub(super) fn ask_again(inner: &Rc<Inner>, run: RunId) {
         if let Err(message) = send_run(inner, index) {
             fail_run(inner, index, message);
         }
-    } else {
-        annotate::send_again(inner, run);
+    } else if let Some(jobs) = route(inner, run) {
+        jobs.send_again(run);
     }
 }
 
@@ -112,7 +112,7 @@ pub(super) fn ask_again(inner: &Rc<Inner>, run: RunId) {
 pub(super) fn fail_waiting(inner: &Rc<Inner>, run: RunId, message: String) {
     if let Some(index) = run_index(inner, run) {
         fail_run(inner, index, message);
-    } else {
-        annotate::fail(inner, run, message);
+    } else if let Some(jobs) = route(inner, run) {
+        jobs.fail(run, message);
     }
 }

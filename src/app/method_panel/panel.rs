@@ -32,6 +32,7 @@ use crate::app::player::motion_image::{download, stem};
 use crate::app::state::AppState;
 use crate::app::state::MethodSlot;
 use crate::app::state::RunState;
+use crate::app::timeline::clip_jobs::ClipJobs;
 use crate::app::timeline::rows::{which_of, which_word};
 use crate::clips::Which;
 use crate::method::{form, ParamKind, ParamSpec, Picture};
@@ -378,11 +379,10 @@ pub fn MethodPanel(
         crate::app::workspace::reveal_method(&slot.info.name);
     };
     let coupling_notes = move || conflicts.get().into_iter().map(|c| coupling_note(slot, c, adjust)).collect_view();
-    let export_loader = loader.clone();
     let on_cancel = move |_| loader.cancel(index);
     let on_export = move |_| export_json(state, slot);
     let counts = move || slot.view.with(|v| v.as_ref().map(|v| v.details.summary.clone()).unwrap_or_default());
-    let exports = view! { <Exports state=state method=slot index=index loader=export_loader/> };
+    let exports = view! { <Exports state=state method=slot index=index/> };
     let fields = || slot.specs.iter().zip(&slot.fields).zip(&slot.choices);
     let basic: Vec<AnyView> =
         fields().filter(|((s, _), _)| s.basic).map(|((s, v), c)| checked_field(slot, s, *v, *c)).collect();
@@ -454,7 +454,8 @@ pub fn MethodPanel(
 /// primitives, all) and whether clips start at the origin facing +Z (`#<name>-export-origin`);
 /// `#<name>-export-status` says what was saved or why not.
 #[component]
-fn Exports(state: AppState, method: &'static MethodSlot, index: usize, loader: Loader) -> impl IntoView {
+fn Exports(state: AppState, method: &'static MethodSlot, index: usize) -> impl IntoView {
+    let clips = use_context::<StoredValue<ClipJobs, LocalStorage>>();
     let slot = method;
     let name = slot.info.name.clone();
     let which = RwSignal::new(Which::Actions);
@@ -490,8 +491,11 @@ fn Exports(state: AppState, method: &'static MethodSlot, index: usize, loader: L
             slot.export_status.set(Some(status));
         })
     };
-    let clips_loader = loader.clone();
-    let on_clips = move |_| clips_loader.export_clips(index, which.get_untracked(), origin.get_untracked(), None);
+    let on_clips = move |_| {
+        if let Some(clips) = clips {
+            clips.with_value(|c| c.export_clips(index, which.get_untracked(), origin.get_untracked(), None));
+        }
+    };
     let mine = {
         let prefix = format!("{name}-");
         move || state.selected.with(|s| s.as_ref().filter(|s| s.row.starts_with(&prefix)).map(|s| (s.start, s.end)))
@@ -500,7 +504,9 @@ fn Exports(state: AppState, method: &'static MethodSlot, index: usize, loader: L
     let on_clip = move |_| {
         let Some((start, end)) = selected() else { return };
         let Some(w) = slot.view.with_untracked(|v| v.as_ref().and_then(|v| which_of(v, start, end))) else { return };
-        loader.export_clips(index, w, origin.get_untracked(), Some((start, end)));
+        if let Some(clips) = clips {
+            clips.with_value(|c| c.export_clips(index, w, origin.get_untracked(), Some((start, end))));
+        }
     };
     let none = move || slot.view.with(Option::is_none);
     let options = move || {

@@ -10,6 +10,8 @@ pub mod rows;
 pub mod window;
 
 #[cfg(feature = "web")]
+pub mod clip_jobs;
+#[cfg(feature = "web")]
 pub mod keys;
 #[cfg(feature = "web")]
 pub mod lanes;

@@ -3,16 +3,16 @@
 //! computed for it, when they did: [`crate::app::effort::bars`]), as the label CSV `file,start_frame,end_frame,label`
 //! (`#<id>-export-csv`), and each of its labelled segments (its actions: an unlabelled stretch of
 //! "my labels" is a transition) as a BVH clip cut from the file on screen, in one
-//! zip (`#<id>-export-clips`, cut by the worker: [`Loader::export_clips_of`]), or the segment
+//! zip (`#<id>-export-clips`, cut by the worker: [`ClipJobs::export_clips_of`]), or the segment
 //! selected on the row (its timeline row's id starts with `<id>`) alone as a BVH
 //! (`#<id>-export-clip`); `#<id>-export-origin` starts each clip at the origin facing +Z.
 //! `#<id>-export-status` says what was saved or why not. The buttons are disabled while the row
 //! is empty. A method's panel has its own exports (choosing actions or primitives):
 //! `method_panel::Exports`.
 
-use crate::app::loader::Loader;
 use crate::app::player::motion_image::{download, stem};
 use crate::app::state::AppState;
+use crate::app::timeline::clip_jobs::ClipJobs;
 use crate::clips::Which;
 use crate::labels::{from_segmentation, to_csv};
 use crate::segment::Segmentation;
@@ -54,7 +54,7 @@ pub fn RowExports(
             save(to_csv(&rows).as_bytes(), "text/csv", format!("{}_{id}.csv", stem(&seg.file)), Some(rows.len()));
         }
     };
-    let loader = use_context::<StoredValue<Loader, LocalStorage>>();
+    let loader = use_context::<StoredValue<ClipJobs, LocalStorage>>();
     let cut = move |which: Which, only: Option<(usize, usize)>| match (row.get_untracked(), loader) {
         (Some(seg), Some(loader)) => {
             loader.with_value(|l| l.export_clips_of(&seg, id, which, origin.get_untracked(), only, status))

@@ -5,7 +5,7 @@
 //!
 //! * `#segment-menu-play` — plays it as a click on it does ([`play_segment`]);
 //! * `#segment-menu-export` — saves it alone as a BVH clip, as its row's "Selected segment as BVH"
-//!   does (the worker cuts it: [`Loader::export_clips_of`]; named after its row);
+//!   does (the worker cuts it: [`ClipJobs::export_clips_of`]; named after its row);
 //! * `#segment-menu-copy` — copies it into "my labels" ([`MyRow::place`]: the parts of my segments
 //!   it covers give way; a transition or an unknown stretch comes in unlabelled);
 //! * `#segment-menu-show` — switches the side panel to its row's tab (the method's, or "Truth &
@@ -16,12 +16,12 @@
 //! Home / End, Enter or Space acts, Esc or Tab closes it (the focus goes back where it was), as
 //! does a press outside it. `#segment-menu-status` says what the last action did (`role="status"`).
 
-use crate::app::loader::Loader;
 use crate::app::my_labels::row::MyRow;
 use crate::app::player::playback::play_segment;
 use crate::app::state::AppState;
 use crate::app::state::Selection;
 use crate::app::state::TRUTH_TAB;
+use crate::app::timeline::clip_jobs::ClipJobs;
 use crate::app::timeline::rows::which_of;
 use crate::clips::Which;
 use leptos::ev::KeyboardEvent;
@@ -162,7 +162,7 @@ pub fn SegmentMenu(state: AppState, mine: MyRow, rows: NodeRef<Div>) -> impl Int
     )
     .forget();
 
-    let loader = use_context::<StoredValue<Loader, LocalStorage>>();
+    let loader = use_context::<StoredValue<ClipJobs, LocalStorage>>();
     let act = move |what: &str| {
         let Some(o) = open.get_untracked() else { return };
         close(what != "show");
