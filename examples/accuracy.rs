@@ -67,11 +67,11 @@ mod lab {
     use std::time::Instant;
 
     use mocapseg::bvh::{self, Bvh};
+    use mocapseg::labeller::decode::{self, file_labels, Decoding, Judged, THRESHOLDS};
+    use mocapseg::labeller::input::NETWORK_FPS;
+    use mocapseg::labeller::probabilities::Probabilities;
     use mocapseg::method::{self, NoProgress, RunOptions};
     use mocapseg::methods::dtfcn::corpus::{averaged_fold, final_fold, fit_knn, predict_held_out, validation_fold};
-    use mocapseg::methods::dtfcn::decode::{self, file_labels, Decoding, Judged, THRESHOLDS};
-    use mocapseg::methods::dtfcn::infer::Probabilities;
-    use mocapseg::methods::dtfcn::input::NETWORK_FPS;
     use mocapseg::methods::dtfcn::method::runs;
     use mocapseg::methods::dtfcn::network::{paper_filters, Padding};
     use mocapseg::methods::dtfcn::training::TrainOptions;

@@ -238,7 +238,7 @@ mod lab {
         })?;
         println!(
             "{}; label noise {}, mask {} s",
-            options.network(classes.len()).describe(mocapseg::methods::dtfcn::input::NETWORK_FPS),
+            options.network(classes.len()).describe(mocapseg::labeller::input::NETWORK_FPS),
             options.label_noise,
             options.mask_s
         );
@@ -286,9 +286,9 @@ mod lab {
         base: &TrainOptions,
         seeds: &[u64],
     ) -> Result<(), String> {
-        use mocapseg::methods::dtfcn::decode::{file_labels, Decoding};
-        use mocapseg::methods::dtfcn::infer::Probabilities;
-        use mocapseg::methods::dtfcn::input::NETWORK_FPS;
+        use mocapseg::labeller::decode::{file_labels, Decoding};
+        use mocapseg::labeller::input::NETWORK_FPS;
+        use mocapseg::labeller::probabilities::Probabilities;
         use mocapseg::segment::labelling;
         if seeds.is_empty() {
             return Err("--seeds: give at least one seed".into());
@@ -508,8 +508,8 @@ mod lab {
         motion: &Motion,
         classes: usize,
     ) -> Result<Vec<f32>, String> {
+        use mocapseg::labeller::input::{network_input, NetworkInput};
         use mocapseg::methods::dtfcn::infer::predict_with_features;
-        use mocapseg::methods::dtfcn::input::{network_input, NetworkInput};
         let features = |input: &NetworkInput| -> (usize, Vec<f32>) {
             let (_, mut f) = predict_with_features(&trained.net, &trained.standardise, input, classes);
             let width = f.len() / input.frames.max(1);
@@ -551,7 +551,7 @@ mod lab {
     /// Per working frame of a take: (confidence, novelty, whether its true class is the one left out), for its
     /// labelled frames.
     fn frames_of(
-        probabilities: &mocapseg::methods::dtfcn::infer::Probabilities,
+        probabilities: &mocapseg::labeller::probabilities::Probabilities,
         novelty: &[f32],
         source: &[f64],
         truth: &[Option<usize>],

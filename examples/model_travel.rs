@@ -1,5 +1,5 @@
 //! Lab tool, not part of the product: writes the travel profile of the take fit
-//! (`mocapseg::methods::dtfcn::fit`) into the header of a model made before it was measured,
+//! (`mocapseg::labeller::fit`) into the header of a model made before it was measured,
 //! from the model's own training data — the same BVH files and label CSV its provenance command
 //! names, checked against its data hash — keeping the weights byte for byte. Models trained since
 //! carry the profile from their training (`train-dtfcn`, `train-knn`, the page).

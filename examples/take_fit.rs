@@ -25,7 +25,7 @@ fn main() -> std::process::ExitCode {
 mod lab {
     use std::path::PathBuf;
 
-    use mocapseg::methods::dtfcn::fit::{TakeFit, TravelProfile};
+    use mocapseg::labeller::fit::{TakeFit, TravelProfile};
     use mocapseg::methods::dtfcn::model::{Labeller, ModelKind};
     use mocapseg::methods::dtfcn::shipped;
     use mocapseg::methods::knn::{Knn, KnnParams, Labelled};

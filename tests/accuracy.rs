@@ -164,7 +164,7 @@ fn chance_on_the_fixtures_is_far_below_a_perfect_score() {
 }
 
 /// Labels that do not flicker (issue 23): the shipped `exercises` labellers' own decoding (stored in the model file,
-/// `methods::dtfcn::decode`, the default `decoding=model`) cuts each take into at most twice its true segments, never
+/// `labeller::decode`, the default `decoding=model`) cuts each take into at most twice its true segments, never
 /// more than the raw per-frame labels (`decoding=raw`), at an edit score no lower and about the same frame accuracy,
 /// and no run but the last is shorter than the model's minimum.
 #[test]

@@ -160,7 +160,7 @@ fn a_saved_model_loads_and_labels_exactly_as_before() {
 /// model's centring whatever its options say; without the option nothing is centred.
 #[test]
 fn a_model_centred_on_each_take_is_trained_kept_and_run_on_centred_takes() {
-    use mocapseg::methods::dtfcn::input::{centred_on_take, NetworkInput, Standardise};
+    use mocapseg::labeller::input::{centred_on_take, NetworkInput, Standardise};
     use mocapseg::methods::dtfcn::training::Trainer;
     let (motions, classes, takes) = two_takes();
     let options = TrainOptions { centre_on_take: true, ..small(2) };
@@ -408,7 +408,7 @@ fn a_fold_validates_on_any_inner_take() {
     assert_eq!((p, source), (fold.network_probabilities.clone(), fold.network_source.clone()));
     let other = 3 - fold.validation; // the other inner take (takes 1 and 2 are the inner ones)
     let (p, _, _) = validation_fold(&takes, &labels, 0, other, &classes, &options).unwrap();
-    let frames = mocapseg::methods::dtfcn::input::network_input(&takes[other]).unwrap().frames;
+    let frames = mocapseg::labeller::input::network_input(&takes[other]).unwrap().frames;
     assert_eq!(p.frames, frames, "the take asked is the one labelled");
     assert_ne!(p, fold.validation_probabilities);
     let mut scrambled = labels.clone();

@@ -13,8 +13,8 @@
 
 use std::sync::OnceLock;
 
+use mocapseg::labeller::input::{joint_names, Standardise, CHANNELS, NETWORK_FPS};
 use mocapseg::method::{NoProgress, RunOptions};
-use mocapseg::methods::dtfcn::input::{joint_names, Standardise, CHANNELS, NETWORK_FPS};
 use mocapseg::methods::dtfcn::model::{sha256_hex, Labeller, Model, ModelHeader, ModelKind, Provenance, FORMAT, MAGIC};
 use mocapseg::methods::dtfcn::network::DtFcnConfig;
 use mocapseg::methods::dtfcn::training::TrainOptions;

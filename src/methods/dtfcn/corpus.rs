@@ -3,9 +3,9 @@
 //! model file, and leave-one-take-out cross-validation with the epochs chosen inside the
 //! training takes (nested: the held-out take never chooses anything).
 
-use super::input::NETWORK_FPS;
 use super::model::{Labeller, MemberRun, Model, ModelHeader, ModelKind, Provenance};
 use super::training::{train, EpochReport, TrainOptions, Trained, TrainingTake};
+use crate::labeller::input::NETWORK_FPS;
 use crate::labels::same_file;
 use crate::labels::LabelRow;
 use crate::methods::knn::{Knn, KnnParams, Labelled as KnnTake};
@@ -120,20 +120,20 @@ pub struct ModelMeta {
     pub command: String,
     pub data_hash: String,
     /// The decoding a run with `decoding = "model"` uses (none: raw per-frame labels).
-    pub decoding: Option<super::decode::Decoding>,
+    pub decoding: Option<crate::labeller::decode::Decoding>,
     /// The unknown threshold its runs use unless they ask for another (the header's).
     pub unknown_threshold: f64,
     /// How fast the training takes' labelled frames travelled ([`travel_of`]; for the take fit).
-    pub travel: Option<super::fit::TravelProfile>,
+    pub travel: Option<crate::labeller::fit::TravelProfile>,
 }
 
 /// The travel profile of the labelled frames of `takes` (per file frame labels), `None` when it
 /// cannot be measured (a take without hips and feet: its model cannot label it either).
-pub fn travel_of(takes: &[(&Motion, &[Option<usize>])]) -> Option<super::fit::TravelProfile> {
+pub fn travel_of(takes: &[(&Motion, &[Option<usize>])]) -> Option<crate::labeller::fit::TravelProfile> {
     let taught: Vec<Vec<bool>> = takes.iter().map(|(_, l)| l.iter().map(Option::is_some).collect()).collect();
     let with: Vec<(&Motion, Option<&[bool]>)> =
         takes.iter().zip(&taught).map(|((m, _), t)| (*m, Some(&t[..]))).collect();
-    super::fit::TravelProfile::fit(&with).ok()
+    crate::labeller::fit::TravelProfile::fit(&with).ok()
 }
 
 fn header(kind: ModelKind, classes: &[String], meta: &ModelMeta, provenance: Provenance) -> ModelHeader {
@@ -329,11 +329,11 @@ pub struct FoldPrediction {
     pub validation_labels: Vec<(usize, f32)>,
     /// The same network's class probabilities per working frame of the validation take, and their file positions
     /// (what a decoding is chosen on).
-    pub validation_probabilities: super::infer::Probabilities,
+    pub validation_probabilities: crate::labeller::probabilities::Probabilities,
     pub validation_source: Vec<f64>,
     /// The held-out take's class probabilities per working frame by the network trained on all other takes, and
     /// their file positions.
-    pub network_probabilities: super::infer::Probabilities,
+    pub network_probabilities: crate::labeller::probabilities::Probabilities,
     pub network_source: Vec<f64>,
     /// The early-stopped network (trained without the validation take) and the one retrained on every take but
     /// the held-out one, and the k-NN that labelled the held-out take: what an experiment measures further
@@ -366,7 +366,7 @@ pub fn novelty_scores(
         }
     }
     let novelty = super::novelty::Novelty::fit(&rows, width, &labels, classes, super::novelty::RANK)?;
-    let input = super::input::network_input(motion)?;
+    let input = crate::labeller::input::network_input(motion)?;
     let (_, f) = predict_with_features(&trained.net, &trained.standardise, &input, classes);
     Ok(novelty.scores(&f))
 }
@@ -376,8 +376,8 @@ fn probabilities(
     trained: &Trained,
     motion: &Motion,
     classes: usize,
-) -> Result<(super::infer::Probabilities, Vec<f64>), String> {
-    let input = super::input::network_input(motion)?;
+) -> Result<(crate::labeller::probabilities::Probabilities, Vec<f64>), String> {
+    let input = crate::labeller::input::network_input(motion)?;
     let probs = super::infer::predict_input(&trained.net, &trained.standardise, &input, classes);
     Ok((probs, input.source_frames))
 }
@@ -390,7 +390,11 @@ pub fn label_frames(trained: &Trained, motion: &Motion, classes: usize) -> Resul
 }
 
 /// Per file frame of `motion`: the most probable class and its probability, from [`probabilities`].
-fn file_frames_of(probs: &super::infer::Probabilities, source: &[f64], motion: &Motion) -> Vec<(usize, f32)> {
+fn file_frames_of(
+    probs: &crate::labeller::probabilities::Probabilities,
+    source: &[f64],
+    motion: &Motion,
+) -> Vec<(usize, f32)> {
     let working: Vec<(usize, f32)> = (0..probs.frames).map(|f| probs.best(f)).collect();
     TrainingTake::to_file_frames(source, motion.frames(), &working)
 }
@@ -481,7 +485,7 @@ pub fn validation_fold(
     val: usize,
     classes: &[String],
     options: &TrainOptions,
-) -> Result<(super::infer::Probabilities, Vec<f64>, usize), String> {
+) -> Result<(crate::labeller::probabilities::Probabilities, Vec<f64>, usize), String> {
     let n = motions.len();
     if n < 3 || held >= n || val >= n || held == val {
         return Err(format!(
@@ -539,7 +543,7 @@ pub fn final_fold(
     classes: &[String],
     options: &TrainOptions,
     epochs: usize,
-) -> Result<(super::infer::Probabilities, Vec<f64>), String> {
+) -> Result<(crate::labeller::probabilities::Probabilities, Vec<f64>), String> {
     let trained = retrained(motions, labels, held, classes, options, epochs, &mut |_| true)?;
     probabilities(&trained, &motions[held], classes.len())
 }
@@ -593,9 +597,9 @@ pub fn averaged_fold(
 /// network of every other take.
 pub struct AveragedFold {
     pub validation: usize,
-    pub validation_probabilities: super::infer::Probabilities,
+    pub validation_probabilities: crate::labeller::probabilities::Probabilities,
     pub validation_source: Vec<f64>,
-    pub network: Option<(super::infer::Probabilities, Vec<f64>)>,
+    pub network: Option<(crate::labeller::probabilities::Probabilities, Vec<f64>)>,
 }
 
 /// Leave-one-take-out with [`predict_held_out`] for every take, scored on the held-out take's

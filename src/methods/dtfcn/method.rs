@@ -8,11 +8,12 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::decode::{file_labels, Decoding};
-use super::infer::{predict_members, Probabilities, BLOCK_FRAMES};
-use super::input::network_input;
+use super::infer::{predict_members, BLOCK_FRAMES};
 use super::model::{Labeller, Model, ModelHeader, ModelKind};
 use super::shipped;
+use crate::labeller::decode::{file_labels, Decoding};
+use crate::labeller::input::network_input;
+use crate::labeller::probabilities::Probabilities;
 use crate::method::supervised::{Loaded, Training, TrainingAsk, IN_SAMPLE};
 use crate::method::{
     Curve, Details, FittingModel, Method, MethodError, MethodInfo, MethodOutput, ModelStore, ParamKind, ParamSpec,
@@ -69,7 +70,7 @@ pub fn in_sample_note(header: &ModelHeader, take: &str) -> Option<String> {
 /// The custom decoding's defaults (what most folds chose: a 2 s minimum run).
 pub const CUSTOM_DECODING: Decoding = Decoding { min_duration_s: 2.0, switch_cost: 0.0 };
 
-pub use super::decode::{MAX_MIN_DURATION_S, MAX_SWITCH_COST};
+pub use crate::labeller::decode::{MAX_MIN_DURATION_S, MAX_SWITCH_COST};
 
 impl Default for LabelParams {
     fn default() -> Self {
@@ -129,9 +130,9 @@ fn fit_windows(model: &Arc<Model>, name: &str, models: &ModelStore) -> Result<Op
 }
 
 /// The k-NN labeller of a fit check's windows model (none for a network).
-fn knn_of(model: Option<&Model>) -> Option<&dyn super::fit::Windows> {
+fn knn_of(model: Option<&Model>) -> Option<&dyn crate::labeller::fit::Windows> {
     model.and_then(|m| match &m.labeller {
-        Labeller::Knn(k) => Some(&**k as &dyn super::fit::Windows),
+        Labeller::Knn(k) => Some(&**k as &dyn crate::labeller::fit::Windows),
         Labeller::Network(_) => None,
     })
 }
@@ -141,7 +142,7 @@ fn knn_of(model: Option<&Model>) -> Option<&dyn super::fit::Windows> {
 /// before the run starts). Per class and working frame: each network's probabilities (an ensemble keeps all of them
 /// until it averages them), their mean or the k-NN's votes, the decoded copy and the decoding's back-pointers
 /// (a u16 and a flag); besides, whatever the length: the decoding's two score rows (classes × its minimum run in
-/// frames, [`super::decode::viterbi`]) and one block of the network's inference ([`super::infer::block_bytes`]),
+/// frames, [`crate::labeller::decode::viterbi`]) and one block of the network's inference ([`super::infer::block_bytes`]),
 /// 4 MiB for the rest.
 pub fn model_work(model: &Model, decoding: &Decoding, base: usize) -> Work {
     let classes = model.header.classes.len();
@@ -161,7 +162,7 @@ pub fn model_work(model: &Model, decoding: &Decoding, base: usize) -> Work {
 
 impl Labelling {
     /// The models of this method other than `chosen` whose classes fit `motion`, best first
-    /// ([`super::fit::rank_fitting`]): the shipped ones and the user's (`models`). Only their fit is
+    /// ([`crate::labeller::fit::rank_fitting`]): the shipped ones and the user's (`models`). Only their fit is
     /// measured, never their labels: a shipped model by its k-NN file of the same name (the same
     /// data as its DT-FCN file: its travel and its windows, a fraction of the network's size), a
     /// user's by its own travel and the k-NN windows of its data ([`fit_windows`]). A model nothing
@@ -194,7 +195,7 @@ impl Labelling {
                 // the run goes on (a run that needs it as its own model says why)
                 Err(_) => continue,
             };
-            let fit = super::fit::TakeFit::assess(motion, travel.as_ref(), knn_of(windows.as_deref()))
+            let fit = crate::labeller::fit::TakeFit::assess(motion, travel.as_ref(), knn_of(windows.as_deref()))
                 .map_err(MethodError::Failed)?;
             if fit.measured() && fit.fits() {
                 fitting.push(FittingModel {
@@ -204,7 +205,7 @@ impl Labelling {
                 });
             }
         }
-        Ok(super::fit::rank_fitting(fitting))
+        Ok(crate::labeller::fit::rank_fitting(fitting))
     }
 }
 
@@ -475,8 +476,12 @@ impl Method for Labelling {
         let fit = match &params.fit {
             Some(check) => {
                 progress.step("take fit", 0.0)?;
-                let fit = super::fit::TakeFit::assess(motion, header.travel.as_ref(), knn_of(check.windows.as_deref()))
-                    .map_err(MethodError::Failed)?;
+                let fit = crate::labeller::fit::TakeFit::assess(
+                    motion,
+                    header.travel.as_ref(),
+                    knn_of(check.windows.as_deref()),
+                )
+                .map_err(MethodError::Failed)?;
                 // the other models only when asked: each is a search of its windows, and most runs
                 // keep their model
                 let fitting = if fit.fits() || !check.others {
@@ -593,7 +598,7 @@ pub fn label(model: &Model, motion: &Motion, progress: &mut dyn Progress) -> Res
             if cancelled {
                 return Err(MethodError::Cancelled);
             }
-            (p, input.source_frames, super::input::NETWORK_FPS)
+            (p, input.source_frames, crate::labeller::input::NETWORK_FPS)
         }
         Labeller::Knn(knn) => {
             progress.step("neighbours", 0.1)?;
@@ -835,7 +840,7 @@ mod tests {
             pose_ratio: pose,
             travel_share: Some(travel),
         };
-        let ranked = super::super::fit::rank_fitting(vec![
+        let ranked = crate::labeller::fit::rank_fitting(vec![
             m("c", None, 0.0),
             m("b", Some(1.5), 0.0),
             m("a", Some(0.5), 0.2),

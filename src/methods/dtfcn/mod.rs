@@ -4,14 +4,15 @@
 //!
 //! | paper | module |
 //! |---|---|
-//! | §2 motion image ("rows joints, RGB the scaled XYZ") | [`input`] |
+//! | §2 motion image ("rows joints, RGB the scaled XYZ") | [`crate::labeller::input`] (the k-NN reads it too) |
 //! | §2 / Fig. 1 the network: full-height first kernel, four dilated acausal layers, `d = w^(l−1)` | [`network`] |
 //! | §2 NormReLU before the softmax | [`normrelu`] |
 //! | §3 training: cross-entropy, Adam, label noise (Table 3), boundary masking (Table 4) | [`training`] |
 //! | (not in the paper) augmentation for small labelled sets | [`augment`] |
 //! | labelling a take, blockwise | [`infer`] |
 //! | (not in the paper) an unknown in feature space: Mahalanobis distance before NormReLU | [`novelty`] |
-//! | (not in the paper) labels as one path with a minimum duration, not per-frame argmax | [`decode`] |
+//! | (not in the paper) labels as one path with a minimum duration, not per-frame argmax | [`crate::labeller::decode`] |
+//! | (not in the paper) whether a take fits the model | [`crate::labeller::fit`] |
 //! | model files: classes, colours, joint set, rate, training command, weights | [`model`] |
 //! | the registered `dtfcn` method | [`method`] |
 //! | training and model files behind the supervised shape | [`supervised`] |
@@ -19,10 +20,7 @@
 pub mod augment;
 pub mod bench;
 pub mod corpus;
-pub mod decode;
-pub mod fit;
 pub mod infer;
-pub mod input;
 pub mod method;
 pub mod model;
 pub mod network;

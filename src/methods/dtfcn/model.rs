@@ -15,9 +15,9 @@ use burn::tensor::Bytes;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use super::input::{canonical_names, joint_names, Standardise, CHANNELS, NETWORK_FPS};
 use super::network::{DtFcn, DtFcnConfig};
 use super::training::TrainOptions;
+use crate::labeller::input::{canonical_names, joint_names, Standardise, CHANNELS, NETWORK_FPS};
 use crate::method::supervised::MAX_MODEL_NAME;
 use crate::methods::knn::{Knn, KnnParams};
 
@@ -131,7 +131,7 @@ pub struct ModelHeader {
     /// How its per-frame probabilities are decoded into labels when a run asks for the model's decoding
     /// ([`super::decode`]; chosen by validation when it was made; none: the raw per-frame labels).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub decoding: Option<super::decode::Decoding>,
+    pub decoding: Option<crate::labeller::decode::Decoding>,
     /// The network's shape (DT-FCN).
     #[serde(default)]
     pub network: Option<DtFcnConfig>,
@@ -143,7 +143,7 @@ pub struct ModelHeader {
     pub knn: Option<KnnParams>,
     /// How fast its training takes travelled ([`super::fit`]; none in models made before it was measured).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub travel: Option<super::fit::TravelProfile>,
+    pub travel: Option<crate::labeller::fit::TravelProfile>,
     pub provenance: Provenance,
     /// An ensemble's payload: the byte length of each network's weights, in order (empty: one network, the
     /// whole payload).
@@ -167,16 +167,6 @@ pub enum Labeller {
     /// ([`super::infer::predict_members`]); never empty.
     Network(Vec<DtFcn>),
     Knn(Box<Knn>),
-}
-
-/// The k-NN's windows are what a take's fit is measured against ([`super::fit::Windows`]).
-impl super::fit::Windows for Knn {
-    fn nearest_distances(&self, motion: &crate::motion::Motion) -> Result<Vec<f32>, String> {
-        Knn::nearest_distances(self, motion)
-    }
-    fn familiar_distances(&self, gap: usize, samples: usize) -> Vec<f32> {
-        Knn::familiar_distances(self, gap, samples)
-    }
 }
 
 impl std::fmt::Debug for Model {
@@ -655,7 +645,7 @@ mod tests {
     /// decoder, 9e4 took 33 s on a 40 s take, 40,000 classes 7.9 s).
     #[test]
     fn hostile_headers_are_refused_naming_the_field() {
-        use super::super::decode::Decoding;
+        use crate::labeller::decode::Decoding;
         let bytes = tiny().to_bytes().unwrap();
         // the header as a file carries it, framed around the untouched payload
         let refused = |edit: &dyn Fn(&mut ModelHeader), wanted: &[&str]| {
@@ -690,7 +680,7 @@ mod tests {
         refused(&|h: &mut ModelHeader| h.colours[0] = "red\"><script>".into(), &["class colour", "#rrggbb"]);
         refused(&|h: &mut ModelHeader| h.name = "n".repeat(65), &["model name", "at most 64"]);
         refused(
-            &|h: &mut ModelHeader| h.travel = Some(super::super::fit::TravelProfile { median: -1.0, limit: 3.0 }),
+            &|h: &mut ModelHeader| h.travel = Some(crate::labeller::fit::TravelProfile { median: -1.0, limit: 3.0 }),
             &["travel median -1"],
         );
         refused(&|h: &mut ModelHeader| h.member_bytes = vec![1; 17], &["17 networks", "at most 16"]);
@@ -705,7 +695,7 @@ mod tests {
     /// refused on load (its payload and checksum untouched, so only the header can be why).
     #[test]
     fn a_shipped_knn_file_with_a_hostile_decoding_is_refused() {
-        use super::super::decode::Decoding;
+        use crate::labeller::decode::Decoding;
         let bytes = crate::method::ModelStore::default()
             .shipped_bytes("knn-exercises.model")
             .expect("the shipped k-NN model")

@@ -7,15 +7,15 @@ use std::sync::Arc;
 
 use super::augment::Augment;
 use super::corpus::{class_labels, fit_knn_model, model_from, rows_without_takes, ModelMeta};
-use super::decode::Decoding;
-use super::input::NetworkInput;
-use super::input::Standardise;
 use super::method::{DEFAULT_THRESHOLD, MAX_MIN_DURATION_S, MAX_SWITCH_COST};
 use super::model::{data_hash, take_hashes, Labeller, Model, ModelKind};
 use super::network::Padding;
 use super::network::{DtFcn, DtFcnConfig};
 use super::shipped;
 use super::training::{EpochReport, TrainOptions, Trainer, TrainingTake, MAX_MASK_S};
+use crate::labeller::decode::Decoding;
+use crate::labeller::input::NetworkInput;
+use crate::labeller::input::Standardise;
 use crate::labels::same_file;
 use crate::method::cards::ModelCard;
 use crate::method::form::field_text;
@@ -842,10 +842,10 @@ fn continued(
 }
 
 /// With a validation take and `choose_decoding`: the model's decoding and unknown threshold chosen on the
-/// validation take's labels by the model ([`super::decode::choose`]; the take was not trained on), written into its
+/// validation take's labels by the model ([`crate::labeller::decode::choose`]; the take was not trained on), written into its
 /// header; a sentence for the training's summary (empty when nothing was chosen).
 fn choose_on_validation(model: &mut Model, prepared: &Prepared, options: &ModelOptions) -> Result<String, MethodError> {
-    use super::decode::{choose, Judged};
+    use crate::labeller::decode::{choose, Judged};
     let Some(v) = prepared.validation.as_deref().filter(|_| options.choose_decoding) else {
         return Ok(String::new());
     };
@@ -971,7 +971,7 @@ impl Training for DtfcnTraining {
             .header
             .network
             .as_ref()
-            .map(|n| format!(" The {}.", n.describe(super::input::NETWORK_FPS)))
+            .map(|n| format!(" The {}.", n.describe(crate::labeller::input::NETWORK_FPS)))
             .unwrap_or_default();
         let report = TrainingReport {
             summary: format!("{}{network}{chosen}", prepared.summary(ModelKind::Dtfcn, &how, Some(best))),
@@ -1222,11 +1222,11 @@ mod tests {
     }
 
     /// A validation take chooses the model's decoding and unknown threshold on its labels by the finished model, for
-    /// both kinds (the header holds what [`super::super::decode::choose`] chooses there); `choose_decoding` off, the
+    /// both kinds (the header holds what [`crate::labeller::decode::choose`] chooses there); `choose_decoding` off, the
     /// rows as given.
     #[test]
     fn a_validation_take_chooses_the_models_decoding() {
-        use super::super::decode::{choose, Judged};
+        use crate::labeller::decode::{choose, Judged};
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures");
         let file = |n: &str| (n.to_string(), std::fs::read(dir.join(n)).unwrap());
         let ask = |options: serde_json::Value| TrainingAsk {

@@ -22,7 +22,7 @@ use kiddo::SquaredEuclidean;
 use crate::features::end_effectors::canonical_joints;
 use crate::features::pca::principal_axes;
 use crate::features::{stack, FeatureMatrix};
-use crate::methods::dtfcn::infer::Probabilities;
+use crate::labeller::probabilities::Probabilities;
 use crate::motion::joints::Canonical;
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -58,7 +58,7 @@ impl Default for KnnParams {
 impl KnnParams {
     /// Refuses windows and votes the labeller cannot use (as read from a model file).
     pub fn check(&self) -> Result<(), String> {
-        if (self.fps - crate::methods::dtfcn::input::NETWORK_FPS).abs() > 1e-9 {
+        if (self.fps - crate::labeller::input::NETWORK_FPS).abs() > 1e-9 {
             return Err(format!("k-NN at {} Hz; this mocapseg's k-NN works at 30 Hz", self.fps));
         }
         if !(0..=300).contains(&self.half_window) || !(1..=300).contains(&self.stride) {
@@ -470,7 +470,7 @@ impl Knn {
     /// every frame familiar). By brute force, `samples × n` distances; the take fit's measurement
     /// is kept once made.
     pub fn familiar_distances(&self, gap: usize, samples: usize) -> Vec<f32> {
-        use crate::methods::dtfcn::fit::{FAMILIAR_GAP, FAMILIAR_SAMPLES};
+        use crate::labeller::fit::{FAMILIAR_GAP, FAMILIAR_SAMPLES};
         if (gap, samples) == (FAMILIAR_GAP, FAMILIAR_SAMPLES) {
             return self.familiar.get_or_init(|| self.measure_familiar(gap, samples)).clone();
         }
@@ -514,6 +514,16 @@ impl Knn {
                 (c, (share * self.params.k as f32).round() / self.params.k as f32)
             })
             .collect())
+    }
+}
+
+/// The k-NN's windows are what a take's fit is measured against ([`crate::labeller::fit::Windows`]).
+impl crate::labeller::fit::Windows for Knn {
+    fn nearest_distances(&self, motion: &crate::motion::Motion) -> Result<Vec<f32>, String> {
+        Knn::nearest_distances(self, motion)
+    }
+    fn familiar_distances(&self, gap: usize, samples: usize) -> Vec<f32> {
+        Knn::familiar_distances(self, gap, samples)
     }
 }
 
