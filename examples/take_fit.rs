@@ -26,8 +26,9 @@ mod lab {
     use std::path::PathBuf;
 
     use mocapseg::labeller::fit::{TakeFit, TravelProfile};
-    use mocapseg::methods::dtfcn::model::{Labeller, ModelKind};
+    use mocapseg::methods::dtfcn::model::ModelKind;
     use mocapseg::methods::dtfcn::shipped;
+    use mocapseg::methods::knn::model::knn_of;
     use mocapseg::methods::knn::{Knn, KnnParams, Labelled};
     use mocapseg::motion::Motion;
 
@@ -92,7 +93,7 @@ mod lab {
                 Some(t) => *t,
                 None => TravelProfile::fit(&trained.iter().map(|m| (*m, None)).collect::<Vec<_>>())?,
             };
-            if let Labeller::Knn(knn) = &model.labeller {
+            if let Some(knn) = knn_of(&model) {
                 row(name, knn, &travel, &takes)?;
             }
         }

@@ -34,7 +34,6 @@ const KNOWN_CROSS_METHOD: &[&str] = &[
     "src/methods/dtfcn/corpus.rs -> methods::knn",
     "src/methods/dtfcn/model.rs -> methods::knn",
     "src/methods/knn/method.rs -> methods::dtfcn",
-    "src/methods/knn/mod.rs -> methods::dtfcn",
 ];
 
 /// Files outside `src/methods/` that reached a method's internals when the rule was written: `file -> methods::<m>`.

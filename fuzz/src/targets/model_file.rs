@@ -1,4 +1,4 @@
-//! Model files: the DT-FCN / k-NN labelling model (`dtfcn::model::Model::from_bytes`, what
+//! Model files: the DT-FCN / k-NN labelling model (`labeller::model::Model::from_bytes`, what
 //! `segment --model FILE` and the page's model inputs read) and the LMA classifier family
 //! (`lma::classifier::EffortModel::from_json`, `--lma-model FILE`). The first byte picks:
 //!
@@ -14,8 +14,9 @@
 use std::sync::OnceLock;
 
 use mocapseg::labeller::input::{joint_names, Standardise, CHANNELS, NETWORK_FPS};
+use mocapseg::labeller::model::{sha256_hex, Json, Model, ModelHeader, Provenance, FORMAT, MAGIC};
 use mocapseg::method::{NoProgress, RunOptions};
-use mocapseg::methods::dtfcn::model::{sha256_hex, Labeller, Model, ModelHeader, ModelKind, Provenance, FORMAT, MAGIC};
+use mocapseg::methods::dtfcn::model::{ModelKind, Networks, KINDS};
 use mocapseg::methods::dtfcn::network::DtFcnConfig;
 use mocapseg::methods::dtfcn::training::TrainOptions;
 use mocapseg::methods::knn::{Knn, KnnParams, Labelled};
@@ -33,7 +34,7 @@ fn take() -> &'static Motion {
 fn header(kind: ModelKind, classes: usize) -> ModelHeader {
     let names: Vec<String> = (0..classes).map(|i| format!("class{i}")).collect();
     ModelHeader {
-        kind,
+        kind: kind.name().into(),
         name: "tiny".into(),
         colours: (0..classes).map(|i| format!("#{:02x}8040", i * 40)).collect(),
         classes: names,
@@ -50,7 +51,7 @@ fn header(kind: ModelKind, classes: usize) -> ModelHeader {
             data_hash: String::new(),
             takes: vec!["12_01.bvh".into()],
             frames: 0,
-            options: TrainOptions::default(),
+            options: Json::of(&TrainOptions::default()).expect("the options serialise"),
             epochs_run: 0,
             best_epoch: 0,
             take_sha256: vec![],
@@ -103,15 +104,16 @@ pub fn seeds() -> Vec<(String, Vec<u8>)> {
     let net = config.init(&device);
     let other = config.init(&device);
     let mut h = header(ModelKind::Dtfcn, 3);
-    h.network = Some(config);
+    h.network = Some(Json::of(&config).expect("the shape serialises"));
     h.standardise = Some(Standardise { mean: vec![0.0; CHANNELS], spread: vec![1.0; CHANNELS], centre_on_take: false });
-    let dtfcn = Model { header: h.clone(), labeller: Labeller::Network(vec![net.clone()]) };
+    let dtfcn =
+        Model { header: h.clone(), labeller: Box::new(Networks { config: config.clone(), nets: vec![net.clone()] }) };
     let bytes = dtfcn.to_bytes().expect("the tiny DT-FCN writes");
     let payload = &bytes[bytes.len() - dtfcn_payload_len(&bytes)..];
     out.push(("dtfcn-tiny.model".into(), [&[0u8][..], &bytes].concat()));
     out.push(("dtfcn-tiny.split".into(), split(&h, payload)));
     // an ensemble of two: the header's byte count of each network cuts the payload
-    let pair = Model { header: h, labeller: Labeller::Network(vec![net, other]) };
+    let pair = Model { header: h, labeller: Box::new(Networks { config, nets: vec![net, other] }) };
     out.push(("dtfcn-pair.model".into(), [&[0u8][..], &pair.to_bytes().expect("the pair writes")].concat()));
 
     let motion = take();
@@ -120,7 +122,7 @@ pub fn seeds() -> Vec<(String, Vec<u8>)> {
     let knn = Knn::fit(&[Labelled { motion, labels: &labels }], params).expect("the tiny k-NN fits");
     let payload = knn.to_bytes();
     let mut h = header(ModelKind::Knn, 3);
-    h.knn = Some(params);
+    h.knn = Some(Json::of(&params).expect("the parameters serialise"));
     out.push(("knn-tiny.model".into(), [&[0u8][..], &framed(h.clone(), &payload)].concat()));
     out.push(("knn-tiny.split".into(), split(&h, &payload)));
 
@@ -143,7 +145,7 @@ fn dtfcn_payload_len(bytes: &[u8]) -> usize {
 }
 
 fn labelling_model(bytes: &[u8]) {
-    let model = match Model::from_bytes(bytes, "fuzz.model") {
+    let model = match Model::from_bytes(bytes, "fuzz.model", &KINDS) {
         Ok(m) => m,
         Err(e) => {
             assert!(e.starts_with("fuzz.model: "), "{e}");
@@ -151,8 +153,8 @@ fn labelling_model(bytes: &[u8]) {
         }
     };
     let written = model.to_bytes().expect("a loaded model writes");
-    let back =
-        Model::from_bytes(&written, "again.model").unwrap_or_else(|e| panic!("a written model does not load: {e}"));
+    let back = Model::from_bytes(&written, "again.model", &KINDS)
+        .unwrap_or_else(|e| panic!("a written model does not load: {e}"));
     assert_eq!(model.header.classes, back.header.classes);
     assert_eq!(model.header.kind, back.header.kind);
     if let Ok(l) = mocapseg::methods::dtfcn::method::label(&model, take(), &mut NoProgress) {

@@ -61,6 +61,6 @@ pub fn train_epochs(take: &Motion, epochs: usize) -> Result<usize, String> {
         travel: None,
         unknown_threshold: 0.5,
     };
-    let model = model_from(vec![trained], &[t], &classes, &shipped_options(epochs), &meta);
+    let model = model_from(vec![trained], &[t], &classes, &shipped_options(epochs), &meta)?;
     Ok(model.to_bytes()?.len())
 }

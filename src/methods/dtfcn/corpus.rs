@@ -3,9 +3,10 @@
 //! model file, and leave-one-take-out cross-validation with the epochs chosen inside the
 //! training takes (nested: the held-out take never chooses anything).
 
-use super::model::{Labeller, MemberRun, Model, ModelHeader, ModelKind, Provenance};
+use super::model::{ModelKind, Networks};
 use super::training::{train, EpochReport, TrainOptions, Trained, TrainingTake};
 use crate::labeller::input::NETWORK_FPS;
+use crate::labeller::model::{Json, MemberRun, Model, ModelHeader, Provenance};
 use crate::labels::same_file;
 use crate::labels::LabelRow;
 use crate::methods::knn::{Knn, KnnParams, Labelled as KnnTake};
@@ -57,16 +58,16 @@ pub fn class_labels(rows: &[LabelRow], takes: &[&Motion]) -> Result<ClassLabels,
         return Err(format!("the labels name {} class(es); a labeller needs at least 2", classes.len()));
     }
     // what a model file may hold (`model::check_header`): refused here, before training, not after it
-    let max = super::model::MAX_CLASSES;
+    let max = crate::labeller::model::MAX_CLASSES;
     if classes.len() > max {
         return Err(format!("the labels name {} classes; a labeller holds at most {max}", classes.len()));
     }
-    if let Some(c) = classes.iter().find(|c| c.chars().count() > super::model::MAX_NAME_CHARS) {
+    if let Some(c) = classes.iter().find(|c| c.chars().count() > crate::labeller::model::MAX_NAME_CHARS) {
         let shown: String = c.chars().take(40).collect();
         return Err(format!(
             "the label `{shown}…` has {} characters; a labeller's class names have at most {}",
             c.chars().count(),
-            super::model::MAX_NAME_CHARS
+            crate::labeller::model::MAX_NAME_CHARS
         ));
     }
     if let Some(c) = classes.iter().find(|c| c.trim().is_empty() || c.chars().any(char::is_control)) {
@@ -138,11 +139,11 @@ pub fn travel_of(takes: &[(&Motion, &[Option<usize>])]) -> Option<crate::labelle
 
 fn header(kind: ModelKind, classes: &[String], meta: &ModelMeta, provenance: Provenance) -> ModelHeader {
     ModelHeader {
-        kind,
+        kind: kind.name().into(),
         name: meta.name.clone(),
         classes: classes.to_vec(),
         colours: class_colours(classes.len()),
-        joints: super::model::joint_names_of(kind),
+        joints: kind.file().joint_names(),
         fps: NETWORK_FPS,
         unknown_threshold: meta.unknown_threshold as f32,
         decoding: meta.decoding,
@@ -170,7 +171,7 @@ pub fn train_model(
     let trained = (0..options.members.max(1))
         .map(|m| train(takes, validation, classes, &options.member(m), &mut *on_epoch))
         .collect::<Result<Vec<_>, _>>()?;
-    Ok(model_from(trained, takes, classes, options, meta))
+    model_from(trained, takes, classes, options, meta)
 }
 
 /// The model file's contents for finished training runs on `takes` (one per network of an ensemble,
@@ -182,7 +183,7 @@ pub fn model_from(
     classes: &[String],
     options: &TrainOptions,
     meta: &ModelMeta,
-) -> Model {
+) -> Result<Model, String> {
     let first = &trained[0];
     let members = if trained.len() > 1 {
         trained
@@ -203,16 +204,17 @@ pub fn model_from(
         takes: takes.iter().map(|t| t.name.clone()).collect(),
         frames: takes.iter().map(|t| t.labels.iter().flatten().count()).sum(),
         // the networks it holds (a continued ensemble keeps its own count; a stopped one, those trained)
-        options: TrainOptions { members: trained.len(), ..options.clone() },
+        options: Json::of(&TrainOptions { members: trained.len(), ..options.clone() })?,
         epochs_run: first.reports.len(),
         best_epoch: first.best_epoch,
         take_sha256: Vec::new(),
         members,
     };
     let mut h = header(ModelKind::Dtfcn, classes, meta, provenance);
-    h.network = Some(first.network.clone());
+    h.network = Some(Json::of(&first.network)?);
     h.standardise = Some(first.standardise.clone());
-    Model { header: h, labeller: Labeller::Network(trained.into_iter().map(|t| t.net).collect()) }
+    let config = first.network.clone();
+    Ok(Model { header: h, labeller: Box::new(Networks { config, nets: trained.into_iter().map(|t| t.net).collect() }) })
 }
 
 /// Fits a k-NN model on `takes` (motions with per-file-frame labels; unlabelled frames left out).
@@ -228,15 +230,15 @@ pub fn fit_knn_model(
         data_hash: meta.data_hash.clone(),
         takes: takes.iter().map(|t| t.0.name.clone()).collect(),
         frames: takes.iter().map(|t| t.1.iter().flatten().count()).sum(),
-        options: TrainOptions::default(),
+        options: crate::methods::knn::model::recorded_options()?,
         epochs_run: 0,
         best_epoch: 0,
         take_sha256: Vec::new(),
         members: Vec::new(),
     };
     let mut h = header(ModelKind::Knn, classes, meta, provenance);
-    h.knn = Some(params);
-    Ok(Model { header: h, labeller: Labeller::Knn(Box::new(knn)) })
+    h.knn = Some(Json::of(&params)?);
+    Ok(Model { header: h, labeller: Box::new(knn) })
 }
 
 /// The k-NN on the labelled frames of `takes`.

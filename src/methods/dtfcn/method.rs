@@ -8,11 +8,10 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::infer::{predict_members, BLOCK_FRAMES};
-use super::model::{Labeller, Model, ModelHeader, ModelKind};
+use super::model::ModelKind;
 use super::shipped;
 use crate::labeller::decode::{file_labels, Decoding};
-use crate::labeller::input::network_input;
+use crate::labeller::model::{Model, ModelHeader};
 use crate::labeller::probabilities::Probabilities;
 use crate::method::supervised::{Loaded, Training, TrainingAsk, IN_SAMPLE};
 use crate::method::{
@@ -116,7 +115,7 @@ struct FitCheck {
 /// is a k-NN, else the user's or the shipped k-NN of the same name. On the page a shipped one is
 /// [`MethodError::NeedsModel`] until its file arrived.
 fn fit_windows(model: &Arc<Model>, name: &str, models: &ModelStore) -> Result<Option<Arc<Model>>, MethodError> {
-    if matches!(model.labeller, Labeller::Knn(_)) {
+    if model.labeller.windows().is_some() {
         return Ok(Some(model.clone()));
     }
     let same = |m: &Arc<Model>| m.header.provenance.data_hash == model.header.provenance.data_hash;
@@ -130,11 +129,8 @@ fn fit_windows(model: &Arc<Model>, name: &str, models: &ModelStore) -> Result<Op
 }
 
 /// The k-NN labeller of a fit check's windows model (none for a network).
-fn knn_of(model: Option<&Model>) -> Option<&dyn crate::labeller::fit::Windows> {
-    model.and_then(|m| match &m.labeller {
-        Labeller::Knn(k) => Some(&**k as &dyn crate::labeller::fit::Windows),
-        Labeller::Network(_) => None,
-    })
+fn windows_of(model: Option<&Model>) -> Option<&dyn crate::labeller::fit::Windows> {
+    model.and_then(|m| m.labeller.windows())
 }
 
 /// What labelling a take with `model` holds besides the `base` bytes a working frame of its method: computed from
@@ -146,10 +142,7 @@ fn knn_of(model: Option<&Model>) -> Option<&dyn crate::labeller::fit::Windows> {
 /// 4 MiB for the rest.
 pub fn model_work(model: &Model, decoding: &Decoding, base: usize) -> Work {
     let classes = model.header.classes.len();
-    let (members, block) = match &model.labeller {
-        Labeller::Network(nets) => (nets.len(), nets.first().map_or(0, super::infer::block_bytes)),
-        Labeller::Knn(_) => (1, 0),
-    };
+    let (members, block) = (model.labeller.members(), model.labeller.fixed_bytes());
     let per_class = 4 * (members + 2) + 3;
     let scores = 2 * 4 * classes * decoding.min_frames(model.header.fps);
     Work {
@@ -195,7 +188,7 @@ impl Labelling {
                 // the run goes on (a run that needs it as its own model says why)
                 Err(_) => continue,
             };
-            let fit = crate::labeller::fit::TakeFit::assess(motion, travel.as_ref(), knn_of(windows.as_deref()))
+            let fit = crate::labeller::fit::TakeFit::assess(motion, travel.as_ref(), windows_of(windows.as_deref()))
                 .map_err(MethodError::Failed)?;
             if fit.measured() && fit.fits() {
                 fitting.push(FittingModel {
@@ -479,7 +472,7 @@ impl Method for Labelling {
                 let fit = crate::labeller::fit::TakeFit::assess(
                     motion,
                     header.travel.as_ref(),
-                    knn_of(check.windows.as_deref()),
+                    windows_of(check.windows.as_deref()),
                 )
                 .map_err(MethodError::Failed)?;
                 // the other models only when asked: each is a search of its windows, and most runs
@@ -580,32 +573,7 @@ pub struct Labelled {
 
 /// Labels every frame of `motion` with `model`.
 pub fn label(model: &Model, motion: &Motion, progress: &mut dyn Progress) -> Result<Labelled, MethodError> {
-    let classes = model.header.classes.len();
-    let (probabilities, source, fps) = match &model.labeller {
-        Labeller::Network(nets) => {
-            let input = network_input(motion).map_err(MethodError::Failed)?;
-            let standardise = model
-                .header
-                .standardise
-                .as_ref()
-                .ok_or_else(|| MethodError::Failed("the model has no input standardisation".into()))?;
-            let mut cancelled = false;
-            let p = predict_members(nets, standardise, &input, classes, BLOCK_FRAMES, &mut |f| {
-                if progress.step("network", 0.05 + 0.9 * f).is_err() {
-                    cancelled = true;
-                }
-            });
-            if cancelled {
-                return Err(MethodError::Cancelled);
-            }
-            (p, input.source_frames, crate::labeller::input::NETWORK_FPS)
-        }
-        Labeller::Knn(knn) => {
-            progress.step("neighbours", 0.1)?;
-            let (p, source) = knn.probabilities_at(motion, classes).map_err(MethodError::Failed)?;
-            (p, source, knn.params().fps)
-        }
-    };
+    let (probabilities, source, fps) = model.labeller.label(&model.header, motion, progress)?;
     if probabilities.frames == 0 || source.len() != probabilities.frames {
         return Err(MethodError::Failed(format!(
             "{}: {} working frames labelled for {} file positions",

@@ -10,7 +10,8 @@
 
 use std::sync::Arc;
 
-use super::model::{Model, ModelKind};
+use super::model::{ModelKind, KINDS};
+use crate::labeller::model::Model;
 use crate::method::{MethodError, ModelStore};
 
 /// Names of the shipped models, the default first.
@@ -35,7 +36,7 @@ pub fn model(kind: ModelKind, name: &str, models: &ModelStore) -> Result<Arc<Mod
         ));
     }
     models.read_shipped(&file_name(kind, name), |bytes| {
-        Model::from_bytes(bytes, &format!("shipped model {}-{name}", kind.name())).map_err(MethodError::Failed)
+        Model::from_bytes(bytes, &format!("shipped model {}-{name}", kind.name()), &KINDS).map_err(MethodError::Failed)
     })
 }
 
@@ -48,7 +49,7 @@ mod tests {
         for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
             for name in NAMES {
                 let m = model(kind, name, &ModelStore::default()).unwrap();
-                assert_eq!(m.header.kind, kind);
+                assert_eq!(m.header.kind, kind.name());
                 assert!(crate::method::shipped::find(&file_name(kind, name)).is_ok());
             }
         }

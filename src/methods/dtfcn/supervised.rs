@@ -8,7 +8,7 @@ use std::sync::Arc;
 use super::augment::Augment;
 use super::corpus::{class_labels, fit_knn_model, model_from, rows_without_takes, ModelMeta};
 use super::method::{DEFAULT_THRESHOLD, MAX_MIN_DURATION_S, MAX_SWITCH_COST};
-use super::model::{data_hash, take_hashes, Labeller, Model, ModelKind};
+use super::model::{networks_of, ModelKind, Networks, KINDS};
 use super::network::Padding;
 use super::network::{DtFcn, DtFcnConfig};
 use super::shipped;
@@ -16,6 +16,7 @@ use super::training::{EpochReport, TrainOptions, Trainer, TrainingTake, MAX_MASK
 use crate::labeller::decode::Decoding;
 use crate::labeller::input::NetworkInput;
 use crate::labeller::input::Standardise;
+use crate::labeller::model::{data_hash, take_hashes, Model};
 use crate::labels::same_file;
 use crate::method::cards::ModelCard;
 use crate::method::form::field_text;
@@ -369,7 +370,7 @@ pub fn model_info(name: &str, model: &Model) -> ModelInfo {
     if !p.takes.is_empty() {
         origin += &format!(", trained on {} labelled frames of {}", p.frames, p.takes.join(", "));
     }
-    if h.kind == ModelKind::Dtfcn && p.members.len() > 1 {
+    if h.kind == ModelKind::Dtfcn.name() && p.members.len() > 1 {
         let kept: Vec<String> =
             p.members.iter().map(|m| format!("seed {}: epoch {} of {}", m.seed, m.best_epoch, m.epochs_run)).collect();
         origin += &format!(
@@ -377,11 +378,11 @@ pub fn model_info(name: &str, model: &Model) -> ModelInfo {
             p.members.len(),
             kept.join(", ")
         );
-    } else if h.kind == ModelKind::Dtfcn && p.epochs_run > 0 {
+    } else if h.kind == ModelKind::Dtfcn.name() && p.epochs_run > 0 {
         origin += &format!(", epoch {} of {} kept", p.best_epoch, p.epochs_run);
     }
     ModelInfo {
-        method: h.kind.name().into(),
+        method: h.kind.clone(),
         name: name.into(),
         classes: h.classes.clone(),
         colours: h.colours.clone(),
@@ -400,14 +401,14 @@ pub fn model_info(name: &str, model: &Model) -> ModelInfo {
             ("data hash".into(), p.data_hash.clone()),
         ],
         card: ModelCard {
-            method: h.kind.name().into(),
+            method: h.kind.clone(),
             name: name.into(),
             takes: p.takes.clone(),
             take_sha256: p.take_sha256.clone(),
             classes: h.classes.clone(),
             frames: Some(p.frames),
-            epochs_run: (h.kind == ModelKind::Dtfcn).then_some(p.epochs_run),
-            best_epoch: (h.kind == ModelKind::Dtfcn).then_some(p.best_epoch),
+            epochs_run: (h.kind == ModelKind::Dtfcn.name()).then_some(p.epochs_run),
+            best_epoch: (h.kind == ModelKind::Dtfcn.name()).then_some(p.best_epoch),
             command: p.command.clone(),
             origin: String::new(),
             held_out: None,
@@ -421,11 +422,8 @@ pub fn header_json(model: &Model) -> serde_json::Value {
     let mut h = serde_json::to_value(&model.header).unwrap_or_default();
     if let Some(o) = h.as_object_mut() {
         o.remove("standardise");
-        if let Some(n) = &model.header.network {
-            let networks = match &model.labeller {
-                Labeller::Network(nets) => nets.len(),
-                Labeller::Knn(_) => 1,
-            };
+        if let Some(nets) = networks_of(model) {
+            let (n, networks) = (&nets.config, nets.nets.len());
             o.insert("parameters".into(), (networks * n.parameter_count()).into());
             if networks > 1 {
                 o.insert("networks".into(), networks.into());
@@ -439,14 +437,15 @@ pub fn header_json(model: &Model) -> serde_json::Value {
 
 /// Reads a model file of `kind` (`file` names it): stored under the name inside it, or its stem.
 pub fn read_model(kind: ModelKind, file: &str, bytes: &[u8]) -> Result<Loaded, MethodError> {
-    let model = Model::from_bytes(bytes, file).map_err(MethodError::Failed)?;
-    if model.header.kind != kind {
+    let model = Model::from_bytes(bytes, file, &KINDS).map_err(MethodError::Failed)?;
+    if model.header.kind != kind.name() {
+        let theirs = if kind == ModelKind::Dtfcn { ModelKind::Knn } else { ModelKind::Dtfcn };
         return Err(MethodError::Failed(format!(
             "{file} holds a {} model, not a {} model: use it with the {} method ({})",
-            kind_short(model.header.kind),
+            kind_short(theirs),
             kind_short(kind),
-            kind_short(model.header.kind),
-            model.header.kind.name()
+            kind_short(theirs),
+            model.header.kind
         )));
     }
     let name = crate::method::supervised::stored_name(&model.header.name, file, &shipped_names())
@@ -796,7 +795,7 @@ struct DtfcnTraining {
     options: ModelOptions,
     largest_loss: f64,
     /// The model this training continues: its name and provenance.
-    previous: Option<(String, super::model::Provenance)>,
+    previous: Option<(String, crate::labeller::model::Provenance)>,
 }
 
 /// The weights, network and input scaling of the model `from` to continue training, and its
@@ -806,15 +805,14 @@ struct DtfcnTraining {
 fn continued(
     from: &Loaded,
     prepared: &mut Prepared,
-) -> Result<((DtFcnConfig, Standardise, Vec<DtFcn>), (String, super::model::Provenance)), MethodError> {
+) -> Result<((DtFcnConfig, Standardise, Vec<DtFcn>), (String, crate::labeller::model::Provenance)), MethodError> {
     let name = &from.info.name;
     let model = from
         .model
         .downcast_ref::<Model>()
         .ok_or_else(|| MethodError::param("name", format!("`{name}` is not a DT-FCN model")))?;
     let h = &model.header;
-    let (Labeller::Network(nets), Some(network), Some(standardise)) = (&model.labeller, &h.network, &h.standardise)
-    else {
+    let (Some(Networks { config: network, nets }), Some(standardise)) = (networks_of(model), &h.standardise) else {
         return Err(MethodError::param("name", format!("`{name}` is not a DT-FCN network: nothing to continue")));
     };
     let unknown: Vec<&String> = prepared.classes.iter().filter(|c| !h.classes.contains(c)).collect();
@@ -941,7 +939,8 @@ impl Training for DtfcnTraining {
         let stopped = trained.iter().any(|t| t.stopped) || networks < members.planned;
         let per_network: Vec<String> = trained.iter().map(|t| t.reports.len().to_string()).collect();
         let meta = prepared.meta(ModelKind::Dtfcn, &options);
-        let mut model = model_from(trained, &takes, &prepared.classes, &options.train, &meta);
+        let mut model =
+            model_from(trained, &takes, &prepared.classes, &options.train, &meta).map_err(MethodError::Failed)?;
         let p = &mut model.header.provenance;
         // the files of the takes trained on (a validation take only chose the epoch)
         p.take_sha256 = prepared.trained_sha256();
@@ -967,11 +966,8 @@ impl Training for DtfcnTraining {
         }
         let chosen = choose_on_validation(&mut model, &prepared, &options)?;
         let bytes = model.to_bytes().map_err(MethodError::Failed)?;
-        let network = model
-            .header
-            .network
-            .as_ref()
-            .map(|n| format!(" The {}.", n.describe(crate::labeller::input::NETWORK_FPS)))
+        let network = networks_of(&model)
+            .map(|n| format!(" The {}.", n.config.describe(crate::labeller::input::NETWORK_FPS)))
             .unwrap_or_default();
         let report = TrainingReport {
             summary: format!("{}{network}{chosen}", prepared.summary(ModelKind::Dtfcn, &how, Some(best))),
@@ -1119,7 +1115,7 @@ mod tests {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures");
         let takes: Vec<(String, Vec<u8>)> =
             ["35_01.bvh", "02_01.bvh"].iter().map(|f| (f.to_string(), std::fs::read(dir.join(f)).unwrap())).collect();
-        let expected: Vec<String> = takes.iter().map(|(_, b)| super::super::model::sha256_hex(b)).collect();
+        let expected: Vec<String> = takes.iter().map(|(_, b)| crate::labeller::model::sha256_hex(b)).collect();
         let ask = TrainingAsk {
             name: "hashed".into(),
             labels_name: "l.csv".into(),
@@ -1142,7 +1138,7 @@ mod tests {
         assert_eq!(card.takes, vec!["35_01.bvh".to_string(), "02_01.bvh".to_string()]);
         assert_eq!(card.take_sha256, expected);
         assert!(card.held_out.is_none(), "a model trained here has no held-out figure");
-        let back = Model::from_bytes(&trained.bytes, "hashed.model").unwrap();
+        let back = Model::from_bytes(&trained.bytes, "hashed.model", &KINDS).unwrap();
         assert_eq!(back.header.provenance.take_sha256, expected, "in the file too");
     }
 
@@ -1318,8 +1314,8 @@ mod tests {
             (t.finish().unwrap(), steps)
         };
         let nets = |t: &Trained| {
-            let Labeller::Network(nets) = &t.model.model.downcast_ref::<Model>().unwrap().labeller else { panic!() };
-            nets.iter().map(weights_of).collect::<Vec<_>>()
+            let nets = networks_of(t.model.model.downcast_ref::<Model>().unwrap()).unwrap();
+            nets.nets.iter().map(weights_of).collect::<Vec<_>>()
         };
         let (two, steps) = train(ask(options(4, 2), None), usize::MAX);
         assert_eq!(steps.iter().map(|s| (s.step, s.steps)).collect::<Vec<_>>(), vec![(1, 4), (2, 4), (3, 4), (4, 4)]);

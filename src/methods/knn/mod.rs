@@ -12,6 +12,7 @@
 
 mod lanes;
 pub mod method;
+pub mod model;
 pub mod search;
 
 use std::sync::OnceLock;
@@ -692,17 +693,16 @@ mod tests {
     #[cfg(not(target_arch = "wasm32"))]
     #[test]
     fn the_scan_finds_the_trees_neighbours_for_the_shipped_models() {
-        use crate::methods::dtfcn::model::{Labeller, ModelKind};
         let takes: Vec<Motion> =
             ["13_31.bvh", "86_01.bvh", "131_03.bvh", "02_01.bvh", "35_01.bvh", "assimp_Boxing_Toes_100fps.bvh"]
                 .iter()
                 .map(|n| fixture(n))
                 .collect();
-        for name in crate::methods::dtfcn::shipped::NAMES {
-            let model =
-                crate::methods::dtfcn::shipped::model(ModelKind::Knn, name, &crate::method::ModelStore::default())
-                    .unwrap();
-            let Labeller::Knn(knn) = &model.labeller else { panic!("{name}: not a k-NN model") };
+        for name in ["exercises", "cmu-actions", "locomotion"] {
+            let file = format!("knn-{name}.model");
+            let bytes = crate::method::ModelStore::default().shipped_bytes(&file).unwrap().to_vec();
+            let model = crate::labeller::model::Model::from_bytes(&bytes, &file, &[&model::KNN_FILE]).unwrap();
+            let knn = model::knn_of(&model).unwrap_or_else(|| panic!("{name}: not a k-NN model"));
             let classes = model.header.classes.len();
             for take in &takes {
                 same_as_the_tree(knn, take, classes, &format!("{name} on {}", take.name));
