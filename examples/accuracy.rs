@@ -69,12 +69,13 @@ mod lab {
     use mocapseg::bvh::{self, Bvh};
     use mocapseg::labeller::decode::{self, file_labels, Decoding, Judged, THRESHOLDS};
     use mocapseg::labeller::input::NETWORK_FPS;
+    use mocapseg::labeller::method::runs;
     use mocapseg::labeller::probabilities::Probabilities;
     use mocapseg::method::{self, NoProgress, RunOptions};
-    use mocapseg::methods::dtfcn::corpus::{averaged_fold, final_fold, fit_knn, predict_held_out, validation_fold};
-    use mocapseg::methods::dtfcn::method::runs;
+    use mocapseg::methods::dtfcn::corpus::{averaged_fold, final_fold, predict_held_out, validation_fold};
     use mocapseg::methods::dtfcn::network::{paper_filters, Padding};
     use mocapseg::methods::dtfcn::training::TrainOptions;
+    use mocapseg::methods::knn::training::fit_knn;
     use mocapseg::methods::knn::KnnParams;
     use mocapseg::methods::lma::classifier::EffortModel;
     use mocapseg::methods::lma::corpus::{Corpus, CorpusConfig};

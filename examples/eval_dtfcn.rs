@@ -47,9 +47,10 @@ fn main() -> std::process::ExitCode {
 mod lab {
     use std::path::PathBuf;
 
+    use mocapseg::labeller::corpus::class_labels;
     use mocapseg::labels::{from_truth_csv, LabelRow};
     use mocapseg::methods::dtfcn::augment::Augment;
-    use mocapseg::methods::dtfcn::corpus::{class_labels, leave_one_take_out, novelty_scores, predict_held_out};
+    use mocapseg::methods::dtfcn::corpus::{leave_one_take_out, novelty_scores, predict_held_out};
     use mocapseg::methods::dtfcn::training::{TrainOptions, Trained, TrainingTake};
     use mocapseg::motion::Motion;
     use mocapseg::segment::truth::TruthOptions;
@@ -360,8 +361,8 @@ mod lab {
         classes: &[String],
         base: &TrainOptions,
     ) -> Result<(), String> {
-        use mocapseg::methods::dtfcn::corpus::fit_knn;
         use mocapseg::methods::dtfcn::novelty::auroc;
+        use mocapseg::methods::knn::training::fit_knn;
         use mocapseg::methods::knn::{Knn, KnnParams};
         let started = std::time::Instant::now();
         let holds = |i: usize, c: usize| labels[i].contains(&Some(c));

@@ -135,7 +135,7 @@ mod lab {
     ) -> Result<Vec<[f32; S]>, String> {
         use mocapseg::labeller::decode::{file_labels, Decoding};
         use mocapseg::labeller::fit::{FAMILIAR_GAP, FAMILIAR_SAMPLES};
-        use mocapseg::methods::dtfcn::corpus::fit_knn;
+        use mocapseg::methods::knn::training::fit_knn;
         let takes: Vec<(&Motion, &[Option<usize>])> = train.iter().map(|(m, l)| (*m, l.as_slice())).collect();
         let knn = fit_knn(&takes, KnnParams::default())?;
         let mut familiar = knn.familiar_distances(FAMILIAR_GAP, FAMILIAR_SAMPLES);

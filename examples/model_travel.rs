@@ -25,11 +25,11 @@ fn main() -> std::process::ExitCode {
 mod lab {
     use std::path::PathBuf;
 
+    use mocapseg::labeller::corpus::{class_labels, travel_of};
     use mocapseg::labeller::model::{data_hash, Model};
     use mocapseg::labels::read_csv;
     use mocapseg::labels::same_file;
-    use mocapseg::methods::dtfcn::corpus::{class_labels, travel_of};
-    use mocapseg::methods::dtfcn::model::KINDS;
+    use mocapseg::methods::LABELLERS as KINDS;
     use mocapseg::motion::Motion;
 
     #[derive(clap::Parser)]

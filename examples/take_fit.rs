@@ -26,8 +26,7 @@ mod lab {
     use std::path::PathBuf;
 
     use mocapseg::labeller::fit::{TakeFit, TravelProfile};
-    use mocapseg::methods::dtfcn::model::ModelKind;
-    use mocapseg::methods::dtfcn::shipped;
+    use mocapseg::labeller::shipped;
     use mocapseg::methods::knn::model::knn_of;
     use mocapseg::methods::knn::{Knn, KnnParams, Labelled};
     use mocapseg::motion::Motion;
@@ -85,7 +84,9 @@ mod lab {
         println!("|---|---|---|---|---|---|---|");
         let store = mocapseg::method::ModelStore::new();
         for name in shipped::NAMES {
-            let model = shipped::model(ModelKind::Knn, name, &store).map_err(|e| e.to_string())?;
+            let model =
+                shipped::model(&mocapseg::methods::knn::method::KNN, name, &store, &mocapseg::methods::LABELLERS)
+                    .map_err(|e| e.to_string())?;
             // the travel of the model's own training takes (the shipped headers predate the profile)
             let trained: Vec<&Motion> =
                 takes.iter().filter(|t| model.header.provenance.takes.iter().any(|n| *n == t.name)).collect();

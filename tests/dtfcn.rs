@@ -11,20 +11,23 @@
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use mocapseg::bvh;
+use mocapseg::labeller::corpus::{class_labels, ModelMeta};
+use mocapseg::labeller::method::label;
 use mocapseg::labeller::model::Model;
+use mocapseg::labeller::shipped;
+use mocapseg::labeller::supervised::{model_info, shipped_names};
 use mocapseg::labels::LabelRow;
 use mocapseg::method::supervised::{check_model_name, Loaded};
 use mocapseg::method::ModelStore;
 use mocapseg::method::{NoProgress, RunOptions};
 use mocapseg::methods::dtfcn::augment::Augment;
-use mocapseg::methods::dtfcn::corpus::{class_labels, fit_knn_model, train_model, ModelMeta};
+use mocapseg::methods::dtfcn::corpus::train_model;
 use mocapseg::methods::dtfcn::infer::predict_input;
-use mocapseg::methods::dtfcn::method::label;
-use mocapseg::methods::dtfcn::model::{networks_of, KINDS};
-use mocapseg::methods::dtfcn::shipped;
-use mocapseg::methods::dtfcn::supervised::{model_info, shipped_names};
+use mocapseg::methods::dtfcn::model::networks_of;
 use mocapseg::methods::dtfcn::training::{boundary_mask, evaluate, noisy_labels, TrainOptions, TrainingTake};
 use mocapseg::methods::find;
+use mocapseg::methods::knn::training::fit_knn_model;
+use mocapseg::methods::LABELLERS as KINDS;
 use mocapseg::motion::Motion;
 use mocapseg::stats::Rng;
 
@@ -271,7 +274,8 @@ fn the_registered_methods_label_a_take_with_a_users_models() {
     let net = train_model(&takes, &[], &classes, &small(3), &meta(), &mut |_| true).unwrap();
     // the models a run may name are the caller's: a store, as the page's worker and a CLI run own
     let mut store = ModelStore::new();
-    let stored = |m: Model| Loaded { info: model_info("my-test-model", &m), model: std::sync::Arc::new(m) };
+    let kind = |m: &Model| *KINDS.iter().find(|k| k.name() == m.header.kind).unwrap();
+    let stored = |m: Model| Loaded { info: model_info(kind(&m), "my-test-model", &m), model: std::sync::Arc::new(m) };
     store.install(stored(net));
     let labels: Vec<Vec<Option<usize>>> = takes
         .iter()
@@ -284,7 +288,7 @@ fn the_registered_methods_label_a_take_with_a_users_models() {
     // the same models made with another unknown threshold, which a run uses unless it asks for its own
     let strict = |mut m: Model| {
         m.header.unknown_threshold = 1.0;
-        Loaded { info: model_info("strict-model", &m), model: std::sync::Arc::new(m) }
+        Loaded { info: model_info(kind(&m), "strict-model", &m), model: std::sync::Arc::new(m) }
     };
     store.install(strict(train_model(&takes, &[], &classes, &small(3), &meta(), &mut |_| true).unwrap()));
     store.install(strict(fit_knn_model(&knn_takes, &classes, &meta()).unwrap()));

@@ -282,7 +282,7 @@ fn edited_model(
 ) -> mocapseg::method::supervised::Loaded {
     use mocapseg::labeller::model::Model;
     let bytes = mocapseg::method::ModelStore::default().shipped_bytes(shipped).unwrap();
-    let mut model = Model::from_bytes(&bytes, shipped, &mocapseg::methods::dtfcn::model::KINDS).unwrap();
+    let mut model = Model::from_bytes(&bytes, shipped, &mocapseg::methods::LABELLERS).unwrap();
     model.header.name = name.to_string();
     edit(&mut model);
     let bytes = model.to_bytes().unwrap();

@@ -607,8 +607,8 @@ fn knn_payload_claiming(n: u32, params: mocapseg::methods::knn::KnnParams) -> Ve
 #[wasm_bindgen_test]
 fn a_knn_payload_whose_size_wraps_around_in_32_bits_is_refused() {
     use mocapseg::labeller::model::{sha256_hex, Model, MAGIC};
-    use mocapseg::methods::dtfcn::model::KINDS;
     use mocapseg::methods::knn::{Knn, KnnParams};
+    use mocapseg::methods::LABELLERS as KINDS;
     let n: u32 = (1 << 30) + 1;
     let e = Knn::from_bytes(&knn_payload_claiming(n, KnnParams::default()), KnnParams::default(), 2).unwrap_err();
     assert!(e.contains("expected") && e.contains(&format!("for {n} frames")), "{e}");

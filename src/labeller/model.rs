@@ -22,6 +22,7 @@ use sha2::{Digest, Sha256};
 
 use super::fit::{TravelProfile, Windows};
 use super::input::{Standardise, NETWORK_FPS};
+use super::method::Kind;
 use super::probabilities::Probabilities;
 use crate::method::supervised::MAX_MODEL_NAME;
 use crate::method::{MethodError, Progress};
@@ -210,20 +211,6 @@ pub trait Labeller: Send + Sync {
     }
     /// The labeller as its own type, for its method.
     fn as_any(&self) -> &dyn Any;
-}
-
-/// A kind of labeller a model file may hold, as its method gives it: its name (the header's `kind`), the image rows
-/// its models read, what its own header fields must say and how its payload is read.
-pub trait Kind: Sync {
-    /// The method's name, the `kind` of its models' headers (`dtfcn`).
-    fn name(&self) -> &'static str;
-    /// The rows of the motion image its models read, by name (the header's `joints`).
-    fn joint_names(&self) -> Vec<String>;
-    /// What its own fields of `header` must say, beyond what every model's header must ([`check_header`]).
-    fn check_header(&self, header: &ModelHeader) -> Result<(), String>;
-    /// Its labeller from a model file's payload; its own fields of `header` (and the training's options) put in the
-    /// one form it writes them.
-    fn read(&self, header: &mut ModelHeader, payload: &[u8]) -> Result<Box<dyn Labeller>, String>;
 }
 
 impl std::fmt::Debug for Model {

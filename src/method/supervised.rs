@@ -345,6 +345,14 @@ pub struct TrainingOption<T> {
     pub set: fn(&mut T, &serde_json::Value),
 }
 
+impl<T> Clone for TrainingOption<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T> Copy for TrainingOption<T> {}
+
 /// The table of `options` (each row's default from `T::default()`).
 pub fn option_specs<T: Default>(options: &[TrainingOption<T>]) -> Vec<ParamSpec> {
     let d = T::default();

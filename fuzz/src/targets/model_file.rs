@@ -14,13 +14,15 @@
 use std::sync::OnceLock;
 
 use mocapseg::labeller::input::{joint_names, Standardise, CHANNELS, NETWORK_FPS};
+use mocapseg::labeller::method::Kind;
 use mocapseg::labeller::model::{sha256_hex, Json, Model, ModelHeader, Provenance, FORMAT, MAGIC};
 use mocapseg::method::{NoProgress, RunOptions};
-use mocapseg::methods::dtfcn::model::{ModelKind, Networks, KINDS};
+use mocapseg::methods::dtfcn::model::Networks;
 use mocapseg::methods::dtfcn::network::DtFcnConfig;
 use mocapseg::methods::dtfcn::training::TrainOptions;
 use mocapseg::methods::knn::{Knn, KnnParams, Labelled};
 use mocapseg::methods::lma::classifier::EffortModel;
+use mocapseg::methods::LABELLERS as KINDS;
 use mocapseg::motion::Motion;
 
 /// 3 s of a walk, the take every loaded model labels.
@@ -31,7 +33,7 @@ fn take() -> &'static Motion {
     })
 }
 
-fn header(kind: ModelKind, classes: usize) -> ModelHeader {
+fn header(kind: &dyn Kind, classes: usize) -> ModelHeader {
     let names: Vec<String> = (0..classes).map(|i| format!("class{i}")).collect();
     ModelHeader {
         kind: kind.name().into(),
@@ -103,7 +105,7 @@ pub fn seeds() -> Vec<(String, Vec<u8>)> {
     };
     let net = config.init(&device);
     let other = config.init(&device);
-    let mut h = header(ModelKind::Dtfcn, 3);
+    let mut h = header(&mocapseg::methods::dtfcn::method::DTFCN, 3);
     h.network = Some(Json::of(&config).expect("the shape serialises"));
     h.standardise = Some(Standardise { mean: vec![0.0; CHANNELS], spread: vec![1.0; CHANNELS], centre_on_take: false });
     let dtfcn =
@@ -121,7 +123,7 @@ pub fn seeds() -> Vec<(String, Vec<u8>)> {
     let params = KnnParams { half_window: 6, stride: 3, ..KnnParams::default() };
     let knn = Knn::fit(&[Labelled { motion, labels: &labels }], params).expect("the tiny k-NN fits");
     let payload = knn.to_bytes();
-    let mut h = header(ModelKind::Knn, 3);
+    let mut h = header(&mocapseg::methods::knn::method::KNN, 3);
     h.knn = Some(Json::of(&params).expect("the parameters serialise"));
     out.push(("knn-tiny.model".into(), [&[0u8][..], &framed(h.clone(), &payload)].concat()));
     out.push(("knn-tiny.split".into(), split(&h, &payload)));
@@ -157,7 +159,7 @@ fn labelling_model(bytes: &[u8]) {
         .unwrap_or_else(|e| panic!("a written model does not load: {e}"));
     assert_eq!(model.header.classes, back.header.classes);
     assert_eq!(model.header.kind, back.header.kind);
-    if let Ok(l) = mocapseg::methods::dtfcn::method::label(&model, take(), &mut NoProgress) {
+    if let Ok(l) = mocapseg::labeller::method::label(&model, take(), &mut NoProgress) {
         assert_eq!(l.per_file_frame.len(), take().frames());
         assert!(l.per_file_frame.iter().all(|&(c, _)| c < model.header.classes.len()));
     }

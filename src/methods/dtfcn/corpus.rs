@@ -1,162 +1,17 @@
-//! From labelled takes to models and scores, the same for the command line and the browser:
-//! matching label rows to takes, the class list, training a DT-FCN or fitting a k-NN into a
-//! model file, and leave-one-take-out cross-validation with the epochs chosen inside the
-//! training takes (nested: the held-out take never chooses anything).
+//! From labelled takes to DT-FCN models and scores, the same for the command line and the browser: training a
+//! DT-FCN into a model file, and leave-one-take-out cross-validation with the epochs chosen inside the training takes
+//! (nested: the held-out take never chooses anything), the k-NN beside it on the same folds (the held-out comparison
+//! of docs/methods/dtfcn.md: the one place that fits the k-NN outside its folder, `crate::methods::knn::training`).
+//! Matching label rows to takes is [`crate::labeller::corpus`]'s.
 
-use super::model::{ModelKind, Networks};
+use super::model::Networks;
 use super::training::{train, EpochReport, TrainOptions, Trained, TrainingTake};
-use crate::labeller::input::NETWORK_FPS;
-use crate::labeller::model::{Json, MemberRun, Model, ModelHeader, Provenance};
-use crate::labels::same_file;
-use crate::labels::LabelRow;
-use crate::methods::knn::{Knn, KnnParams, Labelled as KnnTake};
+use crate::labeller::corpus::{header, ModelMeta};
+use crate::labeller::model::{Json, MemberRun, Model, Provenance};
+use crate::methods::knn::training::fit_knn;
+use crate::methods::knn::{Knn, KnnParams};
 use crate::motion::Motion;
 use crate::segment::labelling::{self, LabellingScores};
-
-/// The class names and, per take, the class of every file frame (`None` = unlabelled).
-pub type ClassLabels = (Vec<String>, Vec<Vec<Option<usize>>>);
-
-/// The files `rows` name that are not among `takes` (their rows are left out of training).
-pub fn rows_without_takes(rows: &[LabelRow], takes: &[&Motion]) -> Vec<String> {
-    let mut out: Vec<String> = Vec::new();
-    for r in rows {
-        if !takes.iter().any(|m| same_file(&m.name, &r.file)) && !out.contains(&r.file) {
-            out.push(r.file.clone());
-        }
-    }
-    out
-}
-
-/// The classes of `rows` in order of first appearance, and each take's per-file-frame labels
-/// (`None` where no row covers a frame). Rows naming no given take are left out
-/// ([`rows_without_takes`] names them); rows past a take's end are refused.
-pub fn class_labels(rows: &[LabelRow], takes: &[&Motion]) -> Result<ClassLabels, String> {
-    let mut classes: Vec<String> = Vec::new();
-    let mut labels: Vec<Vec<Option<usize>>> = takes.iter().map(|m| vec![None; m.frames()]).collect();
-    for (i, r) in rows.iter().enumerate() {
-        let Some(t) = takes.iter().position(|m| same_file(&m.name, &r.file)) else {
-            continue; // a row of a take not given (see `rows_without_takes`)
-        };
-        let n = takes[t].frames();
-        if r.end_frame >= n {
-            return Err(format!(
-                "label row {} ({} frames {}–{}) goes past the take's last frame {} (frames are 0-based)",
-                i + 2,
-                r.file,
-                r.start_frame,
-                r.end_frame,
-                n.saturating_sub(1)
-            ));
-        }
-        let c = classes.iter().position(|c| *c == r.label).unwrap_or_else(|| {
-            classes.push(r.label.clone());
-            classes.len() - 1
-        });
-        labels[t][r.start_frame..=r.end_frame].iter_mut().for_each(|l| *l = Some(c));
-    }
-    if classes.len() < 2 {
-        return Err(format!("the labels name {} class(es); a labeller needs at least 2", classes.len()));
-    }
-    // what a model file may hold (`model::check_header`): refused here, before training, not after it
-    let max = crate::labeller::model::MAX_CLASSES;
-    if classes.len() > max {
-        return Err(format!("the labels name {} classes; a labeller holds at most {max}", classes.len()));
-    }
-    if let Some(c) = classes.iter().find(|c| c.chars().count() > crate::labeller::model::MAX_NAME_CHARS) {
-        let shown: String = c.chars().take(40).collect();
-        return Err(format!(
-            "the label `{shown}…` has {} characters; a labeller's class names have at most {}",
-            c.chars().count(),
-            crate::labeller::model::MAX_NAME_CHARS
-        ));
-    }
-    if let Some(c) = classes.iter().find(|c| c.trim().is_empty() || c.chars().any(char::is_control)) {
-        let shown: String = c.chars().map(|ch| if ch.is_control() { '·' } else { ch }).collect();
-        return Err(format!("the label `{shown}` is blank or has a control character: a class needs a name"));
-    }
-    Ok((classes, labels))
-}
-
-/// Frame rates a label file may have been written at by mistake (its frames counted at a video's or a
-/// down-sampled take's rate instead of the file's).
-const LABEL_RATES: [f64; 7] = [24.0, 25.0, 30.0, 50.0, 60.0, 100.0, 120.0];
-
-/// A warning for each take whose labels look written at another frame rate: they end well before the take does,
-/// and counted at one of [`LABEL_RATES`] below the file's they would end within 5 % of its end — the mocap6 truth
-/// converted at 30 Hz for a 120 Hz take labels only its first quarter, silently, and a model taught on that quarter
-/// says every faster take does not fit it. Labels that stop early for any other reason (a take labelled in part)
-/// raise nothing.
-pub fn labels_at_another_rate(takes: &[&Motion], labels: &[Vec<Option<usize>>]) -> Vec<String> {
-    takes
-        .iter()
-        .zip(labels)
-        .filter_map(|(m, l)| {
-            let n = m.frames();
-            let last = l.iter().rposition(Option::is_some)? + 1;
-            if n < 2 || last as f64 > 0.8 * n as f64 {
-                return None;
-            }
-            let rate = LABEL_RATES.iter().copied().find(|&r| {
-                r < m.fps - 0.5 && ((last as f64 * m.fps / r) - n as f64).abs() <= 0.05 * n as f64
-            })?;
-            Some(format!(
-                "the labels of {} end at frame {last} of {n} ({:.0} %), where frames counted at {rate:.0} Hz would span \
-                 the take ({:.0} Hz): is the label file at {rate:.0} Hz?",
-                m.name,
-                100.0 * last as f64 / n as f64,
-                m.fps
-            ))
-        })
-        .collect()
-}
-
-/// A colour per class ([`crate::segment::palette::class_colour`]).
-pub fn class_colours(classes: usize) -> Vec<String> {
-    (0..classes).map(crate::segment::palette::class_colour).collect()
-}
-
-/// What to call a model and how it was made.
-pub struct ModelMeta {
-    pub name: String,
-    pub command: String,
-    pub data_hash: String,
-    /// The decoding a run with `decoding = "model"` uses (none: raw per-frame labels).
-    pub decoding: Option<crate::labeller::decode::Decoding>,
-    /// The unknown threshold its runs use unless they ask for another (the header's).
-    pub unknown_threshold: f64,
-    /// How fast the training takes' labelled frames travelled ([`travel_of`]; for the take fit).
-    pub travel: Option<crate::labeller::fit::TravelProfile>,
-}
-
-/// The travel profile of the labelled frames of `takes` (per file frame labels), `None` when it
-/// cannot be measured (a take without hips and feet: its model cannot label it either).
-pub fn travel_of(takes: &[(&Motion, &[Option<usize>])]) -> Option<crate::labeller::fit::TravelProfile> {
-    let taught: Vec<Vec<bool>> = takes.iter().map(|(_, l)| l.iter().map(Option::is_some).collect()).collect();
-    let with: Vec<(&Motion, Option<&[bool]>)> =
-        takes.iter().zip(&taught).map(|((m, _), t)| (*m, Some(&t[..]))).collect();
-    crate::labeller::fit::TravelProfile::fit(&with).ok()
-}
-
-fn header(kind: ModelKind, classes: &[String], meta: &ModelMeta, provenance: Provenance) -> ModelHeader {
-    ModelHeader {
-        kind: kind.name().into(),
-        name: meta.name.clone(),
-        classes: classes.to_vec(),
-        colours: class_colours(classes.len()),
-        joints: kind.file().joint_names(),
-        fps: NETWORK_FPS,
-        unknown_threshold: meta.unknown_threshold as f32,
-        decoding: meta.decoding,
-        network: None,
-        standardise: None,
-        knn: None,
-        travel: meta.travel,
-        provenance,
-        member_bytes: Vec::new(),
-        payload_sha256: String::new(),
-        written_by: format!("mocapseg {}", env!("CARGO_PKG_VERSION")),
-    }
-}
 
 /// Trains a DT-FCN model on `takes` (early stopping on `validation` when given): `options.members`
 /// networks, one after the other, each with its own seed ([`TrainOptions::member`]).
@@ -210,66 +65,11 @@ pub fn model_from(
         take_sha256: Vec::new(),
         members,
     };
-    let mut h = header(ModelKind::Dtfcn, classes, meta, provenance);
+    let mut h = header(&super::method::DTFCN, classes, meta, provenance);
     h.network = Some(Json::of(&first.network)?);
     h.standardise = Some(first.standardise.clone());
     let config = first.network.clone();
     Ok(Model { header: h, labeller: Box::new(Networks { config, nets: trained.into_iter().map(|t| t.net).collect() }) })
-}
-
-/// Fits a k-NN model on `takes` (motions with per-file-frame labels; unlabelled frames left out).
-pub fn fit_knn_model(
-    takes: &[(&Motion, &[Option<usize>])],
-    classes: &[String],
-    meta: &ModelMeta,
-) -> Result<Model, String> {
-    let params = KnnParams::default();
-    let knn = fit_knn(takes, params)?;
-    let provenance = Provenance {
-        command: meta.command.clone(),
-        data_hash: meta.data_hash.clone(),
-        takes: takes.iter().map(|t| t.0.name.clone()).collect(),
-        frames: takes.iter().map(|t| t.1.iter().flatten().count()).sum(),
-        options: crate::methods::knn::model::recorded_options()?,
-        epochs_run: 0,
-        best_epoch: 0,
-        take_sha256: Vec::new(),
-        members: Vec::new(),
-    };
-    let mut h = header(ModelKind::Knn, classes, meta, provenance);
-    h.knn = Some(Json::of(&params)?);
-    Ok(Model { header: h, labeller: Box::new(knn) })
-}
-
-/// The k-NN on the labelled frames of `takes`.
-pub fn fit_knn(takes: &[(&Motion, &[Option<usize>])], params: KnnParams) -> Result<Knn, String> {
-    // the k-NN takes a label for every frame: unlabelled stretches are cut out as separate takes
-    let mut parts: Vec<(Motion, Vec<usize>)> = Vec::new();
-    for (m, labels) in takes {
-        if labels.iter().all(Option::is_some) {
-            parts.push(((*m).clone(), labels.iter().map(|l| l.unwrap_or(0)).collect()));
-        } else {
-            let mut start = None;
-            for f in 0..=labels.len() {
-                match (labels.get(f).copied().flatten(), start) {
-                    (Some(_), None) => start = Some(f),
-                    (None, Some(s)) => {
-                        if f - s >= 30 {
-                            let sub = m.slice(s, f);
-                            parts.push((sub, labels[s..f].iter().map(|l| l.unwrap_or(0)).collect()));
-                        }
-                        start = None;
-                    }
-                    _ => {}
-                }
-            }
-        }
-    }
-    let labelled: Vec<KnnTake> = parts.iter().map(|(m, l)| KnnTake { motion: m, labels: l }).collect();
-    if labelled.is_empty() {
-        return Err("no labelled stretch of at least 30 frames to fit the k-NN on".into());
-    }
-    Knn::fit(&labelled, params)
 }
 
 /// Per-file-frame labels as the k-NN is given them under `options`' label noise and boundary
@@ -652,64 +452,5 @@ fn web_time_now() -> f64 {
     #[cfg(target_arch = "wasm32")]
     {
         0.0
-    }
-}
-
-#[cfg(test)]
-mod tests {
-
-    /// 30 Hz frames of a 120 Hz take end a quarter of the way: said, with the rate; a take labelled in part, or
-    /// labelled to its end, says nothing.
-    #[test]
-    fn labels_written_at_another_rate_are_told() {
-        let motion =
-            crate::load::load_bytes("s.bvh", include_bytes!("../../../www/sample.bvh"), &mut |_| {}).unwrap().motion;
-        let n = motion.frames();
-        assert!((motion.fps - 120.0).abs() < 0.01, "{}", motion.fps);
-        let upto = |last: usize| -> Vec<Option<usize>> { (0..n).map(|f| (f < last).then_some(f % 2)).collect() };
-        let warned = labels_at_another_rate(&[&motion], &[upto(n / 4)]);
-        assert_eq!(warned.len(), 1, "{warned:?}");
-        assert!(
-            warned[0].starts_with(&format!("the labels of s.bvh end at frame {} of {n} (25 %)", n / 4)),
-            "{}",
-            warned[0]
-        );
-        assert!(warned[0].ends_with("is the label file at 30 Hz?"), "{}", warned[0]);
-        assert!(labels_at_another_rate(&[&motion], &[upto(n / 2)]).iter().any(|w| w.contains("at 60 Hz?")));
-        assert!(labels_at_another_rate(&[&motion], &[upto(n / 3)]).is_empty(), "a third is no rate's");
-        assert!(labels_at_another_rate(&[&motion], &[upto(n)]).is_empty());
-        assert!(labels_at_another_rate(&[&motion], &[vec![None; n]]).is_empty());
-    }
-
-    use super::*;
-
-    /// Labels a model file could not hold (`model::check_header`) are refused before training, so that
-    /// every model training writes loads again.
-    #[test]
-    fn labels_past_what_a_model_file_holds_are_refused_before_training() {
-        let motion =
-            crate::load::load_bytes("s.bvh", include_bytes!("../../../www/sample.bvh"), &mut |_| {}).unwrap().motion;
-        let row = |f: usize, label: String| LabelRow { file: "s.bvh".into(), start_frame: f, end_frame: f, label };
-        let many: Vec<LabelRow> = (0..300).map(|i| row(i, format!("c{i}"))).collect();
-        let e = class_labels(&many, &[&motion]).unwrap_err();
-        assert!(e.contains("300 classes") && e.contains("at most 256"), "{e}");
-        let ok: Vec<LabelRow> = (0..256).map(|i| row(i, format!("c{i}"))).collect();
-        assert_eq!(class_labels(&ok, &[&motion]).unwrap().0.len(), 256);
-        let long = vec![row(0, "a".into()), row(1, "b".repeat(101))];
-        let e = class_labels(&long, &[&motion]).unwrap_err();
-        assert!(e.contains("101 characters") && e.contains("at most 100"), "{e}");
-        let control = vec![row(0, "a".into()), row(1, "b\tc".into())];
-        let e = class_labels(&control, &[&motion]).unwrap_err();
-        assert!(e.contains("`b·c`") && e.contains("control character"), "{e}");
-    }
-
-    #[test]
-    fn colours_are_distinct_css_hex() {
-        let c = class_colours(12);
-        assert!(c.iter().all(|s| s.len() == 7 && s.starts_with('#')));
-        let mut d = c.clone();
-        d.sort();
-        d.dedup();
-        assert_eq!(d.len(), 12);
     }
 }

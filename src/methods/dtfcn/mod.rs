@@ -13,9 +13,10 @@
 //! | (not in the paper) an unknown in feature space: Mahalanobis distance before NormReLU | [`novelty`] |
 //! | (not in the paper) labels as one path with a minimum duration, not per-frame argmax | [`crate::labeller::decode`] |
 //! | (not in the paper) whether a take fits the model | [`crate::labeller::fit`] |
-//! | model files: classes, colours, joint set, rate, training command, weights | [`model`] |
-//! | the registered `dtfcn` method | [`method`] |
-//! | training and model files behind the supervised shape | [`supervised`] |
+//! | model files: the network's shape and weights in the common model file ([`crate::labeller::model`]) | [`model`] |
+//! | training a model and the nested held-out protocol (the k-NN beside it on the same folds) | [`corpus`] |
+//! | the registered `dtfcn` method: the common labelling method ([`crate::labeller::method`]) over its models | [`method`] |
+//! | its training table and training behind the supervised shape | [`supervised`] |
 
 pub mod augment;
 pub mod bench;
@@ -26,7 +27,6 @@ pub mod model;
 pub mod network;
 pub mod normrelu;
 pub mod novelty;
-pub mod shipped;
 pub mod supervised;
 pub mod training;
 

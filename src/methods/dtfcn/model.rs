@@ -12,38 +12,11 @@ use burn::tensor::Bytes;
 use super::infer::{block_bytes, predict_members, BLOCK_FRAMES};
 use super::network::{DtFcn, DtFcnConfig};
 use super::training::TrainOptions;
-use crate::labeller::input::{joint_names, network_input, CHANNELS, NETWORK_FPS};
-use crate::labeller::model::{Kind, Labeller, Model, ModelHeader};
+use crate::labeller::input::{network_input, CHANNELS, NETWORK_FPS};
+use crate::labeller::model::{Labeller, Model, ModelHeader};
 use crate::labeller::probabilities::Probabilities;
 use crate::method::{MethodError, Progress};
 use crate::motion::Motion;
-
-/// What kind of labeller a model file holds: DT-FCN's networks or the k-NN's windows (both labellers' methods are
-/// still one labelling method, [`super::method::Labelling`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ModelKind {
-    /// The DT-FCN network ([`super::network`]).
-    Dtfcn,
-    /// The k-nearest-neighbour labeller ([`crate::methods::knn`]).
-    Knn,
-}
-
-impl ModelKind {
-    pub fn name(self) -> &'static str {
-        self.file().name()
-    }
-
-    /// How its model files are read.
-    pub fn file(self) -> &'static dyn Kind {
-        match self {
-            ModelKind::Dtfcn => &DTFCN_FILE,
-            ModelKind::Knn => &crate::methods::knn::model::KNN_FILE,
-        }
-    }
-}
-
-/// The model files of both kinds, as the common reader takes them.
-pub const KINDS: [&dyn Kind; 2] = [&DTFCN_FILE, &crate::methods::knn::model::KNN_FILE];
 
 /// One network, or an ensemble of networks of the same shape whose probabilities are averaged
 /// ([`super::infer::predict_members`]); never empty.
@@ -106,68 +79,55 @@ pub fn networks_of(model: &Model) -> Option<&Networks> {
     model.labeller.as_any().downcast_ref::<Networks>()
 }
 
-/// DT-FCN's model files.
-pub struct DtfcnFile;
-
-/// DT-FCN's model files, as the common reader takes them.
-pub const DTFCN_FILE: DtfcnFile = DtfcnFile;
-
-impl Kind for DtfcnFile {
-    fn name(&self) -> &'static str {
-        "dtfcn"
+/// What DT-FCN's fields of a header must say: a network of the header's classes reading the motion image, and the
+/// input's standardisation.
+pub fn check_header(h: &ModelHeader) -> Result<(), String> {
+    let n: DtFcnConfig = h.network.as_ref().ok_or("a DT-FCN model without its network shape")?.read()?;
+    n.check()?;
+    let k = h.classes.len();
+    if n.classes != k {
+        return Err(format!("the network has {} outputs but the header lists {k} classes", n.classes));
     }
-
-    fn joint_names(&self) -> Vec<String> {
-        joint_names()
+    if n.channels != CHANNELS {
+        return Err(format!("the network reads {} channels, expected {} (3 per joint)", n.channels, CHANNELS));
     }
+    h.standardise.as_ref().ok_or("a DT-FCN model without its input standardisation")?.check()
+}
 
-    fn check_header(&self, h: &ModelHeader) -> Result<(), String> {
-        let n: DtFcnConfig = h.network.as_ref().ok_or("a DT-FCN model without its network shape")?.read()?;
-        n.check()?;
-        let k = h.classes.len();
-        if n.classes != k {
-            return Err(format!("the network has {} outputs but the header lists {k} classes", n.classes));
-        }
-        if n.channels != CHANNELS {
-            return Err(format!("the network reads {} channels, expected {} (3 per joint)", n.channels, CHANNELS));
-        }
-        h.standardise.as_ref().ok_or("a DT-FCN model without its input standardisation")?.check()
-    }
-
-    fn read(&self, header: &mut ModelHeader, payload: &[u8]) -> Result<Box<dyn Labeller>, String> {
-        let field = header.network.as_ref().ok_or("a DT-FCN model without its network shape")?;
-        let (config, network) = field.normalised::<DtFcnConfig>()?;
-        let (_, options) = header.provenance.options.normalised::<TrainOptions>()?;
-        (header.network, header.provenance.options) = (Some(network), options);
-        let parts = member_parts(payload, &header.member_bytes)?;
-        let mut nets = Vec::with_capacity(parts.len());
-        for (m, part) in parts.iter().enumerate() {
-            let which =
-                if parts.len() > 1 { format!(" (network {} of {})", m + 1, parts.len()) } else { String::new() };
-            // the network is made (its weights allocated) before the payload is read into it:
-            // a header that describes a larger network than its payload can hold (4 bytes per
-            // f32 weight) is refused first — six layers of 2048 filters would be 700 MB
-            let needed = (config.parameter_count() as u64).saturating_mul(4);
-            if needed > part.len() as u64 {
-                return Err(format!(
-                    "the header describes a network of {} parameters ({} bytes of weights), the file holds {} \
+/// The networks of a DT-FCN model file's payload, the header's network shape and the training's options put in the
+/// one form DT-FCN writes them.
+pub fn read(header: &mut ModelHeader, payload: &[u8]) -> Result<Box<dyn Labeller>, String> {
+    let field = header.network.as_ref().ok_or("a DT-FCN model without its network shape")?;
+    let (config, network) = field.normalised::<DtFcnConfig>()?;
+    let (_, options) = header.provenance.options.normalised::<TrainOptions>()?;
+    (header.network, header.provenance.options) = (Some(network), options);
+    let parts = member_parts(payload, &header.member_bytes)?;
+    let mut nets = Vec::with_capacity(parts.len());
+    for (m, part) in parts.iter().enumerate() {
+        let which = if parts.len() > 1 { format!(" (network {} of {})", m + 1, parts.len()) } else { String::new() };
+        // the network is made (its weights allocated) before the payload is read into it:
+        // a header that describes a larger network than its payload can hold (4 bytes per
+        // f32 weight) is refused first — six layers of 2048 filters would be 700 MB
+        let needed = (config.parameter_count() as u64).saturating_mul(4);
+        if needed > part.len() as u64 {
+            return Err(format!(
+                "the header describes a network of {} parameters ({} bytes of weights), the file holds {} \
                      bytes{which}",
-                    config.parameter_count(),
-                    needed,
-                    part.len()
-                ));
-            }
-            let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(part.to_vec()))
-                .map_err(|e| format!("the weights{which} are not a burn record: {e}"))?;
-            nets.push(
-                config
-                    .init(&super::device())
-                    .try_load_record(record)
-                    .map_err(|e| format!("the weights{which} do not fit the network the header describes: {e}"))?,
-            );
+                config.parameter_count(),
+                needed,
+                part.len()
+            ));
         }
-        Ok(Box::new(Networks { config, nets }))
+        let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(part.to_vec()))
+            .map_err(|e| format!("the weights{which} are not a burn record: {e}"))?;
+        nets.push(
+            config
+                .init(&super::device())
+                .try_load_record(record)
+                .map_err(|e| format!("the weights{which} do not fit the network the header describes: {e}"))?,
+        );
     }
+    Ok(Box::new(Networks { config, nets }))
 }
 
 /// The payload of each network: `payload` cut at the header's `member_bytes` (the whole payload when
@@ -222,7 +182,7 @@ mod tests {
                 name: "tiny".into(),
                 colours: vec!["#ff0000".into(), "#00ff00".into(), "#0000ff".into()],
                 classes,
-                joints: joint_names(),
+                joints: crate::labeller::input::joint_names(),
                 fps: NETWORK_FPS,
                 unknown_threshold: 0.5,
                 decoding: None,
@@ -256,11 +216,11 @@ mod tests {
     #[test]
     fn a_model_reads_back_and_every_kind_of_damage_is_named() {
         let bytes = tiny().to_bytes().unwrap();
-        let back = Model::from_bytes(&bytes, "m.model", &[&DTFCN_FILE]).unwrap();
+        let back = Model::from_bytes(&bytes, "m.model", &[&super::super::method::DTFCN]).unwrap();
         assert_eq!(back.header.classes, vec!["a", "b", "c"]);
         assert_eq!(back.to_bytes().unwrap(), bytes, "load → save is byte-identical");
 
-        let err = |b: &[u8]| Model::from_bytes(b, "m.model", &[&DTFCN_FILE]).unwrap_err();
+        let err = |b: &[u8]| Model::from_bytes(b, "m.model", &[&super::super::method::DTFCN]).unwrap_err();
         assert!(err(b"{\"family\": 1}").contains("not a mocapseg model file"), "{}", err(b"{}"));
         assert!(err(&bytes[..bytes.len() - 10]).contains("truncated"), "{}", err(&bytes[..bytes.len() - 10]));
         assert!(err(&bytes[..30]).contains("truncated"));
@@ -309,9 +269,10 @@ mod tests {
         let refused = |edit: &dyn Fn(&mut ModelHeader), wanted: &[&str]| {
             let (mut header, payload) = read_header(&bytes, "tiny.model").unwrap();
             edit(&mut header);
-            let e = Model::from_bytes(&frame(&header, payload).unwrap(), "hostile.model", &[&DTFCN_FILE])
-                .err()
-                .unwrap_or_else(|| panic!("a header meant to be refused for {wanted:?} loaded"));
+            let e =
+                Model::from_bytes(&frame(&header, payload).unwrap(), "hostile.model", &[&super::super::method::DTFCN])
+                    .err()
+                    .unwrap_or_else(|| panic!("a header meant to be refused for {wanted:?} loaded"));
             assert!(e.starts_with("hostile.model: "), "{e}");
             for w in wanted {
                 assert!(e.contains(w), "`{w}` not in: {e}");
@@ -346,6 +307,7 @@ mod tests {
         // what is in range still loads
         let mut m = tiny();
         m.header.decoding = Some(Decoding { min_duration_s: 30.0, switch_cost: 1000.0 });
-        Model::from_bytes(&m.to_bytes().unwrap(), "edge.model", &[&DTFCN_FILE]).expect("the ranges' ends load");
+        Model::from_bytes(&m.to_bytes().unwrap(), "edge.model", &[&super::super::method::DTFCN])
+            .expect("the ranges' ends load");
     }
 }

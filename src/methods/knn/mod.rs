@@ -14,6 +14,8 @@ mod lanes;
 pub mod method;
 pub mod model;
 pub mod search;
+pub mod supervised;
+pub mod training;
 
 use std::sync::OnceLock;
 
@@ -701,7 +703,7 @@ mod tests {
         for name in ["exercises", "cmu-actions", "locomotion"] {
             let file = format!("knn-{name}.model");
             let bytes = crate::method::ModelStore::default().shipped_bytes(&file).unwrap().to_vec();
-            let model = crate::labeller::model::Model::from_bytes(&bytes, &file, &[&model::KNN_FILE]).unwrap();
+            let model = crate::labeller::model::Model::from_bytes(&bytes, &file, &[&method::KNN]).unwrap();
             let knn = model::knn_of(&model).unwrap_or_else(|| panic!("{name}: not a k-NN model"));
             let classes = model.header.classes.len();
             for take in &takes {

@@ -8,8 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{Knn, KnnParams};
 use crate::labeller::fit::Windows;
-use crate::labeller::input::canonical_names;
-use crate::labeller::model::{Json, Kind, Labeller, Model, ModelHeader};
+use crate::labeller::model::{Json, Labeller, Model, ModelHeader};
 use crate::labeller::probabilities::Probabilities;
 use crate::method::{MethodError, Progress};
 use crate::motion::Motion;
@@ -122,32 +121,19 @@ impl Default for RecordedOptions {
     }
 }
 
-/// The k-NN's model files.
-pub struct KnnFile;
+/// What the k-NN's field of a header must say: a window and a vote it can use.
+pub fn check_header(h: &ModelHeader) -> Result<(), String> {
+    h.knn.as_ref().ok_or("a k-NN model without its parameters")?.read::<KnnParams>()?.check()
+}
 
-/// The k-NN's model files, as the common reader takes them.
-pub const KNN_FILE: KnnFile = KnnFile;
-
-impl Kind for KnnFile {
-    fn name(&self) -> &'static str {
-        "knn"
-    }
-
-    fn joint_names(&self) -> Vec<String> {
-        canonical_names()
-    }
-
-    fn check_header(&self, h: &ModelHeader) -> Result<(), String> {
-        h.knn.as_ref().ok_or("a k-NN model without its parameters")?.read::<KnnParams>()?.check()
-    }
-
-    fn read(&self, header: &mut ModelHeader, payload: &[u8]) -> Result<Box<dyn Labeller>, String> {
-        let (params, knn) =
-            header.knn.as_ref().ok_or("a k-NN model without its parameters")?.normalised::<KnnParams>()?;
-        let (_, options) = header.provenance.options.normalised::<RecordedOptions>()?;
-        (header.knn, header.provenance.options) = (Some(knn), options);
-        Ok(Box::new(Knn::from_bytes(payload, params, header.classes.len())?))
-    }
+/// The k-NN of a model file's payload, the header's window and vote and the training's options put in the one form
+/// the k-NN writes them.
+pub fn read(header: &mut ModelHeader, payload: &[u8]) -> Result<Box<dyn Labeller>, String> {
+    let field = header.knn.as_ref().ok_or("a k-NN model without its parameters")?;
+    let (params, knn) = field.normalised::<KnnParams>()?;
+    let (_, options) = header.provenance.options.normalised::<RecordedOptions>()?;
+    (header.knn, header.provenance.options) = (Some(knn), options);
+    Ok(Box::new(Knn::from_bytes(payload, params, header.classes.len())?))
 }
 
 /// The options a new k-NN file records ([`RecordedOptions`]).
@@ -181,10 +167,11 @@ mod tests {
         let (mut header, payload) = read_header(bytes, "knn-exercises.model").unwrap();
         header.decoding = Some(Decoding { min_duration_s: 1e300, switch_cost: 0.0 });
         let hostile = frame(&header, payload).unwrap();
-        let e = Model::from_bytes(&hostile, "knn-hostile.model", &[&KNN_FILE]).err().expect("refused");
+        let e = Model::from_bytes(&hostile, "knn-hostile.model", &[&super::super::method::KNN]).err().expect("refused");
         assert!(e.contains("knn-hostile.model") && e.contains("min_duration_s = 1e300"), "{e}");
         // and `replace_header`, which writes a measured field into a kept model, refuses it too
-        let e = Model::replace_header(bytes, "knn-exercises.model", &header, &[&KNN_FILE]).unwrap_err();
+        let e =
+            Model::replace_header(bytes, "knn-exercises.model", &header, &[&super::super::method::KNN]).unwrap_err();
         assert!(e.contains("min_duration_s"), "{e}");
     }
 }
