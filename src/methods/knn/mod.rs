@@ -6,8 +6,9 @@
 //! finds, in the tree's order — the tree answers the rare query whose neighbours tie. The
 //! confidence of a frame is the share of votes its label won.
 //!
-//! It is a registered method (`knn`, [`method`]) reading the same model files and label CSVs as
-//! the network.
+//! It is a registered method (`knn`, [`method`]): the labelling method both labellers share
+//! ([`crate::labeller::method`]) over its model files ([`model`]: its payload and header field in the common model
+//! file), fitted on label CSVs as the network is trained ([`supervised`], [`training`]).
 //! `cargo run --release --example eval_knn` scores it leave-one-take-out on the shared takes.
 
 mod lanes;
