@@ -801,7 +801,15 @@ mod lab {
                                 .flat_map(|&(w, l, p)| centrings.iter().map(move |&c| (w, l, p, c)));
                             for (width, layers, padding, centre_on_take) in grid {
                                 let options = TrainOptions { centre_on_take, ..setting(width, layers, padding, seed) };
-                                let p = predict_held_out(&motions, &labels, h, &classes, &options, &mut |_| true)?;
+                                let p = predict_held_out(
+                                    &motions,
+                                    &labels,
+                                    h,
+                                    &classes,
+                                    &options,
+                                    &mocapseg::methods::knn::training::knn_fold,
+                                    &mut |_| true,
+                                )?;
                                 let mut held = Some(Labelled {
                                     probabilities: p.network_probabilities,
                                     source: p.network_source,
@@ -855,7 +863,15 @@ mod lab {
                                 for &s in &member_seeds {
                                     if !members.contains_key(&(s, e)) {
                                         let o = TrainOptions { seed: s, ..options.clone() };
-                                        let p = predict_held_out(&motions, &labels, h, &classes, &o, &mut |_| true)?;
+                                        let p = predict_held_out(
+                                            &motions,
+                                            &labels,
+                                            h,
+                                            &classes,
+                                            &o,
+                                            &mocapseg::methods::knn::training::knn_fold,
+                                            &mut |_| true,
+                                        )?;
                                         let network = |probabilities, source| Labelled {
                                             probabilities,
                                             source,

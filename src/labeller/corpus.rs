@@ -155,6 +155,25 @@ pub fn header(kind: &dyn Kind, classes: &[String], meta: &ModelMeta, provenance:
     }
 }
 
+/// The takes of one fold of a nested held-out protocol as a labeller compared on the same folds is fitted on them
+/// (labels per file frame, as the protocol gives them: with its label noise and masking): `inner` without the
+/// validation take, the validation take whose labels choose the labeller's setting, `train` every take but the
+/// held-out one, and the held-out take.
+pub struct FoldTakes<'a> {
+    pub inner: Vec<(&'a Motion, &'a [Option<usize>])>,
+    pub validation: (&'a Motion, &'a [Option<usize>]),
+    pub train: Vec<(&'a Motion, &'a [Option<usize>])>,
+    pub held: &'a Motion,
+}
+
+/// What a labeller compared on a fold gives: the held-out take's labels per file frame (class, confidence), the
+/// setting the validation take chose (the k-NN's k), and its model.
+pub struct FoldLabels<M> {
+    pub labels: Vec<(usize, f32)>,
+    pub setting: usize,
+    pub model: M,
+}
+
 #[cfg(test)]
 mod tests {
 

@@ -1,15 +1,13 @@
 //! From labelled takes to DT-FCN models and scores, the same for the command line and the browser: training a
 //! DT-FCN into a model file, and leave-one-take-out cross-validation with the epochs chosen inside the training takes
-//! (nested: the held-out take never chooses anything), the k-NN beside it on the same folds (the held-out comparison
-//! of docs/methods/dtfcn.md: the one place that fits the k-NN outside its folder, `crate::methods::knn::training`).
+//! (nested: the held-out take never chooses anything), with the labeller its caller puts beside it on the same folds
+//! (the k-NN, `crate::methods::knn::training::knn_fold`: the held-out comparison of docs/methods/dtfcn.md).
 //! Matching label rows to takes is [`crate::labeller::corpus`]'s.
 
 use super::model::Networks;
 use super::training::{train, EpochReport, TrainOptions, Trained, TrainingTake};
-use crate::labeller::corpus::{header, ModelMeta};
+use crate::labeller::corpus::{header, FoldLabels, FoldTakes, ModelMeta};
 use crate::labeller::model::{Json, MemberRun, Model, Provenance};
-use crate::methods::knn::training::fit_knn;
-use crate::methods::knn::{Knn, KnnParams};
 use crate::motion::Motion;
 use crate::segment::labelling::{self, LabellingScores};
 
@@ -93,6 +91,10 @@ pub fn imperfect_labels(
     out
 }
 
+/// The labeller compared with the network on the same folds ([`predict_held_out`]): the k-NN's
+/// `crate::methods::knn::training::knn_fold`, given by the caller so that DT-FCN's folder trains only the network.
+pub type Beside<'f, M> = &'f dyn Fn(&FoldTakes) -> Result<FoldLabels<M>, String>;
+
 /// One held-out take's result in cross-validation.
 #[derive(Debug, Clone)]
 pub struct Fold {
@@ -112,8 +114,9 @@ pub struct Fold {
     pub seconds: f64,
 }
 
-/// The held-out take's labels in one fold of the nested protocol, by the network and the k-NN.
-pub struct FoldPrediction {
+/// The held-out take's labels in one fold of the nested protocol, by the network and the labeller beside it (the
+/// k-NN, whose model is an `M`).
+pub struct FoldPrediction<M> {
     /// Per file frame of the held-out take: class and confidence (network) / vote share (k-NN).
     pub network: Vec<(usize, f32)>,
     pub knn: Vec<(usize, f32)>,
@@ -142,7 +145,7 @@ pub struct FoldPrediction {
     /// (the leave-one-class-out's unknowns) without the protocol doing that work for every caller.
     pub validation_network: Trained,
     pub final_network: Trained,
-    pub knn_model: Knn,
+    pub knn_model: M,
 }
 
 /// The novelty score ([`super::novelty`]) of every working frame of `motion` under `trained`, fitted on the
@@ -201,24 +204,22 @@ fn file_frames_of(
     TrainingTake::to_file_frames(source, motion.frames(), &working)
 }
 
-/// The k-NN's votes the nested protocol chooses from on the validation take.
-pub const KNN_KS: [usize; 6] = [1, 3, 5, 9, 15, 25];
-
 /// One fold of the nested protocol: take `held` is held out; of the others, the next one in turn
 /// is the validation take that chooses the epoch (early stopping); the network is then trained
-/// again on all the others for that many epochs and labels the held-out take; the k-NN, fitted
-/// on the same takes under the same label noise and masking, labels it too, its k chosen on the
-/// same validation take ([`KNN_KS`]). The validation take's labels carry the same noise and
+/// again on all the others for that many epochs and labels the held-out take; `beside` (the k-NN,
+/// `crate::methods::knn::training::knn_fold`), fitted on the same takes under the same label noise and masking,
+/// labels it too, its setting chosen on the same validation take. The validation take's labels carry the same noise and
 /// masking as the training takes' — a user validates on the labels they have. `labels` are the
 /// clean labels (per file frame) of every take; the held-out take's are not used.
-pub fn predict_held_out(
+pub fn predict_held_out<M>(
     motions: &[Motion],
     labels: &[Vec<Option<usize>>],
     held: usize,
     classes: &[String],
     options: &TrainOptions,
+    beside: Beside<M>,
     on_epoch: &mut dyn FnMut(&EpochReport) -> bool,
-) -> Result<FoldPrediction, String> {
+) -> Result<FoldPrediction<M>, String> {
     let n = motions.len();
     if n < 3 {
         return Err(format!("the nested protocol needs at least 3 takes (train, validation, held out); {n} given"));
@@ -232,34 +233,21 @@ pub fn predict_held_out(
     let trained = retrained(motions, labels, held, classes, options, chosen.best_epoch, on_epoch)?;
     let (network_probabilities, network_source) = probabilities(&trained, &motions[held], classes.len())?;
     let network = file_frames_of(&network_probabilities, &network_source, &motions[held]);
-    // the k-NN's k: fitted without the validation take, scored on its (noisy) labels
-    let knn_inner: Vec<(&Motion, &[Option<usize>])> =
-        (0..n).filter(|&i| i != held && i != val).map(|i| (&motions[i], imperfect[i].as_slice())).collect();
-    let mut knn_k = (KnnParams::default().k, f64::MIN);
-    for k in KNN_KS {
-        let votes = fit_knn(&knn_inner, KnnParams { k, ..KnnParams::default() })?.predict(&motions[val])?;
-        let (mut right, mut total) = (0usize, 0usize);
-        for (v, l) in votes.iter().zip(&imperfect[val]) {
-            if let Some(l) = l {
-                total += 1;
-                right += usize::from(v.0 == *l);
-            }
-        }
-        let accuracy = right as f64 / total.max(1) as f64;
-        if accuracy > knn_k.1 + 1e-12 {
-            knn_k = (k, accuracy);
-        }
-    }
-    let knn_train: Vec<(&Motion, &[Option<usize>])> =
-        (0..n).filter(|&i| i != held).map(|i| (&motions[i], imperfect[i].as_slice())).collect();
-    let fitted = fit_knn(&knn_train, KnnParams { k: knn_k.0, ..KnnParams::default() })?;
-    let knn = fitted.predict(&motions[held])?;
+    // the labeller beside the network, fitted on the same takes under the same label noise and masking
+    let with_labels = |i: usize| (&motions[i], imperfect[i].as_slice());
+    let takes = FoldTakes {
+        inner: (0..n).filter(|&i| i != held && i != val).map(with_labels).collect(),
+        validation: with_labels(val),
+        train: (0..n).filter(|&i| i != held).map(with_labels).collect(),
+        held: &motions[held],
+    };
+    let beside = beside(&takes)?;
     let validation_accuracy =
         chosen.reports.iter().find(|r| r.epoch == chosen.best_epoch).and_then(|r| r.validation_accuracy).unwrap_or(0.0);
     Ok(FoldPrediction {
         network,
-        knn,
-        knn_k: knn_k.0,
+        knn: beside.labels,
+        knn_k: beside.setting,
         best_epoch: chosen.best_epoch,
         epochs_run: chosen.reports.len(),
         validation_accuracy,
@@ -271,7 +259,7 @@ pub fn predict_held_out(
         network_source,
         validation_network: chosen,
         final_network: trained,
-        knn_model: fitted,
+        knn_model: beside.model,
     })
 }
 
@@ -406,18 +394,19 @@ pub struct AveragedFold {
 
 /// Leave-one-take-out with [`predict_held_out`] for every take, scored on the held-out take's
 /// file frames.
-pub fn leave_one_take_out(
+pub fn leave_one_take_out<M>(
     motions: &[Motion],
     labels: &[Vec<Option<usize>>],
     classes: &[String],
     options: &TrainOptions,
+    beside: Beside<M>,
     on_epoch: &mut dyn FnMut(&str, &EpochReport) -> bool,
 ) -> Result<Vec<Fold>, String> {
     let mut folds = Vec::new();
     for held in 0..motions.len() {
         let started = web_time_now();
         let name = motions[held].name.clone();
-        let p = predict_held_out(motions, labels, held, classes, options, &mut |r| on_epoch(&name, r))?;
+        let p = predict_held_out(motions, labels, held, classes, options, beside, &mut |r| on_epoch(&name, r))?;
         let truth = &labels[held];
         let score = |pred: &[(usize, f32)]| {
             // only where the held-out take is labelled (86_01's walks, say)

@@ -1,7 +1,7 @@
 //! Fitting the k-NN on labelled takes into a model file.
 
 use super::{Knn, KnnParams, Labelled};
-use crate::labeller::corpus::{header, ModelMeta};
+use crate::labeller::corpus::{header, FoldLabels, FoldTakes, ModelMeta};
 use crate::labeller::model::{Json, Model, Provenance};
 use crate::motion::Motion;
 
@@ -58,4 +58,32 @@ pub fn fit_knn(takes: &[(&Motion, &[Option<usize>])], params: KnnParams) -> Resu
         return Err("no labelled stretch of at least 30 frames to fit the k-NN on".into());
     }
     Knn::fit(&labelled, params)
+}
+
+/// The k-NN's votes the nested protocol chooses from on the validation take.
+pub const KNN_KS: [usize; 6] = [1, 3, 5, 9, 15, 25];
+
+/// The k-NN beside the network in one fold of the nested held-out protocol (`crate::methods::dtfcn::corpus::
+/// predict_held_out`): its k chosen among [`KNN_KS`] on the validation take (fitted without it, scored on its labels),
+/// then fitted on every take but the held-out one; the held-out take's votes.
+pub fn knn_fold(takes: &FoldTakes) -> Result<FoldLabels<Knn>, String> {
+    // the k-NN's k: fitted without the validation take, scored on its (noisy) labels
+    let mut knn_k = (KnnParams::default().k, f64::MIN);
+    for k in KNN_KS {
+        let votes = fit_knn(&takes.inner, KnnParams { k, ..KnnParams::default() })?.predict(takes.validation.0)?;
+        let (mut right, mut total) = (0usize, 0usize);
+        for (v, l) in votes.iter().zip(takes.validation.1) {
+            if let Some(l) = l {
+                total += 1;
+                right += usize::from(v.0 == *l);
+            }
+        }
+        let accuracy = right as f64 / total.max(1) as f64;
+        if accuracy > knn_k.1 + 1e-12 {
+            knn_k = (k, accuracy);
+        }
+    }
+    let fitted = fit_knn(&takes.train, KnnParams { k: knn_k.0, ..KnnParams::default() })?;
+    let labels = fitted.predict(takes.held)?;
+    Ok(FoldLabels { labels, setting: knn_k.0, model: fitted })
 }
