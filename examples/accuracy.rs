@@ -75,7 +75,7 @@ mod lab {
     use mocapseg::methods::dtfcn::corpus::{averaged_fold, final_fold, predict_held_out, validation_fold};
     use mocapseg::methods::dtfcn::network::{paper_filters, Padding};
     use mocapseg::methods::dtfcn::training::TrainOptions;
-    use mocapseg::methods::knn::training::fit_knn;
+    use mocapseg::methods::knn::training::{fit_knn, knn_fold};
     use mocapseg::methods::knn::KnnParams;
     use mocapseg::methods::lma::classifier::EffortModel;
     use mocapseg::methods::lma::corpus::{Corpus, CorpusConfig};
@@ -801,15 +801,10 @@ mod lab {
                                 .flat_map(|&(w, l, p)| centrings.iter().map(move |&c| (w, l, p, c)));
                             for (width, layers, padding, centre_on_take) in grid {
                                 let options = TrainOptions { centre_on_take, ..setting(width, layers, padding, seed) };
-                                let p = predict_held_out(
-                                    &motions,
-                                    &labels,
-                                    h,
-                                    &classes,
-                                    &options,
-                                    &mocapseg::methods::knn::training::knn_fold,
-                                    &mut |_| true,
-                                )?;
+                                let p =
+                                    predict_held_out(&motions, &labels, h, &classes, &options, &knn_fold, &mut |_| {
+                                        true
+                                    })?;
                                 let mut held = Some(Labelled {
                                     probabilities: p.network_probabilities,
                                     source: p.network_source,
@@ -869,7 +864,7 @@ mod lab {
                                             h,
                                             &classes,
                                             &o,
-                                            &mocapseg::methods::knn::training::knn_fold,
+                                            &knn_fold,
                                             &mut |_| true,
                                         )?;
                                         let network = |probabilities, source| Labelled {

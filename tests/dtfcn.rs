@@ -26,7 +26,7 @@ use mocapseg::methods::dtfcn::infer::predict_input;
 use mocapseg::methods::dtfcn::model::networks_of;
 use mocapseg::methods::dtfcn::training::{boundary_mask, evaluate, noisy_labels, TrainOptions, TrainingTake};
 use mocapseg::methods::find;
-use mocapseg::methods::knn::training::fit_knn_model;
+use mocapseg::methods::knn::training::{fit_knn_model, knn_fold};
 use mocapseg::methods::LABELLERS as KINDS;
 use mocapseg::motion::Motion;
 use mocapseg::stats::Rng;
@@ -381,16 +381,7 @@ fn the_averaging_fold_retrains_the_folds_networks() {
     use mocapseg::methods::dtfcn::corpus::{averaged_fold, predict_held_out};
     let (takes, classes, labels) = three_takes();
     let options = small(3);
-    let fold = predict_held_out(
-        &takes,
-        &labels,
-        0,
-        &classes,
-        &options,
-        &mocapseg::methods::knn::training::knn_fold,
-        &mut |_| true,
-    )
-    .unwrap();
+    let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
     let last = averaged_fold(&takes, &labels, 0, &classes, &options, fold.best_epoch, true).unwrap();
     assert_eq!(last.validation, fold.validation);
     assert_eq!(last.validation_probabilities, fold.validation_probabilities);
@@ -412,16 +403,7 @@ fn a_fold_validates_on_any_inner_take() {
     use mocapseg::methods::dtfcn::corpus::{final_fold, predict_held_out, validation_fold};
     let (takes, classes, labels) = three_takes();
     let options = small(3);
-    let fold = predict_held_out(
-        &takes,
-        &labels,
-        0,
-        &classes,
-        &options,
-        &mocapseg::methods::knn::training::knn_fold,
-        &mut |_| true,
-    )
-    .unwrap();
+    let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
     let (p, source, epoch) = validation_fold(&takes, &labels, 0, fold.validation, &classes, &options).unwrap();
     assert_eq!(
         (p, source, epoch),
@@ -448,31 +430,13 @@ fn scrambling_the_held_out_takes_labels_changes_no_prediction() {
     use mocapseg::methods::dtfcn::corpus::predict_held_out;
     let (takes, classes, labels) = three_takes();
     let options = small(2);
-    let before = predict_held_out(
-        &takes,
-        &labels,
-        0,
-        &classes,
-        &options,
-        &mocapseg::methods::knn::training::knn_fold,
-        &mut |_| true,
-    )
-    .unwrap();
+    let before = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
     let mut scrambled = labels.clone();
     let n = scrambled[0].len();
     scrambled[0] = (0..n).map(|f| Some(if (f + n / 2) % n < n / 3 { 2 } else { 0 })).collect();
     scrambled[0][5] = None;
     assert_ne!(scrambled[0], labels[0]);
-    let after = predict_held_out(
-        &takes,
-        &scrambled,
-        0,
-        &classes,
-        &options,
-        &mocapseg::methods::knn::training::knn_fold,
-        &mut |_| true,
-    )
-    .unwrap();
+    let after = predict_held_out(&takes, &scrambled, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
     assert_eq!(before.network_probabilities, after.network_probabilities);
     assert_eq!(before.validation_probabilities, after.validation_probabilities);
     assert_eq!(before.network, after.network);
@@ -484,15 +448,6 @@ fn scrambling_the_held_out_takes_labels_changes_no_prediction() {
     // (all one class the take does not have: a rotation of its classes could leave a constant guess as right as
     // before)
     other[before.validation] = other[before.validation].iter().map(|_| Some(1)).collect();
-    let moved = predict_held_out(
-        &takes,
-        &other,
-        0,
-        &classes,
-        &options,
-        &mocapseg::methods::knn::training::knn_fold,
-        &mut |_| true,
-    )
-    .unwrap();
+    let moved = predict_held_out(&takes, &other, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
     assert_ne!(before.validation_accuracy, moved.validation_accuracy);
 }
