@@ -67,14 +67,15 @@ mod lab {
     use std::time::Instant;
 
     use mocapseg::bvh::{self, Bvh};
+    use mocapseg::labeller::decode::{self, file_labels, Decoding, Judged, THRESHOLDS};
+    use mocapseg::labeller::input::NETWORK_FPS;
+    use mocapseg::labeller::method::runs;
+    use mocapseg::labeller::probabilities::Probabilities;
     use mocapseg::method::{self, NoProgress, RunOptions};
-    use mocapseg::methods::dtfcn::corpus::{averaged_fold, final_fold, fit_knn, predict_held_out, validation_fold};
-    use mocapseg::methods::dtfcn::decode::{self, file_labels, Decoding, Judged, THRESHOLDS};
-    use mocapseg::methods::dtfcn::infer::Probabilities;
-    use mocapseg::methods::dtfcn::input::NETWORK_FPS;
-    use mocapseg::methods::dtfcn::method::runs;
+    use mocapseg::methods::dtfcn::corpus::{averaged_fold, final_fold, predict_held_out, validation_fold};
     use mocapseg::methods::dtfcn::network::{paper_filters, Padding};
     use mocapseg::methods::dtfcn::training::TrainOptions;
+    use mocapseg::methods::knn::training::{fit_knn, knn_fold};
     use mocapseg::methods::knn::KnnParams;
     use mocapseg::methods::lma::classifier::EffortModel;
     use mocapseg::methods::lma::corpus::{Corpus, CorpusConfig};
@@ -800,7 +801,10 @@ mod lab {
                                 .flat_map(|&(w, l, p)| centrings.iter().map(move |&c| (w, l, p, c)));
                             for (width, layers, padding, centre_on_take) in grid {
                                 let options = TrainOptions { centre_on_take, ..setting(width, layers, padding, seed) };
-                                let p = predict_held_out(&motions, &labels, h, &classes, &options, &mut |_| true)?;
+                                let p =
+                                    predict_held_out(&motions, &labels, h, &classes, &options, &knn_fold, &mut |_| {
+                                        true
+                                    })?;
                                 let mut held = Some(Labelled {
                                     probabilities: p.network_probabilities,
                                     source: p.network_source,
@@ -854,7 +858,15 @@ mod lab {
                                 for &s in &member_seeds {
                                     if !members.contains_key(&(s, e)) {
                                         let o = TrainOptions { seed: s, ..options.clone() };
-                                        let p = predict_held_out(&motions, &labels, h, &classes, &o, &mut |_| true)?;
+                                        let p = predict_held_out(
+                                            &motions,
+                                            &labels,
+                                            h,
+                                            &classes,
+                                            &o,
+                                            &knn_fold,
+                                            &mut |_| true,
+                                        )?;
                                         let network = |probabilities, source| Labelled {
                                             probabilities,
                                             source,

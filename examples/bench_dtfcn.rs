@@ -25,7 +25,6 @@ fn main() -> std::process::ExitCode {
 #[cfg(not(target_arch = "wasm32"))]
 fn run() -> Result<(), String> {
     use mocapseg::methods::dtfcn::bench::{inference, train_epochs, EXERCISE_FRAMES};
-    use mocapseg::methods::dtfcn::model::ModelKind;
     use mocapseg::motion::Motion;
     use std::time::Instant;
 
@@ -44,19 +43,22 @@ fn run() -> Result<(), String> {
     let full = Motion::from_bvh("bench sequence", &bvh).map_err(|e| e.to_string())?;
     let take = Motion::concatenate(std::slice::from_ref(&full), 3000).map_err(|e| e.to_string())?;
     let store = mocapseg::method::ModelStore::new();
-    for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
-        inference(&take, kind, "exercises", &store)?; // warm-up (reads the model)
+    for kind in ["dtfcn", "knn"] {
+        let shipped = mocapseg::methods::find(kind).unwrap().supervised().unwrap().shipped_model("exercises", &store);
+        let loaded = shipped.map_err(|e| e.to_string())?;
+        let model = loaded.model.downcast_ref::<mocapseg::labeller::model::Model>().unwrap();
+        inference(&take, model)?; // warm-up (reads the model)
         let mut times = Vec::new();
         let mut segments = 0;
         for _ in 0..reps.max(1) {
             let t0 = Instant::now();
-            segments = inference(&take, kind, "exercises", &store)?;
+            segments = inference(&take, model)?;
             times.push(t0.elapsed().as_secs_f64() * 1000.0);
         }
         times.sort_by(f64::total_cmp);
         println!(
             "native bench | {} inference, 3000 frames @30 Hz | {:9.1} ms | {segments} segments | median of {}",
-            kind.name(),
+            kind,
             times[times.len() / 2],
             times.len()
         );

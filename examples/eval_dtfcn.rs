@@ -47,10 +47,12 @@ fn main() -> std::process::ExitCode {
 mod lab {
     use std::path::PathBuf;
 
+    use mocapseg::labeller::corpus::class_labels;
     use mocapseg::labels::{from_truth_csv, LabelRow};
     use mocapseg::methods::dtfcn::augment::Augment;
-    use mocapseg::methods::dtfcn::corpus::{class_labels, leave_one_take_out, novelty_scores, predict_held_out};
+    use mocapseg::methods::dtfcn::corpus::{leave_one_take_out, novelty_scores, predict_held_out};
     use mocapseg::methods::dtfcn::training::{TrainOptions, Trained, TrainingTake};
+    use mocapseg::methods::knn::training::knn_fold;
     use mocapseg::motion::Motion;
     use mocapseg::segment::truth::TruthOptions;
 
@@ -187,7 +189,7 @@ mod lab {
                     } else {
                         TrainOptions { mask_s: level / 72.0, ..base.clone() }
                     };
-                    let folds = leave_one_take_out(&motions, &labels, &classes, &options, &mut |_, _| true)?;
+                    let folds = leave_one_take_out(&motions, &labels, &classes, &options, &knn_fold, &mut |_, _| true)?;
                     let n = folds.len() as f64;
                     let m = |f: &dyn Fn(&mocapseg::methods::dtfcn::corpus::Fold) -> f64| {
                         folds.iter().map(f).sum::<f64>() / n
@@ -226,7 +228,7 @@ mod lab {
         options: &TrainOptions,
     ) -> Result<(), String> {
         let started = std::time::Instant::now();
-        let folds = leave_one_take_out(motions, labels, classes, options, &mut |take, r| {
+        let folds = leave_one_take_out(motions, labels, classes, options, &knn_fold, &mut |take, r| {
             eprintln!(
                 "[held out {take}] epoch {}/{}: loss {:.3}{}",
                 r.epoch,
@@ -238,7 +240,7 @@ mod lab {
         })?;
         println!(
             "{}; label noise {}, mask {} s",
-            options.network(classes.len()).describe(mocapseg::methods::dtfcn::input::NETWORK_FPS),
+            options.network(classes.len()).describe(mocapseg::labeller::input::NETWORK_FPS),
             options.label_noise,
             options.mask_s
         );
@@ -286,9 +288,9 @@ mod lab {
         base: &TrainOptions,
         seeds: &[u64],
     ) -> Result<(), String> {
-        use mocapseg::methods::dtfcn::decode::{file_labels, Decoding};
-        use mocapseg::methods::dtfcn::infer::Probabilities;
-        use mocapseg::methods::dtfcn::input::NETWORK_FPS;
+        use mocapseg::labeller::decode::{file_labels, Decoding};
+        use mocapseg::labeller::input::NETWORK_FPS;
+        use mocapseg::labeller::probabilities::Probabilities;
         use mocapseg::segment::labelling;
         if seeds.is_empty() {
             return Err("--seeds: give at least one seed".into());
@@ -312,7 +314,7 @@ mod lab {
             let mut runs: Vec<(Probabilities, Vec<f64>, usize)> = Vec::new();
             for &seed in seeds {
                 let options = TrainOptions { seed, ..base.clone() };
-                let p = predict_held_out(motions, labels, held, classes, &options, &mut |_| true)?;
+                let p = predict_held_out(motions, labels, held, classes, &options, &knn_fold, &mut |_| true)?;
                 runs.push((p.network_probabilities, p.network_source, p.best_epoch));
             }
             let (first, source) = (&runs[0].0, runs[0].1.clone());
@@ -360,8 +362,8 @@ mod lab {
         classes: &[String],
         base: &TrainOptions,
     ) -> Result<(), String> {
-        use mocapseg::methods::dtfcn::corpus::fit_knn;
         use mocapseg::methods::dtfcn::novelty::auroc;
+        use mocapseg::methods::knn::training::fit_knn;
         use mocapseg::methods::knn::{Knn, KnnParams};
         let started = std::time::Instant::now();
         let holds = |i: usize, c: usize| labels[i].contains(&Some(c));
@@ -384,7 +386,7 @@ mod lab {
                 }
                 let without: Vec<Vec<Option<usize>>> =
                     labels.iter().map(|l| l.iter().map(|x| x.filter(|&c| c != gone)).collect()).collect();
-                let p = predict_held_out(motions, &without, held, classes, base, &mut |_| true)?;
+                let p = predict_held_out(motions, &without, held, classes, base, &knn_fold, &mut |_| true)?;
                 // thresholds from the validation take's frames of taught classes, under the validation network and a
                 // k-NN fitted on the same takes (neither the held-out nor the validation take)
                 let inner: Vec<(&Motion, &[Option<usize>])> = (0..motions.len())
@@ -508,8 +510,8 @@ mod lab {
         motion: &Motion,
         classes: usize,
     ) -> Result<Vec<f32>, String> {
+        use mocapseg::labeller::input::{network_input, NetworkInput};
         use mocapseg::methods::dtfcn::infer::predict_with_features;
-        use mocapseg::methods::dtfcn::input::{network_input, NetworkInput};
         let features = |input: &NetworkInput| -> (usize, Vec<f32>) {
             let (_, mut f) = predict_with_features(&trained.net, &trained.standardise, input, classes);
             let width = f.len() / input.frames.max(1);
@@ -551,7 +553,7 @@ mod lab {
     /// Per working frame of a take: (confidence, novelty, whether its true class is the one left out), for its
     /// labelled frames.
     fn frames_of(
-        probabilities: &mocapseg::methods::dtfcn::infer::Probabilities,
+        probabilities: &mocapseg::labeller::probabilities::Probabilities,
         novelty: &[f32],
         source: &[f64],
         truth: &[Option<usize>],
@@ -624,7 +626,7 @@ mod lab {
             let gone = (0..classes.len()).max_by_key(|&c| counts[c]).unwrap_or(0);
             let without: Vec<Vec<Option<usize>>> =
                 labels.iter().map(|l| l.iter().map(|x| x.filter(|&c| c != gone)).collect()).collect();
-            let p = predict_held_out(motions, &without, held, classes, base, &mut |_| true)?;
+            let p = predict_held_out(motions, &without, held, classes, base, &knn_fold, &mut |_| true)?;
             // the novelty of each network, fitted on the takes it was trained on (labels without the class)
             let takes = |skip: &[usize]| training_takes(motions, &without, skip);
             let k = classes.len();

@@ -133,9 +133,9 @@ mod lab {
         motion: &Motion,
         classes: usize,
     ) -> Result<Vec<[f32; S]>, String> {
-        use mocapseg::methods::dtfcn::corpus::fit_knn;
-        use mocapseg::methods::dtfcn::decode::{file_labels, Decoding};
-        use mocapseg::methods::dtfcn::fit::{FAMILIAR_GAP, FAMILIAR_SAMPLES};
+        use mocapseg::labeller::decode::{file_labels, Decoding};
+        use mocapseg::labeller::fit::{FAMILIAR_GAP, FAMILIAR_SAMPLES};
+        use mocapseg::methods::knn::training::fit_knn;
         let takes: Vec<(&Motion, &[Option<usize>])> = train.iter().map(|(m, l)| (*m, l.as_slice())).collect();
         let knn = fit_knn(&takes, KnnParams::default())?;
         let mut familiar = knn.familiar_distances(FAMILIAR_GAP, FAMILIAR_SAMPLES);

@@ -44,8 +44,9 @@ mod lab {
         cluster, transfer, KnowledgeBase, LibraryParams, LibraryTake, TakeFeatures, TransferRoute,
     };
     use mocapseg::method::{NoProgress, RunOptions};
-    use mocapseg::methods::dtfcn::corpus::{fit_knn, label_frames};
+    use mocapseg::methods::dtfcn::corpus::label_frames;
     use mocapseg::methods::dtfcn::training::{train, TrainOptions, TrainingTake};
+    use mocapseg::methods::knn::training::fit_knn;
     use mocapseg::methods::knn::KnnParams;
     use mocapseg::motion::Motion;
     use mocapseg::segment::truth::Truth;

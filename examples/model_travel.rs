@@ -1,5 +1,5 @@
 //! Lab tool, not part of the product: writes the travel profile of the take fit
-//! (`mocapseg::methods::dtfcn::fit`) into the header of a model made before it was measured,
+//! (`mocapseg::labeller::fit`) into the header of a model made before it was measured,
 //! from the model's own training data — the same BVH files and label CSV its provenance command
 //! names, checked against its data hash — keeping the weights byte for byte. Models trained since
 //! carry the profile from their training (`train-dtfcn`, `train-knn`, the page).
@@ -25,10 +25,11 @@ fn main() -> std::process::ExitCode {
 mod lab {
     use std::path::PathBuf;
 
+    use mocapseg::labeller::corpus::{class_labels, travel_of};
+    use mocapseg::labeller::model::{data_hash, Model};
     use mocapseg::labels::read_csv;
     use mocapseg::labels::same_file;
-    use mocapseg::methods::dtfcn::corpus::{class_labels, travel_of};
-    use mocapseg::methods::dtfcn::model::{data_hash, Model};
+    use mocapseg::methods::LABELLERS as KINDS;
     use mocapseg::motion::Motion;
 
     #[derive(clap::Parser)]
@@ -46,7 +47,7 @@ mod lab {
     pub fn run(args: Args) -> Result<(), String> {
         let bytes = std::fs::read(&args.model).map_err(|e| format!("{}: {e}", args.model.display()))?;
         let source = args.model.display().to_string();
-        let model = Model::from_bytes(&bytes, &source)?;
+        let model = Model::from_bytes(&bytes, &source, &KINDS)?;
         let label_bytes = std::fs::read(&args.labels).map_err(|e| format!("{}: {e}", args.labels.display()))?;
         let rows = read_csv(&String::from_utf8_lossy(&label_bytes), &args.labels.display().to_string())?;
         let files = mocapseg::load::collect_files(&args.bvh, "bvh")?;
@@ -74,8 +75,8 @@ mod lab {
         let travel = travel_of(&taught).ok_or("the travel of these takes cannot be measured")?;
         let mut header = model.header.clone();
         header.travel = Some(travel);
-        let out = Model::replace_header(&bytes, &source, &header)?;
-        Model::from_bytes(&out, &source)?;
+        let out = Model::replace_header(&bytes, &source, &header, &KINDS)?;
+        Model::from_bytes(&out, &source, &KINDS)?;
         std::fs::write(&args.model, &out).map_err(|e| format!("{}: {e}", args.model.display()))?;
         println!("{source}: travel median {:.1}, limit {:.1} in/s", travel.median, travel.limit);
         Ok(())

@@ -25,9 +25,9 @@ fn main() -> std::process::ExitCode {
 mod lab {
     use std::path::PathBuf;
 
-    use mocapseg::methods::dtfcn::fit::{TakeFit, TravelProfile};
-    use mocapseg::methods::dtfcn::model::{Labeller, ModelKind};
-    use mocapseg::methods::dtfcn::shipped;
+    use mocapseg::labeller::fit::{TakeFit, TravelProfile};
+    use mocapseg::labeller::shipped;
+    use mocapseg::methods::knn::model::knn_of;
     use mocapseg::methods::knn::{Knn, KnnParams, Labelled};
     use mocapseg::motion::Motion;
 
@@ -84,7 +84,9 @@ mod lab {
         println!("|---|---|---|---|---|---|---|");
         let store = mocapseg::method::ModelStore::new();
         for name in shipped::NAMES {
-            let model = shipped::model(ModelKind::Knn, name, &store).map_err(|e| e.to_string())?;
+            let model =
+                shipped::model(&mocapseg::methods::knn::method::KNN, name, &store, &mocapseg::methods::LABELLERS)
+                    .map_err(|e| e.to_string())?;
             // the travel of the model's own training takes (the shipped headers predate the profile)
             let trained: Vec<&Motion> =
                 takes.iter().filter(|t| model.header.provenance.takes.iter().any(|n| *n == t.name)).collect();
@@ -92,7 +94,7 @@ mod lab {
                 Some(t) => *t,
                 None => TravelProfile::fit(&trained.iter().map(|m| (*m, None)).collect::<Vec<_>>())?,
             };
-            if let Labeller::Knn(knn) = &model.labeller {
+            if let Some(knn) = knn_of(&model) {
                 row(name, knn, &travel, &takes)?;
             }
         }

@@ -12,6 +12,7 @@ pub mod bvh;
 pub mod clips;
 pub mod features;
 pub mod image;
+pub mod labeller;
 pub mod labels;
 pub mod library;
 pub mod load;

@@ -98,7 +98,7 @@ fn every_method_and_shipped_model_stays_above_its_floor() {
         assert!(FLOORS.iter().any(|f| f.method == name), "no accuracy floor for `{name}`");
     }
     // every shipped model has one
-    for model in mocapseg::methods::dtfcn::shipped::NAMES {
+    for model in mocapseg::labeller::shipped::NAMES {
         for kind in ["dtfcn", "knn"] {
             let wanted = format!("model=\"{model}\"");
             assert!(
@@ -164,7 +164,7 @@ fn chance_on_the_fixtures_is_far_below_a_perfect_score() {
 }
 
 /// Labels that do not flicker (issue 23): the shipped `exercises` labellers' own decoding (stored in the model file,
-/// `methods::dtfcn::decode`, the default `decoding=model`) cuts each take into at most twice its true segments, never
+/// `labeller::decode`, the default `decoding=model`) cuts each take into at most twice its true segments, never
 /// more than the raw per-frame labels (`decoding=raw`), at an edit score no lower and about the same frame accuracy,
 /// and no run but the last is shorter than the model's minimum.
 #[test]
@@ -204,19 +204,15 @@ fn decoded_labels_cut_a_take_into_at_most_twice_its_true_segments() {
             assert!(dec_s.labelling.frame_accuracy >= raw_s.labelling.frame_accuracy - 0.02, "{what}");
             // the model's minimum run (less the half working frame a run's ends may move by when mapped to the
             // file's frames); the segments tile the take
-            let decoding = mocapseg::methods::dtfcn::shipped::model(
-                if kind == "dtfcn" {
-                    mocapseg::methods::dtfcn::model::ModelKind::Dtfcn
-                } else {
-                    mocapseg::methods::dtfcn::model::ModelKind::Knn
-                },
-                "exercises",
-                &mocapseg::method::ModelStore::default(),
-            )
-            .unwrap()
-            .header
-            .decoding
-            .expect("the shipped exercises models carry their decoding");
+            let supervised = mocapseg::methods::find(kind).unwrap().supervised().unwrap();
+            let shipped = supervised.shipped_model("exercises", &mocapseg::method::ModelStore::default()).unwrap();
+            let decoding = shipped
+                .model
+                .downcast_ref::<mocapseg::labeller::model::Model>()
+                .unwrap()
+                .header
+                .decoding
+                .expect("the shipped exercises models carry their decoding");
             dec.validate().unwrap();
             let least = decoding.min_duration_s * motion.fps - motion.fps / 30.0;
             let short = dec.segments[..dec.segments.len() - 1]

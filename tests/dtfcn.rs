@@ -11,19 +11,23 @@
 use wasm_bindgen_test::wasm_bindgen_test as test;
 
 use mocapseg::bvh;
+use mocapseg::labeller::corpus::{class_labels, ModelMeta};
+use mocapseg::labeller::method::label;
+use mocapseg::labeller::model::Model;
+use mocapseg::labeller::shipped;
+use mocapseg::labeller::supervised::{model_info, shipped_names};
 use mocapseg::labels::LabelRow;
 use mocapseg::method::supervised::{check_model_name, Loaded};
 use mocapseg::method::ModelStore;
 use mocapseg::method::{NoProgress, RunOptions};
 use mocapseg::methods::dtfcn::augment::Augment;
-use mocapseg::methods::dtfcn::corpus::{class_labels, fit_knn_model, train_model, ModelMeta};
+use mocapseg::methods::dtfcn::corpus::train_model;
 use mocapseg::methods::dtfcn::infer::predict_input;
-use mocapseg::methods::dtfcn::method::label;
-use mocapseg::methods::dtfcn::model::{Labeller, Model};
-use mocapseg::methods::dtfcn::shipped;
-use mocapseg::methods::dtfcn::supervised::{model_info, shipped_names};
+use mocapseg::methods::dtfcn::model::networks_of;
 use mocapseg::methods::dtfcn::training::{boundary_mask, evaluate, noisy_labels, TrainOptions, TrainingTake};
 use mocapseg::methods::find;
+use mocapseg::methods::knn::training::{fit_knn_model, knn_fold};
+use mocapseg::methods::LABELLERS as KINDS;
 use mocapseg::motion::Motion;
 use mocapseg::stats::Rng;
 
@@ -87,7 +91,7 @@ fn a_small_network_overfits_two_short_takes() {
     let (_, classes, takes) = two_takes();
     assert_eq!(classes, vec!["a", "b", "c"]);
     let model = train_model(&takes, &[], &classes, &small(80), &meta(), &mut |_| true).unwrap();
-    let Labeller::Network(nets) = &model.labeller else { panic!("not a network") };
+    let nets = &networks_of(&model).expect("a network").nets;
     let s = model.header.standardise.as_ref().unwrap();
     let (loss, accuracy) = evaluate(&nets[0], s, &takes, classes.len()).unwrap();
     assert_eq!(accuracy, 1.0, "loss {loss}");
@@ -115,7 +119,7 @@ fn weight_averaging_keeps_the_mean_of_the_last_epochs() {
     let after = |epochs, average_last| {
         let o = TrainOptions { average_last, ..small(epochs) };
         let model = train_model(&takes, &[], &classes, &o, &meta(), &mut |_| true).unwrap();
-        let Labeller::Network(nets) = &model.labeller else { panic!("not a network") };
+        let nets = &networks_of(&model).expect("a network").nets;
         weights_of(&nets[0])
     };
     let epochs: Vec<Vec<Vec<f32>>> = (1..=3).map(|e| after(e, 0)).collect();
@@ -141,13 +145,14 @@ fn a_saved_model_loads_and_labels_exactly_as_before() {
     let (motions, classes, takes) = two_takes();
     let model = train_model(&takes, &[], &classes, &small(3), &meta(), &mut |_| true).unwrap();
     let bytes = model.to_bytes().unwrap();
-    let back = Model::from_bytes(&bytes, "test.model").unwrap();
+    let back = Model::from_bytes(&bytes, "test.model", &KINDS).unwrap();
     let a = label(&model, &motions[0], &mut NoProgress).unwrap();
     let b = label(&back, &motions[0], &mut NoProgress).unwrap();
     assert_eq!(a.probabilities, b.probabilities);
     assert_eq!(a.per_file_frame.len(), motions[0].frames());
     // blockwise inference gives the whole take's result
-    let (Labeller::Network(nets), Some(s)) = (&model.labeller, model.header.standardise.as_ref()) else { panic!() };
+    let (Some(networks), Some(s)) = (networks_of(&model), model.header.standardise.as_ref()) else { panic!() };
+    let nets = &networks.nets;
     let whole = predict_input(&nets[0], s, &takes[0].input, 3);
     let blocks = mocapseg::methods::dtfcn::infer::predict_members(nets, s, &takes[0].input, 3, 17, &mut |_| {});
     for (x, y) in whole.values.iter().zip(&blocks.values) {
@@ -160,7 +165,7 @@ fn a_saved_model_loads_and_labels_exactly_as_before() {
 /// model's centring whatever its options say; without the option nothing is centred.
 #[test]
 fn a_model_centred_on_each_take_is_trained_kept_and_run_on_centred_takes() {
-    use mocapseg::methods::dtfcn::input::{centred_on_take, NetworkInput, Standardise};
+    use mocapseg::labeller::input::{centred_on_take, NetworkInput, Standardise};
     use mocapseg::methods::dtfcn::training::Trainer;
     let (motions, classes, takes) = two_takes();
     let options = TrainOptions { centre_on_take: true, ..small(2) };
@@ -171,10 +176,11 @@ fn a_model_centred_on_each_take_is_trained_kept_and_run_on_centred_takes() {
     let centred: Vec<NetworkInput> = takes.iter().map(|t| centred_on_take(&t.input)).collect();
     assert_eq!(Standardise::fit(&centred.iter().collect::<Vec<_>>()).centring(true), s);
     // the file keeps it, and a run labels with the network on the centred take
-    let back = Model::from_bytes(&model.to_bytes().unwrap(), "centred.model").unwrap();
+    let back = Model::from_bytes(&model.to_bytes().unwrap(), "centred.model", &KINDS).unwrap();
     assert_eq!(back.header.standardise.as_ref(), Some(&s));
     let run = label(&back, &motions[0], &mut NoProgress).unwrap();
-    let Labeller::Network(nets) = &back.labeller else { panic!("a network") };
+    let networks = networks_of(&back).expect("a network");
+    let nets = &networks.nets;
     let direct = predict_input(&nets[0], &s.clone().centring(false), &centred[0], classes.len());
     for (x, y) in run.probabilities.values.iter().zip(&direct.values) {
         assert!((x - y).abs() < 1e-5, "{x} vs {y}");
@@ -184,7 +190,7 @@ fn a_model_centred_on_each_take_is_trained_kept_and_run_on_centred_takes() {
     let p = plain.header.standardise.clone().unwrap();
     assert!(!p.centre_on_take && p.mean != s.mean);
     // resumed without the option, the model still centres
-    let start = (back.header.network.clone().unwrap(), s.clone(), nets[0].clone());
+    let start = (networks.config.clone(), s.clone(), nets[0].clone());
     let mut resumed = Trainer::resume(takes.clone(), vec![], classes.clone(), small(1), start).unwrap();
     resumed.epoch().unwrap();
     assert!(resumed.finish().unwrap().standardise.centre_on_take);
@@ -200,17 +206,17 @@ fn an_ensemble_holds_its_seeds_networks_and_labels_with_their_mean() {
     let train = |o: TrainOptions| train_model(&takes, &[], &classes, &o, &meta(), &mut |_| true).unwrap();
     let ensemble = train(TrainOptions { seed: 7, members: 3, ..small(2) });
     let alone: Vec<Model> = (7..10).map(|seed| train(TrainOptions { seed, ..small(2) })).collect();
-    let Labeller::Network(nets) = &ensemble.labeller else { panic!("not a network") };
+    let nets = &networks_of(&ensemble).expect("a network").nets;
     assert_eq!(nets.len(), 3);
     for (net, single) in nets.iter().zip(&alone) {
-        let Labeller::Network(one) = &single.labeller else { panic!("not a network") };
+        let one = &networks_of(single).expect("a network").nets;
         assert_eq!(one.len(), 1);
         assert_eq!(weights_of(net), weights_of(&one[0]), "each network is its seed's network trained alone");
     }
     assert_ne!(weights_of(&nets[0]), weights_of(&nets[1]), "the seeds differ");
     let p = &ensemble.header.provenance;
     assert_eq!(p.members.iter().map(|m| m.seed).collect::<Vec<_>>(), vec![7, 8, 9]);
-    assert_eq!(p.options.members, 3);
+    assert_eq!(p.options.read::<TrainOptions>().unwrap().members, 3);
     assert_eq!(ensemble.header.standardise, alone[0].header.standardise, "one input scaling for all");
     // labels: every class's probability the mean of the three networks'
     let mean = label(&ensemble, &motions[1], &mut NoProgress).unwrap().probabilities;
@@ -223,22 +229,23 @@ fn an_ensemble_holds_its_seeds_networks_and_labels_with_their_mean() {
     assert!(each.iter().all(|p| p.values != mean.values), "the mean is none of the networks alone");
     // the file: three networks' weights, read back and written again byte for byte
     let bytes = ensemble.to_bytes().unwrap();
-    let back = Model::from_bytes(&bytes, "e.model").unwrap();
+    let back = Model::from_bytes(&bytes, "e.model", &KINDS).unwrap();
     assert_eq!(back.header.member_bytes.len(), 3);
     assert_eq!(back.to_bytes().unwrap(), bytes);
     assert_eq!(label(&back, &motions[1], &mut NoProgress).unwrap().probabilities, mean);
     let mut lying = back.header.clone();
     lying.member_bytes[0] += 4;
     lying.member_bytes[1] -= 4;
-    let moved = Model::replace_header(&bytes, "e.model", &lying).unwrap();
-    let e = Model::from_bytes(&moved, "e.model").unwrap_err();
+    let moved = Model::replace_header(&bytes, "e.model", &lying, &KINDS).unwrap();
+    let e = Model::from_bytes(&moved, "e.model", &KINDS).unwrap_err();
     assert!(e.starts_with("e.model: the weights (network 2 of 3) are not a burn record"), "{e}");
     lying.member_bytes[0] += 4;
-    let e = Model::from_bytes(&Model::replace_header(&bytes, "e.model", &lying).unwrap(), "e.model").unwrap_err();
+    let e = Model::from_bytes(&Model::replace_header(&bytes, "e.model", &lying, &KINDS).unwrap(), "e.model", &KINDS)
+        .unwrap_err();
     assert!(e.contains("3 networks hold") && e.contains("bytes of weights"), "{e}");
     // a single network's file says nothing of members (the files made before ensembles read the same)
     let single = alone[0].to_bytes().unwrap();
-    assert!(Model::from_bytes(&single, "s.model").unwrap().header.member_bytes.is_empty());
+    assert!(Model::from_bytes(&single, "s.model", &KINDS).unwrap().header.member_bytes.is_empty());
     assert!(!String::from_utf8_lossy(&single).contains("member"), "no member fields in a one-network header");
 }
 
@@ -267,10 +274,8 @@ fn the_registered_methods_label_a_take_with_a_users_models() {
     let net = train_model(&takes, &[], &classes, &small(3), &meta(), &mut |_| true).unwrap();
     // the models a run may name are the caller's: a store, as the page's worker and a CLI run own
     let mut store = ModelStore::new();
-    let stored = |m: mocapseg::methods::dtfcn::model::Model| Loaded {
-        info: model_info("my-test-model", &m),
-        model: std::sync::Arc::new(m),
-    };
+    let kind = |m: &Model| *KINDS.iter().find(|k| k.name() == m.header.kind).unwrap();
+    let stored = |m: Model| Loaded { info: model_info(kind(&m), "my-test-model", &m), model: std::sync::Arc::new(m) };
     store.install(stored(net));
     let labels: Vec<Vec<Option<usize>>> = takes
         .iter()
@@ -281,9 +286,9 @@ fn the_registered_methods_label_a_take_with_a_users_models() {
         motions.iter().zip(&labels).map(|(m, l)| (m, l.as_slice())).collect();
     store.install(stored(fit_knn_model(&knn_takes, &classes, &meta()).unwrap()));
     // the same models made with another unknown threshold, which a run uses unless it asks for its own
-    let strict = |mut m: mocapseg::methods::dtfcn::model::Model| {
+    let strict = |mut m: Model| {
         m.header.unknown_threshold = 1.0;
-        Loaded { info: model_info("strict-model", &m), model: std::sync::Arc::new(m) }
+        Loaded { info: model_info(kind(&m), "strict-model", &m), model: std::sync::Arc::new(m) }
     };
     store.install(strict(train_model(&takes, &[], &classes, &small(3), &meta(), &mut |_| true).unwrap()));
     store.install(strict(fit_knn_model(&knn_takes, &classes, &meta()).unwrap()));
@@ -376,7 +381,7 @@ fn the_averaging_fold_retrains_the_folds_networks() {
     use mocapseg::methods::dtfcn::corpus::{averaged_fold, predict_held_out};
     let (takes, classes, labels) = three_takes();
     let options = small(3);
-    let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &mut |_| true).unwrap();
+    let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
     let last = averaged_fold(&takes, &labels, 0, &classes, &options, fold.best_epoch, true).unwrap();
     assert_eq!(last.validation, fold.validation);
     assert_eq!(last.validation_probabilities, fold.validation_probabilities);
@@ -398,7 +403,7 @@ fn a_fold_validates_on_any_inner_take() {
     use mocapseg::methods::dtfcn::corpus::{final_fold, predict_held_out, validation_fold};
     let (takes, classes, labels) = three_takes();
     let options = small(3);
-    let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &mut |_| true).unwrap();
+    let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
     let (p, source, epoch) = validation_fold(&takes, &labels, 0, fold.validation, &classes, &options).unwrap();
     assert_eq!(
         (p, source, epoch),
@@ -408,7 +413,7 @@ fn a_fold_validates_on_any_inner_take() {
     assert_eq!((p, source), (fold.network_probabilities.clone(), fold.network_source.clone()));
     let other = 3 - fold.validation; // the other inner take (takes 1 and 2 are the inner ones)
     let (p, _, _) = validation_fold(&takes, &labels, 0, other, &classes, &options).unwrap();
-    let frames = mocapseg::methods::dtfcn::input::network_input(&takes[other]).unwrap().frames;
+    let frames = mocapseg::labeller::input::network_input(&takes[other]).unwrap().frames;
     assert_eq!(p.frames, frames, "the take asked is the one labelled");
     assert_ne!(p, fold.validation_probabilities);
     let mut scrambled = labels.clone();
@@ -425,13 +430,13 @@ fn scrambling_the_held_out_takes_labels_changes_no_prediction() {
     use mocapseg::methods::dtfcn::corpus::predict_held_out;
     let (takes, classes, labels) = three_takes();
     let options = small(2);
-    let before = predict_held_out(&takes, &labels, 0, &classes, &options, &mut |_| true).unwrap();
+    let before = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
     let mut scrambled = labels.clone();
     let n = scrambled[0].len();
     scrambled[0] = (0..n).map(|f| Some(if (f + n / 2) % n < n / 3 { 2 } else { 0 })).collect();
     scrambled[0][5] = None;
     assert_ne!(scrambled[0], labels[0]);
-    let after = predict_held_out(&takes, &scrambled, 0, &classes, &options, &mut |_| true).unwrap();
+    let after = predict_held_out(&takes, &scrambled, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
     assert_eq!(before.network_probabilities, after.network_probabilities);
     assert_eq!(before.validation_probabilities, after.validation_probabilities);
     assert_eq!(before.network, after.network);
@@ -443,6 +448,6 @@ fn scrambling_the_held_out_takes_labels_changes_no_prediction() {
     // (all one class the take does not have: a rotation of its classes could leave a constant guess as right as
     // before)
     other[before.validation] = other[before.validation].iter().map(|_| Some(1)).collect();
-    let moved = predict_held_out(&takes, &other, 0, &classes, &options, &mut |_| true).unwrap();
+    let moved = predict_held_out(&takes, &other, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
     assert_ne!(before.validation_accuracy, moved.validation_accuracy);
 }

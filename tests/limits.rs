@@ -278,15 +278,15 @@ fn slow_frame_times_are_refused_or_run_within_the_budget() {
 fn edited_model(
     shipped: &str,
     name: &str,
-    edit: impl FnOnce(&mut mocapseg::methods::dtfcn::model::Model),
+    edit: impl FnOnce(&mut mocapseg::labeller::model::Model),
 ) -> mocapseg::method::supervised::Loaded {
-    use mocapseg::methods::dtfcn::model::Model;
-    let mut model =
-        Model::from_bytes(&mocapseg::method::ModelStore::default().shipped_bytes(shipped).unwrap(), shipped).unwrap();
+    use mocapseg::labeller::model::Model;
+    let bytes = mocapseg::method::ModelStore::default().shipped_bytes(shipped).unwrap();
+    let mut model = Model::from_bytes(&bytes, shipped, &mocapseg::methods::LABELLERS).unwrap();
     model.header.name = name.to_string();
     edit(&mut model);
     let bytes = model.to_bytes().unwrap();
-    let method = mocapseg::methods::find(model.header.kind.name()).unwrap();
+    let method = mocapseg::methods::find(&model.header.kind).unwrap();
     method.supervised().unwrap().read_model(&format!("{name}.model"), &bytes).unwrap()
 }
 
@@ -297,19 +297,21 @@ fn edited_model(
 /// the network and the members, and each refused before it starts under a budget below its declaration.
 #[test]
 fn labellers_stay_within_the_work_their_model_declares() {
+    use mocapseg::labeller::model::Json;
     use mocapseg::method::{NoProgress, RunOptions, WorkLimits};
-    use mocapseg::methods::dtfcn::model::Labeller;
+    use mocapseg::methods::dtfcn::model::Networks;
     use mocapseg::methods::dtfcn::network::DtFcnConfig;
     let _one = MEASURING.lock().unwrap();
     let classes: Vec<String> = (0..250).map(|i| format!("class{i}")).collect();
     let colours: Vec<String> = (0..250).map(|i| format!("#{:06x}", i * 0x10101)).collect();
     let wide = |members: usize| {
-        move |model: &mut mocapseg::methods::dtfcn::model::Model| {
-            let config =
-                DtFcnConfig { width: 7, filters: vec![64, 128, 128, 256], ..model.header.network.clone().unwrap() };
+        move |model: &mut mocapseg::labeller::model::Model| {
+            let shipped: DtFcnConfig = model.header.network.as_ref().unwrap().read().unwrap();
+            let config = DtFcnConfig { width: 7, filters: vec![64, 128, 128, 256], ..shipped };
             let device = mocapseg::methods::dtfcn::device();
-            model.labeller = Labeller::Network((0..members as u64).map(|s| config.init_seeded(&device, s)).collect());
-            model.header.network = Some(config);
+            let nets = (0..members as u64).map(|s| config.init_seeded(&device, s)).collect();
+            model.header.network = Some(Json::of(&config).unwrap());
+            model.labeller = Box::new(Networks { config, nets });
         }
     };
     let cases: Vec<(&str, &str, _, serde_json::Value)> = vec![

@@ -606,8 +606,9 @@ fn knn_payload_claiming(n: u32, params: mocapseg::methods::knn::KnnParams) -> Ve
 /// model file (as the worker reads a dropped model).
 #[wasm_bindgen_test]
 fn a_knn_payload_whose_size_wraps_around_in_32_bits_is_refused() {
-    use mocapseg::methods::dtfcn::model::{sha256_hex, Model, MAGIC};
+    use mocapseg::labeller::model::{sha256_hex, Model, MAGIC};
     use mocapseg::methods::knn::{Knn, KnnParams};
+    use mocapseg::methods::LABELLERS as KINDS;
     let n: u32 = (1 << 30) + 1;
     let e = Knn::from_bytes(&knn_payload_claiming(n, KnnParams::default()), KnnParams::default(), 2).unwrap_err();
     assert!(e.contains("expected") && e.contains(&format!("for {n} frames")), "{e}");
@@ -626,7 +627,7 @@ fn a_knn_payload_whose_size_wraps_around_in_32_bits_is_refused() {
     crafted.extend_from_slice(&json);
     crafted.extend_from_slice(&(payload.len() as u64).to_le_bytes());
     crafted.extend_from_slice(&payload);
-    let e = Model::from_bytes(&crafted, "crafted.model").unwrap_err();
+    let e = Model::from_bytes(&crafted, "crafted.model", &KINDS).unwrap_err();
     assert!(e.starts_with("crafted.model: k-NN data of ") && e.contains(&format!("for {n} frames")), "{e}");
 
     // the file's payload length is a u64: 2³² bytes more than the file holds is not the
@@ -635,6 +636,6 @@ fn a_knn_payload_whose_size_wraps_around_in_32_bits_is_refused() {
     let plen_at = at + 4 + json.len();
     let claimed = (1u64 << 32) + payload.len() as u64;
     longer[plen_at..plen_at + 8].copy_from_slice(&claimed.to_le_bytes());
-    let e = Model::from_bytes(&longer, "longer.model").unwrap_err();
+    let e = Model::from_bytes(&longer, "longer.model", &KINDS).unwrap_err();
     assert!(e.starts_with(&format!("longer.model: weights of {claimed} bytes")) && e.contains("damaged"), "{e}");
 }

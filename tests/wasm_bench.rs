@@ -233,25 +233,27 @@ async fn lma_end_to_end() {
 #[wasm_bindgen_test]
 async fn dtfcn_end_to_end() {
     use mocapseg::methods::dtfcn::bench::{inference, trainer, EXERCISE_FRAMES};
-    use mocapseg::methods::dtfcn::model::ModelKind;
     let store = models::store();
     let bvh = bvh::parse(SSSM_SEQUENCE).expect("the bench sequence parses");
     let full = Motion::from_bvh("bench sequence", &bvh).expect("motion");
     let take = Motion::concatenate(std::slice::from_ref(&full), 3000).expect("3000 frames");
-    for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
-        inference(&take, kind, "exercises", &store).expect("warm-up");
+    for kind in ["dtfcn", "knn"] {
+        let shipped = mocapseg::methods::find(kind).unwrap().supervised().unwrap().shipped_model("exercises", &store);
+        let loaded = shipped.expect("the shipped model");
+        let model = loaded.model.downcast_ref::<mocapseg::labeller::model::Model>().unwrap();
+        inference(&take, model).expect("warm-up");
         let mut times = Vec::new();
         let mut segments = 0;
         for _ in 0..5 {
             yield_to_browser().await;
             let t0 = performance_now();
-            segments = inference(&take, kind, "exercises", &store).expect("inference");
+            segments = inference(&take, model).expect("inference");
             times.push(performance_now() - t0);
         }
         times.sort_by(f64::total_cmp);
         console_log!(
             "wasm bench | {} inference, 3000 frames @30 Hz | {:9.1} ms | {segments} segments | median of 5",
-            kind.name(),
+            kind,
             times[2]
         );
     }

@@ -30,7 +30,7 @@ pub const IN_SAMPLE: &str = "in-sample:";
 /// How a labelling model fits the take a run labelled, as data (the run's [`super::Details::take_fit`]):
 /// the verdict, the measures it rests on, the reason in words, and — when the take does not fit —
 /// which of the method's other models do. Made by the labelling methods' take fit
-/// (`crate::methods::dtfcn::fit`); every field has a default, so results written before it load.
+/// (`crate::labeller::fit`); every field has a default, so results written before it load.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(default)]
 pub struct TakeFitReport {
@@ -344,6 +344,14 @@ pub struct TrainingOption<T> {
     /// Sets the option in `T` to a value [`check_option`] accepted for its row.
     pub set: fn(&mut T, &serde_json::Value),
 }
+
+impl<T> Clone for TrainingOption<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T> Copy for TrainingOption<T> {}
 
 /// The table of `options` (each row's default from `T::default()`).
 pub fn option_specs<T: Default>(options: &[TrainingOption<T>]) -> Vec<ParamSpec> {

@@ -23,8 +23,16 @@ pub mod pca;
 pub mod sssm;
 pub mod velocity;
 
+use crate::labeller::method::{Kind, Labelling};
 use crate::method::unsupervised::Unsupervised;
 use crate::method::{DynMethod, MethodError};
+
+/// The labelling methods' kinds: the model files a labelling method may meet (another's, the fit check's windows).
+pub const LABELLERS: [&dyn Kind; 2] = [&knn::method::KNN, &dtfcn::method::DTFCN];
+/// The k-NN method (`knn`).
+const KNN: Labelling = Labelling::new(&knn::method::KNN, &LABELLERS);
+/// The DT-FCN method (`dtfcn`).
+const DTFCN: Labelling = Labelling::new(&dtfcn::method::DTFCN, &LABELLERS);
 
 /// Every method, in the order the page shows them. One line per method.
 pub fn registry() -> &'static [&'static dyn DynMethod] {
@@ -35,8 +43,8 @@ pub fn registry() -> &'static [&'static dyn DynMethod] {
         &Unsupervised(pca::method::Pca),
         &lma::method::Lma,
         // the k-NN first: on clean labels it is the better labeller (docs/methods/dtfcn.md, "Accuracy")
-        &knn::method::KNN,
-        &dtfcn::method::DTFCN,
+        &KNN,
+        &DTFCN,
     ]
 }
 

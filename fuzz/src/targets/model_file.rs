@@ -1,4 +1,4 @@
-//! Model files: the DT-FCN / k-NN labelling model (`dtfcn::model::Model::from_bytes`, what
+//! Model files: the DT-FCN / k-NN labelling model (`labeller::model::Model::from_bytes`, what
 //! `segment --model FILE` and the page's model inputs read) and the LMA classifier family
 //! (`lma::classifier::EffortModel::from_json`, `--lma-model FILE`). The first byte picks:
 //!
@@ -13,13 +13,16 @@
 
 use std::sync::OnceLock;
 
+use mocapseg::labeller::input::{joint_names, Standardise, CHANNELS, NETWORK_FPS};
+use mocapseg::labeller::method::Kind;
+use mocapseg::labeller::model::{sha256_hex, Json, Model, ModelHeader, Provenance, FORMAT, MAGIC};
 use mocapseg::method::{NoProgress, RunOptions};
-use mocapseg::methods::dtfcn::input::{joint_names, Standardise, CHANNELS, NETWORK_FPS};
-use mocapseg::methods::dtfcn::model::{sha256_hex, Labeller, Model, ModelHeader, ModelKind, Provenance, FORMAT, MAGIC};
+use mocapseg::methods::dtfcn::model::Networks;
 use mocapseg::methods::dtfcn::network::DtFcnConfig;
 use mocapseg::methods::dtfcn::training::TrainOptions;
 use mocapseg::methods::knn::{Knn, KnnParams, Labelled};
 use mocapseg::methods::lma::classifier::EffortModel;
+use mocapseg::methods::LABELLERS as KINDS;
 use mocapseg::motion::Motion;
 
 /// 3 s of a walk, the take every loaded model labels.
@@ -30,10 +33,10 @@ fn take() -> &'static Motion {
     })
 }
 
-fn header(kind: ModelKind, classes: usize) -> ModelHeader {
+fn header(kind: &dyn Kind, classes: usize) -> ModelHeader {
     let names: Vec<String> = (0..classes).map(|i| format!("class{i}")).collect();
     ModelHeader {
-        kind,
+        kind: kind.name().into(),
         name: "tiny".into(),
         colours: (0..classes).map(|i| format!("#{:02x}8040", i * 40)).collect(),
         classes: names,
@@ -50,7 +53,7 @@ fn header(kind: ModelKind, classes: usize) -> ModelHeader {
             data_hash: String::new(),
             takes: vec!["12_01.bvh".into()],
             frames: 0,
-            options: TrainOptions::default(),
+            options: Json::of(&TrainOptions::default()).expect("the options serialise"),
             epochs_run: 0,
             best_epoch: 0,
             take_sha256: vec![],
@@ -102,16 +105,17 @@ pub fn seeds() -> Vec<(String, Vec<u8>)> {
     };
     let net = config.init(&device);
     let other = config.init(&device);
-    let mut h = header(ModelKind::Dtfcn, 3);
-    h.network = Some(config);
+    let mut h = header(&mocapseg::methods::dtfcn::method::DTFCN, 3);
+    h.network = Some(Json::of(&config).expect("the shape serialises"));
     h.standardise = Some(Standardise { mean: vec![0.0; CHANNELS], spread: vec![1.0; CHANNELS], centre_on_take: false });
-    let dtfcn = Model { header: h.clone(), labeller: Labeller::Network(vec![net.clone()]) };
+    let dtfcn =
+        Model { header: h.clone(), labeller: Box::new(Networks { config: config.clone(), nets: vec![net.clone()] }) };
     let bytes = dtfcn.to_bytes().expect("the tiny DT-FCN writes");
     let payload = &bytes[bytes.len() - dtfcn_payload_len(&bytes)..];
     out.push(("dtfcn-tiny.model".into(), [&[0u8][..], &bytes].concat()));
     out.push(("dtfcn-tiny.split".into(), split(&h, payload)));
     // an ensemble of two: the header's byte count of each network cuts the payload
-    let pair = Model { header: h, labeller: Labeller::Network(vec![net, other]) };
+    let pair = Model { header: h, labeller: Box::new(Networks { config, nets: vec![net, other] }) };
     out.push(("dtfcn-pair.model".into(), [&[0u8][..], &pair.to_bytes().expect("the pair writes")].concat()));
 
     let motion = take();
@@ -119,8 +123,8 @@ pub fn seeds() -> Vec<(String, Vec<u8>)> {
     let params = KnnParams { half_window: 6, stride: 3, ..KnnParams::default() };
     let knn = Knn::fit(&[Labelled { motion, labels: &labels }], params).expect("the tiny k-NN fits");
     let payload = knn.to_bytes();
-    let mut h = header(ModelKind::Knn, 3);
-    h.knn = Some(params);
+    let mut h = header(&mocapseg::methods::knn::method::KNN, 3);
+    h.knn = Some(Json::of(&params).expect("the parameters serialise"));
     out.push(("knn-tiny.model".into(), [&[0u8][..], &framed(h.clone(), &payload)].concat()));
     out.push(("knn-tiny.split".into(), split(&h, &payload)));
 
@@ -143,7 +147,7 @@ fn dtfcn_payload_len(bytes: &[u8]) -> usize {
 }
 
 fn labelling_model(bytes: &[u8]) {
-    let model = match Model::from_bytes(bytes, "fuzz.model") {
+    let model = match Model::from_bytes(bytes, "fuzz.model", &KINDS) {
         Ok(m) => m,
         Err(e) => {
             assert!(e.starts_with("fuzz.model: "), "{e}");
@@ -151,11 +155,11 @@ fn labelling_model(bytes: &[u8]) {
         }
     };
     let written = model.to_bytes().expect("a loaded model writes");
-    let back =
-        Model::from_bytes(&written, "again.model").unwrap_or_else(|e| panic!("a written model does not load: {e}"));
+    let back = Model::from_bytes(&written, "again.model", &KINDS)
+        .unwrap_or_else(|e| panic!("a written model does not load: {e}"));
     assert_eq!(model.header.classes, back.header.classes);
     assert_eq!(model.header.kind, back.header.kind);
-    if let Ok(l) = mocapseg::methods::dtfcn::method::label(&model, take(), &mut NoProgress) {
+    if let Ok(l) = mocapseg::labeller::method::label(&model, take(), &mut NoProgress) {
         assert_eq!(l.per_file_frame.len(), take().frames());
         assert!(l.per_file_frame.iter().all(|&(c, _)| c < model.header.classes.len()));
     }

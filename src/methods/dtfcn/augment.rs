@@ -16,7 +16,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::input::{channel_of, mirrored, NetworkInput, HIP_ROW, JOINTS, TURN_ROW};
+use crate::labeller::input::{channel_of, mirrored, NetworkInput, HIP_ROW, JOINTS, TURN_ROW};
 use crate::stats::Rng;
 
 /// Which augmentations training applies.
@@ -262,7 +262,7 @@ pub fn time_warp(input: &NetworkInput, speed: f32) -> (NetworkInput, Vec<usize>)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::methods::dtfcn::input::CHANNELS;
+    use crate::labeller::input::CHANNELS;
 
     fn input(frames: usize) -> NetworkInput {
         let values = (0..CHANNELS * frames).map(|i| (i % 97) as f32 * 0.1).collect();
@@ -273,7 +273,7 @@ mod tests {
     /// it, playing faster scales it; the root's speeds turn with the frame and scale with the body.
     #[test]
     fn the_turning_rate_is_not_turned_or_scaled_but_warped() {
-        use crate::methods::dtfcn::input::TURN_ROW;
+        use crate::labeller::input::TURN_ROW;
         let x = input(50);
         let turning = channel_of(0, TURN_ROW);
         let mut turned = x.clone();

@@ -4,20 +4,21 @@
 //! as the exercises set (3682 frames at 30 Hz, seven classes in 500-frame blocks), with the
 //! shipped models' settings.
 
-use super::corpus::{model_from, ModelMeta};
-use super::method::label;
-use super::model::ModelKind;
+use super::corpus::model_from;
 use super::training::{TrainOptions, Trainer, TrainingTake};
-use crate::method::{ModelStore, NoProgress};
+use crate::labeller::corpus::ModelMeta;
+use crate::labeller::method::label;
+use crate::labeller::model::Model;
+use crate::method::NoProgress;
 use crate::motion::Motion;
 
 /// Frames of the exercises set at 30 Hz (13_29, 13_30, 13_31, 14_14).
 pub const EXERCISE_FRAMES: usize = 3682;
 
-/// Labels every frame of `take` with the shipped model `name` of `kind` (read by `models`); the number of segments.
-pub fn inference(take: &Motion, kind: ModelKind, name: &str, models: &ModelStore) -> Result<usize, String> {
-    let model = super::shipped::model(kind, name, models).map_err(|e| e.to_string())?;
-    let labelled = label(&model, take, &mut NoProgress).map_err(|e| e.to_string())?;
+/// Labels every frame of `take` with `model` (a shipped model of either labeller, as the registry's method reads
+/// it); the number of segments.
+pub fn inference(take: &Motion, model: &Model) -> Result<usize, String> {
+    let labelled = label(model, take, &mut NoProgress).map_err(|e| e.to_string())?;
     Ok(labelled.per_file_frame.windows(2).filter(|w| w[0].0 != w[1].0).count() + 1)
 }
 
@@ -61,6 +62,6 @@ pub fn train_epochs(take: &Motion, epochs: usize) -> Result<usize, String> {
         travel: None,
         unknown_threshold: 0.5,
     };
-    let model = model_from(vec![trained], &[t], &classes, &shipped_options(epochs), &meta);
+    let model = model_from(vec![trained], &[t], &classes, &shipped_options(epochs), &meta)?;
     Ok(model.to_bytes()?.len())
 }

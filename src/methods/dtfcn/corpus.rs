@@ -1,161 +1,15 @@
-//! From labelled takes to models and scores, the same for the command line and the browser:
-//! matching label rows to takes, the class list, training a DT-FCN or fitting a k-NN into a
-//! model file, and leave-one-take-out cross-validation with the epochs chosen inside the
-//! training takes (nested: the held-out take never chooses anything).
+//! From labelled takes to DT-FCN models and scores, the same for the command line and the browser: training a
+//! DT-FCN into a model file, and leave-one-take-out cross-validation with the epochs chosen inside the training takes
+//! (nested: the held-out take never chooses anything), with the labeller its caller puts beside it on the same folds
+//! (the k-NN, `crate::methods::knn::training::knn_fold`: the held-out comparison of docs/methods/dtfcn.md).
+//! Matching label rows to takes is [`crate::labeller::corpus`]'s.
 
-use super::input::NETWORK_FPS;
-use super::model::{Labeller, MemberRun, Model, ModelHeader, ModelKind, Provenance};
+use super::model::Networks;
 use super::training::{train, EpochReport, TrainOptions, Trained, TrainingTake};
-use crate::labels::same_file;
-use crate::labels::LabelRow;
-use crate::methods::knn::{Knn, KnnParams, Labelled as KnnTake};
+use crate::labeller::corpus::{header, FoldLabels, FoldTakes, ModelMeta};
+use crate::labeller::model::{Json, MemberRun, Model, Provenance};
 use crate::motion::Motion;
 use crate::segment::labelling::{self, LabellingScores};
-
-/// The class names and, per take, the class of every file frame (`None` = unlabelled).
-pub type ClassLabels = (Vec<String>, Vec<Vec<Option<usize>>>);
-
-/// The files `rows` name that are not among `takes` (their rows are left out of training).
-pub fn rows_without_takes(rows: &[LabelRow], takes: &[&Motion]) -> Vec<String> {
-    let mut out: Vec<String> = Vec::new();
-    for r in rows {
-        if !takes.iter().any(|m| same_file(&m.name, &r.file)) && !out.contains(&r.file) {
-            out.push(r.file.clone());
-        }
-    }
-    out
-}
-
-/// The classes of `rows` in order of first appearance, and each take's per-file-frame labels
-/// (`None` where no row covers a frame). Rows naming no given take are left out
-/// ([`rows_without_takes`] names them); rows past a take's end are refused.
-pub fn class_labels(rows: &[LabelRow], takes: &[&Motion]) -> Result<ClassLabels, String> {
-    let mut classes: Vec<String> = Vec::new();
-    let mut labels: Vec<Vec<Option<usize>>> = takes.iter().map(|m| vec![None; m.frames()]).collect();
-    for (i, r) in rows.iter().enumerate() {
-        let Some(t) = takes.iter().position(|m| same_file(&m.name, &r.file)) else {
-            continue; // a row of a take not given (see `rows_without_takes`)
-        };
-        let n = takes[t].frames();
-        if r.end_frame >= n {
-            return Err(format!(
-                "label row {} ({} frames {}–{}) goes past the take's last frame {} (frames are 0-based)",
-                i + 2,
-                r.file,
-                r.start_frame,
-                r.end_frame,
-                n.saturating_sub(1)
-            ));
-        }
-        let c = classes.iter().position(|c| *c == r.label).unwrap_or_else(|| {
-            classes.push(r.label.clone());
-            classes.len() - 1
-        });
-        labels[t][r.start_frame..=r.end_frame].iter_mut().for_each(|l| *l = Some(c));
-    }
-    if classes.len() < 2 {
-        return Err(format!("the labels name {} class(es); a labeller needs at least 2", classes.len()));
-    }
-    // what a model file may hold (`model::check_header`): refused here, before training, not after it
-    let max = super::model::MAX_CLASSES;
-    if classes.len() > max {
-        return Err(format!("the labels name {} classes; a labeller holds at most {max}", classes.len()));
-    }
-    if let Some(c) = classes.iter().find(|c| c.chars().count() > super::model::MAX_NAME_CHARS) {
-        let shown: String = c.chars().take(40).collect();
-        return Err(format!(
-            "the label `{shown}…` has {} characters; a labeller's class names have at most {}",
-            c.chars().count(),
-            super::model::MAX_NAME_CHARS
-        ));
-    }
-    if let Some(c) = classes.iter().find(|c| c.trim().is_empty() || c.chars().any(char::is_control)) {
-        let shown: String = c.chars().map(|ch| if ch.is_control() { '·' } else { ch }).collect();
-        return Err(format!("the label `{shown}` is blank or has a control character: a class needs a name"));
-    }
-    Ok((classes, labels))
-}
-
-/// Frame rates a label file may have been written at by mistake (its frames counted at a video's or a
-/// down-sampled take's rate instead of the file's).
-const LABEL_RATES: [f64; 7] = [24.0, 25.0, 30.0, 50.0, 60.0, 100.0, 120.0];
-
-/// A warning for each take whose labels look written at another frame rate: they end well before the take does,
-/// and counted at one of [`LABEL_RATES`] below the file's they would end within 5 % of its end — the mocap6 truth
-/// converted at 30 Hz for a 120 Hz take labels only its first quarter, silently, and a model taught on that quarter
-/// says every faster take does not fit it. Labels that stop early for any other reason (a take labelled in part)
-/// raise nothing.
-pub fn labels_at_another_rate(takes: &[&Motion], labels: &[Vec<Option<usize>>]) -> Vec<String> {
-    takes
-        .iter()
-        .zip(labels)
-        .filter_map(|(m, l)| {
-            let n = m.frames();
-            let last = l.iter().rposition(Option::is_some)? + 1;
-            if n < 2 || last as f64 > 0.8 * n as f64 {
-                return None;
-            }
-            let rate = LABEL_RATES.iter().copied().find(|&r| {
-                r < m.fps - 0.5 && ((last as f64 * m.fps / r) - n as f64).abs() <= 0.05 * n as f64
-            })?;
-            Some(format!(
-                "the labels of {} end at frame {last} of {n} ({:.0} %), where frames counted at {rate:.0} Hz would span \
-                 the take ({:.0} Hz): is the label file at {rate:.0} Hz?",
-                m.name,
-                100.0 * last as f64 / n as f64,
-                m.fps
-            ))
-        })
-        .collect()
-}
-
-/// A colour per class ([`crate::segment::palette::class_colour`]).
-pub fn class_colours(classes: usize) -> Vec<String> {
-    (0..classes).map(crate::segment::palette::class_colour).collect()
-}
-
-/// What to call a model and how it was made.
-pub struct ModelMeta {
-    pub name: String,
-    pub command: String,
-    pub data_hash: String,
-    /// The decoding a run with `decoding = "model"` uses (none: raw per-frame labels).
-    pub decoding: Option<super::decode::Decoding>,
-    /// The unknown threshold its runs use unless they ask for another (the header's).
-    pub unknown_threshold: f64,
-    /// How fast the training takes' labelled frames travelled ([`travel_of`]; for the take fit).
-    pub travel: Option<super::fit::TravelProfile>,
-}
-
-/// The travel profile of the labelled frames of `takes` (per file frame labels), `None` when it
-/// cannot be measured (a take without hips and feet: its model cannot label it either).
-pub fn travel_of(takes: &[(&Motion, &[Option<usize>])]) -> Option<super::fit::TravelProfile> {
-    let taught: Vec<Vec<bool>> = takes.iter().map(|(_, l)| l.iter().map(Option::is_some).collect()).collect();
-    let with: Vec<(&Motion, Option<&[bool]>)> =
-        takes.iter().zip(&taught).map(|((m, _), t)| (*m, Some(&t[..]))).collect();
-    super::fit::TravelProfile::fit(&with).ok()
-}
-
-fn header(kind: ModelKind, classes: &[String], meta: &ModelMeta, provenance: Provenance) -> ModelHeader {
-    ModelHeader {
-        kind,
-        name: meta.name.clone(),
-        classes: classes.to_vec(),
-        colours: class_colours(classes.len()),
-        joints: super::model::joint_names_of(kind),
-        fps: NETWORK_FPS,
-        unknown_threshold: meta.unknown_threshold as f32,
-        decoding: meta.decoding,
-        network: None,
-        standardise: None,
-        knn: None,
-        travel: meta.travel,
-        provenance,
-        member_bytes: Vec::new(),
-        payload_sha256: String::new(),
-        written_by: format!("mocapseg {}", env!("CARGO_PKG_VERSION")),
-    }
-}
 
 /// Trains a DT-FCN model on `takes` (early stopping on `validation` when given): `options.members`
 /// networks, one after the other, each with its own seed ([`TrainOptions::member`]).
@@ -170,7 +24,7 @@ pub fn train_model(
     let trained = (0..options.members.max(1))
         .map(|m| train(takes, validation, classes, &options.member(m), &mut *on_epoch))
         .collect::<Result<Vec<_>, _>>()?;
-    Ok(model_from(trained, takes, classes, options, meta))
+    model_from(trained, takes, classes, options, meta)
 }
 
 /// The model file's contents for finished training runs on `takes` (one per network of an ensemble,
@@ -182,7 +36,7 @@ pub fn model_from(
     classes: &[String],
     options: &TrainOptions,
     meta: &ModelMeta,
-) -> Model {
+) -> Result<Model, String> {
     let first = &trained[0];
     let members = if trained.len() > 1 {
         trained
@@ -203,71 +57,17 @@ pub fn model_from(
         takes: takes.iter().map(|t| t.name.clone()).collect(),
         frames: takes.iter().map(|t| t.labels.iter().flatten().count()).sum(),
         // the networks it holds (a continued ensemble keeps its own count; a stopped one, those trained)
-        options: TrainOptions { members: trained.len(), ..options.clone() },
+        options: Json::of(&TrainOptions { members: trained.len(), ..options.clone() })?,
         epochs_run: first.reports.len(),
         best_epoch: first.best_epoch,
         take_sha256: Vec::new(),
         members,
     };
-    let mut h = header(ModelKind::Dtfcn, classes, meta, provenance);
-    h.network = Some(first.network.clone());
+    let mut h = header(&super::method::DTFCN, classes, meta, provenance);
+    h.network = Some(Json::of(&first.network)?);
     h.standardise = Some(first.standardise.clone());
-    Model { header: h, labeller: Labeller::Network(trained.into_iter().map(|t| t.net).collect()) }
-}
-
-/// Fits a k-NN model on `takes` (motions with per-file-frame labels; unlabelled frames left out).
-pub fn fit_knn_model(
-    takes: &[(&Motion, &[Option<usize>])],
-    classes: &[String],
-    meta: &ModelMeta,
-) -> Result<Model, String> {
-    let params = KnnParams::default();
-    let knn = fit_knn(takes, params)?;
-    let provenance = Provenance {
-        command: meta.command.clone(),
-        data_hash: meta.data_hash.clone(),
-        takes: takes.iter().map(|t| t.0.name.clone()).collect(),
-        frames: takes.iter().map(|t| t.1.iter().flatten().count()).sum(),
-        options: TrainOptions::default(),
-        epochs_run: 0,
-        best_epoch: 0,
-        take_sha256: Vec::new(),
-        members: Vec::new(),
-    };
-    let mut h = header(ModelKind::Knn, classes, meta, provenance);
-    h.knn = Some(params);
-    Ok(Model { header: h, labeller: Labeller::Knn(Box::new(knn)) })
-}
-
-/// The k-NN on the labelled frames of `takes`.
-pub fn fit_knn(takes: &[(&Motion, &[Option<usize>])], params: KnnParams) -> Result<Knn, String> {
-    // the k-NN takes a label for every frame: unlabelled stretches are cut out as separate takes
-    let mut parts: Vec<(Motion, Vec<usize>)> = Vec::new();
-    for (m, labels) in takes {
-        if labels.iter().all(Option::is_some) {
-            parts.push(((*m).clone(), labels.iter().map(|l| l.unwrap_or(0)).collect()));
-        } else {
-            let mut start = None;
-            for f in 0..=labels.len() {
-                match (labels.get(f).copied().flatten(), start) {
-                    (Some(_), None) => start = Some(f),
-                    (None, Some(s)) => {
-                        if f - s >= 30 {
-                            let sub = m.slice(s, f);
-                            parts.push((sub, labels[s..f].iter().map(|l| l.unwrap_or(0)).collect()));
-                        }
-                        start = None;
-                    }
-                    _ => {}
-                }
-            }
-        }
-    }
-    let labelled: Vec<KnnTake> = parts.iter().map(|(m, l)| KnnTake { motion: m, labels: l }).collect();
-    if labelled.is_empty() {
-        return Err("no labelled stretch of at least 30 frames to fit the k-NN on".into());
-    }
-    Knn::fit(&labelled, params)
+    let config = first.network.clone();
+    Ok(Model { header: h, labeller: Box::new(Networks { config, nets: trained.into_iter().map(|t| t.net).collect() }) })
 }
 
 /// Per-file-frame labels as the k-NN is given them under `options`' label noise and boundary
@@ -291,6 +91,10 @@ pub fn imperfect_labels(
     out
 }
 
+/// The labeller compared with the network on the same folds ([`predict_held_out`]): the k-NN's
+/// `crate::methods::knn::training::knn_fold`, given by the caller so that DT-FCN's folder trains only the network.
+pub type Beside<'f, M> = &'f dyn Fn(&FoldTakes) -> Result<FoldLabels<M>, String>;
+
 /// One held-out take's result in cross-validation.
 #[derive(Debug, Clone)]
 pub struct Fold {
@@ -310,8 +114,9 @@ pub struct Fold {
     pub seconds: f64,
 }
 
-/// The held-out take's labels in one fold of the nested protocol, by the network and the k-NN.
-pub struct FoldPrediction {
+/// The held-out take's labels in one fold of the nested protocol, by the network and the labeller beside it (the
+/// k-NN, whose model is an `M`).
+pub struct FoldPrediction<M> {
     /// Per file frame of the held-out take: class and confidence (network) / vote share (k-NN).
     pub network: Vec<(usize, f32)>,
     pub knn: Vec<(usize, f32)>,
@@ -329,18 +134,18 @@ pub struct FoldPrediction {
     pub validation_labels: Vec<(usize, f32)>,
     /// The same network's class probabilities per working frame of the validation take, and their file positions
     /// (what a decoding is chosen on).
-    pub validation_probabilities: super::infer::Probabilities,
+    pub validation_probabilities: crate::labeller::probabilities::Probabilities,
     pub validation_source: Vec<f64>,
     /// The held-out take's class probabilities per working frame by the network trained on all other takes, and
     /// their file positions.
-    pub network_probabilities: super::infer::Probabilities,
+    pub network_probabilities: crate::labeller::probabilities::Probabilities,
     pub network_source: Vec<f64>,
     /// The early-stopped network (trained without the validation take) and the one retrained on every take but
     /// the held-out one, and the k-NN that labelled the held-out take: what an experiment measures further
     /// (the leave-one-class-out's unknowns) without the protocol doing that work for every caller.
     pub validation_network: Trained,
     pub final_network: Trained,
-    pub knn_model: Knn,
+    pub knn_model: M,
 }
 
 /// The novelty score ([`super::novelty`]) of every working frame of `motion` under `trained`, fitted on the
@@ -366,7 +171,7 @@ pub fn novelty_scores(
         }
     }
     let novelty = super::novelty::Novelty::fit(&rows, width, &labels, classes, super::novelty::RANK)?;
-    let input = super::input::network_input(motion)?;
+    let input = crate::labeller::input::network_input(motion)?;
     let (_, f) = predict_with_features(&trained.net, &trained.standardise, &input, classes);
     Ok(novelty.scores(&f))
 }
@@ -376,8 +181,8 @@ fn probabilities(
     trained: &Trained,
     motion: &Motion,
     classes: usize,
-) -> Result<(super::infer::Probabilities, Vec<f64>), String> {
-    let input = super::input::network_input(motion)?;
+) -> Result<(crate::labeller::probabilities::Probabilities, Vec<f64>), String> {
+    let input = crate::labeller::input::network_input(motion)?;
     let probs = super::infer::predict_input(&trained.net, &trained.standardise, &input, classes);
     Ok((probs, input.source_frames))
 }
@@ -390,29 +195,31 @@ pub fn label_frames(trained: &Trained, motion: &Motion, classes: usize) -> Resul
 }
 
 /// Per file frame of `motion`: the most probable class and its probability, from [`probabilities`].
-fn file_frames_of(probs: &super::infer::Probabilities, source: &[f64], motion: &Motion) -> Vec<(usize, f32)> {
+fn file_frames_of(
+    probs: &crate::labeller::probabilities::Probabilities,
+    source: &[f64],
+    motion: &Motion,
+) -> Vec<(usize, f32)> {
     let working: Vec<(usize, f32)> = (0..probs.frames).map(|f| probs.best(f)).collect();
     TrainingTake::to_file_frames(source, motion.frames(), &working)
 }
 
-/// The k-NN's votes the nested protocol chooses from on the validation take.
-pub const KNN_KS: [usize; 6] = [1, 3, 5, 9, 15, 25];
-
 /// One fold of the nested protocol: take `held` is held out; of the others, the next one in turn
 /// is the validation take that chooses the epoch (early stopping); the network is then trained
-/// again on all the others for that many epochs and labels the held-out take; the k-NN, fitted
-/// on the same takes under the same label noise and masking, labels it too, its k chosen on the
-/// same validation take ([`KNN_KS`]). The validation take's labels carry the same noise and
+/// again on all the others for that many epochs and labels the held-out take; `beside` (the k-NN,
+/// `crate::methods::knn::training::knn_fold`), fitted on the same takes under the same label noise and masking,
+/// labels it too, its setting chosen on the same validation take. The validation take's labels carry the same noise and
 /// masking as the training takes' — a user validates on the labels they have. `labels` are the
 /// clean labels (per file frame) of every take; the held-out take's are not used.
-pub fn predict_held_out(
+pub fn predict_held_out<M>(
     motions: &[Motion],
     labels: &[Vec<Option<usize>>],
     held: usize,
     classes: &[String],
     options: &TrainOptions,
+    beside: Beside<M>,
     on_epoch: &mut dyn FnMut(&EpochReport) -> bool,
-) -> Result<FoldPrediction, String> {
+) -> Result<FoldPrediction<M>, String> {
     let n = motions.len();
     if n < 3 {
         return Err(format!("the nested protocol needs at least 3 takes (train, validation, held out); {n} given"));
@@ -426,34 +233,21 @@ pub fn predict_held_out(
     let trained = retrained(motions, labels, held, classes, options, chosen.best_epoch, on_epoch)?;
     let (network_probabilities, network_source) = probabilities(&trained, &motions[held], classes.len())?;
     let network = file_frames_of(&network_probabilities, &network_source, &motions[held]);
-    // the k-NN's k: fitted without the validation take, scored on its (noisy) labels
-    let knn_inner: Vec<(&Motion, &[Option<usize>])> =
-        (0..n).filter(|&i| i != held && i != val).map(|i| (&motions[i], imperfect[i].as_slice())).collect();
-    let mut knn_k = (KnnParams::default().k, f64::MIN);
-    for k in KNN_KS {
-        let votes = fit_knn(&knn_inner, KnnParams { k, ..KnnParams::default() })?.predict(&motions[val])?;
-        let (mut right, mut total) = (0usize, 0usize);
-        for (v, l) in votes.iter().zip(&imperfect[val]) {
-            if let Some(l) = l {
-                total += 1;
-                right += usize::from(v.0 == *l);
-            }
-        }
-        let accuracy = right as f64 / total.max(1) as f64;
-        if accuracy > knn_k.1 + 1e-12 {
-            knn_k = (k, accuracy);
-        }
-    }
-    let knn_train: Vec<(&Motion, &[Option<usize>])> =
-        (0..n).filter(|&i| i != held).map(|i| (&motions[i], imperfect[i].as_slice())).collect();
-    let fitted = fit_knn(&knn_train, KnnParams { k: knn_k.0, ..KnnParams::default() })?;
-    let knn = fitted.predict(&motions[held])?;
+    // the labeller beside the network, fitted on the same takes under the same label noise and masking
+    let with_labels = |i: usize| (&motions[i], imperfect[i].as_slice());
+    let takes = FoldTakes {
+        inner: (0..n).filter(|&i| i != held && i != val).map(with_labels).collect(),
+        validation: with_labels(val),
+        train: (0..n).filter(|&i| i != held).map(with_labels).collect(),
+        held: &motions[held],
+    };
+    let beside = beside(&takes)?;
     let validation_accuracy =
         chosen.reports.iter().find(|r| r.epoch == chosen.best_epoch).and_then(|r| r.validation_accuracy).unwrap_or(0.0);
     Ok(FoldPrediction {
         network,
-        knn,
-        knn_k: knn_k.0,
+        knn: beside.labels,
+        knn_k: beside.setting,
         best_epoch: chosen.best_epoch,
         epochs_run: chosen.reports.len(),
         validation_accuracy,
@@ -465,7 +259,7 @@ pub fn predict_held_out(
         network_source,
         validation_network: chosen,
         final_network: trained,
-        knn_model: fitted,
+        knn_model: beside.model,
     })
 }
 
@@ -481,7 +275,7 @@ pub fn validation_fold(
     val: usize,
     classes: &[String],
     options: &TrainOptions,
-) -> Result<(super::infer::Probabilities, Vec<f64>, usize), String> {
+) -> Result<(crate::labeller::probabilities::Probabilities, Vec<f64>, usize), String> {
     let n = motions.len();
     if n < 3 || held >= n || val >= n || held == val {
         return Err(format!(
@@ -539,7 +333,7 @@ pub fn final_fold(
     classes: &[String],
     options: &TrainOptions,
     epochs: usize,
-) -> Result<(super::infer::Probabilities, Vec<f64>), String> {
+) -> Result<(crate::labeller::probabilities::Probabilities, Vec<f64>), String> {
     let trained = retrained(motions, labels, held, classes, options, epochs, &mut |_| true)?;
     probabilities(&trained, &motions[held], classes.len())
 }
@@ -593,25 +387,26 @@ pub fn averaged_fold(
 /// network of every other take.
 pub struct AveragedFold {
     pub validation: usize,
-    pub validation_probabilities: super::infer::Probabilities,
+    pub validation_probabilities: crate::labeller::probabilities::Probabilities,
     pub validation_source: Vec<f64>,
-    pub network: Option<(super::infer::Probabilities, Vec<f64>)>,
+    pub network: Option<(crate::labeller::probabilities::Probabilities, Vec<f64>)>,
 }
 
 /// Leave-one-take-out with [`predict_held_out`] for every take, scored on the held-out take's
 /// file frames.
-pub fn leave_one_take_out(
+pub fn leave_one_take_out<M>(
     motions: &[Motion],
     labels: &[Vec<Option<usize>>],
     classes: &[String],
     options: &TrainOptions,
+    beside: Beside<M>,
     on_epoch: &mut dyn FnMut(&str, &EpochReport) -> bool,
 ) -> Result<Vec<Fold>, String> {
     let mut folds = Vec::new();
     for held in 0..motions.len() {
         let started = web_time_now();
         let name = motions[held].name.clone();
-        let p = predict_held_out(motions, labels, held, classes, options, &mut |r| on_epoch(&name, r))?;
+        let p = predict_held_out(motions, labels, held, classes, options, beside, &mut |r| on_epoch(&name, r))?;
         let truth = &labels[held];
         let score = |pred: &[(usize, f32)]| {
             // only where the held-out take is labelled (86_01's walks, say)
@@ -646,64 +441,5 @@ fn web_time_now() -> f64 {
     #[cfg(target_arch = "wasm32")]
     {
         0.0
-    }
-}
-
-#[cfg(test)]
-mod tests {
-
-    /// 30 Hz frames of a 120 Hz take end a quarter of the way: said, with the rate; a take labelled in part, or
-    /// labelled to its end, says nothing.
-    #[test]
-    fn labels_written_at_another_rate_are_told() {
-        let motion =
-            crate::load::load_bytes("s.bvh", include_bytes!("../../../www/sample.bvh"), &mut |_| {}).unwrap().motion;
-        let n = motion.frames();
-        assert!((motion.fps - 120.0).abs() < 0.01, "{}", motion.fps);
-        let upto = |last: usize| -> Vec<Option<usize>> { (0..n).map(|f| (f < last).then_some(f % 2)).collect() };
-        let warned = labels_at_another_rate(&[&motion], &[upto(n / 4)]);
-        assert_eq!(warned.len(), 1, "{warned:?}");
-        assert!(
-            warned[0].starts_with(&format!("the labels of s.bvh end at frame {} of {n} (25 %)", n / 4)),
-            "{}",
-            warned[0]
-        );
-        assert!(warned[0].ends_with("is the label file at 30 Hz?"), "{}", warned[0]);
-        assert!(labels_at_another_rate(&[&motion], &[upto(n / 2)]).iter().any(|w| w.contains("at 60 Hz?")));
-        assert!(labels_at_another_rate(&[&motion], &[upto(n / 3)]).is_empty(), "a third is no rate's");
-        assert!(labels_at_another_rate(&[&motion], &[upto(n)]).is_empty());
-        assert!(labels_at_another_rate(&[&motion], &[vec![None; n]]).is_empty());
-    }
-
-    use super::*;
-
-    /// Labels a model file could not hold (`model::check_header`) are refused before training, so that
-    /// every model training writes loads again.
-    #[test]
-    fn labels_past_what_a_model_file_holds_are_refused_before_training() {
-        let motion =
-            crate::load::load_bytes("s.bvh", include_bytes!("../../../www/sample.bvh"), &mut |_| {}).unwrap().motion;
-        let row = |f: usize, label: String| LabelRow { file: "s.bvh".into(), start_frame: f, end_frame: f, label };
-        let many: Vec<LabelRow> = (0..300).map(|i| row(i, format!("c{i}"))).collect();
-        let e = class_labels(&many, &[&motion]).unwrap_err();
-        assert!(e.contains("300 classes") && e.contains("at most 256"), "{e}");
-        let ok: Vec<LabelRow> = (0..256).map(|i| row(i, format!("c{i}"))).collect();
-        assert_eq!(class_labels(&ok, &[&motion]).unwrap().0.len(), 256);
-        let long = vec![row(0, "a".into()), row(1, "b".repeat(101))];
-        let e = class_labels(&long, &[&motion]).unwrap_err();
-        assert!(e.contains("101 characters") && e.contains("at most 100"), "{e}");
-        let control = vec![row(0, "a".into()), row(1, "b\tc".into())];
-        let e = class_labels(&control, &[&motion]).unwrap_err();
-        assert!(e.contains("`b·c`") && e.contains("control character"), "{e}");
-    }
-
-    #[test]
-    fn colours_are_distinct_css_hex() {
-        let c = class_colours(12);
-        assert!(c.iter().all(|s| s.len() == 7 && s.starts_with('#')));
-        let mut d = c.clone();
-        d.sort();
-        d.dedup();
-        assert_eq!(d.len(), 12);
     }
 }

@@ -4,31 +4,29 @@
 //!
 //! | paper | module |
 //! |---|---|
-//! | §2 motion image ("rows joints, RGB the scaled XYZ") | [`input`] |
+//! | §2 motion image ("rows joints, RGB the scaled XYZ") | [`crate::labeller::input`] (the k-NN reads it too) |
 //! | §2 / Fig. 1 the network: full-height first kernel, four dilated acausal layers, `d = w^(l−1)` | [`network`] |
 //! | §2 NormReLU before the softmax | [`normrelu`] |
 //! | §3 training: cross-entropy, Adam, label noise (Table 3), boundary masking (Table 4) | [`training`] |
 //! | (not in the paper) augmentation for small labelled sets | [`augment`] |
 //! | labelling a take, blockwise | [`infer`] |
 //! | (not in the paper) an unknown in feature space: Mahalanobis distance before NormReLU | [`novelty`] |
-//! | (not in the paper) labels as one path with a minimum duration, not per-frame argmax | [`decode`] |
-//! | model files: classes, colours, joint set, rate, training command, weights | [`model`] |
-//! | the registered `dtfcn` method | [`method`] |
-//! | training and model files behind the supervised shape | [`supervised`] |
+//! | (not in the paper) labels as one path with a minimum duration, not per-frame argmax | [`crate::labeller::decode`] |
+//! | (not in the paper) whether a take fits the model | [`crate::labeller::fit`] |
+//! | model files: the network's shape and weights in the common model file ([`crate::labeller::model`]) | [`model`] |
+//! | training a model and the nested held-out protocol (the k-NN beside it on the same folds) | [`corpus`] |
+//! | the registered `dtfcn` method: the common labelling method ([`crate::labeller::method`]) over its models | [`method`] |
+//! | its training table and training behind the supervised shape | [`supervised`] |
 
 pub mod augment;
 pub mod bench;
 pub mod corpus;
-pub mod decode;
-pub mod fit;
 pub mod infer;
-pub mod input;
 pub mod method;
 pub mod model;
 pub mod network;
 pub mod normrelu;
 pub mod novelty;
-pub mod shipped;
 pub mod supervised;
 pub mod training;
 

@@ -477,13 +477,13 @@ mod tests {
     /// weights) computes what burn's own `Conv1d` computes with the same padding.
     #[test]
     fn the_shipped_models_layers_equal_burns_conv1d() {
-        use crate::methods::dtfcn::model::{Labeller, ModelKind};
-        for name in crate::methods::dtfcn::shipped::NAMES {
-            let model =
-                crate::methods::dtfcn::shipped::model(ModelKind::Dtfcn, name, &crate::method::ModelStore::default())
-                    .unwrap();
-            let Labeller::Network(nets) = &model.labeller else { panic!("{name}: not a network") };
-            let shape = model.header.network.as_ref().unwrap();
+        use crate::methods::dtfcn::method::DTFCN;
+        use crate::methods::dtfcn::model::networks_of;
+        for name in crate::labeller::shipped::NAMES {
+            let store = crate::method::ModelStore::default();
+            let model = crate::labeller::shipped::model(&DTFCN, name, &store, &[&DTFCN]).unwrap();
+            let networks = networks_of(&model).unwrap_or_else(|| panic!("{name}: not a network"));
+            let (nets, shape) = (&networks.nets, &networks.config);
             assert!(!nets.is_empty(), "{name}: no network");
             for (m, net) in nets.iter().enumerate() {
                 assert!(

@@ -24,8 +24,8 @@ use serde::{Deserialize, Serialize};
 
 use super::augment::{augment, mirror_classes, Augment};
 use super::infer::predict_input;
-use super::input::{centred_on_take, network_input, NetworkInput, Standardise, CHANNELS, NETWORK_FPS};
 use super::network::{paper_filters, DtFcn, DtFcnConfig, Padding};
+use crate::labeller::input::{centred_on_take, network_input, NetworkInput, Standardise, CHANNELS, NETWORK_FPS};
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
 use crate::stats::Rng;

@@ -1,11 +1,81 @@
-//! The k-NN labeller behind the common [`crate::method::Method`] interface: the same labelling
-//! method as DT-FCN — model files, shipped models, the unknown threshold, the class-probability
-//! picture and training from a label CSV ([`crate::methods::dtfcn::method::Labelling`],
-//! [`crate::methods::dtfcn::supervised`]) — over models whose labeller is this folder's
-//! [`super::Knn`].
+//! The registered `knn` method: the common labelling method ([`crate::labeller::method::Labelling`]) over the
+//! k-NN's models — its words, its model files' own field and payload ([`super::model`]), what a run of it holds and
+//! its fit ([`super::supervised`]).
 
-use crate::methods::dtfcn::method::Labelling;
-use crate::methods::dtfcn::model::ModelKind;
+use crate::labeller::input::canonical_names;
+use crate::labeller::method::Kind;
+use crate::labeller::model::{Labeller, ModelHeader};
+use crate::method::supervised::{Training, TrainingAsk};
+use crate::method::{MethodError, MethodInfo, ParamSpec, Progress};
 
-/// The k-NN method (`knn`).
-pub const KNN: Labelling = Labelling::of(ModelKind::Knn);
+/// The k-NN as a labelling method.
+pub struct KnnMethod;
+
+/// The k-NN method (`knn`), as the registry's labelling method takes it.
+pub const KNN: KnnMethod = KnnMethod;
+
+impl Kind for KnnMethod {
+    fn name(&self) -> &'static str {
+        "knn"
+    }
+
+    fn short(&self) -> &'static str {
+        "k-NN"
+    }
+
+    fn info(&self) -> MethodInfo {
+        MethodInfo {
+            name: "knn".into(),
+            short: "k-NN".into(),
+            paper: "baseline for Cheema et al. 2019".into(),
+            summary: "Per-frame labels by a 5-nearest-neighbour vote on ±1 s windows of the motion image.".into(),
+            auto_run: true,
+        }
+    }
+
+    fn joint_names(&self) -> Vec<String> {
+        canonical_names()
+    }
+
+    fn check_header(&self, header: &ModelHeader) -> Result<(), String> {
+        super::model::check_header(header)
+    }
+
+    fn read(&self, header: &mut ModelHeader, payload: &[u8]) -> Result<Box<dyn Labeller>, String> {
+        super::model::read(header, payload)
+    }
+
+    fn has_windows(&self) -> bool {
+        true
+    }
+
+    /// Measured in tests/limits.rs: the motion image and the k-NN's windows (2.9 kB a frame).
+    fn frame_bytes(&self, _windows: bool) -> usize {
+        4_000
+    }
+
+    fn step_name(&self) -> &'static str {
+        "fit"
+    }
+
+    fn trains_on_my_labels(&self) -> bool {
+        false
+    }
+
+    fn has_epochs(&self) -> bool {
+        false
+    }
+
+    fn training_specs(&self) -> Vec<ParamSpec> {
+        super::supervised::training_specs()
+    }
+
+    fn start_training(
+        &self,
+        _kinds: &[&'static dyn Kind],
+        ask: TrainingAsk,
+        progress: &mut dyn Progress,
+    ) -> Result<Box<dyn Training>, MethodError> {
+        super::supervised::start_training(ask, progress)
+    }
+}

@@ -6,13 +6,17 @@
 //! finds, in the tree's order — the tree answers the rare query whose neighbours tie. The
 //! confidence of a frame is the share of votes its label won.
 //!
-//! It is a registered method (`knn`, [`method`]) reading the same model files and label CSVs as
-//! the network.
+//! It is a registered method (`knn`, [`method`]): the labelling method both labellers share
+//! ([`crate::labeller::method`]) over its model files ([`model`]: its payload and header field in the common model
+//! file), fitted on label CSVs as the network is trained ([`supervised`], [`training`]).
 //! `cargo run --release --example eval_knn` scores it leave-one-take-out on the shared takes.
 
 mod lanes;
 pub mod method;
+pub mod model;
 pub mod search;
+pub mod supervised;
+pub mod training;
 
 use std::sync::OnceLock;
 
@@ -22,7 +26,7 @@ use kiddo::SquaredEuclidean;
 use crate::features::end_effectors::canonical_joints;
 use crate::features::pca::principal_axes;
 use crate::features::{stack, FeatureMatrix};
-use crate::methods::dtfcn::infer::Probabilities;
+use crate::labeller::probabilities::Probabilities;
 use crate::motion::joints::Canonical;
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -58,7 +62,7 @@ impl Default for KnnParams {
 impl KnnParams {
     /// Refuses windows and votes the labeller cannot use (as read from a model file).
     pub fn check(&self) -> Result<(), String> {
-        if (self.fps - crate::methods::dtfcn::input::NETWORK_FPS).abs() > 1e-9 {
+        if (self.fps - crate::labeller::input::NETWORK_FPS).abs() > 1e-9 {
             return Err(format!("k-NN at {} Hz; this mocapseg's k-NN works at 30 Hz", self.fps));
         }
         if !(0..=300).contains(&self.half_window) || !(1..=300).contains(&self.stride) {
@@ -470,7 +474,7 @@ impl Knn {
     /// every frame familiar). By brute force, `samples × n` distances; the take fit's measurement
     /// is kept once made.
     pub fn familiar_distances(&self, gap: usize, samples: usize) -> Vec<f32> {
-        use crate::methods::dtfcn::fit::{FAMILIAR_GAP, FAMILIAR_SAMPLES};
+        use crate::labeller::fit::{FAMILIAR_GAP, FAMILIAR_SAMPLES};
         if (gap, samples) == (FAMILIAR_GAP, FAMILIAR_SAMPLES) {
             return self.familiar.get_or_init(|| self.measure_familiar(gap, samples)).clone();
         }
@@ -514,6 +518,16 @@ impl Knn {
                 (c, (share * self.params.k as f32).round() / self.params.k as f32)
             })
             .collect())
+    }
+}
+
+/// The k-NN's windows are what a take's fit is measured against ([`crate::labeller::fit::Windows`]).
+impl crate::labeller::fit::Windows for Knn {
+    fn nearest_distances(&self, motion: &crate::motion::Motion) -> Result<Vec<f32>, String> {
+        Knn::nearest_distances(self, motion)
+    }
+    fn familiar_distances(&self, gap: usize, samples: usize) -> Vec<f32> {
+        Knn::familiar_distances(self, gap, samples)
     }
 }
 
@@ -682,17 +696,16 @@ mod tests {
     #[cfg(not(target_arch = "wasm32"))]
     #[test]
     fn the_scan_finds_the_trees_neighbours_for_the_shipped_models() {
-        use crate::methods::dtfcn::model::{Labeller, ModelKind};
         let takes: Vec<Motion> =
             ["13_31.bvh", "86_01.bvh", "131_03.bvh", "02_01.bvh", "35_01.bvh", "assimp_Boxing_Toes_100fps.bvh"]
                 .iter()
                 .map(|n| fixture(n))
                 .collect();
-        for name in crate::methods::dtfcn::shipped::NAMES {
-            let model =
-                crate::methods::dtfcn::shipped::model(ModelKind::Knn, name, &crate::method::ModelStore::default())
-                    .unwrap();
-            let Labeller::Knn(knn) = &model.labeller else { panic!("{name}: not a k-NN model") };
+        for name in ["exercises", "cmu-actions", "locomotion"] {
+            let file = format!("knn-{name}.model");
+            let bytes = crate::method::ModelStore::default().shipped_bytes(&file).unwrap().to_vec();
+            let model = crate::labeller::model::Model::from_bytes(&bytes, &file, &[&method::KNN]).unwrap();
+            let knn = model::knn_of(&model).unwrap_or_else(|| panic!("{name}: not a k-NN model"));
             let classes = model.header.classes.len();
             for take in &takes {
                 same_as_the_tree(knn, take, classes, &format!("{name} on {}", take.name));

@@ -285,7 +285,7 @@ mod tests {
     use crate::bvh;
 
     fn walk() -> Motion {
-        Motion::from_bvh("02_01.bvh", &bvh::parse(include_str!("../../../tests/fixtures/02_01.bvh")).unwrap()).unwrap()
+        Motion::from_bvh("02_01.bvh", &bvh::parse(include_str!("../../tests/fixtures/02_01.bvh")).unwrap()).unwrap()
     }
 
     #[test]
@@ -391,7 +391,7 @@ mod tests {
     fn a_skeleton_without_the_canonical_joints_is_refused_by_name() {
         let stick = Motion::from_bvh(
             "stick.bvh",
-            &bvh::parse(include_str!("../../../tests/fixtures/bvh_anim_test_simple.bvh")).unwrap(),
+            &bvh::parse(include_str!("../../tests/fixtures/bvh_anim_test_simple.bvh")).unwrap(),
         )
         .unwrap();
         assert!(network_input(&stick).unwrap_err().starts_with("stick.bvh:"));

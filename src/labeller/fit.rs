@@ -282,12 +282,12 @@ mod tests {
     /// pace) travels; the exercises on the spot of the sample (13_30) hardly do.
     #[test]
     fn a_walk_travels_and_exercises_on_the_spot_do_not() {
-        let walk = motion("02_01.bvh", include_str!("../../../tests/fixtures/02_01.bvh"));
+        let walk = motion("02_01.bvh", include_str!("../../tests/fixtures/02_01.bvh"));
         let speeds = travel_speeds(&walk).unwrap();
         assert_eq!(speeds.len(), walk.frames());
         let median = quantile(&sorted(speeds.clone()), 0.5);
         assert!((35.0..65.0).contains(&median), "{median}");
-        let spot = motion("13_30.bvh", include_str!("../../../www/sample.bvh"));
+        let spot = motion("13_30.bvh", include_str!("../../www/sample.bvh"));
         let profile = TravelProfile::fit(&[(&spot, None)]).unwrap();
         assert!(profile.median < 5.0 && profile.limit < 15.0 && profile.limit > profile.median, "{profile:?}");
         // only the taught frames count
@@ -309,7 +309,7 @@ mod tests {
     /// made half a second 5e299 frames and the window's end overflow: the window is now at most the take.
     #[test]
     fn a_vanishing_frame_time_does_not_overflow_the_window() {
-        let mut walk = motion("02_01.bvh", include_str!("../../../tests/fixtures/02_01.bvh"));
+        let mut walk = motion("02_01.bvh", include_str!("../../tests/fixtures/02_01.bvh"));
         walk.fps = 1e300;
         let speeds = travel_speeds(&walk).unwrap();
         assert_eq!(speeds.len(), walk.frames());
@@ -319,8 +319,8 @@ mod tests {
     /// two files' detected body sizes differ by).
     #[test]
     fn travel_does_not_depend_on_the_files_units() {
-        let inches = motion("131_01.bvh", include_str!("../../../tests/fixtures/131_01.bvh"));
-        let metres = motion("m.bvh", include_str!("../../../tests/fixtures/cmu_131_01_scaled_meters.bvh"));
+        let inches = motion("131_01.bvh", include_str!("../../tests/fixtures/131_01.bvh"));
+        let metres = motion("m.bvh", include_str!("../../tests/fixtures/cmu_131_01_scaled_meters.bvh"));
         let (a, b) = (travel_speeds(&inches).unwrap(), travel_speeds(&metres).unwrap());
         let (ma, mb) = (quantile(&sorted(a), 0.5), quantile(&sorted(b), 0.5));
         assert!(ma > 1.0 && (ma - mb).abs() < 0.03 * ma, "{ma} vs {mb}");

@@ -1,4 +1,5 @@
-//! The labelling models shipped with the app (`models/{dtfcn,knn}-NAME.model`, listed by
+//! The labelling models shipped with the app, one of each labeller's kind per name (`models/{dtfcn,knn}-NAME.model`:
+//! the fit check measures a shipped DT-FCN model with the k-NN file of its name), listed by
 //! [`crate::method::shipped`]: built into the command line, fetched by the page when first
 //! used), each reproducible with the command in its header (`mocapseg model-info NAME` prints
 //! it) and in `models/README.md`:
@@ -10,20 +11,21 @@
 
 use std::sync::Arc;
 
-use super::model::{Model, ModelKind};
+use super::method::Kind;
+use super::model::Model;
 use crate::method::{MethodError, ModelStore};
 
 /// Names of the shipped models, the default first.
 pub const NAMES: [&str; 3] = ["exercises", "cmu-actions", "locomotion"];
 
 /// The file of the shipped model of `kind` called `name` (`dtfcn-exercises.model`).
-pub fn file_name(kind: ModelKind, name: &str) -> String {
+pub fn file_name(kind: &dyn Kind, name: &str) -> String {
     format!("{}-{name}.model", kind.name())
 }
 
-/// The shipped model of `kind` called `name`, read once by `models` (the runner's store); [`MethodError::NeedsModel`]
-/// on the page until its file was handed over.
-pub fn model(kind: ModelKind, name: &str, models: &ModelStore) -> Result<Arc<Model>, MethodError> {
+/// The shipped model of `kind` called `name`, read once by `models` (the runner's store; `kinds`: the kinds a model
+/// file may be of); [`MethodError::NeedsModel`] on the page until its file was handed over.
+pub fn model(kind: &dyn Kind, name: &str, models: &ModelStore, kinds: &[&dyn Kind]) -> Result<Arc<Model>, MethodError> {
     if !NAMES.contains(&name) {
         return Err(MethodError::param(
             "model",
@@ -35,7 +37,7 @@ pub fn model(kind: ModelKind, name: &str, models: &ModelStore) -> Result<Arc<Mod
         ));
     }
     models.read_shipped(&file_name(kind, name), |bytes| {
-        Model::from_bytes(bytes, &format!("shipped model {}-{name}", kind.name())).map_err(MethodError::Failed)
+        Model::from_bytes(bytes, &format!("shipped model {}-{name}", kind.name()), kinds).map_err(MethodError::Failed)
     })
 }
 
@@ -43,16 +45,23 @@ pub fn model(kind: ModelKind, name: &str, models: &ModelStore) -> Result<Arc<Mod
 mod tests {
     use super::*;
 
+    /// The shipped model of the labelling method `method` called `name`, as the registry's method reads it.
+    fn shipped(method: &str, name: &str) -> Result<Arc<Model>, MethodError> {
+        let supervised = crate::methods::find(method).unwrap().supervised().unwrap();
+        let loaded = supervised.shipped_model(name, &ModelStore::default())?;
+        Ok(loaded.model.downcast::<Model>().unwrap())
+    }
+
     #[test]
     fn every_shipped_name_has_a_file_of_both_kinds() {
-        for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
+        for kind in ["dtfcn", "knn"] {
             for name in NAMES {
-                let m = model(kind, name, &ModelStore::default()).unwrap();
+                let m = shipped(kind, name).unwrap();
                 assert_eq!(m.header.kind, kind);
-                assert!(crate::method::shipped::find(&file_name(kind, name)).is_ok());
+                assert!(crate::method::shipped::find(&format!("{kind}-{name}.model")).is_ok());
             }
         }
-        let err = model(ModelKind::Knn, "nope", &ModelStore::default()).unwrap_err().to_string();
+        let err = shipped("knn", "nope").unwrap_err().to_string();
         assert!(err.contains("no knn model called `nope`") && err.contains("exercises"), "{err}");
     }
 
@@ -65,10 +74,10 @@ mod tests {
     fn every_shipped_header_is_what_runs_use_and_the_readme_reproduces() {
         let readme =
             std::fs::read_to_string(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models/README.md")).unwrap();
-        for kind in [ModelKind::Dtfcn, ModelKind::Knn] {
+        for kind in ["dtfcn", "knn"] {
             for name in NAMES {
-                let h = &model(kind, name, &ModelStore::default()).unwrap().header;
-                let file = file_name(kind, name);
+                let h = &shipped(kind, name).unwrap().header;
+                let file = format!("{kind}-{name}.model");
                 let command = &h.provenance.command;
                 let asked = command.split_once("--unknown-threshold ").map(|(_, rest)| {
                     rest.split_whitespace().next().and_then(|t| t.parse::<f32>().ok()).expect("a number")

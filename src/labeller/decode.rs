@@ -15,7 +15,7 @@
 //! raw labels), and the labelling method keeps its per-frame `unknown` then; a decoded path's
 //! runs are called `unknown` as a whole when their mean probability is below the threshold.
 
-use super::infer::Probabilities;
+use super::probabilities::Probabilities;
 use crate::segment::frames::WorkingFrames;
 use crate::segment::labelling::{score, LabellingScores};
 

@@ -1,0 +1,89 @@
+//! Fitting the k-NN on labelled takes into a model file.
+
+use super::{Knn, KnnParams, Labelled};
+use crate::labeller::corpus::{header, FoldLabels, FoldTakes, ModelMeta};
+use crate::labeller::model::{Json, Model, Provenance};
+use crate::motion::Motion;
+
+/// Fits a k-NN model on `takes` (motions with per-file-frame labels; unlabelled frames left out).
+pub fn fit_knn_model(
+    takes: &[(&Motion, &[Option<usize>])],
+    classes: &[String],
+    meta: &ModelMeta,
+) -> Result<Model, String> {
+    let params = KnnParams::default();
+    let knn = fit_knn(takes, params)?;
+    let provenance = Provenance {
+        command: meta.command.clone(),
+        data_hash: meta.data_hash.clone(),
+        takes: takes.iter().map(|t| t.0.name.clone()).collect(),
+        frames: takes.iter().map(|t| t.1.iter().flatten().count()).sum(),
+        options: super::model::recorded_options()?,
+        epochs_run: 0,
+        best_epoch: 0,
+        take_sha256: Vec::new(),
+        members: Vec::new(),
+    };
+    let mut h = header(&super::method::KNN, classes, meta, provenance);
+    h.knn = Some(Json::of(&params)?);
+    Ok(Model { header: h, labeller: Box::new(knn) })
+}
+
+/// The k-NN on the labelled frames of `takes`.
+pub fn fit_knn(takes: &[(&Motion, &[Option<usize>])], params: KnnParams) -> Result<Knn, String> {
+    // the k-NN takes a label for every frame: unlabelled stretches are cut out as separate takes
+    let mut parts: Vec<(Motion, Vec<usize>)> = Vec::new();
+    for (m, labels) in takes {
+        if labels.iter().all(Option::is_some) {
+            parts.push(((*m).clone(), labels.iter().map(|l| l.unwrap_or(0)).collect()));
+        } else {
+            let mut start = None;
+            for f in 0..=labels.len() {
+                match (labels.get(f).copied().flatten(), start) {
+                    (Some(_), None) => start = Some(f),
+                    (None, Some(s)) => {
+                        if f - s >= 30 {
+                            let sub = m.slice(s, f);
+                            parts.push((sub, labels[s..f].iter().map(|l| l.unwrap_or(0)).collect()));
+                        }
+                        start = None;
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+    let labelled: Vec<Labelled> = parts.iter().map(|(m, l)| Labelled { motion: m, labels: l }).collect();
+    if labelled.is_empty() {
+        return Err("no labelled stretch of at least 30 frames to fit the k-NN on".into());
+    }
+    Knn::fit(&labelled, params)
+}
+
+/// The k-NN's votes the nested protocol chooses from on the validation take.
+pub const KNN_KS: [usize; 6] = [1, 3, 5, 9, 15, 25];
+
+/// The k-NN beside the network in one fold of the nested held-out protocol (`crate::methods::dtfcn::corpus::
+/// predict_held_out`): its k chosen among [`KNN_KS`] on the validation take (fitted without it, scored on its labels),
+/// then fitted on every take but the held-out one; the held-out take's votes.
+pub fn knn_fold(takes: &FoldTakes) -> Result<FoldLabels<Knn>, String> {
+    // the k-NN's k: fitted without the validation take, scored on its (noisy) labels
+    let mut knn_k = (KnnParams::default().k, f64::MIN);
+    for k in KNN_KS {
+        let votes = fit_knn(&takes.inner, KnnParams { k, ..KnnParams::default() })?.predict(takes.validation.0)?;
+        let (mut right, mut total) = (0usize, 0usize);
+        for (v, l) in votes.iter().zip(takes.validation.1) {
+            if let Some(l) = l {
+                total += 1;
+                right += usize::from(v.0 == *l);
+            }
+        }
+        let accuracy = right as f64 / total.max(1) as f64;
+        if accuracy > knn_k.1 + 1e-12 {
+            knn_k = (k, accuracy);
+        }
+    }
+    let fitted = fit_knn(&takes.train, KnnParams { k: knn_k.0, ..KnnParams::default() })?;
+    let labels = fitted.predict(takes.held)?;
+    Ok(FoldLabels { labels, setting: knn_k.0, model: fitted })
+}
