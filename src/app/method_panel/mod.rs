@@ -2,4 +2,6 @@
 //! (Its row names and segment texts are the timeline's pure part: [`crate::app::timeline`].)
 
 #[cfg(feature = "web")]
+pub mod fields;
+#[cfg(feature = "web")]
 pub mod panel;

@@ -27,7 +27,7 @@
 //!   `data-label` and the tooltip.
 
 use crate::app::loader::Loader;
-use crate::app::models::row_model::choice_options;
+use crate::app::method_panel::fields::{checked_field, param_words};
 use crate::app::player::motion_image::{download, stem};
 use crate::app::state::AppState;
 use crate::app::state::MethodSlot;
@@ -35,7 +35,7 @@ use crate::app::state::RunState;
 use crate::app::timeline::clip_jobs::ClipJobs;
 use crate::app::timeline::rows::{which_of, which_word};
 use crate::clips::Which;
-use crate::method::{form, ParamKind, ParamSpec, Picture};
+use crate::method::{form, Picture};
 use crate::protocol::MethodView;
 use crate::segment::Level;
 use leptos::ev::MouseEvent;
@@ -44,190 +44,6 @@ use leptos::prelude::*;
 use std::sync::Arc;
 use wasm_bindgen::{Clamped, JsCast, JsValue};
 use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement};
-
-/// The name of a parameter in words, without its unit (`horizon_s` in seconds: "horizon").
-fn param_words(spec: &ParamSpec) -> String {
-    let name = match spec.unit.as_deref() {
-        Some(unit) => spec.name.strip_suffix(&format!("_{unit}")).unwrap_or(&spec.name),
-        None => &spec.name,
-    };
-    name.replace('_', " ")
-}
-
-/// The label of a parameter's field: its name in words, with its unit ("horizon (s)").
-fn field_label(spec: &ParamSpec) -> String {
-    let words = param_words(spec);
-    match &spec.unit {
-        Some(unit) => format!("{words} ({unit})"),
-        None => words,
-    }
-}
-
-/// A field's unit after its control (`None`: no unit).
-fn unit_view(spec: &ParamSpec) -> Option<AnyView> {
-    spec.unit.clone().map(|u| view! { <span class="ms-field-unit">{u}</span> }.into_any())
-}
-
-/// One form field for `spec`, bound to `value` (a choice offers `choices`); its id is
-/// `<prefix>-<param>` (`<prefix>-<param>-<option>` for each box of a set of flags). The label is
-/// two cells, the name (`.ms-field-name`) and the control with its unit (`.ms-field-control`),
-/// laid out as a grid by `www/style.css` so that no name runs into the control before it; the
-/// name with its unit is the control's accessible name.
-pub(crate) fn field(
-    method: &str,
-    spec: &ParamSpec,
-    value: RwSignal<String>,
-    choices: RwSignal<Vec<String>>,
-) -> AnyView {
-    let id = format!("{method}-{}", spec.name);
-    let help = spec.help.clone();
-    let label = field_label(spec);
-    let words = param_words(spec);
-    let unit = unit_view(spec);
-    match &spec.kind {
-        ParamKind::Bool => {
-            let checked = move || value.get() == "true";
-            let on_change = move |ev: leptos::ev::Event| {
-                let on = ev
-                    .target()
-                    .and_then(|t| t.dyn_into::<web_sys::HtmlInputElement>().ok())
-                    .is_some_and(|i| i.checked());
-                value.set(on.to_string());
-            };
-            view! {
-                <label title=help>
-                    <span class="ms-field-name">{words}</span>
-                    <span class="ms-field-control">
-                        <input id=id type="checkbox" aria-label=label prop:checked=checked on:change=on_change/>
-                    </span>
-                </label>
-            }
-            .into_any()
-        }
-        ParamKind::Choice { .. } => {
-            // the options may grow (a model the user loads or trains); each option says whether
-            // it is the one chosen, so a value set before its option exists still shows
-            let options = move || choice_options(choices, value);
-            view! {
-                <label title=help>
-                    <span class="ms-field-name">{words}</span>
-                    <span class="ms-field-control">
-                        <select id=id aria-label=label bind:value=value>
-                            {options}
-                        </select>
-                        {unit}
-                    </span>
-                </label>
-            }
-            .into_any()
-        }
-        ParamKind::Number { min, max } => {
-            number_input(id, (label, words, unit), help, (min.to_string(), max.to_string(), "any"), value)
-        }
-        ParamKind::Integer { min, max } => {
-            number_input(id, (label, words, unit), help, (min.to_string(), max.to_string(), "1"), value)
-        }
-        ParamKind::IntegerList { .. } => view! {
-            <label title=help>
-                <span class="ms-field-name">{words}</span>
-                <span class="ms-field-control">
-                    <input id=id type="text" size="16" aria-label=label bind:value=value/>
-                    {unit}
-                </span>
-            </label>
-        }
-        .into_any(),
-        ParamKind::Flags { options } => {
-            // one box per option; the value is the chosen options, comma-separated
-            let boxes = options
-                .iter()
-                .map(|option| {
-                    let on = {
-                        let option = option.clone();
-                        move || value.with(|v| v.split(',').any(|o| o.trim() == option))
-                    };
-                    let toggled = option.clone();
-                    let on_change = move |ev: leptos::ev::Event| {
-                        let checked = ev
-                            .target()
-                            .and_then(|t| t.dyn_into::<web_sys::HtmlInputElement>().ok())
-                            .is_some_and(|i| i.checked());
-                        value.update(|v| {
-                            let mut chosen: Vec<String> = v
-                                .split(',')
-                                .map(|o| o.trim().to_string())
-                                .filter(|o| !o.is_empty() && *o != toggled)
-                                .collect();
-                            if checked {
-                                chosen.push(toggled.clone());
-                            }
-                            *v = chosen.join(",");
-                        });
-                    };
-                    view! {
-                        <label>
-                            <input id=format!("{id}-{option}") type="checkbox" prop:checked=on on:change=on_change/>
-                            " "
-                            {option.clone()}
-                        </label>
-                    }
-                })
-                .collect_view();
-            view! {
-                <span class="ms-flags" role="group" title=help aria-label=label>
-                    <span class="ms-field-name">{words}</span>
-                    <span class="ms-field-control">{boxes}</span>
-                </span>
-            }
-            .into_any()
-        }
-    }
-}
-
-/// A parameter's field with the place for its refusal: `#<method>-<param>-error` under it holds
-/// the message of the last run refused for this parameter (an alert; the field is outlined red).
-fn checked_field(
-    slot: &'static MethodSlot,
-    spec: &ParamSpec,
-    value: RwSignal<String>,
-    choices: RwSignal<Vec<String>>,
-) -> AnyView {
-    let param = spec.name.clone();
-    let mine = move || slot.field_error.with(|e| e.as_ref().filter(|(p, _)| *p == param).map(|(_, m)| m.clone()));
-    let invalid = mine.clone();
-    let shown = mine.clone();
-    let error_id = format!("{}-{}-error", slot.info.name, spec.name);
-    view! {
-        <div class="ms-field" class:ms-field--invalid=move || invalid().is_some()>
-            {field(&slot.info.name, spec, value, choices)}
-            <span id=error_id class="ms-field-error" role="alert" hidden=move || shown().is_none()>
-                {move || mine().unwrap_or_default()}
-            </span>
-        </div>
-    }
-    .into_any()
-}
-
-/// A number field with its bounds and step (`any` or `1`) as hints; the method checks the value.
-/// `label`: its accessible name, its name in words and its unit.
-fn number_input(
-    id: String,
-    (label, words, unit): (String, String, Option<AnyView>),
-    help: String,
-    (min, max, step): (String, String, &'static str),
-    value: RwSignal<String>,
-) -> AnyView {
-    view! {
-        <label title=help>
-            <span class="ms-field-name">{words}</span>
-            <span class="ms-field-control">
-                <input id=id type="number" step=step min=min max=max size="6" aria-label=label bind:value=value/>
-                {unit}
-            </span>
-        </label>
-    }
-    .into_any()
-}
 
 /// What Run lowered of the coupled parameters `pending` (each to its limit), as the note under the form says it.
 fn lowered_message(slot: &'static MethodSlot, pending: &[form::Conflict]) -> String {

@@ -13,8 +13,14 @@ pub mod browser_models;
 #[cfg(feature = "web")]
 pub mod model_files;
 #[cfg(feature = "web")]
+pub mod picked;
+#[cfg(feature = "web")]
 pub mod row_model;
 #[cfg(feature = "web")]
 pub mod supervised;
+#[cfg(feature = "web")]
+pub mod train_form;
+#[cfg(feature = "web")]
+pub mod train_outcome;
 #[cfg(feature = "web")]
 pub mod training;

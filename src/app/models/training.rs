@@ -37,60 +37,25 @@
 //! training that ended on another take, included. The "my labels" row trains the method that declares `trains_on_my_labels` through
 //! [`Supervised::request`] ([`TrainRequest`], [`crate::app::models::supervised`]).
 
-use crate::app::loader::{Loader, MAX_FILE_BYTES};
-use crate::app::method_panel::panel::field;
+use crate::app::loader::Loader;
+use crate::app::models::picked::{picked_files, read_bytes};
 use crate::app::models::row_model::ModelCardView;
-use crate::app::models::supervised::PendingChoice;
-use crate::app::models::supervised::{LoadStatus, Supervised, TrainAsk, TrainRequest, TrainState};
-use crate::app::models::training_advice;
-use crate::app::player::motion_image::{download, stem};
+use crate::app::models::supervised::{LoadStatus, Supervised, TrainAsk, TrainRequest, TrainState, Unloadable};
+use crate::app::models::train_form::{
+    clear_error, labels_choice, take_names, training_options, MoreTakes, TrainAdvice,
+};
+use crate::app::models::train_outcome::{DownloadTrained, PendingTrained, TrainProgress, TrainReport};
 use crate::app::state::AppState;
+use crate::method::form;
 use crate::method::supervised::StepReport;
-use crate::method::{form, ParamSpec};
-use js_sys::Uint8Array;
 use leptos::html::Canvas;
 use leptos::prelude::*;
 use std::sync::Arc;
 use wasm_bindgen::{JsCast, JsValue};
-use wasm_bindgen_futures::JsFuture;
-use web_sys::{CanvasRenderingContext2d, File, HtmlCanvasElement, HtmlInputElement};
+use web_sys::{CanvasRenderingContext2d, HtmlCanvasElement};
 
-/// The largest label CSV the page reads.
-const MAX_LABELS_BYTES: f64 = 16.0 * 1024.0 * 1024.0;
 /// The largest model file the page reads (the core refuses weights over 256 MiB).
 const MAX_MODEL_BYTES: f64 = 300.0 * 1024.0 * 1024.0;
-
-/// The bytes of `file`, or why it cannot be read.
-pub async fn read_bytes(file: &File, limit: f64) -> Result<Vec<u8>, String> {
-    let name = file.name();
-    if file.size() > limit {
-        let mib = file.size() / 1024.0 / 1024.0;
-        return Err(format!("{name}: {mib:.0} MiB is more than the page reads ({:.0} MiB)", limit / 1024.0 / 1024.0));
-    }
-    let buffer =
-        JsFuture::from(file.array_buffer()).await.map_err(|e| format!("{name}: could not read the file: {e:?}"))?;
-    Ok(Uint8Array::new(&buffer).to_vec())
-}
-
-/// The text of `file`, or why it cannot be read.
-async fn read_text(file: &File, limit: f64) -> Result<String, String> {
-    let name = file.name();
-    if file.size() > limit {
-        let mib = file.size() / 1024.0 / 1024.0;
-        return Err(format!("{name}: {mib:.0} MiB is more than the page reads ({:.0} MiB)", limit / 1024.0 / 1024.0));
-    }
-    let text = JsFuture::from(file.text()).await.map_err(|e| format!("{name}: could not read the file: {e:?}"))?;
-    text.as_string().ok_or_else(|| format!("{name}: the file is not text"))
-}
-
-/// The files an `<input type=file>` change picked (and the input emptied, so that picking the
-/// same file again reads it again).
-pub fn picked_files(ev: &leptos::ev::Event) -> Vec<File> {
-    let Some(input) = ev.target().and_then(|t| t.dyn_into::<HtmlInputElement>().ok()) else { return Vec::new() };
-    let files = input.files().map(|list| (0..list.length()).filter_map(|i| list.get(i)).collect()).unwrap_or_default();
-    input.set_value("");
-    files
-}
 
 /// Sets `data-<name>` on `<body>` to what `value` says, whenever it changes.
 fn body_data(name: String, value: impl Fn() -> &'static str + 'static) {
@@ -114,6 +79,58 @@ fn forget_button(name: &str, title: &'static str, forget: impl Fn() + 'static) -
         </button>
     }
     .into_any()
+}
+
+/// The model file's status line (tracked): the last load's outcome, else the models the method has.
+fn model_status(s: &'static Supervised, short: &str) -> String {
+    let text = s.file_status.get();
+    if !text.is_empty() {
+        return text;
+    }
+    let mine: Vec<String> = s.models.with(|l| l.iter().map(|m| m.info.name.clone()).collect());
+    let shipped = s.decl.shipped.join(", ");
+    let broken = match s.unloadable.with(Vec::len) {
+        0 => String::new(),
+        1 => " One kept model does not load here (below).".to_string(),
+        n => format!(" {n} kept models do not load here (below)."),
+    };
+    if mine.is_empty() {
+        format!("Shipped {short} models: {shipped}. Load a model file to add your own.{broken}")
+    } else {
+        format!("Shipped {short} models: {shipped}; yours (kept in this browser): {}.{broken}", mine.join(", "))
+    }
+}
+
+/// A kept model that does not load here: why, Export (the file as kept) and Forget — never dropped unasked.
+fn unloadable_item(
+    m: Arc<Unloadable>,
+    index: usize,
+    forget_loader: StoredValue<Loader, LocalStorage>,
+) -> impl IntoView {
+    let name = m.name.clone();
+    let forget = name.clone();
+    let export = m.clone();
+    view! {
+        <li data-model=name.clone() class="ms-my-model--unloadable">
+            <span class="ms-my-model-name">{name.clone()}</span>
+            <span class="ms-my-model-why">{format!("does not load here: {}", m.why)}</span>
+            <button
+                class="ms-button ms-button--quiet ms-export-model"
+                type="button"
+                data-model=name.clone()
+                aria-label=format!("Export {name}")
+                title="Download the model file as it is kept in this browser"
+                on:click=move |_| {
+                    let _ = crate::app::player::motion_image::download(&export.bytes, "application/octet-stream", &export.file);
+                }
+            >
+                "Export"
+            </button>
+            {forget_button(&name, "Remove it from this browser", move || {
+                forget_loader.with_value(|l| l.forget_model(index, &forget))
+            })}
+        </li>
+    }
 }
 
 /// `#<method>-model-file` and its status line.
@@ -144,26 +161,7 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
         });
     };
     // the status line: the last load's outcome, else the models the method has
-    let status = move || {
-        let text = s.file_status.get();
-        if !text.is_empty() {
-            return text;
-        }
-        let mine: Vec<String> = s.models.with(|l| l.iter().map(|m| m.info.name.clone()).collect());
-        let shipped = s.decl.shipped.join(", ");
-        let short = &slot_short;
-        let broken = s.unloadable.with(Vec::len);
-        let broken = match broken {
-            0 => String::new(),
-            1 => " One kept model does not load here (below).".to_string(),
-            n => format!(" {n} kept models do not load here (below)."),
-        };
-        if mine.is_empty() {
-            format!("Shipped {short} models: {shipped}. Load a model file to add your own.{broken}")
-        } else {
-            format!("Shipped {short} models: {shipped}; yours (kept in this browser): {}.{broken}", mine.join(", "))
-        }
-    };
+    let status = move || model_status(s, &slot_short);
     let id = format!("{method}-model-file");
     let accept = format!(".{},application/octet-stream,application/json", s.decl.model_extension);
     // the user's models, each with its Forget button
@@ -187,37 +185,7 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
     };
     // the user's models that do not load here: why, Export (the file as kept) and Forget — never dropped unasked
     let unloadable = move || {
-        s.unloadable.with(|list| {
-            list.iter()
-                .map(|m| {
-                    let m = m.clone();
-                    let name = m.name.clone();
-                    let forget = name.clone();
-                    let export = m.clone();
-                    view! {
-                        <li data-model=name.clone() class="ms-my-model--unloadable">
-                            <span class="ms-my-model-name">{name.clone()}</span>
-                            <span class="ms-my-model-why">{format!("does not load here: {}", m.why)}</span>
-                            <button
-                                class="ms-button ms-button--quiet ms-export-model"
-                                type="button"
-                                data-model=name.clone()
-                                aria-label=format!("Export {name}")
-                                title="Download the model file as it is kept in this browser"
-                                on:click=move |_| {
-                                    let _ = crate::app::player::motion_image::download(&export.bytes, "application/octet-stream", &export.file);
-                                }
-                            >
-                                "Export"
-                            </button>
-                            {forget_button(&name, "Remove it from this browser", move || {
-                                forget_loader.with_value(|l| l.forget_model(index, &forget))
-                            })}
-                        </li>
-                    }
-                })
-                .collect_view()
-        })
+        s.unloadable.with(|list| list.iter().map(|m| unloadable_item(m.clone(), index, forget_loader)).collect_view())
     };
     view! {
         <div class="ms-method-params ms-model-file">
@@ -254,141 +222,18 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
     .into_any()
 }
 
-/// One training option's field with the place for its refusal.
-fn option_field(method: &str, s: &'static Supervised, spec: &ParamSpec, value: RwSignal<String>) -> AnyView {
-    let input = spec.name.clone();
-    let message = move || s.errors.with(|e| e.iter().find(|(i, _)| *i == input).map(|(_, m)| m.clone()));
-    let shown = message.clone();
-    view! {
-        {field(&format!("{method}-train"), spec, value, RwSignal::new(Vec::new()))}
-        <span id=format!("{method}-train-error-{}", spec.name) class="ms-field-error" role="alert" hidden=move || shown().is_none()>
-            {move || message().unwrap_or_default()}
-        </span>
-    }
-    .into_any()
-}
-
 #[component]
 pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl IntoView {
     let slot = &state.methods[index];
     let Some(s) = slot.supervised.as_ref() else { return ().into_any() };
     let method = slot.info.name.clone();
     let short = slot.info.short.clone();
-    let step_name = s.decl.step_name.clone();
     let busy = move || s.state.with(TrainState::busy);
     body_data(format!("data-{method}-training"), move || s.state.with(TrainState::body_state));
 
-    let clear = move |input: &str| s.errors.update(|e| e.retain(|(i, _)| i != input));
-    let on_labels = move |ev: leptos::ev::Event| {
-        let Some(file) = picked_files(&ev).into_iter().next() else { return };
-        clear("labels");
-        let method = slot.info.name.clone();
-        wasm_bindgen_futures::spawn_local(async move {
-            match read_text(&file, MAX_LABELS_BYTES).await {
-                Ok(text) => {
-                    if !s.named.get_untracked() {
-                        s.name.set(format!("{}-{method}", stem(&file.name())));
-                    }
-                    if !s.state.with_untracked(TrainState::busy) {
-                        s.status.set(format!("{}: ready to train on the take on screen.", file.name()));
-                    }
-                    s.labels.set(Some((file.name(), text)));
-                }
-                Err(message) => {
-                    s.labels.set(None);
-                    s.refuse("labels", message);
-                }
-            }
-        });
-    };
-    let on_takes = move |ev: leptos::ev::Event| {
-        let files = picked_files(&ev);
-        if files.is_empty() {
-            return;
-        }
-        clear("takes");
-        // the takes a training adds are capped in total (the worker refuses more too): checked
-        // from the files' sizes, before any is read
-        let names: Vec<String> = files.iter().map(File::name).collect();
-        let kept: Vec<u64> = s.extra.with_untracked(|list| {
-            list.iter().filter(|(n, _)| !names.contains(n)).map(|(_, b)| b.len() as u64).collect()
-        });
-        let total = crate::protocol::extra_takes_total(kept.into_iter().chain(files.iter().map(|f| f.size() as u64)));
-        if let Err(message) = total {
-            s.refuse("takes", message);
-            return;
-        }
-        wasm_bindgen_futures::spawn_local(async move {
-            let mut read = Vec::new();
-            for file in files {
-                match read_bytes(&file, MAX_FILE_BYTES).await {
-                    Ok(bytes) => read.push((file.name(), Arc::new(bytes))),
-                    Err(message) => {
-                        s.refuse("takes", message);
-                        return;
-                    }
-                }
-            }
-            s.extra.update(|list| {
-                for (n, b) in read {
-                    list.retain(|(m, _)| *m != n);
-                    list.push((n, b));
-                }
-            });
-        });
-    };
-    let on_clear_takes = move |_| {
-        s.extra.set(Vec::new());
-        s.validation.set(String::new());
-        clear("takes");
-        clear("validation");
-    };
-    // the takes a training would see: the one on screen, then the ones added
-    let take_names = move || {
-        let mut names: Vec<String> =
-            state.motion.with(|m| m.as_ref().map(|m| m.summary.name.clone())).into_iter().collect();
-        s.extra.with(|e| names.extend(e.iter().map(|(n, _)| n.clone())));
-        names
-    };
-
     let start_loader = loader.clone();
     // a training afresh, or (`from`: a model of the user's) more epochs of that model
-    let start_with = move |from: Option<String>| {
-        if busy() {
-            return;
-        }
-        let Some((labels_name, text)) = s.labels.get_untracked() else {
-            s.refuse("labels", "choose a label CSV first".into());
-            return;
-        };
-        s.errors.set(Vec::new());
-        let texts: Vec<String> = s.fields.iter().map(|f| f.get_untracked()).collect();
-        let options = match form::params_from_form(&slot.info.short, &s.decl.training, &texts) {
-            Ok(options) => options,
-            Err(e) => {
-                let input = e.param_name().unwrap_or("labels").to_string();
-                s.refuse(&input, e.to_string());
-                s.state.set(TrainState::Failed);
-                s.status.set("Not trained: an option below cannot be read.".into());
-                return;
-            }
-        };
-        start_loader.train(
-            index,
-            TrainAsk {
-                name: from.clone().unwrap_or_else(|| s.name.get_untracked().trim().to_string()),
-                labels_name,
-                labels: text,
-                extra: if s.decl.more_takes { s.extra.get_untracked() } else { Vec::new() },
-                options,
-                continue_from: from,
-                // a validation take only among two or more takes (one of them: a take removed since is not sent)
-                validation: Some(s.validation.get_untracked())
-                    .filter(|v| s.decl.validation_take && s.decl.more_takes && !v.is_empty())
-                    .filter(|v| untrack(take_names).contains(v)),
-            },
-        );
-    };
+    let start_with = move |from: Option<String>| start_training(state, &start_loader, index, from);
     let start = {
         let start_with = start_with.clone();
         move || start_with(None)
@@ -419,7 +264,7 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
         s.request.set(None);
         match request {
             TrainRequest::Labels { labels_name, csv, model_name } => {
-                clear("labels");
+                clear_error(s, "labels");
                 if !s.named.get_untracked() {
                     s.name.set(model_name);
                 }
@@ -431,170 +276,8 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
     });
     let stop_loader = loader.clone();
     let on_stop = move |_| stop_loader.stop_training(index);
-    let on_download = move |_| {
-        if let Some(file) = s.trained.get_untracked() {
-            let file_name = s.file_name(&file.name);
-            if let Err(e) = download(&file.bytes, "application/octet-stream", &file_name) {
-                state.show_error(format!("could not save {file_name}: {e:?}"));
-            }
-        }
-    };
 
-    let error = move |input: &'static str| {
-        let id = format!("{}-train-error-{input}", slot.info.name);
-        let text = move || s.errors.with(|e| e.iter().find(|(i, _)| i == input).map(|(_, m)| m.clone()));
-        view! {
-            <span id=id class="ms-field-error" role="alert" hidden=move || text().is_none()>
-                {move || text().unwrap_or_default()}
-            </span>
-        }
-    };
-    let progress = move || {
-        s.state.with(|st| match st {
-            TrainState::Training { stage, step, steps, fraction } => (stage.clone(), *step, *steps, *fraction),
-            _ => (String::new(), 0, 1, 0.0),
-        })
-    };
-    let progress_label = {
-        let step_name = step_name.clone();
-        move || {
-            if s.state.with(|st| *st == TrainState::Stopping) {
-                return format!("Stopping after this {step_name}…");
-            }
-            let (stage, step, _, _) = progress();
-            match (step, s.steps.with(|r| r.last().map(|r| r.line.clone()))) {
-                (0, _) | (_, None) => format!("Training: {stage}…"),
-                (_, Some(line)) => line,
-            }
-        }
-    };
-    // the bar: steps done of steps while stepping, else the stage's own fraction
-    let bar = move || {
-        let (_, step, steps, fraction) = progress();
-        if step > 0 && steps > 1 {
-            (step as f64 / steps as f64).clamp(0.0, 1.0)
-        } else {
-            fraction.clamp(0.0, 1.0)
-        }
-    };
-    let takes_text = move || {
-        s.extra.with(|list| {
-            if list.is_empty() {
-                "only the take on screen".to_string()
-            } else {
-                format!(
-                    "the take on screen and {}",
-                    list.iter().map(|(n, _)| n.as_str()).collect::<Vec<_>>().join(", ")
-                )
-            }
-        })
-    };
-    let options = || s.decl.training.iter().zip(&s.fields);
-    let basic: Vec<AnyView> =
-        options().filter(|(spec, _)| spec.basic).map(|(spec, v)| option_field(&slot.info.name, s, spec, *v)).collect();
-    let advanced: Vec<AnyView> =
-        options().filter(|(spec, _)| !spec.basic).map(|(spec, v)| option_field(&slot.info.name, s, spec, *v)).collect();
-    let has_advanced = !advanced.is_empty();
-    // a refusal of an option under "More options" opens it (and nothing closes what the user opened)
-    let details_ref = NodeRef::<leptos::html::Details>::new();
-    Effect::new(move |_| {
-        let refused =
-            s.errors.with(|e| e.iter().any(|(i, _)| s.decl.training.iter().any(|spec| !spec.basic && spec.name == *i)));
-        if let Some(details) = details_ref.get().filter(|_| refused) {
-            details.set_open(true);
-        }
-    });
-    let more_takes = s.decl.more_takes.then(|| {
-        let id = format!("{method}-train-takes");
-        view! {
-            <div class="ms-method-params">
-                <label class="ms-button ms-button--quiet" for=id.clone()>"More takes…"</label>
-                <input id=id class="ms-visually-hidden" type="file" multiple=true accept=".bvh" on:change=on_takes/>
-                <span id=format!("{method}-train-takes-names") class="ms-lma-file">{takes_text}</span>
-                <button
-                    id=format!("{method}-train-takes-clear")
-                    class="ms-button ms-button--quiet"
-                    type="button"
-                    hidden=move || s.extra.with(Vec::is_empty)
-                    on:click=on_clear_takes
-                >
-                    "Only the take on screen"
-                </button>
-                {error("takes")}
-            </div>
-        }
-    });
-    let validation_choice = (s.decl.validation_take && s.decl.more_takes).then(|| {
-        let id = format!("{method}-train-validation");
-        view! {
-            <div class="ms-method-params" hidden=move || s.extra.with(Vec::is_empty)>
-                <label title="One of the takes kept out of the training: its validation loss chooses the epoch (early stopping, patience under More options) and its labels the model's decoding and unknown threshold (choose_decoding).">
-                    "validation take "
-                    <select id=id on:change=move |ev| s.validation.set(event_target_value(&ev))>
-                        <option value="" selected=move || s.validation.with(String::is_empty)>"none"</option>
-                        {move || {
-                            take_names()
-                                .into_iter()
-                                .map(|n| {
-                                    let (chosen, value) = (n.clone(), n.clone());
-                                    view! { <option value=value selected=move || s.validation.with(|v| *v == chosen)>{n}</option> }
-                                })
-                                .collect_view()
-                        }}
-                    </select>
-                </label>
-                {error("validation")}
-            </div>
-        }
-    });
-    let report_rows = move || {
-        s.report.with(|r| {
-            r.as_ref()
-                .map(|r| {
-                    r.rows
-                        .iter()
-                        .map(|row| {
-                            let mut cells = row.iter();
-                            let head = cells.next().cloned().unwrap_or_default();
-                            let rest = cells.map(|c| view! { <td>{c.clone()}</td> }).collect_view();
-                            view! { <tr><th scope="row">{head}</th>{rest}</tr> }
-                        })
-                        .collect_view()
-                })
-                .unwrap_or_default()
-        })
-    };
-    let report_head = move || {
-        s.report.with(|r| {
-            r.as_ref()
-                .map(|r| r.columns.iter().map(|c| view! { <th scope="col">{c.clone()}</th> }).collect_view())
-                .unwrap_or_default()
-        })
-    };
-    let no_report = move || s.report.with(|r| r.as_ref().is_none_or(|r| r.rows.is_empty()));
-    // advice before training: classes with too few labelled segments or seconds in the takes trained on
-    let advice = move || {
-        let Some((name, text)) = s.labels.get() else { return Vec::new() };
-        let Ok(rows) = crate::labels::read_csv(&text, &name) else { return Vec::new() };
-        let Some((take, fps)) = state.motion.with(|m| m.as_ref().map(|m| (m.summary.name.clone(), m.summary.fps)))
-        else {
-            return Vec::new();
-        };
-        // the other takes' rates are not read before training: their rows are counted at this take's
-        let takes: Vec<(String, f64)> = std::iter::once((take, fps))
-            .chain(s.extra.with(|e| e.iter().map(|(n, _)| (n.clone(), fps)).collect::<Vec<_>>()))
-            .collect();
-        training_advice::advice(&training_advice::class_counts(&rows, &takes))
-    };
-    let settle = {
-        let loader = loader.clone();
-        move |choice: PendingChoice| loader.settle_trained(index, choice)
-    };
-    let (keep, apply, discard) = (settle.clone(), settle.clone(), settle);
-    let pending_now = move || s.pending.with(|p| p.as_ref().map(|p| p.now_on.clone())).unwrap_or_default();
     let stopping = move || s.state.with(|st| *st == TrainState::Stopping);
-    let labels_id = format!("{method}-train-labels");
-    let labels_accept = ".csv,text/csv";
 
     view! {
         <section id=format!("{method}-training") class="ms-dtfcn-training" aria-label=format!("Train a {short} model on your labels")>
@@ -603,38 +286,10 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
                 "A CSV with the header " <code>{s.decl.labels_header.clone()}</code> ". " {s.decl.labels_help.clone()}
             </p>
             <form id=format!("{method}-train-form") class="ms-dtfcn-train-form" novalidate=true on:submit=on_start>
-                <div class="ms-method-params">
-                    <label class="ms-button ms-button--quiet" for=labels_id.clone()>"Label CSV…"</label>
-                    <input id=labels_id class="ms-visually-hidden" type="file" accept=labels_accept on:change=on_labels/>
-                    <span id=format!("{method}-train-labels-name") class="ms-lma-file">
-                        {move || s.labels.with(|l| l.as_ref().map_or("no file chosen".to_string(), |(n, _)| n.clone()))}
-                    </span>
-                    {error("labels")}
-                </div>
-                {more_takes}
-                {validation_choice}
-                <ul id=format!("{method}-train-advice") class="ms-train-advice" role="note"
-                    aria-label="Advice before training" hidden=move || advice().is_empty()>
-                    {move || advice().into_iter().map(|line| view! { <li>{line}</li> }).collect_view()}
-                </ul>
-                <div class="ms-method-params">
-                    {basic}
-                    <label title="The model's name in the model choice, and its file's name.">
-                        "model name "
-                        <input
-                            id=format!("{method}-train-name")
-                            type="text"
-                            size="14"
-                            bind:value=s.name
-                            on:input=move |_| s.named.set(true)
-                        />
-                    </label>
-                    {error("name")}
-                </div>
-                <details class="ms-method-advanced" hidden=!has_advanced node_ref=details_ref>
-                    <summary>"More options"</summary>
-                    <div class="ms-method-params">{advanced}</div>
-                </details>
+                {labels_choice(slot, s)}
+                <MoreTakes state=state s=s method=method.clone()/>
+                <TrainAdvice state=state s=s method=method.clone()/>
+                {training_options(slot, s)}
                 <div class="ms-method-params">
                     <button
                         id=format!("{method}-train-start")
@@ -665,19 +320,8 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
                     >
                         "Stop"
                     </button>
-                    <div id=format!("{method}-train-progress") class="ms-progress" role="status" aria-live="polite" hidden=move || !busy()>
-                        <progress max="1" value=move || bar().to_string()></progress>
-                        <span class="ms-progress-label">{progress_label}</span>
-                    </div>
-                    <button
-                        id=format!("{method}-train-download")
-                        class="ms-button ms-button--quiet"
-                        type="button"
-                        hidden=move || s.trained.with(Option::is_none)
-                        on:click=on_download
-                    >
-                        {move || s.trained.with(|f| f.as_ref().map(|f| format!("Download {}", s.file_name(&f.name))).unwrap_or_default())}
-                    </button>
+                    <TrainProgress s=s method=method.clone()/>
+                    <DownloadTrained state=state s=s method=method.clone()/>
                 </div>
             </form>
             <p
@@ -690,26 +334,54 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
             >
                 {move || s.status.get()}
             </p>
-            <div id=format!("{method}-train-pending") class="ms-train-pending" role="group"
-                aria-label="A model trained on another take" hidden=move || s.pending.with(Option::is_none)>
-                <button id=format!("{method}-train-keep") class="ms-button" type="button"
-                    on:click=move |_| keep(PendingChoice::Keep)>"Keep it for later"</button>
-                // applied only to a take on screen: while the next one loads it would run on the last
-                <button id=format!("{method}-train-apply") class="ms-button ms-button--quiet" type="button"
-                    disabled=move || !state.load.with(|l| matches!(l, crate::app::state::LoadState::Ready))
-                    title=move || if state.load.with(|l| matches!(l, crate::app::state::LoadState::Ready)) { "" } else { "waits until the take is on screen" }
-                    on:click=move |_| apply(PendingChoice::Apply)>{move || format!("Apply it to {}", pending_now())}</button>
-                <button id=format!("{method}-train-discard") class="ms-button ms-button--quiet" type="button"
-                    on:click=move |_| discard(PendingChoice::Discard)>"Discard it"</button>
-            </div>
-            <table id=format!("{method}-train-report") class="ms-lma-report" hidden=no_report>
-                <thead><tr>{report_head}</tr></thead>
-                <tbody>{report_rows}</tbody>
-            </table>
+            <PendingTrained state=state loader=loader.clone() index=index s=s method=method.clone()/>
+            <TrainReport s=s method=method.clone()/>
             <TrainingPlot method=method.clone() supervised=s/>
         </section>
     }
     .into_any()
+}
+
+/// Starts a training of method `index` afresh, or (`from`: a model of the user's) more epochs of that model, with
+/// the labels, takes and options the panel holds (unless one is under way; a refused option says why at its field).
+fn start_training(state: AppState, loader: &Loader, index: usize, from: Option<String>) {
+    let slot = &state.methods[index];
+    let Some(s) = slot.supervised.as_ref() else { return };
+    let busy = move || s.state.with(TrainState::busy);
+    if busy() {
+        return;
+    }
+    let Some((labels_name, text)) = s.labels.get_untracked() else {
+        s.refuse("labels", "choose a label CSV first".into());
+        return;
+    };
+    s.errors.set(Vec::new());
+    let texts: Vec<String> = s.fields.iter().map(|f| f.get_untracked()).collect();
+    let options = match form::params_from_form(&slot.info.short, &s.decl.training, &texts) {
+        Ok(options) => options,
+        Err(e) => {
+            let input = e.param_name().unwrap_or("labels").to_string();
+            s.refuse(&input, e.to_string());
+            s.state.set(TrainState::Failed);
+            s.status.set("Not trained: an option below cannot be read.".into());
+            return;
+        }
+    };
+    loader.train(
+        index,
+        TrainAsk {
+            name: from.clone().unwrap_or_else(|| s.name.get_untracked().trim().to_string()),
+            labels_name,
+            labels: text,
+            extra: if s.decl.more_takes { s.extra.get_untracked() } else { Vec::new() },
+            options,
+            continue_from: from,
+            // a validation take only among two or more takes (one of them: a take removed since is not sent)
+            validation: Some(s.validation.get_untracked())
+                .filter(|v| s.decl.validation_take && s.decl.more_takes && !v.is_empty())
+                .filter(|v| untrack(|| take_names(state, s)).contains(v)),
+        },
+    );
 }
 
 /// `#take-switch`: the question put up when the user opens another take (drop, file picker,

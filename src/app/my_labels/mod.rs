@@ -6,3 +6,5 @@ pub mod edits;
 
 #[cfg(feature = "web")]
 pub mod row;
+#[cfg(feature = "web")]
+pub mod tools;

@@ -44,20 +44,19 @@
 
 use crate::app::effort::bars::EffortLane;
 use crate::app::library::carry::TRANSFERRED;
-use crate::app::models::supervised::{TrainRequest, TrainState};
+use crate::app::models::supervised::TrainRequest;
 use crate::app::my_labels::edits::MyLabels as Model;
 use crate::app::my_labels::edits::{
     backup_key, cuts_of, fingerprint, hotkey_label, is_reserved, label_class, snap, snap_tolerance, storage_key,
-    suggestions, vocabulary, EditError, HOTKEYS, SNAP_PX,
+    suggestions, vocabulary, EditError, LabelSpan, SNAP_PX,
 };
 use crate::app::player::motion_image::stem;
 use crate::app::state::AppState;
 use crate::app::state::Selection;
 use crate::app::timeline::keys::is_for_the_field;
-use crate::app::timeline::row_exports::RowExports;
 use crate::app::timeline::rows::is_labelling;
 use crate::app::timeline::rows::labels_classes;
-use crate::app::timeline::window::visible_segments;
+use crate::app::timeline::window::{visible_segments, Window};
 use crate::labels::to_csv;
 use crate::protocol::MethodView;
 use crate::segment::palette::{action_colour, class_colour, cluster_colour};
@@ -127,12 +126,12 @@ fn local_storage() -> Result<WebStorage, String> {
 /// A row of the timeline besides mine: its id, its label and its segments (frames, label, the
 /// CSS colour it is drawn in, `None` when hatched).
 #[derive(Debug, Clone, PartialEq)]
-struct OtherRow {
-    id: String,
-    name: String,
-    segments: Vec<(usize, usize, String, Option<String>)>,
+pub(super) struct OtherRow {
+    pub(super) id: String,
+    pub(super) name: String,
+    pub(super) segments: Vec<(usize, usize, String, Option<String>)>,
     /// Its labels are classes (the ground truth, a labelling method's): my labels' vocabulary.
-    classes: bool,
+    pub(super) classes: bool,
 }
 
 /// The colour a segment has in its method's row (as `method_panel` draws it; `None`: hatched).
@@ -241,35 +240,35 @@ struct Drag {
 
 /// A line of the status: what happened, or why not (`error`).
 #[derive(Debug, Clone, PartialEq)]
-struct Note {
-    error: bool,
-    text: String,
+pub(super) struct Note {
+    pub(super) error: bool,
+    pub(super) text: String,
 }
 
 /// The row's state, shared by the row on the timeline and its tools under it.
 #[derive(Clone, Copy)]
 pub struct MyRow {
-    state: AppState,
-    model: RwSignal<Model>,
+    pub(super) state: AppState,
+    pub(super) model: RwSignal<Model>,
     /// The storage key of the take on screen.
-    key: RwSignal<Option<String>>,
+    pub(super) key: RwSignal<Option<String>>,
     /// The stored record of that take when it could not be read: kept under [`backup_key`]
     /// before the next write replaces it.
-    corrupt: StoredValue<Option<String>>,
-    note: RwSignal<Option<Note>>,
+    pub(super) corrupt: StoredValue<Option<String>>,
+    pub(super) note: RwSignal<Option<Note>>,
     /// The label field's text.
-    label: RwSignal<String>,
+    pub(super) label: RwSignal<String>,
     /// The row chosen to copy (`<method>-actions`…).
-    source: RwSignal<String>,
+    pub(super) source: RwSignal<String>,
     /// The cut being dragged, where it is now.
-    dragging: RwSignal<Option<usize>>,
+    pub(super) dragging: RwSignal<Option<usize>>,
     drag: StoredValue<Option<Drag>>,
     /// The last DT-FCN training was asked from this row.
-    training: RwSignal<bool>,
-    others: Memo<Vec<OtherRow>>,
+    pub(super) training: RwSignal<bool>,
+    pub(super) others: Memo<Vec<OtherRow>>,
     /// My labels' fixed vocabulary (number keys 1–9 give its first nine).
-    vocabulary: Memo<Vec<String>>,
-    lane: NodeRef<Div>,
+    pub(super) vocabulary: Memo<Vec<String>>,
+    pub(super) lane: NodeRef<Div>,
 }
 
 impl MyRow {
@@ -382,14 +381,14 @@ impl MyRow {
         row
     }
 
-    fn take_name(self) -> String {
+    pub(super) fn take_name(self) -> String {
         self.state.motion.with_untracked(|m| m.as_ref().map(|m| m.summary.name.clone()).unwrap_or_default())
     }
 
     /// Writes the labels to storage (removes them when there are none). A stored record that
     /// could not be read is first kept under its backup key (and the user told where); a write
     /// the browser refuses is said, with the exports offered when its storage is full.
-    fn save(self) {
+    pub(super) fn save(self) {
         let Some(key) = self.key.get_untracked() else { return };
         let name = self.take_name();
         let (empty, json) = self.model.with_untracked(|m| (m.spans().is_empty(), m.to_json(&name)));
@@ -425,7 +424,7 @@ impl MyRow {
     /// Says why the labels could not be written (`e`, the browser's error; `also`, what else is
     /// left undone); when the browser's storage is full, offers the exports (the CSV button takes
     /// the focus) — the labels stay on screen until the page is left.
-    fn unsaved(self, e: &JsValue, also: &str) {
+    pub(super) fn unsaved(self, e: &JsValue, also: &str) {
         let name = js_sys::Reflect::get(e, &"name".into()).ok().and_then(|n| n.as_string()).unwrap_or_default();
         let full = matches!(name.as_str(), "QuotaExceededError" | "NS_ERROR_DOM_QUOTA_REACHED");
         if !full {
@@ -450,7 +449,7 @@ impl MyRow {
 
     /// Another tab changed the stored labels of the take on screen: they replace this tab's row
     /// (an edit here would otherwise overwrite them unseen).
-    fn from_other_tab(self) {
+    pub(super) fn from_other_tab(self) {
         let Some(key) = self.key.get_untracked() else { return };
         let frames = self.state.frames();
         self.drag.set_value(None);
@@ -461,12 +460,12 @@ impl MyRow {
         self.note.set(note);
     }
 
-    fn say(self, error: bool, text: String) {
+    pub(super) fn say(self, error: bool, text: String) {
         self.note.set(Some(Note { error, text }));
     }
 
     /// Applies an edit and saves; a refused edit says why. `done` describes a successful one.
-    fn edit(self, edit: impl FnOnce(&mut Model) -> Result<(), EditError>, done: Option<String>) -> bool {
+    pub(super) fn edit(self, edit: impl FnOnce(&mut Model) -> Result<(), EditError>, done: Option<String>) -> bool {
         let mut result = Ok(());
         self.model.update(|m| result = edit(m));
         match result {
@@ -482,20 +481,20 @@ impl MyRow {
         }
     }
 
-    fn frame(self) -> usize {
+    pub(super) fn frame(self) -> usize {
         self.state.frame.get_untracked()
     }
 
-    fn split(self) {
+    pub(super) fn split(self) {
         let f = self.frame();
         self.edit(|m| m.split_at(f), Some(format!("Split at frame {}", f + 1)));
     }
 
-    fn merge(self) {
+    pub(super) fn merge(self) {
         self.edit(Model::merge_with_next, None);
     }
 
-    fn delete(self) {
+    pub(super) fn delete(self) {
         self.edit(
             Model::delete,
             Some("Deleted: its frames are a gap now (Fill gap or Undo brings a segment back)".into()),
@@ -505,7 +504,7 @@ impl MyRow {
     /// `[` / `]` with one of my segments selected: the previous / next boundary of my row from the
     /// playhead (not from the selected segment: the playhead may have moved since); selects my
     /// segment starting there (at a gap's start the selection stays) and brings it into view.
-    fn step(self, forward: bool) {
+    pub(super) fn step(self, forward: bool) {
         let (frame, frames) = (self.state.frame.get_untracked(), self.state.frames());
         let Some((at, segment)) = self.model.with_untracked(|m| {
             let spans: Vec<(usize, usize)> = m.spans().iter().map(|s| (s.start, s.end)).collect();
@@ -527,15 +526,15 @@ impl MyRow {
         self.state.frame.set(at);
     }
 
-    fn undo(self) {
+    pub(super) fn undo(self) {
         self.edit(Model::undo, None);
     }
 
-    fn redo(self) {
+    pub(super) fn redo(self) {
         self.edit(Model::redo, None);
     }
 
-    fn relabel(self) {
+    pub(super) fn relabel(self) {
         let text = self.label.get_untracked();
         self.edit(|m| m.relabel(&text), None);
     }
@@ -568,14 +567,14 @@ impl MyRow {
     }
 
     /// Gives the selected segment `label` (a vocabulary entry: its number key or its button).
-    fn label_with(self, label: String) {
+    pub(super) fn label_with(self, label: String) {
         let done = format!("Labelled {label}");
         if self.edit(|m| m.relabel(&label), Some(done)) {
             self.label.set(label);
         }
     }
 
-    fn copy(self) {
+    pub(super) fn copy(self) {
         let id = self.source.get_untracked();
         let Some(from) = self.others.with_untracked(|o| o.iter().find(|r| r.id == id).cloned()) else {
             self.say(true, "No row to copy yet: run a method first, or start empty".into());
@@ -593,7 +592,7 @@ impl MyRow {
     }
 
     /// Starts a DT-FCN training on my labelled segments, with the DT-FCN panel's options.
-    fn train(self) {
+    pub(super) fn train(self) {
         let name = self.take_name();
         let rows = self.model.with_untracked(|m| m.label_rows(&name));
         let classes = suggestions(rows.iter().map(|r| r.label.as_str()));
@@ -618,7 +617,7 @@ impl MyRow {
     }
 
     /// The frame position (fractional) at a pointer's x, over my lane.
-    fn position_at(self, client_x: f64) -> Option<(f64, f64)> {
+    pub(super) fn position_at(self, client_x: f64) -> Option<(f64, f64)> {
         let rect = self.lane.get_untracked()?.get_bounding_client_rect();
         if rect.width() <= 0.0 {
             return None;
@@ -630,7 +629,7 @@ impl MyRow {
     /// Moves boundary `cut` by `by` frames from the keyboard (one undoable edit; it rolls as a
     /// drag does: [`Model::nudge_boundary`]) and keeps the focus on its handle, drawn again at its
     /// new frame.
-    fn nudge(self, cut: usize, by: isize) {
+    pub(super) fn nudge(self, cut: usize, by: isize) {
         let mut landed = cut;
         let moved = self.edit(
             |m| {
@@ -656,7 +655,7 @@ impl MyRow {
     }
 
     /// Starts dragging boundary `cut`.
-    fn grab(self, cut: usize, ev: &PointerEvent) {
+    pub(super) fn grab(self, cut: usize, ev: &PointerEvent) {
         if ev.button() != 0 {
             return;
         }
@@ -673,7 +672,7 @@ impl MyRow {
     }
 
     /// The page-wide listeners: the drag follows the pointer anywhere; the row's keys.
-    fn listen(self) {
+    pub(super) fn listen(self) {
         let window = gloo::utils::window();
         let on_move = move |ev: &web_sys::Event| {
             let Some(ev) = ev.dyn_ref::<web_sys::PointerEvent>() else { return };
@@ -824,6 +823,109 @@ fn colour_of(label: &str, known: &HashMap<String, Option<String>>) -> Option<Str
     }
 }
 
+/// My segment `i`, `s` (`selected`: the one selected), in the window `w`, coloured as the other rows colour its label
+/// (`known`), its tip in seconds at `fps`: click to select it, the playhead where clicked.
+fn my_segment(
+    mine: MyRow,
+    i: usize,
+    s: LabelSpan,
+    selected: bool,
+    w: &Window,
+    known: &HashMap<String, Option<String>>,
+    fps: f64,
+) -> impl IntoView {
+    let colour = (!s.label.is_empty()).then(|| colour_of(&s.label, known)).flatten();
+    let class = match (s.label.is_empty(), &colour) {
+        (true, _) => "ms-seg ms-seg--mine ms-seg--unlabelled",
+        (false, None) => "ms-seg ms-seg--mine ms-seg--transition",
+        (false, Some(_)) => "ms-seg ms-seg--mine ms-seg--coloured",
+    };
+    let left = w.fraction(s.start as f64).max(0.0);
+    let right = w.fraction((s.end + 1) as f64).min(1.0);
+    let text = if s.label.is_empty() { "unlabelled".to_string() } else { s.label.clone() };
+    // the label, or a clean abbreviation when it does not fit (in full in the tip)
+    let shown = crate::app::timeline::lanes::segment_text(&text, right - left);
+    let tip = format!(
+        "{text} · frames {}–{} · {:.2}–{:.2} s",
+        s.start + 1,
+        s.end + 1,
+        s.start as f64 / fps,
+        (s.end + 1) as f64 / fps
+    );
+    let (start, end) = (s.start, s.end);
+    let on_click = move |ev: MouseEvent| {
+        ev.stop_propagation();
+        mine.model.update(|m| m.select(Some(i)));
+        mine.state.play_until.set(None);
+        if let Some((at, _)) = mine.position_at(ev.client_x() as f64) {
+            mine.state.frame.set((at.floor().max(0.0) as usize).clamp(start, end));
+        }
+    };
+    view! {
+        <div
+            class=class
+            class:ms-seg--selected=selected
+            style:left=format!("{:.4}%", left * 100.0)
+            style:width=format!("{:.4}%", (right - left).max(0.0) * 100.0)
+            style:color=colour.as_deref().map(crate::app::timeline::contrast::ink_on)
+            style:background-color=colour
+            data-start=s.start.to_string()
+            data-end=s.end.to_string()
+            data-label=s.label.clone()
+            aria-label=tip
+            aria-pressed=selected.to_string()
+            role="button"
+            on:pointerdown=move |ev: PointerEvent| ev.stop_propagation()
+            on:click=on_click
+        >
+            {shown}
+        </div>
+    }
+}
+
+/// The handle of my boundary before frame `cut` (`left`: where it is, a fraction of the lanes; `active`: being
+/// dragged): drag it, or ← / → (Shift: a second) when it has the focus.
+fn boundary_handle(mine: MyRow, cut: usize, frames: usize, active: bool, left: f64) -> impl IntoView {
+    let label = if cut >= frames {
+        format!("End of my last segment, after frame {cut}: drag, or ← / → (Shift: 1 s), to move")
+    } else {
+        format!("Boundary before frame {}: drag, or ← / → (Shift: 1 s), to move", cut + 1)
+    };
+    let on_key = move |ev: KeyboardEvent| {
+        let step = if ev.shift_key() { mine.state.fps().round().max(1.0) as isize } else { 1 };
+        let by = match ev.key().as_str() {
+            "ArrowLeft" => -step,
+            "ArrowRight" => step,
+            _ => return,
+        };
+        if ev.ctrl_key() || ev.meta_key() || ev.alt_key() {
+            return;
+        }
+        // the timeline's own ← / → (a frame, a second) must not act as well
+        ev.prevent_default();
+        ev.stop_propagation();
+        mine.nudge(cut, by);
+    };
+    view! {
+        <div
+            class="ms-my-handle"
+            class:ms-my-handle--active=active
+            style:left=format!("{:.4}%", left * 100.0)
+            data-cut=cut.to_string()
+            role="separator"
+            aria-orientation="vertical"
+            tabindex="0"
+            aria-valuemin="1"
+            aria-valuemax=(frames + 1).to_string()
+            aria-valuenow=(cut + 1).to_string()
+            aria-label=label.clone()
+            title=label
+            on:pointerdown=move |ev: PointerEvent| mine.grab(cut, &ev)
+            on:keydown=on_key
+        ></div>
+    }
+}
+
 /// `#row-my-labels` on the timeline.
 #[component]
 pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
@@ -848,57 +950,7 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
             let spans: Vec<(usize, usize)> = m.spans().iter().map(|s| (s.start, s.end)).collect();
             visible_segments(&spans, &w, MAX_SEGMENTS)
                 .into_iter()
-                .map(|i| {
-                    let s = m.spans()[i].clone();
-                    let selected = m.selected() == Some(i);
-                    let colour = (!s.label.is_empty()).then(|| colour_of(&s.label, &known)).flatten();
-                    let class = match (s.label.is_empty(), &colour) {
-                        (true, _) => "ms-seg ms-seg--mine ms-seg--unlabelled",
-                        (false, None) => "ms-seg ms-seg--mine ms-seg--transition",
-                        (false, Some(_)) => "ms-seg ms-seg--mine ms-seg--coloured",
-                    };
-                    let left = w.fraction(s.start as f64).max(0.0);
-                    let right = w.fraction((s.end + 1) as f64).min(1.0);
-                    let text = if s.label.is_empty() { "unlabelled".to_string() } else { s.label.clone() };
-                    // the label, or a clean abbreviation when it does not fit (in full in the tip)
-                    let shown = crate::app::timeline::lanes::segment_text(&text, right - left);
-                    let tip = format!(
-                        "{text} · frames {}–{} · {:.2}–{:.2} s",
-                        s.start + 1,
-                        s.end + 1,
-                        s.start as f64 / fps,
-                        (s.end + 1) as f64 / fps
-                    );
-                    let (start, end) = (s.start, s.end);
-                    let on_click = move |ev: MouseEvent| {
-                        ev.stop_propagation();
-                        mine.model.update(|m| m.select(Some(i)));
-                        state.play_until.set(None);
-                        if let Some((at, _)) = mine.position_at(ev.client_x() as f64) {
-                            state.frame.set((at.floor().max(0.0) as usize).clamp(start, end));
-                        }
-                    };
-                    view! {
-                        <div
-                            class=class
-                            class:ms-seg--selected=selected
-                            style:left=format!("{:.4}%", left * 100.0)
-                            style:width=format!("{:.4}%", (right - left).max(0.0) * 100.0)
-                            style:color=colour.as_deref().map(crate::app::timeline::contrast::ink_on)
-                            style:background-color=colour
-                            data-start=s.start.to_string()
-                            data-end=s.end.to_string()
-                            data-label=s.label.clone()
-                            aria-label=tip
-                            aria-pressed=selected.to_string()
-                            role="button"
-                            on:pointerdown=move |ev: PointerEvent| ev.stop_propagation()
-                            on:click=on_click
-                        >
-                            {shown}
-                        </div>
-                    }
-                })
+                .map(|i| my_segment(mine, i, m.spans()[i].clone(), m.selected() == Some(i), &w, &known, fps))
                 .collect_view()
         })
     };
@@ -916,46 +968,7 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
                 .collect();
             cuts.dedup();
             cuts.into_iter()
-                .map(|cut| {
-                    let label = if cut >= frames {
-                        format!("End of my last segment, after frame {cut}: drag, or ← / → (Shift: 1 s), to move")
-                    } else {
-                        format!("Boundary before frame {}: drag, or ← / → (Shift: 1 s), to move", cut + 1)
-                    };
-                    let on_key = move |ev: KeyboardEvent| {
-                        let step = if ev.shift_key() { state.fps().round().max(1.0) as isize } else { 1 };
-                        let by = match ev.key().as_str() {
-                            "ArrowLeft" => -step,
-                            "ArrowRight" => step,
-                            _ => return,
-                        };
-                        if ev.ctrl_key() || ev.meta_key() || ev.alt_key() {
-                            return;
-                        }
-                        // the timeline's own ← / → (a frame, a second) must not act as well
-                        ev.prevent_default();
-                        ev.stop_propagation();
-                        mine.nudge(cut, by);
-                    };
-                    view! {
-                        <div
-                            class="ms-my-handle"
-                            class:ms-my-handle--active=active == Some(cut)
-                            style:left=format!("{:.4}%", w.fraction(cut as f64) * 100.0)
-                            data-cut=cut.to_string()
-                            role="separator"
-                            aria-orientation="vertical"
-                            tabindex="0"
-                            aria-valuemin="1"
-                            aria-valuemax=(frames + 1).to_string()
-                            aria-valuenow=(cut + 1).to_string()
-                            aria-label=label.clone()
-                            title=label
-                            on:pointerdown=move |ev: PointerEvent| mine.grab(cut, &ev)
-                            on:keydown=on_key
-                        ></div>
-                    }
-                })
+                .map(|cut| boundary_handle(mine, cut, frames, active == Some(cut), w.fraction(cut as f64)))
                 .collect_view()
         })
     };
@@ -986,194 +999,5 @@ pub fn MyLabelsRow(mine: MyRow) -> impl IntoView {
             </div>
         </div>
         <EffortLane state=state row_id=ROW.to_string() spans=effort_spans label=Signal::derive(|| "my labels".to_string())/>
-    }
-}
-
-/// `#my-labels-tools`: the row's buttons, label field and status, under the timeline.
-#[component]
-pub fn MyLabelsTools(mine: MyRow) -> impl IntoView {
-    let state = mine.state;
-    // the method my labels train (DT-FCN declares it); without one the buttons stay hidden
-    let trainer = state.my_labels_trainer();
-    let short = trainer.map_or("", |(short, _)| short);
-    let t = trainer.map(|(_, t)| t);
-    let loaded = move || state.frames() > 0;
-    let selected = move || mine.model.with(|m| m.selected().is_some());
-    let in_segment = move || {
-        let f = state.frame.get();
-        mine.model.with(|m| m.index_at(f).map(|i| m.spans()[i].start != f))
-    };
-    let can_split = move || in_segment() == Some(true);
-    let can_fill = move || loaded() && in_segment().is_none();
-    let can_merge = move || mine.model.with(|m| m.selected().is_some_and(|i| i + 1 < m.spans().len()));
-    let labelled = move || mine.model.with(|m| m.spans().iter().any(|s| !s.label.is_empty()));
-    let busy = move || t.is_some_and(|t| t.state.with(TrainState::busy));
-    let stopping = move || t.is_some_and(|t| t.state.with(|s| *s == TrainState::Stopping));
-    let offered = mine.vocabulary;
-    let entries = move || {
-        offered
-            .get()
-            .into_iter()
-            .enumerate()
-            .map(|(n, label)| {
-                let key = (n < HOTKEYS).then(|| (n + 1).to_string());
-                let tip = match &key {
-                    Some(k) => format!("Label the selected segment {label} (key {k})"),
-                    None => format!("Label the selected segment {label}"),
-                };
-                let chosen = label.clone();
-                view! {
-                    <li>
-                        <button class="ms-button ms-button--quiet ms-vocab" type="button" data-label=label.clone()
-                            aria-label=tip.clone() title=tip disabled=move || !selected()
-                            on:click=move |_| mine.label_with(chosen.clone())>
-                            <kbd hidden=key.is_none()>{key.clone().unwrap_or_default()}</kbd>
-                            " "
-                            {label.clone()}
-                        </button>
-                    </li>
-                }
-            })
-            .collect_view()
-    };
-    let rows = move || {
-        mine.others.with(|rows| {
-            rows.iter()
-                .map(|r| {
-                    let id = r.id.clone();
-                    let chosen = r.id.clone();
-                    view! { <option value=id prop:selected=move || mine.source.get() == chosen>{r.name.clone()}</option> }
-                })
-                .collect_view()
-        })
-    };
-    let train_text = move || {
-        let Some(t) = t.filter(|_| mine.training.get()) else { return String::new() };
-        let step = &t.decl.step_name;
-        t.state.with(|s| match s {
-            TrainState::Training { stage, step: 0, .. } => format!("{short} on my labels: {stage}…"),
-            TrainState::Training { step: done, steps, .. } => format!("{short} on my labels: {step} {done} of {steps}"),
-            TrainState::Stopping => format!("{short} on my labels: stopping after this {step}…"),
-            TrainState::Done | TrainState::Failed | TrainState::Cancelled => t.status.get(),
-            TrainState::Idle => String::new(),
-        })
-    };
-    let on_label_key = move |ev: KeyboardEvent| {
-        if ev.key() == "Enter" {
-            ev.prevent_default();
-            mine.relabel();
-        }
-    };
-    let note_text = move || mine.note.with(|n| n.as_ref().map(|n| n.text.clone()).unwrap_or_default());
-    view! {
-        <div
-            id="my-labels-tools"
-            class="ms-my-tools"
-            role="toolbar"
-            aria-label="Edit my labels"
-            hidden=move || !loaded()
-        >
-            <span class="ms-my-tools-title">"My labels"</span>
-            <div class="ms-my-group" role="group" aria-label="Start my labels">
-                <select
-                    id="my-labels-source"
-                    aria-label="Row to copy into my labels"
-                    disabled=move || mine.others.with(Vec::is_empty)
-                    on:change=move |ev| mine.source.set(event_target_value(&ev))
-                >
-                    {rows}
-                </select>
-                <button id="my-labels-copy" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Copy the chosen row into my labels (replaces them; undoable)"
-                    title="Copy the chosen row into my labels (replaces them; undoable)"
-                    disabled=move || mine.others.with(Vec::is_empty)
-                    on:click=move |_| mine.copy()>"Copy"</button>
-                <button id="my-labels-empty" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Start empty: one unlabelled segment over the whole take"
-                    title="Start empty: one unlabelled segment over the whole take (replaces my labels; undoable)"
-                    disabled=move || !loaded()
-                    on:click=move |_| { mine.edit(Model::start_empty, None); }>"Start empty"</button>
-            </div>
-            <div class="ms-my-group" role="group" aria-label="Cut my segments">
-                <button id="my-labels-split" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Split my segment at the playhead (S)" title="Split my segment at the playhead (S)"
-                    disabled=move || !can_split() on:click=move |_| mine.split()>"Split"</button>
-                <button id="my-labels-merge" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Merge the selected segment with the next one (M)" title="Merge the selected segment with the next one (M)"
-                    disabled=move || !can_merge() on:click=move |_| mine.merge()>"Merge next"</button>
-                <button id="my-labels-fill" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Fill the gap under the playhead with an unlabelled segment"
-                    title="Fill the gap under the playhead with an unlabelled segment"
-                    disabled=move || !can_fill() on:click=move |_| { let f = mine.frame(); mine.edit(|m| m.fill_gap(f), None); }>"Fill gap"</button>
-                <button id="my-labels-delete" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Delete the selected segment (Delete); its frames become a gap"
-                    title="Delete the selected segment (Delete); its frames become a gap"
-                    disabled=move || !selected() on:click=move |_| mine.delete()>"Delete"</button>
-            </div>
-            <div class="ms-my-group" role="group" aria-label="Label the selected segment">
-                <input
-                    id="my-labels-label"
-                    type="text"
-                    size="14"
-                    list="my-labels-suggestions"
-                    placeholder="label…"
-                    aria-label="Label of the selected segment (Enter applies)"
-                    disabled=move || !selected()
-                    bind:value=mine.label
-                    on:keydown=on_label_key
-                />
-                <datalist id="my-labels-suggestions">
-                    {move || offered.get().into_iter().map(|l| view! { <option value=l></option> }).collect_view()}
-                </datalist>
-                <button id="my-labels-apply" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Give the selected segment this label" title="Give the selected segment this label (Enter)"
-                    disabled=move || !selected() on:click=move |_| mine.relabel()>"Set label"</button>
-                <ol id="my-labels-vocabulary" class="ms-vocabulary" aria-label="Label vocabulary (keys 1–9)"
-                    hidden=move || offered.with(Vec::is_empty)>
-                    {entries}
-                </ol>
-            </div>
-            <div class="ms-my-group" role="group" aria-label="History">
-                <button id="my-labels-undo" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Undo (Ctrl+Z)" title="Undo (Ctrl+Z)"
-                    disabled=move || !mine.model.with(Model::can_undo) on:click=move |_| mine.undo()>"↶ Undo"</button>
-                <button id="my-labels-redo" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Redo (Ctrl+Shift+Z)" title="Redo (Ctrl+Shift+Z or Ctrl+Y)"
-                    disabled=move || !mine.model.with(Model::can_redo) on:click=move |_| mine.redo()>"↷ Redo"</button>
-            </div>
-            <div class="ms-my-group" role="group" aria-label="Use my labels">
-                <button id="my-labels-train" class="ms-button" type="button"
-                    aria-label=format!("Train a {short} model on my labels (with the {short} panel's options)")
-                    title=format!("Train a {short} model on my labels, in this tab, with the {short} panel's options")
-                    hidden=t.is_none()
-                    disabled=move || busy() || !labelled() on:click=move |_| mine.train()>{format!("Train {short}")}</button>
-                <button id="my-labels-train-stop" class="ms-button ms-button--quiet" type="button"
-                    aria-label=format!("Stop the {short} training after the step under way")
-                    hidden=move || !(mine.training.get() && busy())
-                    disabled=stopping
-                    on:click=move |_| { if let Some(t) = t { t.request.set(Some(TrainRequest::Stop)) } }>"Stop"</button>
-                <button id="my-labels-clear" class="ms-button ms-button--quiet" type="button"
-                    aria-label="Clear my labels and remove them from this browser (Undo brings them back)"
-                    title="Clear my labels and remove them from this browser (Undo brings them back)"
-                    disabled=move || mine.model.with(|m| m.spans().is_empty())
-                    on:click=move |_| {
-                        mine.edit(|m| { m.clear(); Ok(()) }, Some("Cleared: nothing of this take is stored any more (Undo brings the labels back)".into()));
-                    }>"Clear"</button>
-            </div>
-            <RowExports state=state id="my-labels" what="my labels" row=state.mine.into()/>
-            <span id="my-labels-train-status" class="ms-my-status" role="status" aria-live="polite" hidden=move || train_text().is_empty()>
-                {train_text}
-            </span>
-            <span
-                id="my-labels-status"
-                class="ms-my-status"
-                class:ms-my-status--error=move || mine.note.with(|n| n.as_ref().is_some_and(|n| n.error))
-                role="status"
-                aria-live="polite"
-                hidden=move || mine.note.with(Option::is_none)
-            >
-                {note_text}
-            </span>
-        </div>
     }
 }

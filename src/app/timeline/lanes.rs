@@ -1,5 +1,7 @@
-//! The lanes' width on screen, which every row reads to fit its segments' labels.
+//! The lanes' width on screen, which every row reads to fit its segments' labels; where the lanes are (a pointer's
+//! frame); the zoom of one key press.
 
+use leptos::html::Div;
 use leptos::prelude::*;
 
 thread_local! {
@@ -20,4 +22,13 @@ pub fn segment_text(label: &str, fraction: f64) -> String {
     const PADDING_PX: f64 = 6.0;
     let width = fraction * lane_px().get() - PADDING_PX;
     crate::app::timeline::label_fit::fit_label(label, width, FONT_PX).unwrap_or_default()
+}
+
+/// One +/− key press or zoom button zooms by this factor.
+pub(crate) const KEY_ZOOM: f64 = 2.0;
+
+/// The x range of the lanes on screen: (left, width) in client pixels.
+pub(crate) fn lane_box(lane: &NodeRef<Div>) -> Option<(f64, f64)> {
+    let rect = lane.get_untracked()?.get_bounding_client_rect();
+    (rect.width() > 0.0).then(|| (rect.left(), rect.width()))
 }

@@ -17,21 +17,23 @@
 //! in text fields; `?` opens `#help-overlay`. The maths is in [`crate::app::timeline::window`].
 
 use crate::app::consensus::row::{ConsensusLane, ConsensusRow, ConsensusTools};
-use crate::app::effort::bars::{EffortLegend, EffortToggle};
-use crate::app::my_labels::row::{MyLabelsRow, MyLabelsTools, MyRow};
-use crate::app::player::motion_image::{Chunks, DownloadPng, MotionImageCanvas};
+use crate::app::effort::bars::EffortLegend;
+use crate::app::my_labels::row::{MyLabelsRow, MyRow};
+use crate::app::my_labels::tools::MyLabelsTools;
+use crate::app::player::motion_image::{Chunks, MotionImageCanvas};
 use crate::app::state::AppState;
 use crate::app::state::Selection;
-use crate::app::take::first_visit::Legend;
 use crate::app::timeline::keys::is_for_the_field;
-use crate::app::timeline::lanes::lane_px;
+use crate::app::timeline::lanes::{lane_box, lane_px, KEY_ZOOM};
 use crate::app::timeline::method_rows::{row_spans, MethodRows};
+use crate::app::timeline::minimap::Minimap;
 use crate::app::timeline::segment_menu::SegmentMenu;
+use crate::app::timeline::tools::TimelineTools;
 use crate::app::timeline::window::{key_action, readout, shuttle, stepped, ticks, KeyAction, Modifiers, Window};
 use crate::app::truth::ground_truth::TruthRow;
 use gloo::events::{EventListener, EventListenerOptions};
 use leptos::ev::{KeyboardEvent, PointerEvent};
-use leptos::html::{Canvas, Div};
+use leptos::html::Div;
 use leptos::prelude::*;
 use wasm_bindgen::JsCast;
 use web_sys::{Element, WheelEvent};
@@ -41,9 +43,6 @@ pub const LABEL_PX: f64 = 132.0;
 
 /// Ruler ticks at least this far apart, in CSS pixels.
 const TICK_MIN_PX: f64 = 70.0;
-
-/// One +/− key press or zoom button zooms by this factor.
-const KEY_ZOOM: f64 = 2.0;
 
 /// Shortcuts shown in the help overlay (keys, what they do).
 pub const SHORTCUTS: [(&str, &str); 12] = [
@@ -72,12 +71,6 @@ extern "C" {
     fn observe(this: &ResizeObserver, target: &Element);
 }
 
-/// The x range of the lanes on screen: (left, width) in client pixels.
-fn lane_box(lane: &NodeRef<Div>) -> Option<(f64, f64)> {
-    let rect = lane.get_untracked()?.get_bounding_client_rect();
-    (rect.width() > 0.0).then(|| (rect.left(), rect.width()))
-}
-
 /// The CSS `left` of frame position `x` across the lanes (which start after the label column).
 fn lane_left(fraction: f64) -> String {
     format!("calc({LABEL_PX}px + (100% - {LABEL_PX}px) * {fraction:.6})")
@@ -86,224 +79,31 @@ fn lane_left(fraction: f64) -> String {
 #[component]
 pub fn Timeline(state: AppState) -> impl IntoView {
     let ruler_ref = NodeRef::<Div>::new();
-    let minimap_ref = NodeRef::<Div>::new();
-    let minimap_canvas = NodeRef::<Canvas>::new();
     let body_ref = NodeRef::<Div>::new();
     let chunks = Chunks::default();
     // bumped on window resize and when a take's image is cut into chunks: lanes redraw
     let resized = RwSignal::new(0u32);
     let hover = RwSignal::new(None::<(f64, f64, String)>);
 
-    // a new take: cut its image, show it whole, forget the selection
-    {
-        let chunks = chunks.clone();
-        Effect::new(move |_| {
-            state.motion.with(|m| {
-                if let Some(m) = m {
-                    if let Err(e) = chunks.load(&m.image) {
-                        web_sys::console::error_2(&"motion image: could not cut into chunks".into(), &e);
-                    }
-                }
-            });
-            state.window.set(Window::full(state.frames()));
-            state.selected.set(None);
-            state.play_until.set(None);
-            resized.update(|n| *n += 1);
-        });
-    }
-    // a frame off screen (playback, keys, the scrub bar) brings the window along
-    Effect::new(move |_| {
-        let frame = state.frame.get();
-        let frames = state.frames();
-        let w = state.window.get_untracked();
-        if frames > 0 && !w.shows(frame) {
-            state.window.set(w.paged_to(frame, frames));
-        }
-    });
-    // the minimap: the whole image, once per take and size
-    {
-        let chunks = chunks.clone();
-        Effect::new(move |_| {
-            resized.track();
-            let frames = state.frames();
-            let Some(canvas) = minimap_canvas.get() else { return };
-            if let Err(e) = chunks.draw(&canvas, &Window::full(frames)) {
-                web_sys::console::error_2(&"minimap: could not draw".into(), &e);
-            }
-        });
-    }
+    new_take(state, &chunks, resized);
 
     let frames = move || state.frames();
     let window = move || state.window.get();
-    // the frame at a pointer's x, if it is over the lanes
-    let frame_at = move |client_x: f64| -> Option<usize> {
-        let (left, width) = lane_box(&ruler_ref)?;
-        let fraction = (client_x - left) / width;
-        (0.0..=1.0)
-            .contains(&fraction)
-            .then(|| state.window.get_untracked().frame_at(fraction.min(0.999_999), frames()))
-    };
 
-    // seeking on the motion image and the rows' empty space
-    let seeking = StoredValue::new(false);
-    let seek = move |ev: &PointerEvent| {
-        if let Some(frame) = frame_at(ev.client_x() as f64).filter(|_| frames() > 0) {
-            state.frame.set(frame);
-        }
-    };
-    let on_body_down = move |ev: PointerEvent| {
-        if frame_at(ev.client_x() as f64).is_none() || ev.button() != 0 {
-            return; // a label, or not the main button
-        }
-        seeking.set_value(true);
-        state.selected.set(None);
-        state.play_until.set(None);
-        if let Some(el) = ev.current_target().and_then(|t| t.dyn_into::<Element>().ok()) {
-            let _ = el.set_pointer_capture(ev.pointer_id());
-        }
-        seek(&ev);
-    };
-    let on_body_move = move |ev: PointerEvent| {
-        if seeking.get_value() {
-            seek(&ev);
-        }
-        // the tooltip: a segment's own text, else the frame under the pointer
-        let over_segment = ev
-            .target()
-            .and_then(|t| t.dyn_into::<Element>().ok())
-            .and_then(|e| e.closest(".ms-seg, .ms-effort-seg, .ms-consensus-mark").ok().flatten())
-            .and_then(|e| e.get_attribute("aria-label"));
-        let text = over_segment.or_else(|| {
-            let frame = frame_at(ev.client_x() as f64)?;
-            Some(hover_text(frame, state.fps()))
-        });
-        hover.set(text.map(|t| (ev.client_x() as f64, ev.client_y() as f64, t)));
-    };
-    let on_up = move |_: PointerEvent| seeking.set_value(false);
-
-    // panning by dragging the ruler: the window moves with the pointer
-    let ruler_drag = StoredValue::new(None::<(f64, Window)>);
-    let on_ruler_down = move |ev: PointerEvent| {
-        ruler_drag.set_value(Some((ev.client_x() as f64, state.window.get_untracked())));
-        if let Some(el) = ev.current_target().and_then(|t| t.dyn_into::<Element>().ok()) {
-            let _ = el.set_pointer_capture(ev.pointer_id());
-        }
-    };
-    let on_ruler_move = move |ev: PointerEvent| {
-        if let (Some((x0, w0)), Some((_, width))) = (ruler_drag.get_value(), lane_box(&ruler_ref)) {
-            let delta = -(ev.client_x() as f64 - x0) / width * w0.span();
-            state.window.set(w0.panned(delta, frames()));
-        }
-        hover.set(
-            frame_at(ev.client_x() as f64)
-                .map(|f| (ev.client_x() as f64, ev.client_y() as f64, hover_text(f, state.fps()))),
-        );
-    };
-    let on_ruler_up = move |_: PointerEvent| ruler_drag.set_value(None);
-
-    // the minimap: pressing centres the window there (unless on the window itself), dragging moves it
-    let minimap_drag = StoredValue::new(None::<(f64, Window)>);
-    let on_minimap_down = move |ev: PointerEvent| {
-        let Some((left, width)) = lane_box(&minimap_ref) else { return };
-        let total = frames().max(1) as f64;
-        let at = (ev.client_x() as f64 - left) / width * total;
-        let w = state.window.get_untracked();
-        let w = if at >= w.start && at <= w.end { w } else { w.centred_on(at, frames()) };
-        state.window.set(w);
-        minimap_drag.set_value(Some((ev.client_x() as f64, w)));
-        if let Some(el) = ev.current_target().and_then(|t| t.dyn_into::<Element>().ok()) {
-            let _ = el.set_pointer_capture(ev.pointer_id());
-        }
-    };
-    let on_minimap_move = move |ev: PointerEvent| {
-        if let (Some((x0, w0)), Some((_, width))) = (minimap_drag.get_value(), lane_box(&minimap_ref)) {
-            let delta = (ev.client_x() as f64 - x0) / width * frames().max(1) as f64;
-            state.window.set(w0.panned(delta, frames()));
-        }
-    };
-    let on_minimap_up = move |_: PointerEvent| minimap_drag.set_value(None);
-
-    // the wheel: Ctrl/⌘ zooms around the pointer, Shift or sideways pans, plain scrolls the page
-    body_ref.on_load(move |body| {
-        EventListener::new(&gloo::utils::window(), "resize", move |_| resized.update(|n| *n += 1)).forget();
-        let options = EventListenerOptions::enable_prevent_default();
-        let target: &web_sys::EventTarget = body.as_ref();
-        EventListener::new_with_options(target, "wheel", options, move |ev| {
-            let ev: &WheelEvent = ev.unchecked_ref();
-            let (Some((left, width)), n) = (lane_box(&ruler_ref), frames()) else { return };
-            if n == 0 {
-                return;
-            }
-            let w = state.window.get_untracked();
-            let scale = match ev.delta_mode() {
-                1 => 16.0,  // lines
-                2 => 400.0, // pages
-                _ => 1.0,
-            };
-            let (dx, dy) = (ev.delta_x() * scale, ev.delta_y() * scale);
-            if ev.ctrl_key() || ev.meta_key() {
-                ev.prevent_default();
-                let fraction = ((ev.client_x() as f64 - left) / width).clamp(0.0, 1.0);
-                let anchor = w.start + fraction * w.span();
-                state.window.set(w.zoomed((-dy * 0.002).exp(), anchor, n));
-            } else if ev.shift_key() || dx.abs() > dy.abs() {
-                ev.prevent_default();
-                let delta = if dx.abs() > dy.abs() { dx } else { dy };
-                state.window.set(w.panned(delta / width * w.span(), n));
-            }
-        })
-        .forget();
-    });
+    listen_wheel(state, body_ref, ruler_ref, resized);
 
     let rows_ref = NodeRef::<Div>::new();
     let mine = MyRow::new(state); // first: its keys ([ ] on my row) before the timeline's
     let agreed = ConsensusRow::new(state, mine);
     keyboard(state);
 
-    let zoom_by = move |factor: f64| {
-        let anchor = state.frame.get_untracked() as f64 + 0.5;
-        state.window.update(|w| *w = w.zoomed(factor, anchor, state.frames()));
-    };
+    measure_lanes(ruler_ref);
 
-    // the lanes' width, for the rows' labels (the ruler is as wide as every lane)
-    Effect::new(move |_| {
-        let Some(ruler) = ruler_ref.get() else { return };
-        let lane = lane_px();
-        lane.set(ruler.client_width() as f64);
-        let measured = ruler.clone();
-        let on_resize = wasm_bindgen::closure::Closure::<dyn FnMut()>::new(move || {
-            let width = measured.client_width() as f64;
-            if lane.get_untracked() != width {
-                lane.set(width);
-            }
-        });
-        ResizeObserver::new(on_resize.as_ref().unchecked_ref()).observe(&ruler);
-        on_resize.forget(); // observes the ruler as long as the page lives
-    });
-
-    // the ruler's ticks for the window and the lane's width
-    let tick_views = move || {
-        resized.track();
-        let width = ruler_ref.get().map_or(0.0, |r| r.client_width() as f64);
-        let w = window();
-        ticks(&w, state.fps(), width, TICK_MIN_PX)
-            .into_iter()
-            .map(|t| {
-                view! {
-                    <span class="ms-tick" style:left=format!("{:.4}%", w.fraction(t.frame) * 100.0) data-seconds=t.seconds.to_string()>
-                        {t.label}
-                    </span>
-                }
-            })
-            .collect_view()
-    };
     let playhead_fraction = move || {
         let w = window();
         w.fraction(state.frame.get() as f64 + 0.5)
     };
     let playhead_hidden = move || frames() == 0 || !(0.0..=1.0).contains(&playhead_fraction());
-    let minimap_left = move || format!("{:.4}%", window().start / frames().max(1) as f64 * 100.0);
-    let minimap_width = move || format!("{:.4}%", window().span() / frames().max(1) as f64 * 100.0);
     let rate = move || match state.shuttle.get() {
         0 => String::new(),
         r if r < 0 => format!("◀ {}×", -r),
@@ -350,34 +150,7 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                 </output>
                 <span id="shuttle-rate" class="ms-readout-rate">{rate}</span>
                 <span class="ms-timeline-legend ms-timeline-legend--image">"motion image: rows = joints · columns = frames · colour = XYZ relative to the root"</span>
-                <div class="ms-timeline-tools" role="group" aria-label="Timeline controls">
-                    <button id="zoom-out" class="ms-button ms-button--quiet" type="button" aria-label="Zoom out (−)" title="Zoom out (−)"
-                        disabled=move || frames() == 0 on:click=move |_| zoom_by(1.0 / KEY_ZOOM)>"−"</button>
-                    <button id="zoom-in" class="ms-button ms-button--quiet" type="button" aria-label="Zoom in (+)" title="Zoom in (+)"
-                        disabled=move || frames() == 0 on:click=move |_| zoom_by(KEY_ZOOM)>"+"</button>
-                    <button id="zoom-fit" class="ms-button ms-button--quiet" type="button" aria-label="Show the whole take" title="Show the whole take"
-                        disabled=move || frames() == 0 || window().is_full(frames())
-                        on:click=move |_| state.window.set(Window::full(state.frames()))>"Fit"</button>
-                    <button
-                        id="loop-toggle"
-                        class="ms-button ms-button--quiet ms-toggle"
-                        type="button"
-                        aria-pressed=move || state.looping.get().to_string()
-                        title="Loop the selected segment's playback"
-                        disabled=move || state.selected.with(Option::is_none)
-                        on:click=move |_| {
-                            state.looping.update(|l| *l = !*l);
-                            state.play_until.set(None);
-                        }
-                    >
-                        "Loop"
-                    </button>
-                    <button id="help-button" class="ms-button ms-button--quiet" type="button" aria-label="Keyboard shortcuts (?)"
-                        aria-expanded=move || state.help.get().to_string() on:click=move |_| state.help.update(|h| *h = !*h)>"?"</button>
-                    <EffortToggle state=state/>
-                    <DownloadPng state=state/>
-                    <Legend/>
-                </div>
+                <TimelineTools state=state/>
             </div>
             <EffortLegend state=state/>
             <div
@@ -385,60 +158,14 @@ pub fn Timeline(state: AppState) -> impl IntoView {
                 node_ref=body_ref
                 on:pointerleave=move |_| hover.set(None)
             >
-                <div class="ms-tl-line ms-tl-line--ruler">
-                    <div class="ms-tl-label">"Time"</div>
-                    <div
-                        id="timeline-ruler"
-                        class="ms-tl-lane ms-ruler"
-                        node_ref=ruler_ref
-                        aria-label="Time ruler: drag to pan"
-                        on:pointerdown=on_ruler_down
-                        on:pointermove=on_ruler_move
-                        on:pointerup=on_ruler_up
-                        on:pointercancel=on_ruler_up
-                    >
-                        {tick_views}
-                    </div>
-                </div>
-                <div
-                    class="ms-tl-body"
-                    on:pointerdown=on_body_down
-                    on:pointermove=on_body_move
-                    on:pointerup=on_up
-                    on:pointercancel=on_up
-                >
-                    <div class="ms-tl-line">
-                        <div class="ms-tl-label">"Motion image"</div>
-                        <div class="ms-tl-lane">
-                            <MotionImageCanvas state=state chunks=chunks.clone() resized=resized/>
-                        </div>
-                    </div>
-                    // Segmentation rows, one per level of each method.
+                <Ruler state=state ruler_ref=ruler_ref hover=hover resized=resized/>
+                <TimelineBody state=state ruler_ref=ruler_ref hover=hover chunks=chunks.clone() resized=resized>
                     {rows}
-                </div>
+                </TimelineBody>
                 <div id="playhead" class="ms-playhead" style:left=move || lane_left(playhead_fraction()) hidden=playhead_hidden></div>
             </div>
             {row_tools}
-            <div class="ms-tl-line ms-tl-line--minimap">
-                <div class="ms-tl-label">"Whole take"</div>
-                <div
-                    id="timeline-minimap"
-                    class="ms-tl-lane ms-minimap"
-                    node_ref=minimap_ref
-                    aria-label="Minimap of the whole take: drag the window to pan"
-                    on:pointerdown=on_minimap_down
-                    on:pointermove=on_minimap_move
-                    on:pointerup=on_minimap_up
-                    on:pointercancel=on_minimap_up
-                >
-                    <canvas id="minimap-canvas" class="ms-minimap-canvas" node_ref=minimap_canvas aria-hidden="true"></canvas>
-                    <div id="minimap-window" class="ms-minimap-window" style:left=minimap_left style:width=minimap_width></div>
-                    <div
-                        class="ms-minimap-playhead"
-                        style:left=move || format!("{:.4}%", (state.frame.get() as f64 + 0.5) / frames().max(1) as f64 * 100.0)
-                    ></div>
-                </div>
-            </div>
+            <Minimap state=state chunks=chunks.clone() resized=resized/>
             <p id="timeline-hint" class="ms-timeline-hint">
                 "Click a segment to select it and play it (looped while Loop is on), right-click it for more · click elsewhere on the timeline to seek · "
                 "Ctrl/⌘ + wheel zooms, Shift + wheel or dragging the ruler or the minimap pans · press ? for all shortcuts"
@@ -455,6 +182,230 @@ pub fn Timeline(state: AppState) -> impl IntoView {
             </div>
             {overlays}
         </section>
+    }
+}
+
+/// The lanes' body: the motion image and the rows (`children`); pressing on their empty space seeks (dragging
+/// scrubs), hovering says the segment or the frame under the pointer.
+#[component]
+fn TimelineBody(
+    state: AppState,
+    ruler_ref: NodeRef<Div>,
+    hover: RwSignal<Option<(f64, f64, String)>>,
+    chunks: Chunks,
+    resized: RwSignal<u32>,
+    children: Children,
+) -> impl IntoView {
+    let frames = move || state.frames();
+    // seeking on the motion image and the rows' empty space
+    let seeking = StoredValue::new(false);
+    let seek = move |ev: &PointerEvent| {
+        if let Some(frame) = frame_at(state, ruler_ref, ev.client_x() as f64).filter(|_| frames() > 0) {
+            state.frame.set(frame);
+        }
+    };
+    let on_body_down = move |ev: PointerEvent| {
+        if frame_at(state, ruler_ref, ev.client_x() as f64).is_none() || ev.button() != 0 {
+            return; // a label, or not the main button
+        }
+        seeking.set_value(true);
+        state.selected.set(None);
+        state.play_until.set(None);
+        if let Some(el) = ev.current_target().and_then(|t| t.dyn_into::<Element>().ok()) {
+            let _ = el.set_pointer_capture(ev.pointer_id());
+        }
+        seek(&ev);
+    };
+    let on_body_move = move |ev: PointerEvent| {
+        if seeking.get_value() {
+            seek(&ev);
+        }
+        // the tooltip: a segment's own text, else the frame under the pointer
+        let over_segment = ev
+            .target()
+            .and_then(|t| t.dyn_into::<Element>().ok())
+            .and_then(|e| e.closest(".ms-seg, .ms-effort-seg, .ms-consensus-mark").ok().flatten())
+            .and_then(|e| e.get_attribute("aria-label"));
+        let text = over_segment.or_else(|| {
+            let frame = frame_at(state, ruler_ref, ev.client_x() as f64)?;
+            Some(hover_text(frame, state.fps()))
+        });
+        hover.set(text.map(|t| (ev.client_x() as f64, ev.client_y() as f64, t)));
+    };
+    let on_up = move |_: PointerEvent| seeking.set_value(false);
+    view! {
+        <div
+            class="ms-tl-body"
+            on:pointerdown=on_body_down
+            on:pointermove=on_body_move
+            on:pointerup=on_up
+            on:pointercancel=on_up
+        >
+            <div class="ms-tl-line">
+                <div class="ms-tl-label">"Motion image"</div>
+                <div class="ms-tl-lane">
+                    <MotionImageCanvas state=state chunks=chunks.clone() resized=resized/>
+                </div>
+            </div>
+            // Segmentation rows, one per level of each method.
+            {children()}
+        </div>
+    }
+}
+
+/// A new take: its image cut into chunks, shown whole, the selection forgotten; a frame off screen (playback,
+/// keys, the scrub bar) brings the window along.
+fn new_take(state: AppState, chunks: &Chunks, resized: RwSignal<u32>) {
+    {
+        let chunks = chunks.clone();
+        Effect::new(move |_| {
+            state.motion.with(|m| {
+                if let Some(m) = m {
+                    if let Err(e) = chunks.load(&m.image) {
+                        web_sys::console::error_2(&"motion image: could not cut into chunks".into(), &e);
+                    }
+                }
+            });
+            state.window.set(Window::full(state.frames()));
+            state.selected.set(None);
+            state.play_until.set(None);
+            resized.update(|n| *n += 1);
+        });
+    }
+    // a frame off screen (playback, keys, the scrub bar) brings the window along
+    Effect::new(move |_| {
+        let frame = state.frame.get();
+        let frames = state.frames();
+        let w = state.window.get_untracked();
+        if frames > 0 && !w.shows(frame) {
+            state.window.set(w.paged_to(frame, frames));
+        }
+    });
+}
+
+/// The frame at a pointer's x, if it is over the lanes (the ruler is as wide as every lane).
+fn frame_at(state: AppState, ruler_ref: NodeRef<Div>, client_x: f64) -> Option<usize> {
+    let (left, width) = lane_box(&ruler_ref)?;
+    let fraction = (client_x - left) / width;
+    (0.0..=1.0)
+        .contains(&fraction)
+        .then(|| state.window.get_untracked().frame_at(fraction.min(0.999_999), state.frames()))
+}
+
+/// The wheel over the timeline: Ctrl/⌘ zooms around the pointer, Shift or sideways pans, plain scrolls the page;
+/// a window resize redraws the lanes.
+fn listen_wheel(state: AppState, body_ref: NodeRef<Div>, ruler_ref: NodeRef<Div>, resized: RwSignal<u32>) {
+    let frames = move || state.frames();
+    body_ref.on_load(move |body| {
+        EventListener::new(&gloo::utils::window(), "resize", move |_| resized.update(|n| *n += 1)).forget();
+        let options = EventListenerOptions::enable_prevent_default();
+        let target: &web_sys::EventTarget = body.as_ref();
+        EventListener::new_with_options(target, "wheel", options, move |ev| {
+            let ev: &WheelEvent = ev.unchecked_ref();
+            let (Some((left, width)), n) = (lane_box(&ruler_ref), frames()) else { return };
+            if n == 0 {
+                return;
+            }
+            let w = state.window.get_untracked();
+            let scale = match ev.delta_mode() {
+                1 => 16.0,  // lines
+                2 => 400.0, // pages
+                _ => 1.0,
+            };
+            let (dx, dy) = (ev.delta_x() * scale, ev.delta_y() * scale);
+            if ev.ctrl_key() || ev.meta_key() {
+                ev.prevent_default();
+                let fraction = ((ev.client_x() as f64 - left) / width).clamp(0.0, 1.0);
+                let anchor = w.start + fraction * w.span();
+                state.window.set(w.zoomed((-dy * 0.002).exp(), anchor, n));
+            } else if ev.shift_key() || dx.abs() > dy.abs() {
+                ev.prevent_default();
+                let delta = if dx.abs() > dy.abs() { dx } else { dy };
+                state.window.set(w.panned(delta / width * w.span(), n));
+            }
+        })
+        .forget();
+    });
+}
+
+/// The lanes' width, for the rows' labels (the ruler is as wide as every lane), kept as the ruler is resized.
+fn measure_lanes(ruler_ref: NodeRef<Div>) {
+    Effect::new(move |_| {
+        let Some(ruler) = ruler_ref.get() else { return };
+        let lane = lane_px();
+        lane.set(ruler.client_width() as f64);
+        let measured = ruler.clone();
+        let on_resize = wasm_bindgen::closure::Closure::<dyn FnMut()>::new(move || {
+            let width = measured.client_width() as f64;
+            if lane.get_untracked() != width {
+                lane.set(width);
+            }
+        });
+        ResizeObserver::new(on_resize.as_ref().unchecked_ref()).observe(&ruler);
+        on_resize.forget(); // observes the ruler as long as the page lives
+    });
+}
+
+/// The time ruler: its ticks for the window and the lane's width; dragging it pans (the window moves with the
+/// pointer), hovering says the frame.
+#[component]
+fn Ruler(
+    state: AppState,
+    ruler_ref: NodeRef<Div>,
+    hover: RwSignal<Option<(f64, f64, String)>>,
+    resized: RwSignal<u32>,
+) -> impl IntoView {
+    let frames = move || state.frames();
+    let window = move || state.window.get();
+    let ruler_drag = StoredValue::new(None::<(f64, Window)>);
+    let on_ruler_down = move |ev: PointerEvent| {
+        ruler_drag.set_value(Some((ev.client_x() as f64, state.window.get_untracked())));
+        if let Some(el) = ev.current_target().and_then(|t| t.dyn_into::<Element>().ok()) {
+            let _ = el.set_pointer_capture(ev.pointer_id());
+        }
+    };
+    let on_ruler_move = move |ev: PointerEvent| {
+        if let (Some((x0, w0)), Some((_, width))) = (ruler_drag.get_value(), lane_box(&ruler_ref)) {
+            let delta = -(ev.client_x() as f64 - x0) / width * w0.span();
+            state.window.set(w0.panned(delta, frames()));
+        }
+        hover.set(
+            frame_at(state, ruler_ref, ev.client_x() as f64)
+                .map(|f| (ev.client_x() as f64, ev.client_y() as f64, hover_text(f, state.fps()))),
+        );
+    };
+    let on_ruler_up = move |_: PointerEvent| ruler_drag.set_value(None);
+    let tick_views = move || {
+        resized.track();
+        let width = ruler_ref.get().map_or(0.0, |r| r.client_width() as f64);
+        let w = window();
+        ticks(&w, state.fps(), width, TICK_MIN_PX)
+            .into_iter()
+            .map(|t| {
+                view! {
+                    <span class="ms-tick" style:left=format!("{:.4}%", w.fraction(t.frame) * 100.0) data-seconds=t.seconds.to_string()>
+                        {t.label}
+                    </span>
+                }
+            })
+            .collect_view()
+    };
+    view! {
+        <div class="ms-tl-line ms-tl-line--ruler">
+            <div class="ms-tl-label">"Time"</div>
+            <div
+                id="timeline-ruler"
+                class="ms-tl-lane ms-ruler"
+                node_ref=ruler_ref
+                aria-label="Time ruler: drag to pan"
+                on:pointerdown=on_ruler_down
+                on:pointermove=on_ruler_move
+                on:pointerup=on_ruler_up
+                on:pointercancel=on_ruler_up
+            >
+                {tick_views}
+            </div>
+        </div>
     }
 }
 

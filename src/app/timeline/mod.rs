@@ -20,6 +20,10 @@ pub mod lines;
 #[cfg(feature = "web")]
 pub mod method_rows;
 #[cfg(feature = "web")]
+pub mod minimap;
+#[cfg(feature = "web")]
 pub mod row_exports;
 #[cfg(feature = "web")]
 pub mod segment_menu;
+#[cfg(feature = "web")]
+pub mod tools;

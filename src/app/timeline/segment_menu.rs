@@ -114,53 +114,7 @@ pub fn SegmentMenu(state: AppState, mine: MyRow, rows: NodeRef<Div>) -> impl Int
         }
     };
 
-    // right click (a long press) on a segment of any row
-    rows.on_load(move |el| {
-        let target: &web_sys::EventTarget = el.as_ref();
-        gloo::events::EventListener::new_with_options(
-            target,
-            "contextmenu",
-            gloo::events::EventListenerOptions::enable_prevent_default(),
-            move |ev| {
-                let ev: &web_sys::MouseEvent = ev.unchecked_ref();
-                let Some(el) = ev.target().and_then(|t| t.dyn_into::<Element>().ok()) else { return };
-                let Some((seg, row, start, end, label)) = segment_of(&el) else { return };
-                ev.prevent_default();
-                show(&seg, row, start, end, label, Some((ev.client_x() as f64, ev.client_y() as f64)));
-            },
-        )
-        .forget();
-    });
-    // the context-menu key or Shift+F10 on the selected segment; a press outside closes the menu
-    let key = window_event_listener(leptos::ev::keydown, move |ev: KeyboardEvent| {
-        let menu_key = ev.key() == "ContextMenu" || (ev.shift_key() && ev.key() == "F10");
-        if !menu_key || ev.default_prevented() || crate::app::timeline::keys::is_for_the_field(ev.target(), &ev.key()) {
-            return;
-        }
-        let Some(sel) = state.selected.get_untracked() else { return };
-        let selector = format!("#row-{} .ms-seg[data-start=\"{}\"][data-end=\"{}\"]", sel.row, sel.start, sel.end);
-        let Some(el) = gloo::utils::document().query_selector(&selector).ok().flatten() else { return };
-        let Some((seg, row, start, end, label)) = segment_of(&el) else { return };
-        ev.prevent_default();
-        show(&seg, row, start, end, label, None);
-    });
-    std::mem::forget(key); // the timeline lives as long as the page
-                           // in the capture phase: a segment's own press stops there
-    gloo::events::EventListener::new_with_options(
-        &gloo::utils::window(),
-        "pointerdown",
-        gloo::events::EventListenerOptions::run_in_capture_phase(),
-        move |ev| {
-            let inside = ev
-                .target()
-                .and_then(|t| t.dyn_into::<Element>().ok())
-                .is_some_and(|e| e.closest("#segment-menu").ok().flatten().is_some());
-            if !inside {
-                close(false);
-            }
-        },
-    )
-    .forget();
+    listen(state, rows, show, close);
 
     let loader = use_context::<StoredValue<ClipJobs, LocalStorage>>();
     let act = move |what: &str| {
@@ -169,103 +123,12 @@ pub fn SegmentMenu(state: AppState, mine: MyRow, rows: NodeRef<Div>) -> impl Int
         let title = row_title(&o.row);
         match what {
             "play" => play_segment(state, Selection { row: o.row.clone(), start: o.start, end: o.end }),
-            "export" => {
-                let only = Some((o.start, o.end));
-                let Some(loader) = loader else { return };
-                if let Some(index) = method_of(state, &o.row) {
-                    let slot = &state.methods[index];
-                    let Some(view) = slot.view.get_untracked() else {
-                        return status.set(Some((true, format!("{title}: run the method first"))));
-                    };
-                    let which = which_of(&view, o.start, o.end).unwrap_or(Which::All);
-                    loader.with_value(|l| {
-                        l.export_clips_of(&view.segmentation, &slot.info.name, which, false, only, status)
-                    });
-                } else {
-                    let segmentation = if o.row == MINE {
-                        state.mine.get_untracked()
-                    } else {
-                        state
-                            .truth
-                            .view
-                            .with_untracked(|v| v.as_ref().map(|v| std::sync::Arc::new(v.segmentation.clone())))
-                    };
-                    match segmentation {
-                        Some(s) => {
-                            loader.with_value(|l| l.export_clips_of(&s, &o.row, Which::All, false, only, status))
-                        }
-                        None => status.set(Some((true, format!("{title} has no segments to cut")))),
-                    }
-                }
-            }
-            "copy" => {
-                if o.row == MINE {
-                    return status.set(Some((true, "That segment is in my labels already".into())));
-                }
-                if mine.place(o.start, o.end, &o.label, &title) {
-                    status.set(Some((
-                        false,
-                        format!("Copied frames {}–{} of {title} to my labels", o.start + 1, o.end + 1),
-                    )));
-                } else {
-                    status.set(Some((true, "Could not copy it: my labels' status line says why".into())));
-                }
-            }
-            _ => {
-                let tab = if o.row == MINE {
-                    None
-                } else if let Some(index) = method_of(state, &o.row) {
-                    Some(state.methods[index].info.name.clone())
-                } else {
-                    Some(TRUTH_TAB.to_string())
-                };
-                match tab {
-                    Some(tab) => {
-                        state.panel.set(tab.clone());
-                        focus_element(gloo::utils::document().get_element_by_id(&format!("tab-{tab}")));
-                        status.set(Some((
-                            false,
-                            format!("{title}: its panel is the \"{}\" tab", tab_title(state, &tab)),
-                        )));
-                    }
-                    None => {
-                        focus_element(gloo::utils::document().get_element_by_id("my-labels-label"));
-                        status.set(Some((false, "My labels: its tools are under the timeline".into())));
-                    }
-                }
-            }
+            "export" => export_segment(state, loader, &o, &title, status),
+            "copy" => copy_segment(mine, &o, &title, status),
+            _ => show_panel(state, &o, &title, status),
         }
     };
-    let on_key = move |ev: KeyboardEvent| {
-        let document = gloo::utils::document();
-        let items: Vec<web_sys::HtmlElement> =
-            ITEMS.iter().filter_map(|id| document.get_element_by_id(id)?.dyn_into().ok()).collect();
-        let active = document.active_element().map(|a| a.id());
-        let at = items.iter().position(|i| active.as_deref() == Some(i.id().as_str()));
-        let n = items.len().max(1);
-        let to = match ev.key().as_str() {
-            "ArrowDown" => Some(at.map_or(0, |i| (i + 1) % n)),
-            "ArrowUp" => Some(at.map_or(n - 1, |i| (i + n - 1) % n)),
-            "Home" => Some(0),
-            "End" => Some(n - 1),
-            "Escape" | "Tab" => {
-                ev.prevent_default();
-                ev.stop_propagation();
-                close(true);
-                return;
-            }
-            // Enter and Space activate the focused button; the page's keys stay out of the menu
-            _ => {
-                ev.stop_propagation();
-                return;
-            }
-        };
-        ev.prevent_default();
-        ev.stop_propagation();
-        if let Some(item) = to.and_then(|i| items.get(i)) {
-            let _ = item.focus();
-        }
-    };
+    let on_key = move |ev: KeyboardEvent| menu_key(&ev, close);
     let item = move |id: &'static str, what: &'static str, text: &'static str| {
         view! {
             <button id=id class="ms-menu-item" type="button" role="menuitem" tabindex="-1" on:click=move |_| act(what)>
@@ -323,6 +186,162 @@ pub fn SegmentMenu(state: AppState, mine: MyRow, rows: NodeRef<Div>) -> impl Int
         >
             {move || status.get().map(|(_, m)| m).unwrap_or_default()}
         </p>
+    }
+}
+
+/// The menu's keys: ↑ / ↓ / Home / End move among its items, Esc and Tab close it (the focus back where it was),
+/// Enter and Space activate the item focused; the page's own keys stay out of the menu.
+fn menu_key(ev: &KeyboardEvent, close: impl Fn(bool)) {
+    let document = gloo::utils::document();
+    let items: Vec<web_sys::HtmlElement> =
+        ITEMS.iter().filter_map(|id| document.get_element_by_id(id)?.dyn_into().ok()).collect();
+    let active = document.active_element().map(|a| a.id());
+    let at = items.iter().position(|i| active.as_deref() == Some(i.id().as_str()));
+    let n = items.len().max(1);
+    let to = match ev.key().as_str() {
+        "ArrowDown" => Some(at.map_or(0, |i| (i + 1) % n)),
+        "ArrowUp" => Some(at.map_or(n - 1, |i| (i + n - 1) % n)),
+        "Home" => Some(0),
+        "End" => Some(n - 1),
+        "Escape" | "Tab" => {
+            ev.prevent_default();
+            ev.stop_propagation();
+            close(true);
+            return;
+        }
+        // Enter and Space activate the focused button; the page's keys stay out of the menu
+        _ => {
+            ev.stop_propagation();
+            return;
+        }
+    };
+    ev.prevent_default();
+    ev.stop_propagation();
+    if let Some(item) = to.and_then(|i| items.get(i)) {
+        let _ = item.focus();
+    }
+}
+
+/// What opens and closes the menu: a right click (a long press) on a segment of any row, the context-menu key or
+/// Shift+F10 on the selected segment; a press outside closes it.
+fn listen(
+    state: AppState,
+    rows: NodeRef<Div>,
+    show: impl Fn(&Element, String, usize, usize, String, Option<(f64, f64)>) + Copy + 'static,
+    close: impl Fn(bool) + Copy + 'static,
+) {
+    rows.on_load(move |el| {
+        let target: &web_sys::EventTarget = el.as_ref();
+        gloo::events::EventListener::new_with_options(
+            target,
+            "contextmenu",
+            gloo::events::EventListenerOptions::enable_prevent_default(),
+            move |ev| {
+                let ev: &web_sys::MouseEvent = ev.unchecked_ref();
+                let Some(el) = ev.target().and_then(|t| t.dyn_into::<Element>().ok()) else { return };
+                let Some((seg, row, start, end, label)) = segment_of(&el) else { return };
+                ev.prevent_default();
+                show(&seg, row, start, end, label, Some((ev.client_x() as f64, ev.client_y() as f64)));
+            },
+        )
+        .forget();
+    });
+    // the context-menu key or Shift+F10 on the selected segment; a press outside closes the menu
+    let key = window_event_listener(leptos::ev::keydown, move |ev: KeyboardEvent| {
+        let menu_key = ev.key() == "ContextMenu" || (ev.shift_key() && ev.key() == "F10");
+        if !menu_key || ev.default_prevented() || crate::app::timeline::keys::is_for_the_field(ev.target(), &ev.key()) {
+            return;
+        }
+        let Some(sel) = state.selected.get_untracked() else { return };
+        let selector = format!("#row-{} .ms-seg[data-start=\"{}\"][data-end=\"{}\"]", sel.row, sel.start, sel.end);
+        let Some(el) = gloo::utils::document().query_selector(&selector).ok().flatten() else { return };
+        let Some((seg, row, start, end, label)) = segment_of(&el) else { return };
+        ev.prevent_default();
+        show(&seg, row, start, end, label, None);
+    });
+    std::mem::forget(key); // the timeline lives as long as the page
+                           // in the capture phase: a segment's own press stops there
+    gloo::events::EventListener::new_with_options(
+        &gloo::utils::window(),
+        "pointerdown",
+        gloo::events::EventListenerOptions::run_in_capture_phase(),
+        move |ev| {
+            let inside = ev
+                .target()
+                .and_then(|t| t.dyn_into::<Element>().ok())
+                .is_some_and(|e| e.closest("#segment-menu").ok().flatten().is_some());
+            if !inside {
+                close(false);
+            }
+        },
+    )
+    .forget();
+}
+
+/// A segment menu's status line: (failed, message).
+type Status = RwSignal<Option<(bool, String)>>;
+
+/// "Export clip (BVH)": the worker cuts the take at segment `o` of its row (`title`), saved as a BVH.
+fn export_segment(
+    state: AppState,
+    loader: Option<StoredValue<ClipJobs, LocalStorage>>,
+    o: &Open,
+    title: &str,
+    status: Status,
+) {
+    let only = Some((o.start, o.end));
+    let Some(loader) = loader else { return };
+    if let Some(index) = method_of(state, &o.row) {
+        let slot = &state.methods[index];
+        let Some(view) = slot.view.get_untracked() else {
+            return status.set(Some((true, format!("{title}: run the method first"))));
+        };
+        let which = which_of(&view, o.start, o.end).unwrap_or(Which::All);
+        loader.with_value(|l| l.export_clips_of(&view.segmentation, &slot.info.name, which, false, only, status));
+    } else {
+        let segmentation = if o.row == MINE {
+            state.mine.get_untracked()
+        } else {
+            state.truth.view.with_untracked(|v| v.as_ref().map(|v| std::sync::Arc::new(v.segmentation.clone())))
+        };
+        match segmentation {
+            Some(s) => loader.with_value(|l| l.export_clips_of(&s, &o.row, Which::All, false, only, status)),
+            None => status.set(Some((true, format!("{title} has no segments to cut")))),
+        }
+    }
+}
+
+/// "Copy to my labels": segment `o` of row `title` copied into my labels.
+fn copy_segment(mine: MyRow, o: &Open, title: &str, status: Status) {
+    if o.row == MINE {
+        return status.set(Some((true, "That segment is in my labels already".into())));
+    }
+    if mine.place(o.start, o.end, &o.label, &title) {
+        status.set(Some((false, format!("Copied frames {}–{} of {title} to my labels", o.start + 1, o.end + 1))));
+    } else {
+        status.set(Some((true, "Could not copy it: my labels' status line says why".into())));
+    }
+}
+
+/// "Show in its panel": the side panel's tab of segment `o`'s row (`title`), or my labels' tools.
+fn show_panel(state: AppState, o: &Open, title: &str, status: Status) {
+    let tab = if o.row == MINE {
+        None
+    } else if let Some(index) = method_of(state, &o.row) {
+        Some(state.methods[index].info.name.clone())
+    } else {
+        Some(TRUTH_TAB.to_string())
+    };
+    match tab {
+        Some(tab) => {
+            state.panel.set(tab.clone());
+            focus_element(gloo::utils::document().get_element_by_id(&format!("tab-{tab}")));
+            status.set(Some((false, format!("{title}: its panel is the \"{}\" tab", tab_title(state, &tab)))));
+        }
+        None => {
+            focus_element(gloo::utils::document().get_element_by_id("my-labels-label"));
+            status.set(Some((false, "My labels: its tools are under the timeline".into())));
+        }
     }
 }
 
