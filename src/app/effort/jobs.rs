@@ -65,13 +65,9 @@ impl EffortJobs {
         }
     }
 
-    /// Posts `request` to the worker, its replies routed here (not routed when it could not be posted).
+    /// Posts `request` to the worker, its replies routed here.
     fn post(&self, request: &Request) -> Result<(), String> {
-        let sent = self.0.loader.send(Rc::new(self.clone()), request);
-        if sent.is_err() {
-            request.run_id().into_iter().for_each(|run| self.0.loader.forget(run));
-        }
-        sent
+        self.0.loader.send(Rc::new(self.clone()), request)
     }
 
     /// Whether `run` is an annotation job under way.
@@ -107,10 +103,7 @@ impl Jobs for EffortJobs {
                     FailureKind::NotLoaded if !job.retried && effort.is_asked(job.key) => {
                         let this = self.clone();
                         wasm_bindgen_futures::spawn_local(async move {
-                            let sent = match this.0.loader.send_take_again().await {
-                                Ok(()) => this.post(&job.request),
-                                Err(e) => Err(e),
-                            };
+                            let sent = this.0.loader.send_with_take(Rc::new(this.clone()), &job.request).await;
                             match sent {
                                 Ok(()) => this.0.jobs.borrow_mut().push(AnnotateJob { retried: true, ..job }),
                                 Err(e) => effort.answered(job.key, Err(e)),

@@ -282,22 +282,29 @@ impl Loader {
         next_id(&self.0)
     }
 
-    /// Posts `request` to the main worker, its replies routed to `jobs` until [`Loader::forget`].
+    /// Posts `request` to the main worker, its replies routed to `jobs` until [`Loader::forget`] (not routed when it
+    /// could not be posted).
     pub(crate) fn send(&self, jobs: Rc<dyn Jobs>, request: &Request) -> Result<(), String> {
-        if let Some(run) = request.run_id() {
+        let run = request.run_id();
+        if let Some(run) = run {
             self.0.routes.borrow_mut().insert(run, jobs);
         }
-        post(&self.0, request, None)
+        let sent = post(&self.0, request, None);
+        if let (Err(_), Some(run)) = (&sent, run) {
+            self.forget(run);
+        }
+        sent
+    }
+
+    /// [`Loader::send`] once the take on screen is sent to the worker again (it answered `not_loaded`).
+    pub(crate) async fn send_with_take(&self, jobs: Rc<dyn Jobs>, request: &Request) -> Result<(), String> {
+        restore(&self.0).await?;
+        self.send(jobs, request)
     }
 
     /// Stops routing `run`'s replies (its job is over).
     pub(crate) fn forget(&self, run: RunId) {
         self.0.routes.borrow_mut().remove(&run);
-    }
-
-    /// Sends the take on screen to the worker again (after a `not_loaded` answer).
-    pub(crate) async fn send_take_again(&self) -> Result<(), String> {
-        restore(&self.0).await
     }
 
     /// Replaces the main worker (it trapped), with everything it was doing.

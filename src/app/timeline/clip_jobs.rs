@@ -112,13 +112,9 @@ impl ClipJobs {
         }
     }
 
-    /// Posts `request` to the worker, its replies routed here (not routed when it could not be posted).
+    /// Posts `request` to the worker, its replies routed here.
     fn post(&self, request: &Request) -> Result<(), String> {
-        let sent = self.0.loader.send(Rc::new(self.clone()), request);
-        if sent.is_err() {
-            request.run_id().into_iter().for_each(|run| self.0.loader.forget(run));
-        }
-        sent
+        self.0.loader.send(Rc::new(self.clone()), request)
     }
 
     /// Removes and returns the clip export `run` (its replies are no longer routed here).
@@ -153,10 +149,7 @@ impl Jobs for ClipJobs {
                     FailureKind::NotLoaded if !retried => {
                         let this = self.clone();
                         wasm_bindgen_futures::spawn_local(async move {
-                            let sent = match this.0.loader.send_take_again().await {
-                                Ok(()) => this.post(&request),
-                                Err(e) => Err(e),
-                            };
+                            let sent = this.0.loader.send_with_take(Rc::new(this.clone()), &request).await;
                             match sent {
                                 Ok(()) => {
                                     this.0.jobs.borrow_mut().push(ClipJob { request, status, retried: true, row, word })
