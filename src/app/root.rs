@@ -7,9 +7,12 @@ use wasm_bindgen::JsCast;
 
 use crate::app::effort::jobs::EffortJobs;
 use crate::app::embed::launch::{EmbedBar, Launch, UrlNotice};
+use crate::app::library::library_jobs::LibraryJobs;
 use crate::app::library::panel::LibraryPanel;
 use crate::app::loader::{Loader, Urls};
 use crate::app::method_panel::panel::MethodPanel;
+use crate::app::method_panel::runs::MethodRuns;
+use crate::app::models::model_jobs::ModelJobs;
 use crate::app::models::training::{ModelFile, TakeSwitch, TrainingPanel};
 use crate::app::player::canvas::Player;
 use crate::app::state::{AppState, LoadState, RunState};
@@ -53,9 +56,15 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
     let loader = Loader::new(state, urls.clone());
     // the rows that export clips without a method panel (my labels) find the worker here, and the
     // features' own jobs in the worker (registered with the loader, which routes their replies)
+    // (registered in this order: the methods' runs, the models, the Effort bars, the clips, the library)
+    let runs = MethodRuns::new(state, loader.clone());
+    let models = ModelJobs::new(state, loader.clone(), runs.clone());
     provide_context(StoredValue::new_local(loader.clone()));
+    provide_context(StoredValue::new_local(runs.clone()));
+    provide_context(StoredValue::new_local(models.clone()));
     provide_context(StoredValue::new_local(EffortJobs::new(state.effort, loader.clone())));
     provide_context(StoredValue::new_local(ClipJobs::new(state, loader.clone())));
+    let library_jobs = LibraryJobs::new(state, loader.clone(), models.clone());
     let notice = RwSignal::new(launch.messages.clone());
     let full = !launch.params.embed;
 
@@ -74,7 +83,7 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
             }
         });
     }
-    crate::app::embed::launch::start(state, &loader, &urls, &launch, notice);
+    crate::app::embed::launch::start(state, &loader, &runs, &urls, &launch, notice);
     // the loader (and the worker it owns) lives as long as the page, even when no component holds
     // it (embed mode has no drop zone or method panels); the app is mounted once, never unmounted
     std::mem::forget(loader.clone());
@@ -94,15 +103,15 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
             // a supervised method's panel takes the user's model files and trains in the browser
             let extra = slot.supervised.is_some().then(|| {
                 view! {
-                    <ModelFile state=state loader=loader.clone() index=index/>
-                    <TrainingPanel state=state loader=loader.clone() index=index/>
+                    <ModelFile state=state jobs=models.clone() index=index/>
+                    <TrainingPanel state=state jobs=models.clone() index=index/>
                 }
                 .into_any()
             });
-            view! { <MethodPanel state=state method=slot loader=loader.clone() extra=extra/> }.into_any()
+            view! { <MethodPanel state=state method=slot runs=runs.clone() extra=extra/> }.into_any()
         });
         let panels = std::iter::once(truth).chain(methods).collect();
-        let library = view! { <LibraryPanel state=state loader=loader.clone()/> }.into_any();
+        let library = view! { <LibraryPanel state=state jobs=library_jobs.clone()/> }.into_any();
         view! { <SidePanel state=state panels=panels library=library/> }.into_any()
     });
     let studio = view! {
@@ -124,9 +133,9 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
         <ErrorBanner state=state/>
         <UrlNotice messages=notice/>
         <section class="ms-input">
-            {full.then(|| view! { <DropZone state=state loader=loader.clone()/> })}
+            {full.then(|| view! { <DropZone state=state loader=loader.clone() library=library_jobs.clone()/> })}
             <Progress state=state/>
-            {full.then(|| view! { <TakeSwitch state=state loader=loader.clone()/> })}
+            {full.then(|| view! { <TakeSwitch state=state jobs=models.clone()/> })}
         </section>
         {full.then(|| view! { <Summary state=state/> })}
         {studio}

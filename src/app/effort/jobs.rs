@@ -2,7 +2,8 @@
 //! worker as one `annotate` request; its progress and its answer go to the bars' state under the
 //! row's key. A worker that lost the take gets it again once; a job that needs the shipped family
 //! waits for it like a method's run (the loader fetches it, then [`Jobs::send_again`]); a worker
-//! replaced (a cancelled run, a crash) is sent the jobs still waiting ([`Jobs::resend`]). Turning the
+//! replaced (a cancelled run, a crash) is sent the jobs still waiting ([`Jobs::resend`]); a main worker that fails
+//! outside a request fails them, saying why ([`Jobs::worker_failed`]), rather than leaving them waiting. Turning the
 //! bars off drops the jobs (their answers are then ignored).
 //!
 //! The jobs are the feature's: the loader only carries their requests and routes the replies back
@@ -11,6 +12,7 @@
 use crate::app::effort::state::EffortBars;
 use crate::app::loader::{Jobs, Loader};
 use crate::protocol::{FailureKind, Request, Response, RunId};
+use crate::worker::pool::Slot;
 use leptos::prelude::*;
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -85,7 +87,7 @@ impl EffortJobs {
 }
 
 impl Jobs for EffortJobs {
-    fn reply(&self, response: Response) {
+    fn reply(&self, _slot: Slot, response: Response) {
         let effort = self.0.bars;
         match response {
             Response::Annotated { run, annotations, .. } => {
@@ -111,10 +113,8 @@ impl Jobs for EffortJobs {
                         });
                     }
                     _ => {
+                        // (a failure of kind `internal` also replaces the worker: the loader does)
                         effort.answered(job.key, Err(message));
-                        if kind == FailureKind::Internal {
-                            self.0.loader.replace_worker();
-                        }
                     }
                 }
             }
@@ -126,6 +126,16 @@ impl Jobs for EffortJobs {
         let runs: Vec<RunId> = self.0.jobs.borrow().iter().filter_map(|j| j.request.run_id()).collect();
         for run in runs {
             self.send_again(run);
+        }
+    }
+
+    fn worker_failed(&self, message: &str) {
+        let jobs: Vec<AnnotateJob> = self.0.jobs.borrow_mut().drain(..).collect();
+        for job in jobs {
+            if let Some(run) = job.request.run_id() {
+                self.0.loader.forget(run);
+            }
+            self.0.bars.lost(job.key, message.to_string());
         }
     }
 

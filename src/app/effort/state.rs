@@ -83,6 +83,15 @@ impl EffortBars {
         });
     }
 
+    /// The annotation `key` was lost with its worker (`message` says how): not kept as the row's answer, so that the
+    /// row asks again when the bars are next turned on.
+    pub fn lost(&self, key: u64, message: String) {
+        self.asked.update(|a| {
+            a.remove(&key);
+        });
+        self.status.set(Some((true, format!("Effort: {message} (turn the bars off and on to ask again)"))));
+    }
+
     /// The worker is at `stage` of a row's annotation.
     pub fn stage(&self, stage: &str, fraction: Option<f64>) {
         let percent = fraction.map(|f| format!(" {:.0} %", f * 100.0)).unwrap_or_default();

@@ -12,6 +12,7 @@
 use crate::app::dom::js_message;
 use crate::app::embed::url_params::{self, UrlParams};
 use crate::app::loader::{Loader, Urls};
+use crate::app::method_panel::runs::MethodRuns;
 use crate::app::state::AppState;
 use crate::app::take::fetch::{blob_bytes, read_capped, ReadError, MAX_FILE_BYTES};
 use leptos::prelude::*;
@@ -65,10 +66,17 @@ fn location_part(part: &str) -> String {
 
 /// Loads what the URL names (else the sample), sets the methods to run, and seeks / plays once
 /// the take is on screen; the messages that can only be known then go to `notice`.
-pub fn start(state: AppState, loader: &Loader, urls: &Urls, launch: &Launch, notice: RwSignal<Vec<String>>) {
+pub fn start(
+    state: AppState,
+    loader: &Loader,
+    runs: &MethodRuns,
+    urls: &Urls,
+    launch: &Launch,
+    notice: RwSignal<Vec<String>>,
+) {
     let params = &launch.params;
     if let Some(methods) = &params.methods {
-        loader.set_auto_run(methods.clone());
+        runs.set_auto_run(methods.clone());
     }
     let expected = match &params.src {
         Some(src) => {

@@ -6,8 +6,16 @@ pub mod carry;
 pub mod takes;
 
 #[cfg(feature = "web")]
+pub mod carry_jobs;
+#[cfg(feature = "web")]
+pub mod jobs;
+#[cfg(feature = "web")]
+pub mod library_jobs;
+#[cfg(feature = "web")]
 pub mod on_screen;
 #[cfg(feature = "web")]
 pub mod panel;
+#[cfg(feature = "web")]
+pub mod queue_jobs;
 #[cfg(feature = "web")]
 pub mod state;

@@ -25,14 +25,14 @@
 //! (`.ms-lib-carried`), the timeline's `#row-transferred` ("Transferred") shows a take's carried
 //! labels, `#library-copy-carried` copies them into my labels, and the CSV saves them
 //! ([`crate::app::library::carry`]). The state
-//! is [`LibraryState`]; the worker's side is `loader::library`; the decisions are
+//! is [`LibraryState`]; the workers' side is [`crate::app::library::jobs`]; the decisions are
 //! [`crate::app::library::takes`]'s.
 
 use crate::app::library::carry::Route;
+use crate::app::library::library_jobs::LibraryJobs;
 use crate::app::library::on_screen::source_labels;
 use crate::app::library::state::LibraryState;
 use crate::app::library::takes::{library_csv, playing_text, Queue, Shared, Spot};
-use crate::app::loader::Loader;
 use crate::app::player::motion_image::download;
 use crate::app::state::AppState;
 use crate::app::timeline::method_rows::SegmentRow;
@@ -53,19 +53,19 @@ fn methods(state: AppState) -> Vec<(String, String)> {
 
 /// `#tabpanel-library`'s content: the list, the queue's controls and the exports.
 #[component]
-pub fn LibraryPanel(state: AppState, loader: Loader) -> impl IntoView {
+pub fn LibraryPanel(state: AppState, jobs: LibraryJobs) -> impl IntoView {
     let library = state.library;
     let busy = move || library.queue.with(Queue::busy);
     let rerunnable =
         move || library.queue.with(|q| q.entries.iter().any(|e| matches!(e.status.word(), "failed" | "cancelled")));
     let segmented = move || library.queue.with(|q| !q.segmented().is_empty());
     let cancel = {
-        let loader = loader.clone();
-        move |_| loader.cancel_library()
+        let jobs = jobs.clone();
+        move |_| jobs.cancel_library()
     };
     let rerun = {
-        let loader = loader.clone();
-        move |_| loader.rerun_library()
+        let jobs = jobs.clone();
+        move |_| jobs.rerun_library()
     };
     let export_csv = move |_| {
         let labelled = library.all_labelled();
@@ -83,7 +83,7 @@ pub fn LibraryPanel(state: AppState, loader: Loader) -> impl IntoView {
         .into_iter()
         .map(|(name, short)| view! { <option value=name.clone() selected=move || library.method.get() == name>{short}</option> })
         .collect_view();
-    let loader = StoredValue::new_local(loader);
+    let jobs = StoredValue::new_local(jobs);
     let takes = move || {
         let open = library.open.get();
         library.queue.with(|q| {
@@ -105,7 +105,7 @@ pub fn LibraryPanel(state: AppState, loader: Loader) -> impl IntoView {
                                 class="ms-lib-open"
                                 type="button"
                                 title="Open this take"
-                                on:click=move |_| loader.with_value(|l| l.open_library_take(i))
+                                on:click=move |_| jobs.with_value(|l| l.open_library_take(i))
                             >
                                 {e.name.clone()}
                             </button>
@@ -151,8 +151,8 @@ pub fn LibraryPanel(state: AppState, loader: Loader) -> impl IntoView {
                 {move || library.status.with(|s| s.as_ref().map(|(_, m)| m.clone()))}
             </p>
             <ol id="library-list" class="ms-lib-list">{takes}</ol>
-            <Carry state=state loader=loader/>
-            <Clusters state=state loader=loader/>
+            <Carry state=state jobs=jobs/>
+            <Clusters state=state jobs=jobs/>
         </section>
     }
 }
@@ -161,7 +161,7 @@ pub fn LibraryPanel(state: AppState, loader: Loader) -> impl IntoView {
 /// `#library-carry` (disabled with the reason as its title), where the carrying stands and "Copy
 /// into my labels" for the take on screen.
 #[component]
-fn Carry(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl IntoView {
+fn Carry(state: AppState, jobs: StoredValue<LibraryJobs, LocalStorage>) -> impl IntoView {
     let library = state.library;
     let source = Memo::new(move |_| source_labels(state).map(|(_, _, from)| from));
     let source_text = move || match source.get() {
@@ -197,7 +197,7 @@ fn Carry(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl Int
                     type="button"
                     disabled=move || source.with(Result::is_err) || library.carry_busy.get()
                     title=move || source.get().err()
-                    on:click=move |_| loader.with_value(|l| l.carry_labels())
+                    on:click=move |_| jobs.with_value(|l| l.carry_labels())
                 >
                     "Carry to every take"
                 </button>
@@ -206,7 +206,7 @@ fn Carry(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl Int
                     class="ms-button ms-button--small ms-button--quiet"
                     type="button"
                     hidden=move || !library.carry_busy.get()
-                    on:click=move |_| loader.with_value(|l| l.cancel_carry())
+                    on:click=move |_| jobs.with_value(|l| l.cancel_carry())
                 >
                     "Cancel"
                 </button>
@@ -296,7 +296,7 @@ fn cluster_item(
 /// The shared clusters: where the matching stands, the list (name to rename, occurrences, total
 /// duration, colour, Play, Clips), every cluster's clips, and the player of a cluster's occurrences.
 #[component]
-fn Clusters(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl IntoView {
+fn Clusters(state: AppState, jobs: StoredValue<LibraryJobs, LocalStorage>) -> impl IntoView {
     let library = state.library;
     let origin = RwSignal::new(false);
     let export = move |only: Option<usize>| {
@@ -307,14 +307,14 @@ fn Clusters(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl 
             Some(id) => format!("library_{}_clips.zip", crate::app::library::takes::folder_name(&names.name(id))),
             None => "library_clusters_clips.zip".to_string(),
         };
-        loader.with_value(|l| l.export_library_clips(file, takes, origin.get_untracked()));
+        jobs.with_value(|l| l.export_library_clips(file, takes, origin.get_untracked()));
     };
     let play = move |id: usize| {
         let playlist = library.shared.with_untracked(|s| s.as_ref().and_then(|s| s.playlist(id)));
         if let Some(p) = playlist {
             let spot = p.current();
             library.playlist.set(Some(p));
-            loader.with_value(|l| play_spot(state, l, spot));
+            jobs.with_value(|l| play_spot(state, l, spot));
         }
     };
     let step = move |forward: bool| {
@@ -325,7 +325,7 @@ fn Clusters(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl 
             }
         });
         if let Some(spot) = spot {
-            loader.with_value(|l| play_spot(state, l, spot));
+            jobs.with_value(|l| play_spot(state, l, spot));
         }
     };
     let stop = move |_| {
@@ -418,7 +418,7 @@ fn Clusters(state: AppState, loader: StoredValue<Loader, LocalStorage>) -> impl 
 
 /// Plays occurrence `spot`: at once when its take is on screen, else after opening it (its file
 /// read again).
-fn play_spot(state: AppState, loader: &Loader, spot: Spot) {
+fn play_spot(state: AppState, jobs: &LibraryJobs, spot: Spot) {
     let library = state.library;
     let on_screen = untrack(|| library.on_screen(state, spot.take));
     if on_screen {
@@ -426,7 +426,7 @@ fn play_spot(state: AppState, loader: &Loader, spot: Spot) {
         start(state, spot);
     } else {
         library.pending.set_value(Some((spot, untrack(|| motion_address(state)))));
-        loader.open_library_take(spot.take);
+        jobs.open_library_take(spot.take);
     }
 }
 

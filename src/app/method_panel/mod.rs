@@ -5,3 +5,5 @@
 pub mod fields;
 #[cfg(feature = "web")]
 pub mod panel;
+#[cfg(feature = "web")]
+pub mod runs;

@@ -26,8 +26,8 @@
 //!   segment, else a clean abbreviation or nothing ([`crate::app::timeline::label_fit`]), the whole label in
 //!   `data-label` and the tooltip.
 
-use crate::app::loader::Loader;
 use crate::app::method_panel::fields::{checked_field, param_words};
+use crate::app::method_panel::runs::MethodRuns;
 use crate::app::player::motion_image::{download, stem};
 use crate::app::state::AppState;
 use crate::app::state::MethodSlot;
@@ -165,7 +165,7 @@ fn run_actions(
 pub fn MethodPanel(
     state: AppState,
     method: &'static MethodSlot,
-    loader: Loader,
+    runs: MethodRuns,
     /// What the method adds under its form (a supervised method: model files and training).
     extra: Option<AnyView>,
 ) -> impl IntoView {
@@ -182,7 +182,7 @@ pub fn MethodPanel(
             slot.fields[at].set(c.adjusted_text());
         }
     };
-    let run_loader = loader.clone();
+    let run_with = runs.clone();
     let on_run = move |ev: leptos::ev::SubmitEvent| {
         ev.prevent_default();
         let pending = conflicts.get_untracked();
@@ -190,12 +190,12 @@ pub fn MethodPanel(
             pending.iter().for_each(adjust);
             lowered_message(slot, &pending)
         }));
-        run_loader.run(index);
+        run_with.run(index);
         // its row stays in view on the timeline (workspace.rs)
         crate::app::workspace::reveal_method(&slot.info.name);
     };
     let coupling_notes = move || conflicts.get().into_iter().map(|c| coupling_note(slot, c, adjust)).collect_view();
-    let on_cancel = move |_| loader.cancel(index);
+    let on_cancel = move |_| runs.cancel(index);
     let on_export = move |_| export_json(state, slot);
     let counts = move || slot.view.with(|v| v.as_ref().map(|v| v.details.summary.clone()).unwrap_or_default());
     let exports = view! { <Exports state=state method=slot index=index/> };

@@ -3,6 +3,14 @@
 //! question asked when another take is opened during a training, and which model a method uses
 //! once the user forgets one of theirs.
 
+/// The question asked when a take is opened while a training runs: the method training (its
+/// slot) and what the page says.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SwitchAsk {
+    pub index: usize,
+    pub question: SwitchQuestion,
+}
+
 /// The question shown when another take is opened while a training runs: `short` (the method's
 /// short name) trains the model `model` on the take `training_on`; the user opened `next`.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -11,7 +11,11 @@ pub mod training_advice;
 #[cfg(feature = "web")]
 pub mod browser_models;
 #[cfg(feature = "web")]
+pub mod jobs;
+#[cfg(feature = "web")]
 pub mod model_files;
+#[cfg(feature = "web")]
+pub mod model_jobs;
 #[cfg(feature = "web")]
 pub mod picked;
 #[cfg(feature = "web")]
@@ -24,3 +28,5 @@ pub mod train_form;
 pub mod train_outcome;
 #[cfg(feature = "web")]
 pub mod training;
+#[cfg(feature = "web")]
+pub mod training_jobs;

@@ -33,6 +33,7 @@ use leptos::prelude::*;
 use sha2::{Digest, Sha256};
 
 use crate::app::loader::Loader;
+use crate::app::method_panel::runs::MethodRuns;
 use crate::app::models::model_card::{card_lines, card_summary};
 use crate::app::models::model_files;
 use crate::app::models::take_fit::{fit_badge, FitBadge, BADGE};
@@ -112,6 +113,11 @@ fn shared(state: AppState, loader: &Loader) -> (RwSignal<ShippedCards>, RwSignal
     (cards, sha)
 }
 
+/// The methods' runs the page provides (`App`).
+fn page_runs() -> Option<MethodRuns> {
+    use_context::<StoredValue<MethodRuns, LocalStorage>>().map(|r| r.get_value())
+}
+
 /// The loader the page provides (`App`).
 fn page_loader() -> Option<Loader> {
     use_context::<StoredValue<Loader, LocalStorage>>().map(|l| l.get_value())
@@ -167,12 +173,12 @@ fn chosen_card(
 }
 
 /// Re-runs method `index` whenever its model choice changes (on its row or in its panel).
-fn rerun_on_change(slot: &'static MethodSlot, loader: Loader, index: usize) {
+fn rerun_on_change(slot: &'static MethodSlot, runs: MethodRuns, index: usize) {
     let Some((value, _)) = slot.param("model") else { return };
     Effect::new(move |previous: Option<String>| {
         let now = value.get();
         if previous.is_some_and(|p| p != now) {
-            loader.rerun_with_model(index);
+            runs.rerun_with_model(index);
         }
         now
     });
@@ -182,13 +188,13 @@ fn rerun_on_change(slot: &'static MethodSlot, loader: Loader, index: usize) {
 #[component]
 pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
     let slot: &'static MethodSlot = &state.methods[index];
-    let (Some(s), Some((value, choices)), Some(loader)) =
-        (slot.supervised.as_ref(), slot.param("model"), page_loader())
+    let (Some(s), Some((value, choices)), Some(loader), Some(runs)) =
+        (slot.supervised.as_ref(), slot.param("model"), page_loader(), page_runs())
     else {
         return ().into_any();
     };
     let (cards, sha) = shared(state, &loader);
-    rerun_on_change(slot, loader.clone(), index);
+    rerun_on_change(slot, runs.clone(), index);
     let method = slot.info.name.clone();
     let short = slot.info.short.clone();
     // the shipped model to go back to: the last one used
@@ -201,7 +207,6 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
     });
     let is_shipped = move || value.with(|v| s.decl.shipped.contains(v));
     let open = RwSignal::new(false);
-    let find_loader = loader.clone();
     Effect::new(move |_| {
         if slot.view.with(Option::is_some) || open.get() {
             want_cards(cards, &loader);
@@ -226,7 +231,7 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
         if let Some((field, _)) = slot.param("fit_others") {
             field.set("true".into());
         }
-        find_loader.run(index);
+        runs.run(index);
     };
     view! {
         <span class="ms-row-model" on:pointerdown=|ev| ev.stop_propagation()>

@@ -1,7 +1,7 @@
 //! What a training gives back on the page: its progress, its report, the trained model's file, and a model trained
 //! on another take than the one on screen (keep, apply or discard it).
 
-use crate::app::loader::Loader;
+use crate::app::models::model_jobs::ModelJobs;
 use crate::app::models::supervised::PendingChoice;
 use crate::app::models::supervised::{Supervised, TrainState};
 use crate::app::player::motion_image::download;
@@ -90,14 +90,14 @@ pub(crate) fn TrainReport(s: &'static Supervised, method: String) -> impl IntoVi
 #[component]
 pub(crate) fn PendingTrained(
     state: AppState,
-    loader: Loader,
+    jobs: ModelJobs,
     index: usize,
     s: &'static Supervised,
     method: String,
 ) -> impl IntoView {
     let settle = {
-        let loader = loader.clone();
-        move |choice: PendingChoice| loader.settle_trained(index, choice)
+        let jobs = jobs.clone();
+        move |choice: PendingChoice| jobs.settle_trained(index, choice)
     };
     let (keep, apply, discard) = (settle.clone(), settle.clone(), settle);
     let pending_now = move || s.pending.with(|p| p.as_ref().map(|p| p.now_on.clone())).unwrap_or_default();

@@ -8,7 +8,7 @@
 //!   or — for a bad file — the method's message (the model in use stays).
 //!   `document.body.dataset.<method>Model` (`data-<method>-model`): `idle`, `loading`, `done` or
 //!   `error`. `#<method>-my-models` lists the user's models (kept in this browser), each with a
-//!   Forget button (`button.ms-forget[data-model=NAME]`, [`Loader::forget_model`]): the model
+//!   Forget button (`button.ms-forget[data-model=NAME]`, [`ModelJobs::forget_model`]): the model
 //!   leaves the browser, the page and the model choice — the method back on its shipped model and
 //!   run again when it was in use — and the status line says what was forgotten.
 //! * [`TrainingPanel`] — `#<method>-training`: the label CSV (`#<method>-train-labels`, its
@@ -29,15 +29,15 @@
 //!   running bound to its own take (`#take-switch-keep`, focused); either opens the take, and the
 //!   take opens by itself if the training ends before an answer; Esc withdraws it (nothing opens,
 //!   the training goes on; `#take-switch-esc` says so). Nothing in it names a method:
-//!   the question says the method's short name and the model's, as the loader reports them.
+//!   the question says the method's short name and the model's, as the jobs reports them.
 //!
 //! The page holds every model it was given or trained ([`UserModel`], its file's bytes) and the
-//! loader sends them to each worker it starts, so a worker replaced after a cancel or a crash still
+//! models' jobs send them to each worker the loader starts, so a worker replaced after a cancel or a crash still
 //! knows them — the models kept in this browser still being restored, and a model kept from a
 //! training that ended on another take, included. The "my labels" row trains the method that declares `trains_on_my_labels` through
 //! [`Supervised::request`] ([`TrainRequest`], [`crate::app::models::supervised`]).
 
-use crate::app::loader::Loader;
+use crate::app::models::model_jobs::ModelJobs;
 use crate::app::models::picked::{picked_files, read_bytes};
 use crate::app::models::row_model::ModelCardView;
 use crate::app::models::supervised::{LoadStatus, Supervised, TrainAsk, TrainRequest, TrainState, Unloadable};
@@ -105,7 +105,7 @@ fn model_status(s: &'static Supervised, short: &str) -> String {
 fn unloadable_item(
     m: Arc<Unloadable>,
     index: usize,
-    forget_loader: StoredValue<Loader, LocalStorage>,
+    forget_jobs: StoredValue<ModelJobs, LocalStorage>,
 ) -> impl IntoView {
     let name = m.name.clone();
     let forget = name.clone();
@@ -127,7 +127,7 @@ fn unloadable_item(
                 "Export"
             </button>
             {forget_button(&name, "Remove it from this browser", move || {
-                forget_loader.with_value(|l| l.forget_model(index, &forget))
+                forget_jobs.with_value(|l| l.forget_model(index, &forget))
             })}
         </li>
     }
@@ -135,24 +135,24 @@ fn unloadable_item(
 
 /// `#<method>-model-file` and its status line.
 #[component]
-pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView {
+pub fn ModelFile(state: AppState, jobs: ModelJobs, index: usize) -> impl IntoView {
     let slot = &state.methods[index];
     let Some(s) = slot.supervised.as_ref() else { return ().into_any() };
     let method = slot.info.name.clone();
     let short = slot.info.short.clone();
     let slot_short = short.clone();
     body_data(format!("data-{method}-model"), move || s.file_state.get().body_state());
-    // (kept aside: the list below is reactive, and a loader cannot go to another thread)
-    let forget_loader = StoredValue::new_local(loader.clone());
+    // (kept aside: the list below is reactive, and a handle cannot go to another thread)
+    let forget_jobs = StoredValue::new_local(jobs.clone());
 
     let on_file = move |ev: leptos::ev::Event| {
         let Some(file) = picked_files(&ev).into_iter().next() else { return };
-        let loader = loader.clone();
+        let jobs = jobs.clone();
         s.file_state.set(LoadStatus::Loading);
         s.file_status.set(format!("Reading {}…", file.name()));
         wasm_bindgen_futures::spawn_local(async move {
             match read_bytes(&file, MAX_MODEL_BYTES).await {
-                Ok(bytes) => loader.use_model(index, file.name(), bytes),
+                Ok(bytes) => jobs.use_model(index, file.name(), bytes),
                 Err(message) => {
                     s.file_status.set(message);
                     s.file_state.set(LoadStatus::Failed);
@@ -175,7 +175,7 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
                         <li data-model=name.clone()>
                             <span class="ms-my-model-name">{name.clone()}</span>
                             {forget_button(&name, "Remove it from this browser and from the model choice", move || {
-                                forget_loader.with_value(|l| l.forget_model(index, &forget))
+                                forget_jobs.with_value(|l| l.forget_model(index, &forget))
                             })}
                         </li>
                     }
@@ -185,7 +185,7 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
     };
     // the user's models that do not load here: why, Export (the file as kept) and Forget — never dropped unasked
     let unloadable = move || {
-        s.unloadable.with(|list| list.iter().map(|m| unloadable_item(m.clone(), index, forget_loader)).collect_view())
+        s.unloadable.with(|list| list.iter().map(|m| unloadable_item(m.clone(), index, forget_jobs)).collect_view())
     };
     view! {
         <div class="ms-method-params ms-model-file">
@@ -223,7 +223,7 @@ pub fn ModelFile(state: AppState, loader: Loader, index: usize) -> impl IntoView
 }
 
 #[component]
-pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl IntoView {
+pub fn TrainingPanel(state: AppState, jobs: ModelJobs, index: usize) -> impl IntoView {
     let slot = &state.methods[index];
     let Some(s) = slot.supervised.as_ref() else { return ().into_any() };
     let method = slot.info.name.clone();
@@ -231,9 +231,9 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
     let busy = move || s.state.with(TrainState::busy);
     body_data(format!("data-{method}-training"), move || s.state.with(TrainState::body_state));
 
-    let start_loader = loader.clone();
+    let start_jobs = jobs.clone();
     // a training afresh, or (`from`: a model of the user's) more epochs of that model
-    let start_with = move |from: Option<String>| start_training(state, &start_loader, index, from);
+    let start_with = move |from: Option<String>| start_training(state, &start_jobs, index, from);
     let start = {
         let start_with = start_with.clone();
         move || start_with(None)
@@ -258,7 +258,7 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
         }
     };
     // the "my labels" row's requests: its rows as the chosen labels, trained at once; or Stop
-    let request_loader = loader.clone();
+    let request_jobs = jobs.clone();
     Effect::new(move |_| {
         let Some(request) = s.request.get() else { return };
         s.request.set(None);
@@ -271,11 +271,11 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
                 s.labels.set(Some((labels_name, csv)));
                 start();
             }
-            TrainRequest::Stop => request_loader.stop_training(index),
+            TrainRequest::Stop => request_jobs.stop_training(index),
         }
     });
-    let stop_loader = loader.clone();
-    let on_stop = move |_| stop_loader.stop_training(index);
+    let stop_jobs = jobs.clone();
+    let on_stop = move |_| stop_jobs.stop_training(index);
 
     let stopping = move || s.state.with(|st| *st == TrainState::Stopping);
 
@@ -334,7 +334,7 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
             >
                 {move || s.status.get()}
             </p>
-            <PendingTrained state=state loader=loader.clone() index=index s=s method=method.clone()/>
+            <PendingTrained state=state jobs=jobs.clone() index=index s=s method=method.clone()/>
             <TrainReport s=s method=method.clone()/>
             <TrainingPlot method=method.clone() supervised=s/>
         </section>
@@ -344,7 +344,7 @@ pub fn TrainingPanel(state: AppState, loader: Loader, index: usize) -> impl Into
 
 /// Starts a training of method `index` afresh, or (`from`: a model of the user's) more epochs of that model, with
 /// the labels, takes and options the panel holds (unless one is under way; a refused option says why at its field).
-fn start_training(state: AppState, loader: &Loader, index: usize, from: Option<String>) {
+fn start_training(state: AppState, jobs: &ModelJobs, index: usize, from: Option<String>) {
     let slot = &state.methods[index];
     let Some(s) = slot.supervised.as_ref() else { return };
     let busy = move || s.state.with(TrainState::busy);
@@ -367,7 +367,7 @@ fn start_training(state: AppState, loader: &Loader, index: usize, from: Option<S
             return;
         }
     };
-    loader.train(
+    jobs.train(
         index,
         TrainAsk {
             name: from.clone().unwrap_or_else(|| s.name.get_untracked().trim().to_string()),
@@ -390,10 +390,10 @@ fn start_training(state: AppState, loader: &Loader, index: usize, from: Option<S
 /// the take. The question goes when the training ends before an answer: the take opens then.
 /// Esc withdraws the take: nothing opens, the training goes on.
 #[component]
-pub fn TakeSwitch(state: AppState, loader: Loader) -> impl IntoView {
-    let asked = loader.switch_question();
+pub fn TakeSwitch(state: AppState, jobs: ModelJobs) -> impl IntoView {
+    let asked = jobs.switch_question();
     // a training that ends (or fails) while the question is up: nothing is left to ask
-    let settle = loader.clone();
+    let settle = jobs.clone();
     Effect::new(move |_| {
         let Some(index) = asked.with(|a| a.as_ref().map(|a| a.index)) else { return };
         let busy = state.methods[index].supervised.as_ref().is_some_and(|s| s.state.with(TrainState::busy));
@@ -415,13 +415,13 @@ pub fn TakeSwitch(state: AppState, loader: Loader) -> impl IntoView {
     let text = move |part: fn(&crate::app::models::kept_models::SwitchQuestion) -> String| {
         move || asked.with(|a| a.as_ref().map(|a| part(&a.question)).unwrap_or_default())
     };
-    let (stop_loader, keep_loader, esc_loader) = (loader.clone(), loader.clone(), loader);
+    let (stop_jobs, keep_jobs, esc_jobs) = (jobs.clone(), jobs.clone(), jobs);
     // Esc: the take is not opened after all (the one on screen stays, the training goes on)
     let on_key = move |ev: leptos::ev::KeyboardEvent| {
         if ev.key() == "Escape" {
             ev.prevent_default();
             ev.stop_propagation();
-            esc_loader.cancel_switch();
+            esc_jobs.cancel_switch();
         }
     };
     view! {
@@ -437,9 +437,9 @@ pub fn TakeSwitch(state: AppState, loader: Loader) -> impl IntoView {
             <p id="take-switch-text">{text(|q| q.text.clone())}</p>
             <div class="ms-take-switch-answers">
                 <button id="take-switch-stop" class="ms-button ms-button--quiet" type="button"
-                    on:click=move |_| stop_loader.answer_switch(true)>{text(|q| q.stop.clone())}</button>
+                    on:click=move |_| stop_jobs.answer_switch(true)>{text(|q| q.stop.clone())}</button>
                 <button id="take-switch-keep" class="ms-button" type="button" node_ref=keep_ref
-                    on:click=move |_| keep_loader.answer_switch(false)>{text(|q| q.keep.clone())}</button>
+                    on:click=move |_| keep_jobs.answer_switch(false)>{text(|q| q.keep.clone())}</button>
                 <span id="take-switch-esc" class="ms-take-switch-esc">"Esc: do not open it"</span>
             </div>
         </div>

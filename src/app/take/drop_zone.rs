@@ -4,6 +4,7 @@
 //! ([`crate::load::opening`]). Several takes dropped or picked at once, or a folder picked with
 //! `#folder-input`, make the library of takes ([`crate::app::library::panel`]).
 
+use crate::app::library::library_jobs::LibraryJobs;
 use crate::app::loader::Loader;
 use crate::app::state::AppState;
 use leptos::ev::{DragEvent, Event};
@@ -12,32 +13,32 @@ use wasm_bindgen::JsCast;
 use web_sys::{File, FileList, HtmlInputElement};
 
 #[component]
-pub fn DropZone(state: AppState, loader: Loader) -> impl IntoView {
+pub fn DropZone(state: AppState, loader: Loader, library: LibraryJobs) -> impl IntoView {
     // dragenter/dragleave also fire for the zone's children: count them to know when the
     // pointer really left.
     let depth = RwSignal::new(0i32);
     let loading = move || matches!(state.load.get(), crate::app::state::LoadState::Loading { .. });
 
     let on_drop = {
-        let loader = loader.clone();
+        let library = library.clone();
         move |ev: DragEvent| {
             ev.prevent_default();
             depth.set(0);
             let files = all_files(ev.data_transfer().and_then(|d| d.files()));
             if !files.is_empty() {
-                loader.open_dropped(files);
+                library.open_dropped(files);
             }
         }
     };
     let on_pick = {
-        let loader = loader.clone();
+        let library = library.clone();
         move |ev: Event| {
             let Some(input) = ev.target().and_then(|t| t.dyn_into::<HtmlInputElement>().ok()) else {
                 return;
             };
             let files = all_files(input.files());
             if !files.is_empty() {
-                loader.open_dropped(files);
+                library.open_dropped(files);
             }
             // Picking the same file again must load it again.
             input.set_value("");

@@ -1,5 +1,6 @@
 //! The clip exports' jobs: a row asks for BVH clips of the take on screen, the worker cuts them,
-//! the page saves the file; a worker that lost the take gets it again once.
+//! the page saves the file; a worker that lost the take gets it again once; a new main worker (a cancel, a crash)
+//! is sent the exports under way, with the take; a main worker that fails fails them, saying why.
 //!
 //! The jobs are the timeline's (every row exports its clips): the loader only carries their requests
 //! and routes the replies back by run id ([`crate::app::loader::Jobs`]).
@@ -9,6 +10,7 @@ use crate::app::loader::{Jobs, Loader};
 use crate::app::player::motion_image::download;
 use crate::app::state::AppState;
 use crate::protocol::{FailureKind, Request, Response, RunId};
+use crate::worker::pool::Slot;
 use leptos::prelude::*;
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -127,7 +129,7 @@ impl ClipJobs {
 }
 
 impl Jobs for ClipJobs {
-    fn reply(&self, response: Response) {
+    fn reply(&self, _slot: Slot, response: Response) {
         match response {
             Response::Clips { run, file, clips, bytes, .. } => {
                 if let Some(ClipJob { request, status, row, word, .. }) = self.take_job(run) {
@@ -159,14 +161,39 @@ impl Jobs for ClipJobs {
                         });
                     }
                     _ => {
+                        // (a failure of kind `internal` also replaces the worker: the loader does)
                         status.set(Some((true, message)));
-                        if kind == FailureKind::Internal {
-                            self.0.loader.replace_worker();
-                        }
                     }
                 }
             }
             _ => {}
+        }
+    }
+
+    fn resend(&self) {
+        // a new main worker holds no take: each export is sent with the take on screen
+        let jobs: Vec<ClipJob> = self.0.jobs.borrow_mut().drain(..).collect();
+        for job in jobs {
+            if let Some(run) = job.request.run_id() {
+                self.0.loader.forget(run);
+            }
+            let this = self.clone();
+            wasm_bindgen_futures::spawn_local(async move {
+                match this.0.loader.send_with_take(Rc::new(this.clone()), &job.request).await {
+                    Ok(()) => this.0.jobs.borrow_mut().push(job),
+                    Err(e) => job.status.set(Some((true, e))),
+                }
+            });
+        }
+    }
+
+    fn worker_failed(&self, message: &str) {
+        let jobs: Vec<ClipJob> = self.0.jobs.borrow_mut().drain(..).collect();
+        for job in jobs {
+            if let Some(run) = job.request.run_id() {
+                self.0.loader.forget(run);
+            }
+            job.status.set(Some((true, message.to_string())));
         }
     }
 }
