@@ -25,10 +25,10 @@ fn extension(name: &str) -> String {
 }
 
 /// `takes` (of files `names` with `sizes` in bytes, by index) without those whose motion or skeleton file is larger
-/// than the page reads of one take ([`crate::app::embed::url_params::MAX_FILE_BYTES`], 512 MiB): a library holds no file a
+/// than the page reads of one take ([`crate::app::embed::fetch_rules::MAX_FILE_BYTES`], 512 MiB): a library holds no file a
 /// take dropped alone could not be, and each left out is named with why.
 pub fn within_cap(takes: Vec<TakeFiles>, names: &[&str], sizes: &[f64]) -> (Vec<TakeFiles>, Vec<String>) {
-    let cap = crate::app::embed::url_params::MAX_FILE_BYTES as f64;
+    let cap = crate::app::embed::fetch_rules::MAX_FILE_BYTES as f64;
     let mut kept = Vec::new();
     let mut refused = Vec::new();
     for t in takes {
@@ -473,7 +473,7 @@ mod tests {
     #[test]
     fn files_past_a_takes_cap_are_left_out_of_the_library() {
         let names = ["a.bvh", "big.bvh", "02.asf", "02_01.amc", "c.bvh"];
-        let cap = crate::app::embed::url_params::MAX_FILE_BYTES as f64;
+        let cap = crate::app::embed::fetch_rules::MAX_FILE_BYTES as f64;
         let (takes, _) = group_files(&names);
         assert_eq!(takes.len(), 4);
         let (kept, refused) = within_cap(takes.clone(), &names, &[10.0, cap + 1.0, 2.0 * cap, 5.0, cap]);
