@@ -57,7 +57,6 @@ const KNOWN_LONG_PAGE_FILES: &[&str] = &[
     "src/app/loader/mod.rs",
     "src/app/loader/training.rs",
     "src/app/my_labels/row.rs",
-    "src/app/library/takes.rs",
     "src/app/my_labels/edits.rs",
 ];
 
