@@ -3,6 +3,10 @@
 //! Its pure part (natively tested) beside its components (built with the `web` feature).
 
 pub mod edits;
+pub mod snap;
+pub mod spans;
+pub mod stored;
+pub mod vocabulary;
 
 #[cfg(feature = "web")]
 pub mod row;

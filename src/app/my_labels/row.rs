@@ -45,11 +45,12 @@
 use crate::app::effort::bars::EffortLane;
 use crate::app::library::carry::TRANSFERRED;
 use crate::app::models::supervised::TrainRequest;
+use crate::app::my_labels::edits::EditError;
 use crate::app::my_labels::edits::MyLabels as Model;
-use crate::app::my_labels::edits::{
-    backup_key, cuts_of, fingerprint, hotkey_label, is_reserved, label_class, snap, snap_tolerance, storage_key,
-    suggestions, vocabulary, EditError, LabelSpan, SNAP_PX,
-};
+use crate::app::my_labels::snap::{cuts_of, snap, snap_tolerance, SNAP_PX};
+use crate::app::my_labels::spans::LabelSpan;
+use crate::app::my_labels::stored::{backup_key, fingerprint, storage_key};
+use crate::app::my_labels::vocabulary::{hotkey_label, is_reserved, label_class, suggestions, vocabulary};
 use crate::app::player::motion_image::stem;
 use crate::app::state::AppState;
 use crate::app::state::Selection;
