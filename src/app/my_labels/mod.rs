@@ -9,6 +9,14 @@ pub mod stored;
 pub mod vocabulary;
 
 #[cfg(feature = "web")]
+pub mod browser_storage;
+#[cfg(feature = "web")]
+pub mod input;
+#[cfg(feature = "web")]
+pub mod lane;
+#[cfg(feature = "web")]
+pub mod others;
+#[cfg(feature = "web")]
 pub mod row;
 #[cfg(feature = "web")]
 pub mod tools;
