@@ -10,6 +10,7 @@
 //! parameters.
 
 use crate::app::dom::js_message;
+use crate::app::embed::fetch_rules;
 use crate::app::embed::url_params::{self, UrlParams};
 use crate::app::loader::{Loader, Urls};
 use crate::app::method_panel::runs::MethodRuns;
@@ -88,7 +89,7 @@ pub fn start(
                     Some(asf) => {
                         let blob = fetch_src("asf", asf.clone()).await?;
                         let bytes =
-                            blob_bytes(&blob).await.map_err(|e| url_params::fetch_failed("asf", &asf, None, &e))?;
+                            blob_bytes(&blob).await.map_err(|e| fetch_rules::fetch_failed("asf", &asf, None, &e))?;
                         Some((url_params::file_name(&asf), js_sys::Uint8Array::new(&bytes).to_vec()))
                     }
                     None => None,
@@ -146,21 +147,21 @@ async fn fetch_src(param: &'static str, src: String) -> Result<Blob, String> {
         .map_err(|e| format!("{param}={src}: not a URL ({})", js_message(&e)))?;
     let origin = url.origin();
     let cross = origin != page_origin;
-    if cross && !url_params::connect_src_allows(&page_csp(), &page_origin, &origin) {
-        return Err(url_params::csp_refused(param, &src, &origin, &page_origin));
+    if cross && !fetch_rules::connect_src_allows(&page_csp(), &page_origin, &origin) {
+        return Err(fetch_rules::csp_refused(param, &src, &origin, &page_origin));
     }
     let cross_origin = cross.then_some((origin.as_str(), page_origin.as_str()));
     let window = web_sys::window().ok_or("no window")?;
     let response: FetchResponse = JsFuture::from(window.fetch_with_str(&url.href()))
         .await
-        .map_err(|e| url_params::fetch_failed(param, &src, cross_origin, &js_message(&e)))?
+        .map_err(|e| fetch_rules::fetch_failed(param, &src, cross_origin, &js_message(&e)))?
         .unchecked_into();
     if !response.ok() {
-        return Err(url_params::http_failed(param, &src, response.status(), &response.status_text()));
+        return Err(fetch_rules::http_failed(param, &src, response.status(), &response.status_text()));
     }
     read_capped(&response, MAX_FILE_BYTES).await.map_err(|e| match e {
-        ReadError::TooLarge { size, declared } => url_params::too_large(param, &src, size, declared, MAX_FILE_BYTES),
-        ReadError::Failed(e) => url_params::fetch_failed(param, &src, cross_origin, &e),
+        ReadError::TooLarge { size, declared } => fetch_rules::too_large(param, &src, size, declared, MAX_FILE_BYTES),
+        ReadError::Failed(e) => fetch_rules::fetch_failed(param, &src, cross_origin, &e),
     })
 }
 

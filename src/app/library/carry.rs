@@ -8,7 +8,7 @@
 //! ([`label_rows`]: the label CSV it trains on) and label every other take with it; [`Carried::by_model`] turns
 //! those segmentations into carried labels like the matching routes'.
 
-use crate::app::my_labels::edits::{is_labelled, label_class};
+use crate::app::my_labels::vocabulary::{is_labelled, label_class};
 use crate::labels::LabelRow;
 use crate::library::{TransferRoute, Transferred};
 use crate::segment::palette::class_colour;

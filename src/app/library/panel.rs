@@ -31,8 +31,9 @@
 use crate::app::library::carry::Route;
 use crate::app::library::library_jobs::LibraryJobs;
 use crate::app::library::on_screen::source_labels;
+use crate::app::library::queue::Queue;
 use crate::app::library::state::LibraryState;
-use crate::app::library::takes::{library_csv, playing_text, Queue, Shared, Spot};
+use crate::app::library::takes::{library_csv, playing_text, Shared, Spot};
 use crate::app::player::motion_image::download;
 use crate::app::state::AppState;
 use crate::app::timeline::method_rows::SegmentRow;

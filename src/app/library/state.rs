@@ -2,7 +2,8 @@
 //! shared clusters and their names, the labels carried across it, and the library's jobs in the workers.
 
 use crate::app::library::carry::{Carried, Route};
-use crate::app::library::takes::{ClusterNames, Playlist, Queue, Shared, Spot};
+use crate::app::library::queue::Queue;
+use crate::app::library::takes::{ClusterNames, Playlist, Shared, Spot};
 use crate::library::{LibraryTake, TakeFeatures};
 use crate::protocol::RunId;
 use leptos::prelude::*;

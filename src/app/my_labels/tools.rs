@@ -4,8 +4,8 @@
 
 use crate::app::models::supervised::{TrainRequest, TrainState};
 use crate::app::my_labels::edits::MyLabels as Model;
-use crate::app::my_labels::edits::HOTKEYS;
 use crate::app::my_labels::row::MyRow;
+use crate::app::my_labels::vocabulary::HOTKEYS;
 use crate::app::timeline::row_exports::RowExports;
 use leptos::ev::KeyboardEvent;
 use leptos::prelude::*;

@@ -5,8 +5,8 @@
 //! one). The bytes become a `Blob`: the page keeps a take as one ([`crate::app::loader`]).
 
 use crate::app::dom::js_message;
-use crate::app::embed::url_params::SizeCap;
-pub use crate::app::embed::url_params::MAX_FILE_BYTES;
+use crate::app::embed::fetch_rules::SizeCap;
+pub use crate::app::embed::fetch_rules::MAX_FILE_BYTES;
 use js_sys::{Array, Promise, Reflect, Uint8Array};
 use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;

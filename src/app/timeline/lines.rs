@@ -18,7 +18,8 @@
 
 use crate::app::consensus::row::{ConsensusLane, ConsensusRow, ConsensusTools};
 use crate::app::effort::bars::EffortLegend;
-use crate::app::my_labels::row::{MyLabelsRow, MyRow};
+use crate::app::my_labels::lane::MyLabelsRow;
+use crate::app::my_labels::row::MyRow;
 use crate::app::my_labels::tools::MyLabelsTools;
 use crate::app::player::motion_image::{Chunks, MotionImageCanvas};
 use crate::app::state::AppState;
@@ -432,7 +433,7 @@ fn HelpOverlay(state: AppState) -> impl IntoView {
                 <dl class="ms-help-list">
                     {SHORTCUTS
                         .iter()
-                        .chain(crate::app::my_labels::row::SHORTCUTS.iter())
+                        .chain(crate::app::my_labels::input::SHORTCUTS.iter())
                         .chain(crate::app::consensus::row::SHORTCUTS.iter())
                         .map(|(keys, what)| view! { <dt><kbd>{*keys}</kbd></dt> <dd>{*what}</dd> })
                         .collect_view()}

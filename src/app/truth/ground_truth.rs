@@ -13,7 +13,7 @@
 //! take (its frames, at the take's rate) as segmentation JSON, label CSV or BVH clips
 //! ([`RowExports`]). `document.body.dataset.truth` is `none`, `loaded` or `error`.
 
-use crate::app::my_labels::edits::label_class;
+use crate::app::my_labels::vocabulary::label_class;
 use crate::app::state::AppState;
 use crate::app::timeline::method_rows::{class_css, SegmentRow};
 use crate::app::timeline::row_exports::RowExports;
