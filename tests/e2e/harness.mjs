@@ -170,6 +170,7 @@ export async function openPage({ viewport = { width: 1280, height: 900 }, allowC
     ],
   });
   const context = await browser.newContext({ viewport, acceptDownloads: true, ...contextOptions });
+  await context.addInitScript(FORGET_WORKSPACE);
   const requests = [];
   context.on("request", (r) => requests.push(r.url()));
   const page = await context.newPage();
@@ -252,8 +253,44 @@ export async function waitReady(page, name) {
   }
 }
 
-/** Opens the app (BASE_URL + `query`) and waits for the bundled sample (or `name`) to be ready. */
-export async function gotoApp(page, query = "", name = "sample") {
+/**
+ * Run first in every document of a page that `openPage` opened: when the test asked for it ([`forgetWorkspace`]: a
+ * mark in the tab's sessionStorage), the workspace the page keeps in this browser (src/app/session/: the take, its
+ * truth, the rows' forms) is cleared before the app reads it — its IndexedDB transaction is queued before any of the
+ * app's.
+ */
+function FORGET_WORKSPACE() {
+  try {
+    if (!sessionStorage.getItem("mocapseg-e2e-forget")) return;
+    sessionStorage.removeItem("mocapseg-e2e-forget");
+  } catch {
+    return; // a document without storage (about:blank)
+  }
+  const open = indexedDB.open("mocapseg");
+  open.onsuccess = () => {
+    const db = open.result;
+    if (!db.objectStoreNames.contains("workspace")) return db.close();
+    const tx = db.transaction("workspace", "readwrite");
+    tx.objectStore("workspace").clear();
+    tx.oncomplete = tx.onerror = tx.onabort = () => db.close();
+  };
+}
+
+/**
+ * Has the next document the page opens forget the workspace kept by earlier steps, so that the app opens what its
+ * URL says rather than the last workspace (a page that never opened the app keeps nothing yet).
+ */
+export async function forgetWorkspace(page) {
+  if (!page.url().startsWith(BASE_URL)) return;
+  await page.evaluate(() => sessionStorage.setItem("mocapseg-e2e-forget", "1"));
+}
+
+/**
+ * Opens the app (BASE_URL + `query`) afresh — without the workspace kept by earlier steps ([`forgetWorkspace`];
+ * `{ keep: true }` keeps it) — and waits for the bundled sample (or `name`) to be ready.
+ */
+export async function gotoApp(page, query = "", name = "sample", { keep = false } = {}) {
+  if (!keep) await forgetWorkspace(page);
   await page.goto(new URL(query, BASE_URL).href);
   await waitReady(page, name);
 }
@@ -334,6 +371,36 @@ export async function until(cond, what, ms = 10_000) {
  * No uncaught exception and no console error since the last check (those reported are forgotten,
  * so that each test is charged with its own).
  */
+/**
+ * Sabotages the next worker scripts the page fetches (the page's own `www/worker.js`, rewritten as it is served): in
+ * each of the next `scripts` scripts, a request of type `type` breaks the worker. `how`: "trap" throws inside the
+ * handler on the first such request (worker.js reports it as an internal failure, as a wasm trap); "die" throws
+ * outside any request, without answering, on every such request (as a worker out of memory does). Later scripts are
+ * served whole (and, with `once`, no longer counted). Returns `served()` (how many scripts were fetched so far) and
+ * `stop()` (serve them whole again, uncounted).
+ */
+export async function sabotageWorkers(page, { type, how = "die", scripts = 1, once = false }) {
+  const breaks = how === "trap"
+    ? `if (!self.__broke && JSON.parse(event.data.json).type === ${JSON.stringify(type)}) { self.__broke = true; throw new Error("simulated trap"); }`
+    : `if (JSON.parse(event.data.json).type === ${JSON.stringify(type)}) { setTimeout(() => { throw new Error("simulated crash"); }); return; }`;
+  let served = 0;
+  const context = page.context();
+  const handler = async (route) => {
+    served += 1;
+    const response = await route.fetch();
+    let body = await response.text();
+    if (served <= scripts) {
+      const whole = body;
+      body = body.replace("worker_handle(event.data, post);", `${breaks}\n    worker_handle(event.data, post);`);
+      assert.notEqual(body, whole, "worker.js still calls worker_handle(event.data, post)");
+    }
+    await route.fulfill({ response, body });
+    if (once && served === scripts) await context.unroute("**/www/worker.js", handler);
+  };
+  await context.route("**/www/worker.js", handler);
+  return { served: () => served, stop: () => context.unroute("**/www/worker.js", handler) };
+}
+
 export function assertClean(opened) {
   const pageErrors = opened.pageErrors.splice(0);
   const consoleErrors = opened.consoleErrors.splice(0);

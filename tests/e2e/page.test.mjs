@@ -27,7 +27,7 @@ import { mkdirSync, readFileSync, writeFileSync } from "node:fs";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
-import { showPanel, watchRuns } from "./harness.mjs";
+import { sabotageWorkers, showPanel, watchRuns } from "./harness.mjs";
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
 const ROOT = path.resolve(HERE, "../..");
@@ -1047,20 +1047,7 @@ test("LMA trains on the user's Effort labels in the browser, saves, reloads and 
   // a new worker (after a cancel, after a crash) gets the user's family before it runs LMA
   await cancelLmaRun();
   await rerunLma(true);
-  let served = 0;
-  const context = page.context();
-  const handler = async (route) => {
-    served += 1;
-    const response = await route.fetch();
-    const body = (await response.text()).replace(
-      "worker_handle(event.data, post);",
-      `if (!self.__broke && JSON.parse(event.data.json).type === "segment") { self.__broke = true; throw new Error("simulated trap"); }
-    worker_handle(event.data, post);`,
-    );
-    await route.fulfill({ response, body });
-    await context.unroute("**/www/worker.js", handler);
-  };
-  await context.route("**/www/worker.js", handler);
+  const sabotaged = await sabotageWorkers(page, { type: "segment", how: "trap", once: true });
   await cancelLmaRun(); // the next worker is the sabotaged script
   allowConsoleErrors = true;
   try {
@@ -1070,7 +1057,7 @@ test("LMA trains on the user's Effort labels in the browser, saves, reloads and 
   } finally {
     allowConsoleErrors = false;
   }
-  assert.equal(served, 1, "the sabotaged worker script was served");
+  assert.equal(sabotaged.served(), 1, "the sabotaged worker script was served");
   assert.match(await text("#error-banner"), /internal error: simulated trap/, "the banner says the worker broke");
   await rerunLma(true);
 
@@ -1519,20 +1506,7 @@ test("DT-FCN trains in the browser: refusals at their field, progress and plot, 
   await assertLabelRow("dtfcn", json, trained);
   // a worker that breaks between two epochs: the training fails with the trap's message, the
   // worker is replaced, and the new one still has the user's models
-  let served = 0;
-  const context = page.context();
-  const handler = async (route) => {
-    served += 1;
-    const response = await route.fetch();
-    const body = (await response.text()).replace(
-      "worker_handle(event.data, post);",
-      `if (!self.__broke && JSON.parse(event.data.json).type === "continue_training") { self.__broke = true; throw new Error("simulated trap"); }
-    worker_handle(event.data, post);`,
-    );
-    await route.fulfill({ response, body });
-    await context.unroute("**/www/worker.js", handler);
-  };
-  await context.route("**/www/worker.js", handler);
+  const sabotaged = await sabotageWorkers(page, { type: "continue_training", how: "trap", once: true });
   // the main worker (which trains) is the one replaced: the run workers of the pool are made busy first
   // (a row each), so that SSSM's run goes to the main worker, and that run is cancelled
   const busy = ["velocity", "kcs", "pca", "lma"].slice(0, page.workers().length - 1);
@@ -1551,7 +1525,7 @@ test("DT-FCN trains in the browser: refusals at their field, progress and plot, 
   } finally {
     allowConsoleErrors = false;
   }
-  assert.equal(served, 1, "the sabotaged worker script was served");
+  assert.equal(sabotaged.served(), 1, "the sabotaged worker script was served");
   assert.match(await text("#dtfcn-train-status"), /Not trained: internal error: simulated trap/);
   const models = await page.locator("#dtfcn-model option").evaluateAll((os) => os.map((o) => o.value));
   assert.ok(!models.includes("e2e-broken"), `no model from the broken training: ${models}`);
@@ -1745,20 +1719,7 @@ test("a worker replaced after a fatal error: Run segments the take on screen aga
   // The next worker script the page fetches breaks on its first segment request, as a wasm trap
   // would (worker.js reports it as "internal"); the page must replace it, and the fresh worker
   // (the real script) must get the take on screen before it runs anything.
-  let served = 0;
-  const context = page.context();
-  const handler = async (route) => {
-    served += 1;
-    const response = await route.fetch();
-    const body = (await response.text()).replace(
-      "worker_handle(event.data, post);",
-      `if (!self.__broke && JSON.parse(event.data.json).type === "segment") { self.__broke = true; throw new Error("simulated trap"); }
-    worker_handle(event.data, post);`,
-    );
-    await route.fulfill({ response, body });
-    await context.unroute("**/www/worker.js", handler);
-  };
-  await context.route("**/www/worker.js", handler);
+  const sabotaged = await sabotageWorkers(page, { type: "segment", how: "trap", once: true });
   // a cancel replaces the worker: the new one is the sabotaged script
   await page.evaluate(() => {
     document.querySelector("#sssm-run").click();
@@ -1773,7 +1734,7 @@ test("a worker replaced after a fatal error: Run segments the take on screen aga
   } finally {
     allowConsoleErrors = false;
   }
-  assert.equal(served, 1, "the sabotaged worker script was served");
+  assert.equal(sabotaged.served(), 1, "the sabotaged worker script was served");
   assert.match(await text("#error-banner"), /internal error: simulated trap/, "the banner says the worker broke");
   // the broken worker was replaced; the next run goes to a fresh one, which gets the take first
   await clickRun();

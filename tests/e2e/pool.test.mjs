@@ -11,7 +11,7 @@ import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import path from "node:path";
 import {
-  FIXTURES, OUT, TIMEOUT, assertClean, closePage, gotoApp, openPage, showPanel, waitData, waitReady,
+  FIXTURES, OUT, TIMEOUT, assertClean, closePage, gotoApp, openPage, sabotageWorkers, showPanel, waitData, waitReady,
 } from "./harness.mjs";
 
 const METHODS = ["sssm", "velocity", "kcs", "pca", "lma", "knn", "dtfcn"];
@@ -82,29 +82,15 @@ test("a cancel reaches the worker that runs the row: the others' rows finish, th
 test("a worker that dies under a row is replaced and the row runs again", async () => {
   // the first two worker scripts served (the main worker's and the run worker's) die on their first
   // run without answering, as a worker out of memory does
-  let served = 0;
-  const handler = async (route) => {
-    served += 1;
-    const response = await route.fetch();
-    let body = await response.text();
-    if (served <= 2) {
-      body = body.replace(
-        "worker_handle(event.data, post);",
-        `if (JSON.parse(event.data.json).type === "segment") { setTimeout(() => { throw new Error("simulated crash"); }); return; }
-    worker_handle(event.data, post);`,
-      );
-    }
-    await route.fulfill({ response, body });
-  };
-  await page.context().route("**/www/worker.js", handler);
+  const sabotaged = await sabotageWorkers(page, { type: "segment", scripts: 2 });
   try {
     // (the page handles the workers' errors: nothing reaches its console)
     await gotoApp(page, "?workers=2");
     await allDone();
   } finally {
-    await page.context().unroute("**/www/worker.js", handler);
+    await sabotaged.stop();
   }
-  assert.ok(served >= 4, `new workers replaced the two that died (${served} scripts served)`);
+  assert.ok(sabotaged.served() >= 4, `new workers replaced the two that died (${sabotaged.served()} scripts served)`);
   assert.equal(await page.locator("#error-banner").isVisible(), false, "no error: the row ran again");
   assert.equal(page.workers().length, 2);
   assertClean(opened);

@@ -9,7 +9,7 @@
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
 import {
-  TIMEOUT, assertClean, closePage, gotoApp, openPage, showPanel, text, waitData,
+  TIMEOUT, assertClean, closePage, gotoApp, openPage, sabotageWorkers, showPanel, text, waitData,
 } from "./harness.mjs";
 
 let opened;
@@ -47,23 +47,9 @@ test("a clip export asked just before the main worker is replaced is sent to the
 });
 
 test("the main worker dying under an Effort annotation fails it, saying why; the bars ask again when turned on", async () => {
-  // the first worker script served (the main worker's: one worker) dies on its first annotation without
-  // answering, as a worker out of memory does; the next one served is whole
-  let served = 0;
-  const handler = async (route) => {
-    served += 1;
-    const response = await route.fetch();
-    let body = await response.text();
-    if (served === 1) {
-      body = body.replace(
-        "worker_handle(event.data, post);",
-        `if (JSON.parse(event.data.json).type === "annotate") { setTimeout(() => { throw new Error("simulated crash"); }); return; }
-    worker_handle(event.data, post);`,
-      );
-    }
-    await route.fulfill({ response, body });
-  };
-  await page.context().route("**/www/worker.js", handler);
+  // the first worker script served (the main worker's: one worker) dies on annotations without answering, as a
+  // worker out of memory does; the next one served is whole
+  const sabotaged = await sabotageWorkers(page, { type: "annotate" });
   try {
     await gotoApp(page, "?workers=1&methods=sssm");
     await waitData(page, "sssm", "done");
@@ -72,7 +58,7 @@ test("the main worker dying under an Effort annotation fails it, saying why; the
       () => /Effort: the worker failed/.test(document.querySelector("#effort-status")?.textContent ?? ""),
       null, { timeout: TIMEOUT },
     );
-    assert.equal(served, 1, "the main worker is not started again until something is asked of it");
+    assert.equal(sabotaged.served(), 1, "the main worker is not started again until something is asked of it");
     // off and on: the row asks again, of a new main worker (given the take on screen again)
     await page.click("#effort-toggle");
     await page.click("#effort-toggle");
@@ -80,9 +66,9 @@ test("the main worker dying under an Effort annotation fails it, saying why; the
       const lane = document.querySelector("#effort-sssm-actions");
       return lane && lane.dataset.pending === "false" && lane.querySelector(".ms-effort-seg .ms-effort-bar");
     }, null, { timeout: 2 * TIMEOUT });
-    assert.equal(served, 2, "one new worker");
+    assert.equal(sabotaged.served(), 2, "one new worker");
   } finally {
-    await page.context().unroute("**/www/worker.js", handler);
+    await sabotaged.stop();
     if ((await page.locator("#effort-toggle").getAttribute("aria-pressed")) === "true") await page.click("#effort-toggle");
   }
   assertClean(opened);

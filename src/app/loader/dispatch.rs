@@ -116,9 +116,13 @@ fn on_main_error(inner: &Rc<Inner>, event: Event) {
             return replace_main(inner);
         }
     }
+    // dropped first: what is asked of the main worker from here on (the next waiting run, once the pool frees its
+    // place) starts a new one
+    inner.main.borrow_mut().take(); // terminates it
     take::fail_load(inner, inner.current.get(), failed.clone());
     // the run it was busy with fails (the run workers' go on)
     if let Some((run, jobs)) = jobs {
+        inner.routes.borrow_mut().remove(&run);
         jobs.fail(run, failed.clone());
     }
     if let Some(run) = run {
@@ -127,7 +131,6 @@ fn on_main_error(inner: &Rc<Inner>, event: Event) {
     for jobs in features(inner) {
         jobs.worker_failed(&failed);
     }
-    inner.main.borrow_mut().take(); // terminates it
 }
 
 /// Replaces worker `slot` (0: the main worker, with everything it was doing).

@@ -50,11 +50,11 @@ pub(super) fn spawn(inner: &Rc<Inner>, slot: Slot) {
     }
 }
 
-/// Run worker `slot` is out of the pool (terminated, not replaced): its run is asked of another.
+/// Run worker `slot` is out of the pool (terminated, not replaced): its run, if still wanted, is asked of another.
 fn out_of_pool(inner: &Rc<Inner>, slot: Slot) {
     inner.helpers.borrow_mut()[slot - 1] = None; // terminates it
     let run = inner.pool.borrow_mut().down(slot);
-    if let Some(run) = run {
+    if let Some(run) = run.filter(|&run| route(inner, run).is_some()) {
         place_again(inner, run);
     }
 }
@@ -137,15 +137,18 @@ pub(super) fn died(inner: &Rc<Inner>, slot: Slot) {
     let run = inner.pool.borrow().running(slot);
     let jobs: Option<(RunId, Rc<dyn Jobs>)> = run.and_then(|run| route(inner, run).map(|jobs| (run, jobs)));
     let Some((run, jobs)) = jobs else { return out_of_pool(inner, slot) };
-    match jobs.died(run) {
-        AfterDeath::RunAgain => replace(inner, slot),
-        AfterDeath::Replace => {
-            jobs.fail(run, "the worker running it stopped (out of memory?)".into());
-            replace(inner, slot)
-        }
-        AfterDeath::Retire => {
-            jobs.fail(run, "the worker running it stopped twice (out of memory?)".into());
-            out_of_pool(inner, slot)
-        }
+    let after = jobs.died(run);
+    if after == AfterDeath::RunAgain {
+        return replace(inner, slot);
+    }
+    // the run ends here: nobody waits for it any longer (its worker's place goes to the next run), then its feature
+    // fails it
+    inner.routes.borrow_mut().remove(&run);
+    if after == AfterDeath::Replace {
+        replace(inner, slot);
+        jobs.fail(run, "the worker running it stopped (out of memory?)".into());
+    } else {
+        out_of_pool(inner, slot);
+        jobs.fail(run, "the worker running it stopped twice (out of memory?)".into());
     }
 }
