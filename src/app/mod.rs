@@ -10,8 +10,9 @@
 //! part — the view maths, compiled and tested natively — beside its leptos components (feature
 //! `web`). The page's signals live in `state.rs` (`AppState`), made once by the root (`root.rs`) and
 //! passed down; the components render them and compute little — the worker does the work. The
-//! loader (`loader/`) carries requests to the workers and routes each reply by its run id; a
-//! feature's own jobs in the worker (the Effort bars', the clip exports') are the feature's. `document.body.dataset.state` says
+//! loader (`loader/`) carries requests to the workers and routes each reply by its run id; each
+//! feature's jobs in the workers (the methods' runs, the models', the library's, the Effort bars', the clip
+//! exports') are the feature's. [`session`] keeps the workspace across a reload. `document.body.dataset.state` says
 //! where loading stands: `loading`, `ready` or `error` (the outcome of the last load).
 //! After each successful load the worker runs every method whose `auto_run` is set with the
 //! parameters in its form ([`method_panel`]: one generic panel per registered method, built from
@@ -33,6 +34,8 @@
 #[cfg(feature = "web")]
 mod dom;
 #[cfg(feature = "web")]
+mod idb;
+#[cfg(feature = "web")]
 mod loader;
 #[cfg(feature = "web")]
 mod root;
@@ -49,6 +52,7 @@ pub mod method_panel;
 pub mod models;
 pub mod my_labels;
 pub mod player;
+pub mod session;
 pub mod take;
 pub mod timeline;
 pub mod truth;

@@ -15,6 +15,7 @@ use crate::app::method_panel::runs::MethodRuns;
 use crate::app::models::model_jobs::ModelJobs;
 use crate::app::models::training::{ModelFile, TakeSwitch, TrainingPanel};
 use crate::app::player::canvas::Player;
+use crate::app::session::keeper::{Keeper, WorkspaceStatus};
 use crate::app::state::{AppState, LoadState, RunState};
 use crate::app::take::first_visit::WhatNext;
 use crate::app::take::{drop_zone::DropZone, error_banner::ErrorBanner, progress::Progress, summary::Summary};
@@ -65,6 +66,8 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
     provide_context(StoredValue::new_local(EffortJobs::new(state.effort, loader.clone())));
     provide_context(StoredValue::new_local(ClipJobs::new(state, loader.clone())));
     let library_jobs = LibraryJobs::new(state, loader.clone(), models.clone());
+    // the workspace kept in this browser: set again below when the URL names nothing to show, kept from then on
+    let keeper = Keeper::new(state, loader.clone());
     let notice = RwSignal::new(launch.messages.clone());
     let full = !launch.params.embed;
 
@@ -83,7 +86,7 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
             }
         });
     }
-    crate::app::embed::launch::start(state, &loader, &runs, &urls, &launch, notice);
+    crate::app::embed::launch::start(state, &loader, &runs, &keeper, &urls, &launch, notice);
     // the loader (and the worker it owns) lives as long as the page, even when no component holds
     // it (embed mode has no drop zone or method panels); the app is mounted once, never unmounted
     std::mem::forget(loader.clone());
@@ -135,6 +138,7 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
         <section class="ms-input">
             {full.then(|| view! { <DropZone state=state loader=loader.clone() library=library_jobs.clone()/> })}
             <Progress state=state/>
+            {full.then(|| view! { <WorkspaceStatus keeper=keeper.clone()/> })}
             {full.then(|| view! { <TakeSwitch state=state jobs=models.clone()/> })}
         </section>
         {full.then(|| view! { <Summary state=state/> })}

@@ -14,6 +14,7 @@ use crate::app::embed::fetch_rules;
 use crate::app::embed::url_params::{self, UrlParams};
 use crate::app::loader::{Loader, Urls};
 use crate::app::method_panel::runs::MethodRuns;
+use crate::app::session::keeper::Keeper;
 use crate::app::state::AppState;
 use crate::app::take::fetch::{blob_bytes, read_capped, ReadError, MAX_FILE_BYTES};
 use leptos::prelude::*;
@@ -65,12 +66,14 @@ fn location_part(part: &str) -> String {
         .unwrap_or_default()
 }
 
-/// Loads what the URL names (else the sample), sets the methods to run, and seeks / plays once
+/// Loads what the URL names (else the workspace kept in this browser, [`Keeper::restore`], else the sample; an
+/// embedded page keeps nothing), sets the methods to run, and seeks / plays once
 /// the take is on screen; the messages that can only be known then go to `notice`.
 pub fn start(
     state: AppState,
     loader: &Loader,
     runs: &MethodRuns,
+    keeper: &Keeper,
     urls: &Urls,
     launch: &Launch,
     notice: RwSignal<Vec<String>>,
@@ -97,9 +100,22 @@ pub fn start(
                 Ok((fetch_src("src", url).await?, skeleton))
             };
             loader.load_src(src.clone(), name.clone(), fetch);
+            // (an embedded page keeps nothing: it must not overwrite the workspace of the page it is part of)
+            if !params.embed {
+                keeper.skip();
+            }
             name
         }
+        // a page that names nothing to show opens the workspace kept in this browser (else the sample)
+        None if !params.says_what_to_show => {
+            let loader = loader.clone();
+            keeper.restore(move || loader.load_sample());
+            return;
+        }
         None => {
+            if !params.embed {
+                keeper.skip();
+            }
             loader.load_sample();
             urls.sample_name()
         }

@@ -42,7 +42,14 @@ pub struct UrlParams {
     /// How many workers the page starts (1 to [`crate::worker::pool::MAX_WORKERS`]); `None`: one
     /// per core, at least two.
     pub workers: Option<usize>,
+    /// Whether the URL says what to show — `src`, `t`, `autoplay` or `embed` is given, valid or not — so that the page
+    /// does not open the workspace kept in this browser ([`crate::app::session`]).
+    pub says_what_to_show: bool,
 }
+
+/// The parameters that say what the page shows (any of them, valid or not, keeps the workspace kept in this browser
+/// closed).
+pub const SAY_WHAT_TO_SHOW: [&str; 4] = ["src", "t", "autoplay", "embed"];
 
 /// The parameters and a message for every value that could not be used.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -116,6 +123,7 @@ pub fn parse(query: &str, known_methods: &[&str]) -> Parsed {
         }
     }
     pair_amc_with_asf(&mut out);
+    out.params.says_what_to_show = seen.iter().any(|k| SAY_WHAT_TO_SHOW.contains(&k.as_str()));
     out
 }
 

@@ -131,6 +131,18 @@ impl Loader {
         take::open_src(&self.0, url, name, fetch);
     }
 
+    /// Loads `file` as the take `name` (with an AMC motion's ASF `skeleton`: its name and bytes), as a dropped file
+    /// loads (a take kept in this browser).
+    pub fn load_blob(&self, name: &str, file: Blob, skeleton: Option<(String, Vec<u8>)>) {
+        take::open_blob(&self.0, name, file, skeleton);
+    }
+
+    /// The take on screen as it can be kept: its name, file, skeleton (an AMC motion's ASF: name, bytes), and whether
+    /// it is the bundled sample.
+    pub fn shown_take_files(&self) -> Option<(String, Blob, Option<(String, Vec<u8>)>, bool)> {
+        self.0.shown.borrow().as_ref().map(|t| (t.name.clone(), t.file.clone(), t.skeleton.clone(), t.sample))
+    }
+
     /// The name of the bundled sample's file.
     pub fn sample_name(&self) -> String {
         self.0.urls.sample_name()

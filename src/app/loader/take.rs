@@ -40,7 +40,7 @@ fn open_sample(inner: &Rc<Inner>) {
             fetched => fetched,
         };
         match file {
-            Ok(file) => send_load(&inner, id, &name, file, None),
+            Ok(file) => send_load(&inner, id, &name, (file, None), true),
             Err(message) => fail_load(&inner, id, format!("{name}: could not load the sample: {message}")),
         }
     });
@@ -58,13 +58,19 @@ pub(super) fn open_src(
     *inner.src_take.borrow_mut() = Some((id, url));
     wasm_bindgen_futures::spawn_local(async move {
         match fetch.await {
-            Ok((file, skeleton)) => send_load(&inner, id, &name, file, skeleton),
+            Ok((file, skeleton)) => send_load(&inner, id, &name, (file, skeleton), false),
             Err(message) => {
                 inner.src_take.borrow_mut().take();
                 fail_load(&inner, id, message)
             }
         }
     });
+}
+
+/// Loads `file` (with an AMC motion's ASF `skeleton`) as `name` ([`crate::app::loader::Loader::load_blob`]).
+pub(super) fn open_blob(inner: &Rc<Inner>, name: &str, file: Blob, skeleton: Option<(String, Vec<u8>)>) {
+    let id = begin(inner, name);
+    send_load(inner, id, name, (file, skeleton), false);
 }
 
 /// Loads the files `files` (see [`crate::app::loader::Loader::load_files`]).
@@ -103,7 +109,7 @@ fn open_files(inner: &Rc<Inner>, files: Vec<File>) {
             },
         };
         // the File itself: its bytes are read when it is sent, and not kept
-        send_load(&inner, id, &name, Blob::from(motion), skeleton);
+        send_load(&inner, id, &name, (Blob::from(motion), skeleton), false);
     });
 }
 
@@ -115,14 +121,21 @@ fn begin(inner: &Inner, name: &str) -> TakeId {
     id
 }
 
-/// Sends a load of `file` as take `id`, with its ASF `skeleton` (name, bytes) for an AMC motion
-/// (`None` for any other file); the page keeps the `Blob`, to send it again if needed. One
+/// Sends a load of `files` as take `id`: the file, with its ASF skeleton (name, bytes) for an AMC motion
+/// (`None` for any other file); `sample`: the bundled sample's; the page keeps the `Blob`, to send it again if needed. One
 /// function for both, so that no path (a worker restart) can send an AMC without its skeleton.
-pub(super) fn send_load(inner: &Rc<Inner>, id: TakeId, name: &str, file: Blob, skeleton: Option<(String, Vec<u8>)>) {
+pub(super) fn send_load(
+    inner: &Rc<Inner>,
+    id: TakeId,
+    name: &str,
+    files: (Blob, Option<(String, Vec<u8>)>),
+    sample: bool,
+) {
+    let (file, skeleton) = files;
     if inner.current.get() != id {
         return;
     }
-    let take = Take { id, name: name.to_string(), file, skeleton };
+    let take = Take { id, name: name.to_string(), file, skeleton, sample };
     *inner.pending.borrow_mut() = Some(take.clone());
     let send = inner.load_sends.get().wrapping_add(1);
     inner.load_sends.set(send);
@@ -145,7 +158,7 @@ pub(super) fn send_load(inner: &Rc<Inner>, id: TakeId, name: &str, file: Blob, s
 pub(super) fn send_pending(inner: &Rc<Inner>) {
     let pending = inner.pending.borrow().clone();
     if let Some(take) = pending {
-        send_load(inner, take.id, &take.name, take.file, take.skeleton);
+        send_load(inner, take.id, &take.name, (take.file, take.skeleton), take.sample);
     }
 }
 

@@ -51,6 +51,8 @@ pub(super) struct Take {
     pub file: Blob,
     /// An AMC motion's ASF skeleton: its name and bytes.
     pub skeleton: Option<(String, Vec<u8>)>,
+    /// The bundled sample's.
+    pub sample: bool,
 }
 
 /// A take the user asked to open.

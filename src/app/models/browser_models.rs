@@ -3,22 +3,17 @@
 //!
 //! One database `mocapseg`, one object store `models`, one record per method and model name
 //! (key `<method>/<name>`): `{method, name, file, bytes: Uint8Array, saved: ms since 1970}`.
-//! web-sys's IndexedDB bindings directly (a request's events turned into a promise): the wrapper
-//! crates (rexie, indexed_db_futures) pin their own wasm-bindgen releases, and this crate pins
-//! one (`=0.2.130`) that the worker's glue is generated with. A browser without IndexedDB
+//! The page's database ([`crate::app::idb`]) holds the store. A browser without IndexedDB
 //! (some private windows) gives a message; the page works as before, models last for the tab.
 
-use js_sys::{Array, Object, Promise, Reflect, Uint8Array};
-use wasm_bindgen::prelude::*;
-use wasm_bindgen::JsCast;
-use wasm_bindgen_futures::JsFuture;
-use web_sys::{IdbDatabase, IdbObjectStore, IdbOpenDbRequest, IdbRequest, IdbTransaction, IdbTransactionMode};
+use js_sys::{Array, Object, Reflect, Uint8Array};
+use wasm_bindgen::{JsCast, JsValue};
+use web_sys::{IdbDatabase, IdbObjectStore, IdbTransaction, IdbTransactionMode};
 
 use crate::app::dom::js_message;
+use crate::app::idb::{self, committed, finished, open};
 
-const DATABASE: &str = "mocapseg";
 const STORE: &str = "models";
-const VERSION: u32 = 1;
 
 /// A model kept in this browser.
 #[derive(Debug, Clone)]
@@ -33,75 +28,8 @@ fn key(method: &str, name: &str) -> String {
     format!("{method}/{name}")
 }
 
-/// The result of `request` once it succeeds, or its error's message.
-async fn finished(request: &IdbRequest) -> Result<JsValue, String> {
-    let promise = Promise::new(&mut |resolve, reject| {
-        let ok_request = request.clone();
-        let on_ok = Closure::once_into_js(move |_: web_sys::Event| {
-            let _ = resolve.call1(&JsValue::NULL, &ok_request.result().unwrap_or(JsValue::UNDEFINED));
-        });
-        let failed_request = request.clone();
-        let on_error = Closure::once_into_js(move |_: web_sys::Event| {
-            let message = failed_request
-                .error()
-                .ok()
-                .flatten()
-                .map(|e| format!("{}: {}", e.name(), e.message()))
-                .unwrap_or_else(|| "the request failed".into());
-            let _ = reject.call1(&JsValue::NULL, &JsValue::from_str(&message));
-        });
-        request.set_onsuccess(Some(on_ok.unchecked_ref()));
-        request.set_onerror(Some(on_error.unchecked_ref()));
-    });
-    JsFuture::from(promise).await.map_err(|e| js_message(&e))
-}
-
-/// Resolves when `tx` is committed.
-async fn committed(tx: &IdbTransaction) -> Result<(), String> {
-    let promise = Promise::new(&mut |resolve, reject| {
-        let on_ok = Closure::once_into_js(move |_: web_sys::Event| {
-            let _ = resolve.call0(&JsValue::NULL);
-        });
-        let failed = tx.clone();
-        let on_error = Closure::once_into_js(move |_: web_sys::Event| {
-            let message = failed
-                .error()
-                .map(|e| format!("{}: {}", e.name(), e.message()))
-                .unwrap_or_else(|| "the transaction was aborted".into());
-            let _ = reject.call1(&JsValue::NULL, &JsValue::from_str(&message));
-        });
-        tx.set_oncomplete(Some(on_ok.unchecked_ref()));
-        tx.set_onerror(Some(on_error.clone().unchecked_ref()));
-        tx.set_onabort(Some(on_error.unchecked_ref()));
-    });
-    JsFuture::from(promise).await.map(|_| ()).map_err(|e| js_message(&e))
-}
-
-/// The database, its store made on first use.
-async fn open() -> Result<IdbDatabase, String> {
-    let factory = web_sys::window()
-        .ok_or("no window")?
-        .indexed_db()
-        .map_err(|e| js_message(&e))?
-        .ok_or("this browser offers no IndexedDB here")?;
-    let request: IdbOpenDbRequest = factory.open_with_u32(DATABASE, VERSION).map_err(|e| js_message(&e))?;
-    let upgrading = request.clone();
-    let on_upgrade = Closure::once_into_js(move |_: web_sys::Event| {
-        if let Ok(db) = upgrading.result().and_then(|r| r.dyn_into::<IdbDatabase>().map_err(JsValue::from)) {
-            if let Err(e) = db.create_object_store(STORE) {
-                web_sys::console::warn_1(&e);
-            }
-        }
-    });
-    request.set_onupgradeneeded(Some(on_upgrade.unchecked_ref()));
-    let db = finished(&request).await?;
-    db.dyn_into::<IdbDatabase>().map_err(|_| "IndexedDB gave no database".to_string())
-}
-
 fn store(db: &IdbDatabase, mode: IdbTransactionMode) -> Result<(IdbTransaction, IdbObjectStore), String> {
-    let tx = db.transaction_with_str_and_mode(STORE, mode).map_err(|e| js_message(&e))?;
-    let store = tx.object_store(STORE).map_err(|e| js_message(&e))?;
-    Ok((tx, store))
+    idb::store(db, STORE, mode)
 }
 
 /// Keeps the model `name` of `method` (its file's name and bytes), replacing one of that name.

@@ -31,6 +31,7 @@ fn every_parameter_together() {
             autoplay: true,
             embed: true,
             workers: Some(2),
+            says_what_to_show: true,
         }
     );
     assert!(parsed.messages.is_empty(), "{:?}", parsed.messages);
@@ -63,7 +64,7 @@ fn an_amc_src_needs_its_asf_and_an_asf_needs_an_amc() {
 }
 
 fn both_of(src: &str, asf: &str) -> UrlParams {
-    UrlParams { src: Some(src.into()), asf: Some(asf.into()), ..UrlParams::default() }
+    UrlParams { src: Some(src.into()), asf: Some(asf.into()), says_what_to_show: true, ..UrlParams::default() }
 }
 
 #[test]
@@ -271,5 +272,17 @@ fn file_names() {
 fn encode_decodes_back() {
     for s in ["www/02_01.bvh", "https://a.org/x y.bvh?v=2&w=ü", "a+b%c"] {
         assert_eq!(decode(&encode(s)), s);
+    }
+}
+
+#[test]
+fn a_url_says_what_to_show_with_src_t_autoplay_or_embed_even_when_their_values_are_refused() {
+    let says = |q: &str| parse(q, &["sssm"]).params.says_what_to_show;
+    assert!(!says(""), "no parameter: the workspace kept comes back");
+    assert!(!says("?methods=sssm&workers=2"), "which methods run and on how many workers say nothing of the take");
+    for q in
+        ["?src=www/a.bvh", "?src=javascript:alert(1)", "?t=soon", "?t=3", "?autoplay=maybe", "?embed=1", "?EMBED=0"]
+    {
+        assert!(says(q), "{q}");
     }
 }
