@@ -68,7 +68,12 @@ pub async fn put_take(kept: &KeptFile) -> Result<(), String> {
 
 /// Forgets the take's file kept.
 pub async fn clear_take() -> Result<(), String> {
-    put("take", &JsValue::UNDEFINED).await
+    let db = open().await?;
+    let (tx, store) = store(&db, STORE, IdbTransactionMode::Readwrite)?;
+    store.delete(&"take".into()).map_err(|e| js_message(&e))?;
+    let done = committed(&tx).await;
+    db.close();
+    done
 }
 
 /// The take's file kept, if any.
