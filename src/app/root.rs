@@ -16,6 +16,7 @@ use crate::app::models::model_jobs::ModelJobs;
 use crate::app::models::training::{ModelFile, TakeSwitch, TrainingPanel};
 use crate::app::player::canvas::Player;
 use crate::app::session::keeper::{Keeper, WorkspaceStatus};
+use crate::app::session::project_file::ProjectFile;
 use crate::app::state::{AppState, LoadState, RunState};
 use crate::app::take::first_visit::WhatNext;
 use crate::app::take::{drop_zone::DropZone, error_banner::ErrorBanner, progress::Progress, summary::Summary};
@@ -67,7 +68,7 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
     provide_context(StoredValue::new_local(ClipJobs::new(state, loader.clone())));
     let library_jobs = LibraryJobs::new(state, loader.clone(), models.clone());
     // the workspace kept in this browser: set again below when the URL names nothing to show, kept from then on
-    let keeper = Keeper::new(state, loader.clone());
+    let keeper = Keeper::new(state, loader.clone(), library_jobs.clone());
     let notice = RwSignal::new(launch.messages.clone());
     let full = !launch.params.embed;
 
@@ -139,6 +140,9 @@ fn App(urls: Urls, launch: Launch) -> impl IntoView {
             {full.then(|| view! { <DropZone state=state loader=loader.clone() library=library_jobs.clone()/> })}
             <Progress state=state/>
             {full.then(|| view! { <WorkspaceStatus keeper=keeper.clone()/> })}
+            {full.then(|| view! {
+                <ProjectFile state=state loader=loader.clone() keeper=keeper.clone() models=models.clone()/>
+            })}
             {full.then(|| view! { <TakeSwitch state=state jobs=models.clone()/> })}
         </section>
         {full.then(|| view! { <Summary state=state/> })}

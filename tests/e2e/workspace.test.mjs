@@ -108,3 +108,43 @@ test("the sample comes back as the sample, with its truth; a URL that names a ta
   assert.equal(await page.locator("#workspace-status").isVisible(), false, "nothing restored");
   assertClean(opened);
 });
+
+test("a reload brings back the library: its takes segmented and matched again, the take open and the clusters' names", async () => {
+  await gotoApp(page, "?methods=sssm");
+  await page.setInputFiles("#file-input", ["02_01.bvh", "02_02.bvh"].map((f) => path.join(FIXTURES, f)));
+  await waitReady(page, "02_01.bvh");
+  const first = page.locator("#library-clusters li").first();
+  await first.waitFor({ timeout: TIMEOUT });
+  const id = await first.getAttribute("data-cluster");
+  await first.locator(".ms-lib-name").fill("hop step");
+  await first.locator(".ms-lib-name").dispatchEvent("change");
+  await page.locator(`#row-library .ms-seg[data-cluster="${id}"][data-label="hop step"]`).first().waitFor({ timeout: TIMEOUT });
+  await page.click("#library-list li[data-index='1'] .ms-lib-open");
+  await waitReady(page, "02_02.bvh");
+  const labelled = await page.$$eval("#row-library .ms-seg", (els) => els.map((e) => [e.dataset.start, e.dataset.end, e.dataset.label].join(" ")));
+  const kept = await written((r) => r.take?.library === 1 && r.library?.takes?.length === 2 && r.library.takes.every((t) => t.kept)
+    && r.library.names?.[0]?.name === "hop step", "the library's two takes, the take open and the cluster's name");
+  assert.ok(kept.library.names[0].spots.length >= 2, "the name is kept with the cluster's occurrences");
+
+  await page.reload();
+  await waitReady(page, "02_02.bvh");
+  assert.match(await text(page, "#workspace-status"), /^Restored 02_02\.bvh, the rows' settings and the library's 2 takes from this browser\./);
+  await page.locator("#library-list li[data-index='1'][aria-current='true']").waitFor({ timeout: TIMEOUT });
+  assert.equal(await page.getAttribute("#side-panel", "data-panel"), "library", "the side panel's tab came back");
+  // segmented and matched again: the same segments, the name on the same motion
+  await page.locator("#row-library .ms-seg[data-label='hop step']").first().waitFor({ timeout: TIMEOUT });
+  assert.deepEqual(
+    await page.$$eval("#row-library .ms-seg", (els) => els.map((e) => [e.dataset.start, e.dataset.end, e.dataset.label].join(" "))),
+    labelled,
+  );
+  assert.deepEqual(await page.$$eval("#library-clusters .ms-lib-name", (els) => els.filter((e) => e.value === "hop step").length), 1);
+
+  // Start afresh forgets the library too
+  await page.click("#workspace-forget");
+  await waitReady(page, "sample");
+  await written((r) => r.take?.sample === true && !r.library, "the sample and no library");
+  await page.reload();
+  await waitReady(page, "sample");
+  assert.equal(await page.locator("#tab-library").count(), 0, "no library after Start afresh");
+  assertClean(opened);
+});

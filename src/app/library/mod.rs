@@ -3,6 +3,7 @@
 //! Its pure part (natively tested) beside its components (built with the `web` feature).
 
 pub mod carry;
+pub mod names;
 pub mod queue;
 pub mod takes;
 

@@ -281,7 +281,7 @@ fn cluster_item(
                 type="text"
                 value=name.clone()
                 aria-label=format!("Name of cluster C{id}")
-                on:change=move |ev| library.names.update(|n| n.rename(id, &event_target_value(&ev)))
+                on:change=move |ev| library.rename(id, &event_target_value(&ev))
             />
             <span class="ms-lib-count">{count}</span>
             <button class="ms-button ms-button--small ms-lib-play" type="button" on:click=move |_| play(id)>

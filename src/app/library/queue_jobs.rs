@@ -13,7 +13,6 @@ use crate::library::TakeFeatures;
 use crate::protocol::{ClipTake, Request, RunId};
 use crate::worker::pool::{Placed, Slot, Stop};
 use leptos::prelude::*;
-use std::sync::Arc;
 use web_sys::{Blob, File};
 
 /// What the worker made of a take of the library: its frames, seconds, segmentation and features
@@ -52,6 +51,19 @@ impl LibraryJobs {
         }
         self.0.state.panel.set(crate::app::library::state::TAB.to_string());
         self.open_library_take(added.start);
+        self.pump();
+    }
+
+    /// Sets the library again as it was kept (its takes' files, the method they are segmented with, the names given
+    /// to its clusters): the takes are queued and segmented again, and the names follow their clusters once matched.
+    pub fn restore(&self, sources: Vec<Source>, method: String, names: crate::app::library::names::ClusterNames) {
+        let library = self.0.state.library;
+        if sources.is_empty() {
+            return;
+        }
+        library.method.set(method);
+        library.names.set(names);
+        library.add(sources);
         self.pump();
     }
 
@@ -98,6 +110,15 @@ impl LibraryJobs {
         let carrying = self.stop_carrying();
         if running || matching.is_some() || carrying {
             self.0.loader.replace_worker();
+        }
+    }
+
+    /// Empties the library, its jobs in the workers cancelled (the page starts afresh).
+    pub fn clear(&self) {
+        self.cancel_library();
+        self.0.state.library.clear();
+        if self.0.state.panel.get_untracked() == crate::app::library::state::TAB {
+            self.0.state.panel.set(crate::app::state::TRUTH_TAB.to_string());
         }
     }
 
@@ -250,7 +271,7 @@ impl LibraryJobs {
         library.cluster_run.set_value(None);
         let shared = Shared { clusters, takes };
         library.matching.set(Some((false, shared.summary())));
-        library.shared.set(Some(Arc::new(shared)));
+        library.show_matching(shared);
         // takes segmented meanwhile are matched too
         if !library.queue.with_untracked(|q| q.busy()) {
             self.match_takes();

@@ -2,8 +2,9 @@
 //! shared clusters and their names, the labels carried across it, and the library's jobs in the workers.
 
 use crate::app::library::carry::{Carried, Route};
+use crate::app::library::names::ClusterNames;
 use crate::app::library::queue::Queue;
-use crate::app::library::takes::{ClusterNames, Playlist, Shared, Spot};
+use crate::app::library::takes::{Playlist, Shared, Spot};
 use crate::library::{LibraryTake, TakeFeatures};
 use crate::protocol::RunId;
 use leptos::prelude::*;
@@ -130,6 +131,24 @@ impl LibraryState {
         }
     }
 
+    /// Empties the library (its takes, clusters, names and carried labels): the page starts afresh. Its jobs in the
+    /// workers are cancelled first ([`crate::app::library::library_jobs::LibraryJobs::clear`]).
+    pub(super) fn clear(&self) {
+        self.queue.set(Queue::default());
+        self.files.set_value(Vec::new());
+        self.features.set_value(Vec::new());
+        self.open.set(None);
+        self.names.set(ClusterNames::default());
+        self.playlist.set(None);
+        self.status.set(None);
+        self.shared.set(None);
+        self.matching.set(None);
+        self.pending.set_value(None);
+        self.playing.set_value(false);
+        self.carried.set(None);
+        self.carrying.set(None);
+    }
+
     /// Keeps take `i`'s features (or why it has none).
     pub fn set_features(&self, i: usize, features: Result<TakeFeatures, String>) {
         self.features.update_value(|f| {
@@ -169,6 +188,32 @@ impl LibraryState {
         let mut added = 0..0;
         self.queue.update(|q| added = q.add(names));
         added
+    }
+
+    /// Library take `i`'s name.
+    pub fn take_name(&self, i: usize) -> String {
+        self.queue.with_untracked(|q| q.entries.get(i).map(|e| e.name.clone()).unwrap_or_default())
+    }
+
+    /// Names cluster `id` of the matching shown (kept with what it holds: its names follow it to the next matching).
+    pub fn rename(&self, id: usize, name: &str) {
+        let spots = self.shared.with_untracked(|s| {
+            let s = s.as_ref()?;
+            s.named_spots(|i| self.take_name(i)).into_iter().find(|(c, _)| *c == id).map(|(_, spots)| spots)
+        });
+        self.names.update(|n| n.rename(id, name, spots.unwrap_or_default()));
+    }
+
+    /// A new matching shown: the names given follow their clusters.
+    pub fn show_matching(&self, shared: Shared) {
+        let spots = shared.named_spots(|i| self.take_name(i));
+        self.names.update(|n| n.follow(&spots));
+        self.shared.set(Some(Arc::new(shared)));
+    }
+
+    /// Whether the library has a take (untracked).
+    pub fn shown_untracked(&self) -> bool {
+        self.queue.with_untracked(|q| !q.entries.is_empty())
     }
 
     /// Take `i`'s files.

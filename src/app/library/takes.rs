@@ -1,13 +1,14 @@
 //! The library of takes on the page (issue 26), as plain data: which files dropped together make
 //! which takes ([`group_files`], [`within_cap`]), the whole library's labels as one label CSV
 //! ([`library_csv`]), the names the user gives the shared clusters and the labels they put on every
-//! take's segments ([`ClusterNames`]), the shared clusters mapped to the library's takes for the
+//! take's segments ([`crate::app::library::names`]), the shared clusters mapped to the library's takes for the
 //! timeline's row, the playlists and the clips ([`Shared`]), the playlist of a cluster's occurrences
 //! across takes ([`Playlist`]), and the clips' folder and file names in one zip ([`folder_name`],
 //! [`make_unique`]). The queue the worker works through one take after another is
 //! [`crate::app::library::queue`]. The page (`crate::app::library::panel`) keeps the files and draws;
 //! everything it decides is here, tested natively.
 
+use crate::app::library::names::{ClusterNames, NamedSpot};
 use crate::labels::LabelRow;
 use crate::segment::Segmentation;
 
@@ -86,41 +87,6 @@ pub fn library_csv<'a>(segmentations: impl IntoIterator<Item = &'a Segmentation>
     let rows: Vec<LabelRow> =
         segmentations.into_iter().flat_map(|s| crate::labels::from_segmentation(s, crate::clips::Which::All)).collect();
     crate::labels::to_csv(&rows)
-}
-
-/// The names the user gave the shared clusters (the others keep the core's `C<id>`:
-/// [`crate::library::SharedClusters`]).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct ClusterNames(std::collections::BTreeMap<usize, String>);
-
-impl ClusterNames {
-    /// The name of cluster `id`.
-    pub fn name(&self, id: usize) -> String {
-        self.0.get(&id).cloned().unwrap_or_else(|| format!("C{id}"))
-    }
-
-    /// Renames cluster `id` (blank text brings back its default name; the text is trimmed and kept
-    /// to one line).
-    pub fn rename(&mut self, id: usize, name: &str) {
-        let name: String = name.split_whitespace().collect::<Vec<_>>().join(" ");
-        if name.is_empty() {
-            self.0.remove(&id);
-        } else {
-            self.0.insert(id, name);
-        }
-    }
-
-    /// `segmentation` with every clustered segment labelled by its cluster's name (the labels every
-    /// take shows and exports).
-    pub fn label(&self, segmentation: &Segmentation) -> Segmentation {
-        let mut labelled = segmentation.clone();
-        for s in &mut labelled.segments {
-            if let Some(id) = s.cluster {
-                s.label = self.name(id);
-            }
-        }
-        labelled
-    }
 }
 
 /// One occurrence of a cluster: take `take` (the library's index), file frames `start..=end`.
@@ -254,6 +220,26 @@ impl Shared {
         per_take
     }
 
+    /// Every cluster's occurrences by its takes' names (`take_name`: a library take's name, by index): what the
+    /// names given to clusters follow ([`ClusterNames::follow`]) and keep.
+    pub fn named_spots(&self, take_name: impl Fn(usize) -> String) -> Vec<(usize, Vec<NamedSpot>)> {
+        self.clusters
+            .clusters
+            .iter()
+            .map(|c| {
+                let spots = c
+                    .occurrences
+                    .iter()
+                    .filter_map(|o| {
+                        let library = *self.takes.get(o.take)?;
+                        Some(NamedSpot { take: take_name(library), start: o.start, end: o.end })
+                    })
+                    .collect();
+                (c.id, spots)
+            })
+            .collect()
+    }
+
     /// A line about the clusters: how many, how many found in more than one take.
     pub fn summary(&self) -> String {
         let all = self.clusters.clusters.len();
@@ -385,17 +371,13 @@ pub(crate) mod tests {
     #[test]
     fn renaming_a_cluster_once_labels_its_segments_in_every_take() {
         let mut names = ClusterNames::default();
-        names.rename(1, "  walk \n cycle ");
-        assert_eq!(names.name(1), "walk cycle");
-        assert_eq!(names.name(0), "C0");
+        names.rename(1, "walk cycle", Vec::new());
         let takes = [seg("a.bvh", 100, &[(0, 49, Some(0)), (50, 99, Some(1))]), seg("b.bvh", 60, &[(0, 59, Some(1))])];
         let labelled: Vec<Segmentation> = takes.iter().map(|t| names.label(t)).collect();
         assert_eq!(labelled[0].segments[1].label, "walk cycle");
         assert_eq!(labelled[1].segments[0].label, "walk cycle");
         assert_eq!(labelled[0].segments[0].label, "C0");
         assert!(library_csv(&labelled).contains("b.bvh,0,59,walk cycle"));
-        names.rename(1, "   ");
-        assert_eq!(names.name(1), "C1", "a blank name brings the default back");
     }
 
     #[test]
@@ -451,7 +433,7 @@ pub(crate) mod tests {
         assert_eq!(s.listed().iter().map(|c| c.id).collect::<Vec<_>>(), [0, 1]);
         assert_eq!(s.summary(), "2 clusters across 2 takes: 1 found in more than one take");
         let mut names = ClusterNames::default();
-        names.rename(0, "walk");
+        names.rename(0, "walk", Vec::new());
         let clips = s.clips(&names, Some(0));
         assert_eq!(
             clips.iter().map(|(t, c)| (*t, c.file.as_str(), c.segments.len())).collect::<Vec<_>>(),
@@ -463,6 +445,10 @@ pub(crate) mod tests {
         // the CSV of the library: the shared segmentations, named
         let csv = library_csv(s.clusters.takes.iter().map(|t| names.label(t)).collect::<Vec<_>>().iter());
         assert!(csv.contains("b.bvh,30,59,walk") && csv.contains("b.bvh,0,29,C1"), "{csv}");
+        // the clusters' occurrences by take name, for the names to follow
+        let spots = s.named_spots(|i| format!("take{i}.bvh"));
+        assert_eq!(spots[1], (1, vec![NamedSpot { take: "take5.bvh".into(), start: 0, end: 29 }]));
+        assert_eq!(spots[0].1.len(), 3);
     }
 
     #[test]

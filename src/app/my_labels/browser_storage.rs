@@ -20,6 +20,28 @@ extern "C" {
     fn set_item(this: &WebStorage, key: &str, value: &str) -> Result<(), JsValue>;
     #[wasm_bindgen(method, catch, js_name = removeItem)]
     fn remove_item(this: &WebStorage, key: &str) -> Result<(), JsValue>;
+    #[wasm_bindgen(method, getter)]
+    fn length(this: &WebStorage) -> u32;
+    #[wasm_bindgen(method, catch)]
+    fn key(this: &WebStorage, index: u32) -> Result<Option<String>, JsValue>;
+}
+
+/// My labels kept in this browser for the takes named `takes` (every take of one of those names, whatever its length
+/// or motion: the keys tell them apart): (key, stored JSON), for a project file.
+pub fn kept_labels(takes: &[String]) -> Vec<(String, String)> {
+    let Ok(storage) = local_storage() else { return Vec::new() };
+    let prefixes: Vec<String> =
+        takes.iter().map(|t| format!("mocapseg.my-labels.v{}:{t}:", super::stored::VERSION)).collect();
+    let keys: Vec<String> = (0..storage.length()).filter_map(|i| storage.key(i).ok().flatten()).collect();
+    keys.into_iter()
+        .filter(|k| prefixes.iter().any(|p| k.starts_with(p.as_str())))
+        .filter_map(|k| storage.get_item(&k).ok().flatten().map(|v| (k, v)))
+        .collect()
+}
+
+/// Keeps my labels `json` under `key` (from a project file; read back when their take is opened); why not.
+pub fn keep_labels(key: &str, json: &str) -> Result<(), String> {
+    local_storage()?.set_item(key, json).map_err(|e| describe(&e))
 }
 
 /// What a JavaScript exception says.

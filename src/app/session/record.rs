@@ -4,6 +4,7 @@
 //! text, the model chosen among them). One JSON record, versioned; a record of another version, or one that does not
 //! read, is dropped with a message and the page starts afresh.
 
+use crate::app::library::names::Named;
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
 
@@ -14,6 +15,10 @@ pub const RECORD_VERSION: u32 = 1;
 /// workspace never fills the browser's storage with one take.
 pub const MAX_KEPT_TAKE_BYTES: f64 = 256.0 * 1024.0 * 1024.0;
 
+/// The most the library's take files kept in this browser may hold in all: a take past it is not kept (the page says
+/// so; the takes before it are).
+pub const MAX_KEPT_LIBRARY_BYTES: f64 = 1024.0 * 1024.0 * 1024.0;
+
 /// The take that was on screen.
 #[derive(Debug, Clone, PartialEq)]
 pub struct KeptTake {
@@ -23,6 +28,25 @@ pub struct KeptTake {
     pub sample: bool,
     /// Whether its file's bytes are kept beside the record (false: too large, or the browser refused them).
     pub kept: bool,
+    /// The library's take it is (its file is kept with the library's, not again).
+    pub library: Option<usize>,
+}
+
+/// A take of the library as kept: its file's name (and its skeleton's) and whether its files are kept.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KeptLibraryTake {
+    pub name: String,
+    pub kept: bool,
+}
+
+/// The library as kept: its takes (segmented again when the page opens, as they were: the methods are
+/// deterministic), the method they are segmented with, and the names given to its clusters, kept by what each cluster
+/// holds ([`crate::app::library::names`]).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct KeptLibrary {
+    pub method: String,
+    pub takes: Vec<KeptLibraryTake>,
+    pub names: Vec<Named>,
 }
 
 /// The ground truth that was imported: its file and the choices it is read with.
@@ -46,6 +70,10 @@ pub struct Record {
     pub truth: Option<KeptTruth>,
     /// Each row's form: method (registry name) → parameter name → the text of its field.
     pub rows: BTreeMap<String, BTreeMap<String, String>>,
+    /// The library (`None`: it has no take).
+    pub library: Option<KeptLibrary>,
+    /// The side panel's tab shown (empty: the page's first).
+    pub panel: String,
 }
 
 impl Record {
@@ -57,7 +85,10 @@ impl Record {
     /// The record as JSON (written through `serde_json::Value`, as the worker's parameters are: the page's wasm gets no
     /// code of its own for it).
     pub fn to_json(&self) -> String {
-        let take = self.take.as_ref().map(|t| json!({ "name": t.name, "sample": t.sample, "kept": t.kept }));
+        let take = self
+            .take
+            .as_ref()
+            .map(|t| json!({ "name": t.name, "sample": t.sample, "kept": t.kept, "library": t.library }));
         let truth = self
             .truth
             .as_ref()
@@ -71,7 +102,12 @@ impl Record {
                 (method.clone(), Value::Object(fields))
             })
             .collect();
-        json!({ "version": self.version, "take": take, "truth": truth, "rows": rows }).to_string()
+        let library = self.library.as_ref().map(|l| {
+            let takes: Vec<Value> = l.takes.iter().map(|t| json!({ "name": t.name, "kept": t.kept })).collect();
+            json!({ "method": l.method, "takes": takes, "names": serde_json::to_value(&l.names).unwrap_or_default() })
+        });
+        json!({ "version": self.version, "take": take, "truth": truth, "rows": rows, "library": library, "panel": self.panel })
+            .to_string()
     }
 
     /// Reads a kept record; why not, when it is of another version or does not read.
@@ -92,6 +128,7 @@ impl Record {
                 name: text_of(t, "name").ok_or_else(|| unreadable("a take without a name"))?,
                 sample: flag(t, "sample").unwrap_or(false),
                 kept: flag(t, "kept").unwrap_or(false),
+                library: t.get("library").and_then(Value::as_u64).map(|i| i as usize),
             }),
         };
         let truth = match value.get("truth").filter(|t| !t.is_null()) {
@@ -115,7 +152,12 @@ impl Record {
             let texts = fields.iter().filter_map(|(k, v)| v.as_str().map(|v| (k.clone(), v.to_string()))).collect();
             rows.insert(method.clone(), texts);
         }
-        Ok(Record { version: RECORD_VERSION, take, truth, rows })
+        let library = match value.get("library").filter(|l| !l.is_null()) {
+            None => None,
+            Some(l) => Some(library_of(l).map_err(|why| unreadable(&why))?),
+        };
+        let panel = text_of(&value, "panel").unwrap_or_default();
+        Ok(Record { version: RECORD_VERSION, take, truth, rows, library, panel })
     }
 
     /// The fields of `method`'s form to set again: (index among `names`, text), for the parameters it still has (a
@@ -124,6 +166,92 @@ impl Record {
         let Some(kept) = self.rows.get(method) else { return Vec::new() };
         names.iter().enumerate().filter_map(|(i, name)| kept.get(*name).map(|text| (i, text.clone()))).collect()
     }
+}
+
+/// The library as kept, from its JSON; why it does not read.
+fn library_of(l: &Value) -> Result<KeptLibrary, String> {
+    let method = l.get("method").and_then(Value::as_str).ok_or("a library without its method")?.to_string();
+    let mut takes = Vec::new();
+    for t in l.get("takes").and_then(Value::as_array).ok_or("a library without its takes")? {
+        let name = t.get("name").and_then(Value::as_str).ok_or("a library take without a name")?.to_string();
+        takes.push(KeptLibraryTake { name, kept: t.get("kept").and_then(Value::as_bool).unwrap_or(false) });
+    }
+    let names = match l.get("names") {
+        None | Some(Value::Null) => Vec::new(),
+        Some(n) => serde_json::from_value(n.clone()).map_err(|e| format!("the library's cluster names: {e}"))?,
+    };
+    Ok(KeptLibrary { method, takes, names })
+}
+
+/// Which of the library's take files (`sizes`, bytes, in order; `None`: a take whose size is not known) are kept in
+/// this browser, each within [`MAX_KEPT_TAKE_BYTES`] and all within [`MAX_KEPT_LIBRARY_BYTES`]; and, for those that
+/// are not, why, in the words the page shows.
+pub fn library_kept(names: &[String], sizes: &[f64]) -> (Vec<bool>, Vec<String>) {
+    let mut total = 0.0;
+    let mut why = Vec::new();
+    let kept = names
+        .iter()
+        .zip(sizes)
+        .map(|(name, &bytes)| {
+            if let Err(e) = take_kept(name, bytes) {
+                why.push(e);
+                return false;
+            }
+            if total + bytes > MAX_KEPT_LIBRARY_BYTES {
+                why.push(format!(
+                    "{name} is not kept in this browser: the library's files kept would pass {:.0} MiB",
+                    MAX_KEPT_LIBRARY_BYTES / 1024.0 / 1024.0
+                ));
+                return false;
+            }
+            total += bytes;
+            true
+        })
+        .collect();
+    (kept, why)
+}
+
+/// What `#workspace-status` says once a workspace is set again from `from` ("this browser", a project file): the
+/// take `shown` (with its ground truth), the rows' settings, the library's `library` takes, and the takes `missing`
+/// (a problem: they are named, with what to do). `None` when there is nothing to say (the sample, as it was).
+pub fn restored_text(
+    shown: Option<&str>,
+    truth: bool,
+    library: usize,
+    from: &str,
+    missing: &[String],
+) -> Option<(bool, String)> {
+    let mut what = Vec::new();
+    if let Some(name) = shown {
+        what.push(name.to_string());
+        if truth {
+            what.push("its ground truth".to_string());
+        }
+    }
+    what.push("the rows' settings".to_string());
+    if library > 0 {
+        what.push(format!("the library's {}", crate::method::counted(library, "take")));
+    }
+    let said = match what.len() {
+        1 => what[0].clone(),
+        n => format!("{} and {}", what[..n - 1].join(", "), what[n - 1]),
+    };
+    let mut text = format!("Restored {said} from {from}.");
+    if !missing.is_empty() {
+        let mut names = missing.to_vec();
+        names.dedup();
+        let how =
+            if from == "this browser" { "not kept in this browser: drop" } else { "not among the files opened: open" };
+        text = format!(
+            "{text} {} {how} {} again to go on with {}.",
+            names.join(", "),
+            if names.len() == 1 { "it" } else { "them" },
+            if names.len() == 1 { "it" } else { "them" }
+        );
+    } else if shown.is_none() && library == 0 && from == "this browser" {
+        return None;
+    }
+    Some((!missing.is_empty(), text))
 }
 
 /// Whether a take file of `bytes` bytes is kept in this browser; why not, in the words the page shows.
@@ -162,7 +290,7 @@ mod tests {
         );
         Record {
             version: RECORD_VERSION,
-            take: Some(KeptTake { name: "02_01.bvh".into(), sample: false, kept: true }),
+            take: Some(KeptTake { name: "02_01.bvh".into(), sample: false, kept: true, library: Some(1) }),
             truth: Some(KeptTruth {
                 name: "02_01.csv".into(),
                 text: "start_frame,end_frame,label\n1,10,walk\n".into(),
@@ -171,7 +299,61 @@ mod tests {
                 trial: String::new(),
             }),
             rows,
+            library: Some(KeptLibrary {
+                method: "sssm".into(),
+                takes: vec![
+                    KeptLibraryTake { name: "01_01.bvh".into(), kept: true },
+                    KeptLibraryTake { name: "02_01.bvh".into(), kept: false },
+                ],
+                names: vec![Named {
+                    name: "jog".into(),
+                    spots: vec![crate::app::library::names::NamedSpot { take: "01_01.bvh".into(), start: 3, end: 40 }],
+                }],
+            }),
+            panel: "library".into(),
         }
+    }
+
+    #[test]
+    fn what_came_back_is_said_with_what_did_not() {
+        let said = |shown, truth, library, from, missing: &[&str]| {
+            let missing: Vec<String> = missing.iter().map(|m| m.to_string()).collect();
+            restored_text(shown, truth, library, from, &missing)
+        };
+        assert_eq!(
+            said(Some("02_01.bvh"), true, 0, "this browser", &[]),
+            Some((false, "Restored 02_01.bvh, its ground truth and the rows' settings from this browser.".into()))
+        );
+        assert_eq!(
+            said(Some("b.bvh"), false, 2, "p.json", &["c.bvh"]),
+            Some((
+                true,
+                "Restored b.bvh, the rows' settings and the library's 2 takes from p.json. c.bvh not among the files \
+                 opened: open it again to go on with it."
+                    .into()
+            ))
+        );
+        assert_eq!(said(None, true, 0, "this browser", &[]), None, "the sample as it was: nothing to say");
+        let (problem, text) = said(None, false, 0, "this browser", &["big.bvh"]).unwrap();
+        assert!(
+            problem && text.ends_with("big.bvh not kept in this browser: drop it again to go on with it."),
+            "{text}"
+        );
+    }
+
+    #[test]
+    fn library_files_are_kept_each_within_a_take_s_limit_and_all_within_the_library_s() {
+        let mib = 1024.0 * 1024.0;
+        let names: Vec<String> = (0..7).map(|i| format!("t{i}.bvh")).collect();
+        let sizes = [300.0 * mib, 250.0 * mib, 250.0 * mib, 250.0 * mib, 250.0 * mib, 30.0 * mib, 20.0 * mib];
+        let (kept, why) = library_kept(&names, &sizes);
+        assert_eq!(
+            kept,
+            [false, true, true, true, true, false, true],
+            "a smaller take after one past the limit is kept"
+        );
+        assert!(why[0].contains("t0.bvh (300 MiB) is not kept") && why[0].contains("256 MiB"), "{why:?}");
+        assert!(why[1].contains("t5.bvh is not kept") && why[1].contains("1024 MiB"), "{why:?}");
     }
 
     #[test]
@@ -190,6 +372,12 @@ mod tests {
         assert!(why.contains("does not read"), "{why}");
         let why = Record::from_json(r#"{"version":1,"take":{"sample":true}}"#).unwrap_err();
         assert!(why.contains("a take without a name"), "{why}");
+        let why =
+            Record::from_json(r#"{"version":1,"library":{"method":"sssm","takes":[{"kept":true}]}}"#).unwrap_err();
+        assert!(why.contains("a library take without a name"), "{why}");
+        let why = Record::from_json(r#"{"version":1,"library":{"method":"sssm","takes":[],"names":[{"name":1}]}}"#)
+            .unwrap_err();
+        assert!(why.contains("cluster names"), "{why}");
     }
 
     #[test]

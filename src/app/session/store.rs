@@ -1,7 +1,7 @@
 //! The workspace's object store in the page's IndexedDB database ([`crate::app::idb`]): the record
 //! ([`crate::app::session::record`], key `record`, its JSON) and the take's file (key `take`:
 //! `{name, file: Blob, skeleton_name, skeleton: Uint8Array}` — the `Blob` as the browser stores it, never a copy in the
-//! page's memory).
+//! page's memory), and the library's take files (keys `library:<index>`: `{motion: File, skeleton: File}`).
 
 use crate::app::dom::js_message;
 use crate::app::idb::{committed, finished, open, store};
@@ -9,7 +9,7 @@ use crate::app::session::record::Record;
 use js_sys::{Object, Reflect, Uint8Array};
 use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
-use web_sys::{Blob, IdbTransactionMode};
+use web_sys::{Blob, File, IdbTransactionMode};
 
 const STORE: &str = "workspace";
 
@@ -90,4 +90,41 @@ pub async fn get_take() -> Result<Option<KeptFile>, String> {
         _ => None,
     };
     Ok(Some(KeptFile { name, file, skeleton }))
+}
+
+/// The key of library take `i`'s files.
+fn library_key(i: usize) -> String {
+    format!("library:{i}")
+}
+
+/// Keeps library take `i`'s files (its motion, and an AMC motion's ASF skeleton), as the browser stores files.
+pub async fn put_library_take(i: usize, motion: &File, skeleton: Option<&File>) -> Result<(), String> {
+    let record = Object::new();
+    let set = |k: &str, v: &JsValue| Reflect::set(&record, &k.into(), v).map(|_| ()).map_err(|e| js_message(&e));
+    set("motion", motion)?;
+    if let Some(skeleton) = skeleton {
+        set("skeleton", skeleton)?;
+    }
+    put(&library_key(i), &record).await
+}
+
+/// Library take `i`'s files kept (`Ok(None)`: none).
+pub async fn get_library_take(i: usize) -> Result<Option<(File, Option<File>)>, String> {
+    let value = get(&library_key(i)).await?;
+    if value.is_undefined() || value.is_null() {
+        return Ok(None);
+    }
+    let field = |k: &str| Reflect::get(&value, &k.into()).ok().and_then(|v| v.dyn_into::<File>().ok());
+    let motion = field("motion").ok_or("a library take kept without its file")?;
+    Ok(Some((motion, field("skeleton"))))
+}
+
+/// Forgets everything kept of the workspace: the record, the take's file and the library's.
+pub async fn clear_all() -> Result<(), String> {
+    let db = open().await?;
+    let (tx, store) = store(&db, STORE, IdbTransactionMode::Readwrite)?;
+    store.clear().map_err(|e| js_message(&e))?;
+    let done = committed(&tx).await;
+    db.close();
+    done
 }
