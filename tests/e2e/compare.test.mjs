@@ -17,6 +17,7 @@ import assert from "node:assert/strict";
 import { readFileSync, writeFileSync } from "node:fs";
 import path from "node:path";
 import {
+  everyMetric, text,
   ROOT, OUT, FIXTURES, TIMEOUT, contrasts, openPage, closePage, shot, showPanel, waitData, gotoApp, download, until, assertClean,
   assertCli, cliEval, cliMetrics,
 } from "./harness.mjs";
@@ -79,13 +80,13 @@ async function assertSameAsCli(truth, what) {
 }
 
 /** The best per column, computed here from the numbers shown, is what the table marks, and only it. */
-function assertBestMarked(lines, what) {
+function assertBestMarked(lines, what, unranked = []) {
   for (const key of Object.keys(lines[0].cells)) {
     const shown = lines.map((l) => Number(l.cells[key].shown));
-    const top = Math.max(...shown);
+    const top = Math.max(...shown.filter((_, i) => !unranked.includes(lines[i].id)));
     lines.forEach((l, i) => {
       const c = l.cells[key];
-      const best = shown[i] === top;
+      const best = shown[i] === top && !unranked.includes(l.id);
       assert.equal(c.best, best, `${what}: ${l.id} ${key} = ${c.shown} (best ${top}) ${best ? "is" : "is not"} marked best`);
       assert.equal(c.bold, best, `${what}: ${l.id} ${key} bold only when best`);
       assert.equal(c.said, best ? "(best)" : "", `${what}: ${l.id} ${key} says "(best)" to a screen reader only when best`);
@@ -135,13 +136,46 @@ test("every method row in one table: the numbers mocapseg eval prints, the best 
   const ms = Number(await page.evaluate(() => document.body.dataset.compareMs));
   assert.ok(Number.isFinite(ms) && ms >= 0, `data-compare-ms is a duration: ${ms}`);
   console.log(`  (${lines.length} rows scored on the page thread in ${ms} ms)`);
+  await everyMetric(page);
   await page.locator("#metrics-compare").scrollIntoViewIfNeeded();
   await shot(page, "compare-1-table.png");
   await page.locator("#metrics-compare").screenshot({ path: path.join(OUT, "compare-1-only.png") });
   assertClean(opened);
 });
 
+test("which is best: each table ranks its rows on one headline metric, best first; another metric re-ranks them", async () => {
+  const ranking = (id) => page.$$eval(`#${id} tbody tr`, (trs) => trs.map((tr) => ({
+    id: tr.dataset.row, rank: Number(tr.dataset.rank), value: Number(tr.querySelector("td[data-metric]").dataset.value),
+    metric: tr.querySelector("td[data-metric]").dataset.metric,
+  })));
+  const full = (await table()).lines;
+  for (const [id, metric] of [["ranking-actions", "boundary_f1_1s"], ["ranking-labels", "frame_accuracy"]]) {
+    assert.equal(await page.inputValue(`#${id}-metric`), metric, `${id}: ranked by ${metric} unless asked`);
+    const ranked = await ranking(id);
+    assert.ok(ranked.length >= 1, `${id} ranks rows`);
+    assert.ok(ranked.every((r) => r.metric === metric));
+    for (let i = 1; i < ranked.length; i++) {
+      assert.ok(ranked[i - 1].value >= ranked[i].value && ranked[i - 1].rank <= ranked[i].rank, `${id}: best first ${JSON.stringify(ranked)}`);
+    }
+    assert.equal(ranked[0].rank, 1);
+    // the same numbers as the table of every metric
+    for (const r of ranked) assert.equal(r.value, full.find((l) => l.id === r.id).cells[metric].value, `${id}: ${r.id}`);
+  }
+  const labellers = (await ranking("ranking-labels")).map((r) => r.id);
+  assert.ok(labellers.every((id) => /^(knn|dtfcn)-|^my-labels$/.test(id)), `the labels table holds the labellers: ${labellers}`);
+  assert.ok((await ranking("ranking-actions")).every((r) => !labellers.includes(r.id)), "each row in one table");
+  assert.equal(await page.locator("#ranking-actions-metric option[value='frame_accuracy']").count(), 0,
+    "no label metric offered for the segmenters");
+  await page.selectOption("#ranking-actions-metric", "covering");
+  await until(async () => (await ranking("ranking-actions")).every((r) => r.metric === "covering"), "re-ranked by covering");
+  const byCovering = await ranking("ranking-actions");
+  for (let i = 1; i < byCovering.length; i++) assert.ok(byCovering[i - 1].value >= byCovering[i].value);
+  await page.locator("#metrics-ranking").screenshot({ path: path.join(OUT, "compare-ranking.png") });
+  assertClean(opened);
+});
+
 test("a column heading sorts the lines on it: best first, then worst first", async () => {
+  await everyMetric(page);
   const before = (await table()).lines.map((l) => l.id);
   for (const key of ["covering", "f1_50", "segment_score"]) {
     const heading = page.locator(`#metrics-compare thead th[data-metric="${key}"] button`);
@@ -160,12 +194,13 @@ test("a column heading sorts the lines on it: best first, then worst first", asy
       assertBestMarked(lines, `sorted on ${key}`);
     }
   }
+  await everyMetric(page);
   await page.locator("#metrics-compare").scrollIntoViewIfNeeded();
   await shot(page, "compare-2-sorted.png");
   assertClean(opened);
 });
 
-test("another truth re-scores every line; my labels copied from it join the table, best everywhere", async () => {
+test("another truth re-scores every line; my labels copied from it join the table, never marked best nor ranked", async () => {
   // a coarser truth: the shared CSV's first two segments only, the rest one segment
   const lines = readFileSync(SHARED_CSV, "utf8").trimEnd().split("\n");
   const header = lines[0].split(",");
@@ -188,12 +223,16 @@ test("another truth re-scores every line; my labels copied from it join the tabl
   const mine = await download(page, "#my-labels-export-json", "compare-my-labels.json");
   files.set("my-labels", mine.path);
   const withMine = await assertSameAsCli(coarse, "with my labels");
-  assertBestMarked(withMine, "with my labels");
+  // my labels = the truth: scored, shown, but never marked best nor ranked (they would top every column)
+  assertBestMarked(withMine, "with my labels", ["my-labels"]);
   const row = withMine.find((x) => x.id === "my-labels");
   for (const key of ["boundary_f1_0.5s", "boundary_f1_1s", "covering", "hungarian_accuracy"]) {
     assert.equal(row.cells[key].value, 1, `my labels = the truth: ${key}`);
-    assert.ok(row.cells[key].best, `my labels = the truth: best ${key}`);
+    assert.ok(!row.cells[key].best, `my labels = the truth: not marked best in ${key}`);
   }
+  assert.equal(await page.locator("#ranking-labels tr[data-row='my-labels']").count(), 0, "my labels are not ranked");
+  assert.match(await text(page, "#ranking-labels-unranked"), /My labels: the same as the ground truth \(copied from it\): not ranked/);
+  await everyMetric(page);
   await page.locator("#metrics-compare").scrollIntoViewIfNeeded();
   await shot(page, "compare-3-my-labels.png");
   // cleared: no truth, no table
@@ -234,7 +273,8 @@ for (const [viewport, theme] of [[{ width: 1024, height: 768 }, "light"], [{ wid
         assert.deepEqual(l.best, Object.keys(want.cells).filter((k) => want.cells[k].best).sort(), `${size} ${theme}: ${l.id}'s best marks`);
       });
       // the table scrolls within its box, never the page sideways; the row names are in the viewport
-      await p.locator("#metrics-compare").scrollIntoViewIfNeeded();
+      await everyMetric(p);
+  await p.locator("#metrics-compare").scrollIntoViewIfNeeded();
       const { pageWide, names } = await p.evaluate(() => ({
         pageWide: document.documentElement.scrollWidth > window.innerWidth + 1,
         names: [...document.querySelectorAll("#metrics-compare tbody th")].map((th) => {

@@ -463,3 +463,10 @@ export async function keptAre(page, want) {
   }
   assert.deepEqual(now, want, "the models kept in this browser");
 }
+
+/** Opens the metrics panel's table of every metric of every row (`#metrics-compare-all`), if it is closed. */
+export async function everyMetric(page) {
+  await page.locator("#metrics-compare-all").waitFor({ state: "attached", timeout: TIMEOUT });
+  if (!(await page.$eval("#metrics-compare-all", (d) => d.open))) await page.click("#metrics-compare-all > summary");
+  await page.locator("#metrics-compare").waitFor({ state: "visible", timeout: TIMEOUT });
+}

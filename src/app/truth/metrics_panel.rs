@@ -26,20 +26,12 @@ use crate::app::dom::set_body_data;
 use crate::app::state::AppState;
 use crate::app::take::summary::{is_bundled_sample, SAMPLE_TRAINED};
 use crate::app::truth::compare::{best_in_column, sorted_order, Better};
+use crate::app::truth::ranked::ranked_tables;
+use crate::app::truth::ranking::{copy_of_the_truth, Compared, Line, Table};
 use crate::method::supervised::IN_SAMPLE;
 use crate::segment::metrics::{evaluate, Scores, Tolerances};
 use crate::segment::{Level, Segmentation};
 use leptos::prelude::*;
-
-/// One line of the table: key, name, value, decimals shown, what it means.
-#[derive(Clone, PartialEq)]
-struct Line {
-    key: &'static str,
-    name: &'static str,
-    value: f64,
-    digits: usize,
-    hint: String,
-}
 
 fn lines(s: &Scores) -> Vec<Line> {
     let mut out = Vec::new();
@@ -151,14 +143,15 @@ fn in_sample(view: &crate::protocol::MethodView, sample: bool) -> Option<String>
     })
 }
 
-/// A row that can be scored: id, label, the segmentation scored, and why it is in-sample (if it is).
-type Row = (String, String, Segmentation, Option<String>);
+/// A row that can be scored: id, label, the segmentation scored, why it is in-sample (if it is), and the ranked table
+/// it belongs to.
+type Row = (String, String, Segmentation, Option<String>, Table);
 
 /// The rows that can be scored.
 fn scorable_rows(state: AppState) -> Vec<Row> {
     let mut rows = Vec::new();
     if let Some(mine) = state.mine.get() {
-        rows.push(("my-labels".to_string(), "My labels".to_string(), (*mine).clone(), None));
+        rows.push(("my-labels".to_string(), "My labels".to_string(), (*mine).clone(), None, Table::Labels));
     }
     let sample =
         state.motion.with(|m| m.as_ref().is_some_and(|m| is_bundled_sample(&m.summary.name, m.summary.frames)));
@@ -174,13 +167,20 @@ fn scorable_rows(state: AppState) -> Vec<Row> {
                     crate::app::timeline::rows::row_kind(Some(&**v), primitive),
                 )
             };
+            let table = if crate::app::timeline::rows::is_labelling(v) { Table::Labels } else { Table::Actions };
             if seg.segments.iter().any(|s| s.level != Level::Primitive) {
-                rows.push((format!("{}-actions", slot.info.name), name(false), seg.clone(), note.clone()));
+                rows.push((format!("{}-actions", slot.info.name), name(false), seg.clone(), note.clone(), table));
             }
             if seg.segments.iter().any(|s| s.level == Level::Primitive) {
                 let mut primitives = seg.clone();
                 primitives.segments.retain(|s| s.level == Level::Primitive);
-                rows.push((format!("{}-primitives", slot.info.name), name(true), primitives, note.clone()));
+                rows.push((
+                    format!("{}-primitives", slot.info.name),
+                    name(true),
+                    primitives,
+                    note.clone(),
+                    Table::Actions,
+                ));
             }
         });
     }
@@ -218,13 +218,61 @@ fn scores_table(id: &str, scores: &Scores) -> impl IntoView {
     }
 }
 
-/// Row `id` (`label`, segmentation `seg`) scored against `truth` for the comparison table.
-fn compared_row(id: &str, label: &str, seg: &Segmentation, truth: &crate::segment::truth::Truth) -> Compared {
+/// Row `id` (`label`, segmentation `seg`, of ranked table `table`) scored against `truth` for the comparison.
+fn compared_row(
+    id: &str,
+    label: &str,
+    seg: &Segmentation,
+    truth: &crate::segment::truth::Truth,
+    table: Table,
+) -> Compared {
+    let scored = evaluate(seg, truth, &Tolerances::default());
+    // my labels that are the truth itself would top every table: they are shown, not ranked
+    let unranked = match &scored {
+        Ok(s) if id == "my-labels" && copy_of_the_truth(s.labelling.frame_accuracy, s.boundaries[0].f1) => {
+            Some("the same as the ground truth (copied from it): not ranked".to_string())
+        }
+        _ => None,
+    };
     Compared {
         id: id.to_string(),
         label: label.to_string(),
-        scored: evaluate(seg, truth, &Tolerances::default()).map(|s| lines(&s)).map_err(|e| format!("{id}: {e}")),
+        scored: scored.map(|s| lines(&s)).map_err(|e| format!("{id}: {e}")),
+        table,
+        unranked,
     }
+}
+
+/// Every row scored against the truth (`None`: no truth), its trial and how long the scores took (ms).
+type AllScored = Option<(Vec<Compared>, String, f64)>;
+
+/// The ranked tables and, one click away, the table of every metric of every row (nothing without a truth or rows).
+fn comparison_view(
+    compared: Memo<AllScored>,
+    sort: RwSignal<Option<(String, bool)>>,
+) -> impl Fn() -> Option<AnyView> + Copy {
+    let every_metric = RwSignal::new(false);
+    move || {
+        compared.with(|c| match c {
+            Some((lines, trial, _)) if !lines.is_empty() => Some(
+                view! {
+                    {ranked_tables(lines.clone())}
+                    <details id="metrics-compare-all" class="ms-compare-all" prop:open=move || every_metric.get()
+                        on:toggle=move |ev| every_metric.set(details_open(&ev))>
+                        <summary>"Every metric of every row"</summary>
+                        {compare_table(lines, trial, sort)}
+                    </details>
+                }
+                .into_any(),
+            ),
+            _ => None,
+        })
+    }
+}
+
+/// Whether the `<details>` a toggle event is from is open.
+fn details_open(ev: &leptos::ev::Event) -> bool {
+    ev.target().and_then(|t| js_sys::Reflect::get(&t, &"open".into()).ok()).and_then(|v| v.as_bool()).unwrap_or(false)
 }
 
 /// What the panel shows.
@@ -241,15 +289,6 @@ enum Outcome {
 /// score's matched-minus-unmatched count).
 const BETTER: Better = Better::Higher;
 
-/// One line of the comparison table: the row's id and label, and its metrics (or why it could not
-/// be scored).
-#[derive(Clone, PartialEq)]
-struct Compared {
-    id: String,
-    label: String,
-    scored: Result<Vec<Line>, String>,
-}
-
 /// The comparison table: every row scored, the best per column marked, sorted on `sort` (a metric's
 /// key and whether best comes first) when set.
 fn compare_table(compared: &[Compared], trial: &str, sort: RwSignal<Option<(String, bool)>>) -> impl IntoView {
@@ -265,7 +304,9 @@ fn compare_table(compared: &[Compared], trial: &str, sort: RwSignal<Option<(Stri
     let best: Vec<Vec<bool>> = columns
         .iter()
         .map(|(key, _, digits, _)| {
-            let values: Vec<Option<f64>> = compared.iter().map(|c| value(c, key)).collect();
+            // a row left out of the ranks (my labels copied from the truth) is never marked best
+            let values: Vec<Option<f64>> =
+                compared.iter().map(|c| if c.unranked.is_some() { None } else { value(c, key) }).collect();
             best_in_column(&values, *digits, BETTER)
         })
         .collect();
@@ -366,7 +407,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
     let rows = Memo::new(move |_| {
         scorable_rows(state)
             .into_iter()
-            .map(|(id, label, seg, note)| (id, label, std::sync::Arc::new(seg), note))
+            .map(|(id, label, seg, note, table)| (id, label, std::sync::Arc::new(seg), note, table))
             .collect::<Vec<_>>()
     });
     // the row scored: the one chosen while it exists, else the first
@@ -381,7 +422,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
             return Outcome::Nothing("Import a ground truth above to score the rows against it.".into());
         };
         let id = row_id.get();
-        let Some(seg) = rows.with(|r| r.iter().find(|(i, ..)| *i == id).map(|(_, _, s, _)| s.clone())) else {
+        let Some(seg) = rows.with(|r| r.iter().find(|(i, ..)| *i == id).map(|(_, _, s, ..)| s.clone())) else {
             return Outcome::Nothing("Run a method to score its rows against the ground truth.".into());
         };
         let started = now_ms();
@@ -394,8 +435,9 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
     let compared = Memo::new(move |_| {
         let imported = state.truth.truth()?;
         let started = now_ms();
-        let lines_of: Vec<Compared> =
-            rows.with(|r| r.iter().map(|(id, label, seg, _)| compared_row(id, label, seg, &imported.truth)).collect());
+        let lines_of: Vec<Compared> = rows.with(|r| {
+            r.iter().map(|(id, label, seg, _, table)| compared_row(id, label, seg, &imported.truth, *table)).collect()
+        });
         Some((lines_of, imported.truth.trial.clone(), now_ms() - started))
     });
     let sort = RwSignal::new(None::<(String, bool)>);
@@ -406,12 +448,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
         });
         set_body_data(&[("data-compare", value), ("data-compare-rows", &count), ("data-compare-ms", &ms)]);
     });
-    let comparison = move || {
-        compared.with(|c| match c {
-            Some((lines, trial, _)) if !lines.is_empty() => Some(compare_table(lines, trial, sort)),
-            _ => None,
-        })
-    };
+    let comparison = comparison_view(compared, sort);
     Effect::new(move |_| {
         let (value, row, ms) = outcome.with(|o| match o {
             Outcome::Nothing(_) => ("none", String::new(), String::new()),
@@ -443,7 +480,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
     let note = move || {
         let id = row_id.get();
         let scored = outcome.with(|o| matches!(o, Outcome::Scored(..)));
-        rows.with(|r| r.iter().find(|(i, ..)| *i == id).and_then(|(.., n)| n.clone())).filter(|_| scored)
+        rows.with(|r| r.iter().find(|(i, ..)| *i == id).and_then(|(_, _, _, n, _)| n.clone())).filter(|_| scored)
     };
     let table = move || {
         outcome.with(|o| match o {
