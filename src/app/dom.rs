@@ -12,6 +12,15 @@ pub(crate) fn set_body_data(attributes: &[(&str, &str)]) {
     }
 }
 
+/// Whether the page is embedded (`embed=1`: `<body data-embed>`, set before the page mounts): the player and the
+/// rows only — nothing the user makes there is kept, so it offers no editing of my labels.
+pub(crate) fn embedded() -> bool {
+    web_sys::window()
+        .and_then(|w| w.document())
+        .and_then(|d| d.body())
+        .is_some_and(|b| b.get_attribute("data-embed").as_deref() == Some("1"))
+}
+
 /// Milliseconds since the page started.
 pub(crate) fn now_ms() -> f64 {
     web_sys::window().and_then(|w| w.performance()).map_or(0.0, |p| p.now())

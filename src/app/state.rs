@@ -155,6 +155,8 @@ pub struct AppState {
     pub selected: RwSignal<Option<Selection>>,
     /// Playback loops inside the selected segment.
     pub looping: RwSignal<bool>,
+    /// The occurrence of a library cluster playing (its row and frames), highlighted on its row.
+    pub occurrence: RwSignal<Option<Selection>>,
     /// J/K/L: the shuttle's rate (0: ordinary playback; negative: backwards; × the speed menu's).
     pub shuttle: RwSignal<i32>,
     /// The keyboard help overlay is open.
@@ -169,6 +171,16 @@ pub struct AppState {
     pub effort: EffortBars,
     /// The library of takes ([`library`]).
     pub library: LibraryState,
+    /// The colour each label is drawn in, on every row ([`AppState::label_css`]).
+    pub label_colours: StoredValue<crate::segment::palette::LabelColours>,
+}
+
+/// Where this browser keeps the labels' colours (so that a label keeps its colour across takes and visits).
+const LABEL_COLOURS_KEY: &str = "mocapseg.label-colours.v1";
+
+/// The page's local storage, if the browser gives one.
+fn local_storage() -> Option<web_sys::Storage> {
+    web_sys::window()?.local_storage().ok().flatten()
 }
 
 /// A segment selected on the timeline: its row (`<method>-actions` or `<method>-primitives`)
@@ -195,6 +207,7 @@ impl AppState {
             window: RwSignal::new(Window::full(1)),
             selected: RwSignal::new(None),
             looping: RwSignal::new(true),
+            occurrence: RwSignal::new(None),
             shuttle: RwSignal::new(0),
             help: RwSignal::new(false),
             truth: GroundTruth::new(),
@@ -202,7 +215,28 @@ impl AppState {
             panel: RwSignal::new(TRUTH_TAB.to_string()),
             effort: EffortBars::new(),
             library: LibraryState::new(),
+            label_colours: StoredValue::new(
+                local_storage()
+                    .and_then(|s| s.get_item(LABEL_COLOURS_KEY).ok().flatten())
+                    .map(|t| crate::segment::palette::LabelColours::from_json(&t))
+                    .unwrap_or_default(),
+            ),
         }
+    }
+
+    /// The CSS colour of label `label` — the same on every row, take and visit in this browser, distinct from the
+    /// other labels met (up to twelve: [`crate::segment::palette::LabelColours`]).
+    pub fn label_css(&self, label: &str) -> String {
+        let before = self.label_colours.with_value(|c| c.len());
+        let mut css = String::new();
+        self.label_colours.update_value(|c| css = c.css(label));
+        if self.label_colours.with_value(|c| c.len()) != before {
+            let kept = self.label_colours.with_value(|c| c.to_json());
+            if let Some(storage) = local_storage() {
+                let _ = storage.set_item(LABEL_COLOURS_KEY, &kept);
+            }
+        }
+        css
     }
 
     /// Shows `message` in the error banner (a load's error).
@@ -217,13 +251,16 @@ impl AppState {
         self.error.set(Some(message));
     }
 
-    /// The supervised method the "my labels" row trains (the first that declares
-    /// `trains_on_my_labels`): its short name and its training.
-    pub fn my_labels_trainer(&self) -> Option<(&'static str, &'static Supervised)> {
+    /// The supervised methods the "my labels" row trains in one click (those that declare `trains_on_my_labels`:
+    /// the k-NN and DT-FCN), in the registry's order: their short names and their trainings.
+    pub fn my_labels_trainers(&self) -> Vec<(&'static str, &'static Supervised)> {
         let methods: &'static [MethodSlot] = self.methods;
-        methods.iter().find_map(|m| {
-            m.supervised.as_ref().filter(|s| s.decl.trains_on_my_labels).map(|s| (m.info.short.as_str(), s))
-        })
+        methods
+            .iter()
+            .filter_map(|m| {
+                m.supervised.as_ref().filter(|s| s.decl.trains_on_my_labels).map(|s| (m.info.short.as_str(), s))
+            })
+            .collect()
     }
 
     /// Frames per second of the take on screen (0 when none).

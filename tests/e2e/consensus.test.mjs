@@ -73,6 +73,17 @@ for (const view of VIEWS) {
     await until(async () => (await marks(page)).length > 0 && (await marks(page)).every((m) => m.of === 3), "markers of 3 methods");
     const two = await marks(page);
     checkMarks(two, 3, 2);
+    // markers too close to read side by side are laid out apart: no two drawn over each other
+    const boxes = await page.$$eval("#row-consensus .ms-consensus-mark", (els) => els.map((e) => {
+      const r = e.getBoundingClientRect();
+      return { frame: e.dataset.frame, left: r.left, right: r.right, top: r.top, bottom: r.bottom };
+    }));
+    for (const [i, a] of boxes.entries()) {
+      for (const b of boxes.slice(i + 1)) {
+        const apart = a.right <= b.left || b.right <= a.left || a.bottom <= b.top || b.bottom <= a.top;
+        assert.ok(apart, `markers at ${a.frame} and ${b.frame} overlap: ${JSON.stringify([a, b])}`);
+      }
+    }
     assert.match(await text(page, "#consensus-status"), new RegExp(`^${two.length} boundar(y|ies) where at least 2 of 3 methods agree within 0.5 s`));
     assert.equal(await page.evaluate(() => document.body.dataset.consensus), String(two.length));
     // a wider tolerance agrees at least as often; a refused value says why and changes nothing

@@ -237,6 +237,20 @@ test("embed=1: the player and the timeline only, fitting 640×400, with a link t
     assert.equal((await frameCounter(page)).n, 121, "t=1 → frame 121");
     await shot(page, "e2e-embed-640x400.png");
 
+    // it offers only what it can do (issue 48): no my labels to edit or copy to, no panels to show, no consensus
+    // settings; the consensus of the two methods is never empty for want of a third
+    for (const sel of ["#row-my-labels", "#my-labels-tools", "#consensus-tools"]) {
+      assert.equal(await page.locator(sel).count(), 0, `${sel} is not offered embedded`);
+    }
+    await page.locator("#timeline-rows [id^='row-velocity-'] .ms-seg, #timeline-rows [id^='row-kcs-'] .ms-seg").first().click({ button: "right" });
+    await page.locator("#segment-menu").waitFor({ state: "visible" });
+    assert.deepEqual(await page.$$eval("#segment-menu [role=menuitem]", (items) => items.map((i) => i.id)),
+      ["segment-menu-play", "segment-menu-export"]);
+    await page.keyboard.press("Escape");
+    // (settings::effective_options: the consensus of the two never asks for a third — natively tested)
+    assert.equal(await page.evaluate(() => document.body.dataset.consensus), String(await page.locator("#row-consensus .ms-consensus-mark").count()),
+      "the consensus row shows what it counts");
+
     // the link: the full page with the same parameters, in a new tab
     const href = new URL(await page.locator("#open-full").getAttribute("href"), page.url());
     assert.deepEqual(Object.fromEntries(href.searchParams), { src: "www/02_01.bvh", methods: "velocity,kcs", t: "1" });

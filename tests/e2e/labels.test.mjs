@@ -100,8 +100,14 @@ async function dragBoundary(cut, to) {
   const handle = page.locator(`#row-my-labels .ms-my-handle[data-cut="${cut}"]`);
   assert.equal(await handle.count(), 1, `a handle at cut ${cut}`);
   assert.equal(await handle.evaluate((e) => getComputedStyle(e).cursor), "ew-resize", "a resize cursor on the handle");
+  await handle.scrollIntoViewIfNeeded();
   const box = await handle.boundingBox();
   const y = box.y + box.height / 2;
+  const hit = await page.evaluate(([x, y]) => {
+    const e = document.elementFromPoint(x, y);
+    return e ? `${e.tagName}#${e.id}.${e.className}[${e.dataset.cut ?? ""}]` : "none";
+  }, [box.x + box.width / 2, y]);
+  assert.match(hit, /ms-my-handle/, `the handle of ${cut} is under the pointer, not ${hit}`);
   await page.mouse.move(box.x + box.width / 2, y);
   await page.mouse.down();
   await page.mouse.move(await xOf(to), y, { steps: 8 });
@@ -237,6 +243,67 @@ test("drag a boundary with the mouse: it moves by the frames dragged, and snaps 
   await page.click("#my-labels-redo");
   await until(async () => (await pair())[1]?.start === cut, "redo: snapped again");
   await page.click("#zoom-fit");
+  assertClean(opened);
+});
+
+test("snapping reaches a few frames at full view, and goes off with its toggle or a held Alt; a boundary's frames typed", async () => {
+  const { cut, left, right, pair } = await sharedBoundary(40);
+  const targets = await otherCuts();
+  // a wide view (the whole take, zoomed in once around the boundary): 8 px are many frames, the snap reaches 3
+  if (await page.isEnabled("#zoom-fit")) await page.click("#zoom-fit");
+  await seek(cut);
+  await keys("+");
+  const w = await tlWindow();
+  const lane = await page.locator("#row-my-labels").boundingBox();
+  const perPx = (w.end - w.start) / lane.width;
+  assert.ok(8 * perPx > 8, `a wide view: 8 px are ${8 * perPx} frames`);
+  // dropped a few px from SSSM's boundary (more than 3 frames, within 8 px, SSSM's the nearest cut): it stays where
+  // it was dropped (it snapped there before)
+  const away = [2, 2.5, 3, 3.5, 4, 5, 6].flatMap((px) => [cut + px * perPx, cut - px * perPx]).find((a) => {
+    const d = Math.abs(a - cut);
+    return a > left.start + 2 && a < right.end - 2 && d > 4 && d < 8 * perPx
+      && targets.filter((t) => t !== cut).every((t) => Math.abs(t - a) > Math.max(d, 3 + perPx));
+  });
+  assert.ok(away !== undefined, `a place a few px from SSSM's boundary ${cut} with no other cut nearer: ${targets}`);
+  await dragBoundary(cut, away);
+  await until(async () => (await pair())[1]?.start !== cut, "the boundary moved");
+  const landed = (await pair())[1].start;
+  assert.ok(Math.abs(landed - away) <= perPx + 1, `dropped at ${away.toFixed(1)}, landed at ${landed}, not snapped to ${cut}`);
+  assert.doesNotMatch(await text(page, "#my-labels-status"), /snapped/);
+  await page.click("#my-labels-undo");
+  await until(async () => (await pair())[1]?.start === cut, "undo");
+
+  // zoomed in, 1.2 frames from SSSM's boundary: snaps with snapping on, not with the toggle off, nor with Alt held
+  await seek(cut);
+  await keys("+", "+", "+");
+  assert.equal(await page.isChecked("#my-labels-snap"), true, "snapping is on by default");
+  await page.uncheck("#my-labels-snap");
+  await dragBoundary(cut, cut + 1.2);
+  await until(async () => (await pair())[1]?.start === cut + 1, "placed freely with the toggle off");
+  await page.check("#my-labels-snap");
+  await page.keyboard.down("Alt");
+  await dragBoundary(cut + 1, cut + 3.2);
+  await page.keyboard.up("Alt");
+  await until(async () => (await pair())[1]?.start === cut + 3, "placed freely with Alt held");
+  await dragBoundary(cut + 3, cut + 1.2);
+  await until(async () => (await pair())[1]?.start === cut, "snapped again without Alt");
+  await page.click("#zoom-fit");
+
+  // the selected segment's first frame typed (as the page counts them, from 1): its boundary goes there
+  await page.locator(`#row-my-labels .ms-seg--mine[data-start="${right.start}"]`).first().click();
+  assert.equal(await page.inputValue("#my-labels-start"), String(right.start + 1), "the page's frame number");
+  assert.equal(await page.inputValue("#my-labels-end"), String(right.end + 1));
+  await page.fill("#my-labels-start", String(right.start + 1 + 7));
+  await page.press("#my-labels-start", "Enter");
+  await until(async () => (await pair())[1]?.start === right.start + 7, "the typed first frame");
+  assert.equal((await pair())[0].end, right.start + 6, "the segment before ends where it starts");
+  assert.match(await text(page, "#my-labels-status"), new RegExp(`first frame is now ${right.start + 8}`));
+  await page.fill("#my-labels-start", "0");
+  await page.press("#my-labels-start", "Enter");
+  await page.waitForFunction(() => /Type a frame from 1 to \d+/.test(document.querySelector("#my-labels-status")?.textContent ?? ""));
+  await page.click("#my-labels-undo");
+  await until(async () => (await pair())[1]?.start === cut, "undo: back where it was");
+  assert.deepEqual(await pair(), [left, right]);
   assertClean(opened);
 });
 
@@ -519,6 +586,30 @@ test("one click trains DT-FCN on my labels with the DT-FCN panel's options (stop
   assert.match(await text(page, "#my-labels-train-status"), /stopped after/);
   await page.locator("#dtfcn-train-download").waitFor({ state: "visible" });
   await shot(page, "e2e-labels-trained.png");
+  assertClean(opened);
+});
+
+test("one click trains a k-NN on my labels too, with the advice its panel gives (a class labelled once)", async () => {
+  const labelled = (await spans()).filter((s) => s.label !== "");
+  const counts = new Map();
+  for (const s of labelled) counts.set(s.label, (counts.get(s.label) ?? 0) + 1);
+  const once = [...counts].find(([, n]) => n === 1)?.[0];
+  assert.equal(await page.inputValue("#my-labels-trainer"), String(await page.$$eval("#my-labels-trainer option",
+    (os) => os.findIndex((o) => o.textContent === "DT-FCN"))), "DT-FCN unless another is chosen");
+  const knn = await page.$$eval("#my-labels-trainer option", (os) => os.find((o) => o.textContent === "k-NN")?.value);
+  assert.ok(knn !== undefined, "the k-NN is offered");
+  await page.selectOption("#my-labels-trainer", knn);
+  assert.equal(await text(page, "#my-labels-train"), "Train k-NN");
+  await page.click("#my-labels-train");
+  await waitData(page, "knnTraining", "done", TIMEOUT * 3);
+  await showPanel(page, "knn");
+  assert.match(await text(page, "#knn-train-labels-name"), /^my labels of sample/, "the k-NN panel trained on my labels, no file");
+  assert.match(await text(page, "#knn-train-status"), new RegExp(`${labelled.length} rows of my labels of sample`));
+  if (once) {
+    // the same advice the panel gives: a class with one segment
+    assert.match(await text(page, "#my-labels-status"), new RegExp(`advice: .*\`${once}\`: 1 segment`));
+  }
+  await page.selectOption("#my-labels-trainer", await page.$$eval("#my-labels-trainer option", (os) => os.find((o) => o.textContent === "DT-FCN").value));
   assertClean(opened);
 });
 

@@ -123,7 +123,18 @@ for (const view of VIEWS) {
       const first = page.locator("#library-clusters li").first();
       const id = await first.getAttribute("data-cluster");
       assert.ok(Number(await first.getAttribute("data-takes")) >= 2, "the first cluster listed is found in several takes");
-      assert.match(await first.locator(".ms-lib-count").textContent(), /^\d+ occurrences in \d+ takes · \d+\.\d s$/);
+      assert.match(await first.locator(".ms-lib-count").textContent(), /^\d+ occurrences in \d+ takes · \d+\.\d s · \d+ % of the library$/);
+      // the list is filtered by default (in two takes or more, long enough), most of the library first
+      assert.match(await text(page, "#library-cluster-filter"), /^(\d+) of (\d+) clusters shown: in 2 takes or more, 0\.5 s or longer on average$/);
+      const listed = () => page.$$eval("#library-clusters li", (items) => items.map((li) => ({
+        takes: Number(li.dataset.takes), share: Number(/(\d+) % of the library/.exec(li.querySelector(".ms-lib-count").textContent)[1]),
+      })));
+      const shown = await listed();
+      assert.ok(shown.every((c) => c.takes >= 2), "only clusters of two takes or more");
+      assert.deepEqual(shown.map((c) => c.share), [...shown.map((c) => c.share)].sort((a, b) => b - a), "most of the library first");
+      await page.check("#library-all-clusters");
+      await until(async () => (await listed()).length > shown.length, "every cluster shown");
+      await page.uncheck("#library-all-clusters");
       const swatch = await first.locator(".ms-lib-swatch").evaluate((el) => getComputedStyle(el).backgroundColor);
       assert.match(swatch, /^rgb/, "the cluster's colour");
       // renamed once, named everywhere
@@ -171,6 +182,8 @@ for (const view of VIEWS) {
       await waitReady(page, other);
       const start = Number(await page.getAttribute("#library-playing", "data-start"));
       await until(async () => Number(await page.inputValue("#scrub")) >= start, "the occurrence to play from its first frame");
+      // the occurrence playing is highlighted on the library's row
+      await page.locator(`#row-library .ms-seg--playing[data-start="${start}"][aria-current="true"]`).waitFor({ timeout: TIMEOUT });
       assert.match(await text(page, "#library-playing"), new RegExp(`^hop step: occurrence \\d+ of \\d+ — ${other.replace(".", "\\.")}, frames ${start}–`));
       // the other take shows the name given once
       await page.locator(`#row-library .ms-seg[data-label="hop step"]`).first().waitFor({ timeout: TIMEOUT });

@@ -50,17 +50,17 @@ async function watchStages(p, method) {
   }, method);
 }
 
-// The page's code is 2.52 MB gzipped (2026-11-29, with the workspace kept across reloads; 2.49 MB before it): the
-// ceiling leaves 0.08 MB for code and is crossed by any model built in — the smallest shipped one,
-// knn-cmu-actions.model, is 0.22 MB gzipped (`gzip -9 -c models/knn-cmu-actions.model | wc -c`).
-test("the wasm carries no model: under 2.6 MB gzipped, every shipped model a file beside it", () => {
+// The page's code is 2.62 MB gzipped (2026-11-29, with the project file, the library kept, label colours, ranked
+// tables; 2.52 MB before them): the ceiling leaves 0.08 MB for code and is crossed by any model built in — the
+// smallest shipped one, knn-cmu-actions.model, is 0.22 MB gzipped (`gzip -9 -c models/knn-cmu-actions.model | wc -c`).
+test("the wasm carries no model: under 2.7 MB gzipped, every shipped model a file beside it", () => {
   const wasm = readFileSync(path.join(DIST, "pkg/mocapseg_bg.wasm"));
   const gz = gzipSync(wasm, { level: 9 }).length;
   console.log(`  (wasm ${(wasm.length / 1e6).toFixed(2)} MB, ${(gz / 1e6).toFixed(2)} MB gzipped)`);
   const smallest = Math.min(...readdirSync(path.join(ROOT, "models")).filter((f) => f.endsWith(".model"))
     .map((f) => gzipSync(readFileSync(path.join(ROOT, "models", f)), { level: 9 }).length));
-  assert.ok(2.6e6 - 2.52e6 < smallest, `a model of ${smallest} bytes gzipped would fit under the ceiling`);
-  assert.ok(gz <= 2.6e6, `the wasm is ${gz} bytes gzipped`);
+  assert.ok(2.7e6 - 2.62e6 < smallest, `a model of ${smallest} bytes gzipped would fit under the ceiling`);
+  assert.ok(gz <= 2.7e6, `the wasm is ${gz} bytes gzipped`);
   for (const f of ["dtfcn-exercises.model", "knn-exercises.model", "lma-effort.json"]) {
     assert.equal(statSync(path.join(DIST, "models", f)).size, statSync(path.join(ROOT, "models", f)).size, f);
   }

@@ -11,7 +11,7 @@
 // one on screen; and LMA's classifiers trained on the user's own Effort labels in the browser (the
 // report, the download, loading it back, the shipped family again, errors in the status line, a
 // new worker after a cancel or a crash still using the user's family); DT-FCN and k-NN (rows in
-// their class colours shaded by confidence, unknown hatched, the model choice and threshold, bad
+// their labels' colours (one per label on the page) shaded by confidence, unknown hatched, the model choice and threshold, bad
 // model files named at their input, a DT-FCN trained in the browser epoch by epoch with its
 // refusals, plot, Stop, download and the file loaded back); the page's Content-Security-Policy (a
 // full use — load, every method, every export — requests nothing from another origin, page or
@@ -851,9 +851,40 @@ test("keyboard: space, arrows, Shift+arrows, J/K/L, Home/End; ? shows the help; 
     assert.ok(help.includes(k), `the help lists ${k}`);
   }
   assert.ok(help.includes("Ctrl or ⌘ + Z") && /undo/i.test(help), "the \"my labels\" row's undo is listed");
+  for (const k of ["Shift + F10", "Loop", "Tab to a row's segment"]) assert.ok(help.includes(k), `the help lists ${k}`);
+  // the help takes the focus (its Close button), and gives it back when closed
+  await page.waitForFunction(() => document.activeElement?.id === "help-close", null, { timeout: 2000 })
+    .catch(() => assert.fail("the help takes the focus"));
   await shot("e2e-timeline-help.png");
   await pressKeys("Escape");
   await page.locator("#help-overlay").waitFor({ state: "hidden" });
+  assert.notEqual(await page.evaluate(() => document.activeElement?.id), "help-close", "the focus went back");
+
+  // a row's segments are reached with Tab (one stop per row), Enter selects one, ] moves on and the focus follows
+  for (const row of ["sssm-actions", "sssm-primitives"]) {
+    const stops = await page.locator(`#row-${row} .ms-seg[tabindex="0"]`).count();
+    assert.equal(stops, 1, `#row-${row}: one segment in the Tab order`);
+  }
+  await page.focus("#zoom-fit").catch(() => page.focus("#play-pause"));
+  let reached = null;
+  for (let k = 0; k < 80 && !reached; k += 1) {
+    await page.keyboard.press("Tab");
+    reached = await page.evaluate(() => {
+      const a = document.activeElement;
+      return a?.classList.contains("ms-seg") && a.parentElement?.id === "row-sssm-actions" ? a.dataset.start : null;
+    });
+  }
+  assert.ok(reached !== null, "Tab reaches SSSM's actions row");
+  await page.keyboard.press("Enter");
+  await page.waitForFunction((s) => document.querySelector(`#row-sssm-actions .ms-seg[data-start="${s}"]`)?.getAttribute("aria-pressed") === "true",
+    reached, { timeout: 2000 });
+  await page.keyboard.press("]");
+  await page.waitForFunction((s) => {
+    const a = document.activeElement;
+    return a?.parentElement?.id === "row-sssm-actions" && a.getAttribute("aria-pressed") === "true" && a.dataset.start !== s;
+  }, reached, { timeout: 2000 }).catch(() => assert.fail("] moves the selection and the focus along the row"));
+  await pressKeys("Escape");
+  await pause();
   await page.click("#help-button");
   await page.locator("#help-overlay").waitFor({ state: "visible" });
   await page.click("#help-close");
@@ -1172,6 +1203,7 @@ async function assertLabelRow(method, json, header) {
   assert.equal(segs.length, json.segments.length, `#row-${method}-actions shows every segment`);
   assert.equal(header.colours.length, header.classes.length, "a colour per class");
   const byStart = new Map(json.segments.map((s) => [s.start, s]));
+  const colourOf = new Map();
   let coloured = 0;
   for (const seg of segs) {
     const s = byStart.get(seg.start);
@@ -1187,7 +1219,9 @@ async function assertLabelRow(method, json, header) {
     } else {
       coloured += 1;
       assert.match(seg.cls, /ms-seg--label/);
-      assert.equal(seg.colour, header.colours[s.cluster], `segment ${s.start} carries its class colour`);
+      // one colour per label on the page (issue 48: the label's, not the model file's class colour)
+      if (!colourOf.has(s.label)) colourOf.set(s.label, seg.colour);
+      assert.equal(seg.colour, colourOf.get(s.label), `segment ${s.start} carries its label's one colour`);
       assert.equal(s.label, header.classes[s.cluster]);
       const want = shade(seg.colour, s.score);
       const got = seg.bg.match(/\d+/g).slice(0, 3).map(Number);
@@ -1195,6 +1229,7 @@ async function assertLabelRow(method, json, header) {
         `segment ${s.start} (score ${s.score}) is ${seg.bg}, want rgb(${want}) from ${seg.colour}`);
     }
   }
+  assert.equal(new Set(colourOf.values()).size, colourOf.size, `labels shown together differ: ${JSON.stringify([...colourOf])}`);
   return { coloured, colours: new Set(segs.map((s) => s.colour).filter(Boolean)).size };
 }
 

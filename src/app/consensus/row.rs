@@ -17,7 +17,8 @@
 //!   number of markers.
 
 use crate::app::consensus::settings::{
-    from_stored, mark_text, mark_tooltip, parse_min_methods, parse_tolerance, summary, to_stored, STORAGE_KEY,
+    effective_options, from_stored, mark_text, mark_tiers, mark_tooltip, parse_min_methods, parse_tolerance, summary,
+    to_stored, MARK_GAP_PX, MARK_TIERS, STORAGE_KEY,
 };
 use crate::app::my_labels::row::MyRow;
 use crate::app::state::AppState;
@@ -55,6 +56,8 @@ pub struct ConsensusRow {
 impl ConsensusRow {
     pub fn new(state: AppState, mine: MyRow) -> ConsensusRow {
         let options = RwSignal::new(storage_get(STORAGE_KEY).as_deref().and_then(from_stored).unwrap_or_default());
+        // embedded, the settings cannot be changed: the minimum never asks for more methods than ran
+        let embedded = crate::app::dom::embedded();
         let result = Memo::new(move |_| {
             let runs: Vec<Arc<crate::protocol::MethodView>> =
                 state.methods.iter().filter_map(|slot| slot.view.get()).collect();
@@ -62,7 +65,8 @@ impl ConsensusRow {
                 return None;
             }
             let segs: Vec<&Segmentation> = runs.iter().map(|v| &v.segmentation).collect();
-            Some(consensus(&segs, options.get()).map(Arc::new).map_err(|e| e.to_string()))
+            let o = effective_options(options.get(), segs.len(), embedded);
+            Some(consensus(&segs, o).map(Arc::new).map_err(|e| e.to_string()))
         });
         let row =
             ConsensusRow { state, mine, options, result, selected: RwSignal::new(None), note: RwSignal::new(None) };
@@ -160,6 +164,8 @@ fn short_name(state: AppState, method: &str) -> String {
 pub fn ConsensusLane(row: ConsensusRow) -> impl IntoView {
     let state = row.state;
     let mine_cuts = row.mine.cuts();
+    // how many lines the markers take (the row grows to hold them)
+    let lines = RwSignal::new(1usize);
     let markers = move || {
         let w = state.window.get();
         let selected = row.selected.get();
@@ -167,10 +173,17 @@ pub fn ConsensusLane(row: ConsensusRow) -> impl IntoView {
         let Some(Ok(c)) = row.result.get() else { return Vec::new() };
         let of = c.methods.len();
         let at: Vec<(usize, usize)> = c.boundaries.iter().map(|b| (b.frame, b.frame)).collect();
-        visible_segments(&at, &w, MAX_MARKERS)
+        let shown = visible_segments(&at, &w, MAX_MARKERS);
+        // markers too close to read side by side go on lines apart
+        let width = crate::app::timeline::lanes::lane_px().get();
+        let px: Vec<f64> = shown.iter().map(|&i| w.fraction(c.boundaries[i].frame as f64) * width).collect();
+        let tiers = mark_tiers(&px, MARK_GAP_PX, MARK_TIERS);
+        lines.set(tiers.iter().max().map_or(1, |t| t + 1));
+        shown
             .into_iter()
-            .map(|i| &c.boundaries[i])
-            .map(|b| {
+            .zip(tiers)
+            .map(|(i, tier)| (&c.boundaries[i], tier))
+            .map(|(b, tier)| {
                 let cut = b.frame;
                 let tip = mark_tooltip(b, of, c.fps, |m| short_name(state, m));
                 let in_mine = mine.binary_search(&cut).is_ok();
@@ -182,6 +195,8 @@ pub fn ConsensusLane(row: ConsensusRow) -> impl IntoView {
                         class:ms-consensus-mark--selected=selected == Some(cut)
                         class:ms-consensus-mark--mine=in_mine
                         style:left=format!("{:.4}%", w.fraction(cut as f64) * 100.0)
+                        style:top=format!("{}px", 2 + 18 * tier)
+                        data-tier=tier.to_string()
                         data-frame=cut.to_string()
                         data-count=b.count().to_string()
                         data-of=of.to_string()
@@ -206,7 +221,8 @@ pub fn ConsensusLane(row: ConsensusRow) -> impl IntoView {
             <div class="ms-tl-label" title="Boundaries where the methods above agree: how many of them, within the tolerance set under the timeline">
                 <span class="ms-tl-label-name">"Consensus"</span>
             </div>
-            <div id="row-consensus" class="ms-row ms-row--consensus ms-tl-lane" role="group" aria-label="Consensus: boundaries where the methods agree">
+            <div id="row-consensus" class="ms-row ms-row--consensus ms-tl-lane" role="group" aria-label="Consensus: boundaries where the methods agree"
+                style:height=move || format!("{}px", 4 + 18 * lines.get())>
                 {markers}
             </div>
         </div>

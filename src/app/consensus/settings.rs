@@ -84,9 +84,63 @@ pub fn summary(c: &Consensus) -> String {
     )
 }
 
+/// The settings a consensus of `ran` methods is computed with: `options`, except that an embedded page (where the
+/// settings cannot be changed) never asks more methods to agree than ran — two methods and a minimum of 3 would
+/// always be empty.
+pub fn effective_options(options: ConsensusOptions, ran: usize, embedded: bool) -> ConsensusOptions {
+    let mut o = options;
+    if embedded {
+        o.min_methods = o.min_methods.min(ran.max(1));
+    }
+    o
+}
+
+/// How far apart (CSS px) two markers must be to sit side by side on one line (a marker is at least 24 px wide).
+pub const MARK_GAP_PX: f64 = 34.0;
+/// The most lines the markers are laid out on (markers closer still share the last line).
+pub const MARK_TIERS: usize = 3;
+
+/// The line (0, 1, …) each marker at pixel `at` (sorted) sits on, so that markers closer than `gap` pixels are
+/// laid out apart ("3/7" never drawn over "3/7"): each takes the first line whose last marker is `gap` away.
+pub fn mark_tiers(at: &[f64], gap: f64, tiers: usize) -> Vec<usize> {
+    let mut last: Vec<f64> = Vec::new();
+    at.iter()
+        .map(|&x| {
+            let free = last.iter().position(|&l| x - l >= gap);
+            let tier = match free {
+                Some(t) => t,
+                None if last.len() < tiers.max(1) => {
+                    last.push(f64::NEG_INFINITY);
+                    last.len() - 1
+                }
+                None => last.len() - 1,
+            };
+            last[tier] = x;
+            tier
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn embedded_the_minimum_never_asks_more_methods_than_ran() {
+        let o = ConsensusOptions { tolerance_s: 0.5, min_methods: 3 };
+        assert_eq!(effective_options(o, 2, true).min_methods, 2);
+        assert_eq!(effective_options(o, 2, false).min_methods, 3, "the full page says why and lets the user lower it");
+        assert_eq!(effective_options(o, 5, true).min_methods, 3);
+        assert_eq!(effective_options(o, 2, true).tolerance_s, 0.5);
+    }
+
+    #[test]
+    fn markers_too_close_to_read_are_laid_out_on_lines_apart() {
+        assert_eq!(mark_tiers(&[0.0, 100.0, 200.0], 34.0, 3), [0, 0, 0], "far apart: one line");
+        assert_eq!(mark_tiers(&[0.0, 10.0, 40.0, 50.0], 34.0, 3), [0, 1, 0, 1]);
+        assert_eq!(mark_tiers(&[0.0, 5.0, 10.0, 15.0], 34.0, 3), [0, 1, 2, 2], "at most three lines");
+        assert!(mark_tiers(&[], 34.0, 3).is_empty());
+    }
 
     fn agreed() -> Agreed {
         Agreed { frame: 120, methods: vec!["sssm".into(), "pca".into(), "kcs".into()], frames: vec![119, 120, 124] }

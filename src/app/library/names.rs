@@ -34,6 +34,9 @@ pub struct ClusterNames {
     named: Vec<Named>,
     /// The clusters of the matching shown that have a name: cluster id → index into `named`.
     ids: BTreeMap<usize, usize>,
+    /// Names from the labels the clusters' takes carry ([`crate::app::library::takes::Shared::label_names`]), for
+    /// the clusters the user has not named.
+    suggested: BTreeMap<usize, String>,
 }
 
 /// Frames shared by two spans (inclusive ends).
@@ -81,7 +84,7 @@ impl ClusterNames {
     /// Names kept (from this browser or a project file), not yet following any cluster: [`ClusterNames::follow`]
     /// gives them their clusters.
     pub fn from_kept(named: Vec<Named>) -> ClusterNames {
-        ClusterNames { named, ids: BTreeMap::new() }
+        ClusterNames { named, ids: BTreeMap::new(), suggested: BTreeMap::new() }
     }
 
     /// Every name given, with what its cluster holds (what is kept).
@@ -89,12 +92,17 @@ impl ClusterNames {
         &self.named
     }
 
-    /// The name of cluster `id`.
+    /// The name of cluster `id`: the user's, else one from the labels its takes carry, else `C<id>`.
     pub fn name(&self, id: usize) -> String {
         match self.ids.get(&id) {
             Some(&i) => self.named[i].name.clone(),
-            None => format!("C{id}"),
+            None => self.suggested.get(&id).cloned().unwrap_or_else(|| format!("C{id}")),
         }
+    }
+
+    /// Names from labels for the clusters of the matching shown (replacing those before).
+    pub fn suggest(&mut self, names: BTreeMap<usize, String>) {
+        self.suggested = names;
     }
 
     /// Whether cluster `id` has a name the user gave.
@@ -151,6 +159,8 @@ impl ClusterNames {
             self.named[n].spots = clusters[c].1.clone();
         }
         self.ids = ids;
+        // the names from labels were of the clusters before
+        self.suggested.clear();
     }
 
     /// `segmentation` with every clustered segment labelled by its cluster's name (the labels every take shows and
@@ -187,6 +197,10 @@ mod tests {
         assert_eq!(names.kept().len(), 1);
         names.rename(2, "run", vec![spot("a.bvh", 10, 19)]);
         assert_eq!((names.name(2), names.kept().len()), ("run".to_string(), 1));
+        // a name from labels names a cluster the user has not named, never one they have
+        names.suggest(BTreeMap::from([(2, "walk · C2".to_string()), (5, "walk · C5".to_string())]));
+        assert_eq!((names.name(2), names.name(5), names.name(6)), ("run".into(), "walk · C5".into(), "C6".into()));
+        assert!(!names.is_named(5));
     }
 
     #[test]

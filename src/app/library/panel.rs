@@ -257,21 +257,24 @@ fn colour(shared: &Shared, id: usize) -> String {
     }
 }
 
-/// One cluster of the list (`name`, swatch `background`): its name to edit, its count, Play and Clips.
+/// One cluster of the list (`name`, swatch `background`, the share of the library it covers): its name to edit, its
+/// count, Play and Clips.
 fn cluster_item(
     library: LibraryState,
     c: &crate::library::SharedCluster,
     name: String,
     background: String,
+    coverage: f64,
     play: impl Fn(usize) + Copy + 'static,
     export: impl Fn(Option<usize>) + Copy + 'static,
 ) -> impl IntoView {
     let id = c.id;
     let count = format!(
-        "{} in {} · {:.1} s",
+        "{} in {} · {:.1} s · {:.0} % of the library",
         crate::method::counted(c.occurrences.len(), "occurrence"),
         crate::method::counted(c.takes, "take"),
-        c.seconds
+        c.seconds,
+        coverage * 100.0
     );
     view! {
         <li class="ms-lib-cluster" data-cluster=id.to_string() data-takes=c.takes.to_string()>
@@ -331,6 +334,7 @@ fn Clusters(state: AppState, jobs: StoredValue<LibraryJobs, LocalStorage>) -> im
     };
     let stop = move |_| {
         library.playlist.set(None);
+        state.occurrence.set(None);
         library.playing.set_value(false);
         library.pending.set_value(None);
         state.playing.set(false);
@@ -364,20 +368,8 @@ fn Clusters(state: AppState, jobs: StoredValue<LibraryJobs, LocalStorage>) -> im
         let take = library.queue.with(|q| q.entries.get(p.current().take).map(|e| e.name.clone()))?;
         Some(playing_text(&p, &names.name(p.cluster), &take))
     };
-    let rows = move || {
-        let shared = library.shared.get()?;
-        let names = library.names.get();
-        let listed = shared.listed();
-        let more = listed.len().saturating_sub(MAX_LISTED);
-        let items = listed
-            .into_iter()
-            .take(MAX_LISTED)
-            .map(|c| cluster_item(library, c, names.name(c.id), colour(&shared, c.id), play, export))
-            .collect_view();
-        let note = (more > 0)
-            .then(|| view! { <p class="ms-lib-note">{format!("and {more} more (in every cluster's clips)")}</p> });
-        Some(view! { <ol id="library-clusters" class="ms-lib-list">{items}</ol>{note} })
-    };
+    suggest_names(library);
+    let rows = cluster_list(library, play, export);
     view! {
         <section class="ms-lib-clusters" aria-label="Clusters across takes" hidden=move || library.matching.with(Option::is_none)>
             <h3 class="ms-lib-heading">"Clusters across takes"</h3>
@@ -417,6 +409,83 @@ fn Clusters(state: AppState, jobs: StoredValue<LibraryJobs, LocalStorage>) -> im
     }
 }
 
+/// Names the clusters from the labels carried across the library, for those the user has not named (again whenever
+/// the clusters or the carried labels change).
+fn suggest_names(library: LibraryState) {
+    Effect::new(move |_| {
+        let Some(shared) = library.shared.get() else { return };
+        let named = library.carried.with(|carried| {
+            shared.label_names(|i| {
+                let row = carried.as_ref()?.row(i)?;
+                let spans: Vec<(usize, usize, String)> = row
+                    .segments
+                    .into_iter()
+                    .filter(|s| crate::app::my_labels::vocabulary::is_labelled(&s.label))
+                    .map(|s| (s.start, s.end, s.label))
+                    .collect();
+                (!spans.is_empty()).then_some(spans)
+            })
+        });
+        library.names.update(|n| n.suggest(named));
+    });
+}
+
+/// The cluster list: filtered by default ([`crate::app::library::takes::LIST_MIN_TAKES`], `LIST_MIN_SECONDS`;
+/// `#library-all-clusters` shows every one), most of the library first, each with its name, colour, count, coverage,
+/// Play and Clips.
+fn cluster_list(
+    library: LibraryState,
+    play: impl Fn(usize) + Copy + 'static,
+    export: impl Fn(Option<usize>) + Copy + 'static,
+) -> impl Fn() -> Option<AnyView> {
+    let every = RwSignal::new(false);
+    move || {
+        let shared = library.shared.get()?;
+        let names = library.names.get();
+        let all = shared.clusters.clusters.len();
+        let listed = shared.listed(every.get());
+        let shown = listed.len();
+        let more = listed.len().saturating_sub(MAX_LISTED);
+        let items = listed
+            .into_iter()
+            .take(MAX_LISTED)
+            .map(|c| {
+                let coverage = shared.coverage(c);
+                cluster_item(library, c, names.name(c.id), colour(&shared, c.id), coverage, play, export)
+            })
+            .collect_view();
+        let note = (more > 0)
+            .then(|| view! { <p class="ms-lib-note">{format!("and {more} more (in every cluster's clips)")}</p> });
+        let filter = format!(
+            "{shown} of {all} clusters shown{}",
+            if every.get() {
+                String::new()
+            } else {
+                format!(
+                    ": in {} takes or more, {:.1} s or longer on average",
+                    crate::app::library::takes::LIST_MIN_TAKES,
+                    crate::app::library::takes::LIST_MIN_SECONDS
+                )
+            }
+        );
+        Some(
+            view! {
+                <p class="ms-lib-controls">
+                    <span id="library-cluster-filter" class="ms-lib-note">{filter}</span>
+                    <label>
+                        <input id="library-all-clusters" type="checkbox" prop:checked=move || every.get()
+                            on:change=move |ev| every.set(event_target_checked(&ev))/>
+                        " show every cluster"
+                    </label>
+                </p>
+                <ol id="library-clusters" class="ms-lib-list">{items}</ol>
+                {note}
+            }
+            .into_any(),
+        )
+    }
+}
+
 /// Plays occurrence `spot`: at once when its take is on screen, else after opening it (its file
 /// read again).
 fn play_spot(state: AppState, jobs: &LibraryJobs, spot: Spot) {
@@ -440,6 +509,12 @@ fn motion_address(state: AppState) -> usize {
 fn start(state: AppState, spot: Spot) {
     state.playing.set(false);
     state.selected.set(None);
+    // highlighted on the library's row while it plays
+    state.occurrence.set(Some(crate::app::state::Selection {
+        row: "library".into(),
+        start: spot.start,
+        end: spot.end,
+    }));
     state.frame.set(spot.start);
     state.play_until.set(Some(spot.end));
     state.library.playing.set_value(true);

@@ -11,6 +11,18 @@
 use crate::app::library::names::{ClusterNames, NamedSpot};
 use crate::labels::LabelRow;
 use crate::segment::Segmentation;
+use std::collections::BTreeMap;
+
+/// The cluster list shows, unless asked for every cluster, those found in this many takes or more…
+pub const LIST_MIN_TAKES: usize = 2;
+/// …whose occurrences last this long on average, or longer (seconds).
+pub const LIST_MIN_SECONDS: f64 = 0.5;
+
+/// Whether cluster `c` is listed by default ([`LIST_MIN_TAKES`], [`LIST_MIN_SECONDS`]).
+fn worth_listing(c: &crate::library::SharedCluster) -> bool {
+    let mean = c.seconds / c.occurrences.len().max(1) as f64;
+    c.takes >= LIST_MIN_TAKES && mean >= LIST_MIN_SECONDS
+}
 
 /// One take among files dropped or picked together: its motion file and, for a CMU AMC motion,
 /// its ASF skeleton (indices into the names given).
@@ -182,12 +194,53 @@ impl Shared {
         Playlist::new(id, spots)
     }
 
-    /// The clusters in the order the list shows them: those found in more takes first, then the
-    /// longer in total, then by id.
-    pub fn listed(&self) -> Vec<&crate::library::SharedCluster> {
-        let mut listed: Vec<&crate::library::SharedCluster> = self.clusters.clusters.iter().collect();
-        listed.sort_by(|a, b| b.takes.cmp(&a.takes).then(b.seconds.total_cmp(&a.seconds)).then(a.id.cmp(&b.id)));
+    /// The clusters the list shows, most of the library first (their total seconds; then more takes, then id): every
+    /// one with `all`, else those worth a look — found in [`LIST_MIN_TAKES`] takes or more, their occurrences lasting
+    /// [`LIST_MIN_SECONDS`] on average or longer (a cluster of one take, or of fragments, is noise to a reader).
+    pub fn listed(&self, all: bool) -> Vec<&crate::library::SharedCluster> {
+        let mut listed: Vec<&crate::library::SharedCluster> =
+            self.clusters.clusters.iter().filter(|c| all || worth_listing(c)).collect();
+        listed.sort_by(|a, b| b.seconds.total_cmp(&a.seconds).then(b.takes.cmp(&a.takes)).then(a.id.cmp(&b.id)));
         listed
+    }
+
+    /// The share (0–1) of the matched takes' seconds that cluster `c`'s occurrences cover.
+    pub fn coverage(&self, c: &crate::library::SharedCluster) -> f64 {
+        let total: f64 = self.clusters.takes.iter().filter(|t| t.fps > 0.0).map(|t| t.frames as f64 / t.fps).sum();
+        if total > 0.0 {
+            (c.seconds / total).min(1.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// Names for the clusters from the labels their takes carry (`labels`: a library take's labelled spans, frames
+    /// inclusive, when it has any): the label that covers most of a cluster's frames, when it covers at least half of
+    /// them, as "label · C<id>".
+    pub fn label_names(
+        &self,
+        labels: impl Fn(usize) -> Option<Vec<(usize, usize, String)>>,
+    ) -> BTreeMap<usize, String> {
+        let by_take: Vec<Option<Vec<(usize, usize, String)>>> = self.takes.iter().map(|&t| labels(t)).collect();
+        let mut names = BTreeMap::new();
+        for c in &self.clusters.clusters {
+            let mut frames: BTreeMap<&str, usize> = BTreeMap::new();
+            let mut total = 0;
+            for o in &c.occurrences {
+                total += o.end + 1 - o.start.min(o.end + 1);
+                let Some(Some(spans)) = by_take.get(o.take) else { continue };
+                for (start, end, label) in spans {
+                    let shared = (o.end.min(*end) + 1).saturating_sub(o.start.max(*start));
+                    *frames.entry(label.as_str()).or_default() += shared;
+                }
+            }
+            let best = frames.into_iter().max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(a.0)));
+            if let Some((label, n)) = best.filter(|(_, n)| total > 0 && 2 * n >= total) {
+                let _ = n;
+                names.insert(c.id, format!("{label} · C{}", c.id));
+            }
+        }
+        names
     }
 
     /// What to cut for the clips of cluster `only` (every cluster with `None`): per library take
@@ -430,7 +483,23 @@ pub(crate) mod tests {
         assert_eq!(p.next(), Spot { take: 5, start: 30, end: 59 });
         assert_eq!(p.takes(), [3, 5]);
         assert!(s.playlist(7).is_none());
-        assert_eq!(s.listed().iter().map(|c| c.id).collect::<Vec<_>>(), [0, 1]);
+        assert_eq!(
+            s.listed(true).iter().map(|c| c.id).collect::<Vec<_>>(),
+            [0, 1],
+            "every cluster, most covered first"
+        );
+        assert_eq!(s.listed(false).iter().map(|c| c.id).collect::<Vec<_>>(), [0], "C1 is in one take only");
+        // 100 + 90 frames at 30 fps: 6.33 s; C0 covers 11/3 s of it
+        assert!((s.coverage(&s.clusters.clusters[0]) - (11.0 / 3.0) / (190.0 / 30.0)).abs() < 1e-9);
+        // named from the labels the takes carry: C0's frames are mostly "hop"
+        let names = s.label_names(|t| match t {
+            3 => Some(vec![(0, 49, "hop".to_string()), (50, 99, "walk".into())]),
+            5 => Some(vec![(0, 45, "walk".into()), (46, 89, "hop".into())]),
+            _ => None,
+        });
+        assert_eq!(names.get(&0).map(String::as_str), Some("hop · C0"));
+        assert_eq!(names.get(&1).map(String::as_str), Some("walk · C1"));
+        assert!(s.label_names(|_| None).is_empty(), "no labels, no names");
         assert_eq!(s.summary(), "2 clusters across 2 takes: 1 found in more than one take");
         let mut names = ClusterNames::default();
         names.rename(0, "walk", Vec::new());

@@ -18,9 +18,8 @@
 //!   2 × [`MAX_SEGMENTS_PER_ROW`] per row), placed on the window. Every segment carries
 //!   `data-start`/`data-end` (file frames) and its tooltip text as `aria-label`; clicking one
 //!   selects it (`ms-seg--selected`) and plays it, looped while Loop is on, else once to its end.
-//!   A labelling method (one DT-FCN, k-NN) colours each segment by its class (`cluster`: the
-//!   colour the run echoes in `params.colours`, else the class colour of every model file,
-//!   `palette::class_colour`; `data-colour`), lighter the lower its mean confidence (`score`,
+//!   A labelling method (one DT-FCN, k-NN) colours each segment by its label (the one colour the page gives that
+//!   label on every row, `AppState::label_css`; `data-colour`), lighter the lower its mean confidence (`score`,
 //!   `data-score`), and hatches `unknown` segments grey (`ms-seg--unknown`); its row is labelled
 //!   "<method> · labels". Labels are always text, never markup: the label when it fits the
 //!   segment, else a clean abbreviation or nothing ([`crate::app::timeline::label_fit`]), the whole label in

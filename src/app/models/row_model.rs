@@ -207,6 +207,9 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
     });
     let is_shipped = move || value.with(|v| s.decl.shipped.contains(v));
     let open = RwSignal::new(false);
+    // where the card opens: in the window, under its button (above it in the window's lower half), never clipped
+    // by the timeline's scrolling box (it is `position: fixed`)
+    let place = RwSignal::new(CardPlace::default());
     Effect::new(move |_| {
         if slot.view.with(Option::is_some) || open.get() {
             want_cards(cards, &loader);
@@ -251,9 +254,15 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
                 aria-expanded=move || open.get().to_string()
                 aria-controls=card_id.clone()
                 title="The model's card: its training takes, classes, command and held-out accuracy"
-                on:click=move |_| open.update(|o| *o = !*o)
+                aria-label="The model's card"
+                on:click=move |ev: leptos::ev::MouseEvent| {
+                    if let Some(button) = ev.current_target().and_then(|t| wasm_bindgen::JsCast::dyn_into::<web_sys::Element>(t).ok()) {
+                        place.set(CardPlace::under(&button.get_bounding_client_rect()));
+                    }
+                    open.update(|o| *o = !*o)
+                }
             >
-                "card"
+                "ⓘ"
             </button>
             <button
                 id=format!("{method}-row-shipped")
@@ -273,15 +282,44 @@ pub fn RowModel(state: AppState, index: usize) -> impl IntoView {
                 title=warning
                 aria-label=warning
             >
-                "⚠ training take"
+                "in training"
             </span>
-            {fit_parts(&method, &short, badge, value, find)}
-            <div id=card_id class="ms-row-card" hidden=move || !open.get()>
+            <span class="ms-row-fit-bar">{fit_parts(&method, &short, badge, value, find)}</span>
+            <div id=card_id class="ms-row-card" hidden=move || !open.get()
+                style:left=move || format!("{:.0}px", place.get().left)
+                style:top=move || place.get().top.map(|t| format!("{t:.0}px"))
+                style:bottom=move || place.get().bottom.map(|b| format!("{b:.0}px"))>
                 <ModelCardView state=state index=index id=format!("{method}-row-card-body")/>
             </div>
         </span>
     }
     .into_any()
+}
+
+/// Where a row's model card opens in the window (CSS pixels): `left`, and `top` (under its button) or `bottom` (above
+/// it, when the button is in the window's lower half).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct CardPlace {
+    left: f64,
+    top: Option<f64>,
+    bottom: Option<f64>,
+}
+
+impl CardPlace {
+    /// Under (or above) the button whose box is `rect`, inside the window (a card is at most 420 px wide).
+    fn under(rect: &web_sys::DomRect) -> CardPlace {
+        let window = web_sys::window();
+        let size = |f: fn(&web_sys::Window) -> Result<wasm_bindgen::JsValue, wasm_bindgen::JsValue>| {
+            window.as_ref().and_then(|w| f(w).ok()).and_then(|v| v.as_f64()).unwrap_or(1024.0)
+        };
+        let (width, height) = (size(web_sys::Window::inner_width), size(web_sys::Window::inner_height));
+        let left = rect.left().min(width - 428.0).max(4.0);
+        if rect.bottom() > height / 2.0 {
+            CardPlace { left, top: None, bottom: Some(height - rect.top() + 2.0) }
+        } else {
+            CardPlace { left, top: Some(rect.bottom() + 2.0), bottom: None }
+        }
+    }
 }
 
 /// The row's verdict on the take (its badge and why), the models it could use instead, and the button that looks for

@@ -14,7 +14,7 @@
 //!   between two touching segments moves both ([`MyLabels::move_boundary`]); a cut next to a gap
 //!   moves only its segment's edge, into the gap. Either way it is clamped so that no segment
 //!   becomes empty and none overlaps another. While dragging, [`snap`](super::snap::snap) pulls the cut to the
-//!   nearest cut of the other rows within [`SNAP_PX`](super::snap::SNAP_PX) pixels
+//!   nearest cut of the other rows within [`snap_reach`](super::snap::snap_reach) (8 px, 3 frames at most)
 //!   ([`snap_tolerance`](super::snap::snap_tolerance) converts them to frames at the zoom); of two equally
 //!   near, the earlier.
 //! * **Delete** removes the selected segment and **leaves a gap** (as ELAN and Label Studio do:

@@ -3,7 +3,7 @@
 //! ([`SHORTCUTS`]), and the page-wide listener for another tab's writes.
 
 use crate::app::my_labels::row::{Drag, MyRow};
-use crate::app::my_labels::snap::{cuts_of, snap, snap_tolerance, SNAP_PX};
+use crate::app::my_labels::snap::{cuts_of, snap, snap_reach};
 use crate::app::my_labels::vocabulary::hotkey_label;
 use crate::app::timeline::keys::is_for_the_field;
 use gloo::events::EventListener;
@@ -21,8 +21,8 @@ pub const SHORTCUTS: [(&str, &str); 8] = [
     ("Delete / Backspace", "my labels: delete the selected segment (its frames become a gap)"),
     (
         "Drag a boundary of my labels",
-        "move it (the pose follows); it snaps to the other rows' boundaries within 8 px and rolls over a neighbour, \
-         removing it once dragged across it",
+        "move it (the pose follows); it snaps to the other rows' boundaries within 8 px (3 frames at most) unless \
+         Alt or Shift is held or Snap is off, and rolls over a neighbour, removing it once dragged across it",
     ),
     ("Tab to a boundary of my labels, ← / →", "move it one frame (with Shift: one second)"),
 ];
@@ -77,7 +77,7 @@ impl MyRow {
         let rows: Vec<Vec<(usize, usize)>> =
             self.others.with_untracked(|o| o.iter().map(|r| r.segments.iter().map(|s| (s.0, s.1)).collect()).collect());
         let targets = cuts_of(rows.iter().map(Vec::as_slice));
-        let tolerance = snap_tolerance(SNAP_PX, self.state.window.get_untracked().span(), width);
+        let tolerance = snap_reach(self.state.window.get_untracked().span(), width);
         self.drag.set_value(Some(Drag { cut, base: self.model.get_untracked(), targets, tolerance }));
         self.dragging.set(Some(cut));
         self.state.playing.set(false);
@@ -90,7 +90,9 @@ impl MyRow {
             let Some(ev) = ev.dyn_ref::<web_sys::PointerEvent>() else { return };
             let Some(drag) = self.drag.get_value() else { return };
             let Some((at, _)) = self.position_at(ev.client_x() as f64) else { return };
-            let to = snap(at, &drag.targets, drag.tolerance);
+            // snapping off: the row's toggle, or Alt (or Shift) held while dragging
+            let snapping = self.snapping.get_untracked() && !ev.alt_key() && !ev.shift_key();
+            let to = snap(at, &drag.targets, if snapping { drag.tolerance } else { 0.0 });
             let mut m = drag.base.clone();
             let landed = m.drag_boundary(drag.cut, to).unwrap_or(drag.cut);
             self.model.set(m);

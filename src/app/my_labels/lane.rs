@@ -5,9 +5,8 @@
 use crate::app::effort::bars::EffortLane;
 use crate::app::my_labels::row::{MyRow, ROW};
 use crate::app::my_labels::spans::LabelSpan;
-use crate::app::my_labels::vocabulary::label_class;
+use crate::app::state::AppState;
 use crate::app::timeline::window::{visible_segments, Window};
-use crate::segment::palette::class_colour;
 use leptos::ev::{KeyboardEvent, MouseEvent, PointerEvent};
 use leptos::prelude::*;
 use std::collections::HashMap;
@@ -18,10 +17,10 @@ const MAX_SEGMENTS: usize = 120;
 
 /// The colour of my label `label`: the one another row draws it in (the first that has it;
 /// `None`: hatched there too), else a class colour of its own.
-fn colour_of(label: &str, known: &HashMap<String, Option<String>>) -> Option<String> {
+fn colour_of(state: AppState, label: &str, known: &HashMap<String, Option<String>>) -> Option<String> {
     match known.get(label) {
         Some(colour) => colour.clone(),
-        None => Some(class_colour(label_class(label))),
+        None => Some(state.label_css(label)),
     }
 }
 
@@ -36,7 +35,7 @@ fn my_segment(
     known: &HashMap<String, Option<String>>,
     fps: f64,
 ) -> impl IntoView {
-    let colour = (!s.label.is_empty()).then(|| colour_of(&s.label, known)).flatten();
+    let colour = (!s.label.is_empty()).then(|| colour_of(mine.state, &s.label, known)).flatten();
     let class = match (s.label.is_empty(), &colour) {
         (true, _) => "ms-seg ms-seg--mine ms-seg--unlabelled",
         (false, None) => "ms-seg ms-seg--mine ms-seg--transition",

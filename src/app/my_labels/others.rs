@@ -9,7 +9,7 @@ use crate::app::state::AppState;
 use crate::app::timeline::rows::is_labelling;
 use crate::app::timeline::rows::labels_classes;
 use crate::protocol::MethodView;
-use crate::segment::palette::{action_colour, class_colour, cluster_colour};
+use crate::segment::palette::{action_colour, cluster_colour};
 use crate::segment::Level;
 use leptos::prelude::*;
 
@@ -25,16 +25,9 @@ pub(super) struct OtherRow {
 }
 
 /// The colour a segment has in its method's row (as `method_panel` draws it; `None`: hatched).
-fn segment_colour(v: &MethodView, s: &crate::segment::Segment) -> Option<String> {
+fn segment_colour(state: AppState, v: &MethodView, s: &crate::segment::Segment) -> Option<String> {
     if is_labelling(v) {
-        return s.cluster.map(|c| {
-            v.segmentation
-                .params
-                .get("colours")
-                .and_then(|c2| c2.get(c))
-                .and_then(|c2| c2.as_str())
-                .map_or_else(|| class_colour(c), str::to_string)
-        });
+        return s.cluster.map(|_| state.label_css(&s.label));
     }
     match (s.level, s.cluster) {
         (Level::Transition, _) => None,
@@ -53,8 +46,12 @@ pub(super) fn other_rows(state: AppState) -> Vec<OtherRow> {
     // the imported ground truth first: copying it is where a correction usually starts
     state.truth.view.with(|v| {
         let Some(v) = v else { return };
-        let mut segments: Vec<_> =
-            v.segmentation.segments.iter().map(|s| (s.start, s.end, s.label.clone(), segment_colour(v, s))).collect();
+        let mut segments: Vec<_> = v
+            .segmentation
+            .segments
+            .iter()
+            .map(|s| (s.start, s.end, s.label.clone(), segment_colour(state, v, s)))
+            .collect();
         segments.sort_by_key(|s| s.0);
         if !segments.is_empty() {
             rows.push(OtherRow { id: "truth".into(), name: "Ground truth".into(), segments, classes: true });
@@ -69,7 +66,7 @@ pub(super) fn other_rows(state: AppState) -> Vec<OtherRow> {
                     .segments
                     .iter()
                     .filter(|s| (s.level == Level::Primitive) == primitive)
-                    .map(|s| (s.start, s.end, s.label.clone(), segment_colour(v, s)))
+                    .map(|s| (s.start, s.end, s.label.clone(), segment_colour(state, v, s)))
                     .collect();
                 if segments.is_empty() {
                     continue;
@@ -88,8 +85,12 @@ pub(super) fn other_rows(state: AppState) -> Vec<OtherRow> {
     }
     // the labels carried across the library to this take
     if let Some(v) = crate::app::library::panel::transferred_view(state) {
-        let segments =
-            v.segmentation.segments.iter().map(|s| (s.start, s.end, s.label.clone(), segment_colour(&v, s))).collect();
+        let segments = v
+            .segmentation
+            .segments
+            .iter()
+            .map(|s| (s.start, s.end, s.label.clone(), segment_colour(state, &v, s)))
+            .collect();
         rows.push(OtherRow { id: TRANSFERRED.into(), name: "Transferred".into(), segments, classes: true });
     }
     rows

@@ -11,7 +11,7 @@
 //!   selected one outlined (`ms-seg--selected`). Each boundary is a handle `.ms-my-handle`
 //!   (`data-cut`: the first frame after it) with a resize cursor: dragging it moves it (a shared
 //!   boundary moves both segments), snapping to the other rows' boundaries within
-//!   [`SNAP_PX`](super::snap::SNAP_PX) pixels; the pose and the frame readout follow it, and a neighbour in its way is
+//!   [`snap_reach`](super::snap::snap_reach) (8 px, 3 frames at most; off with `#my-labels-snap` or a held Alt/Shift); the pose and the frame readout follow it, and a neighbour in its way is
 //!   rolled, never left a one-frame sliver ([`Model::drag_boundary`]). A handle takes the focus
 //!   (Tab): ← / → move it one frame, with Shift one second (a focusable `separator` with
 //!   `aria-valuenow`, as the ARIA window-splitter pattern has it), each step an undoable edit that
@@ -94,8 +94,12 @@ pub struct MyRow {
     /// The cut being dragged, where it is now.
     pub(super) dragging: RwSignal<Option<usize>>,
     pub(super) drag: StoredValue<Option<Drag>>,
-    /// The last DT-FCN training was asked from this row.
+    /// The last training of the chosen trainer was asked from this row.
     pub(super) training: RwSignal<bool>,
+    /// The method my labels train in one click (index into [`AppState::my_labels_trainers`]; DT-FCN unless chosen).
+    pub(super) trainer: RwSignal<usize>,
+    /// A dragged boundary snaps to the other rows' (`#my-labels-snap`; on by default).
+    pub(super) snapping: RwSignal<bool>,
     pub(super) others: Memo<Vec<OtherRow>>,
     /// My labels' fixed vocabulary (number keys 1–9 give its first nine).
     pub(super) vocabulary: Memo<Vec<String>>,
@@ -118,6 +122,10 @@ impl MyRow {
             dragging: RwSignal::new(None),
             drag: StoredValue::new(None),
             training: RwSignal::new(false),
+            trainer: RwSignal::new(
+                state.my_labels_trainers().iter().position(|(short, _)| *short == "DT-FCN").unwrap_or_default(),
+            ),
+            snapping: RwSignal::new(true),
             others,
             vocabulary: Memo::new(move |_| vocabulary_of(state, others, model)),
             lane: NodeRef::new(),
@@ -322,12 +330,19 @@ impl MyRow {
         self.edit(|m| m.copy_from(&spans), Some(format!("Copied {n} segment{} from {}{left}", plural(n), from.name)));
     }
 
-    /// Starts a DT-FCN training on my labelled segments, with the DT-FCN panel's options.
+    /// The method my labels train in one click, as chosen: its short name and its training.
+    pub(super) fn chosen_trainer(self) -> Option<(&'static str, &'static crate::app::models::supervised::Supervised)> {
+        let trainers = self.state.my_labels_trainers();
+        trainers.get(self.trainer.get()).or(trainers.first()).copied()
+    }
+
+    /// Starts a training of the chosen method (k-NN or DT-FCN) on my labelled segments, with its panel's options, and
+    /// says the same advice its panel gives (classes with too few segments or seconds).
     pub(super) fn train(self) {
         let name = self.take_name();
         let rows = self.model.with_untracked(|m| m.label_rows(&name));
         let classes = suggestions(rows.iter().map(|r| r.label.as_str()));
-        let Some((short, trainer)) = self.state.my_labels_trainer() else { return };
+        let Some((short, trainer)) = self.chosen_trainer() else { return };
         if classes.len() < 2 {
             self.say(
                 true,
@@ -339,7 +354,14 @@ impl MyRow {
             return;
         }
         self.training.set(true);
-        self.note.set(None);
+        let fps = self.state.fps();
+        let counts = crate::app::models::training_advice::class_counts(&rows, &[(name.clone(), fps)]);
+        let advice = crate::app::models::training_advice::advice(&counts);
+        if advice.is_empty() {
+            self.note.set(None);
+        } else {
+            self.say(true, format!("Training {short} anyway — advice: {}", advice.join(" ")));
+        }
         trainer.request.set(Some(TrainRequest::Labels {
             labels_name: format!("my labels of {name}"),
             csv: to_csv(&rows),

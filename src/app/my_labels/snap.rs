@@ -1,9 +1,19 @@
 //! Where a dragged boundary of my labels lands, natively tested: the other rows' cuts ([`cuts_of`]), the
-//! nearest of them within [`SNAP_PX`] pixels ([`snap_tolerance`] in frames at the zoom), else the frame
-//! under the pointer ([`snap`]).
+//! nearest of them within [`SNAP_PX`] pixels and never more than [`SNAP_MAX_FRAMES`] frames ([`snap_reach`] in
+//! frames at the zoom), else the frame under the pointer ([`snap`]). Snapping is on by default; the row's toggle
+//! (`#my-labels-snap`) or a held Alt (or Shift) turns it off.
 
-/// A dragged boundary snaps to another row's boundary this near, in CSS pixels.
+/// A dragged boundary snaps to another row's boundary this near, in CSS pixels…
 pub const SNAP_PX: f64 = 8.0;
+/// …and never farther than this many frames, whatever the zoom (8 px are 50 frames of a 10 000-frame take seen
+/// whole: a boundary dropped on the frame it was meant for must stay there).
+pub const SNAP_MAX_FRAMES: f64 = 3.0;
+
+/// How far (frames) a dragged boundary reaches for another row's boundary, for a window `span` frames wide drawn over
+/// `width_px` pixels: [`SNAP_PX`] pixels, at most [`SNAP_MAX_FRAMES`].
+pub fn snap_reach(span: f64, width_px: f64) -> f64 {
+    snap_tolerance(SNAP_PX, span, width_px).min(SNAP_MAX_FRAMES)
+}
 
 /// The cuts of other rows' segments (`(start, end)` inclusive): each start and each end + 1,
 /// sorted, once each — what a dragged boundary snaps to.
@@ -61,6 +71,14 @@ mod tests {
         assert_eq!(snap_tolerance(SNAP_PX, 2000.0, 1000.0), 16.0);
         assert!((snap_tolerance(SNAP_PX, 100.0, 1000.0) - 0.8).abs() < 1e-12);
         assert_eq!(snap_tolerance(SNAP_PX, 100.0, 0.0), 0.0);
+        // the reach: a few frames at any zoom — at full view of a long take, 3 frames, not 16 or 50
+        assert_eq!(snap_reach(2000.0, 1000.0), SNAP_MAX_FRAMES);
+        assert_eq!(snap_reach(10_000.0, 1600.0), SNAP_MAX_FRAMES);
+        assert!((snap_reach(100.0, 1000.0) - 0.8).abs() < 1e-12, "zoomed in: 8 px");
+        // the true walk → look_around change at 1020 of 86_01, the boundary dropped 3 px away at full view (6.5
+        // frames a pixel) on a row whose next cut is 1047: it stays where it was dropped
+        assert_eq!(snap(1040.0, &[1020, 1047], snap_reach(10_458.0, 1600.0)), 1040);
+        assert_eq!(snap(1021.0, &[1020, 1047], snap_reach(10_458.0, 1600.0)), 1020);
         assert_eq!(
             snap(12.0, &targets, snap_tolerance(SNAP_PX, 100.0, 1000.0)),
             12,

@@ -14,13 +14,10 @@ use leptos::prelude::*;
 #[component]
 pub fn MyLabelsTools(mine: MyRow) -> impl IntoView {
     let state = mine.state;
-    // the method my labels train (DT-FCN declares it); without one its buttons stay hidden
-    let trainer = state.my_labels_trainer();
-    let short = trainer.map_or("", |(short, _)| short);
-    let t = trainer.map(|(_, t)| t);
+    // the method my labels train (the chosen one of k-NN and DT-FCN); without one its buttons stay hidden
     let loaded = move || state.frames() > 0;
     let train_text = move || {
-        let Some(t) = t.filter(|_| mine.training.get()) else { return String::new() };
+        let Some((short, t)) = mine.chosen_trainer().filter(|_| mine.training.get()) else { return String::new() };
         let step = &t.decl.step_name;
         t.state.with(|s| match s {
             TrainState::Training { stage, step: 0, .. } => format!("{short} on my labels: {stage}…"),
@@ -42,6 +39,7 @@ pub fn MyLabelsTools(mine: MyRow) -> impl IntoView {
             <span class="ms-my-tools-title">"My labels"</span>
             {start_group(mine)}
             {cut_group(mine)}
+            {boundary_group(mine)}
             {label_group(mine)}
             {history_group(mine)}
             {use_group(mine)}
@@ -101,6 +99,67 @@ fn start_group(mine: MyRow) -> impl IntoView {
     }
 }
 
+/// My labels' "Boundaries" group: snapping on or off, and the selected segment's first and last frames typed (as
+/// the page counts them, from 1): a typed frame moves that boundary there, as far as the neighbours let it.
+fn boundary_group(mine: MyRow) -> impl IntoView {
+    let state = mine.state;
+    let span = move || mine.model.with(|m| m.selected_span().map(|s| (s.start, s.end)));
+    let set = move |first: bool, text: String| {
+        let Some((start, end)) = mine.model.with_untracked(|m| m.selected_span().map(|s| (s.start, s.end))) else {
+            return;
+        };
+        let frames = state.frames();
+        let typed = text.trim().parse::<usize>().ok().filter(|f| (1..=frames).contains(f));
+        let Some(f) = typed else {
+            return mine.say(true, format!("Type a frame from 1 to {frames}"));
+        };
+        // frame f (from 1) is index f − 1; a segment's last frame f ends before cut f
+        let (cut, to) = if first { (start, f - 1) } else { (end + 1, f) };
+        let mut landed = cut;
+        let moved = mine.edit(
+            |m| {
+                landed = m.move_boundary(cut, to)?;
+                Ok(())
+            },
+            None,
+        );
+        let frame = if first { landed + 1 } else { landed };
+        let which = if first { "first" } else { "last" };
+        if landed != to {
+            mine.say(true, format!("The segment's {which} frame is {frame}: as far as its neighbours let it go"));
+        } else if moved {
+            mine.say(false, format!("The segment's {which} frame is now {frame}"));
+        }
+    };
+    // the selected segment's first (`first`) or last frame, as the page counts them
+    let frame_field = move |first: bool| {
+        let (id, text, which) =
+            if first { ("my-labels-start", "From frame ", "First") } else { ("my-labels-end", " to ", "Last") };
+        view! {
+            <label class="ms-my-frame">
+                {text}
+                <input id=id type="number" min="1" max=move || state.frames()
+                    aria-label=format!("{which} frame of the selected segment (the page counts frames from 1)")
+                    disabled=move || span().is_none()
+                    prop:value=move || span().map(|(s, e)| (if first { s } else { e } + 1).to_string()).unwrap_or_default()
+                    on:change=move |ev| set(first, event_target_value(&ev))/>
+            </label>
+        }
+    };
+    view! {
+    <div class="ms-my-group" role="group" aria-label="Boundaries of my segments">
+        <label class="ms-my-snap" title="A dragged boundary snaps to the other rows' boundaries within 8 px (3 frames at most); hold Alt or Shift while dragging to place it freely">
+            <input id="my-labels-snap" type="checkbox" aria-label="Snap a dragged boundary to the other rows' boundaries"
+                prop:checked=move || mine.snapping.get()
+                on:change=move |ev| mine.snapping.set(event_target_checked(&ev))/>
+            " Snap"
+        </label>
+        {frame_field(true)}
+        {frame_field(false)}
+    </div>
+    }
+}
+
 /// My labels' "Cut" group: split, merge, fill a gap, delete.
 fn cut_group(mine: MyRow) -> impl IntoView {
     let state = mine.state;
@@ -111,7 +170,8 @@ fn cut_group(mine: MyRow) -> impl IntoView {
         mine.model.with(|m| m.index_at(f).map(|i| m.spans()[i].start != f))
     };
     let can_split = move || in_segment() == Some(true);
-    let can_fill = move || loaded() && in_segment().is_none();
+    // a gap lies between my segments: with none yet there is nothing to fill (Start empty does that)
+    let can_fill = move || loaded() && in_segment().is_none() && mine.model.with(|m| !m.spans().is_empty());
     let can_merge = move || mine.model.with(|m| m.selected().is_some_and(|i| i + 1 < m.spans().len()));
     view! {
     <div class="ms-my-group" role="group" aria-label="Cut my segments">
@@ -210,26 +270,39 @@ fn history_group(mine: MyRow) -> impl IntoView {
     }
 }
 
-/// My labels' "Use" group: train the method my labels train (and stop it), clear them.
+/// My labels' "Use" group: train the chosen method (k-NN or DT-FCN) in one click (and stop it), clear them.
 fn use_group(mine: MyRow) -> impl IntoView {
-    let trainer = mine.state.my_labels_trainer();
-    let short = trainer.map_or("", |(short, _)| short);
-    let t = trainer.map(|(_, t)| t);
+    let trainers = mine.state.my_labels_trainers();
+    let none = trainers.is_empty();
+    let short = move || mine.chosen_trainer().map_or("", |(short, _)| short);
+    let t = move || mine.chosen_trainer().map(|(_, t)| t);
     let labelled = move || mine.model.with(|m| m.spans().iter().any(|s| !s.label.is_empty()));
-    let busy = move || t.is_some_and(|t| t.state.with(TrainState::busy));
-    let stopping = move || t.is_some_and(|t| t.state.with(|s| *s == TrainState::Stopping));
+    let busy = move || t().is_some_and(|t| t.state.with(TrainState::busy));
+    let stopping = move || t().is_some_and(|t| t.state.with(|s| *s == TrainState::Stopping));
+    let choices = trainers
+        .iter()
+        .enumerate()
+        .map(|(i, (short, _))| {
+            view! { <option value=i.to_string() prop:selected=move || mine.trainer.get() == i>{*short}</option> }
+        })
+        .collect_view();
     view! {
     <div class="ms-my-group" role="group" aria-label="Use my labels">
+        <select id="my-labels-trainer" aria-label="The method my labels train in one click" hidden=trainers.len() < 2
+            disabled=busy
+            on:change=move |ev| mine.trainer.set(event_target_value(&ev).parse().unwrap_or_default())>
+            {choices}
+        </select>
         <button id="my-labels-train" class="ms-button" type="button"
-            aria-label=format!("Train a {short} model on my labels (with the {short} panel's options)")
-            title=format!("Train a {short} model on my labels, in this tab, with the {short} panel's options")
-            hidden=t.is_none()
-            disabled=move || busy() || !labelled() on:click=move |_| mine.train()>{format!("Train {short}")}</button>
+            aria-label=move || format!("Train a {} model on my labels (with the {} panel's options)", short(), short())
+            title=move || format!("Train a {} model on my labels, in this tab, with the {} panel's options", short(), short())
+            hidden=none
+            disabled=move || busy() || !labelled() on:click=move |_| mine.train()>{move || format!("Train {}", short())}</button>
         <button id="my-labels-train-stop" class="ms-button ms-button--quiet" type="button"
-            aria-label=format!("Stop the {short} training after the step under way")
+            aria-label=move || format!("Stop the {} training after the step under way", short())
             hidden=move || !(mine.training.get() && busy())
             disabled=stopping
-            on:click=move |_| { if let Some(t) = t { t.request.set(Some(TrainRequest::Stop)) } }>"Stop"</button>
+            on:click=move |_| { if let Some(t) = t() { t.request.set(Some(TrainRequest::Stop)) } }>"Stop"</button>
         <button id="my-labels-clear" class="ms-button ms-button--quiet" type="button"
             aria-label="Clear my labels and remove them from this browser (Undo brings them back)"
             title="Clear my labels and remove them from this browser (Undo brings them back)"

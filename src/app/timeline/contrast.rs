@@ -108,6 +108,7 @@ mod tests {
             format!("rgb({r}, {g}, {b})")
         }));
         fills.extend(["#888", "#ffffff", "#000000", "rgb(128, 128, 128)"].map(String::from));
+        fills.extend(crate::segment::palette::LABEL_PALETTE.iter().map(|[r, g, b]| format!("#{r:02x}{g:02x}{b:02x}")));
         for fill in &fills {
             let ink = rgb_of(ink_on(fill)).unwrap();
             let ratio = contrast(rgb_of(fill).unwrap(), ink);

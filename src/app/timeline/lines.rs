@@ -46,7 +46,7 @@ pub const LABEL_PX: f64 = 132.0;
 const TICK_MIN_PX: f64 = 70.0;
 
 /// Shortcuts shown in the help overlay (keys, what they do).
-pub const SHORTCUTS: [(&str, &str); 12] = [
+pub const SHORTCUTS: [(&str, &str); 15] = [
     ("Space", "play / pause"),
     ("← / →", "one frame back / forward"),
     ("Shift + ← / →", "one second back / forward"),
@@ -57,6 +57,15 @@ pub const SHORTCUTS: [(&str, &str); 12] = [
     ("Ctrl or ⌘ + wheel", "zoom around the pointer"),
     ("Shift + wheel, sideways wheel", "pan"),
     ("Drag the ruler or the minimap", "pan"),
+    (
+        "Tab to a row's segment, Enter or Space",
+        "select it and play it (Tab reaches one segment per row: the selected one, else the first in view)",
+    ),
+    (
+        "Shift + F10, the context-menu key",
+        "the selected segment's menu: play it, export its clip, copy it to my labels, show its panel",
+    ),
+    ("Loop (the button above the rows)", "on: a selected segment's playback repeats; off: it plays once"),
     ("?", "show / hide this help"),
     ("Esc", "close this help, else drop the selected segment"),
 ];
@@ -85,6 +94,14 @@ pub fn Timeline(state: AppState) -> impl IntoView {
     // bumped on window resize and when a take's image is cut into chunks: lanes redraw
     let resized = RwSignal::new(0u32);
     let hover = RwSignal::new(None::<(f64, f64, String)>);
+    // the tooltip follows the pointer, not the content: any scroll (the timeline's, the page's) hides it
+    EventListener::new_with_options(
+        &gloo::utils::window(),
+        "scroll",
+        EventListenerOptions::run_in_capture_phase(),
+        move |_| hover.set(None),
+    )
+    .forget();
 
     new_take(state, &chunks, resized);
 
@@ -115,20 +132,25 @@ pub fn Timeline(state: AppState) -> impl IntoView {
     // drop glue got a symbol name over 100,000 bytes, which rustc's LTO cannot read back from the library's wasm
     // object ("failed to get bitcode from object file for LTO (Invalid Wasm linking symbol)"), so the wasm test
     // binary did not link. `scripts/wasm-symbols.py` (run by `make web`) watches that length.
+    // embedded: no editing of my labels (nothing made there is kept)
+    let full = !crate::app::dom::embedded();
     let rows = view! {
         <div id="timeline-rows" class="ms-timeline-rows" node_ref=rows_ref>
             <TruthRow state=state/>
             <MethodRows state=state/>
             <ConsensusLane row=agreed/>
-            <MyLabelsRow mine=mine/>
-            <crate::app::library::panel::LibraryRow state=state/>
-            <crate::app::library::panel::TransferredRow state=state/>
+            // the user's own rows, pinned at the bottom of the timeline while the methods' rows scroll (issue 48)
+            <div id="timeline-mine" class="ms-tl-mine">
+                {full.then(|| view! { <MyLabelsRow mine=mine/> })}
+                <crate::app::library::panel::LibraryRow state=state/>
+                <crate::app::library::panel::TransferredRow state=state/>
+            </div>
         </div>
     }
     .into_any();
     let row_tools = view! {
-        <ConsensusTools row=agreed/>
-        <MyLabelsTools mine=mine/>
+        {full.then(|| view! { <ConsensusTools row=agreed/> })}
+        {full.then(|| view! { <MyLabelsTools mine=mine/> })}
     }
     .into_any();
     let overlays = view! {
@@ -419,6 +441,28 @@ fn hover_text(frame: usize, fps: f64) -> String {
 /// `#help-overlay`: every shortcut; `?` or its button toggles it, Esc or its Close button closes it.
 #[component]
 fn HelpOverlay(state: AppState) -> impl IntoView {
+    // opened: the focus goes to it (its Close button), closed: back to where it was
+    let before = StoredValue::new_local(None::<web_sys::HtmlElement>);
+    Effect::new(move |was: Option<bool>| {
+        let open = state.help.get();
+        let document = gloo::utils::document();
+        if open && was != Some(true) {
+            let active = document.active_element().and_then(|a| a.dyn_into::<web_sys::HtmlElement>().ok());
+            before.set_value(active);
+            gloo::timers::callback::Timeout::new(0, || {
+                let close = gloo::utils::document().get_element_by_id("help-close");
+                if let Some(b) = close.and_then(|b| b.dyn_into::<web_sys::HtmlElement>().ok()) {
+                    let _ = b.focus();
+                }
+            })
+            .forget();
+        } else if !open && was == Some(true) {
+            if let Some(el) = before.get_value() {
+                let _ = el.focus();
+            }
+        }
+        open
+    });
     view! {
         <div
             id="help-overlay"

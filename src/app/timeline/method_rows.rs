@@ -10,9 +10,9 @@ use crate::app::state::Selection;
 use crate::app::timeline::rows::{is_labelling, row_kind, ACTION_LEVELS};
 use crate::app::timeline::window::visible_segments;
 use crate::protocol::MethodView;
-use crate::segment::palette::{action_colour, class_colour, cluster_colour};
+use crate::segment::palette::{action_colour, cluster_colour};
 use crate::segment::{Level, Segment};
-use leptos::ev::{MouseEvent, PointerEvent};
+use leptos::ev::{KeyboardEvent, MouseEvent, PointerEvent};
 use leptos::prelude::*;
 use std::sync::Arc;
 
@@ -154,10 +154,21 @@ pub fn SegmentRow(
                 .collect::<Vec<_>>()
         })
     };
+    // the row's one stop in the Tab order (a roving tabindex): its selected segment, else its first one in view
+    let stop_row = row_id.clone();
+    let tab_stop = Memo::new(move |_| {
+        let selected = state.selected.with(|x| x.as_ref().filter(|x| x.row == stop_row).map(|x| (x.start, x.end)));
+        let window = state.window.get();
+        data.with(|d| {
+            selected.filter(|span| d.spans.contains(span)).or_else(|| {
+                visible_segments(&d.spans, &window, MAX_SEGMENTS_PER_ROW).into_iter().min().map(|i| d.spans[i])
+            })
+        })
+    });
     let row = row_id.clone();
     let segment = move |(_, i): (u64, usize)| {
         let (v, s) = data.with_untracked(|d| (d.view.clone(), d.segments[i].clone()));
-        v.map(|v| segment_view(state, &v, s, row.clone()))
+        v.map(|v| segment_view(state, &v, s, row.clone(), tab_stop))
     };
     let effort_spans = Signal::derive(move || data.with(|d| d.spans.clone()));
     let effort_row = row_id.clone();
@@ -190,17 +201,6 @@ pub fn SegmentRow(
     }
 }
 
-/// The CSS colour of class `cluster` in a labelling method's run: the one the run echoes in
-/// `params.colours` if it does, else the class colour every model file gives that class index.
-pub(crate) fn class_css(v: &MethodView, cluster: usize) -> String {
-    v.segmentation
-        .params
-        .get("colours")
-        .and_then(|c| c.get(cluster))
-        .and_then(|c| c.as_str())
-        .map_or_else(|| class_colour(cluster), str::to_string)
-}
-
 /// `#rrggbb` as RGB.
 fn parse_hex(css: &str) -> Option<[u8; 3]> {
     let hex = css.strip_prefix('#').filter(|h| h.len() == 6 && h.is_ascii())?;
@@ -216,13 +216,15 @@ fn confidence_shade([r, g, b]: [u8; 3], score: f64) -> String {
     format!("rgb({}, {}, {})", mix(r), mix(g), mix(b))
 }
 
-fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -> impl IntoView {
-    let fps = v.segmentation.fps;
+/// How segment `s` of `v` is filled: its class, its colour (a label's one colour shaded by confidence on a labelling
+/// row; a cluster's or an action's colour; none where hatched) and the label colour it carries (`data-colour`).
+fn segment_fill(state: AppState, v: &MethodView, s: &Segment) -> (&'static str, String, Option<String>) {
     let mut class_colour_of = None;
     let (class, colour) = match (is_labelling(v), s.level, s.cluster) {
         // a labelling method: its class's colour, by confidence; `unknown` hatched grey
         (true, _, cluster) => {
-            let css = cluster.map(|c| class_css(v, c));
+            // one colour per label on every row ([`AppState::label_css`]), not the model's class colour
+            let css = cluster.and(Some(&s.label)).filter(|l| !l.is_empty()).map(|l| state.label_css(l));
             match css.and_then(|css| Some((parse_hex(&css)?, css))) {
                 Some((rgb, css)) => {
                     class_colour_of = Some(css);
@@ -239,6 +241,20 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -
         }
         (false, _, None) => ("ms-seg", "#888".to_string()),
     };
+    (class, colour, class_colour_of)
+}
+
+/// Segment `s` of `v` on row `row`: drawn, its label fitted, selected by a click or by Enter / Space when it has the
+/// focus (it is in the Tab order when it is the row's `tab_stop`; the focus follows the selection along the row).
+fn segment_view(
+    state: AppState,
+    v: &Arc<MethodView>,
+    s: Segment,
+    row: String,
+    tab_stop: Memo<Option<(usize, usize)>>,
+) -> impl IntoView {
+    let fps = v.segmentation.fps;
+    let (class, colour, class_colour_of) = segment_fill(state, v, &s);
     // black or white, whichever reads on the fill (hatched segments: www/style.css)
     let text_colour = (!colour.is_empty()).then(|| crate::app::timeline::contrast::ink_on(&colour));
     let mut tip = tooltip(&s, fps);
@@ -263,20 +279,50 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -
         let (a, b) = (w.fraction(start as f64).max(0.0), w.fraction((end + 1) as f64).min(1.0));
         crate::app::timeline::lanes::segment_text(&label, (b - a).max(0.0))
     };
+    let playing_row = row.clone();
+    let playing = Memo::new(move |_| {
+        state.occurrence.with(|x| x.as_ref().is_some_and(|x| x.row == playing_row && x.start == start && x.end == end))
+    });
     let selected_row = row.clone();
     let selected = Memo::new(move |_| {
         state.selected.with(|x| x.as_ref().is_some_and(|x| x.row == selected_row && x.start == start && x.end == end))
     });
     // keep the timeline's own seek from capturing the pointer (the click must reach us)
     let on_down = move |ev: PointerEvent| ev.stop_propagation();
+    let picked = Selection { row: row.clone(), start, end };
+    let picked_by_key = picked.clone();
     let on_click = move |ev: MouseEvent| {
         ev.stop_propagation();
-        crate::app::player::playback::play_segment(state, Selection { row: row.clone(), start, end });
+        crate::app::player::playback::play_segment(state, picked.clone());
     };
+    let on_key = move |ev: KeyboardEvent| {
+        if matches!(ev.key().as_str(), "Enter" | " ") {
+            ev.prevent_default();
+            ev.stop_propagation();
+            crate::app::player::playback::play_segment(state, picked_by_key.clone());
+        }
+    };
+    // the selection moved onto this segment ([ / ]) while the focus was on the row: the focus follows it
+    let node = NodeRef::<leptos::html::Div>::new();
+    let focus_row = row.clone();
+    Effect::new(move |_| {
+        if !selected.get() {
+            return;
+        }
+        let Some(el) = node.get_untracked() else { return };
+        let active = gloo::utils::document().active_element();
+        let in_row =
+            active.as_ref().and_then(|a| a.parent_element()).is_some_and(|p| p.id() == format!("row-{focus_row}"));
+        if in_row && active.as_ref().is_some_and(|a| a.class_list().contains("ms-seg")) {
+            let _ = el.focus();
+        }
+    });
     view! {
         <div
             class=class
             class:ms-seg--selected=selected
+            class:ms-seg--playing=playing
+            aria-current=move || playing.get().then_some("true")
             style:left=left
             style:width=width
             style:background-color=(!colour.is_empty()).then_some(colour)
@@ -290,8 +336,11 @@ fn segment_view(state: AppState, v: &Arc<MethodView>, s: Segment, row: String) -
             aria-label=tip
             aria-pressed=move || selected.get().to_string()
             role="button"
+            tabindex=move || if tab_stop.get() == Some((start, end)) { "0" } else { "-1" }
+            node_ref=node
             on:pointerdown=on_down
             on:click=on_click
+            on:keydown=on_key
         >
             {text}
         </div>

@@ -51,7 +51,16 @@ pub fn RowExports(
             if rows.is_empty() {
                 return status.set(Some((true, "no labelled segments to save".into())));
             }
-            save(to_csv(&rows).as_bytes(), "text/csv", format!("{}_{id}.csv", stem(&seg.file)), Some(rows.len()));
+            let file = format!("{}_{id}.csv", stem(&seg.file));
+            if let Err(e) = download(to_csv(&rows).as_bytes(), "text/csv", &file) {
+                return status.set(Some((true, format!("could not save {file}: {e:?}"))));
+            }
+            // the CSV counts frames from 0 (as mocapseg reads label CSVs), the page from 1: said at every export
+            let said = format!(
+                "saved {file} ({} rows; its frames count from 0 — frame 1 on the page is 0 in the file)",
+                rows.len()
+            );
+            status.set(Some((false, said)));
         }
     };
     let loader = use_context::<StoredValue<ClipJobs, LocalStorage>>();
@@ -78,7 +87,9 @@ pub fn RowExports(
             <button id=format!("{id}-export-json") class="ms-button ms-button--quiet" type="button"
                 aria-label=format!("Save {what} as segmentation JSON") disabled=empty on:click=on_json>"JSON"</button>
             <button id=format!("{id}-export-csv") class="ms-button ms-button--quiet" type="button"
-                aria-label=format!("Save {what} as a label CSV") disabled=empty on:click=on_csv>"CSV"</button>
+                aria-label=format!("Save {what} as a label CSV")
+                title="A label CSV: file,start_frame,end_frame,label — its frames count from 0 (frame 1 on the page is 0 in the file)"
+                disabled=empty on:click=on_csv>"CSV"</button>
             <button id=format!("{id}-export-clips") class="ms-button ms-button--quiet" type="button"
                 aria-label=format!("Save each segment of {what} as its own BVH clip, in one zip")
                 title="Each segment as its own BVH clip cut from the original file, in one zip"

@@ -129,6 +129,7 @@ pub fn SegmentMenu(state: AppState, mine: MyRow, rows: NodeRef<Div>) -> impl Int
         }
     };
     let on_key = move |ev: KeyboardEvent| menu_key(&ev, close);
+    let full = !crate::app::dom::embedded();
     let item = move |id: &'static str, what: &'static str, text: &'static str| {
         view! {
             <button id=id class="ms-menu-item" type="button" role="menuitem" tabindex="-1" on:click=move |_| act(what)>
@@ -174,8 +175,9 @@ pub fn SegmentMenu(state: AppState, mine: MyRow, rows: NodeRef<Div>) -> impl Int
             <div class="ms-menu-title" aria-hidden="true">{heading}</div>
             {item("segment-menu-play", "play", "Play")}
             {item("segment-menu-export", "export", "Export clip (BVH)")}
-            {item("segment-menu-copy", "copy", "Copy to my labels")}
-            {item("segment-menu-show", "show", "Show in its panel")}
+            // embedded: no my labels to copy to, no panels to show
+            {full.then(|| item("segment-menu-copy", "copy", "Copy to my labels"))}
+            {full.then(|| item("segment-menu-show", "show", "Show in its panel"))}
         </div>
         <p
             id="segment-menu-status"

@@ -13,15 +13,13 @@
 //! take (its frames, at the take's rate) as segmentation JSON, label CSV or BVH clips
 //! ([`RowExports`]). `document.body.dataset.truth` is `none`, `loaded` or `error`.
 
-use crate::app::my_labels::vocabulary::label_class;
 use crate::app::state::AppState;
-use crate::app::timeline::method_rows::{class_css, SegmentRow};
+use crate::app::timeline::method_rows::SegmentRow;
 use crate::app::timeline::row_exports::RowExports;
-use crate::app::timeline::rows::{is_labelling, ACTION_LEVELS};
+use crate::app::timeline::rows::ACTION_LEVELS;
 use crate::app::truth::state::{GroundTruth, TruthState};
 use crate::method::Details;
 use crate::protocol::MethodView;
-use crate::segment::palette::class_colour;
 use crate::segment::truth::Truth;
 use crate::segment::truth_import::{csv_trials, import_truth, ImportOptions, Take};
 use crate::segment::{Level, Segment, Segmentation};
@@ -88,24 +86,9 @@ fn as_view(truth: &Truth, take: &Take, state: AppState) -> MethodView {
     MethodView { method: "truth".into(), segmentation, details: Details::default() }
 }
 
-/// The colour of each label, so that a class has one colour on every row and take: the colour a
-/// labelling method's row on the page (DT-FCN, k-NN: its model's class colours) gives that label,
-/// else the colour of the label's text (`label_class`, as "my labels" colours a new label).
+/// The colour of each label: the one it has on every row ([`AppState::label_css`]).
 fn label_colours(state: AppState, labels: &[&str]) -> Vec<String> {
-    labels
-        .iter()
-        .map(|label| {
-            let from_a_model = state.methods.iter().find_map(|slot| {
-                // tracked: the truth is read again when a labelling method's run arrives
-                slot.view.with(|v| {
-                    let v = v.as_ref().filter(|v| is_labelling(v))?;
-                    let s = v.segmentation.segments.iter().find(|s| s.label == *label)?;
-                    s.cluster.map(|c| class_css(v, c))
-                })
-            });
-            from_a_model.unwrap_or_else(|| class_colour(label_class(label)))
-        })
-        .collect()
+    labels.iter().map(|label| state.label_css(label)).collect()
 }
 
 /// The text of `file`, or why it cannot be read.

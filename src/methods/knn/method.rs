@@ -59,7 +59,8 @@ impl Kind for KnnMethod {
     }
 
     fn trains_on_my_labels(&self) -> bool {
-        false
+        // one click from my labels, as DT-FCN (issue 48): fitting a k-NN is quick
+        true
     }
 
     fn has_epochs(&self) -> bool {
