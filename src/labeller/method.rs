@@ -556,15 +556,24 @@ impl Method for Labelling {
             segments,
         };
         let unknown = file.iter().filter(|f| f.0.is_none()).count();
-        let mean = file.iter().map(|f| f.1 as f64).sum::<f64>() / file.len().max(1) as f64;
+        // the confidence of the frames that got a label (a model that does not fit labels none: its frames'
+        // confidences say nothing then, and "mean confidence 0.92 · 100 % unknown" read as a contradiction)
+        let confidences: Vec<f64> = file.iter().filter(|f| f.0.is_some()).map(|f| f.1 as f64).collect();
+        let confidence = match (confidences.len(), fit.as_ref().is_some_and(|(f, _)| !f.fits())) {
+            (_, true) => "every frame unknown: the model does not fit this take".to_string(),
+            (0, false) => format!("every frame unknown (below {:.2})", params.threshold),
+            (n, false) => format!(
+                "labelled frames' mean confidence {:.2} · {:.0} % unknown (below {:.2})",
+                confidences.iter().sum::<f64>() / n as f64,
+                100.0 * unknown as f64 / file.len().max(1) as f64,
+                params.threshold
+            ),
+        };
         let summary = format!(
-            "{} · {} of model `{}` · mean confidence {:.2} · {:.0} % unknown (below {:.2}) · {}",
+            "{} · {} of model `{}` · {confidence} · {}",
             crate::method::counted(segmentation.segments.len(), "segment"),
             crate::method::counted(header.classes.len(), "class"),
             header.name,
-            mean,
-            100.0 * unknown as f64 / file.len().max(1) as f64,
-            params.threshold,
             if params.decoding.is_raw(labelled.fps) {
                 "raw per-frame labels".to_string()
             } else {
@@ -751,9 +760,21 @@ mod tests {
                 out.details.summary
             );
             assert_eq!(out.segmentation.params["fit_check"], true);
+            // no "mean confidence 0.92 · 100 % unknown": the frames labelled none say so, with why
+            assert!(
+                out.details.summary.contains("every frame unknown: the model does not fit this take")
+                    && !out.details.summary.contains("mean confidence"),
+                "{}",
+                out.details.summary
+            );
             let unchecked = run(method, &walk, serde_json::json!({"model": "exercises", "fit_check": false}));
             assert!(unchecked.segmentation.segments.iter().any(|s| s.label != UNKNOWN));
             assert!(!unchecked.details.summary.contains("fit"), "{}", unchecked.details.summary);
+            assert!(
+                unchecked.details.summary.contains("labelled frames' mean confidence"),
+                "{}",
+                unchecked.details.summary
+            );
             let own = run(method, &sample, serde_json::json!({"model": "exercises"}));
             let labelled = own
                 .segmentation

@@ -150,6 +150,9 @@ for (const view of VIEWS) {
     // the tooltip over a segment's bars is its text
     const first = page.locator("#effort-velocity-primitives .ms-effort-seg").first();
     const said = await first.getAttribute("aria-label");
+    // scrolled into view first: a scroll hides the tooltip (it follows the pointer, not the content)
+    await first.scrollIntoViewIfNeeded();
+    await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r))));
     await first.hover();
     await until(async () => (await page.locator("#timeline-tooltip").textContent()) === said, `the tooltip says ${said}`);
     assert.ok(await page.locator("#timeline-tooltip").isVisible());

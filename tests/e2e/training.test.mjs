@@ -13,7 +13,10 @@ import { test, after } from "node:test";
 import assert from "node:assert/strict";
 import { readFileSync } from "node:fs";
 import path from "node:path";
-import { FIXTURES, OUT, TIMEOUT, assertClean, closePage, gotoApp, keptAre, openPage, showPanel, text, waitData, waitReady } from "./harness.mjs";
+import {
+  FIXTURES, OUT, TIMEOUT, assertClean, closePage, forgetWorkspace, gotoApp, keptAre, openPage, showPanel, text, waitData,
+  waitReady,
+} from "./harness.mjs";
 
 const opens = [];
 after(async () => {
@@ -214,6 +217,8 @@ for (const viewport of [{ width: 1024, height: 768 }, { width: 1440, height: 900
 
       // 4. restored models outlive a worker replaced before it answered for them
       await page.evaluate(() => sessionStorage.setItem("e2e-hold-models", "1"));
+      // the sample again, not the workspace kept (35_01.bvh was on screen)
+      await forgetWorkspace(page);
       await page.reload();
       await waitReady(page, "sample");
       await waitData(page, "dtfcn", "done");

@@ -163,7 +163,8 @@ test("the ground truth exports as read against the take: JSON the CLI scores as 
   const lines = csv.bytes.toString("utf8").trim().split(/\r?\n/);
   assert.equal(lines[0], "file,start_frame,end_frame,label");
   assert.deepEqual(lines.slice(1).map((l) => l.split(",").slice(1)).map(([a, b, c]) => [Number(a), Number(b), c]), row);
-  assert.match(await text(page, "#truth-export-status"), /saved sample_truth\.csv \(5 rows\)/);
+  // the CSV convention said at export (issue 48): the page counts frames from 1, the file from 0
+  assert.match(await text(page, "#truth-export-status"), /saved sample_truth\.csv \(5 rows; its frames count from 0 — frame 1 on the page is 0 in the file\)/);
   // BVH clips: one per segment, each as long as its segment (read by Python's zipfile)
   const zip = await download(page, "#truth-export-clips");
   assert.equal(zip.bytes.subarray(0, 4).toString("binary"), "PK\u0003\u0004", "a zip file");

@@ -53,7 +53,10 @@ pub fn fit_badge(report: Option<&TakeFitReport>, short: &str) -> Option<FitBadge
         .iter()
         .map(|m| {
             let how = match m.pose_ratio {
-                Some(r) => format!("its poses lie {r:.1}× as far as a new repetition"),
+                Some(r) => format!(
+                    "this take's poses are {r:.1} times as far from what it learnt as a new performance of a move it \
+                     knows"
+                ),
                 None => "its training takes travel as this take does".to_string(),
             };
             Suggestion {
@@ -101,7 +104,10 @@ mod tests {
         let texts: Vec<&str> = badge.suggestions.iter().map(|s| s.text.as_str()).collect();
         assert_eq!(texts, ["use cmu-actions", "use locomotion"], "best first, as the report ranks them");
         assert_eq!(badge.suggestions[1].model, "locomotion");
-        assert!(badge.suggestions[1].title.contains("run k-NN again") && badge.suggestions[1].title.contains("1.6×"));
+        assert!(
+            badge.suggestions[1].title.contains("run k-NN again")
+                && badge.suggestions[1].title.contains("1.6 times as far from what it learnt")
+        );
         assert!(badge.none.is_none() && !badge.find);
         // no model fits: said, no button
         let alone = fit_badge(Some(&report(Vec::new())), "DT-FCN").unwrap();
