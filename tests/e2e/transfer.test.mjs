@@ -2,10 +2,10 @@
 // src/app/library/panel.rs, "Carry labels"): with the sample (13_30) and 13_31 in the library, the
 // sample on screen has no labels (the button says why), then its ground truth is imported; its
 // labels are carried to the other take (status, "% labelled" in the list), which shows them as
-// the timeline's "Transferred" row (the source's classes, confidence in each segment's tooltip);
+// the timeline's "Carried labels" row (the source's classes, confidence in each segment's tooltip);
 // they are copied into my labels there, and the library's CSV saves them; the shared clusters'
 // route carries them too, and so do a k-NN and a DT-FCN trained on them in one click (their labels on
-// the other take's Transferred row, the source's classes). At both sizes (1024×768, 1440×900) and both themes, one page each.
+// the other take's Carried labels row, the source's classes). At both sizes (1024×768, 1440×900) and both themes, one page each.
 
 import { test } from "node:test";
 import assert from "node:assert/strict";
@@ -88,10 +88,10 @@ for (const view of VIEWS) {
       assert.match(takes[0].carried, /^\d+ % labelled$/, JSON.stringify(takes));
       assert.ok(Number(takes[0].carried.split(" ")[0]) > 0, `some of 13_31 labelled: ${takes[0].carried}`);
       assert.equal(takes[1].carried, "source of the labels");
-      // the source shows no Transferred row (its labels are its own)
+      // the source shows no Carried labels row (its labels are its own)
       assert.equal(await page.locator("#row-transferred .ms-seg").count(), 0);
 
-      // the other take: its Transferred row holds the source's classes, unknown grey
+      // the other take: its Carried labels row holds the source's classes, unknown grey
       await open(page, "13_31.bvh");
       await page.locator("#row-transferred .ms-seg").first().waitFor({ timeout: TIMEOUT });
       const segs = await page.$$eval("#row-transferred .ms-seg", (els) => els.map((e) => ({
@@ -105,7 +105,7 @@ for (const view of VIEWS) {
         assert.ok(Number(s.score) >= 0 && Number(s.score) <= 1, s.score);
       }
       assert.ok(segs.filter((s) => s.unknown).every((s) => s.label === "unknown"), JSON.stringify(segs));
-      assert.equal(await page.getAttribute("#row-transferred", "data-label"), "Transferred");
+      assert.equal(await page.getAttribute("#row-transferred", "data-label"), "Carried labels", "one name for the idea (issue 48)");
 
       // copied into my labels: the labelled segments, unknown left as gaps
       await showPanel(page, "library");
@@ -113,7 +113,7 @@ for (const view of VIEWS) {
       await until(async () => (await page.locator("#row-my-labels .ms-seg--mine").count()) > 0, "my labels copied");
       const mine = await page.$$eval("#row-my-labels .ms-seg--mine", (els) => els.map((e) => e.dataset.label));
       assert.deepEqual(new Set(mine), new Set(labelled.map((s) => s.label)), "my labels are the transferred ones");
-      assert.match(await text(page, "#my-labels-status"), /^Copied \d+ segments? from Transferred/);
+      assert.match(await text(page, "#my-labels-status"), /^Copied \d+ segments? from Carried labels/);
 
       // the library's CSV: the carried labels of 13_31, the source's own of the sample
       const csv = await download(page, "#library-export-csv", `e2e-transfer-${view.viewport.width}-${view.theme}.csv`);

@@ -1,7 +1,7 @@
 //! Labels carried across the library on the page (issue 26, "Label transfer"), as plain data: the
 //! source take's per-frame labels from my labels or its ground truth ([`frame_labels`]), the labels
 //! the worker carried to every take ([`Carried`]: each take's share of labelled frames, its
-//! "Transferred" timeline row, the spans "Copy into my labels" copies) and which segmentation of each
+//! "Carried labels" timeline row, the spans "Copy carried labels into my labels" copies) and which segmentation of each
 //! take the library's "Labels CSV (all takes)" saves ([`export`]). The page
 //! (`crate::app::library::panel`) asks the worker and draws; everything it decides is here, tested natively.
 //! The two other routes, [`Route::Knn`] and [`Route::Dtfcn`], train that supervised method on the source's labels
@@ -14,7 +14,7 @@ use crate::library::{TransferRoute, Transferred};
 use crate::segment::palette::class_colour;
 use crate::segment::{Level, Segmentation};
 
-/// The method name of a "Transferred" row's segmentation.
+/// The method name of a "Carried labels" row's segmentation.
 pub const TRANSFERRED: &str = "transferred";
 
 /// Every frame's label in `segmentation` (`frames` long): the label of the labelled segment over it
@@ -199,7 +199,7 @@ impl Carried {
         self.labelled_share(library).map(|s| format!("{:.0} % labelled", s * 100.0))
     }
 
-    /// Take `library`'s labels as the timeline's "Transferred" row draws them (a labelling row):
+    /// Take `library`'s labels as the timeline's "Carried labels" row draws them (a labelling row):
     /// every labelled segment's `cluster` its label's class, `params.colours` the class colours my
     /// labels give those labels (the same on every take), `unknown` without a class (drawn grey);
     /// `score` is the confidence (its shade on the row).
@@ -222,7 +222,7 @@ impl Carried {
         Some(segmentation)
     }
 
-    /// The spans "Copy into my labels" copies onto take `library`: its labelled segments
+    /// The spans "Copy carried labels into my labels" copies onto take `library`: its labelled segments
     /// (`unknown` left out: it becomes a gap).
     pub fn spans(&self, library: usize) -> Vec<(usize, usize, String)> {
         self.of(library).map_or_else(Vec::new, |t| {

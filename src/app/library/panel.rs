@@ -22,7 +22,7 @@
 //! "Carry labels" ([`Carry`]): the take on screen's my labels (else its ground truth) carried to every
 //! take by `#library-route` (`library_transfer`; or `knn` / `dtfcn`: a k-NN or a DT-FCN trained on them, with
 //! that panel's training options, labels every other take; `#library-carry-cancel` stopping any); each take of the list then says its labelled share
-//! (`.ms-lib-carried`), the timeline's `#row-transferred` ("Transferred") shows a take's carried
+//! (`.ms-lib-carried`), the timeline's `#row-transferred` ("Carried labels") shows a take's carried
 //! labels, `#library-copy-carried` copies them into my labels, and the CSV saves them
 //! ([`crate::app::library::carry`]). The state
 //! is [`LibraryState`]; the workers' side is [`crate::app::library::jobs`]; the decisions are
@@ -216,10 +216,10 @@ fn Carry(state: AppState, jobs: StoredValue<LibraryJobs, LocalStorage>) -> impl 
                     class="ms-button ms-button--small ms-button--quiet"
                     type="button"
                     disabled=move || !copyable()
-                    title="Copy this take's transferred labels into my labels (then edit them as usual)"
+                    title="Copy this take's carried labels into my labels (then edit them as usual)"
                     on:click=move |_| library.copy_asked.update(|n| *n += 1)
                 >
-                    "Copy into my labels"
+                    "Copy carried labels into my labels"
                 </button>
             </div>
             <p
@@ -557,12 +557,12 @@ pub(crate) fn transferred_view(state: AppState) -> Option<Arc<MethodView>> {
     })
 }
 
-/// The timeline's `#row-transferred` ("Transferred"): the labels carried to the take on screen,
+/// The timeline's `#row-transferred` ("Carried labels"): the labels carried to the take on screen,
 /// each label in my labels' colour for it, shaded by its confidence, `unknown` grey.
 #[component]
 pub fn TransferredRow(state: AppState) -> impl IntoView {
     let source = Signal::derive(move || transferred_view(state));
-    let label = Signal::derive(|| "Transferred".to_string());
+    let label = Signal::derive(|| "Carried labels".to_string());
     let tip = Signal::derive(move || {
         let from = state.library.carried.with(|c| c.as_ref().map(|c| c.source));
         let name = from.and_then(|i| state.library.queue.with(|q| q.entries.get(i).map(|e| e.name.clone())));

@@ -91,7 +91,7 @@ pub(super) fn other_rows(state: AppState) -> Vec<OtherRow> {
             .iter()
             .map(|s| (s.start, s.end, s.label.clone(), segment_colour(state, &v, s)))
             .collect();
-        rows.push(OtherRow { id: TRANSFERRED.into(), name: "Transferred".into(), segments, classes: true });
+        rows.push(OtherRow { id: TRANSFERRED.into(), name: "Carried labels".into(), segments, classes: true });
     }
     rows
 }

@@ -132,7 +132,7 @@ impl MyRow {
         };
         // a take loaded: its stored labels, if any
         row.restore_each_take();
-        // the library's "Copy into my labels": the take's transferred labels copied (an undoable edit)
+        // the library's "Copy carried labels into my labels": the take's carried labels copied (an undoable edit)
         Effect::new(move |asked: Option<u32>| {
             let now = state.library.copy_asked.get();
             if asked.is_some_and(|a| a != now) {
