@@ -38,7 +38,7 @@ impl LibraryJobs {
 
     /// The name of take `i` of the library.
     pub(super) fn take_name(&self, i: usize) -> String {
-        self.0.state.library.queue.with_untracked(|q| q.entries.get(i).map(|e| e.name.clone())).unwrap_or_default()
+        self.0.state.library.take_name(i)
     }
 }
 
