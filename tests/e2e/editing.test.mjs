@@ -4,7 +4,8 @@
 // leaving slivers (at both sizes in both themes); the label vocabulary (truth classes, never SSSM names, transition or unknown)
 // with number keys; coupled parameters (SSSM's radius under its Advanced primitive radius)
 // adjusted in one click or on Run, said plainly; and, at 1024 × 768 and 1440 × 900 in light and
-// dark, every segment's text fits its box (whole or cleanly abbreviated) and no parameter's name
+// dark, every segment's text fits its box (whole or cleanly abbreviated, never initials), every parameter is named in
+// words with its help shown under it, and no parameter's name
 // overlaps a control. Screenshots go to OUT.
 //
 // Run through scripts/e2e.sh (E2E_FILES=editing.test.mjs).
@@ -194,7 +195,7 @@ test("coupled parameters: SSSM's radius under its primitive radius is adjusted i
   const adjust = page.locator("#sssm-adjust-primitive_radius");
   await adjust.waitFor({ state: "visible" });
   assert.match(await adjust.textContent(), /Set primitive radius to 12/);
-  assert.match(await text(page, "#sssm-couplings"), /primitive radius \(13\) may not exceed radius \(12\)/);
+  assert.match(await text(page, "#sssm-couplings"), /primitive radius \(13\) may not exceed search radius \(R\) \(12\)/);
   await adjust.click();
   assert.equal(await page.inputValue("#sssm-primitive_radius"), "12");
   await adjust.waitFor({ state: "detached" });
@@ -205,7 +206,7 @@ test("coupled parameters: SSSM's radius under its primitive radius is adjusted i
   await page.click("#sssm-run");
   await waitData(page, "sssm", "done");
   assert.equal(await page.inputValue("#sssm-primitive_radius"), "11");
-  assert.match(await text(page, "#sssm-adjusted"), /primitive radius lowered from 12 to 11: it may not exceed radius/);
+  assert.match(await text(page, "#sssm-adjusted"), /primitive radius lowered from 12 to 11: it may not exceed search radius \(R\)/);
   assert.equal(await page.locator("#sssm-primitive_radius-error").isVisible(), false, "no refusal");
   await page.$eval("#sssm-panel details.ms-method-advanced", (d) => { d.open = true; });
   await page.fill("#sssm-radius", "19");
@@ -245,7 +246,23 @@ const shownFormBoxes = () => page.$$eval("form.ms-method-params", (forms) => for
     id: f.id,
     cells: [...f.querySelectorAll(".ms-field-name, .ms-field-control")]
       .filter((e) => e.getClientRects().length > 0)
-      .map((e) => ({ kind: e.className, name: e.closest("label, .ms-flags")?.textContent.trim().slice(0, 40), ...box(e) })),
+      .map((e) => ({ kind: e.className, name: e.closest("label, .ms-flags")?.querySelector(".ms-field-name")?.textContent.trim().slice(0, 40), ...box(e) })),
+    // every field's help, shown under its name and control, describing the control (issue 48)
+    fields: [...f.querySelectorAll("label:has(> .ms-field-name), .ms-flags")]
+      .filter((e) => e.getClientRects().length > 0)
+      .map((field) => {
+        const name = field.querySelector(".ms-field-name");
+        const control = field.querySelector(".ms-field-control");
+        const help = field.querySelector(":scope > .ms-field-help");
+        const input = field.querySelector("input, select");
+        const described = (field.getAttribute("aria-describedby") ?? input?.getAttribute("aria-describedby") ?? "");
+        return {
+          name: name.textContent.trim(),
+          help: help ? { text: help.textContent.trim(), ...box(help), shown: help.getClientRects().length > 0 && getComputedStyle(help).visibility !== "hidden" } : null,
+          above: Math.max(box(name).b, box(control).b),
+          describedBy: help !== null && described.split(" ").includes(help.id),
+        };
+      }),
   };
 }));
 
@@ -267,8 +284,8 @@ for (const size of SIZES) {
         else {
           short++;
           const stem = s.text.replace(/…$/, "");
-          const clean = (s.text.endsWith("…") && s.label.startsWith(stem))
-            || (/^[A-Z0-9]+$/.test(s.text) && s.label.split(/\s+/).map((w) => w[0].toUpperCase()).join("") === s.text);
+          // a word prefix or a syllable and "…"; never initials ("BA" for "both arms": issue 48)
+          const clean = s.text.endsWith("…") && s.label.startsWith(stem);
           assert.ok(clean, `"${s.text}" is no clean abbreviation of "${s.label}"`);
           assert.ok(s.text.endsWith("…") || s.text.length >= 2, `"${s.text}" is readable`);
         }
@@ -291,7 +308,19 @@ for (const size of SIZES) {
           assert.ok(f.cells[i].r <= f.cells[i + 1].l + 0.5, `${f.id}: "${f.cells[i].name}" runs into its control`);
         }
       }
-      console.log(`  (${forms.length} forms, ${pairs} pairs of cells checked apart)`);
+      // every parameter's help visible under its field and its plain name in words (issue 48: no "tau", "k sigma")
+      let helps = 0;
+      for (const f of forms) {
+        for (const field of f.fields) {
+          assert.ok(field.help && field.help.shown && field.help.text.length > 10, `${f.id}: "${field.name}" shows its help: ${JSON.stringify(field.help)}`);
+          assert.ok(field.help.t >= field.above - 0.5, `${f.id}: "${field.name}"'s help is under its name and control`);
+          assert.ok(field.describedBy, `${f.id}: "${field.name}"'s control is described by its help`);
+          assert.ok(!/_|^(tau|nu|k sigma|offsets|drop)$/.test(field.name), `${f.id}: "${field.name}" is a name in words`);
+          helps++;
+        }
+      }
+      assert.ok(helps > 40, `fields with their help: ${helps}`);
+      console.log(`  (${forms.length} forms, ${pairs} pairs of cells checked apart, ${helps} helps shown)`);
       assert.ok(pairs > 100, `pairs of cells measured: ${pairs}`);
       await showPanel(page, "sssm");
       await shot(page, `e2e-editing-${size.width}-${theme}.png`);

@@ -1,5 +1,6 @@
 //! A method's parameter fields, built from its parameter table: a checkbox, a choice, or a number with its unit,
-//! each named in words with the parameter's help in reach.
+//! each named in words ([`ParamSpec::words`]) with the parameter's help shown under it (issue 48: "every
+//! parameter's help visible beside its field"), the control described by it (`aria-describedby`).
 
 use crate::app::models::row_model::choice_options;
 use crate::app::state::MethodSlot;
@@ -7,13 +8,14 @@ use crate::method::{ParamKind, ParamSpec};
 use leptos::prelude::*;
 use wasm_bindgen::JsCast;
 
-/// The name of a parameter in words, without its unit (`horizon_s` in seconds: "horizon").
+/// The name of a parameter in words, without its unit (`horizon_s` in seconds: "search horizon").
 pub(crate) fn param_words(spec: &ParamSpec) -> String {
-    let name = match spec.unit.as_deref() {
-        Some(unit) => spec.name.strip_suffix(&format!("_{unit}")).unwrap_or(&spec.name),
-        None => &spec.name,
-    };
-    name.replace('_', " ")
+    spec.words()
+}
+
+/// A field's help, shown under it (`#<id>-help`, which describes the control).
+fn help_view(id: &str, help: String) -> impl IntoView {
+    view! { <span id=format!("{id}-help") class="ms-field-help">{help}</span> }
 }
 
 /// The label of a parameter's field: its name in words, with its unit ("horizon (s)").
@@ -43,6 +45,7 @@ pub(crate) fn field(
 ) -> AnyView {
     let id = format!("{method}-{}", spec.name);
     let help = spec.help.clone();
+    let described = format!("{id}-help");
     let label = field_label(spec);
     let words = param_words(spec);
     let unit = unit_view(spec);
@@ -57,11 +60,12 @@ pub(crate) fn field(
                 value.set(on.to_string());
             };
             view! {
-                <label title=help>
+                <label>
                     <span class="ms-field-name">{words}</span>
                     <span class="ms-field-control">
-                        <input id=id type="checkbox" aria-label=label prop:checked=checked on:change=on_change/>
+                        <input id=id.clone() type="checkbox" aria-label=label aria-describedby=described prop:checked=checked on:change=on_change/>
                     </span>
+                    {help_view(&id, help)}
                 </label>
             }
             .into_any()
@@ -71,14 +75,15 @@ pub(crate) fn field(
             // it is the one chosen, so a value set before its option exists still shows
             let options = move || choice_options(choices, value);
             view! {
-                <label title=help>
+                <label>
                     <span class="ms-field-name">{words}</span>
                     <span class="ms-field-control">
-                        <select id=id aria-label=label bind:value=value>
+                        <select id=id.clone() aria-label=label aria-describedby=described bind:value=value>
                             {options}
                         </select>
                         {unit}
                     </span>
+                    {help_view(&id, help)}
                 </label>
             }
             .into_any()
@@ -90,12 +95,13 @@ pub(crate) fn field(
             number_input(id, (label, words, unit), help, (min.to_string(), max.to_string(), "1"), value)
         }
         ParamKind::IntegerList { .. } => view! {
-            <label title=help>
+            <label>
                 <span class="ms-field-name">{words}</span>
                 <span class="ms-field-control">
-                    <input id=id type="text" size="16" aria-label=label bind:value=value/>
+                    <input id=id.clone() type="text" size="16" aria-label=label aria-describedby=described bind:value=value/>
                     {unit}
                 </span>
+                {help_view(&id, help)}
             </label>
         }
         .into_any(),
@@ -136,9 +142,10 @@ pub(crate) fn field(
                 })
                 .collect_view();
             view! {
-                <span class="ms-flags" role="group" title=help aria-label=label>
+                <span class="ms-flags" role="group" aria-label=label aria-describedby=described>
                     <span class="ms-field-name">{words}</span>
                     <span class="ms-field-control">{boxes}</span>
+                    {help_view(&id, help)}
                 </span>
             }
             .into_any()
@@ -180,12 +187,14 @@ fn number_input(
     value: RwSignal<String>,
 ) -> AnyView {
     view! {
-        <label title=help>
+        <label>
             <span class="ms-field-name">{words}</span>
             <span class="ms-field-control">
-                <input id=id type="number" step=step min=min max=max size="6" aria-label=label bind:value=value/>
+                <input id=id.clone() type="number" step=step min=min max=max size="6" aria-label=label
+                    aria-describedby=format!("{id}-help") bind:value=value/>
                 {unit}
             </span>
+            {help_view(&id, help)}
         </label>
     }
     .into_any()

@@ -3,8 +3,9 @@
 //! which reads as another word. The full label stays in the segment's tooltip and `aria-label`.
 //!
 //! The candidates, best first: the whole label; its leading whole words and "…" ("left arm…");
-//! the initials of a label of several words ("LAR"); the first syllable of its first word and "…"
-//! ("Jum…"); nothing (the segment shows its colour alone). The first that fits is drawn.
+//! the first syllable of its first word and "…" ("Jum…"); nothing (the segment shows its colour
+//! alone — one colour per label on every row, so the colour still says which). The first that fits
+//! is drawn. Initials are not offered: "BA", "RA", "LA" for LMA's arms read as nothing (issue 48).
 //!
 //! The browser measures text only once it is laid out, and a row of a long take has hundreds of
 //! segments, so widths are *estimated* from the font size: each character class has a width in
@@ -34,13 +35,15 @@ pub fn text_px(text: &str, font_px: f64) -> f64 {
 }
 
 /// The first syllable of `word`: its letters up to the first consonant after its first vowel
-/// ("Jumping" → "Jum", "unknown" → "un"); `None` when that is the whole word or a single letter.
+/// ("Jumping" → "Jum", "unknown" → "un"); `None` when that is a single letter, the whole word or all of it but
+/// its last letter.
 fn first_syllable(word: &str) -> Option<String> {
     let vowel = |c: char| "aeiouyAEIOUY".contains(c);
     let chars: Vec<char> = word.chars().collect();
     let first_vowel = chars.iter().position(|&c| vowel(c))?;
     let end = chars[first_vowel..].iter().position(|&c| !vowel(c)).map(|k| first_vowel + k + 1)?;
-    (end > 1 && end < chars.len() && chars[..end].iter().all(|c| c.is_alphanumeric()))
+    // a syllable one letter short of its word reads as the word misspelt ("bot…" for "both"): not offered
+    (end > 1 && end + 1 < chars.len() && chars[..end].iter().all(|c| c.is_alphanumeric()))
         .then(|| chars[..end].iter().collect())
 }
 
@@ -63,15 +66,7 @@ pub fn fit_label(label: &str, width_px: f64, font_px: f64) -> Option<String> {
             return Some(text);
         }
     }
-    let mut candidates = Vec::new();
-    if words.len() > 1 {
-        let initials: String = words.iter().filter_map(|w| w.chars().next()).flat_map(char::to_uppercase).collect();
-        candidates.push(initials);
-    }
-    if let Some(syllable) = words.first().and_then(|w| first_syllable(w)) {
-        candidates.push(format!("{syllable}…"));
-    }
-    candidates.into_iter().find(|t| fits(t))
+    words.first().and_then(|w| first_syllable(w)).map(|syllable| format!("{syllable}…")).filter(|t| fits(t))
 }
 
 #[cfg(test)]
@@ -89,12 +84,16 @@ mod tests {
     }
 
     #[test]
-    fn a_long_label_keeps_whole_words_then_initials_then_a_syllable() {
+    fn a_long_label_keeps_whole_words_then_a_syllable_never_initials() {
         let font = 11.0;
         let label = "left arm raise";
         assert_eq!(fit_label(label, text_px("left arm…", font), font).as_deref(), Some("left arm…"));
         assert_eq!(fit_label(label, text_px("left…", font) + 1.0, font).as_deref(), Some("left…"));
-        assert_eq!(fit_label(label, text_px("LAR", font), font).as_deref(), Some("LAR"));
+        // LMA's arms: "both…" or colour alone, never "BA"
+        assert_eq!(fit_label("both arms", text_px("both…", font), font).as_deref(), Some("both…"));
+        assert_eq!(fit_label("both arms", text_px("BA", font), font), None);
+        assert_eq!(fit_label("both arms", text_px("bot…", font), font), None, "no syllable one letter short of the word");
+        assert_eq!(fit_label(label, text_px("LAR", font), font), None);
         assert_eq!(fit_label("P1 mirrors P2", text_px("P1…", font), font).as_deref(), Some("P1…"));
         // one word: its first syllable, never the letters that happen to fit
         assert_eq!(fit_label("unknown", text_px("unkn", font), font).as_deref(), Some("un…"));
@@ -115,7 +114,7 @@ mod tests {
     }
 
     #[test]
-    fn every_text_drawn_fits_and_is_a_word_prefix_initials_or_a_syllable() {
+    fn every_text_drawn_fits_and_is_a_word_prefix_or_a_syllable() {
         let labels = ["unknown", "Knee lift", "Jog", "Squat", "P1 mirrors P2", "transition", "A0", "left arm", "Twist"];
         for label in labels {
             for width in (0..200).map(|w| w as f64 * 0.7) {
@@ -126,8 +125,7 @@ mod tests {
                         label.starts_with(p)
                             && (label[p.len()..].starts_with(' ')
                                 || first_syllable(label.split(' ').next().unwrap()).as_deref() == Some(p))
-                    })
-                    || (label.contains(' ') && text.chars().all(|c| c.is_uppercase() || c.is_ascii_digit()));
+                    });
                 assert!(clean, "{label} at {width}: {text}");
             }
         }
