@@ -34,3 +34,15 @@ pub(crate) fn js_message(value: &JsValue) -> String {
         .or_else(|| value.as_string())
         .unwrap_or_else(|| format!("{value:?}"))
 }
+
+/// Scrolls element `id` into the window the least needed (`scrollIntoView({block: "nearest"})`, every scrolling box
+/// around it included): a status the user must read, said below the fold of a scrolled box, is brought to view.
+pub(crate) fn reveal(id: &str) {
+    let Some(el) = web_sys::window().and_then(|w| w.document()).and_then(|d| d.get_element_by_id(id)) else { return };
+    let options = js_sys::Object::new();
+    let _ = js_sys::Reflect::set(&options, &"block".into(), &"nearest".into());
+    let _ = js_sys::Reflect::set(&options, &"inline".into(), &"nearest".into());
+    if let Ok(scroll) = js_sys::Reflect::get(&el, &"scrollIntoView".into()).and_then(|f| f.dyn_into::<js_sys::Function>()) {
+        let _ = scroll.call1(&el, &options);
+    }
+}

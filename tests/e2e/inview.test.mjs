@@ -1,13 +1,15 @@
 // End-to-end test of "your rows in view" (issue 48): on a take the exercise models do not fit (the k-NN's and
 // DT-FCN's row headers then carry a model menu, its card, the verdict and the models to use instead), with every
-// method run, my labels, and a library, the user's own rows — My labels and the Library's — are on screen and not
-// under anything, at 1440×900 and 800×900 in both themes; a labelling row's header is one compact line under its
-// name; a model card opened from a row opens inside the window. Run through scripts/e2e.sh (E2E_FILES=inview.test.mjs).
+// method run, my labels, and a library, the user's own rows — My labels, the Library's and the Carried labels — are on
+// screen and not under anything, at 1440×900 and 800×900 in both themes; a labelling row's header is one compact line
+// under its name; a model card opened from a row opens inside the window; at 800×900 (the player and timeline pinned
+// over the page) every parameter field brought into view by the keyboard lands below them, not under them.
+// Run through scripts/e2e.sh (E2E_FILES=inview.test.mjs).
 
 import { test } from "node:test";
 import assert from "node:assert/strict";
 import path from "node:path";
-import { FIXTURES, OUT, TIMEOUT, assertClean, closePage, gotoApp, openPage, waitData, waitReady } from "./harness.mjs";
+import { FIXTURES, OUT, TIMEOUT, assertClean, closePage, gotoApp, openPage, showPanel, waitData, waitReady } from "./harness.mjs";
 
 const METHODS = ["sssm", "velocity", "kcs", "pca", "lma", "knn", "dtfcn"];
 
@@ -74,6 +76,46 @@ for (const [width, height] of [[1440, 900], [800, 900]]) {
         });
         assert.ok(own, "the card is drawn over the rows, not under them");
         await page.click("#knn-row-card-toggle");
+
+        // my labels carried to the library's other take: its Carried labels row is pinned with my rows
+        await showPanel(page, "library");
+        await page.locator("#library-carry:not([disabled])").click();
+        await page.waitForFunction(() => /^labels of .* carried to 1 take/.test(document.querySelector("#library-carrying")?.textContent ?? ""),
+          null, { timeout: TIMEOUT });
+        await page.locator("#library-list li .ms-lib-open", { hasText: "02_02.bvh" }).click();
+        await waitReady(page, "02_02.bvh");
+        await page.locator("#row-transferred .ms-seg").first().waitFor({ timeout: TIMEOUT });
+        await page.locator("#row-sssm-actions").scrollIntoViewIfNeeded();
+        for (const sel of ["#row-transferred", "#row-my-labels", "#row-library"]) {
+          const seen = await inView(page, sel);
+          assert.ok(seen.inside && seen.own, `02_02: ${sel} in view and not under anything: ${JSON.stringify(seen)}`);
+        }
+
+        if (width === 800) {
+          // the pinned player and timeline cover the window's top: a field reached with the keyboard comes below them
+          const stage = await page.locator(".ms-stage").evaluate((e) => e.getBoundingClientRect().bottom);
+          let fields = 0;
+          for (const m of ["sssm", "pca", "lma", "dtfcn"]) {
+            await page.click(`#tab-${m}`);
+            const ids = await page.$$eval(`#${m}-params input[id], #${m}-params select[id]`,
+              (els) => els.filter((e) => e.getClientRects().length > 0 && e.type !== "hidden" && !e.closest("details:not([open])")).map((e) => e.id));
+            assert.ok(ids.length >= 2, `${m}: its basic fields: ${ids}`);
+            for (const id of ids) {
+              await page.evaluate(() => window.scrollTo(0, 0));
+              await page.focus(`#${id}`);
+              const seen = await inView(page, `#${id}`);
+              assert.ok(seen.inside && seen.own, `${m}: #${id} reached with the keyboard is in view, not under the player: ${JSON.stringify(seen)}`);
+              assert.ok(seen.top >= stage - 1, `${m}: #${id} (top ${seen.top}) below the pinned stage (bottom ${stage})`);
+              fields++;
+            }
+            // and its Run, brought into view, too
+            await page.locator(`#${m}-run`).scrollIntoViewIfNeeded();
+            const run = await inView(page, `#${m}-run`);
+            assert.ok(run.inside && run.own, `${m}: Run in view and not under the player: ${JSON.stringify(run)}`);
+          }
+          assert.ok(fields >= 10, `fields reached: ${fields}`);
+          await page.screenshot({ path: path.join(OUT, `e2e-inview-fields-${theme}.png`) });
+        }
         assertClean(opened);
       } finally {
         await closePage(opened, `e2e-inview-${width}-${theme}-final.png`);

@@ -569,13 +569,24 @@ test("one click trains DT-FCN on my labels with the DT-FCN panel's options (stop
     new MutationObserver(() => window.__training.push(document.body.dataset.dtfcnTraining ?? ""))
       .observe(document.body, { attributes: true, attributeFilter: ["data-dtfcn-training"] });
   });
-  await page.click("#my-labels-train");
+  // clicked with the timeline's box scrolled to its top (a click from the keyboard, or after scrolling back): the
+  // tools are under the minimap, below the fold, and the training's status is brought into view (issue 48)
+  await page.evaluate(() => { document.querySelector("#timeline").scrollTop = 0; document.querySelector("#my-labels-train").click(); });
   await waitData(page, "dtfcnTraining", "training");
   assert.equal(await page.locator("#my-labels-train").isDisabled(), true, "one training at a time");
   const name = await text(page, "#dtfcn-train-labels-name");
   assert.match(name, /^my labels of sample/, "the DT-FCN panel trains on my labels, no file picked");
   await page.waitForFunction(() => /epoch [1-9]\d* of 500/.test(document.querySelector("#my-labels-train-status")?.textContent ?? ""),
     null, { timeout: TIMEOUT * 3 });
+  const seenStatus = await page.evaluate(() => {
+    const el = document.querySelector("#my-labels-train-status");
+    const r = el.getBoundingClientRect();
+    const box = document.querySelector("#timeline").getBoundingClientRect();
+    const hit = document.elementFromPoint(r.left + r.width / 2, r.top + r.height / 2);
+    return { top: r.top, bottom: r.bottom, left: r.left, right: r.right, inWindow: r.top >= 0 && r.bottom <= innerHeight,
+      inBox: r.top >= box.top && r.bottom <= box.bottom + 1, own: el.contains(hit), over: hit ? `${hit.tagName}#${hit.id}.${hit.className}` : null };
+  });
+  assert.ok(seenStatus.inWindow && seenStatus.inBox && seenStatus.own, `the training's status is in view, not under the minimap: ${JSON.stringify(seenStatus)}`);
   await timelineShot("e2e-labels-training.png");
   await page.click("#my-labels-train-stop");
   await waitData(page, "dtfcnTraining", "done", TIMEOUT * 3);

@@ -28,6 +28,15 @@ pub fn MyLabelsTools(mine: MyRow) -> impl IntoView {
         })
     };
     let note_text = move || mine.note.with(|n| n.as_ref().map(|n| n.text.clone()).unwrap_or_default());
+    // training begun: its status is brought into view (the tools sit under the timeline's minimap, below the fold of
+    // the timeline's box; issue 48, "the training status under the minimap")
+    Effect::new(move |was_shown: Option<bool>| {
+        let shown = !train_text().is_empty();
+        if shown && was_shown == Some(false) {
+            crate::app::dom::reveal("my-labels-train-status");
+        }
+        shown
+    });
     view! {
         <div
             id="my-labels-tools"
