@@ -130,9 +130,12 @@ export function cliEval(seg, truth, flags = []) {
   return JSON.parse(execFileSync(BIN, ["eval", seg, "--truth", truth, ...flags], { encoding: "utf8" }));
 }
 
-/** `mocapseg eval`'s scores under the keys of the page's metrics panel and comparison table. */
-export function cliMetrics(s) {
-  return {
+/**
+ * `mocapseg eval`'s scores under the keys of the page's metrics panel and comparison table; `labels`: the row labels
+ * frames by name (a labeller, my labels) — a row of clusters or gestures has no frame accuracy by name on the page.
+ */
+export function cliMetrics(s, labels = true) {
+  const all = {
     "boundary_f1_0.5s": s.boundaries[0].f1,
     "boundary_f1_1s": s.boundaries[1].f1,
     covering: s.covering,
@@ -146,7 +149,12 @@ export function cliMetrics(s) {
     f1_50: s.labelling.f1[2],
     segment_score: s.segments.similarity,
   };
+  if (!labels) delete all.frame_accuracy;
+  return all;
 }
+
+/** Whether a metrics row id is one that labels frames by name (my labels, the k-NN's, DT-FCN's). */
+export const labelsRow = (id) => id === "my-labels" || /^(knn|dtfcn)-/.test(id);
 
 /**
  * Launches Chromium and opens one page (not yet navigated). Returns `{ browser, context, page,

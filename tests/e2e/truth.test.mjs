@@ -18,7 +18,7 @@ import { readFileSync, writeFileSync } from "node:fs";
 import path from "node:path";
 import {
   ROOT, OUT, FIXTURES, TIMEOUT, openPage, closePage, shot, showPanel, text, waitData, gotoApp, download, until, assertClean,
-  assertCli, cliEval, cliMetrics,
+  assertCli, cliEval, cliMetrics, labelsRow,
 } from "./harness.mjs";
 
 const SHARED_CSV = path.join(FIXTURES, "mocap6_13_30_gt.csv"); // trial,…,start_frame,end_frame,… (1-based, 120 fps)
@@ -72,7 +72,8 @@ async function panelMetrics() {
 /** The panel shows the CLI's numbers: exactly in data-value, and to the digits shown. */
 async function assertSameAsCli(cli, what) {
   const shown = await panelMetrics();
-  const want = cliMetrics(cli);
+  const row = await page.evaluate(() => document.body.dataset.metricsRow);
+  const want = cliMetrics(cli, labelsRow(row));
   assert.deepEqual(Object.keys(shown).sort(), Object.keys(want).sort(), `${what}: the panel's metrics`);
   for (const [key, v] of Object.entries(want)) {
     const m = shown[key];

@@ -33,7 +33,10 @@ use crate::segment::metrics::{evaluate, Scores, Tolerances};
 use crate::segment::{Level, Segmentation};
 use leptos::prelude::*;
 
-fn lines(s: &Scores) -> Vec<Line> {
+/// The scores of a row as lines; `labels`: the row labels frames by name (a labeller, my labels), so that its frame
+/// accuracy by name means something — a row of clusters or gestures has only the Hungarian one (issue 48: "Frame
+/// accuracy (labels)" is not shown for SSSM).
+fn lines(s: &Scores, labels: bool) -> Vec<Line> {
     let mut out = Vec::new();
     for (key, b) in ["boundary_f1_0.5s", "boundary_f1_1s"].iter().zip(&s.boundaries) {
         out.push(Line {
@@ -78,13 +81,17 @@ fn lines(s: &Scores) -> Vec<Line> {
             digits: 3,
             hint: "strict accuracy that also accepts frames in the uncertainty window around a true cut".into(),
         },
-        Line {
+    ]);
+    if labels {
+        out.push(Line {
             key: "frame_accuracy",
             name: "Frame accuracy (labels)",
             value: l.frame_accuracy,
             digits: 3,
             hint: "share of frames with the true label (labels by name, else by the Hungarian matching)".into(),
-        },
+        });
+    }
+    out.extend([
         Line {
             key: "edit",
             name: "Edit score",
@@ -187,10 +194,10 @@ fn scorable_rows(state: AppState) -> Vec<Row> {
     rows
 }
 
-/// The scores of row `id` as the metrics table.
-fn scores_table(id: &str, scores: &Scores) -> impl IntoView {
+/// The scores of row `id` as the metrics table (`labels`: see [`lines`]).
+fn scores_table(id: &str, scores: &Scores, labels: bool) -> impl IntoView {
     let caption = format!("{} against {} — scored as {}", id, scores.trial, scores.scored_as.describe());
-    let body = lines(scores)
+    let body = lines(scores, labels)
         .into_iter()
         .map(|l| {
             let shown = format!("{:.*}", l.digits, l.value);
@@ -237,7 +244,7 @@ fn compared_row(
     Compared {
         id: id.to_string(),
         label: label.to_string(),
-        scored: scored.map(|s| lines(&s)).map_err(|e| format!("{id}: {e}")),
+        scored: scored.map(|s| lines(&s, table == Table::Labels)).map_err(|e| format!("{id}: {e}")),
         table,
         unranked,
     }
@@ -293,9 +300,12 @@ const BETTER: Better = Better::Higher;
 /// key and whether best comes first) when set.
 fn compare_table(compared: &[Compared], trial: &str, sort: RwSignal<Option<(String, bool)>>) -> impl IntoView {
     // the columns: the metrics of the first row scored (every row scored has the same ones)
+    // the columns: every metric of any row scored, in the order of the row that has the most (a row of clusters has
+    // no frame accuracy by name: its cell says so)
     let columns: Vec<(&'static str, &'static str, usize, String)> = compared
         .iter()
-        .find_map(|c| c.scored.as_ref().ok())
+        .filter_map(|c| c.scored.as_ref().ok())
+        .max_by_key(|ls| ls.len())
         .map(|ls| ls.iter().map(|l| (l.key, l.name, l.digits, l.hint.clone())).collect())
         .unwrap_or_default();
     let value = |c: &Compared, key: &str| {
@@ -355,7 +365,16 @@ fn compare_table(compared: &[Compared], trial: &str, sort: RwSignal<Option<(Stri
                     .iter()
                     .enumerate()
                     .map(|(j, (key, _, digits, hint))| {
-                        let v = ls.iter().find(|l| l.key == *key).map_or(f64::NAN, |l| l.value);
+                        let Some(v) = ls.iter().find(|l| l.key == *key).map(|l| l.value) else {
+                            let why = "not scored: this row's segments are clusters or gestures, not named labels \
+                                       (its Hungarian frame accuracy matches them to the truth's)";
+                            return view! {
+                                <td class="ms-metric-value ms-metric-none" data-metric=*key title=why>
+                                    "—"<span class="ms-visually-hidden">" (not scored)"</span>
+                                </td>
+                            }
+                            .into_any();
+                        };
                         let shown = format!("{v:.digits$}");
                         let is_best = best[j][i];
                         let content = if is_best {
@@ -370,6 +389,7 @@ fn compare_table(compared: &[Compared], trial: &str, sort: RwSignal<Option<(Stri
                                 {content}
                             </td>
                         }
+                        .into_any()
                     })
                     .collect_view()
                     .into_any(),
@@ -484,7 +504,10 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
     };
     let table = move || {
         outcome.with(|o| match o {
-            Outcome::Scored(id, scores, _) => Some(scores_table(id, scores)),
+            Outcome::Scored(id, scores, _) => {
+                let labels = rows.with(|r| r.iter().any(|(i, .., t)| i == id && *t == Table::Labels));
+                Some(scores_table(id, scores, labels))
+            }
             _ => None,
         })
     };
