@@ -2,7 +2,8 @@
 // "Save project" writes the workspace — the take on screen and the library's takes named by their SHA-256, the ground
 // truth, my labels, the rows' settings, the chosen user model, the library's method and cluster names — and a
 // colleague's browser (another profile: nothing kept in common) opens it picked with its take files and gets the same
-// workspace; opened without its takes, it names them. Run through scripts/e2e.sh (E2E_FILES=project.test.mjs).
+// workspace; opened without its takes, it names them; opened with a take renamed, the take is found by what it holds and
+// keeps its labels. Run through scripts/e2e.sh (E2E_FILES=project.test.mjs).
 
 import { test } from "node:test";
 import assert from "node:assert/strict";
@@ -103,6 +104,16 @@ test("a project saved in one browser opens in another with its takes: the same w
     await page.setInputFiles("#project-open", { name: "notes.json", mimeType: "application/json", buffer: Buffer.from("{\"a\":1}") });
     await page.waitForFunction(() => /notes\.json is not a mocapseg project/.test(document.querySelector("#workspace-status-text")?.textContent ?? ""),
       null, { timeout: TIMEOUT });
+
+    // the take renamed (a copy called otherwise): found by what it holds, and my labels, kept by take name, follow it
+    const renamed = { name: "copy of 35_01.bvh", mimeType: "application/octet-stream", buffer: readFileSync(fixture("35_01.bvh")) };
+    const asBuffer = (file) => ({ name: path.basename(file), mimeType: "application/octet-stream", buffer: readFileSync(file) });
+    await page.setInputFiles("#project-open", [asBuffer(saved.path), renamed, ...["02_01.bvh", "02_02.bvh"].map((f) => asBuffer(fixture(f)))]);
+    await waitReady(page, "copy of 35_01.bvh");
+    await page.locator("#row-my-labels .ms-seg").first().waitFor({ timeout: TIMEOUT });
+    assert.deepEqual(await segs(page, "#row-my-labels"), before.labels, "my labels of the renamed take");
+    await waitData(page, "truth", "loaded");
+    assert.deepEqual(await segs(page, "#row-truth"), before.truth, "its ground truth");
     assertClean(theirs);
   } finally {
     await closePage(theirs, "e2e-project-theirs.png");

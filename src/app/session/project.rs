@@ -216,6 +216,62 @@ impl Project {
     }
 }
 
+/// The take a key of my labels names, with what comes before and after it (`mocapseg.my-labels.v1`, `02_01.bvh`,
+/// `10f:120.000fps:31j:0badf00d`): the name may hold ':', the four fields after it do not.
+fn labels_key_parts(key: &str) -> Option<(&str, &str, &str)> {
+    let (head, rest) = key.split_once(':')?;
+    let mut fields = rest.rsplitn(5, ':');
+    let tail_len = (0..4).map(|_| fields.next().map(str::len)).sum::<Option<usize>>()? + 4;
+    let name = fields.next()?;
+    Some((head, name, &rest[rest.len() - tail_len + 1..]))
+}
+
+impl Project {
+    /// The project as the files opened with it name its takes (`names[i]`: file i's name; `found`: [`Project::find`]'s
+    /// answer): a take found under another name than the one it was saved under is that take, so its place in the
+    /// workspace, its cluster names' occurrences and my labels of it (kept by take name) follow it to its new name.
+    pub fn renamed(mut self, found: &Found, names: &[String]) -> Project {
+        let mut renames: Vec<(String, String)> = Vec::new();
+        let mut rename = |t: &mut TakeRef, at: Option<(usize, Option<usize>)>| {
+            let Some(new) = at.and_then(|(m, _)| names.get(m)) else { return };
+            if *new != t.name {
+                renames.push((std::mem::replace(&mut t.name, new.clone()), new.clone()));
+            }
+        };
+        if let Some(t) = self.take.as_mut() {
+            rename(t, found.take);
+        }
+        for (t, at) in self.library.iter_mut().zip(&found.library) {
+            rename(t, *at);
+        }
+        let new_name = |old: &str| renames.iter().find(|(o, _)| o == old).map(|(_, n)| n.clone());
+        if let Some(t) = self.record.take.as_mut() {
+            if let Some(n) = new_name(&t.name) {
+                t.name = n;
+            }
+        }
+        if let Some(library) = self.record.library.as_mut() {
+            for t in &mut library.takes {
+                if let Some(n) = new_name(&t.name) {
+                    t.name = n;
+                }
+            }
+            for spot in library.names.iter_mut().flat_map(|named| named.spots.iter_mut()) {
+                if let Some(n) = new_name(&spot.take) {
+                    spot.take = n;
+                }
+            }
+        }
+        for l in &mut self.labels {
+            let Some((head, name, tail)) = labels_key_parts(&l.key) else { continue };
+            if let Some(n) = new_name(name) {
+                l.key = format!("{head}:{n}:{tail}");
+            }
+        }
+        self
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -279,6 +335,48 @@ mod tests {
         let mut fewer = project();
         fewer.library.pop();
         assert!(err(&fewer.to_json()).contains("names 1 library takes, its workspace 2"));
+    }
+
+    #[test]
+    fn a_take_opened_under_another_name_keeps_its_labels_place_and_cluster_names() {
+        let mut p = project();
+        let key = |name: &str| format!("mocapseg.my-labels.v1:{name}:2465f:120.000fps:31j:0badf00d");
+        p.labels = vec![
+            KeptLabels { key: key("02_01.bvh"), json: "{\"mine\":1}".into() },
+            KeptLabels { key: key("a.bvh"), json: "{}".into() },
+        ];
+        p.record.library.as_mut().unwrap().names = vec![crate::app::library::names::Named {
+            name: "jog".into(),
+            spots: vec![crate::app::library::names::NamedSpot { take: "a.bvh".into(), start: 3, end: 40 }],
+        }];
+        let file = |name: &str, bytes: &[u8]| (name.to_string(), sha256_hex(bytes));
+        let files = vec![
+            file("renamed: 02_01 copy.bvh", b"take"),
+            file("walk.bvh", b"motion a"),
+            file("b.amc", b"motion b"),
+            file("02.asf", b"skeleton"),
+        ];
+        let found = p.find(&files);
+        let names: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();
+        let r = p.clone().renamed(&found, &names);
+        assert_eq!(r.take.as_ref().unwrap().name, "renamed: 02_01 copy.bvh");
+        assert_eq!(r.record.take.as_ref().unwrap().name, "renamed: 02_01 copy.bvh", "the take on screen is the renamed one");
+        let library = r.record.library.as_ref().unwrap();
+        assert_eq!(library.takes.iter().map(|t| t.name.as_str()).collect::<Vec<_>>(), ["walk.bvh", "b.amc"]);
+        assert_eq!(library.names[0].spots[0].take, "walk.bvh", "the cluster name follows its take");
+        assert_eq!(
+            r.labels.iter().map(|l| l.key.as_str()).collect::<Vec<_>>(),
+            [key("renamed: 02_01 copy.bvh"), key("walk.bvh")],
+            "my labels are kept under the name the take is opened with"
+        );
+        assert_eq!(r.labels[0].json, "{\"mine\":1}");
+        // the same names: nothing changes
+        let same: Vec<String> = ["02_01.bvh", "a.bvh", "b.amc", "02.asf"].map(String::from).to_vec();
+        let files_same: Vec<(String, String)> =
+            same.iter().zip(&files).map(|(n, (_, h))| (n.clone(), h.clone())).collect();
+        assert_eq!(p.clone().renamed(&p.find(&files_same), &same), p);
+        assert_eq!(labels_key_parts(&key("a:b.bvh")), Some(("mocapseg.my-labels.v1", "a:b.bvh", "2465f:120.000fps:31j:0badf00d")));
+        assert_eq!(labels_key_parts("mocapseg.my-labels.v1:short"), None);
     }
 
     #[test]

@@ -136,6 +136,9 @@ fn open(state: AppState, keeper: Keeper, models: ModelJobs, files: Vec<File>) {
             }
         }
         let found = project.find(&hashed);
+        // a take opened under another name is that take: its labels, place and cluster names follow the new name
+        let names: Vec<String> = hashed.iter().map(|(n, _)| n.clone()).collect();
+        let project = project.renamed(&found, &names);
         for l in &project.labels {
             if let Err(why) = crate::app::my_labels::browser_storage::keep_labels(&l.key, &l.json) {
                 return status.set(Some((true, format!("{from}: my labels could not be kept in this browser: {why}"))));
