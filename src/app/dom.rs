@@ -42,7 +42,9 @@ pub(crate) fn reveal(id: &str) {
     let options = js_sys::Object::new();
     let _ = js_sys::Reflect::set(&options, &"block".into(), &"nearest".into());
     let _ = js_sys::Reflect::set(&options, &"inline".into(), &"nearest".into());
-    if let Ok(scroll) = js_sys::Reflect::get(&el, &"scrollIntoView".into()).and_then(|f| f.dyn_into::<js_sys::Function>()) {
+    if let Ok(scroll) =
+        js_sys::Reflect::get(&el, &"scrollIntoView".into()).and_then(|f| f.dyn_into::<js_sys::Function>())
+    {
         let _ = scroll.call1(&el, &options);
     }
 }

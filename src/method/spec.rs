@@ -200,7 +200,11 @@ mod tests {
             let w = s.words();
             assert!(!w.contains('_'), "{}: {w:?}", s.name);
             assert!(w.chars().filter(|c| c.is_alphabetic()).count() >= 3, "{}: {w:?}", s.name);
-            assert!(!["tau", "nu", "k sigma", "offsets", "drop", "told", "min rise"].contains(&w.as_str()), "{}: {w:?}", s.name);
+            assert!(
+                !["tau", "nu", "k sigma", "offsets", "drop", "told", "min rise"].contains(&w.as_str()),
+                "{}: {w:?}",
+                s.name
+            );
             if let Some(unit) = &s.unit {
                 assert!(!w.ends_with(&format!(" {unit}")), "{}: {w:?} repeats its unit", s.name);
             }

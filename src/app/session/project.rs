@@ -360,7 +360,11 @@ mod tests {
         let names: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();
         let r = p.clone().renamed(&found, &names);
         assert_eq!(r.take.as_ref().unwrap().name, "renamed: 02_01 copy.bvh");
-        assert_eq!(r.record.take.as_ref().unwrap().name, "renamed: 02_01 copy.bvh", "the take on screen is the renamed one");
+        assert_eq!(
+            r.record.take.as_ref().unwrap().name,
+            "renamed: 02_01 copy.bvh",
+            "the take on screen is the renamed one"
+        );
         let library = r.record.library.as_ref().unwrap();
         assert_eq!(library.takes.iter().map(|t| t.name.as_str()).collect::<Vec<_>>(), ["walk.bvh", "b.amc"]);
         assert_eq!(library.names[0].spots[0].take, "walk.bvh", "the cluster name follows its take");
@@ -375,7 +379,10 @@ mod tests {
         let files_same: Vec<(String, String)> =
             same.iter().zip(&files).map(|(n, (_, h))| (n.clone(), h.clone())).collect();
         assert_eq!(p.clone().renamed(&p.find(&files_same), &same), p);
-        assert_eq!(labels_key_parts(&key("a:b.bvh")), Some(("mocapseg.my-labels.v1", "a:b.bvh", "2465f:120.000fps:31j:0badf00d")));
+        assert_eq!(
+            labels_key_parts(&key("a:b.bvh")),
+            Some(("mocapseg.my-labels.v1", "a:b.bvh", "2465f:120.000fps:31j:0badf00d"))
+        );
         assert_eq!(labels_key_parts("mocapseg.my-labels.v1:short"), None);
     }
 

@@ -92,7 +92,11 @@ mod tests {
         // LMA's arms: "both…" or colour alone, never "BA"
         assert_eq!(fit_label("both arms", text_px("both…", font), font).as_deref(), Some("both…"));
         assert_eq!(fit_label("both arms", text_px("BA", font), font), None);
-        assert_eq!(fit_label("both arms", text_px("bot…", font), font), None, "no syllable one letter short of the word");
+        assert_eq!(
+            fit_label("both arms", text_px("bot…", font), font),
+            None,
+            "no syllable one letter short of the word"
+        );
         assert_eq!(fit_label(label, text_px("LAR", font), font), None);
         assert_eq!(fit_label("P1 mirrors P2", text_px("P1…", font), font).as_deref(), Some("P1…"));
         // one word: its first syllable, never the letters that happen to fit

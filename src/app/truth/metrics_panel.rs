@@ -58,7 +58,8 @@ fn lines(s: &Scores, labels: bool) -> Vec<Line> {
             name: "Covering",
             value: s.covering,
             digits: 3,
-            hint: "how well each true segment is covered by its best-overlapping found one (1 = the same segments)".into(),
+            hint: "how well each true segment is covered by its best-overlapping found one (1 = the same segments)"
+                .into(),
         },
         Line {
             key: "hungarian_accuracy",
@@ -72,7 +73,8 @@ fn lines(s: &Scores, labels: bool) -> Vec<Line> {
             name: "Strict accuracy",
             value: s.strict_accuracy,
             digits: 3,
-            hint: "share of frames whose primitive's cluster maps to their true label (many clusters may map to one)".into(),
+            hint: "share of frames whose primitive's cluster maps to their true label (many clusters may map to one)"
+                .into(),
         },
         Line {
             key: "tolerant_accuracy",
