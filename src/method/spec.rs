@@ -191,10 +191,8 @@ mod tests {
         let mut specs: Vec<ParamSpec> = Vec::new();
         for m in crate::methods::registry() {
             specs.extend(m.param_specs());
+            specs.extend(m.supervision().map(|s| s.training).unwrap_or_default());
         }
-        specs.extend(crate::methods::dtfcn::supervised::training_specs());
-        specs.extend(crate::methods::knn::supervised::training_specs());
-        specs.extend(crate::methods::lma::supervised::training_specs());
         assert!(specs.len() > 40, "{} parameters", specs.len());
         for s in &specs {
             let w = s.words();

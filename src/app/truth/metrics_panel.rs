@@ -367,31 +367,8 @@ fn compare_table(compared: &[Compared], trial: &str, sort: RwSignal<Option<(Stri
                     .iter()
                     .enumerate()
                     .map(|(j, (key, _, digits, hint))| {
-                        let Some(v) = ls.iter().find(|l| l.key == *key).map(|l| l.value) else {
-                            let why = "not scored: this row's segments are clusters or gestures, not named labels \
-                                       (its Hungarian frame accuracy matches them to the truth's)";
-                            return view! {
-                                <td class="ms-metric-value ms-metric-none" data-metric=*key title=why>
-                                    "—"<span class="ms-visually-hidden">" (not scored)"</span>
-                                </td>
-                            }
-                            .into_any();
-                        };
-                        let shown = format!("{v:.digits$}");
-                        let is_best = best[j][i];
-                        let content = if is_best {
-                            view! { <strong>{shown}</strong><span class="ms-visually-hidden">" (best)"</span> }
-                                .into_any()
-                        } else {
-                            shown.into_any()
-                        };
-                        view! {
-                            <td class="ms-metric-value" class:ms-best=is_best data-metric=*key data-value=v.to_string()
-                                data-digits=digits.to_string() data-best=is_best.then_some("true") title=hint.clone()>
-                                {content}
-                            </td>
-                        }
-                        .into_any()
+                        let value = ls.iter().find(|l| l.key == *key).map(|l| l.value);
+                        compare_cell(key, value, *digits, best[j][i], hint)
                     })
                     .collect_view()
                     .into_any(),
@@ -421,6 +398,34 @@ fn compare_table(compared: &[Compared], trial: &str, sort: RwSignal<Option<(Stri
             </table>
         </div>
     }
+}
+
+/// A cell of the comparison table: metric `key`'s `value` shown to `digits` (bold and said "(best)" when `best`), or,
+/// for a row it does not apply to (`None`), a dash that says why.
+fn compare_cell(key: &'static str, value: Option<f64>, digits: usize, best: bool, hint: &str) -> AnyView {
+    let Some(v) = value else {
+        let why = "not scored: this row's segments are clusters or gestures, not named labels (its Hungarian frame \
+                   accuracy matches them to the truth's)";
+        return view! {
+            <td class="ms-metric-value ms-metric-none" data-metric=key title=why>
+                "—"<span class="ms-visually-hidden">" (not scored)"</span>
+            </td>
+        }
+        .into_any();
+    };
+    let shown = format!("{v:.digits$}");
+    let content = if best {
+        view! { <strong>{shown}</strong><span class="ms-visually-hidden">" (best)"</span> }.into_any()
+    } else {
+        shown.into_any()
+    };
+    view! {
+        <td class="ms-metric-value" class:ms-best=best data-metric=key data-value=v.to_string()
+            data-digits=digits.to_string() data-best=best.then_some("true") title=hint.to_string()>
+            {content}
+        </td>
+    }
+    .into_any()
 }
 
 #[component]
