@@ -48,6 +48,72 @@ pub struct FactorModel {
 }
 
 impl FactorModel {
+    /// This factor's fields against each other and the pool (`shifts`: the family's classifier count).
+    fn validate(&self, shifts: usize) -> Result<(), String> {
+        let n = self.selected.len();
+        if n == 0 || n > super::features::POOL_SIZE {
+            return Err(format!("selected: {n} features, expected 1 to {}", super::features::POOL_SIZE));
+        }
+        if let Some(k) = self.selected.iter().find(|&&k| k as usize >= super::features::POOL_SIZE) {
+            return Err(format!("selected: feature {k}, expected below {}", super::features::POOL_SIZE));
+        }
+        if self.mean.len() != n || self.scale.len() != n {
+            return Err(format!(
+                "mean and scale: {} and {} values, expected one per selected feature ({n})",
+                self.mean.len(),
+                self.scale.len()
+            ));
+        }
+        if let Some(v) = self.mean.iter().chain(&self.scale).find(|v| !v.is_finite()) {
+            return Err(format!("mean and scale: {v}, expected finite numbers"));
+        }
+        if let Some(v) = self.scale.iter().find(|&&v| v <= 0.0) {
+            return Err(format!("scale: {v}, expected above 0"));
+        }
+        if !(1..=n).contains(&self.components) {
+            return Err(format!("components: {}, expected 1 to its {n} selected features", self.components));
+        }
+        if self.projection.len() != self.components * n {
+            return Err(format!(
+                "projection: {} values, expected components × selected = {} × {n}",
+                self.projection.len(),
+                self.components
+            ));
+        }
+        if self.projection.iter().any(|v| !v.is_finite()) {
+            return Err("projection: expected finite numbers".into());
+        }
+        if self.nets.len() != shifts {
+            return Err(format!(
+                "nets: {} networks, expected one per classifier ((2·max_shift + 1)² = {shifts})",
+                self.nets.len()
+            ));
+        }
+        for (i, net) in self.nets.iter().enumerate() {
+            let shape = |what: &str, len: usize, want: usize| {
+                (len != want).then(|| format!("nets[{i}].{what}: {len} values, expected {want}"))
+            };
+            if net.inputs != self.components || net.outputs != 3 || !(1..=MAX_HIDDEN).contains(&net.hidden) {
+                return Err(format!(
+                    "nets[{i}]: {} inputs, {} hidden, {} outputs; expected {} inputs (its components), 1 to {MAX_HIDDEN} \
+                     hidden, 3 outputs",
+                    net.inputs, net.hidden, net.outputs, self.components
+                ));
+            }
+            let wrong = shape("w1", net.w1.len(), net.hidden * net.inputs)
+                .or_else(|| shape("b1", net.b1.len(), net.hidden))
+                .or_else(|| shape("w2", net.w2.len(), net.outputs * net.hidden))
+                .or_else(|| shape("b2", net.b2.len(), net.outputs));
+            if let Some(why) = wrong {
+                return Err(why);
+            }
+            if net.w1.iter().chain(&net.b1).chain(&net.w2).chain(&net.b2).any(|v| !v.is_finite()) {
+                return Err(format!("nets[{i}]: expected finite weights"));
+            }
+        }
+        Ok(())
+    }
+
     /// The projected input of the segment `start..=end` into `z` (`components` values), one pool
     /// feature at a time; `x` is scratch of `selected.len()`. The reference [`Projector`] is
     /// tested against; the searches use the projector.
@@ -65,6 +131,18 @@ impl FactorModel {
 
 /// Components the projector's rotation adds at once: four 128-bit vectors of f32, independent
 /// running sums (one would wait on the previous addition's latency).
+/// The frame rates a family may be trained at (the shipped one: 30 Hz).
+pub const MIN_FPS: f64 = 5.0;
+pub const MAX_FPS: f64 = 240.0;
+/// The longest training segment a family may record, in its frames.
+pub const MAX_LEN: usize = 100_000;
+/// The largest boundary shift: `(2s + 1)²` classifiers assess every candidate (the shipped family: s = 5, 121).
+pub const MAX_SHIFT: usize = 10;
+/// The widest hidden layer of a classifier (training tries up to 10 units).
+pub const MAX_HIDDEN: usize = 1000;
+/// The longest `origin` text.
+pub const MAX_ORIGIN_CHARS: usize = 2000;
+
 const LANES: usize = 16;
 
 /// Segments [`Projector::project_lanes`] projects side by side: their features in eight pairs of
@@ -259,47 +337,41 @@ impl EffortModel {
         serde_json::to_string(self).expect("a model always serialises")
     }
 
+    /// Every field of the family within what this build reads and can run in bounded work (a family from anyone is
+    /// opened): the frame rate and lengths, the shift count (the work of a run grows with `(2s + 1)²`), each factor's
+    /// features, standardisation and projection, each network's shape and weights; a refusal names the field, its
+    /// value and what was expected.
     fn validate(&self) -> Result<(), String> {
         let bad = |what: String| Err(format!("LMA effort model: {what}"));
         if self.factors.len() != 4 {
             return bad(format!("{} factors, expected 4 (space, time, weight, flow)", self.factors.len()));
         }
-        if !(self.fps.is_finite() && self.fps > 0.0) || self.min_len < 2 || self.max_len < self.min_len {
-            return bad(format!("fps {} and lengths {}..{} are not usable", self.fps, self.min_len, self.max_len));
+        if !(self.fps.is_finite() && (MIN_FPS..=MAX_FPS).contains(&self.fps)) {
+            let shown = if self.fps.abs() < 1e6 { self.fps.to_string() } else { format!("{:e}", self.fps) };
+            return bad(format!("fps {shown}: expected {MIN_FPS} to {MAX_FPS} frames per second"));
         }
-        if self.max_shift > 30 || self.max_len > 100_000 {
+        if self.min_len < 2 || self.max_len < self.min_len || self.max_len > MAX_LEN {
             return bad(format!(
-                "max_shift {} (at most 30) or max_len {} is out of range",
-                self.max_shift, self.max_len
+                "min_len {} and max_len {}: expected 2 ≤ min_len ≤ max_len ≤ {MAX_LEN} frames",
+                self.min_len, self.max_len
             ));
         }
+        if self.max_shift > MAX_SHIFT {
+            return bad(format!(
+                "max_shift {}: expected at most {MAX_SHIFT} frames ((2·{MAX_SHIFT} + 1)² = {} classifiers; the shipped family \
+                 has 5)",
+                self.max_shift,
+                (2 * MAX_SHIFT + 1).pow(2)
+            ));
+        }
+        if self.origin.chars().count() > MAX_ORIGIN_CHARS || self.origin.chars().any(char::is_control) {
+            return bad(format!("origin: expected at most {MAX_ORIGIN_CHARS} characters and no control characters"));
+        }
         for (f, m) in Factor::ALL.iter().zip(&self.factors) {
-            let n = m.selected.len();
-            let ok = n > 0
-                && m.selected.iter().all(|&k| (k as usize) < super::features::POOL_SIZE)
-                && m.mean.len() == n
-                && m.scale.len() == n
-                && m.scale.iter().all(|s| *s > 0.0)
-                && m.projection.len() == m.components * n
-                && m.nets.len() == self.shifts()
-                && m.projection.iter().chain(&m.mean).chain(&m.scale).all(|v| v.is_finite())
-                && m.nets.iter().all(|net| {
-                    net.inputs == m.components
-                        && net.outputs == 3
-                        && (1..=1000).contains(&net.hidden)
-                        && net.w1.len() == net.hidden * net.inputs
-                        && net.b1.len() == net.hidden
-                        && net.w2.len() == net.outputs * net.hidden
-                        && net.b2.len() == net.outputs
-                        && net.w1.iter().chain(&net.b1).chain(&net.w2).chain(&net.b2).all(|v| v.is_finite())
-                });
-            if !ok {
-                return bad(format!("the {f:?} networks do not fit their inputs"));
-            }
+            m.validate(self.shifts()).or_else(|why| bad(format!("the {f:?} factor's {why}")))?;
         }
         Ok(())
     }
-
     /// Total projected inputs over the four factors.
     pub fn width(&self) -> usize {
         self.factors.iter().map(|f| f.components).sum()
@@ -512,7 +584,7 @@ mod tests {
         assert_eq!(EffortModel::from_json(&shipped.to_json()).as_ref(), Ok(shipped));
         let mut bad = shipped.clone();
         bad.factors[1].nets[7].w1.pop();
-        assert!(EffortModel::from_json(&bad.to_json()).unwrap_err().contains("Time networks"));
+        assert!(EffortModel::from_json(&bad.to_json()).unwrap_err().contains("the Time factor's nets[7].w1"));
         let mut bad = shipped.clone();
         bad.factors[2].nets[0].b2[0] = f32::NAN;
         // NaN is written as null by JSON: the file no longer reads as a model
@@ -520,6 +592,23 @@ mod tests {
         let mut bad = shipped.clone();
         bad.max_shift = 1_000_000;
         assert!(EffortModel::from_json(&bad.to_json()).unwrap_err().contains("max_shift"));
+        // every field a family from anyone may get wrong is named, with what was expected
+        let refused = |change: &dyn Fn(&mut EffortModel)| {
+            let mut bad = shipped.clone();
+            change(&mut bad);
+            EffortModel::from_json(&bad.to_json()).unwrap_err()
+        };
+        assert!(refused(&|m| m.fps = 1e300).contains("fps 1e300: expected 5 to 240"));
+        assert!(refused(&|m| m.fps = 0.5).contains("fps 0.5"));
+        assert!(refused(&|m| m.max_shift = 11).contains("max_shift 11: expected at most 10"));
+        assert!(refused(&|m| m.max_len = 1).contains("min_len 20 and max_len 1"));
+        assert!(refused(&|m| m.origin = "a\u{7}".into()).contains("origin"));
+        assert!(refused(&|m| m.factors[0].components = 10_000).contains("the Space factor's components: 10000"));
+        assert!(refused(&|m| m.factors[3].scale[0] = 0.0).contains("the Flow factor's scale: 0"));
+        assert!(refused(&|m| m.factors[2].selected[0] = 9999).contains("the Weight factor's selected: feature 9999"));
+        assert!(refused(&|m| m.factors[1].nets.truncate(3))
+            .contains("the Time factor's nets: 3 networks, expected one per classifier"));
+        assert!(refused(&|m| m.factors[1].nets[2].hidden = 5000).contains("nets[2]: "));
         let err = EffortModel::from_json("{\"fps\": 30}").unwrap_err();
         assert!(err.starts_with("not an LMA effort model"), "{err}");
     }
