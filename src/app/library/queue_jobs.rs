@@ -27,7 +27,8 @@ impl LibraryJobs {
         let refs: Vec<&str> = names.iter().map(String::as_str).collect();
         let (takes, mut refused) = group_files(&refs);
         let sizes: Vec<f64> = files.iter().map(|f| f.size()).collect();
-        let (takes, too_large) = crate::app::library::takes::within_cap(takes, &refs, &sizes);
+        let held = self.0.state.library.held_bytes();
+        let (takes, too_large) = crate::app::library::takes::within_cap(takes, &refs, &sizes, held);
         refused.extend(too_large);
         let library = self.0.state.library;
         if takes.len() < 2 {
@@ -52,6 +53,31 @@ impl LibraryJobs {
         self.0.state.panel.set(crate::app::library::state::TAB.to_string());
         self.open_library_take(added.start);
         self.pump();
+    }
+
+    /// Which of `sources` (a kept library's, a project's) the library admits: the same caps as files dropped (a take's,
+    /// the library's total, counting what it holds); those left out are said in the library's status.
+    pub fn admit(&self, sources: &[Source]) -> Vec<bool> {
+        let library = self.0.state.library;
+        let mut files = Vec::new();
+        let mut whole = Vec::new();
+        for s in sources {
+            whole.push(crate::app::library::takes::TakeFiles {
+                motion: files.len(),
+                skeleton: s.skeleton.as_ref().map(|_| files.len() + 1),
+            });
+            files.push(s.motion.clone());
+            files.extend(s.skeleton.clone());
+        }
+        let names: Vec<String> = files.iter().map(File::name).collect();
+        let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+        let sizes: Vec<f64> = files.iter().map(|f| f.size()).collect();
+        let (admitted, refused) =
+            crate::app::library::takes::within_cap(whole.clone(), &refs, &sizes, library.held_bytes());
+        if !refused.is_empty() {
+            library.status.set(Some((true, refused.join("; "))));
+        }
+        whole.iter().map(|t| admitted.contains(t)).collect()
     }
 
     /// Sets the library again as it was kept (its takes' files, the method they are segmented with, the names given

@@ -190,6 +190,13 @@ impl LibraryState {
         added
     }
 
+    /// The bytes of the library's take files (motion and skeleton), the total [`crate::app::library::takes::within_cap`]
+    /// bounds.
+    pub fn held_bytes(&self) -> f64 {
+        self.files
+            .with_value(|f| f.iter().map(|s| s.motion.size() + s.skeleton.as_ref().map_or(0.0, |k| k.size())).sum())
+    }
+
     /// Library take `i`'s name.
     pub fn take_name(&self, i: usize) -> String {
         self.queue.with_untracked(|q| q.entries.get(i).map(|e| e.name.clone()).unwrap_or_default())

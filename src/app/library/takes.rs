@@ -37,23 +37,52 @@ fn extension(name: &str) -> String {
     name.rsplit_once('.').map(|(_, e)| e.to_ascii_lowercase()).unwrap_or_default()
 }
 
+/// The most bytes of take files a library holds in all (issue 49, "the library bounded"): its takes are read one at
+/// a time, but every clip export and every segmenting after a reload reads them again.
+pub const MAX_LIBRARY_BYTES: f64 = 4.0 * 1024.0 * 1024.0 * 1024.0;
+
 /// `takes` (of files `names` with `sizes` in bytes, by index) without those whose motion or skeleton file is larger
-/// than the page reads of one take ([`crate::app::embed::fetch_rules::MAX_FILE_BYTES`], 512 MiB): a library holds no file a
-/// take dropped alone could not be, and each left out is named with why.
-pub fn within_cap(takes: Vec<TakeFiles>, names: &[&str], sizes: &[f64]) -> (Vec<TakeFiles>, Vec<String>) {
+/// than the page reads of one take ([`crate::app::embed::fetch_rules::MAX_FILE_BYTES`], 512 MiB) — a library holds no
+/// file a take dropped alone could not be — and without those past [`MAX_LIBRARY_BYTES`] in all, counting the
+/// `held` bytes the library holds already (the takes in order: the first ones fit); each left out is named with why.
+pub fn within_cap(takes: Vec<TakeFiles>, names: &[&str], sizes: &[f64], held: f64) -> (Vec<TakeFiles>, Vec<String>) {
     let cap = crate::app::embed::fetch_rules::MAX_FILE_BYTES as f64;
+    let mib = |b: f64| (b / 1024.0 / 1024.0).ceil();
     let mut kept = Vec::new();
     let mut refused = Vec::new();
+    let mut total = held;
+    let mut past_total = Vec::new();
     for t in takes {
-        let big = std::iter::once(t.motion).chain(t.skeleton).find(|&i| sizes.get(i).is_some_and(|&b| b > cap));
-        match big {
-            Some(i) => refused.push(format!(
+        let files = || std::iter::once(t.motion).chain(t.skeleton);
+        let size = |i: usize| sizes.get(i).copied().unwrap_or(0.0);
+        if let Some(i) = files().find(|&i| size(i) > cap) {
+            refused.push(format!(
                 "{}: {:.0} MiB is more than the page reads of a take (512 MiB); left out of the library",
                 names[i],
-                (sizes[i] / 1024.0 / 1024.0).ceil()
-            )),
-            None => kept.push(t),
+                mib(size(i))
+            ));
+            continue;
         }
+        // a skeleton shared by several AMC takes counts once per take: an upper bound
+        let bytes: f64 = files().map(size).sum();
+        if total + bytes > MAX_LIBRARY_BYTES {
+            past_total.push(names[t.motion].to_string());
+            continue;
+        }
+        total += bytes;
+        kept.push(t);
+    }
+    if !past_total.is_empty() {
+        let shown: Vec<&str> = past_total.iter().take(3).map(String::as_str).collect();
+        let more = past_total.len().saturating_sub(shown.len());
+        refused.push(format!(
+            "{}{}: left out of the library, which holds at most {:.0} GiB of takes in all ({:.0} MiB held); open them \
+             in a library of their own",
+            shown.join(", "),
+            if more > 0 { format!(" and {more} more") } else { String::new() },
+            MAX_LIBRARY_BYTES / 1024.0 / 1024.0 / 1024.0,
+            mib(total)
+        ));
     }
     (kept, refused)
 }
@@ -350,7 +379,7 @@ pub(crate) mod tests {
         let cap = crate::app::embed::fetch_rules::MAX_FILE_BYTES as f64;
         let (takes, _) = group_files(&names);
         assert_eq!(takes.len(), 4);
-        let (kept, refused) = within_cap(takes.clone(), &names, &[10.0, cap + 1.0, 2.0 * cap, 5.0, cap]);
+        let (kept, refused) = within_cap(takes.clone(), &names, &[10.0, cap + 1.0, 2.0 * cap, 5.0, cap], 0.0);
         let kept: Vec<&str> = kept.iter().map(|t| names[t.motion]).collect();
         assert_eq!(kept, ["a.bvh", "c.bvh"], "a file of exactly the cap is read");
         assert_eq!(
@@ -361,8 +390,33 @@ pub(crate) mod tests {
             ],
             "in the takes' order (by name)"
         );
-        let (all, none) = within_cap(takes, &names, &[1.0; 5]);
+        let (all, none) = within_cap(takes, &names, &[1.0; 5], 0.0);
         assert_eq!((all.len(), none.len()), (4, 0));
+    }
+
+    /// Takes past the library's total are left out, the first ones kept, the bytes it already holds counted, and
+    /// the message names the first few and how many more.
+    #[test]
+    fn takes_past_the_librarys_total_are_left_out_and_counted() {
+        let names: Vec<String> = (0..12).map(|i| format!("{i:02}.bvh")).collect();
+        let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+        let (takes, _) = group_files(&refs);
+        let gib = 1024.0 * 1024.0 * 1024.0;
+        // 12 takes of 0.5 GiB: 8 fit in 4 GiB
+        let (kept, refused) = within_cap(takes.clone(), &refs, &[0.5 * gib; 12], 0.0);
+        assert_eq!(kept.len(), 8);
+        assert_eq!(
+            refused,
+            ["08.bvh, 09.bvh, 10.bvh and 1 more: left out of the library, which holds at most 4 GiB of takes in all \
+              (4096 MiB held); open them in a library of their own"]
+        );
+        // a library holding 3.9 GiB already takes none of them
+        let (kept, refused) = within_cap(takes.clone(), &refs, &[0.5 * gib; 12], 3.9 * gib);
+        assert_eq!((kept.len(), refused.len()), (0, 1));
+        assert!(refused[0].starts_with("00.bvh, 01.bvh, 02.bvh and 9 more"), "{refused:?}");
+        // small takes: every one
+        let (kept, refused) = within_cap(takes, &refs, &[1e6; 12], 3.0 * gib);
+        assert_eq!((kept.len(), refused.len()), (12, 0));
     }
     use crate::segment::{Level, Segment};
 

@@ -373,6 +373,11 @@ impl Keeper {
     ) -> Vec<Option<usize>> {
         let mut sources = Vec::new();
         let mut at = Vec::new();
+        // the library's caps, as for files dropped: a take past them is left out (the library's status says why)
+        let found: Vec<Source> = files.iter().flatten().cloned().collect();
+        let mut admitted = self.0.library.admit(&found).into_iter();
+        let files: Vec<Option<Source>> =
+            files.into_iter().map(|f| f.filter(|_| admitted.next().unwrap_or(false))).collect();
         for (i, take) in kept.takes.iter().enumerate() {
             match files.get(i).cloned().flatten() {
                 Some(source) => {
