@@ -74,7 +74,7 @@ BENCH_BVH ?= $(firstword $(wildcard $(abspath $(CURDIR)/../shared/data/cmu/86/86
                 $(abspath $(shell ls -S tests/fixtures/*.bvh 2>/dev/null | head -n 1)))
 
 .PHONY: help setup demo release test bench web serve check-toolchain accuracy \
-        test-native fmt-check test-wasm test-e2e bench-native bench-wasm bench-page bench-rows bench-peers bench-table fuzz
+        test-native fmt-check fuzz-check test-wasm test-e2e bench-native bench-wasm bench-page bench-rows bench-peers bench-table fuzz
 
 help:
 	@sed -n '3,/^#$$/{/^#$$/!p}' Makefile | sed 's/^# \{0,1\}//'
@@ -113,7 +113,8 @@ bench: setup
 	$(MAKE) bench-table
 
 # The cargo-fuzz targets (fuzz/, docs/development.md "Fuzzing"): FUZZ_S seconds each, one fuzzer process at a
-# time, built into fuzz/target. `make test` type-checks them (`cargo check`) but does not run them.
+# time, built into fuzz/target. `make test` builds them (fuzz-check: `cargo check` of the fuzz crate, libFuzzer
+# included) and runs their code on its seeds (tests/fuzz_targets.rs), but does not fuzz.
 FUZZ_S ?= 60
 FUZZ_TARGETS ?=
 fuzz:
@@ -176,8 +177,15 @@ serve:
 
 # Every native test: unit tests, integration tests (incl. the CLI), doc tests. The fuzz targets' code
 # (fuzz/src/targets) is compiled and run on its seeds by tests/fuzz_targets.rs; `make fuzz` fuzzes.
-test-native: check-toolchain fmt-check
+test-native: check-toolchain fmt-check fuzz-check
 	$(CARGO) test
+
+# The fuzz crate (its own workspace: fuzz/Cargo.toml) built as `make fuzz` builds it, its nine libFuzzer entries
+# included, so that a target that no longer builds fails `make test` (into the target folder's fuzz-check/: the main
+# crate's build is not disturbed).
+fuzz-check: check-toolchain
+	CARGO_TARGET_DIR="$${CARGO_TARGET_DIR:-$(CURDIR)/target}/fuzz-check" $(CARGO) check --quiet \
+	    --manifest-path fuzz/Cargo.toml --bins
 
 # The tree as rustfmt writes it (rustfmt.toml); `cargo fmt` fixes it. With the toolchain's rustfmt, else Debian's
 # (rustfmt-web, which `make setup` installs where rustup has none); without either it fails rather than check nothing.

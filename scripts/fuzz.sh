@@ -32,7 +32,7 @@ cd "$root"
 export PATH="${HOME}/.cargo/bin:${PATH}"
 
 CARGO_FUZZ_VERSION=0.13.2
-ALL_TARGETS="bvh_parse bvh_grammar load_pipeline long_takes labels_import segmentation_json model_file asf_amc"
+ALL_TARGETS="bvh_parse bvh_grammar load_pipeline long_takes labels_import segmentation_json model_file project_file asf_amc"
 FUZZ_S="${FUZZ_S:-60}"
 FUZZ_TARGETS="${FUZZ_TARGETS:-$ALL_TARGETS}"
 FUZZ_MALLOC_MB="${FUZZ_MALLOC_MB:-256}"

@@ -72,11 +72,15 @@ dpkg_installed() {
 }
 
 # ---------------------------------------------------------------------------------------------
-# 0. Basics: a C linker for native Rust builds, python3 for the static server.
+# 0. Basics: a C linker for native Rust builds, a C++ compiler for libFuzzer, python3 for the static server.
 # ---------------------------------------------------------------------------------------------
 ensure_basics() {
     if ! have cc; then
         apt_install gcc libc6-dev
+    fi
+    # a C++ compiler: the fuzz crate's libFuzzer, which make test builds (make fuzz-check)
+    if ! have c++; then
+        apt_install g++
     fi
     if have python3 && python3 -c 'import http.server' 2>/dev/null; then
         log "python3 ok ($(python3 --version 2>&1))"

@@ -1,4 +1,4 @@
-//! The eight cargo-fuzz targets' code (`fuzz/src/targets/`), compiled into this crate's tests and run on
+//! The nine cargo-fuzz targets' code (`fuzz/src/targets/`), compiled into this crate's tests and run on
 //! each target's seeds and on mutations of them, so a target that no longer compiles against the crate,
 //! or whose checks fail on its own seeds, fails `cargo test` — without building libFuzzer or a second
 //! copy of every dependency (the fuzz crate is its own workspace). `make fuzz` runs them for real.
@@ -128,6 +128,13 @@ fn model_file_holds_on_its_seeds_and_their_mutations() {
     let seeds = targets::model_file::seeds();
     assert!(!seeds.is_empty());
     exercise(seeds, targets::model_file::run, 100, 7);
+}
+
+#[test]
+fn project_file_holds_on_its_seeds_and_their_mutations() {
+    let seeds = targets::project_file::seeds();
+    assert_eq!(seeds.len(), 2);
+    exercise(seeds, targets::project_file::run, 400, 9);
 }
 
 #[test]

@@ -9,4 +9,5 @@ pub mod labels_import;
 pub mod load_pipeline;
 pub mod long_takes;
 pub mod model_file;
+pub mod project_file;
 pub mod segmentation_json;
