@@ -2,7 +2,8 @@
 // Chromium: a run cancelled while an ASF/AMC pair loads (the new worker gets the pair, skeleton
 // included), a `src=` file past the page's cap refused from its Content-Length, a panic on the
 // page's own thread (a clear "reload" message that needs nothing of the app; my labels survive the
-// reload), and my labels across two tabs of one browser (an edit in one reaches the other), a
+// reload), and my labels across two tabs of one browser (an edit in one reaches the other, but never replaces labels a
+// full storage kept from being saved), a
 // corrupt stored record kept under a backup key before it is replaced, and a full storage shown
 // with the exports offered.
 //
@@ -224,6 +225,43 @@ test("my labels edited in one tab reach the other tab on the same take", async (
     assert.deepEqual(await spans(other), await spans());
     assert.deepEqual(otherErrors, [], "no uncaught error in the other tab");
   } finally {
+    await other.close();
+  }
+  assertClean(opened);
+});
+
+test("labels this tab could not save are never replaced by another tab's write (issue 49)", async () => {
+  await forgetLabels();
+  const other = await opened.context.newPage();
+  other.setDefaultTimeout(TIMEOUT);
+  try {
+    await fresh(other);
+    await waitCount(0, other);
+    // this tab's storage refuses my labels: its edits are on screen only
+    await page.evaluate(() => {
+      const set = Storage.prototype.setItem;
+      window.__restoreSetItem = () => { Storage.prototype.setItem = set; };
+      Storage.prototype.setItem = function (key, value) {
+        if (String(key).startsWith("mocapseg.my-labels")) {
+          throw new DOMException("The quota has been exceeded.", "QuotaExceededError");
+        }
+        return set.call(this, key, value);
+      };
+    });
+    await page.click("#my-labels-empty");
+    await waitCount(1);
+    await splitAt(80, 2);
+    const mine = await spans();
+    assert.equal(await storedKey(), null, "nothing of this tab's was stored");
+    // the other tab (its storage works) labels the take: its write reaches this tab as a storage event
+    await other.click("#my-labels-empty");
+    await waitCount(1, other);
+    assert.ok(await storedKey(other), "the other tab's labels are stored");
+    await until(async () => /never saved/.test(await text(page, "#my-labels-status")), "this tab says why it keeps its labels");
+    assert.match(await text(page, "#my-labels-status"), /kept here, not replaced — export them/);
+    assert.deepEqual(await spans(), mine, "this tab's unsaved labels are still on screen");
+  } finally {
+    await page.evaluate(() => window.__restoreSetItem?.());
     await other.close();
   }
   assertClean(opened);

@@ -77,6 +77,7 @@ impl MyRow {
             });
             row.drag.set_value(None);
             row.dragging.set(None);
+            row.unsaved.set_value(false);
             match take {
                 None => {
                     row.key.set(None);
@@ -103,7 +104,10 @@ impl MyRow {
         let (empty, json) = self.model.with_untracked(|m| (m.spans().is_empty(), m.to_json(&name)));
         let storage = match local_storage() {
             Ok(storage) => storage,
-            Err(e) => return self.say(true, format!("My labels could not be saved in this browser: {e}")),
+            Err(e) => {
+                self.unsaved.set_value(true);
+                return self.say(true, format!("My labels could not be saved in this browser: {e}"));
+            }
         };
         let mut kept = None;
         if let Some(bad) = self.corrupt.get_value() {
@@ -117,6 +121,7 @@ impl MyRow {
             kept = Some(backup);
         }
         let saved = if empty { storage.remove_item(&key) } else { storage.set_item(&key, &json) };
+        self.unsaved.set_value(saved.is_err());
         match (saved, kept) {
             (Err(e), _) => self.unsaved(&e, ""),
             (Ok(()), Some(backup)) => self.say(
@@ -134,6 +139,7 @@ impl MyRow {
     /// left undone); when the browser's storage is full, offers the exports (the CSV button takes
     /// the focus) — the labels stay on screen until the page is left.
     pub(super) fn unsaved(self, e: &JsValue, also: &str) {
+        self.unsaved.set_value(true);
         let name = js_sys::Reflect::get(e, &"name".into()).ok().and_then(|n| n.as_string()).unwrap_or_default();
         let full = matches!(name.as_str(), "QuotaExceededError" | "NS_ERROR_DOM_QUOTA_REACHED");
         if !full {
@@ -157,9 +163,18 @@ impl MyRow {
     }
 
     /// Another tab changed the stored labels of the take on screen: they replace this tab's row
-    /// (an edit here would otherwise overwrite them unseen).
+    /// (an edit here would otherwise overwrite them unseen) — unless this tab's labels are not stored (the browser
+    /// refused their write): those are the user's only copy, and stay, with why and what to do.
     pub(super) fn from_other_tab(self) {
         let Some(key) = self.key.get_untracked() else { return };
+        if self.unsaved.get_value() {
+            return self.say(
+                true,
+                "Another tab changed my labels of this take, but these on screen were never saved (this browser's \
+                 storage refused them): they are kept here, not replaced — export them (CSV or JSON) before you reload"
+                    .into(),
+            );
+        }
         let frames = self.state.frames();
         self.drag.set_value(None);
         self.dragging.set(None);

@@ -94,6 +94,9 @@ pub struct MyRow {
     /// The cut being dragged, where it is now.
     pub(super) dragging: RwSignal<Option<usize>>,
     pub(super) drag: StoredValue<Option<Drag>>,
+    /// The labels on screen are not stored: the browser refused their last write (a full storage). Another tab's
+    /// write then does not replace them (issue 49: nothing the user made is lost to another tab's older state).
+    pub(super) unsaved: StoredValue<bool>,
     /// The last training of the chosen trainer was asked from this row.
     pub(super) training: RwSignal<bool>,
     /// The method my labels train in one click (index into [`AppState::my_labels_trainers`]; DT-FCN unless chosen).
@@ -121,6 +124,7 @@ impl MyRow {
             source: RwSignal::new(String::new()),
             dragging: RwSignal::new(None),
             drag: StoredValue::new(None),
+            unsaved: StoredValue::new(false),
             training: RwSignal::new(false),
             trainer: RwSignal::new(
                 state.my_labels_trainers().iter().position(|(short, _)| *short == "DT-FCN").unwrap_or_default(),
