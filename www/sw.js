@@ -35,8 +35,8 @@ const KEPT = OURS + "kept"; // other files of this origin, for offline use (belo
 // What is kept besides the build: the last few files of this origin the page fetched that are not
 // part of it (a take named by src=, a file of the host's), so that a page opened with src= works
 // offline too. Bounded, so that a session of src= takes never grows the origin's storage without
-// end: a response is kept only if it is a success of this origin that declares its size
-// (Content-Length) of at most KEEP_MAX_BYTES; then the oldest kept are evicted until at most
+// end: a response is kept only if it is a success of this origin whose body, as read (decoded: a gzip answer's
+// Content-Length is its compressed size), is at most KEEP_MAX_BYTES; then the oldest kept are evicted until at most
 // KEEP_MAX_COUNT files of at most KEEP_TOTAL_BYTES in all are left. "Oldest" is the order of the
 // Cache API's listing: the order the files were put, a file fetched again moving to the end (so the
 // least recently fetched go first). The kept files are the host's, not the build's: they outlive a
@@ -163,16 +163,45 @@ async function answer(event, url) {
 let keeping = Promise.resolve();
 
 /**
+ * The body of `response` as a Blob if it is at most `max` bytes, else null (the reading stops there). Counted as
+ * read, decoded: a compressed answer declares its compressed size (Content-Length), and the Cache API keeps what
+ * the page reads.
+ */
+async function bodyWithin(response, max) {
+  const reader = response.body?.getReader();
+  if (!reader) return new Blob([]);
+  const parts = [];
+  let bytes = 0;
+  for (;;) {
+    const { done, value } = await reader.read();
+    if (done) return new Blob(parts);
+    bytes += value.byteLength;
+    if (bytes > max) {
+      await reader.cancel();
+      return null;
+    }
+    parts.push(value);
+  }
+}
+
+/**
  * Keeps a copy of `response` in KEPT if it may be kept, then evicts the oldest kept files beyond
- * the bounds (above). Never fails: storage that is full only means that the file is not kept.
+ * the bounds (above). Never fails: storage that is full only means that the file is not kept. A declared size past
+ * KEEP_MAX_BYTES is not even read; otherwise the body is read and counted (a gzip answer's Content-Length is its
+ * compressed size), and kept decoded with its true size as its Content-Length, which the eviction sums.
  */
 function keep(request, response) {
-  const size = Number(response.headers.get("content-length") ?? NaN);
-  if (!response.ok || response.type !== "basic" || !(size <= KEEP_MAX_BYTES)) return Promise.resolve();
+  const declared = Number(response.headers.get("content-length") ?? NaN);
+  if (!response.ok || response.type !== "basic" || declared > KEEP_MAX_BYTES) return Promise.resolve();
   const copy = response.clone();
   keeping = keeping.then(async () => {
+    const body = await bodyWithin(copy, KEEP_MAX_BYTES);
+    if (body === null) return;
+    const headers = new Headers(copy.headers);
+    headers.delete("content-encoding");
+    headers.set("content-length", String(body.size));
     const cache = await caches.open(KEPT);
-    await cache.put(request, copy);
+    await cache.put(request, new Response(body, { status: copy.status, statusText: copy.statusText, headers }));
     const requests = await cache.keys(); // in the order they were put: the oldest first
     const sizes = await Promise.all(requests.map(async (r) => Number((await cache.match(r))?.headers.get("content-length")) || 0));
     let count = requests.length;

@@ -12,6 +12,7 @@ import http from "node:http";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
+import { gzipSync } from "node:zlib";
 
 const HERE = path.dirname(fileURLToPath(import.meta.url));
 export const ROOT = path.resolve(HERE, "../..");
@@ -433,11 +434,14 @@ export async function serve(dir) {
       res.writeHead(404).end("not found");
       return;
     }
-    const body = readFileSync(file);
+    // a file named *.gzip.* is served gzip-encoded: its Content-Length is the compressed size
+    const gzip = path.basename(file).includes(".gzip.");
+    const body = gzip ? gzipSync(readFileSync(file)) : readFileSync(file);
     res.writeHead(200, {
       "Content-Type": types[path.extname(file)] ?? "application/octet-stream",
       "Content-Length": body.length,
       "Cache-Control": "no-cache",
+      ...(gzip ? { "Content-Encoding": "gzip" } : {}),
     });
     res.end(body);
   });

@@ -235,6 +235,20 @@ test("what is kept of the origin's other files is bounded: a count and a total s
   assert.equal(await fetched(at("data/after-huge.bvh")), "200 after");
   // (the small file after it is kept: the huge one was skipped, not queued behind)
   await keptNow([...bigs.slice(1), "data/after-huge.bvh"].map(at), "the huge file not kept");
+  // served gzipped, a file declares its compressed size: what is kept is its decoded body, and that is what is
+  // bounded (issue 49: the bound trusted Content-Length) — a huge body of zeros (64 kB compressed) is not kept…
+  writeFileSync(path.join(dir, "data/zeros.gzip.bin"), Buffer.alloc(MAX_BYTES + 1, 0));
+  assert.equal(await size(at("data/zeros.gzip.bin")), `200 ${MAX_BYTES + 1}`);
+  // …and a small one is kept, decoded, and served offline as the page read it
+  writeFileSync(path.join(dir, "data/small.gzip.bvh"), "a take served gzipped");
+  assert.equal(await fetched(at("data/small.gzip.bvh")), "200 a take served gzipped");
+  await keptNow([...bigs.slice(1), "data/after-huge.bvh", "data/small.gzip.bvh"].map(at), "the gzipped huge file not kept, the small one kept");
+  await opened.context.setOffline(true);
+  try {
+    assert.equal(await fetched(at("data/small.gzip.bvh")), "200 a take served gzipped");
+  } finally {
+    await opened.context.setOffline(false);
+  }
   assert.deepEqual(await cached(keptCache("/b/")), await kept(), "all in /b/'s cache of kept files");
   // the build's cache is untouched by all this
   const build = await cached(buildCache("/b/", versions.b));
