@@ -1987,7 +1987,7 @@ const methodStates = () => page.evaluate((ms) => Object.fromEntries(ms.map((m) =
     .filter((e) => !e.hidden).map((e) => e.textContent.trim()).filter(Boolean).join(" "),
 }])), METHODS);
 
-test("a 100 000-frame take: every method finishes with segments or refuses naming its limit, the tab never freezes, few elements on the timeline", async () => {
+test("a 100 000-frame take: every method that fits finishes with segments (SSSM may refuse naming its limit), the tab never freezes, few elements on the timeline", async () => {
   const FRAMES = 100_000;
   const name = "long-100k.bvh";
   for (const m of METHODS) await watchRuns(page, m);
@@ -2007,6 +2007,13 @@ test("a 100 000-frame take: every method finishes with segments or refuses namin
   const frames = await framesRecorded();
   const states = await methodStates();
   const counts = {};
+  // the methods whose declared work fits the budget on this take must finish (issue 49: a test every method could
+  // pass by refusing proved nothing); SSSM's worst case (every frame max_neighbours neighbours) is near the budget at
+  // 25 000 working frames, so it may refuse — naming the limit
+  const mustFinish = METHODS.filter((m) => m !== "sssm");
+  for (const m of mustFinish) {
+    assert.equal(states[m].state, "done", `${m} must finish on the 100 000-frame take: ${JSON.stringify(states[m])}`);
+  }
   for (const m of METHODS) {
     const { state: st, failure } = states[m];
     if (st === "done") {
