@@ -456,3 +456,101 @@ fn effort_annotations_stay_within_the_work_they_declare() {
     assert!(message.starts_with("Frame Time 100 s is ") && message.contains("1 Hz or more"), "{message}");
     assert!(peak < 1 << 20, "{peak} bytes allocated before refusing the Frame Time");
 }
+
+/// CMU 13_31 (mocap6) as a BVH file of `frames` rows, its frames repeated, at `frame_time` seconds a frame.
+fn repeated_13_31(frames: usize, frame_time: &str) -> Vec<u8> {
+    let text = include_str!("fixtures/13_31.bvh");
+    let at = text.find("MOTION").unwrap();
+    let rows: Vec<&str> = text[at..].lines().skip(3).filter(|l| !l.trim().is_empty()).collect();
+    let mut out = String::from(&text[..at]);
+    out += &format!("MOTION\nFrames: {frames}\nFrame Time: {frame_time}\n");
+    for i in 0..frames {
+        out += rows[i % rows.len()];
+        out.push('\n');
+    }
+    out.into_bytes()
+}
+
+/// Every training (the k-NN's fit, DT-FCN's epochs, LMA's family) holds every take's file, motion and its own arrays
+/// at once: what it allocates stays within what its method declares for training
+/// ([`mocapseg::method::Supervised::training_work`], summed by [`mocapseg::method::work::TrainingHold`] as the takes are
+/// read), on takes of two lengths and two file rates, DT-FCN with a small, the default and a wide network; and under
+/// a budget below that the training is refused after reading the take, before it builds its arrays, naming the budget.
+#[test]
+fn trainings_stay_within_the_work_they_declare() {
+    use mocapseg::method::supervised::TrainingAsk;
+    use mocapseg::method::work::TrainingHold;
+    use mocapseg::method::{NoProgress, WorkLimits};
+    let _one = MEASURING.lock().unwrap();
+    let lma = serde_json::json!({"restarts": 1, "max_epochs": 2, "shift_epochs": 1, "shift_restarts": 1, "saliency_rounds": 1});
+    let cases = [
+        ("knn", serde_json::json!({})),
+        ("dtfcn", serde_json::json!({"epochs": 1, "filters": [16, 16, 16, 16]})),
+        ("dtfcn", serde_json::json!({"epochs": 1})),
+        ("dtfcn", serde_json::json!({"epochs": 1, "filters": [64, 64, 128, 256, 512], "batch": 8, "crop_frames": 256})),
+        ("lma", lma),
+    ];
+    for (method, options) in cases {
+        let m = mocapseg::methods::find(method).unwrap();
+        let s = m.supervised().unwrap();
+        let work = s.training_work(&options).unwrap();
+        for (frames, frame_time) in [(6_000usize, "0.033333"), (24_000, "0.033333"), (24_000, "0.008333")] {
+            let half = frames / 2;
+            let bytes = repeated_13_31(frames, frame_time);
+            let ask = |limits| TrainingAsk {
+                name: "measured".into(),
+                // LMA learns from its stand-in labels (descriptor terciles) without a label file
+                labels_name: if method == "lma" { String::new() } else { "l.csv".into() },
+                labels: if method == "lma" {
+                    String::new()
+                } else {
+                    format!(
+                        "file,start_frame,end_frame,label\nlong.bvh,0,{},still\nlong.bvh,{half},{},moving\n",
+                        half - 1,
+                        frames - 1
+                    )
+                },
+                takes: vec![("long.bvh".into(), bytes.clone())],
+                options: options.clone(),
+                to_file: true,
+                limits,
+                ..TrainingAsk::default()
+            };
+            let take = mocapseg::load::load_bytes("long.bvh", &bytes, &mut |_| {}).unwrap().motion;
+            let mut hold = TrainingHold::new(method, work, WorkLimits { max_bytes: usize::MAX, ..Default::default() });
+            hold.add(&take, bytes.len()).unwrap();
+            let declared = hold.bytes();
+            let train = |ask: TrainingAsk| -> Result<(), String> {
+                let mut t = s.start_training(ask, &mut NoProgress).map_err(|e| e.to_string())?;
+                while !t.done() {
+                    t.step(&mut NoProgress).map_err(|e| e.to_string())?;
+                }
+                t.finish().map(|_| ()).map_err(|e| e.to_string())
+            };
+            // the ask (its copy of the file) made before measuring: the file is the caller's
+            let within = ask(WorkLimits { max_bytes: declared, ..Default::default() });
+            let (out, peak) = peak_during(|| train(within));
+            out.unwrap_or_else(|e| panic!("{method} {options} on {frames} frames: {e}"));
+            println!(
+                "training {method:5} {options} on {frames:5} frames at {frame_time} s: peak {:6.1} MiB, declared {:6.1} MiB",
+                peak as f64 / 1048576.0,
+                declared as f64 / 1048576.0
+            );
+            assert!(peak <= declared, "{method} {options}: {frames} frames took {peak} bytes, more than {declared}");
+            // below its declaration it is refused once the take is read, before its arrays, naming the budget
+            let tight = ask(WorkLimits { max_bytes: declared - 1, ..Default::default() });
+            let (out, peak) = peak_during(|| train(tight));
+            let message = out.err().unwrap_or_else(|| panic!("{method} trained past its budget"));
+            assert!(
+                message.contains("more than the budget of") && message.contains("train on at most"),
+                "{method}: {message}"
+            );
+            let (_, read) =
+                peak_during(|| mocapseg::load::load_bytes("long.bvh", &bytes, &mut |_| {}).map(|l| l.motion));
+            assert!(
+                peak <= read + (1 << 20),
+                "{method} allocated {peak} bytes before refusing, more than reading the take ({read}) and 1 MiB"
+            );
+        }
+    }
+}

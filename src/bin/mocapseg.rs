@@ -809,6 +809,7 @@ mod cli {
             start_from: None,
             validation,
             to_file: true,
+            limits: Default::default(),
         };
         let started = Instant::now();
         let bar = ProgressBar::new(1000);

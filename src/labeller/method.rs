@@ -240,6 +240,10 @@ impl Supervised for Labelling {
         self.kind.start_training(self.kinds, ask, progress)
     }
 
+    fn training_work(&self, options: &serde_json::Value) -> Result<crate::method::Work, MethodError> {
+        self.kind.training_work(options)
+    }
+
     fn shipped_model(&self, name: &str, models: &ModelStore) -> Result<Loaded, MethodError> {
         let model = shipped::model(self.kind, name, models, self.kinds)?;
         Ok(Loaded { info: super::supervised::model_info(self.kind, name, &model), model })
@@ -290,6 +294,8 @@ pub trait Kind: Sync {
         ask: TrainingAsk,
         progress: &mut dyn Progress,
     ) -> Result<Box<dyn Training>, MethodError>;
+    /// What its training with `options` holds per working frame ([`Supervised::training_work`]).
+    fn training_work(&self, options: &serde_json::Value) -> Result<crate::method::Work, MethodError>;
     /// What `mocapseg model-info` adds to the header of `model` (DT-FCN: the network's parameters).
     fn details(&self, _model: &Model, _out: &mut serde_json::Map<String, serde_json::Value>) {}
 }

@@ -313,8 +313,14 @@ pub struct Prepared {
 
 /// Checks the name, reads the label CSV and the takes it names; a refusal names `name`, `labels`
 /// or `takes`.
-pub fn prepare(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Prepared, MethodError> {
-    let TrainingAsk { name, labels_name, labels, takes, command, validation, to_file, .. } = ask;
+pub fn prepare(
+    ask: TrainingAsk,
+    (method, work): (&str, crate::method::Work),
+    progress: &mut dyn Progress,
+) -> Result<Prepared, MethodError> {
+    let TrainingAsk { name, labels_name, labels, takes, command, validation, to_file, limits, .. } = ask;
+    // every take's file, motion and the method's arrays, held at once: checked as each is read (issue 49)
+    let mut hold = crate::method::work::TrainingHold::new(method, work, limits);
     let name = name.trim().to_string();
     let taken = if to_file { Vec::new() } else { shipped_names() };
     check_model_name(&name, &taken).map_err(|m| MethodError::param("name", m))?;
@@ -342,6 +348,7 @@ pub fn prepare(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Prepared
         progress.step(&format!("reading {}", names[i]), k as f64 / named.len() as f64 * 0.5)?;
         let (file_name, bytes) = takes[i].take().unwrap_or_default();
         let loaded = crate::load::load_bytes(&file_name, &bytes, &mut |_| {}).map_err(|e| bad_takes(e.to_string()))?;
+        hold.add(&loaded.motion, bytes.len())?;
         motions.push(loaded.motion);
         // kept for the data hash of the model's provenance
         hashed.push((file_name, bytes));
@@ -528,6 +535,7 @@ mod tests {
             start_from: None,
             validation: None,
             to_file: false,
+            limits: Default::default(),
         };
         let mut training = start("knn", ask).unwrap();
         while !training.done() {
@@ -580,6 +588,7 @@ mod tests {
             start_from,
             validation: None,
             to_file: false,
+            limits: Default::default(),
         };
         let train = |ask: TrainingAsk| {
             let mut t = start("dtfcn", ask)?;
@@ -637,6 +646,7 @@ mod tests {
             start_from: None,
             validation: Some("35_01.bvh".into()),
             to_file: false,
+            limits: Default::default(),
         };
         let train = |kind, options| {
             let mut t = start(kind, ask(options))?;

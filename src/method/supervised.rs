@@ -484,6 +484,9 @@ pub struct TrainingAsk {
     /// The model goes to a file (the command line), not into the page's store beside the shipped
     /// models: it may carry a shipped model's name (how the shipped models are made).
     pub to_file: bool,
+    /// What the training may hold: its takes and its arrays ([`crate::method::work::TrainingHold`]; the page's and
+    /// the command line's: 1 GiB).
+    pub limits: crate::method::WorkLimits,
 }
 
 /// One step of a training done.
@@ -545,6 +548,9 @@ pub trait Supervised: Send + Sync {
     /// Checks `ask` and prepares its training (reading the takes and labels, reporting to
     /// `progress`); a refusal names the option, or `labels`, `takes` or `name`.
     fn start_training(&self, ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Box<dyn Training>, MethodError>;
+    /// What a training with `options` holds per working frame of its takes besides the takes themselves (an upper
+    /// bound, measured in tests/limits.rs), checked as it reads them ([`crate::method::work::TrainingHold`]).
+    fn training_work(&self, options: &serde_json::Value) -> Result<crate::method::Work, MethodError>;
 }
 
 #[cfg(test)]

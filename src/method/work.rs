@@ -124,6 +124,77 @@ impl Work {
     }
 }
 
+/// What a training holds as it reads its takes (issue 49, "one budget gate that every door passes"): every take's file
+/// and motion at once (a training learns from all of them together), and its method's arrays per working frame of
+/// them all ([`Work`], declared by [`crate::method::supervised::Supervised::training_work`]). Each take is added as it
+/// is read, and refused — before the next is read and before the method builds its arrays — once the total passes
+/// the budget.
+#[derive(Debug, Clone)]
+pub struct TrainingHold {
+    work: Work,
+    limits: WorkLimits,
+    method: String,
+    /// Bytes held so far (the method's fixed bytes included), the takes and their seconds.
+    bytes: usize,
+    takes: usize,
+    seconds: f64,
+}
+
+impl TrainingHold {
+    /// Nothing held yet by a training of `method` (its short name) declaring `work`, checked against `limits`.
+    pub fn new(method: &str, work: Work, limits: WorkLimits) -> TrainingHold {
+        TrainingHold { work, limits, method: method.to_string(), bytes: work.fixed_bytes, takes: 0, seconds: 0.0 }
+    }
+
+    /// Adds take `motion`, read from a file of `file_bytes`: refused, naming the take, when its file rate or length
+    /// would refuse a run ([`Work::check`]), or when the takes so far with it pass the budget (the message says how
+    /// much motion fits).
+    pub fn add(&mut self, motion: &Motion, file_bytes: usize) -> Result<(), MethodError> {
+        if self.work.fixed_bytes > self.limits.max_bytes {
+            return Err(MethodError::params(format!(
+                "{} training with these options needs about {} MiB before any take, more than the budget of {} MiB{}",
+                self.method,
+                self.work.fixed_bytes.div_ceil(1 << 20),
+                self.limits.max_bytes / (1 << 20),
+                if self.work.advice.is_empty() { String::new() } else { format!(": {}", self.work.advice) },
+            )));
+        }
+        let unbounded = WorkLimits { max_bytes: usize::MAX, ..self.limits };
+        self.work
+            .check(&self.method, motion, &unbounded)
+            .map_err(|e| MethodError::param("takes", format!("{}: {e}", motion.name)))?;
+        let load = crate::load::MemoryBudget::estimate(motion.frames(), motion.joints());
+        let arrays = self.work.bytes(self.work.frames(motion), motion.joints()).saturating_sub(self.work.fixed_bytes);
+        let bytes = self.bytes.saturating_add(file_bytes).saturating_add(load).saturating_add(arrays);
+        let seconds = self.seconds + motion.frames().saturating_sub(1) as f64 / motion.fps;
+        if bytes > self.limits.max_bytes {
+            let per_second = (bytes - self.work.fixed_bytes) as f64 / seconds.max(f64::MIN_POSITIVE);
+            let fits = self.limits.max_bytes.saturating_sub(self.work.fixed_bytes) as f64 / per_second;
+            return Err(MethodError::param(
+                "takes",
+                format!(
+                    "{} training on {} ({} of motion with {}) needs about {} MiB, more than the budget of {} MiB: \
+                     train on at most {} of motion in all (fewer or shorter takes)",
+                    self.method,
+                    crate::method::counted(self.takes + 1, "take"),
+                    duration(seconds),
+                    motion.name,
+                    bytes.div_ceil(1 << 20),
+                    self.limits.max_bytes / (1 << 20),
+                    duration(fits.floor()),
+                ),
+            ));
+        }
+        (self.bytes, self.takes, self.seconds) = (bytes, self.takes + 1, seconds);
+        Ok(())
+    }
+
+    /// Bytes held so far, as declared.
+    pub fn bytes(&self) -> usize {
+        self.bytes
+    }
+}
+
 /// A number with at most 3 significant decimals, without trailing zeros (`100`, `0.01`, `3000`).
 fn round(x: f64) -> String {
     let s = format!("{x:.3}");
@@ -148,6 +219,40 @@ fn duration(seconds: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A training's takes are added as they are read: within the budget they are held, the take that passes it is
+    /// refused naming the takes, their motion, what they need and how much motion fits; options whose fixed part
+    /// alone passes the budget are refused before any take, with the work's advice.
+    #[test]
+    fn a_training_holds_its_takes_until_they_pass_the_budget() {
+        let take = |name: &str, frames: usize| {
+            let mut m = take(frames, 1.0 / 120.0);
+            m.name = name.into();
+            m
+        };
+        let work = Work { fps: 30.0, bytes_per_frame: 10_000, fixed_bytes: 1 << 20, advice: "smaller" };
+        let limits = WorkLimits { max_bytes: 64 << 20, ..Default::default() };
+        let mut hold = TrainingHold::new("k-NN", work, limits);
+        // 1 minute at 120 Hz: 1801 working frames of 10 kB and its file and motion
+        hold.add(&take("a.bvh", 7200), 3_000_000).unwrap();
+        let after_one = hold.bytes();
+        assert!(after_one > (1 << 20) + 1801 * 10_000, "{after_one}");
+        let e = (0..10).find_map(|i| hold.add(&take(&format!("t{i}.bvh"), 7200), 3_000_000).err()).unwrap();
+        assert_eq!(e.param_name(), Some("takes"));
+        let text = e.to_string();
+        assert!(text.starts_with("k-NN training on "), "{text}");
+        assert!(text.contains("more than the budget of 64 MiB: train on at most"), "{text}");
+        assert!(hold.bytes() <= 64 << 20, "what is held stays within the budget");
+        // a working rate the run would refuse is refused for training, naming the take
+        let mut slow = super::tests::take(10, 100.0);
+        slow.name = "slow.bvh".into();
+        let e = TrainingHold::new("k-NN", work, limits).add(&slow, 10).unwrap_err().to_string();
+        assert!(e.starts_with("slow.bvh: Frame Time 100 s"), "{e}");
+        // options that cannot fit whatever the takes
+        let big = Work { fixed_bytes: 65 << 20, ..work };
+        let e = TrainingHold::new("DT-FCN", big, limits).add(&take("a.bvh", 10), 10).unwrap_err().to_string();
+        assert!(e.contains("needs about 65 MiB before any take, more than the budget of 64 MiB: smaller"), "{e}");
+    }
 
     fn take(frames: usize, frame_time: f64) -> Motion {
         let text = format!(

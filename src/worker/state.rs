@@ -223,6 +223,7 @@ impl WorkerState {
             start_from,
             validation: ask.validation,
             to_file: false,
+            limits: Default::default(),
         };
         self.start_training(take, run, method, training, post)?;
         self.training_step(post);

@@ -83,6 +83,10 @@ impl Kind for Dtfcn {
         super::supervised::start_training(ask, progress)
     }
 
+    fn training_work(&self, options: &serde_json::Value) -> Result<crate::method::Work, MethodError> {
+        Ok(super::supervised::training_work(&super::supervised::options_from_json(options)?.train))
+    }
+
     /// The network's parameter count (of every network, in an ensemble) and receptive field.
     fn details(&self, model: &Model, o: &mut serde_json::Map<String, serde_json::Value>) {
         let Some(nets) = networks_of(model) else { return };

@@ -213,11 +213,29 @@ pub fn options_from_json(value: &serde_json::Value) -> Result<ModelOptions<Train
     Ok(options)
 }
 
+/// What a DT-FCN training with `train` holds: per working frame of its takes the motion image and labels (1.2 kB
+/// measured at the defaults, tests/limits.rs); besides, whatever the takes' length, the networks (each member's
+/// weights kept, the one training with its gradients and Adam's two moments) and one batch of crops through every
+/// layer with its gradients — bounded from the options with the most classes a model may have.
+pub fn training_work(train: &TrainOptions) -> crate::method::Work {
+    let config = train.network(crate::labeller::model::MAX_CLASSES);
+    let params = config.parameter_count();
+    let weights = params.saturating_mul(4).saturating_mul(4 + train.members);
+    let per_crop_frame = config.first_layer_inputs() + config.filters.iter().sum::<usize>() + config.classes;
+    let batch = train.batch.saturating_mul(train.crop_frames).saturating_mul(per_crop_frame).saturating_mul(4 * 8);
+    crate::method::Work {
+        fps: crate::labeller::input::NETWORK_FPS,
+        bytes_per_frame: 2_000,
+        fixed_bytes: (16usize << 20).saturating_add(weights).saturating_add(batch),
+        advice: "fewer or narrower layers (filters), a smaller batch or shorter crops",
+    }
+}
+
 /// Starts the training of a DT-FCN model on `ask` (continued from the model `ask.start_from` names, when it does).
 pub fn start_training(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Box<dyn Training>, MethodError> {
     let options = options_from_json(&ask.options)?;
     let start_from = ask.start_from.clone();
-    let mut prepared = prepare(ask, progress)?;
+    let mut prepared = prepare(ask, ("DT-FCN", training_work(&options.train)), progress)?;
     check_validation(&prepared)?;
     let start = match &start_from {
         None => None,
@@ -544,6 +562,7 @@ mod tests {
             start_from,
             validation: None,
             to_file: false,
+            limits: Default::default(),
         };
         let options = |seed: u64, members: usize| serde_json::json!({"epochs": 2, "filters": [4, 4], "width": 2, "seed": seed, "members": members});
         let train = |ask: TrainingAsk, stop_after: usize| {

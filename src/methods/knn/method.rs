@@ -79,4 +79,9 @@ impl Kind for KnnMethod {
     ) -> Result<Box<dyn Training>, MethodError> {
         super::supervised::start_training(ask, progress)
     }
+
+    fn training_work(&self, options: &serde_json::Value) -> Result<crate::method::Work, MethodError> {
+        super::supervised::options_from_json(options)?;
+        Ok(super::supervised::training_work())
+    }
 }

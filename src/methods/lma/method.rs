@@ -301,6 +301,11 @@ impl Supervised for Lma {
         super::supervised::read_model(file, bytes)
     }
 
+    fn training_work(&self, options: &serde_json::Value) -> Result<Work, MethodError> {
+        super::supervised::config_from_json(options)?;
+        Ok(super::supervised::training_work())
+    }
+
     fn start_training(&self, ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Box<dyn Training>, MethodError> {
         super::supervised::start_training(ask, progress)
     }
