@@ -39,15 +39,15 @@ pub fn seeds() -> Vec<(String, Vec<u8>)> {
             key: "mocapseg.my-labels.v1:35_01.bvh:298f:120.000fps:31j:0badf00d".into(),
             json: r#"{"segments":[{"start":0,"end":119,"label":"walk"}]}"#.into(),
         }],
-        models: vec![ProjectModel { method: "knn".into(), name: "mine".into(), file: "mine.model".into(), data: vec![1, 2, 3] }],
+        models: vec![ProjectModel {
+            method: "knn".into(),
+            name: "mine".into(),
+            file: "mine.model".into(),
+            data: vec![1, 2, 3],
+        }],
     };
-    let empty = Project {
-        record: Record::new(),
-        take: None,
-        library: Vec::new(),
-        labels: Vec::new(),
-        models: Vec::new(),
-    };
+    let empty =
+        Project { record: Record::new(), take: None, library: Vec::new(), labels: Vec::new(), models: Vec::new() };
     vec![("project.json".into(), full.to_json().into_bytes()), ("empty.json".into(), empty.to_json().into_bytes())]
 }
 
