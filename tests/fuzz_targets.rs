@@ -9,6 +9,8 @@
 
 use std::path::Path;
 
+#[path = "../fuzz/src/budget.rs"]
+mod budget;
 #[path = "../fuzz/src/seeds.rs"]
 mod seeds;
 #[path = "../fuzz/src/targets/mod.rs"]
@@ -68,9 +70,16 @@ fn mutate(seed: &[u8], rng: &mut Rng) -> Vec<u8> {
     out
 }
 
+/// The fuzz targets' allocator here too (issue 49: the targets ran without their budget under `cargo test`): one
+/// allocation, or the live heap of this test binary's tests side by side, past 1 GiB aborts the binary — a runaway
+/// allocation fails `cargo test` instead of swapping the machine. (`make fuzz` gives each target 256 MiB alone.)
+#[global_allocator]
+static ALLOCATOR: budget::Budgeted = budget::Budgeted;
+
 /// Runs `run` on every seed and on `mutants` mutations of the seeds (or, without seeds, on `mutants`
-/// random byte strings).
+/// random byte strings), under the budget.
 fn exercise(seeds: Vec<(String, Vec<u8>)>, run: fn(&[u8]), mutants: usize, rng_seed: u64) {
+    budget::set_limit(1 << 30);
     let mut rng = Rng(rng_seed);
     for (_, bytes) in &seeds {
         run(bytes);

@@ -12,86 +12,18 @@
 //! from `tests/fixtures` and `models/` with the crate's own reader and writer, so they are small
 //! and valid) and the script then runs it on that corpus.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 mod seeds;
 pub mod targets;
 pub use seeds::*;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-
-/// The system allocator with the budget above.
-pub struct Budgeted;
-
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-/// Bytes; `usize::MAX` until [`init`] reads the budget.
-static LIMIT: AtomicUsize = AtomicUsize::new(usize::MAX);
-
-#[cold]
-fn over_budget(kind: &str, bytes: usize) -> ! {
-    // No allocation here: stderr is unbuffered and the texts are static.
-    let mut e = std::io::stderr().lock();
-    let _ = e.write_all(b"\n==mocapseg-fuzz== allocation budget exceeded: ");
-    let _ = e.write_all(kind.as_bytes());
-    let _ = e.write_all(b" of ");
-    let mut digits = [0u8; 20];
-    let mut n = bytes;
-    let mut at = digits.len();
-    loop {
-        at -= 1;
-        digits[at] = b'0' + (n % 10) as u8;
-        n /= 10;
-        if n == 0 {
-            break;
-        }
-    }
-    let _ = e.write_all(&digits[at..]);
-    let _ = e.write_all(b" bytes (MOCAPSEG_FUZZ_MALLOC_MB)\n");
-    std::process::abort()
-}
-
-#[inline]
-fn grow(by: usize) {
-    let limit = LIMIT.load(Ordering::Relaxed);
-    if by > limit {
-        over_budget("one allocation", by);
-    }
-    let now = LIVE.fetch_add(by, Ordering::Relaxed) + by;
-    if now > limit {
-        over_budget("live heap", now);
-    }
-}
-
-unsafe impl GlobalAlloc for Budgeted {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        grow(layout.size());
-        unsafe { System.alloc(layout) }
-    }
-
-    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
-        grow(layout.size());
-        unsafe { System.alloc_zeroed(layout) }
-    }
-
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) };
-        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
-    }
-
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        if new_size > layout.size() {
-            grow(new_size - layout.size());
-        } else {
-            LIVE.fetch_sub(layout.size() - new_size, Ordering::Relaxed);
-        }
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
 
 #[global_allocator]
 static ALLOCATOR: Budgeted = Budgeted;
+
+mod budget;
+pub use budget::Budgeted;
 
 /// The budget in bytes from `MOCAPSEG_FUZZ_MALLOC_MB` (default 256 MiB).
 fn budget_from_env() -> usize {
@@ -102,7 +34,7 @@ fn budget_from_env() -> usize {
 /// Every target's init: sets the allocation budget, and writes the target's seeds (`seeds()`,
 /// `(name, bytes)`) into `MOCAPSEG_FUZZ_SEED_DIR` when that is set.
 pub fn init(seeds: impl FnOnce() -> Vec<(String, Vec<u8>)>) {
-    LIMIT.store(budget_from_env(), Ordering::Relaxed);
+    budget::set_limit(budget_from_env());
     if let Some(dir) = std::env::var_os("MOCAPSEG_FUZZ_SEED_DIR") {
         let dir = PathBuf::from(dir);
         std::fs::create_dir_all(&dir).expect("the seed folder");

@@ -1,10 +1,12 @@
 //! The methods on long *working* takes — the region `load_pipeline` skips: a take of a few
 //! fixture frames whose Frame Time the fuzzer picks (`Frame Time: 100` makes 200 frames 5.5
 //! hours long; 1e-9 makes them a microsecond), run by every registered method with its default
-//! parameters under small [`WorkLimits`] (16 MiB). A method must refuse before it allocates past them
-//! (the work check, `src/method/work.rs`) or finish within them: a panic, a hang (libFuzzer's
-//! `-timeout`) or the live heap passing the fuzz budget is a finding. What comes out must fit
-//! the schema and cover the take; a refusal must say why.
+//! parameters under small [`WorkLimits`] (16 MiB), then every annotator (LMA's Effort layer) on one segment over
+//! the whole take and every supervised method's training on the take labelled in two halves (its file as the
+//! training's take) under the same limits — the other doors of the budget gate (issue 49). A method must refuse
+//! before it allocates past them (the work check, `src/method/work.rs`) or finish within them: a panic, a hang
+//! (libFuzzer's `-timeout`) or the live heap passing the fuzz budget is a finding. What comes out must fit the
+//! schema and cover the take; a refusal must say why.
 
 use arbitrary::Arbitrary;
 use mocapseg::load::{load_bytes_with_budget, MemoryBudget};
@@ -15,6 +17,9 @@ const BUDGET: MemoryBudget = MemoryBudget { max_bytes: 4 << 20 };
 /// What a run may take here: 16 MiB is about 1500 LMA frames, 1800 DT-FCN frames, 10 000 velocity
 /// frames — milliseconds to a second or two each (DT-FCN's 12 MiB of fixed work must fit).
 const LIMITS: WorkLimits = WorkLimits { min_file_fps: 1.0, max_seconds: 7200.0, max_bytes: 16 << 20 };
+/// What a training may hold here: its fixed part (DT-FCN's 16 MiB of networks and batch, LMA's 16 MiB) and a few
+/// thousand working frames.
+const TRAIN_LIMITS: WorkLimits = WorkLimits { max_bytes: 48 << 20, ..LIMITS };
 
 #[derive(Debug, Arbitrary)]
 struct Input {
@@ -72,6 +77,86 @@ pub fn run(data: &[u8]) {
             }
             Err(MethodError::Failed(message)) => assert!(!message.trim().is_empty(), "{name}: an empty message"),
             Err(e) => panic!("{name}: unexpected error kind: {e}"),
+        }
+    }
+    annotate(motion);
+    train(motion, &text);
+}
+
+/// Every annotator on one segment over the whole take, under [`LIMITS`]: Effort values for it, or a refusal that
+/// says why.
+fn annotate(motion: &mocapseg::motion::Motion) {
+    let whole = mocapseg::segment::Segment {
+        start: 0,
+        end: motion.frames() - 1,
+        label: "all".into(),
+        level: mocapseg::segment::Level::Action,
+        cluster: None,
+        score: None,
+        mirror_of: None,
+        effort: None,
+    };
+    for m in mocapseg::methods::registry() {
+        if m.annotator().is_none() {
+            continue;
+        }
+        let name = m.info().name;
+        let checked = m.check_json(&serde_json::Value::Null).unwrap_or_else(|e| panic!("{name}: its defaults: {e}"));
+        match m.annotate_checked(motion, &checked, std::slice::from_ref(&whole), &LIMITS, &mut NoProgress) {
+            Ok(a) => assert!(a.segments.len() <= 1, "{name}: one segment, at most one annotation"),
+            Err(MethodError::Failed(message)) => assert!(!message.trim().is_empty(), "{name}: an empty message"),
+            Err(e) => panic!("{name}: annotating: unexpected error kind: {e}"),
+        }
+    }
+}
+
+/// Every supervised method's training on the take (its file `text`), labelled in two halves, under [`TRAIN_LIMITS`]
+/// and the smallest options: a model, or a refusal that says why.
+fn train(motion: &mocapseg::motion::Motion, text: &str) {
+    use mocapseg::method::supervised::TrainingAsk;
+    let frames = motion.frames();
+    if frames < 4 {
+        return;
+    }
+    let half = frames / 2;
+    for m in mocapseg::methods::registry() {
+        let Some(s) = m.supervised() else { continue };
+        let name = m.info().name;
+        let lma = name == "lma";
+        let options = match name.as_str() {
+            "dtfcn" => serde_json::json!({"epochs": 1, "filters": [4, 4], "crop_frames": 16, "batch": 1}),
+            "lma" => {
+                serde_json::json!({"restarts": 1, "max_epochs": 1, "shift_epochs": 1, "shift_restarts": 1, "saliency_rounds": 1})
+            }
+            _ => serde_json::json!({}),
+        };
+        let ask = TrainingAsk {
+            name: "fuzzed".into(),
+            labels_name: if lma { String::new() } else { "l.csv".into() },
+            labels: if lma {
+                String::new()
+            } else {
+                format!(
+                    "file,start_frame,end_frame,label\nlong.bvh,0,{},a\nlong.bvh,{half},{},b\n",
+                    half - 1,
+                    frames - 1
+                )
+            },
+            takes: vec![("long.bvh".into(), text.as_bytes().to_vec())],
+            options,
+            to_file: true,
+            limits: TRAIN_LIMITS,
+            ..TrainingAsk::default()
+        };
+        let trained = s.start_training(ask, &mut NoProgress).and_then(|mut t| {
+            while !t.done() {
+                t.step(&mut NoProgress)?;
+            }
+            t.finish()
+        });
+        if let Err(e) = trained {
+            assert!(!e.to_string().trim().is_empty(), "{name}: training: an empty message");
+            assert!(!matches!(e, MethodError::Cancelled), "{name}: training: cancelled with nothing cancelling");
         }
     }
 }

@@ -261,7 +261,9 @@ impl Method for Lma {
         let fps = params.model.fps;
         let to_working = |f: usize| (f as f64 * fps / motion.fps.max(f64::MIN_POSITIVE)).round() as usize;
         let longest = segments.iter().map(|s| to_working(s.end).saturating_sub(to_working(s.start))).max().unwrap_or(0);
-        let pool = super::features::pool_bytes_per_frame(longest + 2 * params.model.max_shift + 1);
+        // saturating: a file rate near 0 makes a segment's working length overflow (found by the long_takes fuzz
+        // target once it annotated); the work check then refuses the take by its rate
+        let pool = super::features::pool_bytes_per_frame(longest.saturating_add(2 * params.model.max_shift + 1));
         Work { fps, bytes_per_frame: 2 * pool + 2_000, fixed_bytes: 8 << 20, advice: "or annotate shorter segments" }
     }
 
