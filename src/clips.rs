@@ -258,6 +258,94 @@ pub fn zip(clips: &[Clip]) -> Result<Vec<u8>, ClipError> {
     Ok(writer.finish().map_err(|e| zip_error(&e))?.into_inner())
 }
 
+/// Zips made one at a time, joined into one archive (issue 49: a library's clips zipped one take at a time): each
+/// part's local entries are kept byte for byte where they come (the page keeps them as a Blob's parts, never in one
+/// buffer), its central directory's records moved by the bytes before it; [`ZipJoin::finish`] gives the central
+/// directory and its end record. Parts are archives as [`zip`] writes them; the archive stays a plain zip (at most
+/// 65 535 entries and 4 GiB: past them a part is refused, saying so).
+#[derive(Debug, Default)]
+pub struct ZipJoin {
+    /// Bytes of the local entries so far (where the next part starts).
+    offset: u64,
+    central: Vec<u8>,
+    entries: u64,
+}
+
+fn u16_at(b: &[u8], at: usize) -> Option<u64> {
+    Some(u16::from_le_bytes(b.get(at..at + 2)?.try_into().ok()?) as u64)
+}
+
+fn u32_at(b: &[u8], at: usize) -> Option<u64> {
+    Some(u32::from_le_bytes(b.get(at..at + 4)?.try_into().ok()?) as u64)
+}
+
+impl ZipJoin {
+    pub fn new() -> ZipJoin {
+        ZipJoin::default()
+    }
+
+    /// Adds the archive `part`: its local entries, to append after those before (the bytes returned, a slice of it).
+    pub fn add<'a>(&mut self, part: &'a [u8]) -> Result<&'a [u8], ClipError> {
+        let bad = |why: &str| ClipError::Zip(format!("joining the clips' zips: {why}"));
+        const END: usize = 22;
+        let end = (0..=part.len().saturating_sub(END))
+            .rev()
+            .find(|&i| part[i..].starts_with(&[0x50, 0x4b, 0x05, 0x06]))
+            .ok_or_else(|| bad("a part has no end record"))?;
+        let entries = u16_at(part, end + 10).ok_or_else(|| bad("a cut end record"))?;
+        let (size, start) = (u32_at(part, end + 12), u32_at(part, end + 16));
+        let (Some(size), Some(start)) = (size, start) else { return Err(bad("a cut end record")) };
+        if entries == 0xffff || size == 0xffff_ffff || start == 0xffff_ffff {
+            return Err(bad("a part too large for a plain zip"));
+        }
+        let (start, size) = (start as usize, size as usize);
+        let central = part
+            .get(start..start + size)
+            .filter(|_| start + size <= end)
+            .ok_or_else(|| bad("a cut central directory"))?;
+        let mut at = 0;
+        let mut moved = Vec::with_capacity(central.len());
+        for _ in 0..entries {
+            let record = central.get(at..at + 46).filter(|r| r.starts_with(&[0x50, 0x4b, 0x01, 0x02]));
+            let record = record.ok_or_else(|| bad("a central record out of place"))?;
+            let lengths = [28, 30, 32].map(|k| u16_at(record, k).unwrap_or(0) as usize);
+            let len = 46 + lengths.iter().sum::<usize>();
+            let local = u32_at(record, 42).unwrap_or(0) + self.offset;
+            if local >= 0xffff_ffff {
+                return Err(bad("the clips pass 4 GiB: export the clips of fewer clusters or takes"));
+            }
+            let whole = central.get(at..at + len).ok_or_else(|| bad("a cut central record"))?;
+            moved.extend_from_slice(&whole[..42]);
+            moved.extend_from_slice(&(local as u32).to_le_bytes());
+            moved.extend_from_slice(&whole[46..]);
+            at += len;
+        }
+        if self.entries + entries > 0xfffe {
+            return Err(bad("more than 65 534 clips: export the clips of fewer clusters or takes"));
+        }
+        self.central.extend_from_slice(&moved);
+        self.entries += entries;
+        self.offset += start as u64;
+        Ok(&part[..start])
+    }
+
+    /// The central directory of every part added and the archive's end record: the bytes that close the archive.
+    pub fn finish(self) -> Result<Vec<u8>, ClipError> {
+        if self.offset + self.central.len() as u64 >= 0xffff_ffff {
+            return Err(ClipError::Zip("the clips pass 4 GiB: export the clips of fewer clusters or takes".into()));
+        }
+        let mut out = self.central;
+        let size = out.len() as u32;
+        out.extend_from_slice(&[0x50, 0x4b, 0x05, 0x06, 0, 0, 0, 0]);
+        out.extend_from_slice(&(self.entries as u16).to_le_bytes());
+        out.extend_from_slice(&(self.entries as u16).to_le_bytes());
+        out.extend_from_slice(&size.to_le_bytes());
+        out.extend_from_slice(&(self.offset as u32).to_le_bytes());
+        out.extend_from_slice(&[0, 0]);
+        Ok(out)
+    }
+}
+
 /// What [`export`] makes: one file to save.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Export {
@@ -310,6 +398,50 @@ pub fn export(
 
 #[cfg(test)]
 mod tests {
+
+    /// Zips written one take at a time and joined are the zip of every clip: the same files, the same bytes, read by
+    /// the zip crate; a part that is no zip is refused.
+    #[test]
+    fn zips_joined_one_at_a_time_are_one_zip_of_every_clip() {
+        use std::io::Read;
+        let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/12_01.bvh")).unwrap();
+        let bvh = crate::bvh::parse(&text).unwrap();
+        let clip = |name: &str, start: usize, end: usize| Clip {
+            file: name.into(),
+            bvh: cut(&bvh, start, end).unwrap(),
+            segment: crate::segment::Segment {
+                start,
+                end,
+                label: "walk".into(),
+                level: crate::segment::Level::Action,
+                cluster: None,
+                score: None,
+                mirror_of: None,
+                effort: None,
+            },
+        };
+        let parts =
+            [vec![clip("walk/a_1.bvh", 0, 40), clip("walk/a_2.bvh", 41, 90)], vec![clip("turn/b_1.bvh", 10, 60)]];
+        let mut join = ZipJoin::new();
+        let mut joined = Vec::new();
+        for part in &parts {
+            let z = zip(part).unwrap();
+            joined.extend_from_slice(join.add(&z).unwrap());
+        }
+        joined.extend(join.finish().unwrap());
+        let mut archive = zip::ZipArchive::new(std::io::Cursor::new(joined)).unwrap();
+        assert_eq!(archive.len(), 3);
+        for c in parts.iter().flatten() {
+            let mut text = String::new();
+            archive.by_name(&c.file).unwrap().read_to_string(&mut text).unwrap();
+            assert_eq!(text, crate::bvh::write(&c.bvh), "{}", c.file);
+        }
+        let e = ZipJoin::new().add(b"not a zip at all, not even 22 bytes long").unwrap_err().to_string();
+        assert!(e.contains("no end record"), "{e}");
+        // nothing added: an empty archive
+        let empty = ZipJoin::new().finish().unwrap();
+        assert_eq!(zip::ZipArchive::new(std::io::Cursor::new(empty)).unwrap().len(), 0);
+    }
     use super::*;
 
     #[test]

@@ -6,7 +6,6 @@
 use crate::app::library::library_jobs::{Inner, LibraryJobs};
 use crate::app::loader::{AfterDeath, Jobs, Loader};
 use crate::app::models::model_jobs::ModelJobs;
-use crate::app::player::motion_image::download;
 use crate::app::state::AppState;
 use crate::protocol::{Response, RunId};
 use crate::worker::pool::Slot;
@@ -24,17 +23,18 @@ impl LibraryJobs {
     }
 
     /// The clips `run` of several takes answered: saved, or why not.
-    fn clips_done(&self, run: RunId, outcome: Result<(String, usize, Vec<u8>), String>) {
+    /// One take's clips of the export under way, zipped (or why not): joined to the archive, the next take sent.
+    fn clips_done(&self, run: RunId, outcome: Result<(usize, Vec<u8>), String>) {
         let library = self.0.state.library;
         self.0.loader.forget(run);
         library.clip_run.set_value(None);
-        library.status.set(Some(match outcome {
-            Ok((file, clips, bytes)) => match download(&bytes, "application/zip", &file) {
-                Ok(()) => (false, format!("saved {file} ({})", crate::method::counted(clips, "clip"))),
-                Err(e) => (true, format!("could not save {file}: {}", crate::app::dom::js_message(&e))),
-            },
-            Err(message) => (true, message),
-        }));
+        match outcome {
+            Ok((clips, bytes)) => self.clip_part(clips, &bytes),
+            Err(message) => {
+                library.clip_export.set_value(None);
+                library.status.set(Some((true, message)));
+            }
+        }
     }
 
     /// The take-labelling run `run` of a supervised route made progress.
@@ -97,7 +97,7 @@ impl Jobs for LibraryJobs {
         }
         if clip_run == Some(run) {
             return match response {
-                Response::Clips { file, clips, bytes, .. } => self.clips_done(run, Ok((file, clips, bytes))),
+                Response::Clips { clips, bytes, .. } => self.clips_done(run, Ok((clips, bytes))),
                 Response::Failed { message, .. } => self.clips_done(run, Err(message)),
                 _ => {}
             };

@@ -132,6 +132,8 @@ impl LibraryJobs {
             library.cluster_run.set_value(None);
             library.matching.set(Some((true, "matching cancelled".into())));
         }
+        // and the clips being cut
+        self.stop_clip_export();
         // and the carrying of labels
         let carrying = self.stop_carrying();
         if running || matching.is_some() || carrying {
@@ -154,43 +156,135 @@ impl LibraryJobs {
         self.pump();
     }
 
-    /// Cuts the occurrences `takes` (library index, its segments to cut, each labelled with its
-    /// cluster's name) as BVH clips into one zip `file`, each take's file read again.
+    /// Cuts the occurrences `takes` (library index, its segments to cut, each labelled with its cluster's name) as BVH
+    /// clips into one zip `file`, one take at a time: each take's file read again and sent alone, its clips zipped in
+    /// the worker and joined to the archive ([`crate::app::library::state::ClipExport`]).
     pub fn export_library_clips(
         &self,
         file: String,
         takes: Vec<(usize, crate::segment::Segmentation)>,
         to_origin: bool,
     ) {
-        let this = self.clone();
         let library = self.0.state.library;
-        library.status.set(Some((false, "cutting the clips…".into())));
+        // the clips are named from their take's name: takes of one name (from two folders) get distinct ones
+        let names: Vec<String> = takes.iter().map(|(i, _)| library.take_name(*i)).collect();
+        let mut stems: Vec<String> = names.iter().map(|n| crate::clips::stem_of(n).to_string()).collect();
+        crate::app::library::takes::make_unique(&mut stems);
+        let todo = takes
+            .into_iter()
+            .zip(names.iter().zip(&stems))
+            .map(|((i, s), (name, stem))| {
+                let ext = name.rsplit_once('.').map_or(String::new(), |(_, e)| format!(".{e}"));
+                (i, s, format!("{stem}{ext}"))
+            })
+            .collect::<std::collections::VecDeque<_>>();
+        let count = todo.len();
+        library.clip_export.set_value(Some(crate::app::library::state::ClipExport {
+            file,
+            to_origin,
+            todo,
+            takes: count,
+            join: crate::clips::ZipJoin::new(),
+            parts: js_sys::Array::new(),
+            clips: 0,
+        }));
+        self.next_clip_take();
+    }
+
+    /// Sends the next take of the clip export under way to the worker, or, none left, saves the archive.
+    pub(super) fn next_clip_take(&self) {
+        let library = self.0.state.library;
+        let next = library.clip_export.with_value(|e| {
+            e.as_ref().map(|e| (e.todo.front().cloned(), e.takes - e.todo.len(), e.takes, e.to_origin))
+        });
+        let Some((next, done, count, to_origin)) = next else { return };
+        let Some((i, segmentation, name)) = next else { return self.save_clip_export() };
+        library.status.set(Some((false, format!("cutting the clips: take {} of {count}…", done + 1))));
+        let this = self.clone();
         wasm_bindgen_futures::spawn_local(async move {
+            let fail = |message: String| {
+                library.clip_export.set_value(None);
+                library.status.set(Some((true, message)));
+            };
+            let Some(source) = library.source(i) else {
+                return fail("the library changed while its clips were cut".into());
+            };
             let buffers = js_sys::Array::new();
-            let mut asked = Vec::new();
-            for (i, segmentation) in takes {
-                let Some(source) = library.source(i) else { continue };
-                for blob in std::iter::once(&source.motion).chain(source.skeleton.as_ref()) {
-                    match blob_bytes(&Blob::from(blob.clone())).await {
-                        Ok(bytes) => {
-                            buffers.push(&bytes);
-                        }
-                        Err(e) => {
-                            let message = format!("{}: could not read the file again: {e}", blob.name());
-                            return library.status.set(Some((true, message)));
-                        }
+            for blob in std::iter::once(&source.motion).chain(source.skeleton.as_ref()) {
+                match blob_bytes(&Blob::from(blob.clone())).await {
+                    Ok(bytes) => {
+                        buffers.push(&bytes);
                     }
+                    Err(e) => return fail(format!("{}: could not read the file again: {e}", blob.name())),
                 }
-                let name = source.motion.name();
-                asked.push(ClipTake { name, skeleton: source.skeleton.as_ref().map(File::name), segmentation });
             }
+            if library.clip_export.with_value(Option::is_none) {
+                return; // cancelled while the file was read
+            }
+            library.clip_export.update_value(|e| {
+                if let Some(e) = e {
+                    e.todo.pop_front();
+                }
+            });
+            let take = ClipTake { name, skeleton: source.skeleton.as_ref().map(File::name), segmentation };
             let run = this.0.loader.new_run();
-            let request = Request::LibraryClips { take: 0, run, file, takes: asked, to_origin, bytes: Vec::new() };
+            let file = library.clip_export.with_value(|e| e.as_ref().map(|e| e.file.clone())).unwrap_or_default();
+            let request = Request::LibraryClips { take: 0, run, file, takes: vec![take], to_origin, bytes: Vec::new() };
             match this.0.loader.send_buffers(this.jobs(), &request, buffers) {
                 Ok(()) => library.clip_run.set_value(Some(run)),
-                Err(e) => library.status.set(Some((true, e))),
+                Err(e) => fail(e),
             }
         });
+    }
+
+    /// One take's clips, zipped by the worker: joined to the archive, then the next take.
+    pub(super) fn clip_part(&self, clips: usize, zipped: &[u8]) {
+        let library = self.0.state.library;
+        let joined = library.clip_export.try_update_value(|e| {
+            let e = e.as_mut()?;
+            Some(e.join.add(zipped).map(|local| {
+                e.parts.push(&js_sys::Uint8Array::from(local));
+                e.clips += clips;
+            }))
+        });
+        match joined.flatten() {
+            Some(Ok(())) => self.next_clip_take(),
+            Some(Err(e)) => {
+                library.clip_export.set_value(None);
+                library.status.set(Some((true, e.to_string())));
+            }
+            None => {}
+        }
+    }
+
+    /// Every take cut: the archive's end joined, and the archive saved.
+    fn save_clip_export(&self) {
+        let library = self.0.state.library;
+        let Some(export) = library.clip_export.try_update_value(Option::take).flatten() else { return };
+        let crate::app::library::state::ClipExport { file, join, parts, clips, .. } = export;
+        let said = join.finish().map_err(|e| e.to_string()).and_then(|end| {
+            parts.push(&js_sys::Uint8Array::from(&end[..]));
+            crate::app::player::motion_image::download_parts(&parts, "application/zip", &file)
+                .map_err(|e| format!("could not save {file}: {}", crate::app::dom::js_message(&e)))
+        });
+        library.status.set(Some(match said {
+            Ok(()) => (false, format!("saved {file} ({})", crate::method::counted(clips, "clip"))),
+            Err(message) => (true, message),
+        }));
+    }
+
+    /// Stops the clip export under way (its take in the worker is forgotten); whether one was.
+    pub(super) fn stop_clip_export(&self) -> bool {
+        let library = self.0.state.library;
+        let was = library.clip_export.try_update_value(Option::take).flatten().is_some();
+        if let Some(run) = library.clip_run.get_value() {
+            self.0.loader.forget(run);
+            library.clip_run.set_value(None);
+        }
+        if was {
+            library.status.set(Some((false, "cutting the clips cancelled".into())));
+        }
+        was
     }
 
     /// Sends the library's queued takes to the pool, as many at once as it has workers (each waits

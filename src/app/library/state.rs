@@ -22,6 +22,24 @@ pub struct Source {
     pub skeleton: Option<File>,
 }
 
+/// A clip export of the library under way (issue 49: "clips encoded and zipped one take at a time"): the worker cuts
+/// and zips one take's clips per request; each zip's entries join the archive as a part of the Blob the page saves
+/// ([`crate::clips::ZipJoin`]), so neither the page nor the worker ever holds more than one take's files and clips.
+pub struct ClipExport {
+    /// The zip's name.
+    pub file: String,
+    pub to_origin: bool,
+    /// The takes still to cut: library index, its segments to cut, the name its clips are named from (unique among
+    /// the export's takes, its extension kept).
+    pub todo: std::collections::VecDeque<(usize, crate::segment::Segmentation, String)>,
+    /// Takes in the export.
+    pub takes: usize,
+    pub join: crate::clips::ZipJoin,
+    /// The archive's parts so far (`Uint8Array`s).
+    pub parts: js_sys::Array,
+    pub clips: usize,
+}
+
 /// The library's state (signals; cheap to copy).
 #[derive(Clone, Copy)]
 pub struct LibraryState {
@@ -33,8 +51,10 @@ pub struct LibraryState {
     pub method: RwSignal<String>,
     /// The library's runs in the pool's workers: their run ids and takes.
     pub running: StoredValue<Vec<(RunId, usize)>>,
-    /// The library's clip export in the worker.
+    /// The library's clip export in the worker: the take being cut.
     pub clip_run: StoredValue<Option<RunId>>,
+    /// The clip export under way, one take at a time.
+    pub clip_export: StoredValue<Option<ClipExport>, LocalStorage>,
     /// The take of the library on screen (`None`: the take on screen is not one of the library's).
     pub open: RwSignal<Option<usize>>,
     /// The names the user gave the shared clusters.
@@ -111,6 +131,7 @@ impl LibraryState {
             method: RwSignal::new("sssm".into()),
             running: StoredValue::new(Vec::new()),
             clip_run: StoredValue::new(None),
+            clip_export: StoredValue::new_local(None),
             open: RwSignal::new(None),
             names: RwSignal::new(ClusterNames::default()),
             playlist: RwSignal::new(None),

@@ -171,9 +171,15 @@ fn context(canvas: &HtmlCanvasElement) -> Result<CanvasRenderingContext2d, JsVal
 
 /// Saves `bytes` as a file called `name` through a temporary object URL.
 pub(crate) fn download(bytes: &[u8], mime: &str, name: &str) -> Result<(), JsValue> {
+    download_parts(&Array::of1(&Uint8Array::from(bytes)), mime, name)
+}
+
+/// Saves the file made of `parts` (`Uint8Array`s, in order) as `name`: the browser joins them (a large file never
+/// one buffer of the page's).
+pub(crate) fn download_parts(parts: &Array, mime: &str, name: &str) -> Result<(), JsValue> {
     let options = BlobPropertyBag::new();
     options.set_type(mime);
-    let blob = Blob::new_with_u8_array_sequence_and_options(&Array::of1(&Uint8Array::from(bytes)), &options)?;
+    let blob = Blob::new_with_u8_array_sequence_and_options(parts, &options)?;
     let url = Url::create_object_url_with_blob(&blob)?;
     let link: HtmlAnchorElement = gloo::utils::document().create_element("a")?.unchecked_into();
     link.set_href(&url);
