@@ -92,6 +92,18 @@ async function arrayBufferSizes(p) {
 }
 
 /** Forgets every stored label of this browser and opens the page again. */
+/** Makes `p`'s storage refuse my labels as a full one does (QuotaExceededError); `window.__restoreSetItem()` undoes it. */
+const refuseLabelStorage = (p = page) => p.evaluate(() => {
+  const set = Storage.prototype.setItem;
+  window.__restoreSetItem = () => { Storage.prototype.setItem = set; };
+  Storage.prototype.setItem = function (key, value) {
+    if (String(key).startsWith("mocapseg.my-labels")) {
+      throw new DOMException("The quota has been exceeded.", "QuotaExceededError");
+    }
+    return set.call(this, key, value);
+  };
+});
+
 async function forgetLabels(p = page) {
   await p.evaluate(() => localStorage.clear());
   await fresh(p);
@@ -238,16 +250,7 @@ test("labels this tab could not save are never replaced by another tab's write (
     await fresh(other);
     await waitCount(0, other);
     // this tab's storage refuses my labels: its edits are on screen only
-    await page.evaluate(() => {
-      const set = Storage.prototype.setItem;
-      window.__restoreSetItem = () => { Storage.prototype.setItem = set; };
-      Storage.prototype.setItem = function (key, value) {
-        if (String(key).startsWith("mocapseg.my-labels")) {
-          throw new DOMException("The quota has been exceeded.", "QuotaExceededError");
-        }
-        return set.call(this, key, value);
-      };
-    });
+    await refuseLabelStorage();
     await page.click("#my-labels-empty");
     await waitCount(1);
     await splitAt(80, 2);
@@ -293,16 +296,7 @@ test("the first edit after a corrupt record keeps it under a backup key and says
 
 test("a full browser storage is shown with the exports offered, and the edit is kept on screen", async () => {
   await forgetLabels();
-  await page.evaluate(() => {
-    const set = Storage.prototype.setItem;
-    window.__restoreSetItem = () => { Storage.prototype.setItem = set; };
-    Storage.prototype.setItem = function (key, value) {
-      if (String(key).startsWith("mocapseg.my-labels")) {
-        throw new DOMException("The quota has been exceeded.", "QuotaExceededError");
-      }
-      return set.call(this, key, value);
-    };
-  });
+  await refuseLabelStorage();
   try {
     await page.click("#my-labels-empty");
     await waitCount(1);

@@ -166,6 +166,8 @@ impl LibraryJobs {
         to_origin: bool,
     ) {
         let library = self.0.state.library;
+        // an export under way gives way (its take in the worker forgotten: its zip must not join this one)
+        self.stop_clip_export();
         // the clips are named from their take's name: takes of one name (from two folders) get distinct ones
         let names: Vec<String> = takes.iter().map(|(i, _)| library.take_name(*i)).collect();
         let mut stems: Vec<String> = names.iter().map(|n| crate::clips::stem_of(n).to_string()).collect();
