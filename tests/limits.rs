@@ -57,6 +57,13 @@ fn peak_during<T>(f: impl FnOnce() -> T) -> (T, usize) {
     (out, PEAK.load(Ordering::Relaxed) - base)
 }
 
+/// Prints what `what` allocated at its peak beside what it declared, and fails if the peak passed it.
+fn assert_within(what: &str, peak: usize, declared: usize) {
+    let mib = |b: usize| b as f64 / 1048576.0;
+    println!("{what}: peak {:6.1} MiB, declared {:6.1} MiB", mib(peak), mib(declared));
+    assert!(peak <= declared, "{what}: took {peak} bytes, more than the {declared} declared");
+}
+
 /// The hierarchy of the CMU fixture 12_01 (31 joints, 62 channels) with `frames` rows of zeros
 /// and small angles.
 fn cmu_take(frames: usize) -> String {
@@ -356,12 +363,7 @@ fn labellers_stay_within_the_work_their_model_declares() {
             let (out, peak) =
                 peak_during(|| m.run_checked(&take, &checked, &RunOptions { pictures: true, limits }, &mut NoProgress));
             out.unwrap_or_else(|e| panic!("{method} {params} on {frames} frames: {e}"));
-            println!(
-                "{method:6} {params} {frames:5} frames: peak {:6.1} MiB, declared {:6.1} MiB",
-                peak as f64 / 1048576.0,
-                declared as f64 / 1048576.0
-            );
-            assert!(peak <= declared, "{method} {params}: {frames} frames took {peak} bytes, more than {declared}");
+            assert_within(&format!("{method:6} {params} {frames:5} frames"), peak, declared);
             // below its declaration the run is refused before it starts, naming the budget
             let tight = WorkLimits { max_bytes: declared - 1, ..Default::default() };
             let (out, peak) = peak_during(|| {
@@ -531,12 +533,11 @@ fn trainings_stay_within_the_work_they_declare() {
             let within = ask(WorkLimits { max_bytes: declared, ..Default::default() });
             let (out, peak) = peak_during(|| train(within));
             out.unwrap_or_else(|e| panic!("{method} {options} on {frames} frames: {e}"));
-            println!(
-                "training {method:5} {options} on {frames:5} frames at {frame_time} s: peak {:6.1} MiB, declared {:6.1} MiB",
-                peak as f64 / 1048576.0,
-                declared as f64 / 1048576.0
+            assert_within(
+                &format!("training {method:5} {options} on {frames:5} frames at {frame_time} s"),
+                peak,
+                declared,
             );
-            assert!(peak <= declared, "{method} {options}: {frames} frames took {peak} bytes, more than {declared}");
             // below its declaration it is refused once the take is read, before its arrays, naming the budget
             let tight = ask(WorkLimits { max_bytes: declared - 1, ..Default::default() });
             let (out, peak) = peak_during(|| train(tight));

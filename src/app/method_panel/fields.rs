@@ -8,11 +8,6 @@ use crate::method::{ParamKind, ParamSpec};
 use leptos::prelude::*;
 use wasm_bindgen::JsCast;
 
-/// The name of a parameter in words, without its unit (`horizon_s` in seconds: "search horizon").
-pub(crate) fn param_words(spec: &ParamSpec) -> String {
-    spec.words()
-}
-
 /// A field's help, shown under it (`#<id>-help`, which describes the control).
 fn help_view(id: &str, help: String) -> impl IntoView {
     view! { <span id=format!("{id}-help") class="ms-field-help">{help}</span> }
@@ -20,7 +15,7 @@ fn help_view(id: &str, help: String) -> impl IntoView {
 
 /// The label of a parameter's field: its name in words, with its unit ("horizon (s)").
 fn field_label(spec: &ParamSpec) -> String {
-    let words = param_words(spec);
+    let words = spec.words();
     match &spec.unit {
         Some(unit) => format!("{words} ({unit})"),
         None => words,
@@ -47,7 +42,7 @@ pub(crate) fn field(
     let help = spec.help.clone();
     let described = format!("{id}-help");
     let label = field_label(spec);
-    let words = param_words(spec);
+    let words = spec.words();
     let unit = unit_view(spec);
     match &spec.kind {
         ParamKind::Bool => {

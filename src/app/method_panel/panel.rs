@@ -25,7 +25,7 @@
 //!   segment, else a clean abbreviation or nothing ([`crate::app::timeline::label_fit`]), the whole label in
 //!   `data-label` and the tooltip.
 
-use crate::app::method_panel::fields::{checked_field, param_words};
+use crate::app::method_panel::fields::checked_field;
 use crate::app::method_panel::runs::MethodRuns;
 use crate::app::player::motion_image::{download, stem};
 use crate::app::state::AppState;
@@ -63,7 +63,7 @@ fn lowered_message(slot: &'static MethodSlot, pending: &[form::Conflict]) -> Str
 
 /// Parameter `name` of `slot` in words (its own name when the method has no such parameter).
 fn spec_words(slot: &'static MethodSlot, name: &str) -> String {
-    slot.specs.iter().find(|s| s.name == name).map(param_words).unwrap_or_else(|| name.to_string())
+    slot.specs.iter().find(|s| s.name == name).map(crate::method::ParamSpec::words).unwrap_or_else(|| name.to_string())
 }
 
 /// A coupled parameter the form breaks (`c`), with the button that sets it to its limit (`adjust`).

@@ -281,6 +281,12 @@ mod tests {
         TakeRef { name: name.into(), sha256: sha256_hex(bytes), bytes: bytes.len() as u64, skeleton: None }
     }
 
+    /// The files opened with [`project`]'s: `first` (name, bytes), then its AMC take and skeleton as saved.
+    fn opened(first: &[(&str, &[u8])]) -> Vec<(String, String)> {
+        let saved: [(&str, &[u8]); 2] = [("b.amc", b"motion b"), ("02.asf", b"skeleton")];
+        first.iter().chain(&saved).map(|(name, bytes)| (name.to_string(), sha256_hex(bytes))).collect()
+    }
+
     fn project() -> Project {
         let mut record = Record::new();
         record.take = Some(KeptTake { name: "02_01.bvh".into(), sample: false, kept: true, library: None });
@@ -349,13 +355,7 @@ mod tests {
             name: "jog".into(),
             spots: vec![crate::app::library::names::NamedSpot { take: "a.bvh".into(), start: 3, end: 40 }],
         }];
-        let file = |name: &str, bytes: &[u8]| (name.to_string(), sha256_hex(bytes));
-        let files = vec![
-            file("renamed: 02_01 copy.bvh", b"take"),
-            file("walk.bvh", b"motion a"),
-            file("b.amc", b"motion b"),
-            file("02.asf", b"skeleton"),
-        ];
+        let files = opened(&[("renamed: 02_01 copy.bvh", b"take"), ("walk.bvh", b"motion a")]);
         let found = p.find(&files);
         let names: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();
         let r = p.clone().renamed(&found, &names);
@@ -389,13 +389,7 @@ mod tests {
     #[test]
     fn takes_are_found_by_what_they_hold_whatever_their_names() {
         let p = project();
-        let file = |name: &str, bytes: &[u8]| (name.to_string(), sha256_hex(bytes));
-        let files = vec![
-            file("renamed.bvh", b"take"),
-            file("a.bvh", b"changed"),
-            file("b.amc", b"motion b"),
-            file("02.asf", b"skeleton"),
-        ];
+        let files = opened(&[("renamed.bvh", b"take"), ("a.bvh", b"changed")]);
         let found = p.find(&files);
         assert_eq!(found.take, Some((0, None)), "a renamed file holding the take's bytes is the take");
         assert_eq!(found.library, vec![None, Some((2, Some(3)))]);
