@@ -1623,6 +1623,42 @@ fn transfer_carries_one_takes_labels_to_the_other() {
     assert!(String::from_utf8_lossy(&r.stderr).contains("--route sideways: expected nearest or clusters"));
 }
 
+#[path = "support/hostile.rs"]
+mod hostile;
+
+/// A k-NN file asking for the widest window (issue 49: ±300 frames every frame, 46× the shipped window's work a
+/// frame) runs on a short take, and on a long one (7000 frames at 1 Hz: 1.9 h, 210 k working frames) is refused
+/// before it starts with the multiply-adds it would take and the duration that fits — exit code 1, no panic; the
+/// shipped model runs that long take's check (its segmentation is not needed here: `--params` asks for nothing).
+#[test]
+fn a_wide_window_model_file_runs_within_its_time_or_is_refused() {
+    let dir = out_dir().join("wide-window");
+    std::fs::create_dir_all(&dir).unwrap();
+    let model = dir.join("wide.model");
+    std::fs::write(&model, hostile::wide_knn_file("wide", 500)).unwrap();
+    let text = std::fs::read_to_string(fixture("35_01.bvh")).unwrap();
+    let (head, motion) = text.split_at(text.find("MOTION").unwrap());
+    let rows: Vec<&str> = motion.lines().skip(3).filter(|l| !l.trim().is_empty()).collect();
+    let bvh = |frames: usize, frame_time: &str| {
+        let body: Vec<&str> = rows.iter().copied().cycle().take(frames).collect();
+        format!("{head}MOTION\nFrames: {frames}\nFrame Time: {frame_time}\n{}\n", body.join("\n"))
+    };
+    let short = dir.join("short.bvh");
+    std::fs::write(&short, bvh(358, "0.0083333")).unwrap();
+    let long = dir.join("long.bvh");
+    std::fs::write(&long, bvh(7000, "1")).unwrap();
+    let segment = |take: &std::path::Path| {
+        run(&["segment", "--method", "knn", "--model", model.to_str().unwrap(), take.to_str().unwrap()])
+    };
+    let out = segment(&short);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = segment(&long);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("long.bvh") && err.contains("multiply-adds") && err.contains("more than the budget"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
 /// A model file from anyone (issue 49): the shipped k-NN file with a hostile header — its payload and
 /// checksum untouched, framed as the format frames it (magic, format byte, header length, JSON,
 /// payload length, payload) — is refused with the field named and exit code 1, not a panic (exit

@@ -555,3 +555,114 @@ fn trainings_stay_within_the_work_they_declare() {
         }
     }
 }
+
+#[path = "support/hostile.rs"]
+mod hostile;
+
+/// A k-NN file asking for the widest window (±300 frames, every frame: 30,651 values a window, 46× the shipped one's)
+/// declares that in its run's time — the window projected onto 32 axes and its training windows scanned, every
+/// working frame —, runs on a take within what it declares (bytes measured), and is refused before it starts past
+/// either budget: below its declared multiply-adds on that take, and under the default budget on a take long enough
+/// (1.9 h at 1 Hz), naming the multiply-adds and the duration that fits. The shipped model declares far less.
+#[test]
+fn a_wide_window_knn_declares_its_time_and_is_refused_past_it() {
+    use mocapseg::method::{NoProgress, RunOptions, WorkLimits};
+    let _one = MEASURING.lock().unwrap();
+    let m = mocapseg::methods::find("knn").unwrap();
+    let mut store = mocapseg::method::ModelStore::new();
+    store.install(m.supervised().unwrap().read_model("wide.model", &hostile::wide_knn_file("wide", 2000)).unwrap());
+    let params = serde_json::json!({"model": "wide", "fit_check": false});
+    let checked = m.check_json_in(&params, &store).unwrap();
+    let work = m.work(&checked).unwrap();
+    let shipped = m.work(&m.check_json(&serde_json::json!({"fit_check": false})).unwrap()).unwrap();
+    let window = (601 * 51 * 32) as f64;
+    assert!(work.ops_per_frame >= window + (2000 * 32) as f64, "declares {} a frame", work.ops_per_frame);
+    assert!(shipped.ops_per_frame < window / 4.0, "the shipped k-NN declares {} a frame", shipped.ops_per_frame);
+    let take = working_take(600, 30.0);
+    let frames = work.frames(&take);
+    let (bytes, ops) = (work.bytes(frames, take.joints()), work.ops(frames));
+    let fits = WorkLimits { max_bytes: bytes, max_ops: ops, ..Default::default() };
+    let started = std::time::Instant::now();
+    let (out, peak) =
+        peak_during(|| m.run_checked(&take, &checked, &RunOptions { pictures: true, limits: fits }, &mut NoProgress));
+    out.unwrap_or_else(|e| panic!("the wide k-NN on {frames} frames: {e}"));
+    assert_within("knn, a ±300-frame window, 600 frames", peak, bytes);
+    eprintln!(
+        "wide k-NN, {frames} frames: {:.0} ms for {ops:.3e} declared multiply-adds",
+        started.elapsed().as_secs_f64() * 1e3
+    );
+    let tight = WorkLimits { max_ops: ops - 1.0, ..fits };
+    let (out, peak) =
+        peak_during(|| m.run_checked(&take, &checked, &RunOptions { pictures: true, limits: tight }, &mut NoProgress));
+    let message = out.err().expect("refused below its declared multiply-adds").to_string();
+    assert!(message.contains("multiply-adds") && message.contains("more than the budget"), "{message}");
+    assert!(peak < 1 << 20, "allocated {peak} bytes before refusing");
+    // under the default budget: a 1 Hz take of 7000 frames (1.9 h, 210 k working frames) is refused, the shipped
+    // model runs it (it is checked, not run, here)
+    let long = working_take(7000, 1.0);
+    let (out, peak) = peak_during(|| m.run_checked(&long, &checked, &RunOptions::default(), &mut NoProgress));
+    let message = out.err().expect("the long take is past the default budget").to_string();
+    assert!(message.contains("multiply-adds") && message.contains("cut the take to at most"), "{message}");
+    assert!(peak < 1 << 20, "allocated {peak} bytes before refusing");
+    assert!(shipped.ops(shipped.frames(&long)) <= WorkLimits::default().max_ops);
+    // both shipped labellers fit a 2-hour take (the longest a run takes)
+    let two_hours = working_take(7200, 1.0);
+    for method in ["knn", "dtfcn"] {
+        let m = mocapseg::methods::find(method).unwrap();
+        let work = m.work(&m.check_json(&serde_json::json!({})).unwrap()).unwrap();
+        let ops = work.ops(work.frames(&two_hours));
+        assert!(ops <= WorkLimits::default().max_ops, "the shipped {method} declares {ops:.3e} for 2 hours");
+    }
+}
+
+/// A run stops soon after it is cancelled, wherever it is: in the wide k-NN's projection, in the k-NN's search, in
+/// the take fit's search, in the decoder (a 30 s minimum run of 7 classes), and between DT-FCN's blocks — at most one
+/// report after the one that cancelled (before these asked, each ran to its end and only then said Cancelled).
+#[test]
+fn a_labelling_run_stops_where_it_is_cancelled() {
+    use mocapseg::method::{MethodError, Progress, RunOptions};
+    let _one = MEASURING.lock().unwrap();
+    struct CancelAt {
+        stage: &'static str,
+        after: f64,
+        cancelled: bool,
+        reports_after: usize,
+    }
+    impl Progress for CancelAt {
+        fn report(&mut self, stage: &str, fraction: f64) {
+            if self.cancelled {
+                self.reports_after += 1;
+            } else if stage == self.stage && fraction > self.after {
+                self.cancelled = true;
+            }
+        }
+        fn cancelled(&self) -> bool {
+            self.cancelled
+        }
+    }
+    let mut store = mocapseg::method::ModelStore::new();
+    let knn = mocapseg::methods::find("knn").unwrap();
+    store.install(knn.supervised().unwrap().read_model("wide.model", &hostile::wide_knn_file("wide", 2000)).unwrap());
+    let take = working_take(6000, 30.0);
+    let cases = [
+        ("knn", serde_json::json!({"model": "wide", "fit_check": false}), "neighbours", 0.12),
+        ("knn", serde_json::json!({"fit_check": false}), "neighbours", 0.7),
+        ("knn", serde_json::json!({}), "take fit", 0.01),
+        (
+            "knn",
+            serde_json::json!({"decoding": "custom", "min_duration_s": 30.0, "fit_check": false}),
+            "decoding",
+            0.92,
+        ),
+        ("dtfcn", serde_json::json!({"decoding": "raw", "fit_check": false}), "network", 0.2),
+    ];
+    for (method, params, stage, after) in cases {
+        let m = mocapseg::methods::find(method).unwrap();
+        let checked = m.check_json_in(&params, &store).unwrap();
+        let mut progress = CancelAt { stage, after, cancelled: false, reports_after: 0 };
+        let out = m.run_checked(&take, &checked, &RunOptions::default(), &mut progress);
+        assert!(progress.cancelled, "{method} {params}: never reached {stage} past {after}");
+        assert!(matches!(out, Err(MethodError::Cancelled)), "{method} {params}: {:?}", out.map(|_| ()));
+        assert!(progress.reports_after <= 1, "{method} {params}: {} reports after the cancel", progress.reports_after);
+    }
+}

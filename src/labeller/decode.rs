@@ -16,6 +16,7 @@
 //! runs are called `unknown` as a whole when their mean probability is below the threshold.
 
 use super::probabilities::Probabilities;
+use crate::method::Go;
 use crate::segment::frames::WorkingFrames;
 use crate::segment::labelling::{score, LabellingScores};
 
@@ -36,6 +37,9 @@ fn shown(v: f64) -> String {
         v.to_string()
     }
 }
+
+/// The decoder asks [`Go`] every this many frames.
+const GO_EVERY: usize = 256;
 
 /// The longest minimum run a decoding may ask for, in seconds (a run's parameter or a model file's
 /// header): the decoder's time and memory grow with it (module docs).
@@ -70,6 +74,16 @@ impl Decoding {
         self.min_frames(fps) <= 1 && self.switch_cost <= 0.0
     }
 
+    /// Multiply-adds (a comparison and an addition counted as one) of [`viterbi`] per frame of `classes` classes at
+    /// `fps`: every class's every slot of its run; none for the raw labels (one pass over each frame's classes).
+    pub fn ops_per_frame(&self, classes: usize, fps: f64) -> f64 {
+        if self.is_raw(fps) {
+            classes as f64
+        } else {
+            2.0 * classes as f64 * (self.min_frames(fps) as f64 + 2.0)
+        }
+    }
+
     /// The minimum duration in frames at `fps` (at least 1).
     pub fn min_frames(&self, fps: f64) -> usize {
         ((self.min_duration_s * fps).round() as usize).max(1)
@@ -79,9 +93,15 @@ impl Decoding {
 /// The most probable class path of `p` under `min_frames` and `switch_cost` (module docs): one
 /// class per frame.
 pub fn viterbi(p: &Probabilities, min_frames: usize, switch_cost: f32) -> Vec<usize> {
+    viterbi_going(p, min_frames, switch_cost, &mut |_| true).unwrap_or_default()
+}
+
+/// [`viterbi`], asking `go` (the share of the frames done) every [`GO_EVERY`] frames: `None` once it answers false
+/// (a run's cancel; the decoder is `frames × classes × min_frames`, minutes for a long take with a long minimum run).
+pub fn viterbi_going(p: &Probabilities, min_frames: usize, switch_cost: f32, go: Go) -> Option<Vec<usize>> {
     let (n, c) = (p.frames, p.classes);
     if n == 0 || c == 0 {
-        return Vec::new();
+        return Some(Vec::new());
     }
     let d = min_frames.max(1);
     let emit = |t: usize, k: usize| (p.prob(t, k).max(0.0) + 1e-6).ln();
@@ -97,6 +117,9 @@ pub fn viterbi(p: &Probabilities, min_frames: usize, switch_cost: f32) -> Vec<us
     let mut stayed = vec![false; n * c];
     let mut next = vec![f32::NEG_INFINITY; c * d];
     for t in 1..n {
+        if t % GO_EVERY == 0 && !go(t as f64 / n as f64) {
+            return None;
+        }
         // the two best classes in their last slot: a new run enters from the best other than itself
         let (mut b1, mut b2) = ((f32::NEG_INFINITY, usize::MAX), (f32::NEG_INFINITY, usize::MAX));
         for k in 0..c {
@@ -158,7 +181,7 @@ pub fn viterbi(p: &Probabilities, min_frames: usize, switch_cost: f32) -> Vec<us
             j -= 1;
         }
     }
-    path
+    Some(path)
 }
 
 /// Per file frame: the label (`None` = unknown) and the probability of the frame's decoded class.
@@ -172,20 +195,35 @@ pub fn file_labels(
     decoding: &Decoding,
     threshold: f64,
 ) -> Vec<(Option<usize>, f32)> {
+    file_labels_going(p, source, fps, file_frames, decoding, threshold, &mut |_| true).unwrap_or_default()
+}
+
+/// [`file_labels`], asking `go` as its decoding goes ([`viterbi_going`]): `None` once it answers false.
+pub fn file_labels_going(
+    p: &Probabilities,
+    source: &[f64],
+    fps: f64,
+    file_frames: usize,
+    decoding: &Decoding,
+    threshold: f64,
+    go: Go,
+) -> Option<Vec<(Option<usize>, f32)>> {
     if p.frames == 0 || file_frames == 0 {
-        return Vec::new();
+        return Some(Vec::new());
     }
     let frames = WorkingFrames { source, file_frames };
     let at = |f: usize| frames.working_frame(f).min(p.frames - 1);
     if decoding.is_raw(fps) {
-        return (0..file_frames)
-            .map(|f| {
-                let (c, q) = p.best(at(f));
-                ((q as f64 >= threshold).then_some(c), q)
-            })
-            .collect();
+        return Some(
+            (0..file_frames)
+                .map(|f| {
+                    let (c, q) = p.best(at(f));
+                    ((q as f64 >= threshold).then_some(c), q)
+                })
+                .collect(),
+        );
     }
-    let path = viterbi(p, decoding.min_frames(fps), decoding.switch_cost as f32);
+    let path = viterbi_going(p, decoding.min_frames(fps), decoding.switch_cost as f32, go)?;
     let mut out: Vec<(Option<usize>, f32)> = (0..file_frames)
         .map(|f| {
             let w = at(f);
@@ -205,7 +243,7 @@ pub fn file_labels(
             start = f;
         }
     }
-    out
+    Some(out)
 }
 
 /// The decodings a labelled take chooses between (the first: the raw per-frame labels): minimum runs of 0–8 s,

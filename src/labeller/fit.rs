@@ -35,8 +35,13 @@ use crate::motion::Motion;
 /// its nearest training window, and how far training windows lie from the other training windows `gap` working
 /// frames or more away (`samples` of them). The k-NN labeller's windows are these (its model file holds them).
 pub trait Windows {
-    fn nearest_distances(&self, motion: &Motion) -> Result<Vec<f32>, String>;
+    /// Per file frame of `motion`, its window's distance to the nearest training window; `None` once `go` (asked
+    /// with the share done) answers false.
+    fn nearest_distances(&self, motion: &Motion, go: crate::method::Go) -> Result<Option<Vec<f32>>, String>;
     fn familiar_distances(&self, gap: usize, samples: usize) -> Vec<f32>;
+    /// Multiply-adds of [`TakeFit::assess`]'s search, at most: per working frame of a take, and besides (the familiar
+    /// distances, [`FAMILIAR_SAMPLES`] windows each against every training window).
+    fn search_ops(&self) -> (f64, f64);
 }
 
 /// The training frames' percentile a frame must travel faster than to be unfamiliar.
@@ -159,6 +164,17 @@ impl TakeFit {
         travel: Option<&TravelProfile>,
         windows: Option<&dyn Windows>,
     ) -> Result<TakeFit, String> {
+        Self::assess_going(motion, travel, windows, &mut |_| true)?.ok_or_else(|| "stopped".to_string())
+    }
+
+    /// [`TakeFit::assess`], asking `go` (the share of the windows' search done) as it searches: `None` once it
+    /// answers false (a run's cancel).
+    pub fn assess_going(
+        motion: &Motion,
+        travel: Option<&TravelProfile>,
+        windows: Option<&dyn Windows>,
+        go: crate::method::Go,
+    ) -> Result<Option<TakeFit>, String> {
         let mut unfamiliar = vec![false; motion.frames()];
         let mut travel_share = None;
         if let Some(profile) = travel {
@@ -171,7 +187,7 @@ impl TakeFit {
         let mut pose_ratio = None;
         if let Some(knn) = windows {
             let familiar = knn.familiar_distances(FAMILIAR_GAP, FAMILIAR_SAMPLES);
-            let distances = knn.nearest_distances(motion)?;
+            let Some(distances) = knn.nearest_distances(motion, go)? else { return Ok(None) };
             let limit = quantile(&familiar, POSE_PERCENTILE);
             for (u, d) in unfamiliar.iter_mut().zip(&distances) {
                 *u |= *d > limit;
@@ -186,7 +202,7 @@ impl TakeFit {
                 0.0
             });
         }
-        Ok(TakeFit { travel_share, travel_limit: travel.map(|t| t.limit), pose_ratio, unfamiliar })
+        Ok(Some(TakeFit { travel_share, travel_limit: travel.map(|t| t.limit), pose_ratio, unfamiliar }))
     }
 
     /// Whether the model's classes can describe the take (true when nothing was measured).

@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::decode::{file_labels, Decoding};
+use super::decode::{file_labels_going, Decoding};
 use super::model::{Labeller, Model, ModelHeader};
 use super::probabilities::Probabilities;
 use super::shipped;
@@ -154,16 +154,26 @@ fn windows_of(model: Option<&Model>) -> Option<&dyn super::fit::Windows> {
 /// (a u16 and a flag); besides, whatever the length: the decoding's two score rows (classes × its minimum run in
 /// frames, [`super::decode::viterbi`]) and what the labeller holds whatever the length ([`Labeller::fixed_bytes`]:
 /// one block of a network's inference), 4 MiB for the rest.
-pub fn model_work(model: &Model, decoding: &Decoding, base: usize) -> Work {
+///
+/// Its time too, in multiply-adds a working frame: the labeller's ([`Labeller::ops_per_frame`]: the k-NN's window
+/// projected and its training frames scanned, the networks' convolutions), the decoding's (classes × its minimum run,
+/// [`Decoding::ops_per_frame`]) and, when the take's fit is measured (`fit`: the model whose windows measure it), that
+/// search's, with its familiar distances besides.
+pub fn model_work(model: &Model, decoding: &Decoding, base: usize, fit: Option<&Model>) -> Work {
     let classes = model.header.classes.len();
     let (members, block) = (model.labeller.members(), model.labeller.fixed_bytes());
     let per_class = 4 * (members + 2) + 3;
     let scores = 2 * 4 * classes * decoding.min_frames(model.header.fps);
+    let (fit_ops, familiar_ops) = windows_of(fit).map_or((0.0, 0.0), |w| w.search_ops());
     Work {
         fps: model.header.fps,
         bytes_per_frame: base + per_class * classes,
         fixed_bytes: (4 << 20) + scores + block,
         advice: "",
+        ops_per_frame: model.labeller.ops_per_frame(classes)
+            + decoding.ops_per_frame(classes, model.header.fps)
+            + fit_ops,
+        fixed_ops: familiar_ops,
     }
 }
 
@@ -176,11 +186,17 @@ impl Labelling {
     /// can be measured of is not offered, nor one whose file the page could not get (damaged, or
     /// not served: [`crate::method::shipped::refuse`]). On the page a shipped k-NN file not held
     /// yet is [`MethodError::NeedsModel`] (fetched once, then the run is asked again).
+    ///
+    /// Their searches share `ops` multiply-adds (what the run's budget leaves after its own work): a model whose
+    /// search would pass what is left is not measured (a kept file with a window or training set that wide would
+    /// otherwise cost every take it is measured against minutes).
     fn fitting_models(
         &self,
         motion: &Motion,
         chosen: &str,
         models: &ModelStore,
+        mut ops: f64,
+        progress: &mut dyn Progress,
     ) -> Result<Vec<FittingModel>, MethodError> {
         let windows = self.windows_kind();
         let mut names: Vec<String> = shipped::NAMES.iter().map(|n| n.to_string()).collect();
@@ -206,8 +222,21 @@ impl Labelling {
                 // the run goes on (a run that needs it as its own model says why)
                 Err(_) => continue,
             };
-            let fit = super::fit::TakeFit::assess(motion, travel.as_ref(), windows_of(windows.as_deref()))
-                .map_err(MethodError::Failed)?;
+            let search = windows_of(windows.as_deref());
+            if let Some(w) = search {
+                let (per_frame, fixed) = w.search_ops();
+                let frames = Work::at(super::input::NETWORK_FPS).frames(motion);
+                let cost = frames as f64 * per_frame + fixed;
+                if cost > ops {
+                    continue;
+                }
+                ops -= cost;
+            }
+            let fit = super::fit::TakeFit::assess_going(motion, travel.as_ref(), search, &mut |_| {
+                progress.step("take fit", 0.05).is_ok()
+            })
+            .map_err(MethodError::Failed)?
+            .ok_or(MethodError::Cancelled)?;
             if fit.measured() && fit.fits() {
                 fitting.push(FittingModel {
                     name: name.clone(),
@@ -503,9 +532,9 @@ impl Method for Labelling {
         // measured in tests/limits.rs: the motion image and the labeller's own per-frame arrays — the k-NN's
         // windows (2.9 kB a frame), or the network's input (+ 3 kB a frame when the fit check measures the take's
         // poses with the k-NN's windows)
-        let windows = params.fit.as_ref().is_some_and(|f| f.windows.is_some());
-        let base = self.kind.frame_bytes(windows);
-        Work { fps: params.model.header.fps, advice: "", ..model_work(&params.model, &params.decoding, base) }
+        let windows = params.fit.as_ref().and_then(|f| f.windows.as_deref());
+        let base = self.kind.frame_bytes(windows.is_some());
+        Work { fps: params.model.header.fps, advice: "", ..model_work(&params.model, &params.decoding, base, windows) }
     }
 
     fn run(
@@ -522,15 +551,22 @@ impl Method for Labelling {
         let fit = match &params.fit {
             Some(check) => {
                 progress.step("take fit", 0.0)?;
-                let fit =
-                    super::fit::TakeFit::assess(motion, header.travel.as_ref(), windows_of(check.windows.as_deref()))
-                        .map_err(MethodError::Failed)?;
+                let fit = super::fit::TakeFit::assess_going(
+                    motion,
+                    header.travel.as_ref(),
+                    windows_of(check.windows.as_deref()),
+                    &mut |f| progress.step("take fit", 0.05 * f).is_ok(),
+                )
+                .map_err(MethodError::Failed)?
+                .ok_or(MethodError::Cancelled)?;
                 // the other models only when asked: each is a search of its windows, and most runs
-                // keep their model
+                // keep their model; together within what the run's budget leaves
                 let fitting = if fit.fits() || !check.others {
                     None
                 } else {
-                    Some(self.fitting_models(motion, &params.name, &check.models)?)
+                    let work = Method::work(self, params);
+                    let left = options.limits.max_ops - work.ops(work.frames(motion));
+                    Some(self.fitting_models(motion, &params.name, &check.models, left, progress)?)
                 };
                 Some((fit, fitting))
             }
@@ -538,14 +574,17 @@ impl Method for Labelling {
         };
         progress.step("motion image", 0.0)?;
         let labelled = label(&params.model, motion, progress)?;
-        let mut file = file_labels(
+        progress.step("decoding", 0.9)?;
+        let mut file = file_labels_going(
             &labelled.probabilities,
             &labelled.source,
             labelled.fps,
             motion.frames(),
             &params.decoding,
             params.threshold,
-        );
+            &mut |f| progress.step("decoding", 0.9 + 0.1 * f).is_ok(),
+        )
+        .ok_or(MethodError::Cancelled)?;
         // a take the classes cannot describe gets no labels at all: its familiar-looking frames are
         // as wrong as the others (86_01 under `exercises`: half its frames are unfamiliar, the rest
         // "Jog" and "Twist"); `fit_check = false` shows them anyway

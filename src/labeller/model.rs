@@ -197,6 +197,9 @@ pub trait Labeller: Send + Sync {
     /// The payload's bytes, and the length of each of its parts when it holds several (an ensemble's networks;
     /// empty: one part, the whole payload).
     fn payload(&self) -> Result<(Vec<u8>, Vec<u64>), String>;
+    /// Multiply-adds its labelling does per working frame, at most, for `classes` classes (as the model's file sets
+    /// them: [`crate::method::Work::ops_per_frame`]).
+    fn ops_per_frame(&self, classes: usize) -> f64;
     /// How many sets of probabilities a labelling holds before it averages them (an ensemble's networks).
     fn members(&self) -> usize {
         1

@@ -76,6 +76,10 @@ pub trait Progress {
     }
 }
 
+/// Asked by a long loop, with the share of it done, whether it goes on (false: stop — a run's cancel reaching
+/// code below [`Progress`], such as a k-NN's search or the decoder).
+pub type Go<'a> = &'a mut dyn FnMut(f64) -> bool;
+
 /// A progress sink that ignores every report and never cancels.
 pub struct NoProgress;
 

@@ -15,7 +15,11 @@
 //! * a take longer than [`WorkLimits::max_seconds`] is refused (the page's worker is one thread;
 //!   a method must answer within minutes, with progress and cancel, not hours);
 //! * a take whose working arrays — the resampled positions and the method's own — pass
-//!   [`WorkLimits::max_bytes`] is refused, with the longest duration that would fit.
+//!   [`WorkLimits::max_bytes`] is refused, with the longest duration that would fit;
+//! * a take whose run would do more than [`WorkLimits::max_ops`] multiply-adds is refused the same way (issue 49:
+//!   a model file from anyone sets a labeller's work — its window, its training frames, its classes, its network and
+//!   its decoding — and a run the worker would spend many minutes on, without a way to stop it short of killing
+//!   the worker, is refused before it starts, naming the model's share of it).
 
 use super::MethodError;
 use crate::motion::{resample, Motion};
@@ -30,6 +34,13 @@ pub struct Work {
     pub bytes_per_frame: usize,
     /// Bytes besides, whatever the take's length (scratch of a fixed size, pictures).
     pub fixed_bytes: usize,
+    /// Multiply-adds per working frame, at most, where a model file sets them (a labeller: its window's projection,
+    /// its training frames' scan, its network, its decoding; [`crate::labeller::method::model_work`]). 0 for a method
+    /// whose time its parameters' checked ranges bound (the unsupervised methods: their time on a 10-minute take is
+    /// in docs/benchmarks.md).
+    pub ops_per_frame: f64,
+    /// Multiply-adds besides, whatever the take's length (a k-NN's familiar distances).
+    pub fixed_ops: f64,
     /// What else than cutting the take makes it fit (`or lower max_neighbours`; empty: nothing).
     pub advice: &'static str,
 }
@@ -43,15 +54,42 @@ pub struct WorkLimits {
     pub max_seconds: f64,
     /// What a run may hold: the loader's budget (a browser tab's 1 GiB).
     pub max_bytes: usize,
+    /// The most multiply-adds a run may do ([`MAX_OPS`]).
+    pub max_ops: f64,
+}
+
+/// The most multiply-adds a run may do: 2·10¹¹, so that a run a model file asks for ends within a minute or so or is
+/// refused. Measured: a ±300-frame k-NN window's projection ran 6.3·10⁹ declared multiply-adds a second natively
+/// (`tests/limits.rs`, the test profile), the decoder with a 30 s minimum run ~6·10⁹ (release CLI, 60 k frames at
+/// 120 Hz); the k-NN runs 1.2–1.65× slower in wasm, DT-FCN's products at 10·10⁹ a second (docs/benchmarks.md) — so
+/// 30–60 s of the page's worker. The shipped models declare 0.14–0.6·10⁶ a frame: a 2-hour take is within it.
+pub const MAX_OPS: f64 = 2e11;
+
+/// Multiply-adds as a message shows them (`3.1·10¹¹`).
+pub fn ops(x: f64) -> String {
+    if !(x >= 1e3) {
+        return format!("{}", x.max(0.0).round());
+    }
+    let e = x.log10().floor();
+    let digits: String = (e as i64)
+        .to_string()
+        .chars()
+        .map(|c| match c {
+            '-' => '⁻',
+            d => ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'][d.to_digit(10).unwrap_or(0) as usize],
+        })
+        .collect();
+    format!("{:.1}·10{digits}", x / 10f64.powf(e))
 }
 
 impl Default for WorkLimits {
-    /// 1 Hz, two hours, the loader's 1 GiB.
+    /// 1 Hz, two hours, the loader's 1 GiB, [`MAX_OPS`].
     fn default() -> Self {
         WorkLimits {
             min_file_fps: 1.0,
             max_seconds: 2.0 * 3600.0,
             max_bytes: crate::load::MemoryBudget::default().max_bytes,
+            max_ops: MAX_OPS,
         }
     }
 }
@@ -60,6 +98,11 @@ impl Default for WorkLimits {
 const POSITION_BYTES: usize = 12;
 
 impl Work {
+    /// Nothing held and nothing done, at `fps`: what counts a take's working frames at that rate.
+    pub fn at(fps: f64) -> Work {
+        Work { fps, bytes_per_frame: 0, fixed_bytes: 0, advice: "", ops_per_frame: 0.0, fixed_ops: 0.0 }
+    }
+
     /// Working frames of `motion` at this rate (as [`resample`] makes them, without making them).
     pub fn frames(&self, motion: &Motion) -> usize {
         if motion.frames() == 0 || !(motion.fps > 0.0) || !(self.fps > 0.0) {
@@ -75,6 +118,11 @@ impl Work {
     pub fn bytes(&self, frames: usize, joints: usize) -> usize {
         let per_frame = joints.saturating_mul(POSITION_BYTES).saturating_add(self.bytes_per_frame);
         frames.saturating_mul(per_frame).saturating_add(self.fixed_bytes)
+    }
+
+    /// Multiply-adds of a run over `frames` working frames.
+    pub fn ops(&self, frames: usize) -> f64 {
+        frames as f64 * self.ops_per_frame + self.fixed_ops
     }
 
     /// Ok if `method` (its short name, for the message) may run on `motion` within `limits`;
@@ -118,6 +166,23 @@ impl Work {
                 limits.max_bytes / (1 << 20),
                 duration(fits.floor()),
                 if self.advice.is_empty() { String::new() } else { format!(" {}", self.advice) },
+            )));
+        }
+        let needed = self.ops(frames);
+        if needed > limits.max_ops {
+            let fits =
+                (limits.max_ops - self.fixed_ops).max(0.0) / (self.ops_per_frame * self.fps).max(f64::MIN_POSITIVE);
+            return Err(MethodError::Failed(format!(
+                "the take is {} long, {frames} frames at {method}'s {} Hz; with this model and decoding that is about \
+                 {} multiply-adds ({} a frame), more than the budget of {} (minutes of the page's worker): cut the \
+                 take to at most {}, or choose a model with a narrower window, fewer training frames or classes, a \
+                 smaller network, or a shorter minimum run",
+                duration(seconds),
+                round(self.fps),
+                ops(needed),
+                ops(self.ops_per_frame),
+                ops(limits.max_ops),
+                duration(fits.floor()),
             )));
         }
         Ok(())
@@ -230,7 +295,14 @@ mod tests {
             m.name = name.into();
             m
         };
-        let work = Work { fps: 30.0, bytes_per_frame: 10_000, fixed_bytes: 1 << 20, advice: "smaller" };
+        let work = Work {
+            fps: 30.0,
+            bytes_per_frame: 10_000,
+            fixed_bytes: 1 << 20,
+            advice: "smaller",
+            ops_per_frame: 0.0,
+            fixed_ops: 0.0,
+        };
         let limits = WorkLimits { max_bytes: 64 << 20, ..Default::default() };
         let mut hold = TrainingHold::new("k-NN", work, limits);
         // 1 minute at 120 Hz: 1801 working frames of 10 kB and its file and motion
@@ -263,7 +335,8 @@ mod tests {
         crate::load::load_bytes("odd.bvh", text.as_bytes(), &mut |_| {}).unwrap().motion
     }
 
-    const LIGHT: Work = Work { fps: 30.0, bytes_per_frame: 1000, fixed_bytes: 0, advice: "" };
+    const LIGHT: Work =
+        Work { fps: 30.0, bytes_per_frame: 1000, fixed_bytes: 0, advice: "", ops_per_frame: 0.0, fixed_ops: 0.0 };
 
     #[test]
     fn working_frames_are_those_resampling_makes() {

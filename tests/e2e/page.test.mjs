@@ -23,6 +23,7 @@
 
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
+import { createHash } from "node:crypto";
 import { mkdirSync, readFileSync, writeFileSync } from "node:fs";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
@@ -2118,6 +2119,68 @@ test("every method succeeds on a 10 000-frame take, in the worker, while the pag
 });
 
 test("load sample button", async () => {
+  await page.click("#load-sample");
+  await page.waitForFunction(
+    (n) => document.body.dataset.state === "ready"
+      && new RegExp(`\\b${n}\\b`).test(document.querySelector("#summary-frames")?.textContent ?? ""),
+    SAMPLE_HDR.frames,
+    { timeout: TIMEOUT },
+  );
+});
+
+/**
+ * The shipped `exercises` k-NN file asking for the widest window a file may (±300 frames, every frame: 30 651 values a
+ * window, 46× the shipped one's work a frame), with `points` made-up training windows: framed as the format frames it
+ * (magic line, format byte, header length, JSON, payload length, payload), its payload's SHA-256 written anew.
+ */
+function wideKnnFile(points) {
+  const knn = readFileSync(path.join(MODELS, "knn-exercises.model"));
+  const header = modelHeader(knn);
+  const classes = header.classes.length;
+  const d = 601 * 51, dims = 32;
+  const floats = d + dims * d + points * dims;
+  const payload = Buffer.alloc(4 * (2 + floats + points));
+  payload.writeUInt32LE(points, 0);
+  payload.writeUInt32LE(d, 4);
+  let x = 0x9e3779b9;
+  for (let i = 0; i < floats; i++) {
+    x ^= x << 13; x >>>= 0; x ^= x >>> 17; x ^= x << 5; x >>>= 0;
+    payload.writeFloatLE((x / 4294967295) * 20 - 10, 4 * (2 + i));
+  }
+  for (let i = 0; i < points; i++) payload.writeUInt32LE(i % classes, 4 * (2 + floats + i));
+  header.name = "wide";
+  header.knn = { fps: 30, half_window: 300, stride: 1, k: 5 };
+  header.payload_sha256 = createHash("sha256").update(payload).digest("hex");
+  const json = Buffer.from(JSON.stringify(header), "utf8");
+  const length = Buffer.alloc(4);
+  length.writeUInt32LE(json.length);
+  const size = Buffer.alloc(8);
+  size.writeBigUInt64LE(BigInt(payload.length));
+  return Buffer.concat([knn.subarray(0, 16), length, json, size, payload]);
+}
+
+test("a k-NN file asking for the widest window runs on the sample; on a 1.9-hour take it is refused naming its multiply-adds", async () => {
+  // issue 49: the work a model file asks for is computed from it and checked before the run starts
+  await panel("knn");
+  await watchRuns(page, "knn");
+  await page.setInputFiles("#knn-model-file", { name: "wide.model", mimeType: "application/octet-stream", buffer: wideKnnFile(500) });
+  await waitData("knnModel", "done");
+  assert.match(await text("#knn-model-status"), /Loaded wide\.model: k-NN model `wide`, 7 classes/);
+  assert.equal(await page.inputValue("#knn-model"), "wide", "the loaded model is chosen");
+  await waitRun("knn");
+  const json = await exportRun("knn", "e2e-knn-wide.json");
+  assert.equal(json.params.model, "wide", "the run used it");
+  assert.equal(json.frames, SAMPLE_HDR.frames, "on the sample");
+  // 7000 frames at 1 Hz: 210 000 working frames of a ±300-frame window, past the 2·10¹¹ multiply-adds of a run
+  await watchRuns(page, "knn");
+  const slow = bigBvh(7000).replace("Frame Time: 0.0083333", "Frame Time: 1");
+  await page.setInputFiles("#file-input", { name: "slow-1hz.bvh", mimeType: "application/octet-stream", buffer: Buffer.from(slow) });
+  await waitReady("slow-1hz.bvh");
+  await waitRun("knn", "error");
+  const failure = (await methodStates()).knn.failure;
+  assert.match(failure, /multiply-adds.*more than the budget of 2\.0·10¹¹.*cut the take to at most/, failure);
+  assert.equal(await page.locator("#error-banner").isVisible(), false, "a refused run is not a page error");
+  await page.selectOption("#knn-model", "exercises");
   await page.click("#load-sample");
   await page.waitForFunction(
     (n) => document.body.dataset.state === "ready"

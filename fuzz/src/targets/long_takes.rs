@@ -15,8 +15,9 @@ use mocapseg::method::{MethodError, NoProgress, RunOptions, WorkLimits};
 /// The loader's budget here (the page's is 1 GiB).
 const BUDGET: MemoryBudget = MemoryBudget { max_bytes: 4 << 20 };
 /// What a run may take here: 16 MiB is about 1500 LMA frames, 1800 DT-FCN frames, 10 000 velocity
-/// frames — milliseconds to a second or two each (DT-FCN's 12 MiB of fixed work must fit).
-const LIMITS: WorkLimits = WorkLimits { min_file_fps: 1.0, max_seconds: 7200.0, max_bytes: 16 << 20 };
+/// frames — milliseconds to a second or two each (DT-FCN's 12 MiB of fixed work must fit); 2·10⁹ multiply-adds
+/// where a model sets them (the page's 2·10¹¹ would let one input run for minutes).
+const LIMITS: WorkLimits = WorkLimits { min_file_fps: 1.0, max_seconds: 7200.0, max_bytes: 16 << 20, max_ops: 2e9 };
 /// What a training may hold here: its fixed part (DT-FCN's 16 MiB of networks and batch, LMA's 16 MiB) and a few
 /// thousand working frames.
 const TRAIN_LIMITS: WorkLimits = WorkLimits { max_bytes: 48 << 20, ..LIMITS };

@@ -16,30 +16,37 @@ pub const BLOCK_FRAMES: usize = 2048;
 /// Class probabilities of every frame of `input` (see the module docs). `classes` is the
 /// network's class count.
 pub fn predict_input(net: &DtFcn, standardise: &Standardise, input: &NetworkInput, classes: usize) -> Probabilities {
-    run_blocks(net, standardise, input, classes, BLOCK_FRAMES, None, &mut |_| {})
+    run_blocks(net, standardise, input, classes, BLOCK_FRAMES, None, &mut |_| true)
+        .unwrap_or_else(|| unreachable(input))
+}
+
+/// What a run that never stops cannot give back.
+fn unreachable(input: &NetworkInput) -> Probabilities {
+    Probabilities { frames: input.frames, classes: 0, values: Vec::new() }
 }
 
 /// The mean of the class probabilities of the networks `nets` (an ensemble of the same shape; one network: its
-/// own), each run over blocks of `block` frames, reporting the share done after each block of each network.
+/// own), each run over blocks of `block` frames, reporting the share done after each block of each network; `None`
+/// as soon as `done` answers false (the run is cancelled: no block after it is computed).
 pub fn predict_members(
     nets: &[DtFcn],
     standardise: &Standardise,
     input: &NetworkInput,
     classes: usize,
     block: usize,
-    done: &mut dyn FnMut(f64),
-) -> Probabilities {
+    done: &mut dyn FnMut(f64) -> bool,
+) -> Option<Probabilities> {
     let k = nets.len().max(1) as f64;
-    let each: Vec<Probabilities> = nets
+    let each = nets
         .iter()
         .enumerate()
         .map(|(m, net)| run_blocks(net, standardise, input, classes, block, None, &mut |f| done((m as f64 + f) / k)))
-        .collect();
-    Probabilities::mean(&each.iter().collect::<Vec<_>>()).unwrap_or_else(|| Probabilities {
+        .collect::<Option<Vec<Probabilities>>>()?;
+    Some(Probabilities::mean(&each.iter().collect::<Vec<_>>()).unwrap_or_else(|| Probabilities {
         frames: input.frames,
         classes,
         values: vec![0.0; input.frames * classes],
-    })
+    }))
 }
 
 /// [`predict_input`] and the features of every frame ([`DtFcn::features`], frame-major: `frames ×
@@ -51,7 +58,8 @@ pub fn predict_with_features(
     classes: usize,
 ) -> (Probabilities, Vec<f32>) {
     let mut features = Vec::new();
-    let p = run_blocks(net, standardise, input, classes, BLOCK_FRAMES, Some(&mut features), &mut |_| {});
+    let p = run_blocks(net, standardise, input, classes, BLOCK_FRAMES, Some(&mut features), &mut |_| true)
+        .unwrap_or_else(|| unreachable(input));
     (p, features)
 }
 
@@ -62,8 +70,8 @@ fn run_blocks(
     classes: usize,
     block: usize,
     mut features: Option<&mut Vec<f32>>,
-    done: &mut dyn FnMut(f64),
-) -> Probabilities {
+    done: &mut dyn FnMut(f64) -> bool,
+) -> Option<Probabilities> {
     let n = input.frames;
     let z = standardise.apply(input);
     let device = super::device();
@@ -97,10 +105,12 @@ fn run_blocks(
                 values[f * classes + c] = p.get(c * m + (f - lo)).copied().unwrap_or(0.0);
             }
         }
-        done(end as f64 / n as f64);
+        if !done(end as f64 / n as f64) {
+            return None;
+        }
         start = end;
     }
-    Probabilities { frames: n, classes, values }
+    Some(Probabilities { frames: n, classes, values })
 }
 
 /// Bytes one block of inference holds at its peak, whatever the take's length: the block's frames and their

@@ -38,15 +38,11 @@ impl Labeller for Networks {
             .standardise
             .as_ref()
             .ok_or_else(|| MethodError::Failed("the model has no input standardisation".into()))?;
-        let mut cancelled = false;
+        progress.step("network", 0.05)?;
         let p = predict_members(&self.nets, standardise, &input, header.classes.len(), BLOCK_FRAMES, &mut |f| {
-            if progress.step("network", 0.05 + 0.9 * f).is_err() {
-                cancelled = true;
-            }
-        });
-        if cancelled {
-            return Err(MethodError::Cancelled);
-        }
+            progress.step("network", 0.05 + 0.9 * f).is_ok()
+        })
+        .ok_or(MethodError::Cancelled)?;
         Ok((p, input.source_frames, NETWORK_FPS))
     }
 
@@ -59,6 +55,15 @@ impl Labeller for Networks {
             payload.extend_from_slice(&bytes);
         }
         Ok((payload, member_bytes))
+    }
+
+    fn ops_per_frame(&self, _classes: usize) -> f64 {
+        // every weight once per output frame (a convolution's multiply-adds), each block's frames computed with the
+        // receptive field's context on either side, for every network of the ensemble; the image resized besides
+        let context = self.nets.first().map_or(0, super::infer::receptive_half);
+        let blocks = (BLOCK_FRAMES + 2 * context) as f64 / BLOCK_FRAMES as f64;
+        let resize = (self.config.first_layer_inputs() * 2) as f64;
+        self.nets.len() as f64 * (self.config.parameter_count() as f64 * blocks + resize)
     }
 
     fn members(&self) -> usize {

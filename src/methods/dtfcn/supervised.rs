@@ -228,6 +228,8 @@ pub fn training_work(train: &TrainOptions) -> crate::method::Work {
         bytes_per_frame: 2_000,
         fixed_bytes: (16usize << 20).saturating_add(weights).saturating_add(batch),
         advice: "fewer or narrower layers (filters), a smaller batch or shorter crops",
+        ops_per_frame: 0.0,
+        fixed_ops: 0.0,
     }
 }
 

@@ -27,6 +27,7 @@ use crate::features::end_effectors::canonical_joints;
 use crate::features::pca::principal_axes;
 use crate::features::{stack, FeatureMatrix};
 use crate::labeller::probabilities::Probabilities;
+use crate::method::Go;
 use crate::motion::joints::Canonical;
 use crate::motion::Motion;
 use crate::segment::frames::WorkingFrames;
@@ -103,6 +104,12 @@ pub struct Knn {
     familiar: std::sync::OnceLock<Vec<f32>>,
 }
 
+/// A long loop asks [`Go`] every this many frames (a few milliseconds of a wide window's projection).
+const GO_EVERY: usize = 256;
+
+/// What a loop that never stops cannot give: the error of the functions without a [`Go`].
+const STOPPED: &str = "stopped";
+
 /// The frame offsets of a window.
 fn offsets(p: &KnnParams) -> Vec<i32> {
     (-p.half_window..=p.half_window).step_by(p.stride.max(1) as usize).collect()
@@ -126,11 +133,15 @@ fn project_windows(
     mean: &[f32],
     columns: &[f32],
     kept: usize,
-) -> Vec<[f32; DIMS]> {
+    go: Go,
+) -> Option<Vec<[f32; DIMS]>> {
     let (n, w) = (base.frames(), base.dim());
     let values = (offsets.len() * w).min(mean.len()).min(columns.len() / DIMS);
     let mut out = Vec::with_capacity(n);
     for i in 0..n {
+        if i % GO_EVERY == 0 && !go(i as f64 / n as f64) {
+            return None;
+        }
         let mut acc = [F4::splat(-0.0); DIMS / 4];
         for (o, &offset) in offsets.iter().enumerate() {
             let src = (i as i64 + offset as i64).clamp(0, n as i64 - 1) as usize;
@@ -151,7 +162,7 @@ fn project_windows(
         q[kept.min(DIMS)..].fill(0.0);
         out.push(q);
     }
-    out
+    Some(out)
 }
 
 /// The axes (`DIMS × d`, or fewer) transposed: `d` groups of `DIMS` weights (0 beyond the
@@ -246,10 +257,16 @@ impl Knn {
     /// Every working frame's window of `motion` in the principal coordinates, and the working
     /// frames' file positions.
     fn queries(&self, motion: &Motion) -> Result<(Vec<[f32; DIMS]>, Vec<f64>), String> {
+        self.queries_going(motion, &mut |_| true)?.ok_or_else(|| STOPPED.to_string())
+    }
+
+    /// [`Knn::queries`], asking `go` (the share of the projection done) every [`GO_EVERY`] frames: `None` once it
+    /// answers false.
+    fn queries_going(&self, motion: &Motion, go: Go) -> Result<Option<(Vec<[f32; DIMS]>, Vec<f64>)>, String> {
         let p = &self.params;
         let f = canonical_joints(motion, p.fps, true, &Canonical::ALL).map_err(|e| format!("{}: {e}", motion.name))?;
-        let q = project_windows(&f.base, &offsets(p), &self.mean, &self.columns, self.axes_kept);
-        Ok((q, f.source_frames))
+        let q = project_windows(&f.base, &offsets(p), &self.mean, &self.columns, self.axes_kept, go);
+        Ok(q.map(|q| (q, f.source_frames)))
     }
 
     /// The `k` training points nearest to `q`, nearest first: what the kd-tree's `nearest_n` gives,
@@ -381,20 +398,34 @@ impl Knn {
     /// of the `k` votes, plus 1e-4 · (k − rank) / k for each vote so that a tie goes to the
     /// label whose nearest vote is nearer (shares stay within 1e-4 of the vote counts).
     pub fn probabilities(&self, motion: &Motion, classes: usize) -> Result<Probabilities, String> {
-        self.vote(motion, classes).map(|(p, _)| p)
+        self.probabilities_at(motion, classes).map(|(p, _)| p)
     }
 
     /// [`Knn::probabilities`] and the file position of each working frame.
     pub fn probabilities_at(&self, motion: &Motion, classes: usize) -> Result<(Probabilities, Vec<f64>), String> {
-        self.vote(motion, classes)
+        self.vote(motion, classes, &mut |_| true)?.ok_or_else(|| STOPPED.to_string())
     }
 
-    fn vote(&self, motion: &Motion, classes: usize) -> Result<(Probabilities, Vec<f64>), String> {
-        let (queries, source) = self.queries(motion)?;
+    /// [`Knn::probabilities_at`], asking `go` (the share done: the windows' projection its first half, the search
+    /// its second) every [`GO_EVERY`] frames: `None` once it answers false.
+    pub fn probabilities_going(
+        &self,
+        motion: &Motion,
+        classes: usize,
+        go: Go,
+    ) -> Result<Option<(Probabilities, Vec<f64>)>, String> {
+        self.vote(motion, classes, go)
+    }
+
+    fn vote(&self, motion: &Motion, classes: usize, go: Go) -> Result<Option<(Probabilities, Vec<f64>)>, String> {
+        let Some((queries, source)) = self.queries_going(motion, &mut |f| go(f / 2.0))? else { return Ok(None) };
         let k = self.params.k.max(1);
         let mut values = vec![0f32; queries.len() * classes];
         let mut searching = Searching::default();
         for (i, q) in queries.iter().enumerate() {
+            if i % GO_EVERY == 0 && !go(0.5 + i as f64 / queries.len() as f64 / 2.0) {
+                return Ok(None);
+            }
             let found = self.nearest_n(q, k, &mut searching);
             let share = 1.0 / found.len().max(1) as f32;
             for (rank, n) in found.iter().enumerate() {
@@ -404,17 +435,28 @@ impl Knn {
                 }
             }
         }
-        Ok((Probabilities { frames: queries.len(), classes, values }, source))
+        Ok(Some((Probabilities { frames: queries.len(), classes, values }, source)))
     }
 
     /// Per file frame of `motion`: the distance of its window to the nearest training window (in the
     /// principal coordinates) — how unlike anything taught the frame is.
     pub fn nearest_distances(&self, motion: &Motion) -> Result<Vec<f32>, String> {
-        let (queries, source) = self.queries(motion)?;
+        self.nearest_distances_going(motion, &mut |_| true)?.ok_or_else(|| STOPPED.to_string())
+    }
+
+    /// [`Knn::nearest_distances`], asking `go` as [`Knn::probabilities_going`] does.
+    pub fn nearest_distances_going(&self, motion: &Motion, go: Go) -> Result<Option<Vec<f32>>, String> {
+        let Some((queries, source)) = self.queries_going(motion, &mut |f| go(f / 2.0))? else { return Ok(None) };
         let mut searching = Searching::default();
-        let working: Vec<f32> = queries.iter().map(|q| self.nearest_one(q, &mut searching).sqrt()).collect();
+        let mut working = Vec::with_capacity(queries.len());
+        for (i, q) in queries.iter().enumerate() {
+            if i % GO_EVERY == 0 && !go(0.5 + i as f64 / queries.len() as f64 / 2.0) {
+                return Ok(None);
+            }
+            working.push(self.nearest_one(q, &mut searching).sqrt());
+        }
         let frames = WorkingFrames { source: &source, file_frames: motion.frames() };
-        Ok((0..motion.frames()).map(|f| working[frames.working_frame(f)]).collect())
+        Ok(Some((0..motion.frames()).map(|f| working[frames.working_frame(f)]).collect()))
     }
 
     /// Per file frame of `motion`, per class `0..classes`: the distance of its window to the nearest
@@ -510,7 +552,7 @@ impl Knn {
     /// Per file frame of `motion`: the voted label and the share of the `k` votes it won.
     pub fn predict(&self, motion: &Motion) -> Result<Vec<(usize, f32)>, String> {
         let classes = self.labels.iter().max().map_or(1, |m| m + 1);
-        let (p, source) = self.vote(motion, classes)?;
+        let (p, source) = self.probabilities_at(motion, classes)?;
         let frames = WorkingFrames { source: &source, file_frames: motion.frames() };
         Ok((0..motion.frames())
             .map(|f| {
@@ -523,11 +565,29 @@ impl Knn {
 
 /// The k-NN's windows are what a take's fit is measured against ([`crate::labeller::fit::Windows`]).
 impl crate::labeller::fit::Windows for Knn {
-    fn nearest_distances(&self, motion: &crate::motion::Motion) -> Result<Vec<f32>, String> {
-        Knn::nearest_distances(self, motion)
+    fn nearest_distances(&self, motion: &Motion, go: Go) -> Result<Option<Vec<f32>>, String> {
+        Knn::nearest_distances_going(self, motion, go)
     }
     fn familiar_distances(&self, gap: usize, samples: usize) -> Vec<f32> {
         Knn::familiar_distances(self, gap, samples)
+    }
+    fn search_ops(&self) -> (f64, f64) {
+        let samples = crate::labeller::fit::FAMILIAR_SAMPLES.min(self.points.len()) as f64;
+        (self.search_ops_per_frame(), samples * self.scan_ops())
+    }
+}
+
+impl Knn {
+    /// Multiply-adds of a scan of every training window, the most one query costs ([`search`] prunes most of them).
+    fn scan_ops(&self) -> f64 {
+        (self.points.len() * DIMS) as f64
+    }
+
+    /// Multiply-adds of one working frame's query, at most: its window projected onto the axes (window values ×
+    /// [`DIMS`]; a window of ±300 frames every frame is 30,651 values, 46× the default's) and the training windows
+    /// scanned.
+    pub fn search_ops_per_frame(&self) -> f64 {
+        (self.mean.len() * DIMS) as f64 + self.scan_ops()
     }
 }
 

@@ -21,12 +21,22 @@ impl Labeller for Knn {
         progress: &mut dyn Progress,
     ) -> Result<(Probabilities, Vec<f64>, f64), MethodError> {
         progress.step("neighbours", 0.1)?;
-        let (p, source) = self.probabilities_at(motion, header.classes.len()).map_err(MethodError::Failed)?;
+        let (p, source) = self
+            .probabilities_going(motion, header.classes.len(), &mut |f| {
+                progress.step("neighbours", 0.1 + 0.8 * f).is_ok()
+            })
+            .map_err(MethodError::Failed)?
+            .ok_or(MethodError::Cancelled)?;
         Ok((p, source, self.params().fps))
     }
 
     fn payload(&self) -> Result<(Vec<u8>, Vec<u64>), String> {
         Ok((self.to_bytes(), Vec::new()))
+    }
+
+    fn ops_per_frame(&self, classes: usize) -> f64 {
+        // the query, then its k votes and the classes' shares
+        self.search_ops_per_frame() + (self.params().k + classes) as f64
     }
 
     fn windows(&self) -> Option<&dyn Windows> {

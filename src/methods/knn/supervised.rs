@@ -40,6 +40,8 @@ pub fn training_work() -> crate::method::Work {
         bytes_per_frame: 5_000,
         fixed_bytes: 8 << 20,
         advice: "",
+        ops_per_frame: 0.0,
+        fixed_ops: 0.0,
     }
 }
 
