@@ -100,7 +100,13 @@ const POSITION_BYTES: usize = 12;
 impl Work {
     /// Nothing held and nothing done, at `fps`: what counts a take's working frames at that rate.
     pub fn at(fps: f64) -> Work {
-        Work { fps, bytes_per_frame: 0, fixed_bytes: 0, advice: "", ops_per_frame: 0.0, fixed_ops: 0.0 }
+        Work::memory(fps, 0, 0, "")
+    }
+
+    /// What a method whose time its parameters' checked ranges bound declares: its rate, its bytes and its advice
+    /// (no multiply-adds: [`Work::ops_per_frame`]).
+    pub const fn memory(fps: f64, bytes_per_frame: usize, fixed_bytes: usize, advice: &'static str) -> Work {
+        Work { fps, bytes_per_frame, fixed_bytes, advice, ops_per_frame: 0.0, fixed_ops: 0.0 }
     }
 
     /// Working frames of `motion` at this rate (as [`resample`] makes them, without making them).
@@ -155,7 +161,9 @@ impl Work {
         }
         let needed = self.bytes(frames, motion.joints());
         if needed > limits.max_bytes {
-            let per_second = self.bytes(self.fps.ceil() as usize, motion.joints()).max(1);
+            // a second's working frames, without the fixed bytes (counted once, below: with them the 2-hour take DT-FCN
+            // refused was told to cut itself to 34 s, not 1 h 47 min)
+            let per_second = (self.bytes(self.fps.ceil() as usize, motion.joints()) - self.fixed_bytes).max(1);
             let fits = limits.max_bytes.saturating_sub(self.fixed_bytes) as f64 / per_second as f64;
             return Err(MethodError::Failed(format!(
                 "the take is {} long, {frames} frames at {method}'s {} Hz, which need about {} MiB, \
@@ -295,14 +303,7 @@ mod tests {
             m.name = name.into();
             m
         };
-        let work = Work {
-            fps: 30.0,
-            bytes_per_frame: 10_000,
-            fixed_bytes: 1 << 20,
-            advice: "smaller",
-            ops_per_frame: 0.0,
-            fixed_ops: 0.0,
-        };
+        let work = Work::memory(30.0, 10_000, 1 << 20, "smaller");
         let limits = WorkLimits { max_bytes: 64 << 20, ..Default::default() };
         let mut hold = TrainingHold::new("k-NN", work, limits);
         // 1 minute at 120 Hz: 1801 working frames of 10 kB and its file and motion
@@ -335,8 +336,7 @@ mod tests {
         crate::load::load_bytes("odd.bvh", text.as_bytes(), &mut |_| {}).unwrap().motion
     }
 
-    const LIGHT: Work =
-        Work { fps: 30.0, bytes_per_frame: 1000, fixed_bytes: 0, advice: "", ops_per_frame: 0.0, fixed_ops: 0.0 };
+    const LIGHT: Work = Work::memory(30.0, 1000, 0, "");
 
     #[test]
     fn working_frames_are_those_resampling_makes() {
@@ -382,5 +382,9 @@ mod tests {
             "the take is 39 min 59 s long, 71971 frames at PCA's 30 Hz, which need about 71 MiB, more than \
              the budget of 64 MiB: cut the take to at most 36 min 24 s or lower max_neighbours"
         );
+        // fixed bytes are counted once, not once a second: half the budget fixed leaves half the duration
+        let fixed = Work { fixed_bytes: 32 << 20, ..heavy };
+        let err = fixed.check("PCA", &m, &limits).unwrap_err().to_string();
+        assert!(err.ends_with("cut the take to at most 18 min 12 s or lower max_neighbours"), "{err}");
     }
 }

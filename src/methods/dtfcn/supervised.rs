@@ -223,14 +223,12 @@ pub fn training_work(train: &TrainOptions) -> crate::method::Work {
     let weights = params.saturating_mul(4).saturating_mul(4 + train.members);
     let per_crop_frame = config.first_layer_inputs() + config.filters.iter().sum::<usize>() + config.classes;
     let batch = train.batch.saturating_mul(train.crop_frames).saturating_mul(per_crop_frame).saturating_mul(4 * 8);
-    crate::method::Work {
-        fps: crate::labeller::input::NETWORK_FPS,
-        bytes_per_frame: 2_000,
-        fixed_bytes: (16usize << 20).saturating_add(weights).saturating_add(batch),
-        advice: "fewer or narrower layers (filters), a smaller batch or shorter crops",
-        ops_per_frame: 0.0,
-        fixed_ops: 0.0,
-    }
+    crate::method::Work::memory(
+        crate::labeller::input::NETWORK_FPS,
+        2_000,
+        (16usize << 20).saturating_add(weights).saturating_add(batch),
+        "fewer or narrower layers (filters), a smaller batch or shorter crops",
+    )
 }
 
 /// Starts the training of a DT-FCN model on `ask` (continued from the model `ask.start_from` names, when it does).

@@ -43,14 +43,7 @@ impl Segmenter for Kcs {
 
     fn work(&self, params: &ValidParams) -> Work {
         // bone vectors and the KCS distance curve: 1.0 kB per frame measured (tests/limits.rs)
-        Work {
-            fps: params.fps,
-            bytes_per_frame: 1_500,
-            fixed_bytes: 1 << 20,
-            advice: "",
-            ops_per_frame: 0.0,
-            fixed_ops: 0.0,
-        }
+        Work::memory(params.fps, 1_500, 1 << 20, "")
     }
 
     fn segment(

@@ -35,14 +35,7 @@ pub fn options_from_json(value: &serde_json::Value) -> Result<ModelOptions<()>, 
 /// What a k-NN's fit holds per working frame of its takes: every labelled frame's stacked window (13 frames of the
 /// joints, f32) and its projection, at 30 Hz — 4.1 kB measured on 6 000 and 24 000 frames (tests/limits.rs).
 pub fn training_work() -> crate::method::Work {
-    crate::method::Work {
-        fps: crate::labeller::input::NETWORK_FPS,
-        bytes_per_frame: 5_000,
-        fixed_bytes: 8 << 20,
-        advice: "",
-        ops_per_frame: 0.0,
-        fixed_ops: 0.0,
-    }
+    crate::method::Work::memory(crate::labeller::input::NETWORK_FPS, 5_000, 8 << 20, "")
 }
 
 /// Starts the fit of a k-NN model on `ask`.

@@ -252,14 +252,7 @@ impl Method for Lma {
         let longest = max_len + 2 * params.model.max_shift + 1;
         let pool = super::features::pool_bytes_per_frame(longest);
         let map = 4 * (max_len.saturating_sub(min_len) + 1);
-        Work {
-            fps,
-            bytes_per_frame: 2 * (pool + map) + 2_000,
-            fixed_bytes: 8 << 20,
-            advice: "or lower max_s",
-            ops_per_frame: 0.0,
-            fixed_ops: 0.0,
-        }
+        Work::memory(fps, 2 * (pool + map) + 2_000, 8 << 20, "or lower max_s")
     }
 
     /// The Effort layer ([`super::layer`]) resamples the whole take to the family's rate and pools both arms'
@@ -271,14 +264,7 @@ impl Method for Lma {
         // saturating: a file rate near 0 makes a segment's working length overflow (found by the long_takes fuzz
         // target once it annotated); the work check then refuses the take by its rate
         let pool = super::features::pool_bytes_per_frame(longest.saturating_add(2 * params.model.max_shift + 1));
-        Work {
-            fps,
-            bytes_per_frame: 2 * pool + 2_000,
-            fixed_bytes: 8 << 20,
-            advice: "or annotate shorter segments",
-            ops_per_frame: 0.0,
-            fixed_ops: 0.0,
-        }
+        Work::memory(fps, 2 * pool + 2_000, 8 << 20, "or annotate shorter segments")
     }
 
     fn run(

@@ -214,14 +214,7 @@ fn no_rows_for(name: &str, take: &str, others: &[EffortLabel]) -> String {
 /// candidate segments and the segments' inputs, at its 30 Hz — 11.4 kB measured on 6 000 and 24 000 frames
 /// (tests/limits.rs); the networks are small.
 pub fn training_work() -> crate::method::Work {
-    crate::method::Work {
-        fps: CorpusConfig::default().fps,
-        bytes_per_frame: 14_000,
-        fixed_bytes: 16 << 20,
-        advice: "",
-        ops_per_frame: 0.0,
-        fixed_ops: 0.0,
-    }
+    crate::method::Work::memory(CorpusConfig::default().fps, 14_000, 16 << 20, "")
 }
 
 pub fn start_training(ask: TrainingAsk, progress: &mut dyn Progress) -> Result<Box<dyn Training>, MethodError> {

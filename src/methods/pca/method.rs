@@ -39,14 +39,7 @@ impl Segmenter for Pca {
 
     fn work(&self, params: &ValidParams) -> Work {
         // the pose matrix and windows: 1.3 kB per frame measured (tests/limits.rs)
-        Work {
-            fps: params.fps,
-            bytes_per_frame: 2_000,
-            fixed_bytes: 1 << 20,
-            advice: "",
-            ops_per_frame: 0.0,
-            fixed_ops: 0.0,
-        }
+        Work::memory(params.fps, 2_000, 1 << 20, "")
     }
 
     fn segment(

@@ -160,14 +160,7 @@ fn no_action_reason(actions: usize, frames: usize, fps: f64, params: &ValidParam
 /// take at the defaults); the searches count them as they find them against what the budget
 /// leaves ([`entry_limit`]) and stop when they pass it.
 pub(super) fn work(params: &ValidParams) -> Work {
-    Work {
-        fps: params.fps,
-        bytes_per_frame: 8_000,
-        fixed_bytes: 4 << 20,
-        advice: "or lower max_neighbours",
-        ops_per_frame: 0.0,
-        fixed_ops: 0.0,
-    }
+    Work::memory(params.fps, 8_000, 4 << 20, "or lower max_neighbours")
 }
 
 /// The neighbour entries a run on `motion` may draw: what `limits` leave after [`work`], at

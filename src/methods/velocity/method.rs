@@ -35,14 +35,7 @@ impl Segmenter for Velocity {
 
     fn work(&self, params: &ValidParams) -> Work {
         // end-effector positions and speeds: 1.0 kB per frame measured (tests/limits.rs)
-        Work {
-            fps: params.fps,
-            bytes_per_frame: 1_500,
-            fixed_bytes: 1 << 20,
-            advice: "",
-            ops_per_frame: 0.0,
-            fixed_ops: 0.0,
-        }
+        Work::memory(params.fps, 1_500, 1 << 20, "")
     }
 
     fn segment(
