@@ -34,7 +34,7 @@ mod lab {
     use mocapseg::load::load_path;
     use mocapseg::method::{self, NoProgress, RunOptions};
     use mocapseg::motion::Motion;
-    use mocapseg::segment::metrics::{evaluate, Tolerances};
+    use mocapseg::segment::metrics::evaluate;
     use mocapseg::segment::report::{self, Row};
     use mocapseg::segment::truth::Truth;
 
@@ -113,7 +113,7 @@ mod lab {
                 let output = method
                     .run_checked(motion, &checked, &RunOptions::default(), &mut NoProgress)
                     .map_err(|e| format!("{}: {e}", motion.name))?;
-                let s = evaluate(&output.segmentation, truth, &Tolerances::default())
+                let s = evaluate(&output.segmentation, truth, &mocapseg::methods::scoring(&output.segmentation.method))
                     .map_err(|e| format!("{}: {e}", truth.trial))?;
                 row.push((s.boundaries[1].f1, s.covering));
             }
@@ -226,7 +226,8 @@ mod lab {
             if args.detail {
                 print_boundaries(&seg, truth);
             }
-            let scores = evaluate(&seg, truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", truth.trial))?;
+            let scores = evaluate(&seg, truth, &mocapseg::methods::scoring(&seg.method))
+                .map_err(|e| format!("{}: {e}", truth.trial))?;
             Ok(Row { scores, found_actions: report::scored_segments(&seg), seconds: Some(seconds) })
         };
         let takes = load_takes(data)?;

@@ -29,7 +29,7 @@ mod lab {
     use mocapseg::bvh::{self, Bvh};
     use mocapseg::method::{self, NoProgress, RunOptions};
     use mocapseg::motion::Motion;
-    use mocapseg::segment::metrics::{evaluate, Tolerances};
+    use mocapseg::segment::metrics::evaluate;
     use mocapseg::segment::truth::{load_csv, Truth, TruthOptions};
     use mocapseg::segment::{Level, Segmentation};
     use mocapseg::splice::{splice, Source, SpliceOptions};
@@ -139,8 +139,8 @@ mod lab {
                     recalls.push(0.0);
                     continue;
                 }
-                let s =
-                    evaluate(&out.segmentation, truth, &Tolerances::default()).map_err(|e| format!("{name}: {e}"))?;
+                let s = evaluate(&out.segmentation, truth, &mocapseg::methods::scoring(&out.segmentation.method))
+                    .map_err(|e| format!("{name}: {e}"))?;
                 recalls.push(s.boundaries[0].recall);
             }
             let mean = recalls.iter().sum::<f64>() / recalls.len().max(1) as f64;
@@ -153,7 +153,8 @@ mod lab {
     }
 
     fn add(sums: &mut Sums, seg: &Segmentation, truth: &Truth) -> Result<(), String> {
-        let s = evaluate(seg, truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", seg.method))?;
+        let s = evaluate(seg, truth, &mocapseg::methods::scoring(&seg.method))
+            .map_err(|e| format!("{}: {e}", seg.method))?;
         sums.found += (s.predicted_boundaries + 1) as f64;
         sums.matched += s.segments.matched as f64;
         sums.similarity += s.segments.similarity;

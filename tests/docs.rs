@@ -374,6 +374,58 @@ fn every_method_page_has_its_generated_accuracy_block() {
     }
 }
 
+/// The scoreboard's markdown is what `docs/accuracy.json` says (issue 50): accuracy.md, the README's summary and each
+/// method page's block regenerated from the saved JSON (`examples/accuracy.rs --from-json`, no evaluation) are the
+/// files in the repository, byte for byte — a hand-edited figure, or a JSON regenerated without its tables, fails.
+#[test]
+fn the_scoreboard_tables_are_regenerated_from_accuracy_json() {
+    let root = root();
+    // the repository's layout (the README links into docs/ relative to itself)
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("scoreboard");
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(out.join("docs/methods")).unwrap();
+    std::fs::copy(root.join("README.md"), out.join("README.md")).unwrap();
+    let pages: Vec<PathBuf> = std::fs::read_dir(root.join("docs/methods"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+        .collect();
+    for p in &pages {
+        std::fs::copy(p, out.join("docs/methods").join(p.file_name().unwrap())).unwrap();
+    }
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let run = std::process::Command::new(cargo)
+        .current_dir(&root)
+        .args(["run", "--quiet", "--example", "accuracy", "--", "--from-json", "docs/accuracy.json", "--cards", ""])
+        .arg("--out")
+        .arg(out.join("docs"))
+        .arg("--readme")
+        .arg(out.join("README.md"))
+        .arg("--methods")
+        .arg(out.join("docs/methods"))
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let mut compared = vec![(root.join("docs/accuracy.md"), out.join("docs/accuracy.md"))];
+    compared.push((root.join("README.md"), out.join("README.md")));
+    compared.extend(pages.iter().map(|p| (p.clone(), out.join("docs/methods").join(p.file_name().unwrap()))));
+    for (kept, made) in compared {
+        let (a, b) = (std::fs::read_to_string(&kept).unwrap(), std::fs::read_to_string(&made).unwrap());
+        if a != b {
+            let line =
+                a.lines().zip(b.lines()).position(|(x, y)| x != y).unwrap_or(a.lines().count().min(b.lines().count()));
+            panic!(
+                "{} is not what docs/accuracy.json makes (line {}): `{}` against `{}` — run `cargo run --example \
+                 accuracy -- --from-json docs/accuracy.json` (or `make accuracy`)",
+                kept.display(),
+                line + 1,
+                a.lines().nth(line).unwrap_or(""),
+                b.lines().nth(line).unwrap_or("")
+            );
+        }
+    }
+}
+
 #[test]
 fn slugs_are_githubs() {
     assert_eq!(slug("Two commands"), "two-commands");

@@ -56,7 +56,7 @@ mod cli {
     use mocapseg::load::{load_path, Loaded};
     use mocapseg::method::{self, CheckedParams, DynMethod, NoProgress, ParamKind, RunOptions};
     use mocapseg::motion::{write_positions_csv, Motion};
-    use mocapseg::segment::metrics::{evaluate, Tolerances};
+    use mocapseg::segment::metrics::evaluate;
     use mocapseg::segment::report::{self, Row};
     use mocapseg::segment::truth::{load_csv, TruthOptions};
     use mocapseg::segment::truth_import::{import_truth, ImportOptions, Take, TrialChoice};
@@ -1528,8 +1528,8 @@ mod cli {
                 eprintln!("note: {}: {}", truth_path.display(), imported.applied.describe(segments));
             }
             let truth = imported.truth;
-            let scores =
-                evaluate(&seg, &truth, &Tolerances::default()).map_err(|e| format!("{}: {e}", path.display()))?;
+            let scores = evaluate(&seg, &truth, &mocapseg::methods::scoring(&seg.method))
+                .map_err(|e| format!("{}: {e}", path.display()))?;
             rows.push(Row { scores, found_actions: report::scored_segments(&seg), seconds: None });
         }
         let single = predictions.len() == 1 && !predictions[0].is_dir();

@@ -74,3 +74,37 @@ pub fn find(name: &str) -> Result<&'static dyn DynMethod, MethodError> {
         known: registry().iter().map(|m| m.info().name).collect::<Vec<_>>().join(", "),
     })
 }
+
+/// How a run of the method called `method` is scored against a truth: a labelling method's labels by their names,
+/// always (a class the take does not have is wrong); any other's as [`Naming::Detect`] reads them (clusters by the
+/// one-to-one matching, names that are the truth's by name).
+///
+/// [`Naming::Detect`]: crate::segment::metrics::Naming::Detect
+pub fn scoring(method: &str) -> crate::segment::metrics::Tolerances {
+    let labels = find(method).ok().and_then(|m| m.supervision()).is_some_and(|s| s.labels_classes);
+    if labels {
+        crate::segment::metrics::Tolerances::by_name()
+    } else {
+        crate::segment::metrics::Tolerances::default()
+    }
+}
+
+#[cfg(test)]
+mod scoring_tests {
+    use crate::segment::metrics::Naming;
+
+    /// The labellers' runs are scored by name whatever their names; the others' as their labels read.
+    #[test]
+    fn labellers_are_scored_by_name_and_the_rest_as_their_labels_read() {
+        for m in super::registry() {
+            let name = m.info().name;
+            let labels = m.supervision().is_some_and(|s| s.labels_classes);
+            let want = if labels { Naming::ByName } else { Naming::Detect };
+            assert_eq!(super::scoring(&name).naming, want, "{name}");
+        }
+        assert_eq!(super::scoring("knn").naming, Naming::ByName);
+        assert_eq!(super::scoring("dtfcn").naming, Naming::ByName);
+        assert_eq!(super::scoring("sssm").naming, Naming::Detect);
+        assert_eq!(super::scoring("my labels").naming, Naming::Detect);
+    }
+}

@@ -28,19 +28,41 @@ use super::labelling::{self, LabellingScores};
 use super::truth::{Truth, MAX_FRAMES};
 use super::{Level, SchemaError, Segment, Segmentation};
 
-/// Tolerances of the scores, in seconds.
+/// Tolerances of the scores, in seconds, and how labels are matched to the truth's.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Tolerances {
     /// Boundary tolerances for the F1 scores.
     pub boundary_s: [f64; 2],
     /// Half-width of the uncertainty window around a true boundary when the truth gives none.
     pub uncertain_s: f64,
+    /// How the labelling scores match the segmentation's labels to the truth's.
+    pub naming: Naming,
 }
 
 impl Default for Tolerances {
     fn default() -> Self {
-        Tolerances { boundary_s: [0.5, 1.0], uncertain_s: 0.5 }
+        Tolerances { boundary_s: [0.5, 1.0], uncertain_s: 0.5, naming: Naming::Detect }
     }
+}
+
+impl Tolerances {
+    /// The default tolerances, scoring labels by name (a labelling method's run: `crate::methods::scoring`).
+    pub fn by_name() -> Tolerances {
+        Tolerances { naming: Naming::ByName, ..Tolerances::default() }
+    }
+}
+
+/// How the labelling scores (frame accuracy, edit, F1@k) read a segmentation's labels (issue 50: a labeller scored
+/// right with the wrong names).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Naming {
+    /// By name when any of its labels is one of the truth's or `unknown` (a labeller's, my labels, a carried
+    /// truth), else by the one-to-one matching of its cluster ids to the true labels (clusters name nothing).
+    Detect,
+    /// By name, whatever the names (a labelling method's run: a class the take does not have is wrong, not matched
+    /// to a label it does have).
+    ByName,
 }
 
 /// Precision, recall and F1 of boundaries at one tolerance.
@@ -111,8 +133,8 @@ pub struct Scores {
     pub hungarian_accuracy: f64,
     pub strict_accuracy: f64,
     pub tolerant_accuracy: f64,
-    /// Per-frame labelling scores (frame accuracy, edit, F1@{10,25,50}), the method's labels
-    /// mapped onto the true ones by name, or by the Hungarian matching when it names its own.
+    /// Per-frame labelling scores (frame accuracy, edit, F1@{10,25,50}): the method's labels read by name (a name
+    /// the truth lacks, and `unknown`, wrong), or its clusters mapped one-to-one onto the true labels ([`Naming`]).
     pub labelling: LabellingScores,
 }
 
@@ -367,10 +389,17 @@ fn contingency(pred: &[Option<usize>], truth: &[Option<usize>], n_pred: usize, n
     table
 }
 
-/// The predicted per-frame keys as true label indices: by name when every key of the spans is a
-/// true label, else by the one-to-one Hungarian matching of the contingency `table`; keys left
-/// without a label get indices past the true ones (so they count as wrong).
-fn mapped_labels(spans: &[Span], pred: &[Option<usize>], labels: &[String], table: &[Vec<i64>]) -> Vec<Option<usize>> {
+/// The predicted per-frame keys as true label indices: by name ([`Naming`]: always for a labeller, else when any key
+/// names a true label or is `unknown`) — a name the truth lacks, `unknown` and a key without a label count as wrong
+/// (indices past the true ones) —, else by the one-to-one Hungarian matching of the contingency `table` (cluster
+/// ids name nothing), keys left unmatched wrong.
+fn mapped_labels(
+    spans: &[Span],
+    pred: &[Option<usize>],
+    labels: &[String],
+    table: &[Vec<i64>],
+    naming: Naming,
+) -> Vec<Option<usize>> {
     // the keys in the order `per_frame` numbers them
     let mut names: Vec<&str> = Vec::new();
     for s in spans {
@@ -378,43 +407,39 @@ fn mapped_labels(spans: &[Span], pred: &[Option<usize>], labels: &[String], tabl
             names.push(&s.key);
         }
     }
-    // by name when every key's segments carry a true label (a labeller's `#3` named `Jog`), or, for frames a labeller
-    // left `unknown`, no label at all (past the true ones: wrong)
+    // by name (a labeller's `#3` named `Jog`): a true label's index, else past the true ones (wrong) — `unknown`, a
+    // class the take does not have (before issue 50 one such name sent the whole take to the matching below, where
+    // a `Squat` called `KneeRaise` could count as right)
     let label_of = |key: &str| spans.iter().find(|s| s.key == key).map(|s| s.label.as_str());
-    let named = names.iter().any(|n| label_of(n).is_some_and(|l| labels.iter().any(|t| t == l)));
-    let by_name: Option<Vec<usize>> = named
-        .then(|| {
-            names
-                .iter()
-                .enumerate()
-                .map(|(k, n)| match label_of(n) {
-                    Some(l) if l == super::UNKNOWN => Some(labels.len() + k),
-                    Some(l) => labels.iter().position(|t| t == l),
-                    None => None,
-                })
-                .collect()
-        })
-        .flatten();
-    let map: Vec<usize> = match by_name {
-        Some(map) => map,
-        None => {
-            let (rows, cols) = (table.len(), table.first().map_or(0, Vec::len));
-            let mut map: Vec<usize> = (0..rows).map(|k| cols + k).collect();
-            if rows > 0 && cols > 0 {
-                if rows <= cols {
-                    let (_, assigned) = kuhn_munkres(&Matrix::from_fn(rows, cols, |(i, j)| table[i][j]));
-                    for (k, &label) in assigned.iter().enumerate() {
-                        map[k] = label;
-                    }
-                } else {
-                    let (_, assigned) = kuhn_munkres(&Matrix::from_fn(cols, rows, |(i, j)| table[j][i]));
-                    for (label, &k) in assigned.iter().enumerate() {
-                        map[k] = label;
-                    }
+    let named = match naming {
+        Naming::ByName => true,
+        Naming::Detect => {
+            names.iter().any(|n| label_of(n).is_some_and(|l| l == super::UNKNOWN || labels.iter().any(|t| t == l)))
+        }
+    };
+    let map: Vec<usize> = if named {
+        names
+            .iter()
+            .enumerate()
+            .map(|(k, n)| label_of(n).and_then(|l| labels.iter().position(|t| t == l)).unwrap_or(labels.len() + k))
+            .collect()
+    } else {
+        let (rows, cols) = (table.len(), table.first().map_or(0, Vec::len));
+        let mut map: Vec<usize> = (0..rows).map(|k| cols + k).collect();
+        if rows > 0 && cols > 0 {
+            if rows <= cols {
+                let (_, assigned) = kuhn_munkres(&Matrix::from_fn(rows, cols, |(i, j)| table[i][j]));
+                for (k, &label) in assigned.iter().enumerate() {
+                    map[k] = label;
+                }
+            } else {
+                let (_, assigned) = kuhn_munkres(&Matrix::from_fn(cols, rows, |(i, j)| table[j][i]));
+                for (label, &k) in assigned.iter().enumerate() {
+                    map[k] = label;
                 }
             }
-            map
         }
+        map
     };
     pred.iter().map(|k| k.and_then(|k| map.get(k).copied())).collect()
 }
@@ -548,7 +573,7 @@ pub fn evaluate(seg: &Segmentation, truth: &Truth, tol: &Tolerances) -> Result<S
     let table = contingency(&pred_keys, &truth_keys, n_pred, labels.len());
     let hungarian_accuracy = hungarian_agreement(&table) as f64 / labelled.max(1) as f64;
     let (strict_accuracy, tolerant_accuracy) = strict_tolerant(seg, truth, &truth_keys, labels.len(), tol);
-    let labelling = labelling::score(&mapped_labels(&spans, &pred_keys, &labels, &table), &truth_keys);
+    let labelling = labelling::score(&mapped_labels(&spans, &pred_keys, &labels, &table, tol.naming), &truth_keys);
 
     Ok(Scores {
         trial: truth.trial.clone(),
@@ -657,6 +682,41 @@ mod tests {
         let sc = evaluate(&s, &t, &Tolerances::default()).unwrap();
         // walk on 0..=59 and 70..=99: right on 70 frames; 40..=59 (walk for jump) and 60..=69 (unknown) wrong
         assert!((sc.labelling.frame_accuracy - 0.7).abs() < 1e-12, "{:?}", sc.labelling);
+    }
+
+    /// Issue 50's case: a held-out take's labels, right, scored by name; the same labels with their names swapped
+    /// (JumpJack↔Twist, KneeRaise→Squat, ArmCircle→Jog, a class the take does not have) score what they are — wrong
+    /// — where one foreign name used to send the whole take to the one-to-one matching, which scored them as right.
+    #[test]
+    fn swapped_and_foreign_names_are_wrong_by_name() {
+        let parts =
+            [(0, 19, "JumpJack"), (20, 39, "Twist"), (40, 59, "KneeRaise"), (60, 79, "Squat"), (80, 99, "ArmCircle")];
+        let t = truth(100, &parts);
+        let named = |names: [&str; 5]| {
+            let mut s = seg(100, &parts.map(|(a, b, _)| (a, b, Level::Action, None)));
+            for (segment, name) in s.segments.iter_mut().zip(names) {
+                segment.label = name.into();
+            }
+            s
+        };
+        let accuracy = |s: &Segmentation, tol: Tolerances| evaluate(s, &t, &tol).unwrap().labelling.frame_accuracy;
+        let right = named(["JumpJack", "Twist", "KneeRaise", "Squat", "ArmCircle"]);
+        assert_eq!(accuracy(&right, Tolerances::default()), 1.0);
+        let swapped = named(["Twist", "JumpJack", "Squat", "Squat", "Jog"]);
+        // only 60..=79 (Squat called Squat) is right
+        assert!((accuracy(&swapped, Tolerances::default()) - 0.2).abs() < 1e-12);
+        assert!((accuracy(&swapped, Tolerances::by_name()) - 0.2).abs() < 1e-12);
+        // one foreign name: its frames wrong, the rest scored by name
+        let foreign = named(["JumpJack", "Twist", "KneeRaise", "Squat", "Jog"]);
+        assert!((accuracy(&foreign, Tolerances::default()) - 0.8).abs() < 1e-12);
+        // every name foreign: a labeller's run is wrong everywhere; read as clusters (no naming asked, nothing named
+        // as the truth names) the one-to-one matching scores the partition
+        let strangers = named(["Jog", "Walk", "Run", "Skip", "Hop"]);
+        assert_eq!(accuracy(&strangers, Tolerances::by_name()), 0.0);
+        assert_eq!(accuracy(&strangers, Tolerances::default()), 1.0);
+        // `unknown` is wrong, and a run naming only unknown is read by name
+        let unknown = named(["unknown", "unknown", "unknown", "unknown", "unknown"]);
+        assert_eq!(accuracy(&unknown, Tolerances::default()), 0.0);
     }
 
     #[test]

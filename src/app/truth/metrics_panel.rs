@@ -29,7 +29,7 @@ use crate::app::truth::compare::{best_in_column, sorted_order, Better};
 use crate::app::truth::ranked::ranked_tables;
 use crate::app::truth::ranking::{copy_of_the_truth, Compared, Line, Table};
 use crate::method::supervised::IN_SAMPLE;
-use crate::segment::metrics::{evaluate, Scores, Tolerances};
+use crate::segment::metrics::{evaluate, Scores};
 use crate::segment::{Level, Segmentation};
 use leptos::prelude::*;
 
@@ -235,7 +235,7 @@ fn compared_row(
     truth: &crate::segment::truth::Truth,
     table: Table,
 ) -> Compared {
-    let scored = evaluate(seg, truth, &Tolerances::default());
+    let scored = evaluate(seg, truth, &crate::methods::scoring(&seg.method));
     // my labels that are the truth itself would top every table: they are shown, not ranked
     let unranked = match &scored {
         Ok(s) if id == "my-labels" && copy_of_the_truth(s.labelling.frame_accuracy, s.boundaries[0].f1) => {
@@ -453,7 +453,7 @@ pub fn MetricsPanel(state: AppState) -> impl IntoView {
             return Outcome::Nothing("Run a method to score its rows against the ground truth.".into());
         };
         let started = now_ms();
-        match evaluate(&seg, &imported.truth, &Tolerances::default()) {
+        match evaluate(&seg, &imported.truth, &crate::methods::scoring(&seg.method)) {
             Ok(scores) => Outcome::Scored(id, std::sync::Arc::new(scores), now_ms() - started),
             Err(e) => Outcome::Failed(format!("{id}: {e}")),
         }
