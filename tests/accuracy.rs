@@ -30,7 +30,8 @@ struct Floor {
 const FLOORS: &[Floor] = &[
     // measured 1.000 / 0.976 / 0.988 · 0.800 / 0.646 / 0.742 (with pose merging, which joins 13_31's Twist and
     // KneeRaise: 0.833 / 0.709 / 0.775 without)
-    Floor { method: "sssm", overrides: &[], least: [(0.95, 0.92, 0.93), (0.75, 0.59, 0.69)] },
+    // (13_31's covering floor 0.62, not 0.59: chance covers 0.614 of it, and a floor must stand above chance)
+    Floor { method: "sssm", overrides: &[], least: [(0.95, 0.92, 0.93), (0.75, 0.62, 0.69)] },
     // measured 0.889 / 0.885 / 0.924 · 0.769 / 0.731 / 0.749
     Floor { method: "pca", overrides: &[], least: [(0.83, 0.83, 0.87), (0.71, 0.68, 0.69)] },
     // measured 0.200 / 0.433 / 0.248 · 0.500 / 0.646 / 0.223
@@ -134,6 +135,63 @@ fn every_method_and_shipped_model_stays_above_its_floor() {
     }
     assert!(failures.is_empty(), "accuracy fell:\n{}", failures.join("\n"));
 }
+
+/// The floors measured against chance on the same takes (issue 50: floors that sit below chance cannot say a method
+/// works). Every floor of an action segmenter or a labeller of these classes lies above chance: F1@1s and covering
+/// above the chance row's (cuts at the mean true segment length from random phases, 20 seeds), and a labeller's frame
+/// accuracy above chance's labels read by name. (A segmenter's frame accuracy matches its clusters one-to-one to the
+/// labels, and so does any cut: equal parts matched that way reach 0.73–0.77 here, SSSM and PCA measure 0.74–0.99 —
+/// no floor with a margin fits between; their cuts are what F1 and covering judge.) The floors that are not above
+/// chance are named in [`BELOW_CHANCE`]: the gesture cutters scored against action labels and the models of other
+/// classes, kept only as did-not-get-worse floors; a floor that rises above chance or falls below it must move.
+#[test]
+fn floors_stand_against_chance() {
+    let mut wrong = Vec::new();
+    for (k, (motion, truth)) in takes().iter().enumerate() {
+        let chance = chance_scores(truth, motion.fps, &prior(&[truth]), Level::Action, 20).unwrap();
+        eprintln!(
+            "{}: chance F1@1s {:.3}, covering {:.3}, frame accuracy by name {:.3}",
+            truth.trial, chance.f1_1, chance.covering, chance.frame_accuracy
+        );
+        for floor in FLOORS {
+            let (f1, covering, accuracy) = floor.least[k];
+            let labeller =
+                mocapseg::methods::scoring(floor.method).naming == mocapseg::segment::metrics::Naming::ByName;
+            let above =
+                f1 > chance.f1_1 && covering > chance.covering && (!labeller || accuracy > chance.frame_accuracy);
+            let what = [floor.method].iter().chain(floor.overrides).copied().collect::<Vec<_>>().join(" ");
+            let listed = BELOW_CHANCE.contains(&what.as_str());
+            if above == listed {
+                wrong.push(format!(
+                    "{what} on {}: floors {f1} / {covering} / {accuracy} against chance {:.3} / {:.3} / {:.3} — {}",
+                    truth.trial,
+                    chance.f1_1,
+                    chance.covering,
+                    chance.frame_accuracy,
+                    if listed { "above chance now: take it off BELOW_CHANCE" } else { "below chance" }
+                ));
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+/// The floors below chance on these takes (method and overrides as listed in [`FLOORS`]): what a floor of theirs can
+/// and cannot say is in [`floors_stand_against_chance`].
+const BELOW_CHANCE: &[&str] = &[
+    // velocity, KCS and LMA cut gestures, finer than actions: against action labels they are below chance (their
+    // gesture floors: tests/lma.rs `the_searches_find_planted_boundaries_better_than_random_ones` for LMA; velocity and
+    // KCS have none above chance — docs/accuracy.md's gesture table has them below it too)
+    "velocity",
+    "kcs",
+    "lma",
+    "lma search=\"deviance\"",
+    // the models of other classes name nothing of these takes; their cuts too are below chance
+    "dtfcn model=\"cmu-actions\" fit_check=false",
+    "knn model=\"cmu-actions\" fit_check=false",
+    "dtfcn model=\"locomotion\" fit_check=false",
+    "knn model=\"locomotion\" fit_check=false",
+];
 
 /// The take fit (`src/methods/dtfcn/fit.rs`): the CMU-actions and locomotion models, taught no exercise, say the two
 /// exercise takes do not fit them and label every frame unknown; the exercises models' takes fit (their floors above
