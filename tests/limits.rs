@@ -652,7 +652,7 @@ fn a_labelling_run_stops_where_it_is_cancelled() {
             "knn",
             serde_json::json!({"decoding": "custom", "min_duration_s": 30.0, "fit_check": false}),
             "decoding",
-            0.92,
+            0.96,
         ),
         ("dtfcn", serde_json::json!({"decoding": "raw", "fit_check": false}), "network", 0.2),
     ];

@@ -574,7 +574,8 @@ impl Method for Labelling {
         };
         progress.step("motion image", 0.0)?;
         let labelled = label(&params.model, motion, progress)?;
-        progress.step("decoding", 0.9)?;
+        // after the labeller's share (the k-NN's search ends at 0.9, DT-FCN's blocks at 0.95): never backwards
+        progress.step("decoding", 0.95)?;
         let mut file = file_labels_going(
             &labelled.probabilities,
             &labelled.source,
@@ -582,7 +583,7 @@ impl Method for Labelling {
             motion.frames(),
             &params.decoding,
             params.threshold,
-            &mut |f| progress.step("decoding", 0.9 + 0.1 * f).is_ok(),
+            &mut |f| progress.step("decoding", 0.95 + 0.05 * f).is_ok(),
         )
         .ok_or(MethodError::Cancelled)?;
         // a take the classes cannot describe gets no labels at all: its familiar-looking frames are
