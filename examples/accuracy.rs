@@ -19,7 +19,8 @@
 //!     trained on the other mocap6 takes, their settings chosen on inner validation takes of those
 //!     (`dtfcn::corpus::predict_held_out`: receptive field (w and layers), padding, epochs, weight averaging
 //!     (`dtfcn::corpus::averaged_fold`), and the unknown threshold on the validation
-//!     take's labels; the k-NN's k and unknown threshold by an inner leave-one-take-out); 86_01 has no other take with
+//!     take's labels; the k-NN's input (the joints, or DT-FCN's with the root's velocity and turning rows), window, k
+//!     and unknown threshold by an inner leave-one-take-out); 86_01 has no other take with
 //!     its labels, so they have no held-out score there.
 //!   - *oracle-K*: per take, the grid setting whose number of segments is closest to the true one (a method told K).
 //!   Selection: the mean of F1@1s and covering.
@@ -45,6 +46,7 @@
 //! cargo run --release --example accuracy -- [--data ../shared/data] [--out docs] [--readme README.md] [--seeds 20]
 //!     [--methods docs/methods]
 //! cargo run --example accuracy -- --from-json docs/accuracy.json   # the markdown again, from the saved JSON
+//! cargo run --release --example accuracy -- --labeller knn          # one labeller's held-out rows, nothing written
 //! ```
 
 #[cfg(target_arch = "wasm32")]
@@ -76,7 +78,7 @@ mod lab {
     use mocapseg::methods::dtfcn::network::{paper_filters, Padding};
     use mocapseg::methods::dtfcn::training::TrainOptions;
     use mocapseg::methods::knn::training::{fit_knn, knn_fold};
-    use mocapseg::methods::knn::KnnParams;
+    use mocapseg::methods::knn::{KnnInput, KnnParams};
     use mocapseg::methods::lma::classifier::EffortModel;
     use mocapseg::methods::lma::corpus::{Corpus, CorpusConfig};
     use mocapseg::methods::lma::method::{segment_with, LmaParams};
@@ -139,6 +141,10 @@ mod lab {
         /// the scoreboard is made with 3).
         #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u64).range(1..=3))]
         dtfcn_seeds: u64,
+        /// A quick look at one labeller (`knn` or `dtfcn`): its rows only, printed with each take's score; nothing is
+        /// written.
+        #[arg(long, value_parser = ["knn", "dtfcn"])]
+        labeller: Option<String>,
     }
 
     /// A labelled take: its motion, its truth and the label set it belongs to.
@@ -651,6 +657,9 @@ mod lab {
     /// The k-NN's windows its nested choice is offered (issue 50: it was fixed at ±1 s): half a window and its stride,
     /// in working frames at 30 Hz — ±0.5 s, ±1 s (the shipped models'), ±2 s, every sixth of a second.
     const KNN_WINDOWS: [(i32, i32); 3] = [(30, 5), (15, 5), (60, 5)];
+    /// The k-NN's inputs its nested choice is offered (issue 50: it read the joints alone): the hip-relative joints as
+    /// they are (the shipped models'), and DT-FCN's input — with the root's velocity and turning rows, standardised.
+    const KNN_INPUTS: [KnnInput; 2] = [KnnInput::Joints, KnnInput::Network];
 
     fn knn_labelled(
         train: &[(&Motion, &[Option<usize>])],
@@ -675,6 +684,7 @@ mod lab {
     }
 
     fn labeller_rows(
+        names: &[&str],
         takes: &[Take],
         ensembles: bool,
         inner_all: bool,
@@ -688,7 +698,7 @@ mod lab {
         let labels: Vec<Vec<Option<usize>>> = mocap6.iter().map(|t| class_frames(&t.truth, &mut classes)).collect();
         let motions: Vec<Motion> = mocap6.iter().map(|t| t.motion.clone()).collect();
         let mut rows = Vec::new();
-        for name in ["knn", "dtfcn"] {
+        for &name in names {
             let started = Instant::now();
             // in-sample: the shipped models on the takes they were trained on
             let shipped: Vec<Cell> = takes
@@ -713,8 +723,16 @@ mod lab {
                         // (window and k, threshold, mean inner accuracy, the inner takes' labels) on the raw labels
                         let mut top: (KnnParams, f64, f64, Vec<Labelled>) =
                             (KnnParams::default(), THRESHOLDS[0], f64::MIN, Vec::new());
-                        let candidates = KNN_WINDOWS.iter().flat_map(|&(half_window, stride)| {
-                            KS.iter().map(move |&k| KnnParams { half_window, stride, k, ..KnnParams::default() })
+                        let candidates = KNN_INPUTS.iter().flat_map(|&input| {
+                            KNN_WINDOWS.iter().flat_map(move |&(half_window, stride)| {
+                                KS.iter().map(move |&k| KnnParams {
+                                    half_window,
+                                    stride,
+                                    k,
+                                    input,
+                                    ..KnnParams::default()
+                                })
+                            })
                         });
                         for params in candidates {
                             let inner: Vec<Labelled> = train
@@ -758,8 +776,9 @@ mod lab {
                             threshold,
                             decoding,
                             format!(
-                                "half_window={} stride={} k={} (inner accuracy {:.3}) unknown_threshold={threshold} {} \
-                                 (inner criterion {criterion:.1})",
+                                "input={} half_window={} stride={} k={} (inner accuracy {:.3}) \
+                                 unknown_threshold={threshold} {} (inner criterion {criterion:.1})",
+                                top.0.input.name(),
                                 top.0.half_window,
                                 top.0.stride,
                                 top.0.k,
@@ -1012,7 +1031,8 @@ mod lab {
                     + &by_seed_note
             } else {
                 "defaults: the shipped models (in-sample); held out: mocap6 takes only, trained on the other three, the \
-                 window (±0.5, ±1 or ±2 s) and k chosen on inner folds"
+                 input (the joints, or DT-FCN's with the root's velocity and turning), the window (±0.5, ±1 or ±2 s) \
+                 and k chosen on inner folds"
                     .into()
             };
             rows.push(MethodRow {
@@ -1364,6 +1384,31 @@ mod lab {
                 missing.join(", ")
             );
         }
+        if let Some(name) = &args.labeller {
+            let rows = labeller_rows(
+                &[name],
+                &takes,
+                args.ensembles,
+                args.inner_all,
+                args.centring,
+                args.dtfcn_seeds as usize,
+            )?;
+            for row in rows {
+                for (take, chose, s) in &row.folds {
+                    println!(
+                        "{} held out {take}: {:.3} / {:.2} / {:.2} — {chose}",
+                        row.method, s.frame_accuracy, s.f1_1, s.covering
+                    );
+                }
+                if let Some(h) = &row.held_out {
+                    println!(
+                        "{}: held out frame accuracy {:.3} F1@1s {:.3} covering {:.3} ({:.0} s); nothing written",
+                        row.method, h.frame_accuracy, h.f1_1, h.covering, row.seconds
+                    );
+                }
+            }
+            return Ok(());
+        }
         let refs: Vec<(&Motion, &Truth)> = takes.iter().map(|t| (&t.motion, &t.truth)).collect();
         println!("lma: one classifier family per held-out take, trained without it");
         let families = Families::train(&args.data, &takes.iter().map(|t| t.name.clone()).collect::<Vec<_>>())?;
@@ -1381,6 +1426,7 @@ mod lab {
         actions.push(consensus_row(&refs, &outputs, action_criterion, &families)?);
         println!("actions: knn, dtfcn");
         actions.extend(labeller_rows(
+            &["knn", "dtfcn"],
             &takes,
             args.ensembles,
             args.inner_all,

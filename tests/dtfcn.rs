@@ -285,14 +285,14 @@ fn the_registered_methods_label_a_take_with_a_users_models() {
         .collect();
     let knn_takes: Vec<(&Motion, &[Option<usize>])> =
         motions.iter().zip(&labels).map(|(m, l)| (m, l.as_slice())).collect();
-    store.install(stored(fit_knn_model(&knn_takes, &classes, &meta()).unwrap()));
+    store.install(stored(fit_knn_model(&knn_takes, &classes, &meta(), Default::default()).unwrap()));
     // the same models made with another unknown threshold, which a run uses unless it asks for its own
     let strict = |mut m: Model| {
         m.header.unknown_threshold = 1.0;
         Loaded { info: model_info(kind(&m), "strict-model", &m), model: std::sync::Arc::new(m) }
     };
     store.install(strict(train_model(&takes, &[], &classes, &small(3), &meta(), &mut |_| true).unwrap()));
-    store.install(strict(fit_knn_model(&knn_takes, &classes, &meta()).unwrap()));
+    store.install(strict(fit_knn_model(&knn_takes, &classes, &meta(), Default::default()).unwrap()));
     for name in ["dtfcn", "knn"] {
         let m = find(name).unwrap();
         let run = |params: serde_json::Value, options: &RunOptions| {

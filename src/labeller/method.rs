@@ -295,6 +295,12 @@ pub trait Kind: Sync {
     fn info(&self) -> MethodInfo;
     /// The rows of the motion image its models read, by name (the header's `joints`).
     fn joint_names(&self) -> Vec<String>;
+    /// The rows a model with `header` must have been trained on: [`Kind::joint_names`], unless the method's own
+    /// fields choose its input (the k-NN's `input`).
+    fn header_joints(&self, header: &ModelHeader) -> Vec<String> {
+        let _ = header;
+        self.joint_names()
+    }
     /// What its own fields of `header` must say, beyond what every model's header must
     /// ([`super::model::check_header`]).
     fn check_header(&self, header: &ModelHeader) -> Result<(), String>;

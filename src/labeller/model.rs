@@ -441,7 +441,7 @@ pub fn check_header(h: &ModelHeader, kind: &dyn Kind) -> Result<(), String> {
     if h.member_bytes.len() > MAX_MEMBERS {
         return Err(format!("{} networks: an ensemble holds at most {MAX_MEMBERS}", h.member_bytes.len()));
     }
-    let ours = kind.joint_names();
+    let ours = kind.header_joints(h);
     if h.joints != ours {
         return Err(format!(
             "trained on the image rows [{}], but this mocapseg's {} reads [{}]: train the model again with this version",

@@ -2,12 +2,12 @@
 //! ones — what the budget gate must either run within what it declares or refuse before it starts.
 
 use mocapseg::labeller::model::{Json, Model};
-use mocapseg::methods::knn::{Knn, KnnParams, DIMS};
+use mocapseg::methods::knn::{Knn, KnnInput, KnnParams, DIMS};
 use mocapseg::motion::joints::Canonical;
 
 /// The widest window a k-NN file may ask for: ±300 frames, every frame (601 offsets × 51 values = 30,651 values a
 /// window, 46× the shipped ±30 every 5).
-pub const WIDE: KnnParams = KnnParams { fps: 30.0, half_window: 300, stride: 1, k: 5 };
+pub const WIDE: KnnParams = KnnParams { fps: 30.0, half_window: 300, stride: 1, k: 5, input: KnnInput::Joints };
 
 /// The k-NN file `name`: the shipped `exercises` k-NN's header (its classes, travel, decoding) with the window `WIDE`
 /// and a payload of `points` training windows — made up (axes, mean and points from a fixed sequence, labels

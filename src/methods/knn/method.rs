@@ -37,6 +37,12 @@ impl Kind for KnnMethod {
         canonical_names()
     }
 
+    /// A model reading DT-FCN's input ([`super::KnnInput::Network`]) lists the network's rows.
+    fn header_joints(&self, header: &ModelHeader) -> Vec<String> {
+        let params = header.knn.as_ref().and_then(|k| k.read::<super::KnnParams>().ok());
+        params.map_or_else(canonical_names, |p| p.input.row_names())
+    }
+
     fn check_header(&self, header: &ModelHeader) -> Result<(), String> {
         super::model::check_header(header)
     }

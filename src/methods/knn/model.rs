@@ -164,6 +164,45 @@ mod tests {
         assert_eq!(header.provenance.options, recorded_options().unwrap());
     }
 
+    /// A k-NN reading DT-FCN's input is written with the network's rows in its header and read back voting the same;
+    /// its header claiming the joints' rows (what a joints model lists) is refused, naming both.
+    #[test]
+    fn a_network_input_knn_file_lists_the_networks_rows() {
+        use crate::labeller::corpus::ModelMeta;
+        use crate::methods::knn::{training::fit_knn_model, KnnInput, KnnParams};
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/www/sample.bvh");
+        let take = Motion::from_bvh("13_30", &crate::bvh::parse(&std::fs::read_to_string(path).unwrap()).unwrap())
+            .unwrap()
+            .slice(0, 800);
+        let labels: Vec<Option<usize>> = (0..take.frames()).map(|f| Some(usize::from(f >= 216))).collect();
+        let meta = ModelMeta {
+            name: "n".into(),
+            command: "test".into(),
+            data_hash: String::new(),
+            decoding: None,
+            unknown_threshold: 0.0,
+            travel: None,
+        };
+        let params = KnnParams { input: KnnInput::Network, ..KnnParams::default() };
+        let classes = ["JumpJack".to_string(), "Twist".to_string()];
+        let model = fit_knn_model(&[(&take, &labels[..])], &classes, &meta, params).unwrap();
+        assert_eq!(model.header.joints, crate::labeller::input::joint_names());
+        let kinds: [&dyn crate::labeller::method::Kind; 1] = [&super::super::method::KNN];
+        let bytes = model.to_bytes().unwrap();
+        let back = Model::from_bytes(&bytes, "n.model", &kinds).unwrap();
+        assert_eq!(knn_of(&back).unwrap().params(), params);
+        let votes = |m: &Model| knn_of(m).unwrap().predict(&take).unwrap();
+        assert_eq!(votes(&back), votes(&model));
+        let (mut header, payload) = read_header(&bytes, "n.model").unwrap();
+        header.joints = crate::labeller::input::canonical_names();
+        let e = Model::from_bytes(&frame(&header, payload).unwrap(), "n.model", &kinds).err().expect("refused");
+        assert!(e.contains("turning") && e.contains("train the model again"), "{e}");
+        // a joints model's file says nothing of its input: the shipped files stay byte for byte what they were
+        let joints = fit_knn_model(&[(&take, &labels[..])], &classes, &meta, KnnParams::default()).unwrap();
+        let field: serde_json::Value = joints.header.knn.as_ref().unwrap().read().unwrap();
+        assert!(field.get("input").is_none(), "{field}");
+    }
+
     /// The shipped k-NN file with its header's decoding made hostile, framed as a file would carry it:
     /// refused on load (its payload and checksum untouched, so only the header can be why).
     #[test]

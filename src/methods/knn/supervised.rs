@@ -78,7 +78,7 @@ impl Training for KnnTraining {
             .map(|(m, l)| (m, &l[..]))
             .collect();
         let meta = p.meta(&super::method::KNN, &self.options);
-        let mut model = fit_knn_model(&takes, &p.classes, &meta)
+        let mut model = fit_knn_model(&takes, &p.classes, &meta, super::KnnParams::default())
             .map_err(|m| MethodError::param("labels", format!("{}: {m}", p.labels_name)))?;
         model.header.provenance.take_sha256 = p.trained_sha256();
         self.chosen = choose_on_validation(&mut model, p, &self.options)?;

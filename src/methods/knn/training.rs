@@ -5,13 +5,13 @@ use crate::labeller::corpus::{header, FoldLabels, FoldTakes, ModelMeta};
 use crate::labeller::model::{Json, Model, Provenance};
 use crate::motion::Motion;
 
-/// Fits a k-NN model on `takes` (motions with per-file-frame labels; unlabelled frames left out).
+/// Fits a k-NN model with `params` on `takes` (motions with per-file-frame labels; unlabelled frames left out).
 pub fn fit_knn_model(
     takes: &[(&Motion, &[Option<usize>])],
     classes: &[String],
     meta: &ModelMeta,
+    params: KnnParams,
 ) -> Result<Model, String> {
-    let params = KnnParams::default();
     let knn = fit_knn(takes, params)?;
     let provenance = Provenance {
         command: meta.command.clone(),
@@ -25,6 +25,7 @@ pub fn fit_knn_model(
         members: Vec::new(),
     };
     let mut h = header(&super::method::KNN, classes, meta, provenance);
+    h.joints = params.input.row_names();
     h.knn = Some(Json::of(&params)?);
     Ok(Model { header: h, labeller: Box::new(knn) })
 }
