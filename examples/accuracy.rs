@@ -74,7 +74,9 @@ mod lab {
     use mocapseg::labeller::method::runs;
     use mocapseg::labeller::probabilities::Probabilities;
     use mocapseg::method::{self, NoProgress, RunOptions};
-    use mocapseg::methods::dtfcn::corpus::{averaged_fold, final_fold, predict_held_out, validation_fold};
+    use mocapseg::methods::dtfcn::corpus::{
+        averaged_fold_with, final_fold, predict_held_out, predict_held_out_with, validation_fold, Extra,
+    };
     use mocapseg::methods::dtfcn::network::{paper_filters, Padding};
     use mocapseg::methods::dtfcn::training::TrainOptions;
     use mocapseg::methods::knn::training::{fit_knn, knn_fold};
@@ -145,6 +147,39 @@ mod lab {
         /// written.
         #[arg(long, value_parser = ["knn", "dtfcn"])]
         labeller: Option<String>,
+        /// With `--labeller`: more training data made from the takes in every fold (see [`Lever`]; DT-FCN's single
+        /// networks' grid, not `--inner-all` or the ensembles).
+        #[arg(long, value_enum, default_value = "none", requires = "labeller", conflicts_with_all = ["inner_all", "ensembles"])]
+        lever: Lever,
+    }
+
+    /// One take of each subject of the shared data whose bones a take can be played on (`Lever::Retarget`): the
+    /// labelled takes' and the locomotion clips', the first of each subject, those whose hierarchy is CMU's common one.
+    fn carriers(data: &Path, takes: &[Take]) -> Result<Vec<(String, Bvh)>, String> {
+        let mut out: Vec<(String, Bvh)> = Vec::new();
+        let mut add = |name: &str, b: &Bvh| {
+            let same = takes.first().is_some_and(|t| mocapseg::splice::retarget(name, b, &t.name, &t.bvh).is_ok());
+            if same && !out.iter().any(|(n, _)| subject(n) == subject(name)) {
+                out.push((name.to_string(), b.clone()));
+            }
+        };
+        for t in takes {
+            add(&t.name, &t.bvh);
+        }
+        let dir = data.join("cmu/locomotion");
+        let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+            .map_err(|e| format!("{}: {e}", dir.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "bvh"))
+            .collect();
+        files.sort();
+        for f in files {
+            let text = std::fs::read_to_string(&f).map_err(|e| format!("{}: {e}", f.display()))?;
+            let b = bvh::parse(&text).map_err(|e| format!("{}: {e}", f.display()))?;
+            add(&f.file_stem().unwrap_or_default().to_string_lossy(), &b);
+        }
+        println!("carriers: {}", out.iter().map(|c| c.0.as_str()).collect::<Vec<_>>().join(", "));
+        Ok(out)
     }
 
     /// A labelled take: its motion, its truth and the label set it belongs to.
@@ -153,6 +188,92 @@ mod lab {
         motion: Motion,
         truth: Truth,
         set: &'static str,
+        /// The file as read (what the data levers splice and play on other bones).
+        bvh: Bvh,
+    }
+
+    /// More training data made from the takes we have (issue 50), beside the labelled takes of every fit of a fold (inner
+    /// and outer): measured against none with `--labeller knn|dtfcn --lever …` before any ships.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+    pub enum Lever {
+        /// The takes as they are.
+        None,
+        /// Two takes spliced from the fit's takes' labelled segments (`splice::splice`: pieces 2 s to the whole
+        /// segment, new orders, cross-faded transitions in which both pieces keep moving, no exercise always first).
+        Splice,
+        /// Each fit take also played on the bones of every other subject of the shared data (`splice::retarget`): never
+        /// the scored take's subject's.
+        Retarget,
+    }
+
+    /// A take's subject: CMU's trial name before its `_`.
+    fn subject(name: &str) -> &str {
+        name.split('_').next().unwrap_or(name)
+    }
+
+    /// The takes `lever` adds to a fit on `fit` (indices into `takes`), labelled per file frame in `classes`' indices:
+    /// made from those takes only, and never on the bones of a subject of the takes left out of the fit (the scored
+    /// and the validation takes).
+    fn lever_takes(
+        lever: Lever,
+        fit: &[usize],
+        takes: &[&Take],
+        carriers: &[(String, Bvh)],
+        classes: &[String],
+    ) -> Result<Vec<(Motion, Vec<Option<usize>>)>, String> {
+        let class = |label: &str| classes.iter().position(|c| c == label);
+        let mut out = Vec::new();
+        match lever {
+            Lever::None => {}
+            Lever::Splice => {
+                let sources: Vec<mocapseg::splice::Source> = fit
+                    .iter()
+                    .map(|&i| mocapseg::splice::Source {
+                        name: &takes[i].name,
+                        bvh: &takes[i].bvh,
+                        truth: &takes[i].truth,
+                    })
+                    .collect();
+                let segments: usize = fit.iter().map(|&i| takes[i].truth.segments.len()).sum();
+                for copy in 0..2u64 {
+                    // the seed follows the fit's takes, so every fold splices its own
+                    let seed = fit.iter().fold(7 + copy, |h, &i| h * 31 + i as u64 + 1);
+                    let options = mocapseg::splice::SpliceOptions {
+                        pieces: segments,
+                        seed,
+                        min_s: 2.0,
+                        max_s: 60.0,
+                        blend_s: 0.25,
+                    };
+                    let spliced = mocapseg::splice::splice(&sources, &options).map_err(|e| e.to_string())?;
+                    let name = format!("spliced-{copy}");
+                    let motion = Motion::from_bvh(&name, &spliced.bvh).map_err(|e| format!("{name}: {e}"))?;
+                    let mut labels = vec![None; motion.frames()];
+                    for p in &spliced.pieces {
+                        let c = class(&p.label).ok_or_else(|| format!("{name}: label {} of no class", p.label))?;
+                        labels[p.start..=p.end.min(motion.frames() - 1)].iter_mut().for_each(|l| *l = Some(c));
+                    }
+                    out.push((motion, labels));
+                }
+            }
+            Lever::Retarget => {
+                let not: Vec<&str> =
+                    (0..takes.len()).filter(|i| !fit.contains(i)).map(|i| subject(&takes[i].name)).collect();
+                for &i in fit {
+                    let t = takes[i];
+                    let labels = class_frames(&t.truth, &mut classes.to_vec());
+                    let usable = |c: &str| !not.contains(&subject(c)) && subject(c) != subject(&t.name);
+                    for (carrier, bvh) in carriers.iter().filter(|(c, _)| usable(c)) {
+                        let moved =
+                            mocapseg::splice::retarget(&t.name, &t.bvh, carrier, bvh).map_err(|e| e.to_string())?;
+                        let name = format!("{}@{}", t.name, subject(carrier));
+                        let motion = Motion::from_bvh(&name, &moved).map_err(|e| format!("{name}: {e}"))?;
+                        out.push((motion, labels.clone()));
+                    }
+                }
+            }
+        }
+        Ok(out)
     }
 
     /// One setting's result on one take.
@@ -356,6 +477,9 @@ mod lab {
         oracle_k: Option<MeanScores>,
         /// Per take: (take, held-out choice, held-out scores).
         folds: Vec<(String, String, MeanScores)>,
+        /// A trained model's held-out scores per seed, per take (DT-FCN's runs; empty for one run): what the two-way
+        /// bootstrap draws from ([`mocapseg::stats::bootstrap_grid_mean`]).
+        seed_folds: Vec<Vec<(String, MeanScores)>>,
         note: String,
         seconds: f64,
     }
@@ -414,6 +538,7 @@ mod lab {
         let outputs =
             Outputs { method: name.into(), settings: settings.clone(), segs, in_sample: b, held_out: held_segs };
         let row = MethodRow {
+            seed_folds: Vec::new(),
             method: name.into(),
             defaults: Some(defaults),
             in_sample: Some((label(&settings[b]), in_sample)),
@@ -528,6 +653,7 @@ mod lab {
         }
         let names: Vec<&str> = methods.iter().map(|m| m.method.as_str()).collect();
         Ok(MethodRow {
+            seed_folds: Vec::new(),
             method: "consensus".into(),
             defaults: Some(mean_of(&on_defaults[0].iter().collect::<Vec<_>>())),
             in_sample: Some((
@@ -683,8 +809,11 @@ mod lab {
         TrainOptions { width, filters: paper_filters(layers), padding, seed, ..TrainOptions::default() }
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn labeller_rows(
         names: &[&str],
+        lever: Lever,
+        carriers: &[(String, Bvh)],
         takes: &[Take],
         ensembles: bool,
         inner_all: bool,
@@ -714,12 +843,29 @@ mod lab {
             // chosen on (`train-dtfcn --min-duration-s --switch-cost`, models/README.md)
             let mut out_of_fold: Vec<(usize, Labelled)> = Vec::new();
             // each run's (seed's) held-out scores, take by take
-            let mut by_seed: Vec<Vec<MeanScores>> = Vec::new();
+            let mut by_seed: Vec<Vec<(String, MeanScores)>> = Vec::new();
             if mocap6.len() >= 3 {
                 for h in 0..mocap6.len() {
                     // (held-out labels, threshold, decoding, what was chosen): one for the k-NN, one per seed for DT-FCN
                     let runs: Vec<(Labelled, f64, Decoding, String)> = if name == "knn" {
                         let train: Vec<usize> = (0..mocap6.len()).filter(|&i| i != h).collect();
+                        // the lever's takes for each inner fit (without its validation take) and for the fold's fit
+                        let inner_extra: Vec<Vec<(Motion, Vec<Option<usize>>)>> = train
+                            .iter()
+                            .map(|&v| {
+                                let fit: Vec<usize> = train.iter().copied().filter(|&i| i != v).collect();
+                                lever_takes(lever, &fit, &mocap6, carriers, &classes)
+                            })
+                            .collect::<Result<_, _>>()?;
+                        let extra = lever_takes(lever, &train, &mocap6, carriers, &classes)?;
+                        if lever != Lever::None {
+                            println!(
+                                "    knn: held out {}, the lever {lever:?} adds {} takes ({} frames) to the fit",
+                                mocap6[h].name,
+                                extra.len(),
+                                extra.iter().map(|e| e.0.frames()).sum::<usize>()
+                            );
+                        }
                         // (window and k, threshold, mean inner accuracy, the inner takes' labels) on the raw labels
                         let mut top: (KnnParams, f64, f64, Vec<Labelled>) =
                             (KnnParams::default(), THRESHOLDS[0], f64::MIN, Vec::new());
@@ -737,11 +883,13 @@ mod lab {
                         for params in candidates {
                             let inner: Vec<Labelled> = train
                                 .iter()
-                                .map(|&v| {
+                                .zip(&inner_extra)
+                                .map(|(&v, extra)| {
                                     let fit: Vec<(&Motion, &[Option<usize>])> = train
                                         .iter()
                                         .filter(|&&i| i != v)
                                         .map(|&i| (&motions[i], labels[i].as_slice()))
+                                        .chain(extra.iter().map(|(m, l)| (m, l.as_slice())))
                                         .collect();
                                     knn_labelled(&fit, params, &motions[v], classes.len())
                                 })
@@ -769,8 +917,11 @@ mod lab {
                         let inner: Vec<(&Motion, &Labelled, &[Option<usize>])> =
                             train.iter().zip(&top.3).map(|(&v, l)| (&motions[v], l, labels[v].as_slice())).collect();
                         let (threshold, decoding, criterion) = best_decoding(&inner);
-                        let fit: Vec<(&Motion, &[Option<usize>])> =
-                            train.iter().map(|&i| (&motions[i], labels[i].as_slice())).collect();
+                        let fit: Vec<(&Motion, &[Option<usize>])> = train
+                            .iter()
+                            .map(|&i| (&motions[i], labels[i].as_slice()))
+                            .chain(extra.iter().map(|(m, l)| (m, l.as_slice())))
+                            .collect();
                         vec![(
                             knn_labelled(&fit, top.0, &motions[h], classes.len())?,
                             threshold,
@@ -789,6 +940,9 @@ mod lab {
                     } else {
                         // every seed of DTFCN_SEEDS: a network's held-out score is partly the luck of its seed
                         let mut runs = Vec::new();
+                        // the lever's takes beside every training of the fold (the single networks' grid)
+                        let made = |fit: &[usize]| lever_takes(lever, fit, &mocap6, carriers, &classes);
+                        let extra: Extra = &made;
                         // the ensembles' networks, each trained once in this fold and shared by every seed's ensemble
                         // that holds it: (its seed, its padding) → its labels
                         let mut members: std::collections::HashMap<(u64, usize), MemberFold> = Default::default();
@@ -830,10 +984,16 @@ mod lab {
                                 .flat_map(|&(w, l, p)| centrings.iter().map(move |&c| (w, l, p, c)));
                             for (width, layers, padding, centre_on_take) in grid {
                                 let options = TrainOptions { centre_on_take, ..setting(width, layers, padding, seed) };
-                                let p =
-                                    predict_held_out(&motions, &labels, h, &classes, &options, &knn_fold, &mut |_| {
-                                        true
-                                    })?;
+                                let p = predict_held_out_with(
+                                    &motions,
+                                    &labels,
+                                    h,
+                                    &classes,
+                                    &options,
+                                    &knn_fold,
+                                    extra,
+                                    &mut |_| true,
+                                )?;
                                 let mut held = Some(Labelled {
                                     probabilities: p.network_probabilities,
                                     source: p.network_source,
@@ -847,7 +1007,16 @@ mod lab {
                                         (p.validation_probabilities.clone(), p.validation_source.clone())
                                     } else {
                                         let o = TrainOptions { average_last, ..options.clone() };
-                                        let a = averaged_fold(&motions, &labels, h, &classes, &o, p.best_epoch, false)?;
+                                        let a = averaged_fold_with(
+                                            &motions,
+                                            &labels,
+                                            h,
+                                            &classes,
+                                            &o,
+                                            p.best_epoch,
+                                            false,
+                                            extra,
+                                        )?;
                                         (a.validation_probabilities, a.validation_source)
                                     };
                                     // the unknown threshold and the decoding, on the validation take's labels by the
@@ -956,8 +1125,16 @@ mod lab {
                                     Labelled { probabilities, source, fps: NETWORK_FPS }
                                 }
                                 None => {
-                                    let a =
-                                        averaged_fold(&motions, &labels, h, &classes, &options, options.epochs, true)?;
+                                    let a = averaged_fold_with(
+                                        &motions,
+                                        &labels,
+                                        h,
+                                        &classes,
+                                        &options,
+                                        options.epochs,
+                                        true,
+                                        extra,
+                                    )?;
                                     let (probabilities, source) =
                                         a.network.ok_or("the averaged fold made no labels")?;
                                     Labelled { probabilities, source, fps: NETWORK_FPS }
@@ -985,7 +1162,7 @@ mod lab {
                         if by_seed.len() <= i {
                             by_seed.push(Vec::new());
                         }
-                        by_seed[i].push(c.scores.clone());
+                        by_seed[i].push((mocap6[h].name.clone(), c.scores.clone()));
                         scores.push(c.scores);
                         chose.push(chosen);
                     }
@@ -1010,7 +1187,7 @@ mod lab {
                     .iter()
                     .zip(&by_seed)
                     .map(|(seed, s)| {
-                        let m = MeanScores::mean(s);
+                        let m = MeanScores::mean(&s.iter().map(|x| x.1.clone()).collect::<Vec<_>>());
                         format!("seed {seed} {:.3} / {:.2} / {:.2}", m.frame_accuracy, m.f1_1, m.covering)
                     })
                     .collect();
@@ -1042,6 +1219,7 @@ mod lab {
                 held_out,
                 oracle_k: None,
                 folds,
+                seed_folds: if by_seed.len() > 1 { by_seed } else { Vec::new() },
                 note,
                 seconds: started.elapsed().as_secs_f64(),
             });
@@ -1062,6 +1240,7 @@ mod lab {
             oracle.push(cell(&equal_parts(t.frames, m.fps, t.segments.len(), level), t)?.scores);
         }
         let row = |method: &str, all: Vec<MeanScores>, note: String| MethodRow {
+            seed_folds: Vec::new(),
             method: method.into(),
             defaults: None,
             in_sample: None,
@@ -1201,12 +1380,23 @@ mod lab {
 
     /// A held-out figure over `takes` of row `r`: the mean and its bootstrap 95 % interval, and the per-take values
     /// (None when the row was not held out on every one of them).
+    /// A row's mean over `takes` with its bootstrap interval, and its per-take values (over its seeds' means): the
+    /// interval drawn over the takes and, for a row with several seeds' runs, over the seeds too.
     fn spread(r: &MethodRow, takes: &[String], pick: fn(&MeanScores) -> f64) -> Option<((f64, f64, f64), Vec<f64>)> {
         let values: Vec<f64> = takes
             .iter()
             .map(|t| r.folds.iter().find(|f| &f.0 == t).map(|f| pick(&f.2)))
             .collect::<Option<Vec<f64>>>()?;
-        Some((mocapseg::stats::bootstrap_mean(&values, RESAMPLES, BOOTSTRAP_SEED)?, values))
+        let grid: Option<Vec<Vec<f64>>> = r
+            .seed_folds
+            .iter()
+            .map(|run| takes.iter().map(|t| run.iter().find(|f| &f.0 == t).map(|f| pick(&f.1))).collect())
+            .collect();
+        let interval = match grid {
+            Some(grid) if grid.len() > 1 => mocapseg::stats::bootstrap_grid_mean(&grid, RESAMPLES, BOOTSTRAP_SEED)?,
+            _ => mocapseg::stats::bootstrap_mean(&values, RESAMPLES, BOOTSTRAP_SEED)?,
+        };
+        Some((interval, values))
     }
 
     /// `0.86 [0.74, 0.95]`.
@@ -1229,7 +1419,8 @@ mod lab {
              classes by name (a class the take does not have, and unknown, are wrong); a segmenter's clusters matched \
              one-to-one to the true labels — so a segmenter's frame acc. compares with oracle-K (equal parts), also \
              matched, and a labeller's with chance, whose drawn labels are read by name. DT-FCN's per-take figures are \
-             means over its seeds.\n\n",
+             means over its seeds, and its intervals are drawn over the seeds too (each resample draws takes and seeds \
+             with replacement: a seed's luck counts in the spread).\n\n",
             takes.join(", "),
             takes.len(),
             takes.join(", "),
@@ -1274,6 +1465,7 @@ mod lab {
                         "held_out": scores_json(&r.held_out),
                         "oracle_k": scores_json(&r.oracle_k),
                         "folds": r.folds.iter().map(|(t, c, s)| json!({"take": t, "chose": c, "scores": s})).collect::<Vec<_>>(),
+                        "seed_folds": r.seed_folds.iter().map(|run| run.iter().map(|(t, s)| json!({"take": t, "scores": s})).collect::<Vec<_>>()).collect::<Vec<_>>(),
                         "seconds": r.seconds,
                     })
                 })
@@ -1330,6 +1522,7 @@ mod lab {
             }
             let oracle = oracle_k(&cells);
             rows.push(MethodRow {
+                seed_folds: Vec::new(),
                 method: name.into(),
                 defaults: Some(mean_of(&every.iter().map(|&t| &cells[0][t]).collect::<Vec<_>>())),
                 in_sample: Some((
@@ -1370,8 +1563,8 @@ mod lab {
             let b = bvh::parse(&text).map_err(|e| format!("{}: {e}", t.bvh.display()))?;
             let motion = Motion::from_bvh(t.trial, &b).map_err(|e| format!("{}: {e}", t.bvh.display()))?;
             let set = if t.trial.starts_with("86_") { "cmu86" } else { "mocap6" };
-            loaded.push((t.trial.to_string(), b, t.truth.clone()));
-            takes.push(Take { name: t.trial.to_string(), motion, truth: t.truth, set });
+            loaded.push((t.trial.to_string(), b.clone(), t.truth.clone()));
+            takes.push(Take { name: t.trial.to_string(), motion, truth: t.truth, set, bvh: b });
         }
         let missing: Vec<&str> = ["86_01", "13_29", "13_30", "13_31", "14_14"]
             .into_iter()
@@ -1385,8 +1578,11 @@ mod lab {
             );
         }
         if let Some(name) = &args.labeller {
+            let carriers = carriers(&args.data, &takes)?;
             let rows = labeller_rows(
                 &[name],
+                args.lever,
+                &carriers,
                 &takes,
                 args.ensembles,
                 args.inner_all,
@@ -1427,6 +1623,8 @@ mod lab {
         println!("actions: knn, dtfcn");
         actions.extend(labeller_rows(
             &["knn", "dtfcn"],
+            Lever::None,
+            &[],
             &takes,
             args.ensembles,
             args.inner_all,
@@ -1702,6 +1900,21 @@ mod lab {
                     .iter()
                     .filter_map(|f| {
                         Some((text(f, "take"), text(f, "chose"), scores_from_json(f.get("scores").unwrap_or(&none))?))
+                    })
+                    .collect(),
+                seed_folds: r
+                    .get("seed_folds")
+                    .and_then(Value::as_array)
+                    .map_or(&[][..], Vec::as_slice)
+                    .iter()
+                    .map(|run| {
+                        run.as_array()
+                            .map_or(&[][..], Vec::as_slice)
+                            .iter()
+                            .filter_map(|f| {
+                                Some((text(f, "take"), scores_from_json(f.get("scores").unwrap_or(&none))?))
+                            })
+                            .collect()
                     })
                     .collect(),
                 note: text(r, "note"),

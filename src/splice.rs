@@ -89,6 +89,8 @@ pub enum SpliceError {
     NoPieces(f64),
     #[error("invalid splice option: {0}")]
     Options(String),
+    #[error("{0}: its joints differ from those of `{1}`, whose bone lengths it was to be played on")]
+    Skeleton(String, String),
 }
 
 impl SpliceOptions {
@@ -261,6 +263,24 @@ fn check_sources(sources: &[Source]) -> Result<Layout, SpliceError> {
     Ok(layout)
 }
 
+/// `bvh`'s motion played on the bone lengths of `onto` (another subject's take with the same hierarchy: CMU's takes
+/// differ only in their bones): every joint's offset is the joint of the same name in `onto`, the rotations and the
+/// root's path are `bvh`'s own — a subject's movement on another subject's body, new training data from the takes we
+/// have (issue 50). Refused when the joints (names, parents, channels) differ.
+pub fn retarget(name: &str, bvh: &Bvh, onto_name: &str, onto: &Bvh) -> Result<Bvh, SpliceError> {
+    fn shape(b: &Bvh) -> Vec<(&str, Option<usize>, &[Channel])> {
+        b.joints.iter().map(|j| (j.name.as_str(), j.parent, j.channels.as_slice())).collect()
+    }
+    if shape(bvh) != shape(onto) {
+        return Err(SpliceError::Skeleton(name.into(), onto_name.into()));
+    }
+    let mut out = bvh.clone();
+    for (j, o) in out.joints.iter_mut().zip(&onto.joints) {
+        j.offset = o.offset;
+    }
+    Ok(out)
+}
+
 /// Cuts `options.pieces` pieces from `sources` and joins them (see the module documentation).
 pub fn splice(sources: &[Source], options: &SpliceOptions) -> Result<Spliced, SpliceError> {
     options.check()?;
@@ -390,6 +410,31 @@ mod tests {
     use crate::bvh;
     use crate::motion::Motion;
     use crate::segment::truth::{load_csv, TruthOptions};
+
+    /// A take played on another subject's bones: the carrier's bone lengths, the take's own root path and joint
+    /// rotations (a knee bends as much, so the foot lies at the carrier's shin length from it); a hierarchy that
+    /// differs is refused by name.
+    #[test]
+    fn a_retargeted_take_has_the_carriers_bones_and_its_own_movement() {
+        let take = bvh::parse(include_str!("../tests/fixtures/02_01.bvh")).unwrap();
+        let carrier = bvh::parse(include_str!("../tests/fixtures/35_01.bvh")).unwrap();
+        let moved = retarget("02_01", &take, "35_01", &carrier).unwrap();
+        assert_eq!(moved.values, take.values);
+        let (a, b, c) = (
+            Motion::from_bvh("a", &take).unwrap(),
+            Motion::from_bvh("b", &moved).unwrap(),
+            Motion::from_bvh("c", &carrier).unwrap(),
+        );
+        let knee = a.joint_index("LeftLeg").unwrap();
+        let foot = a.joint_index("LeftFoot").unwrap();
+        let length = |m: &Motion, f: usize| (m.position(f, foot) - m.position(f, knee)).length();
+        assert!((length(&b, 100) - length(&c, 0)).abs() < 1e-3, "{} vs {}", length(&b, 100), length(&c, 0));
+        assert!((length(&a, 100) - length(&c, 0)).abs() > 1e-3, "the subjects' shins differ");
+        assert_eq!(b.position(100, b.root()), a.position(100, a.root()), "the root's path is the take's");
+        let other = bvh::parse(include_str!("../tests/fixtures/131_01.bvh")).unwrap();
+        let e = retarget("02_01", &take, "131_01", &other).unwrap_err().to_string();
+        assert!(e.contains("02_01") && e.contains("131_01"), "{e}");
+    }
 
     fn take(name: &str, text: &str, labels: &[(usize, usize, &str)]) -> (String, Bvh, Truth) {
         let b = bvh::parse(text).unwrap();

@@ -111,6 +111,34 @@ pub fn bootstrap_mean(values: &[f64], resamples: usize, seed: u64) -> Option<(f6
     Some((mean, at(0.025), at(0.975)))
 }
 
+/// The mean of a grid of scores — `values[run][take]`, every run (a trained model's seed) scored on every take — and
+/// its two-way percentile-bootstrap 95 % interval: each resample draws the takes *and* the runs with replacement and
+/// averages the drawn runs' scores on the drawn takes, so the interval holds the luck of the seed beside that of the
+/// takes. One run is [`bootstrap_mean`] over its takes, the same interval. `None` for no value, rows of different
+/// lengths or a non-finite value.
+pub fn bootstrap_grid_mean(values: &[Vec<f64>], resamples: usize, seed: u64) -> Option<(f64, f64, f64)> {
+    let n = values.first()?.len();
+    if n == 0 || values.iter().any(|r| r.len() != n || r.iter().any(|v| !v.is_finite())) {
+        return None;
+    }
+    if values.len() == 1 {
+        return bootstrap_mean(&values[0], resamples, seed);
+    }
+    let runs = values.len();
+    let mean = values.iter().flatten().sum::<f64>() / (runs * n) as f64;
+    let mut rng = Rng::new(seed);
+    let mut means: Vec<f64> = (0..resamples.max(1))
+        .map(|_| {
+            let takes: Vec<usize> = (0..n).map(|_| rng.below(n)).collect();
+            let drawn: Vec<usize> = (0..runs).map(|_| rng.below(runs)).collect();
+            drawn.iter().map(|&r| takes.iter().map(|&t| values[r][t]).sum::<f64>()).sum::<f64>() / (runs * n) as f64
+        })
+        .collect();
+    means.sort_by(f64::total_cmp);
+    let at = |q: f64| means[((q * (means.len() - 1) as f64).round() as usize).min(means.len() - 1)];
+    Some((mean, at(0.025), at(0.975)))
+}
+
 /// `profile` convolved with a Gaussian of `sigma` samples (truncated at 3σ), over its defined
 /// (non-`NaN`) values, each output renormalised by the weights present (so the ends and gaps
 /// are not pulled towards 0); `NaN` where the profile is; unchanged for `sigma < 0.5`. Shared by
@@ -185,5 +213,24 @@ mod tests {
         assert_eq!(bootstrap_mean(&[0.55, 0.84, 0.90, 0.98], 2000, 1), Some(wide));
         assert_eq!(bootstrap_mean(&[], 2000, 1), None);
         assert_eq!(bootstrap_mean(&[f64::NAN, 1.0], 2000, 1), None);
+    }
+
+    /// The two-way bootstrap: one run is the takes' bootstrap; runs that disagree widen the interval beyond what the
+    /// takes' means alone give (the seed's luck counted), runs that agree do not; ragged or empty grids have none.
+    #[test]
+    fn a_grid_bootstrap_counts_the_runs_spread_beside_the_takes() {
+        let takes = [0.80, 0.85, 0.90, 0.95];
+        assert_eq!(bootstrap_grid_mean(&[takes.to_vec()], 2000, 1), bootstrap_mean(&takes, 2000, 1));
+        let same = bootstrap_grid_mean(&[takes.to_vec(), takes.to_vec(), takes.to_vec()], 2000, 1).unwrap();
+        // seeds 0.10 apart: the mean is the grid's, the interval wider than the per-take means' (which average the
+        // seeds away)
+        let apart: Vec<Vec<f64>> = [-0.05, 0.0, 0.05].iter().map(|d| takes.iter().map(|t| t + d).collect()).collect();
+        let grid = bootstrap_grid_mean(&apart, 2000, 1).unwrap();
+        let averaged = bootstrap_mean(&takes, 2000, 1).unwrap();
+        assert!((grid.0 - 0.875).abs() < 1e-12 && (same.0 - 0.875).abs() < 1e-12);
+        assert!(grid.2 - grid.1 > averaged.2 - averaged.1 + 0.01, "{grid:?} vs {averaged:?}");
+        assert!((same.2 - same.1) <= (averaged.2 - averaged.1) + 0.01, "{same:?} vs {averaged:?}");
+        assert_eq!(bootstrap_grid_mean(&[vec![0.5, 0.6], vec![0.5]], 2000, 1), None);
+        assert_eq!(bootstrap_grid_mean(&[], 2000, 1), None);
     }
 }

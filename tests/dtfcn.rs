@@ -396,6 +396,41 @@ fn the_averaging_fold_retrains_the_folds_networks() {
     assert_eq!(mean.validation_source, three.validation_source);
 }
 
+/// A data lever's takes (`corpus::Extra`, issue 50) join a fold's trainings made from the fold's training takes alone:
+/// the early-stopped network is asked for takes from every take but the held-out and the validation one, the retrained
+/// one from every take but the held-out one (so nothing is made from a take it is scored on); none made is the fold
+/// without a lever, and a take made and added changes the networks.
+#[test]
+fn a_levers_takes_are_made_from_the_folds_training_takes_alone() {
+    use mocapseg::methods::dtfcn::corpus::{averaged_fold_with, predict_held_out, predict_held_out_with};
+    let (takes, classes, labels) = three_takes();
+    let options = small(2);
+    let asked = std::cell::RefCell::new(Vec::new());
+    let none = |fit: &[usize]| {
+        asked.borrow_mut().push(fit.to_vec());
+        Ok(Vec::new())
+    };
+    let plain = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
+    let with_none =
+        predict_held_out_with(&takes, &labels, 0, &classes, &options, &knn_fold, &none, &mut |_| true).unwrap();
+    assert_eq!(with_none.network_probabilities, plain.network_probabilities);
+    assert_eq!(with_none.validation_probabilities, plain.validation_probabilities);
+    let inner: Vec<usize> = (0..3).filter(|&i| i != 0 && i != plain.validation).collect();
+    assert_eq!(*asked.borrow(), vec![inner.clone(), vec![1, 2]], "early stopping, then the retraining");
+    asked.borrow_mut().clear();
+    averaged_fold_with(&takes, &labels, 0, &classes, &options, 2, true, &none).unwrap();
+    assert_eq!(*asked.borrow(), vec![inner, vec![1, 2]]);
+    // a copy of the first training take, its labels all `a`: other networks
+    let copy = |fit: &[usize]| Ok(vec![(takes[fit[0]].clone(), vec![Some(0); takes[fit[0]].frames()])]);
+    let with_copy =
+        predict_held_out_with(&takes, &labels, 0, &classes, &options, &knn_fold, &copy, &mut |_| true).unwrap();
+    assert_ne!(with_copy.network_probabilities, plain.network_probabilities);
+    // a lever that cannot make its takes stops the fold with its message
+    let broken = |_: &[usize]| Err("no carrier".to_string());
+    let e = predict_held_out_with(&takes, &labels, 0, &classes, &options, &knn_fold, &broken, &mut |_| true);
+    assert_eq!(e.err().as_deref(), Some("no carrier"));
+}
+
 /// The two halves of a nested fold (`corpus::validation_fold`, `final_fold`) are `predict_held_out`'s own networks
 /// when the validation take is the one it uses; another inner take validates another network; and neither reads the
 /// held-out take's labels.

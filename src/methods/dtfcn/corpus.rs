@@ -204,6 +204,34 @@ fn file_frames_of(
     TrainingTake::to_file_frames(source, motion.frames(), &working)
 }
 
+/// More training data a protocol makes from the takes a network is trained on (issue 50's data levers: segments
+/// spliced into new takes, a subject played on other bones): given the indices of those takes, the takes to train on
+/// beside them, each a motion with a label per file frame. Never the held-out or the validation take's motion: the
+/// protocol makes them from the indices it is given. [`NO_EXTRA`] adds none.
+pub type Extra<'a> = &'a dyn Fn(&[usize]) -> Result<Vec<(Motion, Vec<Option<usize>>)>, String>;
+
+/// No takes beside the labelled ones.
+pub const NO_EXTRA: Extra<'static> = &|_| Ok(Vec::new());
+
+/// The training takes of a network trained on `fit` (indices into `motions`) with `extra`'s takes beside them, each
+/// take's labels as `prepare` makes them (`i`: a take's index, its extra takes numbered after the labelled ones).
+fn training_takes(
+    motions: &[Motion],
+    labels: &[Vec<Option<usize>>],
+    fit: &[usize],
+    extra: Extra,
+    prepare: &dyn Fn(&Motion, &[Option<usize>], usize) -> Vec<Option<usize>>,
+) -> Result<Vec<TrainingTake>, String> {
+    let mut out: Vec<TrainingTake> = fit
+        .iter()
+        .map(|&i| TrainingTake::new(&motions[i], &prepare(&motions[i], &labels[i], i)))
+        .collect::<Result<_, _>>()?;
+    for (k, (m, l)) in extra(fit)?.iter().enumerate() {
+        out.push(TrainingTake::new(m, &prepare(m, l, motions.len() + k))?);
+    }
+    Ok(out)
+}
+
 /// One fold of the nested protocol: take `held` is held out; of the others, the next one in turn
 /// is the validation take that chooses the epoch (early stopping); the network is then trained
 /// again on all the others for that many epochs and labels the held-out take; `beside` (the k-NN,
@@ -220,6 +248,22 @@ pub fn predict_held_out<M>(
     beside: Beside<M>,
     on_epoch: &mut dyn FnMut(&EpochReport) -> bool,
 ) -> Result<FoldPrediction<M>, String> {
+    predict_held_out_with(motions, labels, held, classes, options, beside, NO_EXTRA, on_epoch)
+}
+
+/// [`predict_held_out`] with `extra`'s takes beside the network's training takes in both its trainings (`beside` is
+/// fitted on the labelled takes alone).
+#[allow(clippy::too_many_arguments)]
+pub fn predict_held_out_with<M>(
+    motions: &[Motion],
+    labels: &[Vec<Option<usize>>],
+    held: usize,
+    classes: &[String],
+    options: &TrainOptions,
+    beside: Beside<M>,
+    extra: Extra,
+    on_epoch: &mut dyn FnMut(&EpochReport) -> bool,
+) -> Result<FoldPrediction<M>, String> {
     let n = motions.len();
     if n < 3 {
         return Err(format!("the nested protocol needs at least 3 takes (train, validation, held out); {n} given"));
@@ -227,10 +271,10 @@ pub fn predict_held_out<M>(
     let val = (held + 1) % n;
     let imperfect: Vec<Vec<Option<usize>>> =
         (0..n).map(|i| imperfect_labels(&labels[i], motions[i].fps, classes.len(), options, i as u64)).collect();
-    let chosen = early_stopped(motions, labels, held, val, classes, options, &mut *on_epoch)?;
+    let chosen = early_stopped(motions, labels, held, val, classes, options, extra, &mut *on_epoch)?;
     let (validation_probabilities, validation_source) = probabilities(&chosen, &motions[val], classes.len())?;
     let validation_labels = file_frames_of(&validation_probabilities, &validation_source, &motions[val]);
-    let trained = retrained(motions, labels, held, classes, options, chosen.best_epoch, on_epoch)?;
+    let trained = retrained(motions, labels, held, classes, options, chosen.best_epoch, extra, on_epoch)?;
     let (network_probabilities, network_source) = probabilities(&trained, &motions[held], classes.len())?;
     let network = file_frames_of(&network_probabilities, &network_source, &motions[held]);
     // the labeller beside the network, fitted on the same takes under the same label noise and masking
@@ -282,13 +326,14 @@ pub fn validation_fold(
             "a validation fold needs 3 or more takes and two different ones of them; {n}, {held}, {val}"
         ));
     }
-    let chosen = early_stopped(motions, labels, held, val, classes, options, &mut |_| true)?;
+    let chosen = early_stopped(motions, labels, held, val, classes, options, NO_EXTRA, &mut |_| true)?;
     let (p, source) = probabilities(&chosen, &motions[val], classes.len())?;
     Ok((p, source, chosen.best_epoch))
 }
 
 /// The network trained on every take but `held` and `val` (their clean labels: the trainer adds the options'
-/// noise), its epoch chosen on `val`'s labels with the options' noise and masking.
+/// noise) and `extra`'s takes made from them, its epoch chosen on `val`'s labels with the options' noise and masking.
+#[allow(clippy::too_many_arguments)]
 fn early_stopped(
     motions: &[Motion],
     labels: &[Vec<Option<usize>>],
@@ -296,18 +341,18 @@ fn early_stopped(
     val: usize,
     classes: &[String],
     options: &TrainOptions,
+    extra: Extra,
     on_epoch: &mut dyn FnMut(&EpochReport) -> bool,
 ) -> Result<Trained, String> {
-    let inner: Vec<TrainingTake> = (0..motions.len())
-        .filter(|&i| i != held && i != val)
-        .map(|i| TrainingTake::new(&motions[i], &labels[i]))
-        .collect::<Result<_, _>>()?;
+    let fit: Vec<usize> = (0..motions.len()).filter(|&i| i != held && i != val).collect();
+    let inner = training_takes(motions, labels, &fit, extra, &|_, l, _| l.to_vec())?;
     let imperfect = imperfect_labels(&labels[val], motions[val].fps, classes.len(), options, val as u64);
     let validation = TrainingTake::new(&motions[val], &imperfect)?;
     train(&inner, &[validation], classes, options, on_epoch)
 }
 
-/// The network trained for `epochs` on every take but `held`.
+/// The network trained for `epochs` on every take but `held` and `extra`'s takes made from them.
+#[allow(clippy::too_many_arguments)]
 fn retrained(
     motions: &[Motion],
     labels: &[Vec<Option<usize>>],
@@ -315,12 +360,11 @@ fn retrained(
     classes: &[String],
     options: &TrainOptions,
     epochs: usize,
+    extra: Extra,
     on_epoch: &mut dyn FnMut(&EpochReport) -> bool,
 ) -> Result<Trained, String> {
-    let all: Vec<TrainingTake> = (0..motions.len())
-        .filter(|&i| i != held)
-        .map(|i| TrainingTake::new(&motions[i], &labels[i]))
-        .collect::<Result<_, _>>()?;
+    let fit: Vec<usize> = (0..motions.len()).filter(|&i| i != held).collect();
+    let all = training_takes(motions, labels, &fit, extra, &|_, l, _| l.to_vec())?;
     train(&all, &[], classes, &TrainOptions { epochs, ..options.clone() }, on_epoch)
 }
 
@@ -334,7 +378,7 @@ pub fn final_fold(
     options: &TrainOptions,
     epochs: usize,
 ) -> Result<(crate::labeller::probabilities::Probabilities, Vec<f64>), String> {
-    let trained = retrained(motions, labels, held, classes, options, epochs, &mut |_| true)?;
+    let trained = retrained(motions, labels, held, classes, options, epochs, NO_EXTRA, &mut |_| true)?;
     probabilities(&trained, &motions[held], classes.len())
 }
 
@@ -356,6 +400,21 @@ pub fn averaged_fold(
     epochs: usize,
     held_out: bool,
 ) -> Result<AveragedFold, String> {
+    averaged_fold_with(motions, labels, held, classes, options, epochs, held_out, NO_EXTRA)
+}
+
+/// [`averaged_fold`] with `extra`'s takes beside the training takes of both its trainings.
+#[allow(clippy::too_many_arguments)]
+pub fn averaged_fold_with(
+    motions: &[Motion],
+    labels: &[Vec<Option<usize>>],
+    held: usize,
+    classes: &[String],
+    options: &TrainOptions,
+    epochs: usize,
+    held_out: bool,
+    extra: Extra,
+) -> Result<AveragedFold, String> {
     let n = motions.len();
     if n < 3 {
         return Err(format!("the nested protocol needs at least 3 takes (train, validation, held out); {n} given"));
@@ -363,13 +422,10 @@ pub fn averaged_fold(
     let val = (held + 1) % n;
     let again = TrainOptions { epochs, ..options.clone() };
     let taken = |keep: &dyn Fn(usize) -> bool| -> Result<Vec<TrainingTake>, String> {
-        (0..n)
-            .filter(|&i| keep(i))
-            .map(|i| {
-                let l = imperfect_labels(&labels[i], motions[i].fps, classes.len(), options, i as u64);
-                TrainingTake::new(&motions[i], &l)
-            })
-            .collect()
+        let fit: Vec<usize> = (0..n).filter(|&i| keep(i)).collect();
+        training_takes(motions, labels, &fit, extra, &|m, l, i| {
+            imperfect_labels(l, m.fps, classes.len(), options, i as u64)
+        })
     };
     let inner = train(&taken(&|i| i != held && i != val)?, &[], classes, &again, &mut |_| true)?;
     let (validation_probabilities, validation_source) = probabilities(&inner, &motions[val], classes.len())?;
