@@ -261,7 +261,7 @@ mod lab {
                     (0..takes.len()).filter(|i| !fit.contains(i)).map(|i| subject(&takes[i].name)).collect();
                 for &i in fit {
                     let t = takes[i];
-                    let labels = class_frames(&t.truth, &mut classes.to_vec());
+                    let labels = t.truth.class_frames(&mut classes.to_vec());
                     let usable = |c: &str| !not.contains(&subject(c)) && subject(c) != subject(&t.name);
                     for (carrier, bvh) in carriers.iter().filter(|(c, _)| usable(c)) {
                         let moved =
@@ -673,19 +673,6 @@ mod lab {
         })
     }
 
-    /// Per-frame class indices of a truth over `classes` (extended with its new labels).
-    fn class_frames(truth: &Truth, classes: &mut Vec<String>) -> Vec<Option<usize>> {
-        let mut out = vec![None; truth.frames];
-        for s in &truth.segments {
-            let c = classes.iter().position(|c| *c == s.label).unwrap_or_else(|| {
-                classes.push(s.label.clone());
-                classes.len() - 1
-            });
-            out[s.start..=s.end].iter_mut().for_each(|l| *l = Some(c));
-        }
-        out
-    }
-
     /// DT-FCN's final weights: the last epoch's (0) or their mean over the last 5 or 10 epochs (`average_last`,
     /// stochastic weight averaging), chosen per fold on the validation take (the last epoch's first: it wins ties).
     const AVERAGE_LAST: [usize; 3] = [0, 5, 10];
@@ -824,7 +811,7 @@ mod lab {
         let dtfcn_seeds = &DTFCN_SEEDS[..seeds.clamp(1, DTFCN_SEEDS.len())];
         let mocap6: Vec<&Take> = takes.iter().filter(|t| t.set == "mocap6").collect();
         let mut classes = Vec::new();
-        let labels: Vec<Vec<Option<usize>>> = mocap6.iter().map(|t| class_frames(&t.truth, &mut classes)).collect();
+        let labels: Vec<Vec<Option<usize>>> = mocap6.iter().map(|t| t.truth.class_frames(&mut classes)).collect();
         let motions: Vec<Motion> = mocap6.iter().map(|t| t.motion.clone()).collect();
         let mut rows = Vec::new();
         for &name in names {

@@ -49,7 +49,6 @@ mod lab {
     use mocapseg::methods::knn::training::fit_knn;
     use mocapseg::methods::knn::KnnParams;
     use mocapseg::motion::Motion;
-    use mocapseg::segment::truth::Truth;
     use mocapseg::segment::Segmentation;
     use serde_json::{json, Value};
 
@@ -81,18 +80,6 @@ mod lab {
         motion: Motion,
         /// Per file frame, the class index.
         labels: Vec<Option<usize>>,
-    }
-
-    fn class_frames(truth: &Truth, classes: &mut Vec<String>) -> Vec<Option<usize>> {
-        let mut out = vec![None; truth.frames];
-        for s in &truth.segments {
-            let c = classes.iter().position(|c| *c == s.label).unwrap_or_else(|| {
-                classes.push(s.label.clone());
-                classes.len() - 1
-            });
-            out[s.start..=s.end.min(truth.frames - 1)].iter_mut().for_each(|l| *l = Some(c));
-        }
-        out
     }
 
     fn segment(method: &str, motion: &Motion) -> Result<Segmentation, String> {
@@ -190,7 +177,7 @@ mod lab {
             let text = std::fs::read_to_string(&t.bvh).map_err(|e| format!("{}: {e}", t.bvh.display()))?;
             let b = bvh::parse(&text).map_err(|e| format!("{}: {e}", t.bvh.display()))?;
             let motion = Motion::from_bvh(t.trial, &b).map_err(|e| format!("{}: {e}", t.bvh.display()))?;
-            let labels = class_frames(&t.truth, &mut classes);
+            let labels = t.truth.class_frames(&mut classes);
             if labels.len() != motion.frames() {
                 return Err(format!(
                     "{}: labels cover {} frames, the take has {}",

@@ -290,19 +290,6 @@ fn decoded_labels_cut_a_take_into_at_most_twice_its_true_segments() {
     }
 }
 
-/// Per file frame of `truth`: its class among `classes` (extended in order of first appearance).
-fn class_frames(truth: &Truth, classes: &mut Vec<String>) -> Vec<Option<usize>> {
-    let mut out = vec![None; truth.frames];
-    for s in &truth.segments {
-        let c = classes.iter().position(|c| *c == s.label).unwrap_or_else(|| {
-            classes.push(s.label.clone());
-            classes.len() - 1
-        });
-        out[s.start..=s.end].iter_mut().for_each(|l| *l = Some(c));
-    }
-    out
-}
-
 /// Out-of-sample floors (issue 50): the floors above are in-sample for the shipped labellers (trained on these very
 /// takes); here each labeller is trained in the test on one fixture take and run, as a user runs a model of their
 /// own, on the other, which it never saw (13_31 → 13_30, 13_30 → 13_31; 13_30 has a Squat 13_31 never teaches, 13_31 a
@@ -346,7 +333,7 @@ fn labellers_trained_on_one_take_label_the_other_above_chance() {
         let (tm, tt) = &takes[train];
         let (motion, truth) = &takes[test];
         let mut classes = Vec::new();
-        let labels = class_frames(tt, &mut classes);
+        let labels = tt.class_frames(&mut classes);
         let started = std::time::Instant::now();
         let model = if method == "knn" {
             fit_knn_model(&[(tm, &labels[..])], &classes, &meta, Default::default()).unwrap()

@@ -46,6 +46,23 @@ impl Truth {
         }
         Truth { trial: trial.to_string(), frames: shift, segments }
     }
+
+    /// Per frame: the index of its segment's label among `classes`, a label not yet there appended in order of first
+    /// appearance (so several takes read in turn share one list); `None` for a frame no segment covers. What a
+    /// labeller is trained on and scored against, from a take's truth.
+    pub fn class_frames(&self, classes: &mut Vec<String>) -> Vec<Option<usize>> {
+        let mut out = vec![None; self.frames];
+        for s in &self.segments {
+            let c = classes.iter().position(|c| *c == s.label).unwrap_or_else(|| {
+                classes.push(s.label.clone());
+                classes.len() - 1
+            });
+            if let Some(frames) = out.get_mut(s.start..=s.end.min(self.frames.saturating_sub(1))) {
+                frames.iter_mut().for_each(|l| *l = Some(c));
+            }
+        }
+        out
+    }
 }
 
 /// How frame numbers in the CSV relate to BVH rows.
@@ -316,6 +333,21 @@ fn finish(name: &str, r: Reading) -> Result<TrialRead, TruthError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two takes read in turn share one class list (first appearance first); uncovered frames and a segment past
+    /// the last frame are no panic.
+    #[test]
+    fn class_frames_index_the_labels_in_order_of_first_appearance() {
+        let seg = |start, end, label: &str| TruthSegment { start, end, label: label.into(), end_window: None };
+        let a = Truth { trial: "a".into(), frames: 6, segments: vec![seg(0, 1, "Jog"), seg(3, 5, "Squat")] };
+        let b = Truth { trial: "b".into(), frames: 4, segments: vec![seg(0, 1, "Squat"), seg(2, 9, "Twist")] };
+        let mut classes = Vec::new();
+        assert_eq!(a.class_frames(&mut classes), [Some(0), Some(0), None, Some(1), Some(1), Some(1)]);
+        assert_eq!(b.class_frames(&mut classes), [Some(1), Some(1), Some(2), Some(2)]);
+        assert_eq!(classes, ["Jog", "Squat", "Twist"]);
+        let empty = Truth { trial: "e".into(), frames: 0, segments: vec![seg(0, 0, "Jog")] };
+        assert_eq!(empty.class_frames(&mut classes), Vec::<Option<usize>>::new());
+    }
 
     const CMU: &str = "trial,seg_index,label,start_frame,end_frame,n_frames,end_window_lo,end_window_mid,end_window_hi,trial_frames,fps,mocap_in_repo,flag\n\
 86_01,0,walk,1,550,550,500,550,600,4579,120,yes,\n\
