@@ -186,6 +186,26 @@ pub fn centred_on_take(input: &NetworkInput) -> NetworkInput {
     NetworkInput { values, frames: n, source_frames: input.source_frames.clone() }
 }
 
+/// Per value: the mean and the spread (standard deviation; 1 for a value that never varies, below 1e-3) from the
+/// sums and the sums of squares of `n` samples of each (the k-NN's standardised windows share it).
+pub fn mean_and_spread(sum: &[f64], squares: &[f64], n: f64) -> (Vec<f32>, Vec<f32>) {
+    let n = n.max(1.0);
+    let mean = sum.iter().map(|s| (s / n) as f32).collect();
+    let spread = sum
+        .iter()
+        .zip(squares)
+        .map(|(s, q)| {
+            let sd = (q / n - (s / n) * (s / n)).max(0.0).sqrt() as f32;
+            if sd > 1e-3 {
+                sd
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    (mean, spread)
+}
+
 /// Per-channel standardisation learnt from the training frames: `(x − mean) / spread`, after centring each whole
 /// take on its own median posture when `centre_on_take`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -215,21 +235,7 @@ impl Standardise {
             }
             n += x.frames as f64;
         }
-        let n = n.max(1.0);
-        let mean: Vec<f32> = sum.iter().map(|s| (s / n) as f32).collect();
-        let spread = sum
-            .iter()
-            .zip(&sq)
-            .map(|(s, q)| {
-                let var = (q / n - (s / n) * (s / n)).max(0.0);
-                let sd = var.sqrt() as f32;
-                if sd > 1e-3 {
-                    sd
-                } else {
-                    1.0
-                }
-            })
-            .collect();
+        let (mean, spread) = mean_and_spread(&sum, &sq, n);
         Standardise { mean, spread, centre_on_take: false }
     }
 

@@ -209,21 +209,7 @@ fn value_statistics(bases: &[FeatureMatrix]) -> (Vec<f32>, Vec<f32>) {
         }
         n += b.frames() as f64;
     }
-    let n = n.max(1.0);
-    let mean = sum.iter().map(|s| (s / n) as f32).collect();
-    let spread = sum
-        .iter()
-        .zip(&sq)
-        .map(|(s, q)| {
-            let sd = (q / n - (s / n) * (s / n)).max(0.0).sqrt() as f32;
-            if sd > 1e-3 {
-                sd
-            } else {
-                1.0
-            }
-        })
-        .collect();
-    (mean, spread)
+    crate::labeller::input::mean_and_spread(&sum, &sq, n)
 }
 
 /// [`project`] of the stacked window at `offsets` of every frame of `base`, without stacking
