@@ -75,7 +75,7 @@ mod lab {
     use mocapseg::labeller::probabilities::Probabilities;
     use mocapseg::method::{self, NoProgress, RunOptions};
     use mocapseg::methods::dtfcn::corpus::{
-        averaged_fold_with, final_fold, predict_held_out, predict_held_out_with, validation_fold, Extra,
+        averaged_fold, final_fold, predict_held_out, predict_held_out_with, validation_fold, Extra,
     };
     use mocapseg::methods::dtfcn::network::{paper_filters, Padding};
     use mocapseg::methods::dtfcn::training::TrainOptions;
@@ -994,7 +994,7 @@ mod lab {
                                         (p.validation_probabilities.clone(), p.validation_source.clone())
                                     } else {
                                         let o = TrainOptions { average_last, ..options.clone() };
-                                        let a = averaged_fold_with(
+                                        let a = averaged_fold(
                                             &motions,
                                             &labels,
                                             h,
@@ -1112,7 +1112,7 @@ mod lab {
                                     Labelled { probabilities, source, fps: NETWORK_FPS }
                                 }
                                 None => {
-                                    let a = averaged_fold_with(
+                                    let a = averaged_fold(
                                         &motions,
                                         &labels,
                                         h,
@@ -1866,6 +1866,11 @@ mod lab {
     }
 
     /// The rows `rows_json` wrote.
+    /// The array a JSON value holds (none: empty).
+    fn items(v: Option<&Value>) -> &[Value] {
+        v.and_then(Value::as_array).map_or(&[][..], Vec::as_slice)
+    }
+
     fn rows_from_json(v: Option<&Value>) -> Vec<MethodRow> {
         let text = |v: &Value, k: &str| v.get(k).and_then(Value::as_str).unwrap_or_default().to_string();
         let none = Value::Null;
@@ -1880,23 +1885,16 @@ mod lab {
                     .and_then(|b| Some((text(b, "setting"), scores_from_json(b.get("scores").unwrap_or(&none))?))),
                 held_out: scores_from_json(r.get("held_out").unwrap_or(&none)),
                 oracle_k: scores_from_json(r.get("oracle_k").unwrap_or(&none)),
-                folds: r
-                    .get("folds")
-                    .and_then(Value::as_array)
-                    .map_or(&[][..], Vec::as_slice)
+                folds: items(r.get("folds"))
                     .iter()
                     .filter_map(|f| {
                         Some((text(f, "take"), text(f, "chose"), scores_from_json(f.get("scores").unwrap_or(&none))?))
                     })
                     .collect(),
-                seed_folds: r
-                    .get("seed_folds")
-                    .and_then(Value::as_array)
-                    .map_or(&[][..], Vec::as_slice)
+                seed_folds: items(r.get("seed_folds"))
                     .iter()
                     .map(|run| {
-                        run.as_array()
-                            .map_or(&[][..], Vec::as_slice)
+                        items(Some(run))
                             .iter()
                             .filter_map(|f| {
                                 Some((text(f, "take"), scores_from_json(f.get("scores").unwrap_or(&none))?))

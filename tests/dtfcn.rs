@@ -379,18 +379,18 @@ fn three_takes() -> (Vec<Motion>, Vec<String>, Vec<Vec<Option<usize>>>) {
 /// averaging the last epochs gives other networks on both.
 #[test]
 fn the_averaging_fold_retrains_the_folds_networks() {
-    use mocapseg::methods::dtfcn::corpus::{averaged_fold, predict_held_out};
+    use mocapseg::methods::dtfcn::corpus::{averaged_fold, predict_held_out, NO_EXTRA};
     let (takes, classes, labels) = three_takes();
     let options = small(3);
     let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
-    let last = averaged_fold(&takes, &labels, 0, &classes, &options, fold.best_epoch, true).unwrap();
+    let last = averaged_fold(&takes, &labels, 0, &classes, &options, fold.best_epoch, true, NO_EXTRA).unwrap();
     assert_eq!(last.validation, fold.validation);
     assert_eq!(last.validation_probabilities, fold.validation_probabilities);
     assert_eq!(last.validation_source, fold.validation_source);
     assert_eq!(last.network.as_ref().map(|n| &n.0), Some(&fold.network_probabilities));
-    let three = averaged_fold(&takes, &labels, 0, &classes, &options, 3, true).unwrap();
+    let three = averaged_fold(&takes, &labels, 0, &classes, &options, 3, true, NO_EXTRA).unwrap();
     let averaged = TrainOptions { average_last: 3, ..options };
-    let mean = averaged_fold(&takes, &labels, 0, &classes, &averaged, 3, true).unwrap();
+    let mean = averaged_fold(&takes, &labels, 0, &classes, &averaged, 3, true, NO_EXTRA).unwrap();
     assert_ne!(mean.validation_probabilities, three.validation_probabilities);
     assert_ne!(mean.network.map(|n| n.0), three.network.map(|n| n.0));
     assert_eq!(mean.validation_source, three.validation_source);
@@ -402,7 +402,7 @@ fn the_averaging_fold_retrains_the_folds_networks() {
 /// without a lever, and a take made and added changes the networks.
 #[test]
 fn a_levers_takes_are_made_from_the_folds_training_takes_alone() {
-    use mocapseg::methods::dtfcn::corpus::{averaged_fold_with, predict_held_out, predict_held_out_with};
+    use mocapseg::methods::dtfcn::corpus::{averaged_fold, predict_held_out, predict_held_out_with};
     let (takes, classes, labels) = three_takes();
     let options = small(2);
     let asked = std::cell::RefCell::new(Vec::new());
@@ -418,7 +418,7 @@ fn a_levers_takes_are_made_from_the_folds_training_takes_alone() {
     let inner: Vec<usize> = (0..3).filter(|&i| i != 0 && i != plain.validation).collect();
     assert_eq!(*asked.borrow(), vec![inner.clone(), vec![1, 2]], "early stopping, then the retraining");
     asked.borrow_mut().clear();
-    averaged_fold_with(&takes, &labels, 0, &classes, &options, 2, true, &none).unwrap();
+    averaged_fold(&takes, &labels, 0, &classes, &options, 2, true, &none).unwrap();
     assert_eq!(*asked.borrow(), vec![inner, vec![1, 2]]);
     // a copy of the first training take, its labels all `a`: other networks
     let copy = |fit: &[usize]| Ok(vec![(takes[fit[0]].clone(), vec![Some(0); takes[fit[0]].frames()])]);

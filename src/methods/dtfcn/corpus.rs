@@ -391,21 +391,10 @@ pub fn final_fold(
 /// `held`, which labels the held-out take (only when `held_out`: a comparison needs it for the setting it
 /// chooses alone). `average_last` = 0 keeps the last epoch's weights: with the same seed, the early-stopped
 /// network itself and [`predict_held_out`]'s final one.
-pub fn averaged_fold(
-    motions: &[Motion],
-    labels: &[Vec<Option<usize>>],
-    held: usize,
-    classes: &[String],
-    options: &TrainOptions,
-    epochs: usize,
-    held_out: bool,
-) -> Result<AveragedFold, String> {
-    averaged_fold_with(motions, labels, held, classes, options, epochs, held_out, NO_EXTRA)
-}
-
-/// [`averaged_fold`] with `extra`'s takes beside the training takes of both its trainings.
+///
+/// `extra`'s takes (a data lever's; [`NO_EXTRA`]: none) join the training takes of both its trainings.
 #[allow(clippy::too_many_arguments)]
-pub fn averaged_fold_with(
+pub fn averaged_fold(
     motions: &[Motion],
     labels: &[Vec<Option<usize>>],
     held: usize,
