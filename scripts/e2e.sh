@@ -17,6 +17,9 @@ mkdir -p "$OUT"
 
 # Port 0: the kernel picks a free port; http.server prints it (-u: unbuffered).
 LOG="$OUT/e2e-server.log"
+# created here, not by the background job's redirect: that job may not have opened it yet when the loop below first
+# reads it (a busy machine; `set -e` with pipefail then stopped the run at the first read)
+: >"$LOG"
 python3 -u -m http.server 0 --bind 127.0.0.1 --directory "$DIST" >"$LOG" 2>&1 &
 SERVER_PID=$!
 cleanup() {
@@ -26,8 +29,8 @@ cleanup() {
 trap cleanup EXIT INT TERM
 
 PORT=""
-for _ in $(seq 1 100); do
-    PORT=$(sed -n 's/.* port \([0-9][0-9]*\).*/\1/p' "$LOG" | head -n 1)
+for _ in $(seq 1 300); do  # up to 30 s: python on a busy machine
+    PORT=$(sed -n 's/.* port \([0-9][0-9]*\).*/\1/p' "$LOG" | head -n 1 || true)
     [ -n "$PORT" ] && break
     kill -0 "$SERVER_PID" 2>/dev/null || { cat "$LOG" >&2; echo "e2e: static server died" >&2; exit 1; }
     sleep 0.1
