@@ -43,6 +43,7 @@ mod lab {
     use std::path::PathBuf;
     use std::time::Instant;
 
+    use mocapseg::labeller::openset::{choose_open_set, open_set_scores, OpenSetFrame, OpenSetScores};
     use mocapseg::methods::knn::{Knn, KnnParams, Labelled};
     use mocapseg::motion::Motion;
     use mocapseg::segment::labelling;
@@ -134,7 +135,7 @@ mod lab {
         train: &[(&Motion, Vec<Option<usize>>)],
         motion: &Motion,
         classes: usize,
-    ) -> Result<Vec<[f32; S]>, String> {
+    ) -> Result<(Vec<[f32; S]>, Vec<Option<usize>>), String> {
         use mocapseg::labeller::decode::{file_labels, Decoding};
         use mocapseg::labeller::fit::{FAMILIAR_GAP, FAMILIAR_SAMPLES};
         use mocapseg::methods::knn::training::fit_knn;
@@ -150,11 +151,15 @@ mod lab {
         let decoding = Decoding { min_duration_s: 2.0, switch_cost: 150.0 };
         let decoded = file_labels(&p, &source, KnnParams::default().fps, motion.frames(), &decoding, 0.0);
         let mut run_mean = vec![0.0f32; distances.len()];
+        // the decoded run's mean probability (what the run's unknown threshold reads under this decoding)
+        let mut run_prob = vec![0.0f32; distances.len()];
         let mut start = 0;
         for f in 1..=decoded.len() {
             if f == decoded.len() || decoded[f].0 != decoded[start].0 {
                 let mean = own[start..f].iter().sum::<f32>() / (f - start) as f32;
                 run_mean[start..f].iter_mut().for_each(|m| *m = mean);
+                let prob = decoded[start..f].iter().map(|d| d.1).sum::<f32>() / (f - start) as f32;
+                run_prob[start..f].iter_mut().for_each(|m| *m = prob);
                 start = f;
             }
         }
@@ -169,7 +174,7 @@ mod lab {
             (0..distances.len()).map(|f| (0..classes).map(|c| ratio(f, c)).fold(f32::INFINITY, f32::min)).collect();
         let voted: Vec<f32> = (0..distances.len()).map(|f| ratio(f, votes[f].0)).collect();
         let (min_own, voted_own) = (crate::common::over_median(&min_ratio), crate::common::over_median(&voted));
-        Ok((0..distances.len())
+        let scores = (0..distances.len())
             .map(|f| {
                 [
                     distances[f] / scale,
@@ -180,9 +185,11 @@ mod lab {
                     min_own[f],
                     voted[f],
                     voted_own[f],
+                    -run_prob[f],
                 ]
             })
-            .collect())
+            .collect();
+        Ok((scores, decoded.iter().map(|d| d.0).collect()))
     }
 
     /// (score, whether the frame's class is `gone`) for every frame of a take.
@@ -190,7 +197,7 @@ mod lab {
         scores.iter().zip(labels).map(|(s, &l)| (pick(s), l == gone)).collect()
     }
 
-    const S: usize = 8;
+    const S: usize = 9;
 
     /// Share of the unseen frames and of the seen frames scoring above `threshold`.
     fn rates(frames: &[(f32, bool)], threshold: f32) -> (f64, f64) {
@@ -291,6 +298,7 @@ mod lab {
             outliers.iter().map(|o| o.0.as_str()).collect::<Vec<_>>().join(", ")
         );
         let mut per_class: Vec<[f64; 7]> = vec![[0.0; 7]; names.len()];
+        let mut open_folds: Vec<OpenSetFold> = Vec::new();
         for h in 0..loaded.len() {
             for gone in 0..names.len() {
                 let others: Vec<usize> = (0..loaded.len()).filter(|&i| i != h).collect();
@@ -301,10 +309,14 @@ mod lab {
                 let (mut inner, mut inner_own, mut inner_run) = (Vec::new(), Vec::new(), Vec::new());
                 let mut inner_class: [Vec<(f32, bool)>; 4] = Default::default();
                 let mut inner_names = Vec::new();
+                let mut inner_open: [Vec<OpenSetFrame>; 3] = Default::default();
                 for &v in others.iter().filter(|&&v| holds(v, gone)) {
                     let train: Vec<(&Motion, Vec<Option<usize>>)> =
                         others.iter().filter(|&&i| i != v).map(|&i| (&loaded[i].1, without(i, gone))).collect();
-                    let s = scores(&train, &loaded[v].1, names.len())?;
+                    let (s, decoded) = scores(&train, &loaded[v].1, names.len())?;
+                    for (j, &(k, _)) in OPEN_SET.iter().enumerate() {
+                        inner_open[j].extend(open_frames(&s, &decoded, &loaded[v].2, gone, k));
+                    }
                     inner.extend(marked(&s, &loaded[v].2, gone, |x| x[0]));
                     inner_own.extend(marked(&s, &loaded[v].2, gone, |x| x[1]));
                     inner_run.extend(marked(&s, &loaded[v].2, gone, |x| x[3]));
@@ -317,7 +329,23 @@ mod lab {
                     (choose(&inner), choose(&inner_own), choose(&inner_run));
                 let train: Vec<(&Motion, Vec<Option<usize>>)> =
                     others.iter().map(|&i| (&loaded[i].1, without(i, gone))).collect();
-                let s = scores(&train, &loaded[h].1, names.len())?;
+                let (s, decoded) = scores(&train, &loaded[h].1, names.len())?;
+                // the open-set objective: each score's threshold chosen on the inner folds' open-set accuracy
+                let mut fold = OpenSetFold {
+                    take: h,
+                    never: open_set_scores(&open_frames(&s, &decoded, &loaded[h].2, gone, 0), f32::INFINITY),
+                    chosen: Vec::new(),
+                    outlier: 0.0,
+                };
+                for (j, &(k, _)) in OPEN_SET.iter().enumerate() {
+                    let t = choose_open_set(&inner_open[j]);
+                    let inner_at = open_set_scores(&inner_open[j], t);
+                    let held = open_set_scores(&open_frames(&s, &decoded, &loaded[h].2, gone, k), t);
+                    fold.chosen.push((t, inner_at, held));
+                }
+                let t0 = fold.chosen[0].0;
+                fold.outlier = if t0.is_finite() { outlier_share(&train, outliers, t0)? } else { 0.0 };
+                open_folds.push(fold);
                 let d = marked(&s, &loaded[h].2, gone, |x| x[0]);
                 let o = marked(&s, &loaded[h].2, gone, |x| x[1]);
                 let v = marked(&s, &loaded[h].2, gone, |x| -x[2]);
@@ -415,7 +443,208 @@ mod lab {
             names,
             &class_per_class,
         );
+        println!();
+        print_open_set(&open_folds, loaded);
+        println!();
+        shipped_open_set(loaded, names, outliers)?;
         println!("({:.0} s)", started.elapsed().as_secs_f64());
         Ok(())
+    }
+
+    /// The open-set unknown as a model is made with it (`choose_open_set_unknown`, what `train-knn` and the page's
+    /// training do): for each held-out take and class left out of the training, the k-NN fitted on the other takes
+    /// without the class chooses its ratio on *their* folds, leaving each of its own classes out in turn (it never
+    /// learns which class will be missing), decoded as the shipped exercises k-NN (runs ≥ 2 s, switch cost 150,
+    /// unknown below 0.5); the held-out take's frames scored at that ratio: the class left out is unseen.
+    fn shipped_open_set(
+        loaded: &[(String, Motion, Vec<usize>)],
+        names: &[String],
+        outliers: &[(String, Motion)],
+    ) -> Result<(), String> {
+        use mocapseg::labeller::decode::{file_labels, Decoding};
+        use mocapseg::methods::knn::training::{choose_open_set_unknown, fit_knn};
+        let decoding = Decoding { min_duration_s: 2.0, switch_cost: 150.0 };
+        let threshold = 0.5;
+        let params = KnnParams::default();
+        // per file frame of `motion` under `knn`: (score, decoded label), the score infinite where already unknown
+        let scored = |knn: &Knn, motion: &Motion| -> Result<Vec<(f32, Option<usize>)>, String> {
+            let (p, source) = knn.probabilities_at(motion, names.len())?;
+            let labels: Vec<Option<usize>> =
+                file_labels(&p, &source, params.fps, motion.frames(), &decoding, threshold)
+                    .into_iter()
+                    .map(|d| d.0)
+                    .collect();
+            let ratios = knn.voted_ratios_going(motion, &labels, &mut |_| true)?.ok_or("stopped")?;
+            Ok(labels.iter().zip(&ratios).map(|(l, r)| (if l.is_some() { *r } else { f32::INFINITY }, *l)).collect())
+        };
+        println!(
+            "The open-set unknown as models are made with it (choose_open_set_unknown: the ratio chosen on the training takes' own folds, each of their classes left out in turn), held out:"
+        );
+        println!("| held-out take | class left out | ratio chosen (inner folds; open-set accuracy there / never) | open-set accuracy held out / never | unseen called unknown | taught called unknown | taught labelled right (never) | outlier takes' frames unknown |");
+        println!("|---|---|---|---|---|---|---|---|");
+        let mut folds: Vec<OpenSetFold> = Vec::new();
+        for h in 0..loaded.len() {
+            for gone in 0..names.len() {
+                let others: Vec<usize> = (0..loaded.len()).filter(|&i| i != h).collect();
+                if !loaded[h].2.contains(&gone) || !others.iter().any(|&i| loaded[i].2.contains(&gone)) {
+                    continue;
+                }
+                let without: Vec<Vec<Option<usize>>> =
+                    others.iter().map(|&i| loaded[i].2.iter().map(|&l| (l != gone).then_some(l)).collect()).collect();
+                let train: Vec<(&Motion, &[Option<usize>])> =
+                    others.iter().zip(&without).map(|(&i, l)| (&loaded[i].1, l.as_slice())).collect();
+                let choice = choose_open_set_unknown(&train, names.len(), params, &decoding, threshold, &mut |_| true)?
+                    .ok_or("no fold to choose the open-set unknown on")?;
+                let knn = fit_knn(&train, params)?;
+                let frames: Vec<OpenSetFrame> = scored(&knn, &loaded[h].1)?
+                    .iter()
+                    .zip(&loaded[h].2)
+                    .map(|(&(score, l), &t)| OpenSetFrame { score, unseen: t == gone, right: l == Some(t) })
+                    .collect();
+                let held = open_set_scores(&frames, choice.ratio);
+                let never = open_set_scores(&frames, f32::INFINITY);
+                // the outlier takes: the share of their frames the model calls unknown (vote share or ratio)
+                let mut outlier = 0.0;
+                for (_, m) in outliers {
+                    let s = scored(&knn, m)?;
+                    outlier += s.iter().filter(|x| x.0 > choice.ratio || x.0 == f32::INFINITY).count() as f64
+                        / s.len().max(1) as f64;
+                }
+                outlier /= outliers.len().max(1) as f64;
+                println!(
+                    "| {} | {} | {:.2} ({} folds; {:.3} / {:.3}) | {:.3} / {:.3} | {:.0} % | {:.0} % | {:.0} % ({:.0} %) | {:.0} % |",
+                    loaded[h].0,
+                    names[gone],
+                    choice.ratio,
+                    choice.folds,
+                    choice.accuracy,
+                    choice.never,
+                    held.accuracy,
+                    never.accuracy,
+                    100.0 * held.unseen_unknown,
+                    100.0 * held.taught_unknown,
+                    100.0 * held.taught_right,
+                    100.0 * never.taught_right,
+                    100.0 * outlier
+                );
+                folds.push(OpenSetFold {
+                    take: h,
+                    never,
+                    chosen: vec![(choice.ratio, open_set_scores(&[], 0.0), held)],
+                    outlier,
+                });
+                // the inner figure where chosen, kept for the mean below
+                folds.last_mut().expect("just pushed").chosen[0].1.accuracy = choice.accuracy;
+            }
+        }
+        let n = folds.len().max(1) as f64;
+        let mean = |f: &dyn Fn(&OpenSetFold) -> f64| folds.iter().map(f).sum::<f64>() / n;
+        let per_take: Vec<f64> = (0..loaded.len())
+            .filter_map(|h| {
+                let d: Vec<f64> =
+                    folds.iter().filter(|f| f.take == h).map(|f| f.chosen[0].2.accuracy - f.never.accuracy).collect();
+                (!d.is_empty()).then(|| d.iter().sum::<f64>() / d.len() as f64)
+            })
+            .collect();
+        let ci = mocapseg::stats::bootstrap_mean(&per_take, 2000, 50)
+            .map_or("—".to_string(), |(m, a, b)| format!("{m:+.3} [{a:+.3}, {b:+.3}]"));
+        println!(
+            "| **mean** ({} folds) | | inner {:.3} | **{:.3}** / {:.3}, Δ {ci} (95 % over the held-out takes) | **{:.0} %** | **{:.0} %** | {:.0} % ({:.0} %) | {:.0} % |",
+            folds.len(),
+            mean(&|f| f.chosen[0].1.accuracy),
+            mean(&|f| f.chosen[0].2.accuracy),
+            mean(&|f| f.never.accuracy),
+            100.0 * mean(&|f| f.chosen[0].2.unseen_unknown),
+            100.0 * mean(&|f| f.chosen[0].2.taught_unknown),
+            100.0 * mean(&|f| f.chosen[0].2.taught_right),
+            100.0 * mean(&|f| f.never.taught_right),
+            100.0 * mean(&|f| f.outlier)
+        );
+        Ok(())
+    }
+
+    /// The scores whose threshold the open-set objective chooses: (index into [`scores`]' rows, name).
+    const OPEN_SET: [(usize, &str); 3] = [
+        (0, "distance to the nearest training window, over the model's familiar distance"),
+        (7, "voted class's ratio, over the take's median"),
+        (8, "the decoded run's mean vote share (the run's unknown threshold)"),
+    ];
+
+    /// A leave-a-class-out fold under the open-set objective: the held-out take, its scores without any unknown, and
+    /// per [`OPEN_SET`] score the threshold chosen on the inner folds, the inner folds' scores there and the held-out
+    /// take's; the outlier takes' share over the first score's threshold.
+    struct OpenSetFold {
+        take: usize,
+        never: OpenSetScores,
+        chosen: Vec<(f32, OpenSetScores, OpenSetScores)>,
+        outlier: f64,
+    }
+
+    /// Per frame of a take: score `k` of its row, whether its class is `gone`, whether its decoded label is its class.
+    fn open_frames(
+        scores: &[[f32; S]],
+        decoded: &[Option<usize>],
+        labels: &[usize],
+        gone: usize,
+        k: usize,
+    ) -> Vec<OpenSetFrame> {
+        scores
+            .iter()
+            .zip(decoded)
+            .zip(labels)
+            .map(|((s, d), &l)| OpenSetFrame { score: s[k], unseen: l == gone, right: *d == Some(l) })
+            .collect()
+    }
+
+    /// The open-set table: per score, the mean over the folds of the held-out open-set accuracy and the two rates,
+    /// the inner folds' accuracy where the threshold was chosen (in-sample), and the paired difference from never
+    /// saying unknown with its bootstrap 95 % interval over the held-out takes (each take: the mean of its folds).
+    fn print_open_set(folds: &[OpenSetFold], loaded: &[(String, Motion, Vec<usize>)]) {
+        let n = folds.len().max(1) as f64;
+        let mean = |f: &dyn Fn(&OpenSetFold) -> f64| folds.iter().map(f).sum::<f64>() / n;
+        println!(
+            "Open-set objective (issue 50): each threshold chosen on the inner folds as the one with the best open-set frame accuracy (an unseen frame right when called unknown, a taught one when given its class; never unknown unless it pays), decoded as the shipped exercises k-NN (runs ≥ 2 s, switch cost 150); {} folds, takes {}:",
+            folds.len(),
+            loaded.iter().map(|l| l.0.as_str()).collect::<Vec<_>>().join(", ")
+        );
+        println!(
+            "| unknown score | thresholds chosen (min–max; ∞ = never) | open-set accuracy, held out | Δ from never [95 % over takes] | inner folds (where chosen) | unseen called unknown | taught called unknown | taught labelled right |"
+        );
+        println!("|---|---|---|---|---|---|---|---|");
+        let never = mean(&|f| f.never.accuracy);
+        println!(
+            "| never unknown | — | {never:.3} | — | — | 0 % | 0 % | {:.0} % |",
+            100.0 * mean(&|f| f.never.taught_right)
+        );
+        for (j, (_, name)) in OPEN_SET.iter().enumerate() {
+            let ts: Vec<f32> = folds.iter().map(|f| f.chosen[j].0).collect();
+            let lo = ts.iter().copied().fold(f32::INFINITY, f32::min);
+            let hi = ts.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+            let never_count = ts.iter().filter(|t| t.is_infinite()).count();
+            let per_take: Vec<f64> = (0..loaded.len())
+                .filter_map(|h| {
+                    let d: Vec<f64> = folds
+                        .iter()
+                        .filter(|f| f.take == h)
+                        .map(|f| f.chosen[j].2.accuracy - f.never.accuracy)
+                        .collect();
+                    (!d.is_empty()).then(|| d.iter().sum::<f64>() / d.len() as f64)
+                })
+                .collect();
+            let ci = mocapseg::stats::bootstrap_mean(&per_take, 2000, 50)
+                .map_or("—".to_string(), |(m, a, b)| format!("{m:+.3} [{a:+.3}, {b:+.3}]"));
+            println!(
+                "| {name} | {lo:.2}–{hi:.2} ({never_count} never) | {:.3} | {ci} | {:.3} | {:.0} % | {:.0} % | {:.0} % |",
+                mean(&|f| f.chosen[j].2.accuracy),
+                mean(&|f| f.chosen[j].1.accuracy),
+                100.0 * mean(&|f| f.chosen[j].2.unseen_unknown),
+                100.0 * mean(&|f| f.chosen[j].2.taught_unknown),
+                100.0 * mean(&|f| f.chosen[j].2.taught_right),
+            );
+        }
+        println!(
+            "Outlier takes called unknown at the first score's open-set thresholds: {:.0} % (mean over the folds; 0 where never).",
+            100.0 * mean(&|f| f.outlier)
+        );
     }
 }

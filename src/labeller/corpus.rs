@@ -148,6 +148,7 @@ pub fn header(kind: &dyn Kind, classes: &[String], meta: &ModelMeta, provenance:
         standardise: None,
         knn: None,
         travel: meta.travel,
+        open_set: None,
         provenance,
         member_bytes: Vec::new(),
         payload_sha256: String::new(),

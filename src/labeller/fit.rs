@@ -39,6 +39,14 @@ pub trait Windows {
     /// with the share done) answers false.
     fn nearest_distances(&self, motion: &Motion, go: crate::method::Go) -> Result<Option<Vec<f32>>, String>;
     fn familiar_distances(&self, gap: usize, samples: usize) -> Vec<f32>;
+    /// Per file frame of `motion` given class `labels[f]`: the open-set unknown's score
+    /// ([`crate::labeller::openset`]; the k-NN's `Knn::voted_ratios_going`); `None` once `go` answers false.
+    fn voted_ratios(
+        &self,
+        motion: &Motion,
+        labels: &[Option<usize>],
+        go: crate::method::Go,
+    ) -> Result<Option<Vec<f32>>, String>;
     /// Multiply-adds of [`TakeFit::assess`]'s search, at most: per working frame of a take, and besides (the familiar
     /// distances, [`FAMILIAR_SAMPLES`] windows each against every training window).
     fn search_ops(&self) -> (f64, f64);

@@ -31,6 +31,10 @@ pub struct LabelParams {
     /// Frames whose confidence is below this are `unknown` (0 = never); with a decoding, whole runs.
     /// `None` (the default): the model's own, its header's `unknown_threshold`.
     pub unknown_threshold: Option<f64>,
+    /// The open-set unknown ([`super::openset`]): a labelled frame whose window lies farther than this from its
+    /// class's training windows (over the class's own repeat distance, over the take's median of the same) is
+    /// `unknown` (0: never). `None` (the default): the model's own, its header's `open_set` (none: never).
+    pub unknown_ratio: Option<f64>,
     /// `model` (the decoding the model was made with — raw per-frame labels if none), `raw`, or `custom`
     /// (`min_duration_s` and `switch_cost`).
     pub decoding: String,
@@ -76,6 +80,7 @@ impl Default for LabelParams {
         LabelParams {
             model: shipped::NAMES[0].into(),
             unknown_threshold: None,
+            unknown_ratio: None,
             decoding: DECODINGS[0].into(),
             min_duration_s: CUSTOM_DECODING.min_duration_s,
             switch_cost: CUSTOM_DECODING.switch_cost,
@@ -91,6 +96,10 @@ pub struct Checked {
     name: String,
     model: Arc<Model>,
     threshold: f64,
+    /// The open-set ratio in force (`None`: never) and the model whose windows measure it (a k-NN: the model
+    /// itself; `None`: no such model, so no open-set unknown).
+    ratio: Option<f32>,
+    open_windows: Option<Arc<Model>>,
     /// As asked (`model`, `raw`, `custom`) and the custom setting, echoed as given.
     asked: String,
     custom: Decoding,
@@ -391,6 +400,19 @@ impl Method for Labelling {
                 at_most: None,
             },
             ParamSpec {
+                name: "unknown_ratio".into(),
+                help: "The open-set unknown: a labelled frame whose ±1 s window lies farther than this from its \
+                       class's training windows — over the class's own repeat distance, over the take's median of \
+                       the same — is labelled `unknown` (0: never; unset: the model's own, chosen when it was made on \
+                       folds that leave a class out; the shipped exercises k-NN's: docs/methods/dtfcn.md)."
+                    .into(),
+                kind: ParamKind::Number { min: 0.0, max: super::openset::MAX_RATIO as f64 },
+                default: serde_json::Value::Null,
+                unit: None,
+                basic: false,
+                at_most: None,
+            },
+            ParamSpec {
                 name: "decoding".into(),
                 help: "How per-frame probabilities become labels: `model` — as the model was validated to (one path \
                        through the classes whose runs last at least its minimum, a semi-Markov Viterbi, so a few \
@@ -468,6 +490,16 @@ impl Method for Labelling {
             // the header's f32 as written (0.8, not 0.800000011920929)
             None => model.header.unknown_threshold.to_string().parse().unwrap_or(DEFAULT_THRESHOLD),
         };
+        let ratio = match params.unknown_ratio {
+            Some(r) if !(0.0..=super::openset::MAX_RATIO as f64).contains(&r) => {
+                return Err(MethodError::param(
+                    "unknown_ratio",
+                    format!("unknown_ratio = {r}: expected a ratio from 0 (never) to {}", super::openset::MAX_RATIO),
+                ))
+            }
+            Some(r) => (r > 0.0).then_some(r as f32),
+            None => model.header.open_set.map(|o| o.ratio),
+        };
         let (d, cost) = (params.min_duration_s, params.switch_cost);
         if !(0.0..=MAX_MIN_DURATION_S).contains(&d) {
             return Err(MethodError::param(
@@ -492,6 +524,10 @@ impl Method for Labelling {
                 ))
             }
         };
+        let open_windows = match ratio {
+            Some(_) => self.fit_windows(&model, params.model.trim(), models)?,
+            None => None,
+        };
         let fit = if params.fit_check {
             Some(FitCheck {
                 windows: self.fit_windows(&model, params.model.trim(), models)?,
@@ -506,6 +542,8 @@ impl Method for Labelling {
             name: params.model.trim().to_string(),
             model,
             threshold,
+            ratio,
+            open_windows,
             asked: params.decoding.trim().to_string(),
             custom: Decoding { min_duration_s: d, switch_cost: cost },
             decoding,
@@ -526,6 +564,7 @@ impl Method for Labelling {
         serde_json::json!({
             "model": params.name,
             "unknown_threshold": params.threshold,
+            "unknown_ratio": params.ratio.unwrap_or(0.0),
             "decoding": params.asked,
             "min_duration_s": params.custom.min_duration_s,
             "switch_cost": params.custom.switch_cost,
@@ -540,7 +579,18 @@ impl Method for Labelling {
         // poses with the k-NN's windows)
         let windows = params.fit.as_ref().and_then(|f| f.windows.as_deref());
         let base = self.kind.frame_bytes(windows.is_some());
-        Work { fps: params.model.header.fps, advice: "", ..model_work(&params.model, &params.decoding, base, windows) }
+        let work = model_work(&params.model, &params.decoding, base, windows);
+        // the open-set unknown: one search of its class's windows per working frame, the classes' repeat distances once
+        let (open_ops, open_fixed) = windows_of(params.open_windows.as_deref().filter(|_| params.ratio.is_some()))
+            .map_or((0.0, 0.0), |w| w.search_ops());
+        Work {
+            fps: params.model.header.fps,
+            advice: "",
+            ops_per_frame: work.ops_per_frame + open_ops,
+            fixed_ops: work.fixed_ops + open_fixed,
+            bytes_per_frame: work.bytes_per_frame + if open_ops > 0.0 { 4 } else { 0 },
+            ..work
+        }
     }
 
     fn run(
@@ -589,9 +639,10 @@ impl Method for Labelling {
             motion.frames(),
             &params.decoding,
             params.threshold,
-            &mut |f| progress.step("decoding", 0.95 + 0.05 * f).is_ok(),
+            &mut |f| progress.step("decoding", 0.95 + 0.02 * f).is_ok(),
         )
         .ok_or(MethodError::Cancelled)?;
+        let open_unknown = open_set_unknown(params, motion, &mut file, progress)?;
         // a take the classes cannot describe gets no labels at all: its familiar-looking frames are
         // as wrong as the others (86_01 under `exercises`: half its frames are unfamiliar, the rest
         // "Jog" and "Twist"); `fit_check = false` shows them anyway
@@ -607,20 +658,8 @@ impl Method for Labelling {
             params: self.echo(params),
             segments,
         };
-        let unknown = file.iter().filter(|f| f.0.is_none()).count();
-        // the confidence of the frames that got a label (a model that does not fit labels none: its frames'
-        // confidences say nothing then, and "mean confidence 0.92 · 100 % unknown" read as a contradiction)
-        let confidences: Vec<f64> = file.iter().filter(|f| f.0.is_some()).map(|f| f.1 as f64).collect();
-        let confidence = match (confidences.len(), fit.as_ref().is_some_and(|(f, _)| !f.fits())) {
-            (_, true) => "every frame unknown: the model does not fit this take".to_string(),
-            (0, false) => format!("every frame unknown (below {:.2})", params.threshold),
-            (n, false) => format!(
-                "labelled frames' mean confidence {:.2} · {:.0} % unknown (below {:.2})",
-                confidences.iter().sum::<f64>() / n as f64,
-                100.0 * unknown as f64 / file.len().max(1) as f64,
-                params.threshold
-            ),
-        };
+        let unfit = fit.as_ref().is_some_and(|(f, _)| !f.fits());
+        let confidence = confidence_sentence(&file, params.threshold, unfit, open_unknown);
         let summary = format!(
             "{} · {} of model `{}` · {confidence} · {}",
             crate::method::counted(segmentation.segments.len(), "segment"),
@@ -662,6 +701,60 @@ impl Method for Labelling {
         progress.step("done", 1.0)?;
         Ok(MethodOutput { segmentation, details: Details { summary, pictures, curves, take_fit } })
     }
+}
+
+/// The summary's words on confidence and unknowns: the labelled frames' mean confidence and the share unknown — below
+/// `threshold`, and of those the open-set unknown called (`open`: its ratio and count) — or why every frame is unknown.
+fn confidence_sentence(
+    file: &[(Option<usize>, f32)],
+    threshold: f64,
+    unfit: bool,
+    open: Option<(f32, usize)>,
+) -> String {
+    let unknown = file.iter().filter(|f| f.0.is_none()).count();
+    // the confidence of the frames that got a label (a model that does not fit labels none: its frames'
+    // confidences say nothing then, and "mean confidence 0.92 · 100 % unknown" read as a contradiction)
+    let confidences: Vec<f64> = file.iter().filter(|f| f.0.is_some()).map(|f| f.1 as f64).collect();
+    let open = open.map_or(String::new(), |(r, called)| {
+        format!(
+            "; {:.0} % far from their class's training windows (open-set ratio above {r:.2})",
+            100.0 * called as f64 / file.len().max(1) as f64
+        )
+    });
+    match (confidences.len(), unfit) {
+        (_, true) => "every frame unknown: the model does not fit this take".to_string(),
+        (0, false) => format!("every frame unknown (below {threshold:.2}{open})"),
+        (n, false) => format!(
+            "labelled frames' mean confidence {:.2} · {:.0} % unknown (below {threshold:.2}{open})",
+            confidences.iter().sum::<f64>() / n as f64,
+            100.0 * unknown as f64 / file.len().max(1) as f64,
+        ),
+    }
+}
+
+/// The open-set unknown in force for `params` ([`super::openset`]): the labelled frames of `file` lying farther than its
+/// ratio from their class's training windows made unknown; the ratio and how many frames it called (`None`: no ratio
+/// in force, or no windows to measure it with).
+fn open_set_unknown(
+    params: &Checked,
+    motion: &Motion,
+    file: &mut [(Option<usize>, f32)],
+    progress: &mut dyn Progress,
+) -> Result<Option<(f32, usize)>, MethodError> {
+    let (Some(r), Some(w)) = (params.ratio, windows_of(params.open_windows.as_deref())) else { return Ok(None) };
+    let labels: Vec<Option<usize>> = file.iter().map(|f| f.0).collect();
+    let ratios = w
+        .voted_ratios(motion, &labels, &mut |f| progress.step("open-set unknown", 0.97 + 0.03 * f).is_ok())
+        .map_err(MethodError::Failed)?
+        .ok_or(MethodError::Cancelled)?;
+    let mut called = 0;
+    for (f, q) in file.iter_mut().zip(&ratios) {
+        if f.0.is_some() && *q > r {
+            f.0 = None;
+            called += 1;
+        }
+    }
+    Ok(Some((r, called)))
 }
 
 /// A take labelled by a model.

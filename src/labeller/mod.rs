@@ -10,6 +10,7 @@
 //! | a labeller's class probabilities per working frame | [`probabilities`] |
 //! | (not in the paper) labels as one path with a minimum duration, not per-frame argmax | [`decode`] |
 //! | (not in the paper) whether a take fits a model: its travel, its poses against training windows | [`fit`] |
+//! | (not in the paper) the open-set objective an unknown threshold is chosen on, folds leaving a class out | [`openset`] |
 //! | model files: the framing, the header every labeller's file has, a labeller's payload ([`model::Labeller`]) | [`model`] |
 //! | the labelling method: a model labels every frame; runs of a label are segments ([`method::Labelling`]) | [`method`] |
 //! | the models shipped with the app, one of each kind per name | [`shipped`] |
@@ -24,6 +25,7 @@ pub mod fit;
 pub mod input;
 pub mod method;
 pub mod model;
+pub mod openset;
 pub mod probabilities;
 pub mod shipped;
 pub mod supervised;

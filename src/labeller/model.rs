@@ -166,6 +166,11 @@ pub struct ModelHeader {
     /// How fast its training takes travelled ([`super::fit`]; none in models made before it was measured).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub travel: Option<TravelProfile>,
+    /// The open-set unknown ([`super::openset`]): a labelled frame whose window lies farther than this from its
+    /// class's training windows is `unknown` unless a run asks for another; chosen on folds of its training takes
+    /// that leave a class out (none: not chosen, or never calling unknown paid best there).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub open_set: Option<super::openset::OpenSetUnknown>,
     pub provenance: Provenance,
     /// An ensemble's payload: the byte length of each network's weights, in order (empty: one network, the
     /// whole payload).
@@ -455,6 +460,9 @@ pub fn check_header(h: &ModelHeader, kind: &dyn Kind) -> Result<(), String> {
     }
     if !(0.0..=1.0).contains(&h.unknown_threshold) {
         return Err(format!("unknown threshold {}: expected 0 to 1", h.unknown_threshold));
+    }
+    if let Some(o) = &h.open_set {
+        o.check()?;
     }
     kind.check_header(h)
 }

@@ -108,6 +108,7 @@ fn plain_words(name: &str) -> Option<&'static str> {
         "shift_restarts" => "shifted networks' restarts",
         // the labellers (k-NN, DT-FCN) and their training
         "unknown_threshold" => "unknown below",
+        "unknown_ratio" => "open-set unknown above",
         "fit_check" => "check the fit",
         "fit_others" => "measure other models",
         "min_duration_s" => "shortest run",

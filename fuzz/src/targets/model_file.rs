@@ -48,6 +48,7 @@ fn header(kind: &dyn Kind, classes: usize) -> ModelHeader {
         standardise: None,
         knn: None,
         travel: None,
+        open_set: Some(mocapseg::labeller::openset::OpenSetUnknown { ratio: 2.0, folds: 1, accuracy: 0.8, never: 0.7 }),
         provenance: Provenance {
             command: "fuzz seed".into(),
             data_hash: String::new(),

@@ -199,6 +199,7 @@ mod tests {
                 }),
                 knn: None,
                 travel: None,
+                open_set: None,
                 provenance: Provenance {
                     command: "test".into(),
                     data_hash: data_hash(&[], b""),

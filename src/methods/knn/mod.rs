@@ -150,6 +150,8 @@ pub struct Knn {
     labels: Vec<usize>,
     /// [`Knn::familiar_distances`] at the take fit's gap and step, measured once.
     familiar: std::sync::OnceLock<Vec<f32>>,
+    /// [`Knn::class_familiar`] at the take fit's gap and step for every class of the windows, measured once.
+    class_scales: std::sync::OnceLock<Vec<Option<f32>>>,
 }
 
 /// A long loop asks [`Go`] every this many frames (a few milliseconds of a wide window's projection).
@@ -381,6 +383,7 @@ impl Knn {
             tree: OnceLock::new(),
             labels,
             familiar: Default::default(),
+            class_scales: Default::default(),
         }
     }
 
@@ -642,6 +645,54 @@ impl Knn {
             .collect()
     }
 
+    /// The open-set unknown's score ([`crate::labeller::openset`], issue 50): per file frame of `motion` given class
+    /// `labels[f]`, the distance of its window to the nearest training window *of that class*, over the class's own
+    /// repeat distance ([`Knn::class_familiar`] at the take fit's gap and samples), over the take's median of the
+    /// same — how much farther the frame lies from its class's repetitions than the take's frames usually do. NaN for
+    /// a frame without a label, infinite for a class the windows do not hold; `None` once `go` answers false.
+    /// Measured on folds that leave a class out (`cargo run --release --example eval_knn -- unseen`), the score that
+    /// tells a never-taught class best at the fewest taught frames called unknown.
+    pub fn voted_ratios_going(
+        &self,
+        motion: &Motion,
+        labels: &[Option<usize>],
+        go: Go,
+    ) -> Result<Option<Vec<f32>>, String> {
+        use crate::labeller::fit::{FAMILIAR_GAP, FAMILIAR_SAMPLES};
+        let Some((queries, source)) = self.queries_going(motion, &mut |f| go(f / 2.0))? else { return Ok(None) };
+        let classes = self.labels.iter().max().map_or(0, |m| m + 1);
+        let scales = self.class_scales.get_or_init(|| self.class_familiar(classes, FAMILIAR_GAP, FAMILIAR_SAMPLES));
+        let frames = WorkingFrames { source: &source, file_frames: motion.frames() };
+        let (mut found, mut last): (Vec<Found>, Option<(usize, usize, f32)>) = (Vec::new(), None);
+        let mut ratios = Vec::with_capacity(motion.frames());
+        for f in 0..motion.frames() {
+            if f % GO_EVERY == 0 && !go(0.5 + f as f64 / motion.frames().max(1) as f64 / 2.0) {
+                return Ok(None);
+            }
+            let Some(c) = labels.get(f).copied().flatten() else {
+                ratios.push(f32::NAN);
+                continue;
+            };
+            let w = frames.working_frame(f);
+            let d = match last {
+                Some((lw, lc, d)) if (lw, lc) == (w, c) => d,
+                _ => {
+                    self.scan.nearest(&self.points, &queries[w], 1, &[], |j| self.labels[j as usize] == c, &mut found);
+                    let d = found.first().map_or(f32::INFINITY, |x| x.distance.sqrt());
+                    last = Some((w, c, d));
+                    d
+                }
+            };
+            ratios.push(match scales.get(c).copied().flatten() {
+                Some(s) if s > 0.0 => d / s,
+                _ => f32::INFINITY,
+            });
+        }
+        let mut finite: Vec<f32> = ratios.iter().copied().filter(|r| r.is_finite()).collect();
+        let m = crate::stats::median(&mut finite).filter(|m| *m > 0.0).unwrap_or(1.0);
+        Ok(Some(ratios.into_iter().map(|r| r / m).collect()))
+    }
+
     /// How far training windows lie from the training windows at least `gap` working frames away
     /// from them (another repetition of the movement, or another take), for at most `samples`
     /// evenly spaced training windows, sorted: what the nearest distance of a frame of a *new* take
@@ -704,6 +755,9 @@ impl crate::labeller::fit::Windows for Knn {
     }
     fn familiar_distances(&self, gap: usize, samples: usize) -> Vec<f32> {
         Knn::familiar_distances(self, gap, samples)
+    }
+    fn voted_ratios(&self, motion: &Motion, labels: &[Option<usize>], go: Go) -> Result<Option<Vec<f32>>, String> {
+        Knn::voted_ratios_going(self, motion, labels, go)
     }
     fn search_ops(&self) -> (f64, f64) {
         let samples = crate::labeller::fit::FAMILIAR_SAMPLES.min(self.points.len()) as f64;
@@ -972,6 +1026,47 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// The open-set score: per frame, its window's distance to the nearest training window of the class it is given,
+    /// over the class's repeat distance, over the take's median of the same. A take given its own labels lies on its
+    /// class's windows (0 on the frames a training window was taken at, and a median far below the same frames given
+    /// the other class); an unlabelled frame is NaN, a class without windows infinite.
+    #[test]
+    fn the_voted_ratio_measures_a_frame_against_its_own_class() {
+        let taught = fixture("131_01.bvh");
+        let half = taught.frames() / 2;
+        let split: Vec<usize> = (0..taught.frames()).map(|f| usize::from(f >= half)).collect();
+        let knn = Knn::fit(&[Labelled { motion: &taught, labels: &split }], KnnParams::default()).unwrap();
+        let scales = knn.class_familiar(2, crate::labeller::fit::FAMILIAR_GAP, crate::labeller::fit::FAMILIAR_SAMPLES);
+        let by_class = knn.class_distances(&taught, 2).unwrap();
+        let mut medians = Vec::new();
+        for given in [0, 1] {
+            // given = 0: the take's own labels; 1: the other half's
+            let class = |f: usize| if given == 0 { split[f] } else { 1 - split[f] };
+            let labels: Vec<Option<usize>> = (0..taught.frames()).map(|f| Some(class(f))).collect();
+            let ratios = knn.voted_ratios_going(&taught, &labels, &mut |_| true).unwrap().unwrap();
+            assert_eq!(ratios.len(), taught.frames());
+            let raw: Vec<f32> =
+                (0..taught.frames()).map(|f| by_class[f][class(f)] / scales[class(f)].unwrap()).collect();
+            let median = crate::stats::median(&mut raw.clone()).unwrap();
+            for (f, (a, r)) in ratios.iter().zip(&raw).enumerate() {
+                let want = r / if median > 0.0 { median } else { 1.0 };
+                assert!((a - want).abs() <= 1e-4 * (1.0 + a.abs()), "given {given}, frame {f}: {a} against {want}");
+            }
+            if given == 0 {
+                assert!(ratios.iter().filter(|&&r| r == 0.0).count() >= taught.frames() / 10);
+            }
+            medians.push(median);
+        }
+        assert!(medians[1] > 3.0 * medians[0], "{medians:?}");
+        // unlabelled, and a class the windows do not hold
+        let odd: Vec<Option<usize>> = (0..taught.frames()).map(|f| if f % 2 == 0 { None } else { Some(7) }).collect();
+        let odd = knn.voted_ratios_going(&taught, &odd, &mut |_| true).unwrap().unwrap();
+        assert!(odd.iter().step_by(2).all(|r| r.is_nan()) && odd.iter().skip(1).step_by(2).all(|r| r.is_infinite()));
+        // a stop is honoured
+        let own: Vec<Option<usize>> = split.iter().map(|&l| Some(l)).collect();
+        assert!(knn.voted_ratios_going(&taught, &own, &mut |f| f < 0.6).unwrap().is_none());
     }
 
     #[cfg(not(target_arch = "wasm32"))]

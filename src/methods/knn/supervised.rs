@@ -67,7 +67,7 @@ struct KnnTraining {
 }
 
 impl Training for KnnTraining {
-    fn step(&mut self, _progress: &mut dyn Progress) -> Result<StepReport, MethodError> {
+    fn step(&mut self, progress: &mut dyn Progress) -> Result<StepReport, MethodError> {
         let p = &self.prepared;
         // the validation take, if any, only chooses the decoding: it is not among the windows
         let takes: Vec<(&Motion, &[Option<usize>])> = p
@@ -82,6 +82,28 @@ impl Training for KnnTraining {
             .map_err(|m| MethodError::param("labels", format!("{}: {m}", p.labels_name)))?;
         model.header.provenance.take_sha256 = p.trained_sha256();
         self.chosen = choose_on_validation(&mut model, p, &self.options)?;
+        // the open-set unknown, on folds of every labelled take (the validation take too) that leave a class out,
+        // decoded as the model now is
+        let all: Vec<(&Motion, &[Option<usize>])> =
+            p.motions.iter().zip(&p.labels_per_take).map(|(m, l)| (m, &l[..])).collect();
+        let decoding = model.header.decoding.unwrap_or(crate::labeller::decode::Decoding::RAW);
+        let threshold = model.header.unknown_threshold as f64;
+        let choice = super::training::choose_open_set_unknown(
+            &all,
+            p.classes.len(),
+            super::KnnParams::default(),
+            &decoding,
+            threshold,
+            &mut |f| progress.step("open-set unknown", f).is_ok(),
+        )
+        .map_err(|m| MethodError::param("labels", format!("{}: {m}", p.labels_name)))?;
+        if progress.cancelled() {
+            return Err(MethodError::Cancelled);
+        }
+        if let Some(c) = choice {
+            model.header.open_set = c.unknown();
+            self.chosen.push_str(&c.describe());
+        }
         let frames = model.header.provenance.frames;
         self.model = Some(model);
         self.done = true;

@@ -88,3 +88,69 @@ pub fn knn_fold(takes: &FoldTakes) -> Result<FoldLabels<Knn>, String> {
     let labels = fitted.predict(takes.held)?;
     Ok(FoldLabels { labels, setting: knn_k.0, model: fitted })
 }
+
+/// The open-set unknown of a k-NN with `params` made on `takes` ([`crate::labeller::openset`], issue 50): every
+/// class in turn is left out — each take holding it labelled by a k-NN fitted on the other takes without the class,
+/// decoded as the model will be (`decoding`, `threshold`), its frames scored by their class's training windows
+/// ([`Knn::voted_ratios_going`]) — and the ratio with the best open-set frame accuracy over the frames of every such
+/// fold is chosen. `None` when no class can be left out (one take; no class held by a take while another take has
+/// other labels) or once `go` (asked with the share of the folds done) answers false.
+pub fn choose_open_set_unknown(
+    takes: &[(&Motion, &[Option<usize>])],
+    classes: usize,
+    params: KnnParams,
+    decoding: &crate::labeller::decode::Decoding,
+    threshold: f64,
+    go: crate::method::Go,
+) -> Result<Option<crate::labeller::openset::OpenSetChoice>, String> {
+    use crate::labeller::decode::file_labels;
+    use crate::labeller::openset::{choose_open_set, open_set_scores, OpenSetChoice, OpenSetFrame};
+    let holds = |t: usize, c: usize| takes[t].1.contains(&Some(c));
+    let folds: Vec<(usize, usize)> = (0..classes)
+        .flat_map(|c| (0..takes.len()).map(move |v| (c, v)))
+        .filter(|&(c, v)| {
+            holds(v, c) && (0..takes.len()).any(|i| i != v && takes[i].1.iter().any(|l| l.is_some_and(|l| l != c)))
+        })
+        .collect();
+    let (mut frames, mut done): (Vec<OpenSetFrame>, usize) = (Vec::new(), 0);
+    for (n, &(c, v)) in folds.iter().enumerate() {
+        if !go(n as f64 / folds.len() as f64) {
+            return Ok(None);
+        }
+        let without: Vec<Vec<Option<usize>>> = (0..takes.len())
+            .filter(|&i| i != v)
+            .map(|i| takes[i].1.iter().map(|l| l.filter(|&l| l != c)).collect())
+            .collect();
+        let train: Vec<(&Motion, &[Option<usize>])> =
+            (0..takes.len()).filter(|&i| i != v).zip(&without).map(|(i, l)| (takes[i].0, l.as_slice())).collect();
+        let knn = match fit_knn(&train, params) {
+            Ok(k) => k,
+            // the other takes hold no stretch long enough without the class: no fold here
+            Err(_) => continue,
+        };
+        let (motion, truth) = takes[v];
+        let (p, source) = knn.probabilities_at(motion, classes)?;
+        let decoded = file_labels(&p, &source, params.fps, motion.frames(), decoding, threshold);
+        let labels: Vec<Option<usize>> = decoded.iter().map(|d| d.0).collect();
+        let Some(ratios) = knn.voted_ratios_going(motion, &labels, &mut |_| true)? else { return Ok(None) };
+        done += 1;
+        frames.extend(truth.iter().zip(&labels).zip(&ratios).filter_map(|((t, l), r)| {
+            let t = (*t)?;
+            Some(OpenSetFrame {
+                score: if l.is_some() { *r } else { f32::INFINITY },
+                unseen: t == c,
+                right: *l == Some(t),
+            })
+        }));
+    }
+    if done == 0 || frames.is_empty() {
+        return Ok(None);
+    }
+    let ratio = choose_open_set(&frames);
+    Ok(Some(OpenSetChoice {
+        ratio,
+        folds: done,
+        accuracy: open_set_scores(&frames, ratio).accuracy,
+        never: open_set_scores(&frames, f32::INFINITY).accuracy,
+    }))
+}
