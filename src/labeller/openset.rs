@@ -44,14 +44,18 @@ impl OpenSetUnknown {
     }
 }
 
-/// What [`choose_open_set`] chose on a model's leave-a-class-out folds: the ratio (`f32::INFINITY`: never unknown),
-/// the folds, and the open-set frame accuracy there at the ratio and without any unknown.
+/// What [`choose_confirmed`] chose on a model's leave-a-class-out folds: the ratio (`f32::INFINITY`: never unknown),
+/// the folds, the open-set frame accuracy there at the ratio and without any unknown, the ratio the objective picked
+/// before it was confirmed, and that ratio's gain over never saying unknown — the mean over the scored takes with its
+/// bootstrap 95 % interval.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OpenSetChoice {
     pub ratio: f32,
     pub folds: usize,
     pub accuracy: f64,
     pub never: f64,
+    pub candidate: f32,
+    pub gain: Option<(f64, f64, f64)>,
 }
 
 impl OpenSetChoice {
@@ -67,8 +71,12 @@ impl OpenSetChoice {
 
     /// One sentence for a training's summary.
     pub fn describe(&self) -> String {
+        let gain =
+            self.gain.map_or(String::new(), |(m, lo, hi)| format!(", {m:+.3} [{lo:+.3}, {hi:+.3}] over its takes"));
         let how = if self.ratio.is_finite() {
-            format!("frames farther than {:.2} from their class's training windows are unknown", self.ratio)
+            format!("frames farther than {:.2} from their class's training windows are unknown{gain}", self.ratio)
+        } else if self.candidate.is_finite() {
+            format!("no open-set unknown (the best ratio, {:.2}, gained not surely{gain})", self.candidate)
         } else {
             "no open-set unknown (never calling unknown did best)".to_string()
         };
@@ -79,6 +87,31 @@ impl OpenSetChoice {
             100.0 * self.accuracy,
             100.0 * self.never
         )
+    }
+}
+
+/// The ratio [`choose_open_set`] picks on the frames of every take of `by_take` (each take's frames from the
+/// leave-a-class-out folds that scored it), kept only when it is surely better than never saying unknown there: the
+/// bootstrap 95 % interval, over the takes, of its gain in open-set frame accuracy lies above 0 (a change counts as
+/// better only when the interval says so — here inside the training takes, so the rule is part of the nesting). `folds`
+/// is the caller's to fill.
+pub fn choose_confirmed(by_take: &[Vec<OpenSetFrame>]) -> OpenSetChoice {
+    let all: Vec<OpenSetFrame> = by_take.iter().flatten().copied().collect();
+    let candidate = choose_open_set(&all);
+    let gains: Vec<f64> = by_take
+        .iter()
+        .filter(|t| !t.is_empty())
+        .map(|t| open_set_scores(t, candidate).accuracy - open_set_scores(t, f32::INFINITY).accuracy)
+        .collect();
+    let gain = candidate.is_finite().then(|| crate::stats::bootstrap_mean(&gains, 2000, 50)).flatten();
+    let ratio = if gain.is_some_and(|(_, lo, _)| lo > 0.0) { candidate } else { f32::INFINITY };
+    OpenSetChoice {
+        ratio,
+        folds: 0,
+        accuracy: open_set_scores(&all, ratio).accuracy,
+        never: open_set_scores(&all, f32::INFINITY).accuracy,
+        candidate,
+        gain,
     }
 }
 
@@ -240,12 +273,51 @@ mod tests {
         assert!(OpenSetUnknown { accuracy: 1.5, ..good }.check().is_err());
         assert!(OpenSetUnknown { never: f32::NAN, ..good }.check().is_err());
         // what a training holds of its choice: never unknown is no field at all
-        let never = OpenSetChoice { ratio: f32::INFINITY, folds: 4, accuracy: 0.7, never: 0.7 };
+        let never = OpenSetChoice {
+            ratio: f32::INFINITY,
+            folds: 4,
+            accuracy: 0.7,
+            never: 0.7,
+            candidate: f32::INFINITY,
+            gain: None,
+        };
         assert_eq!(never.unknown(), None);
         assert!(never.describe().contains("no open-set unknown"), "{}", never.describe());
-        let chosen = OpenSetChoice { ratio: 1.7, folds: 3, accuracy: 0.8, never: 0.7 };
+        let chosen = OpenSetChoice {
+            candidate: 1.7,
+            gain: Some((0.1, 0.05, 0.15)),
+            ratio: 1.7,
+            folds: 3,
+            accuracy: 0.8,
+            ..never
+        };
         assert_eq!(chosen.unknown(), Some(good));
         assert!(chosen.describe().contains("1.70"), "{}", chosen.describe());
+    }
+
+    /// The objective's ratio is kept only when every way of resampling the takes says it gains: two takes gaining
+    /// keep it; one take gaining and one losing as much leave no open-set unknown, the candidate and its gain said.
+    #[test]
+    fn a_ratio_is_kept_only_when_the_takes_say_it_gains() {
+        // a take whose unseen frames score above its taught ones
+        let separable = |shift: f32| -> Vec<OpenSetFrame> {
+            (0..10)
+                .map(|i| frame(shift + i as f32 / 10.0, false, true))
+                .chain((0..4).map(|i| frame(shift + 2.0 + i as f32, true, false)))
+                .collect()
+        };
+        let c = choose_confirmed(&[separable(0.0), separable(0.1)]);
+        assert!(c.ratio.is_finite() && c.ratio == c.candidate, "{c:?}");
+        assert!(c.gain.unwrap().1 > 0.0 && c.accuracy > c.never, "{c:?}");
+        // the second take's taught frames score where the first take's unseen ones do: the pooled cut between them
+        // gains on one take and loses on the other
+        let mut against: Vec<OpenSetFrame> = (0..4).map(|i| frame(2.0 + i as f32, false, true)).collect();
+        against.extend((0..10).map(|i| frame(i as f32 / 10.0, true, false)));
+        let c = choose_confirmed(&[separable(0.0), separable(0.0), against]);
+        assert!(c.candidate.is_finite() && c.ratio.is_infinite(), "{c:?}");
+        assert!(c.gain.unwrap().1 <= 0.0);
+        assert_eq!(c.accuracy, c.never);
+        assert!(c.describe().contains("gained not surely"), "{}", c.describe());
     }
 
     /// NaN scores are never thresholds and never unknown; no frames: never; the lowest score as a cut stays finite.

@@ -93,7 +93,7 @@ pub fn knn_fold(takes: &FoldTakes) -> Result<FoldLabels<Knn>, String> {
 /// class in turn is left out — each take holding it labelled by a k-NN fitted on the other takes without the class,
 /// decoded as the model will be (`decoding`, `threshold`), its frames scored by their class's training windows
 /// ([`Knn::voted_ratios_going`]) — and the ratio with the best open-set frame accuracy over the frames of every such
-/// fold is chosen. `None` when no class can be left out (one take; no class held by a take while another take has
+/// fold is chosen, kept only when its gain over the scored takes is sure ([`choose_confirmed`]). `None` when no class can be left out (one take; no class held by a take while another take has
 /// other labels) or once `go` (asked with the share of the folds done) answers false.
 pub fn choose_open_set_unknown(
     takes: &[(&Motion, &[Option<usize>])],
@@ -104,7 +104,7 @@ pub fn choose_open_set_unknown(
     go: crate::method::Go,
 ) -> Result<Option<crate::labeller::openset::OpenSetChoice>, String> {
     use crate::labeller::decode::file_labels;
-    use crate::labeller::openset::{choose_open_set, open_set_scores, OpenSetChoice, OpenSetFrame};
+    use crate::labeller::openset::{choose_confirmed, OpenSetFrame};
     let holds = |t: usize, c: usize| takes[t].1.contains(&Some(c));
     let folds: Vec<(usize, usize)> = (0..classes)
         .flat_map(|c| (0..takes.len()).map(move |v| (c, v)))
@@ -112,7 +112,8 @@ pub fn choose_open_set_unknown(
             holds(v, c) && (0..takes.len()).any(|i| i != v && takes[i].1.iter().any(|l| l.is_some_and(|l| l != c)))
         })
         .collect();
-    let (mut frames, mut done): (Vec<OpenSetFrame>, usize) = (Vec::new(), 0);
+    // each scored take's frames, from every fold that scored it
+    let (mut by_take, mut done): (Vec<Vec<OpenSetFrame>>, usize) = (vec![Vec::new(); takes.len()], 0);
     for (n, &(c, v)) in folds.iter().enumerate() {
         if !go(n as f64 / folds.len() as f64) {
             return Ok(None);
@@ -134,7 +135,7 @@ pub fn choose_open_set_unknown(
         let labels: Vec<Option<usize>> = decoded.iter().map(|d| d.0).collect();
         let Some(ratios) = knn.voted_ratios_going(motion, &labels, &mut |_| true)? else { return Ok(None) };
         done += 1;
-        frames.extend(truth.iter().zip(&labels).zip(&ratios).filter_map(|((t, l), r)| {
+        by_take[v].extend(truth.iter().zip(&labels).zip(&ratios).filter_map(|((t, l), r)| {
             let t = (*t)?;
             Some(OpenSetFrame {
                 score: if l.is_some() { *r } else { f32::INFINITY },
@@ -143,14 +144,8 @@ pub fn choose_open_set_unknown(
             })
         }));
     }
-    if done == 0 || frames.is_empty() {
+    if done == 0 || by_take.iter().all(Vec::is_empty) {
         return Ok(None);
     }
-    let ratio = choose_open_set(&frames);
-    Ok(Some(OpenSetChoice {
-        ratio,
-        folds: done,
-        accuracy: open_set_scores(&frames, ratio).accuracy,
-        never: open_set_scores(&frames, f32::INFINITY).accuracy,
-    }))
+    Ok(Some(crate::labeller::openset::OpenSetChoice { folds: done, ..choose_confirmed(&by_take) }))
 }
