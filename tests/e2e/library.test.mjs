@@ -222,10 +222,22 @@ for (const view of VIEWS) {
       // the library's): what had not finished is cancelled; "Run again" finishes it
       // (86_01 is the longest fixture: its segmentation is still to come when Cancel is pressed)
       await page.setInputFiles("#file-input", ["86_01.bvh", "35_01.bvh"].map(fixture));
-      // (pressed where it is: the list re-renders around it while the takes start)
-      await page.waitForFunction(() => document.querySelector("#library-cancel")?.disabled === false, null, { timeout: 10_000 })
-        .catch(async () => assert.fail(`Cancel was never enabled: ${JSON.stringify(await list(page))}`));
-      await page.evaluate(() => document.querySelector("#library-cancel").click());
+      // (pressed where it is: the list re-renders around it while the takes start; pressed by the page itself the
+      // moment it is enabled — a press sent from here once it was seen enabled could land after both takes finished,
+      // as it did once in CI)
+      const pressed = await page.evaluate(() => new Promise((resolve) => {
+        const press = () => {
+          const cancel = document.querySelector("#library-cancel");
+          if (!cancel || cancel.disabled) return false;
+          cancel.click();
+          return true;
+        };
+        if (press()) return resolve(true);
+        const seen = new MutationObserver(() => { if (press()) { seen.disconnect(); resolve(true); } });
+        seen.observe(document.body, { subtree: true, attributes: true, childList: true });
+        setTimeout(() => { seen.disconnect(); resolve(false); }, 10_000);
+      }));
+      assert.ok(pressed, `Cancel was never enabled: ${JSON.stringify(await list(page))}`);
       await waitReady(page, "35_01.bvh");
       await settled(page);
       let more = (await list(page)).slice(4);
