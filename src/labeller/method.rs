@@ -98,7 +98,7 @@ pub struct Checked {
     threshold: f64,
     /// The open-set ratio in force (`None`: never) and the model whose windows measure it (a k-NN: the model
     /// itself; `None`: no such model, so no open-set unknown).
-    ratio: Option<f32>,
+    ratio: Option<f64>,
     open_windows: Option<Arc<Model>>,
     /// As asked (`model`, `raw`, `custom`) and the custom setting, echoed as given.
     asked: String,
@@ -497,8 +497,9 @@ impl Method for Labelling {
                     format!("unknown_ratio = {r}: expected a ratio from 0 (never) to {}", super::openset::MAX_RATIO),
                 ))
             }
-            Some(r) => (r > 0.0).then_some(r as f32),
-            None => model.header.open_set.map(|o| o.ratio),
+            Some(r) => (r > 0.0).then_some(r),
+            // the header's f32 as written (2.02, not 2.0199999809265137)
+            None => model.header.open_set.map(|o| o.ratio.to_string().parse().unwrap_or(o.ratio as f64)),
         };
         let (d, cost) = (params.min_duration_s, params.switch_cost);
         if !(0.0..=MAX_MIN_DURATION_S).contains(&d) {
@@ -709,7 +710,7 @@ fn confidence_sentence(
     file: &[(Option<usize>, f32)],
     threshold: f64,
     unfit: bool,
-    open: Option<(f32, usize)>,
+    open: Option<(f64, usize)>,
 ) -> String {
     let unknown = file.iter().filter(|f| f.0.is_none()).count();
     // the confidence of the frames that got a label (a model that does not fit labels none: its frames'
@@ -740,7 +741,7 @@ fn open_set_unknown(
     motion: &Motion,
     file: &mut [(Option<usize>, f32)],
     progress: &mut dyn Progress,
-) -> Result<Option<(f32, usize)>, MethodError> {
+) -> Result<Option<(f64, usize)>, MethodError> {
     let (Some(r), Some(w)) = (params.ratio, windows_of(params.open_windows.as_deref())) else { return Ok(None) };
     let labels: Vec<Option<usize>> = file.iter().map(|f| f.0).collect();
     let ratios = w
@@ -749,7 +750,7 @@ fn open_set_unknown(
         .ok_or(MethodError::Cancelled)?;
     let mut called = 0;
     for (f, q) in file.iter_mut().zip(&ratios) {
-        if f.0.is_some() && *q > r {
+        if f.0.is_some() && *q as f64 > r {
             f.0 = None;
             called += 1;
         }
