@@ -556,6 +556,58 @@ fn trainings_stay_within_the_work_they_declare() {
     }
 }
 
+/// A k-NN training on two takes also chooses its open-set unknown on folds that leave a class out (issue 50): each
+/// fold fits a k-NN of its own while the model is held. What it allocates stays within the training work it declares
+/// for both takes.
+#[test]
+fn a_knn_trainings_open_set_folds_stay_within_its_work() {
+    use mocapseg::method::supervised::TrainingAsk;
+    use mocapseg::method::work::TrainingHold;
+    use mocapseg::method::{NoProgress, WorkLimits};
+    let _one = MEASURING.lock().unwrap();
+    let s = mocapseg::methods::find("knn").unwrap().supervised().unwrap();
+    let options = serde_json::json!({});
+    let work = s.training_work(&options).unwrap();
+    let frames = 12_000usize;
+    let bytes = repeated_13_31(frames, "0.033333");
+    let (third, two_thirds) = (frames / 3, 2 * frames / 3);
+    // a: still, moving; b: moving, still, turning — every class held by a take while the other has other labels
+    let labels = format!(
+        "file,start_frame,end_frame,label\na.bvh,0,{},still\na.bvh,{third},{},moving\nb.bvh,0,{},moving\n\
+         b.bvh,{third},{},still\nb.bvh,{two_thirds},{},turning\n",
+        third - 1,
+        frames - 1,
+        third - 1,
+        two_thirds - 1,
+        frames - 1
+    );
+    let take = mocapseg::load::load_bytes("a.bvh", &bytes, &mut |_| {}).unwrap().motion;
+    let mut hold = TrainingHold::new("knn", work, WorkLimits { max_bytes: usize::MAX, ..Default::default() });
+    hold.add(&take, bytes.len()).unwrap();
+    hold.add(&take, bytes.len()).unwrap();
+    let declared = hold.bytes();
+    let ask = TrainingAsk {
+        name: "measured".into(),
+        labels_name: "l.csv".into(),
+        labels,
+        takes: vec![("a.bvh".into(), bytes.clone()), ("b.bvh".into(), bytes.clone())],
+        options,
+        to_file: true,
+        limits: WorkLimits { max_bytes: declared, ..Default::default() },
+        ..TrainingAsk::default()
+    };
+    let (out, peak) = peak_during(|| -> Result<String, String> {
+        let mut t = s.start_training(ask, &mut NoProgress).map_err(|e| e.to_string())?;
+        while !t.done() {
+            t.step(&mut NoProgress).map_err(|e| e.to_string())?;
+        }
+        t.finish().map(|t| t.report.summary).map_err(|e| e.to_string())
+    });
+    let summary = out.unwrap();
+    assert!(summary.contains("Open-set unknown chosen on 5 folds"), "{summary}");
+    assert_within("training knn on two takes of 12000 frames, its open-set folds too", peak, declared);
+}
+
 #[path = "support/hostile.rs"]
 mod hostile;
 
