@@ -487,6 +487,10 @@ fn trainings_stay_within_the_work_they_declare() {
     let lma = serde_json::json!({"restarts": 1, "max_epochs": 2, "shift_epochs": 1, "shift_restarts": 1, "saliency_rounds": 1});
     let cases = [
         ("knn", serde_json::json!({})),
+        // the windows and inputs the scoreboard's nested folds choose among (its training table's rows)
+        ("knn", serde_json::json!({"half_window_s": 0.5, "k": 9})),
+        ("knn", serde_json::json!({"half_window_s": 2})),
+        ("knn", serde_json::json!({"input": "network"})),
         ("dtfcn", serde_json::json!({"epochs": 1, "filters": [16, 16, 16, 16]})),
         ("dtfcn", serde_json::json!({"epochs": 1})),
         ("dtfcn", serde_json::json!({"epochs": 1, "filters": [64, 64, 128, 256, 512], "batch": 8, "crop_frames": 256})),

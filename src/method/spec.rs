@@ -109,6 +109,9 @@ fn plain_words(name: &str) -> Option<&'static str> {
         // the labellers (k-NN, DT-FCN) and their training
         "unknown_threshold" => "unknown below",
         "unknown_ratio" => "open-set unknown above",
+        "half_window_s" => "half window",
+        "k" => "votes (k)",
+        "input" => "window rows",
         "fit_check" => "check the fit",
         "fit_others" => "measure other models",
         "min_duration_s" => "shortest run",

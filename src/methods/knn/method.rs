@@ -87,7 +87,7 @@ impl Kind for KnnMethod {
     }
 
     fn training_work(&self, options: &serde_json::Value) -> Result<crate::method::Work, MethodError> {
-        super::supervised::options_from_json(options)?;
-        Ok(super::supervised::training_work())
+        let options = super::supervised::options_from_json(options)?;
+        Ok(super::supervised::training_work(&options.train))
     }
 }
