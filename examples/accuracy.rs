@@ -730,6 +730,7 @@ mod lab {
 
     /// A labeller's output on one take: per working frame every class's probability, each working frame's file
     /// position and the working rate.
+    #[derive(Clone)]
     struct Labelled {
         probabilities: Probabilities,
         source: Vec<f64>,
@@ -831,8 +832,14 @@ mod lab {
             let mut out_of_fold: Vec<(usize, Labelled)> = Vec::new();
             // each run's (seed's) held-out scores, take by take
             let mut by_seed: Vec<Vec<(String, MeanScores)>> = Vec::new();
+            // a variance reducer fixed in advance (issue 50): the seeds' chosen networks' probabilities averaged, its
+            // threshold and decoding chosen on the validation take by the same average; per take: (take, the
+            // ensemble's scores, the mean of the seeds' scores, seed 1's)
+            let mut reduced: Vec<(String, MeanScores, MeanScores, MeanScores)> = Vec::new();
             if mocap6.len() >= 3 {
                 for h in 0..mocap6.len() {
+                    // the seeds' chosen networks' (validation take, its labels, the held-out take's labels)
+                    let mut averaged: Vec<(usize, Labelled, Labelled)> = Vec::new();
                     // (held-out labels, threshold, decoding, what was chosen): one for the k-NN, one per seed for DT-FCN
                     let runs: Vec<(Labelled, f64, Decoding, String)> = if name == "knn" {
                         let train: Vec<usize> = (0..mocap6.len()).filter(|&i| i != h).collect();
@@ -936,7 +943,17 @@ mod lab {
                         for &seed in dtfcn_seeds {
                             // (setting, average_last, epochs, threshold, decoding, what was chosen, validation accuracy,
                             // the held-out take's labels when the fold's networks already made them)
-                            type Candidate = (TrainOptions, usize, f64, Decoding, String, f64, Option<Labelled>);
+                            // … and the validation take with the candidate's labels of it (not for --inner-all)
+                            type Candidate = (
+                                TrainOptions,
+                                usize,
+                                f64,
+                                Decoding,
+                                String,
+                                f64,
+                                Option<Labelled>,
+                                Option<(usize, Labelled)>,
+                            );
                             let mut top: Option<Candidate> = None;
                             // every inner take validates in turn: each setting scored by its mean over them
                             for &(width, layers, padding) in DTFCN_SETTINGS.iter().filter(|_| inner_all) {
@@ -962,7 +979,7 @@ mod lab {
                                 println!("    dtfcn: held out {}, seed {seed}, candidate {what}", mocap6[h].name);
                                 if top.as_ref().is_none_or(|t| accuracy > t.5 + 1e-12) {
                                     let o = TrainOptions { epochs: epoch, ..options.clone() };
-                                    top = Some((o, 0, threshold, decoding, what, accuracy, None));
+                                    top = Some((o, 0, threshold, decoding, what, accuracy, None, None));
                                 }
                             }
                             let grid = DTFCN_SETTINGS
@@ -1025,7 +1042,8 @@ mod lab {
                                     if top.as_ref().is_none_or(|t| accuracy > t.5 + 1e-12) {
                                         let o = TrainOptions { average_last, epochs: p.best_epoch, ..options.clone() };
                                         let known = if average_last == 0 { held.take() } else { None };
-                                        top = Some((o, average_last, threshold, decoding, what, accuracy, known));
+                                        let v = Some((p.validation, val.clone()));
+                                        top = Some((o, average_last, threshold, decoding, what, accuracy, known, v));
                                     }
                                 }
                             }
@@ -1100,10 +1118,21 @@ mod lab {
                                         epochs: epochs[epochs.len() / 2],
                                         ..options.clone()
                                     };
-                                    top = Some((o, 0, threshold, decoding, what, accuracy, Some(mean(&|r| &r.held)?)));
+                                    let held = Some(mean(&|r| &r.held)?);
+                                    top = Some((
+                                        o,
+                                        0,
+                                        threshold,
+                                        decoding,
+                                        what,
+                                        accuracy,
+                                        held,
+                                        Some((validation, val)),
+                                    ));
                                 }
                             }
-                            let (options, _, threshold, decoding, what, _, known) = top.ok_or("no DT-FCN setting")?;
+                            let (options, _, threshold, decoding, what, _, known, validation) =
+                                top.ok_or("no DT-FCN setting")?;
                             let held = match known {
                                 Some(l) => l,
                                 None if inner_all => {
@@ -1127,6 +1156,9 @@ mod lab {
                                     Labelled { probabilities, source, fps: NETWORK_FPS }
                                 }
                             };
+                            if let Some((v, val)) = validation {
+                                averaged.push((v, val, held.clone()));
+                            }
                             runs.push((held, threshold, decoding, format!("seed {seed}: {what}")));
                         }
                         runs
@@ -1152,6 +1184,34 @@ mod lab {
                         by_seed[i].push((mocap6[h].name.clone(), c.scores.clone()));
                         scores.push(c.scores);
                         chose.push(chosen);
+                    }
+                    // the seeds' networks averaged, when every seed's validated on one take (the default protocol)
+                    if averaged.len() > 1 && averaged.iter().all(|m| m.0 == averaged[0].0) {
+                        let v = averaged[0].0;
+                        let mean =
+                            |of: &dyn Fn(&(usize, Labelled, Labelled)) -> &Labelled| -> Result<Labelled, String> {
+                                let all: Vec<&Labelled> = averaged.iter().map(of).collect();
+                                let probabilities =
+                                    Probabilities::mean(&all.iter().map(|l| &l.probabilities).collect::<Vec<_>>())
+                                        .ok_or("the seeds' networks labelled different frames")?;
+                                Ok(Labelled { probabilities, source: all[0].source.clone(), fps: NETWORK_FPS })
+                            };
+                        let (val, held) = (mean(&|m| &m.1)?, mean(&|m| &m.2)?);
+                        let (_, threshold, decoding, _) =
+                            validation_choice(&[(&motions[v], &val, labels[v].as_slice())]);
+                        let file = held.file(&motions[h], &decoding, threshold);
+                        let c = cell(&labelled_segmentation(&motions[h], &file, &classes, name), &mocap6[h].truth)?;
+                        println!(
+                            "  {name}: held out {} — the {} seeds' networks averaged (fixed in advance), unknown_threshold={threshold} {} chosen on {} → frame accuracy {:.3}, F1@1s {:.2}, covering {:.2}",
+                            mocap6[h].name,
+                            averaged.len(),
+                            decoding_label(&decoding),
+                            motions[v].name,
+                            c.scores.frame_accuracy,
+                            c.scores.f1_1,
+                            c.scores.covering
+                        );
+                        reduced.push((mocap6[h].name.clone(), c.scores, MeanScores::mean(&scores), scores[0].clone()));
                     }
                     folds.push((mocap6[h].name.clone(), chose.join("; "), MeanScores::mean(&scores)));
                 }
@@ -1180,6 +1240,9 @@ mod lab {
                     .collect();
                 println!("  {name}: held-out frame accuracy / F1@1s / covering by seed: {}", means.join(", "));
                 by_seed_note = format!("; held-out frame acc. / F1@1s / covering by seed: {}", means.join(", "));
+            }
+            if !reduced.is_empty() {
+                print_reduced(name, &reduced);
             }
             let held_out =
                 (!folds.is_empty()).then(|| MeanScores::mean(&folds.iter().map(|f| f.2.clone()).collect::<Vec<_>>()));
@@ -1212,6 +1275,41 @@ mod lab {
             });
         }
         Ok(rows)
+    }
+
+    /// The fixed reducer against the seeds it averages: per take and the mean, frame accuracy / F1@1s / covering, and
+    /// the paired difference from the seeds' mean and from the first seed (the shipped models') with its bootstrap 95 %
+    /// interval over the takes.
+    fn print_reduced(name: &str, reduced: &[(String, MeanScores, MeanScores, MeanScores)]) {
+        println!("  {name}: the seeds' networks averaged (a reducer fixed in advance) against the seeds one by one:");
+        println!("  | held-out take | averaged | mean of the seeds | first seed |");
+        println!("  |---|---|---|---|");
+        let triple = |s: &MeanScores| format!("{:.3} / {:.2} / {:.2}", s.frame_accuracy, s.f1_1, s.covering);
+        for (take, e, m, first) in reduced {
+            println!("  | {take} | {} | {} | {} |", triple(e), triple(m), triple(first));
+        }
+        let n = reduced.len() as f64;
+        let mean =
+            |f: &dyn Fn(&(String, MeanScores, MeanScores, MeanScores)) -> f64| reduced.iter().map(f).sum::<f64>() / n;
+        for (what, of) in [
+            ("frame accuracy", (|s: &MeanScores| s.frame_accuracy) as fn(&MeanScores) -> f64),
+            ("F1@1s", |s: &MeanScores| s.f1_1),
+            ("covering", |s: &MeanScores| s.covering),
+        ] {
+            let interval = |other: &dyn Fn(&(String, MeanScores, MeanScores, MeanScores)) -> f64| {
+                let d: Vec<f64> = reduced.iter().map(|r| of(&r.1) - other(r)).collect();
+                mocapseg::stats::bootstrap_mean(&d, 2000, 50)
+                    .map_or("—".into(), |(m, lo, hi)| format!("{m:+.3} [{lo:+.3}, {hi:+.3}]"))
+            };
+            println!(
+                "  {name}: {what} averaged {:.3}, seeds' mean {:.3}, first seed {:.3}; averaged − seeds' mean {}, averaged − first seed {}",
+                mean(&|r| of(&r.1)),
+                mean(&|r| of(&r.2)),
+                mean(&|r| of(&r.3)),
+                interval(&|r| of(&r.2)),
+                interval(&|r| of(&r.3))
+            );
+        }
     }
 
     fn reference_rows(

@@ -22,7 +22,7 @@
 //! and over the take's own median; thresholds chosen on the same inner folds.
 //!
 //! ```text
-//! cargo run --release --example eval_knn -- [--data ../shared/data] [unseen]
+//! cargo run --release --example eval_knn -- [--data ../shared/data] [unseen [--half-window-s 0.5 --k 9]]
 //! ```
 
 #[cfg(target_arch = "wasm32")]
@@ -56,6 +56,12 @@ mod lab {
         /// `folds` (leave one take out) or `unseen` (leave one class out, see the module docs).
         #[arg(default_value = "folds")]
         experiment: String,
+        /// `unseen`, the open-set unknown as models are made with it: the k-NN's half window in seconds (its training
+        /// table's `half_window_s`) and votes (`k`); the defaults the shipped models'.
+        #[arg(long, default_value_t = 1.0)]
+        half_window_s: f64,
+        #[arg(long, default_value_t = 5)]
+        k: usize,
     }
 
     pub fn run(args: Args) -> Result<(), String> {
@@ -84,7 +90,15 @@ mod lab {
         }
         match args.experiment.as_str() {
             "folds" => {}
-            "unseen" => return unseen(&loaded, &names, &outliers(&args.data)?),
+            "unseen" => {
+                let params = KnnParams {
+                    half_window: (args.half_window_s * 30.0 / 5.0).round() as i32 * 5,
+                    k: args.k,
+                    ..KnnParams::default()
+                };
+                params.check()?;
+                return unseen(&loaded, &names, &outliers(&args.data)?, params);
+            }
             other => return Err(format!("unknown experiment `{other}`: folds or unseen")),
         }
         println!("k-NN (k 5, ±1 s window every 5th frame, 32 principal coordinates), leave one take out:");
@@ -271,6 +285,7 @@ mod lab {
         loaded: &[(String, Motion, Vec<usize>)],
         names: &[String],
         outliers: &[(String, Motion)],
+        shipped: KnnParams,
     ) -> Result<(), String> {
         use mocapseg::methods::dtfcn::novelty::auroc;
         let started = Instant::now();
@@ -446,7 +461,7 @@ mod lab {
         println!();
         print_open_set(&open_folds, loaded);
         println!();
-        shipped_open_set(loaded, names, outliers)?;
+        shipped_open_set(loaded, names, outliers, shipped)?;
         println!("({:.0} s)", started.elapsed().as_secs_f64());
         Ok(())
     }
@@ -460,12 +475,12 @@ mod lab {
         loaded: &[(String, Motion, Vec<usize>)],
         names: &[String],
         outliers: &[(String, Motion)],
+        params: KnnParams,
     ) -> Result<(), String> {
         use mocapseg::labeller::decode::{file_labels, Decoding};
         use mocapseg::methods::knn::training::{choose_open_set_unknown, fit_knn};
         let decoding = Decoding { min_duration_s: 2.0, switch_cost: 150.0 };
         let threshold = 0.5;
-        let params = KnnParams::default();
         // per file frame of `motion` under `knn`: (score, decoded label), the score infinite where already unknown
         let scored = |knn: &Knn, motion: &Motion| -> Result<Vec<(f32, Option<usize>)>, String> {
             let (p, source) = knn.probabilities_at(motion, names.len())?;
@@ -478,7 +493,9 @@ mod lab {
             Ok(labels.iter().zip(&ratios).map(|(l, r)| (if l.is_some() { *r } else { f32::INFINITY }, *l)).collect())
         };
         println!(
-            "The open-set unknown as models are made with it (choose_open_set_unknown: the ratio chosen on the training takes' own folds, each of their classes left out in turn), held out:"
+            "The open-set unknown as models are made with it (choose_open_set_unknown: the ratio chosen on the training takes' own folds, each of their classes left out in turn), the k-NN with ±{} s windows and k = {}, held out:",
+            params.half_window as f64 / 30.0,
+            params.k
         );
         println!("| held-out take | class left out | ratio chosen (inner folds; open-set accuracy there / never) | open-set accuracy held out / never | unseen called unknown | taught called unknown | taught labelled right (never) | outlier takes' frames unknown |");
         println!("|---|---|---|---|---|---|---|---|");
