@@ -354,7 +354,7 @@ mod lab {
                 };
                 for (j, &(k, _)) in OPEN_SET.iter().enumerate() {
                     let t = choose_open_set(&inner_open[j]);
-                    let inner_at = open_set_scores(&inner_open[j], t);
+                    let inner_at = open_set_scores(&inner_open[j], t).accuracy;
                     let held = open_set_scores(&open_frames(&s, &decoded, &loaded[h].2, gone, k), t);
                     fold.chosen.push((t, inner_at, held));
                 }
@@ -547,28 +547,18 @@ mod lab {
                 folds.push(OpenSetFold {
                     take: h,
                     never,
-                    chosen: vec![(choice.ratio, open_set_scores(&[], 0.0), held)],
+                    chosen: vec![(choice.ratio, choice.accuracy, held)],
                     outlier,
                 });
-                // the inner figure where chosen, kept for the mean below
-                folds.last_mut().expect("just pushed").chosen[0].1.accuracy = choice.accuracy;
             }
         }
         let n = folds.len().max(1) as f64;
         let mean = |f: &dyn Fn(&OpenSetFold) -> f64| folds.iter().map(f).sum::<f64>() / n;
-        let per_take: Vec<f64> = (0..loaded.len())
-            .filter_map(|h| {
-                let d: Vec<f64> =
-                    folds.iter().filter(|f| f.take == h).map(|f| f.chosen[0].2.accuracy - f.never.accuracy).collect();
-                (!d.is_empty()).then(|| d.iter().sum::<f64>() / d.len() as f64)
-            })
-            .collect();
-        let ci = mocapseg::stats::bootstrap_mean(&per_take, 2000, 50)
-            .map_or("—".to_string(), |(m, a, b)| format!("{m:+.3} [{a:+.3}, {b:+.3}]"));
+        let ci = gain_over_takes(&folds, loaded.len(), 0);
         println!(
             "| **mean** ({} folds) | | inner {:.3} | **{:.3}** / {:.3}, Δ {ci} (95 % over the held-out takes) | **{:.0} %** | **{:.0} %** | {:.0} % ({:.0} %) | {:.0} % |",
             folds.len(),
-            mean(&|f| f.chosen[0].1.accuracy),
+            mean(&|f| f.chosen[0].1),
             mean(&|f| f.chosen[0].2.accuracy),
             mean(&|f| f.never.accuracy),
             100.0 * mean(&|f| f.chosen[0].2.unseen_unknown),
@@ -588,13 +578,27 @@ mod lab {
     ];
 
     /// A leave-a-class-out fold under the open-set objective: the held-out take, its scores without any unknown, and
-    /// per [`OPEN_SET`] score the threshold chosen on the inner folds, the inner folds' scores there and the held-out
-    /// take's; the outlier takes' share over the first score's threshold.
+    /// per [`OPEN_SET`] score the threshold chosen on the inner folds, the inner folds' open-set accuracy there and the
+    /// held-out take's scores; the outlier takes' share over the first score's threshold.
     struct OpenSetFold {
         take: usize,
         never: OpenSetScores,
-        chosen: Vec<(f32, OpenSetScores, OpenSetScores)>,
+        chosen: Vec<(f32, f64, OpenSetScores)>,
         outlier: f64,
+    }
+
+    /// Score `j`'s gain in held-out open-set accuracy over never saying unknown: each of the `takes` held-out takes'
+    /// mean over its folds, their mean and bootstrap 95 % interval.
+    fn gain_over_takes(folds: &[OpenSetFold], takes: usize, j: usize) -> String {
+        let per_take: Vec<f64> = (0..takes)
+            .filter_map(|h| {
+                let d: Vec<f64> =
+                    folds.iter().filter(|f| f.take == h).map(|f| f.chosen[j].2.accuracy - f.never.accuracy).collect();
+                (!d.is_empty()).then(|| d.iter().sum::<f64>() / d.len() as f64)
+            })
+            .collect();
+        mocapseg::stats::bootstrap_mean(&per_take, 2000, 50)
+            .map_or("—".to_string(), |(m, a, b)| format!("{m:+.3} [{a:+.3}, {b:+.3}]"))
     }
 
     /// Per frame of a take: score `k` of its row, whether its class is `gone`, whether its decoded label is its class.
@@ -638,22 +642,11 @@ mod lab {
             let lo = ts.iter().copied().fold(f32::INFINITY, f32::min);
             let hi = ts.iter().copied().fold(f32::NEG_INFINITY, f32::max);
             let never_count = ts.iter().filter(|t| t.is_infinite()).count();
-            let per_take: Vec<f64> = (0..loaded.len())
-                .filter_map(|h| {
-                    let d: Vec<f64> = folds
-                        .iter()
-                        .filter(|f| f.take == h)
-                        .map(|f| f.chosen[j].2.accuracy - f.never.accuracy)
-                        .collect();
-                    (!d.is_empty()).then(|| d.iter().sum::<f64>() / d.len() as f64)
-                })
-                .collect();
-            let ci = mocapseg::stats::bootstrap_mean(&per_take, 2000, 50)
-                .map_or("—".to_string(), |(m, a, b)| format!("{m:+.3} [{a:+.3}, {b:+.3}]"));
+            let ci = gain_over_takes(folds, loaded.len(), j);
             println!(
                 "| {name} | {lo:.2}–{hi:.2} ({never_count} never) | {:.3} | {ci} | {:.3} | {:.0} % | {:.0} % | {:.0} % |",
                 mean(&|f| f.chosen[j].2.accuracy),
-                mean(&|f| f.chosen[j].1.accuracy),
+                mean(&|f| f.chosen[j].1),
                 100.0 * mean(&|f| f.chosen[j].2.unseen_unknown),
                 100.0 * mean(&|f| f.chosen[j].2.taught_unknown),
                 100.0 * mean(&|f| f.chosen[j].2.taught_right),

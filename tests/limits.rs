@@ -331,6 +331,22 @@ fn labellers_stay_within_the_work_their_model_declares() {
             }),
             serde_json::json!({"model": "many", "decoding": "custom", "min_duration_s": 30.0, "fit_check": false}),
         ),
+        // the open-set unknown in force (issue 50): each frame's window searched again among its class's
+        (
+            "knn",
+            "knn-exercises.model",
+            edited_model("knn-exercises.model", "open", |m| {
+                m.header.classes = classes.clone();
+                m.header.colours = colours.clone();
+                m.header.open_set = Some(mocapseg::labeller::openset::OpenSetUnknown {
+                    ratio: 1.5,
+                    folds: 1,
+                    accuracy: 0.8,
+                    never: 0.7,
+                });
+            }),
+            serde_json::json!({"model": "open", "fit_check": false}),
+        ),
         (
             "dtfcn",
             "dtfcn-exercises.model",

@@ -581,7 +581,9 @@ impl Method for Labelling {
         let windows = params.fit.as_ref().and_then(|f| f.windows.as_deref());
         let base = self.kind.frame_bytes(windows.is_some());
         let work = model_work(&params.model, &params.decoding, base, windows);
-        // the open-set unknown: one search of its class's windows per working frame, the classes' repeat distances once
+        // the open-set unknown: one search of its class's windows per working frame, the classes' repeat distances
+        // once; held besides: each working frame's projected window (128 bytes) and each file frame's label and ratio
+        // (20 bytes, up to four file frames a working frame at 120 Hz): 256 bytes (tests/limits.rs)
         let (open_ops, open_fixed) = windows_of(params.open_windows.as_deref().filter(|_| params.ratio.is_some()))
             .map_or((0.0, 0.0), |w| w.search_ops());
         Work {
@@ -589,7 +591,7 @@ impl Method for Labelling {
             advice: "",
             ops_per_frame: work.ops_per_frame + open_ops,
             fixed_ops: work.fixed_ops + open_fixed,
-            bytes_per_frame: work.bytes_per_frame + if open_ops > 0.0 { 4 } else { 0 },
+            bytes_per_frame: work.bytes_per_frame + if open_ops > 0.0 { 256 } else { 0 },
             ..work
         }
     }
