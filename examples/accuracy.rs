@@ -75,7 +75,7 @@ mod lab {
     use mocapseg::labeller::probabilities::Probabilities;
     use mocapseg::method::{self, NoProgress, RunOptions};
     use mocapseg::methods::dtfcn::corpus::{
-        averaged_fold, final_fold, predict_held_out, predict_held_out_with, validation_fold, Extra,
+        averaged_fold, final_fold, predict_held_out, validation_fold, Extra, NO_EXTRA,
     };
     use mocapseg::methods::dtfcn::network::{paper_filters, Padding};
     use mocapseg::methods::dtfcn::training::TrainOptions;
@@ -988,7 +988,7 @@ mod lab {
                                 .flat_map(|&(w, l, p)| centrings.iter().map(move |&c| (w, l, p, c)));
                             for (width, layers, padding, centre_on_take) in grid {
                                 let options = TrainOptions { centre_on_take, ..setting(width, layers, padding, seed) };
-                                let p = predict_held_out_with(
+                                let p = predict_held_out(
                                     &motions,
                                     &labels,
                                     h,
@@ -1068,6 +1068,7 @@ mod lab {
                                             &classes,
                                             &o,
                                             &knn_fold,
+                                            NO_EXTRA,
                                             &mut |_| true,
                                         )?;
                                         let network = |probabilities, source| Labelled {

@@ -50,7 +50,7 @@ mod lab {
     use mocapseg::labeller::corpus::class_labels;
     use mocapseg::labels::{from_truth_csv, LabelRow};
     use mocapseg::methods::dtfcn::augment::Augment;
-    use mocapseg::methods::dtfcn::corpus::{leave_one_take_out, novelty_scores, predict_held_out};
+    use mocapseg::methods::dtfcn::corpus::{leave_one_take_out, novelty_scores, predict_held_out, NO_EXTRA};
     use mocapseg::methods::dtfcn::training::{TrainOptions, Trained, TrainingTake};
     use mocapseg::methods::knn::training::knn_fold;
     use mocapseg::motion::Motion;
@@ -314,7 +314,7 @@ mod lab {
             let mut runs: Vec<(Probabilities, Vec<f64>, usize)> = Vec::new();
             for &seed in seeds {
                 let options = TrainOptions { seed, ..base.clone() };
-                let p = predict_held_out(motions, labels, held, classes, &options, &knn_fold, &mut |_| true)?;
+                let p = predict_held_out(motions, labels, held, classes, &options, &knn_fold, NO_EXTRA, &mut |_| true)?;
                 runs.push((p.network_probabilities, p.network_source, p.best_epoch));
             }
             let (first, source) = (&runs[0].0, runs[0].1.clone());
@@ -386,7 +386,7 @@ mod lab {
                 }
                 let without: Vec<Vec<Option<usize>>> =
                     labels.iter().map(|l| l.iter().map(|x| x.filter(|&c| c != gone)).collect()).collect();
-                let p = predict_held_out(motions, &without, held, classes, base, &knn_fold, &mut |_| true)?;
+                let p = predict_held_out(motions, &without, held, classes, base, &knn_fold, NO_EXTRA, &mut |_| true)?;
                 // thresholds from the validation take's frames of taught classes, under the validation network and a
                 // k-NN fitted on the same takes (neither the held-out nor the validation take)
                 let inner: Vec<(&Motion, &[Option<usize>])> = (0..motions.len())
@@ -626,7 +626,7 @@ mod lab {
             let gone = (0..classes.len()).max_by_key(|&c| counts[c]).unwrap_or(0);
             let without: Vec<Vec<Option<usize>>> =
                 labels.iter().map(|l| l.iter().map(|x| x.filter(|&c| c != gone)).collect()).collect();
-            let p = predict_held_out(motions, &without, held, classes, base, &knn_fold, &mut |_| true)?;
+            let p = predict_held_out(motions, &without, held, classes, base, &knn_fold, NO_EXTRA, &mut |_| true)?;
             // the novelty of each network, fitted on the takes it was trained on (labels without the class)
             let takes = |skip: &[usize]| training_takes(motions, &without, skip);
             let k = classes.len();

@@ -382,7 +382,7 @@ fn the_averaging_fold_retrains_the_folds_networks() {
     use mocapseg::methods::dtfcn::corpus::{averaged_fold, predict_held_out, NO_EXTRA};
     let (takes, classes, labels) = three_takes();
     let options = small(3);
-    let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
+    let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, NO_EXTRA, &mut |_| true).unwrap();
     let last = averaged_fold(&takes, &labels, 0, &classes, &options, fold.best_epoch, true, NO_EXTRA).unwrap();
     assert_eq!(last.validation, fold.validation);
     assert_eq!(last.validation_probabilities, fold.validation_probabilities);
@@ -402,7 +402,7 @@ fn the_averaging_fold_retrains_the_folds_networks() {
 /// without a lever, and a take made and added changes the networks.
 #[test]
 fn a_levers_takes_are_made_from_the_folds_training_takes_alone() {
-    use mocapseg::methods::dtfcn::corpus::{averaged_fold, predict_held_out, predict_held_out_with};
+    use mocapseg::methods::dtfcn::corpus::{averaged_fold, predict_held_out, NO_EXTRA};
     let (takes, classes, labels) = three_takes();
     let options = small(2);
     let asked = std::cell::RefCell::new(Vec::new());
@@ -410,9 +410,8 @@ fn a_levers_takes_are_made_from_the_folds_training_takes_alone() {
         asked.borrow_mut().push(fit.to_vec());
         Ok(Vec::new())
     };
-    let plain = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
-    let with_none =
-        predict_held_out_with(&takes, &labels, 0, &classes, &options, &knn_fold, &none, &mut |_| true).unwrap();
+    let plain = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, NO_EXTRA, &mut |_| true).unwrap();
+    let with_none = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &none, &mut |_| true).unwrap();
     assert_eq!(with_none.network_probabilities, plain.network_probabilities);
     assert_eq!(with_none.validation_probabilities, plain.validation_probabilities);
     let inner: Vec<usize> = (0..3).filter(|&i| i != 0 && i != plain.validation).collect();
@@ -422,12 +421,11 @@ fn a_levers_takes_are_made_from_the_folds_training_takes_alone() {
     assert_eq!(*asked.borrow(), vec![inner, vec![1, 2]]);
     // a copy of the first training take, its labels all `a`: other networks
     let copy = |fit: &[usize]| Ok(vec![(takes[fit[0]].clone(), vec![Some(0); takes[fit[0]].frames()])]);
-    let with_copy =
-        predict_held_out_with(&takes, &labels, 0, &classes, &options, &knn_fold, &copy, &mut |_| true).unwrap();
+    let with_copy = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &copy, &mut |_| true).unwrap();
     assert_ne!(with_copy.network_probabilities, plain.network_probabilities);
     // a lever that cannot make its takes stops the fold with its message
     let broken = |_: &[usize]| Err("no carrier".to_string());
-    let e = predict_held_out_with(&takes, &labels, 0, &classes, &options, &knn_fold, &broken, &mut |_| true);
+    let e = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &broken, &mut |_| true);
     assert_eq!(e.err().as_deref(), Some("no carrier"));
 }
 
@@ -436,10 +434,10 @@ fn a_levers_takes_are_made_from_the_folds_training_takes_alone() {
 /// held-out take's labels.
 #[test]
 fn a_fold_validates_on_any_inner_take() {
-    use mocapseg::methods::dtfcn::corpus::{final_fold, predict_held_out, validation_fold};
+    use mocapseg::methods::dtfcn::corpus::{final_fold, predict_held_out, validation_fold, NO_EXTRA};
     let (takes, classes, labels) = three_takes();
     let options = small(3);
-    let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
+    let fold = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, NO_EXTRA, &mut |_| true).unwrap();
     let (p, source, epoch) = validation_fold(&takes, &labels, 0, fold.validation, &classes, &options).unwrap();
     assert_eq!(
         (p, source, epoch),
@@ -463,16 +461,17 @@ fn a_fold_validates_on_any_inner_take() {
 /// and predicts exactly the same probabilities for the held-out take and its validation take.
 #[test]
 fn scrambling_the_held_out_takes_labels_changes_no_prediction() {
-    use mocapseg::methods::dtfcn::corpus::predict_held_out;
+    use mocapseg::methods::dtfcn::corpus::{predict_held_out, NO_EXTRA};
     let (takes, classes, labels) = three_takes();
     let options = small(2);
-    let before = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
+    let before = predict_held_out(&takes, &labels, 0, &classes, &options, &knn_fold, NO_EXTRA, &mut |_| true).unwrap();
     let mut scrambled = labels.clone();
     let n = scrambled[0].len();
     scrambled[0] = (0..n).map(|f| Some(if (f + n / 2) % n < n / 3 { 2 } else { 0 })).collect();
     scrambled[0][5] = None;
     assert_ne!(scrambled[0], labels[0]);
-    let after = predict_held_out(&takes, &scrambled, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
+    let after =
+        predict_held_out(&takes, &scrambled, 0, &classes, &options, &knn_fold, NO_EXTRA, &mut |_| true).unwrap();
     assert_eq!(before.network_probabilities, after.network_probabilities);
     assert_eq!(before.validation_probabilities, after.validation_probabilities);
     assert_eq!(before.network, after.network);
@@ -484,6 +483,6 @@ fn scrambling_the_held_out_takes_labels_changes_no_prediction() {
     // (all one class the take does not have: a rotation of its classes could leave a constant guess as right as
     // before)
     other[before.validation] = other[before.validation].iter().map(|_| Some(1)).collect();
-    let moved = predict_held_out(&takes, &other, 0, &classes, &options, &knn_fold, &mut |_| true).unwrap();
+    let moved = predict_held_out(&takes, &other, 0, &classes, &options, &knn_fold, NO_EXTRA, &mut |_| true).unwrap();
     assert_ne!(before.validation_accuracy, moved.validation_accuracy);
 }

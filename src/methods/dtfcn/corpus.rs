@@ -239,22 +239,10 @@ fn training_takes(
 /// labels it too, its setting chosen on the same validation take. The validation take's labels carry the same noise and
 /// masking as the training takes' — a user validates on the labels they have. `labels` are the
 /// clean labels (per file frame) of every take; the held-out take's are not used.
-pub fn predict_held_out<M>(
-    motions: &[Motion],
-    labels: &[Vec<Option<usize>>],
-    held: usize,
-    classes: &[String],
-    options: &TrainOptions,
-    beside: Beside<M>,
-    on_epoch: &mut dyn FnMut(&EpochReport) -> bool,
-) -> Result<FoldPrediction<M>, String> {
-    predict_held_out_with(motions, labels, held, classes, options, beside, NO_EXTRA, on_epoch)
-}
-
-/// [`predict_held_out`] with `extra`'s takes beside the network's training takes in both its trainings (`beside` is
-/// fitted on the labelled takes alone).
+/// `extra` ([`NO_EXTRA`]: none): takes made from each training's own takes, beside them in both of the network's
+/// trainings (`beside` is fitted on the labelled takes alone).
 #[allow(clippy::too_many_arguments)]
-pub fn predict_held_out_with<M>(
+pub fn predict_held_out<M>(
     motions: &[Motion],
     labels: &[Vec<Option<usize>>],
     held: usize,
@@ -451,7 +439,8 @@ pub fn leave_one_take_out<M>(
     for held in 0..motions.len() {
         let started = web_time_now();
         let name = motions[held].name.clone();
-        let p = predict_held_out(motions, labels, held, classes, options, beside, &mut |r| on_epoch(&name, r))?;
+        let p =
+            predict_held_out(motions, labels, held, classes, options, beside, NO_EXTRA, &mut |r| on_epoch(&name, r))?;
         let truth = &labels[held];
         let score = |pred: &[(usize, f32)]| {
             // only where the held-out take is labelled (86_01's walks, say)
